@@ -1,0 +1,58 @@
+#pragma once
+// A planned move: a profile, the shaper applied to it, and its true peaks. This is what the
+// servo loop evaluates each tick and what the simulator drives its plants with.
+#include <cstddef>
+
+#include "settle/core/kinematics.hpp"
+#include "settle/core/profile.hpp"
+#include "settle/core/shaper.hpp"
+
+namespace settle::core {
+
+template <typename T>
+class Move {
+ public:
+  Move() = default;
+  Move(const Profile<T>& p, const Shaper<T>& s, const Peaks<T>& peaks) noexcept
+      : profile_{p}, shaper_{s}, peaks_{peaks} {
+    duration_ = profile_.duration() + shaper_.duration();
+    distance_ = profile_.distance();
+  }
+  template <typename U>
+  explicit Move(const Move<U>& o) noexcept
+      : Move(Profile<T>{o.profile()}, Shaper<T>{o.shaper()},
+             Peaks<T>{static_cast<T>(o.peaks().v), static_cast<T>(o.peaks().a), static_cast<T>(o.peaks().j),
+                      o.peaks().velocity_step, o.peaks().acceleration_step}) {}
+
+  [[nodiscard]] const Profile<T>& profile() const noexcept { return profile_; }
+  [[nodiscard]] const Shaper<T>& shaper() const noexcept { return shaper_; }
+  [[nodiscard]] const Peaks<T>& peaks() const noexcept { return peaks_; }
+  [[nodiscard]] T duration() const noexcept { return duration_; }
+  [[nodiscard]] T distance() const noexcept { return distance_; }
+
+  // Exact shaped evaluation: sum_i A_i p(t - t_i). Past the end the move is at rest on its
+  // target exactly (not at sum_i A_i D, which rounding could move by an ulp).
+  [[nodiscard]] Sample<T> at(T t) const noexcept {
+    if (t >= duration_) return {distance_, T(0), T(0), T(0)};
+    if (shaper_.count == 1) return profile_.at(t - shaper_.time[0]);
+    Sample<T> acc{};
+    for (std::size_t i = 0; i < shaper_.count; ++i) {
+      const Sample<T> s = profile_.at(t - shaper_.time[i]);
+      const T w = shaper_.amp[i];
+      acc.p += w * s.p;
+      acc.v += w * s.v;
+      acc.a += w * s.a;
+      acc.j += w * s.j;
+    }
+    return acc;
+  }
+
+ private:
+  Profile<T> profile_{};
+  Shaper<T> shaper_{};
+  Peaks<T> peaks_{};
+  T duration_{};
+  T distance_{};
+};
+
+}  // namespace settle::core

@@ -1,0 +1,81 @@
+#pragma once
+// Piecewise constant-jerk profiles: the baselines users compare against. The trapezoidal
+// velocity profile (jerk 0, acceleration steps) and the classic 7-phase jerk-limited S-curve
+// are both a short list of segments with constant jerk, so one evaluator serves both.
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+#include "settle/core/kinematics.hpp"
+#include "settle/core/status.hpp"
+
+namespace settle::core {
+
+inline constexpr std::size_t kMaxJerkSegments = 7;
+
+struct PiecewiseJerkParams {
+  double distance{0.0};
+  std::size_t count{0};
+  std::array<double, kMaxJerkSegments> durations{};
+  std::array<double, kMaxJerkSegments> accel0{};  // acceleration at the start of each segment
+  std::array<double, kMaxJerkSegments> jerk{};
+};
+
+// Time-optimal trapezoid under vmax/amax (a triangle when vmax is not reached).
+[[nodiscard]] PiecewiseJerkParams trapezoid_time_optimal(double distance, double vmax, double amax) noexcept;
+// Trapezoid of duration T whose cruise is at v (D/T < |v| <= 2D/T): ta = T - D/v.
+[[nodiscard]] PiecewiseJerkParams trapezoid_timed(double distance, double duration, double v) noexcept;
+// Time-optimal rest-to-rest 7-phase S-curve under vmax/amax/jmax.
+[[nodiscard]] PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, double amax,
+                                                           double jmax) noexcept;
+[[nodiscard]] double piecewise_duration(const PiecewiseJerkParams& p) noexcept;
+[[nodiscard]] Peaks<double> piecewise_peaks(const PiecewiseJerkParams& p) noexcept;
+
+template <typename T>
+class PiecewiseJerk {
+ public:
+  PiecewiseJerk() = default;
+  explicit PiecewiseJerk(const PiecewiseJerkParams& p) noexcept : params_{p}, n_{p.count} {
+    double t = 0.0, pos = 0.0, v = 0.0;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const double d = p.durations[i], a = p.accel0[i], j = p.jerk[i];
+      start_[i] = static_cast<T>(t);
+      p0_[i] = static_cast<T>(pos);
+      v0_[i] = static_cast<T>(v);
+      a0_[i] = static_cast<T>(a);
+      j_[i] = static_cast<T>(j);
+      pos += v * d + a * d * d / 2.0 + j * d * d * d / 6.0;
+      v += a * d + j * d * d / 2.0;
+      t += d;
+    }
+    dur_ = static_cast<T>(t);
+    dist_ = static_cast<T>(p.distance);
+  }
+  template <typename U>
+  explicit PiecewiseJerk(const PiecewiseJerk<U>& o) noexcept : PiecewiseJerk(o.params()) {}
+
+  [[nodiscard]] const PiecewiseJerkParams& params() const noexcept { return params_; }
+  [[nodiscard]] T duration() const noexcept { return dur_; }
+  [[nodiscard]] T distance() const noexcept { return dist_; }
+
+  [[nodiscard]] Sample<T> at(T t) const noexcept {
+    if (!(t > T(0))) return {};
+    if (t >= dur_ || n_ == 0) return {dist_, T(0), T(0), T(0)};
+    std::size_t k = n_ - 1;
+    while (k > 0 && t < start_[k]) --k;
+    const T u = t - start_[k];
+    const T j = j_[k];
+    const T a = a0_[k] + j * u;
+    const T v = v0_[k] + u * (a0_[k] + j * u / T(2));
+    const T p = p0_[k] + u * (v0_[k] + u * (a0_[k] / T(2) + j * u / T(6)));
+    return {p, v, a, j};
+  }
+
+ private:
+  PiecewiseJerkParams params_{};
+  std::size_t n_{0};
+  std::array<T, kMaxJerkSegments> start_{}, p0_{}, v0_{}, a0_{}, j_{};
+  T dur_{}, dist_{};
+};
+
+}  // namespace settle::core

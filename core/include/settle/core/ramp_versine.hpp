@@ -1,0 +1,59 @@
+#pragma once
+// Ramp + cycloid + versine position command of seeds 001/002 (Kapucu & Kaplan):
+//   y(t) = L R t / 2pi - (Y2/2pi) sin Rt + (Y3/2pi)(1 - cos Rt),  R = 2pi/tau,  Y1 + Y2 + Y3 = L.
+// It starts and ends with a velocity step; Peaks reports that with velocity_step = true.
+#include <cmath>
+
+#include "settle/core/kinematics.hpp"
+
+namespace settle::core {
+
+struct RampVersineParams {
+  double distance{0.0};  // L (signed)
+  double tau{0.0};       // move time
+  double y1{0.0}, y2{0.0}, y3{0.0};
+};
+
+// Y1..Y3 (for distance L) that leave the mode (omega, zeta) at rest for any tau.
+[[nodiscard]] RampVersineParams ramp_versine_zero_vibration(double distance, double tau, double omega,
+                                                            double zeta) noexcept;
+[[nodiscard]] Peaks<double> ramp_versine_peaks(const RampVersineParams& p) noexcept;
+
+template <typename T>
+class RampVersine {
+ public:
+  RampVersine() = default;
+  explicit RampVersine(const RampVersineParams& p) noexcept
+      : params_{p},
+        l_{static_cast<T>(p.distance)},
+        tau_{static_cast<T>(p.tau)},
+        r_{static_cast<T>(6.283185307179586476925286766559 / p.tau)},
+        y2_{static_cast<T>(p.y2 / 6.283185307179586476925286766559)},
+        y3_{static_cast<T>(p.y3 / 6.283185307179586476925286766559)},
+        l2pi_{static_cast<T>(p.distance / 6.283185307179586476925286766559)} {}
+  template <typename U>
+  explicit RampVersine(const RampVersine<U>& o) noexcept : RampVersine(o.params()) {}
+
+  [[nodiscard]] const RampVersineParams& params() const noexcept { return params_; }
+  [[nodiscard]] T duration() const noexcept { return tau_; }
+  [[nodiscard]] T distance() const noexcept { return l_; }
+
+  // Uses the half-open interval [0, tau): at t = 0 the command already moves (the step).
+  [[nodiscard]] Sample<T> at(T t) const noexcept {
+    if (!(t >= T(0))) return {};
+    if (t >= tau_) return {l_, T(0), T(0), T(0)};
+    const T th = r_ * t;
+    return at_angle(th, std::sin(th), std::cos(th));
+  }
+  [[nodiscard]] Sample<T> at_angle(T th, T sn, T cs) const noexcept {
+    return {l2pi_ * th - y2_ * sn + y3_ * (T(1) - cs), r_ * (l2pi_ - y2_ * cs + y3_ * sn),
+            r_ * r_ * (y2_ * sn + y3_ * cs), r_ * r_ * r_ * (y2_ * cs - y3_ * sn)};
+  }
+  [[nodiscard]] T rate() const noexcept { return r_; }
+
+ private:
+  RampVersineParams params_{};
+  T l_{}, tau_{}, r_{}, y2_{}, y3_{}, l2pi_{};
+};
+
+}  // namespace settle::core

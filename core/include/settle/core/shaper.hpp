@@ -1,0 +1,48 @@
+#pragma once
+// Input shapers as exact operators: a shaped profile is sum_i A_i p(t - t_i), evaluated directly
+// (no delay line, no buffer). ZV, ZVD, ZVDD (closed forms), EI with damping (solved exactly),
+// custom impulse lists, and composition (one shaper per mode; the "hybrid" of seed 001).
+#include <array>
+#include <cstddef>
+
+#include "settle/core/status.hpp"
+
+namespace settle::core {
+
+inline constexpr std::size_t kMaxImpulses = 32;
+
+enum class ShaperKind : unsigned char { none, zv, zvd, zvdd, ei, custom };
+
+template <typename T>
+struct Shaper {
+  std::array<T, kMaxImpulses> amp{T(1)};
+  std::array<T, kMaxImpulses> time{};
+  std::size_t count{1};
+
+  Shaper() = default;
+  template <typename U>
+  explicit Shaper(const Shaper<U>& o) noexcept : count{o.count} {
+    for (std::size_t i = 0; i < count; ++i) {
+      amp[i] = static_cast<T>(o.amp[i]);
+      time[i] = static_cast<T>(o.time[i]);
+    }
+  }
+  [[nodiscard]] T duration() const noexcept { return time[count - 1]; }
+  [[nodiscard]] bool is_identity() const noexcept { return count == 1 && time[0] == T(0); }
+};
+
+// Designs a shaper for the mode (omega, zeta). vtol is EI's vibration tolerance (0.05 is usual).
+[[nodiscard]] Status design_shaper(ShaperKind kind, double omega, double zeta, double vtol,
+                                   Shaper<double>& out) noexcept;
+// A user's own impulses: times >= 0, amplitudes summing to 1. Sorted by time on output.
+[[nodiscard]] Status custom_shaper(const double* amp, const double* time, std::size_t n,
+                                   Shaper<double>& out) noexcept;
+// Convolution of two shapers (impulses at equal times merged).
+[[nodiscard]] Status compose(const Shaper<double>& a, const Shaper<double>& b, Shaper<double>& out) noexcept;
+// Residual vibration of a unit step shaped by s on the mode (omega, zeta), as a fraction of the
+// unshaped step's residual (the classic V(omega, zeta) of the input-shaping literature).
+[[nodiscard]] double shaper_residual(const Shaper<double>& s, double omega, double zeta) noexcept;
+
+[[nodiscard]] const char* to_string(ShaperKind k) noexcept;
+
+}  // namespace settle::core

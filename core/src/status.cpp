@@ -1,0 +1,63 @@
+#include "settle/core/status.hpp"
+
+namespace settle::core {
+
+const char* to_string(Status s) noexcept {
+  switch (s) {
+    case Status::ok: return "ok";
+    case Status::non_finite_input: return "non_finite_input";
+    case Status::non_positive_time: return "non_positive_time";
+    case Status::non_positive_limit: return "non_positive_limit";
+    case Status::missing_time_or_limits: return "missing_time_or_limits";
+    case Status::non_positive_omega: return "non_positive_omega";
+    case Status::zeta_out_of_range: return "zeta_out_of_range";
+    case Status::time_too_short_for_vmax: return "time_too_short_for_vmax";
+    case Status::velocity_limit_exceeded: return "velocity_limit_exceeded";
+    case Status::acceleration_limit_exceeded: return "acceleration_limit_exceeded";
+    case Status::jerk_limit_exceeded: return "jerk_limit_exceeded";
+    case Status::too_few_gammas: return "too_few_gammas";
+    case Status::too_many_gammas: return "too_many_gammas";
+    case Status::gamma_too_small: return "gamma_too_small";
+    case Status::gammas_not_distinct: return "gammas_not_distinct";
+    case Status::singular_system: return "singular_system";
+    case Status::bad_shape_parameter: return "bad_shape_parameter";
+    case Status::bad_impulse: return "bad_impulse";
+    case Status::shaper_gain_not_unity: return "shaper_gain_not_unity";
+    case Status::too_many_impulses: return "too_many_impulses";
+    case Status::vtol_out_of_range: return "vtol_out_of_range";
+    case Status::no_solution: return "no_solution";
+    case Status::unsupported_request: return "unsupported_request";
+  }
+  return "unknown";
+}
+
+const char* describe(Status s) noexcept {
+  switch (s) {
+    case Status::ok: return "ok";
+    case Status::non_finite_input: return "an input is NaN or infinite";
+    case Status::non_positive_time: return "the move time must be positive";
+    case Status::non_positive_limit: return "velocity, acceleration and jerk limits must be positive";
+    case Status::missing_time_or_limits: return "give either a move time or the limits this profile needs";
+    case Status::non_positive_omega: return "the natural frequency omega must be positive";
+    case Status::zeta_out_of_range: return "the damping ratio zeta must lie in [0, 1)";
+    case Status::time_too_short_for_vmax: return "the move time is too short to cover the distance within vmax (D/vmax >= T)";
+    case Status::velocity_limit_exceeded: return "the profile's peak velocity exceeds vmax";
+    case Status::acceleration_limit_exceeded: return "the profile's peak acceleration exceeds amax";
+    case Status::jerk_limit_exceeded: return "the profile's peak jerk exceeds jmax";
+    case Status::too_few_gammas: return "a pseudo-polynomial needs at least two exponents";
+    case Status::too_many_gammas: return "too many exponents for the pseudo-polynomial's fixed capacity";
+    case Status::gamma_too_small: return "every exponent must be greater than 2";
+    case Status::gammas_not_distinct: return "the exponents must be distinct";
+    case Status::singular_system: return "the pseudo-polynomial coefficient system is singular";
+    case Status::bad_shape_parameter: return "a shape parameter is out of range";
+    case Status::bad_impulse: return "an impulse has a negative time or a non-finite amplitude";
+    case Status::shaper_gain_not_unity: return "the impulse amplitudes must sum to 1";
+    case Status::too_many_impulses: return "the shaper has more impulses than its fixed capacity";
+    case Status::vtol_out_of_range: return "the EI vibration tolerance must lie in (0, 0.5)";
+    case Status::no_solution: return "the iterative design did not converge";
+    case Status::unsupported_request: return "this combination of options is not supported";
+  }
+  return "unknown status";
+}
+
+}  // namespace settle::core

@@ -1,0 +1,15 @@
+#pragma once
+// The settle subcommands. Each takes the arguments after its own name and returns the process
+// exit status: 0 success, 2 bad request (a one-line error on stderr, or JSON with --json), 1 failure.
+namespace settle::cli {
+
+int cmd_plan(int argc, char** argv);
+int cmd_sample(int argc, char** argv);
+int cmd_simulate(int argc, char** argv);
+int cmd_reproduce(int argc, char** argv);
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitBadRequest = 2;
+
+}  // namespace settle::cli

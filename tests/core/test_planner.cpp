@@ -1,0 +1,187 @@
+// Planner contract: specific codes for bad requests, output untouched on failure, limits
+// respected, and the fastest vibration-free move compared with its alternatives.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "residual.hpp"
+#include "test_helpers.hpp"
+
+using namespace settle;
+using core::ProfileKind;
+using core::Status;
+
+namespace {
+
+core::MoveRequest good_scurve() { return test::timed(ProfileKind::scurve, 0.1, 0.4, 22.0); }
+
+void expect_rejected(const core::MoveRequest& r, Status expected) {
+  core::Move<double> m = test::must_plan(test::timed(ProfileKind::poly345, 3.0, 2.0));
+  const double d0 = m.duration(), p0 = m.at(0.7).p;
+  EXPECT_EQ(core::plan(r, m), expected) << core::to_string(expected);
+  EXPECT_EQ(m.duration(), d0);
+  EXPECT_EQ(m.at(0.7).p, p0);
+}
+
+TEST(Planner, RejectsEachBadRequestWithItsOwnCode) {
+  auto r = good_scurve();
+  r.distance = NAN;
+  expect_rejected(r, Status::non_finite_input);
+  r = good_scurve();
+  r.time = INFINITY;
+  expect_rejected(r, Status::non_finite_input);
+  r = good_scurve();
+  r.time = -0.1;
+  expect_rejected(r, Status::non_positive_time);
+  r = good_scurve();
+  r.time = 0.0;
+  expect_rejected(r, Status::non_positive_time);
+  r = good_scurve();
+  r.omega = 0.0;
+  expect_rejected(r, Status::non_positive_omega);
+  r = good_scurve();
+  r.omega.reset();
+  expect_rejected(r, Status::non_positive_omega);
+  r = good_scurve();
+  r.zeta = 1.0;
+  expect_rejected(r, Status::zeta_out_of_range);
+  r = good_scurve();
+  r.zeta = -0.01;
+  expect_rejected(r, Status::zeta_out_of_range);
+  r = good_scurve();
+  r.vmax = 0.25;  // D/vmax = 0.4 = T
+  expect_rejected(r, Status::time_too_short_for_vmax);
+  r = good_scurve();
+  r.vmax = -1;
+  expect_rejected(r, Status::non_positive_limit);
+  r = good_scurve();
+  r.amax = 1.0;  // needs ~5 m/s^2
+  expect_rejected(r, Status::acceleration_limit_exceeded);
+  r = good_scurve();
+  r.jmax = 10.0;
+  expect_rejected(r, Status::jerk_limit_exceeded);
+  r = good_scurve();
+  r.vmax = 0.3;
+  r.time.reset();
+  expect_rejected(r, Status::missing_time_or_limits);
+
+  auto p = test::timed(ProfileKind::pseudopoly, 1.0, 1.0);
+  p.gammas = {3.0, 2.0, 5.0};
+  p.gamma_count = 3;
+  expect_rejected(p, Status::gamma_too_small);
+  p.gammas = {3.0, 4.0, 3.0};
+  expect_rejected(p, Status::gammas_not_distinct);
+  p.gamma_count = 1;
+  expect_rejected(p, Status::too_few_gammas);
+  p.gamma_count = 9;
+  expect_rejected(p, Status::too_many_gammas);
+
+  auto y = test::timed(ProfileKind::ramp_versine, 1.0, 0.5);
+  y.y_fractions = std::array<double, 3>{0.5, 0.5, 0.5};
+  expect_rejected(y, Status::bad_shape_parameter);
+  auto e = good_scurve();
+  e.shaper = core::ShaperKind::ei;
+  e.vtol = 0.9;
+  expect_rejected(e, Status::vtol_out_of_range);
+  auto v = test::timed(ProfileKind::ramp_versine, 1.0, 0.5, 28.0, 0.1);
+  v.amax = 100.0;  // its velocity steps are acceleration impulses: no finite limit holds
+  expect_rejected(v, Status::acceleration_limit_exceeded);
+}
+
+TEST(Planner, ZeroDistanceIsATrivialMove) {
+  for (auto k : {ProfileKind::scurve, ProfileKind::poly345, ProfileKind::trapezoid}) {
+    auto r = test::timed(k, 0.0, 1.0, 10.0);
+    core::Move<double> m{};
+    ASSERT_EQ(core::plan(r, m), Status::ok);
+    EXPECT_EQ(m.duration(), 0.0);
+    EXPECT_EQ(m.at(0.5).p, 0.0);
+    EXPECT_EQ(m.peaks().v, 0.0);
+  }
+}
+
+TEST(Planner, NegativeDistanceMirrorsPositive) {
+  for (auto k : {ProfileKind::scurve, ProfileKind::scurve_damped, ProfileKind::ramp_versine, ProfileKind::poly345,
+                 ProfileKind::trapezoid}) {
+    const auto a = test::must_plan(test::timed(k, 0.3, 0.9, 12.0, 0.1));
+    const auto b = test::must_plan(test::timed(k, -0.3, 0.9, 12.0, 0.1));
+    for (int i = 0; i <= 20; ++i) {
+      const double t = 0.9 * i / 20;
+      EXPECT_NEAR(a.at(t).p, -b.at(t).p, 1e-15) << core::to_string(k);
+      EXPECT_NEAR(a.at(t).a, -b.at(t).a, 1e-12) << core::to_string(k);
+    }
+  }
+}
+
+TEST(Planner, JerkLimitedIsTimeOptimalAndStretchesToAGivenTime) {
+  core::MoveRequest r{};
+  r.profile = ProfileKind::jerk_limited;
+  r.distance = 1.0;
+  r.vmax = 1.0;
+  r.amax = 2.0;
+  r.jmax = 10.0;
+  const auto m = test::must_plan(r);
+  // Textbook: tj = a/j = 0.2, ta = tj + v/a = 0.7, tv = D/v - ta = 0.3, T = 2 ta + tv = 1.7.
+  EXPECT_NEAR(m.duration(), 1.7, 1e-12);
+  EXPECT_NEAR(m.peaks().v, 1.0, 1e-12);
+  EXPECT_NEAR(m.peaks().a, 2.0, 1e-12);
+  r.time = 2.5;
+  const auto s = test::must_plan(r);
+  EXPECT_NEAR(s.duration(), 2.5, 1e-9);
+  r.time = 1.6;
+  core::Move<double> out{};
+  EXPECT_EQ(core::plan(r, out), Status::jerk_limit_exceeded);
+}
+
+TEST(Planner, FastestScurveRespectsEveryLimitAndLeavesTheModeAtRest) {
+  for (double omega : {5.0, 22.04871, 80.0}) {
+    for (double zeta : {0.0, 0.1}) {
+      core::RampCycloidParams p{};
+      ASSERT_EQ(core::plan_fastest_scurve(0.1, 1.0, 20.0, 800.0, omega, zeta, zeta > 0, p), Status::ok);
+      const auto pk = core::ramp_cycloid_peaks(p);
+      EXPECT_LE(pk.v, 1.0 * (1 + 1e-9));
+      EXPECT_LE(pk.a, 20.0 * (1 + 1e-9));
+      EXPECT_LE(pk.j, 800.0 * (1 + 1e-9));
+      const core::Move<double> m{core::Profile<double>{ProfileKind::scurve_damped, core::RampCycloid<double>{p}},
+                                 core::Shaper<double>{}, pk};
+      EXPECT_LE(test::residual_amplitude(m, omega, zeta), 1e-9 * 0.1);
+      // Optimality: no feasible plan on a grid of (tau, V) is shorter.
+      const double t_best = 4 * p.tau + p.cruise;
+      for (double tau = 0.002; tau < 0.2; tau *= 1.05) {
+        const auto w = core::cycloid_weights(tau, omega, zeta);
+        const auto u = core::ramp_cycloid_peaks({1, 1, 0, 1, w.c2, w.c3});
+        const double v = std::min({1.0 / u.v, 20.0 * tau / u.a, 800.0 * tau * tau / u.j, 0.1 / (2 * tau)});
+        EXPECT_GE(0.1 / v + 2 * tau, t_best * (1 - 1e-6)) << "omega=" << omega << " tau=" << tau;
+      }
+    }
+  }
+}
+
+TEST(Planner, FastestVibrationFreeMoveAgainstShapedJerkLimited) {
+  // The comparison of the issue: shortest move that is both feasible and vibration-free.
+  const double d = 0.1, vmax = 1.0, amax = 20.0, jmax = 800.0;
+  std::printf("omega   scurve(s)  jerk-limited(s)  +ZV(s)  +ZVD(s)\n");
+  for (double omega : {5.0, 22.04871, 80.0}) {
+    core::MoveRequest r{};
+    r.profile = ProfileKind::scurve;
+    r.distance = d;
+    r.vmax = vmax;
+    r.amax = amax;
+    r.jmax = jmax;
+    r.omega = omega;
+    const auto fast = test::must_plan(r);
+    r.profile = ProfileKind::jerk_limited;
+    const auto jl = test::must_plan(r);
+    r.shaper = core::ShaperKind::zv;
+    const auto zv = test::must_plan(r);
+    r.shaper = core::ShaperKind::zvd;
+    const auto zvd = test::must_plan(r);
+    std::printf("%6.2f  %9.4f  %15.4f  %6.4f  %7.4f\n", omega, fast.duration(), jl.duration(), zv.duration(),
+                zvd.duration());
+    // The ZVD-shaped move is as robust as we want to compare against; ours must never be slower.
+    EXPECT_LE(fast.duration(), zvd.duration() * (1 + 1e-9)) << omega;
+    EXPECT_GE(fast.duration(), jl.duration() * (1 - 1e-9)) << omega;  // the unshaped time-optimal bound
+  }
+}
+
+}  // namespace
