@@ -1,0 +1,153 @@
+// The bus interface the servo loop and the protocol nodes use: non-blocking send with a
+// status, receive with an optional timeout, receive filters and counters. Nothing here
+// allocates; every backend (SocketCAN, loopback, the fault-injecting double) implements it.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "settle/hal/can_frame.hpp"
+#include "settle/hal/frame_sink.hpp"
+
+namespace settle::hal {
+
+enum class SendStatus : std::uint8_t {
+  sent,   // handed to the backend's transmit path
+  busy,   // the backend had no room now (kernel queue full, injected); the frame was NOT queued
+  error,  // invalid frame, FD frame on a classic bus, bus down, ...
+};
+
+enum class ReceiveStatus : std::uint8_t {
+  received,  // a frame was written to the caller's frame
+  empty,     // nothing arrived within the timeout
+  error,     // the backend failed; see its own diagnostics
+};
+
+enum class BusStatus : std::uint8_t {
+  ok,
+  too_many_filters,
+  not_supported,
+  error,
+};
+
+enum class FrameFormat : std::uint8_t { any, standard, extended };
+
+// Accepts a frame when (frame.id & mask) == (id & mask) and the format matches.
+// Same meaning as a SocketCAN can_filter, without the kernel's flag bits in the id.
+struct CanFilter {
+  std::uint32_t id{0};
+  std::uint32_t mask{0};
+  FrameFormat format{FrameFormat::any};
+};
+
+[[nodiscard]] constexpr bool matches(const CanFilter& filter, const CanFrame& frame) noexcept {
+  if (filter.format == FrameFormat::standard && frame.is_extended()) {
+    return false;
+  }
+  if (filter.format == FrameFormat::extended && !frame.is_extended()) {
+    return false;
+  }
+  return ((frame.id ^ filter.id) & filter.mask) == 0;
+}
+
+inline constexpr std::size_t max_can_filters = 16;
+
+// The filters of one receiver. No filters means "accept everything": a freshly opened bus
+// receives all traffic, as a SocketCAN raw socket does.
+class FilterSet {
+ public:
+  [[nodiscard]] BusStatus assign(std::span<const CanFilter> filters) noexcept {
+    if (filters.size() > max_can_filters) {
+      return BusStatus::too_many_filters;
+    }
+    count_ = filters.size();
+    for (std::size_t i = 0; i < count_; ++i) {
+      filters_[i] = filters[i];
+    }
+    return BusStatus::ok;
+  }
+
+  [[nodiscard]] bool accepts(const CanFrame& frame) const noexcept {
+    if (count_ == 0) {
+      return true;
+    }
+    for (std::size_t i = 0; i < count_; ++i) {
+      if (matches(filters_[i], frame)) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  [[nodiscard]] std::span<const CanFilter> filters() const noexcept { return {filters_.data(), count_}; }
+
+ private:
+  std::array<CanFilter, max_can_filters> filters_{};
+  std::size_t count_{0};
+};
+
+struct BusCounters {
+  std::uint64_t sent{0};
+  std::uint64_t received{0};
+  std::uint64_t tx_busy{0};
+  std::uint64_t tx_errors{0};
+  std::uint64_t rx_overflow_drops{0};  // frames lost because a receive queue was full
+  std::uint64_t rx_errors{0};
+};
+
+// Public calls are non-virtual so that every backend counts the same way; a backend only
+// implements the do_* hooks and reports the drops only it can see (count_rx_overflow).
+// One bus object belongs to one thread.
+class CanBus : public FrameSink {
+ public:
+  [[nodiscard]] SendStatus send(const CanFrame& frame) noexcept {
+    const SendStatus status = is_valid(frame) ? do_send(frame) : SendStatus::error;
+    switch (status) {
+      case SendStatus::sent: ++counters_.sent; break;
+      case SendStatus::busy: ++counters_.tx_busy; break;
+      case SendStatus::error: ++counters_.tx_errors; break;
+    }
+    return status;
+  }
+
+  // timeout_us == 0 polls. A backend without a clock (loopback) never waits: time in a
+  // deterministic test moves only when the test moves it.
+  [[nodiscard]] ReceiveStatus receive(CanFrame& frame, std::uint32_t timeout_us = 0) noexcept {
+    const ReceiveStatus status = do_receive(frame, timeout_us);
+    if (status == ReceiveStatus::received) {
+      ++counters_.received;
+    } else if (status == ReceiveStatus::error) {
+      ++counters_.rx_errors;
+    }
+    return status;
+  }
+
+  // Replaces the receive filters; an empty span accepts every frame again.
+  [[nodiscard]] BusStatus set_filters(std::span<const CanFilter> filters) noexcept {
+    return do_set_filters(filters);
+  }
+
+  [[nodiscard]] const BusCounters& counters() const noexcept { return counters_; }
+
+  // As a FrameSink a bus takes a frame when it was sent; busy and errors are counted above.
+  [[nodiscard]] bool put(const CanFrame& frame) noexcept final { return send(frame) == SendStatus::sent; }
+
+ protected:
+  CanBus() = default;
+  CanBus(const CanBus&) = delete;
+  CanBus& operator=(const CanBus&) = delete;
+  ~CanBus() override = default;
+
+  void count_rx_overflow(std::uint64_t dropped) noexcept { counters_.rx_overflow_drops += dropped; }
+
+ private:
+  [[nodiscard]] virtual SendStatus do_send(const CanFrame& frame) noexcept = 0;
+  [[nodiscard]] virtual ReceiveStatus do_receive(CanFrame& frame, std::uint32_t timeout_us) noexcept = 0;
+  [[nodiscard]] virtual BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept = 0;
+
+  BusCounters counters_{};
+};
+
+}  // namespace settle::hal

@@ -1,0 +1,224 @@
+// The drive end of the bus as one I/O-free object: a CiA 402 slave with NMT, heartbeat,
+// SDO server over its object dictionary, the default PDO mapping, the power state machine,
+// EMCY and the drive-side safety rules. The simulated drive (sim) owns the plant behind it
+// and feeds it frames and time; the same object can run on a microcontroller.
+//
+// Per SYNC: on_frame() returns DriveEvent::sync once the RPDO received before it has been
+// applied; the application then moves its axis towards setpoint() for one period (or
+// decelerates when stopping()), and reports the result with publish(), which sends TPDO1/2.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <optional>
+
+#include "settle/hal/can_frame.hpp"
+#include "settle/hal/canopen/cia402.hpp"
+#include "settle/hal/canopen/cob_id.hpp"
+#include "settle/hal/canopen/default_mapping.hpp"
+#include "settle/hal/canopen/emcy.hpp"
+#include "settle/hal/canopen/heartbeat.hpp"
+#include "settle/hal/canopen/nmt.hpp"
+#include "settle/hal/canopen/object_dictionary.hpp"
+#include "settle/hal/canopen/pdo.hpp"
+#include "settle/hal/canopen/sdo.hpp"
+#include "settle/hal/canopen/sync.hpp"
+#include "settle/hal/canopen/watchdog.hpp"
+#include "settle/hal/frame_sink.hpp"
+
+namespace settle::hal::canopen {
+
+// 0x6065 = this value switches the following-error check off (CiA 402).
+inline constexpr std::uint32_t following_error_window_off = 0xFFFF'FFFF;
+
+struct DriveNodeConfig {
+  NodeId node{1};
+  std::uint16_t heartbeat_period_ms{100};                 // 0x1017
+  std::uint32_t sync_period_us{default_sync_period_us};   // 0x1006
+  std::uint8_t communication_loss_periods{3};             // 0x2001: SYNC/RPDO periods tolerated
+  std::int16_t quick_stop_option{2};                      // 0x605A: quick-stop ramp, then disabled
+  std::int16_t abort_connection_option{1};                // 0x6007: fault
+  std::uint32_t following_error_window{following_error_window_off};  // 0x6065, counts
+  std::uint16_t following_error_timeout_ms{0};            // 0x6066
+  std::int32_t position_limit_min{std::numeric_limits<std::int32_t>::min()};  // 0x607D:1
+  std::int32_t position_limit_max{std::numeric_limits<std::int32_t>::max()};  // 0x607D:2
+  std::uint32_t vendor_id{0};                             // 0x1018
+  std::uint32_t product_code{0x5E77'1E00};
+  std::uint32_t revision{1};
+  std::uint32_t serial{0};
+};
+
+// The dictionary's variables, in two groups because NMT resets them in two groups:
+// "reset communication" restores comm, "reset node" restores both. The application reads
+// them; writes go through the bus.
+struct DriveCommObjects {  // 0x1000..0x1FFF, CiA 301
+  std::uint32_t device_type{cia402_device_type};
+  std::uint8_t error_register{0};
+  std::uint32_t cob_id_sync{0x80};
+  std::uint32_t cycle_period_us{default_sync_period_us};
+  std::uint32_t cob_id_emcy{0};
+  std::uint16_t inhibit_time_emcy{0};  // 100 µs units
+  std::uint8_t consumer_heartbeat_count{1};
+  std::uint32_t consumer_heartbeat{0};  // (node << 16) | timeout ms; 0 = off
+  std::uint16_t producer_heartbeat_ms{0};
+  std::uint8_t identity_count{4};
+  std::uint32_t vendor_id{0};
+  std::uint32_t product_code{0};
+  std::uint32_t revision{0};
+  std::uint32_t serial{0};
+  std::uint8_t sync_counter_overflow{0};
+  std::uint8_t sdo_parameter_count{2};
+  std::uint32_t sdo_cob_rx{0};
+  std::uint32_t sdo_cob_tx{0};
+  struct PdoComm {
+    std::uint8_t count{2};
+    std::uint32_t cob_id{0};
+    std::uint8_t transmission_type{pdo_transmission::synchronous};
+  };
+  struct PdoMap {
+    std::uint8_t count{2};
+    std::array<std::uint32_t, 2> entries{};
+  };
+  PdoComm rpdo1_comm{};
+  PdoMap rpdo1_map{};
+  PdoComm tpdo1_comm{};
+  PdoComm tpdo2_comm{};
+  PdoMap tpdo1_map{};
+  PdoMap tpdo2_map{};
+};
+
+struct DriveAppObjects {  // 0x2000.. Settle, 0x6000.. CiA 402
+  std::int32_t load_position{0};
+  std::uint8_t communication_loss_periods{3};
+  std::int16_t abort_connection_option{1};
+  std::uint16_t error_code{0};
+  std::uint16_t controlword{0};
+  std::uint16_t statusword{0};
+  std::int16_t quick_stop_option{2};
+  std::int8_t mode{static_cast<std::int8_t>(OperationMode::cyclic_synchronous_position)};
+  std::int8_t mode_display{static_cast<std::int8_t>(OperationMode::cyclic_synchronous_position)};
+  std::int32_t position_actual{0};
+  std::uint32_t following_error_window{following_error_window_off};
+  std::uint16_t following_error_timeout_ms{0};
+  std::int32_t velocity_actual{0};
+  std::int32_t target_position{0};
+  std::uint8_t position_limit_count{2};
+  std::int32_t position_limit_min{0};
+  std::int32_t position_limit_max{0};
+  std::uint8_t ip_data_count{1};
+  std::int32_t ip_data{0};
+  std::uint8_t ip_period_count{2};
+  std::uint8_t ip_period_value{1};
+  std::int8_t ip_period_index{-3};
+  std::uint32_t supported_modes{0};
+};
+
+struct DriveObjects {
+  DriveCommObjects comm{};
+  DriveAppObjects app{};
+};
+
+enum class DriveEvent : std::uint8_t {
+  none,     // not for this node (or ignored in the current NMT state)
+  handled,  // taken (NMT, SDO, RPDO latched, heartbeat of the master)
+  sync,     // a SYNC was processed: run the axis for one period, then publish()
+  reset,    // NMT reset node: objects are back to their defaults, so is the axis state
+};
+
+struct DriveFeedback {
+  std::int32_t position_actual{0};  // counts
+  std::int32_t velocity_actual{0};  // counts/s
+  std::int32_t load_position{0};    // counts
+};
+
+struct DriveCounters {
+  std::uint64_t syncs{0};
+  std::uint64_t rpdos_applied{0};
+  std::uint64_t rpdos_overwritten{0};  // a second RPDO before the SYNC replaced the first
+  std::uint64_t rpdos_rejected{0};     // wrong length or value out of range
+  std::uint64_t rpdos_missing{0};      // SYNCs without a fresh RPDO while enabled
+  std::uint64_t sync_gaps{0};
+  std::uint64_t emcy_sent{0};
+};
+
+class DriveNode {
+ public:
+  explicit DriveNode(const DriveNodeConfig& config) noexcept;
+  DriveNode(const DriveNode&) = delete;
+  DriveNode& operator=(const DriveNode&) = delete;
+
+  // Power on: boot-up message, then pre-operational with heartbeats every producer period.
+  void start(std::uint64_t now_us, FrameSink& out) noexcept;
+  [[nodiscard]] DriveEvent on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept;
+  // Heartbeat production and the time-based rules (master heartbeat, SYNC loss, EMCY inhibit).
+  void poll(std::uint64_t now_us, FrameSink& out) noexcept;
+
+  // After a sync event: the axis state at the end of the period. Checks the following error
+  // and sends TPDO1 and TPDO2 when operational.
+  void publish(const DriveFeedback& feedback, std::uint64_t now_us, FrameSink& out) noexcept;
+  // A fault the application detected (an error code from CiA 402 / 301): fault reaction.
+  void raise_fault(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept;
+  // The axis has come to rest after a quick stop or a fault reaction.
+  void stop_complete() noexcept;
+
+  // Where the axis should be at the end of this period: the (limited) target while the drive
+  // follows, the position actual otherwise.
+  [[nodiscard]] std::int32_t setpoint() const noexcept { return setpoint_; }
+  [[nodiscard]] bool following() const noexcept;
+  [[nodiscard]] bool stopping() const noexcept { return power_.stopping(); }
+  [[nodiscard]] Cia402State state() const noexcept { return power_.state(); }
+  [[nodiscard]] NmtState nmt_state() const noexcept { return nmt_.state(); }
+  [[nodiscard]] OperationMode mode() const noexcept { return static_cast<OperationMode>(objects_.app.mode_display); }
+  [[nodiscard]] std::uint32_t interpolation_period_us() const noexcept;
+  [[nodiscard]] const DriveObjects& objects() const noexcept { return objects_; }
+  [[nodiscard]] ObjectDictionary& dictionary() noexcept { return od_; }
+  [[nodiscard]] const DriveCounters& counters() const noexcept { return counters_; }
+  [[nodiscard]] NodeId node() const noexcept { return config_.node; }
+
+ private:
+  static constexpr std::size_t entry_count = 59;
+
+  void restore(bool application) noexcept;
+  void apply_configuration(std::uint16_t index) noexcept;  // 0: every configuration object
+  void apply_written_controlword(std::uint64_t now_us, FrameSink& out) noexcept;
+  void bind_pdos() noexcept;
+  [[nodiscard]] std::array<OdEntry, entry_count> make_entries() noexcept;
+  void on_sync(const SyncMessage& sync, std::uint64_t now_us, FrameSink& out) noexcept;
+  void on_nmt(const NmtMessage& message, std::uint64_t now_us, FrameSink& out) noexcept;
+  void connection_lost(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept;
+  void quick_stop_with_emcy(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept;
+  void signal_error(std::uint16_t error_code, std::uint8_t register_bits, std::uint64_t now_us,
+                    FrameSink& out) noexcept;
+  void clear_errors(std::uint64_t now_us, FrameSink& out) noexcept;
+  void update_statusword() noexcept;
+
+  static SdoAbort check_write(void* self, const OdEntry& entry, std::int64_t value) noexcept;
+  static void on_written(void* self, const OdEntry& entry) noexcept;
+
+  DriveNodeConfig config_;
+  DriveObjects objects_{};
+  std::array<OdEntry, entry_count> entries_;
+  ObjectDictionary od_;
+  NmtSlave nmt_;
+  SdoServer sdo_;
+  HeartbeatProducer heartbeat_;
+  HeartbeatConsumer master_heartbeat_;
+  SyncConsumer sync_;
+  EmcyProducer emcy_;
+  PowerStateMachine power_{};
+  PdoBinding rpdo1_{};
+  PdoBinding tpdo1_{};
+  PdoBinding tpdo2_{};
+  std::optional<CanFrame> pending_rpdo_{};
+  Watchdog following_error_timer_{};
+  DriveCounters counters_{};
+  std::int32_t setpoint_{0};
+  std::uint32_t rpdo_missing_run_{0};
+  bool following_error_{false};
+  bool limit_active_{false};
+  bool controlword_written_{false};
+};
+
+}  // namespace settle::hal::canopen

@@ -1,0 +1,84 @@
+// The standard SDO abort codes (CiA 301 table 22). Object dictionary accesses return one of
+// these directly, so the SDO server can put the reason on the wire without translating.
+#pragma once
+
+#include <cstdint>
+
+namespace settle::hal::canopen {
+
+enum class SdoAbort : std::uint32_t {
+  none = 0,  // success: not an abort code on the wire
+  toggle_bit = 0x0503'0000,
+  timeout = 0x0504'0000,
+  unknown_command = 0x0504'0001,
+  invalid_block_size = 0x0504'0002,
+  invalid_sequence = 0x0504'0003,
+  crc_error = 0x0504'0004,
+  out_of_memory = 0x0504'0005,
+  unsupported_access = 0x0601'0000,
+  write_only = 0x0601'0001,
+  read_only = 0x0601'0002,
+  no_object = 0x0602'0000,
+  not_mappable = 0x0604'0041,
+  pdo_too_long = 0x0604'0042,
+  parameter_incompatible = 0x0604'0043,
+  internal_incompatible = 0x0604'0047,
+  hardware_error = 0x0606'0000,
+  length_mismatch = 0x0607'0010,
+  length_too_high = 0x0607'0012,
+  length_too_low = 0x0607'0013,
+  no_sub_index = 0x0609'0011,
+  invalid_value = 0x0609'0030,
+  value_too_high = 0x0609'0031,
+  value_too_low = 0x0609'0032,
+  max_below_min = 0x0609'0036,
+  no_resource = 0x060A'0023,
+  general_error = 0x0800'0000,
+  cannot_store = 0x0800'0020,
+  cannot_store_local_control = 0x0800'0021,
+  cannot_store_device_state = 0x0800'0022,
+  no_dictionary = 0x0800'0023,
+  no_data = 0x0800'0024,
+};
+
+[[nodiscard]] constexpr bool is_known_abort(std::uint32_t code) noexcept {
+  switch (static_cast<SdoAbort>(code)) {
+    case SdoAbort::toggle_bit:
+    case SdoAbort::timeout:
+    case SdoAbort::unknown_command:
+    case SdoAbort::invalid_block_size:
+    case SdoAbort::invalid_sequence:
+    case SdoAbort::crc_error:
+    case SdoAbort::out_of_memory:
+    case SdoAbort::unsupported_access:
+    case SdoAbort::write_only:
+    case SdoAbort::read_only:
+    case SdoAbort::no_object:
+    case SdoAbort::not_mappable:
+    case SdoAbort::pdo_too_long:
+    case SdoAbort::parameter_incompatible:
+    case SdoAbort::internal_incompatible:
+    case SdoAbort::hardware_error:
+    case SdoAbort::length_mismatch:
+    case SdoAbort::length_too_high:
+    case SdoAbort::length_too_low:
+    case SdoAbort::no_sub_index:
+    case SdoAbort::invalid_value:
+    case SdoAbort::value_too_high:
+    case SdoAbort::value_too_low:
+    case SdoAbort::max_below_min:
+    case SdoAbort::no_resource:
+    case SdoAbort::general_error:
+    case SdoAbort::cannot_store:
+    case SdoAbort::cannot_store_local_control:
+    case SdoAbort::cannot_store_device_state:
+    case SdoAbort::no_dictionary:
+    case SdoAbort::no_data:
+      return true;
+    case SdoAbort::none:
+      return false;
+  }
+  return false;
+}
+
+}  // namespace settle::hal::canopen

@@ -1,0 +1,78 @@
+// CiA 301 SYNC: the frame that marks each servo period. The producer (the servo loop) emits it
+// with the optional 1..overflow counter; the consumer (a drive) notices counter gaps and loss.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "settle/hal/can_frame.hpp"
+#include "settle/hal/canopen/watchdog.hpp"
+#include "settle/hal/frame_sink.hpp"
+
+namespace settle::hal::canopen {
+
+inline constexpr std::uint8_t sync_counter_max = 240;  // 0x1019 may be 2..240 (0 = no counter)
+
+struct SyncMessage {
+  std::uint8_t counter{0};  // 0: the SYNC carried no counter
+};
+
+[[nodiscard]] CanFrame encode_sync(std::uint8_t counter = 0) noexcept;
+// Accepts length 0 (no counter) or 1 with a counter in 1..240 on id 0x80.
+[[nodiscard]] std::optional<SyncMessage> decode_sync(const CanFrame& frame) noexcept;
+
+class SyncProducer {
+ public:
+  // counter_overflow: value of 0x1019; 0 or 1 send SYNC without a counter.
+  explicit SyncProducer(std::uint32_t period_us, std::uint8_t counter_overflow = 0) noexcept;
+
+  // The next SYNC frame, for a loop that owns the tick and sends one per period itself.
+  [[nodiscard]] CanFrame next() noexcept;
+
+  // Time-driven use: sends when now has reached the next due time. A late call sends one
+  // SYNC and skips the periods it missed, so a stalled caller never causes a burst.
+  [[nodiscard]] bool poll(std::uint64_t now_us, FrameSink& out) noexcept;
+  void start(std::uint64_t now_us) noexcept;
+
+  [[nodiscard]] std::uint32_t period_us() const noexcept { return period_us_; }
+  [[nodiscard]] std::uint64_t skipped() const noexcept { return skipped_; }
+
+ private:
+  std::uint32_t period_us_;
+  std::uint8_t overflow_;
+  std::uint8_t counter_{0};
+  std::uint64_t next_due_us_{0};
+  std::uint64_t skipped_{0};
+};
+
+enum class SyncEvent : std::uint8_t {
+  in_order,  // first SYNC, or the counter followed on (or there is no counter)
+  gap,       // counter jumped: SYNCs were lost on the way (see missed())
+};
+
+class SyncConsumer {
+ public:
+  // SYNC loss is declared when more than loss_periods SYNCs in a row are missing: after
+  // (loss_periods + 1.5) periods of silence, the half period absorbing the producer's
+  // jitter. Period 0 disables it.
+  SyncConsumer(std::uint32_t period_us, std::uint32_t loss_periods) noexcept;
+
+  [[nodiscard]] SyncEvent on_sync(const SyncMessage& sync, std::uint64_t now_us) noexcept;
+  // True once when SYNCs stopped arriving (only after the first SYNC has been seen).
+  [[nodiscard]] bool check_loss(std::uint64_t now_us) noexcept { return watchdog_.check(now_us); }
+  void configure(std::uint32_t period_us, std::uint32_t loss_periods) noexcept;
+
+  [[nodiscard]] std::uint64_t received() const noexcept { return received_; }
+  [[nodiscard]] std::uint64_t missed() const noexcept { return missed_; }
+  [[nodiscard]] std::uint8_t last_counter() const noexcept { return last_counter_; }
+
+ private:
+  Watchdog watchdog_{};
+  std::uint64_t timeout_us_;
+  std::uint64_t received_{0};
+  std::uint64_t missed_{0};
+  std::uint8_t last_counter_{0};
+  std::uint8_t max_counter_seen_{0};
+};
+
+}  // namespace settle::hal::canopen

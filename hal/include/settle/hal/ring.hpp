@@ -1,0 +1,68 @@
+// Fixed-capacity FIFO over storage the owner provides, so queues in the HAL never allocate
+// and a bare-metal target decides where (and how large) each queue lives.
+#pragma once
+
+#include <cstddef>
+#include <span>
+
+namespace settle::hal {
+
+template <typename T>
+class Ring {
+ public:
+  Ring() = default;
+  explicit Ring(std::span<T> storage) noexcept : storage_{storage} {}
+
+  [[nodiscard]] bool push(const T& value) noexcept {
+    if (size_ == storage_.size()) {
+      return false;
+    }
+    std::size_t tail = head_ + size_;
+    if (tail >= storage_.size()) {
+      tail -= storage_.size();
+    }
+    storage_[tail] = value;
+    ++size_;
+    return true;
+  }
+
+  [[nodiscard]] bool pop(T& out) noexcept {
+    if (size_ == 0) {
+      return false;
+    }
+    out = storage_[head_];
+    drop_front();
+    return true;
+  }
+
+  // The oldest element; only valid when !empty().
+  [[nodiscard]] const T& front() const noexcept { return storage_[head_]; }
+
+  void drop_front() noexcept {
+    if (size_ == 0) {
+      return;
+    }
+    ++head_;
+    if (head_ == storage_.size()) {
+      head_ = 0;
+    }
+    --size_;
+  }
+
+  void clear() noexcept {
+    head_ = 0;
+    size_ = 0;
+  }
+
+  [[nodiscard]] std::size_t size() const noexcept { return size_; }
+  [[nodiscard]] std::size_t capacity() const noexcept { return storage_.size(); }
+  [[nodiscard]] bool empty() const noexcept { return size_ == 0; }
+  [[nodiscard]] bool full() const noexcept { return size_ == storage_.size(); }
+
+ private:
+  std::span<T> storage_{};
+  std::size_t head_{0};
+  std::size_t size_{0};
+};
+
+}  // namespace settle::hal

@@ -1,0 +1,112 @@
+// Linux SocketCAN backend: a raw CAN socket behind the CanBus interface (filters, optional FD,
+// non-blocking sends where a full queue is reported busy, kernel drop counting, receive
+// timestamps), and CanInterface, link control through libsocketcan. Host-only; the Linux CAN
+// headers stay inside src/socketcan.cpp.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "settle/hal/can_bus.hpp"
+
+namespace settle::hal {
+
+struct SocketCanOptions {
+  bool fd_frames{false};      // CAN_RAW_FD_FRAMES: send and receive FD frames too
+  bool receive_own{false};    // CAN_RAW_RECV_OWN_MSGS: hear this socket's own frames
+  bool timestamps{true};      // SO_TIMESTAMP: CanFrame::timestamp_us = kernel receive time
+  int receive_buffer_bytes{0};  // SO_RCVBUF; 0 keeps the kernel default
+  int send_buffer_bytes{0};     // SO_SNDBUF; 0 keeps the kernel default
+};
+
+enum class OpenStatus : std::uint8_t {
+  ok,
+  no_such_interface,
+  not_can_interface,
+  permission_denied,
+  fd_not_supported,  // FD asked for, the interface's MTU is classic (ip link set <if> mtu 72)
+  already_open,
+  error,
+};
+
+[[nodiscard]] const char* to_string(OpenStatus status) noexcept;
+
+class SocketCanBus final : public CanBus {
+ public:
+  SocketCanBus() noexcept = default;
+  ~SocketCanBus() override;
+
+  [[nodiscard]] OpenStatus open(const char* interface, const SocketCanOptions& options = {}) noexcept;
+  void close() noexcept;
+
+  [[nodiscard]] bool is_open() const noexcept { return fd_ >= 0; }
+  // The socket, for a caller that multiplexes with poll/epoll; reading it directly bypasses
+  // the counters.
+  [[nodiscard]] int native_handle() const noexcept { return fd_; }
+  // errno of the last failed system call (send, receive, open), for diagnostics.
+  [[nodiscard]] int last_errno() const noexcept { return last_errno_; }
+
+ private:
+  [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override;
+  [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t timeout_us) noexcept override;
+  [[nodiscard]] BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept override;
+
+  int fd_{-1};
+  int last_errno_{0};
+  bool fd_frames_{false};
+  std::uint32_t kernel_drops_{0};  // last SO_RXQ_OVFL value, which the kernel reports cumulatively
+};
+
+enum class ControlStatus : std::uint8_t {
+  ok,
+  not_supported,  // the interface has no CAN controller settings (vcan, vxcan, slcan)
+  no_such_interface,
+  permission_denied,
+  error,
+};
+
+[[nodiscard]] const char* to_string(ControlStatus status) noexcept;
+
+enum class CanControllerState : std::uint8_t {
+  error_active,
+  error_warning,
+  error_passive,
+  bus_off,
+  stopped,
+  sleeping,
+  unknown,
+};
+
+struct CanErrorCounters {
+  std::uint16_t tx_errors{0};
+  std::uint16_t rx_errors{0};
+};
+
+// Link control of one CAN network interface (libsocketcan over netlink). On a virtual
+// interface only link up/down apply; the rest report not_supported instead of failing.
+class CanInterface {
+ public:
+  explicit CanInterface(const char* name) noexcept;
+
+  [[nodiscard]] bool exists() const noexcept;
+  // True for a real controller (can-dev), false for virtual interfaces.
+  [[nodiscard]] bool has_controller() const noexcept;
+
+  [[nodiscard]] ControlStatus link_up() noexcept;
+  [[nodiscard]] ControlStatus link_down() noexcept;
+  [[nodiscard]] ControlStatus restart() noexcept;  // after bus-off
+  [[nodiscard]] ControlStatus set_bitrate(std::uint32_t bits_per_second) noexcept;
+  [[nodiscard]] ControlStatus bitrate(std::uint32_t& bits_per_second) const noexcept;
+  [[nodiscard]] ControlStatus state(CanControllerState& state) const noexcept;
+  [[nodiscard]] ControlStatus error_counters(CanErrorCounters& counters) const noexcept;
+
+  [[nodiscard]] const char* name() const noexcept { return name_.data(); }
+
+ private:
+  [[nodiscard]] ControlStatus precheck(bool needs_controller) const noexcept;
+
+  std::array<char, 16> name_{};
+};
+
+}  // namespace settle::hal

@@ -1,0 +1,516 @@
+#include "settle/hal/canopen/drive_node.hpp"
+
+namespace settle::hal::canopen {
+
+namespace {
+
+[[nodiscard]] DriveObjects defaults_for(const DriveNodeConfig& c) noexcept {
+  DriveObjects o{};
+  o.comm.cycle_period_us = c.sync_period_us;
+  o.comm.cob_id_emcy = cob_id(cob::emcy, c.node);
+  o.comm.producer_heartbeat_ms = c.heartbeat_period_ms;
+  o.comm.vendor_id = c.vendor_id;
+  o.comm.product_code = c.product_code;
+  o.comm.revision = c.revision;
+  o.comm.serial = c.serial;
+  o.comm.sdo_cob_rx = cob_id(cob::sdo_rx, c.node);
+  o.comm.sdo_cob_tx = cob_id(cob::sdo_tx, c.node);
+  // The mapping objects describe the static mapping; they are read-only on the bus.
+  const auto describe = [](const PdoMapping& m, DriveCommObjects::PdoComm& comm, DriveCommObjects::PdoMap& map) {
+    comm.cob_id = m.cob_id;
+    comm.transmission_type = m.transmission_type;
+    map.count = m.count;
+    for (std::size_t i = 0; i < map.entries.size(); ++i) {
+      map.entries[i] = m.entries[i].raw();
+    }
+  };
+  describe(default_rpdo1_mapping(c.node), o.comm.rpdo1_comm, o.comm.rpdo1_map);
+  describe(default_tpdo1_mapping(c.node), o.comm.tpdo1_comm, o.comm.tpdo1_map);
+  describe(default_tpdo2_mapping(c.node), o.comm.tpdo2_comm, o.comm.tpdo2_map);
+
+  o.app.communication_loss_periods = c.communication_loss_periods;
+  o.app.abort_connection_option = c.abort_connection_option;
+  o.app.quick_stop_option = c.quick_stop_option;
+  o.app.following_error_window = c.following_error_window;
+  o.app.following_error_timeout_ms = c.following_error_timeout_ms;
+  o.app.position_limit_min = c.position_limit_min;
+  o.app.position_limit_max = c.position_limit_max;
+  // 0x6502 bit n-1 for mode n: interpolated position (7) and cyclic synchronous position (8).
+  o.app.supported_modes = (1U << 6U) | (1U << 7U);
+  return o;
+}
+
+[[nodiscard]] std::uint8_t register_bits_for(std::uint16_t error_code) noexcept {
+  switch (error_code >> 8U) {
+    case 0x81:
+    case 0x82: return error_register::communication;
+    case 0x86: return error_register::device_profile;
+    default: return 0;
+  }
+}
+
+[[nodiscard]] bool is_supported_mode(std::int64_t mode) noexcept {
+  return mode == static_cast<std::int8_t>(OperationMode::interpolated_position) ||
+         mode == static_cast<std::int8_t>(OperationMode::cyclic_synchronous_position);
+}
+
+}  // namespace
+
+DriveNode::DriveNode(const DriveNodeConfig& config) noexcept
+    : config_{config},
+      objects_{defaults_for(config)},
+      entries_{make_entries()},
+      od_{entries_},
+      nmt_{config.node},
+      sdo_{config.node, od_},
+      heartbeat_{config.node, config.heartbeat_period_ms},
+      master_heartbeat_{0, 0},
+      sync_{config.sync_period_us, config.communication_loss_periods},
+      emcy_{config.node} {
+  od_.set_hooks(&DriveNode::check_write, &DriveNode::on_written, this);
+  bind_pdos();
+  restore(true);
+}
+
+std::array<OdEntry, DriveNode::entry_count> DriveNode::make_entries() noexcept {
+  using A = OdAccess;
+  constexpr bool map = true;
+  DriveCommObjects& c = objects_.comm;
+  DriveAppObjects& a = objects_.app;
+  return {{
+      od_entry(obj::device_type, 0, c.device_type, A::ro),
+      od_entry(obj::error_register, 0, c.error_register, A::ro, map),
+      od_entry(obj::cob_id_sync, 0, c.cob_id_sync, A::ro),
+      od_entry(obj::communication_cycle_period, 0, c.cycle_period_us, A::rw),
+      od_entry(obj::cob_id_emcy, 0, c.cob_id_emcy, A::ro),
+      od_entry(obj::inhibit_time_emcy, 0, c.inhibit_time_emcy, A::rw),
+      od_entry(obj::consumer_heartbeat_time, 0, c.consumer_heartbeat_count, A::constant),
+      od_entry(obj::consumer_heartbeat_time, 1, c.consumer_heartbeat, A::rw),
+      od_entry(obj::producer_heartbeat_time, 0, c.producer_heartbeat_ms, A::rw),
+      od_entry(obj::identity, 0, c.identity_count, A::constant),
+      od_entry(obj::identity, 1, c.vendor_id, A::ro),
+      od_entry(obj::identity, 2, c.product_code, A::ro),
+      od_entry(obj::identity, 3, c.revision, A::ro),
+      od_entry(obj::identity, 4, c.serial, A::ro),
+      od_entry(obj::sync_counter_overflow, 0, c.sync_counter_overflow, A::ro),
+      od_entry(obj::sdo_server_parameter, 0, c.sdo_parameter_count, A::constant),
+      od_entry(obj::sdo_server_parameter, 1, c.sdo_cob_rx, A::ro),
+      od_entry(obj::sdo_server_parameter, 2, c.sdo_cob_tx, A::ro),
+      od_entry(obj::rpdo1_communication, 0, c.rpdo1_comm.count, A::constant),
+      od_entry(obj::rpdo1_communication, 1, c.rpdo1_comm.cob_id, A::ro),
+      od_entry(obj::rpdo1_communication, 2, c.rpdo1_comm.transmission_type, A::ro),
+      od_entry(obj::rpdo1_mapping, 0, c.rpdo1_map.count, A::ro),
+      od_entry(obj::rpdo1_mapping, 1, c.rpdo1_map.entries[0], A::ro),
+      od_entry(obj::rpdo1_mapping, 2, c.rpdo1_map.entries[1], A::ro),
+      od_entry(obj::tpdo1_communication, 0, c.tpdo1_comm.count, A::constant),
+      od_entry(obj::tpdo1_communication, 1, c.tpdo1_comm.cob_id, A::ro),
+      od_entry(obj::tpdo1_communication, 2, c.tpdo1_comm.transmission_type, A::ro),
+      od_entry(obj::tpdo2_communication, 0, c.tpdo2_comm.count, A::constant),
+      od_entry(obj::tpdo2_communication, 1, c.tpdo2_comm.cob_id, A::ro),
+      od_entry(obj::tpdo2_communication, 2, c.tpdo2_comm.transmission_type, A::ro),
+      od_entry(obj::tpdo1_mapping, 0, c.tpdo1_map.count, A::ro),
+      od_entry(obj::tpdo1_mapping, 1, c.tpdo1_map.entries[0], A::ro),
+      od_entry(obj::tpdo1_mapping, 2, c.tpdo1_map.entries[1], A::ro),
+      od_entry(obj::tpdo2_mapping, 0, c.tpdo2_map.count, A::ro),
+      od_entry(obj::tpdo2_mapping, 1, c.tpdo2_map.entries[0], A::ro),
+      od_entry(obj::tpdo2_mapping, 2, c.tpdo2_map.entries[1], A::ro),
+      od_entry(obj::load_position_actual, 0, a.load_position, A::ro, map),
+      od_entry(obj::communication_loss_periods, 0, a.communication_loss_periods, A::rw, false, 1, 255),
+      od_entry(obj::abort_connection_option, 0, a.abort_connection_option, A::rw, false, 0, 3),
+      od_entry(obj::error_code, 0, a.error_code, A::ro, map),
+      od_entry(obj::controlword, 0, a.controlword, A::rw, map),
+      od_entry(obj::statusword, 0, a.statusword, A::ro, map),
+      od_entry(obj::quick_stop_option, 0, a.quick_stop_option, A::rw, false, 0, 8),
+      od_entry(obj::modes_of_operation, 0, a.mode, A::rw, map),
+      od_entry(obj::modes_of_operation_display, 0, a.mode_display, A::ro, map),
+      od_entry(obj::position_actual, 0, a.position_actual, A::ro, map),
+      od_entry(obj::following_error_window, 0, a.following_error_window, A::rw),
+      od_entry(obj::following_error_timeout, 0, a.following_error_timeout_ms, A::rw),
+      od_entry(obj::velocity_actual, 0, a.velocity_actual, A::ro, map),
+      od_entry(obj::target_position, 0, a.target_position, A::rw, map),
+      od_entry(obj::software_position_limit, 0, a.position_limit_count, A::constant),
+      od_entry(obj::software_position_limit, 1, a.position_limit_min, A::rw),
+      od_entry(obj::software_position_limit, 2, a.position_limit_max, A::rw),
+      od_entry(obj::interpolation_data_record, 0, a.ip_data_count, A::constant),
+      od_entry(obj::interpolation_data_record, 1, a.ip_data, A::rw, map),
+      od_entry(obj::interpolation_time_period, 0, a.ip_period_count, A::constant),
+      od_entry(obj::interpolation_time_period, 1, a.ip_period_value, A::rw),
+      od_entry(obj::interpolation_time_period, 2, a.ip_period_index, A::rw, false, -6, 0),
+      od_entry(obj::supported_drive_modes, 0, a.supported_modes, A::ro),
+  }};
+}
+
+void DriveNode::bind_pdos() noexcept {
+  // The default mappings are fixed and the dictionary is ours, so these cannot fail; a test
+  // binds them against the same dictionary and checks the result.
+  (void)rpdo1_.bind(default_rpdo1_mapping(config_.node), od_);
+  (void)tpdo1_.bind(default_tpdo1_mapping(config_.node), od_);
+  (void)tpdo2_.bind(default_tpdo2_mapping(config_.node), od_);
+}
+
+void DriveNode::restore(bool application) noexcept {
+  const DriveObjects defaults = defaults_for(config_);
+  objects_.comm = defaults.comm;
+  if (application) {
+    objects_.app = defaults.app;
+    power_.reset();
+    setpoint_ = 0;
+    following_error_ = false;
+    limit_active_ = false;
+    following_error_timer_.disarm();
+  }
+  pending_rpdo_.reset();
+  rpdo_missing_run_ = 0;
+  controlword_written_ = false;
+  apply_configuration(0);
+  update_statusword();
+}
+
+void DriveNode::apply_configuration(std::uint16_t index) noexcept {
+  // Only the object that changed is re-applied: reconfiguring a watchdog restarts it, and
+  // process data (written every SYNC) must not do that.
+  const bool all = index == 0;
+  const DriveCommObjects& c = objects_.comm;
+  if (all || index == obj::producer_heartbeat_time) {
+    heartbeat_.set_period_ms(c.producer_heartbeat_ms);
+  }
+  if (all || index == obj::consumer_heartbeat_time) {
+    master_heartbeat_.configure(static_cast<NodeId>((c.consumer_heartbeat >> 16U) & 0xFFU),
+                                static_cast<std::uint16_t>(c.consumer_heartbeat & 0xFFFFU));
+  }
+  if (all || index == obj::communication_cycle_period || index == obj::communication_loss_periods) {
+    sync_.configure(c.cycle_period_us, objects_.app.communication_loss_periods);
+  }
+  if (all || index == obj::inhibit_time_emcy) {
+    emcy_.set_inhibit_us(std::uint32_t{c.inhibit_time_emcy} * 100U);
+  }
+  if (all || index == obj::quick_stop_option) {
+    power_.set_quick_stop_option(objects_.app.quick_stop_option);
+  }
+}
+
+void DriveNode::start(std::uint64_t now_us, FrameSink& out) noexcept {
+  nmt_.boot(out);
+  heartbeat_.start(now_us + std::uint64_t{objects_.comm.producer_heartbeat_ms} * 1000U);
+}
+
+DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
+  if (!is_canopen_data_frame(frame)) {
+    return DriveEvent::none;
+  }
+  if (frame.id == cob::nmt) {
+    const auto message = decode_nmt(frame);
+    if (!message || (message->node != 0 && message->node != config_.node)) {
+      return DriveEvent::none;
+    }
+    const NmtEvent event = nmt_.on_message(*message, out);
+    if (event == NmtEvent::reset_application || event == NmtEvent::reset_communication) {
+      restore(event == NmtEvent::reset_application);
+      heartbeat_.start(now_us + std::uint64_t{objects_.comm.producer_heartbeat_ms} * 1000U);
+      return event == NmtEvent::reset_application ? DriveEvent::reset : DriveEvent::handled;
+    }
+    on_nmt(*message, now_us, out);
+    return DriveEvent::handled;
+  }
+  // Error control runs in every NMT state, stopped included.
+  if (is_valid_node(master_heartbeat_.watched()) && frame.id == cob_id(cob::heartbeat, master_heartbeat_.watched())) {
+    (void)master_heartbeat_.on_frame(frame, now_us);
+    return DriveEvent::handled;
+  }
+  if (nmt_.state() == NmtState::stopped) {
+    return DriveEvent::none;
+  }
+  if (frame.id == objects_.comm.cob_id_sync) {
+    const auto sync = decode_sync(frame);
+    if (!sync) {
+      return DriveEvent::none;
+    }
+    on_sync(*sync, now_us, out);
+    return DriveEvent::sync;
+  }
+  if (frame.id == objects_.comm.sdo_cob_rx) {
+    if (!sdo_.on_frame(frame, out)) {
+      return DriveEvent::none;
+    }
+    apply_written_controlword(now_us, out);
+    return DriveEvent::handled;
+  }
+  if (frame.id == objects_.comm.rpdo1_comm.cob_id && nmt_.pdo_allowed()) {
+    // Synchronous RPDO: latched now, applied at the next SYNC (CiA 301 transmission type 1).
+    if (pending_rpdo_) {
+      ++counters_.rpdos_overwritten;
+    }
+    pending_rpdo_ = frame;
+    return DriveEvent::handled;
+  }
+  return DriveEvent::none;
+}
+
+void DriveNode::on_nmt(const NmtMessage& message, std::uint64_t now_us, FrameSink& out) noexcept {
+  if (message.command == NmtCommand::stop && power_.enabled()) {
+    connection_lost(emcy_code::communication, now_us, out);
+  }
+  if (message.command == NmtCommand::start) {
+    pending_rpdo_.reset();
+    rpdo_missing_run_ = 0;
+  }
+}
+
+void DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, FrameSink& out) noexcept {
+  ++counters_.syncs;
+  if (sync_.on_sync(sync, now_us) == SyncEvent::gap) {
+    ++counters_.sync_gaps;
+  }
+  if (nmt_.pdo_allowed()) {
+    if (pending_rpdo_) {
+      const PdoStatus status = rpdo1_.unpack(*pending_rpdo_);
+      pending_rpdo_.reset();
+      if (status == PdoStatus::ok) {
+        // Interpolated position takes its setpoint from 0x60C1:01; the default RPDO1 carries
+        // 0x607A, so a received target feeds the interpolation record too.
+        if (objects_.app.mode_display == static_cast<std::int8_t>(OperationMode::interpolated_position)) {
+          objects_.app.ip_data = objects_.app.target_position;
+        }
+        ++counters_.rpdos_applied;
+        rpdo_missing_run_ = 0;
+        apply_written_controlword(now_us, out);
+      } else {
+        ++counters_.rpdos_rejected;
+        if (status == PdoStatus::too_short || status == PdoStatus::too_long) {
+          signal_error(status == PdoStatus::too_short ? emcy_code::pdo_length : emcy_code::pdo_length_exceeded,
+                       error_register::communication, now_us, out);
+        }
+      }
+    } else if (power_.enabled()) {
+      ++counters_.rpdos_missing;
+      if (++rpdo_missing_run_ > objects_.app.communication_loss_periods) {
+        quick_stop_with_emcy(emcy_code::rpdo_timeout, now_us, out);
+      }
+    }
+  }
+
+  DriveAppObjects& a = objects_.app;
+  if (following()) {
+    const bool ip = a.mode_display == static_cast<std::int8_t>(OperationMode::interpolated_position);
+    const std::int32_t target = ip ? a.ip_data : a.target_position;
+    setpoint_ = target < a.position_limit_min ? a.position_limit_min
+                                              : (target > a.position_limit_max ? a.position_limit_max : target);
+    limit_active_ = setpoint_ != target;
+  } else if (!power_.enabled()) {
+    // Not following: the drive holds where the axis is, so enabling never causes a jump.
+    setpoint_ = a.position_actual;
+    limit_active_ = false;
+  }
+  update_statusword();
+}
+
+bool DriveNode::following() const noexcept {
+  if (!power_.enabled()) {
+    return false;
+  }
+  const auto mode = static_cast<OperationMode>(objects_.app.mode_display);
+  return mode == OperationMode::cyclic_synchronous_position ||
+         (mode == OperationMode::interpolated_position &&
+          (objects_.app.controlword & controlword::enable_ip_mode) != 0);
+}
+
+std::uint32_t DriveNode::interpolation_period_us() const noexcept {
+  // 0x60C2: value x 10^index s; the index is limited to -6..0, so this is exact in µs.
+  constexpr std::array<std::uint32_t, 7> us_per_unit{1, 10, 100, 1'000, 10'000, 100'000, 1'000'000};
+  const auto i = static_cast<std::size_t>(objects_.app.ip_period_index + 6);
+  return std::uint32_t{objects_.app.ip_period_value} * us_per_unit[i < us_per_unit.size() ? i : 0];
+}
+
+void DriveNode::publish(const DriveFeedback& feedback, std::uint64_t now_us, FrameSink& out) noexcept {
+  DriveAppObjects& a = objects_.app;
+  a.position_actual = feedback.position_actual;
+  a.velocity_actual = feedback.velocity_actual;
+  a.load_position = feedback.load_position;
+  if (!power_.enabled()) {
+    setpoint_ = a.position_actual;
+  }
+
+  if (following() && a.following_error_window != following_error_window_off) {
+    const std::int64_t deviation = std::int64_t{setpoint_} - std::int64_t{a.position_actual};
+    const std::int64_t magnitude = deviation < 0 ? -deviation : deviation;
+    following_error_ = magnitude > std::int64_t{a.following_error_window};
+    if (!following_error_) {
+      following_error_timer_.disarm();
+    } else if (a.following_error_timeout_ms == 0) {
+      raise_fault(emcy_code::following_error, now_us, out);
+    } else {
+      if (!following_error_timer_.armed()) {
+        following_error_timer_.arm(std::uint64_t{a.following_error_timeout_ms} * 1000U, now_us);
+      }
+      if (following_error_timer_.check(now_us)) {
+        raise_fault(emcy_code::following_error, now_us, out);
+      }
+    }
+  }
+  update_statusword();
+
+  if (nmt_.pdo_allowed()) {
+    CanFrame frame{};
+    if (tpdo1_.pack(frame) == PdoStatus::ok) {
+      (void)out.put(frame);
+    }
+    if (tpdo2_.pack(frame) == PdoStatus::ok) {
+      (void)out.put(frame);
+    }
+  }
+}
+
+void DriveNode::poll(std::uint64_t now_us, FrameSink& out) noexcept {
+  (void)heartbeat_.poll(now_us, nmt_.state(), out);
+  if (master_heartbeat_.poll(now_us) == HeartbeatEvent::lost) {
+    connection_lost(emcy_code::life_guard, now_us, out);
+  }
+  if (sync_.check_loss(now_us) && power_.enabled() && nmt_.pdo_allowed()) {
+    quick_stop_with_emcy(emcy_code::communication, now_us, out);
+  }
+  (void)emcy_.poll(now_us, out);
+}
+
+void DriveNode::raise_fault(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept {
+  if (power_.fault()) {
+    following_error_timer_.disarm();
+    signal_error(error_code, register_bits_for(error_code), now_us, out);
+    update_statusword();
+  }
+}
+
+void DriveNode::stop_complete() noexcept {
+  (void)power_.stop_complete();
+  update_statusword();
+}
+
+void DriveNode::connection_lost(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept {
+  if (!power_.enabled()) {
+    signal_error(error_code, error_register::communication, now_us, out);
+    return;
+  }
+  switch (static_cast<AbortConnectionAction>(objects_.app.abort_connection_option)) {
+    case AbortConnectionAction::fault:
+      raise_fault(error_code, now_us, out);
+      return;
+    case AbortConnectionAction::disable_voltage:
+      (void)power_.apply(Cia402Command::disable_voltage);
+      break;
+    case AbortConnectionAction::quick_stop:
+      (void)power_.apply(Cia402Command::quick_stop);
+      break;
+    case AbortConnectionAction::none:
+      break;
+  }
+  signal_error(error_code, error_register::communication, now_us, out);
+  update_statusword();
+}
+
+void DriveNode::quick_stop_with_emcy(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept {
+  if (power_.quick_stop()) {
+    signal_error(error_code, error_register::communication, now_us, out);
+    update_statusword();
+  }
+}
+
+void DriveNode::signal_error(std::uint16_t error_code, std::uint8_t register_bits, std::uint64_t now_us,
+                             FrameSink& out) noexcept {
+  objects_.app.error_code = error_code;
+  // CiA 301: the generic bit is set whenever any error is present.
+  objects_.comm.error_register = static_cast<std::uint8_t>(objects_.comm.error_register | register_bits |
+                                                           error_register::generic);
+  if (nmt_.emcy_allowed()) {
+    (void)emcy_.emit(EmcyMessage{error_code, objects_.comm.error_register, {}}, now_us, out);
+    ++counters_.emcy_sent;
+  }
+}
+
+void DriveNode::clear_errors(std::uint64_t now_us, FrameSink& out) noexcept {
+  if (objects_.comm.error_register == 0 && objects_.app.error_code == 0) {
+    return;
+  }
+  objects_.app.error_code = 0;
+  objects_.comm.error_register = 0;
+  if (nmt_.emcy_allowed()) {
+    (void)emcy_.emit(EmcyMessage{emcy_code::no_error, 0, {}}, now_us, out);
+    ++counters_.emcy_sent;
+  }
+}
+
+void DriveNode::apply_written_controlword(std::uint64_t now_us, FrameSink& out) noexcept {
+  if (!controlword_written_) {
+    return;
+  }
+  controlword_written_ = false;
+  const Cia402State before = power_.state();
+  if (power_.on_controlword(objects_.app.controlword)) {
+    const Cia402State after = power_.state();
+    // Errors end with a fault reset, or, for the communication errors that stop but do not
+    // fault the drive, when the master enables it again.
+    if ((before == Cia402State::fault && after == Cia402State::switch_on_disabled) ||
+        after == Cia402State::operation_enabled) {
+      clear_errors(now_us, out);
+    }
+    if (after == Cia402State::operation_enabled) {
+      following_error_ = false;
+      following_error_timer_.disarm();
+      rpdo_missing_run_ = 0;
+    }
+  }
+  update_statusword();
+}
+
+void DriveNode::update_statusword() noexcept {
+  std::uint16_t sw = power_.statusword_bits() | statusword::remote;
+  if (following()) {
+    sw |= statusword::mode_specific_12;
+  }
+  if (limit_active_) {
+    sw |= statusword::internal_limit;
+  }
+  if (following_error_) {
+    sw |= statusword::following_error;
+  }
+  objects_.app.statusword = sw;
+}
+
+SdoAbort DriveNode::check_write(void* self, const OdEntry& entry, std::int64_t value) noexcept {
+  const auto& node = *static_cast<const DriveNode*>(self);
+  const DriveAppObjects& a = node.objects_.app;
+  switch (entry.index) {
+    case obj::modes_of_operation:
+      return is_supported_mode(value) ? SdoAbort::none : SdoAbort::invalid_value;
+    case obj::consumer_heartbeat_time: {
+      const auto watched = static_cast<std::uint32_t>(value) >> 16U;
+      return watched <= node_id_max ? SdoAbort::none : SdoAbort::invalid_value;
+    }
+    case obj::software_position_limit:
+      if ((entry.sub == 1 && value > a.position_limit_max) || (entry.sub == 2 && value < a.position_limit_min)) {
+        return SdoAbort::max_below_min;
+      }
+      return SdoAbort::none;
+    case obj::interpolation_time_period:
+      return (entry.sub == 1 && value == 0) ? SdoAbort::value_too_low : SdoAbort::none;
+    default:
+      return SdoAbort::none;
+  }
+}
+
+void DriveNode::on_written(void* self, const OdEntry& entry) noexcept {
+  auto& node = *static_cast<DriveNode*>(self);
+  switch (entry.index) {
+    case obj::controlword:
+      // Acted on by the caller of the write, which knows the time and has a sink for EMCY.
+      node.controlword_written_ = true;
+      break;
+    case obj::modes_of_operation:
+      node.objects_.app.mode_display = node.objects_.app.mode;
+      break;
+    default:
+      node.apply_configuration(entry.index);
+      break;
+  }
+  node.update_statusword();
+}
+
+}  // namespace settle::hal::canopen

@@ -1,0 +1,73 @@
+#include "settle/hal/canopen/heartbeat.hpp"
+
+namespace settle::hal::canopen {
+
+CanFrame encode_heartbeat(NodeId node, NmtState state) noexcept {
+  CanFrame f{};
+  f.id = cob_id(cob::heartbeat, node);
+  f.len = 1;
+  f.data[0] = static_cast<std::uint8_t>(state);
+  return f;
+}
+
+std::optional<HeartbeatMessage> decode_heartbeat(const CanFrame& frame) noexcept {
+  const auto node = node_of(frame, cob::heartbeat);
+  if (!node || frame.len != 1) {
+    return std::nullopt;
+  }
+  const auto state = nmt_state_from_byte(frame.data[0]);
+  if (!state) {
+    return std::nullopt;
+  }
+  return HeartbeatMessage{*node, *state};
+}
+
+bool HeartbeatProducer::poll(std::uint64_t now_us, NmtState state, FrameSink& out) noexcept {
+  if (period_ms_ == 0 || now_us < next_due_us_) {
+    return false;
+  }
+  const std::uint64_t period_us = std::uint64_t{period_ms_} * 1000U;
+  // Late calls do not catch up: a heartbeat is a statement about now, not a count.
+  next_due_us_ = now_us - (now_us - next_due_us_) % period_us + period_us;
+  return out.put(encode_heartbeat(node_, state));
+}
+
+HeartbeatConsumer::HeartbeatConsumer(NodeId watched, std::uint16_t timeout_ms) noexcept
+    : node_{watched}, timeout_ms_{timeout_ms} {}
+
+void HeartbeatConsumer::configure(NodeId watched, std::uint16_t timeout_ms) noexcept {
+  node_ = watched;
+  timeout_ms_ = timeout_ms;
+  watchdog_.disarm();
+  seen_ = false;
+}
+
+HeartbeatEvent HeartbeatConsumer::on_frame(const CanFrame& frame, std::uint64_t now_us) noexcept {
+  const auto hb = decode_heartbeat(frame);
+  if (!hb || hb->node != node_ || !is_valid_node(node_)) {
+    return HeartbeatEvent::none;
+  }
+  const bool was_lost = watchdog_.expired();
+  const bool first = !seen_;
+  const NmtState previous = state_;
+  seen_ = true;
+  state_ = hb->state;
+  if (first) {
+    watchdog_.arm(std::uint64_t{timeout_ms_} * 1000U, now_us);
+  } else {
+    watchdog_.feed(now_us);
+  }
+  if (hb->state == NmtState::initialising) {
+    return HeartbeatEvent::boot_up;
+  }
+  if (first || was_lost) {
+    return HeartbeatEvent::alive;
+  }
+  return previous != hb->state ? HeartbeatEvent::state_changed : HeartbeatEvent::none;
+}
+
+HeartbeatEvent HeartbeatConsumer::poll(std::uint64_t now_us) noexcept {
+  return watchdog_.check(now_us) ? HeartbeatEvent::lost : HeartbeatEvent::none;
+}
+
+}  // namespace settle::hal::canopen

@@ -1,0 +1,84 @@
+#include "settle/hal/canopen/pdo.hpp"
+
+#include "settle/hal/canopen/byte_order.hpp"
+#include "settle/hal/canopen/cob_id.hpp"
+
+namespace settle::hal::canopen {
+
+SdoAbort PdoBinding::bind(const PdoMapping& mapping, ObjectDictionary& od) noexcept {
+  od_ = nullptr;
+  if (mapping.count > pdo_max_entries) {
+    return SdoAbort::pdo_too_long;
+  }
+  if (mapping.bit_length() > 64) {
+    return SdoAbort::pdo_too_long;
+  }
+  std::array<const OdEntry*, pdo_max_entries> resolved{};
+  for (std::size_t i = 0; i < mapping.count; ++i) {
+    const PdoMappingEntry& m = mapping.entries[i];
+    const OdEntry* entry = od.find(m.index, m.sub);
+    if (entry == nullptr) {
+      return od.has_index(m.index) ? SdoAbort::no_sub_index : SdoAbort::no_object;
+    }
+    if (!entry->pdo_mappable) {
+      return SdoAbort::not_mappable;
+    }
+    if (m.bits != 8U * od_type_size(entry->var.type())) {
+      return SdoAbort::length_mismatch;
+    }
+    resolved[i] = entry;
+  }
+  mapping_ = mapping;
+  resolved_ = resolved;
+  od_ = &od;
+  return SdoAbort::none;
+}
+
+PdoStatus PdoBinding::pack(CanFrame& out) const noexcept {
+  if (od_ == nullptr) {
+    return PdoStatus::unbound;
+  }
+  out = CanFrame{};
+  out.id = mapping_.cob_id;
+  std::size_t offset = 0;
+  for (std::size_t i = 0; i < mapping_.count; ++i) {
+    const std::size_t n = od_type_size(resolved_[i]->var.type());
+    put_le(std::span<std::uint8_t>{out.data}.subspan(offset, n), resolved_[i]->var.raw(), n);
+    offset += n;
+  }
+  out.len = static_cast<std::uint8_t>(offset);
+  return PdoStatus::ok;
+}
+
+PdoStatus PdoBinding::unpack(const CanFrame& in) noexcept {
+  if (od_ == nullptr) {
+    return PdoStatus::unbound;
+  }
+  if (!is_canopen_data_frame(in) || in.id != mapping_.cob_id) {
+    return PdoStatus::wrong_id;
+  }
+  const std::size_t expected = mapping_.byte_length();
+  if (in.len < expected) {
+    return PdoStatus::too_short;
+  }
+  if (in.len > expected) {
+    return PdoStatus::too_long;
+  }
+  // Check every value before storing any: a PDO is applied whole or not at all.
+  std::array<std::uint32_t, pdo_max_entries> raw{};
+  std::size_t offset = 0;
+  for (std::size_t i = 0; i < mapping_.count; ++i) {
+    const std::size_t n = od_type_size(resolved_[i]->var.type());
+    raw[i] = get_le(std::span<const std::uint8_t>{in.data}.subspan(offset, n), n);
+    offset += n;
+    if (od_->check_entry(*resolved_[i], raw[i]) != SdoAbort::none) {
+      return PdoStatus::rejected;
+    }
+  }
+  for (std::size_t i = 0; i < mapping_.count; ++i) {
+    od_->store_entry(*resolved_[i], raw[i]);
+  }
+  return PdoStatus::ok;
+}
+
+}  // namespace settle::hal::canopen

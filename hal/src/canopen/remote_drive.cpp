@@ -1,0 +1,247 @@
+#include "settle/hal/canopen/remote_drive.hpp"
+
+#include "settle/hal/canopen/nmt.hpp"
+
+namespace settle::hal::canopen {
+
+std::uint16_t EnableSequence::next(std::uint16_t statusword) noexcept {
+  std::uint16_t cw = controlword::disable_voltage;
+  switch (state_from_statusword(statusword)) {
+    case Cia402State::fault:
+      // Bit 7 must rise: after a 0x80 that did not clear the fault, drop it for one tick.
+      cw = (last_ & controlword::fault_reset) != 0 ? controlword::disable_voltage : controlword::fault_reset;
+      break;
+    case Cia402State::switch_on_disabled: cw = controlword::shutdown; break;
+    case Cia402State::ready_to_switch_on: cw = controlword::switch_on; break;
+    case Cia402State::switched_on:
+    case Cia402State::operation_enabled: cw = controlword::enable_operation; break;
+    case Cia402State::quick_stop_active:  // disable voltage ends the quick stop (transition 12)
+    case Cia402State::not_ready_to_switch_on:
+    case Cia402State::fault_reaction_active: cw = controlword::disable_voltage; break;
+  }
+  last_ = cw;
+  return cw;
+}
+
+std::optional<InterpolationPeriod> interpolation_period_from_us(std::uint32_t period_us) noexcept {
+  std::uint32_t unit_us = 1'000'000;
+  for (int index = 0; index >= -6; --index, unit_us /= 10U) {
+    if (period_us != 0 && period_us % unit_us == 0 && period_us / unit_us <= 255U) {
+      return InterpolationPeriod{static_cast<std::uint8_t>(period_us / unit_us), static_cast<std::int8_t>(index)};
+    }
+  }
+  return std::nullopt;
+}
+
+const char* to_string(RemoteDriveState state) noexcept {
+  switch (state) {
+    case RemoteDriveState::idle: return "idle";
+    case RemoteDriveState::configuring: return "configuring";
+    case RemoteDriveState::enabling: return "enabling";
+    case RemoteDriveState::ready: return "ready";
+    case RemoteDriveState::stopped: return "stopped";
+    case RemoteDriveState::lost: return "lost";
+    case RemoteDriveState::failed: return "failed";
+  }
+  return "?";
+}
+
+RemoteDrive::RemoteDrive(const RemoteDriveConfig& config) noexcept
+    : config_{config},
+      sdo_{config.node, config.sdo_timeout_us},
+      heartbeat_{config.node, config.heartbeat_timeout_ms},
+      emcy_{config.node} {}
+
+void RemoteDrive::plan_configuration() noexcept {
+  step_count_ = 0;
+  const auto add = [this](SdoStep s) {
+    if (step_count_ < max_steps) {
+      steps_[step_count_++] = s;
+    }
+  };
+  const auto mode = static_cast<std::uint8_t>(config_.mode);
+  // A CiA 402 device at all (profile number in the low 16 bits of 0x1000)?
+  add({obj::device_type, 0, cia402_device_type, 4, true, 0xFFFF});
+  add({obj::modes_of_operation, 0, mode, 1, false, 0});
+  if (const auto ip = interpolation_period_from_us(config_.sync_period_us)) {
+    add({obj::interpolation_time_period, 1, ip->value, 1, false, 0});
+    add({obj::interpolation_time_period, 2, static_cast<std::uint8_t>(ip->index), 1, false, 0});
+  }
+  add({obj::communication_cycle_period, 0, config_.sync_period_us, 4, false, 0});
+  if (config_.communication_loss_periods != 0) {
+    add({obj::communication_loss_periods, 0, config_.communication_loss_periods, 1, false, 0});
+  }
+  if (config_.master_node != 0) {
+    const std::uint32_t hb = (std::uint32_t{config_.master_node} << 16U) | config_.master_heartbeat_timeout_ms;
+    add({obj::consumer_heartbeat_time, 1, hb, 4, false, 0});
+  }
+  // The drive may accept a mode write and still run another one: trust the display.
+  add({obj::modes_of_operation_display, 0, mode, 1, true, 0xFF});
+}
+
+void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
+  state_ = RemoteDriveState::configuring;
+  failure_ = RemoteDriveFailure{};
+  sdo_.cancel();
+  enable_timer_.disarm();
+  plan_configuration();
+  step_ = 0;
+  step_sent_ = false;
+  // SDO configuration belongs in pre-operational, where no process data flows.
+  (void)out.put(encode_nmt(NmtCommand::enter_pre_operational, config_.node));
+  next_step(now_us, out);
+}
+
+void RemoteDrive::next_step(std::uint64_t now_us, FrameSink& out) noexcept {
+  if (step_ >= step_count_) {
+    if (out.put(encode_nmt(NmtCommand::start, config_.node))) {
+      begin_enabling(now_us);
+    }
+    return;
+  }
+  const SdoStep& s = steps_[step_];
+  step_sent_ = s.upload ? sdo_.upload(s.index, s.sub, now_us, out)
+                        : sdo_.download(s.index, s.sub, s.value, s.size, now_us, out);
+}
+
+void RemoteDrive::begin_enabling(std::uint64_t now_us) noexcept {
+  state_ = RemoteDriveState::enabling;
+  enable_.reset();
+  enable_timer_.arm(config_.enable_timeout_us, now_us);
+}
+
+void RemoteDrive::recover(std::uint64_t now_us) noexcept {
+  if (state_ == RemoteDriveState::stopped ||
+      (state_ == RemoteDriveState::failed && failure_.enable_timeout)) {
+    failure_ = RemoteDriveFailure{};
+    begin_enabling(now_us);
+  }
+}
+
+void RemoteDrive::fail(std::uint64_t /*now_us*/) noexcept {
+  state_ = RemoteDriveState::failed;
+  enable_timer_.disarm();
+  events_ |= remote_event::failed;
+}
+
+void RemoteDrive::on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
+  if (!is_canopen_data_frame(frame)) {
+    return;
+  }
+  const bool was_lost = state_ == RemoteDriveState::lost;
+  switch (heartbeat_.on_frame(frame, now_us)) {
+    case HeartbeatEvent::boot_up:
+      events_ |= remote_event::boot_up;
+      // Whatever was configured on the drive is gone; configure it again before streaming.
+      if (state_ != RemoteDriveState::idle) {
+        start(now_us, out);
+      }
+      return;
+    case HeartbeatEvent::alive:
+      if (was_lost) {
+        events_ |= remote_event::heartbeat_back;
+        start(now_us, out);
+      }
+      return;
+    case HeartbeatEvent::state_changed:
+    case HeartbeatEvent::none:
+    case HeartbeatEvent::lost:
+      break;
+  }
+  if (emcy_.on_frame(frame)) {
+    events_ |= remote_event::emcy;
+    return;
+  }
+  if (const auto tpdo1 = decode_tpdo1(frame, config_.node)) {
+    feedback_.statusword = tpdo1->statusword;
+    feedback_.position_actual = tpdo1->position_actual;
+    feedback_.tpdo1_time_us = now_us;
+    ++feedback_.tpdo1_received;
+    const bool enabled = EnableSequence::done(tpdo1->statusword);
+    if (state_ == RemoteDriveState::enabling && enabled) {
+      state_ = RemoteDriveState::ready;
+      enable_timer_.disarm();
+      events_ |= remote_event::became_ready;
+    } else if (state_ == RemoteDriveState::ready && !enabled) {
+      state_ = RemoteDriveState::stopped;
+      events_ |= remote_event::left_enabled;
+    }
+    return;
+  }
+  if (const auto tpdo2 = decode_tpdo2(frame, config_.node)) {
+    feedback_.load_position = tpdo2->load_position;
+    feedback_.velocity_actual = tpdo2->velocity_actual;
+    ++feedback_.tpdo2_received;
+    return;
+  }
+  if (state_ != RemoteDriveState::configuring || !sdo_.on_frame(frame, out)) {
+    return;
+  }
+  const SdoResult& r = sdo_.result();
+  if (r.status != SdoClientStatus::done) {
+    failure_ = RemoteDriveFailure{r.index, r.sub, r.status, r.abort, false, false};
+    fail(now_us);
+    return;
+  }
+  const SdoStep& s = steps_[step_];
+  if (s.upload && (r.value & s.mask) != (s.value & s.mask)) {
+    failure_ = RemoteDriveFailure{r.index, r.sub, r.status, SdoAbort::none, true, false};
+    fail(now_us);
+    return;
+  }
+  ++step_;
+  step_sent_ = false;
+  next_step(now_us, out);
+}
+
+void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
+  if (heartbeat_.poll(now_us) == HeartbeatEvent::lost) {
+    events_ |= remote_event::heartbeat_lost;
+    if (state_ != RemoteDriveState::idle) {
+      state_ = RemoteDriveState::lost;
+      sdo_.cancel();
+      enable_timer_.disarm();
+    }
+  }
+  switch (state_) {
+    case RemoteDriveState::configuring:
+      sdo_.poll(now_us, out);
+      if (sdo_.status() == SdoClientStatus::timed_out) {
+        const SdoResult& r = sdo_.result();
+        failure_ = RemoteDriveFailure{r.index, r.sub, r.status, r.abort, false, false};
+        fail(now_us);
+      } else if (!step_sent_ && !sdo_.busy()) {
+        next_step(now_us, out);  // the request did not fit in the sink last time
+      }
+      break;
+    case RemoteDriveState::enabling:
+      if (enable_timer_.check(now_us)) {
+        failure_ = RemoteDriveFailure{};
+        failure_.enable_timeout = true;
+        fail(now_us);
+      }
+      break;
+    case RemoteDriveState::idle:
+    case RemoteDriveState::ready:
+    case RemoteDriveState::stopped:
+    case RemoteDriveState::lost:
+    case RemoteDriveState::failed:
+      break;
+  }
+}
+
+std::optional<CanFrame> RemoteDrive::rpdo(std::int32_t target_counts) noexcept {
+  if (state_ == RemoteDriveState::enabling) {
+    return encode_rpdo1(config_.node, Rpdo1{enable_.next(feedback_.statusword), feedback_.position_actual});
+  }
+  if (state_ == RemoteDriveState::ready) {
+    std::uint16_t cw = controlword::enable_operation;
+    if (config_.mode == OperationMode::interpolated_position) {
+      cw |= controlword::enable_ip_mode;
+    }
+    return encode_rpdo1(config_.node, Rpdo1{cw, target_counts});
+  }
+  return std::nullopt;
+}
+
+}  // namespace settle::hal::canopen

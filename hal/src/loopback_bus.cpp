@@ -1,0 +1,64 @@
+#include "settle/hal/loopback_bus.hpp"
+
+namespace settle::hal {
+
+void LoopbackHub::attach(LoopbackPort& port) noexcept {
+  // Appended at the end so delivery order follows attach order, which keeps tests stable.
+  LoopbackPort** link = &first_;
+  while (*link != nullptr) {
+    link = &(*link)->next_;
+  }
+  *link = &port;
+  port.next_ = nullptr;
+}
+
+void LoopbackHub::detach(LoopbackPort& port) noexcept {
+  for (LoopbackPort** link = &first_; *link != nullptr; link = &(*link)->next_) {
+    if (*link == &port) {
+      *link = port.next_;
+      port.next_ = nullptr;
+      return;
+    }
+  }
+}
+
+void LoopbackHub::deliver(const LoopbackPort& from, const CanFrame& frame) noexcept {
+  for (LoopbackPort* port = first_; port != nullptr; port = port->next_) {
+    if (port != &from || port->options_.receive_own) {
+      port->accept(frame, now_us_);
+    }
+  }
+}
+
+LoopbackPort::LoopbackPort(LoopbackHub& hub, std::span<CanFrame> rx_storage, LoopbackOptions options) noexcept
+    : hub_{hub}, rx_{rx_storage}, options_{options} {
+  hub_.attach(*this);
+}
+
+LoopbackPort::~LoopbackPort() { hub_.detach(*this); }
+
+void LoopbackPort::accept(const CanFrame& frame, std::uint64_t now_us) noexcept {
+  if (!filters_.accepts(frame)) {
+    return;
+  }
+  CanFrame stamped = frame;
+  stamped.timestamp_us = now_us;
+  if (!rx_.push(stamped)) {
+    count_rx_overflow(1);
+  }
+}
+
+SendStatus LoopbackPort::do_send(const CanFrame& frame) noexcept {
+  hub_.deliver(*this, frame);
+  return SendStatus::sent;
+}
+
+ReceiveStatus LoopbackPort::do_receive(CanFrame& frame, std::uint32_t /*timeout_us*/) noexcept {
+  return rx_.pop(frame) ? ReceiveStatus::received : ReceiveStatus::empty;
+}
+
+BusStatus LoopbackPort::do_set_filters(std::span<const CanFilter> filters) noexcept {
+  return filters_.assign(filters);
+}
+
+}  // namespace settle::hal
