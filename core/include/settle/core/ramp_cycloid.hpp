@@ -59,7 +59,7 @@ struct CycloidShape {
     return s * s / T(2) - m2 * (T(1) - cs) + k3 * s - m3 * sn;
   }
   [[nodiscard]] T rp(T s, T sn, T cs) const noexcept {
-    return s * s * s / T(6) - m2 * s + q2 * sn + k3 * s * s / T(2) - q3 * (T(1) - cs);
+    return s * s * (s * T(1.0 / 6.0) + k3 * T(0.5)) - m2 * s + q2 * sn - q3 * (T(1) - cs);
   }
 };
 
@@ -177,5 +177,8 @@ struct TransitionPeaks {
   double jerk;   // 1 + sqrt(c2^2 + c3^2)
 };
 [[nodiscard]] TransitionPeaks transition_peaks(double c2, double c3) noexcept;
+// Peak |v| of the whole profile in units of A*tau (>= 1; > 1 when the acceleration overshoots).
+// Never more than 2 * TransitionPeaks::accel, which lets a planner skip it when v cannot bind.
+[[nodiscard]] double transition_velocity_peak(double c2, double c3) noexcept;
 
 }  // namespace settle::core

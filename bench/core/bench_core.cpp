@@ -1,0 +1,113 @@
+// Per-tick evaluation cost of every profile (double and float, shaped and not, random access
+// and stepping) and the cost of planning. Measured, never asserted: see the issue notes.
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+#include "settle/core/planner.hpp"
+#include "settle/core/stepper.hpp"
+
+using namespace settle::core;
+
+namespace {
+
+MoveRequest request(ProfileKind k, ShaperKind s = ShaperKind::none) {
+  MoveRequest r{};
+  r.profile = k;
+  r.distance = 0.1;
+  r.omega = 22.04871;
+  r.zeta = k == ProfileKind::scurve ? 0.0 : 0.05;
+  r.shaper = s;
+  if (k == ProfileKind::jerk_limited) {
+    r.vmax = 0.5;
+    r.amax = 5.0;
+    r.jmax = 100.0;
+  } else {
+    r.time = 0.5;
+  }
+  if (k == ProfileKind::pseudopoly) {
+    r.gammas = {3.024, 4.565, 5.874};
+    r.gamma_count = 3;
+  }
+  return r;
+}
+
+Move<double> planned(ProfileKind k, ShaperKind s) {
+  Move<double> m{};
+  if (plan(request(k, s), m) != Status::ok) std::abort();
+  return m;
+}
+
+template <typename T>
+void BM_Evaluate(benchmark::State& state, ProfileKind k, ShaperKind s) {
+  const Move<T> m{planned(k, s)};
+  // 1 kHz ticks across the move, so every segment is visited as in a servo loop.
+  std::vector<T> ts;
+  for (T t = 0; t < m.duration(); t += T(1e-3)) ts.push_back(t);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(m.at(ts[i]));
+    if (++i == ts.size()) i = 0;
+  }
+}
+
+template <typename T>
+void BM_Step(benchmark::State& state, ProfileKind k, ShaperKind s) {
+  const Move<T> m{planned(k, s)};
+  const auto ticks = static_cast<std::int64_t>(m.duration() / T(1e-3));
+  MoveStepper<T> st{m, T(1e-3)};
+  std::int64_t n = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(st.step());
+    if (++n == ticks) {
+      st = MoveStepper<T>{m, T(1e-3)};
+      n = 0;
+    }
+  }
+}
+
+void BM_EvaluateDouble(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Evaluate<double>(st, k, s); }
+void BM_EvaluateFloat(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Evaluate<float>(st, k, s); }
+void BM_StepDouble(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Step<double>(st, k, s); }
+void BM_StepFloat(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Step<float>(st, k, s); }
+
+void BM_Plan(benchmark::State& state, ProfileKind k, ShaperKind s) {
+  const MoveRequest r = request(k, s);
+  Move<double> m{};
+  for (auto _ : state) benchmark::DoNotOptimize(plan(r, m));
+}
+
+void BM_PlanFastestScurve(benchmark::State& state, bool damped) {
+  RampCycloidParams p{};
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(plan_fastest_scurve(0.1, 1.0, 20.0, 800.0, 22.04871, 0.05, damped, p));
+  }
+}
+
+}  // namespace
+
+#define SETTLE_EVAL(K, S)                                                                        \
+  BENCHMARK_CAPTURE(BM_EvaluateDouble, K##_##S##_double, ProfileKind::K, ShaperKind::S);       \
+  BENCHMARK_CAPTURE(BM_EvaluateFloat, K##_##S##_float, ProfileKind::K, ShaperKind::S)
+
+SETTLE_EVAL(scurve, none);
+SETTLE_EVAL(scurve_damped, none);
+SETTLE_EVAL(ramp_versine, none);
+SETTLE_EVAL(pseudopoly, none);
+SETTLE_EVAL(poly345, none);
+SETTLE_EVAL(trapezoid, none);
+SETTLE_EVAL(jerk_limited, none);
+SETTLE_EVAL(scurve, zv);
+SETTLE_EVAL(jerk_limited, zvd);
+BENCHMARK_CAPTURE(BM_StepDouble, scurve_none_double, ProfileKind::scurve, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_StepFloat, scurve_none_float, ProfileKind::scurve, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_StepDouble, scurve_damped_none_double, ProfileKind::scurve_damped, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_StepDouble, scurve_zv_double, ProfileKind::scurve, ShaperKind::zv);
+BENCHMARK_CAPTURE(BM_Plan, scurve, ProfileKind::scurve, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_Plan, scurve_damped, ProfileKind::scurve_damped, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_Plan, ramp_versine, ProfileKind::ramp_versine, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_Plan, poly345, ProfileKind::poly345, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_Plan, jerk_limited, ProfileKind::jerk_limited, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_Plan, jerk_limited_zvd, ProfileKind::jerk_limited, ShaperKind::zvd);
+BENCHMARK_CAPTURE(BM_PlanFastestScurve, undamped, false);
+BENCHMARK_CAPTURE(BM_PlanFastestScurve, damped, true);

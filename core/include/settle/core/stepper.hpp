@@ -1,0 +1,110 @@
+#pragma once
+// Stepping evaluation: the servo loop asks for setpoints at evenly spaced ticks, so instead of
+// sin/cos per tick the ramp-cycloid's trigonometric terms advance by a fixed rotation, re-anchored
+// exactly (one sin/cos) at each segment boundary and every kReanchor ticks so rounding cannot
+// drift. Other profiles step by random access. Results match Move::at to rounding.
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <variant>
+
+#include "settle/core/move.hpp"
+
+namespace settle::core {
+
+template <typename T>
+class RampCycloidStepper {
+ public:
+  static constexpr std::int32_t kReanchor = 128;
+
+  RampCycloidStepper() = default;
+  // Tick n is at time t0 + n dt of the profile's own clock (t0 < 0 delays it, as a shaper does).
+  // The profile must outlive the stepper.
+  RampCycloidStepper(const RampCycloid<T>& rc, T dt, T t0) noexcept
+      : rc_{&rc}, dt_{dt}, t0_{t0}, rot_c_{std::cos(two_pi_v<T>() * dt / rc.tau())},
+        rot_s_{std::sin(two_pi_v<T>() * dt / rc.tau())} {}
+
+  [[nodiscard]] Sample<T> step() noexcept {
+    const T t = t0_ + static_cast<T>(n_) * dt_;
+    ++n_;
+    if (!(t > T(0))) return {};
+    if (t >= rc_->duration()) return {rc_->distance(), T(0), T(0), T(0)};
+    const int k = seg_ >= 0 && seg_ < 4 && t < rc_->segment(seg_ + 1).start && t >= rc_->segment(seg_).start
+                      ? seg_
+                      : rc_->segment_at(t);
+    const T u = t - rc_->segment(k).start;
+    if (rc_->segment(k).cruise) {
+      seg_ = k;
+      return rc_->in_segment(k, u, T(0), T(1));
+    }
+    if (k != seg_ || since_anchor_ >= kReanchor) {
+      const T th = two_pi_v<T>() * u / rc_->tau();
+      sn_ = std::sin(th);
+      cs_ = std::cos(th);
+      seg_ = k;
+      since_anchor_ = 0;
+    } else {
+      const T s = sn_ * rot_c_ + cs_ * rot_s_;
+      cs_ = cs_ * rot_c_ - sn_ * rot_s_;
+      sn_ = s;
+      ++since_anchor_;
+    }
+    return rc_->in_segment(k, u, sn_, cs_);
+  }
+
+ private:
+  const RampCycloid<T>* rc_{nullptr};
+  T dt_{}, t0_{};
+  T rot_c_{1}, rot_s_{0};
+  T sn_{0}, cs_{1};
+  std::int64_t n_{0};
+  int seg_{-1};
+  std::int32_t since_anchor_{0};
+};
+
+// Steps any Move: per-impulse ramp-cycloid steppers when the profile is a ramp-cycloid and the
+// shaper fits MaxImpulses, random access otherwise. The Move must outlive the stepper.
+template <typename T, std::size_t MaxImpulses = 4>
+class MoveStepper {
+ public:
+  MoveStepper() = default;
+  MoveStepper(const Move<T>& m, T dt) noexcept : move_{&m}, dt_{dt} {
+    const auto* rc = std::get_if<RampCycloid<T>>(&m.profile().variant());
+    if (rc != nullptr && m.shaper().count <= MaxImpulses && rc->tau() > T(0)) {
+      count_ = m.shaper().count;
+      for (std::size_t i = 0; i < count_; ++i) steppers_[i] = RampCycloidStepper<T>{*rc, dt, -m.shaper().time[i]};
+    }
+  }
+
+  [[nodiscard]] Sample<T> step() noexcept {
+    const T t = static_cast<T>(n_) * dt_;
+    ++n_;
+    if (count_ == 0) return move_->at(t);
+    if (t >= move_->duration()) {
+      for (std::size_t i = 0; i < count_; ++i) (void)steppers_[i].step();  // keep clocks aligned
+      return {move_->distance(), T(0), T(0), T(0)};
+    }
+    if (count_ == 1) return steppers_[0].step();
+    Sample<T> acc{};
+    for (std::size_t i = 0; i < count_; ++i) {
+      const Sample<T> s = steppers_[i].step();
+      const T w = move_->shaper().amp[i];
+      acc.p += w * s.p;
+      acc.v += w * s.v;
+      acc.a += w * s.a;
+      acc.j += w * s.j;
+    }
+    return acc;
+  }
+  [[nodiscard]] std::int64_t tick() const noexcept { return n_; }
+
+ private:
+  const Move<T>* move_{nullptr};
+  T dt_{};
+  std::int64_t n_{0};
+  std::size_t count_{0};
+  std::array<RampCycloidStepper<T>, MaxImpulses> steppers_{};
+};
+
+}  // namespace settle::core
