@@ -16,21 +16,24 @@ const std::set<std::string> kMoveFlagOptions = {"--json"};
 
 Args::Args(int argc, char** argv, const std::set<std::string>& value_options,
            const std::set<std::string>& flag_options) {
+  // Keep scanning after the first error so that a --json anywhere still selects the error format.
+  auto fail = [this](const std::string& msg, const std::string& param) {
+    if (!error_.empty()) return;
+    error_ = msg;
+    error_param_ = param;
+  };
   for (int i = 0; i < argc; ++i) {
     const std::string a = argv[i];
     if (value_options.count(a) != 0) {
       if (i + 1 >= argc) {
-        error_ = "option " + a + " needs a value";
-        error_param_ = a;
-        return;
+        fail("option " + a + " needs a value", a);
+        break;
       }
       values_.emplace(a, argv[++i]);
     } else if (flag_options.count(a) != 0) {
       flags_.insert(a);
     } else {
-      error_ = "unknown option '" + a + "'";
-      error_param_ = a;
-      return;
+      fail("unknown option '" + a + "'", a);
     }
   }
 }

@@ -1,0 +1,191 @@
+// The settle CLI as a user meets it: exit codes, the one-line error naming the parameter, the
+// JSON shapes of success and error, and CSV sampling. JSON is checked structurally with a small
+// parser here, so a malformed document fails the test.
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+namespace {
+
+struct CliResult {
+  int status;
+  std::string out;
+};
+
+CliResult run(const std::string& args) {
+  const std::string cmd = std::string{SETTLE_CLI} + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int st = pclose(p);
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+}
+
+// Minimal JSON reader: returns flattened "a.b.c" -> raw value text; fails on malformed input.
+struct Json {
+  std::map<std::string, std::string> flat;
+  bool ok = true;
+  const std::string& s;
+  std::size_t i = 0;
+  explicit Json(const std::string& text) : s{text} {
+    skip();
+    value("");
+    skip();
+    if (i != s.size()) ok = false;
+  }
+  void skip() {
+    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+  }
+  std::string str() {
+    std::string r;
+    if (s[i] != '"') {
+      ok = false;
+      return r;
+    }
+    for (++i; i < s.size() && s[i] != '"'; ++i) {
+      if (s[i] == '\\') ++i;
+      r += s[i];
+    }
+    ++i;
+    return r;
+  }
+  void value(const std::string& path) {
+    skip();
+    if (i >= s.size()) {
+      ok = false;
+      return;
+    }
+    if (s[i] == '{') {
+      ++i;
+      skip();
+      if (s[i] == '}') {
+        ++i;
+        return;
+      }
+      while (ok) {
+        skip();
+        const std::string k = str();
+        skip();
+        if (s[i++] != ':') ok = false;
+        value(path.empty() ? k : path + "." + k);
+        skip();
+        if (s[i] == ',') {
+          ++i;
+          continue;
+        }
+        if (s[i++] != '}') ok = false;
+        return;
+      }
+    } else if (s[i] == '[') {
+      ++i;
+      int idx = 0;
+      skip();
+      if (s[i] == ']') {
+        ++i;
+        return;
+      }
+      while (ok) {
+        value(path + "." + std::to_string(idx++));
+        skip();
+        if (s[i] == ',') {
+          ++i;
+          continue;
+        }
+        if (s[i++] != ']') ok = false;
+        return;
+      }
+    } else if (s[i] == '"') {
+      flat[path] = str();
+    } else {
+      const std::size_t b = i;
+      while (i < s.size() && (std::isalnum(static_cast<unsigned char>(s[i])) || s[i] == '.' || s[i] == '-' || s[i] == '+')) ++i;
+      if (i == b) ok = false;
+      flat[path] = s.substr(b, i - b);
+    }
+  }
+};
+
+TEST(Cli, PlanPrintsTheSeed000Plan) {
+  const CliResult r = run("plan --profile scurve --distance 0.1 --time 0.228 --omega 22.04871");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("duration     0.228"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("A2"), std::string::npos);
+}
+
+TEST(Cli, PlanJsonHasTheDocumentedShape) {
+  const CliResult r = run("plan --profile ramp-versine --distance 1 --time 0.167 --omega 28.2843 --zeta 0.159 --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const Json j{r.out};
+  ASSERT_TRUE(j.ok) << r.out;
+  EXPECT_EQ(j.flat.at("status"), "ok");
+  EXPECT_EQ(j.flat.at("profile"), "ramp-versine");
+  EXPECT_NEAR(std::stod(j.flat.at("duration")), 0.167, 1e-12);
+  EXPECT_NEAR(std::stod(j.flat.at("params.Y1")), 1.3462, 2e-3);
+  EXPECT_EQ(j.flat.at("peaks.velocity_step"), "true");
+  EXPECT_EQ(j.flat.at("peaks.acceleration"), "null");  // an impulse, flagged, not a number
+  EXPECT_EQ(j.flat.count("shaper.impulses.0.amplitude"), 1u);
+}
+
+TEST(Cli, BadRequestsExitTwoNamingTheParameter) {
+  struct Case {
+    const char* args;
+    const char* param;
+    const char* code;
+  };
+  const Case cases[] = {
+      {"plan --profile scurve --distance 0.1 --time -1 --omega 20", "--time", "non_positive_time"},
+      {"plan --profile scurve --distance 0.1 --time 1 --omega 0", "--omega", "non_positive_omega"},
+      {"plan --profile scurve --distance 0.1 --time 1 --omega 20 --zeta 1.5", "--zeta", "zeta_out_of_range"},
+      {"plan --profile scurve --distance nan --time 1 --omega 20", "--distance", "non_finite_input"},
+      {"plan --profile scurve --distance 1 --time 1 --vmax 0.5 --omega 20", "--time", "time_too_short_for_vmax"},
+      {"plan --profile scurve --distance 0.1 --time 0.2 --omega 20 --amax 1", "--amax", "acceleration_limit_exceeded"},
+      {"plan --profile pseudopoly --distance 1 --time 1 --gammas 3,3,5", "--gammas", "gammas_not_distinct"},
+      {"plan --profile pseudopoly --distance 1 --time 1 --gammas 1.5,3,5", "--gammas", "gamma_too_small"},
+      {"plan --profile warp --distance 1 --time 1", "--profile", "unknown_profile"},
+      {"plan --profile scurve --distance abc --time 1 --omega 2", "--distance", "bad_number"},
+      {"plan --profile scurve --distance 1 --time 1 --omega 2 --bogus 3", "--bogus", "bad_option"},
+      {"sample --profile poly345 --distance 1 --time 1 --dt -0.1", "--dt", "bad_number"},
+  };
+  for (const Case& c : cases) {
+    const CliResult text = run(c.args);
+    EXPECT_EQ(text.status, 2) << c.args;
+    EXPECT_EQ(std::count(text.out.begin(), text.out.end(), '\n'), 1) << "one line: " << text.out;
+    EXPECT_NE(text.out.find(c.param), std::string::npos) << text.out;
+    const CliResult json = run(std::string{c.args} + " --json");
+    EXPECT_EQ(json.status, 2) << c.args;
+    const Json j{json.out};
+    ASSERT_TRUE(j.ok) << json.out;
+    EXPECT_EQ(j.flat.at("status"), "error");
+    EXPECT_EQ(j.flat.at("error"), c.code) << c.args;
+    EXPECT_EQ(j.flat.at("parameter"), c.param);
+    EXPECT_FALSE(j.flat.at("message").empty());
+  }
+}
+
+TEST(Cli, SampleWritesCsvOverTheWholeMove) {
+  const CliResult r = run("sample --profile poly345 --distance 2 --time 1 --dt 0.25");
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::vector<std::string> lines;
+  std::size_t b = 0;
+  for (std::size_t e; (e = r.out.find('\n', b)) != std::string::npos; b = e + 1) lines.push_back(r.out.substr(b, e - b));
+  ASSERT_EQ(lines.size(), 6u);
+  EXPECT_EQ(lines[0], "t,position,velocity,acceleration,jerk");
+  EXPECT_EQ(lines[1].substr(0, 4), "0,0,");
+  EXPECT_EQ(lines[3].substr(0, 6), "0.5,1,");  // halfway there at half time
+  EXPECT_EQ(lines[5].substr(0, 4), "1,2,");
+}
+
+TEST(Cli, UnknownCommandAndNoCommandExitTwo) {
+  EXPECT_EQ(run("frobnicate").status, 2);
+  EXPECT_EQ(run("").status, 2);
+  EXPECT_EQ(run("--help").status, 0);
+}
+
+}  // namespace
