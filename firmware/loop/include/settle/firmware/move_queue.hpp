@@ -1,0 +1,43 @@
+#pragma once
+// A bounded FIFO of planned moves per axis: the next moves are planned (outside the tick) while
+// the current one runs. Fixed capacity, no heap; the front slot is never overwritten while it is
+// the active move, so a stepper may keep a pointer into it.
+#include <array>
+#include <cstddef>
+
+#include "settle/core/move.hpp"
+
+namespace settle::firmware {
+
+template <typename Scalar, std::size_t Capacity>
+class MoveQueue {
+ public:
+  static_assert(Capacity > 0);
+
+  [[nodiscard]] bool push(const core::Move<Scalar>& m) noexcept {
+    if (size_ == Capacity) return false;
+    slots_[(head_ + size_) % Capacity] = m;
+    ++size_;
+    return true;
+  }
+  [[nodiscard]] const core::Move<Scalar>& front() const noexcept { return slots_[head_]; }
+  void pop() noexcept {
+    if (size_ == 0) return;
+    head_ = (head_ + 1) % Capacity;
+    --size_;
+  }
+  void clear() noexcept {
+    head_ = 0;
+    size_ = 0;
+  }
+  [[nodiscard]] std::size_t size() const noexcept { return size_; }
+  [[nodiscard]] bool empty() const noexcept { return size_ == 0; }
+  [[nodiscard]] bool full() const noexcept { return size_ == Capacity; }
+
+ private:
+  std::array<core::Move<Scalar>, Capacity> slots_{};
+  std::size_t head_{0};
+  std::size_t size_{0};
+};
+
+}  // namespace settle::firmware

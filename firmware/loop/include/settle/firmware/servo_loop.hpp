@@ -1,0 +1,336 @@
+#pragma once
+// The periodic servo loop: each tick it takes the drives' feedback, evaluates every axis's active
+// move, converts it to drive counts, sends one RPDO per axis and one SYNC, and keeps statistics.
+// Generic over the evaluation scalar, the number of axes and the queue depth; time is given by
+// the caller (the runner owns the clock), so the same loop runs under a Linux timer, a Cortex-M
+// SysTick or a test's virtual clock. No heap, no exceptions, bounded work per tick.
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <optional>
+
+#include "settle/core/planner.hpp"
+#include "settle/core/stepper.hpp"
+#include "settle/firmware/move_queue.hpp"
+#include "settle/hal/can_bus.hpp"
+#include "settle/hal/canopen/remote_drive.hpp"
+#include "settle/hal/canopen/sync.hpp"
+
+namespace settle::firmware {
+
+enum class LoopStatus : std::uint8_t {
+  ok,
+  plan_failed,            // the planner refused the request (see the core::Status returned with it)
+  queue_full,
+  no_such_axis,
+  too_many_axes,
+  exceeds_axis_velocity,  // the move's true peak velocity is over the axis's vmax
+  does_not_fit_counts,    // the move would leave the int32 count range
+  bad_axis_config,
+};
+
+[[nodiscard]] const char* to_string(LoopStatus s) noexcept;
+
+struct AxisConfig {
+  hal::canopen::RemoteDriveConfig drive{};
+  double counts_per_unit{1e6};           // e.g. 1 count = 1 µm for the seed-000 beam
+  double vmax{1.0};                      // actuator limit, units/s: moves above it are refused
+  std::int32_t step_margin_counts{2};    // setpoint-step guard: vmax * period + this
+  std::uint32_t following_error_counts{0};  // 0 = off
+};
+
+// What one axis did in the last tick: the runner copies it out to log or plot.
+struct TickRecord {
+  std::uint64_t tick{0};
+  std::int32_t target{0};         // counts commanded this tick (held when not moving)
+  bool sent{false};               // an RPDO carrying it left this tick
+  bool moving{false};
+  std::int32_t position_actual{0};
+  std::int32_t load_position{0};
+  std::int32_t velocity_actual{0};
+  std::uint64_t feedback_count{0};  // TPDO1s received so far
+};
+
+struct AxisStats {
+  std::uint64_t rpdo_sent{0};
+  std::uint64_t rpdo_busy{0};
+  std::uint64_t rpdo_errors{0};
+  std::uint64_t moves_started{0};
+  std::uint64_t moves_completed{0};
+  std::uint64_t moves_aborted{0};
+  std::uint64_t step_guard_trips{0};
+  std::uint64_t following_error_trips{0};
+  std::uint64_t heartbeat_losses{0};
+  std::uint64_t emcy_received{0};
+  std::uint64_t restarts{0};  // the drive booted again and start-up re-ran
+  std::int64_t max_following_error{0};
+};
+
+struct LoopStats {
+  std::uint64_t ticks{0};
+  std::uint64_t sync_sent{0};
+  std::uint64_t sync_busy{0};
+  std::uint64_t frames_received{0};
+};
+
+template <typename Scalar = double, std::size_t MaxAxes = 1, std::size_t QueueDepth = 4>
+class ServoLoop {
+ public:
+  ServoLoop(hal::CanBus& bus, std::uint32_t period_us) noexcept
+      : bus_{bus}, period_us_{period_us}, sync_{period_us} {}
+  ServoLoop(const ServoLoop&) = delete;
+  ServoLoop& operator=(const ServoLoop&) = delete;
+
+  [[nodiscard]] LoopStatus add_axis(const AxisConfig& cfg) noexcept {
+    if (count_ == MaxAxes) return LoopStatus::too_many_axes;
+    if (!(cfg.counts_per_unit > 0.0) || !std::isfinite(cfg.counts_per_unit) || !(cfg.vmax > 0.0) ||
+        !std::isfinite(cfg.vmax) || cfg.step_margin_counts < 0) {
+      return LoopStatus::bad_axis_config;
+    }
+    Axis& a = axes_[count_];
+    a.cfg = cfg;
+    a.cfg.drive.sync_period_us = period_us_;
+    a.drive.emplace(a.cfg.drive);
+    a.guard = cfg.vmax * cfg.counts_per_unit * period_us_ * 1e-6 + cfg.step_margin_counts;
+    ++count_;
+    return LoopStatus::ok;
+  }
+
+  // Starts every drive (NMT, SDO configuration, enable sequence); tick() must run from now on.
+  void start(std::uint64_t now_us) noexcept {
+    for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->start(now_us, bus_);
+    started_ = true;
+  }
+
+  // Plans a request and queues it. Runs in the caller's context, never inside tick(): planning
+  // a shaped move can take a millisecond. On any refusal nothing changes.
+  [[nodiscard]] LoopStatus submit(std::size_t axis, const core::MoveRequest& req,
+                                  core::Status* plan_status = nullptr) noexcept {
+    core::Move<double> m{};
+    const core::Status st = core::plan(req, m);
+    if (plan_status != nullptr) *plan_status = st;
+    if (st != core::Status::ok) return LoopStatus::plan_failed;
+    return submit(axis, m);
+  }
+
+  [[nodiscard]] LoopStatus submit(std::size_t axis, const core::Move<double>& m) noexcept {
+    if (axis >= MaxAxes || axis >= count_) return LoopStatus::no_such_axis;
+    Axis& a = axes_[axis];
+    if (m.peaks().v > a.cfg.vmax * (1.0 + 1e-9) || m.peaks().velocity_step) return LoopStatus::exceeds_axis_velocity;
+    const double counts = std::fabs(m.distance()) * a.cfg.counts_per_unit;
+    if (!(counts < static_cast<double>(std::numeric_limits<std::int32_t>::max()) / 2)) {
+      return LoopStatus::does_not_fit_counts;
+    }
+    if (a.queue.full()) return LoopStatus::queue_full;
+    (void)a.queue.push(core::Move<Scalar>{m});
+    return LoopStatus::ok;
+  }
+
+  // One servo period. Bounded: drains at most kMaxFramesPerTick received frames.
+  void tick(std::uint64_t now_us) noexcept {
+    ++stats_.ticks;
+    receive_all(now_us);
+    for (std::size_t i = 0; i < count_; ++i) supervise(axes_[i], now_us);
+    for (std::size_t i = 0; i < count_; ++i) stream(axes_[i]);
+    if (started_) {
+      const hal::SendStatus st = bus_.send(sync_.next());
+      if (st == hal::SendStatus::sent) {
+        ++stats_.sync_sent;
+      } else {
+        ++stats_.sync_busy;
+      }
+    }
+  }
+
+  // Stops streaming on an axis: the active move and the queue are dropped, the axis holds.
+  void abort(std::size_t axis) noexcept {
+    if (axis >= MaxAxes || axis >= count_) return;
+    Axis& a = axes_[axis];
+    if (a.active) ++a.stats.moves_aborted;
+    a.active = false;
+    a.pending.reset();
+    a.queue.clear();
+  }
+
+  [[nodiscard]] std::size_t axis_count() const noexcept { return count_; }
+  [[nodiscard]] const hal::canopen::RemoteDrive& drive(std::size_t i) const noexcept { return *axes_[i].drive; }
+  [[nodiscard]] const TickRecord& record(std::size_t i) const noexcept { return axes_[i].record; }
+  [[nodiscard]] const AxisStats& axis_stats(std::size_t i) const noexcept { return axes_[i].stats; }
+  [[nodiscard]] const LoopStats& stats() const noexcept { return stats_; }
+  [[nodiscard]] bool ready(std::size_t i) const noexcept { return axes_[i].drive->ready(); }
+  [[nodiscard]] bool all_ready() const noexcept {
+    for (std::size_t i = 0; i < count_; ++i) {
+      if (!axes_[i].drive->ready()) return false;
+    }
+    return count_ > 0;
+  }
+  // Nothing active and nothing queued on any axis.
+  [[nodiscard]] bool idle() const noexcept {
+    for (std::size_t i = 0; i < count_; ++i) {
+      if (axes_[i].active || !axes_[i].queue.empty()) return false;
+    }
+    return true;
+  }
+  [[nodiscard]] std::uint32_t period_us() const noexcept { return period_us_; }
+
+  static constexpr std::size_t kMaxFramesPerTick = 16 * MaxAxes + 16;
+
+ private:
+  struct Axis {
+    AxisConfig cfg{};
+    std::optional<hal::canopen::RemoteDrive> drive{};
+    MoveQueue<Scalar, QueueDepth> queue{};
+    core::MoveStepper<Scalar> stepper{};
+    bool active{false};
+    bool have_target{false};
+    std::int32_t origin{0};       // counts where the active move started
+    std::int32_t target{0};       // last target commanded
+    std::int32_t sent_prev{0};    // target sent in the previous tick (what the feedback answers)
+    bool sent_prev_valid{false};
+    std::uint64_t fb_seen{0};
+    std::optional<std::int32_t> pending{};  // computed but not yet sent (tx busy): resent first
+    double guard{0.0};
+    TickRecord record{};
+    AxisStats stats{};
+  };
+
+  void receive_all(std::uint64_t now_us) noexcept {
+    hal::CanFrame f{};
+    for (std::size_t n = 0; n < kMaxFramesPerTick; ++n) {
+      if (bus_.receive(f, 0) != hal::ReceiveStatus::received) break;
+      ++stats_.frames_received;
+      for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->on_frame(f, now_us, bus_);
+    }
+  }
+
+  void supervise(Axis& a, std::uint64_t now_us) noexcept {
+    hal::canopen::RemoteDrive& d = *a.drive;
+    d.poll(now_us, bus_);
+    const std::uint16_t ev = d.take_events();
+    namespace re = hal::canopen::remote_event;
+    if ((ev & re::heartbeat_lost) != 0) ++a.stats.heartbeat_losses;
+    if ((ev & re::emcy) != 0) ++a.stats.emcy_received;
+    if ((ev & re::boot_up) != 0) ++a.stats.restarts;
+    // Whatever took the drive out of operation, the move in flight is void: the axis is no longer
+    // where the profile assumes. Queued moves stay, and resume once the drive is ready again.
+    if ((ev & (re::heartbeat_lost | re::left_enabled | re::boot_up | re::failed)) != 0 && a.active) {
+      a.active = false;
+      a.pending.reset();
+      ++a.stats.moves_aborted;
+    }
+    if ((ev & (re::boot_up | re::heartbeat_lost | re::left_enabled)) != 0) a.have_target = false;
+
+    // Following error: the feedback that arrived since the last tick answers the target sent in
+    // the previous tick (the drive reaches a target one period after the SYNC that applies it).
+    const auto& fb = d.feedback();
+    if (fb.tpdo1_received != a.fb_seen) {
+      a.fb_seen = fb.tpdo1_received;
+      if (d.ready() && a.sent_prev_valid) {
+        const std::int64_t err = static_cast<std::int64_t>(fb.position_actual) - a.sent_prev;
+        const std::int64_t mag = err < 0 ? -err : err;
+        if (mag > a.stats.max_following_error) a.stats.max_following_error = mag;
+        if (a.cfg.following_error_counts != 0 && mag > static_cast<std::int64_t>(a.cfg.following_error_counts)) {
+          ++a.stats.following_error_trips;
+          if (a.active) {
+            a.active = false;
+            a.pending.reset();
+            ++a.stats.moves_aborted;
+          }
+        }
+      }
+    }
+  }
+
+  void stream(Axis& a) noexcept {
+    hal::canopen::RemoteDrive& d = *a.drive;
+    a.record.tick = stats_.ticks;
+    a.record.sent = false;
+    if (d.ready() && !a.have_target) {
+      // Entering operation: hold where the drive is.
+      a.target = d.feedback().position_actual;
+      a.have_target = true;
+    }
+    std::int32_t target = a.target;
+    if (d.ready()) {
+      if (a.pending) {
+        target = *a.pending;
+      } else {
+        if (!a.active && !a.queue.empty()) {
+          a.active = true;
+          a.origin = a.target;
+          a.stepper = core::MoveStepper<Scalar>{a.queue.front(), static_cast<Scalar>(period_us_ * 1e-6)};
+          ++a.stats.moves_started;
+        }
+        if (a.active) {
+          const bool last = static_cast<double>(a.stepper.tick()) * period_us_ * 1e-6 >=
+                            static_cast<double>(a.queue.front().duration());
+          const core::Sample<Scalar> s = a.stepper.step();
+          const double counts = std::nearbyint(static_cast<double>(s.p) * a.cfg.counts_per_unit);
+          const std::int32_t next = static_cast<std::int32_t>(static_cast<std::int64_t>(a.origin) +
+                                                              static_cast<std::int64_t>(counts));
+          const double step = std::fabs(static_cast<double>(next) - static_cast<double>(a.target));
+          if (!(step <= a.guard)) {
+            // Never command a jump the actuator cannot make: abandon the move, hold position.
+            ++a.stats.step_guard_trips;
+            ++a.stats.moves_aborted;
+            a.active = false;
+            a.queue.pop();
+          } else {
+            target = next;
+            if (last) {
+              a.active = false;
+              a.queue.pop();
+              ++a.stats.moves_completed;
+            }
+          }
+        }
+      }
+    }
+    const std::optional<hal::CanFrame> f = d.rpdo(target);
+    a.record.moving = a.active;
+    a.record.target = target;
+    const auto& fb = d.feedback();
+    a.record.position_actual = fb.position_actual;
+    a.record.load_position = fb.load_position;
+    a.record.velocity_actual = fb.velocity_actual;
+    a.record.feedback_count = fb.tpdo1_received;
+    if (!f) {
+      a.sent_prev_valid = false;
+      return;
+    }
+    switch (bus_.send(*f)) {
+      case hal::SendStatus::sent:
+        ++a.stats.rpdo_sent;
+        a.record.sent = true;
+        a.pending.reset();
+        if (d.ready()) a.target = target;
+        a.sent_prev = target;
+        a.sent_prev_valid = d.ready();
+        break;
+      case hal::SendStatus::busy:
+        // Not queued and not retried now (no bursts): the same target goes out next tick,
+        // and the move's clock waits for it.
+        ++a.stats.rpdo_busy;
+        if (d.ready()) a.pending = target;
+        a.sent_prev_valid = false;
+        break;
+      case hal::SendStatus::error:
+        ++a.stats.rpdo_errors;
+        if (d.ready()) a.pending = target;
+        a.sent_prev_valid = false;
+        break;
+    }
+  }
+
+  hal::CanBus& bus_;
+  std::uint32_t period_us_;
+  hal::canopen::SyncProducer sync_;
+  std::array<Axis, MaxAxes> axes_{};
+  std::size_t count_{0};
+  bool started_{false};
+  LoopStats stats_{};
+};
+
+}  // namespace settle::firmware

@@ -1,0 +1,19 @@
+#include "settle/firmware/servo_loop.hpp"
+
+namespace settle::firmware {
+
+const char* to_string(LoopStatus s) noexcept {
+  switch (s) {
+    case LoopStatus::ok: return "ok";
+    case LoopStatus::plan_failed: return "plan_failed";
+    case LoopStatus::queue_full: return "queue_full";
+    case LoopStatus::no_such_axis: return "no_such_axis";
+    case LoopStatus::too_many_axes: return "too_many_axes";
+    case LoopStatus::exceeds_axis_velocity: return "exceeds_axis_velocity";
+    case LoopStatus::does_not_fit_counts: return "does_not_fit_counts";
+    case LoopStatus::bad_axis_config: return "bad_axis_config";
+  }
+  return "unknown";
+}
+
+}  // namespace settle::firmware
