@@ -89,7 +89,10 @@ class ServoLoop {
         !std::isfinite(cfg.vmax) || cfg.step_margin_counts < 0) {
       return LoopStatus::bad_axis_config;
     }
+    const std::uint8_t node = cfg.drive.node;
+    if (node == 0 || node > 127 || axis_of_node_[node] != kNoAxis) return LoopStatus::bad_axis_config;
     Axis& a = axes_[count_];
+    axis_of_node_[node] = static_cast<std::uint8_t>(count_);
     a.cfg = cfg;
     a.cfg.drive.sync_period_us = period_us_;
     a.drive.emplace(a.cfg.drive);
@@ -201,7 +204,16 @@ class ServoLoop {
     for (std::size_t n = 0; n < kMaxFramesPerTick; ++n) {
       if (bus_.receive(f, 0) != hal::ReceiveStatus::received) break;
       ++stats_.frames_received;
-      for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->on_frame(f, now_us, bus_);
+      // CANopen puts the sending node in the low 7 bits of every node-specific COB-ID (TPDO,
+      // SDO, EMCY, heartbeat): route there, so a tick costs O(axes), not O(axes^2). Node 0
+      // (NMT, SYNC, time) and extended ids go to every axis.
+      const std::uint32_t node = f.id & 0x7F;
+      const std::uint8_t target = f.is_extended() || node == 0 ? kNoAxis : axis_of_node_[node];
+      if (target != kNoAxis) {
+        axes_[target].drive->on_frame(f, now_us, bus_);
+      } else if (f.is_extended() || node == 0) {
+        for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->on_frame(f, now_us, bus_);
+      }
     }
   }
 
@@ -324,7 +336,16 @@ class ServoLoop {
     }
   }
 
+  static constexpr std::uint8_t kNoAxis = 0xFF;
+  static_assert(MaxAxes < kNoAxis);
+  static constexpr std::array<std::uint8_t, 128> no_axes() noexcept {
+    std::array<std::uint8_t, 128> a{};
+    for (auto& x : a) x = kNoAxis;
+    return a;
+  }
+
   hal::CanBus& bus_;
+  std::array<std::uint8_t, 128> axis_of_node_{no_axes()};
   std::uint32_t period_us_;
   hal::canopen::SyncProducer sync_;
   std::array<Axis, MaxAxes> axes_{};
