@@ -1,4 +1,5 @@
 #include "settle/firmware/servo_loop.hpp"
+#include "settle/firmware/session.hpp"
 
 namespace settle::firmware {
 
@@ -12,6 +13,17 @@ const char* to_string(LoopStatus s) noexcept {
     case LoopStatus::exceeds_axis_velocity: return "exceeds_axis_velocity";
     case LoopStatus::does_not_fit_counts: return "does_not_fit_counts";
     case LoopStatus::bad_axis_config: return "bad_axis_config";
+  }
+  return "unknown";
+}
+
+const char* to_string(SessionOutcome o) noexcept {
+  switch (o) {
+    case SessionOutcome::completed: return "completed";
+    case SessionOutcome::enable_failed: return "enable_failed";
+    case SessionOutcome::drive_lost: return "drive_lost";
+    case SessionOutcome::rejected: return "rejected";
+    case SessionOutcome::timeout: return "timeout";
   }
   return "unknown";
 }

@@ -53,7 +53,7 @@ class PeriodicTimer {
   [[nodiscard]] std::uint64_t overruns() const noexcept { return overruns_; }
   [[nodiscard]] std::uint64_t skipped_periods() const noexcept { return skipped_; }
   // Deadline of the period that wait() just started, in µs on the monotonic clock.
-  [[nodiscard]] std::uint64_t deadline_us() const noexcept { return (next_ns_ - period_ns_) / 1000; }
+  [[nodiscard]] std::uint64_t now_us() const noexcept { return (next_ns_ - period_ns_) / 1000; }
 
  private:
   std::uint64_t period_ns_;

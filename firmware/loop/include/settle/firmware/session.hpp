@@ -1,0 +1,115 @@
+#pragma once
+// One streaming session, the same on every target: start the drives, tick until every drive is
+// in operation enabled (refusing to stream before), queue the moves, tick until they are done,
+// keep ticking through a settling window (the feedback that proves the machine is at rest), and
+// say how it ended. Generic over the loop, the clock (a Linux periodic timer, a SysTick, a test's
+// virtual clock) and an observer called after every tick.
+#include <cstddef>
+#include <cstdint>
+
+#include "settle/core/move.hpp"
+#include "settle/firmware/servo_loop.hpp"
+
+namespace settle::firmware {
+
+enum class SessionOutcome : std::uint8_t {
+  completed,      // every move streamed and the settling window observed
+  enable_failed,  // a drive never reached operation enabled (or refused its configuration)
+  drive_lost,     // heartbeat lost, fault or restart during the session: streaming stopped
+  rejected,       // a move was refused before anything was streamed for it
+  timeout,        // the session ran past max_ticks
+};
+
+[[nodiscard]] const char* to_string(SessionOutcome o) noexcept;
+
+struct SessionConfig {
+  std::uint64_t enable_timeout_ticks{3000};
+  std::uint64_t settle_ticks{1000};
+  std::uint64_t max_ticks{600'000};
+};
+
+struct SessionResult {
+  SessionOutcome outcome{SessionOutcome::completed};
+  LoopStatus rejection{LoopStatus::ok};
+  std::uint64_t ticks{0};
+  std::uint64_t ready_tick{0};      // first tick with every drive ready
+  std::uint64_t stream_end_tick{0}; // first tick with every move done
+  std::uint64_t missed_periods{0};  // reported by the clock (overruns skipped, not caught up)
+};
+
+// Clock: `std::uint64_t wait()` sleeps to the next period and returns periods missed;
+// `std::uint64_t now_us()` the time of the period just begun.
+// Observer: `void operator()(std::uint64_t tick, bool streaming)`.
+template <typename Loop, typename Clock, typename Observer>
+SessionResult run_session(Loop& loop, Clock& clock, const core::Move<double>* moves, std::size_t move_count,
+                          std::size_t axis, const SessionConfig& cfg, Observer&& observe) noexcept {
+  SessionResult r{};
+  loop.start(clock.now_us());
+  enum class Phase { enabling, streaming, settling } phase = Phase::enabling;
+  std::uint64_t settle_left = cfg.settle_ticks;
+  std::uint64_t aborted_before = 0;
+  for (r.ticks = 0; r.ticks < cfg.max_ticks; ++r.ticks) {
+    r.missed_periods += clock.wait();
+    loop.tick(clock.now_us());
+    observe(r.ticks, phase != Phase::enabling);
+    if (phase == Phase::enabling) {
+      if (loop.all_ready()) {
+        r.ready_tick = r.ticks;
+        for (std::size_t i = 0; i < move_count; ++i) {
+          const LoopStatus st = loop.submit(axis, moves[i]);
+          if (st != LoopStatus::ok) {
+            r.outcome = SessionOutcome::rejected;
+            r.rejection = st;
+            loop.abort(axis);
+            return r;
+          }
+        }
+        aborted_before = loop.axis_stats(axis).moves_aborted;
+        phase = Phase::streaming;
+        continue;
+      }
+      const auto state = loop.drive(axis).state();
+      if (state == hal::canopen::RemoteDriveState::failed || r.ticks >= cfg.enable_timeout_ticks) {
+        r.outcome = SessionOutcome::enable_failed;
+        return r;
+      }
+      continue;
+    }
+    // Streaming or settling: any loss of the drive ends the session, and the loop has already
+    // stopped streaming to it.
+    if (!loop.ready(axis) || loop.axis_stats(axis).moves_aborted != aborted_before) {
+      r.outcome = SessionOutcome::drive_lost;
+      loop.abort(axis);
+      return r;
+    }
+    if (phase == Phase::streaming && loop.idle()) {
+      r.stream_end_tick = r.ticks;
+      phase = Phase::settling;
+    }
+    if (phase == Phase::settling && settle_left-- == 0) {
+      r.outcome = SessionOutcome::completed;
+      return r;
+    }
+  }
+  r.outcome = SessionOutcome::timeout;
+  return r;
+}
+
+// The clock of deterministic runs (tests, the in-process loopback demo): time moves only when
+// the session asks for the next period.
+class VirtualClock {
+ public:
+  explicit VirtualClock(std::uint32_t period_us, std::uint64_t start_us = 0) noexcept
+      : period_us_{period_us}, now_us_{start_us} {}
+  std::uint64_t wait() noexcept {
+    now_us_ += period_us_;
+    return 0;
+  }
+  [[nodiscard]] std::uint64_t now_us() const noexcept { return now_us_; }
+
+ private:
+  std::uint32_t period_us_;
+  std::uint64_t now_us_;
+};
+
+}  // namespace settle::firmware

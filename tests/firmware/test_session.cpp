@@ -1,0 +1,89 @@
+// A whole streaming session on the virtual clock: it refuses to stream before the drive is
+// enabled, completes with the settling window, and ends (without streaming further) when the
+// drive's heartbeat is lost mid-move or a move is refused.
+#include <gtest/gtest.h>
+
+#include "ideal_drive.hpp"
+#include "settle/firmware/session.hpp"
+
+using namespace settle;
+
+namespace {
+
+core::Move<double> move(double d, double t) {
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::scurve;
+  r.distance = d;
+  r.time = t;
+  r.omega = 22.0;
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(r, m), core::Status::ok);
+  return m;
+}
+
+struct Rig {
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<256> master{hub};
+  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  firmware::ServoLoop<double, 1, 4> loop{master, 1000};
+  firmware::VirtualClock clock{1000};
+  Rig() {
+    firmware::AxisConfig a{};
+    a.drive.heartbeat_timeout_ms = 300;
+    EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
+    drive.start(0);
+  }
+};
+
+TEST(Session, CompletesAfterTheSettlingWindow) {
+  Rig r;
+  const core::Move<double> moves[] = {move(0.1, 0.5), move(-0.02, 0.2)};
+  std::uint64_t streamed_before_ready = 0;
+  const auto res = firmware::run_session(r.loop, r.clock, moves, 2, 0, firmware::SessionConfig{},
+                                         [&](std::uint64_t, bool streaming) {
+                                           r.hub.set_time_us(r.clock.now_us());
+                                           if (!streaming && r.loop.record(0).moving) ++streamed_before_ready;
+                                           r.drive.process(r.clock.now_us());
+                                         });
+  EXPECT_EQ(res.outcome, firmware::SessionOutcome::completed) << firmware::to_string(res.outcome);
+  EXPECT_EQ(streamed_before_ready, 0u);
+  EXPECT_GT(res.ready_tick, 0u);
+  EXPECT_EQ(res.ticks - res.stream_end_tick, 1000u);
+  EXPECT_GE(res.stream_end_tick - res.ready_tick, 700u);
+  EXPECT_EQ(r.drive.position(), 80'000);
+}
+
+TEST(Session, HeartbeatLossMidMoveStopsStreaming) {
+  Rig r;
+  const core::Move<double> moves[] = {move(0.1, 0.5)};
+  std::uint64_t sent_after_loss = 0, streaming_ticks = 0;
+  bool lost = false;
+  const auto res = firmware::run_session(r.loop, r.clock, moves, 1, 0, firmware::SessionConfig{},
+                                         [&](std::uint64_t, bool streaming) {
+                                           r.hub.set_time_us(r.clock.now_us());
+                                           if (lost && r.loop.record(0).sent) ++sent_after_loss;
+                                           if (r.loop.drive(0).state() == hal::canopen::RemoteDriveState::lost) lost = true;
+                                           if (streaming) ++streaming_ticks;
+                                           // the plant process dies 200 ticks into the move
+                                           if (streaming_ticks < 200) r.drive.process(r.clock.now_us());
+                                         });
+  EXPECT_EQ(res.outcome, firmware::SessionOutcome::drive_lost) << firmware::to_string(res.outcome);
+  EXPECT_EQ(r.loop.axis_stats(0).heartbeat_losses, 1u);
+  EXPECT_EQ(sent_after_loss, 0u);
+  EXPECT_NE(r.drive.position(), 100'000);  // stopped mid-move
+}
+
+TEST(Session, RefusedMoveEndsTheSessionBeforeStreamingIt) {
+  Rig r;
+  const core::Move<double> moves[] = {move(5.0, 0.5)};  // 15 m/s peak: over the axis's 1 m/s
+  const auto res = firmware::run_session(r.loop, r.clock, moves, 1, 0, firmware::SessionConfig{},
+                                         [&](std::uint64_t, bool) {
+                                           r.hub.set_time_us(r.clock.now_us());
+                                           r.drive.process(r.clock.now_us());
+                                         });
+  EXPECT_EQ(res.outcome, firmware::SessionOutcome::rejected);
+  EXPECT_EQ(res.rejection, firmware::LoopStatus::exceeds_axis_velocity);
+  EXPECT_EQ(r.drive.position(), 0);
+}
+
+}  // namespace
