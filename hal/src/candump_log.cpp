@@ -97,9 +97,10 @@ class Reader {
     }
     return v;
   }
+  // A run of printable characters (an interface name); 0 when empty or too long.
   [[nodiscard]] std::size_t take_word(std::span<char> out) noexcept {
     std::size_t n = 0;
-    while (!at_end() && peek() != ' ' && peek() != '\t') {
+    while (!at_end() && peek() > ' ' && peek() < 0x7F) {
       if (n + 1 >= out.size()) {
         return 0;
       }

@@ -30,13 +30,6 @@ void LoopbackHub::deliver(const LoopbackPort& from, const CanFrame& frame) noexc
   }
 }
 
-LoopbackPort::LoopbackPort(LoopbackHub& hub, std::span<CanFrame> rx_storage, LoopbackOptions options) noexcept
-    : hub_{hub}, rx_{rx_storage}, options_{options} {
-  hub_.attach(*this);
-}
-
-LoopbackPort::~LoopbackPort() { hub_.detach(*this); }
-
 void LoopbackPort::accept(const CanFrame& frame, std::uint64_t now_us) noexcept {
   if (!filters_.accepts(frame)) {
     return;
@@ -46,19 +39,6 @@ void LoopbackPort::accept(const CanFrame& frame, std::uint64_t now_us) noexcept 
   if (!rx_.push(stamped)) {
     count_rx_overflow(1);
   }
-}
-
-SendStatus LoopbackPort::do_send(const CanFrame& frame) noexcept {
-  hub_.deliver(*this, frame);
-  return SendStatus::sent;
-}
-
-ReceiveStatus LoopbackPort::do_receive(CanFrame& frame, std::uint32_t /*timeout_us*/) noexcept {
-  return rx_.pop(frame) ? ReceiveStatus::received : ReceiveStatus::empty;
-}
-
-BusStatus LoopbackPort::do_set_filters(std::span<const CanFilter> filters) noexcept {
-  return filters_.assign(filters);
 }
 
 }  // namespace settle::hal

@@ -42,12 +42,19 @@ struct LoopbackOptions {
 
 // One node's connection to the hub. Its receive queue lives in storage the owner provides;
 // when that queue is full the frame is dropped for this port only and counted as an overflow.
+//
+// The virtual overrides are defined here, inline, on purpose: a class whose key function sat
+// in the -fno-rtti library would have no typeinfo, and code built with RTTI (tests, host
+// tools) that derives from it, as LoopbackBus<N> does, would then fail to link.
 class LoopbackPort : public CanBus {
  public:
-  LoopbackPort(LoopbackHub& hub, std::span<CanFrame> rx_storage, LoopbackOptions options = {}) noexcept;
+  LoopbackPort(LoopbackHub& hub, std::span<CanFrame> rx_storage, LoopbackOptions options = {}) noexcept
+      : hub_{hub}, rx_{rx_storage}, options_{options} {
+    hub_.attach(*this);
+  }
   LoopbackPort(const LoopbackPort&) = delete;
   LoopbackPort& operator=(const LoopbackPort&) = delete;
-  ~LoopbackPort() override;
+  ~LoopbackPort() override { hub_.detach(*this); }
 
   [[nodiscard]] std::size_t pending() const noexcept { return rx_.size(); }
 
@@ -55,9 +62,16 @@ class LoopbackPort : public CanBus {
   friend class LoopbackHub;
   void accept(const CanFrame& frame, std::uint64_t now_us) noexcept;
 
-  [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override;
-  [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t timeout_us) noexcept override;
-  [[nodiscard]] BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept override;
+  [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override {
+    hub_.deliver(*this, frame);
+    return SendStatus::sent;
+  }
+  [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t /*timeout_us*/) noexcept override {
+    return rx_.pop(frame) ? ReceiveStatus::received : ReceiveStatus::empty;
+  }
+  [[nodiscard]] BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept override {
+    return filters_.assign(filters);
+  }
 
   LoopbackHub& hub_;
   LoopbackPort* next_{nullptr};

@@ -40,11 +40,10 @@ inline constexpr std::uint16_t heartbeat = 0x700;
   return static_cast<std::uint32_t>(function_code) + node;
 }
 
-// A frame CANopen could have sent: classic, standard id, not a remote request. Everything
-// else on the bus is someone else's traffic and every decoder here ignores it.
+// A frame CANopen could have sent: classic, standard id, not a remote request, no flag bits
+// at all. Everything else on the bus is someone else's traffic and every decoder ignores it.
 [[nodiscard]] constexpr bool is_canopen_data_frame(const CanFrame& f) noexcept {
-  return (f.flags & (can_flag::extended | can_flag::rtr | can_flag::fd)) == 0 && f.id <= can_standard_id_max &&
-         f.len <= can_classic_max_len;
+  return f.flags == 0 && f.id <= can_standard_id_max && f.len <= can_classic_max_len;
 }
 
 // The node a frame with the given function code belongs to, when the frame is of that kind.

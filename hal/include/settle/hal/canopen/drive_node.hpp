@@ -4,8 +4,9 @@
 // and feeds it frames and time; the same object can run on a microcontroller.
 //
 // Per SYNC: on_frame() returns DriveEvent::sync once the RPDO received before it has been
-// applied; the application then moves its axis towards setpoint() for one period (or
-// decelerates when stopping()), and reports the result with publish(), which sends TPDO1/2.
+// applied; the application then moves its axis towards setpoint() for one period when
+// following(), brings it to rest when stopping() (and says so with stop_complete()), and
+// reports the result with publish(), which sends TPDO1/2.
 #pragma once
 
 #include <array>
@@ -163,9 +164,11 @@ class DriveNode {
   // The axis has come to rest after a quick stop or a fault reaction.
   void stop_complete() noexcept;
 
-  // Where the axis should be at the end of this period: the (limited) target while the drive
-  // follows, the position actual otherwise.
+  // While following(): where the axis must be at the end of this period (the target received
+  // before this SYNC, clamped to the software limits). Otherwise the drive commands nothing and
+  // setpoint() is the last position actual, so that enabling starts from where the axis is.
   [[nodiscard]] std::int32_t setpoint() const noexcept { return setpoint_; }
+  // Operation enabled in CSP (or IP with bit 4 of the controlword set).
   [[nodiscard]] bool following() const noexcept;
   [[nodiscard]] bool stopping() const noexcept { return power_.stopping(); }
   [[nodiscard]] Cia402State state() const noexcept { return power_.state(); }

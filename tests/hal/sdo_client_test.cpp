@@ -1,0 +1,95 @@
+// The SDO client against the drive's server through a loopback bus, on a virtual clock.
+#include <gtest/gtest.h>
+
+#include "frame_helpers.hpp"
+#include "settle/hal/canopen/drive_node.hpp"
+#include "settle/hal/canopen/sdo.hpp"
+#include "settle/hal/loopback_bus.hpp"
+
+namespace settle::hal::canopen {
+namespace {
+
+class SdoClientTest : public ::testing::Test {
+ protected:
+  static constexpr NodeId node = 3;
+  LoopbackHub hub;
+  LoopbackBus<16> master_bus{hub};
+  LoopbackBus<16> drive_bus{hub};
+  DriveNode drive{DriveNodeConfig{node}};
+  SdoClient client{node, 50'000};
+
+  // Lets the drive answer everything pending, then hands the answers to the client.
+  void exchange(std::uint64_t now_us) {
+    CanFrame f{};
+    while (drive_bus.receive(f) == ReceiveStatus::received) {
+      (void)drive.on_frame(f, now_us, drive_bus);
+    }
+    while (master_bus.receive(f) == ReceiveStatus::received) {
+      (void)client.on_frame(f, master_bus);
+    }
+  }
+};
+
+TEST_F(SdoClientTest, UploadReturnsTheValueAndSize) {
+  ASSERT_TRUE(client.upload(0x1000, 0, 0, master_bus));
+  EXPECT_TRUE(client.busy());
+  EXPECT_FALSE(client.upload(0x1001, 0, 0, master_bus)) << "one transfer at a time";
+  exchange(0);
+  ASSERT_EQ(client.status(), SdoClientStatus::done);
+  EXPECT_EQ(client.result().value, cia402_device_type);
+  EXPECT_EQ(client.result().size, 4);
+}
+
+TEST_F(SdoClientTest, DownloadChangesTheDrivesObject) {
+  ASSERT_TRUE(client.download(0x1017, 0, 250, 2, 0, master_bus));
+  exchange(0);
+  ASSERT_EQ(client.status(), SdoClientStatus::done);
+  EXPECT_EQ(drive.objects().comm.producer_heartbeat_ms, 250);
+}
+
+TEST_F(SdoClientTest, AbortFromTheServerEndsTheTransferWithItsCode) {
+  ASSERT_TRUE(client.download(0x6041, 0, 0, 2, 0, master_bus));
+  exchange(0);
+  ASSERT_EQ(client.status(), SdoClientStatus::aborted);
+  EXPECT_EQ(client.result().abort, SdoAbort::read_only);
+  EXPECT_EQ(client.result().abort_raw, 0x0601'0002U);
+}
+
+TEST_F(SdoClientTest, TimeoutFiresExactlyAtTheDeadlineAndAbortsOnTheBus) {
+  ASSERT_TRUE(client.upload(0x1000, 0, 1'000, master_bus));
+  CanFrame f{};
+  while (drive_bus.receive(f) == ReceiveStatus::received) {
+  }  // the server never sees it
+  client.poll(50'999, master_bus);
+  EXPECT_TRUE(client.busy());
+  client.poll(51'000, master_bus);
+  ASSERT_EQ(client.status(), SdoClientStatus::timed_out);
+  ASSERT_EQ(drive_bus.receive(f), ReceiveStatus::received);
+  EXPECT_EQ(test::bytes_of(f), (std::vector<std::uint8_t>{0x80, 0x00, 0x10, 0x00, 0x00, 0x00, 0x04, 0x05}));
+}
+
+TEST_F(SdoClientTest, ResponsesForAnotherObjectOrNodeAreIgnored) {
+  ASSERT_TRUE(client.upload(0x1000, 0, 0, master_bus));
+  EXPECT_FALSE(client.on_frame(encode_sdo_upload_response(node, 0x1001, 0, 1, 1), master_bus));
+  EXPECT_FALSE(client.on_frame(encode_sdo_upload_response(node + 1, 0x1000, 0, 1, 4), master_bus));
+  EXPECT_FALSE(client.on_frame(encode_sdo_download_response(node, 0x1000, 0), master_bus))
+      << "a download confirmation does not answer an upload";
+  EXPECT_TRUE(client.busy());
+  EXPECT_TRUE(client.on_frame(encode_sdo_upload_response(node, 0x1000, 0, 0x1234, 2), master_bus));
+  EXPECT_EQ(client.result().value, 0x1234U);
+}
+
+TEST_F(SdoClientTest, SegmentedUploadAnswerIsAbortedBecauseItIsNotSupported) {
+  ASSERT_TRUE(client.upload(0x1008, 0, 0, master_bus));
+  CanFrame segmented = encode_sdo_upload_response(node, 0x1008, 0, 20, 4);
+  segmented.data[0] = 0x41;  // initiate upload, segmented, size 20 indicated
+  EXPECT_TRUE(client.on_frame(segmented, master_bus));
+  EXPECT_EQ(client.status(), SdoClientStatus::aborted);
+  CanFrame f{};
+  ASSERT_EQ(drive_bus.receive(f), ReceiveStatus::received);  // the upload request
+  ASSERT_EQ(drive_bus.receive(f), ReceiveStatus::received);
+  EXPECT_EQ(f.data[0], 0x80);
+}
+
+}  // namespace
+}  // namespace settle::hal::canopen

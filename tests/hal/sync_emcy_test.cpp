@@ -1,0 +1,113 @@
+// SYNC with and without its counter, loss detection, and EMCY with its inhibit time.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "frame_helpers.hpp"
+#include "settle/hal/canopen/emcy.hpp"
+#include "settle/hal/canopen/sync.hpp"
+
+namespace settle::hal::canopen {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+TEST(Sync, FrameHasNoPayloadOrOneCounterByte) {
+  EXPECT_EQ(encode_sync().id, 0x80U);
+  EXPECT_EQ(encode_sync().len, 0U);
+  EXPECT_EQ(test::bytes_of(encode_sync(17)), (Bytes{17}));
+  EXPECT_EQ(decode_sync(encode_sync())->counter, 0);
+  EXPECT_EQ(decode_sync(encode_sync(240))->counter, 240);
+  CanFrame bad = encode_sync(1);
+  bad.data[0] = 241;
+  EXPECT_FALSE(decode_sync(bad)) << "counter above 240";
+  bad.len = 2;
+  EXPECT_FALSE(decode_sync(bad));
+}
+
+TEST(SyncProducer, CounterRunsFromOneToTheOverflowValue) {
+  SyncProducer p{1000, 3};
+  std::vector<int> counters;
+  for (int i = 0; i < 7; ++i) {
+    counters.push_back(p.next().data[0]);
+  }
+  EXPECT_EQ(counters, (std::vector<int>{1, 2, 3, 1, 2, 3, 1}));
+  SyncProducer plain{1000};
+  EXPECT_EQ(plain.next().len, 0U);
+}
+
+TEST(SyncProducer, LateCallSendsOneSyncAndSkipsTheMissedPeriods) {
+  SyncProducer p{1000};
+  FrameBuffer<8> out;
+  p.start(0);
+  EXPECT_TRUE(p.poll(0, out));
+  EXPECT_FALSE(p.poll(999, out));
+  EXPECT_TRUE(p.poll(3500, out));
+  EXPECT_EQ(p.skipped(), 2U);
+  EXPECT_FALSE(p.poll(3999, out));
+  EXPECT_TRUE(p.poll(4000, out));
+  EXPECT_EQ(out.size(), 3U);
+}
+
+TEST(SyncConsumer, CountsGapsAndAcceptsTheWrap) {
+  SyncConsumer c{1000, 3};
+  std::uint64_t t = 0;
+  for (const std::uint8_t counter : {std::uint8_t{1}, std::uint8_t{2}, std::uint8_t{3}, std::uint8_t{4}, std::uint8_t{1}, std::uint8_t{2}}) {
+    EXPECT_EQ(c.on_sync({counter}, t += 1000), SyncEvent::in_order) << int{counter};
+  }
+  EXPECT_EQ(c.on_sync({4}, t += 1000), SyncEvent::gap);
+  EXPECT_EQ(c.missed(), 1U);
+}
+
+TEST(SyncConsumer, LossIsDeclaredAfterMoreThanTheToleratedPeriods) {
+  SyncConsumer c{1000, 3};  // up to three missing SYNCs are tolerated
+  EXPECT_FALSE(c.check_loss(1'000'000)) << "nothing to lose before the first SYNC";
+  (void)c.on_sync({0}, 10'000);
+  EXPECT_FALSE(c.check_loss(14'499));
+  EXPECT_TRUE(c.check_loss(14'500));
+  EXPECT_FALSE(c.check_loss(20'000)) << "once per loss";
+  (void)c.on_sync({0}, 21'000);
+  EXPECT_FALSE(c.check_loss(22'000));
+}
+
+TEST(Emcy, FrameIsCodeRegisterAndFiveBytes) {
+  const CanFrame f = encode_emcy(4, EmcyMessage{0x8611, 0x21, {1, 2, 3, 4, 5}});
+  EXPECT_EQ(f.id, 0x84U);
+  EXPECT_EQ(test::bytes_of(f), (Bytes{0x11, 0x86, 0x21, 1, 2, 3, 4, 5}));
+  const auto e = decode_emcy(f);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->node, 4);
+  EXPECT_EQ(e->message.error_code, 0x8611);
+  CanFrame sync = f;
+  sync.id = 0x80;
+  EXPECT_FALSE(decode_emcy(sync)) << "0x80 is SYNC, not an EMCY of node 0";
+  CanFrame short_frame = f;
+  short_frame.len = 7;
+  EXPECT_FALSE(decode_emcy(short_frame));
+}
+
+TEST(EmcyProducer, InhibitTimeHoldsTheNewestMessageBack) {
+  EmcyProducer p{4, 1000};
+  FrameBuffer<8> out;
+  EXPECT_TRUE(p.emit({0x8100, 0x11, {}}, 0, out));
+  EXPECT_FALSE(p.emit({0x8250, 0x11, {}}, 500, out));
+  EXPECT_FALSE(p.emit({0x8611, 0x21, {}}, 600, out));
+  EXPECT_TRUE(p.pending());
+  EXPECT_FALSE(p.poll(999, out));
+  EXPECT_TRUE(p.poll(1000, out));
+  ASSERT_EQ(out.size(), 2U);
+  EXPECT_EQ(decode_emcy(out[1])->message.error_code, 0x8611) << "the latest state wins";
+}
+
+TEST(EmcyConsumer, TracksTheNodesErrorStateUntilTheReset) {
+  EmcyConsumer c{4};
+  EXPECT_FALSE(c.on_frame(encode_emcy(5, {0x1000, 1, {}})));
+  EXPECT_TRUE(c.on_frame(encode_emcy(4, {0x1000, 1, {}})));
+  EXPECT_TRUE(c.in_error());
+  EXPECT_TRUE(c.on_frame(encode_emcy(4, {0x0000, 0, {}})));
+  EXPECT_FALSE(c.in_error());
+  EXPECT_EQ(c.count(), 2U);
+}
+
+}  // namespace
+}  // namespace settle::hal::canopen
