@@ -5,6 +5,7 @@
 #include <linux/can.h>
 #include <linux/can/netlink.h>
 #include <linux/can/raw.h>
+#include <linux/sock_diag.h>
 #include <net/if.h>
 #include <poll.h>
 #include <sys/ioctl.h>
@@ -130,11 +131,15 @@ OpenStatus SocketCanBus::open(const char* interface, const SocketCanOptions& opt
   if (options.timestamps && ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof on) < 0) {
     return fail(OpenStatus::error);
   }
+  // The *FORCE variants may exceed net.core.[rw]mem_max but need CAP_NET_ADMIN; without it
+  // the plain option still gets as much as the system allows.
   if (options.receive_buffer_bytes > 0 &&
+      ::setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &options.receive_buffer_bytes, sizeof options.receive_buffer_bytes) < 0 &&
       ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &options.receive_buffer_bytes, sizeof options.receive_buffer_bytes) < 0) {
     return fail(OpenStatus::error);
   }
   if (options.send_buffer_bytes > 0 &&
+      ::setsockopt(fd, SOL_SOCKET, SO_SNDBUFFORCE, &options.send_buffer_bytes, sizeof options.send_buffer_bytes) < 0 &&
       ::setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &options.send_buffer_bytes, sizeof options.send_buffer_bytes) < 0) {
     return fail(OpenStatus::error);
   }
@@ -184,6 +189,7 @@ ReceiveStatus SocketCanBus::do_receive(CanFrame& frame, std::uint32_t timeout_us
     const timespec ts{static_cast<time_t>(timeout_us / 1'000'000U), static_cast<long>(timeout_us % 1'000'000U) * 1000L};
     const int ready = ::ppoll(&p, 1, &ts, nullptr);
     if (ready == 0) {
+      refresh_kernel_drops();
       return ReceiveStatus::empty;
     }
     if (ready < 0) {
@@ -202,7 +208,11 @@ ReceiveStatus SocketCanBus::do_receive(CanFrame& frame, std::uint32_t timeout_us
   const ssize_t n = ::recvmsg(fd_, &msg, MSG_DONTWAIT);
   if (n < 0) {
     last_errno_ = errno;
-    return (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) ? ReceiveStatus::empty : ReceiveStatus::error;
+    if (errno == EAGAIN || errno == EWOULDBLOCK) {
+      refresh_kernel_drops();
+      return ReceiveStatus::empty;
+    }
+    return errno == EINTR ? ReceiveStatus::empty : ReceiveStatus::error;
   }
   if (n != CAN_MTU && n != CANFD_MTU) {
     last_errno_ = EMSGSIZE;
@@ -230,12 +240,32 @@ ReceiveStatus SocketCanBus::do_receive(CanFrame& frame, std::uint32_t timeout_us
     } else if (c->cmsg_type == SO_RXQ_OVFL) {
       std::uint32_t drops = 0;
       std::memcpy(&drops, CMSG_DATA(c), sizeof drops);
-      // Cumulative and 32-bit: unsigned subtraction also counts across a wrap.
-      count_rx_overflow(drops - kernel_drops_);
-      kernel_drops_ = drops;
+      account_kernel_drops(drops);
     }
   }
   return ReceiveStatus::received;
+}
+
+void SocketCanBus::refresh_kernel_drops() noexcept {
+  // SO_RXQ_OVFL reports drops only with a later frame, so drops after the last queued frame
+  // would stay invisible; with the queue drained, read the socket's total instead.
+  std::array<std::uint32_t, SK_MEMINFO_VARS> meminfo{};
+  socklen_t size = sizeof meminfo;
+  if (::getsockopt(fd_, SOL_SOCKET, SO_MEMINFO, meminfo.data(), &size) == 0 &&
+      size >= (SK_MEMINFO_DROPS + 1) * sizeof(std::uint32_t)) {
+    account_kernel_drops(meminfo[SK_MEMINFO_DROPS]);
+  }
+}
+
+void SocketCanBus::account_kernel_drops(std::uint32_t total) noexcept {
+  // The kernel's count is cumulative and 32-bit; a frame's SO_RXQ_OVFL value is the count when
+  // it was queued, which may lag a SO_MEMINFO reading already taken, so only forward steps
+  // (modulo 2^32) are counted.
+  const std::uint32_t step = total - kernel_drops_;
+  if (step != 0 && step < 0x8000'0000U) {
+    count_rx_overflow(step);
+    kernel_drops_ = total;
+  }
 }
 
 BusStatus SocketCanBus::do_set_filters(std::span<const CanFilter> filters) noexcept {

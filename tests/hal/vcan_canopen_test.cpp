@@ -276,10 +276,10 @@ TEST_F(VcanCanopen, CandumpLogOfTheExchangeReadsBackFrameForFrame) {
   std::printf("[ vcan ] candump logged %zu frames to %s\n", records.size(), log.c_str());
 }
 
-TEST_F(VcanCanopen, ThroughputBothWaysWithoutSilentLoss) {
+TEST_F(VcanCanopen, ThroughputBothWaysUnderFlowControl) {
   constexpr unsigned long count = 20'000;
   SocketCanOptions options{};
-  options.receive_buffer_bytes = 1 << 20;
+  options.receive_buffer_bytes = 4 << 20;
   SocketCanBus bus;
   ASSERT_EQ(bus.open(test::vcan_interface, options), OpenStatus::ok);
 
@@ -288,53 +288,33 @@ TEST_F(VcanCanopen, ThroughputBothWaysWithoutSilentLoss) {
   test::Child sink;
   ASSERT_TRUE(sink.start({SETTLE_HAL_VCAN_PEER, "sink", std::to_string(count)}, sink_out));
   ASSERT_TRUE(wait_for_text(sink_out, "ready", 10s));
-  CanFrame f = test::frame(0x123, {0, 1, 2, 3, 4, 5, 6, 7});
-  const std::uint64_t t0 = test::monotonic_us();
-  for (unsigned long i = 0; i < count;) {
-    const SendStatus s = bus.send(f);
-    ASSERT_NE(s, SendStatus::error);
-    if (s == SendStatus::sent) {
-      ++i;
-    } else {
-      std::this_thread::yield();
-    }
-  }
-  const double send_rate = static_cast<double>(count) / (static_cast<double>(test::monotonic_us() - t0) * 1e-6);
-  ASSERT_EQ(sink.wait(), 0);
+  const test::FlowResult sent = test::send_windowed(bus, 0x123, 0x124, count);
+  EXPECT_EQ(sink.wait(), 0);
   const auto sink_result = key_values(read_file(sink_out));
-  const unsigned long sink_received = std::stoul(sink_result.at("received"));
-  EXPECT_EQ(sink_received + std::stoul(sink_result.at("drops")), count) << "every frame arrived or was counted";
+  EXPECT_TRUE(sent.complete);
+  EXPECT_EQ(sink_result.at("frames"), std::to_string(count));
+  EXPECT_EQ(sink_result.at("drops"), "0");
 
-  // Peer -> master.
-  const CanFilter only{0x321, 0x7FF, FrameFormat::standard};
-  ASSERT_EQ(bus.set_filters({&only, 1}), BusStatus::ok);
+  // Peer -> master: the acknowledging receiver listens before the source starts.
+  const CanFilter data{0x321, 0x7FF, FrameFormat::standard};
+  ASSERT_EQ(bus.set_filters({&data, 1}), BusStatus::ok);
   const std::string source_out = output_path("vcan-source.out");
   test::Child source;
   ASSERT_TRUE(source.start({SETTLE_HAL_VCAN_PEER, "source", std::to_string(count)}, source_out));
-  unsigned long received = 0;
-  std::uint64_t first = 0;
-  std::uint64_t last = test::monotonic_us();
-  while (received + bus.counters().rx_overflow_drops < count && test::monotonic_us() - last < 2'000'000) {
-    if (bus.receive(f, 100'000) == ReceiveStatus::received) {
-      last = test::monotonic_us();
-      if (received++ == 0) {
-        first = last;
-      }
-    }
-  }
-  ASSERT_EQ(source.wait(), 0);
-  const double receive_rate = static_cast<double>(received) / (static_cast<double>(last - first) * 1e-6);
-  EXPECT_EQ(received + bus.counters().rx_overflow_drops, count);
+  const test::FlowResult received = test::receive_acking(bus, 0x321, 0x322, count);
+  EXPECT_EQ(source.wait(), 0);
   const auto source_result = key_values(read_file(source_out));
+  EXPECT_TRUE(received.complete);
+  EXPECT_EQ(received.frames, count);
+  EXPECT_EQ(bus.counters().rx_overflow_drops, 0U);
 
-  std::printf("[ vcan ] throughput master->peer: sent %.0f frames/s, peer received %s frames/s (%s dropped)\n",
-              send_rate, sink_result.at("frames_per_second").c_str(), sink_result.at("drops").c_str());
-  std::printf("[ vcan ] throughput peer->master: peer sent %s frames/s (%s busy), master received %.0f frames/s "
-              "(%llu dropped)\n",
-              source_result.at("frames_per_second").c_str(), source_result.at("busy").c_str(), receive_rate,
-              static_cast<unsigned long long>(bus.counters().rx_overflow_drops));
-  RecordProperty("master_to_peer_fps", sink_result.at("frames_per_second"));
-  RecordProperty("peer_to_master_fps", std::to_string(static_cast<long>(receive_rate)));
+  std::printf("[ vcan ] throughput master->peer: %.0f frames/s (%lu frames, window %llu, %llu busy)\n",
+              sent.frames_per_second(), count, static_cast<unsigned long long>(test::flow_window),
+              static_cast<unsigned long long>(sent.busy));
+  std::printf("[ vcan ] throughput peer->master: %s frames/s (%lu frames, %s busy)\n",
+              source_result.at("frames_per_second").c_str(), count, source_result.at("busy").c_str());
+  RecordProperty("master_to_peer_fps", std::to_string(static_cast<long>(sent.frames_per_second())));
+  RecordProperty("peer_to_master_fps", source_result.at("frames_per_second"));
 }
 
 }  // namespace

@@ -1,15 +1,14 @@
 // The other process of the vcan suites. Modes:
 //   vcan_peer drive <node>        a Settle drive (DriveNode, ideal axis) until SIGTERM, then
 //                                 prints its counters as key=value lines
-//   vcan_peer sink <count>        receives <count> frames with id 0x123, prints the rate
-//   vcan_peer source <count>      sends <count> frames with id 0x321 as fast as the bus takes
-//                                 them (a busy bus is retried, never skipped), prints the rate
+//   vcan_peer sink <count>        receives <count> frames with id 0x123, acknowledging on 0x124
+//   vcan_peer source <count>      sends <count> frames with id 0x321 under acknowledgements on
+//                                 0x322 (vcan_support.hpp), prints the rate
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
-#include <thread>
 
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/socketcan_bus.hpp"
@@ -52,56 +51,11 @@ int run_drive(SocketCanBus& bus, canopen::NodeId node) {
   return 0;
 }
 
-int run_sink(SocketCanBus& bus, unsigned long count) {
-  const CanFilter only{0x123, 0x7FF, FrameFormat::standard};
-  if (bus.set_filters({&only, 1}) != BusStatus::ok) {
-    return 2;
-  }
-  std::printf("ready\n");
-  std::fflush(stdout);
-  unsigned long received = 0;
-  std::uint64_t first = 0;
-  CanFrame f{};
-  std::uint64_t last = test::monotonic_us();
-  // Ends after `count` frames, or after a second of silence when some were dropped (the
-  // drops are counted by the kernel and reported, so the sum is checked, not hoped for).
-  while (received + bus.counters().rx_overflow_drops < count && stop_requested == 0 &&
-         test::monotonic_us() - last < 1'000'000) {
-    if (bus.receive(f, 100'000) == ReceiveStatus::received) {
-      last = test::monotonic_us();
-      if (received++ == 0) {
-        first = last;
-      }
-    }
-  }
-  const double seconds = static_cast<double>(test::monotonic_us() - first) * 1e-6;
-  std::printf("received=%lu\ndrops=%llu\nframes_per_second=%.0f\n", received,
-              static_cast<unsigned long long>(bus.counters().rx_overflow_drops),
-              seconds > 0 ? static_cast<double>(received) / seconds : 0.0);
-  return 0;
-}
-
-int run_source(SocketCanBus& bus, unsigned long count) {
-  CanFrame f{};
-  f.id = 0x321;
-  f.len = 8;
-  const std::uint64_t start = test::monotonic_us();
-  for (unsigned long i = 0; i < count && stop_requested == 0;) {
-    std::memcpy(f.data.data(), &i, sizeof i);
-    const SendStatus s = bus.send(f);
-    if (s == SendStatus::sent) {
-      ++i;
-    } else if (s == SendStatus::busy) {
-      std::this_thread::yield();  // back-pressure: let the receiver drain
-    } else {
-      return 1;
-    }
-  }
-  const double seconds = static_cast<double>(test::monotonic_us() - start) * 1e-6;
-  std::printf("sent=%llu\nbusy=%llu\nframes_per_second=%.0f\n", static_cast<unsigned long long>(bus.counters().sent),
-              static_cast<unsigned long long>(bus.counters().tx_busy),
-              seconds > 0 ? static_cast<double>(bus.counters().sent) / seconds : 0.0);
-  return 0;
+void print_flow(const test::FlowResult& r, const SocketCanBus& bus) {
+  std::printf("frames=%llu\nbusy=%llu\ndrops=%llu\ncomplete=%d\nframes_per_second=%.0f\n",
+              static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.busy),
+              static_cast<unsigned long long>(bus.counters().rx_overflow_drops), r.complete ? 1 : 0,
+              r.frames_per_second());
 }
 
 }  // namespace
@@ -114,7 +68,9 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, on_signal);
   std::signal(SIGINT, on_signal);
   SocketCanBus bus;
-  const OpenStatus open = bus.open(test::vcan_interface);
+  SocketCanOptions options{};
+  options.receive_buffer_bytes = 4 << 20;
+  const OpenStatus open = bus.open(test::vcan_interface, options);
   if (open != OpenStatus::ok) {
     std::fprintf(stderr, "vcan_peer: cannot open %s: %s\n", test::vcan_interface, to_string(open));
     return 3;
@@ -125,10 +81,19 @@ int main(int argc, char** argv) {
     return run_drive(bus, static_cast<canopen::NodeId>(value));
   }
   if (mode == "sink") {
-    return run_sink(bus, value);
+    // Filters first, then "ready": the master must not send before this socket listens.
+    const CanFilter data{0x123, 0x7FF, FrameFormat::standard};
+    (void)bus.set_filters({&data, 1});
+    std::printf("ready\n");
+    std::fflush(stdout);
+    const test::FlowResult r = test::receive_acking(bus, 0x123, 0x124, value);
+    print_flow(r, bus);
+    return r.complete ? 0 : 1;
   }
   if (mode == "source") {
-    return run_source(bus, value);
+    const test::FlowResult r = test::send_windowed(bus, 0x321, 0x322, value);
+    print_flow(r, bus);
+    return r.complete ? 0 : 1;
   }
   return 2;
 }

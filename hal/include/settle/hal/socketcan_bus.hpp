@@ -2,6 +2,9 @@
 // non-blocking sends where a full queue is reported busy, kernel drop counting, receive
 // timestamps), and CanInterface, link control through libsocketcan. Host-only; the Linux CAN
 // headers stay inside src/socketcan.cpp.
+//
+// Receive timestamps are the kernel's (SO_TIMESTAMP, CLOCK_REALTIME, µs since the epoch).
+// rx_overflow_drops is exact once receive() has found the queue empty.
 #pragma once
 
 #include <array>
@@ -16,8 +19,8 @@ struct SocketCanOptions {
   bool fd_frames{false};      // CAN_RAW_FD_FRAMES: send and receive FD frames too
   bool receive_own{false};    // CAN_RAW_RECV_OWN_MSGS: hear this socket's own frames
   bool timestamps{true};      // SO_TIMESTAMP: CanFrame::timestamp_us = kernel receive time
-  int receive_buffer_bytes{0};  // SO_RCVBUF; 0 keeps the kernel default
-  int send_buffer_bytes{0};     // SO_SNDBUF; 0 keeps the kernel default
+  int receive_buffer_bytes{0};  // SO_RCVBUF(FORCE); 0 keeps the kernel default
+  int send_buffer_bytes{0};     // SO_SNDBUF(FORCE); 0 keeps the kernel default
 };
 
 enum class OpenStatus : std::uint8_t {
@@ -51,6 +54,8 @@ class SocketCanBus final : public CanBus {
   [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override;
   [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t timeout_us) noexcept override;
   [[nodiscard]] BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept override;
+  void refresh_kernel_drops() noexcept;
+  void account_kernel_drops(std::uint32_t total) noexcept;
 
   int fd_{-1};
   int last_errno_{0};
