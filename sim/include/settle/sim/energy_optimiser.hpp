@@ -1,0 +1,69 @@
+#pragma once
+// Seed 004: the residual energy a pseudo-polynomial motor command leaves in a damped mode driven
+// through -lambda phi_m'' (the belt platform), E(T) = h H with H = G^2 + w^2 F^2, computed by
+// adaptive Gauss-Kronrod quadrature, and the exponents that minimise it (Eigen's
+// Levenberg-Marquardt). More exponents than three buy flatness of the residual against an error in
+// the natural frequency: the extra freedom zeroes the residual's derivatives with respect to w.
+#include <cstddef>
+#include <vector>
+
+#include "settle/sim/modal_plant.hpp"
+#include "settle/sim/status.hpp"
+
+namespace settle::sim {
+
+// The mode and the move H is evaluated for.
+struct EnergyTarget {
+  double omega{0.0};     // w_n (rad/s)
+  double zeta{0.0};      // xi
+  double lambda{1.0};    // motor-to-platform ratio (the mode is driven by -lambda phi_m'')
+  double inertia{1.0};   // J, for E = h H
+  double distance{0.0};  // Phi, motor displacement (rad)
+  double duration{1.0};  // T (s)
+};
+// Table III of seed 004 with Phi = 15 rev and T = 1 s.
+[[nodiscard]] EnergyTarget belt_energy_target(const BeltParams& p, double distance, double duration);
+
+struct EnergyIntegrals {
+  double f{0.0};
+  double g{0.0};
+  double h_index{0.0};  // H = G^2 + w^2 F^2
+  double energy{0.0};   // E(T) = h H
+};
+// h = 1/2 J (lambda / w_d)^2.
+[[nodiscard]] double energy_scale(const EnergyTarget& t) noexcept;
+// F, G, H and E(T) for the pseudo-polynomial with the given exponents (core designs the C_i).
+[[nodiscard]] SimStatus energy_integrals(const EnergyTarget& t, const std::vector<double>& gammas,
+                                         EnergyIntegrals& out);
+
+struct OptimiserOptions {
+  // Derivatives of (G, w F) with respect to w (exact, by quadrature) that are minimised as well,
+  // weighted by robust_weight so that H itself is driven to zero first: the exponents beyond the
+  // two that zeroing H needs are then spent on flattening the residual against a frequency error.
+  // -1 picks count - 3 (at most 3): 0 for three exponents, the paper's problem.
+  int robust_order{-1};
+  double robust_weight{1e-3};
+  double min_gamma{2.05};      // exponents stay above this
+  double min_gap{0.05};        // and at least this far apart
+  int max_evaluations{4000};
+};
+
+struct OptimiserResult {
+  std::vector<double> gammas;
+  double h_initial{0.0};  // H at the start
+  double h_final{0.0};    // H at the result (nominal frequency)
+  double energy{0.0};     // E(T) at the result
+  // |w d(G, w F)/dw| at the result: how fast the residual grows with a frequency error (with H = 0
+  // the residual amplitude is proportional to slope times the relative error).
+  double slope{0.0};
+  int robust_order{0};
+  int evaluations{0};
+  int iterations{0};
+};
+
+// Minimises H (and, with robust_order > 0, its sensitivity to w) from `start` (3..8 exponents,
+// each > 2). On failure `out` is untouched.
+[[nodiscard]] SimStatus optimise_exponents(const EnergyTarget& t, const std::vector<double>& start,
+                                           const OptimiserOptions& opt, OptimiserResult& out);
+
+}  // namespace settle::sim

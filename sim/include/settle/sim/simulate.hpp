@@ -1,0 +1,66 @@
+#pragma once
+// Runs a command on a plant and measures what the input-shaping literature measures: residual
+// vibration amplitude and PRV, peak deflection during the move, settling time, final energy.
+// The command is followed by quintic Hermite pieces on a grid that contains all its breakpoints
+// and each piece is integrated exactly, so the only approximation is the O(dt^6) interpolation.
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "settle/sim/command.hpp"
+#include "settle/sim/modal_plant.hpp"
+#include "settle/sim/status.hpp"
+
+namespace settle::sim {
+
+struct SimOptions {
+  double dt{1e-4};    // grid step (s); breakpoints are added to it
+  double tail{-1.0};  // recorded time after the command ends; < 0: three periods of the slowest mode
+  bool record{true};  // keep the time history
+  double band{-1.0};  // settling band (output units); < 0: 5 % of the unshaped-step residual
+};
+
+struct HistorySample {
+  double t{0.0};
+  BaseState command{};
+  double deflection{0.0};
+  double position{0.0};
+  double velocity{0.0};
+  double acceleration{0.0};
+  Energy energy{};
+};
+
+struct SimMetrics {
+  double move_end{0.0};            // when the command came to rest (s)
+  double distance{0.0};            // command's final position
+  double residual_amplitude{0.0};  // sum_j |c_j| amp_j at move_end (output units)
+  double step_residual{0.0};       // the same for an unshaped step of the same distance
+  double prv_percent{0.0};         // 100 residual / step residual
+  std::vector<double> mode_residual;     // per mode, modal units
+  std::vector<double> mode_prv_percent;  // per mode
+  double peak_deflection{0.0};     // max |deflection| over [0, move_end] (grid samples)
+  double final_energy{0.0};        // kinetic + potential at move_end (J)
+  double band{0.0};
+  double settling_time{0.0};       // from the start until |position - final| <= band for good; +inf if never
+};
+
+struct SimResult {
+  SimMetrics metrics;
+  std::vector<HistorySample> history;
+};
+
+// The sorted grid: multiples of dt up to the command's end, with its breakpoints merged in.
+void command_grid(const Command& cmd, double dt, std::vector<double>& times);
+
+// Drives `plant` (reset at rest at 0) through `cmd` up to its end; calls `on_step` after each
+// step if given. The plant is left at the command's end.
+[[nodiscard]] SimStatus drive(ModalPlant& plant, const Command& cmd, double dt,
+                              const std::function<void(const ModalPlant&, const BaseState&)>& on_step = {});
+
+[[nodiscard]] SimStatus simulate(const ModalPlant& plant, const Command& cmd, const SimOptions& opt, SimResult& out);
+
+// Time from the state the plant is in now (base at rest) until its position stays within `band`
+// of where it will settle, using the closed-form free response; +inf if an undamped mode keeps it out.
+[[nodiscard]] double free_settling_time(const ModalPlant& plant, double band);
+
+}  // namespace settle::sim

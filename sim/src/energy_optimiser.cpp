@@ -1,0 +1,248 @@
+#include "settle/sim/energy_optimiser.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <complex>
+
+#include <boost/math/quadrature/gauss.hpp>
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
+
+#include "settle/core/pseudo_poly.hpp"
+
+namespace settle::sim {
+
+namespace {
+
+struct Design {
+  std::size_t n{0};
+  std::array<double, core::kMaxGammas> g{};
+  std::array<double, core::kMaxGammas> p2c{};  // P(gamma, 2) C
+};
+
+SimStatus design(const std::vector<double>& gammas, Design& d) {
+  if (gammas.size() < 3 || gammas.size() > core::kMaxGammas) return SimStatus::bad_gammas;
+  core::PseudoPolyParams pp{};
+  if (core::pseudo_poly_design(1.0, 1.0, gammas.data(), gammas.size(), pp) != core::Status::ok) {
+    return SimStatus::bad_gammas;
+  }
+  d.n = gammas.size();
+  for (std::size_t i = 0; i < d.n; ++i) {
+    d.g[i] = gammas[i];
+    d.p2c[i] = gammas[i] * (gammas[i] - 1.0) * pp.coeffs[i];
+  }
+  return SimStatus::ok;
+}
+
+// I_k = (1/k!) int_0^1 a(u) (r u)^k e^{r u} du with r = (-xi w + i w_d) T and u = 1 - tau/T, where
+// phi'' = -(Phi/T^2) a(u), a(u) = sum P2 C u^(g-2). Then F = -(Phi/T) Im I_0 and
+// G = -(Phi/T) w Re(e^{i delta} I_0); I_k is w^k/k! times the k-th derivative of I_0 in w (xi
+// fixed), so driving I_1.. to zero flattens the residual against a frequency error, exactly.
+// A fixed composite Gauss-Legendre rule rather than an adaptive one: H must be a smooth function of
+// the exponents for the optimiser's finite-difference Jacobian, and an adaptive rule that
+// subdivides differently for nearby exponents is not (it also never stops when I is near 0, which
+// is exactly where the optimiser goes). u^(g-2) is singular at u = 0, so the panels are dyadic
+// there (each panel then sees the singularity at 3 half-widths: 16 nodes give ~1e-15), and
+// uniform elsewhere with about 2 rad of oscillation per panel.
+constexpr int kMaxOrder = 3;
+using Moments = std::array<std::complex<double>, kMaxOrder + 1>;
+
+Moments moments(const EnergyTarget& t, const Design& d, int order) {
+  const double beta = std::sqrt(1.0 - t.zeta * t.zeta);
+  const std::complex<double> rate{-t.zeta * t.omega * t.duration, t.omega * beta * t.duration};
+  Moments sum{};
+  using GL = boost::math::quadrature::gauss<double, 16>;
+  auto panel = [&](double lo, double hi) {
+    const double half = 0.5 * (hi - lo), mid = 0.5 * (hi + lo);
+    const auto& x = GL::abscissa();
+    const auto& w = GL::weights();
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      for (double sgn : {-1.0, 1.0}) {
+        const double u = mid + sgn * half * x[i];
+        double a = 0.0;
+        for (std::size_t j = 0; j < d.n; ++j) a += d.p2c[j] * std::pow(u, d.g[j] - 2.0);
+        const std::complex<double> ru = rate * u;
+        std::complex<double> term = half * w[i] * a * std::exp(ru);
+        for (int k = 0; k <= order; ++k) {
+          sum[static_cast<std::size_t>(k)] += term;
+          term *= ru / static_cast<double>(k + 1);
+        }
+      }
+    }
+  };
+  constexpr double kSplit = 1.0 / 64.0;
+  double hi = kSplit;
+  for (int k = 0; k < 54; ++k) {  // [2^-60, 1/64] in dyadic panels; below 2^-60 contributes < 1e-18
+    panel(0.5 * hi, hi);
+    hi *= 0.5;
+  }
+  const int panels = std::max(8, static_cast<int>(std::ceil(std::abs(rate) * (1.0 - kSplit) / 2.0)));
+  const double width = (1.0 - kSplit) / panels;
+  for (int k = 0; k < panels; ++k) panel(kSplit + k * width, kSplit + (k + 1) * width);
+  return sum;
+}
+
+// (G, w F) from a moment: the two terms of H = G^2 + w^2 F^2.
+void residual_pair(const EnergyTarget& t, const std::complex<double>& m, double& g, double& wf) {
+  const double beta = std::sqrt(1.0 - t.zeta * t.zeta);
+  const double k = -t.distance / t.duration * t.omega;
+  g = k * (std::exp(std::complex<double>{0.0, std::atan2(t.zeta, beta)}) * m).real();
+  wf = k * m.imag();
+}
+
+// Exponents from unconstrained parameters: g0 = min + e^p0, g_i = g_{i-1} + gap + e^p_i. Keeps them
+// above 2 and ordered with a gap without any explicit constraint in the solver.
+std::vector<double> to_gammas(const Eigen::VectorXd& p, const OptimiserOptions& o) {
+  std::vector<double> g(static_cast<std::size_t>(p.size()));
+  double prev = o.min_gamma - o.min_gap;
+  for (Eigen::Index i = 0; i < p.size(); ++i) {
+    // Increments are capped at 20: beyond that a term is negligible except at u = 1 and the
+    // solver would only chase it off to infinity.
+    prev += o.min_gap + std::exp(std::min(p[i], std::log(20.0)));
+    g[static_cast<std::size_t>(i)] = prev;
+  }
+  return g;
+}
+
+bool to_params(const std::vector<double>& g, const OptimiserOptions& o, Eigen::VectorXd& p) {
+  p.resize(static_cast<Eigen::Index>(g.size()));
+  double prev = o.min_gamma - o.min_gap;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const double e = g[i] - prev - o.min_gap;
+    if (!(e > 0.0)) return false;
+    p[static_cast<Eigen::Index>(i)] = std::log(e);
+    prev = g[i];
+  }
+  return true;
+}
+
+struct Residuals {
+  using Scalar = double;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+
+  const EnergyTarget* target;
+  const OptimiserOptions* opt;
+  int order;
+  int n_in;
+  double scale;  // 1 / sqrt(H0): residuals of order 1 at the start
+  mutable int evaluations{0};
+
+  [[nodiscard]] int inputs() const { return n_in; }
+  // MINPACK needs at least as many residuals as unknowns; the extra rows are zero, which leaves
+  // the least-squares problem (and its zero set) unchanged.
+  [[nodiscard]] int values() const { return std::max(2 * (order + 1), n_in); }
+
+  int operator()(const Eigen::VectorXd& p, Eigen::VectorXd& fvec) const {
+    ++evaluations;
+    fvec.setZero(values());
+    Design d;
+    if (design(to_gammas(p, *opt), d) != SimStatus::ok) {
+      fvec.setConstant(1e6);
+      return 0;
+    }
+    const Moments m = moments(*target, d, order);
+    for (int o = 0; o <= order; ++o) {
+      double g = 0.0, wf = 0.0;
+      residual_pair(*target, m[static_cast<std::size_t>(o)], g, wf);
+      // The nominal pair is what H is made of; the derivative pairs are weighted down so that the
+      // solver first zeroes H and then uses what freedom is left to flatten it.
+      const double w = o == 0 ? scale : scale * opt->robust_weight;
+      fvec[2 * o] = w * g;
+      fvec[2 * o + 1] = w * wf;
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+EnergyTarget belt_energy_target(const BeltParams& p, double distance, double duration) {
+  EnergyTarget t;
+  const double kt = 2.0 * p.belt_stiffness * p.pulley_R * p.pulley_R;
+  const double ct = 2.0 * p.belt_damping * p.pulley_R * p.pulley_R;
+  t.omega = std::sqrt(kt / p.inertia);
+  t.zeta = ct / (2.0 * p.inertia * t.omega);
+  t.lambda = belt_lambda(p);
+  t.inertia = p.inertia;
+  t.distance = distance;
+  t.duration = duration;
+  return t;
+}
+
+double energy_scale(const EnergyTarget& t) noexcept {
+  const double wd = t.omega * std::sqrt(1.0 - t.zeta * t.zeta);
+  return 0.5 * t.inertia * (t.lambda / wd) * (t.lambda / wd);
+}
+
+SimStatus energy_integrals(const EnergyTarget& t, const std::vector<double>& gammas, EnergyIntegrals& out) {
+  for (double v : {t.omega, t.zeta, t.lambda, t.inertia, t.distance, t.duration}) {
+    if (!std::isfinite(v)) return SimStatus::non_finite_parameter;
+  }
+  if (!(t.omega > 0.0)) return SimStatus::non_positive_omega;
+  if (!(t.zeta >= 0.0 && t.zeta < 1.0)) return SimStatus::not_underdamped;
+  if (!(t.duration > 0.0)) return SimStatus::non_positive_step;
+  Design d;
+  const SimStatus st = design(gammas, d);
+  if (st != SimStatus::ok) return st;
+  EnergyIntegrals r;
+  double wf = 0.0;
+  residual_pair(t, moments(t, d, 0)[0], r.g, wf);
+  r.f = wf / t.omega;
+  r.h_index = r.g * r.g + t.omega * t.omega * r.f * r.f;
+  r.energy = energy_scale(t) * r.h_index;
+  out = r;
+  return SimStatus::ok;
+}
+
+SimStatus optimise_exponents(const EnergyTarget& t, const std::vector<double>& start, const OptimiserOptions& opt,
+                             OptimiserResult& out) {
+  EnergyIntegrals e0;
+  SimStatus st = energy_integrals(t, start, e0);
+  if (st != SimStatus::ok) return st;
+  std::vector<double> sorted = start;
+  std::sort(sorted.begin(), sorted.end());
+  Eigen::VectorXd p;
+  if (!to_params(sorted, opt, p)) return SimStatus::bad_gammas;
+  const int n = static_cast<int>(sorted.size());
+  const int order = opt.robust_order >= 0 ? std::min(opt.robust_order, kMaxOrder) : std::min(n - 3, kMaxOrder);
+
+  Residuals fn{&t, &opt, order, n, e0.h_index > 0.0 ? 1.0 / std::sqrt(e0.h_index) : 1.0};
+  Eigen::NumericalDiff<Residuals> nd(fn);
+  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Residuals>> lm(nd);
+  lm.parameters.maxfev = opt.max_evaluations;
+  lm.parameters.xtol = 1e-15;
+  lm.parameters.ftol = 1e-30;
+  lm.parameters.gtol = 0.0;
+  const auto info = lm.minimize(p);
+  if (info == Eigen::LevenbergMarquardtSpace::ImproperInputParameters) return SimStatus::optimiser_failed;
+
+  OptimiserResult r;
+  r.gammas = to_gammas(p, opt);
+  EnergyIntegrals e1;
+  st = energy_integrals(t, r.gammas, e1);
+  if (st != SimStatus::ok) return SimStatus::optimiser_failed;
+  if (!(e1.h_index < e0.h_index)) return SimStatus::optimiser_failed;
+  {
+    Design d;
+    if (design(r.gammas, d) != SimStatus::ok) return SimStatus::optimiser_failed;
+    const Moments mo = moments(t, d, 1);
+    double g0 = 0.0, f0 = 0.0, g1 = 0.0, f1 = 0.0;
+    residual_pair(t, mo[0], g0, f0);
+    residual_pair(t, mo[1], g1, f1);
+    r.slope = std::hypot(g0 + g1, f0 + f1);
+  }
+  r.h_initial = e0.h_index;
+  r.h_final = e1.h_index;
+  r.energy = e1.energy;
+  r.robust_order = order;
+  r.evaluations = nd.evaluations;  // NumericalDiff is a copy of fn that counts every call
+  r.iterations = static_cast<int>(lm.iter);
+  out = std::move(r);
+  return SimStatus::ok;
+}
+
+}  // namespace settle::sim
