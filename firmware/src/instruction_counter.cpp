@@ -124,7 +124,8 @@ InstructionCost InstructionCounter::measure(void (*body)(), std::uint32_t calls)
   }
   const std::uint32_t baseline{rounded_instructions(baseline_ticks)};
 
-  InstructionCost cost{.min = UINT32_MAX, .max = 0, .calls = calls, .exact = exact()};
+  InstructionCost cost{
+      .min = UINT32_MAX, .max = 0, .calls = calls, .bracket = baseline, .exact = exact()};
   std::uint64_t tick_sum{0};
   std::uint64_t instruction_sum{0};
   for (std::uint32_t i{0}; i < calls; ++i) {

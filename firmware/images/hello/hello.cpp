@@ -44,7 +44,9 @@ void append_cost(Text<N>& text, std::string_view name, const InstructionCost& co
       .append_unsigned(cost.max)
       .append(" instructions per call over ")
       .append_unsigned(cost.calls)
-      .append(cost.exact ? " calls\n" : " calls (not exact: -icount shift too small)\n");
+      .append(" calls (timing bracket ")
+      .append_unsigned(cost.bracket)
+      .append(cost.exact ? " subtracted)\n" : " subtracted; not exact: -icount shift too small)\n");
 }
 
 }  // namespace

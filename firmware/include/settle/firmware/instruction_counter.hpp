@@ -13,6 +13,9 @@ struct InstructionCost {
   std::uint32_t min{};        // fewest instructions one call took (exact runs only)
   std::uint32_t max{};        // most instructions one call took (exact runs only)
   std::uint32_t calls{};
+  // What the timing bracket itself costs (two SysTick reads, the indirect call and the empty
+  // function's return); already subtracted from the figures above.
+  std::uint32_t bracket{};
   // Whether the clock resolved single instructions (QEMU ran with a large enough -icount shift);
   // otherwise min and max are meaningless and the mean is an estimate.
   bool exact{};
