@@ -4,6 +4,7 @@
 
 #include "frame_helpers.hpp"
 #include "settle/hal/socketcan_bus.hpp"
+#include "socketcan_expectations.hpp"
 
 namespace settle::hal {
 namespace {
@@ -42,14 +43,7 @@ TEST(CanInterface, ControlOfAMissingInterfaceSaysSo) {
 
 TEST(CanInterface, ControllerSettingsOnANonCanInterfaceAreNotSupported) {
   CanInterface lo{"lo"};
-  ASSERT_TRUE(lo.exists());
-  EXPECT_FALSE(lo.has_controller());
-  std::uint32_t bitrate = 0;
-  EXPECT_EQ(lo.bitrate(bitrate), ControlStatus::not_supported);
-  EXPECT_EQ(lo.set_bitrate(500'000), ControlStatus::not_supported);
-  EXPECT_EQ(lo.restart(), ControlStatus::not_supported);
-  CanErrorCounters counters{};
-  EXPECT_EQ(lo.error_counters(counters), ControlStatus::not_supported);
+  test::expect_controller_settings_not_supported(lo);
 }
 
 }  // namespace

@@ -82,8 +82,7 @@ int main(int argc, char** argv) {
   }
   if (mode == "sink") {
     // Filters first, then "ready": the master must not send before this socket listens.
-    const CanFilter data{0x123, 0x7FF, FrameFormat::standard};
-    (void)bus.set_filters({&data, 1});
+    (void)test::listen_only_to(bus, 0x123);
     std::printf("ready\n");
     std::fflush(stdout);
     const test::FlowResult r = test::receive_acking(bus, 0x123, 0x124, value);

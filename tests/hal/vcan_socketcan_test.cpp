@@ -8,6 +8,7 @@
 
 #include "frame_helpers.hpp"
 #include "settle/hal/socketcan_bus.hpp"
+#include "socketcan_expectations.hpp"
 #include "vcan_support.hpp"
 
 namespace settle::hal {
@@ -115,16 +116,7 @@ TEST_F(VcanSocketCan, EveryFrameIsSentBusyOrCountedAsDroppedNeverLostSilently) {
 
 TEST_F(VcanSocketCan, LinkControlAppliesAndControllerSettingsAreNotSupported) {
   CanInterface vcan{test::vcan_interface};
-  ASSERT_TRUE(vcan.exists());
-  EXPECT_FALSE(vcan.has_controller());
-  std::uint32_t bitrate = 0;
-  EXPECT_EQ(vcan.bitrate(bitrate), ControlStatus::not_supported);
-  EXPECT_EQ(vcan.set_bitrate(500'000), ControlStatus::not_supported);
-  EXPECT_EQ(vcan.restart(), ControlStatus::not_supported);
-  CanControllerState state{};
-  EXPECT_EQ(vcan.state(state), ControlStatus::not_supported);
-  CanErrorCounters counters{};
-  EXPECT_EQ(vcan.error_counters(counters), ControlStatus::not_supported);
+  test::expect_controller_settings_not_supported(vcan);
 
   const ControlStatus down = vcan.link_down();
   if (down == ControlStatus::permission_denied) {

@@ -62,10 +62,14 @@ inline std::uint64_t count_of(const CanFrame& f) {
   return n;
 }
 
+inline bool listen_only_to(CanBus& bus, std::uint32_t id) {
+  const CanFilter only{id, 0x7FF, FrameFormat::standard};
+  return bus.set_filters({&only, 1}) == BusStatus::ok;
+}
+
 inline FlowResult send_windowed(CanBus& bus, std::uint32_t data_id, std::uint32_t ack_id, std::uint64_t count) {
   FlowResult r{};
-  const CanFilter acks{ack_id, 0x7FF, FrameFormat::standard};
-  if (bus.set_filters({&acks, 1}) != BusStatus::ok) {
+  if (!listen_only_to(bus, ack_id)) {
     return r;
   }
   std::uint64_t acked = 0;
@@ -103,8 +107,7 @@ inline FlowResult send_windowed(CanBus& bus, std::uint32_t data_id, std::uint32_
 
 inline FlowResult receive_acking(CanBus& bus, std::uint32_t data_id, std::uint32_t ack_id, std::uint64_t count) {
   FlowResult r{};
-  const CanFilter data{data_id, 0x7FF, FrameFormat::standard};
-  if (bus.set_filters({&data, 1}) != BusStatus::ok) {
+  if (!listen_only_to(bus, data_id)) {
     return r;
   }
   CanFrame f{};
