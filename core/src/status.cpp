@@ -27,6 +27,15 @@ const char* to_string(Status s) noexcept {
     case Status::vtol_out_of_range: return "vtol_out_of_range";
     case Status::no_solution: return "no_solution";
     case Status::unsupported_request: return "unsupported_request";
+    case Status::scale_invalid: return "scale_invalid";
+    case Status::distance_does_not_fit: return "distance_does_not_fit";
+    case Status::velocity_does_not_fit: return "velocity_does_not_fit";
+    case Status::acceleration_does_not_fit: return "acceleration_does_not_fit";
+    case Status::duration_does_not_fit: return "duration_does_not_fit";
+    case Status::transition_shorter_than_tick: return "transition_shorter_than_tick";
+    case Status::precision_insufficient: return "precision_insufficient";
+    case Status::table_too_small: return "table_too_small";
+    case Status::impulse_does_not_fit: return "impulse_does_not_fit";
   }
   return "unknown";
 }
@@ -56,6 +65,15 @@ const char* describe(Status s) noexcept {
     case Status::vtol_out_of_range: return "the EI vibration tolerance must lie in (0, 0.5)";
     case Status::no_solution: return "the iterative design did not converge";
     case Status::unsupported_request: return "this combination of options is not supported";
+    case Status::scale_invalid: return "the fixed-point scale needs positive finite counts per unit and tick period, and 0..30 fraction bits";
+    case Status::distance_does_not_fit: return "a position of the move does not fit the fixed-point count format";
+    case Status::velocity_does_not_fit: return "the move's peak velocity does not fit the fixed-point velocity format";
+    case Status::acceleration_does_not_fit: return "the move's peak acceleration does not fit the fixed-point acceleration format";
+    case Status::duration_does_not_fit: return "the move is longer than the fixed-point tick format allows (2^30 ticks)";
+    case Status::transition_shorter_than_tick: return "a cycloid or versine transition is shorter than one servo tick";
+    case Status::precision_insufficient: return "the fixed-point evaluation cannot keep this move within one count";
+    case Status::table_too_small: return "the table or segment capacity is too small to hold the move accurately";
+    case Status::impulse_does_not_fit: return "a shaper impulse amplitude lies outside (-2, 2)";
   }
   return "unknown status";
 }

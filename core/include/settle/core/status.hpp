@@ -29,6 +29,17 @@ enum class Status : std::uint8_t {
   vtol_out_of_range,           // EI vibration tolerance outside (0, 0.5)
   no_solution,                 // an iterative design (EI with damping) did not converge
   unsupported_request,         // e.g. a shaper on a profile kind that cannot carry one
+  // Fixed-point evaluation (core/fixed): a planned move whose numbers do not fit the integer
+  // formats is refused by the builder, before anything is streamed.
+  scale_invalid,                // counts per unit or tick period not finite and positive, Q bits out of 0..30
+  distance_does_not_fit,        // a position of the move (distance, overshoot, a polynomial term) over the count format
+  velocity_does_not_fit,        // peak |v| in counts/tick over the velocity format
+  acceleration_does_not_fit,    // peak |a| in counts/tick^2 over the acceleration format
+  duration_does_not_fit,        // the move (with its shaper delays) is longer than 2^30 ticks
+  transition_shorter_than_tick, // a cycloid/versine segment shorter than one tick: the tick is too coarse
+  precision_insufficient,       // the fixed evaluation could not keep the position within its error budget
+  table_too_small,              // the cam table or the segment capacity cannot hold the move accurately
+  impulse_does_not_fit,         // a shaper amplitude outside (-2, 2): it has no Q2.30 weight
 };
 
 // Stable snake_case code for logs and JSON ("time_too_short_for_vmax").
