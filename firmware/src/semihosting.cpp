@@ -47,8 +47,8 @@ File& File::operator=(File&& other) noexcept {
 File::~File() { static_cast<void>(close()); }
 
 File File::open(std::string_view path, OpenMode mode) {
-  // The host reads the name with an explicit length, so it need not be NUL-terminated; QEMU
-  // nevertheless copies it as a C string, so pass a terminated copy to be safe with both.
+  // SYS_OPEN wants a NUL-terminated name plus its length without the NUL; a string_view has no
+  // terminator, hence the bounded copy.
   std::array<char, 128> name{};
   if (path.size() >= name.size()) {
     return File{};
