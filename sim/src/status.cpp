@@ -28,6 +28,8 @@ const char* to_string(SimStatus s) noexcept {
     case SimStatus::optimiser_failed: return "optimiser_failed";
     case SimStatus::plan_failed: return "plan_failed";
     case SimStatus::io_error: return "io_error";
+    case SimStatus::non_positive_scale: return "non_positive_scale";
+    case SimStatus::bad_drive_model: return "bad_drive_model";
   }
   return "unknown";
 }
@@ -58,6 +60,8 @@ const char* describe(SimStatus s) noexcept {
     case SimStatus::optimiser_failed: return "the optimiser could not reduce the residual energy";
     case SimStatus::plan_failed: return "the move could not be planned";
     case SimStatus::io_error: return "a file could not be written";
+    case SimStatus::non_positive_scale: return "counts per unit must be positive and finite";
+    case SimStatus::bad_drive_model: return "the servo model needs a positive bandwidth and a damping ratio in (0, 1)";
   }
   return "unknown status";
 }

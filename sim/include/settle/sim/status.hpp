@@ -31,6 +31,8 @@ enum class SimStatus : std::uint8_t {
   optimiser_failed,         // Levenberg-Marquardt could not make progress
   plan_failed,              // core refused a move the experiment needs
   io_error,                 // a CSV or plot file could not be written
+  non_positive_scale,       // a counts-per-unit scale <= 0 or not finite
+  bad_drive_model,          // servo model bandwidth <= 0 or damping outside (0, 1)
 };
 
 // Stable snake_case code for logs and JSON.

@@ -12,7 +12,7 @@
 #include <optional>
 
 #include "settle/core/planner.hpp"
-#include "settle/core/stepper.hpp"
+#include "settle/core/setpoints.hpp"
 #include "settle/firmware/move_queue.hpp"
 #include "settle/hal/can_bus.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
@@ -185,10 +185,9 @@ class ServoLoop {
     AxisConfig cfg{};
     std::optional<hal::canopen::RemoteDrive> drive{};
     MoveQueue<Scalar, QueueDepth> queue{};
-    core::MoveStepper<Scalar> stepper{};
+    core::SetpointStream<Scalar> setpoints{};
     bool active{false};
     bool have_target{false};
-    std::int32_t origin{0};       // counts where the active move started
     std::int32_t target{0};       // last target commanded
     std::int32_t sent_prev{0};    // target sent in the previous tick (what the feedback answers)
     bool sent_prev_valid{false};
@@ -271,17 +270,12 @@ class ServoLoop {
       } else {
         if (!a.active && !a.queue.empty()) {
           a.active = true;
-          a.origin = a.target;
-          a.stepper = core::MoveStepper<Scalar>{a.queue.front(), static_cast<Scalar>(period_us_ * 1e-6)};
+          a.setpoints = core::SetpointStream<Scalar>{a.queue.front(), period_us_, a.cfg.counts_per_unit, a.target};
           ++a.stats.moves_started;
         }
         if (a.active) {
-          const bool last = static_cast<double>(a.stepper.tick()) * period_us_ * 1e-6 >=
-                            static_cast<double>(a.queue.front().duration());
-          const core::Sample<Scalar> s = a.stepper.step();
-          const double counts = std::nearbyint(static_cast<double>(s.p) * a.cfg.counts_per_unit);
-          const std::int32_t next = static_cast<std::int32_t>(static_cast<std::int64_t>(a.origin) +
-                                                              static_cast<std::int64_t>(counts));
+          bool last = false;
+          const std::int32_t next = a.setpoints.next(last);
           const double step = std::fabs(static_cast<double>(next) - static_cast<double>(a.target));
           if (!(step <= a.guard)) {
             // Never command a jump the actuator cannot make: abandon the move, hold position.

@@ -1,0 +1,45 @@
+#include "settle/sim/plant_node.hpp"
+
+#include <utility>
+
+namespace settle::sim {
+
+PlantNode::PlantNode(const hal::canopen::DriveNodeConfig& node, DriveAxis axis)
+    : node_{node}, axis_{std::move(axis)} {
+  log_.reserve(1 << 16);
+}
+
+void PlantNode::start(std::uint64_t now_us, hal::FrameSink& out) { node_.start(now_us, out); }
+
+bool PlantNode::on_frame(const hal::CanFrame& frame, std::uint64_t now_us, hal::FrameSink& out) {
+  const hal::canopen::DriveEvent ev = node_.on_frame(frame, now_us, out);
+  if (ev == hal::canopen::DriveEvent::reset) {
+    // NMT reset node: the drive reboots; the machine stays where it is.
+    return false;
+  }
+  if (ev != hal::canopen::DriveEvent::sync) return false;
+  SyncRecord rec{};
+  rec.sync = syncs_++;
+  rec.time_us = now_us;
+  rec.following = node_.following();
+  SimStatus st = SimStatus::ok;
+  if (rec.following) {
+    rec.target = node_.setpoint();
+    st = axis_.step(rec.target);
+  } else {
+    // Not following (disabled, quick stop, fault): the axis holds. A quick stop of an ideal
+    // drive is immediate, so report the stop complete at once.
+    rec.target = axis_.feedback().position_actual;
+    st = axis_.hold();
+    if (node_.stopping()) node_.stop_complete();
+  }
+  if (st != SimStatus::ok) status_ = st;
+  rec.feedback = axis_.feedback();
+  rec.load = axis_.load_position();
+  rec.base = axis_.base_position();
+  log_.push_back(rec);
+  node_.publish({rec.feedback.position_actual, rec.feedback.velocity_actual, rec.feedback.load_position}, now_us, out);
+  return true;
+}
+
+}  // namespace settle::sim
