@@ -37,15 +37,15 @@ SimStatus design(const std::vector<double>& gammas, Design& d) {
 
 // I_k = (1/k!) int_0^1 a(u) (r u)^k e^{r u} du with r = (-xi w + i w_d) T and u = 1 - tau/T, where
 // phi'' = -(Phi/T^2) a(u), a(u) = sum P2 C u^(g-2). Then F = -(Phi/T) Im I_0 and
-// G = -(Phi/T) w Re(e^{i delta} I_0); I_k is w^k/k! times the k-th derivative of I_0 in w (xi
-// fixed), so driving I_1.. to zero flattens the residual against a frequency error, exactly.
+// G = -(Phi/T) w Re(e^{i delta} I_0); I_1 is w times the derivative of I_0 in w (xi fixed): how
+// fast the residual grows with a frequency error.
 // A fixed composite Gauss-Legendre rule rather than an adaptive one: H must be a smooth function of
 // the exponents for the optimiser's finite-difference Jacobian, and an adaptive rule that
 // subdivides differently for nearby exponents is not (it also never stops when I is near 0, which
 // is exactly where the optimiser goes). u^(g-2) is singular at u = 0, so the panels are dyadic
 // there (each panel then sees the singularity at 3 half-widths: 16 nodes give ~1e-15), and
 // uniform elsewhere with about 2 rad of oscillation per panel.
-constexpr int kMaxOrder = 3;
+constexpr int kMaxOrder = 1;
 using Moments = std::array<std::complex<double>, kMaxOrder + 1>;
 
 Moments moments(const EnergyTarget& t, const Design& d, int order) {
@@ -126,15 +126,15 @@ struct Residuals {
 
   const EnergyTarget* target;
   const OptimiserOptions* opt;
-  int order;
   int n_in;
   double scale;  // 1 / sqrt(H0): residuals of order 1 at the start
   mutable int evaluations{0};
 
   [[nodiscard]] int inputs() const { return n_in; }
-  // MINPACK needs at least as many residuals as unknowns; the extra rows are zero, which leaves
-  // the least-squares problem (and its zero set) unchanged.
-  [[nodiscard]] int values() const { return std::max(2 * (order + 1), n_in); }
+  // H = G^2 + (w F)^2 is two squares, and MINPACK needs at least as many residuals as unknowns:
+  // the extra rows are zero, which leaves the problem (and its curve of zero-energy solutions)
+  // unchanged; from a point off the curve the damped Gauss-Newton steps reach a nearby point on it.
+  [[nodiscard]] int values() const { return std::max(2, n_in); }
 
   int operator()(const Eigen::VectorXd& p, Eigen::VectorXd& fvec) const {
     ++evaluations;
@@ -144,16 +144,10 @@ struct Residuals {
       fvec.setConstant(1e6);
       return 0;
     }
-    const Moments m = moments(*target, d, order);
-    for (int o = 0; o <= order; ++o) {
-      double g = 0.0, wf = 0.0;
-      residual_pair(*target, m[static_cast<std::size_t>(o)], g, wf);
-      // The nominal pair is what H is made of; the derivative pairs are weighted down so that the
-      // solver first zeroes H and then uses what freedom is left to flatten it.
-      const double w = o == 0 ? scale : scale * opt->robust_weight;
-      fvec[2 * o] = w * g;
-      fvec[2 * o + 1] = w * wf;
-    }
+    double g = 0.0, wf = 0.0;
+    residual_pair(*target, moments(*target, d, 0)[0], g, wf);
+    fvec[0] = scale * g;
+    fvec[1] = scale * wf;
     return 0;
   }
 };
@@ -207,10 +201,9 @@ SimStatus optimise_exponents(const EnergyTarget& t, const std::vector<double>& s
   std::sort(sorted.begin(), sorted.end());
   Eigen::VectorXd p;
   if (!to_params(sorted, opt, p)) return SimStatus::bad_gammas;
-  const int n = static_cast<int>(sorted.size());
-  const int order = opt.robust_order >= 0 ? std::min(opt.robust_order, kMaxOrder) : std::min(n - 3, kMaxOrder);
 
-  Residuals fn{&t, &opt, order, n, e0.h_index > 0.0 ? 1.0 / std::sqrt(e0.h_index) : 1.0};
+  const double scale = e0.h_index > 0.0 ? 1.0 / std::sqrt(e0.h_index) : 1.0;
+  Residuals fn{&t, &opt, static_cast<int>(sorted.size()), scale};
   Eigen::NumericalDiff<Residuals> nd(fn);
   Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Residuals>> lm(nd);
   lm.parameters.maxfev = opt.max_evaluations;
@@ -238,7 +231,6 @@ SimStatus optimise_exponents(const EnergyTarget& t, const std::vector<double>& s
   r.h_initial = e0.h_index;
   r.h_final = e1.h_index;
   r.energy = e1.energy;
-  r.robust_order = order;
   r.evaluations = nd.evaluations;  // NumericalDiff is a copy of fn that counts every call
   r.iterations = static_cast<int>(lm.iter);
   out = std::move(r);

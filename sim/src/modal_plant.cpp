@@ -127,6 +127,16 @@ SimStatus ModalPlant::make_beam(const BeamOptions& o, ModalPlant& out) {
   return make_modes(modes, 1.0, PlantKind::beam, out);
 }
 
+SimStatus make_plant(const PlantSpec& spec, ModalPlant& out) {
+  switch (spec.kind) {
+    case PlantKind::sdof: return ModalPlant::make_sdof(spec.sdof, out);
+    case PlantKind::beam: return ModalPlant::make_beam(spec.beam, out);
+    case PlantKind::belt: return ModalPlant::make_belt(spec.belt, out);
+    case PlantKind::modes: return ModalPlant::make_modes(spec.modes, 1.0, PlantKind::modes, out);
+  }
+  return SimStatus::bad_mode_count;
+}
+
 double ModalPlant::deflection() const { return lin_.output(kRowDeflection); }
 double ModalPlant::position() const { return lin_.output(kRowPosition); }
 double ModalPlant::velocity() const { return lin_.output(kRowVelocity); }

@@ -2,8 +2,9 @@
 // Seed 004: the residual energy a pseudo-polynomial motor command leaves in a damped mode driven
 // through -lambda phi_m'' (the belt platform), E(T) = h H with H = G^2 + w^2 F^2, computed by
 // adaptive Gauss-Kronrod quadrature, and the exponents that minimise it (Eigen's
-// Levenberg-Marquardt). More exponents than three buy flatness of the residual against an error in
-// the natural frequency: the extra freedom zeroes the residual's derivatives with respect to w.
+// Levenberg-Marquardt). Zero energy is a curve (three exponents) or a larger set (more): every
+// point on it still leaves a residual that grows linearly with an error in w, and the slope, which
+// differs along the set, is what more exponents can lower (see reproduce_004).
 #include <cstddef>
 #include <vector>
 
@@ -37,12 +38,6 @@ struct EnergyIntegrals {
                                          EnergyIntegrals& out);
 
 struct OptimiserOptions {
-  // Derivatives of (G, w F) with respect to w (exact, by quadrature) that are minimised as well,
-  // weighted by robust_weight so that H itself is driven to zero first: the exponents beyond the
-  // two that zeroing H needs are then spent on flattening the residual against a frequency error.
-  // -1 picks count - 3 (at most 3): 0 for three exponents, the paper's problem.
-  int robust_order{-1};
-  double robust_weight{1e-3};
   double min_gamma{2.05};      // exponents stay above this
   double min_gap{0.05};        // and at least this far apart
   int max_evaluations{4000};
@@ -56,13 +51,11 @@ struct OptimiserResult {
   // |w d(G, w F)/dw| at the result: how fast the residual grows with a frequency error (with H = 0
   // the residual amplitude is proportional to slope times the relative error).
   double slope{0.0};
-  int robust_order{0};
   int evaluations{0};
   int iterations{0};
 };
 
-// Minimises H (and, with robust_order > 0, its sensitivity to w) from `start` (3..8 exponents,
-// each > 2). On failure `out` is untouched.
+// Minimises H from `start` (3..8 exponents, each > 2). On failure `out` is untouched.
 [[nodiscard]] SimStatus optimise_exponents(const EnergyTarget& t, const std::vector<double>& start,
                                            const OptimiserOptions& opt, OptimiserResult& out);
 

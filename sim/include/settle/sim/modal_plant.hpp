@@ -115,6 +115,17 @@ class ModalPlant {
   LinearPlant lin_;
 };
 
+// A plant as a user names it (the --plant options of `settle simulate` and `settle plant`): one
+// kind and its parameters; the other members are ignored.
+struct PlantSpec {
+  PlantKind kind{PlantKind::beam};
+  SdofParams sdof{};
+  BeamOptions beam{};
+  BeltParams belt{};
+  std::vector<Mode> modes{};  // kind == modes: omega, zeta, gain per mode (output 1, unit mass)
+};
+[[nodiscard]] SimStatus make_plant(const PlantSpec& spec, ModalPlant& out);
+
 // Output rows of the LinearPlant a ModalPlant builds.
 inline constexpr Eigen::Index kRowDeflection = 0;
 inline constexpr Eigen::Index kRowPosition = 1;

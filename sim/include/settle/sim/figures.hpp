@@ -1,0 +1,27 @@
+#pragma once
+// CSV of every curve of the reproduced experiments and gnuplot PNGs laid out like the papers'
+// figures (seed 000 Fig. 3, seed 001 Figs. 2-7, seed 004 Fig. 3). PNGs need gnuplot on the PATH;
+// without it the CSV files and the .gp scripts are still written.
+#include <string>
+#include <vector>
+
+#include "settle/sim/reproduce.hpp"
+#include "settle/sim/status.hpp"
+
+namespace settle::sim {
+
+struct FigureFiles {
+  std::vector<std::string> csv;
+  std::vector<std::string> png;
+  bool gnuplot{false};  // false: gnuplot was not found, scripts written but not run
+};
+
+[[nodiscard]] SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out);
+[[nodiscard]] SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFiles& out);
+[[nodiscard]] SimStatus write_figures_004(const Result004& r, const std::string& dir, FigureFiles& out);
+
+// Writes time histories as CSV: t, command p/v/a, deflection, position, velocity, acceleration,
+// kinetic and potential energy (the `--csv` of settle simulate uses it too).
+[[nodiscard]] SimStatus write_history_csv(const std::vector<HistorySample>& h, const std::string& path);
+
+}  // namespace settle::sim

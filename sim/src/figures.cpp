@@ -1,0 +1,225 @@
+#include "settle/sim/figures.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace settle::sim {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+bool write_text(const std::string& path, const std::string& text) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) return false;
+  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  return std::fclose(f) == 0 && ok;
+}
+
+bool have_gnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
+
+// Writes `script` next to the data and runs gnuplot in that directory, so the script refers to
+// the CSV files by their plain names and can be rerun by hand.
+SimStatus plot(const std::string& dir, const std::string& name, const std::string& script, FigureFiles& out) {
+  const std::string gp = (fs::path{dir} / (name + ".gp")).string();
+  if (!write_text(gp, "set terminal pngcairo size 1400,1000 font 'Sans,10'\nset output '" + name +
+                          ".png'\nset datafile separator ','\nset grid\n" + script)) {
+    return SimStatus::io_error;
+  }
+  if (!out.gnuplot) return SimStatus::ok;
+  const std::string cmd = "cd '" + dir + "' && gnuplot '" + name + ".gp' 2>&1";
+  if (std::system(cmd.c_str()) != 0) return SimStatus::io_error;
+  out.png.push_back((fs::path{dir} / (name + ".png")).string());
+  return SimStatus::ok;
+}
+
+SimStatus prepare(const std::string& dir, FigureFiles& out) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return SimStatus::io_error;
+  out = FigureFiles{};
+  out.gnuplot = have_gnuplot();
+  return SimStatus::ok;
+}
+
+}  // namespace
+
+SimStatus write_history_csv(const std::vector<HistorySample>& h, const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) return SimStatus::io_error;
+  std::fprintf(f, "t,command_position,command_velocity,command_acceleration,deflection,position,velocity,"
+                  "acceleration,kinetic_energy,potential_energy\n");
+  for (const HistorySample& s : h) {
+    std::fprintf(f, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n", s.t, s.command.p, s.command.v,
+                 s.command.a, s.deflection, s.position, s.velocity, s.acceleration, s.energy.kinetic,
+                 s.energy.potential);
+  }
+  return std::fclose(f) == 0 ? SimStatus::ok : SimStatus::io_error;
+}
+
+SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out) {
+  SimStatus st = prepare(dir, out);
+  if (st != SimStatus::ok) return st;
+  std::string table = "distance,time_ratio,time,profile,plan_status,cruise,peak_velocity,peak_acceleration,over_vmax,"
+                      "prv_mode1,prv_tip,residual_tip,peak_deflection,width_lo,width_hi\n";
+  for (const Run000& run : r.runs) {
+    const std::string dtag = fmt("%.3f", run.distance);
+    // Fig. 3 of the paper: (a) S-curve input, (b) its tip, (c) 3-4-5 input, (d) its tip.
+    std::string panels[4];
+    for (const Row000& row : run.rows) {
+      table += fmt("%.4g", run.distance) + "," + fmt("%.4g", row.time_ratio) + "," + fmt("%.9g", row.time) + "," +
+               core::to_string(row.profile) + "," + core::to_string(row.plan_status) + "," + fmt("%.9g", row.cruise) +
+               "," + fmt("%.9g", row.peak_velocity) + "," + fmt("%.9g", row.peak_acceleration) + "," +
+               (row.over_vmax ? "1" : "0") + "," + fmt("%.6e", row.prv_mode1) + "," + fmt("%.6e", row.prv_tip) + "," +
+               fmt("%.6e", row.residual_tip) + "," + fmt("%.6e", row.peak_deflection) + "," +
+               fmt("%.6g", row.width.lo) + "," + fmt("%.6g", row.width.hi) + "\n";
+      if (row.history.empty()) continue;
+      const std::string name =
+          "000_D" + dtag + "_" + core::to_string(row.profile) + "_T" + fmt("%.2f", row.time_ratio) + ".csv";
+      st = write_history_csv(row.history, (fs::path{dir} / name).string());
+      if (st != SimStatus::ok) return st;
+      out.csv.push_back((fs::path{dir} / name).string());
+      const int k = row.profile == core::ProfileKind::scurve ? 0 : 2;
+      const std::string title = "title '" + fmt("T = %.2f Tn", row.time_ratio) + "'";
+      for (int p = 0; p < 2; ++p) {
+        std::string& s = panels[k + p];
+        s += (s.empty() ? "plot " : ", ") + std::string{"'"} + name + "' skip 1 using 1:" + (p == 0 ? "2" : "5") +
+             " with lines lw 2 " + title;
+      }
+    }
+    if (panels[0].empty()) continue;
+    std::string script = "set multiplot layout 2,2 title 'Seed 000, Table 1 beam (3 modes), D = " + dtag +
+                         " m: ramp-cycloid S-curve (top) against 3-4-5 polynomial (bottom)'\nset key right bottom\n";
+    const char* titles[4] = {"(a) S-curve: input displacement s(t) (m)", "(b) S-curve: tip deflection y(L,t) (m)",
+                             "(c) 3-4-5: input displacement s(t) (m)", "(d) 3-4-5: tip deflection y(L,t) (m)"};
+    for (int p = 0; p < 4; ++p) {
+      script += std::string{"set title '"} + titles[p] + "'\nset xlabel 't (s)'\n" +
+                (p % 2 == 1 ? "set key right top\n" : "set key right bottom\n") + panels[p] + "\n";
+    }
+    script += "unset multiplot\n";
+    st = plot(dir, "000_D" + dtag, script, out);
+    if (st != SimStatus::ok) return st;
+  }
+  const std::string tpath = (fs::path{dir} / "000_table.csv").string();
+  if (!write_text(tpath, table)) return SimStatus::io_error;
+  out.csv.push_back(tpath);
+  return SimStatus::ok;
+}
+
+SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFiles& out) {
+  SimStatus st = prepare(dir, out);
+  if (st != SimStatus::ok) return st;
+  // Figs. 2 and 3: command y(t) and mass x(t), arbitrary against computed Y, for each tau.
+  std::string script = "set multiplot layout 2,2 title 'Seed 001: m = 1 kg, k = 800 N/m, c = 9 N s/m, L = 1'\n"
+                       "set xlabel 't (s)'\nset ylabel 'displacement (m)'\nset key right bottom\n";
+  for (const Case001& c : r.cases) {
+    for (int which = 0; which < 2; ++which) {
+      const auto& h = which == 0 ? c.history_arbitrary : c.history_computed;
+      if (h.empty()) continue;
+      const std::string name =
+          std::string{"001_tau"} + fmt("%.3f", c.tau) + (which == 0 ? "_arbitrary" : "_computed") + ".csv";
+      st = write_history_csv(h, (fs::path{dir} / name).string());
+      if (st != SimStatus::ok) return st;
+      out.csv.push_back((fs::path{dir} / name).string());
+      script += std::string{"set title '"} + (which == 0 ? "(a) arbitrary Y = (0.5, 0.25, 0.25)" : "(b) computed Y") +
+                fmt(", tau = %.3f s", c.tau) + "'\nplot '" + name +
+                "' skip 1 using 1:2 with lines lw 2 title 'command y(t)', '" + name +
+                "' skip 1 using 1:6 with lines lw 2 title 'mass x(t)'\n";
+    }
+  }
+  script += "unset multiplot\n";
+  if (!r.cases.empty() && !r.cases[0].history_arbitrary.empty()) {
+    st = plot(dir, "001_responses", script, out);
+    if (st != SimStatus::ok) return st;
+  }
+  // Figs. 4-7: residual over eps(w_n) and eps(zeta), one surface per method; and the eps(zeta) = 0
+  // slices of all methods on one plot.
+  std::string slices = "set title 'Seed 001, tau = 0.167 s: residual against eps(w_n) at eps(zeta) = 0'\n"
+                       "set xlabel 'eps(w_n) = w_n*/w_n - 1'\nset ylabel 'residual amplitude / L'\n"
+                       "set key top center\nplot ";
+  for (std::size_t gi = 0; gi < r.grids.size(); ++gi) {
+    const Grid001& g = r.grids[gi];
+    const std::string name = "001_grid_" + g.method + ".csv";
+    std::string csv = "eps_omega,eps_zeta,residual\n";
+    const std::size_t n = g.eps.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = 0; j < n; ++j) {
+        csv += fmt("%.6g", g.eps[i]) + "," + fmt("%.6g", g.eps[j]) + "," + fmt("%.9e", g.residual[i * n + j]) + "\n";
+      }
+      csv += "\n";  // gnuplot's grid format: a blank line ends each row
+    }
+    if (!write_text((fs::path{dir} / name).string(), csv)) return SimStatus::io_error;
+    out.csv.push_back((fs::path{dir} / name).string());
+    st = plot(dir, "001_robust_" + g.method,
+              "set title 'Seed 001, tau = 0.167 s, " + g.method +
+                  ": residual amplitude / L'\nset xlabel 'eps(w_n)'\nset ylabel 'eps(zeta)'\nset zlabel "
+                  "'residual / L' rotate by 90\nset view 60,30\nset hidden3d\nsplot '" +
+                  name + "' skip 1 using 1:2:3 with lines title ''\n",
+              out);
+    if (st != SimStatus::ok) return st;
+    slices += std::string{gi == 0 ? "" : ", "} + "'" + name + "' skip 1 every ::" + std::to_string(n / 2) +
+              "::" + std::to_string(n / 2) + " using 1:3 with linespoints lw 2 title '" + g.method + "'";
+  }
+  if (!r.grids.empty()) {
+    st = plot(dir, "001_robust_slices", slices + "\n", out);
+    if (st != SimStatus::ok) return st;
+  }
+  return SimStatus::ok;
+}
+
+SimStatus write_figures_004(const Result004& r, const std::string& dir, FigureFiles& out) {
+  SimStatus st = prepare(dir, out);
+  if (st != SimStatus::ok) return st;
+  if (r.history_initial.empty()) return SimStatus::ok;
+  const char* names[2] = {"004_history_345.csv", "004_history_optimised.csv"};
+  st = write_history_csv(r.history_initial, (fs::path{dir} / names[0]).string());
+  if (st == SimStatus::ok) st = write_history_csv(r.history_optimised, (fs::path{dir} / names[1]).string());
+  if (st != SimStatus::ok) return st;
+  for (const char* n : names) out.csv.push_back((fs::path{dir} / n).string());
+  // Fig. 3: platform velocity and acceleration (command lambda phi_m dashed), kinetic and potential
+  // energy; non-optimised left, optimised right.
+  const double lambda = r.target.lambda;
+  std::string script = "set multiplot layout 4,2 title 'Seed 004, Table III platform: gamma = (3, 4, 5) (left) "
+                       "against optimised (right)'\nset xlabel 't (s)'\nset key right top\n";
+  const char* rows[4][2] = {{"angular velocity (rad/s)", "7"},
+                            {"angular acceleration (rad/s^2)", "8"},
+                            {"kinetic energy (J)", "9"},
+                            {"elastic potential energy (J)", "10"}};
+  const char* cmd_cols[2] = {"3", "4"};
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < 2; ++col) {
+      const std::string f = names[col];
+      script += std::string{"set title '"} + rows[row][0] + (col == 0 ? ", gamma = (3,4,5)" : ", optimised") +
+                "'\nplot '" + f + "' skip 1 using 1:" + rows[row][1] + " with lines lw 2 title 'platform'";
+      if (row < 2) {
+        script += ", '" + f + "' skip 1 using 1:($" + cmd_cols[row] + "*" + fmt("%.17g", lambda) +
+                  ") with lines dt 2 lw 2 title 'command'";
+      }
+      script += "\n";
+    }
+  }
+  script += "unset multiplot\n";
+  st = plot(dir, "004_fig3", script, out);
+  if (st != SimStatus::ok) return st;
+  std::string csv = "count,h_index,slope,width,gammas\n";
+  for (const Exponents004& e : r.exponents) {
+    csv += std::to_string(e.count) + "," + fmt("%.6e", e.h_index) + "," + fmt("%.6e", e.slope) + "," +
+           fmt("%.6g", e.width.width) + ",";
+    for (std::size_t i = 0; i < e.gammas.size(); ++i) csv += (i ? " " : "") + fmt("%.6f", e.gammas[i]);
+    csv += "\n";
+  }
+  const std::string epath = (fs::path{dir} / "004_exponents.csv").string();
+  if (!write_text(epath, csv)) return SimStatus::io_error;
+  out.csv.push_back(epath);
+  return SimStatus::ok;
+}
+
+}  // namespace settle::sim
