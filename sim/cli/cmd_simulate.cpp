@@ -119,10 +119,9 @@ int cmd_simulate(int argc, char** argv) {
   const bool json = args.flag("--json");
   if (!args.ok()) return report_bad_request({"bad_option", args.error_param(), args.error()}, json);
 
-  sim::PlantSpec spec;
   sim::ModalPlant plant;
   RequestError err;
-  if (!parse_plant(args, spec, plant, err)) return report_bad_request(err, json);
+  if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
   core::MoveRequest req{};
   if (!parse_move_request(args, req, err)) return report_bad_request(err, json);
   if (needs_mode(req) && !args.get("--omega")) {

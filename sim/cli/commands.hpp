@@ -7,6 +7,8 @@ int cmd_plan(int argc, char** argv);
 int cmd_sample(int argc, char** argv);
 int cmd_simulate(int argc, char** argv);
 int cmd_reproduce(int argc, char** argv);
+int cmd_plant(int argc, char** argv);
+int cmd_stream(int argc, char** argv);
 
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;

@@ -14,6 +14,8 @@ struct Command {
 constexpr Command kCommands[] = {
     {"plan", settle::cli::cmd_plan, "plan a move and print it (text or --json)"},
     {"sample", settle::cli::cmd_sample, "plan a move and print t,position,velocity,acceleration,jerk as CSV (--dt)"},
+    {"plant", settle::cli::cmd_plant, "run the simulated CiA 402 drive with a plant behind it on a CAN bus"},
+    {"stream", settle::cli::cmd_stream, "stream a move to a drive over CAN and measure the residual vibration"},
     // commands of the simulator issue
     {"simulate", settle::cli::cmd_simulate, "run a move on a plant (sdof, beam, belt, modes): residual, PRV, energy"},
     {"reproduce", settle::cli::cmd_reproduce, "rerun a paper's experiment (000, 001, 004) as tables, CSV and plots"},

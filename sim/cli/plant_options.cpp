@@ -1,35 +1,24 @@
 #include "plant_options.hpp"
 
 #include <cmath>
-#include <map>
 #include <vector>
 
 namespace settle::cli {
 
+const std::set<std::string> kPlantValueOptions = {
+    "--plant",     "--mass",      "--stiffness",      "--damping",      "--length",   "--modulus",
+    "--thickness", "--width",     "--beam-mass",      "--tip-mass",     "--modes",    "--modal-damping",
+    "--inertia",   "--belt-stiffness", "--belt-damping", "--pulley-r", "--pulley-R", "--ratio", "--mode"};
+
+const std::set<std::string> kDriveValueOptions = {"--period-us", "--counts-per-unit", "--load-counts-per-unit",
+                                                  "--interp",    "--drive",           "--bandwidth",
+                                                  "--servo-damping"};
+
 namespace {
 
-using sim::PlantKind;
-using sim::SimStatus;
-
-struct Param {
-  const char* option;
-  PlantKind kind;
-};
-
-// Each parameter option and the one plant it belongs to.
-const Param kParams[] = {{"--mass", PlantKind::sdof},           {"--stiffness", PlantKind::sdof},
-                         {"--damping", PlantKind::sdof},        {"--length", PlantKind::beam},
-                         {"--modulus", PlantKind::beam},        {"--thickness", PlantKind::beam},
-                         {"--width", PlantKind::beam},          {"--beam-mass", PlantKind::beam},
-                         {"--tip-mass", PlantKind::beam},       {"--modes", PlantKind::beam},
-                         {"--modal-damping", PlantKind::beam},  {"--inertia", PlantKind::belt},
-                         {"--belt-stiffness", PlantKind::belt}, {"--belt-damping", PlantKind::belt},
-                         {"--pulley-r", PlantKind::belt},       {"--pulley-R", PlantKind::belt},
-                         {"--ratio", PlantKind::belt},          {"--mode", PlantKind::modes}};
-
-bool number(const Args& a, const char* name, double& out, RequestError& err) {
+bool num(const Args& a, const char* name, double& out, RequestError& err) {
   const auto s = a.get(name);
-  if (!s) return true;
+  if (!s) return true;  // keep the default
   if (!parse_double(*s, out)) {
     err = {"bad_number", name, std::string{name} + ": '" + *s + "' is not a number"};
     return false;
@@ -37,130 +26,107 @@ bool number(const Args& a, const char* name, double& out, RequestError& err) {
   return true;
 }
 
-// The option a plant status is about, so the user is told what to change.
-std::string param_of(SimStatus st, const sim::PlantSpec& s) {
-  switch (s.kind) {
-    case PlantKind::sdof:
-      if (st == SimStatus::non_positive_mass) return "--mass";
-      if (st == SimStatus::non_positive_stiffness) return "--stiffness";
-      if (st == SimStatus::negative_damping || st == SimStatus::not_underdamped) return "--damping";
-      if (!std::isfinite(s.sdof.mass)) return "--mass";
-      if (!std::isfinite(s.sdof.stiffness)) return "--stiffness";
-      return "--damping";
-    case PlantKind::beam: {
-      const auto& b = s.beam.params;
-      if (st == SimStatus::non_positive_length) return "--length";
-      if (st == SimStatus::non_positive_modulus) return "--modulus";
-      if (st == SimStatus::non_positive_section) return b.thickness > 0.0 ? "--width" : "--thickness";
-      if (st == SimStatus::non_positive_mass) return "--beam-mass";
-      if (st == SimStatus::negative_tip_mass) return "--tip-mass";
-      if (st == SimStatus::bad_mode_count || st == SimStatus::root_not_found) return "--modes";
-      if (st == SimStatus::negative_damping || st == SimStatus::not_underdamped) return "--modal-damping";
-      const std::pair<const char*, double> v[] = {{"--length", b.length},       {"--modulus", b.modulus},
-                                                  {"--thickness", b.thickness}, {"--width", b.width},
-                                                  {"--beam-mass", b.beam_mass}, {"--tip-mass", b.tip_mass}};
-      for (const auto& [n, x] : v) {
-        if (!std::isfinite(x)) return n;
-      }
-      return "--modal-damping";
-    }
-    case PlantKind::belt: {
-      const auto& b = s.belt;
-      if (st == SimStatus::non_positive_mass) return "--inertia";
-      if (st == SimStatus::non_positive_stiffness) return "--belt-stiffness";
-      if (st == SimStatus::negative_damping || st == SimStatus::not_underdamped) return "--belt-damping";
-      if (st == SimStatus::non_positive_radius) return b.pulley_r > 0.0 ? "--pulley-R" : "--pulley-r";
-      if (st == SimStatus::non_positive_ratio) return "--ratio";
-      const std::pair<const char*, double> v[] = {{"--inertia", b.inertia},   {"--belt-stiffness", b.belt_stiffness},
-                                                  {"--belt-damping", b.belt_damping}, {"--pulley-r", b.pulley_r},
-                                                  {"--pulley-R", b.pulley_R}, {"--ratio", b.ratio}};
-      for (const auto& [n, x] : v) {
-        if (!std::isfinite(x)) return n;
-      }
-      return "--ratio";
-    }
-    case PlantKind::modes: return "--mode";
-  }
-  return "--plant";
+bool sim_ok(sim::SimStatus st, const char* param, RequestError& err) {
+  if (st == sim::SimStatus::ok) return true;
+  err = {sim::to_string(st), param, std::string{param} + ": " + sim::describe(st)};
+  return false;
 }
 
 }  // namespace
 
-const std::set<std::string> kPlantValueOptions = [] {
-  std::set<std::string> s{"--plant"};
-  for (const Param& p : kParams) s.insert(p.option);
-  return s;
-}();
-
-bool parse_plant(const Args& a, sim::PlantSpec& spec, sim::ModalPlant& plant, RequestError& err) {
-  sim::PlantSpec s{};
-  const auto kind = a.get("--plant");
-  if (!kind) {
-    err = {"missing_option", "--plant", "--plant is required (sdof, beam, belt, modes)"};
-    return false;
-  }
-  const std::map<std::string, PlantKind> kinds{
-      {"sdof", PlantKind::sdof}, {"beam", PlantKind::beam}, {"belt", PlantKind::belt}, {"modes", PlantKind::modes}};
-  const auto it = kinds.find(*kind);
-  if (it == kinds.end()) {
-    err = {"unknown_plant", "--plant", "--plant: unknown plant '" + *kind + "' (sdof, beam, belt, modes)"};
-    return false;
-  }
-  s.kind = it->second;
-  for (const Param& p : kParams) {
-    if (p.kind != s.kind && a.get(p.option)) {
-      err = {"option_not_for_plant", p.option,
-             std::string{p.option} + " does not apply to --plant " + sim::to_string(s.kind)};
+bool parse_plant(const Args& a, sim::ModalPlant& plant, RequestError& err) {
+  const std::string kind = a.get("--plant").value_or("beam");
+  if (kind == "sdof") {
+    sim::SdofParams p{};
+    if (!num(a, "--mass", p.mass, err) || !num(a, "--stiffness", p.stiffness, err) ||
+        !num(a, "--damping", p.damping, err)) {
       return false;
     }
+    return sim_ok(sim::ModalPlant::make_sdof(p, plant), "--plant", err);
   }
-  double modes = 3.0;
-  auto& b = s.beam.params;
-  if (!number(a, "--mass", s.sdof.mass, err) || !number(a, "--stiffness", s.sdof.stiffness, err) ||
-      !number(a, "--damping", s.sdof.damping, err) || !number(a, "--length", b.length, err) ||
-      !number(a, "--modulus", b.modulus, err) || !number(a, "--thickness", b.thickness, err) ||
-      !number(a, "--width", b.width, err) || !number(a, "--beam-mass", b.beam_mass, err) ||
-      !number(a, "--tip-mass", b.tip_mass, err) || !number(a, "--modes", modes, err) ||
-      !number(a, "--modal-damping", s.beam.modal_damping, err) || !number(a, "--inertia", s.belt.inertia, err) ||
-      !number(a, "--belt-stiffness", s.belt.belt_stiffness, err) ||
-      !number(a, "--belt-damping", s.belt.belt_damping, err) || !number(a, "--pulley-r", s.belt.pulley_r, err) ||
-      !number(a, "--pulley-R", s.belt.pulley_R, err) || !number(a, "--ratio", s.belt.ratio, err)) {
-    return false;
-  }
-  if (!(modes >= 1.0 && modes <= static_cast<double>(sim::kMaxBeamModes)) || modes != std::floor(modes)) {
-    err = {sim::to_string(SimStatus::bad_mode_count), "--modes",
-           "--modes: a whole number from 1 to " + std::to_string(sim::kMaxBeamModes)};
-    return false;
-  }
-  s.beam.modes = static_cast<std::size_t>(modes);
-  if (s.kind == PlantKind::modes) {
-    const std::vector<std::string> list = a.all("--mode");
-    if (list.empty()) {
-      err = {"missing_option", "--mode", "--plant modes needs at least one --mode OMEGA,ZETA,GAIN"};
+  if (kind == "beam") {
+    sim::BeamOptions o{};
+    double modes = static_cast<double>(o.modes);
+    if (!num(a, "--length", o.params.length, err) || !num(a, "--modulus", o.params.modulus, err) ||
+        !num(a, "--thickness", o.params.thickness, err) || !num(a, "--width", o.params.width, err) ||
+        !num(a, "--beam-mass", o.params.beam_mass, err) || !num(a, "--tip-mass", o.params.tip_mass, err) ||
+        !num(a, "--modes", modes, err) || !num(a, "--modal-damping", o.modal_damping, err)) {
       return false;
     }
-    for (const std::string& m : list) {
+    if (!(modes >= 1.0 && modes <= static_cast<double>(sim::kMaxBeamModes)) || modes != std::floor(modes)) {
+      err = {"bad_mode_count", "--modes", "--modes: a whole number from 1 to " + std::to_string(sim::kMaxBeamModes)};
+      return false;
+    }
+    o.modes = static_cast<std::size_t>(modes);
+    return sim_ok(sim::ModalPlant::make_beam(o, plant), "--plant", err);
+  }
+  if (kind == "belt") {
+    sim::BeltParams p{};
+    if (!num(a, "--inertia", p.inertia, err) || !num(a, "--belt-stiffness", p.belt_stiffness, err) ||
+        !num(a, "--belt-damping", p.belt_damping, err) || !num(a, "--pulley-r", p.pulley_r, err) ||
+        !num(a, "--pulley-R", p.pulley_R, err) || !num(a, "--ratio", p.ratio, err)) {
+      return false;
+    }
+    return sim_ok(sim::ModalPlant::make_belt(p, plant), "--plant", err);
+  }
+  if (kind == "modes") {
+    std::vector<sim::Mode> modes;
+    for (const std::string& m : a.all("--mode")) {
       std::vector<double> v;
       if (!parse_list(m, v) || v.size() != 3) {
-        err = {"bad_number", "--mode", "--mode: expected OMEGA,ZETA,GAIN, got '" + m + "'"};
+        err = {"bad_number", "--mode", "--mode: expected OMEGA,ZETA,GAIN"};
         return false;
       }
-      sim::Mode mode;
-      mode.omega = v[0];
-      mode.zeta = v[1];
-      mode.gain = v[2];
-      s.modes.push_back(mode);
+      sim::Mode md{};
+      md.omega = v[0];
+      md.zeta = v[1];
+      md.gain = v[2];
+      modes.push_back(md);
     }
+    if (modes.empty()) {
+      err = {"missing_option", "--mode", "--mode OMEGA,ZETA,GAIN is required (repeatable) for --plant modes"};
+      return false;
+    }
+    return sim_ok(sim::ModalPlant::make_modes(modes, 1.0, sim::PlantKind::modes, plant), "--mode", err);
   }
-  sim::ModalPlant p;
-  const SimStatus st = sim::make_plant(s, p);
-  if (st != SimStatus::ok) {
-    const std::string name = param_of(st, s);
-    err = {sim::to_string(st), name, name + ": " + sim::describe(st)};
+  err = {"unknown_plant", "--plant", "--plant: unknown plant '" + kind + "' (sdof, beam, belt, modes)"};
+  return false;
+}
+
+bool parse_drive(const Args& a, const sim::ModalPlant& plant, sim::DriveAxisConfig& cfg, std::uint32_t& period_us,
+                 RequestError& err) {
+  sim::DriveAxisConfig c{};
+  if (plant.kind() == sim::PlantKind::belt) {
+    c.counts_per_unit = 65536.0 / (2.0 * 3.14159265358979323846);  // 2^16 counts per motor revolution
+  }
+  double period = 1000.0;
+  if (!num(a, "--period-us", period, err) || !num(a, "--counts-per-unit", c.counts_per_unit, err) ||
+      !num(a, "--load-counts-per-unit", c.load_counts_per_unit, err) ||
+      !num(a, "--bandwidth", c.model.bandwidth_hz, err) || !num(a, "--servo-damping", c.model.damping, err)) {
     return false;
   }
-  spec = s;
-  plant = std::move(p);
+  if (!(period >= 100.0 && period <= 100000.0) || period != std::floor(period)) {
+    err = {"bad_number", "--period-us", "--period-us: a whole number of microseconds from 100 to 100000"};
+    return false;
+  }
+  const std::string interp = a.get("--interp").value_or("linear");
+  if (interp != "linear" && interp != "cubic") {
+    err = {"bad_option", "--interp", "--interp: linear or cubic"};
+    return false;
+  }
+  c.interpolation = interp == "cubic" ? sim::Interpolation::cubic : sim::Interpolation::linear;
+  const std::string drive = a.get("--drive").value_or("ideal");
+  if (drive != "ideal" && drive != "servo") {
+    err = {"bad_option", "--drive", "--drive: ideal or servo"};
+    return false;
+  }
+  c.model.servo = drive == "servo";
+  c.period_s = period * 1e-6;
+  // Validate by building an axis once: the same checks the node will make.
+  sim::DriveAxis probe{};
+  if (!sim_ok(sim::DriveAxis::make(c, plant, 0, probe), "--drive", err)) return false;
+  cfg = c;
+  period_us = static_cast<std::uint32_t>(period);
   return true;
 }
 

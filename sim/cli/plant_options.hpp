@@ -1,21 +1,27 @@
 #pragma once
-// The --plant options shared by `settle simulate` and the drive+plant node (`settle plant`):
-// which plant and its physical parameters, parsed into a sim::PlantSpec, with a bad value or a
-// bad combination reported by the option's name like every other settle error.
+// Command-line options that describe a plant (what is true about the machine), shared by every
+// settle command that runs one: --plant sdof|beam|belt|modes and each kind's parameters, and the
+// drive model options of the simulated drive.
 #include <set>
 #include <string>
 
 #include "move_options.hpp"
+#include "settle/sim/drive_axis.hpp"
 #include "settle/sim/modal_plant.hpp"
 
 namespace settle::cli {
 
-// --plant and every parameter option of every plant (the parser rejects the ones that do not
-// apply to the chosen plant). --mode is repeatable.
-extern const std::set<std::string> kPlantValueOptions;
+extern const std::set<std::string> kPlantValueOptions;  // includes the repeatable --mode
 
-// Fills `spec` from the options (defaults: Table 1 beam, seed 001 sdof, Table III belt) and
-// builds it; false with `err` naming the option on a malformed value or rejected parameter.
-[[nodiscard]] bool parse_plant(const Args& args, sim::PlantSpec& spec, sim::ModalPlant& plant, RequestError& err);
+// Builds the plant; the defaults are the papers' (Table 1 of seed 000 with 3 modes, seed 001's
+// m-k-c system, Table III of seed 004).
+[[nodiscard]] bool parse_plant(const Args& args, sim::ModalPlant& plant, RequestError& err);
+
+extern const std::set<std::string> kDriveValueOptions;
+// --period-us --counts-per-unit --load-counts-per-unit --interp linear|cubic --drive ideal|servo
+// --bandwidth HZ --servo-damping Z. Counts default by plant kind (1 µm for sdof and beam; 2^16
+// per motor revolution and 1e6 per platform radian for the belt).
+[[nodiscard]] bool parse_drive(const Args& args, const sim::ModalPlant& plant, sim::DriveAxisConfig& cfg,
+                               std::uint32_t& period_us, RequestError& err);
 
 }  // namespace settle::cli

@@ -15,6 +15,7 @@
 #include "settle/core/setpoints.hpp"
 #include "settle/firmware/move_queue.hpp"
 #include "settle/hal/can_bus.hpp"
+#include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
 #include "settle/hal/canopen/sync.hpp"
 
@@ -47,10 +48,48 @@ struct TickRecord {
   std::int32_t target{0};         // counts commanded this tick (held when not moving)
   bool sent{false};               // an RPDO carrying it left this tick
   bool moving{false};
+  bool move_end{false};           // this tick's RPDO carried a move's final setpoint
   std::int32_t position_actual{0};
   std::int32_t load_position{0};
   std::int32_t velocity_actual{0};
   std::uint64_t feedback_count{0};  // TPDO1s received so far
+};
+
+// One period's feedback as the drive published it (TPDO1 + TPDO2), kept in arrival order so that
+// a late frame is never mistaken for another period's.
+struct FeedbackSample {
+  std::int32_t position_actual{0};
+  std::int32_t load_position{0};
+  std::int32_t velocity_actual{0};
+};
+
+// A fixed ring of feedback samples per axis; the owner drains it every tick. Overflow drops the
+// newest and is counted.
+class FeedbackRing {
+ public:
+  static constexpr std::size_t kCapacity = 64;
+  void push(const FeedbackSample& s) noexcept {
+    if (size_ == kCapacity) {
+      ++overflows_;
+      return;
+    }
+    buf_[(head_ + size_) % kCapacity] = s;
+    ++size_;
+  }
+  [[nodiscard]] bool pop(FeedbackSample& s) noexcept {
+    if (size_ == 0) return false;
+    s = buf_[head_];
+    head_ = (head_ + 1) % kCapacity;
+    --size_;
+    return true;
+  }
+  [[nodiscard]] std::uint64_t overflows() const noexcept { return overflows_; }
+
+ private:
+  std::array<FeedbackSample, kCapacity> buf_{};
+  std::size_t head_{0};
+  std::size_t size_{0};
+  std::uint64_t overflows_{0};
 };
 
 struct AxisStats {
@@ -154,6 +193,7 @@ class ServoLoop {
     if (a.active) ++a.stats.moves_aborted;
     a.active = false;
     a.pending.reset();
+    a.end_pending = false;
     a.queue.clear();
   }
 
@@ -161,6 +201,8 @@ class ServoLoop {
   [[nodiscard]] const hal::canopen::RemoteDrive& drive(std::size_t i) const noexcept { return *axes_[i].drive; }
   [[nodiscard]] const TickRecord& record(std::size_t i) const noexcept { return axes_[i].record; }
   [[nodiscard]] const AxisStats& axis_stats(std::size_t i) const noexcept { return axes_[i].stats; }
+  // Feedback samples in arrival order (one per SYNC the drive processed); drain every tick.
+  [[nodiscard]] FeedbackRing& feedback_log(std::size_t i) noexcept { return axes_[i].feedback_log; }
   [[nodiscard]] const LoopStats& stats() const noexcept { return stats_; }
   [[nodiscard]] bool ready(std::size_t i) const noexcept { return axes_[i].drive->ready(); }
   [[nodiscard]] bool all_ready() const noexcept {
@@ -193,9 +235,11 @@ class ServoLoop {
     bool sent_prev_valid{false};
     std::uint64_t fb_seen{0};
     std::optional<std::int32_t> pending{};  // computed but not yet sent (tx busy): resent first
+    bool end_pending{false};                // the final setpoint of a move is waiting to be sent
     double guard{0.0};
     TickRecord record{};
     AxisStats stats{};
+    FeedbackRing feedback_log{};
   };
 
   void receive_all(std::uint64_t now_us) noexcept {
@@ -209,7 +253,11 @@ class ServoLoop {
       const std::uint32_t node = f.id & 0x7F;
       const std::uint8_t target = f.is_extended() || node == 0 ? kNoAxis : axis_of_node_[node];
       if (target != kNoAxis) {
-        axes_[target].drive->on_frame(f, now_us, bus_);
+        Axis& a = axes_[target];
+        a.drive->on_frame(f, now_us, bus_);
+        if (const auto t2 = hal::canopen::decode_tpdo2(f, a.cfg.drive.node)) {
+          a.feedback_log.push({a.drive->feedback().position_actual, t2->load_position, t2->velocity_actual});
+        }
       } else if (f.is_extended() || node == 0) {
         for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->on_frame(f, now_us, bus_);
       }
@@ -258,6 +306,7 @@ class ServoLoop {
     hal::canopen::RemoteDrive& d = *a.drive;
     a.record.tick = stats_.ticks;
     a.record.sent = false;
+    a.record.move_end = false;
     if (d.ready() && !a.have_target) {
       // Entering operation: hold where the drive is.
       a.target = d.feedback().position_actual;
@@ -286,6 +335,7 @@ class ServoLoop {
           } else {
             target = next;
             if (last) {
+              a.end_pending = true;
               a.active = false;
               a.queue.pop();
               ++a.stats.moves_completed;
@@ -310,6 +360,8 @@ class ServoLoop {
       case hal::SendStatus::sent:
         ++a.stats.rpdo_sent;
         a.record.sent = true;
+        a.record.move_end = a.end_pending && d.ready();
+        a.end_pending = false;
         a.pending.reset();
         if (d.ready()) a.target = target;
         a.sent_prev = target;

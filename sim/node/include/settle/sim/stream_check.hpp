@@ -1,0 +1,49 @@
+#pragma once
+// What an end-to-end run is compared with: the offline replay of a streamed move (the same
+// integer setpoints through the same DriveAxis, no bus), and the residual vibration estimated
+// the same way from both: the largest |load - final| over the samples after the last setpoint.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "settle/core/move.hpp"
+#include "settle/sim/drive_axis.hpp"
+
+namespace settle::sim {
+
+// The loop's integer targets for a move, tick by tick, ending exactly on origin + D.
+[[nodiscard]] std::vector<std::int32_t> stream_setpoints(const core::Move<double>& move, std::uint32_t period_us,
+                                                         double counts_per_unit, std::int32_t origin);
+
+struct Replay {
+  std::vector<AxisFeedback> feedback;    // at the end of every period: the setpoints', then the window's
+  std::size_t move_periods{0};           // how many of them carried the move's setpoints
+  std::vector<std::int32_t> load_after;  // load counts at the end of each period from the last setpoint on
+  double residual_state{0.0};            // the plant's own residual amplitude at the last setpoint's period end
+  double final_load{0.0};                // where the load settles (output units)
+  double step_residual{0.0};             // for PRV: what an unshaped step of the same distance leaves
+};
+
+// Runs the setpoints through a fresh DriveAxis at rest at `origin`, then `window` periods holding
+// the last one.
+[[nodiscard]] SimStatus replay_stream(const DriveAxisConfig& cfg, const ModalPlant& plant, std::int32_t origin,
+                                      std::span<const std::int32_t> setpoints, std::size_t window, Replay& out);
+
+// Where the replay's feedback appears in a measured feedback sequence: the first offset at which
+// every replayed position_actual equals the measured one. An exact match means each setpoint was
+// applied once and in order, and that the samples are aligned period for period.
+[[nodiscard]] std::optional<std::size_t> align_feedback(std::span<const std::int32_t> measured_positions,
+                                                        const Replay& replay) noexcept;
+
+struct SampledResidual {
+  double amplitude{0.0};    // output units
+  double prv_percent{0.0};
+  std::size_t samples{0};
+};
+
+[[nodiscard]] SampledResidual sampled_residual(std::span<const std::int32_t> load_counts, double load_counts_per_unit,
+                                               double final_load, double step_residual) noexcept;
+
+}  // namespace settle::sim
