@@ -137,19 +137,49 @@ TEST(ServoLoop, TxBusyIsCountedAndNeverBursts) {
   EXPECT_EQ(drive.position(), 100'000);
 }
 
-TEST(ServoLoop, StepGuardStopsAJumpTheActuatorCannotMake) {
+TEST(ServoLoop, StreamsSeed001sVelocityStepWithinTheGuard) {
   Rig r;
   ASSERT_TRUE(r.run_until_ready());
-  // A move planned for a much faster axis than this one's guard (vmax 2 m/s -> 2002 counts/tick):
-  // bypass submit's velocity check by planning and injecting a profile with a step in it.
   core::MoveRequest req{};
-  req.profile = core::ProfileKind::ramp_versine;  // starts with a velocity step
-  req.distance = 0.5;
-  req.time = 0.05;
-  req.omega = 28.0;
+  req.profile = core::ProfileKind::ramp_versine;  // starts and ends with a velocity step
+  req.distance = 0.1;
+  req.time = 0.167;
+  req.omega = 28.28;
+  req.zeta = 0.159;
   core::Move<double> m{};
   ASSERT_EQ(core::plan(req, m), core::Status::ok);
-  EXPECT_EQ(r.loop.submit(0, m), firmware::LoopStatus::exceeds_axis_velocity);
+  ASSERT_TRUE(m.peaks().velocity_step);
+  ASSERT_LT(m.peaks().v, 2.0);
+  ASSERT_EQ(r.loop.submit(0, m), firmware::LoopStatus::ok);
+  for (int i = 0; i < 400; ++i) r.tick();
+  EXPECT_EQ(r.loop.axis_stats(0).step_guard_trips, 0u);
+  EXPECT_EQ(r.drive.position(), 100'000);
+}
+
+TEST(ServoLoop, StepGuardHoldsWhenAMovesPeaksAreWrong) {
+  // Defence in depth: submit trusts the move's reported peak velocity; the guard does not. A move
+  // whose peaks claim 0.1 m/s but which really moves at ~3 m/s (the axis allows 2) must be abandoned at its first
+  // over-large step, and the axis must hold where it was.
+  Rig r;
+  ASSERT_TRUE(r.run_until_ready());
+  core::Move<double> fast{};
+  ASSERT_EQ(core::plan(scurve(0.5, 0.3), fast), core::Status::ok);
+  ASSERT_GT(fast.peaks().v, 2.5);
+  core::Peaks<double> lie = fast.peaks();
+  lie.v = 0.1;
+  const core::Move<double> liar{fast.profile(), fast.shaper(), lie};
+  ASSERT_EQ(r.loop.submit(0, liar), firmware::LoopStatus::ok);
+  for (int i = 0; i < 400; ++i) {
+    r.tick();
+    if (r.sent.size() >= 2) {
+      const auto step = std::abs(r.sent[r.sent.size() - 1] - r.sent[r.sent.size() - 2]);
+      ASSERT_LE(step, static_cast<int>(2.0 * 1e6 * 1e-3) + 2) << i;  // vmax (2 m/s) * period + margin
+    }
+  }
+  EXPECT_EQ(r.loop.axis_stats(0).step_guard_trips, 1u);
+  EXPECT_EQ(r.loop.axis_stats(0).moves_aborted, 1u);
+  EXPECT_LT(r.drive.position(), 500'000);
+  EXPECT_TRUE(r.loop.idle());
 }
 
 }  // namespace

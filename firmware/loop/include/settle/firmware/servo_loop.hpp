@@ -160,7 +160,9 @@ class ServoLoop {
   [[nodiscard]] LoopStatus submit(std::size_t axis, const core::Move<double>& m) noexcept {
     if (axis >= MaxAxes || axis >= count_) return LoopStatus::no_such_axis;
     Axis& a = axes_[axis];
-    if (m.peaks().v > a.cfg.vmax * (1.0 + 1e-9) || m.peaks().velocity_step) return LoopStatus::exceeds_axis_velocity;
+    // A velocity step (seed 001's command) is streamable: sampled, it is a jump of at most
+    // peak |v| * period, which the step guard allows whenever peak |v| is within vmax.
+    if (!(m.peaks().v <= a.cfg.vmax * (1.0 + 1e-9))) return LoopStatus::exceeds_axis_velocity;
     const double counts = std::fabs(m.distance()) * a.cfg.counts_per_unit;
     if (!(counts < static_cast<double>(std::numeric_limits<std::int32_t>::max()) / 2)) {
       return LoopStatus::does_not_fit_counts;
