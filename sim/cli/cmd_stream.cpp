@@ -14,6 +14,7 @@
 #include "plant_options.hpp"
 #include "settle/firmware/linux/periodic.hpp"
 #include "settle/firmware/session.hpp"
+#include "settle/hal/candump_log.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/hal/socketcan_bus.hpp"
 #include "settle/sim/command.hpp"
@@ -67,7 +68,8 @@ int cmd_stream(int argc, char** argv) {
   std::set<std::string> values = kMoveValueOptions;
   values.insert(kPlantValueOptions.begin(), kPlantValueOptions.end());
   values.insert(kDriveValueOptions.begin(), kDriveValueOptions.end());
-  values.insert({"--bus", "--node", "--axis-vmax", "--settle-time", "--log", "--rt-priority", "--heartbeat-ms"});
+  values.insert({"--bus", "--node", "--axis-vmax", "--settle-time", "--log", "--rt-priority", "--heartbeat-ms",
+                 "--candump"});
   const Args args{argc, argv, values, kMoveFlagOptions};
   const bool json = args.flag("--json");
   if (!args.ok()) return report_bad_request({"bad_option", args.error_param(), args.error()}, json);
@@ -118,6 +120,16 @@ int cmd_stream(int argc, char** argv) {
     hal::LoopbackHub hub;
     hal::LoopbackBus<256> master{hub};
     hal::LoopbackBus<256> drive_port{hub};
+    // A listening port sees every frame on the in-process bus: the loopback run's candump log.
+    hal::LoopbackBus<256> sniffer{hub};
+    std::FILE* dump = nullptr;
+    if (const auto path = args.get("--candump")) {
+      dump = std::fopen(path->c_str(), "w");
+      if (dump == nullptr) {
+        std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
+        return kExitFailure;
+      }
+    }
     hal::canopen::DriveNodeConfig dc{};
     dc.node = ac.drive.node;
     dc.sync_period_us = period_us;
@@ -128,14 +140,22 @@ int cmd_stream(int argc, char** argv) {
     auto loop = std::make_unique<Loop>(master, period_us);
     if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
     firmware::VirtualClock clock{period_us};
+    hub.set_time_us(period_us);  // the first tick
     out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
       out.log.push_back(loop->record(0));
       for (firmware::FeedbackSample fs{}; loop->feedback_log(0).pop(fs);) out.feedback.push_back(fs);
-      hub.set_time_us(clock.now_us());
+      hub.set_time_us(clock.now_us());  // the drive answers within this period
       hal::CanFrame f{};
       while (drive_port.receive(f, 0) == hal::ReceiveStatus::received) (void)pn.on_frame(f, clock.now_us(), drive_port);
       pn.poll(clock.now_us(), drive_port);
+      std::array<char, 256> line{};
+      while (sniffer.receive(f, 0) == hal::ReceiveStatus::received) {
+        const std::size_t n = hal::format_candump_line(f, "loopback", line);
+        if (dump != nullptr && n > 0) std::fprintf(dump, "%.*s\n", static_cast<int>(n), line.data());
+      }
+      hub.set_time_us(clock.now_us() + period_us);  // the loop's next tick sends at that time
     });
+    if (dump != nullptr) std::fclose(dump);
     out.bus = master.counters();
     out.axis = loop->axis_stats(0);
     out.loop = loop->stats();
@@ -191,10 +211,11 @@ int cmd_stream(int argc, char** argv) {
       measured.push_back(out.feedback[*offset + i].load_position);
     }
   }
-  const sim::SampledResidual can = sim::sampled_residual(measured, axis_cfg.load_counts_per_unit, replay.final_load,
-                                                         replay.step_residual);
-  const sim::SampledResidual off = sim::sampled_residual(replay.load_after, axis_cfg.load_counts_per_unit,
-                                                         replay.final_load, replay.step_residual);
+  const double dt = period_us * 1e-6;
+  const sim::SampledResidual can = sim::fitted_residual(measured, axis_cfg.load_counts_per_unit, replay.final_load, dt,
+                                                        plant, replay.step_residual);
+  const sim::SampledResidual off = sim::fitted_residual(replay.load_after, axis_cfg.load_counts_per_unit,
+                                                        replay.final_load, dt, plant, replay.step_residual);
   sim::SimResult cont{};
   sim::SimOptions so{};
   so.record = false;
@@ -238,7 +259,7 @@ int cmd_stream(int argc, char** argv) {
         .field("residual_offline", off.amplitude)
         .field("prv_offline_percent", off.prv_percent)
         .field("agreement", agreement)
-        .field("residual_replay_state", replay.residual_state)
+        .field("fit_rms_can", can.fit_rms)
         .field("residual_continuous", have_cont ? cont.metrics.residual_amplitude : double{NAN})
         .field("prv_continuous_percent", have_cont ? cont.metrics.prv_percent : double{NAN})
         .field("window_samples", static_cast<long long>(measured.size()));

@@ -1,5 +1,6 @@
 #include "settle/sim/stream_check.hpp"
 
+#include <Eigen/Dense>
 #include <cmath>
 
 #include "settle/core/setpoints.hpp"
@@ -27,7 +28,6 @@ SimStatus replay_stream(const DriveAxisConfig& cfg, const ModalPlant& plant, std
     if (st != SimStatus::ok) return st;
     r.feedback.push_back(axis.feedback());
   }
-  r.residual_state = axis.plant().residual_amplitude();
   r.load_after.push_back(axis.feedback().load_position);
   for (std::size_t i = 1; i < window; ++i) {
     st = axis.step(setpoints.back());
@@ -54,13 +54,34 @@ std::optional<std::size_t> align_feedback(std::span<const std::int32_t> measured
   return std::nullopt;
 }
 
-SampledResidual sampled_residual(std::span<const std::int32_t> load_counts, double load_counts_per_unit,
-                                 double final_load, double step_residual) noexcept {
+SampledResidual fitted_residual(std::span<const std::int32_t> load_counts, double load_counts_per_unit,
+                                double final_load, double dt, const ModalPlant& plant, double step_residual) {
   SampledResidual r{};
-  for (const std::int32_t c : load_counts) {
-    r.amplitude = std::fmax(r.amplitude, std::fabs(c / load_counts_per_unit - final_load));
-  }
   r.samples = load_counts.size();
+  std::vector<const Mode*> modes;
+  for (const Mode& m : plant.modes()) {
+    if (m.omega * std::sqrt(1.0 - m.zeta * m.zeta) * dt < 3.14159265358979323846 * 0.95) modes.push_back(&m);
+  }
+  const auto n = static_cast<Eigen::Index>(load_counts.size());
+  const auto k = static_cast<Eigen::Index>(2 * modes.size());
+  if (n < k + 1 || k == 0) return r;
+  Eigen::MatrixXd basis(n, k);
+  Eigen::VectorXd e(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) * dt;
+    e(i) = load_counts[static_cast<std::size_t>(i)] / load_counts_per_unit - final_load;
+    for (std::size_t j = 0; j < modes.size(); ++j) {
+      const double wd = modes[j]->omega * std::sqrt(1.0 - modes[j]->zeta * modes[j]->zeta);
+      const double env = std::exp(-modes[j]->zeta * modes[j]->omega * t);
+      basis(i, static_cast<Eigen::Index>(2 * j)) = env * std::cos(wd * t);
+      basis(i, static_cast<Eigen::Index>(2 * j + 1)) = env * std::sin(wd * t);
+    }
+  }
+  const Eigen::VectorXd c = basis.colPivHouseholderQr().solve(e);
+  for (std::size_t j = 0; j < modes.size(); ++j) {
+    r.amplitude += std::hypot(c(static_cast<Eigen::Index>(2 * j)), c(static_cast<Eigen::Index>(2 * j + 1)));
+  }
+  r.fit_rms = std::sqrt((basis * c - e).squaredNorm() / static_cast<double>(n));
   r.prv_percent = step_residual > 0.0 ? 100.0 * r.amplitude / step_residual : 0.0;
   return r;
 }

@@ -21,7 +21,6 @@ struct Replay {
   std::vector<AxisFeedback> feedback;    // at the end of every period: the setpoints', then the window's
   std::size_t move_periods{0};           // how many of them carried the move's setpoints
   std::vector<std::int32_t> load_after;  // load counts at the end of each period from the last setpoint on
-  double residual_state{0.0};            // the plant's own residual amplitude at the last setpoint's period end
   double final_load{0.0};                // where the load settles (output units)
   double step_residual{0.0};             // for PRV: what an unshaped step of the same distance leaves
 };
@@ -38,12 +37,18 @@ struct Replay {
                                                         const Replay& replay) noexcept;
 
 struct SampledResidual {
-  double amplitude{0.0};    // output units
+  double amplitude{0.0};    // output units, at the first sample
   double prv_percent{0.0};
   std::size_t samples{0};
+  double fit_rms{0.0};      // rms of what the modal fit leaves unexplained (quantisation, ~0.3 count)
 };
 
-[[nodiscard]] SampledResidual sampled_residual(std::span<const std::int32_t> load_counts, double load_counts_per_unit,
-                                               double final_load, double step_residual) noexcept;
+// Residual vibration from load samples taken every dt once the base is at rest: a least-squares
+// fit of the plant's free response, sum_j e^(-zeta_j w_j t)(A_j cos wd_j t + B_j sin wd_j t), and
+// sum_j sqrt(A_j^2 + B_j^2) at the first sample: the literature's amplitude (the envelope, not the
+// sampled peaks, which come after some decay). Modes above the sampling's Nyquist are left out.
+[[nodiscard]] SampledResidual fitted_residual(std::span<const std::int32_t> load_counts, double load_counts_per_unit,
+                                              double final_load, double dt, const ModalPlant& plant,
+                                              double step_residual);
 
 }  // namespace settle::sim
