@@ -166,8 +166,8 @@ void StepsCommand::breakpoints(std::vector<double>& out) const {
   for (std::size_t i = 0; i < shaper_.count; ++i) out.push_back(shaper_.time[i]);
 }
 
-InverseDynamicsCommand::InverseDynamicsCommand(double distance, double time, double omega, double zeta)
-    : d_{distance}, t_{time}, omega_{omega}, zeta_{zeta}, kappa_{2.0 * zeta / omega} {
+InverseDynamicsCommand::InverseDynamicsCommand(double distance, double time, double omega, double zeta, int degree)
+    : d_{distance}, t_{time}, omega_{omega}, zeta_{zeta}, kappa_{2.0 * zeta / omega}, degree_{degree == 3 ? 3 : 5} {
   end_ = t_;
   if (kappa_ > 0.0) {
     wp0_ = wp_derivative(0, 0.0);
@@ -179,9 +179,20 @@ InverseDynamicsCommand::InverseDynamicsCommand(double distance, double time, dou
 }
 
 double InverseDynamicsCommand::x_derivative(int k, double t) const {
-  // x = D (10 s^3 - 15 s^4 + 6 s^5), s = t/T.
   const double s = t / t_;
   double v = 0.0;
+  if (degree_ == 3) {
+    // x = D (3 s^2 - 2 s^3)
+    switch (k) {
+      case 0: v = s * s * (3.0 - 2.0 * s); break;
+      case 1: v = 6.0 * s * (1.0 - s); break;
+      case 2: v = 6.0 - 12.0 * s; break;
+      case 3: v = -12.0; break;
+      default: v = 0.0;
+    }
+    return d_ * v / std::pow(t_, k);
+  }
+  // x = D (10 s^3 - 15 s^4 + 6 s^5)
   switch (k) {
     case 0: v = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s); break;
     case 1: v = s * s * (30.0 - 60.0 * s + 30.0 * s * s); break;
@@ -196,9 +207,9 @@ double InverseDynamicsCommand::x_derivative(int k, double t) const {
 
 double InverseDynamicsCommand::wp_derivative(int k, double t) const {
   // A polynomial particular solution: w_p = (1/w^2) sum_i (-kappa)^i x^(i+2), which telescopes
-  // through kappa w_p' + w_p = x'' / w^2 because x is quintic.
+  // through kappa w_p' + w_p = x'' / w^2 because x is a polynomial.
   double acc = 0.0, f = 1.0;
-  for (int i = 0; i + 2 + k <= 5; ++i) {
+  for (int i = 0; i + 2 + k <= degree_; ++i) {
     acc += f * x_derivative(i + 2 + k, t);
     f *= -kappa_;
   }

@@ -202,23 +202,45 @@ SimStatus optimise_exponents(const EnergyTarget& t, const std::vector<double>& s
   Eigen::VectorXd p;
   if (!to_params(sorted, opt, p)) return SimStatus::bad_gammas;
 
+  // H is two squares in n unknowns: besides its zero set it has stationary points with H > 0
+  // where LM stalls, and with more than three exponents a regular start such as (3, 4, 5, 6) can
+  // fall into one. Retry from the same start stretched and shifted (a fixed list, so results are
+  // reproducible) until H is zero to rounding; keep the best.
   const double scale = e0.h_index > 0.0 ? 1.0 / std::sqrt(e0.h_index) : 1.0;
-  Residuals fn{&t, &opt, static_cast<int>(sorted.size()), scale};
-  Eigen::NumericalDiff<Residuals> nd(fn);
-  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Residuals>> lm(nd);
-  lm.parameters.maxfev = opt.max_evaluations;
-  lm.parameters.xtol = 1e-15;
-  lm.parameters.ftol = 1e-30;
-  lm.parameters.gtol = 0.0;
-  const auto info = lm.minimize(p);
-  if (info == Eigen::LevenbergMarquardtSpace::ImproperInputParameters) return SimStatus::optimiser_failed;
-
+  constexpr double kStretch[] = {1.0, 0.5, 1.5, 2.0};
+  constexpr double kShift[] = {0.0, 1.0, 2.0};
+  const std::size_t stretches = opt.retry ? 4 : 1, shifts = opt.retry ? 3 : 1;
   OptimiserResult r;
-  r.gammas = to_gammas(p, opt);
-  EnergyIntegrals e1;
-  st = energy_integrals(t, r.gammas, e1);
-  if (st != SimStatus::ok) return SimStatus::optimiser_failed;
-  if (!(e1.h_index < e0.h_index)) return SimStatus::optimiser_failed;
+  r.h_final = HUGE_VAL;
+  int evaluations = 0, iterations = 0;
+  for (std::size_t i = 0; i < shifts; ++i) {
+    for (std::size_t k = 0; k < stretches; ++k) {
+      const double shift = kShift[i], stretch = kStretch[k];
+      std::vector<double> g = sorted;
+      for (double& x : g) x = sorted[0] + shift + stretch * (x - sorted[0]);
+      if (!to_params(g, opt, p)) continue;
+      Residuals fn{&t, &opt, static_cast<int>(g.size()), scale};
+      Eigen::NumericalDiff<Residuals> nd(fn);
+      Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Residuals>> lm(nd);
+      lm.parameters.maxfev = opt.max_evaluations;
+      lm.parameters.xtol = 1e-15;
+      lm.parameters.ftol = 1e-30;
+      lm.parameters.gtol = 0.0;
+      const auto info = lm.minimize(p);
+      evaluations += nd.evaluations;  // NumericalDiff is a copy of fn that counts every call
+      iterations += static_cast<int>(lm.iter);
+      if (info == Eigen::LevenbergMarquardtSpace::ImproperInputParameters) continue;
+      EnergyIntegrals e1;
+      const std::vector<double> found = to_gammas(p, opt);
+      if (energy_integrals(t, found, e1) != SimStatus::ok || !(e1.h_index < r.h_final)) continue;
+      r.gammas = found;
+      r.h_final = e1.h_index;
+      r.energy = e1.energy;
+      if (r.h_final <= 1e-12 * e0.h_index) break;
+    }
+    if (r.h_final <= 1e-12 * e0.h_index) break;
+  }
+  if (!(r.h_final < e0.h_index)) return SimStatus::optimiser_failed;
   {
     Design d;
     if (design(r.gammas, d) != SimStatus::ok) return SimStatus::optimiser_failed;
@@ -229,10 +251,8 @@ SimStatus optimise_exponents(const EnergyTarget& t, const std::vector<double>& s
     r.slope = std::hypot(g0 + g1, f0 + f1);
   }
   r.h_initial = e0.h_index;
-  r.h_final = e1.h_index;
-  r.energy = e1.energy;
-  r.evaluations = nd.evaluations;  // NumericalDiff is a copy of fn that counts every call
-  r.iterations = static_cast<int>(lm.iter);
+  r.evaluations = evaluations;
+  r.iterations = iterations;
   out = std::move(r);
   return SimStatus::ok;
 }

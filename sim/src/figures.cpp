@@ -142,11 +142,7 @@ SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFi
   }
   // Figs. 4-7: residual over eps(w_n) and eps(zeta), one surface per method; and the eps(zeta) = 0
   // slices of all methods on one plot.
-  std::string slices = "set title 'Seed 001, tau = 0.167 s: residual against eps(w_n) at eps(zeta) = 0'\n"
-                       "set xlabel 'eps(w_n) = w_n*/w_n - 1'\nset ylabel 'residual amplitude / L'\n"
-                       "set key top center\nplot ";
-  for (std::size_t gi = 0; gi < r.grids.size(); ++gi) {
-    const Grid001& g = r.grids[gi];
+  for (const Grid001& g : r.grids) {
     const std::string name = "001_grid_" + g.method + ".csv";
     std::string csv = "eps_omega,eps_zeta,residual\n";
     const std::size_t n = g.eps.size();
@@ -161,14 +157,31 @@ SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFi
     st = plot(dir, "001_robust_" + g.method,
               "set title 'Seed 001, tau = 0.167 s, " + g.method +
                   ": residual amplitude / L'\nset xlabel 'eps(w_n)'\nset ylabel 'eps(zeta)'\nset zlabel "
-                  "'residual / L' rotate by 90\nset view 60,30\nset hidden3d\nsplot '" +
+                  "'residual / L' rotate by 90\nset view 60,30\nset xyplane at 0\nset hidden3d\nsplot '" +
                   name + "' skip 1 using 1:2:3 with lines title ''\n",
               out);
     if (st != SimStatus::ok) return st;
-    slices += std::string{gi == 0 ? "" : ", "} + "'" + name + "' skip 1 every ::" + std::to_string(n / 2) +
-              "::" + std::to_string(n / 2) + " using 1:3 with linespoints lw 2 title '" + g.method + "'";
   }
   if (!r.grids.empty()) {
+    const std::size_t n = r.grids[0].eps.size();
+    std::string csv = "eps_omega";
+    for (const Grid001& g : r.grids) csv += "," + g.method;
+    csv += "\n";
+    for (std::size_t i = 0; i < n; ++i) {
+      csv += fmt("%.6g", r.grids[0].eps[i]);
+      for (const Grid001& g : r.grids) csv += "," + fmt("%.9e", g.residual[i * n + n / 2]);
+      csv += "\n";
+    }
+    const std::string name = "001_slices.csv";
+    if (!write_text((fs::path{dir} / name).string(), csv)) return SimStatus::io_error;
+    out.csv.push_back((fs::path{dir} / name).string());
+    std::string slices = "set title 'Seed 001, tau = 0.167 s: residual against eps(w_n) at eps(zeta) = 0'\n"
+                         "set xlabel 'eps(w_n) = w_n*/w_n - 1'\nset ylabel 'residual amplitude / L'\n"
+                         "set key top center\nplot ";
+    for (std::size_t gi = 0; gi < r.grids.size(); ++gi) {
+      slices += std::string{gi == 0 ? "" : ", "} + "'" + name + "' skip 1 using 1:" + std::to_string(gi + 2) +
+                " with linespoints lw 2 title '" + r.grids[gi].method + "'";
+    }
     st = plot(dir, "001_robust_slices", slices + "\n", out);
     if (st != SimStatus::ok) return st;
   }

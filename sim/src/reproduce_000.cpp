@@ -48,7 +48,8 @@ SimStatus reproduce_000(const Options000& o, Result000& out) {
         SimOptions so;
         so.dt = o.dt;
         so.record = o.history;
-        so.tail = 2.0 * res.period;
+        // Every history ends at the same instant, two periods after the longest move.
+        so.tail = (kTimeRatios000.back() + 2.0) * res.period - row.time;
         SimResult sr;
         st = simulate(beam, cmd, so, sr);
         if (st != SimStatus::ok) return st;

@@ -37,7 +37,7 @@ std::unique_ptr<Command> design(const std::string& method, double tau, double om
     if (core::design_shaper(kind, omega, zeta, 0.05, sh) != core::Status::ok) return nullptr;
     return std::make_unique<StepsCommand>(1.0, sh);
   }
-  return std::make_unique<InverseDynamicsCommand>(1.0, tau, omega, zeta);
+  return std::make_unique<InverseDynamicsCommand>(1.0, tau, omega, zeta, method == "sahinkaya-cubic" ? 3 : 5);
 }
 
 SimStatus residual_of(const ModalPlant& plant, const Command& cmd, double dt, double& r) {
@@ -90,7 +90,7 @@ SimStatus reproduce_001(const Options001& o, Result001& out) {
   }
 
   const double tau = kTaus001[0];
-  const std::vector<std::string> methods{"proposed", "zv", "zvd", "sahinkaya", "hybrid"};
+  const std::vector<std::string> methods{"proposed", "zv", "zvd", "sahinkaya", "sahinkaya-cubic", "hybrid"};
   if (o.grids) {
     const std::size_t n = std::max<std::size_t>(o.grid_points, 2);
     for (const std::string& m : methods) {
@@ -128,7 +128,7 @@ SimStatus reproduce_001(const Options001& o, Result001& out) {
     if (st != SimStatus::ok) return st;
     res.widths.push_back(w);
   }
-  for (const std::string& m : std::vector<std::string>{"proposed", "zv", "zvd", "ei", "sahinkaya", "hybrid"}) {
+  for (const std::string& m : std::vector<std::string>{"proposed", "zv", "zvd", "ei", "sahinkaya", "sahinkaya-cubic", "hybrid"}) {
     Width001 w;
     w.method = m;
     w.zeta = res.zeta;

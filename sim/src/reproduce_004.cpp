@@ -85,7 +85,9 @@ SimStatus reproduce_004(const Options004& o, Result004& out) {
           std::vector<double> start;
           for (std::size_t i = 0; i < n; ++i) start.push_back(first + step * static_cast<double>(i));
           OptimiserResult r;
-          if (optimise_exponents(res.target, start, OptimiserOptions{}, r) != SimStatus::ok) continue;
+          OptimiserOptions oo;
+          oo.retry = false;  // the starts here already span what a retry would try
+          if (optimise_exponents(res.target, start, oo, r) != SimStatus::ok) continue;
           if (r.h_final <= 1e-6 * res.initial.h_index && r.slope < best.slope) {
             best.gammas = r.gammas;
             best.h_index = r.h_final;

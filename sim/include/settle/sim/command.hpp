@@ -61,12 +61,15 @@ class StepsCommand final : public Command {
 };
 
 // Sahinkaya's inverse-dynamics input for the base-driven mass-spring-damper (seed 001's
-// comparison): the output is to follow the 3-4-5 polynomial x(t) of duration T, and the command is
-// what the nominal model needs for that: y = x + w with 2 zeta w_n w' + w_n^2 w = x'', w(0) = 0.
-// After T, w decays with time constant 2 zeta / w_n; the command ends when it is below 1e-16 D.
+// comparison): the output is to follow a polynomial x(t) of duration T (the cubic 3s^2 - 2s^3 of
+// Sahinkaya's paper, or the smoother 3-4-5), and the command is what the nominal model needs for
+// that: y = x + w with 2 zeta w_n w' + w_n^2 w = x'', w(0) = 0. After T, w decays with time
+// constant 2 zeta / w_n; the command ends when it is below 1e-16 D. With the cubic, x'' steps at
+// both ends and so does the command's velocity.
 class InverseDynamicsCommand final : public Command {
  public:
-  InverseDynamicsCommand(double distance, double time, double omega, double zeta);
+  // degree: 3 (cubic) or 5 (3-4-5).
+  InverseDynamicsCommand(double distance, double time, double omega, double zeta, int degree = 5);
   [[nodiscard]] double duration() const override { return end_; }
   [[nodiscard]] double final_position() const override { return d_; }
   [[nodiscard]] BaseState at(double t) const override { return sample(t, false); }
@@ -78,6 +81,7 @@ class InverseDynamicsCommand final : public Command {
   [[nodiscard]] double x_derivative(int k, double t) const;  // of the 3-4-5 output
   [[nodiscard]] double wp_derivative(int k, double t) const; // particular solution for w
   double d_, t_, omega_, zeta_, kappa_;
+  int degree_;
   double wp0_{0.0}, w_end_{0.0}, end_{0.0};
 };
 

@@ -41,6 +41,9 @@ struct OptimiserOptions {
   double min_gamma{2.05};      // exponents stay above this
   double min_gap{0.05};        // and at least this far apart
   int max_evaluations{4000};
+  // Retry from the start stretched and shifted when LM stalls above zero (see the .cpp); off for
+  // callers that run their own set of starts.
+  bool retry{true};
 };
 
 struct OptimiserResult {

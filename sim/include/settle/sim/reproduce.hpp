@@ -94,7 +94,8 @@ struct Width001 {
 struct Result001 {
   double omega{0.0}, zeta{0.0};
   std::vector<Case001> cases;
-  std::vector<Grid001> grids;  // proposed, zv, zvd, sahinkaya, hybrid at tau = 0.167 s
+  // proposed, zv, zvd, sahinkaya (3-4-5 output), sahinkaya-cubic, hybrid at tau = 0.167 s
+  std::vector<Grid001> grids;
   std::vector<Width001> widths;
 };
 

@@ -1,0 +1,78 @@
+// settle simulate and settle reproduce as a user meets them: the JSON keys the issue names, exit
+// status 2 with the offending option for bad plant parameters, CSV output.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+struct Out {
+  int status;
+  std::string text;
+};
+
+Out run(const std::string& args) {
+  const std::string cmd = std::string{SETTLE_CLI} + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string s;
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) s.append(buf, n);
+  const int st = pclose(p);
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, s};
+}
+
+bool has(const std::string& s, const std::string& key) { return s.find("\"" + key + "\":") != std::string::npos; }
+
+TEST(SimCli, SimulateJsonHasTheNamedKeys) {
+  const Out o = run("simulate --plant beam --profile scurve --distance 0.07 --time 0.228 --json");
+  ASSERT_EQ(o.status, 0) << o.text;
+  for (const char* k : {"residual_amplitude", "prv_percent", "peak_deflection", "final_energy", "modes", "omega",
+                        "beta", "lambda"}) {
+    EXPECT_TRUE(has(o.text, k)) << k << "\n" << o.text;
+  }
+}
+
+TEST(SimCli, EveryPlantRuns) {
+  for (const char* p : {"--plant sdof --mass 2 --stiffness 500 --damping 3", "--plant belt --inertia 5",
+                        "--plant modes --mode 20,0.01,1 --mode 90,0.02,0.3", "--plant beam --modes 5 --modal-damping 0.01"}) {
+    const Out o = run(std::string{"simulate "} + p + " --profile poly345 --distance 1 --time 0.5 --json");
+    EXPECT_EQ(o.status, 0) << p << "\n" << o.text;
+    EXPECT_TRUE(has(o.text, "prv_percent")) << p;
+  }
+}
+
+TEST(SimCli, BadPlantParametersAreRefusedWithTheirCode) {
+  const Out o = run("simulate --plant sdof --mass -1 --profile poly345 --distance 1 --time 1 --json");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.text.find("non_positive_mass"), std::string::npos) << o.text;
+  const Out z = run("simulate --plant beam --length 0 --profile poly345 --distance 1 --time 1 --json");
+  EXPECT_EQ(z.status, 2);
+  EXPECT_NE(z.text.find("non_positive_length"), std::string::npos) << z.text;
+  const Out d = run("simulate --plant modes --mode 10,1.2,1 --profile poly345 --distance 1 --time 1 --json");
+  EXPECT_EQ(d.status, 2);
+  EXPECT_NE(d.text.find("not_underdamped"), std::string::npos) << d.text;
+}
+
+TEST(SimCli, CsvHistory) {
+  const std::string path = ::testing::TempDir() + "settle_sim_cli.csv";
+  const Out o = run("simulate --plant sdof --profile ramp-versine --distance 1 --time 0.167 --csv " + path);
+  ASSERT_EQ(o.status, 0) << o.text;
+  std::ifstream f{path};
+  std::string header;
+  std::getline(f, header);
+  EXPECT_EQ(header.rfind("t,command_position", 0), 0u) << header;
+}
+
+TEST(SimCli, Reproduce004Json) {
+  const Out o = run("reproduce 004 --json");
+  ASSERT_EQ(o.status, 0) << o.text;
+  for (const char* k : {"H_initial", "H_paper", "H_optimized", "gammas"}) EXPECT_TRUE(has(o.text, k)) << k;
+}
+
+TEST(SimCli, UnknownExperiment) { EXPECT_EQ(run("reproduce 003").status, 2); }
+
+}  // namespace

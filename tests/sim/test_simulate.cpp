@@ -1,0 +1,108 @@
+// Metrics as the literature defines them, checked on cases with closed forms: an unshaped step
+// leaves 100 % PRV, a ZV-shaped step leaves |cos(pi r / 2)| on an undamped mode, the settling time
+// of a damped step response, and the shape of the recorded history.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "settle/core/planner.hpp"
+#include "settle/sim/sensitivity.hpp"
+#include "settle/sim/simulate.hpp"
+
+namespace settle::sim {
+namespace {
+
+ModalPlant one_mode(double omega, double zeta) {
+  Mode m;
+  m.omega = omega;
+  m.zeta = zeta;
+  ModalPlant p;
+  EXPECT_EQ(ModalPlant::make_modes({m}, 1.0, PlantKind::modes, p), SimStatus::ok);
+  return p;
+}
+
+TEST(Simulate, UnshapedStepLeavesOneHundredPercent) {
+  const StepsCommand step{0.5, core::Shaper<double>{}};
+  for (double z : {0.0, 0.1, 0.5}) {
+    double prv = 0.0;
+    ASSERT_EQ(prv_on_mode(step, 7.0, z, prv), SimStatus::ok);
+    EXPECT_NEAR(prv, 100.0, 1e-10) << z;
+  }
+}
+
+TEST(Simulate, ZvShapedStepOnAnUndampedModeLeavesCosine) {
+  core::Shaper<double> s;
+  ASSERT_EQ(core::design_shaper(core::ShaperKind::zv, 10.0, 0.0, 0.05, s), core::Status::ok);
+  const StepsCommand c{1.0, s};
+  for (double r : {0.7, 0.95, 1.0, 1.1, 1.6}) {
+    double prv = 0.0;
+    ASSERT_EQ(prv_on_mode(c, 10.0 * r, 0.0, prv), SimStatus::ok);
+    EXPECT_NEAR(prv, 100.0 * std::fabs(std::cos(M_PI * r / 2.0)), 1e-9) << r;
+  }
+}
+
+TEST(Simulate, SettlingTimeOfADampedStepResponse) {
+  const double w = 20.0, z = 0.05, d = 1.0;
+  const ModalPlant p = one_mode(w, z);
+  const StepsCommand step{d, core::Shaper<double>{}};
+  SimOptions o;
+  o.band = 0.1;
+  SimResult r;
+  ASSERT_EQ(simulate(p, step, o, r), SimStatus::ok);
+  // Independent: q = D e^{-z w t}(cos wd t - (z w / wd) sin wd t); the last instant |q| > band,
+  // found by a dense scan of the closed form.
+  const double wd = w * std::sqrt(1.0 - z * z);
+  double last = 0.0;
+  for (double t = 0.0; t < 20.0; t += 1e-6) {
+    const double q = d * std::exp(-z * w * t) * (std::cos(wd * t) - z * w / wd * std::sin(wd * t));
+    if (std::fabs(q) > 0.1) last = t;
+  }
+  EXPECT_NEAR(r.metrics.settling_time, last, 2e-6);
+}
+
+TEST(Simulate, UndampedModeWithResidualNeverSettles) {
+  const ModalPlant p = one_mode(20.0, 0.0);
+  SimResult r;
+  ASSERT_EQ(simulate(p, StepsCommand{1.0, core::Shaper<double>{}}, SimOptions{}, r), SimStatus::ok);
+  EXPECT_TRUE(std::isinf(r.metrics.settling_time));
+}
+
+TEST(Simulate, HistoryAndMetricsOfASdofMove) {
+  ModalPlant p;
+  ASSERT_EQ(ModalPlant::make_sdof({}, p), SimStatus::ok);
+  core::MoveRequest rq;
+  rq.profile = core::ProfileKind::poly345;
+  rq.distance = 0.2;
+  rq.time = 0.3;
+  core::Move<double> m;
+  ASSERT_EQ(core::plan(rq, m), core::Status::ok);
+  SimOptions o;
+  o.tail = 0.2;
+  SimResult r;
+  ASSERT_EQ(simulate(p, MoveCommand{m}, o, r), SimStatus::ok);
+  ASSERT_FALSE(r.history.empty());
+  EXPECT_DOUBLE_EQ(r.history.front().t, 0.0);
+  EXPECT_NEAR(r.history.back().t, 0.5, 1e-9);
+  double peak = 0.0;
+  for (std::size_t i = 1; i < r.history.size(); ++i) {
+    ASSERT_GT(r.history[i].t, r.history[i - 1].t);
+    if (r.history[i].t <= 0.3) peak = std::max(peak, std::fabs(r.history[i].deflection));
+  }
+  EXPECT_DOUBLE_EQ(r.metrics.peak_deflection, peak);
+  // E(T) = 1/2 m x'^2 + 1/2 k (x - y)^2 with the base at rest, from the history's sample at T.
+  const auto at_end = std::find_if(r.history.begin(), r.history.end(), [](const HistorySample& s) { return s.t >= 0.3; });
+  ASSERT_NE(at_end, r.history.end());
+  EXPECT_NEAR(r.metrics.final_energy, at_end->energy.kinetic + at_end->energy.potential, 1e-15);
+  EXPECT_NEAR(r.metrics.prv_percent, 100.0 * r.metrics.residual_amplitude / r.metrics.step_residual, 1e-12);
+  EXPECT_NEAR(r.metrics.step_residual, 0.2 / std::sqrt(1.0 - p.modes()[0].zeta * p.modes()[0].zeta), 1e-15);
+}
+
+TEST(Simulate, RejectsANonPositiveStep) {
+  SimResult r;
+  SimOptions o;
+  o.dt = 0.0;
+  EXPECT_EQ(simulate(one_mode(1.0, 0.0), StepsCommand{1.0, core::Shaper<double>{}}, o, r), SimStatus::non_positive_step);
+}
+
+}  // namespace
+}  // namespace settle::sim

@@ -1,0 +1,109 @@
+// Long runs (ctest -L soak): the three experiments in full (sensitivity widths, robustness grids,
+// the exponent study) with their invariants, and randomised modal plants against RK4.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <random>
+
+#include "residual.hpp"
+#include "settle/core/planner.hpp"
+#include "settle/sim/reproduce.hpp"
+
+namespace settle::sim {
+namespace {
+
+TEST(Soak, Experiment000WithWidths) {
+  Result000 r;
+  ASSERT_EQ(reproduce_000(Options000{}, r), SimStatus::ok);
+  for (const Run000& run : r.runs) {
+    for (const Row000& row : run.rows) {
+      if (row.plan_status != core::Status::ok) continue;
+      // A width is an interval around 1 on which PRV <= 5 %; zero exactly when the nominal is over.
+      EXPECT_EQ(row.width.width == 0.0, row.prv_mode1 > 5.0);
+      if (row.width.width > 0.0) {
+        EXPECT_LE(row.width.lo, 1.0);
+        EXPECT_GE(row.width.hi, 1.0);
+      }
+    }
+  }
+}
+
+TEST(Soak, Experiment001GridsAgreeWithClosedFormsWhereTheyExist) {
+  Result001 r;
+  ASSERT_EQ(reproduce_001(Options001{}, r), SimStatus::ok);
+  const double w = r.omega, z = r.zeta;
+  for (const Grid001& g : r.grids) {
+    EXPECT_LT(g.nominal, 1e-12) << g.method;
+    if (g.method != "zv") continue;
+    const std::size_t n = g.eps.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = 0; j < n; ++j) {
+        // ZV designed for (w*, z*) on the true (w, z): residual = |sum A_i e^{-z w (tN - ti)} e^{i wd (tN - ti)}| / sqrt(1 - z^2).
+        const double ws = w * (1 + g.eps[i]), zs = z * (1 + g.eps[j]);
+        const double k = std::exp(-zs * M_PI / std::sqrt(1 - zs * zs));
+        const double t2 = M_PI / (ws * std::sqrt(1 - zs * zs));
+        const double wd = w * std::sqrt(1 - z * z);
+        const std::complex<double> s =
+            1.0 / (1 + k) * std::exp(std::complex<double>{-z * w * t2, wd * t2}) + k / (1 + k);
+        EXPECT_NEAR(g.residual[i * n + j], std::abs(s) / std::sqrt(1 - z * z), 1e-9);
+      }
+    }
+  }
+}
+
+TEST(Soak, Experiment004ExponentStudy) {
+  Result004 r;
+  ASSERT_EQ(reproduce_004(Options004{}, r), SimStatus::ok);
+  ASSERT_EQ(r.exponents.size(), 4u);
+  for (const Exponents004& e : r.exponents) {
+    EXPECT_LE(e.h_index, 1e-6 * r.initial.h_index) << e.count;
+    EXPECT_EQ(e.gammas.size(), e.count);
+  }
+  // Six exponents buy a flatter zero than three (what the study reports).
+  EXPECT_LT(r.exponents.back().slope, r.exponents.front().slope);
+}
+
+TEST(Soak, RandomModalPlantsAgainstRk4) {
+  std::mt19937 rng{42};
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    Mode m;
+    m.omega = 5.0 + 200.0 * u(rng);
+    m.zeta = 0.3 * u(rng);
+    m.gain = -1.0 + 2.0 * u(rng);
+    ModalPlant p;
+    ASSERT_EQ(ModalPlant::make_modes({m}, 1.0, PlantKind::modes, p), SimStatus::ok);
+    core::MoveRequest rq;
+    rq.profile = core::ProfileKind::poly345;
+    rq.distance = 0.1 + u(rng);
+    rq.time = 0.05 + u(rng);
+    core::Move<double> mv;
+    ASSERT_EQ(core::plan(rq, mv), core::Status::ok);
+    ASSERT_EQ(drive(p, MoveCommand{mv}, rq.time.value() / 3000.0), SimStatus::ok);
+    // RK4 on q'' = g a(t) - 2 z w q' - w^2 q with a from the move.
+    const int steps = 200000;
+    const double h = rq.time.value() / steps;
+    double q = 0.0, v = 0.0;
+    auto f = [&](double t, double qq, double vv) {
+      return m.gain * mv.at(t).a - 2 * m.zeta * m.omega * vv - m.omega * m.omega * qq;
+    };
+    for (int i = 0; i < steps; ++i) {
+      const double t = i * h;
+      const double k1q = v, k1v = f(t, q, v);
+      const double k2q = v + 0.5 * h * k1v, k2v = f(t + 0.5 * h, q + 0.5 * h * k1q, v + 0.5 * h * k1v);
+      const double k3q = v + 0.5 * h * k2v, k3v = f(t + 0.5 * h, q + 0.5 * h * k2q, v + 0.5 * h * k2v);
+      const double k4q = v + h * k3v, k4v = f(t + h, q + h * k3q, v + h * k3v);
+      q += h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q);
+      v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    }
+    const double scale = std::fabs(m.gain) * rq.distance;
+    EXPECT_NEAR(p.mode_q(0), q, 1e-9 * scale) << trial;
+    EXPECT_NEAR(p.mode_dq(0), v, 1e-9 * scale * m.omega) << trial;
+    // And the residual against the Duhamel reference of tests/core.
+    EXPECT_NEAR(p.mode_residual(0), std::fabs(m.gain) * test::residual_amplitude(mv, m.omega, m.zeta), 1e-9 * scale);
+  }
+}
+
+}  // namespace
+}  // namespace settle::sim
