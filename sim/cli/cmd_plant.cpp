@@ -72,7 +72,10 @@ int cmd_plant(int argc, char** argv) {
   sim::PlantNode pn{dc, std::move(axis)};
 
   hal::SocketCanBus bus;
-  const hal::OpenStatus os = bus.open(iface.c_str());
+  // A large receive queue: if this process is starved it falls behind instead of dropping frames.
+  hal::SocketCanOptions so_opts{};
+  so_opts.receive_buffer_bytes = 1 << 20;
+  const hal::OpenStatus os = bus.open(iface.c_str(), so_opts);
   if (os != hal::OpenStatus::ok) {
     std::fprintf(stderr, "settle plant: cannot open %s: %s\n", iface.c_str(), hal::to_string(os));
     return kExitFailure;

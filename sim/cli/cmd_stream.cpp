@@ -69,7 +69,7 @@ int cmd_stream(int argc, char** argv) {
   values.insert(kPlantValueOptions.begin(), kPlantValueOptions.end());
   values.insert(kDriveValueOptions.begin(), kDriveValueOptions.end());
   values.insert({"--bus", "--node", "--axis-vmax", "--settle-time", "--log", "--rt-priority", "--heartbeat-ms",
-                 "--candump"});
+                 "--candump", "--sdo-timeout-ms", "--feedback-log"});
   const Args args{argc, argv, values, kMoveFlagOptions};
   const bool json = args.flag("--json");
   if (!args.ok()) return report_bad_request({"bad_option", args.error_param(), args.error()}, json);
@@ -84,10 +84,10 @@ int cmd_stream(int argc, char** argv) {
   core::Move<double> move{};
   if (!plan_move(req, move, err)) return report_bad_request(err, json);
   double node = 1, axis_vmax = std::fmax(move.peaks().v, 1e-12) * 1.5, settle_time = 1.0, priority = 0,
-         heartbeat = 500;
+         heartbeat = 500, sdo_timeout = 1000;
   for (auto [name, v] : {std::pair{"--node", &node}, std::pair{"--axis-vmax", &axis_vmax},
                          std::pair{"--settle-time", &settle_time}, std::pair{"--rt-priority", &priority},
-                         std::pair{"--heartbeat-ms", &heartbeat}}) {
+                         std::pair{"--heartbeat-ms", &heartbeat}, std::pair{"--sdo-timeout-ms", &sdo_timeout}}) {
     if (const auto s = args.get(name); s && !parse_double(*s, *v)) {
       return report_bad_request({"bad_number", name, std::string{name} + ": not a number"}, json);
     }
@@ -101,6 +101,7 @@ int cmd_stream(int argc, char** argv) {
   firmware::AxisConfig ac{};
   ac.drive.node = static_cast<hal::canopen::NodeId>(node);
   ac.drive.heartbeat_timeout_ms = static_cast<std::uint16_t>(heartbeat);
+  ac.drive.sdo_timeout_us = static_cast<std::uint32_t>(sdo_timeout * 1000.0);
   ac.counts_per_unit = axis_cfg.counts_per_unit;
   ac.vmax = axis_vmax;
   firmware::SessionConfig sc{};
@@ -161,7 +162,11 @@ int cmd_stream(int argc, char** argv) {
     out.loop = loop->stats();
   } else {
     hal::SocketCanBus bus;
-    const hal::OpenStatus os = bus.open(bus_name.c_str());
+    // A large receive queue: a stalled process (a busy host, a user-mode-linux guest) falls behind
+    // without dropping frames, and the kernel's drop counter tells us if it ever does.
+    hal::SocketCanOptions so_opts{};
+    so_opts.receive_buffer_bytes = 1 << 20;
+    const hal::OpenStatus os = bus.open(bus_name.c_str(), so_opts);
     if (os != hal::OpenStatus::ok) {
       std::fprintf(stderr, "settle stream: cannot open %s: %s (try --bus loopback)\n", bus_name.c_str(),
                    hal::to_string(os));
@@ -204,14 +209,35 @@ int cmd_stream(int argc, char** argv) {
   // between; the load samples from the final setpoint on then give the measured residual.
   std::vector<std::int32_t> positions;
   for (const auto& fs : out.feedback) positions.push_back(fs.position_actual);
-  const std::optional<std::size_t> offset = have_replay ? sim::align_feedback(positions, replay) : std::nullopt;
+  const std::optional<std::size_t> found = have_replay ? sim::align_feedback(positions, replay) : std::nullopt;
+  const bool aligned = found.has_value();
+  const std::size_t offset = found.value_or(0);
   std::vector<std::int32_t> measured;
-  if (offset) {
+  if (aligned) {
     for (std::size_t i = replay.move_periods - 1; i < replay.feedback.size(); ++i) {
-      measured.push_back(out.feedback[*offset + i].load_position);
+      measured.push_back(out.feedback[offset + i].load_position);
     }
   }
   const double dt = period_us * 1e-6;
+  // Commanded and measured motion per drive period, aligned: what the plots show.
+  if (const auto path = args.get("--feedback-log"); path && aligned) {
+    std::FILE* f = std::fopen(path->c_str(), "w");
+    if (f == nullptr) {
+      std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
+      return kExitFailure;
+    }
+    std::fprintf(f, "period,t,commanded,position_can,load_can,load_offline\n");
+    const std::size_t o = offset;
+    const std::size_t pre = std::min<std::size_t>(o, 50);
+    for (std::size_t i = o - pre; i < o + replay.feedback.size(); ++i) {
+      const long k = static_cast<long>(i) - static_cast<long>(o);
+      const std::int32_t cmd = k < 0 ? sp.front() : (static_cast<std::size_t>(k) < sp.size() ? sp[static_cast<std::size_t>(k)] : sp.back());
+      const std::int32_t off_load = k < 0 ? out.feedback[i].load_position : replay.feedback[static_cast<std::size_t>(k)].load_position;
+      std::fprintf(f, "%ld,%.6f,%d,%d,%d,%d\n", k, static_cast<double>(k + 1) * dt, cmd, out.feedback[i].position_actual,
+                   out.feedback[i].load_position, off_load);
+    }
+    std::fclose(f);
+  }
   const sim::SampledResidual can = sim::fitted_residual(measured, axis_cfg.load_counts_per_unit, replay.final_load, dt,
                                                         plant, replay.step_residual);
   const sim::SampledResidual off = sim::fitted_residual(replay.load_after, axis_cfg.load_counts_per_unit,
@@ -220,7 +246,7 @@ int cmd_stream(int argc, char** argv) {
   sim::SimOptions so{};
   so.record = false;
   const bool have_cont = sim::simulate(plant, sim::MoveCommand{move}, so, cont) == sim::SimStatus::ok;
-  const double agreement = offset ? std::fabs(can.amplitude - off.amplitude) : double{NAN};
+  const double agreement = aligned ? std::fabs(can.amplitude - off.amplitude) : double{NAN};
   std::uint64_t late = 0;
   for (std::size_t i = 1; i < out.log.size(); ++i) {
     if (out.log[i].feedback_count != out.log[i - 1].feedback_count + 1 && out.log[i].feedback_count > 0) ++late;
@@ -229,7 +255,7 @@ int cmd_stream(int argc, char** argv) {
   // A setpoint or feedback lost within the move would also have broken the alignment above.
   const auto lost = static_cast<long long>(out.bus.rx_overflow_drops + out.bus.tx_errors);
 
-  const bool completed = out.session.outcome == firmware::SessionOutcome::completed && offset.has_value();
+  const bool completed = out.session.outcome == firmware::SessionOutcome::completed && aligned;
   if (json) {
     JsonWriter w{stdout};
     w.begin_object()
@@ -247,7 +273,7 @@ int cmd_stream(int argc, char** argv) {
         .field("rx_overflow_drops", static_cast<long long>(out.bus.rx_overflow_drops))
         .field("feedback_samples", static_cast<long long>(out.feedback.size()))
         .field("feedback_late_ticks", static_cast<long long>(late))
-        .field("aligned", offset.has_value())
+        .field("aligned", aligned)
         .field("frames_lost", lost)
         .field("overruns", static_cast<long long>(overruns))
         .field("skipped_periods", static_cast<long long>(out.session.missed_periods))
@@ -285,7 +311,7 @@ int cmd_stream(int argc, char** argv) {
     std::printf("frames             sent %llu, received %llu, tx busy %llu, late feedback ticks %llu, %s\n",
                 static_cast<unsigned long long>(out.bus.sent), static_cast<unsigned long long>(out.bus.received),
                 static_cast<unsigned long long>(out.bus.tx_busy), static_cast<unsigned long long>(late),
-                offset ? "every setpoint applied once, in order" : "FEEDBACK DOES NOT MATCH THE SETPOINTS");
+                aligned ? "every setpoint applied once, in order" : "FEEDBACK DOES NOT MATCH THE SETPOINTS");
     std::printf("residual (CAN)     %.9g (PRV %.4f %%)\n", can.amplitude, can.prv_percent);
     std::printf("residual (offline) %.9g (PRV %.4f %%), agreement %.3g\n", off.amplitude, off.prv_percent, agreement);
     if (have_cont) {
