@@ -13,6 +13,18 @@ double BasePolynomial::derivative(int k, double s) const noexcept {
   return acc;
 }
 
+BaseState BasePolynomial::state(double s) const noexcept {
+  // One Horner pass for all three: the per-step cost of a simulated drive.
+  double p = 0.0, v = 0.0, a = 0.0;
+  for (int i = degree; i >= 0; --i) {
+    const double ci = c[static_cast<std::size_t>(i)];
+    a = a * s + 2.0 * v;
+    v = v * s + p;
+    p = p * s + ci;
+  }
+  return {p, v, a};
+}
+
 BasePolynomial BasePolynomial::constant(double p) noexcept {
   BasePolynomial b{};
   b.c[0] = p;

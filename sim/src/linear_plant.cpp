@@ -27,6 +27,7 @@ SimStatus LinearPlant::make(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, 
   p.b_ = b;
   p.c_ = c;
   p.d_ = d;
+  p.jump_y_ = b.col(1) + a * b.col(2);
   p.x_ = Eigen::VectorXd::Zero(n);
   out = std::move(p);
   out.reset(0.0);
@@ -58,8 +59,12 @@ double LinearPlant::output(Eigen::Index row) const {
 
 const LinearPlant::Transition& LinearPlant::transition(double dt, int degree) {
   const int chain = std::max(degree + 1, kMinChain);
-  for (const Transition& tr : cache_) {
-    if (tr.dt == dt && tr.chain == chain) return tr;
+  if (last_ < cache_.size() && cache_[last_].dt == dt && cache_[last_].chain == chain) return cache_[last_];
+  for (std::size_t i = 0; i < cache_.size(); ++i) {
+    if (cache_[i].dt == dt && cache_[i].chain == chain) {
+      last_ = i;
+      return cache_[i];
+    }
   }
   // Augmented state z = [x; y; y'; ...; y^(chain-1)]: the base derivatives form a chain of
   // integrators ending in y^(chain-1)' = 0, which is exact for a polynomial of degree < chain.
@@ -81,10 +86,14 @@ const LinearPlant::Transition& LinearPlant::transition(double dt, int degree) {
     if (k > 0) f *= static_cast<double>(k);
     tr.gamma.col(k) *= f;
   }
+  tr.packed.resize(n, n + chain);
+  tr.packed << tr.phi, tr.gamma;
   if (cache_.size() < kCacheSize) {
     cache_.push_back(std::move(tr));
+    last_ = cache_.size() - 1;
     return cache_.back();
   }
+  last_ = evict_;
   Transition& slot = cache_[evict_];
   evict_ = (evict_ + 1) % kCacheSize;
   slot = std::move(tr);
@@ -97,33 +106,33 @@ SimStatus LinearPlant::advance(double dt, const BasePolynomial& base) {
   for (int k = 0; k <= base.degree; ++k) {
     if (!std::isfinite(base.c[static_cast<std::size_t>(k)])) return SimStatus::non_finite_input;
   }
-  const Eigen::Index n = a_.rows();
-  jump_base(base.state(0.0));
+  jump_base({base.c[0], base.degree >= 1 ? base.c[1] : 0.0, base.degree >= 2 ? 2.0 * base.c[2] : 0.0});
   const Transition& tr = transition(dt, base.degree);
-  // x(dt) = Phi x + Gamma c; written as plain loops: for the few states of a plant this is
-  // faster than Eigen's dynamic-size product and it is the whole per-step cost.
-  Eigen::VectorXd& x = x_;
-  double next[64];
-  double* out = n <= 64 ? next : nullptr;
-  Eigen::VectorXd big_next;
-  if (out == nullptr) {
-    big_next.resize(n);
-    out = big_next.data();
+  // x(dt) = [Phi | Gamma] [x; c], written as plain loops over contiguous rows: for the few states
+  // of a plant this beats Eigen's dynamic-size products, and it is the whole per-step cost.
+  const Eigen::Index n = a_.rows();
+  const Eigen::Index m = n + base.degree + 1;
+  const Eigen::Index stride = tr.packed.cols();
+  constexpr Eigen::Index kStack = 64;
+  double zbuf[kStack + kMaxBaseDegree + 1];
+  double obuf[kStack];
+  std::vector<double> heap;
+  double* z = zbuf;
+  double* out = obuf;
+  if (n > kStack) {
+    heap.resize(static_cast<std::size_t>(m + n));
+    z = heap.data();
+    out = z + m;
   }
-  const double* phi = tr.phi.data();
-  const double* gam = tr.gamma.data();
-  for (Eigen::Index i = 0; i < n; ++i) out[i] = 0.0;
-  for (Eigen::Index j = 0; j < n; ++j) {
-    const double xj = x[j];
-    const double* col = phi + j * n;
-    for (Eigen::Index i = 0; i < n; ++i) out[i] += col[i] * xj;
+  for (Eigen::Index j = 0; j < n; ++j) z[j] = x_[j];
+  for (int k = 0; k <= base.degree; ++k) z[n + k] = base.c[static_cast<std::size_t>(k)];
+  const double* row = tr.packed.data();
+  for (Eigen::Index i = 0; i < n; ++i, row += stride) {
+    double acc = 0.0;
+    for (Eigen::Index j = 0; j < m; ++j) acc += row[j] * z[j];
+    out[i] = acc;
   }
-  for (int k = 0; k <= base.degree; ++k) {
-    const double ck = base.c[static_cast<std::size_t>(k)];
-    const double* col = gam + static_cast<Eigen::Index>(k) * n;
-    for (Eigen::Index i = 0; i < n; ++i) out[i] += col[i] * ck;
-  }
-  for (Eigen::Index i = 0; i < n; ++i) x[i] = out[i];
+  for (Eigen::Index i = 0; i < n; ++i) x_[i] = out[i];
   base_ = base.state(dt);
   t_ += dt;
   return SimStatus::ok;
@@ -134,8 +143,10 @@ void LinearPlant::jump_base(const BaseState& to) {
   // leaves x(0+) - x(0-) = A B2 dy once its own delta has passed.
   const double dy = to.p - base_.p;
   const double dv = to.v - base_.v;
-  if (dy != 0.0) x_ += (b_.col(1) + a_ * b_.col(2)) * dy;
-  if (dv != 0.0) x_ += b_.col(2) * dv;
+  const Eigen::Index n = x_.size();
+  const double* jy = jump_y_.data();
+  const double* b2 = b_.col(2).data();  // column-major: contiguous
+  for (Eigen::Index i = 0; i < n; ++i) x_[i] += jy[i] * dy + b2[i] * dv;
   base_ = to;
 }
 

@@ -35,46 +35,61 @@ double envelope(const ModalPlant& plant, double tau) {
 
 }  // namespace
 
-void command_grid(const Command& cmd, double dt, std::vector<double>& times) {
+void command_grid(const Command& cmd, double dt, std::vector<double>& times, std::vector<char>* is_break) {
   const double end = cmd.duration();
   std::vector<double> bp;
   cmd.breakpoints(bp);
-  times.clear();
+  bp.push_back(end);
+  std::sort(bp.begin(), bp.end());
   const auto n = static_cast<std::size_t>(std::floor(end / dt));
-  times.reserve(n + bp.size() + 2);
-  for (std::size_t k = 0; k <= n; ++k) times.push_back(static_cast<double>(k) * dt);
-  for (double t : bp) {
-    if (t >= 0.0 && t <= end) times.push_back(t);
-  }
-  times.push_back(end);
-  std::sort(times.begin(), times.end());
-  // Points closer than a millionth of a step are one point: a breakpoint wins over a grid point,
-  // and two breakpoints that differ only by rounding are the same instant.
+  // Merge the uniform points with the breakpoints. Points closer than a millionth of a step are
+  // one point: a breakpoint wins over a grid point, and two breakpoints that differ only by
+  // rounding are the same instant.
   const double tol = 1e-6 * dt;
-  std::vector<double> merged;
-  merged.reserve(times.size());
-  for (double t : times) {
-    if (!merged.empty() && t - merged.back() <= tol) {
-      const bool is_break = std::any_of(bp.begin(), bp.end(), [t](double b) { return b == t; }) || t == end;
-      if (is_break) merged.back() = t;
-      continue;
+  times.clear();
+  times.reserve(n + bp.size() + 2);
+  std::vector<char> flags;
+  flags.reserve(n + bp.size() + 2);
+  auto add = [&](double t, bool brk) {
+    if (!times.empty() && t - times.back() <= tol) {
+      if (brk) {
+        times.back() = t;
+        flags.back() = 1;
+      }
+      return;
     }
-    merged.push_back(t);
+    times.push_back(t);
+    flags.push_back(brk ? 1 : 0);
+  };
+  std::size_t k = 0, b = 0;
+  while (k <= n || b < bp.size()) {
+    const double tk = k <= n ? static_cast<double>(k) * dt : HUGE_VAL;
+    const double tb = b < bp.size() ? bp[b] : HUGE_VAL;
+    if (tb <= tk) {
+      if (tb >= 0.0 && tb <= end) add(tb, true);
+      ++b;
+    } else {
+      if (tk <= end) add(tk, false);
+      ++k;
+    }
   }
-  times = std::move(merged);
+  if (is_break != nullptr) *is_break = std::move(flags);
 }
 
 SimStatus drive(ModalPlant& plant, const Command& cmd, double dt,
                 const std::function<void(const ModalPlant&, const BaseState&)>& on_step) {
   if (!(dt > 0.0) || !std::isfinite(dt)) return SimStatus::non_positive_step;
   std::vector<double> grid;
-  command_grid(cmd, dt, grid);
+  std::vector<char> brk;
+  command_grid(cmd, dt, grid, &brk);
   plant.reset(0.0);
+  BaseState s1{};
   for (std::size_t i = 0; i + 1 < grid.size(); ++i) {
     const double t0 = grid[i], t1 = grid[i + 1];
     const double h = t1 - t0;
-    const BaseState s0 = cmd.at(t0);
-    const BaseState s1 = cmd.at_left(t1);
+    // Where the command is smooth its left and right values coincide: reuse the last sample.
+    const BaseState s0 = (i == 0 || brk[i] != 0) ? cmd.at(t0) : s1;
+    s1 = cmd.at_left(t1);
     const SimStatus st = plant.advance(h, BasePolynomial::quintic_hermite(s0, s1, h));
     if (st != SimStatus::ok) return st;
     if (on_step) on_step(plant, s1);

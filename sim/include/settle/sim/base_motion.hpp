@@ -22,9 +22,7 @@ struct BasePolynomial {
 
   // The k-th derivative at local time s.
   [[nodiscard]] double derivative(int k, double s) const noexcept;
-  [[nodiscard]] BaseState state(double s) const noexcept {
-    return {derivative(0, s), derivative(1, s), derivative(2, s)};
-  }
+  [[nodiscard]] BaseState state(double s) const noexcept;
 
   // Held still at p.
   [[nodiscard]] static BasePolynomial constant(double p) noexcept;

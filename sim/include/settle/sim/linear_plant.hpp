@@ -64,11 +64,14 @@ class LinearPlant {
     int chain{0};          // columns of gamma: polynomial coefficients c[0..chain-1]
     Eigen::MatrixXd phi;   // states x states
     Eigen::MatrixXd gamma; // states x chain, already scaled to act on coefficients
+    // [Phi | Gamma] row-major: one contiguous dot product per state is the whole step.
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> packed;
   };
   [[nodiscard]] const Transition& transition(double dt, int degree);
 
  private:
   Eigen::MatrixXd a_, b_, c_, d_;
+  Eigen::VectorXd jump_y_;  // B1 + A B2: the state jump per unit base position jump
   Eigen::VectorXd x_;
   BaseState base_{};
   double t_{0.0};
@@ -76,6 +79,7 @@ class LinearPlant {
   // breakpoints. A handful of cached transitions covers both without recomputing exponentials.
   std::vector<Transition> cache_;
   std::size_t evict_{0};
+  std::size_t last_{0};  // the entry the previous step used: almost always the next one's
   // Eigen-decomposition for free_amplitude, computed on first use.
   mutable bool modal_ready_{false};
   mutable Eigen::MatrixXcd v_, w_;

@@ -49,8 +49,9 @@ struct SimResult {
   std::vector<HistorySample> history;
 };
 
-// The sorted grid: multiples of dt up to the command's end, with its breakpoints merged in.
-void command_grid(const Command& cmd, double dt, std::vector<double>& times);
+// The sorted grid: multiples of dt up to the command's end, with its breakpoints merged in;
+// `is_break` (if given) flags the points where one-sided values may differ.
+void command_grid(const Command& cmd, double dt, std::vector<double>& times, std::vector<char>* is_break = nullptr);
 
 // Drives `plant` (reset at rest at 0) through `cmd` up to its end; calls `on_step` after each
 // step if given. The plant is left at the command's end.

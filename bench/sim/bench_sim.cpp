@@ -1,0 +1,96 @@
+// What sim costs: one second of the 3-mode Table 1 beam at 10 kHz (the drive node's per-SYNC
+// stepping, and an offline run of a planned move), and the seed-004 optimiser from (3, 4, 5).
+// Targets (issue 3): the beam second <= 1 ms, the optimiser <= 50 ms, in Release.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
+
+#include "settle/core/planner.hpp"
+#include "settle/sim/energy_optimiser.hpp"
+#include "settle/sim/simulate.hpp"
+
+namespace {
+
+using namespace settle;
+
+constexpr double kDt = 1e-4;
+constexpr int kSteps = 10000;  // 1 s at 10 kHz
+
+core::Move<double> scurve_08(double w1) {
+  core::MoveRequest r;
+  r.profile = core::ProfileKind::scurve;
+  r.distance = 0.07;
+  r.time = 0.8 * 2.0 * M_PI / w1;
+  r.omega = w1;
+  core::Move<double> m;
+  (void)core::plan(r, m);
+  return m;
+}
+
+// The drive node's loop: linear interpolation between 10 kHz setpoints, one exact step each.
+void BM_Beam3Mode1sLinearSetpoints(benchmark::State& state) {
+  sim::ModalPlant beam;
+  (void)sim::ModalPlant::make_beam({}, beam);
+  const core::Move<double> m = scurve_08(beam.fundamental().omega);
+  std::vector<double> sp(kSteps + 1);
+  for (int k = 0; k <= kSteps; ++k) sp[static_cast<std::size_t>(k)] = m.at(k * kDt).p;
+  for (auto _ : state) {
+    beam.reset(0.0);
+    for (std::size_t k = 0; k < kSteps; ++k) {
+      if (beam.advance(kDt, sim::BasePolynomial::linear(sp[k], sp[k + 1], kDt)) != sim::SimStatus::ok) {
+        state.SkipWithError("advance failed");
+      }
+    }
+    benchmark::DoNotOptimize(beam.deflection());
+  }
+  state.SetItemsProcessed(state.iterations() * kSteps);
+}
+BENCHMARK(BM_Beam3Mode1sLinearSetpoints)->Unit(benchmark::kMicrosecond);
+
+// Offline: follow the planned S-curve by quintic Hermite pieces (sampling the profile, exact at its
+// breakpoints), then rest for the rest of the second.
+void BM_Beam3Mode1sFollowMove(benchmark::State& state) {
+  sim::ModalPlant beam;
+  (void)sim::ModalPlant::make_beam({}, beam);
+  const sim::MoveCommand cmd{scurve_08(beam.fundamental().omega)};
+  const int rest = kSteps - static_cast<int>(std::ceil(cmd.duration() / kDt));
+  for (auto _ : state) {
+    if (sim::drive(beam, cmd, kDt) != sim::SimStatus::ok) state.SkipWithError("drive failed");
+    const sim::BasePolynomial hold = sim::BasePolynomial::constant(cmd.final_position());
+    for (int k = 0; k < rest; ++k) (void)beam.advance(kDt, hold);
+    benchmark::DoNotOptimize(beam.residual_amplitude());
+  }
+}
+BENCHMARK(BM_Beam3Mode1sFollowMove)->Unit(benchmark::kMicrosecond);
+
+// The same from scratch each time: beam modal analysis and every matrix exponential included.
+void BM_Beam3Mode1sFollowMoveCold(benchmark::State& state) {
+  sim::ModalPlant probe;
+  (void)sim::ModalPlant::make_beam({}, probe);
+  const sim::MoveCommand cmd{scurve_08(probe.fundamental().omega)};
+  const int rest = kSteps - static_cast<int>(std::ceil(cmd.duration() / kDt));
+  for (auto _ : state) {
+    sim::ModalPlant beam;
+    (void)sim::ModalPlant::make_beam({}, beam);
+    if (sim::drive(beam, cmd, kDt) != sim::SimStatus::ok) state.SkipWithError("drive failed");
+    const sim::BasePolynomial hold = sim::BasePolynomial::constant(cmd.final_position());
+    for (int k = 0; k < rest; ++k) (void)beam.advance(kDt, hold);
+    benchmark::DoNotOptimize(beam.residual_amplitude());
+  }
+}
+BENCHMARK(BM_Beam3Mode1sFollowMoveCold)->Unit(benchmark::kMicrosecond);
+
+void BM_Optimiser004(benchmark::State& state) {
+  const sim::EnergyTarget t = sim::belt_energy_target(sim::BeltParams{}, 30.0 * M_PI, 1.0);
+  for (auto _ : state) {
+    sim::OptimiserResult r;
+    if (sim::optimise_exponents(t, {3.0, 4.0, 5.0}, sim::OptimiserOptions{}, r) != sim::SimStatus::ok) {
+      state.SkipWithError("optimiser failed");
+    }
+    benchmark::DoNotOptimize(r.h_final);
+  }
+}
+BENCHMARK(BM_Optimiser004)->Unit(benchmark::kMillisecond);
+
+}  // namespace
