@@ -186,15 +186,16 @@ int run_001(bool json, const std::string* out) {
   if (!r.grids.empty()) {
     std::printf("\nRobustness at tau = 0.167 s over eps(w_n), eps(zeta) in [-0.2, 0.2] (design = true x (1 + eps));\n"
                 "ZV and ZVD shape a step (their textbook use); hybrid = the proposed command convolved with ZV;\n"
-                "Sahinkaya = inverse dynamics of the nominal model for a 3-4-5 output of 0.167 s:\n");
-    std::printf("%-10s %-12s %-14s %-12s\n", "method", "lasts (s)", "nominal", "worst on grid");
+                "sahinkaya = inverse dynamics of the nominal model for a 3-4-5 output of 0.167 s (sahinkaya-cubic:\n"
+                "for the cubic 3s^2 - 2s^3 output of his paper); its command ends with an exponential tail:\n");
+    std::printf("%-16s %-12s %-14s %-12s\n", "method", "lasts (s)", "nominal", "worst on grid");
     for (const auto& g : r.grids) {
-      std::printf("%-10s %-12.4f %-14.3e %-12.4f\n", g.method.c_str(), g.move_time, g.nominal, g.worst);
+      std::printf("%-16s %-12.4f %-14.3e %-12.4f\n", g.method.c_str(), g.move_time, g.nominal, g.worst);
     }
   }
   std::printf("\nInsensitivity widths (true/designed frequency span with PRV <= 5 %%):\n");
   for (const auto& x : r.widths) {
-    std::printf("  %-10s zeta %.3f  %s\n", x.method.c_str(), x.zeta, width_text(x.width).c_str());
+    std::printf("  %-16s zeta %.3f  %s\n", x.method.c_str(), x.zeta, width_text(x.width).c_str());
   }
   if (out != nullptr) files_text(files, *out);
   return kExitOk;
