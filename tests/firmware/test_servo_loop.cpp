@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "ideal_drive.hpp"
 #include "settle/firmware/servo_loop.hpp"
@@ -180,6 +181,50 @@ TEST(ServoLoop, StepGuardHoldsWhenAMovesPeaksAreWrong) {
   EXPECT_EQ(r.loop.axis_stats(0).moves_aborted, 1u);
   EXPECT_LT(r.drive.position(), 500'000);
   EXPECT_TRUE(r.loop.idle());
+}
+
+TEST(ServoLoop, RestartedDriveIsEnabledAgainBeforeStreaming) {
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<256> master{hub};
+  std::optional<test::IdealDrive> drive;
+  drive.emplace(hub, hal::canopen::DriveNodeConfig{});
+  firmware::ServoLoop<double, 1, 4> loop{master, kPeriod};
+  ASSERT_EQ(loop.add_axis(axis(1)), firmware::LoopStatus::ok);
+  std::uint64_t now = 0;
+  drive->start(now);
+  loop.start(now);
+  std::uint64_t streamed_while_not_ready = 0;
+  auto tick = [&] {
+    now += kPeriod;
+    hub.set_time_us(now);
+    loop.tick(now);
+    if (!loop.ready(0) && loop.record(0).moving) ++streamed_while_not_ready;
+    drive->process(now);
+  };
+  for (int i = 0; i < 2000 && !loop.ready(0); ++i) tick();
+  ASSERT_TRUE(loop.ready(0));
+  ASSERT_EQ(loop.submit(0, scurve(0.1, 0.5)), firmware::LoopStatus::ok);
+  ASSERT_EQ(loop.submit(0, scurve(0.1, 0.5)), firmware::LoopStatus::ok);  // queued behind it
+  for (int i = 0; i < 200; ++i) tick();
+  const auto restarts_before = loop.axis_stats(0).restarts;
+  // The drive power-cycles mid-move: a fresh node on the bus, which announces itself (boot-up).
+  drive.emplace(hub, hal::canopen::DriveNodeConfig{});
+  drive->start(now);
+  tick();
+  tick();
+  EXPECT_FALSE(loop.ready(0));
+  EXPECT_EQ(loop.axis_stats(0).restarts, restarts_before + 1);
+  EXPECT_EQ(loop.axis_stats(0).moves_aborted, 1u);
+  EXPECT_TRUE(loop.idle());  // the queued move was planned from a position that no longer holds
+  for (int i = 0; i < 2000 && !loop.ready(0); ++i) tick();
+  ASSERT_TRUE(loop.ready(0)) << hal::canopen::to_string(loop.drive(0).state());
+  EXPECT_EQ(drive->node().state(), hal::canopen::Cia402State::operation_enabled);
+  EXPECT_EQ(drive->node().mode(), hal::canopen::OperationMode::cyclic_synchronous_position);
+  ASSERT_EQ(loop.submit(0, scurve(0.02, 0.3)), firmware::LoopStatus::ok);
+  for (int i = 0; i < 400; ++i) tick();
+  EXPECT_EQ(streamed_while_not_ready, 0u);
+  EXPECT_EQ(loop.axis_stats(0).moves_completed, 1u);
+  EXPECT_EQ(drive->position(), 20'000);  // the new drive started at 0 and the loop held there
 }
 
 }  // namespace

@@ -191,12 +191,7 @@ class ServoLoop {
   // Stops streaming on an axis: the active move and the queue are dropped, the axis holds.
   void abort(std::size_t axis) noexcept {
     if (axis >= MaxAxes || axis >= count_) return;
-    Axis& a = axes_[axis];
-    if (a.active) ++a.stats.moves_aborted;
-    a.active = false;
-    a.pending.reset();
-    a.end_pending = false;
-    a.queue.clear();
+    abandon(axes_[axis]);
   }
 
   [[nodiscard]] std::size_t axis_count() const noexcept { return count_; }
@@ -244,6 +239,15 @@ class ServoLoop {
     FeedbackRing feedback_log{};
   };
 
+  // Drops the active move (counted as aborted) and everything queued; the axis holds.
+  static void abandon(Axis& a) noexcept {
+    if (a.active) ++a.stats.moves_aborted;
+    a.active = false;
+    a.pending.reset();
+    a.end_pending = false;
+    a.queue.clear();
+  }
+
   void receive_all(std::uint64_t now_us) noexcept {
     hal::CanFrame f{};
     for (std::size_t n = 0; n < kMaxFramesPerTick; ++n) {
@@ -274,13 +278,10 @@ class ServoLoop {
     if ((ev & re::heartbeat_lost) != 0) ++a.stats.heartbeat_losses;
     if ((ev & re::emcy) != 0) ++a.stats.emcy_received;
     if ((ev & re::boot_up) != 0) ++a.stats.restarts;
-    // Whatever took the drive out of operation, the move in flight is void: the axis is no longer
-    // where the profile assumes. Queued moves stay, and resume once the drive is ready again.
-    if ((ev & (re::heartbeat_lost | re::left_enabled | re::boot_up | re::failed)) != 0 && a.active) {
-      a.active = false;
-      a.pending.reset();
-      ++a.stats.moves_aborted;
-    }
+    // Whatever took the drive out of operation voids the move in flight and every queued one: the
+    // axis is no longer where they were planned from. Nothing resumes by itself; the application
+    // decides, once the drive is ready again.
+    if ((ev & (re::heartbeat_lost | re::left_enabled | re::boot_up | re::failed)) != 0) abandon(a);
     if ((ev & (re::boot_up | re::heartbeat_lost | re::left_enabled)) != 0) a.have_target = false;
 
     // Following error: the feedback that arrived since the last tick answers the target sent in
@@ -294,11 +295,7 @@ class ServoLoop {
         if (mag > a.stats.max_following_error) a.stats.max_following_error = mag;
         if (a.cfg.following_error_counts != 0 && mag > static_cast<std::int64_t>(a.cfg.following_error_counts)) {
           ++a.stats.following_error_trips;
-          if (a.active) {
-            a.active = false;
-            a.pending.reset();
-            ++a.stats.moves_aborted;
-          }
+          abandon(a);
         }
       }
     }
@@ -331,9 +328,7 @@ class ServoLoop {
           if (!(step <= a.guard)) {
             // Never command a jump the actuator cannot make: abandon the move, hold position.
             ++a.stats.step_guard_trips;
-            ++a.stats.moves_aborted;
-            a.active = false;
-            a.queue.pop();
+            abandon(a);
           } else {
             target = next;
             if (last) {
