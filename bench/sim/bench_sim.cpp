@@ -48,6 +48,14 @@ void BM_Beam3Mode1sLinearSetpoints(benchmark::State& state) {
 }
 BENCHMARK(BM_Beam3Mode1sLinearSetpoints)->Unit(benchmark::kMicrosecond);
 
+// Follows the move offline, then holds the base for the rest of the second.
+void follow_then_rest(sim::ModalPlant& beam, const sim::MoveCommand& cmd, int rest, benchmark::State& state) {
+  if (sim::drive(beam, cmd, kDt) != sim::SimStatus::ok) state.SkipWithError("drive failed");
+  const sim::BasePolynomial hold = sim::BasePolynomial::constant(cmd.final_position());
+  for (int k = 0; k < rest; ++k) (void)beam.advance(kDt, hold);
+  benchmark::DoNotOptimize(beam.residual_amplitude());
+}
+
 // Offline: follow the planned S-curve by quintic Hermite pieces (sampling the profile, exact at its
 // breakpoints), then rest for the rest of the second.
 void BM_Beam3Mode1sFollowMove(benchmark::State& state) {
@@ -55,12 +63,7 @@ void BM_Beam3Mode1sFollowMove(benchmark::State& state) {
   (void)sim::ModalPlant::make_beam({}, beam);
   const sim::MoveCommand cmd{scurve_08(beam.fundamental().omega)};
   const int rest = kSteps - static_cast<int>(std::ceil(cmd.duration() / kDt));
-  for (auto _ : state) {
-    if (sim::drive(beam, cmd, kDt) != sim::SimStatus::ok) state.SkipWithError("drive failed");
-    const sim::BasePolynomial hold = sim::BasePolynomial::constant(cmd.final_position());
-    for (int k = 0; k < rest; ++k) (void)beam.advance(kDt, hold);
-    benchmark::DoNotOptimize(beam.residual_amplitude());
-  }
+  for (auto _ : state) follow_then_rest(beam, cmd, rest, state);
 }
 BENCHMARK(BM_Beam3Mode1sFollowMove)->Unit(benchmark::kMicrosecond);
 
@@ -73,10 +76,7 @@ void BM_Beam3Mode1sFollowMoveCold(benchmark::State& state) {
   for (auto _ : state) {
     sim::ModalPlant beam;
     (void)sim::ModalPlant::make_beam({}, beam);
-    if (sim::drive(beam, cmd, kDt) != sim::SimStatus::ok) state.SkipWithError("drive failed");
-    const sim::BasePolynomial hold = sim::BasePolynomial::constant(cmd.final_position());
-    for (int k = 0; k < rest; ++k) (void)beam.advance(kDt, hold);
-    benchmark::DoNotOptimize(beam.residual_amplitude());
+    follow_then_rest(beam, cmd, rest, state);
   }
 }
 BENCHMARK(BM_Beam3Mode1sFollowMoveCold)->Unit(benchmark::kMicrosecond);

@@ -46,19 +46,28 @@ void files_text(const sim::FigureFiles& f, const std::string& dir) {
               f.gnuplot ? "" : " (gnuplot not found: .gp scripts written, PNGs not rendered)");
 }
 
-int run_000(bool json, const std::string* out) {
-  sim::Options000 o;
-  o.history = out != nullptr;
-  sim::Result000 r;
-  if (const sim::SimStatus st = sim::reproduce_000(o, r); st != sim::SimStatus::ok) {
-    std::fprintf(stderr, "settle: reproduce 000 failed: %s\n", sim::describe(st));
-    return kExitFailure;
+// Runs one experiment and, with --out, writes its figures; false (after saying why) on failure.
+template <typename Options, typename Result>
+bool compute(const char* id, sim::SimStatus (*reproduce)(const Options&, Result&),
+             sim::SimStatus (*figures)(const Result&, const std::string&, sim::FigureFiles&), const std::string* out,
+             Result& r, sim::FigureFiles& files) {
+  Options o;
+  o.history = out != nullptr;  // time histories only feed the figures
+  if (const sim::SimStatus st = reproduce(o, r); st != sim::SimStatus::ok) {
+    std::fprintf(stderr, "settle: reproduce %s failed: %s\n", id, sim::describe(st));
+    return false;
   }
-  sim::FigureFiles files;
-  if (out != nullptr && sim::write_figures_000(r, *out, files) != sim::SimStatus::ok) {
+  if (out != nullptr && figures(r, *out, files) != sim::SimStatus::ok) {
     std::fprintf(stderr, "settle: cannot write figures to %s\n", out->c_str());
-    return kExitFailure;
+    return false;
   }
+  return true;
+}
+
+int run_000(bool json, const std::string* out) {
+  sim::Result000 r;
+  sim::FigureFiles files;
+  if (!compute("000", sim::reproduce_000, sim::write_figures_000, out, r, files)) return kExitFailure;
   if (json) {
     JsonWriter w{stdout};
     w.begin_object().field("status", "ok").field("experiment", "000").field("period", r.period);
@@ -130,18 +139,9 @@ int run_000(bool json, const std::string* out) {
 }
 
 int run_001(bool json, const std::string* out) {
-  sim::Options001 o;
-  o.history = out != nullptr;
   sim::Result001 r;
-  if (const sim::SimStatus st = sim::reproduce_001(o, r); st != sim::SimStatus::ok) {
-    std::fprintf(stderr, "settle: reproduce 001 failed: %s\n", sim::describe(st));
-    return kExitFailure;
-  }
   sim::FigureFiles files;
-  if (out != nullptr && sim::write_figures_001(r, *out, files) != sim::SimStatus::ok) {
-    std::fprintf(stderr, "settle: cannot write figures to %s\n", out->c_str());
-    return kExitFailure;
-  }
+  if (!compute("001", sim::reproduce_001, sim::write_figures_001, out, r, files)) return kExitFailure;
   if (json) {
     JsonWriter w{stdout};
     w.begin_object().field("status", "ok").field("experiment", "001").field("omega", r.omega).field("zeta", r.zeta);
@@ -202,18 +202,9 @@ int run_001(bool json, const std::string* out) {
 }
 
 int run_004(bool json, const std::string* out) {
-  sim::Options004 o;
-  o.history = out != nullptr;
   sim::Result004 r;
-  if (const sim::SimStatus st = sim::reproduce_004(o, r); st != sim::SimStatus::ok) {
-    std::fprintf(stderr, "settle: reproduce 004 failed: %s\n", sim::describe(st));
-    return kExitFailure;
-  }
   sim::FigureFiles files;
-  if (out != nullptr && sim::write_figures_004(r, *out, files) != sim::SimStatus::ok) {
-    std::fprintf(stderr, "settle: cannot write figures to %s\n", out->c_str());
-    return kExitFailure;
-  }
+  if (!compute("004", sim::reproduce_004, sim::write_figures_004, out, r, files)) return kExitFailure;
   if (json) {
     JsonWriter w{stdout};
     w.begin_object()

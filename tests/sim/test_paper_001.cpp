@@ -10,6 +10,7 @@
 #include <map>
 #include <string>
 
+#include "rk4.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/sim/reproduce.hpp"
 
@@ -18,23 +19,12 @@ namespace {
 
 const double kW = std::sqrt(800.0), kZ = 9.0 / (2.0 * std::sqrt(800.0));
 
-// x'' + 2 z w x' + w^2 x = 2 z w y' + w^2 y by classical RK4 from rest, y given with y'; returns
-// (x, x') at tau (the command is smooth on (0, tau), its velocity steps sit at the ends).
+// x'' + 2 z w x' + w^2 x = 2 z w y' + w^2 y from rest, y given with y'; returns (x, x') at tau
+// (the command is smooth on (0, tau), its velocity steps sit at the ends).
 template <typename Y, typename DY>
 std::array<double, 2> rk4(Y y, DY dy, double tau, int steps = 40000) {
-  double x = 0.0, v = 0.0;
-  const double h = tau / steps;
-  auto acc = [&](double t, double xx, double vv) { return 2 * kZ * kW * (dy(t) - vv) + kW * kW * (y(t) - xx); };
-  for (int i = 0; i < steps; ++i) {
-    const double t = i * h;
-    const double k1x = v, k1v = acc(t, x, v);
-    const double k2x = v + 0.5 * h * k1v, k2v = acc(t + 0.5 * h, x + 0.5 * h * k1x, v + 0.5 * h * k1v);
-    const double k3x = v + 0.5 * h * k2v, k3v = acc(t + 0.5 * h, x + 0.5 * h * k2x, v + 0.5 * h * k2v);
-    const double k4x = v + h * k3v, k4v = acc(t + h, x + h * k3x, v + h * k3v);
-    x += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-  }
-  return {x, v};
+  return test::rk4([&](double t, double x, double v) { return 2 * kZ * kW * (dy(t) - v) + kW * kW * (y(t) - x); },
+                   tau, steps);
 }
 
 // The command of SEEDS.md B with L = 1: y = Rt/2pi - (Y2/2pi) sin Rt + (Y3/2pi)(1 - cos Rt).

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "residual.hpp"
+#include "rk4.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/sim/reproduce.hpp"
 
@@ -82,21 +83,11 @@ TEST(Soak, RandomModalPlantsAgainstRk4) {
     ASSERT_EQ(core::plan(rq, mv), core::Status::ok);
     ASSERT_EQ(drive(p, MoveCommand{mv}, rq.time.value() / 3000.0), SimStatus::ok);
     // RK4 on q'' = g a(t) - 2 z w q' - w^2 q with a from the move.
-    const int steps = 200000;
-    const double h = rq.time.value() / steps;
-    double q = 0.0, v = 0.0;
-    auto f = [&](double t, double qq, double vv) {
-      return m.gain * mv.at(t).a - 2 * m.zeta * m.omega * vv - m.omega * m.omega * qq;
-    };
-    for (int i = 0; i < steps; ++i) {
-      const double t = i * h;
-      const double k1q = v, k1v = f(t, q, v);
-      const double k2q = v + 0.5 * h * k1v, k2v = f(t + 0.5 * h, q + 0.5 * h * k1q, v + 0.5 * h * k1v);
-      const double k3q = v + 0.5 * h * k2v, k3v = f(t + 0.5 * h, q + 0.5 * h * k2q, v + 0.5 * h * k2v);
-      const double k4q = v + h * k3v, k4v = f(t + h, q + h * k3q, v + h * k3v);
-      q += h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q);
-      v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-    }
+    const auto [q, v] = test::rk4(
+        [&](double t, double qq, double vv) {
+          return m.gain * mv.at(t).a - 2 * m.zeta * m.omega * vv - m.omega * m.omega * qq;
+        },
+        rq.time.value(), 200000);
     const double scale = std::fabs(m.gain) * rq.distance;
     EXPECT_NEAR(p.mode_q(0), q, 1e-9 * scale) << trial;
     EXPECT_NEAR(p.mode_dq(0), v, 1e-9 * scale * m.omega) << trial;
