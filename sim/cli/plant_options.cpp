@@ -32,17 +32,63 @@ bool sim_ok(sim::SimStatus st, const char* param, RequestError& err) {
   return false;
 }
 
+// The option a rejected plant parameter came from, so the user is told what to change (the
+// plant constructors check in this order, so the first offending option is the one named).
+const char* plant_param(sim::SimStatus st, const std::string& kind, double first_of_pair) {
+  using sim::SimStatus;
+  if (kind == "sdof") {
+    if (st == SimStatus::non_positive_mass) return "--mass";
+    if (st == SimStatus::non_positive_stiffness) return "--stiffness";
+    if (st == SimStatus::negative_damping || st == SimStatus::not_underdamped) return "--damping";
+  } else if (kind == "beam") {
+    if (st == SimStatus::non_positive_length) return "--length";
+    if (st == SimStatus::non_positive_modulus) return "--modulus";
+    if (st == SimStatus::non_positive_section) return first_of_pair > 0.0 ? "--width" : "--thickness";
+    if (st == SimStatus::non_positive_mass) return "--beam-mass";
+    if (st == SimStatus::negative_tip_mass) return "--tip-mass";
+    if (st == SimStatus::negative_damping || st == SimStatus::not_underdamped) return "--modal-damping";
+    if (st == SimStatus::bad_mode_count || st == SimStatus::root_not_found) return "--modes";
+  } else if (kind == "belt") {
+    if (st == SimStatus::non_positive_mass) return "--inertia";
+    if (st == SimStatus::non_positive_stiffness) return "--belt-stiffness";
+    if (st == SimStatus::negative_damping || st == SimStatus::not_underdamped) return "--belt-damping";
+    if (st == SimStatus::non_positive_radius) return first_of_pair > 0.0 ? "--pulley-R" : "--pulley-r";
+    if (st == SimStatus::non_positive_ratio) return "--ratio";
+  }
+  return "--plant";
+}
+
+// Each plant's own parameter options: one given for another plant would be silently ignored,
+// so it is refused instead.
+struct Owned {
+  const char* option;
+  const char* kind;
+};
+constexpr Owned kOwned[] = {{"--mass", "sdof"},          {"--stiffness", "sdof"},       {"--damping", "sdof"},
+                            {"--length", "beam"},        {"--modulus", "beam"},         {"--thickness", "beam"},
+                            {"--width", "beam"},         {"--beam-mass", "beam"},       {"--tip-mass", "beam"},
+                            {"--modes", "beam"},         {"--modal-damping", "beam"},   {"--inertia", "belt"},
+                            {"--belt-stiffness", "belt"}, {"--belt-damping", "belt"},   {"--pulley-r", "belt"},
+                            {"--pulley-R", "belt"},      {"--ratio", "belt"},           {"--mode", "modes"}};
+
 }  // namespace
 
 bool parse_plant(const Args& a, sim::ModalPlant& plant, RequestError& err) {
   const std::string kind = a.get("--plant").value_or("beam");
+  for (const Owned& o : kOwned) {
+    if (kind != o.kind && (kind == "sdof" || kind == "beam" || kind == "belt" || kind == "modes") && a.get(o.option)) {
+      err = {"option_not_for_plant", o.option, std::string{o.option} + " does not apply to --plant " + kind};
+      return false;
+    }
+  }
   if (kind == "sdof") {
     sim::SdofParams p{};
     if (!num(a, "--mass", p.mass, err) || !num(a, "--stiffness", p.stiffness, err) ||
         !num(a, "--damping", p.damping, err)) {
       return false;
     }
-    return sim_ok(sim::ModalPlant::make_sdof(p, plant), "--plant", err);
+    const sim::SimStatus st = sim::ModalPlant::make_sdof(p, plant);
+    return sim_ok(st, plant_param(st, kind, 0.0), err);
   }
   if (kind == "beam") {
     sim::BeamOptions o{};
@@ -58,7 +104,8 @@ bool parse_plant(const Args& a, sim::ModalPlant& plant, RequestError& err) {
       return false;
     }
     o.modes = static_cast<std::size_t>(modes);
-    return sim_ok(sim::ModalPlant::make_beam(o, plant), "--plant", err);
+    const sim::SimStatus st = sim::ModalPlant::make_beam(o, plant);
+    return sim_ok(st, plant_param(st, kind, o.params.thickness), err);
   }
   if (kind == "belt") {
     sim::BeltParams p{};
@@ -67,7 +114,8 @@ bool parse_plant(const Args& a, sim::ModalPlant& plant, RequestError& err) {
         !num(a, "--pulley-R", p.pulley_R, err) || !num(a, "--ratio", p.ratio, err)) {
       return false;
     }
-    return sim_ok(sim::ModalPlant::make_belt(p, plant), "--plant", err);
+    const sim::SimStatus st = sim::ModalPlant::make_belt(p, plant);
+    return sim_ok(st, plant_param(st, kind, p.pulley_r), err);
   }
   if (kind == "modes") {
     std::vector<sim::Mode> modes;

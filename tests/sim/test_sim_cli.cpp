@@ -57,6 +57,15 @@ TEST(SimCli, BadPlantParametersAreRefusedWithTheirCode) {
   EXPECT_NE(d.text.find("not_underdamped"), std::string::npos) << d.text;
 }
 
+TEST(SimCli, ErrorsNameTheOptionToChange) {
+  const Out o = run("simulate --plant belt --pulley-R -1 --profile poly345 --distance 1 --time 1 --json");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.text.find("\"parameter\":\"--pulley-R\""), std::string::npos) << o.text;
+  const Out x = run("simulate --plant sdof --length 1 --profile poly345 --distance 1 --time 1 --json");
+  EXPECT_EQ(x.status, 2);
+  EXPECT_NE(x.text.find("option_not_for_plant"), std::string::npos) << x.text;
+}
+
 TEST(SimCli, CsvHistory) {
   const std::string path = ::testing::TempDir() + "settle_sim_cli.csv";
   const Out o = run("simulate --plant sdof --profile ramp-versine --distance 1 --time 0.167 --csv " + path);
