@@ -119,18 +119,19 @@ template <typename Weight>
 // Magnitudes met when poly.cpp's taylor_shift runs on P = sum c_k s^k for s in [0, s_max]: the
 // Taylor coefficients |T_k| = |P^(k)/k!| and every intermediate. Coefficient sums would be far too
 // pessimistic for alternating polynomials (10 s^3 - 15 s^4 + 6 s^5 sums to 512 at s = 2), so the
-// shift is run in double on 257 phases; for degree <= 5 the sup of a polynomial exceeds its
-// maximum on that grid by less than 1/(1 - 25/256) (Markov's inequality), covered by kSweepMargin.
+// shift is run in double on 65 phases. Between grid points (1/64 apart) a polynomial of degree
+// n <= 5 moves by at most (1/128) 2 n^2 sup|P| (Markov's inequality), so sup|P| <= max/(1 - 0.39):
+// kSweepMargin covers it.
 struct Sweep {
   std::array<double, 6> t{};  // sup |T_k|
   double inter{0.0};          // sup of every value the shift forms
 };
-inline constexpr double kSweepMargin = 1.25;
+inline constexpr double kSweepMargin = 1.7;
 
 [[nodiscard]] inline Sweep sweep(const std::array<double, 6>& c, int degree, double s_max) noexcept {
   Sweep w{};
-  for (int g = 0; g <= 256; ++g) {
-    const double s = s_max * g / 256.0;
+  for (int g = 0; g <= 64; ++g) {
+    const double s = s_max * g / 64.0;
     std::array<double, 6> q = c;
     for (int k = 0; k < degree; ++k) {
       for (int i = degree - 1; i >= k; --i) {

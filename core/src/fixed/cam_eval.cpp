@@ -63,7 +63,8 @@ Sample CamStepper::next() noexcept {
   if (n_ < INT32_MAX) ++n_;
   if (n < 0) return {};
   if (n >= t.end_tick_) return {t.target_, 0, 0};
-  if (!t.steppable_) return t.at_tick(n);
+  // With a knot at every tick there is nothing to step.
+  if (!t.steppable_ || t.fmt_.log2_spacing == 0) return t.at_tick(n);
   const int l = t.fmt_.log2_spacing;
   const auto u = static_cast<std::uint32_t>(n);
   const std::uint32_t mask = (1U << l) - 1U;

@@ -232,7 +232,7 @@ Status Pieces::init_one(const PseudoPoly<double>& p, const Ctx& ctx, std::size_t
         bad = h;
       }
     }
-    for (int it = 0; it < 6 && bad > ok; ++it) {
+    for (int it = 0; it < 4 && bad > ok; ++it) {
       const double mid = 0.5 * (ok + bad);
       if (misfit(sa, sa + mid, tol_p) == 0) {
         ok = mid;
@@ -300,9 +300,9 @@ void plan_stepping(Segment& g, const std::array<double, 6>& c, const build::Swee
   };
   const double kv = build::value(g.kv), ka = build::value(g.ka);
   const double ew = g.trig ? m_ticks * 4.0 * 0x1p-32 +
-                                 absz * m_ticks * (build::value(g.rot_u) + build::value(g.rot_s)) * 0x1p-31
+                                 absz * m_ticks * (build::value(g.rot_u) + build::value(g.rot_sum)) * 0x1p-31
                            : 0.0;
-  g.steppable = fits && (!g.trig || eff >= 2.0) && drift(0) + ew <= kStepDriftBudget &&
+  g.steppable = fits && (!g.trig || eff >= 4.0) && drift(0) + ew <= kStepDriftBudget &&
                 drift(1) + kv * ew <= 0.25 * ctx.v_lsb() + bd.v * 0x1p-28 &&
                 drift(2) + ka * ew <= 0.25 * ctx.a_lsb() + bd.a * 0x1p-28;
 }
@@ -356,10 +356,12 @@ Status make_segment(const Piece& pc, const Ctx& ctx, Segment& out, Bounds& bd) n
   g.degree = static_cast<std::uint8_t>(degree);
   g.kv = build::factor(w);
   g.ka = build::factor(w * w);
-  if (g.trig && eff >= 2.0) {
+  if (g.trig && eff >= 4.0) {  // a quarter turn per tick at most, so that s - u >= 0
     const double half = build::sin_turns(ds / 2.0);
-    g.rot_u = build::factor(2.0 * half * half);
-    g.rot_s = build::factor(build::sin_turns(ds));
+    const double u = 2.0 * half * half, sn = build::sin_turns(ds);
+    g.rot_u = build::factor(u);
+    g.rot_sum = build::factor(sn + u);
+    g.rot_diff = build::factor(sn - u);
   }
   plan_stepping(g, c, ra, absz, eff, ctx, bd);
   out = g;

@@ -53,8 +53,8 @@ std::uint64_t phase_at(const Segment& g, std::int64_t u) noexcept {
   const auto f = static_cast<std::uint32_t>(u);
   const auto dh = static_cast<std::uint32_t>(g.ds >> 32);
   const auto dl = static_cast<std::uint32_t>(g.ds);
-  const std::uint64_t whole = static_cast<std::uint64_t>(m) * dl + (static_cast<std::uint64_t>(m * dh) << 32);
-  const std::uint64_t part = static_cast<std::uint64_t>(f) * dh + ((static_cast<std::uint64_t>(f) * dl) >> 32);
+  const std::uint64_t whole = umul_wide(m, dl) + (static_cast<std::uint64_t>(m * dh) << 32);
+  const std::uint64_t part = umul_wide(f, dh) + (umul_wide(f, dl) >> 32);
   return whole + part;
 }
 
@@ -72,19 +72,23 @@ void add_phasor(const Segment& g, std::int64_t wr, std::int64_t wi, Wide& w) noe
   w.a -= apply(wi, g.ka);
 }
 
-// Taylor coefficients of the polynomial part at the phase, to `passes` orders, refined for the
-// phase bits below Q1.31.
+// Random access needs T_0..T_2 (p, v, a): three passes of the shift.
+constexpr int ra_passes(int degree) noexcept { return degree < 3 ? degree : 3; }
+
+// Taylor coefficients of the polynomial part at the phase, to `passes` orders. T_0..T_2 are then
+// refined for the phase bits below Q1.31 (T_k with T_{k+1}, so T_2 only when T_3 is final after
+// three passes) by the same rule whatever `passes`, so the stepper's anchor equals random access.
 Coeffs taylor_at(const Segment& g, std::uint64_t phase, int passes) noexcept {
   Coeffs t = g.c;
   taylor_shift(t, g.degree, static_cast<std::uint32_t>(phase >> 32), passes);
-  taylor_refine(t, g.degree, static_cast<std::uint32_t>(phase), passes);
+  const int ra = ra_passes(g.degree);
+  taylor_refine(t, g.degree, static_cast<std::uint32_t>(phase), ra == g.degree ? ra : ra - 1);
   return t;
 }
 
 // Random access inside a segment: p = P(s), v = ds P'(s), a = ds^2 P''(s), plus the phasor.
 Wide eval_segment(const Segment& g, std::uint64_t phase) noexcept {
-  const int passes = g.degree < 3 ? g.degree : 3;
-  const Coeffs t = taylor_at(g, phase, passes);
+  const Coeffs t = taylor_at(g, phase, ra_passes(g.degree));
   Wide w{t[0], 0, 0};
   if (g.degree >= 1) w.v = apply(t[1], g.dsp[0]);
   if (g.degree >= 2) w.a = apply(t[2], g.dsp[1], 1);
@@ -138,9 +142,11 @@ void anchor(const Segment& g, std::int64_t u, TrackState& s) noexcept {
 void advance(const Segment& g, TrackState& s) noexcept {
   chains_step(s.fd, g.degree, g.sh);
   if (g.trig) {
-    const std::int64_t wr = s.wr, wi = s.wi;
-    s.wr = wr - apply(wr, g.rot_u) - apply(wi, g.rot_s);
-    s.wi = wi - apply(wi, g.rot_u) + apply(wr, g.rot_s);
+    const std::int64_t k1 = apply(s.wr + s.wi, g.rot_u);
+    const std::int64_t k2 = apply(s.wr, g.rot_sum);
+    const std::int64_t k3 = apply(s.wi, g.rot_diff);
+    s.wr -= k1 + k3;
+    s.wi += k2 - k1;
   }
 }
 

@@ -37,44 +37,13 @@ void init_chain(std::int64_t* x, int r, const Coeffs& b, int degree, const std::
   }
 }
 
-void step_chain(std::int64_t* x, int r, int degree, const Shifts& sh) noexcept {
-  for (int i = 0; i + r < degree; ++i) x[i] += shift(x[i + 1], sh[static_cast<unsigned>(i + r + 1)]);
-}
-
 }  // namespace
-
-void taylor_shift(Coeffs& c, int degree, std::uint32_t s31, int passes) noexcept {
-  for (int k = 0; k < passes; ++k) {
-    for (int i = degree - 1; i >= k; --i) {
-      c[static_cast<unsigned>(i)] += mul_shr(c[static_cast<unsigned>(i + 1)], s31, 31U);
-    }
-  }
-}
-
-void taylor_refine(Coeffs& t, int degree, std::uint32_t lo, int count) noexcept {
-  for (int k = 0; k < count && k < degree; ++k) {
-    t[static_cast<unsigned>(k)] += (k + 1) * mul_shr(t[static_cast<unsigned>(k + 1)], lo, 63U);
-  }
-}
 
 void chains_init(const Coeffs& b, int degree, const Shifts& sh, Chains& out) noexcept {
   const auto f = scales(sh);
   init_chain(out.p.data(), 0, b, degree, f);
   init_chain(out.v.data(), 1, b, degree, f);
   init_chain(out.a.data(), 2, b, degree, f);
-}
-
-void chains_step(Chains& ch, int degree, const Shifts& sh) noexcept {
-  step_chain(ch.p.data(), 0, degree, sh);
-  step_chain(ch.v.data(), 1, degree, sh);
-  step_chain(ch.a.data(), 2, degree, sh);
-}
-
-Wide chains_value(const Chains& ch, int degree, const Shifts& sh) noexcept {
-  Wide w{ch.p[0], 0, 0};
-  if (degree >= 1) w.v = shift(ch.v[0], sh[1]);
-  if (degree >= 2) w.a = shift(ch.a[0], sh[1] + sh[2]);
-  return w;
 }
 
 }  // namespace settle::core::fixed

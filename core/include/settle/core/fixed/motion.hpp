@@ -28,8 +28,11 @@ struct Segment {
   std::array<Factor, kMaxDegree> dsp{};  // ds^1 .. ds^5
   Factor kv{};            // 2 pi ds: d/dtick of the phasor
   Factor ka{};            // (2 pi ds)^2
-  Factor rot_u{};         // 1 - cos(2 pi ds) and sin(2 pi ds): the stepping rotation
-  Factor rot_s{};
+  // The stepping rotation by d = 2 pi ds as three products (Gauss): with u = 1 - cos d and
+  // s = sin d, W += (-u (Wr + Wi) - (s - u) Wi) + i (-u (Wr + Wi) + (s + u) Wr).
+  Factor rot_u{};
+  Factor rot_sum{};   // s + u
+  Factor rot_diff{};  // s - u (>= 0: only segments of 4 ticks and more are stepped)
   Shifts sh{};            // forward-difference scales (poly.hpp)
   std::uint8_t degree{0};
   bool trig{false};
