@@ -103,6 +103,12 @@ int run_000(bool json, const std::string* out) {
       }
       w.end_array().end_object();
     }
+    w.end_array().key("sensitivity").begin_array();
+    for (const auto& s : r.sensitivity) {
+      w.begin_object().field("name", s.name).field("duration", s.duration).field("prv_nominal", s.prv_nominal).key("width");
+      width_json(w, s.width);
+      w.end_object();
+    }
     w.end_array();
     if (out != nullptr) files_json(w, files);
     w.end_object().finish();
@@ -132,6 +138,14 @@ int run_000(bool json, const std::string* out) {
                   core::to_string(row.profile), row.peak_velocity, row.peak_acceleration, row.over_vmax ? "yes" : "no",
                   row.prv_mode1, row.prv_tip, 1e3 * row.residual_tip, 1e3 * row.peak_deflection,
                   width_text(row.width).c_str());
+    }
+  }
+  if (!r.sensitivity.empty()) {
+    std::printf("\nSensitivity on mode 1, every profile (D = 0.07 m, T = 2 Tn, designed for mode 1 where it takes a\n"
+                "mode; pseudopoly = Table II's (4.5, 6.2, 8.4)) and every shaper (on a step):\n");
+    std::printf("%-16s %-10s %-12s %s\n", "command", "lasts (s)", "PRV nominal", "5% width [ratio range]");
+    for (const auto& s : r.sensitivity) {
+      std::printf("%-16s %-10.4f %-12.3e %s\n", s.name.c_str(), s.duration, s.prv_nominal, width_text(s.width).c_str());
     }
   }
   if (out != nullptr) files_text(files, *out);

@@ -111,7 +111,32 @@ SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFi
   const std::string tpath = (fs::path{dir} / "000_table.csv").string();
   if (!write_text(tpath, table)) return SimStatus::io_error;
   out.csv.push_back(tpath);
-  return SimStatus::ok;
+  if (r.sensitivity.empty()) return SimStatus::ok;
+  // Sensitivity curves: one column per profile or shaper, PRV against the frequency ratio.
+  std::string csv = "ratio";
+  for (const Sensitivity000& s : r.sensitivity) csv += "," + s.name;
+  csv += "\n";
+  for (std::size_t i = 0; i < r.sensitivity[0].curve.size(); ++i) {
+    csv += fmt("%.6g", r.sensitivity[0].curve[i].ratio);
+    for (const Sensitivity000& s : r.sensitivity) csv += "," + fmt("%.9e", s.curve[i].prv_percent);
+    csv += "\n";
+  }
+  const std::string spath = (fs::path{dir} / "000_sensitivity.csv").string();
+  if (!write_text(spath, csv)) return SimStatus::io_error;
+  out.csv.push_back(spath);
+  std::string script = "set title 'Seed 000 beam, mode 1: PRV against true/designed frequency (profiles: D = 0.07 m, "
+                       "T = 2 Tn; shapers: on a step)'\nset xlabel 'omega true / omega designed'\nset ylabel "
+                       "'PRV (%)'\nset logscale y\nset yrange [1e-4:200]\nset key outside right\n"
+                       "f(x) = 5\nplot f(x) with lines dt 2 lc rgb 'black' title '5 %'";
+  // gnuplot cycles eight colours: give each curve its own, and draw the shapers dashed.
+  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02",
+                                  "#a6761d", "#000000", "#e41a1c", "#377eb8", "#4daf4a", "#984ea3"};
+  for (std::size_t k = 0; k < r.sensitivity.size(); ++k) {
+    const bool shaper = r.sensitivity[k].name.rfind("shaper:", 0) == 0;
+    script += ", '000_sensitivity.csv' skip 1 using 1:" + std::to_string(k + 2) + " with lines lw 2 lc rgb '" +
+              colours[k % 12] + "'" + (shaper ? " dt 4" : "") + " title '" + r.sensitivity[k].name + "'";
+  }
+  return plot(dir, "000_sensitivity", script + "\n", out);
 }
 
 SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFiles& out) {

@@ -1,8 +1,67 @@
 #include <cmath>
+#include <memory>
 
 #include "settle/sim/reproduce.hpp"
 
 namespace settle::sim {
+
+namespace {
+
+// Every core profile and every shaper, on the first beam mode (undamped), PRV against the
+// frequency ratio from 0.5 to 2 and the 5 % width.
+SimStatus sensitivity_study(double w1, double tn, std::vector<Sensitivity000>& out) {
+  const double d = 0.07, t = 2.0 * tn;
+  struct Case {
+    const char* name;
+    core::ProfileKind kind;
+  };
+  const Case profiles[] = {{"scurve", core::ProfileKind::scurve},           {"scurve-damped", core::ProfileKind::scurve_damped},
+                           {"ramp-versine", core::ProfileKind::ramp_versine}, {"pseudopoly", core::ProfileKind::pseudopoly},
+                           {"poly345", core::ProfileKind::poly345},         {"trapezoid", core::ProfileKind::trapezoid},
+                           {"jerk-limited", core::ProfileKind::jerk_limited}};
+  std::vector<std::pair<std::string, std::unique_ptr<Command>>> cmds;
+  for (const Case& c : profiles) {
+    core::MoveRequest r;
+    r.profile = c.kind;
+    r.distance = d;
+    r.time = t;
+    r.omega = w1;
+    if (c.kind == core::ProfileKind::pseudopoly) {
+      // Seed 004's Table II pseudo-polynomial: not designed for any mode, a shape for comparison.
+      r.gammas[0] = 4.5;
+      r.gammas[1] = 6.2;
+      r.gammas[2] = 8.4;
+      r.gamma_count = 3;
+    }
+    if (c.kind == core::ProfileKind::jerk_limited) {
+      // Limits loose enough for the stretch to T to be feasible: cruise at most 2 D/T.
+      r.vmax = 2.0 * d / t;
+      r.amax = 16.0 * d / (t * t);
+      r.jmax = 256.0 * d / (t * t * t);
+    }
+    core::Move<double> m;
+    if (core::plan(r, m) != core::Status::ok) return SimStatus::plan_failed;
+    cmds.emplace_back(c.name, std::make_unique<MoveCommand>(m));
+  }
+  for (auto kind : {core::ShaperKind::zv, core::ShaperKind::zvd, core::ShaperKind::zvdd, core::ShaperKind::ei}) {
+    core::Shaper<double> sh;
+    if (core::design_shaper(kind, w1, 0.0, 0.05, sh) != core::Status::ok) return SimStatus::plan_failed;
+    cmds.emplace_back(std::string{"shaper:"} + core::to_string(kind), std::make_unique<StepsCommand>(d, sh));
+  }
+  for (const auto& [name, cmd] : cmds) {
+    Sensitivity000 s;
+    s.name = name;
+    s.duration = cmd->duration();
+    SimStatus st = prv_on_mode(*cmd, w1, 0.0, s.prv_nominal);
+    if (st == SimStatus::ok) st = insensitivity_width(*cmd, w1, 0.0, 5.0, s.width);
+    if (st == SimStatus::ok) st = omega_sensitivity(*cmd, w1, 0.0, 0.5, 2.0, 151, s.curve);
+    if (st != SimStatus::ok) return st;
+    out.push_back(std::move(s));
+  }
+  return SimStatus::ok;
+}
+
+}  // namespace
 
 SimStatus reproduce_000(const Options000& o, Result000& out) {
   ModalPlant beam;
@@ -66,6 +125,10 @@ SimStatus reproduce_000(const Options000& o, Result000& out) {
       }
     }
     res.runs.push_back(std::move(run));
+  }
+  if (o.sensitivity) {
+    st = sensitivity_study(w1, res.period, res.sensitivity);
+    if (st != SimStatus::ok) return st;
   }
   out = std::move(res);
   return SimStatus::ok;

@@ -115,6 +115,7 @@ TEST(Paper000, ExperimentTableAgreesWithDuhamelQuadrature) {
   Options000 o;
   o.history = false;
   o.widths = false;
+  o.sensitivity = false;
   Result000 res;
   ASSERT_EQ(reproduce_000(o, res), SimStatus::ok);
   ASSERT_EQ(res.runs.size(), 2u);

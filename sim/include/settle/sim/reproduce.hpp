@@ -47,16 +47,29 @@ struct Run000 {
   std::vector<Row000> rows;  // for each time ratio: S-curve then 3-4-5
 };
 
+// PRV against the ratio of true to designed frequency on the beam's first mode, for every core
+// profile (D = 0.07 m in T = 2 Tn, designed for mode 1 where the profile takes a mode) and every
+// shaper (on a step, the textbook setting).
+struct Sensitivity000 {
+  std::string name;        // profile or "shaper:<kind>"
+  double duration{0.0};    // of the move (s)
+  double prv_nominal{0.0};
+  InsensitivityWidth width{};  // at 5 %
+  std::vector<SensitivityPoint> curve;
+};
+
 struct Result000 {
   std::vector<BeamMode> modes;
   double period{0.0};  // Tn of mode 1
   std::vector<Run000> runs;
+  std::vector<Sensitivity000> sensitivity;
 };
 
 struct Options000 {
   std::vector<double> distances{kDistances000.begin(), kDistances000.end()};
   bool history{true};
   bool widths{true};
+  bool sensitivity{true};
   double dt{1e-4};
 };
 [[nodiscard]] SimStatus reproduce_000(const Options000& o, Result000& out);
