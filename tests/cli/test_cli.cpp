@@ -7,26 +7,14 @@
 #include <cstdio>
 #include <map>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
+
+#include "run_cli.hpp"
 
 namespace {
 
-struct CliResult {
-  int status;
-  std::string out;
-};
-
-CliResult run(const std::string& args) {
-  const std::string cmd = std::string{SETTLE_CLI} + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
+using settle::test::CliResult;
+CliResult run(const std::string& args) { return settle::test::run_cli(args); }
 
 // Minimal JSON reader: returns flattened "a.b.c" -> raw value text; fails on malformed input.
 struct Json {

@@ -14,8 +14,8 @@ PLANT_TOLERANT = ["--sync-loss-periods", "250"]
 STREAM_TOLERANT = ["--heartbeat-ms", "2000", "--rt-priority", "50"]
 
 SCENARIOS = {
-    "000-scurve": (["--plant", "beam"], ["--profile", "scurve", "--distance", "0.05", "--time", f"{0.8 * TN:.9f}", "--omega", f"{W000}"], 1, 0.05),
-    "000-poly345": (["--plant", "beam"], ["--profile", "poly345", "--distance", "0.05", "--time", f"{1.75 * TN:.9f}"], 1, 0.05),
+    "000-scurve": (["--plant", "beam"], ["--profile", "scurve", "--distance", "0.07", "--time", f"{0.8 * TN:.9f}", "--omega", f"{W000}"], 1, 0.07),
+    "000-poly345": (["--plant", "beam"], ["--profile", "poly345", "--distance", "0.07", "--time", f"{1.75 * TN:.9f}"], 1, 0.07),
     "001-computed": (["--plant", "sdof"], ["--profile", "ramp-versine", "--distance", "0.1", "--time", "0.167", "--omega", "28.2842712", "--zeta", "0.1590990"], 2, 0.1),
     "001-arbitrary": (["--plant", "sdof"], ["--profile", "ramp-versine", "--distance", "0.1", "--time", "0.167", "--y", "0.5,0.25,0.25"], 2, 0.1),
     # belt: D is in motor radians, the residual in platform radians (lambda = 1/30)

@@ -5,7 +5,8 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
-#include <sys/wait.h>
+
+#include "run_cli.hpp"
 
 namespace {
 
@@ -15,14 +16,8 @@ struct Out {
 };
 
 Out run(const std::string& args) {
-  const std::string cmd = std::string{SETTLE_CLI} + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string s;
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) s.append(buf, n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, s};
+  const settle::test::CliResult r = settle::test::run_cli(args);
+  return {r.status, r.out};
 }
 
 bool has(const std::string& s, const std::string& key) { return s.find("\"" + key + "\":") != std::string::npos; }
