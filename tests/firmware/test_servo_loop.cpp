@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <optional>
+#include <vector>
 
 #include "ideal_drive.hpp"
 #include "settle/firmware/servo_loop.hpp"
@@ -225,6 +227,43 @@ TEST(ServoLoop, RestartedDriveIsEnabledAgainBeforeStreaming) {
   EXPECT_EQ(streamed_while_not_ready, 0u);
   EXPECT_EQ(loop.axis_stats(0).moves_completed, 1u);
   EXPECT_EQ(drive->position(), 20'000);  // the new drive started at 0 and the loop held there
+}
+
+TEST(ServoLoop, ThreeAxesOnOneBusEachFollowTheirOwnMove) {
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<256> master{hub};
+  std::vector<std::unique_ptr<test::IdealDrive>> drives;
+  firmware::ServoLoop<double, 3, 2> loop{master, kPeriod};
+  for (std::uint8_t n = 1; n <= 3; ++n) {
+    ASSERT_EQ(loop.add_axis(axis(n)), firmware::LoopStatus::ok);
+    hal::canopen::DriveNodeConfig dc{};
+    dc.node = n;
+    drives.push_back(std::make_unique<test::IdealDrive>(hub, dc));
+  }
+  EXPECT_EQ(loop.add_axis(axis(4)), firmware::LoopStatus::too_many_axes);
+  std::uint64_t now = 0;
+  for (auto& d : drives) d->start(now);
+  loop.start(now);
+  auto tick = [&] {
+    now += kPeriod;
+    hub.set_time_us(now);
+    loop.tick(now);
+    for (auto& d : drives) d->process(now);
+  };
+  for (int i = 0; i < 3000 && !loop.all_ready(); ++i) tick();
+  ASSERT_TRUE(loop.all_ready());
+  ASSERT_EQ(loop.submit(0, scurve(0.1, 0.4)), firmware::LoopStatus::ok);
+  ASSERT_EQ(loop.submit(1, scurve(-0.03, 0.2)), firmware::LoopStatus::ok);
+  ASSERT_EQ(loop.submit(2, scurve(0.25, 0.7)), firmware::LoopStatus::ok);
+  for (int i = 0; i < 900; ++i) tick();
+  EXPECT_TRUE(loop.idle());
+  EXPECT_EQ(drives[0]->position(), 100'000);
+  EXPECT_EQ(drives[1]->position(), -30'000);
+  EXPECT_EQ(drives[2]->position(), 250'000);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(loop.axis_stats(i).moves_completed, 1u);
+    EXPECT_EQ(loop.axis_stats(i).max_following_error, 0);
+  }
 }
 
 }  // namespace
