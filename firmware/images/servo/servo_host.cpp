@@ -1,0 +1,83 @@
+// The servo-loop image's program built for the host (settle_servo_image_host): the same source as
+// the Cortex-M images (servo_session.hpp), writing the candump log with stdio instead of
+// semihosting, so that the cross test can compare the two logs frame for frame.
+//   settle_servo_image_host <log>          writes the log, prints a one-line summary
+//   settle_servo_image_host --check-plan   checks that core::plan still gives the pinned move
+#include <cstdio>
+#include <cstring>
+#include <string_view>
+#include <variant>
+
+#include "servo_session.hpp"
+#include "settle/core/planner.hpp"
+
+namespace {
+
+namespace si = settle::firmware::servo_image;
+
+class FileSink {
+ public:
+  explicit FileSink(std::FILE* f) noexcept : f_{f} {}
+  void line(std::string_view text) noexcept {
+    if (std::fwrite(text.data(), 1, text.size(), f_) != text.size()) ok_ = false;
+  }
+  [[nodiscard]] bool ok() const noexcept { return ok_; }
+
+ private:
+  std::FILE* f_;
+  bool ok_{true};
+};
+
+struct NoTimer {
+  void begin() noexcept {}
+  void end(bool) noexcept {}
+};
+
+int check_plan() {
+  settle::core::MoveRequest req{};
+  req.profile = settle::core::ProfileKind::scurve;
+  req.distance = 0.05;
+  req.time = 0.8 * 2 * 3.141592653589793 / 22.04871;
+  req.omega = 22.04871;
+  settle::core::Move<double> m{};
+  if (settle::core::plan(req, m) != settle::core::Status::ok) return 1;
+  const auto* rc = std::get_if<settle::core::RampCycloid<double>>(&m.profile().variant());
+  if (rc == nullptr) return 1;
+  const auto& p = rc->params();
+  const auto& k = si::kParams;
+  const bool same = p.distance == k.distance && p.tau == k.tau && p.cruise == k.cruise &&
+                    p.amplitude == k.amplitude && p.c2 == k.c2 && p.c3 == k.c3 && m.shaper().count == 1 &&
+                    m.profile().kind() == settle::core::ProfileKind::scurve &&
+                    m.peaks().v == si::kPeaks.v && m.peaks().a == si::kPeaks.a && m.peaks().j == si::kPeaks.j;
+  std::printf("pinned move %s core::plan\n", same ? "matches" : "DIFFERS FROM");
+  return same ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 2 && std::strcmp(argv[1], "--check-plan") == 0) return check_plan();
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: settle_servo_image_host <candump log> | --check-plan\n");
+    return 2;
+  }
+  std::FILE* f = std::fopen(argv[1], "w");
+  if (f == nullptr) {
+    std::fprintf(stderr, "settle_servo_image_host: cannot write %s\n", argv[1]);
+    return 1;
+  }
+  FileSink sink{f};
+  NoTimer timer{};
+  // Static: the program holds the loop and two loopback ports, as the image does.
+  static si::Program<FileSink, NoTimer> program{sink, timer};
+  const si::RunResult r = program.run(si::pinned_move());
+  const bool written = sink.ok() && std::fclose(f) == 0;
+  std::printf("outcome %s ticks %llu ready %llu stream_end %llu frames %llu final_target %d final_position %d\n",
+              settle::firmware::to_string(r.session.outcome), static_cast<unsigned long long>(r.session.ticks),
+              static_cast<unsigned long long>(r.session.ready_tick),
+              static_cast<unsigned long long>(r.session.stream_end_tick),
+              static_cast<unsigned long long>(r.frames_logged), r.final_target, r.final_position);
+  const bool ok = written && r.session.outcome == settle::firmware::SessionOutcome::completed &&
+                  r.format_errors == 0 && r.final_position == r.final_target;
+  return ok ? 0 : 1;
+}

@@ -1,0 +1,179 @@
+#pragma once
+// The servo-loop image's program, shared by the Cortex-M images and the host build
+// (settle_servo_image_host) so that both send the same frames: one axis of ServoLoop<float> on a
+// virtual 1 kHz clock streams one move to an ideal CiA 402 drive (hal's DriveNode, in the same
+// program on an in-process loopback bus), and every frame the master sends is written as a
+// candump line to the caller's sink. Nothing is planned here: the move is the one `core::plan`
+// gives for seed 000's beam (S-curve, 0.05 m in 0.8 Tn, omega 22.04871 rad/s), pinned as its
+// RampCycloidParams and peaks; the host test checks that plan() still gives exactly these.
+#include <cstddef>
+#include <cstdint>
+
+#include "settle/core/move.hpp"
+#include "settle/core/ramp_cycloid.hpp"
+#include "settle/firmware/candump_tap.hpp"
+#include "settle/firmware/servo_loop.hpp"
+#include "settle/firmware/session.hpp"
+#include "settle/hal/canopen/drive_node.hpp"
+#include "settle/hal/loopback_bus.hpp"
+
+namespace settle::firmware::servo_image {
+
+inline constexpr std::uint32_t kPeriodUs = 1000;
+inline constexpr double kCountsPerUnit = 1e6;  // 1 count = 1 µm
+inline constexpr std::uint8_t kNode = 1;       // `settle plant`'s default node
+inline constexpr std::uint64_t kSettleTicks = 1000;
+inline constexpr const char* kIface = "vcan0";  // the interface named in the log (canplayer's)
+
+// plan({scurve, D 0.05, T 0.8 * 2 pi / 22.04871, omega 22.04871}) on x86-64, printed with %a.
+inline constexpr core::RampCycloidParams kParams{
+    0x1.999999999999ap-5,   // distance 0.05 m
+    0x1.d2e4677b3e768p-5,   // tau 0.0569937 s
+    0.0,                    // cruise
+    0x1.ec91887e5a772p+2,   // amplitude 7.69638 m/s^2
+    -0x1.8p+4,              // c2 = -24
+    0.0,                    // c3
+};
+inline constexpr core::Peaks<double> kPeaks{0x1.2e5c2de7a3a83p-1, 0x1.f58fe95a64ee7p+4, 0x1.a5ff638fd82d7p+11,
+                                            false, false};
+
+[[nodiscard]] inline core::Move<double> pinned_move() noexcept {
+  return core::Move<double>{core::Profile<double>{core::ProfileKind::scurve, core::RampCycloid<double>{kParams}},
+                            core::Shaper<double>{},
+                            kPeaks};
+}
+
+using Loop = ServoLoop<float, 1, 2>;
+
+// An ideal position-following drive: hal's DriveNode whose axis reaches each target exactly one
+// period after the SYNC that applies it (as tests/firmware/ideal_drive.hpp, without the heap).
+class IdealDrive {
+ public:
+  explicit IdealDrive(hal::LoopbackHub& hub) noexcept : bus_{hub}, node_{config()} {}
+  void start(std::uint64_t now_us) noexcept { node_.start(now_us, bus_); }
+  void process(std::uint64_t now_us) noexcept {
+    hal::CanFrame f{};
+    while (bus_.receive(f, 0) == hal::ReceiveStatus::received) {
+      if (node_.on_frame(f, now_us, bus_) == hal::canopen::DriveEvent::sync) {
+        const std::int32_t sp = node_.setpoint();
+        if (node_.following()) ++applied_;
+        velocity_ = (sp - position_) * static_cast<std::int32_t>(1'000'000 / kPeriodUs);
+        position_ = sp;
+        if (node_.stopping()) node_.stop_complete();
+        node_.publish({position_, velocity_, position_}, now_us, bus_);
+      }
+    }
+    node_.poll(now_us, bus_);
+  }
+  [[nodiscard]] std::int32_t position() const noexcept { return position_; }
+  [[nodiscard]] std::uint64_t applied() const noexcept { return applied_; }
+
+ private:
+  static hal::canopen::DriveNodeConfig config() noexcept {
+    hal::canopen::DriveNodeConfig c{};
+    c.node = kNode;
+    c.sync_period_us = kPeriodUs;
+    return c;
+  }
+  hal::LoopbackBus<8> bus_;
+  hal::canopen::DriveNode node_;
+  std::int32_t position_{0};
+  std::int32_t velocity_{0};
+  std::uint64_t applied_{0};
+};
+
+// What a run did, for the image's report and the host's summary.
+struct RunResult {
+  SessionResult session{};
+  std::int32_t final_position{0};
+  std::int32_t final_target{0};
+  std::uint64_t frames_logged{0};
+  std::uint64_t format_errors{0};
+  std::uint64_t early_flushes{0};
+  std::uint64_t applied{0};
+};
+
+// Timer: `void begin()`, `void end(bool streaming)` around every tick (the image counts
+// instructions there; the host does nothing).
+template <typename LineSink, typename Timer>
+class Program {
+ public:
+  Program(LineSink& sink, Timer& timer) noexcept
+      : master_port_{hub_}, tap_{master_port_, sink, kIface}, drive_{hub_}, loop_{tap_, kPeriodUs},
+        timer_{timer} {}
+  Program(const Program&) = delete;
+  Program& operator=(const Program&) = delete;
+
+  [[nodiscard]] RunResult run(const core::Move<double>& move) noexcept {
+    AxisConfig ac{};
+    ac.drive.node = kNode;
+    ac.counts_per_unit = kCountsPerUnit;
+    ac.vmax = 1.0;
+    RunResult r{};
+    if (loop_.add_axis(ac) != LoopStatus::ok) {
+      r.session.outcome = SessionOutcome::rejected;
+      r.session.rejection = LoopStatus::bad_axis_config;
+      return r;
+    }
+    VirtualClock clock{kPeriodUs};
+    SessionConfig cfg{};
+    cfg.settle_ticks = kSettleTicks;
+    cfg.max_ticks = 10'000;
+    Timed timed{*this};
+    r.session = run_session(timed, clock, &move, 1, 0, cfg, [this, &clock](std::uint64_t, bool) {
+      drive_.process(clock.now_us());
+    });
+    r.final_position = drive_.position();
+    r.final_target = loop_.record(0).target;
+    r.frames_logged = tap_.counters().sent;
+    r.format_errors = tap_.format_errors();
+    r.early_flushes = tap_.early_flushes();
+    r.applied = drive_.applied();
+    return r;
+  }
+
+ private:
+  // The loop as run_session sees it, with the clock handed to the hub and the log, and each
+  // tick bracketed by the timer.
+  struct Timed {
+    Program& p;
+    void start(std::uint64_t now_us) noexcept {
+      p.at(now_us);
+      p.drive_.start(now_us);
+      p.drive_.process(now_us);
+      p.loop_.start(now_us);
+      p.tap_.flush();
+    }
+    void tick(std::uint64_t now_us) noexcept {
+      p.at(now_us);
+      const bool streaming = !p.loop_.idle();
+      p.timer_.begin();
+      p.loop_.tick(now_us);
+      p.timer_.end(streaming);
+      p.tap_.flush();
+    }
+    [[nodiscard]] bool all_ready() const noexcept { return p.loop_.all_ready(); }
+    [[nodiscard]] LoopStatus submit(std::size_t axis, const core::Move<double>& m) noexcept {
+      return p.loop_.submit(axis, m);
+    }
+    void abort(std::size_t axis) noexcept { p.loop_.abort(axis); }
+    [[nodiscard]] const hal::canopen::RemoteDrive& drive(std::size_t i) const noexcept { return p.loop_.drive(i); }
+    [[nodiscard]] bool ready(std::size_t i) const noexcept { return p.loop_.ready(i); }
+    [[nodiscard]] const AxisStats& axis_stats(std::size_t i) const noexcept { return p.loop_.axis_stats(i); }
+    [[nodiscard]] bool idle() const noexcept { return p.loop_.idle(); }
+  };
+
+  void at(std::uint64_t now_us) noexcept {
+    hub_.set_time_us(now_us);
+    tap_.set_time_us(now_us);
+  }
+
+  hal::LoopbackHub hub_{};
+  hal::LoopbackBus<8> master_port_;
+  CandumpTapBus<LineSink> tap_;
+  IdealDrive drive_;
+  Loop loop_;
+  Timer& timer_;
+};
+
+}  // namespace settle::firmware::servo_image
