@@ -3,8 +3,8 @@
 //   servo-<board>.log (candump format) through semihosting, and measures with the exact
 //   instruction counter (-icount shift=7) what each servo tick cost;
 // - servo_eval-<board> (SETTLE_SERVO_EVALUATORS=1): what each evaluator costs on its own, per
-//   tick of the same move (double/float RampCycloid::at and MoveStepper::step, fixed-point
-//   Motion::at_tick and MotionStepper::next). Separate, so the servo image's size is the loop's
+//   tick of the same move (double/float RampCycloid::at and MoveStepper::step, the loop's
+//   SetpointStream<float>::next, fixed-point Motion::at_tick and MotionStepper::next). Separate, so the servo image's size is the loop's
 //   and the micro:bit's 16 KiB of RAM holds each.
 // Reports: servo[_eval]-<board>.txt, one `key value...` per line.
 #include <cstdint>
@@ -12,6 +12,7 @@
 
 #include "servo_session.hpp"
 #include "settle/core/fixed/motion.hpp"
+#include "settle/core/setpoints.hpp"
 #include "settle/core/stepper.hpp"
 #include "settle/firmware/instruction_counter.hpp"
 #include "settle/firmware/runtime.hpp"
@@ -91,6 +92,7 @@ core::fixed::Motion g_fixed{};
 core::MoveStepper<double> g_step_d{};
 core::MoveStepper<float> g_step_f{};
 core::fixed::MotionStepper<core::fixed::Motion::kMaxTracks> g_step_q{};
+core::SetpointStream<float> g_stream_f{};  // what the loop calls per tick: step + counts (double)
 std::int32_t g_n{0};
 std::int32_t g_ticks{0};  // ticks in the move, the last one included
 volatile double g_sink_d{};
@@ -113,6 +115,10 @@ std::int32_t next_tick() {
 }
 [[gnu::noinline]] void step_double() { g_sink_d = g_step_d.step().p; }
 [[gnu::noinline]] void step_float() { g_sink_f = g_step_f.step().p; }
+[[gnu::noinline]] void setpoint_float() {
+  bool last = false;
+  g_sink_q = g_stream_f.next(last);
+}
 [[gnu::noinline]] void at_fixed() { g_sink_q = g_fixed.at_tick(next_tick()).p; }
 [[gnu::noinline]] void step_fixed() { g_sink_q = g_step_q.next().p; }
 
@@ -157,6 +163,8 @@ int settle::firmware::image_main() {
   append_cost(rep, "at_float", counter.measure(at_float, calls));
   append_cost(rep, "step_double", counter.measure(step_double, calls));
   append_cost(rep, "step_float", counter.measure(step_float, calls));
+  g_stream_f = core::SetpointStream<float>{g_move_f, si::kPeriodUs, si::kCountsPerUnit, 0};
+  append_cost(rep, "setpoint_float", counter.measure(setpoint_float, calls));
   rep.append("fixed_build ").append(fixed_status == core::Status::ok ? "ok" : "failed").append("\n");
   if (fixed_status == core::Status::ok) {
     g_n = 0;
