@@ -7,10 +7,25 @@
 #include <cstdint>
 #include <random>
 
+#include "../core/test_helpers.hpp"
 #include "settle/core/fixed/format.hpp"
 #include "settle/core/planner.hpp"
 
 namespace settle::test {
+
+// A timed move (core's test helpers), shaped if asked; a pseudo-polynomial gets seed 004's optimum.
+inline core::Move<double> planned(core::ProfileKind k, double d, double t, double omega = 20.0, double zeta = 0.0,
+                                  core::ShaperKind shaper = core::ShaperKind::none) {
+  core::MoveRequest r = timed(k, d, t, omega, zeta);
+  r.shaper = shaper;
+  if (k == core::ProfileKind::pseudopoly) {
+    r.gamma_count = 3;
+    r.gammas[0] = 3.024;
+    r.gammas[1] = 4.565;
+    r.gammas[2] = 5.874;
+  }
+  return must_plan(r);
+}
 
 struct FixedCase {
   core::MoveRequest req{};

@@ -13,7 +13,7 @@
 #include "settle/core/fixed/cam.hpp"
 
 #ifndef SETTLE_FIXED_CAM_MOVES
-#define SETTLE_FIXED_CAM_MOVES 600
+#define SETTLE_FIXED_CAM_MOVES 400
 #endif
 
 using namespace settle;
@@ -21,18 +21,9 @@ using core::Status;
 using core::fixed::CamOrder;
 using core::fixed::CamTable;
 
-namespace {
+using test::planned;
 
-core::Move<double> planned(core::ProfileKind k, double d, double t, double omega = 20.0) {
-  core::MoveRequest r{};
-  r.profile = k;
-  r.distance = d;
-  r.time = t;
-  r.omega = omega;
-  core::Move<double> m{};
-  EXPECT_EQ(core::plan(r, m), Status::ok);
-  return m;
-}
+namespace {
 
 double worst_p(const CamTable& t, const core::Move<double>& m, const core::fixed::Scale& s) {
   double w = 0.0;

@@ -17,21 +17,9 @@ using core::fixed::Motion;
 using core::fixed::Sample;
 using core::fixed::Scale;
 
-namespace {
+using test::planned;
 
-core::Move<double> planned(ProfileKind k, double d, double t, double omega = 0.0, double zeta = 0.0,
-                           core::ShaperKind shaper = core::ShaperKind::none) {
-  core::MoveRequest r{};
-  r.profile = k;
-  r.distance = d;
-  r.time = t;
-  if (omega > 0.0) r.omega = omega;
-  r.zeta = zeta;
-  r.shaper = shaper;
-  core::Move<double> m{};
-  EXPECT_EQ(core::plan(r, m), Status::ok);
-  return m;
-}
+namespace {
 
 // Largest |fixed - double| over every tick of the move.
 test::Errors worst_over(const Motion& fm, const core::Move<double>& m, const Scale& s) {

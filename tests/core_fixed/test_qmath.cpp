@@ -85,6 +85,8 @@ TEST(FixedQmath, WideProductsFromHalvesAreExact) {
     const auto a = static_cast<std::uint32_t>(rng()), b = static_cast<std::uint32_t>(rng());
     ASSERT_EQ(umul_wide_halves(a, b), static_cast<std::uint64_t>(a) * b);
     const auto sa = static_cast<std::int32_t>(a), sb = static_cast<std::int32_t>(b);
+    ASSERT_EQ(mul_wide_halves(sa, b), static_cast<std::int64_t>(sa) * static_cast<std::int64_t>(b));
+    ASSERT_EQ(mul_wide_halves(sa, sb), static_cast<std::int64_t>(sa) * sb);
     ASSERT_EQ(mul_wide(sa, b), static_cast<std::int64_t>(sa) * static_cast<std::int64_t>(b));
     ASSERT_EQ(mul_wide(sa, sb), static_cast<std::int64_t>(sa) * sb);
   }
@@ -92,7 +94,8 @@ TEST(FixedQmath, WideProductsFromHalvesAreExact) {
     for (std::uint32_t b : {0U, 1U, 0xFFFFU, 0x10000U, 0x7FFFFFFFU, 0x80000000U, 0xFFFFFFFFU}) {
       EXPECT_EQ(umul_wide_halves(a, b), static_cast<std::uint64_t>(a) * b);
       const auto sa = static_cast<std::int32_t>(a), sb = static_cast<std::int32_t>(b);
-      EXPECT_EQ(mul_wide(sa, sb), static_cast<std::int64_t>(sa) * sb);
+      EXPECT_EQ(mul_wide_halves(sa, sb), static_cast<std::int64_t>(sa) * sb);
+      EXPECT_EQ(mul_wide_halves(sa, b), static_cast<std::int64_t>(sa) * static_cast<std::int64_t>(b));
     }
   }
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "fixed_cases.hpp"
 #include "settle/core/fixed/cam.hpp"
 #include "settle/core/fixed/motion.hpp"
 #include "settle/core/planner.hpp"
@@ -16,24 +17,9 @@ using core::Status;
 using core::fixed::Motion;
 using core::fixed::Scale;
 
-namespace {
+using test::planned;
 
-core::Move<double> planned(ProfileKind k, double d, double t, double omega = 20.0) {
-  core::MoveRequest r{};
-  r.profile = k;
-  r.distance = d;
-  r.time = t;
-  r.omega = omega;
-  if (k == ProfileKind::pseudopoly) {
-    r.gamma_count = 3;
-    r.gammas[0] = 3.03;
-    r.gammas[1] = 4.57;
-    r.gammas[2] = 5.87;
-  }
-  core::Move<double> m{};
-  EXPECT_EQ(core::plan(r, m), Status::ok);
-  return m;
-}
+namespace {
 
 // Builds `m` into a motion that already holds a good move; checks the code and that the motion
 // still evaluates the good move.

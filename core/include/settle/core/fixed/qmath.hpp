@@ -19,27 +19,37 @@ namespace settle::core::fixed {
   return (static_cast<std::uint64_t>(high) << 32) | ((mid << 16) | (ll & 0xFFFFU));
 }
 
-[[nodiscard]] constexpr std::uint64_t umul_wide(std::uint32_t a, std::uint32_t b) noexcept {
-#if defined(__ARM_ARCH_6M__) || defined(SETTLE_FIXED_MUL_HALVES)
-  return umul_wide_halves(a, b);
-#else
-  return static_cast<std::uint64_t>(a) * b;
-#endif
-}
-
-// Signed by unsigned and signed by signed, from the unsigned product: a negative operand x
-// contributes x + 2^32 as unsigned, so subtract the other operand times 2^32 (mod 2^64, exact).
-[[nodiscard]] constexpr std::int64_t mul_wide(std::int32_t a, std::uint32_t b) noexcept {
-  std::uint64_t p = umul_wide(static_cast<std::uint32_t>(a), b);
+// Signed by unsigned and signed by signed from the unsigned halves product: a negative operand x
+// enters as x + 2^32, so subtract the other operand times 2^32 (mod 2^64, exact).
+[[nodiscard]] constexpr std::int64_t mul_wide_halves(std::int32_t a, std::uint32_t b) noexcept {
+  std::uint64_t p = umul_wide_halves(static_cast<std::uint32_t>(a), b);
   if (a < 0) p -= static_cast<std::uint64_t>(b) << 32;
   return static_cast<std::int64_t>(p);
 }
-[[nodiscard]] constexpr std::int64_t mul_wide(std::int32_t a, std::int32_t b) noexcept {
-  std::uint64_t p = umul_wide(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
+[[nodiscard]] constexpr std::int64_t mul_wide_halves(std::int32_t a, std::int32_t b) noexcept {
+  std::uint64_t p = umul_wide_halves(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
   if (a < 0) p -= static_cast<std::uint64_t>(static_cast<std::uint32_t>(b)) << 32;
   if (b < 0) p -= static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32;
   return static_cast<std::int64_t>(p);
 }
+
+#if defined(__ARM_ARCH_6M__) || defined(SETTLE_FIXED_MUL_HALVES)
+[[nodiscard]] constexpr std::uint64_t umul_wide(std::uint32_t a, std::uint32_t b) noexcept {
+  return umul_wide_halves(a, b);
+}
+[[nodiscard]] constexpr std::int64_t mul_wide(std::int32_t a, std::uint32_t b) noexcept { return mul_wide_halves(a, b); }
+[[nodiscard]] constexpr std::int64_t mul_wide(std::int32_t a, std::int32_t b) noexcept { return mul_wide_halves(a, b); }
+#else
+[[nodiscard]] constexpr std::uint64_t umul_wide(std::uint32_t a, std::uint32_t b) noexcept {
+  return static_cast<std::uint64_t>(a) * b;
+}
+[[nodiscard]] constexpr std::int64_t mul_wide(std::int32_t a, std::uint32_t b) noexcept {
+  return static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b);
+}
+[[nodiscard]] constexpr std::int64_t mul_wide(std::int32_t a, std::int32_t b) noexcept {
+  return static_cast<std::int64_t>(a) * b;
+}
+#endif
 
 // Exact floor(a * b / 2^sh) from 32x32->64 partial products (the form a Cortex-M0, which has no
 // 64-bit multiply, can run): a = hi 2^32 + lo with lo unsigned, so a b = (hi b) 2^32 + lo b
