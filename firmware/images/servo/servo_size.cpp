@@ -1,0 +1,52 @@
+// What one axis of the servo loop costs in flash and RAM, without the test harness around it:
+// ServoLoop<float, 1 axis> with the pinned move queued, ticking on a bus that only counts (no
+// drive, no loopback, no log). The drive never answers, so nothing is streamed; the image exists
+// for arm-none-eabi-size, and runs only to prove it links and starts.
+#include <cstdint>
+
+#include "servo_session.hpp"
+#include "settle/firmware/runtime.hpp"
+#include "settle/firmware/semihosting.hpp"
+#include "settle/firmware/text.hpp"
+
+namespace {
+
+namespace fw = settle::firmware;
+namespace hal = settle::hal;
+namespace si = settle::firmware::servo_image;
+
+class NullBus final : public hal::CanBus {
+ private:
+  [[nodiscard]] hal::SendStatus do_send(const hal::CanFrame&) noexcept override { return hal::SendStatus::sent; }
+  [[nodiscard]] hal::ReceiveStatus do_receive(hal::CanFrame&, std::uint32_t) noexcept override {
+    return hal::ReceiveStatus::empty;
+  }
+  [[nodiscard]] hal::BusStatus do_set_filters(std::span<const hal::CanFilter>) noexcept override {
+    return hal::BusStatus::ok;
+  }
+};
+
+NullBus g_bus{};
+si::Loop g_loop{g_bus, si::kPeriodUs};
+
+}  // namespace
+
+int settle::firmware::image_main() {
+  fw::AxisConfig ac{};
+  ac.drive.node = si::kNode;
+  ac.counts_per_unit = si::kCountsPerUnit;
+  if (g_loop.add_axis(ac) != fw::LoopStatus::ok) return 1;
+  g_loop.start(0);
+  if (g_loop.submit(0, si::pinned_move()) != fw::LoopStatus::ok) return 1;
+  for (std::uint64_t n = 1; n <= 100; ++n) g_loop.tick(n * si::kPeriodUs);
+  // The stack this took: submitting converts the Move<double> to the loop's Move<float> on the
+  // stack, which is most of it; the tick's own worst path is far smaller (stack-report).
+  fw::Text<96> rep{};
+  rep.append("stack_high_water ").append_unsigned(fw::stack_high_water()).append(" of ");
+  rep.append_unsigned(fw::stack_size()).append("\n");
+  fw::Text<40> name{};
+  name.append("servo_size-").append(SETTLE_BOARD_NAME).append(".txt");
+  fw::semihosting::File file{fw::semihosting::File::open(name.view(), fw::semihosting::OpenMode::write)};
+  if (!(file.write(rep.view()) && file.close())) return 2;
+  return g_bus.counters().sent > 0 ? 0 : 1;
+}
