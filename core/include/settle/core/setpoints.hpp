@@ -13,28 +13,28 @@ template <typename Scalar>
 class SetpointStream {
  public:
   SetpointStream() = default;
-  // The move must outlive the stream.
+  // The move must outlive the stream. Everything in double is done here, once: the tick path
+  // works in Scalar and integers only (the Cortex-M4F has no double-precision FPU).
   SetpointStream(const Move<Scalar>& m, std::uint32_t period_us, double counts_per_unit, std::int32_t origin) noexcept
-      : move_{&m},
-        stepper_{m, static_cast<Scalar>(period_us * 1e-6)},
-        period_s_{period_us * 1e-6},
-        counts_per_unit_{counts_per_unit},
+      : stepper_{m, static_cast<Scalar>(period_us * 1e-6)},
+        last_tick_{static_cast<std::int64_t>(std::ceil(static_cast<double>(m.duration()) / (period_us * 1e-6)))},
+        counts_per_unit_{static_cast<Scalar>(counts_per_unit)},
         origin_{origin} {}
 
-  // The next target; `last` is set on the final one, at or after the move's end.
+  // The next target; `last` is set on the final one, the first tick at or after the move's end
+  // (where the move is exactly at rest on its distance).
   [[nodiscard]] std::int32_t next(bool& last) noexcept {
-    last = static_cast<double>(stepper_.tick()) * period_s_ >= static_cast<double>(move_->duration());
+    last = stepper_.tick() >= last_tick_;
     const Sample<Scalar> s = stepper_.step();
-    const double counts = std::nearbyint(static_cast<double>(s.p) * counts_per_unit_);
-    return static_cast<std::int32_t>(static_cast<std::int64_t>(origin_) + static_cast<std::int64_t>(counts));
+    const auto counts = static_cast<std::int64_t>(std::nearbyint(s.p * counts_per_unit_));
+    return static_cast<std::int32_t>(static_cast<std::int64_t>(origin_) + counts);
   }
   [[nodiscard]] std::int32_t origin() const noexcept { return origin_; }
 
  private:
-  const Move<Scalar>* move_{nullptr};
   MoveStepper<Scalar> stepper_{};
-  double period_s_{0.0};
-  double counts_per_unit_{1.0};
+  std::int64_t last_tick_{0};
+  Scalar counts_per_unit_{1};
   std::int32_t origin_{0};
 };
 

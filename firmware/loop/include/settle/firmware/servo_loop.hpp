@@ -135,7 +135,9 @@ class ServoLoop {
     a.cfg = cfg;
     a.cfg.drive.sync_period_us = period_us_;
     a.drive.emplace(a.cfg.drive);
-    a.guard = cfg.vmax * cfg.counts_per_unit * period_us_ * 1e-6 + cfg.step_margin_counts;
+    // In whole counts, once: the tick compares integers.
+    a.guard = static_cast<std::int64_t>(std::floor(cfg.vmax * cfg.counts_per_unit * period_us_ * 1e-6)) +
+              cfg.step_margin_counts;
     ++count_;
     return LoopStatus::ok;
   }
@@ -233,7 +235,7 @@ class ServoLoop {
     std::uint64_t fb_seen{0};
     std::optional<std::int32_t> pending{};  // computed but not yet sent (tx busy): resent first
     bool end_pending{false};                // the final setpoint of a move is waiting to be sent
-    double guard{0.0};
+    std::int64_t guard{0};  // largest setpoint step allowed per tick, counts
     TickRecord record{};
     AxisStats stats{};
     FeedbackRing feedback_log{};
@@ -324,8 +326,8 @@ class ServoLoop {
         if (a.active) {
           bool last = false;
           const std::int32_t next = a.setpoints.next(last);
-          const double step = std::fabs(static_cast<double>(next) - static_cast<double>(a.target));
-          if (!(step <= a.guard)) {
+          const std::int64_t step = static_cast<std::int64_t>(next) - a.target;
+          if (step > a.guard || -step > a.guard) {
             // Never command a jump the actuator cannot make: abandon the move, hold position.
             ++a.stats.step_guard_trips;
             abandon(a);
