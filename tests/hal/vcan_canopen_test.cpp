@@ -190,7 +190,15 @@ Exchange run_exchange(int ticks, const std::string& candump_log) {
     x.received.push_back(f);
   }
   if (!candump_log.empty()) {
-    std::this_thread::sleep_for(100ms);  // let candump write what it has read
+    // candump logs in order: once a closing probe is in the log, so is every frame before it.
+    // (A fixed sleep here lost the tail when the guest was starved of CPU.)
+    CanFrame closing{};
+    closing.id = probe_id;
+    closing.flags = can_flag::extended;
+    closing.len = 1;
+    closing.data[0] = 0xEE;
+    EXPECT_TRUE(wait_for_text(candump_log, "1FFFFFF0#EE", 10s, [&] { (void)out.put(closing); }))
+        << "candump did not log the closing probe";
     candump.stop(SIGINT);
   }
   x.sent = out.sent;
