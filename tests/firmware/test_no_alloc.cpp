@@ -31,22 +31,16 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace settle;
 
-TEST(NoAllocation, OneMillionTicksOfStreamingMakeNoHeapCalls) {
-  // The hook itself must work, or this test proves nothing.
-  g_counting = true;
-  void* probe = std::malloc(16);
-  g_counting = false;
-  std::free(probe);
-  ASSERT_EQ(g_allocations.load(), 1);
-  g_allocations = 0;
-
+// A million ticks of one loop type streaming moves back and forth; returns the moves completed.
+template <typename Loop>
+std::uint64_t million_ticks_without_heap() {
   hal::LoopbackHub hub;
   hal::LoopbackBus<256> master{hub};
   test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
-  firmware::ServoLoop<double, 1, 4> loop{master, 1000};
+  Loop loop{master, 1000};
   firmware::AxisConfig a{};
   a.drive.heartbeat_timeout_ms = 500;
-  ASSERT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
+  EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
   drive.applied.reserve(1'100'000);  // the test's own log, allocated before counting starts
   core::MoveRequest r{};
   r.profile = core::ProfileKind::scurve;
@@ -54,23 +48,49 @@ TEST(NoAllocation, OneMillionTicksOfStreamingMakeNoHeapCalls) {
   r.omega = 22.0;
   core::Move<double> out{}, back{};
   r.distance = 0.1;
-  ASSERT_EQ(core::plan(r, out), core::Status::ok);
+  EXPECT_EQ(core::plan(r, out), core::Status::ok);
   r.distance = -0.1;
-  ASSERT_EQ(core::plan(r, back), core::Status::ok);
+  EXPECT_EQ(core::plan(r, back), core::Status::ok);
 
   std::uint64_t now = 0;
   drive.start(now);
   loop.start(now);
+  g_allocations = 0;
   g_counting = true;
   for (int i = 0; i < 1'000'000; ++i) {
     now += 1000;
     hub.set_time_us(now);
+    // submit converts the planned move (to float, or to fixed point) inside the loop object
     if (loop.idle() && loop.ready(0)) (void)loop.submit(0, (i / 1000) % 2 == 0 ? out : back);
     loop.tick(now);
     drive.process(now);
   }
   g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
-  EXPECT_GT(loop.axis_stats(0).moves_completed, 1000u);
   EXPECT_EQ(loop.axis_stats(0).step_guard_trips, 0u);
+  return loop.axis_stats(0).moves_completed;
+}
+
+TEST(NoAllocation, HookCountsAllocations) {
+  // The hook itself must work, or the tests below prove nothing.
+  g_allocations = 0;
+  g_counting = true;
+  void* probe = std::malloc(16);
+  int* one = new int{1};
+  g_counting = false;
+  std::free(probe);
+  delete one;
+  EXPECT_EQ(g_allocations.load(), 2);
+}
+
+using FloatLoop = firmware::ServoLoop<double, 1, 4>;
+using FixedLoop = firmware::ServoLoop<double, 1, 2, firmware::FixedEvaluation>;
+
+TEST(NoAllocation, OneMillionTicksOfStreamingMakeNoHeapCalls) {
+  EXPECT_GT(million_ticks_without_heap<FloatLoop>(), 1000u);
+  EXPECT_EQ(g_allocations.load(), 0);
+}
+
+TEST(NoAllocation, TheFixedPointLoopToo) {
+  EXPECT_GT(million_ticks_without_heap<FixedLoop>(), 1000u);
+  EXPECT_EQ(g_allocations.load(), 0);
 }

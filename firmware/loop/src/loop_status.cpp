@@ -13,6 +13,7 @@ const char* to_string(LoopStatus s) noexcept {
     case LoopStatus::exceeds_axis_velocity: return "exceeds_axis_velocity";
     case LoopStatus::does_not_fit_counts: return "does_not_fit_counts";
     case LoopStatus::bad_axis_config: return "bad_axis_config";
+    case LoopStatus::evaluation_refused: return "evaluation_refused";
   }
   return "unknown";
 }

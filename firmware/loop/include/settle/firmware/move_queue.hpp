@@ -1,26 +1,25 @@
 #pragma once
-// A bounded FIFO of planned moves per axis: the next moves are planned (outside the tick) while
-// the current one runs. Fixed capacity, no heap; the front slot is never overwritten while it is
+// A bounded FIFO of prepared moves per axis (core Moves, or their fixed-point form): the next
+// moves are planned and prepared outside the tick while the current one runs. Fixed capacity, no heap; the front slot is never overwritten while it is
 // the active move, so a stepper may keep a pointer into it.
 #include <array>
 #include <cstddef>
 
-#include "settle/core/move.hpp"
 
 namespace settle::firmware {
 
-template <typename Scalar, std::size_t Capacity>
+template <typename Element, std::size_t Capacity>
 class MoveQueue {
  public:
   static_assert(Capacity > 0);
 
-  [[nodiscard]] bool push(const core::Move<Scalar>& m) noexcept {
+  [[nodiscard]] bool push(const Element& m) noexcept {
     if (size_ == Capacity) return false;
     slots_[(head_ + size_) % Capacity] = m;
     ++size_;
     return true;
   }
-  [[nodiscard]] const core::Move<Scalar>& front() const noexcept { return slots_[head_]; }
+  [[nodiscard]] const Element& front() const noexcept { return slots_[head_]; }
   void pop() noexcept {
     if (size_ == 0) return;
     head_ = (head_ + 1) % Capacity;
@@ -35,7 +34,7 @@ class MoveQueue {
   [[nodiscard]] bool full() const noexcept { return size_ == Capacity; }
 
  private:
-  std::array<core::Move<Scalar>, Capacity> slots_{};
+  std::array<Element, Capacity> slots_{};
   std::size_t head_{0};
   std::size_t size_{0};
 };

@@ -12,7 +12,7 @@
 #include <optional>
 
 #include "settle/core/planner.hpp"
-#include "settle/core/setpoints.hpp"
+#include "settle/firmware/evaluation.hpp"
 #include "settle/firmware/move_queue.hpp"
 #include "settle/hal/can_bus.hpp"
 #include "settle/hal/canopen/default_mapping.hpp"
@@ -29,6 +29,7 @@ enum class LoopStatus : std::uint8_t {
   too_many_axes,
   exceeds_axis_velocity,  // the move's true peak velocity is over the axis's vmax
   does_not_fit_counts,    // the move would leave the int32 count range
+  evaluation_refused,     // the evaluator cannot hold the move (fixed point: see the core::Status)
   bad_axis_config,
 };
 
@@ -114,7 +115,8 @@ struct LoopStats {
   std::uint64_t frames_received{0};
 };
 
-template <typename Scalar = double, std::size_t MaxAxes = 1, std::size_t QueueDepth = 4>
+template <typename Scalar = double, std::size_t MaxAxes = 1, std::size_t QueueDepth = 4,
+          typename Evaluation = FloatEvaluation<Scalar>>
 class ServoLoop {
  public:
   ServoLoop(hal::CanBus& bus, std::uint32_t period_us) noexcept
@@ -159,7 +161,8 @@ class ServoLoop {
     return submit(axis, m);
   }
 
-  [[nodiscard]] LoopStatus submit(std::size_t axis, const core::Move<double>& m) noexcept {
+  [[nodiscard]] LoopStatus submit(std::size_t axis, const core::Move<double>& m,
+                                  core::Status* why = nullptr) noexcept {
     if (axis >= MaxAxes || axis >= count_) return LoopStatus::no_such_axis;
     Axis& a = axes_[axis];
     // A velocity step (seed 001's command) is streamable: sampled, it is a jump of at most
@@ -170,7 +173,10 @@ class ServoLoop {
       return LoopStatus::does_not_fit_counts;
     }
     if (a.queue.full()) return LoopStatus::queue_full;
-    (void)a.queue.push(core::Move<Scalar>{m});
+    const core::Status st = Evaluation::prepare(m, period_us_, a.cfg.counts_per_unit, staging_);
+    if (why != nullptr) *why = st;
+    if (st != core::Status::ok) return LoopStatus::evaluation_refused;
+    (void)a.queue.push(staging_);
     return LoopStatus::ok;
   }
 
@@ -225,8 +231,8 @@ class ServoLoop {
   struct Axis {
     AxisConfig cfg{};
     std::optional<hal::canopen::RemoteDrive> drive{};
-    MoveQueue<Scalar, QueueDepth> queue{};
-    core::SetpointStream<Scalar> setpoints{};
+    MoveQueue<typename Evaluation::Stored, QueueDepth> queue{};
+    typename Evaluation::Stream setpoints{};
     bool active{false};
     bool have_target{false};
     std::int32_t target{0};       // last target commanded
@@ -320,7 +326,7 @@ class ServoLoop {
       } else {
         if (!a.active && !a.queue.empty()) {
           a.active = true;
-          a.setpoints = core::SetpointStream<Scalar>{a.queue.front(), period_us_, a.cfg.counts_per_unit, a.target};
+          a.setpoints = Evaluation::start(a.queue.front(), period_us_, a.cfg.counts_per_unit, a.target);
           ++a.stats.moves_started;
         }
         if (a.active) {
@@ -390,6 +396,7 @@ class ServoLoop {
   }
 
   hal::CanBus& bus_;
+  typename Evaluation::Stored staging_{};  // a move being prepared: kept here, not on the stack
   std::array<std::uint8_t, 128> axis_of_node_{no_axes()};
   std::uint32_t period_us_;
   hal::canopen::SyncProducer sync_;
