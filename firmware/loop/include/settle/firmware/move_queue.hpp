@@ -13,11 +13,11 @@ class MoveQueue {
  public:
   static_assert(Capacity > 0);
 
-  [[nodiscard]] bool push(const Element& m) noexcept {
-    if (size_ == Capacity) return false;
-    slots_[(head_ + size_) % Capacity] = m;
-    ++size_;
-    return true;
+  // The free slot at the back, for preparing an element in place (no copy, no extra storage);
+  // it joins the queue only with commit_back(). Requires !full().
+  [[nodiscard]] Element& back_slot() noexcept { return slots_[(head_ + size_) % Capacity]; }
+  void commit_back() noexcept {
+    if (size_ < Capacity) ++size_;
   }
   [[nodiscard]] const Element& front() const noexcept { return slots_[head_]; }
   void pop() noexcept {

@@ -173,10 +173,12 @@ class ServoLoop {
       return LoopStatus::does_not_fit_counts;
     }
     if (a.queue.full()) return LoopStatus::queue_full;
-    const core::Status st = Evaluation::prepare(m, period_us_, a.cfg.counts_per_unit, staging_);
+    // Prepared in place in the queue's free slot, which joins the queue only on success: a
+    // refusal leaves the queue as it was, and no second copy of a move is ever held.
+    const core::Status st = Evaluation::prepare(m, period_us_, a.cfg.counts_per_unit, a.queue.back_slot());
     if (why != nullptr) *why = st;
     if (st != core::Status::ok) return LoopStatus::evaluation_refused;
-    (void)a.queue.push(staging_);
+    a.queue.commit_back();
     return LoopStatus::ok;
   }
 
@@ -396,7 +398,6 @@ class ServoLoop {
   }
 
   hal::CanBus& bus_;
-  typename Evaluation::Stored staging_{};  // a move being prepared: kept here, not on the stack
   std::array<std::uint8_t, 128> axis_of_node_{no_axes()};
   std::uint32_t period_us_;
   hal::canopen::SyncProducer sync_;
