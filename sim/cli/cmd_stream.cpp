@@ -46,7 +46,6 @@ struct Outcome {
   std::vector<firmware::FeedbackSample> feedback;  // every TPDO pair, in arrival order
   hal::BusCounters bus{};
   firmware::AxisStats axis{};
-  firmware::LoopStats loop{};
 };
 
 bool write_stream_log(const char* path, const std::vector<firmware::TickRecord>& log, std::uint32_t period_us) {
@@ -159,7 +158,6 @@ int cmd_stream(int argc, char** argv) {
     if (dump != nullptr) std::fclose(dump);
     out.bus = master.counters();
     out.axis = loop->axis_stats(0);
-    out.loop = loop->stats();
   } else {
     hal::SocketCanBus bus;
     // A large receive queue: a stalled process (a busy host, a user-mode-linux guest) falls behind
@@ -191,7 +189,6 @@ int cmd_stream(int argc, char** argv) {
     }
     out.bus = bus.counters();
     out.axis = loop->axis_stats(0);
-    out.loop = loop->stats();
     latency = clock.timer().latency();
     overruns = clock.timer().overruns();
   }
