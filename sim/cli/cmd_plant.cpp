@@ -55,9 +55,7 @@ int cmd_plant(int argc, char** argv) {
   double node = 1, heartbeat = 100, loss = 3, duration = 0;
   for (auto [name, v] : {std::pair{"--node", &node}, std::pair{"--heartbeat-ms", &heartbeat},
                          std::pair{"--sync-loss-periods", &loss}, std::pair{"--duration", &duration}}) {
-    if (const auto s = args.get(name); s && !parse_double(*s, *v)) {
-      return report_bad_request({"bad_number", name, std::string{name} + ": not a number"}, json);
-    }
+    if (!read_number(args, name, *v, err)) return report_bad_request(err, json);
   }
   if (!(node >= 1 && node <= 127)) return report_bad_request({"bad_number", "--node", "--node: 1..127"}, json);
   const std::string iface = args.get("--bus").value_or("vcan0");

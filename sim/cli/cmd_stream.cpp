@@ -87,9 +87,7 @@ int cmd_stream(int argc, char** argv) {
   for (auto [name, v] : {std::pair{"--node", &node}, std::pair{"--axis-vmax", &axis_vmax},
                          std::pair{"--settle-time", &settle_time}, std::pair{"--rt-priority", &priority},
                          std::pair{"--heartbeat-ms", &heartbeat}, std::pair{"--sdo-timeout-ms", &sdo_timeout}}) {
-    if (const auto s = args.get(name); s && !parse_double(*s, *v)) {
-      return report_bad_request({"bad_number", name, std::string{name} + ": not a number"}, json);
-    }
+    if (!read_number(args, name, *v, err)) return report_bad_request(err, json);
   }
   if (!(settle_time > 0.0 && settle_time < 600.0)) {
     return report_bad_request({"bad_number", "--settle-time", "--settle-time: seconds in (0, 600)"}, json);

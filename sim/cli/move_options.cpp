@@ -74,16 +74,23 @@ bool parse_list(const std::string& s, std::vector<double>& out) {
   return true;
 }
 
-namespace {
-
-bool number_option(const Args& a, const char* name, std::optional<double>& out, RequestError& err) {
+bool read_number(const Args& a, const char* name, double& out, RequestError& err) {
   const auto s = a.get(name);
   if (!s) return true;
-  double v = 0.0;
-  if (!parse_double(*s, v)) {
+  if (!parse_double(*s, out)) {
     err = {"bad_number", name, std::string{name} + ": '" + *s + "' is not a number"};
     return false;
   }
+  return true;
+}
+
+namespace {
+
+// The same for options whose absence the planner must see (no default).
+bool number_option(const Args& a, const char* name, std::optional<double>& out, RequestError& err) {
+  if (!a.get(name)) return true;
+  double v = 0.0;
+  if (!read_number(a, name, v, err)) return false;
   out = v;
   return true;
 }

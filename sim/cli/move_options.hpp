@@ -50,6 +50,9 @@ extern const std::set<std::string> kMoveFlagOptions;
 // Parses one number (accepting nan/inf so that core can name them), false if not a number.
 [[nodiscard]] bool parse_double(const std::string& s, double& out);
 [[nodiscard]] bool parse_list(const std::string& s, std::vector<double>& out);
+// Reads option `name` as a number into `out`; when it is absent `out` keeps its default. False,
+// with `err` naming the option, when the value is not a number.
+[[nodiscard]] bool read_number(const Args& args, const char* name, double& out, RequestError& err);
 
 // Prints the error (stderr line, or JSON on stdout when json is set) and returns exit status 2.
 int report_bad_request(const RequestError& err, bool json);

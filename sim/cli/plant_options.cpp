@@ -16,16 +16,6 @@ const std::set<std::string> kDriveValueOptions = {"--period-us", "--counts-per-u
 
 namespace {
 
-bool num(const Args& a, const char* name, double& out, RequestError& err) {
-  const auto s = a.get(name);
-  if (!s) return true;  // keep the default
-  if (!parse_double(*s, out)) {
-    err = {"bad_number", name, std::string{name} + ": '" + *s + "' is not a number"};
-    return false;
-  }
-  return true;
-}
-
 bool sim_ok(sim::SimStatus st, const char* param, RequestError& err) {
   if (st == sim::SimStatus::ok) return true;
   err = {sim::to_string(st), param, std::string{param} + ": " + sim::describe(st)};
@@ -83,8 +73,8 @@ bool parse_plant(const Args& a, sim::ModalPlant& plant, RequestError& err) {
   }
   if (kind == "sdof") {
     sim::SdofParams p{};
-    if (!num(a, "--mass", p.mass, err) || !num(a, "--stiffness", p.stiffness, err) ||
-        !num(a, "--damping", p.damping, err)) {
+    if (!read_number(a, "--mass", p.mass, err) || !read_number(a, "--stiffness", p.stiffness, err) ||
+        !read_number(a, "--damping", p.damping, err)) {
       return false;
     }
     const sim::SimStatus st = sim::ModalPlant::make_sdof(p, plant);
@@ -93,10 +83,10 @@ bool parse_plant(const Args& a, sim::ModalPlant& plant, RequestError& err) {
   if (kind == "beam") {
     sim::BeamOptions o{};
     double modes = static_cast<double>(o.modes);
-    if (!num(a, "--length", o.params.length, err) || !num(a, "--modulus", o.params.modulus, err) ||
-        !num(a, "--thickness", o.params.thickness, err) || !num(a, "--width", o.params.width, err) ||
-        !num(a, "--beam-mass", o.params.beam_mass, err) || !num(a, "--tip-mass", o.params.tip_mass, err) ||
-        !num(a, "--modes", modes, err) || !num(a, "--modal-damping", o.modal_damping, err)) {
+    if (!read_number(a, "--length", o.params.length, err) || !read_number(a, "--modulus", o.params.modulus, err) ||
+        !read_number(a, "--thickness", o.params.thickness, err) || !read_number(a, "--width", o.params.width, err) ||
+        !read_number(a, "--beam-mass", o.params.beam_mass, err) || !read_number(a, "--tip-mass", o.params.tip_mass, err) ||
+        !read_number(a, "--modes", modes, err) || !read_number(a, "--modal-damping", o.modal_damping, err)) {
       return false;
     }
     if (!(modes >= 1.0 && modes <= static_cast<double>(sim::kMaxBeamModes)) || modes != std::floor(modes)) {
@@ -109,9 +99,9 @@ bool parse_plant(const Args& a, sim::ModalPlant& plant, RequestError& err) {
   }
   if (kind == "belt") {
     sim::BeltParams p{};
-    if (!num(a, "--inertia", p.inertia, err) || !num(a, "--belt-stiffness", p.belt_stiffness, err) ||
-        !num(a, "--belt-damping", p.belt_damping, err) || !num(a, "--pulley-r", p.pulley_r, err) ||
-        !num(a, "--pulley-R", p.pulley_R, err) || !num(a, "--ratio", p.ratio, err)) {
+    if (!read_number(a, "--inertia", p.inertia, err) || !read_number(a, "--belt-stiffness", p.belt_stiffness, err) ||
+        !read_number(a, "--belt-damping", p.belt_damping, err) || !read_number(a, "--pulley-r", p.pulley_r, err) ||
+        !read_number(a, "--pulley-R", p.pulley_R, err) || !read_number(a, "--ratio", p.ratio, err)) {
       return false;
     }
     const sim::SimStatus st = sim::ModalPlant::make_belt(p, plant);
@@ -148,9 +138,9 @@ bool parse_drive(const Args& a, const sim::ModalPlant& plant, sim::DriveAxisConf
     c.counts_per_unit = 65536.0 / (2.0 * 3.14159265358979323846);  // 2^16 counts per motor revolution
   }
   double period = 1000.0;
-  if (!num(a, "--period-us", period, err) || !num(a, "--counts-per-unit", c.counts_per_unit, err) ||
-      !num(a, "--load-counts-per-unit", c.load_counts_per_unit, err) ||
-      !num(a, "--bandwidth", c.model.bandwidth_hz, err) || !num(a, "--servo-damping", c.model.damping, err)) {
+  if (!read_number(a, "--period-us", period, err) || !read_number(a, "--counts-per-unit", c.counts_per_unit, err) ||
+      !read_number(a, "--load-counts-per-unit", c.load_counts_per_unit, err) ||
+      !read_number(a, "--bandwidth", c.model.bandwidth_hz, err) || !read_number(a, "--servo-damping", c.model.damping, err)) {
     return false;
   }
   if (!(period >= 100.0 && period <= 100000.0) || period != std::floor(period)) {
