@@ -176,14 +176,11 @@ int cmd_stream(int argc, char** argv) {
       out.log.push_back(loop->record(0));
       for (firmware::FeedbackSample fs{}; loop->feedback_log(0).pop(fs);) out.feedback.push_back(fs);
     });
-    // The last TPDOs may still be on their way: take them before counting.
+    // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
     hal::CanFrame f{};
-    std::int32_t last_position = loop->drive(0).feedback().position_actual;
     while (bus.receive(f, 50000) == hal::ReceiveStatus::received) {
-      if (const auto t1 = hal::canopen::decode_tpdo1(f, ac.drive.node)) last_position = t1->position_actual;
-      if (const auto t2 = hal::canopen::decode_tpdo2(f, ac.drive.node)) {
-        out.feedback.push_back({last_position, t2->load_position, t2->velocity_actual});
-      }
+      loop->receive(f, clock.now_us());
+      for (firmware::FeedbackSample fs{}; loop->feedback_log(0).pop(fs);) out.feedback.push_back(fs);
     }
     out.bus = bus.counters();
     out.axis = loop->axis_stats(0);
@@ -279,6 +276,7 @@ int cmd_stream(int argc, char** argv) {
         .field("drive_restarts", static_cast<long long>(out.axis.restarts))
         .field("moves_aborted", static_cast<long long>(out.axis.moves_aborted))
         .field("max_following_error", static_cast<long long>(out.axis.max_following_error))
+        .field("feedback_overflows", static_cast<long long>(out.axis.feedback_overflows))
         .field("residual_can", can.amplitude)
         .field("prv_can_percent", can.prv_percent)
         .field("residual_offline", off.amplitude)

@@ -14,16 +14,27 @@ class Ring {
   explicit Ring(std::span<T> storage) noexcept : storage_{storage} {}
 
   [[nodiscard]] bool push(const T& value) noexcept {
-    if (size_ == storage_.size()) {
+    if (full()) {
       return false;
     }
+    back_slot() = value;
+    commit_back();
+    return true;
+  }
+
+  // The free slot after the newest element, to build an element in place (no copy, no second
+  // buffer); it joins the ring only with commit_back(). Only valid when !full().
+  [[nodiscard]] T& back_slot() noexcept {
     std::size_t tail = head_ + size_;
     if (tail >= storage_.size()) {
       tail -= storage_.size();
     }
-    storage_[tail] = value;
-    ++size_;
-    return true;
+    return storage_[tail];
+  }
+  void commit_back() noexcept {
+    if (size_ < storage_.size()) {
+      ++size_;
+    }
   }
 
   [[nodiscard]] bool pop(T& out) noexcept {

@@ -13,7 +13,7 @@
 
 #include "settle/core/planner.hpp"
 #include "settle/firmware/evaluation.hpp"
-#include "settle/firmware/move_queue.hpp"
+#include "settle/firmware/fixed_queue.hpp"
 #include "settle/hal/can_bus.hpp"
 #include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
@@ -64,35 +64,6 @@ struct FeedbackSample {
   std::int32_t velocity_actual{0};
 };
 
-// A fixed ring of feedback samples per axis; the owner drains it every tick. Overflow drops the
-// newest and is counted.
-class FeedbackRing {
- public:
-  static constexpr std::size_t kCapacity = 64;
-  void push(const FeedbackSample& s) noexcept {
-    if (size_ == kCapacity) {
-      ++overflows_;
-      return;
-    }
-    buf_[(head_ + size_) % kCapacity] = s;
-    ++size_;
-  }
-  [[nodiscard]] bool pop(FeedbackSample& s) noexcept {
-    if (size_ == 0) return false;
-    s = buf_[head_];
-    head_ = (head_ + 1) % kCapacity;
-    --size_;
-    return true;
-  }
-  [[nodiscard]] std::uint64_t overflows() const noexcept { return overflows_; }
-
- private:
-  std::array<FeedbackSample, kCapacity> buf_{};
-  std::size_t head_{0};
-  std::size_t size_{0};
-  std::uint64_t overflows_{0};
-};
-
 struct AxisStats {
   std::uint64_t rpdo_sent{0};
   std::uint64_t rpdo_busy{0};
@@ -106,7 +77,11 @@ struct AxisStats {
   std::uint64_t emcy_received{0};
   std::uint64_t restarts{0};  // the drive booted again and start-up re-ran
   std::int64_t max_following_error{0};
+  std::uint64_t feedback_overflows{0};  // samples dropped because feedback_log() was not drained
 };
+
+// Feedback samples kept per axis until the owner drains them (every tick).
+inline constexpr std::size_t kFeedbackLogCapacity = 64;
 
 struct LoopStats {
   std::uint64_t ticks{0};
@@ -198,6 +173,28 @@ class ServoLoop {
     }
   }
 
+  // One received frame: routed to its axis's drive, its feedback logged. tick() calls it for every
+  // frame it drains; a caller that reads the bus itself (after the session, say) calls it too.
+  void receive(const hal::CanFrame& f, std::uint64_t now_us) noexcept {
+    ++stats_.frames_received;
+    // CANopen puts the sending node in the low 7 bits of every node-specific COB-ID (TPDO,
+    // SDO, EMCY, heartbeat): route there, so a tick costs O(axes), not O(axes^2). Node 0
+    // (NMT, SYNC, time) and extended ids go to every axis.
+    const std::uint32_t node = f.id & 0x7F;
+    const std::uint8_t target = f.is_extended() || node == 0 ? kNoAxis : axis_of_node_[node];
+    if (target != kNoAxis) {
+      Axis& a = axes_[target];
+      a.drive->on_frame(f, now_us, bus_);
+      if (const auto t2 = hal::canopen::decode_tpdo2(f, a.cfg.drive.node)) {
+        if (!a.feedback_log.push({a.drive->feedback().position_actual, t2->load_position, t2->velocity_actual})) {
+          ++a.stats.feedback_overflows;
+        }
+      }
+    } else if (f.is_extended() || node == 0) {
+      for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->on_frame(f, now_us, bus_);
+    }
+  }
+
   // Stops streaming on an axis: the active move and the queue are dropped, the axis holds.
   void abort(std::size_t axis) noexcept {
     if (axis >= MaxAxes || axis >= count_) return;
@@ -209,7 +206,9 @@ class ServoLoop {
   [[nodiscard]] const TickRecord& record(std::size_t i) const noexcept { return axes_[i].record; }
   [[nodiscard]] const AxisStats& axis_stats(std::size_t i) const noexcept { return axes_[i].stats; }
   // Feedback samples in arrival order (one per SYNC the drive processed); drain every tick.
-  [[nodiscard]] FeedbackRing& feedback_log(std::size_t i) noexcept { return axes_[i].feedback_log; }
+  [[nodiscard]] FixedQueue<FeedbackSample, kFeedbackLogCapacity>& feedback_log(std::size_t i) noexcept {
+    return axes_[i].feedback_log;
+  }
   [[nodiscard]] const LoopStats& stats() const noexcept { return stats_; }
   [[nodiscard]] bool ready(std::size_t i) const noexcept { return axes_[i].drive->ready(); }
   [[nodiscard]] bool all_ready() const noexcept {
@@ -233,7 +232,7 @@ class ServoLoop {
   struct Axis {
     AxisConfig cfg{};
     std::optional<hal::canopen::RemoteDrive> drive{};
-    MoveQueue<typename Evaluation::Stored, QueueDepth> queue{};
+    FixedQueue<typename Evaluation::Stored, QueueDepth> queue{};
     typename Evaluation::Stream setpoints{};
     bool active{false};
     bool have_target{false};
@@ -246,7 +245,7 @@ class ServoLoop {
     std::int64_t guard{0};  // largest setpoint step allowed per tick, counts
     TickRecord record{};
     AxisStats stats{};
-    FeedbackRing feedback_log{};
+    FixedQueue<FeedbackSample, kFeedbackLogCapacity> feedback_log{};
   };
 
   // Drops the active move (counted as aborted) and everything queued; the axis holds.
@@ -262,21 +261,7 @@ class ServoLoop {
     hal::CanFrame f{};
     for (std::size_t n = 0; n < kMaxFramesPerTick; ++n) {
       if (bus_.receive(f, 0) != hal::ReceiveStatus::received) break;
-      ++stats_.frames_received;
-      // CANopen puts the sending node in the low 7 bits of every node-specific COB-ID (TPDO,
-      // SDO, EMCY, heartbeat): route there, so a tick costs O(axes), not O(axes^2). Node 0
-      // (NMT, SYNC, time) and extended ids go to every axis.
-      const std::uint32_t node = f.id & 0x7F;
-      const std::uint8_t target = f.is_extended() || node == 0 ? kNoAxis : axis_of_node_[node];
-      if (target != kNoAxis) {
-        Axis& a = axes_[target];
-        a.drive->on_frame(f, now_us, bus_);
-        if (const auto t2 = hal::canopen::decode_tpdo2(f, a.cfg.drive.node)) {
-          a.feedback_log.push({a.drive->feedback().position_actual, t2->load_position, t2->velocity_actual});
-        }
-      } else if (f.is_extended() || node == 0) {
-        for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->on_frame(f, now_us, bus_);
-      }
+      receive(f, now_us);
     }
   }
 
@@ -344,7 +329,7 @@ class ServoLoop {
             if (last) {
               a.end_pending = true;
               a.active = false;
-              a.queue.pop();
+              a.queue.drop_front();
               ++a.stats.moves_completed;
             }
           }
