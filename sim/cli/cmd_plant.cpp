@@ -10,6 +10,7 @@
 #include "move_options.hpp"
 #include "plant_options.hpp"
 #include "settle/hal/socketcan_bus.hpp"
+#include "socketcan_open.hpp"
 #include "settle/sim/plant_node.hpp"
 
 namespace settle::cli {
@@ -70,10 +71,7 @@ int cmd_plant(int argc, char** argv) {
   sim::PlantNode pn{dc, std::move(axis)};
 
   hal::SocketCanBus bus;
-  // A large receive queue: if this process is starved it falls behind instead of dropping frames.
-  hal::SocketCanOptions so_opts{};
-  so_opts.receive_buffer_bytes = 1 << 20;
-  const hal::OpenStatus os = bus.open(iface.c_str(), so_opts);
+  const hal::OpenStatus os = open_socketcan(bus, iface);
   if (os != hal::OpenStatus::ok) {
     std::fprintf(stderr, "settle plant: cannot open %s: %s\n", iface.c_str(), hal::to_string(os));
     return kExitFailure;

@@ -17,6 +17,7 @@
 #include "settle/hal/candump_log.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/hal/socketcan_bus.hpp"
+#include "socketcan_open.hpp"
 #include "settle/sim/command.hpp"
 #include "settle/sim/plant_node.hpp"
 #include "settle/sim/simulate.hpp"
@@ -44,6 +45,15 @@ struct Outcome {
   firmware::SessionResult session{};
   std::vector<firmware::TickRecord> log;
   std::vector<firmware::FeedbackSample> feedback;  // every TPDO pair, in arrival order
+
+  // After each tick: its record, and the feedback the loop received (draining its log).
+  void record(Loop& loop) {
+    log.push_back(loop.record(0));
+    drain(loop);
+  }
+  void drain(Loop& loop) {
+    for (firmware::FeedbackSample fs{}; loop.feedback_log(0).pop(fs);) feedback.push_back(fs);
+  }
   hal::BusCounters bus{};
   firmware::AxisStats axis{};
 };
@@ -140,8 +150,7 @@ int cmd_stream(int argc, char** argv) {
     firmware::VirtualClock clock{period_us};
     hub.set_time_us(period_us);  // the first tick
     out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
-      out.log.push_back(loop->record(0));
-      for (firmware::FeedbackSample fs{}; loop->feedback_log(0).pop(fs);) out.feedback.push_back(fs);
+      out.record(*loop);
       hub.set_time_us(clock.now_us());  // the drive answers within this period
       hal::CanFrame f{};
       while (drive_port.receive(f, 0) == hal::ReceiveStatus::received) (void)pn.on_frame(f, clock.now_us(), drive_port);
@@ -158,11 +167,7 @@ int cmd_stream(int argc, char** argv) {
     out.axis = loop->axis_stats(0);
   } else {
     hal::SocketCanBus bus;
-    // A large receive queue: a stalled process (a busy host, a user-mode-linux guest) falls behind
-    // without dropping frames, and the kernel's drop counter tells us if it ever does.
-    hal::SocketCanOptions so_opts{};
-    so_opts.receive_buffer_bytes = 1 << 20;
-    const hal::OpenStatus os = bus.open(bus_name.c_str(), so_opts);
+    const hal::OpenStatus os = open_socketcan(bus, bus_name);
     if (os != hal::OpenStatus::ok) {
       std::fprintf(stderr, "settle stream: cannot open %s: %s (try --bus loopback)\n", bus_name.c_str(),
                    hal::to_string(os));
@@ -173,14 +178,13 @@ int cmd_stream(int argc, char** argv) {
     if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
     RealtimeClock clock{period_us};
     out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
-      out.log.push_back(loop->record(0));
-      for (firmware::FeedbackSample fs{}; loop->feedback_log(0).pop(fs);) out.feedback.push_back(fs);
+      out.record(*loop);
     });
     // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
     hal::CanFrame f{};
     while (bus.receive(f, 50000) == hal::ReceiveStatus::received) {
       loop->receive(f, clock.now_us());
-      for (firmware::FeedbackSample fs{}; loop->feedback_log(0).pop(fs);) out.feedback.push_back(fs);
+      out.drain(*loop);
     }
     out.bus = bus.counters();
     out.axis = loop->axis_stats(0);

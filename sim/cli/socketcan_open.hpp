@@ -1,0 +1,17 @@
+#pragma once
+// How both ends of a settle run (settle plant, settle stream) open their SocketCAN interface.
+#include <string>
+
+#include "settle/hal/socketcan_bus.hpp"
+
+namespace settle::cli {
+
+// A large receive queue: a stalled process (a busy host, a user-mode-linux guest) falls behind
+// without dropping frames, and the kernel's drop counter tells us if it ever does.
+[[nodiscard]] inline hal::OpenStatus open_socketcan(hal::SocketCanBus& bus, const std::string& iface) {
+  hal::SocketCanOptions options{};
+  options.receive_buffer_bytes = 1 << 20;
+  return bus.open(iface.c_str(), options);
+}
+
+}  // namespace settle::cli
