@@ -80,9 +80,10 @@ class RampCycloid {
   explicit RampCycloid(const RampCycloidParams& p) noexcept : params_{p}, shape_{p.c2, p.c3} {
     const double tau = p.tau;
     const double a = p.amplitude;
-    const double tp = 6.283185307179586476925286766559;
-    const double rv1 = 0.5 + p.c3 / tp;
-    const double rp1 = 1.0 / 6.0 - p.c2 / (tp * tp) + p.c3 / (2.0 * tp);
+    // The transition's end values, in double whatever T is (the shape has them).
+    const CycloidShape<double> unit{p.c2, p.c3};
+    const double rv1 = unit.rv1;
+    const double rp1 = unit.rp1;
     const double vpk = a * tau;
     // Segment start states in double; closed forms from docs/scurve-damped.md.
     const double v1 = vpk * rv1;
