@@ -142,9 +142,10 @@ void BM_RemoteDrivePeriod(benchmark::State& state) {
     return;
   }
   std::int32_t target = 0;
+  CanFrame rpdo{};
   for (auto _ : state) {
     target += 3;
-    const auto rpdo = remote.rpdo(target);
+    benchmark::DoNotOptimize(remote.rpdo(target, rpdo));
     benchmark::DoNotOptimize(rpdo);
     remote.on_frame(encode_tpdo1(node, Tpdo1{0x1237, target}), 0, out);
     remote.on_frame(encode_tpdo2(node, Tpdo2{target, 0}), 0, out);

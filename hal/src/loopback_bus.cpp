@@ -34,11 +34,15 @@ void LoopbackPort::accept(const CanFrame& frame, std::uint64_t now_us) noexcept 
   if (!filters_.accepts(frame)) {
     return;
   }
-  CanFrame stamped = frame;
-  stamped.timestamp_us = now_us;
-  if (!rx_.push(stamped)) {
+  if (rx_.full()) {
     count_rx_overflow(1);
+    return;
   }
+  // Stamped in its slot: one copy per delivered frame.
+  CanFrame& slot = rx_.back_slot();
+  slot = frame;
+  slot.timestamp_us = now_us;
+  rx_.commit_back();
 }
 
 }  // namespace settle::hal

@@ -45,8 +45,8 @@ class DriveOverLoopback : public ::testing::Test {
     fault.set_time_us(now);
     remote->poll(now, *bus_under_test);
     if (send_rpdo) {
-      if (const auto rpdo = remote->rpdo(target)) {
-        (void)bus_under_test->send(*rpdo);
+      if (CanFrame rpdo{}; remote->rpdo(target, rpdo)) {
+        (void)bus_under_test->send(rpdo);
       }
     }
     if (send_sync) {
@@ -164,6 +164,47 @@ TEST_F(DriveOverLoopback, EverySetpointIsAppliedExactlyOnceInOrder) {
   EXPECT_EQ(remote->state(), RemoteDriveState::ready);
 }
 
+TEST_F(DriveOverLoopback, RemoteDriveSaysWhatEachFrameWasAndIgnoresOtherNodes) {
+  start();
+  ASSERT_TRUE(run_until_ready());
+  const auto kind = [&](const CanFrame& f) { return remote->on_frame(f, now, *bus_under_test); };
+  EXPECT_EQ(kind(encode_tpdo1(drive_id, Tpdo1{0x0237, 11})), RemoteFrame::tpdo1);
+  EXPECT_EQ(remote->feedback().position_actual, 11);
+  EXPECT_EQ(kind(encode_tpdo2(drive_id, Tpdo2{22, 33})), RemoteFrame::tpdo2);
+  EXPECT_EQ(remote->feedback().load_position, 22);
+  EXPECT_EQ(remote->feedback().velocity_actual, 33);
+  EXPECT_EQ(kind(encode_heartbeat(drive_id, NmtState::operational)), RemoteFrame::heartbeat);
+  EXPECT_EQ(kind(encode_emcy(drive_id, EmcyMessage{emcy_code::generic, 0x01, {}})), RemoteFrame::emcy);
+  EXPECT_NE(remote->take_events() & remote_event::emcy, 0);
+
+  // Another node's feedback, a SYNC, a TPDO of the wrong length, an extended frame with the
+  // same low bits: ignored, and the feedback is untouched.
+  const RemoteFeedback before = remote->feedback();
+  EXPECT_EQ(kind(encode_tpdo1(drive_id + 1, Tpdo1{0x0237, 99})), RemoteFrame::ignored);
+  EXPECT_EQ(kind(encode_tpdo2(drive_id + 1, Tpdo2{99, 99})), RemoteFrame::ignored);
+  EXPECT_EQ(kind(encode_sync()), RemoteFrame::ignored);
+  CanFrame short_tpdo2 = encode_tpdo2(drive_id, Tpdo2{99, 99});
+  short_tpdo2.len = 7;
+  EXPECT_EQ(kind(short_tpdo2), RemoteFrame::ignored);
+  CanFrame extended = encode_tpdo1(drive_id, Tpdo1{0x0237, 99});
+  extended.flags = can_flag::extended;
+  EXPECT_EQ(kind(extended), RemoteFrame::ignored);
+  EXPECT_EQ(remote->feedback().position_actual, before.position_actual);
+  EXPECT_EQ(remote->feedback().load_position, before.load_position);
+  EXPECT_EQ(remote->feedback().tpdo1_received, before.tpdo1_received);
+  EXPECT_EQ(remote->feedback().tpdo2_received, before.tpdo2_received);
+  EXPECT_EQ(remote->take_events(), 0);
+}
+
+TEST_F(DriveOverLoopback, RpdoIsWrittenOverTheCallersFrame) {
+  start();
+  ASSERT_TRUE(run_until_ready());
+  CanFrame f = encode_tpdo2(drive_id, Tpdo2{-1, -1});  // a different frame, all bytes set
+  f.flags = can_flag::fd;
+  ASSERT_TRUE(remote->rpdo(-123456, f));
+  EXPECT_EQ(f, encode_rpdo1(drive_id, Rpdo1{controlword::enable_operation, -123456}));
+}
+
 TEST_F(DriveOverLoopback, SyncLossQuickStopsTheDriveAndSendsEmcy) {
   start();
   ASSERT_TRUE(run_until_ready());
@@ -204,7 +245,9 @@ TEST_F(DriveOverLoopback, RpdoLossQuickStopsAndRecoveryReenablesAndClearsTheErro
   EXPECT_EQ(remote->emcy().last().error_code, emcy_code::rpdo_timeout);
   EXPECT_TRUE(remote->emcy().in_error());
 
-  EXPECT_FALSE(remote->rpdo(0)) << "no process data to a drive that stopped";
+  CanFrame untouched = encode_sync(7);
+  EXPECT_FALSE(remote->rpdo(0, untouched)) << "no process data to a drive that stopped";
+  EXPECT_EQ(untouched, encode_sync(7)) << "a refused RPDO leaves the caller's frame as it was";
   remote->recover(now);
   ASSERT_TRUE(run_until_ready());
   EXPECT_FALSE(remote->emcy().in_error()) << "re-enabling ends the communication error (EMCY 0000)";
@@ -345,7 +388,8 @@ TEST_F(DriveOverLoopback, SilentDriveIsReportedLost) {
   }
   EXPECT_EQ(remote->state(), RemoteDriveState::lost);
   EXPECT_NE(remote->take_events() & remote_event::heartbeat_lost, 0);
-  EXPECT_FALSE(remote->rpdo(0));
+  CanFrame unused{};
+  EXPECT_FALSE(remote->rpdo(0, unused));
 }
 
 TEST_F(DriveOverLoopback, UnsupportedModeFailsStartUpWithTheDrivesAbortCode) {

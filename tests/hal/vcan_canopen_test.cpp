@@ -152,7 +152,7 @@ Exchange run_exchange(int ticks, const std::string& candump_log) {
     remote.poll(test::monotonic_us(), out);
     const std::uint64_t tpdo2_before = remote.feedback().tpdo2_received;
     const bool process_data = remote.state() == canopen::RemoteDriveState::enabling || remote.ready();
-    if (const auto rpdo = remote.rpdo(target); rpdo && out.put(*rpdo)) {
+    if (CanFrame rpdo{}; remote.rpdo(target, rpdo) && out.put(rpdo)) {
       ++x.rpdos_sent;
     }
     if (out.put(sync.next())) {

@@ -18,10 +18,17 @@ namespace {
 }  // namespace
 
 CanFrame encode_rpdo1(NodeId node, const Rpdo1& pdo) noexcept {
-  CanFrame f = pdo_frame(cob::rpdo1, node, 6);
-  put_u16(&f.data[0], pdo.controlword);
-  put_i32(&f.data[2], pdo.target_position);
+  CanFrame f{};
+  encode_rpdo1(node, pdo, f);
   return f;
+}
+
+void encode_rpdo1(NodeId node, const Rpdo1& pdo, CanFrame& out) noexcept {
+  out.id = cob_id(cob::rpdo1, node);
+  out.flags = 0;
+  out.len = 6;
+  put_u16(&out.data[0], pdo.controlword);
+  put_i32(&out.data[2], pdo.target_position);
 }
 
 CanFrame encode_tpdo1(NodeId node, const Tpdo1& pdo) noexcept {

@@ -124,74 +124,95 @@ void RemoteDrive::fail(std::uint64_t /*now_us*/) noexcept {
   events_ |= remote_event::failed;
 }
 
-void RemoteDrive::on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
-  if (!is_canopen_data_frame(frame)) {
-    return;
+RemoteFrame RemoteDrive::on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
+  // Every service the master consumes is node-specific: function code + this drive's node id.
+  if (!is_canopen_data_frame(frame) || (frame.id & 0x7FU) != config_.node) {
+    return RemoteFrame::ignored;
   }
-  const bool was_lost = state_ == RemoteDriveState::lost;
-  switch (heartbeat_.on_frame(frame, now_us)) {
-    case HeartbeatEvent::boot_up:
-      events_ |= remote_event::boot_up;
-      // Whatever was configured on the drive is gone; configure it again before streaming.
-      if (state_ != RemoteDriveState::idle) {
-        start(now_us, out);
+  switch (frame.id & 0x780U) {
+    case cob::heartbeat: {
+      const bool was_lost = state_ == RemoteDriveState::lost;
+      switch (heartbeat_.on_frame(frame, now_us)) {
+        case HeartbeatEvent::boot_up:
+          events_ |= remote_event::boot_up;
+          // Whatever was configured on the drive is gone; configure it again before streaming.
+          if (state_ != RemoteDriveState::idle) {
+            start(now_us, out);
+          }
+          break;
+        case HeartbeatEvent::alive:
+          if (was_lost) {
+            events_ |= remote_event::heartbeat_back;
+            start(now_us, out);
+          }
+          break;
+        case HeartbeatEvent::state_changed:
+        case HeartbeatEvent::none:
+        case HeartbeatEvent::lost:
+          break;
       }
-      return;
-    case HeartbeatEvent::alive:
-      if (was_lost) {
-        events_ |= remote_event::heartbeat_back;
-        start(now_us, out);
-      }
-      return;
-    case HeartbeatEvent::state_changed:
-    case HeartbeatEvent::none:
-    case HeartbeatEvent::lost:
-      break;
-  }
-  if (emcy_.on_frame(frame)) {
-    events_ |= remote_event::emcy;
-    return;
-  }
-  if (const auto tpdo1 = decode_tpdo1(frame, config_.node)) {
-    feedback_.statusword = tpdo1->statusword;
-    feedback_.position_actual = tpdo1->position_actual;
-    feedback_.tpdo1_time_us = now_us;
-    ++feedback_.tpdo1_received;
-    const bool enabled = EnableSequence::done(tpdo1->statusword);
-    if (state_ == RemoteDriveState::enabling && enabled) {
-      state_ = RemoteDriveState::ready;
-      enable_timer_.disarm();
-      events_ |= remote_event::became_ready;
-    } else if (state_ == RemoteDriveState::ready && !enabled) {
-      state_ = RemoteDriveState::stopped;
-      events_ |= remote_event::left_enabled;
+      return RemoteFrame::heartbeat;
     }
-    return;
-  }
-  if (const auto tpdo2 = decode_tpdo2(frame, config_.node)) {
-    feedback_.load_position = tpdo2->load_position;
-    feedback_.velocity_actual = tpdo2->velocity_actual;
-    ++feedback_.tpdo2_received;
-    return;
+    case cob::emcy:
+      if (!emcy_.on_frame(frame)) {
+        return RemoteFrame::ignored;
+      }
+      events_ |= remote_event::emcy;
+      return RemoteFrame::emcy;
+    case cob::tpdo1: {
+      const auto tpdo1 = decode_tpdo1(frame, config_.node);
+      if (!tpdo1) {
+        return RemoteFrame::ignored;
+      }
+      feedback_.statusword = tpdo1->statusword;
+      feedback_.position_actual = tpdo1->position_actual;
+      feedback_.tpdo1_time_us = now_us;
+      ++feedback_.tpdo1_received;
+      const bool enabled = EnableSequence::done(tpdo1->statusword);
+      if (state_ == RemoteDriveState::enabling && enabled) {
+        state_ = RemoteDriveState::ready;
+        enable_timer_.disarm();
+        events_ |= remote_event::became_ready;
+      } else if (state_ == RemoteDriveState::ready && !enabled) {
+        state_ = RemoteDriveState::stopped;
+        events_ |= remote_event::left_enabled;
+      }
+      return RemoteFrame::tpdo1;
+    }
+    case cob::tpdo2: {
+      const auto tpdo2 = decode_tpdo2(frame, config_.node);
+      if (!tpdo2) {
+        return RemoteFrame::ignored;
+      }
+      feedback_.load_position = tpdo2->load_position;
+      feedback_.velocity_actual = tpdo2->velocity_actual;
+      ++feedback_.tpdo2_received;
+      return RemoteFrame::tpdo2;
+    }
+    case cob::sdo_tx:
+      break;
+    default:
+      return RemoteFrame::ignored;
   }
   if (state_ != RemoteDriveState::configuring || !sdo_.on_frame(frame, out)) {
-    return;
+    return RemoteFrame::ignored;
   }
   const SdoResult& r = sdo_.result();
   if (r.status != SdoClientStatus::done) {
     failure_ = RemoteDriveFailure{r.index, r.sub, r.status, r.abort, false, false};
     fail(now_us);
-    return;
+    return RemoteFrame::sdo;
   }
   const SdoStep& s = steps_[step_];
   if (s.upload && (r.value & s.mask) != (s.value & s.mask)) {
     failure_ = RemoteDriveFailure{r.index, r.sub, r.status, SdoAbort::none, true, false};
     fail(now_us);
-    return;
+    return RemoteFrame::sdo;
   }
   ++step_;
   step_sent_ = false;
   next_step(now_us, out);
+  return RemoteFrame::sdo;
 }
 
 void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
@@ -230,18 +251,20 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
   }
 }
 
-std::optional<CanFrame> RemoteDrive::rpdo(std::int32_t target_counts) noexcept {
+bool RemoteDrive::rpdo(std::int32_t target_counts, CanFrame& out) noexcept {
   if (state_ == RemoteDriveState::enabling) {
-    return encode_rpdo1(config_.node, Rpdo1{enable_.next(feedback_.statusword), feedback_.position_actual});
+    encode_rpdo1(config_.node, Rpdo1{enable_.next(feedback_.statusword), feedback_.position_actual}, out);
+    return true;
   }
   if (state_ == RemoteDriveState::ready) {
     std::uint16_t cw = controlword::enable_operation;
     if (config_.mode == OperationMode::interpolated_position) {
       cw |= controlword::enable_ip_mode;
     }
-    return encode_rpdo1(config_.node, Rpdo1{cw, target_counts});
+    encode_rpdo1(config_.node, Rpdo1{cw, target_counts}, out);
+    return true;
   }
-  return std::nullopt;
+  return false;
 }
 
 }  // namespace settle::hal::canopen

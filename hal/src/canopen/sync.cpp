@@ -31,12 +31,13 @@ SyncProducer::SyncProducer(std::uint32_t period_us, std::uint8_t counter_overflo
     : period_us_{period_us},
       overflow_{counter_overflow > sync_counter_max ? sync_counter_max : counter_overflow} {}
 
-CanFrame SyncProducer::next() noexcept {
-  if (overflow_ < 2) {
-    return encode_sync(0);
+const CanFrame& SyncProducer::next() noexcept {
+  if (overflow_ >= 2) {
+    counter_ = counter_ >= overflow_ ? 1 : static_cast<std::uint8_t>(counter_ + 1);
+    frame_.len = 1;
+    frame_.data[0] = counter_;
   }
-  counter_ = counter_ >= overflow_ ? 1 : static_cast<std::uint8_t>(counter_ + 1);
-  return encode_sync(counter_);
+  return frame_;
 }
 
 void SyncProducer::start(std::uint64_t now_us) noexcept {

@@ -164,7 +164,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     drive.poll(now, out);
     remote.on_frame(f, now, out);
     remote.poll(now, out);
-    (void)remote.rpdo(static_cast<std::int32_t>(now));
+    CanFrame rpdo{};
+    (void)remote.rpdo(static_cast<std::int32_t>(now), rpdo);
     remote.recover(now);
     (void)client.on_frame(f, out);
     client.poll(now, out);

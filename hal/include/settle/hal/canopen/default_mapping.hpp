@@ -39,6 +39,9 @@ struct Tpdo2 {
 };
 
 [[nodiscard]] CanFrame encode_rpdo1(NodeId node, const Rpdo1& pdo) noexcept;
+// The same frame written over `out` (id, flags, length and the six bytes; bytes past the length
+// are left as they were): the master's per-tick path, which keeps one frame and copies nothing.
+void encode_rpdo1(NodeId node, const Rpdo1& pdo, CanFrame& out) noexcept;
 [[nodiscard]] CanFrame encode_tpdo1(NodeId node, const Tpdo1& pdo) noexcept;
 [[nodiscard]] CanFrame encode_tpdo2(NodeId node, const Tpdo2& pdo) noexcept;
 // Exact id and exact length, or nullopt.

@@ -89,6 +89,16 @@ inline constexpr std::uint16_t left_enabled = 0x0020;     // fault or quick stop
 inline constexpr std::uint16_t failed = 0x0040;
 }  // namespace remote_event
 
+// What on_frame found a received frame to be.
+enum class RemoteFrame : std::uint8_t {
+  ignored,    // another node's, not CANopen, or a service the master does not consume
+  heartbeat,  // this drive's heartbeat or boot-up
+  emcy,
+  tpdo1,      // statusword + position actual: feedback() updated
+  tpdo2,      // load position + velocity actual: feedback() updated
+  sdo,        // an SDO response (used while configuring)
+};
+
 struct RemoteFeedback {
   std::uint16_t statusword{0};
   std::int32_t position_actual{0};
@@ -108,15 +118,17 @@ class RemoteDrive {
   // After stopped/failed: runs the enable sequence again (the configuration is kept).
   void recover(std::uint64_t now_us) noexcept;
 
-  // Every received frame goes here; frames of other nodes are ignored.
-  void on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept;
+  // Every received frame goes here; frames of other nodes are ignored. The frame is routed by
+  // its function code, so a frame costs one decoder, not a try of each.
+  RemoteFrame on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept;
   // Timeouts (SDO, heartbeat, enabling) and the next configuration step.
   void poll(std::uint64_t now_us, FrameSink& out) noexcept;
 
-  // The RPDO1 for this tick, or nothing when the drive must not be sent process data:
-  // enabling -> the enable sequence's controlword with the drive's own position as target
-  // (so enabling never moves the axis); ready -> enable operation with the given target.
-  [[nodiscard]] std::optional<CanFrame> rpdo(std::int32_t target_counts) noexcept;
+  // The RPDO1 for this tick, written over `out`; false (and `out` untouched) when the drive must
+  // not be sent process data. Enabling -> the enable sequence's controlword with the drive's own
+  // position as target (so enabling never moves the axis); ready -> enable operation with the
+  // given target.
+  [[nodiscard]] bool rpdo(std::int32_t target_counts, CanFrame& out) noexcept;
 
   [[nodiscard]] RemoteDriveState state() const noexcept { return state_; }
   [[nodiscard]] bool ready() const noexcept { return state_ == RemoteDriveState::ready; }

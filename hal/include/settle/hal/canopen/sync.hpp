@@ -26,8 +26,10 @@ class SyncProducer {
   // counter_overflow: value of 0x1019; 0 or 1 send SYNC without a counter.
   explicit SyncProducer(std::uint32_t period_us, std::uint8_t counter_overflow = 0) noexcept;
 
-  // The next SYNC frame, for a loop that owns the tick and sends one per period itself.
-  [[nodiscard]] CanFrame next() noexcept;
+  // The next SYNC frame, for a loop that owns the tick and sends one per period itself. The
+  // producer keeps the frame and only steps its counter: nothing is built or copied per period.
+  // The reference is valid until the next call.
+  [[nodiscard]] const CanFrame& next() noexcept;
 
   // Time-driven use: sends when now has reached the next due time. A late call sends one
   // SYNC and skips the periods it missed, so a stalled caller never causes a burst.
@@ -43,6 +45,7 @@ class SyncProducer {
   std::uint8_t counter_{0};
   std::uint64_t next_due_us_{0};
   std::uint64_t skipped_{0};
+  CanFrame frame_{encode_sync(0)};
 };
 
 enum class SyncEvent : std::uint8_t {
