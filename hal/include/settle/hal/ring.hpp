@@ -48,6 +48,7 @@ class Ring {
 
   // The oldest element; only valid when !empty().
   [[nodiscard]] const T& front() const noexcept { return storage_[head_]; }
+  [[nodiscard]] T& front() noexcept { return storage_[head_]; }
 
   void drop_front() noexcept {
     if (size_ == 0) {

@@ -1,0 +1,126 @@
+// A CAN controller's own buffers as the firmware of a drive master sees them: a few transmit
+// mailboxes and a receive FIFO, each entry a 16-byte classic-frame record (identifier, flags,
+// length, eight data bytes), as bxCAN, FlexCAN or an MCP2515 hold them. This is the bus the
+// servo loop has on a microcontroller: sending a frame writes one record, receiving reads one,
+// and neither ever touches a 64-byte FD buffer.
+//
+// The wire side belongs to whoever moves frames between the controller and the bus: on a target
+// the transmit-complete and receive interrupts, in a simulation or a test the harness, through
+// take_sent() and put_received(). Mailboxes leave in the order they were filled (bxCAN's TXFP
+// FIFO mode). A classic controller refuses FD frames (error). All mailboxes pending -> busy, the
+// frame is not queued; FIFO full -> the arriving frame is dropped and counted as an overrun;
+// the receive filters act as the controller's acceptance filters.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "settle/hal/can_bus.hpp"
+#include "settle/hal/ring.hpp"
+
+namespace settle::hal {
+
+template <std::size_t TxMailboxes = 3, std::size_t RxFifoDepth = 16>
+class MailboxBus final : public CanBus {
+  static_assert(TxMailboxes > 0 && RxFifoDepth > 0);
+
+ public:
+  MailboxBus() noexcept = default;
+  MailboxBus(const MailboxBus&) = delete;
+  MailboxBus& operator=(const MailboxBus&) = delete;
+  ~MailboxBus() override = default;
+
+  // Wire side: the oldest pending mailbox, which is then free again; false when none is pending.
+  [[nodiscard]] bool take_sent(CanFrame& out) noexcept {
+    if (tx_.empty()) {
+      return false;
+    }
+    unpack(tx_.front(), out);
+    out.timestamp_us = 0;
+    tx_.drop_front();
+    return true;
+  }
+  // Wire side: a frame arrived. False when the filters reject it or it cannot be held (an FD
+  // frame; a full FIFO, counted as an rx overflow).
+  [[nodiscard]] bool put_received(const CanFrame& frame) noexcept {
+    if (frame.is_fd() || !is_valid(frame) || !filters_.accepts(frame)) {
+      return false;
+    }
+    if (rx_.full()) {
+      count_rx_overflow(1);
+      return false;
+    }
+    Received& r = rx_.back_slot();
+    pack(frame, r.record);
+    r.timestamp_us = frame.timestamp_us;
+    rx_.commit_back();
+    return true;
+  }
+
+  [[nodiscard]] std::size_t pending_tx() const noexcept { return tx_.size(); }
+  [[nodiscard]] std::size_t pending_rx() const noexcept { return rx_.size(); }
+
+ private:
+  struct Record {
+    std::uint32_t id{0};
+    std::uint8_t flags{0};
+    std::uint8_t len{0};
+    std::array<std::uint8_t, can_classic_max_len> data{};
+  };
+  struct Received {
+    Record record{};
+    std::uint64_t timestamp_us{0};
+  };
+
+  static void pack(const CanFrame& f, Record& r) noexcept {
+    r.id = f.id;
+    r.flags = f.flags;
+    r.len = f.len;
+    for (std::size_t i = 0; i < can_classic_max_len; ++i) {
+      r.data[i] = f.data[i];
+    }
+  }
+  static void unpack(const Record& r, CanFrame& f) noexcept {
+    f.id = r.id;
+    f.flags = r.flags;
+    f.len = r.len;
+    for (std::size_t i = 0; i < can_classic_max_len; ++i) {
+      f.data[i] = r.data[i];
+    }
+  }
+
+  [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override {
+    if (frame.is_fd()) {
+      return SendStatus::error;
+    }
+    if (tx_.full()) {
+      return SendStatus::busy;
+    }
+    pack(frame, tx_.back_slot());
+    tx_.commit_back();
+    return SendStatus::sent;
+  }
+  [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t /*timeout_us*/) noexcept override {
+    if (rx_.empty()) {
+      return ReceiveStatus::empty;
+    }
+    const Received& r = rx_.front();
+    unpack(r.record, frame);
+    frame.timestamp_us = r.timestamp_us;
+    rx_.drop_front();
+    return ReceiveStatus::received;
+  }
+  [[nodiscard]] BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept override {
+    return filters_.assign(filters);
+  }
+
+  std::array<Record, TxMailboxes> tx_storage_{};
+  std::array<Received, RxFifoDepth> rx_storage_{};
+  Ring<Record> tx_{tx_storage_};
+  Ring<Received> rx_{rx_storage_};
+  FilterSet filters_{};
+};
+
+}  // namespace settle::hal

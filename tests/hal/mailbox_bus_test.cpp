@@ -1,0 +1,83 @@
+// MailboxBus: the controller-buffer backend the servo loop runs on in firmware.
+#include <gtest/gtest.h>
+
+#include <array>
+
+#include "frame_helpers.hpp"
+#include "settle/hal/mailbox_bus.hpp"
+
+namespace settle::hal {
+namespace {
+
+TEST(MailboxBus, FramesLeaveInTheOrderSentAndBusyWhenEveryMailboxIsPending) {
+  MailboxBus<3, 4> bus;
+  for (std::uint8_t i = 0; i < 3; ++i) {
+    ASSERT_EQ(bus.send(test::frame(0x200U + i, {i, 2, 3, 4, 5, 6, 7, 8})), SendStatus::sent);
+  }
+  EXPECT_EQ(bus.send(test::frame(0x203, {9})), SendStatus::busy) << "three mailboxes, three pending";
+  EXPECT_EQ(bus.counters().tx_busy, 1U);
+  CanFrame f{};
+  ASSERT_TRUE(bus.take_sent(f));
+  EXPECT_EQ(f, test::frame(0x200, {0, 2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_EQ(bus.send(test::frame(0x203, {9})), SendStatus::sent) << "a mailbox is free again";
+  for (std::uint32_t id : {0x201U, 0x202U, 0x203U}) {
+    ASSERT_TRUE(bus.take_sent(f));
+    EXPECT_EQ(f.id, id);
+  }
+  EXPECT_FALSE(bus.take_sent(f));
+  EXPECT_EQ(bus.counters().sent, 4U);
+}
+
+TEST(MailboxBus, ReceiveFifoKeepsOrderTimestampsAndCountsOverrun) {
+  MailboxBus<1, 2> bus;
+  CanFrame a = test::frame(0x181, {1, 2, 3, 4, 5, 6});
+  a.timestamp_us = 1000;
+  CanFrame b = test::frame(0x281, {8, 7, 6, 5, 4, 3, 2, 1});
+  b.timestamp_us = 1001;
+  ASSERT_TRUE(bus.put_received(a));
+  ASSERT_TRUE(bus.put_received(b));
+  EXPECT_FALSE(bus.put_received(test::frame(0x701, {5}))) << "FIFO full: the new frame is lost";
+  EXPECT_EQ(bus.counters().rx_overflow_drops, 1U);
+  CanFrame f{};
+  ASSERT_EQ(bus.receive(f), ReceiveStatus::received);
+  EXPECT_EQ(f, a);
+  EXPECT_EQ(f.timestamp_us, 1000U);
+  ASSERT_EQ(bus.receive(f), ReceiveStatus::received);
+  EXPECT_EQ(f, b);
+  EXPECT_EQ(f.timestamp_us, 1001U);
+  EXPECT_EQ(bus.receive(f), ReceiveStatus::empty);
+  EXPECT_EQ(bus.counters().received, 2U);
+}
+
+TEST(MailboxBus, ClassicControllerRefusesFdAndFiltersOnReceive) {
+  MailboxBus<> bus;
+  std::array<std::uint8_t, 12> twelve{};
+  const CanFrame fd = make_frame(0x100, twelve);
+  ASSERT_TRUE(fd.is_fd());
+  EXPECT_EQ(bus.send(fd), SendStatus::error);
+  EXPECT_EQ(bus.pending_tx(), 0U) << "nothing queued on an error";
+  EXPECT_FALSE(bus.put_received(fd));
+  CanFrame bad = test::frame(0x100, {});
+  bad.len = 9;
+  EXPECT_EQ(bus.send(bad), SendStatus::error) << "an invalid frame never reaches a mailbox";
+
+  const std::array<CanFilter, 1> only_node_1{CanFilter{0x001, 0x07F, FrameFormat::standard}};
+  ASSERT_EQ(bus.set_filters(only_node_1), BusStatus::ok);
+  EXPECT_TRUE(bus.put_received(test::frame(0x181, {1})));
+  EXPECT_FALSE(bus.put_received(test::frame(0x182, {1}))) << "acceptance filter";
+  EXPECT_EQ(bus.pending_rx(), 1U);
+  EXPECT_EQ(bus.counters().rx_overflow_drops, 0U) << "a filtered frame is not an overrun";
+}
+
+TEST(MailboxBus, ReceivingWritesOnlyTheClassicPartOfTheCallersFrame) {
+  MailboxBus<> bus;
+  ASSERT_TRUE(bus.put_received(test::frame(0x181, {1, 2})));
+  CanFrame f{};
+  f.data[20] = 0xAB;  // beyond any classic frame: a receive must not cost a 64-byte copy
+  ASSERT_EQ(bus.receive(f), ReceiveStatus::received);
+  EXPECT_EQ(f, test::frame(0x181, {1, 2}));
+  EXPECT_EQ(f.data[20], 0xAB);
+}
+
+}  // namespace
+}  // namespace settle::hal
