@@ -4,36 +4,69 @@
 // streams these and the offline reference replays them, so both see the same integers.
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
+#include "settle/core/status.hpp"
 #include "settle/core/stepper.hpp"
 
 namespace settle::core {
+
+// The longest stream, in ticks: the same bound as core/fixed's (2^30 ticks, 12 days at 1 kHz),
+// so that tick counters are int32 on every target (an int64 to float conversion is a library
+// call on a Cortex-M4F).
+inline constexpr std::int64_t kMaxStreamTicks = std::int64_t{1} << 30;
+
+// Ticks from a move's start to its final setpoint: ceil(duration / period).
+template <typename Scalar>
+[[nodiscard]] std::int64_t stream_ticks(const Move<Scalar>& m, std::uint32_t period_us) noexcept {
+  const double ticks = std::ceil(static_cast<double>(m.duration()) / (period_us * 1e-6));
+  return ticks >= 0.0 && ticks <= static_cast<double>(kMaxStreamTicks) ? static_cast<std::int64_t>(ticks)
+                                                                          : kMaxStreamTicks + 1;
+}
+
+// Status::duration_does_not_fit when the move has more than kMaxStreamTicks ticks at this
+// period (or the period is 0): the servo loop refuses such a move when it is submitted.
+template <typename Scalar>
+[[nodiscard]] Status check_streamable(const Move<Scalar>& m, std::uint32_t period_us) noexcept {
+  return period_us > 0 && stream_ticks(m, period_us) <= kMaxStreamTicks ? Status::ok : Status::duration_does_not_fit;
+}
 
 template <typename Scalar>
 class SetpointStream {
  public:
   SetpointStream() = default;
-  // The move must outlive the stream. Everything in double is done here, once: the tick path
-  // works in Scalar and integers only (the Cortex-M4F has no double-precision FPU).
+  // The move must outlive the stream, and pass check_streamable. Everything in double is done
+  // here, once: the tick path works in Scalar and int32 only (the Cortex-M4F has no
+  // double-precision FPU and no 64-bit conversions).
   SetpointStream(const Move<Scalar>& m, std::uint32_t period_us, double counts_per_unit, std::int32_t origin) noexcept
       : stepper_{m, static_cast<Scalar>(period_us * 1e-6)},
-        last_tick_{static_cast<std::int64_t>(std::ceil(static_cast<double>(m.duration()) / (period_us * 1e-6)))},
+        last_tick_{static_cast<std::int32_t>(stream_ticks(m, period_us) > kMaxStreamTicks ? kMaxStreamTicks
+                                                                                          : stream_ticks(m, period_us))},
         counts_per_unit_{static_cast<Scalar>(counts_per_unit)},
         origin_{origin} {}
 
   // The next target; `last` is set on the final one, the first tick at or after the move's end
-  // (where the move is exactly at rest on its distance).
+  // (where the move is exactly at rest on its distance). Positions wrap modulo 2^32 counts, as a
+  // drive's position counter does; a displacement beyond +-2^31 counts saturates (the loop
+  // refuses such moves when they are submitted).
   [[nodiscard]] std::int32_t next(bool& last) noexcept {
     last = stepper_.tick() >= last_tick_;
     const Sample<Scalar> s = stepper_.step();
-    const auto counts = static_cast<std::int64_t>(std::nearbyint(s.p * counts_per_unit_));
-    return static_cast<std::int32_t>(static_cast<std::int64_t>(origin_) + counts);
+    Scalar x = std::nearbyint(s.p * counts_per_unit_);
+    constexpr Scalar lo = -2147483648.0;  // -2^31 and the largest float/double below 2^31
+    constexpr Scalar hi = std::is_same_v<Scalar, float> ? Scalar(2147483520.0F) : Scalar(2147483647.0);
+    x = x < lo ? lo : (x > hi ? hi : x);
+    const auto counts = static_cast<std::int32_t>(x);
+    return static_cast<std::int32_t>(static_cast<std::uint32_t>(origin_) + static_cast<std::uint32_t>(counts));
   }
   [[nodiscard]] std::int32_t origin() const noexcept { return origin_; }
+  // Moves tick 0 to another origin; before the first next() (a stream prepared in advance learns
+  // where the axis is only when its move starts).
+  void rebase(std::int32_t origin) noexcept { origin_ = origin; }
 
  private:
   MoveStepper<Scalar> stepper_{};
-  std::int64_t last_tick_{0};
+  std::int32_t last_tick_{0};
   Scalar counts_per_unit_{1};
   std::int32_t origin_{0};
 };

@@ -13,6 +13,13 @@
 
 namespace settle::core {
 
+// Tick counters are int32 (an int64 to float conversion is a library call on a Cortex-M4F); a
+// counter stops at INT32_MAX instead of overflowing, ~25 days at 1 kHz, far past any move
+// the servo loop accepts (core::kMaxStreamTicks).
+constexpr void advance_tick(std::int32_t& n) noexcept {
+  if (n < INT32_MAX) ++n;
+}
+
 template <typename T>
 class RampCycloidStepper {
  public:
@@ -27,7 +34,7 @@ class RampCycloidStepper {
 
   [[nodiscard]] Sample<T> step() noexcept {
     const T t = t0_ + static_cast<T>(n_) * dt_;
-    ++n_;
+    advance_tick(n_);
     if (!(t > T(0))) return {};
     if (t >= rc_->duration()) return {rc_->distance(), T(0), T(0), T(0)};
     const int k = seg_ >= 0 && seg_ < 4 && t < rc_->segment(seg_ + 1).start && t >= rc_->segment(seg_).start
@@ -58,7 +65,7 @@ class RampCycloidStepper {
   T dt_{}, t0_{};
   T rot_c_{1}, rot_s_{0};
   T sn_{0}, cs_{1};
-  std::int64_t n_{0};
+  std::int32_t n_{0};
   int seg_{-1};
   std::int32_t since_anchor_{0};
 };
@@ -79,7 +86,7 @@ class MoveStepper {
 
   [[nodiscard]] Sample<T> step() noexcept {
     const T t = static_cast<T>(n_) * dt_;
-    ++n_;
+    advance_tick(n_);
     if (count_ == 0) return move_->at(t);
     if (t >= move_->duration()) {
       for (std::size_t i = 0; i < count_; ++i) (void)steppers_[i].step();  // keep clocks aligned
@@ -97,12 +104,12 @@ class MoveStepper {
     }
     return acc;
   }
-  [[nodiscard]] std::int64_t tick() const noexcept { return n_; }
+  [[nodiscard]] std::int32_t tick() const noexcept { return n_; }
 
  private:
   const Move<T>* move_{nullptr};
   T dt_{};
-  std::int64_t n_{0};
+  std::int32_t n_{0};
   std::size_t count_{0};
   std::array<RampCycloidStepper<T>, MaxImpulses> steppers_{};
 };
