@@ -96,6 +96,33 @@ TEST(ServoLoop, StreamsAMoveExactlyOnceInOrderAndEndsOnTarget) {
   EXPECT_EQ(r.loop.axis_stats(0).max_following_error, 0);
 }
 
+TEST(ServoLoop, FeedbackLogKeepsEachPeriodInArrivalOrderAndCountsWhatItHadToDrop) {
+  Rig r;
+  ASSERT_TRUE(r.run_until_ready());
+  while (!r.loop.feedback_log(0).empty()) r.loop.feedback_log(0).drop_front();
+  r.drive.applied.clear();
+  ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), firmware::LoopStatus::ok);
+  // Drained every tick: one sample per period. A tick receives what the drive published after
+  // the previous tick's SYNC, so sample k + 1 is the drive's answer to the k-th applied setpoint.
+  std::vector<std::int32_t> logged;
+  for (int i = 0; i < 101; ++i) {
+    r.tick();
+    for (firmware::FeedbackSample fs{}; r.loop.feedback_log(0).pop(fs);) logged.push_back(fs.position_actual);
+  }
+  ASSERT_EQ(logged.size(), 101U);
+  ASSERT_GE(r.drive.applied.size(), 100U);
+  for (std::size_t k = 0; k < 100; ++k) EXPECT_EQ(logged[k + 1], r.drive.applied[k]) << "period " << k;
+  EXPECT_EQ(r.loop.axis_stats(0).feedback_overflows, 0U);
+  // Not drained: the log holds its capacity, the oldest samples stay, the rest are counted.
+  const std::size_t extra = 5;
+  for (std::size_t i = 0; i < firmware::kFeedbackLogCapacity + extra; ++i) r.tick();
+  EXPECT_EQ(r.loop.feedback_log(0).size(), firmware::kFeedbackLogCapacity);
+  EXPECT_EQ(r.loop.axis_stats(0).feedback_overflows, extra);
+  firmware::FeedbackSample first{};
+  ASSERT_TRUE(r.loop.feedback_log(0).pop(first));
+  EXPECT_EQ(first.position_actual, r.drive.applied[100]) << "the oldest undrained sample comes first";
+}
+
 TEST(ServoLoop, RefusesWhatItCannotStreamAndChangesNothing) {
   Rig r;
   core::Status st{};

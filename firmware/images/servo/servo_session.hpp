@@ -3,7 +3,10 @@
 // (settle_servo_image_host) so that both send the same frames: one axis of ServoLoop<float> on a
 // virtual 1 kHz clock streams one move to an ideal CiA 402 drive (hal's DriveNode, in the same
 // program on an in-process loopback bus), and every frame the master sends is written as a
-// candump line to the caller's sink. Nothing is planned here: the move is the one `core::plan`
+// candump line to the caller's sink. The loop itself runs on a CAN controller's buffers
+// (hal::MailboxBus), as it would in drive firmware; the harness plays the controller's wire
+// side between ticks, moving frames to and from the loopback bus and the log, so a timed tick
+// holds the loop's own work and its driver calls but not the simulated drive's or the log's. Nothing is planned here: the move is the one `core::plan`
 // gives for seed 000's beam (S-curve, 0.05 m in 0.8 Tn, omega 22.04871 rad/s), pinned as its
 // RampCycloidParams and peaks; the host test checks that plan() still gives exactly these.
 #include <cstddef>
@@ -16,6 +19,7 @@
 #include "settle/firmware/session.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/loopback_bus.hpp"
+#include "settle/hal/mailbox_bus.hpp"
 
 namespace settle::firmware::servo_image {
 
@@ -99,7 +103,7 @@ template <typename LineSink, typename Timer>
 class Program {
  public:
   Program(LineSink& sink, Timer& timer) noexcept
-      : master_port_{hub_}, tap_{master_port_, sink, kIface}, drive_{hub_}, loop_{tap_, kPeriodUs},
+      : master_port_{hub_}, tap_{master_port_, sink, kIface}, drive_{hub_}, loop_{controller_, kPeriodUs},
         timer_{timer} {}
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;
@@ -142,14 +146,17 @@ class Program {
       p.drive_.start(now_us);
       p.drive_.process(now_us);
       p.loop_.start(now_us);
+      p.transmit();
       p.tap_.flush();
     }
     void tick(std::uint64_t now_us) noexcept {
       p.at(now_us);
+      p.arrive();
       const bool streaming = !p.loop_.idle();
       p.timer_.begin();
       p.loop_.tick(now_us);
       p.timer_.end(streaming);
+      p.transmit();
       p.tap_.flush();
     }
     [[nodiscard]] bool all_ready() const noexcept { return p.loop_.all_ready(); }
@@ -167,10 +174,22 @@ class Program {
     hub_.set_time_us(now_us);
     tap_.set_time_us(now_us);
   }
+  // The controller's wire side. Every frame the drive sent since the last tick reaches the receive
+  // FIFO (an overrun there is the loop's to see in its bus counters), and every mailbox the loop
+  // filled goes out, through the log, in order.
+  void arrive() noexcept {
+    hal::CanFrame f{};
+    while (tap_.receive(f, 0) == hal::ReceiveStatus::received) (void)controller_.put_received(f);
+  }
+  void transmit() noexcept {
+    hal::CanFrame f{};
+    while (controller_.take_sent(f)) (void)tap_.send(f);
+  }
 
   hal::LoopbackHub hub_{};
   hal::LoopbackBus<8> master_port_;
   CandumpTapBus<LineSink> tap_;
+  hal::MailboxBus<3, 8> controller_{};
   IdealDrive drive_;
   Loop loop_;
   Timer& timer_;

@@ -1,10 +1,12 @@
 // What one axis of the servo loop costs in flash and RAM, without the test harness around it:
-// ServoLoop<float, 1 axis> with the pinned move queued, ticking on a bus that only counts (no
-// drive, no loopback, no log). The drive never answers, so nothing is streamed; the image exists
-// for arm-none-eabi-size, and runs only to prove it links and starts.
+// ServoLoop<float, 1 axis> with the pinned move queued, ticking on a CAN controller's buffers
+// (hal::MailboxBus: three transmit mailboxes, an 8-frame receive FIFO), whose sent frames leave
+// for a bus where nobody answers (no drive, no loopback, no log). Nothing is streamed; the image
+// exists for arm-none-eabi-size, and runs only to prove it links and starts.
 #include <cstdint>
 
 #include "servo_session.hpp"
+#include "settle/hal/mailbox_bus.hpp"
 #include "settle/firmware/runtime.hpp"
 #include "settle/firmware/semihosting.hpp"
 #include "settle/firmware/text.hpp"
@@ -15,18 +17,7 @@ namespace fw = settle::firmware;
 namespace hal = settle::hal;
 namespace si = settle::firmware::servo_image;
 
-class NullBus final : public hal::CanBus {
- private:
-  [[nodiscard]] hal::SendStatus do_send(const hal::CanFrame&) noexcept override { return hal::SendStatus::sent; }
-  [[nodiscard]] hal::ReceiveStatus do_receive(hal::CanFrame&, std::uint32_t) noexcept override {
-    return hal::ReceiveStatus::empty;
-  }
-  [[nodiscard]] hal::BusStatus do_set_filters(std::span<const hal::CanFilter>) noexcept override {
-    return hal::BusStatus::ok;
-  }
-};
-
-NullBus g_bus{};
+hal::MailboxBus<3, 8> g_bus{};
 si::Loop g_loop{g_bus, si::kPeriodUs};
 
 }  // namespace
@@ -38,7 +29,12 @@ int settle::firmware::image_main() {
   if (g_loop.add_axis(ac) != fw::LoopStatus::ok) return 1;
   g_loop.start(0);
   if (g_loop.submit(0, si::pinned_move()) != fw::LoopStatus::ok) return 1;
-  for (std::uint64_t n = 1; n <= 100; ++n) g_loop.tick(n * si::kPeriodUs);
+  hal::CanFrame wire{};
+  for (std::uint64_t n = 1; n <= 100; ++n) {
+    g_loop.tick(n * si::kPeriodUs);
+    while (g_bus.take_sent(wire)) {
+    }
+  }
   // The stack this took: submitting converts the Move<double> to the loop's Move<float> on the
   // stack, which is most of it; the tick's own worst path is far smaller (stack-report).
   fw::Text<96> rep{};

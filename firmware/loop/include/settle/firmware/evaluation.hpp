@@ -2,7 +2,8 @@
 // How the servo loop turns a queued move into one integer target per tick. FloatEvaluation runs
 // core's Move in float or double (a Cortex-M4F, a Linux drive); FixedEvaluation runs core's
 // fixed-point Motion, integer-only per tick (a Cortex-M0 without FPU). Both convert the planned
-// Move<double> when it is submitted, outside the tick, and may refuse it there.
+// Move<double> when it is submitted, outside the tick, and may refuse it there; everything that
+// needs double arithmetic or trigonometry is done then, so starting a move in a tick is cheap.
 #include <cstdint>
 
 #include "settle/core/fixed/motion.hpp"
@@ -13,17 +14,39 @@ namespace settle::firmware {
 
 template <typename Scalar>
 struct FloatEvaluation {
-  using Stored = core::Move<Scalar>;
-  using Stream = core::SetpointStream<Scalar>;
+  // The move and its setpoint stream, built together in the queue's slot when the move is
+  // submitted. The stream refers to the move next to it: a Stored never moves or copies.
+  struct Stored {
+    Stored() = default;
+    Stored(const Stored&) = delete;
+    Stored& operator=(const Stored&) = delete;
+    core::Move<Scalar> move{};
+    core::SetpointStream<Scalar> stream{};
+  };
+  // The active move's stream, where it was prepared.
+  class Stream {
+   public:
+    Stream() = default;
+    explicit Stream(core::SetpointStream<Scalar>& s) noexcept : s_{&s} {}
+    [[nodiscard]] std::int32_t next(bool& last) noexcept { return s_->next(last); }
 
-  [[nodiscard]] static core::Status prepare(const core::Move<double>& m, std::uint32_t /*period_us*/,
-                                            double /*counts_per_unit*/, Stored& out) noexcept {
-    out = Stored{m};
+   private:
+    core::SetpointStream<Scalar>* s_{nullptr};
+  };
+
+  [[nodiscard]] static core::Status prepare(const core::Move<double>& m, std::uint32_t period_us,
+                                            double counts_per_unit, Stored& out) noexcept {
+    const core::Status st = core::check_streamable(m, period_us);
+    if (st != core::Status::ok) return st;
+    out.move = core::Move<Scalar>{m};
+    out.stream = core::SetpointStream<Scalar>{out.move, period_us, counts_per_unit, 0};
     return core::Status::ok;
   }
-  [[nodiscard]] static Stream start(const Stored& s, std::uint32_t period_us, double counts_per_unit,
+  // In the tick that starts the move: only where tick 0 is.
+  [[nodiscard]] static Stream start(Stored& s, std::uint32_t /*period_us*/, double /*counts_per_unit*/,
                                     std::int32_t origin) noexcept {
-    return Stream{s, period_us, counts_per_unit, origin};
+    s.stream.rebase(origin);
+    return Stream{s.stream};
   }
 };
 

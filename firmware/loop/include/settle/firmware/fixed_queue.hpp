@@ -26,6 +26,7 @@ class FixedQueue {
   [[nodiscard]] T& back_slot() noexcept { return ring_.back_slot(); }
   void commit_back() noexcept { ring_.commit_back(); }
   [[nodiscard]] const T& front() const noexcept { return ring_.front(); }
+  [[nodiscard]] T& front() noexcept { return ring_.front(); }
   void drop_front() noexcept { ring_.drop_front(); }
   void clear() noexcept { ring_.clear(); }
   [[nodiscard]] std::size_t size() const noexcept { return ring_.size(); }

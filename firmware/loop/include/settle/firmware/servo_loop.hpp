@@ -80,8 +80,9 @@ struct AxisStats {
   std::uint64_t feedback_overflows{0};  // samples dropped because feedback_log() was not drained
 };
 
-// Feedback samples kept per axis until the owner drains them (every tick).
-inline constexpr std::size_t kFeedbackLogCapacity = 64;
+// Feedback samples kept per axis until the owner drains them (every tick): one arrives per
+// period, so this is 16 periods of slack; 12 bytes each, per axis, on a microcontroller.
+inline constexpr std::size_t kFeedbackLogCapacity = 16;
 
 struct LoopStats {
   std::uint64_t ticks{0};
@@ -184,9 +185,9 @@ class ServoLoop {
     const std::uint8_t target = f.is_extended() || node == 0 ? kNoAxis : axis_of_node_[node];
     if (target != kNoAxis) {
       Axis& a = axes_[target];
-      a.drive->on_frame(f, now_us, bus_);
-      if (const auto t2 = hal::canopen::decode_tpdo2(f, a.cfg.drive.node)) {
-        if (!a.feedback_log.push({a.drive->feedback().position_actual, t2->load_position, t2->velocity_actual})) {
+      if (a.drive->on_frame(f, now_us, bus_) == hal::canopen::RemoteFrame::tpdo2) {
+        const auto& fb = a.drive->feedback();
+        if (!a.feedback_log.push({fb.position_actual, fb.load_position, fb.velocity_actual})) {
           ++a.stats.feedback_overflows;
         }
       }
@@ -258,10 +259,9 @@ class ServoLoop {
   }
 
   void receive_all(std::uint64_t now_us) noexcept {
-    hal::CanFrame f{};
     for (std::size_t n = 0; n < kMaxFramesPerTick; ++n) {
-      if (bus_.receive(f, 0) != hal::ReceiveStatus::received) break;
-      receive(f, now_us);
+      if (bus_.receive(rx_, 0) != hal::ReceiveStatus::received) break;
+      receive(rx_, now_us);
     }
   }
 
@@ -336,7 +336,7 @@ class ServoLoop {
         }
       }
     }
-    const std::optional<hal::CanFrame> f = d.rpdo(target);
+    const bool have_rpdo = d.rpdo(target, tx_);
     a.record.moving = a.active;
     a.record.target = target;
     const auto& fb = d.feedback();
@@ -344,11 +344,11 @@ class ServoLoop {
     a.record.load_position = fb.load_position;
     a.record.velocity_actual = fb.velocity_actual;
     a.record.feedback_count = fb.tpdo1_received;
-    if (!f) {
+    if (!have_rpdo) {
       a.sent_prev_valid = false;
       return;
     }
-    switch (bus_.send(*f)) {
+    switch (bus_.send(tx_)) {
       case hal::SendStatus::sent:
         ++a.stats.rpdo_sent;
         a.record.sent = true;
@@ -390,6 +390,10 @@ class ServoLoop {
   std::size_t count_{0};
   bool started_{false};
   LoopStats stats_{};
+  // The frames a tick receives into and builds its RPDOs in: kept, so that a tick neither zeroes
+  // nor copies a whole (FD-sized) frame; encoders write the header and the bytes they carry.
+  hal::CanFrame rx_{};
+  hal::CanFrame tx_{};
 };
 
 }  // namespace settle::firmware
