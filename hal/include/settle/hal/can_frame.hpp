@@ -31,7 +31,9 @@ struct CanFrame {
   std::uint8_t flags{0};
   // Payload length in bytes (for an RTR frame: the requested length, no payload is carried).
   std::uint8_t len{0};
-  std::array<std::uint8_t, can_fd_max_len> data{};
+  // Word-aligned (the frame's size is the same, 80 bytes): a driver moves a classic payload as two
+  // 32-bit words, which a Cortex-M0 can only do on aligned addresses.
+  alignas(4) std::array<std::uint8_t, can_fd_max_len> data{};
   // Receive time in microseconds on the backend's clock; 0 when the backend has none.
   // Not part of the frame's identity: operator== ignores it.
   std::uint64_t timestamp_us{0};
