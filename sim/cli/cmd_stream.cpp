@@ -3,9 +3,11 @@
 // the offline replay of the same setpoints (no bus) and the continuous profile (no sampling).
 // --bus vcan0 (any SocketCAN interface) runs in real time against a `settle plant` process;
 // --bus loopback runs the plant node in this process on the in-process bus, in virtual time.
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "commands.hpp"
@@ -54,8 +56,31 @@ struct Outcome {
   void drain(Loop& loop) {
     for (firmware::FeedbackSample fs{}; loop.feedback_log(0).pop(fs);) feedback.push_back(fs);
   }
+  // After the session: the counters, and where the drive's start-up stands (why, when it failed).
+  void finish(const Loop& loop, const hal::CanBus& on) {
+    bus = on.counters();
+    axis = loop.axis_stats(0);
+    const auto& d = loop.drive(0);
+    drive_state = hal::canopen::to_string(d.state());
+    if (d.state() != hal::canopen::RemoteDriveState::failed) return;
+    const hal::canopen::RemoteDriveFailure& f = d.failure();
+    static constexpr std::array<const char*, 5> sdo{"idle", "busy", "done", "aborted", "timed out"};
+    std::array<char, 96> text{};
+    if (f.enable_timeout) {
+      std::snprintf(text.data(), text.size(), "the drive did not reach operation enabled in time");
+    } else if (f.wrong_value) {
+      std::snprintf(text.data(), text.size(), "0x%04X:%u read back a value other than the one written", f.index,
+                    static_cast<unsigned>(f.sub));
+    } else {
+      std::snprintf(text.data(), text.size(), "SDO 0x%04X:%u %s (abort 0x%08X)", f.index, static_cast<unsigned>(f.sub),
+                    sdo[static_cast<std::size_t>(f.status) % sdo.size()], static_cast<unsigned>(f.abort));
+    }
+    drive_failure = text.data();
+  }
   hal::BusCounters bus{};
   firmware::AxisStats axis{};
+  std::string drive_state;
+  std::string drive_failure;  // empty unless start-up failed
 };
 
 bool write_stream_log(const char* path, const std::vector<firmware::TickRecord>& log, std::uint32_t period_us) {
@@ -163,8 +188,7 @@ int cmd_stream(int argc, char** argv) {
       hub.set_time_us(clock.now_us() + period_us);  // the loop's next tick sends at that time
     });
     if (dump != nullptr) std::fclose(dump);
-    out.bus = master.counters();
-    out.axis = loop->axis_stats(0);
+    out.finish(*loop, master);
   } else {
     hal::SocketCanBus bus;
     const hal::OpenStatus os = open_socketcan(bus, bus_name);
@@ -186,8 +210,7 @@ int cmd_stream(int argc, char** argv) {
       loop->receive(f, clock.now_us());
       out.drain(*loop);
     }
-    out.bus = bus.counters();
-    out.axis = loop->axis_stats(0);
+    out.finish(*loop, bus);
     latency = clock.timer().latency();
     overruns = clock.timer().overruns();
   }
@@ -257,6 +280,8 @@ int cmd_stream(int argc, char** argv) {
     w.begin_object()
         .field("status", completed ? "ok" : "error")
         .field("outcome", firmware::to_string(out.session.outcome))
+        .field("drive_state", out.drive_state.c_str())
+        .field("drive_failure", out.drive_failure.c_str())
         .field("bus", loopback ? "loopback (in-process, virtual time)" : bus_name.c_str())
         .field("profile", core::to_string(move.profile().kind()))
         .field("distance", move.distance())

@@ -101,7 +101,8 @@ def scenario(d, tag):
     p, plog, js = start_plant(d, tag, plant_args, PLANT_TOLERANT)
     rc, r, fb = stream(d, tag, plant_args, move_args, vmax)
     pj = stop_plant(p, js, d, tag)
-    check(rc == 0 and r["outcome"] == "completed", f"{tag}: session completed ({r['outcome']})")
+    check(rc == 0 and r["outcome"] == "completed",
+          f"{tag}: session completed ({r['outcome']}; drive {r.get('drive_state')} {r.get('drive_failure', '')})")
     check(r["aligned"], f"{tag}: the CAN feedback matches the offline replay period by period")
     tol = 1e-6 * out_scale
     check(r["agreement"] <= tol, f"{tag}: residual from CAN {r['residual_can']:.6e} agrees with offline "
@@ -179,6 +180,16 @@ def main():
             j = json.loads(r.stdout)
             check(r.returncode == 2 and j["error"] == "acceleration_limit_exceeded", f"refused: {j['error']}")
             check(len(bus.frames()) == 0, "not a single frame reached the bus")
+        elif TEST == "no-drive-says-why":
+            with Bus(d) as bus:
+                r = subprocess.run([SETTLE, "stream", "--bus", "vcan0", "--plant", "beam", "--profile", "scurve",
+                                    "--distance", "0.05", "--time", "0.2", "--omega", f"{W000}", "--sdo-timeout-ms",
+                                    "300", "--json"], capture_output=True, text=True, timeout=60)
+            j = json.loads(r.stdout)
+            check(r.returncode != 0 and j["outcome"] == "enable_failed", f"nobody answers: {j['outcome']}")
+            check(j["drive_state"] == "failed" and "timed out" in j["drive_failure"],
+                  f"and the loop says why: {j['drive_state']}: {j['drive_failure']}")
+            check(not any(cid == 0x201 for cid, _ in bus.frames()), "no setpoint was sent to a drive never enabled")
         else:
             fail("unknown test " + TEST)
 
