@@ -1,7 +1,7 @@
-// Per-tick cost of the fixed-point evaluators: random access (at_tick, ticks in order) and
-// stepping (next), for every kind of move, shaped and not, and the cam tables; the double
-// evaluator on the same moves for reference; the two fixed-point sines; and, apart, what a build
-// costs at planning time. One benchmark iteration is one tick.
+// Per-tick cost of the fixed-point evaluators: random access (at_tick, ticks in order), stepping
+// (next) and position-only stepping (the position plan), for every kind of move, shaped and not,
+// and the cam tables; the double evaluator on the same moves for reference; the two fixed-point
+// sines; and, apart, what a build costs at planning time. One benchmark iteration is one tick.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -11,6 +11,7 @@
 
 #include "settle/core/fixed/cam.hpp"
 #include "settle/core/fixed/motion.hpp"
+#include "settle/core/fixed/position.hpp"
 #include "settle/core/fixed/trig.hpp"
 #include "settle/core/planner.hpp"
 
@@ -97,6 +98,20 @@ void BM_fixed_next(benchmark::State& st) {
   st.SetLabel(kCases[id].name);
 }
 
+// Position only (the servo loop's fixed-point path), from the motion's position plan.
+void BM_fixed_position(benchmark::State& st) {
+  const auto id = static_cast<int>(st.range(0));
+  const fixed::PolyMotion& m = motion_of(id);
+  auto plan = std::make_unique<fixed::PolyPositionPlan>();
+  if (plan->build(m) != Status::ok) std::abort();
+  fixed::PositionStepper s{*plan};
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(s.next());
+    if (s.tick() > m.end_tick()) s.restart(0);
+  }
+  st.SetLabel(kCases[id].name);
+}
+
 // The damped S-curve as 512-, 128- and 32-knot tables (knots every 1, 4 and 16 ticks).
 struct Cam {
   std::vector<fixed::CamKnot> knots;
@@ -159,13 +174,24 @@ void BM_build(benchmark::State& st) {
   st.SetLabel(kCases[id].name);
 }
 
+// Planning time: a built motion's position plan.
+void BM_build_position(benchmark::State& st) {
+  const auto id = static_cast<int>(st.range(0));
+  const fixed::PolyMotion& m = motion_of(id);
+  auto out = std::make_unique<fixed::PolyPositionPlan>();
+  for (auto _ : st) benchmark::DoNotOptimize(out->build(m));
+  st.SetLabel(kCases[id].name);
+}
+
 }  // namespace
 
 BENCHMARK(BM_double_at)->DenseRange(0, std::size(kCases) - 1);
 BENCHMARK(BM_fixed_at_tick)->DenseRange(0, std::size(kCases) - 1);
 BENCHMARK(BM_fixed_next)->DenseRange(0, std::size(kCases) - 1);
+BENCHMARK(BM_fixed_position)->DenseRange(0, std::size(kCases) - 1);
 BENCHMARK(BM_cam_at_tick)->ArgsProduct({{0, 1, 2}, {512, 32}});
 BENCHMARK(BM_cam_next)->ArgsProduct({{0, 1, 2}, {512, 32}});
 BENCHMARK(BM_sincos_table);
 BENCHMARK(BM_sincos_poly);
 BENCHMARK(BM_build)->DenseRange(0, std::size(kCases) - 1);
+BENCHMARK(BM_build_position)->DenseRange(0, std::size(kCases) - 1);

@@ -3,7 +3,7 @@ cmake_minimum_required(VERSION 3.25)
 # nothing but integer helpers: 64-bit multiply and shifts, memcpy/memset, and itself. Any float
 # routine (__aeabi_d*, __aeabi_f*), division (__aeabi_*div*, *mod*) or libm call fails the test.
 # Run by ctest with -DCXX=<arm-none-eabi-g++> -DNM=<arm-none-eabi-nm> -DCORE=<core dir> -DOUT=<dir>.
-set(sources motion_eval.cpp poly.cpp trig.cpp cam_eval.cpp)
+set(sources motion_eval.cpp position_eval.cpp poly.cpp trig.cpp cam_eval.cpp)
 set(allowed "^_ZN6settle" "^__aeabi_lmul$" "^__aeabi_ll(sl|sr)$" "^__aeabi_lasr$" "^__aeabi_u?lcmp$"
             "^memcpy$" "^memset$" "^memmove$" "^__aeabi_mem(cpy|set|clr|move)[48]?$")
 file(MAKE_DIRECTORY ${OUT})

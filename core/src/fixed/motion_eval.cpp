@@ -3,6 +3,7 @@
 // and finish(); stepping differs only inside a segment, where it adds differences and rotates.
 #include <cstdint>
 
+#include "anchor.hpp"
 #include "settle/core/fixed/motion.hpp"
 #include "settle/core/fixed/poly.hpp"
 #include "settle/core/fixed/qmath.hpp"
@@ -198,6 +199,20 @@ Sample motion_next(const MotionView& m, TrackState* st, std::int32_t n) noexcept
   for (unsigned i = 0; i < h.tracks; ++i) accumulate(total, step_track(m, m.trk[i], st[i], n), m.trk[i].weight);
   return finish(h, total);
 }
+
+TrackAnchor track_anchor(const MotionView& m, const Track& t, std::int32_t n) noexcept {
+  const Where w = locate(m, t, n);
+  TrackAnchor a{};
+  a.seg = w.seg;
+  if (w.seg < 0 || w.seg >= m.hdr->segments) return a;
+  const Segment& g = m.seg[w.seg];
+  const std::uint64_t phase = phase_at(g, w.u);
+  a.t = taylor_at(g, phase, g.degree);
+  if (g.trig) phasor(g, phase, a.wr, a.wi);
+  return a;
+}
+
+std::int32_t track_first_tick(const Track& t, std::int64_t edge) noexcept { return first_tick_at(t, edge); }
 
 void motion_restart(TrackState* st, std::size_t count) noexcept {
   for (std::size_t i = 0; i < count; ++i) st[i].mode = static_cast<std::uint8_t>(Mode::unset);
