@@ -1,6 +1,6 @@
 // The golden list: every evaluator kind once (both S-curve variants, ramp-versine, 3-4-5, a
 // piecewise pseudo-polynomial with whole exponents, a trapezoid, ZV and ZVD shapers whose impulses
-// fall between ticks, and cam tables of three orders). Planning stays libm-free: timed requests,
+// fall between ticks, and cam tables of three orders), each motion also as a position plan. Planning stays libm-free: timed requests,
 // whole exponents, zeta = 0 for the shaped moves (exp(0) and sqrt(1) are exact everywhere).
 #include "settle/core/fixed/golden.hpp"
 
@@ -9,6 +9,7 @@
 
 #include "settle/core/fixed/cam.hpp"
 #include "settle/core/fixed/motion.hpp"
+#include "settle/core/fixed/position.hpp"
 #include "settle/core/planner.hpp"
 
 namespace settle::core::fixed {
@@ -34,6 +35,7 @@ class Fold {
 };
 
 using GoldenMotion = BasicMotion<16, 4>;
+using GoldenPlan = BasicPositionPlan<16>;  // the list needs 15 intervals at most
 
 void fold_motion(const GoldenMotion& m, Fold& f) noexcept {
   const MotionHeader& h = m.header();
@@ -60,6 +62,23 @@ void fold_motion(const GoldenMotion& m, Fold& f) noexcept {
     f.add_signed(t.delay);
     f.add(t.frac);
     f.add_signed(t.weight);
+  }
+}
+
+void fold_plan(const GoldenPlan& p, Fold& f) noexcept {
+  const PositionHeader& h = p.header();
+  for (std::int64_t x : {std::int64_t{h.end_tick}, std::int64_t{h.target}, std::int64_t{h.rot_near},
+                         std::int64_t{h.rot_hi}, std::int64_t{h.rot_lo}, std::int64_t{h.rot_exp},
+                         std::int64_t{h.intervals}}) {
+    f.add_signed(x);
+  }
+  for (std::size_t i = 0; i < h.intervals; ++i) {
+    const PositionInterval& iv = p.interval(i);
+    for (std::int64_t x : iv.x) f.add_signed(x);
+    f.add_signed(iv.first);
+    f.add_signed(iv.dsh);
+    for (std::uint8_t s : iv.sh) f.add(s);
+    f.add(static_cast<std::uint64_t>(iv.degree) | (static_cast<std::uint64_t>(iv.flags) << 8U));
   }
 }
 
@@ -103,7 +122,7 @@ Status plan_golden(const GoldenMove& g, Move<double>& out) noexcept {
 
 GoldenResult golden_checksum() noexcept {
   GoldenResult r{};
-  Fold build{}, ticks{};
+  Fold build{}, ticks{}, plan{}, positions{};
   auto fail = [&](Status st) {
     if (r.status == Status::ok) r.status = st;
   };
@@ -111,6 +130,7 @@ GoldenResult golden_checksum() noexcept {
   // are constant-initialised, so no guard variable; golden_checksum is not reentrant.)
   static GoldenMotion motion{};
   static MotionStepper<GoldenMotion::kMaxTracks> stepper{};
+  static GoldenPlan position_plan{};
   static std::array<CamKnot, 96> knots{};
   static constexpr CamOrder kCams[] = {CamOrder::quintic, CamOrder::cubic, CamOrder::linear};
   int cam = 0;
@@ -130,6 +150,17 @@ GoldenResult golden_checksum() noexcept {
       ticks.add(motion.at_tick(n));
       ticks.add(stepper.next());
       r.samples += 2;
+    }
+    st = position_plan.build(motion);
+    if (st != Status::ok) {
+      fail(st);
+      continue;
+    }
+    fold_plan(position_plan, plan);
+    PositionStepper ps{position_plan, -2};
+    for (std::int32_t n = -2; n <= position_plan.end_tick() + 2; ++n) {
+      positions.add_signed(ps.next());
+      ++r.position_samples;
     }
     // Every move also as a cam table, cycling through the orders.
     {
@@ -155,6 +186,8 @@ GoldenResult golden_checksum() noexcept {
   }
   r.build = build.value();
   r.ticks = ticks.value();
+  r.plan = plan.value();
+  r.positions = positions.value();
   return r;
 }
 
