@@ -89,4 +89,39 @@ TEST(FixedLoop, RefusesAtSubmitWhatItsFormatsCannotHold) {
   for (const auto a : applied) EXPECT_EQ(a, 0);  // the axis held where it was
 }
 
+// The loop's fixed-point slot holds a position plan of 24 intervals: a four-impulse shaper on a
+// seven-segment jerk-limited move needs up to 4 x 8 - 1 = 31, so it is refused at submit (nothing
+// streamed), and a loop built with room for any Motion (35) streams it like the double loop.
+TEST(FixedLoop, RefusesAMoveBeyondItsPlanAndALargerPlanStreamsIt) {
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::jerk_limited;
+  r.distance = 0.2;
+  r.vmax = 0.5;
+  r.amax = 2.0;
+  r.jmax = 20.0;
+  r.omega = 22.04871;
+  r.shaper = core::ShaperKind::zvdd;
+  core::Move<double> m{};
+  ASSERT_EQ(core::plan(r, m), core::Status::ok);
+  ASSERT_EQ(m.shaper().count, 4U);
+  firmware::LoopStatus st{};
+  core::Status why{};
+  const auto refused = stream_once<FixedLoop>(m, st, why);
+  EXPECT_EQ(st, firmware::LoopStatus::evaluation_refused);
+  EXPECT_EQ(why, core::Status::table_too_small);
+  for (const auto a : refused) EXPECT_EQ(a, 0);
+
+  using RoomyLoop = firmware::ServoLoop<double, 1, 2, firmware::BasicFixedEvaluation<35>>;
+  firmware::LoopStatus sd{}, sf{};
+  const auto d = stream_once<DoubleLoop>(m, sd, why);
+  const auto f = stream_once<RoomyLoop>(m, sf, why);
+  ASSERT_EQ(sd, firmware::LoopStatus::ok);
+  ASSERT_EQ(sf, firmware::LoopStatus::ok) << core::to_string(why);
+  ASSERT_EQ(d.size(), f.size());
+  int worst = 0;
+  for (std::size_t i = 0; i < d.size(); ++i) worst = std::max(worst, std::abs(d[i] - f[i]));
+  EXPECT_LE(worst, 1);
+  EXPECT_EQ(f.back(), 200000);
+}
+
 }  // namespace

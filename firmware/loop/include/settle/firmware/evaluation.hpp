@@ -1,12 +1,14 @@
 #pragma once
 // How the servo loop turns a queued move into one integer target per tick. FloatEvaluation runs
 // core's Move in float or double (a Cortex-M4F, a Linux drive); FixedEvaluation runs core's
-// fixed-point Motion, integer-only per tick (a Cortex-M0 without FPU). Both convert the planned
+// fixed-point position plan, integer-only per tick (a Cortex-M0 without FPU). Both convert the planned
 // Move<double> when it is submitted, outside the tick, and may refuse it there; everything that
 // needs double arithmetic or trigonometry is done then, so starting a move in a tick is cheap.
+#include <cstddef>
 #include <cstdint>
 
 #include "settle/core/fixed/motion.hpp"
+#include "settle/core/fixed/position.hpp"
 #include "settle/core/setpoints.hpp"
 #include "settle/core/status.hpp"
 
@@ -50,39 +52,62 @@ struct FloatEvaluation {
   }
 };
 
-struct FixedEvaluation {
-  using Stored = core::fixed::Motion;
-
+// The loop streams positions only (CiA 402 cyclic synchronous position), so a slot holds the
+// motion's position plan, not the motion: per tick additions and one product, never a sine, a
+// Taylor shift or a per-impulse weighting, whatever the shaper (docs/fixed-point.md). `Intervals`
+// bounds the plan; the default, 24 (1.6 KiB per slot with its stepper on a Cortex-M, about what a
+// Motion took), holds every closed form unshaped or with up to three impulses, and four-impulse
+// shapers on profiles of up to five segments; a move needing more is refused at submit
+// (table_too_small), as is one the fixed-point formats cannot hold.
+template <std::size_t Intervals>
+struct BasicFixedEvaluation {
+  // The plan and a stepper on it, both built when the move is submitted. The stepper refers to the
+  // plan next to it: a Stored never moves or copies.
+  struct Stored {
+    Stored() = default;
+    Stored(const Stored&) = delete;
+    Stored& operator=(const Stored&) = delete;
+    core::fixed::BasicPositionPlan<Intervals> plan{};
+    core::fixed::PositionStepper stepper{};
+  };
   class Stream {
    public:
     Stream() = default;
-    Stream(const Stored& m, std::int32_t origin) noexcept
-        : stepper_{m}, origin_{origin}, last_tick_{m.end_tick()} {}
+    Stream(core::fixed::PositionStepper& s, std::int32_t origin, std::int32_t last_tick) noexcept
+        : s_{&s}, origin_{origin}, last_tick_{last_tick} {}
     // Same contract as core::SetpointStream::next: `last` on the first tick at the move's end,
     // where the motion is exactly on its target.
     [[nodiscard]] std::int32_t next(bool& last) noexcept {
-      last = stepper_.tick() >= last_tick_;
-      return core::fixed::absolute(origin_, stepper_.next().p);
+      last = s_->tick() >= last_tick_;
+      return core::fixed::absolute(origin_, s_->next());
     }
 
    private:
-    core::fixed::MotionStepper<Stored::kMaxTracks> stepper_{};
+    core::fixed::PositionStepper* s_{nullptr};
     std::int32_t origin_{0};
     std::int32_t last_tick_{0};
   };
 
-  // Builds the integer form for this axis's scale and period; refuses what does not fit.
+  // Builds the integer motion for this axis's scale and period (a temporary: 1.5 KiB of stack at
+  // submit), then its position plan; refuses what does not fit, leaving `out` unchanged.
   [[nodiscard]] static core::Status prepare(const core::Move<double>& m, std::uint32_t period_us,
                                             double counts_per_unit, Stored& out) noexcept {
     core::fixed::Scale scale{};
     scale.counts_per_unit = counts_per_unit;
     scale.tick_seconds = period_us * 1e-6;
-    return out.build(m, scale);
+    core::fixed::Motion motion{};
+    core::Status st = motion.build(m, scale);
+    if (st == core::Status::ok) st = out.plan.build(motion);
+    if (st == core::Status::ok) out.stepper = core::fixed::PositionStepper{out.plan};
+    return st;
   }
-  [[nodiscard]] static Stream start(const Stored& s, std::uint32_t /*period_us*/, double /*counts_per_unit*/,
+  // In the tick that starts the move: only where tick 0 is.
+  [[nodiscard]] static Stream start(Stored& s, std::uint32_t /*period_us*/, double /*counts_per_unit*/,
                                     std::int32_t origin) noexcept {
-    return Stream{s, origin};
+    return Stream{s.stepper, origin, s.plan.end_tick()};
   }
 };
+
+using FixedEvaluation = BasicFixedEvaluation<24>;
 
 }  // namespace settle::firmware
