@@ -121,6 +121,18 @@ std::int32_t next_tick() {
 }
 [[gnu::noinline]] void at_fixed() { g_sink_q = g_fixed.at_tick(next_tick()).p; }
 [[gnu::noinline]] void step_fixed() { g_sink_q = g_step_q.next().p; }
+// The loop's fixed-point path (FixedEvaluation): position only, from a plan built outside the tick.
+core::fixed::PositionPlan g_plan{};
+core::fixed::PositionStepper g_step_pos{};
+[[gnu::noinline]] void step_fixed_pos() { g_sink_q = g_step_pos.next(); }
+
+// The same S-curve through a ZVD shaper for the beam's mode (three tracks, impulses between ticks).
+core::Status shape_zvd(core::Move<double>& m) {
+  core::Shaper<double> s{};
+  const core::Status st = core::design_shaper(core::ShaperKind::zvd, 22.04871, 0.0, 0.05, s);
+  if (st == core::Status::ok) m = core::Move<double>{m.profile(), s, m.peaks()};  // peaks bound a convex shaper's
+  return st;
+}
 
 #else
 // Static: the program holds the loop, two loopback ports and the log buffer (RAM, not stack).
@@ -171,10 +183,27 @@ int settle::firmware::image_main() {
     append_cost(rep, "at_fixed", counter.measure(at_fixed, calls));
     append_cost(rep, "step_fixed", counter.measure(step_fixed, calls));
   }
+  const core::Status plan_status = fixed_status == core::Status::ok ? g_plan.build(g_fixed) : fixed_status;
+  if (plan_status == core::Status::ok) {
+    g_step_pos = core::fixed::PositionStepper{g_plan};
+    append_cost(rep, "step_fixed_pos", counter.measure(step_fixed_pos, calls));
+  }
+  // Shaped: the whole shaped move, every tick (g_move_d is not needed any more).
+  core::Status zvd_status = shape_zvd(g_move_d);
+  if (zvd_status == core::Status::ok) zvd_status = g_fixed.build(g_move_d, scale);
+  if (zvd_status == core::Status::ok) zvd_status = g_plan.build(g_fixed);
+  rep.append("fixed_zvd_build ").append(zvd_status == core::Status::ok ? "ok" : "failed").append("\n");
+  if (zvd_status == core::Status::ok) {
+    const auto zvd_calls = static_cast<std::uint32_t>(g_fixed.end_tick() + 2);
+    g_step_q = core::fixed::MotionStepper<core::fixed::Motion::kMaxTracks>{g_fixed};
+    append_cost(rep, "step_fixed_zvd", counter.measure(step_fixed, zvd_calls));
+    g_step_pos = core::fixed::PositionStepper{g_plan};
+    append_cost(rep, "step_fixed_pos_zvd", counter.measure(step_fixed_pos, zvd_calls));
+  }
   rep.append("stack_high_water ").append_unsigned(stack_high_water()).append(" of ");
   rep.append_unsigned(stack_size()).append("\n");
   write_report(rep, "servo_eval-");
-  return fixed_status == core::Status::ok ? 0 : 1;
+  return fixed_status == core::Status::ok && plan_status == core::Status::ok && zvd_status == core::Status::ok ? 0 : 1;
 #else
   Text<32> log_name{};
   log_name.append("servo-").append(board).append(".log");
