@@ -1,14 +1,19 @@
 // The servo-loop image's program built for the host (settle_servo_image_host): the same source as
 // the Cortex-M images (servo_session.hpp), writing the candump log with stdio instead of
 // semihosting, so that the cross test can compare the two logs frame for frame.
-//   settle_servo_image_host <log>          writes the log, prints a one-line summary
-//   settle_servo_image_host --check-plan   checks that core::plan still gives the pinned move
+//   settle_servo_image_host [--fixed] <log>  writes the log, prints a one-line summary; --fixed runs
+//                                            the loop on FixedEvaluation (the servo_fixed images)
+//   settle_servo_image_host --check-plan     checks that core::plan still gives the pinned move
+//   settle_servo_image_host --golden         prints core::fixed::golden_checksum() as the golden
+//                                            image writes it (tests/cross/golden-check compares)
+#include <cinttypes>
 #include <cstdio>
 #include <cstring>
 #include <string_view>
 #include <variant>
 
 #include "servo_session.hpp"
+#include "settle/core/fixed/golden.hpp"
 #include "settle/core/planner.hpp"
 
 namespace {
@@ -53,31 +58,50 @@ int check_plan() {
   return same ? 0 : 1;
 }
 
+// The golden image's line, character for character (firmware/images/golden/golden.cpp).
+int golden() {
+  const settle::core::fixed::GoldenResult g = settle::core::fixed::golden_checksum();
+  std::printf("build %016" PRIX64 " ticks %016" PRIX64 " moves %u samples %u status %s\n", g.build, g.ticks, g.moves,
+              g.samples, settle::core::to_string(g.status));
+  return g.status == settle::core::Status::ok ? 0 : 1;
+}
+
+template <typename Evaluation>
+si::RunResult run_program(FileSink& sink) {
+  static NoTimer timer{};
+  // Static: the program holds the loop and two loopback ports, as the image does.
+  static si::Program<FileSink, NoTimer, Evaluation> program{sink, timer};
+  return program.run(si::pinned_move());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc == 2 && std::strcmp(argv[1], "--check-plan") == 0) return check_plan();
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: settle_servo_image_host <candump log> | --check-plan\n");
+  if (argc == 2 && std::strcmp(argv[1], "--golden") == 0) return golden();
+  const bool fixed = argc == 3 && std::strcmp(argv[1], "--fixed") == 0;
+  if (argc != 2 && !fixed) {
+    std::fprintf(stderr, "usage: settle_servo_image_host [--fixed] <candump log> | --check-plan\n");
     return 2;
   }
-  std::FILE* f = std::fopen(argv[1], "w");
+  const char* path = argv[argc - 1];
+  std::FILE* f = std::fopen(path, "w");
   if (f == nullptr) {
-    std::fprintf(stderr, "settle_servo_image_host: cannot write %s\n", argv[1]);
+    std::fprintf(stderr, "settle_servo_image_host: cannot write %s\n", path);
     return 1;
   }
   FileSink sink{f};
-  NoTimer timer{};
-  // Static: the program holds the loop and two loopback ports, as the image does.
-  static si::Program<FileSink, NoTimer> program{sink, timer};
-  const si::RunResult r = program.run(si::pinned_move());
+  const si::RunResult r = fixed ? run_program<si::FixedImageEvaluation>(sink)
+                                : run_program<settle::firmware::FloatEvaluation<float>>(sink);
   const bool written = sink.ok() && std::fclose(f) == 0;
-  std::printf("outcome %s ticks %llu ready %llu stream_end %llu frames %llu final_target %d final_position %d\n",
+  std::printf("outcome %s ticks %llu ready %llu stream_end %llu frames %llu final_target %d final_position %d "
+              "rx_overflows %llu\n",
               settle::firmware::to_string(r.session.outcome), static_cast<unsigned long long>(r.session.ticks),
               static_cast<unsigned long long>(r.session.ready_tick),
               static_cast<unsigned long long>(r.session.stream_end_tick),
-              static_cast<unsigned long long>(r.frames_logged), r.final_target, r.final_position);
+              static_cast<unsigned long long>(r.frames_logged), r.final_target, r.final_position,
+              static_cast<unsigned long long>(r.rx_overflows));
   const bool ok = written && r.session.outcome == settle::firmware::SessionOutcome::completed &&
-                  r.format_errors == 0 && r.final_position == r.final_target;
+                  r.format_errors == 0 && r.final_position == r.final_target && r.rx_overflows == 0;
   return ok ? 0 : 1;
 }

@@ -1,12 +1,14 @@
-// The servo-loop images (mps2-an386 / microbit), two builds of this file:
+// The servo-loop images (mps2-an386 / microbit), three builds of this file:
 // - servo-<board>: runs servo_session.hpp's program, writes every frame the master sends to
 //   servo-<board>.log (candump format) through semihosting, and measures with the exact
 //   instruction counter (-icount shift=7) what each servo tick cost;
+// - servo_fixed-<board> (SETTLE_SERVO_FIXED=1): the same with the loop on FixedEvaluation, integer
+//   only per tick (what a Cortex-M0 without FPU runs), its log servo_fixed-<board>.log;
 // - servo_eval-<board> (SETTLE_SERVO_EVALUATORS=1): what each evaluator costs on its own, per
 //   tick of the same move (double/float RampCycloid::at and MoveStepper::step, the loop's
 //   SetpointStream<float>::next, fixed-point Motion::at_tick and MotionStepper::next). Separate, so the servo image's size is the loop's
 //   and the micro:bit's 16 KiB of RAM holds each.
-// Reports: servo[_eval]-<board>.txt, one `key value...` per line.
+// Reports: servo[_fixed|_eval]-<board>.txt, one `key value...` per line.
 #include <cstdint>
 #include <variant>
 
@@ -22,6 +24,9 @@
 
 #ifndef SETTLE_SERVO_EVALUATORS
 #define SETTLE_SERVO_EVALUATORS 0
+#endif
+#ifndef SETTLE_SERVO_FIXED
+#define SETTLE_SERVO_FIXED 0
 #endif
 
 namespace {
@@ -81,10 +86,9 @@ void append_ticks(fw::Text<N>& t, std::string_view key, const Stats& s) {
   append_stats(t, key, s.n == 0 ? 0 : s.min, mean, s.max, s.n);
 }
 
+#if SETTLE_SERVO_EVALUATORS
 // The move, planned on the host and pinned (servo_session.hpp).
 core::Move<double> g_move_d{};
-
-#if SETTLE_SERVO_EVALUATORS
 // Evaluator bodies for InstructionCounter::measure: each call evaluates the next 1 ms tick of the
 // pinned move, wrapping to its start at the end. Volatile sinks keep the results alive.
 core::Move<float> g_move_f{};
@@ -135,10 +139,17 @@ core::Status shape_zvd(core::Move<double>& m) {
 }
 
 #else
+#if SETTLE_SERVO_FIXED
+using Evaluation = si::FixedImageEvaluation;
+constexpr std::string_view kStem{"servo_fixed-"};
+#else
+using Evaluation = fw::FloatEvaluation<float>;
+constexpr std::string_view kStem{"servo-"};
+#endif
 // Static: the program holds the loop, two loopback ports and the log buffer (RAM, not stack).
 fw::SemihostingLineSink g_sink{};
 TickTimer g_timer{};
-si::Program<fw::SemihostingLineSink, TickTimer> g_program{g_sink, g_timer};
+si::Program<fw::SemihostingLineSink, TickTimer, Evaluation> g_program{g_sink, g_timer};
 
 #endif
 
@@ -157,7 +168,8 @@ void write_report(const fw::Text<N>& rep, std::string_view stem) {
 int settle::firmware::image_main() {
   const InstructionCounter counter{InstructionCounter::calibrate()};
   if (!counter.exact()) fatal("servo: the instruction counter is not exact (QEMU needs -icount shift=7)\n", 3);
-  static Text<640> rep{};
+  // Static (RAM the stack does not need): the evaluator report is the longer one.
+  static Text<SETTLE_SERVO_EVALUATORS ? 640 : 448> rep{};
   rep.append("board ").append(board).append("\n");
 #if SETTLE_SERVO_EVALUATORS
   g_move_d = si::pinned_move();
@@ -205,12 +217,14 @@ int settle::firmware::image_main() {
   write_report(rep, "servo_eval-");
   return fixed_status == core::Status::ok && plan_status == core::Status::ok && zvd_status == core::Status::ok ? 0 : 1;
 #else
-  Text<32> log_name{};
-  log_name.append("servo-").append(board).append(".log");
+  Text<40> log_name{};
+  log_name.append(kStem).append(board).append(".log");
   if (!g_sink.open(log_name.view())) fatal("servo: cannot open the log file\n", 2);
-  g_move_d = si::pinned_move();
+  // Initialised in place (no Move<double> temporary in this frame, which is on the stack for the
+  // whole session: submitting a fixed-point move needs that room).
+  static const core::Move<double> move{si::pinned_move()};
   g_timer.use(counter);
-  const si::RunResult r = g_program.run(g_move_d);
+  const si::RunResult r = g_program.run(move);
   const bool log_written = g_sink.close();
   rep.append("outcome ").append(to_string(r.session.outcome)).append("\n");
   rep.append("ticks ").append_unsigned(r.session.ticks).append(" ready ").append_unsigned(r.session.ready_tick);
@@ -219,14 +233,14 @@ int settle::firmware::image_main() {
   rep.append(" early_flushes ").append_unsigned(r.early_flushes).append(" log_written ");
   rep.append(log_written ? "yes" : "no").append("\n");
   rep.append("final_target ").append_signed(r.final_target).append(" final_position ");
-  rep.append_signed(r.final_position).append("\n");
+  rep.append_signed(r.final_position).append(" rx_overflows ").append_unsigned(r.rx_overflows).append("\n");
   append_ticks(rep, "tick_all", g_timer.all);
   append_ticks(rep, "tick_moving", g_timer.moving);
   rep.append("stack_high_water ").append_unsigned(stack_high_water()).append(" of ");
   rep.append_unsigned(stack_size()).append("\n");
-  write_report(rep, "servo-");
+  write_report(rep, kStem);
   const bool ok = log_written && r.session.outcome == SessionOutcome::completed && r.format_errors == 0 &&
-                  r.final_position == r.final_target;
+                  r.final_position == r.final_target && r.rx_overflows == 0;
   return ok ? 0 : 1;
 #endif
 }

@@ -47,7 +47,15 @@ inline constexpr core::Peaks<double> kPeaks{0x1.2e5c2de7a3a83p-1, 0x1.f58fe95a64
                             kPeaks};
 }
 
-using Loop = ServoLoop<float, 1, 2>;
+// One axis, a queue of two moves. Evaluation: FloatEvaluation<float> (the Cortex-M4F's FPU) or
+// FixedImageEvaluation (integer only per tick: the servo_fixed images, the Cortex-M0's).
+template <typename Evaluation = FloatEvaluation<float>>
+using LoopOf = ServoLoop<float, 1, 2, Evaluation>;
+using Loop = LoopOf<>;
+// Position plans of up to 8 intervals (every closed form unshaped; ~0.6 KiB a queue slot instead
+// of the default 24 intervals' 1.6 KiB): what fits the micro:bit's 16 KiB next to the in-image
+// drive and log. A move that needs more is refused at submit (table_too_small).
+using FixedImageEvaluation = BasicFixedEvaluation<8>;
 
 // An ideal position-following drive: hal's DriveNode whose axis reaches each target exactly one
 // period after the SYNC that applies it (as tests/firmware/ideal_drive.hpp, without the heap).
@@ -71,6 +79,7 @@ class IdealDrive {
   }
   [[nodiscard]] std::int32_t position() const noexcept { return position_; }
   [[nodiscard]] std::uint64_t applied() const noexcept { return applied_; }
+  [[nodiscard]] std::uint64_t rx_overflows() const noexcept { return bus_.counters().rx_overflow_drops; }
 
  private:
   static hal::canopen::DriveNodeConfig config() noexcept {
@@ -95,11 +104,12 @@ struct RunResult {
   std::uint64_t format_errors{0};
   std::uint64_t early_flushes{0};
   std::uint64_t applied{0};
+  std::uint64_t rx_overflows{0};  // frames a queue of the harness or the controller FIFO dropped: must be 0
 };
 
 // Timer: `void begin()`, `void end(bool streaming)` around every tick (the image counts
 // instructions there; the host does nothing).
-template <typename LineSink, typename Timer>
+template <typename LineSink, typename Timer, typename Evaluation = FloatEvaluation<float>>
 class Program {
  public:
   Program(LineSink& sink, Timer& timer) noexcept
@@ -133,6 +143,8 @@ class Program {
     r.format_errors = tap_.format_errors();
     r.early_flushes = tap_.early_flushes();
     r.applied = drive_.applied();
+    r.rx_overflows = drive_.rx_overflows() + master_port_.counters().rx_overflow_drops +
+                     controller_.counters().rx_overflow_drops;
     return r;
   }
 
@@ -187,11 +199,11 @@ class Program {
   }
 
   hal::LoopbackHub hub_{};
-  hal::LoopbackBus<8> master_port_;
+  hal::LoopbackBus<4> master_port_;
   CandumpTapBus<LineSink> tap_;
   hal::MailboxBus<3, 8> controller_{};
   IdealDrive drive_;
-  Loop loop_;
+  LoopOf<Evaluation> loop_;
   Timer& timer_;
 };
 
