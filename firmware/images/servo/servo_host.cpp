@@ -61,8 +61,10 @@ int check_plan() {
 // The golden image's line, character for character (firmware/images/golden/golden.cpp).
 int golden() {
   const settle::core::fixed::GoldenResult g = settle::core::fixed::golden_checksum();
-  std::printf("build %016" PRIX64 " ticks %016" PRIX64 " moves %u samples %u status %s\n", g.build, g.ticks, g.moves,
-              g.samples, settle::core::to_string(g.status));
+  std::printf("build %016" PRIX64 " ticks %016" PRIX64 " plan %016" PRIX64 " positions %016" PRIX64
+              " moves %u samples %u position_samples %u status %s\n",
+              g.build, g.ticks, g.plan, g.positions, g.moves, g.samples, g.position_samples,
+              settle::core::to_string(g.status));
   return g.status == settle::core::Status::ok ? 0 : 1;
 }
 

@@ -6,8 +6,9 @@
 //   only per tick (what a Cortex-M0 without FPU runs), its log servo_fixed-<board>.log;
 // - servo_eval-<board> (SETTLE_SERVO_EVALUATORS=1): what each evaluator costs on its own, per
 //   tick of the same move (double/float RampCycloid::at and MoveStepper::step, the loop's
-//   SetpointStream<float>::next, fixed-point Motion::at_tick and MotionStepper::next). Separate, so the servo image's size is the loop's
-//   and the micro:bit's 16 KiB of RAM holds each.
+//   SetpointStream<float>::next, fixed-point Motion::at_tick, MotionStepper::next and the loop's
+//   PositionStepper::next, the last two also through a ZVD shaper). Separate, so the servo
+//   image's size is the loop's and the micro:bit's 16 KiB of RAM holds each.
 // Reports: servo[_fixed|_eval]-<board>.txt, one `key value...` per line.
 #include <cstdint>
 #include <variant>
