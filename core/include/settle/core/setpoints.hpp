@@ -2,6 +2,7 @@
 // A move as the drive sees it: one integer target in counts per tick, from the move's start
 // (tick 0, the origin) to its end (exactly origin + round(D * counts_per_unit)). The servo loop
 // streams these and the offline reference replays them, so both see the same integers.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <type_traits>
@@ -40,8 +41,7 @@ class SetpointStream {
   // double-precision FPU and no 64-bit conversions).
   SetpointStream(const Move<Scalar>& m, std::uint32_t period_us, double counts_per_unit, std::int32_t origin) noexcept
       : stepper_{m, static_cast<Scalar>(period_us * 1e-6)},
-        last_tick_{static_cast<std::int32_t>(stream_ticks(m, period_us) > kMaxStreamTicks ? kMaxStreamTicks
-                                                                                          : stream_ticks(m, period_us))},
+        last_tick_{static_cast<std::int32_t>(std::min(stream_ticks(m, period_us), kMaxStreamTicks))},
         counts_per_unit_{static_cast<Scalar>(counts_per_unit)},
         origin_{origin} {}
 

@@ -45,8 +45,7 @@ struct FloatEvaluation {
     return core::Status::ok;
   }
   // In the tick that starts the move: only where tick 0 is.
-  [[nodiscard]] static Stream start(Stored& s, std::uint32_t /*period_us*/, double /*counts_per_unit*/,
-                                    std::int32_t origin) noexcept {
+  [[nodiscard]] static Stream start(Stored& s, std::int32_t origin) noexcept {
     s.stream.rebase(origin);
     return Stream{s.stream};
   }
@@ -102,8 +101,7 @@ struct BasicFixedEvaluation {
     return st;
   }
   // In the tick that starts the move: only where tick 0 is.
-  [[nodiscard]] static Stream start(Stored& s, std::uint32_t /*period_us*/, double /*counts_per_unit*/,
-                                    std::int32_t origin) noexcept {
+  [[nodiscard]] static Stream start(Stored& s, std::int32_t origin) noexcept {
     return Stream{s.stepper, origin, s.plan.end_tick()};
   }
 };

@@ -313,7 +313,7 @@ class ServoLoop {
       } else {
         if (!a.active && !a.queue.empty()) {
           a.active = true;
-          a.setpoints = Evaluation::start(a.queue.front(), period_us_, a.cfg.counts_per_unit, a.target);
+          a.setpoints = Evaluation::start(a.queue.front(), a.target);
           ++a.stats.moves_started;
         }
         if (a.active) {
