@@ -79,5 +79,36 @@ TEST(MailboxBus, ReceivingWritesOnlyTheClassicPartOfTheCallersFrame) {
   EXPECT_EQ(f.data[20], 0xAB);
 }
 
+TEST(MailboxBus, ItsOwnCallsAndTheCanBusCallsDoTheSame) {
+  // The servo loop of firmware holds the controller by its own type (direct calls); everything
+  // else holds a CanBus&. Same frames, same statuses, same counters, either way.
+  MailboxBus<2, 2> own;
+  MailboxBus<2, 2> base_side;
+  CanBus& base = base_side;
+  CanFrame bad = test::frame(0x100, {});
+  bad.len = 9;
+  const CanFrame frames[] = {test::frame(0x201, {1, 2, 3, 4, 5, 6}), bad, test::frame(0x80, {}),
+                             test::frame(0x202, {7})};
+  for (const CanFrame& f : frames) EXPECT_EQ(own.send(f), base.send(f));
+  EXPECT_EQ(own.counters().sent, 2U);
+  EXPECT_EQ(own.counters().tx_busy, 1U);
+  EXPECT_EQ(own.counters().tx_errors, 1U);
+  EXPECT_EQ(base_side.counters().sent, own.counters().sent);
+  EXPECT_EQ(base_side.counters().tx_busy, own.counters().tx_busy);
+  EXPECT_EQ(base_side.counters().tx_errors, own.counters().tx_errors);
+  for (auto* bus : {&own, &base_side}) {
+    ASSERT_TRUE(bus->put_received(test::frame(0x181, {9, 8, 7, 6, 5, 4})));
+  }
+  CanFrame a{};
+  CanFrame b{};
+  EXPECT_EQ(own.receive(a), ReceiveStatus::received);
+  EXPECT_EQ(base.receive(b), ReceiveStatus::received);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(own.receive(a), ReceiveStatus::empty);
+  EXPECT_EQ(base.receive(b), ReceiveStatus::empty);
+  EXPECT_EQ(own.counters().received, 1U);
+  EXPECT_EQ(base_side.counters().received, 1U);
+}
+
 }  // namespace
 }  // namespace settle::hal

@@ -103,25 +103,14 @@ struct BusCounters {
 class CanBus : public FrameSink {
  public:
   [[nodiscard]] SendStatus send(const CanFrame& frame) noexcept {
-    const SendStatus status = is_valid(frame) ? do_send(frame) : SendStatus::error;
-    switch (status) {
-      case SendStatus::sent: ++counters_.sent; break;
-      case SendStatus::busy: ++counters_.tx_busy; break;
-      case SendStatus::error: ++counters_.tx_errors; break;
-    }
-    return status;
+    return counted_send(frame, [this](const CanFrame& f) { return do_send(f); });
   }
 
   // timeout_us == 0 polls. A backend without a clock (loopback) never waits: time in a
   // deterministic test moves only when the test moves it.
   [[nodiscard]] ReceiveStatus receive(CanFrame& frame, std::uint32_t timeout_us = 0) noexcept {
-    const ReceiveStatus status = do_receive(frame, timeout_us);
-    if (status == ReceiveStatus::received) {
-      ++counters_.received;
-    } else if (status == ReceiveStatus::error) {
-      ++counters_.rx_errors;
-    }
-    return status;
+    return counted_receive(frame, timeout_us,
+                           [this](CanFrame& f, std::uint32_t t) { return do_receive(f, t); });
   }
 
   // Replaces the receive filters; an empty span accepts every frame again.
@@ -141,6 +130,30 @@ class CanBus : public FrameSink {
   ~CanBus() override = default;
 
   void count_rx_overflow(std::uint64_t dropped) noexcept { counters_.rx_overflow_drops += dropped; }
+
+  // send() and receive() around a given hook: the validation and counting every path shares. A
+  // `final` backend uses them to offer the same two calls bound at compile time (its own hook,
+  // called directly and inlinable) to code that holds it by its own type; see MailboxBus.
+  template <typename SendHook>
+  [[nodiscard, gnu::always_inline]] SendStatus counted_send(const CanFrame& frame, SendHook&& hook) noexcept {
+    const SendStatus status = is_valid(frame) ? hook(frame) : SendStatus::error;
+    switch (status) {
+      case SendStatus::sent: ++counters_.sent; break;
+      case SendStatus::busy: ++counters_.tx_busy; break;
+      case SendStatus::error: ++counters_.tx_errors; break;
+    }
+    return status;
+  }
+  template <typename ReceiveHook>
+  [[nodiscard, gnu::always_inline]] ReceiveStatus counted_receive(CanFrame& frame, std::uint32_t timeout_us, ReceiveHook&& hook) noexcept {
+    const ReceiveStatus status = hook(frame, timeout_us);
+    if (status == ReceiveStatus::received) {
+      ++counters_.received;
+    } else if (status == ReceiveStatus::error) {
+      ++counters_.rx_errors;
+    }
+    return status;
+  }
 
  private:
   [[nodiscard]] virtual SendStatus do_send(const CanFrame& frame) noexcept = 0;

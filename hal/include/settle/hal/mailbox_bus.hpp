@@ -33,6 +33,17 @@ class MailboxBus final : public CanBus {
   MailboxBus& operator=(const MailboxBus&) = delete;
   ~MailboxBus() override = default;
 
+  // CanBus's send() and receive(), the same validation and counting, for code that holds this bus
+  // by its own type (the servo loop of firmware that knows its controller): the hooks below are
+  // then called directly, no virtual dispatch, and inline into the caller. Through a CanBus& the
+  // base's calls run, with the same result.
+  [[nodiscard]] SendStatus send(const CanFrame& frame) noexcept {
+    return counted_send(frame, [this](const CanFrame& f) { return send_record(f); });
+  }
+  [[nodiscard]] ReceiveStatus receive(CanFrame& frame, std::uint32_t timeout_us = 0) noexcept {
+    return counted_receive(frame, timeout_us, [this](CanFrame& f, std::uint32_t) { return receive_record(f); });
+  }
+
   // Wire side: the oldest pending mailbox, which is then free again; false when none is pending.
   [[nodiscard]] bool take_sent(CanFrame& out) noexcept {
     if (tx_.empty()) {
@@ -94,7 +105,7 @@ class MailboxBus final : public CanBus {
     std::memcpy(aligned(f.data.data()), aligned(r.data.data()), can_classic_max_len);
   }
 
-  [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override {
+  [[nodiscard]] SendStatus send_record(const CanFrame& frame) noexcept {
     if (frame.is_fd()) {
       return SendStatus::error;
     }
@@ -105,7 +116,7 @@ class MailboxBus final : public CanBus {
     tx_.commit_back();
     return SendStatus::sent;
   }
-  [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t /*timeout_us*/) noexcept override {
+  [[nodiscard]] ReceiveStatus receive_record(CanFrame& frame) noexcept {
     if (rx_.empty()) {
       return ReceiveStatus::empty;
     }
@@ -114,6 +125,10 @@ class MailboxBus final : public CanBus {
     frame.timestamp_us = r.timestamp_us;
     rx_.drop_front();
     return ReceiveStatus::received;
+  }
+  [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override { return send_record(frame); }
+  [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t /*timeout_us*/) noexcept override {
+    return receive_record(frame);
   }
   [[nodiscard]] BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept override {
     return filters_.assign(filters);
