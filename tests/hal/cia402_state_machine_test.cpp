@@ -130,6 +130,14 @@ TEST(Statusword, EveryStateRoundTripsThroughTheStandardMasks) {
   EXPECT_EQ(state_from_statusword(0x0218), S::fault);
 }
 
+TEST(Statusword, TheInlineEnabledTestAgreesWithTheStateOnEveryStatusword) {
+  // Exhaustive: the master's per-TPDO mask-and-compare against the full decode.
+  for (std::uint32_t sw = 0; sw <= 0xFFFFU; ++sw) {
+    const auto w = static_cast<std::uint16_t>(sw);
+    ASSERT_EQ(is_operation_enabled(w), state_from_statusword(w) == S::operation_enabled) << sw;
+  }
+}
+
 TEST(Controlword, CommandsDecodeByTheirMasks) {
   EXPECT_EQ(command_from_controlword(0x06, 0), Cia402Command::shutdown);
   EXPECT_EQ(command_from_controlword(0x07, 0), Cia402Command::switch_on);

@@ -189,6 +189,22 @@ TEST_F(DriveOverLoopback, RemoteDriveSaysWhatEachFrameWasAndIgnoresOtherNodes) {
   CanFrame extended = encode_tpdo1(drive_id, Tpdo1{0x0237, 99});
   extended.flags = can_flag::extended;
   EXPECT_EQ(kind(extended), RemoteFrame::ignored);
+  CanFrame long_tpdo1 = encode_tpdo1(drive_id, Tpdo1{0x0237, 99});
+  long_tpdo1.len = 7;
+  EXPECT_EQ(kind(long_tpdo1), RemoteFrame::ignored);
+  CanFrame rtr_tpdo1 = encode_tpdo1(drive_id, Tpdo1{0x0237, 99});
+  rtr_tpdo1.flags = can_flag::rtr;
+  EXPECT_EQ(kind(rtr_tpdo1), RemoteFrame::ignored);
+  // A heartbeat of two bytes, or with node guarding's toggle bit, or an unknown state: not one.
+  CanFrame hb = encode_heartbeat(drive_id, NmtState::operational);
+  hb.len = 2;
+  EXPECT_EQ(kind(hb), RemoteFrame::ignored);
+  hb = encode_heartbeat(drive_id, NmtState::operational);
+  hb.data[0] = 0x85;
+  EXPECT_EQ(kind(hb), RemoteFrame::ignored);
+  hb.data[0] = 0x06;
+  EXPECT_EQ(kind(hb), RemoteFrame::ignored);
+  EXPECT_EQ(kind(encode_heartbeat(drive_id + 1, NmtState::initialising)), RemoteFrame::ignored);
   EXPECT_EQ(remote->feedback().position_actual, before.position_actual);
   EXPECT_EQ(remote->feedback().load_position, before.load_position);
   EXPECT_EQ(remote->feedback().tpdo1_received, before.tpdo1_received);

@@ -89,6 +89,24 @@ TEST(HeartbeatConsumer, TimesOutExactlyOnceAtTheDeadline) {
   EXPECT_EQ(c.on_frame(encode_heartbeat(3, NmtState::initialising), 960'000), HeartbeatEvent::boot_up);
 }
 
+TEST(HeartbeatConsumer, AStateFromAMatchedFrameCountsAsTheFrameWould) {
+  // Two consumers fed the same heartbeats, one through on_frame and one through on_state (what a
+  // master that matched the identifier itself calls): the same events, the same liveness.
+  HeartbeatConsumer by_frame{3, 150};
+  HeartbeatConsumer by_state{3, 150};
+  const std::pair<std::uint64_t, NmtState> seq[] = {{1'000, NmtState::pre_operational},
+                                                    {50'000, NmtState::pre_operational},
+                                                    {100'000, NmtState::operational},
+                                                    {400'000, NmtState::operational},
+                                                    {410'000, NmtState::initialising}};
+  for (const auto& [t, st] : seq) {
+    EXPECT_EQ(by_frame.poll(t), by_state.poll(t)) << t;
+    EXPECT_EQ(by_frame.on_frame(encode_heartbeat(3, st), t), by_state.on_state(st, t)) << t;
+    EXPECT_EQ(by_frame.alive(), by_state.alive()) << t;
+    EXPECT_EQ(by_frame.state(), by_state.state()) << t;
+  }
+}
+
 TEST(HeartbeatConsumer, IgnoresOtherNodesAndMalformedFrames) {
   HeartbeatConsumer c{3, 150};
   EXPECT_EQ(c.on_frame(encode_heartbeat(4, NmtState::operational), 0), HeartbeatEvent::none);

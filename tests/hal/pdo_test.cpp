@@ -2,9 +2,13 @@
 // mapping through the drive's dictionary, and whole-or-nothing application of an RPDO.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "frame_helpers.hpp"
+#include "settle/hal/canopen/byte_order.hpp"
 #include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/canopen/pdo.hpp"
@@ -24,6 +28,66 @@ TEST(DefaultMapping, GoldenBytesAreLittleEndianInMappingOrder) {
   const CanFrame tpdo2 = encode_tpdo2(2, Tpdo2{-1, 256});
   EXPECT_EQ(tpdo2.id, 0x282U);
   EXPECT_EQ(test::bytes_of(tpdo2), (Bytes{0xFF, 0xFF, 0xFF, 0xFF, 0x00, 0x01, 0x00, 0x00}));
+}
+
+TEST(ByteOrder, AlignedLoadsAndStoresAreTheByteWiseLittleEndianOnes) {
+  // load_le/store_le at every offset of a word-aligned buffer whose alignment they may assume,
+  // against get_le/put_le byte by byte; and the same at compile time (the portable path).
+  alignas(4) std::array<std::uint8_t, 12> buf{};
+  const auto check16 = [&](auto align_tag, std::size_t at, std::uint16_t v) {
+    constexpr std::size_t A = decltype(align_tag)::value;
+    buf.fill(0xA5);
+    store_le<std::uint16_t, A>(&buf[at], v);
+    EXPECT_EQ(get_le(std::span<const std::uint8_t>(&buf[at], 2), 2), v) << at;
+    EXPECT_EQ(buf[at + 2], 0xA5) << "nothing past the field";
+    EXPECT_EQ((load_le<std::uint16_t, A>(&buf[at])), v) << at;
+  };
+  const auto check32 = [&](auto align_tag, std::size_t at, std::uint32_t v) {
+    constexpr std::size_t A = decltype(align_tag)::value;
+    buf.fill(0xA5);
+    store_le<std::uint32_t, A>(&buf[at], v);
+    EXPECT_EQ(get_le(std::span<const std::uint8_t>(&buf[at], 4), 4), v) << at;
+    EXPECT_EQ(buf[at + 4], 0xA5) << "nothing past the field";
+    EXPECT_EQ(at == 0 ? 0xA5 : buf[at - 1], 0xA5) << "nothing before it";
+    EXPECT_EQ((load_le<std::uint32_t, A>(&buf[at])), v) << at;
+  };
+  using A1 = std::integral_constant<std::size_t, 1>;
+  using A2 = std::integral_constant<std::size_t, 2>;
+  using A4 = std::integral_constant<std::size_t, 4>;
+  for (const std::uint32_t v : {0U, 1U, 0x01020304U, 0x8000'0000U, 0xFFFF'FFFFU, 0xDEAD'BEEFU}) {
+    for (std::size_t at = 0; at <= 7; ++at) {
+      check32(A1{}, at, v);
+      check16(A1{}, at, static_cast<std::uint16_t>(v));
+      if (at % 2 == 0) {
+        check32(A2{}, at, v);
+        check16(A2{}, at, static_cast<std::uint16_t>(v >> 8U));
+      }
+      if (at % 4 == 0) {
+        check32(A4{}, at, v);
+        check16(A4{}, at, static_cast<std::uint16_t>(v >> 16U));
+      }
+    }
+  }
+  constexpr auto at_compile_time = [] {
+    std::array<std::uint8_t, 8> b{};
+    store_le<std::uint32_t, 2>(&b[2], 0x0A0B0C0DU);
+    return std::pair{b[2] == 0x0D && b[5] == 0x0A, load_le<std::uint32_t, 2>(&b[2])};
+  }();
+  static_assert(at_compile_time.first && at_compile_time.second == 0x0A0B0C0DU);
+}
+
+TEST(DefaultMapping, TheFieldReadersAreTheDecodersWithoutTheirChecks) {
+  for (const std::int32_t v : {0, 1, -1, 123456789, -2147483647 - 1, 2147483647}) {
+    const Tpdo1 t1{static_cast<std::uint16_t>(v >> 7), v};
+    EXPECT_EQ(tpdo1_fields(encode_tpdo1(5, t1)), t1);
+    const Tpdo2 t2{v, ~v};
+    EXPECT_EQ(tpdo2_fields(encode_tpdo2(5, t2)), t2);
+    CanFrame kept{};
+    kept.data.fill(0xEE);
+    encode_rpdo1(5, Rpdo1{static_cast<std::uint16_t>(v), v}, kept);
+    EXPECT_EQ(kept, encode_rpdo1(5, Rpdo1{static_cast<std::uint16_t>(v), v}));
+    EXPECT_EQ(kept.data[6], 0xEE) << "bytes past the length are left as they were";
+  }
 }
 
 TEST(DefaultMapping, DecodersInvertEncoders) {

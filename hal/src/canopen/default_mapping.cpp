@@ -23,14 +23,6 @@ CanFrame encode_rpdo1(NodeId node, const Rpdo1& pdo) noexcept {
   return f;
 }
 
-void encode_rpdo1(NodeId node, const Rpdo1& pdo, CanFrame& out) noexcept {
-  out.id = cob_id(cob::rpdo1, node);
-  out.flags = 0;
-  out.len = 6;
-  put_u16(&out.data[0], pdo.controlword);
-  put_i32(&out.data[2], pdo.target_position);
-}
-
 CanFrame encode_tpdo1(NodeId node, const Tpdo1& pdo) noexcept {
   CanFrame f = pdo_frame(cob::tpdo1, node, 6);
   put_u16(&f.data[0], pdo.statusword);
@@ -53,17 +45,17 @@ std::optional<Rpdo1> decode_rpdo1(const CanFrame& frame, NodeId node) noexcept {
 }
 
 std::optional<Tpdo1> decode_tpdo1(const CanFrame& frame, NodeId node) noexcept {
-  if (!is_pdo(frame, cob::tpdo1, node, 6)) {
+  if (!is_pdo(frame, cob::tpdo1, node, tpdo1_len)) {
     return std::nullopt;
   }
-  return Tpdo1{get_u16(&frame.data[0]), get_i32(&frame.data[2])};
+  return tpdo1_fields(frame);
 }
 
 std::optional<Tpdo2> decode_tpdo2(const CanFrame& frame, NodeId node) noexcept {
-  if (!is_pdo(frame, cob::tpdo2, node, 8)) {
+  if (!is_pdo(frame, cob::tpdo2, node, tpdo2_len)) {
     return std::nullopt;
   }
-  return Tpdo2{get_i32(&frame.data[0]), get_i32(&frame.data[4])};
+  return tpdo2_fields(frame);
 }
 
 }  // namespace settle::hal::canopen

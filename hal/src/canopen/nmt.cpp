@@ -29,18 +29,6 @@ std::optional<NmtMessage> decode_nmt(const CanFrame& frame) noexcept {
   return std::nullopt;
 }
 
-std::optional<NmtState> nmt_state_from_byte(std::uint8_t value) noexcept {
-  const auto state = static_cast<NmtState>(value);
-  switch (state) {
-    case NmtState::initialising:
-    case NmtState::stopped:
-    case NmtState::operational:
-    case NmtState::pre_operational:
-      return state;
-  }
-  return std::nullopt;
-}
-
 void NmtSlave::boot(FrameSink& out) noexcept {
   state_ = NmtState::pre_operational;
   // A full queue here only delays the master's discovery to the next heartbeat.

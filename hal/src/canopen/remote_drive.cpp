@@ -48,6 +48,9 @@ const char* to_string(RemoteDriveState state) noexcept {
 
 RemoteDrive::RemoteDrive(const RemoteDriveConfig& config) noexcept
     : config_{config},
+      tpdo1_id_{is_valid_node(config.node) ? cob_id(cob::tpdo1, config.node) : ~std::uint32_t{0}},
+      tpdo2_id_{is_valid_node(config.node) ? cob_id(cob::tpdo2, config.node) : ~std::uint32_t{0}},
+      heartbeat_id_{is_valid_node(config.node) ? cob_id(cob::heartbeat, config.node) : ~std::uint32_t{0}},
       sdo_{config.node, config.sdo_timeout_us},
       heartbeat_{config.node, config.heartbeat_timeout_ms},
       emcy_{config.node} {}
@@ -124,71 +127,62 @@ void RemoteDrive::fail(std::uint64_t /*now_us*/) noexcept {
   events_ |= remote_event::failed;
 }
 
-RemoteFrame RemoteDrive::on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
+void RemoteDrive::enabled_changed(bool enabled) noexcept {
+  if (state_ == RemoteDriveState::enabling && enabled) {
+    state_ = RemoteDriveState::ready;
+    enable_timer_.disarm();
+    events_ |= remote_event::became_ready;
+  } else if (state_ == RemoteDriveState::ready && !enabled) {
+    state_ = RemoteDriveState::stopped;
+    events_ |= remote_event::left_enabled;
+  }
+}
+
+RemoteFrame RemoteDrive::on_heartbeat(std::uint8_t state_byte, std::uint64_t now_us, FrameSink& out) noexcept {
+  const auto state = nmt_state_from_byte(state_byte);
+  if (!state) {
+    return RemoteFrame::ignored;  // not a heartbeat (node guarding's toggle bit, say)
+  }
+  const bool was_lost = state_ == RemoteDriveState::lost;
+  switch (heartbeat_.on_state(*state, now_us)) {
+    case HeartbeatEvent::boot_up:
+      events_ |= remote_event::boot_up;
+      // Whatever was configured on the drive is gone; configure it again before streaming.
+      if (state_ != RemoteDriveState::idle) {
+        start(now_us, out);
+      }
+      break;
+    case HeartbeatEvent::alive:
+      if (was_lost) {
+        events_ |= remote_event::heartbeat_back;
+        start(now_us, out);
+      }
+      break;
+    case HeartbeatEvent::none:
+    case HeartbeatEvent::state_changed:
+    case HeartbeatEvent::lost:
+      break;
+  }
+  return RemoteFrame::heartbeat;
+}
+
+RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
   // Every service the master consumes is node-specific: function code + this drive's node id.
   if (!is_canopen_data_frame(frame) || (frame.id & 0x7FU) != config_.node) {
     return RemoteFrame::ignored;
   }
   switch (frame.id & 0x780U) {
-    case cob::heartbeat: {
-      const bool was_lost = state_ == RemoteDriveState::lost;
-      switch (heartbeat_.on_frame(frame, now_us)) {
-        case HeartbeatEvent::boot_up:
-          events_ |= remote_event::boot_up;
-          // Whatever was configured on the drive is gone; configure it again before streaming.
-          if (state_ != RemoteDriveState::idle) {
-            start(now_us, out);
-          }
-          break;
-        case HeartbeatEvent::alive:
-          if (was_lost) {
-            events_ |= remote_event::heartbeat_back;
-            start(now_us, out);
-          }
-          break;
-        case HeartbeatEvent::state_changed:
-        case HeartbeatEvent::none:
-        case HeartbeatEvent::lost:
-          break;
-      }
-      return RemoteFrame::heartbeat;
-    }
     case cob::emcy:
       if (!emcy_.on_frame(frame)) {
         return RemoteFrame::ignored;
       }
       events_ |= remote_event::emcy;
       return RemoteFrame::emcy;
-    case cob::tpdo1: {
-      const auto tpdo1 = decode_tpdo1(frame, config_.node);
-      if (!tpdo1) {
-        return RemoteFrame::ignored;
-      }
-      feedback_.statusword = tpdo1->statusword;
-      feedback_.position_actual = tpdo1->position_actual;
-      feedback_.tpdo1_time_us = now_us;
-      ++feedback_.tpdo1_received;
-      const bool enabled = EnableSequence::done(tpdo1->statusword);
-      if (state_ == RemoteDriveState::enabling && enabled) {
-        state_ = RemoteDriveState::ready;
-        enable_timer_.disarm();
-        events_ |= remote_event::became_ready;
-      } else if (state_ == RemoteDriveState::ready && !enabled) {
-        state_ = RemoteDriveState::stopped;
-        events_ |= remote_event::left_enabled;
-      }
-      return RemoteFrame::tpdo1;
-    }
-    case cob::tpdo2: {
-      const auto tpdo2 = decode_tpdo2(frame, config_.node);
-      if (!tpdo2) {
-        return RemoteFrame::ignored;
-      }
-      feedback_.load_position = tpdo2->load_position;
-      feedback_.velocity_actual = tpdo2->velocity_actual;
-      ++feedback_.tpdo2_received;
-      return RemoteFrame::tpdo2;
-    }
+    case cob::heartbeat:
+    case cob::tpdo1:
+    case cob::tpdo2:
+      // A valid one took on_frame's inline path: this one has the wrong length.
+      return RemoteFrame::ignored;
     case cob::sdo_tx:
       break;
     default:
@@ -251,20 +245,12 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
   }
 }
 
-bool RemoteDrive::rpdo(std::int32_t target_counts, CanFrame& out) noexcept {
+bool RemoteDrive::enabling_rpdo(CanFrame& out) noexcept {
   if (state_ == RemoteDriveState::enabling) {
     encode_rpdo1(config_.node, Rpdo1{enable_.next(feedback_.statusword), feedback_.position_actual}, out);
     return true;
   }
-  if (state_ == RemoteDriveState::ready) {
-    std::uint16_t cw = controlword::enable_operation;
-    if (config_.mode == OperationMode::interpolated_position) {
-      cw |= controlword::enable_ip_mode;
-    }
-    encode_rpdo1(config_.node, Rpdo1{cw, target_counts}, out);
-    return true;
-  }
-  return false;
+  return false;  // idle, configuring, stopped, lost, failed: no process data
 }
 
 }  // namespace settle::hal::canopen

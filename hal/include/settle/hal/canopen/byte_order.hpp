@@ -2,8 +2,10 @@
 // so the same code is right on any host and any microcontroller.
 #pragma once
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <type_traits>
 
@@ -45,6 +47,41 @@ constexpr void put_u32(std::uint8_t* p, std::uint32_t v) noexcept {
   p[3] = static_cast<std::uint8_t>(v >> 24U);
 }
 constexpr void put_i32(std::uint8_t* p, std::int32_t v) noexcept { put_u32(p, static_cast<std::uint32_t>(v)); }
+
+// The same reads and writes at an address the caller knows to be aligned to Align bytes (a
+// CanFrame's payload is word-aligned, so its byte k is aligned to the largest power of two that
+// divides k, up to 4). On a little-endian target they are loads and stores of that width instead
+// of single bytes: a Cortex-M0 cannot access an unaligned word and would assemble it byte by byte.
+template <typename T, std::size_t Align>
+[[nodiscard]] constexpr T load_le(const std::uint8_t* p) noexcept {
+  static_assert(std::is_unsigned_v<T> && (sizeof(T) == 2 || sizeof(T) == 4));
+  static_assert(Align == 1 || Align == 2 || Align == 4);
+  if (std::is_constant_evaluated() || std::endian::native != std::endian::little) {
+    return static_cast<T>(get_le({p, sizeof(T)}, sizeof(T)));
+  }
+  if constexpr (sizeof(T) == 4 && Align == 2) {  // two half-words (a library memcpy otherwise)
+    return static_cast<T>(load_le<std::uint16_t, 2>(p) | (std::uint32_t{load_le<std::uint16_t, 2>(p + 2)} << 16U));
+  } else {
+    T v;
+    std::memcpy(&v, __builtin_assume_aligned(p, Align), sizeof(T));
+    return v;
+  }
+}
+template <typename T, std::size_t Align>
+constexpr void store_le(std::uint8_t* p, T v) noexcept {
+  static_assert(std::is_unsigned_v<T> && (sizeof(T) == 2 || sizeof(T) == 4));
+  static_assert(Align == 1 || Align == 2 || Align == 4);
+  if (std::is_constant_evaluated() || std::endian::native != std::endian::little) {
+    put_le({p, sizeof(T)}, v, sizeof(T));
+    return;
+  }
+  if constexpr (sizeof(T) == 4 && Align == 2) {
+    store_le<std::uint16_t, 2>(p, static_cast<std::uint16_t>(v));
+    store_le<std::uint16_t, 2>(p + 2, static_cast<std::uint16_t>(v >> 16U));
+  } else {
+    std::memcpy(__builtin_assume_aligned(p, Align), &v, sizeof(T));
+  }
+}
 
 // Sign-extends the low `bits` bits of a raw value (how an INTEGER8/16 arrives in a u32 cell).
 [[nodiscard]] constexpr std::int32_t sign_extend(std::uint32_t raw, unsigned bits) noexcept {

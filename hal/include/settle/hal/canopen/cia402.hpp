@@ -95,6 +95,9 @@ enum class Cia402State : std::uint8_t {
 
 // The state a statusword reports, by the standard masks (0x4F / 0x6F).
 [[nodiscard]] Cia402State state_from_statusword(std::uint16_t sw) noexcept;
+// state_from_statusword(sw) == operation_enabled, as one mask and compare (bits 0-3, 5, 6 =
+// 0b0100111 with bit 6 clear): the test a master makes on every TPDO.
+[[nodiscard]] constexpr bool is_operation_enabled(std::uint16_t sw) noexcept { return (sw & 0x006FU) == 0x0027U; }
 // The state bits (0-3, 5, 6) a drive puts in its statusword for a state.
 [[nodiscard]] std::uint16_t statusword_state_bits(Cia402State state) noexcept;
 [[nodiscard]] const char* to_string(Cia402State state) noexcept;

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "settle/hal/can_frame.hpp"
+#include "settle/hal/canopen/byte_order.hpp"
 #include "settle/hal/canopen/cia402.hpp"
 #include "settle/hal/canopen/cob_id.hpp"
 #include "settle/hal/canopen/pdo.hpp"
@@ -41,9 +42,30 @@ struct Tpdo2 {
 [[nodiscard]] CanFrame encode_rpdo1(NodeId node, const Rpdo1& pdo) noexcept;
 // The same frame written over `out` (id, flags, length and the six bytes; bytes past the length
 // are left as they were): the master's per-tick path, which keeps one frame and copies nothing.
-void encode_rpdo1(NodeId node, const Rpdo1& pdo, CanFrame& out) noexcept;
+constexpr void encode_rpdo1(NodeId node, const Rpdo1& pdo, CanFrame& out) noexcept {
+  out.id = cob_id(cob::rpdo1, node);
+  out.flags = 0;
+  out.len = 6;
+  store_le<std::uint16_t, 4>(&out.data[0], pdo.controlword);  // the payload is word-aligned
+  store_le<std::uint32_t, 2>(&out.data[2], static_cast<std::uint32_t>(pdo.target_position));
+}
 [[nodiscard]] CanFrame encode_tpdo1(NodeId node, const Tpdo1& pdo) noexcept;
 [[nodiscard]] CanFrame encode_tpdo2(NodeId node, const Tpdo2& pdo) noexcept;
+// The fields of a frame already known to be the PDO (exact id, length, a classic data frame):
+// the decoders below after their checks, and a master that has made those checks itself.
+// The payload is word-aligned: the statusword is read as a half-word, the position at byte 2 as
+// two, TPDO2's values as words.
+[[nodiscard]] constexpr Tpdo1 tpdo1_fields(const CanFrame& frame) noexcept {
+  return Tpdo1{load_le<std::uint16_t, 4>(&frame.data[0]),
+               static_cast<std::int32_t>(load_le<std::uint32_t, 2>(&frame.data[2]))};
+}
+[[nodiscard]] constexpr Tpdo2 tpdo2_fields(const CanFrame& frame) noexcept {
+  return Tpdo2{static_cast<std::int32_t>(load_le<std::uint32_t, 4>(&frame.data[0])),
+               static_cast<std::int32_t>(load_le<std::uint32_t, 4>(&frame.data[4]))};
+}
+inline constexpr std::uint8_t tpdo1_len = 6;
+inline constexpr std::uint8_t tpdo2_len = 8;
+
 // Exact id and exact length, or nullopt.
 [[nodiscard]] std::optional<Rpdo1> decode_rpdo1(const CanFrame& frame, NodeId node) noexcept;
 [[nodiscard]] std::optional<Tpdo1> decode_tpdo1(const CanFrame& frame, NodeId node) noexcept;

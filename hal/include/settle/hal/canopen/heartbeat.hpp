@@ -54,6 +54,9 @@ class HeartbeatConsumer {
 
   // Frames from other nodes or of other kinds return none and change nothing.
   [[nodiscard]] HeartbeatEvent on_frame(const CanFrame& frame, std::uint64_t now_us) noexcept;
+  // The same for the state a frame carried that the caller has already matched to the watched
+  // node's heartbeat (its identifier, one byte, a classic data frame, a known state).
+  [[nodiscard]] HeartbeatEvent on_state(NmtState state, std::uint64_t now_us) noexcept;
   [[nodiscard]] HeartbeatEvent poll(std::uint64_t now_us) noexcept;
   void configure(NodeId watched, std::uint16_t timeout_ms) noexcept;
 

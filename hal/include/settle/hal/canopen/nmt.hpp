@@ -35,7 +35,17 @@ struct NmtMessage {
 [[nodiscard]] CanFrame encode_nmt(NmtCommand command, NodeId node) noexcept;
 // Rejects anything but a two-byte frame on id 0 with a known command and node 0..127.
 [[nodiscard]] std::optional<NmtMessage> decode_nmt(const CanFrame& frame) noexcept;
-[[nodiscard]] std::optional<NmtState> nmt_state_from_byte(std::uint8_t value) noexcept;
+[[nodiscard]] constexpr std::optional<NmtState> nmt_state_from_byte(std::uint8_t value) noexcept {
+  const auto state = static_cast<NmtState>(value);
+  switch (state) {
+    case NmtState::initialising:
+    case NmtState::stopped:
+    case NmtState::operational:
+    case NmtState::pre_operational:
+      return state;
+  }
+  return std::nullopt;
+}
 
 // What the owner of an NmtSlave must do after a command.
 enum class NmtEvent : std::uint8_t {

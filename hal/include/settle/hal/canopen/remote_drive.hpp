@@ -28,9 +28,7 @@ namespace settle::hal::canopen {
 class EnableSequence {
  public:
   [[nodiscard]] std::uint16_t next(std::uint16_t statusword) noexcept;
-  [[nodiscard]] static bool done(std::uint16_t statusword) noexcept {
-    return state_from_statusword(statusword) == Cia402State::operation_enabled;
-  }
+  [[nodiscard]] static bool done(std::uint16_t statusword) noexcept { return is_operation_enabled(statusword); }
   void reset() noexcept { last_ = 0; }
 
  private:
@@ -118,9 +116,27 @@ class RemoteDrive {
   // After stopped/failed: runs the enable sequence again (the configuration is kept).
   void recover(std::uint64_t now_us) noexcept;
 
-  // Every received frame goes here; frames of other nodes are ignored. The frame is routed by
-  // its function code, so a frame costs one decoder, not a try of each.
-  RemoteFrame on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept;
+  // Every received frame goes here; frames of other nodes are ignored. The drive's process data,
+  // two frames every period, is recognised inline by its exact identifier and length and decoded
+  // in place; everything else is routed by its function code, out of line, so a frame costs one
+  // decoder, not a try of each.
+  RemoteFrame on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
+    if (frame.flags == 0) {  // a classic data frame with a standard identifier
+      if (frame.id == tpdo1_id_ && frame.len == tpdo1_len) {
+        take_tpdo1(tpdo1_fields(frame), now_us);
+        return RemoteFrame::tpdo1;
+      }
+      if (frame.id == tpdo2_id_ && frame.len == tpdo2_len) {
+        const Tpdo2 p = tpdo2_fields(frame);
+        feedback_.load_position = p.load_position;
+        feedback_.velocity_actual = p.velocity_actual;
+        ++feedback_.tpdo2_received;
+        return RemoteFrame::tpdo2;
+      }
+      if (frame.id == heartbeat_id_ && frame.len == 1) return on_heartbeat(frame.data[0], now_us, out);
+    }
+    return on_service_frame(frame, now_us, out);
+  }
   // Timeouts (SDO, heartbeat, enabling) and the next configuration step.
   void poll(std::uint64_t now_us, FrameSink& out) noexcept;
 
@@ -128,7 +144,13 @@ class RemoteDrive {
   // not be sent process data. Enabling -> the enable sequence's controlword with the drive's own
   // position as target (so enabling never moves the axis); ready -> enable operation with the
   // given target.
-  [[nodiscard]] bool rpdo(std::int32_t target_counts, CanFrame& out) noexcept;
+  [[nodiscard]] bool rpdo(std::int32_t target_counts, CanFrame& out) noexcept {
+    if (state_ != RemoteDriveState::ready) return enabling_rpdo(out);
+    std::uint16_t cw = controlword::enable_operation;
+    if (config_.mode == OperationMode::interpolated_position) cw |= controlword::enable_ip_mode;
+    encode_rpdo1(config_.node, Rpdo1{cw, target_counts}, out);
+    return true;
+  }
 
   [[nodiscard]] RemoteDriveState state() const noexcept { return state_; }
   [[nodiscard]] bool ready() const noexcept { return state_ == RemoteDriveState::ready; }
@@ -155,12 +177,31 @@ class RemoteDrive {
   };
   static constexpr std::size_t max_steps = 8;
 
+  void take_tpdo1(const Tpdo1& p, std::uint64_t now_us) noexcept {
+    feedback_.statusword = p.statusword;
+    feedback_.position_actual = p.position_actual;
+    feedback_.tpdo1_time_us = now_us;
+    ++feedback_.tpdo1_received;
+    const bool enabled = EnableSequence::done(p.statusword);
+    if (enabled != (state_ == RemoteDriveState::ready)) enabled_changed(enabled);
+  }
+  // Enabling -> ready on the first enabled statusword; ready -> stopped when it is no longer.
+  void enabled_changed(bool enabled) noexcept;
+  // rpdo() in every state but ready.
+  [[nodiscard]] bool enabling_rpdo(CanFrame& out) noexcept;
+  RemoteFrame on_heartbeat(std::uint8_t state_byte, std::uint64_t now_us, FrameSink& out) noexcept;
+  RemoteFrame on_service_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept;
   void plan_configuration() noexcept;
   void next_step(std::uint64_t now_us, FrameSink& out) noexcept;
   void fail(std::uint64_t now_us) noexcept;
   void begin_enabling(std::uint64_t now_us) noexcept;
 
   RemoteDriveConfig config_;
+  // The identifiers on_frame matches inline; an impossible one for an invalid node, so that
+  // nothing matches.
+  std::uint32_t tpdo1_id_;
+  std::uint32_t tpdo2_id_;
+  std::uint32_t heartbeat_id_;
   RemoteDriveState state_{RemoteDriveState::idle};
   SdoClient sdo_;
   HeartbeatConsumer heartbeat_;
