@@ -44,8 +44,8 @@ struct Rig {
   std::uint64_t now = 0;
   std::vector<std::int32_t> sent;
 
-  Rig() {
-    EXPECT_EQ(loop.add_axis(axis(1)), firmware::LoopStatus::ok);
+  explicit Rig(const firmware::AxisConfig& a = axis(1)) {
+    EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
     drive.start(now);
     loop.start(now);
   }
@@ -93,7 +93,7 @@ TEST(ServoLoop, StreamsAMoveExactlyOnceInOrderAndEndsOnTarget) {
   for (std::size_t k = 0; k < 500; ++k) {
     ASSERT_EQ(r.sent[k], static_cast<std::int32_t>(std::nearbyint(m.at(static_cast<double>(k) * 1e-3).p * 1e6))) << k;
   }
-  EXPECT_EQ(r.loop.axis_stats(0).max_following_error, 0);
+  EXPECT_EQ(r.loop.axis_stats(0).max_following_error, 0U);
 }
 
 TEST(ServoLoop, FeedbackLogKeepsEachPeriodInArrivalOrderAndCountsWhatItHadToDrop) {
@@ -184,6 +184,49 @@ TEST(ServoLoop, StreamsSeed001sVelocityStepWithinTheGuard) {
   for (int i = 0; i < 400; ++i) r.tick();
   EXPECT_EQ(r.loop.axis_stats(0).step_guard_trips, 0u);
   EXPECT_EQ(r.drive.position(), 100'000);
+}
+
+TEST(ServoLoop, AMoveAcrossTheCountWrapStreamsItsTrueStepsAndEndsOnTarget) {
+  // Positions are int32 counts that wrap modulo 2^32, as the drive's counter does: an axis that
+  // powers on 3 000 counts below INT32_MAX and moves +0.01 m (10 000 counts) passes the wrap. The
+  // step guard and the following error see the true 1-period steps, not a 2^32 jump.
+  Rig r;
+  constexpr std::int32_t kStart = INT32_MAX - 3000;
+  r.drive.set_position(kStart);
+  ASSERT_TRUE(r.run_until_ready());
+  for (int i = 0; i < 5; ++i) r.tick();
+  ASSERT_EQ(r.drive.position(), kStart) << "enabling never moved the axis";
+  r.sent.clear();
+  r.drive.applied.clear();
+  ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), firmware::LoopStatus::ok);
+  for (int i = 0; i < 300; ++i) r.tick();
+  EXPECT_EQ(r.loop.axis_stats(0).step_guard_trips, 0u);
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 1u);
+  const auto expected = static_cast<std::int32_t>(static_cast<std::uint32_t>(kStart) + 10'000U);
+  EXPECT_LT(expected, 0) << "the target is past the wrap";
+  EXPECT_EQ(r.drive.position(), expected);
+  EXPECT_EQ(r.loop.axis_stats(0).max_following_error, 0U);
+  bool crossed = false;
+  for (std::size_t k = 1; k < r.sent.size(); ++k) crossed = crossed || (r.sent[k - 1] > 0 && r.sent[k] < 0);
+  EXPECT_TRUE(crossed);
+}
+
+TEST(ServoLoop, FollowingErrorIsMeasuredTheShortWayRoundTheWrap) {
+  // The drive lags by a constant 5 counts while the stream passes the wrap: the error stays 5,
+  // and a 10-count limit never trips (a 64-bit difference would see 2^32 - 5 at the crossing).
+  firmware::AxisConfig a = axis(1);
+  a.following_error_counts = 10;
+  Rig r{a};
+  constexpr std::int32_t kStart = INT32_MAX - 3000;
+  r.drive.set_position(kStart);
+  r.drive.set_lag(5);
+  ASSERT_TRUE(r.run_until_ready());
+  for (int i = 0; i < 5; ++i) r.tick();
+  ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), firmware::LoopStatus::ok);
+  for (int i = 0; i < 300; ++i) r.tick();
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 1u);
+  EXPECT_EQ(r.loop.axis_stats(0).following_error_trips, 0u);
+  EXPECT_EQ(r.loop.axis_stats(0).max_following_error, 5U);
 }
 
 TEST(ServoLoop, StepGuardHoldsWhenAMovesPeaksAreWrong) {
@@ -289,7 +332,7 @@ TEST(ServoLoop, ThreeAxesOnOneBusEachFollowTheirOwnMove) {
   EXPECT_EQ(drives[2]->position(), 250'000);
   for (std::size_t i = 0; i < 3; ++i) {
     EXPECT_EQ(loop.axis_stats(i).moves_completed, 1u);
-    EXPECT_EQ(loop.axis_stats(i).max_following_error, 0);
+    EXPECT_EQ(loop.axis_stats(i).max_following_error, 0U);
   }
 }
 

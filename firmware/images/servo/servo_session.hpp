@@ -47,10 +47,14 @@ inline constexpr core::Peaks<double> kPeaks{0x1.2e5c2de7a3a83p-1, 0x1.f58fe95a64
                             kPeaks};
 }
 
-// One axis, a queue of two moves. Evaluation: FloatEvaluation<float> (the Cortex-M4F's FPU) or
-// FixedImageEvaluation (integer only per tick: the servo_fixed images, the Cortex-M0's).
+// The CAN controller the loop runs on: three transmit mailboxes, an 8-frame receive FIFO.
+using Controller = hal::MailboxBus<3, 8>;
+
+// One axis, a queue of two moves, on the controller's own type (its driver calls are direct).
+// Evaluation: FloatEvaluation<float> (the Cortex-M4F's FPU) or FixedImageEvaluation (integer only
+// per tick: the servo_fixed images, the Cortex-M0's).
 template <typename Evaluation = FloatEvaluation<float>>
-using LoopOf = ServoLoop<float, 1, 2, Evaluation>;
+using LoopOf = ServoLoop<float, 1, 2, Evaluation, Controller>;
 using Loop = LoopOf<>;
 // Position plans of up to 8 intervals (every closed form unshaped; ~0.6 KiB a queue slot instead
 // of the default 24 intervals' 1.6 KiB): what fits the micro:bit's 16 KiB next to the in-image
@@ -168,6 +172,7 @@ class Program {
       p.timer_.begin();
       p.loop_.tick(now_us);
       p.timer_.end(streaming);
+      p.loop_.feedback_log(0).clear();  // the owner drains the feedback every tick (unused here)
       p.transmit();
       p.tap_.flush();
     }
@@ -201,7 +206,7 @@ class Program {
   hal::LoopbackHub hub_{};
   hal::LoopbackBus<4> master_port_;
   CandumpTapBus<LineSink> tap_;
-  hal::MailboxBus<3, 8> controller_{};
+  Controller controller_{};
   IdealDrive drive_;
   LoopOf<Evaluation> loop_;
   Timer& timer_;

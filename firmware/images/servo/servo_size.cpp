@@ -17,7 +17,7 @@ namespace fw = settle::firmware;
 namespace hal = settle::hal;
 namespace si = settle::firmware::servo_image;
 
-hal::MailboxBus<3, 8> g_bus{};
+si::Controller g_bus{};
 si::Loop g_loop{g_bus, si::kPeriodUs};
 
 }  // namespace

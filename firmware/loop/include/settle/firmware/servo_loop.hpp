@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
 #include "settle/core/planner.hpp"
 #include "settle/firmware/evaluation.hpp"
@@ -76,7 +77,7 @@ struct AxisStats {
   std::uint64_t heartbeat_losses{0};
   std::uint64_t emcy_received{0};
   std::uint64_t restarts{0};  // the drive booted again and start-up re-ran
-  std::int64_t max_following_error{0};
+  std::uint32_t max_following_error{0};  // counts, the shorter way round the int32 wrap
   std::uint64_t feedback_overflows{0};  // samples dropped because feedback_log() was not drained
 };
 
@@ -91,11 +92,16 @@ struct LoopStats {
   std::uint64_t frames_received{0};
 };
 
+// Bus: hal::CanBus (any backend, through its virtual hooks) or a concrete `final` backend such as
+// hal::MailboxBus, whose hooks the compiler then calls directly and inlines: what firmware that
+// knows its controller does, and on a Cortex-M0 a tenth of the tick (docs/fixed-point.md).
 template <typename Scalar = double, std::size_t MaxAxes = 1, std::size_t QueueDepth = 4,
-          typename Evaluation = FloatEvaluation<Scalar>>
+          typename Evaluation = FloatEvaluation<Scalar>, typename Bus = hal::CanBus>
 class ServoLoop {
+  static_assert(std::is_base_of_v<hal::CanBus, Bus>, "Bus is hal::CanBus or one of its backends");
+
  public:
-  ServoLoop(hal::CanBus& bus, std::uint32_t period_us) noexcept
+  ServoLoop(Bus& bus, std::uint32_t period_us) noexcept
       : bus_{bus}, period_us_{period_us}, sync_{period_us} {}
   ServoLoop(const ServoLoop&) = delete;
   ServoLoop& operator=(const ServoLoop&) = delete;
@@ -113,9 +119,9 @@ class ServoLoop {
     a.cfg = cfg;
     a.cfg.drive.sync_period_us = period_us_;
     a.drive.emplace(a.cfg.drive);
-    // In whole counts, once: the tick compares integers.
-    a.guard = static_cast<std::int64_t>(std::floor(cfg.vmax * cfg.counts_per_unit * period_us_ * 1e-6)) +
-              cfg.step_margin_counts;
+    // In whole counts, once: the tick compares integers. At or past 2^31 no step can exceed it.
+    const double guard = std::floor(cfg.vmax * cfg.counts_per_unit * period_us_ * 1e-6) + cfg.step_margin_counts;
+    a.guard = guard < 2147483648.0 ? static_cast<std::uint32_t>(guard) : std::uint32_t{1} << 31U;
     ++count_;
     return LoopStatus::ok;
   }
@@ -243,11 +249,19 @@ class ServoLoop {
     std::uint64_t fb_seen{0};
     std::optional<std::int32_t> pending{};  // computed but not yet sent (tx busy): resent first
     bool end_pending{false};                // the final setpoint of a move is waiting to be sent
-    std::int64_t guard{0};  // largest setpoint step allowed per tick, counts
+    std::uint32_t guard{0};  // largest setpoint step allowed per tick, counts (2^31: any)
     TickRecord record{};
     AxisStats stats{};
     FixedQueue<FeedbackSample, kFeedbackLogCapacity> feedback_log{};
   };
+
+  // |a - b| in counts on the wrapping int32 scale every position lives on (streams wrap modulo
+  // 2^32, as drives' position counters do): the shorter way round, at most 2^31. A move that
+  // crosses the wrap steps by its true step, and every operation is a 32-bit one.
+  [[nodiscard]] static std::uint32_t distance_counts(std::int32_t a, std::int32_t b) noexcept {
+    const std::uint32_t d = static_cast<std::uint32_t>(a) - static_cast<std::uint32_t>(b);
+    return d <= 0x8000'0000U ? d : 0U - d;
+  }
 
   // Drops the active move (counted as aborted) and everything queued; the axis holds.
   static void abandon(Axis& a) noexcept {
@@ -285,10 +299,9 @@ class ServoLoop {
     if (fb.tpdo1_received != a.fb_seen) {
       a.fb_seen = fb.tpdo1_received;
       if (d.ready() && a.sent_prev_valid) {
-        const std::int64_t err = static_cast<std::int64_t>(fb.position_actual) - a.sent_prev;
-        const std::int64_t mag = err < 0 ? -err : err;
+        const std::uint32_t mag = distance_counts(fb.position_actual, a.sent_prev);
         if (mag > a.stats.max_following_error) a.stats.max_following_error = mag;
-        if (a.cfg.following_error_counts != 0 && mag > static_cast<std::int64_t>(a.cfg.following_error_counts)) {
+        if (a.cfg.following_error_counts != 0 && mag > a.cfg.following_error_counts) {
           ++a.stats.following_error_trips;
           abandon(a);
         }
@@ -319,8 +332,7 @@ class ServoLoop {
         if (a.active) {
           bool last = false;
           const std::int32_t next = a.setpoints.next(last);
-          const std::int64_t step = static_cast<std::int64_t>(next) - a.target;
-          if (step > a.guard || -step > a.guard) {
+          if (distance_counts(next, a.target) > a.guard) {
             // Never command a jump the actuator cannot make: abandon the move, hold position.
             ++a.stats.step_guard_trips;
             abandon(a);
@@ -382,7 +394,7 @@ class ServoLoop {
     return a;
   }
 
-  hal::CanBus& bus_;
+  Bus& bus_;
   std::array<std::uint8_t, 128> axis_of_node_{no_axes()};
   std::uint32_t period_us_;
   hal::canopen::SyncProducer sync_;
