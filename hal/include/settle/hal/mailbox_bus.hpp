@@ -136,8 +136,8 @@ class MailboxBus final : public CanBus {
 
   std::array<Record, TxMailboxes> tx_storage_{};
   std::array<Received, RxFifoDepth> rx_storage_{};
-  Ring<Record> tx_{tx_storage_};
-  Ring<Received> rx_{rx_storage_};
+  Ring<Record, TxMailboxes> tx_{tx_storage_};
+  Ring<Received, RxFifoDepth> rx_{rx_storage_};
   FilterSet filters_{};
 };
 

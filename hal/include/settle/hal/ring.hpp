@@ -7,11 +7,14 @@
 
 namespace settle::hal {
 
-template <typename T>
+// Extent: the capacity when the owner fixes it at compile time (a controller's mailboxes, a
+// queue over its own array), so that wrapping and fullness compare with a constant; or
+// std::dynamic_extent for storage sized at run time.
+template <typename T, std::size_t Extent = std::dynamic_extent>
 class Ring {
  public:
   Ring() = default;
-  explicit Ring(std::span<T> storage) noexcept : storage_{storage} {}
+  explicit Ring(std::span<T, Extent> storage) noexcept : storage_{storage} {}
 
   [[nodiscard]] bool push(const T& value) noexcept {
     if (full()) {
@@ -72,7 +75,7 @@ class Ring {
   [[nodiscard]] bool full() const noexcept { return size_ == storage_.size(); }
 
  private:
-  std::span<T> storage_{};
+  std::span<T, Extent> storage_{};
   std::size_t head_{0};
   std::size_t size_{0};
 };

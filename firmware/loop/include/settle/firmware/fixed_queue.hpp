@@ -35,7 +35,7 @@ class FixedQueue {
 
  private:
   std::array<T, Capacity> storage_{};
-  hal::Ring<T> ring_{storage_};
+  hal::Ring<T, Capacity> ring_{storage_};
 };
 
 }  // namespace settle::firmware
