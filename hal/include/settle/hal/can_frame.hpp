@@ -85,6 +85,9 @@ struct CanFrame {
 // A frame a backend may put on the wire: id fits its format, length fits the frame type,
 // RTR only on classic frames, BRS/ESI only on FD frames.
 [[nodiscard]] constexpr bool is_valid(const CanFrame& f) noexcept {
+  if (f.flags == 0) {  // a classic data frame with a standard id: nearly every frame, decided first
+    return f.id <= can_standard_id_max && f.len <= can_classic_max_len;
+  }
   if ((f.flags & ~can_flag::all) != 0) {
     return false;
   }
