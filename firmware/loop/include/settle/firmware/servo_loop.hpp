@@ -236,23 +236,25 @@ class ServoLoop {
   static constexpr std::size_t kMaxFramesPerTick = 16 * MaxAxes + 16;
 
  private:
+  // What every tick touches comes first: a Cortex-M0 reaches only the first 32 bytes of a struct
+  // with one byte load and the first 128 with one word load; the queue's prepared moves are large.
   struct Axis {
-    AxisConfig cfg{};
-    std::optional<hal::canopen::RemoteDrive> drive{};
-    FixedQueue<typename Evaluation::Stored, QueueDepth> queue{};
-    typename Evaluation::Stream setpoints{};
     bool active{false};
     bool have_target{false};
+    bool sent_prev_valid{false};
+    bool end_pending{false};      // the final setpoint of a move is waiting to be sent
     std::int32_t target{0};       // last target commanded
     std::int32_t sent_prev{0};    // target sent in the previous tick (what the feedback answers)
-    bool sent_prev_valid{false};
-    std::uint64_t fb_seen{0};
+    std::uint32_t guard{0};       // largest setpoint step allowed per tick, counts (2^31: any)
     std::optional<std::int32_t> pending{};  // computed but not yet sent (tx busy): resent first
-    bool end_pending{false};                // the final setpoint of a move is waiting to be sent
-    std::uint32_t guard{0};  // largest setpoint step allowed per tick, counts (2^31: any)
+    std::uint64_t fb_seen{0};
+    typename Evaluation::Stream setpoints{};
     TickRecord record{};
     AxisStats stats{};
     FixedQueue<FeedbackSample, kFeedbackLogCapacity> feedback_log{};
+    std::optional<hal::canopen::RemoteDrive> drive{};
+    AxisConfig cfg{};
+    FixedQueue<typename Evaluation::Stored, QueueDepth> queue{};
   };
 
   // |a - b| in counts on the wrapping int32 scale every position lives on (streams wrap modulo
@@ -394,18 +396,19 @@ class ServoLoop {
     return a;
   }
 
+  // Per-tick state first (short offsets on a Cortex-M0), the axes last.
   Bus& bus_;
-  std::array<std::uint8_t, 128> axis_of_node_{no_axes()};
-  std::uint32_t period_us_;
-  hal::canopen::SyncProducer sync_;
-  std::array<Axis, MaxAxes> axes_{};
   std::size_t count_{0};
   bool started_{false};
+  std::uint32_t period_us_;
   LoopStats stats_{};
+  hal::canopen::SyncProducer sync_;
   // The frames a tick receives into and builds its RPDOs in: kept, so that a tick neither zeroes
   // nor copies a whole (FD-sized) frame; encoders write the header and the bytes they carry.
   hal::CanFrame rx_{};
   hal::CanFrame tx_{};
+  std::array<std::uint8_t, 128> axis_of_node_{no_axes()};
+  std::array<Axis, MaxAxes> axes_{};
 };
 
 }  // namespace settle::firmware
