@@ -82,22 +82,20 @@ void fold_plan(const GoldenPlan& p, Fold& f) noexcept {
   }
 }
 
-struct GoldenMove {
-  ProfileKind kind;
-  double distance, time, omega, zeta, counts_per_unit, tick;
-  ShaperKind shaper;  // ZV and ZVD designed with zeta = 0: impulses at fractional ticks, libm-free
+constexpr GoldenMove kMoves[] = {
+    {"scurve", ProfileKind::scurve, 0.1, 0.5, 22.05, 0.0, 1e6, 1e-3, ShaperKind::none},
+    {"scurve_damped", ProfileKind::scurve_damped, -0.05, 0.3, 30.0, 0.1, 1e6, 5e-4, ShaperKind::none},
+    {"ramp_versine", ProfileKind::ramp_versine, 1.0, 0.74, 28.28, 0.159, 166886.0, 1e-3, ShaperKind::none},
+    {"poly345", ProfileKind::poly345, 0.2, 1.0, 0.0, 0.0, 2e6, 2e-3, ShaperKind::none},
+    {"pseudopoly", ProfileKind::pseudopoly, 3.0, 0.8, 0.0, 0.0, 3e5, 1e-3, ShaperKind::none},
+    {"trapezoid", ProfileKind::trapezoid, -0.3, 0.6, 0.0, 0.0, 1e7, 1e-3, ShaperKind::none},
+    {"scurve_zv", ProfileKind::scurve, 0.02, 0.25, 40.0, 0.0, 1e6, 2.5e-4, ShaperKind::zv},
+    {"scurve_damped_zvd", ProfileKind::scurve_damped, 0.4, 0.9, 12.0, 0.2, 4e6, 1e-3, ShaperKind::zvd},
 };
 
-constexpr GoldenMove kMoves[] = {
-    {ProfileKind::scurve, 0.1, 0.5, 22.05, 0.0, 1e6, 1e-3, ShaperKind::none},
-    {ProfileKind::scurve_damped, -0.05, 0.3, 30.0, 0.1, 1e6, 5e-4, ShaperKind::none},
-    {ProfileKind::ramp_versine, 1.0, 0.74, 28.28, 0.159, 166886.0, 1e-3, ShaperKind::none},
-    {ProfileKind::poly345, 0.2, 1.0, 0.0, 0.0, 2e6, 2e-3, ShaperKind::none},
-    {ProfileKind::pseudopoly, 3.0, 0.8, 0.0, 0.0, 3e5, 1e-3, ShaperKind::none},
-    {ProfileKind::trapezoid, -0.3, 0.6, 0.0, 0.0, 1e7, 1e-3, ShaperKind::none},
-    {ProfileKind::scurve, 0.02, 0.25, 40.0, 0.0, 1e6, 2.5e-4, ShaperKind::zv},
-    {ProfileKind::scurve_damped, 0.4, 0.9, 12.0, 0.2, 4e6, 1e-3, ShaperKind::zvd},
-};
+}  // namespace
+
+std::span<const GoldenMove> golden_moves() noexcept { return kMoves; }
 
 Status plan_golden(const GoldenMove& g, Move<double>& out) noexcept {
   MoveRequest r{};
@@ -118,8 +116,6 @@ Status plan_golden(const GoldenMove& g, Move<double>& out) noexcept {
   return plan(r, out);
 }
 
-}  // namespace
-
 GoldenResult golden_checksum() noexcept {
   GoldenResult r{};
   Fold build{}, ticks{}, plan{}, positions{};
@@ -137,7 +133,7 @@ GoldenResult golden_checksum() noexcept {
   for (const GoldenMove& g : kMoves) {
     static Move<double> move{};
     Status st = plan_golden(g, move);
-    const Scale scale{g.counts_per_unit, g.tick, 16, 16};
+    const Scale scale = golden_scale(g);
     if (st == Status::ok) st = motion.build(move, scale);
     if (st != Status::ok) {
       fail(st);

@@ -4,10 +4,26 @@
 // (motions, their position plans, cam tables), runs every tick in every form and folds every
 // integer into 64-bit checksums. Equal numbers on x86-64 and on an ARM image mean equal setpoints, bit for bit.
 #include <cstdint>
+#include <span>
 
+#include "settle/core/fixed/format.hpp"
+#include "settle/core/move.hpp"
 #include "settle/core/status.hpp"
 
 namespace settle::core::fixed {
+
+// One move of the golden list: every evaluator kind once, planned libm-free (timed requests, whole
+// exponents, zeta = 0 for the shaped moves), so any target plans the same move. The firmware's
+// per-evaluator cost image measures the same list.
+struct GoldenMove {
+  const char* name;  // scurve, scurve_damped, ramp_versine, poly345, pseudopoly, trapezoid, scurve_zv, ...
+  ProfileKind kind;
+  double distance, time, omega, zeta, counts_per_unit, tick;
+  ShaperKind shaper;  // ZV and ZVD designed with zeta = 0: impulses at fractional ticks, libm-free
+};
+[[nodiscard]] std::span<const GoldenMove> golden_moves() noexcept;
+[[nodiscard]] Status plan_golden(const GoldenMove& g, Move<double>& out) noexcept;
+[[nodiscard]] constexpr Scale golden_scale(const GoldenMove& g) noexcept { return Scale{g.counts_per_unit, g.tick, 16, 16}; }
 
 struct GoldenResult {
   std::uint64_t build{0};    // every field of every built object (segments, tracks, cam knots)
