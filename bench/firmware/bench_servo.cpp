@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "ideal_drive.hpp"
@@ -20,21 +21,33 @@ namespace {
 
 constexpr std::size_t kMaxAxes = 64;
 
-template <typename Scalar>
-void BM_FullTick(benchmark::State& state, core::ShaperKind shaper, bool on_mailbox) {
+using Controller = hal::MailboxBus<kMaxAxes + 1, 4 * kMaxAxes + 16>;
+
+// OnMailbox: the loop holds the controller by its own type (direct driver calls, as firmware
+// does); otherwise it holds the loopback bus as a hal::CanBus (virtual calls).
+template <typename Scalar, bool OnMailbox>
+void BM_FullTick(benchmark::State& state, core::ShaperKind shaper) {
   const auto n = static_cast<std::size_t>(state.range(0));
   hal::LoopbackHub hub;
   auto master = std::make_unique<hal::LoopbackBus<1024>>(hub);
   // On a controller, `master` is its wire: pump() moves frames between the two, untimed.
-  auto controller = std::make_unique<hal::MailboxBus<kMaxAxes + 1, 4 * kMaxAxes + 16>>();
-  hal::CanBus& bus = on_mailbox ? static_cast<hal::CanBus&>(*controller) : *master;
+  auto controller = std::make_unique<Controller>();
+  using LoopBus = std::conditional_t<OnMailbox, Controller, hal::CanBus>;
+  LoopBus* bus_ptr = nullptr;
+  if constexpr (OnMailbox) {
+    bus_ptr = controller.get();
+  } else {
+    bus_ptr = master.get();
+  }
+  LoopBus& bus = *bus_ptr;
   const auto pump = [&] {
-    if (!on_mailbox) return;
+    if (!OnMailbox) return;
     hal::CanFrame f{};
     while (controller->take_sent(f)) (void)master->send(f);
     while (master->receive(f, 0) == hal::ReceiveStatus::received) (void)controller->put_received(f);
   };
-  auto loop = std::make_unique<firmware::ServoLoop<Scalar, kMaxAxes, 2>>(bus, 1000);
+  auto loop = std::make_unique<firmware::ServoLoop<Scalar, kMaxAxes, 2, firmware::FloatEvaluation<Scalar>, LoopBus>>(
+      bus, 1000);
   std::vector<std::unique_ptr<test::IdealDrive>> drives;
   for (std::size_t i = 0; i < n; ++i) {
     firmware::AxisConfig a{};
@@ -97,11 +110,11 @@ void BM_FullTick(benchmark::State& state, core::ShaperKind shaper, bool on_mailb
                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-void BM_FullTickDouble(benchmark::State& s) { BM_FullTick<double>(s, core::ShaperKind::none, false); }
-void BM_FullTickFloat(benchmark::State& s) { BM_FullTick<float>(s, core::ShaperKind::none, false); }
-void BM_FullTickDoubleZv(benchmark::State& s) { BM_FullTick<double>(s, core::ShaperKind::zv, false); }
-void BM_FullTickDoubleMailbox(benchmark::State& s) { BM_FullTick<double>(s, core::ShaperKind::none, true); }
-void BM_FullTickFloatMailbox(benchmark::State& s) { BM_FullTick<float>(s, core::ShaperKind::none, true); }
+void BM_FullTickDouble(benchmark::State& s) { BM_FullTick<double, false>(s, core::ShaperKind::none); }
+void BM_FullTickFloat(benchmark::State& s) { BM_FullTick<float, false>(s, core::ShaperKind::none); }
+void BM_FullTickDoubleZv(benchmark::State& s) { BM_FullTick<double, false>(s, core::ShaperKind::zv); }
+void BM_FullTickDoubleMailbox(benchmark::State& s) { BM_FullTick<double, true>(s, core::ShaperKind::none); }
+void BM_FullTickFloatMailbox(benchmark::State& s) { BM_FullTick<float, true>(s, core::ShaperKind::none); }
 
 }  // namespace
 
