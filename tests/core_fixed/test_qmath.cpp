@@ -78,6 +78,25 @@ TEST(FixedQmath, AbsolutePositionWrapsLikeTheDrive) {
   EXPECT_EQ(absolute(-100, 50), -50);
 }
 
+// The small-factor product a Cortex-M0 runs has int64 multiplication's bits (modulo 2^64).
+TEST(FixedQmath, SmallFactorProductFromHalvesIsTheModularProduct) {
+  std::mt19937_64 rng{3};
+  const auto modular = [](std::int64_t x, std::uint32_t w) {
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(x) * w);
+  };
+  for (int i = 0; i < 1000000; ++i) {
+    const auto x = static_cast<std::int64_t>(rng());
+    const auto w = static_cast<std::uint32_t>(rng() & 0xFFFFU);
+    ASSERT_EQ(mul_small_halves(x, w), modular(x, w)) << x << " " << w;
+    ASSERT_EQ(mul_small(x, w), modular(x, w));
+  }
+  for (std::int64_t x : {std::int64_t{0}, std::int64_t{1}, std::int64_t{-1}, INT64_MAX, INT64_MIN,
+                         std::int64_t{0xFFFF}, std::int64_t{0x1'0000'0000}, std::int64_t{-0x1'0000'0000}}) {
+    for (std::uint32_t w : {0U, 1U, 2U, 120U, 240U, 0xFFFFU}) EXPECT_EQ(mul_small_halves(x, w), modular(x, w));
+  }
+  static_assert(mul_small_halves(-3, 240) == -720);
+}
+
 // The 16-bit-halves product a Cortex-M0 runs, and the signed forms built on it, are exact.
 TEST(FixedQmath, WideProductsFromHalvesAreExact) {
   std::mt19937_64 rng{2};

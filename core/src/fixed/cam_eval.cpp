@@ -72,7 +72,9 @@ Sample CamStepper::next() noexcept {
   if (!anchored_ || (u & mask) == 0U) {
     // With F_i = 32 + iL the Taylor coefficients in tick units are the phase ones, bit for bit.
     Coeffs c = t.interval(u >> l);
-    taylor_shift(c, t.degree(), (u & mask) << (31 - l), t.degree());
+    // At a knot the phase is 0 and the shift adds products by 0: skipped (every anchor but a
+    // restart's is at a knot).
+    if ((u & mask) != 0U) taylor_shift(c, t.degree(), (u & mask) << (31 - l), t.degree());
     chains_init(c, t.degree(), sh, fd_);
     anchored_ = true;
   }

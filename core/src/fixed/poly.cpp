@@ -25,13 +25,43 @@ std::array<int, kMaxDegree + 1> scales(const Shifts& sh) noexcept {
   return f;
 }
 
+// kDiff[m][i] falling(m + r, r): the weight of b_{m+r} in element i of chain r, for r = 0, 1, 2
+// (at most 240). A table, so that anchoring a chain (a cam table's stepper does it at every knot)
+// makes one product per term, not three, and a small one (mul_small: on a Cortex-M0 three 32-bit
+// products instead of a library call each); zero weights are skipped.
+using Weights = std::array<std::array<std::array<std::uint32_t, kMaxDegree + 1>, kMaxDegree + 1>, 3>;
+constexpr Weights kWeight = [] {
+  Weights w{};
+  for (unsigned r = 0; r < 3; ++r) {
+    for (unsigned i = 0; i <= kMaxDegree; ++i) {
+      for (unsigned m = i; m + r <= kMaxDegree; ++m) {
+        w[r][i][m] = static_cast<std::uint32_t>(kDiff[m][i] * falling(static_cast<int>(m + r), static_cast<int>(r)));
+      }
+    }
+  }
+  return w;
+}();
+static_assert([] {
+  for (const auto& chain : kWeight) {
+    for (const auto& row : chain) {
+      for (const std::uint32_t x : row) {
+        if (x >= 0x10000U) return false;
+      }
+    }
+  }
+  return true;
+}(), "mul_small takes factors below 2^16");
+
 // Chain of derivative order r: element i is Delta^i of the r-th derivative, at scale F_{i+r}.
 void init_chain(std::int64_t* x, int r, const Coeffs& b, int degree, const std::array<int, kMaxDegree + 1>& f) noexcept {
+  const auto& w = kWeight[static_cast<unsigned>(r)];
   for (int i = 0; i + r <= degree; ++i) {
     std::int64_t acc = 0;
     for (int m = i; m + r <= degree; ++m) {
+      const std::uint32_t weight = w[static_cast<unsigned>(i)][static_cast<unsigned>(m)];
+      if (weight == 0) continue;
       const auto k = static_cast<unsigned>(m + r);
-      acc += kDiff[m][i] * falling(m + r, r) * shift(b[k], f[k] - f[static_cast<unsigned>(i + r)]);
+      acc += mul_small(shift(b[k], f[k] - f[static_cast<unsigned>(i + r)]), weight);
     }
     x[i] = acc;
   }

@@ -33,13 +33,30 @@ namespace settle::core::fixed {
   return static_cast<std::int64_t>(p);
 }
 
+// x w modulo 2^64 (int64 multiplication's bits, without its overflow) for a small factor w < 2^16,
+// from three 32-bit products: x = hi 2^32 + mid 2^16 + low, and hi w matters only mod 2^32.
+[[nodiscard]] constexpr std::int64_t mul_small_halves(std::int64_t x, std::uint32_t w) noexcept {
+  const auto u = static_cast<std::uint64_t>(x);
+  const auto hi = static_cast<std::uint32_t>(u >> 32U);
+  const auto lo = static_cast<std::uint32_t>(u);
+  const std::uint64_t low = std::uint64_t{(lo & 0xFFFFU) * w} + (std::uint64_t{(lo >> 16U) * w} << 16U);
+  return static_cast<std::int64_t>((std::uint64_t{hi * w} << 32U) + low);
+}
+
 #if defined(__ARM_ARCH_6M__) || defined(SETTLE_FIXED_MUL_HALVES)
+// GCC calls the general 64x64 __aeabi_lmul (~45 instructions with the call) for any int64 product.
+[[nodiscard]] constexpr std::int64_t mul_small(std::int64_t x, std::uint32_t w) noexcept {
+  return mul_small_halves(x, w);
+}
 [[nodiscard]] constexpr std::uint64_t umul_wide(std::uint32_t a, std::uint32_t b) noexcept {
   return umul_wide_halves(a, b);
 }
 [[nodiscard]] constexpr std::int64_t mul_wide(std::int32_t a, std::uint32_t b) noexcept { return mul_wide_halves(a, b); }
 [[nodiscard]] constexpr std::int64_t mul_wide(std::int32_t a, std::int32_t b) noexcept { return mul_wide_halves(a, b); }
 #else
+[[nodiscard]] constexpr std::int64_t mul_small(std::int64_t x, std::uint32_t w) noexcept {
+  return static_cast<std::int64_t>(static_cast<std::uint64_t>(x) * w);
+}
 [[nodiscard]] constexpr std::uint64_t umul_wide(std::uint32_t a, std::uint32_t b) noexcept {
   return static_cast<std::uint64_t>(a) * b;
 }
