@@ -10,6 +10,7 @@
 
 #include "ideal_drive.hpp"
 #include "settle/firmware/servo_loop.hpp"
+#include "settle/hal/mailbox_bus.hpp"
 #include "settle/hal/testing/fault_injecting_bus.hpp"
 
 using namespace settle;
@@ -184,6 +185,54 @@ TEST(ServoLoop, StreamsSeed001sVelocityStepWithinTheGuard) {
   for (int i = 0; i < 400; ++i) r.tick();
   EXPECT_EQ(r.loop.axis_stats(0).step_guard_trips, 0u);
   EXPECT_EQ(r.drive.position(), 100'000);
+}
+
+// The loop on a CAN controller's buffers, held by the controller's own type (direct driver calls,
+// as drive firmware builds it) or as a hal::CanBus: the same frames, tick for tick.
+template <typename LoopBus>
+std::vector<hal::CanFrame> run_on_controller() {
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<64> wire{hub};  // the controller's wire side
+  hal::MailboxBus<3, 8> controller;
+  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  firmware::ServoLoop<double, 1, 4, firmware::FloatEvaluation<double>, LoopBus> loop{controller, kPeriod};
+  EXPECT_EQ(loop.add_axis(axis(1)), firmware::LoopStatus::ok);
+  std::vector<hal::CanFrame> sent;
+  std::uint64_t now = 0;
+  const auto pump = [&] {
+    hal::CanFrame f{};
+    while (controller.take_sent(f)) {
+      sent.push_back(f);
+      (void)wire.send(f);
+    }
+  };
+  drive.start(now);
+  loop.start(now);
+  pump();
+  bool submitted = false;
+  for (int i = 0; i < 1200; ++i) {
+    now += kPeriod;
+    hub.set_time_us(now);
+    drive.process(now);
+    hal::CanFrame f{};
+    while (wire.receive(f, 0) == hal::ReceiveStatus::received) (void)controller.put_received(f);
+    if (!submitted && loop.ready(0)) submitted = loop.submit(0, scurve(0.05, 0.3)) == firmware::LoopStatus::ok;
+    loop.tick(now);
+    pump();
+  }
+  EXPECT_TRUE(submitted);
+  EXPECT_EQ(loop.axis_stats(0).moves_completed, 1u);
+  EXPECT_EQ(drive.position(), 50'000);
+  EXPECT_EQ(controller.counters().rx_overflow_drops, 0u);
+  return sent;
+}
+
+TEST(ServoLoop, OnTheControllersOwnTypeItSendsWhatItSendsThroughCanBus) {
+  const auto direct = run_on_controller<hal::MailboxBus<3, 8>>();
+  const auto virtual_calls = run_on_controller<hal::CanBus>();
+  ASSERT_EQ(direct.size(), virtual_calls.size());
+  ASSERT_GT(direct.size(), 2000u);
+  for (std::size_t i = 0; i < direct.size(); ++i) ASSERT_EQ(direct[i], virtual_calls[i]) << "frame " << i;
 }
 
 TEST(ServoLoop, AMoveAcrossTheCountWrapStreamsItsTrueStepsAndEndsOnTarget) {
