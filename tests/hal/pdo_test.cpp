@@ -34,37 +34,31 @@ TEST(ByteOrder, AlignedLoadsAndStoresAreTheByteWiseLittleEndianOnes) {
   // load_le/store_le at every offset of a word-aligned buffer whose alignment they may assume,
   // against get_le/put_le byte by byte; and the same at compile time (the portable path).
   alignas(4) std::array<std::uint8_t, 12> buf{};
-  const auto check16 = [&](auto align_tag, std::size_t at, std::uint16_t v) {
+  // T: the field's type (uint16_t or uint32_t), A: the alignment the call may assume.
+  const auto check = [&](auto value, auto align_tag, std::size_t at) {
+    using T = decltype(value);
     constexpr std::size_t A = decltype(align_tag)::value;
     buf.fill(0xA5);
-    store_le<std::uint16_t, A>(&buf[at], v);
-    EXPECT_EQ(get_le(std::span<const std::uint8_t>(&buf[at], 2), 2), v) << at;
-    EXPECT_EQ(buf[at + 2], 0xA5) << "nothing past the field";
-    EXPECT_EQ((load_le<std::uint16_t, A>(&buf[at])), v) << at;
-  };
-  const auto check32 = [&](auto align_tag, std::size_t at, std::uint32_t v) {
-    constexpr std::size_t A = decltype(align_tag)::value;
-    buf.fill(0xA5);
-    store_le<std::uint32_t, A>(&buf[at], v);
-    EXPECT_EQ(get_le(std::span<const std::uint8_t>(&buf[at], 4), 4), v) << at;
-    EXPECT_EQ(buf[at + 4], 0xA5) << "nothing past the field";
+    store_le<T, A>(&buf[at], value);
+    EXPECT_EQ(get_le(std::span<const std::uint8_t>(&buf[at], sizeof(T)), sizeof(T)), value) << at;
+    EXPECT_EQ(buf[at + sizeof(T)], 0xA5) << "nothing past the field";
     EXPECT_EQ(at == 0 ? 0xA5 : buf[at - 1], 0xA5) << "nothing before it";
-    EXPECT_EQ((load_le<std::uint32_t, A>(&buf[at])), v) << at;
+    EXPECT_EQ((load_le<T, A>(&buf[at])), value) << at;
   };
   using A1 = std::integral_constant<std::size_t, 1>;
   using A2 = std::integral_constant<std::size_t, 2>;
   using A4 = std::integral_constant<std::size_t, 4>;
   for (const std::uint32_t v : {0U, 1U, 0x01020304U, 0x8000'0000U, 0xFFFF'FFFFU, 0xDEAD'BEEFU}) {
     for (std::size_t at = 0; at <= 7; ++at) {
-      check32(A1{}, at, v);
-      check16(A1{}, at, static_cast<std::uint16_t>(v));
+      check(v, A1{}, at);
+      check(static_cast<std::uint16_t>(v), A1{}, at);
       if (at % 2 == 0) {
-        check32(A2{}, at, v);
-        check16(A2{}, at, static_cast<std::uint16_t>(v >> 8U));
+        check(v, A2{}, at);
+        check(static_cast<std::uint16_t>(v >> 8U), A2{}, at);
       }
       if (at % 4 == 0) {
-        check32(A4{}, at, v);
-        check16(A4{}, at, static_cast<std::uint16_t>(v >> 16U));
+        check(v, A4{}, at);
+        check(static_cast<std::uint16_t>(v >> 16U), A4{}, at);
       }
     }
   }
