@@ -92,9 +92,9 @@ struct LoopStats {
   std::uint64_t frames_received{0};
 };
 
-// Bus: hal::CanBus (any backend, through its virtual hooks) or a concrete `final` backend such as
-// hal::MailboxBus, whose hooks the compiler then calls directly and inlines: what firmware that
-// knows its controller does, and on a Cortex-M0 a tenth of the tick (docs/fixed-point.md).
+// Bus: hal::CanBus (any backend, through its virtual hooks) or a backend's own type such as
+// hal::MailboxBus, whose send and receive are then direct calls the compiler inlines: what
+// firmware that knows its controller does (firmware/README.md: what the Cortex-M0 tick costs).
 template <typename Scalar = double, std::size_t MaxAxes = 1, std::size_t QueueDepth = 4,
           typename Evaluation = FloatEvaluation<Scalar>, typename Bus = hal::CanBus>
 class ServoLoop {

@@ -116,10 +116,10 @@ class RemoteDrive {
   // After stopped/failed: runs the enable sequence again (the configuration is kept).
   void recover(std::uint64_t now_us) noexcept;
 
-  // Every received frame goes here; frames of other nodes are ignored. The drive's process data,
-  // two frames every period, is recognised inline by its exact identifier and length and decoded
-  // in place; everything else is routed by its function code, out of line, so a frame costs one
-  // decoder, not a try of each.
+  // Every received frame goes here; frames of other nodes are ignored. The drive's process data
+  // (two frames every period) and its heartbeat are recognised inline by exact identifier and
+  // length and decoded in place; everything else is routed by its function code, out of line, so
+  // a frame costs one decoder, not a try of each.
   RemoteFrame on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
     if (frame.flags == 0) {  // a classic data frame with a standard identifier
       if (frame.id == tpdo1_id_ && frame.len == tpdo1_len) {
