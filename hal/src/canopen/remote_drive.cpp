@@ -53,7 +53,11 @@ RemoteDrive::RemoteDrive(const RemoteDriveConfig& config) noexcept
       heartbeat_id_{is_valid_node(config.node) ? cob_id(cob::heartbeat, config.node) : ~std::uint32_t{0}},
       sdo_{config.node, config.sdo_timeout_us},
       heartbeat_{config.node, config.heartbeat_timeout_ms},
-      emcy_{config.node} {}
+      emcy_{config.node} {
+  // The steps depend on the configuration alone, which is fixed from here on: planned once, so
+  // the tick that takes a drive's boot-up (start()) does no division and builds no table.
+  plan_configuration();
+}
 
 void RemoteDrive::plan_configuration() noexcept {
   step_count_ = 0;
@@ -87,7 +91,6 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   failure_ = RemoteDriveFailure{};
   sdo_.cancel();
   enable_timer_.disarm();
-  plan_configuration();
   step_ = 0;
   step_sent_ = false;
   // SDO configuration belongs in pre-operational, where no process data flows.
