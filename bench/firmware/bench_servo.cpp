@@ -3,6 +3,8 @@
 // timed ticks a feeder injects each axis's TPDO1/TPDO2 and discards what the loop sent. Two buses:
 // the loopback (what a Linux master's tests run on: frames copied whole into the peer's queue) and
 // hal::MailboxBus (a CAN controller's buffers, what drive firmware has: the *Mailbox benchmarks).
+// Three evaluations: the float/double stepper (FloatEvaluation) and the integer-only position plan
+// (FixedEvaluation, what a Cortex-M0 without FPU runs: the *Fixed benchmarks).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -25,7 +27,7 @@ using Controller = hal::MailboxBus<kMaxAxes + 1, 4 * kMaxAxes + 16>;
 
 // OnMailbox: the loop holds the controller by its own type (direct driver calls, as firmware
 // does); otherwise it holds the loopback bus as a hal::CanBus (virtual calls).
-template <typename Scalar, bool OnMailbox>
+template <typename Scalar, bool OnMailbox, typename Evaluation = firmware::FloatEvaluation<Scalar>>
 void BM_FullTick(benchmark::State& state, core::ShaperKind shaper) {
   const auto n = static_cast<std::size_t>(state.range(0));
   hal::LoopbackHub hub;
@@ -46,8 +48,7 @@ void BM_FullTick(benchmark::State& state, core::ShaperKind shaper) {
     while (controller->take_sent(f)) (void)master->send(f);
     while (master->receive(f, 0) == hal::ReceiveStatus::received) (void)controller->put_received(f);
   };
-  auto loop = std::make_unique<firmware::ServoLoop<Scalar, kMaxAxes, 2, firmware::FloatEvaluation<Scalar>, LoopBus>>(
-      bus, 1000);
+  auto loop = std::make_unique<firmware::ServoLoop<Scalar, kMaxAxes, 2, Evaluation, LoopBus>>(bus, 1000);
   std::vector<std::unique_ptr<test::IdealDrive>> drives;
   for (std::size_t i = 0; i < n; ++i) {
     firmware::AxisConfig a{};
@@ -87,7 +88,10 @@ void BM_FullTick(benchmark::State& state, core::ShaperKind shaper) {
   std::int32_t pos = 0;
   for (auto _ : state) {
     for (std::size_t i = 0; i < n; ++i) {
-      if (loop->idle()) (void)loop->submit(i, m);
+      if (loop->idle() && loop->submit(i, m) != firmware::LoopStatus::ok) {
+        state.SkipWithError("the loop refused the move");
+        return;
+      }
       const hal::canopen::NodeId id{static_cast<std::uint8_t>(i + 1)};
       (void)feeder.send(hal::canopen::encode_tpdo1(id, {0x0237, pos}));
       (void)feeder.send(hal::canopen::encode_tpdo2(id, {pos, 0}));
@@ -115,6 +119,10 @@ void BM_FullTickFloat(benchmark::State& s) { BM_FullTick<float, false>(s, core::
 void BM_FullTickDoubleZv(benchmark::State& s) { BM_FullTick<double, false>(s, core::ShaperKind::zv); }
 void BM_FullTickDoubleMailbox(benchmark::State& s) { BM_FullTick<double, true>(s, core::ShaperKind::none); }
 void BM_FullTickFloatMailbox(benchmark::State& s) { BM_FullTick<float, true>(s, core::ShaperKind::none); }
+using Fixed = firmware::FixedEvaluation;
+void BM_FullTickFixed(benchmark::State& s) { BM_FullTick<float, false, Fixed>(s, core::ShaperKind::none); }
+void BM_FullTickFixedZv(benchmark::State& s) { BM_FullTick<float, false, Fixed>(s, core::ShaperKind::zv); }
+void BM_FullTickFixedMailbox(benchmark::State& s) { BM_FullTick<float, true, Fixed>(s, core::ShaperKind::none); }
 
 }  // namespace
 
@@ -123,3 +131,6 @@ BENCHMARK(BM_FullTickFloat)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);
 BENCHMARK(BM_FullTickDoubleZv)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);
 BENCHMARK(BM_FullTickDoubleMailbox)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);
 BENCHMARK(BM_FullTickFloatMailbox)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);
+BENCHMARK(BM_FullTickFixed)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);
+BENCHMARK(BM_FullTickFixedZv)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);
+BENCHMARK(BM_FullTickFixedMailbox)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);
