@@ -6,21 +6,18 @@ import json, os, signal, subprocess, sys, tempfile, time
 
 SETTLE = sys.argv[1]
 TEST = sys.argv[2]
-W000 = 22.04871
-TN = 2 * 3.141592653589793 / W000
+# The papers' scenarios, the same the demo streams (tools/paper_scenarios.py).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+import paper_scenarios  # noqa: E402
+
+W000 = paper_scenarios.W000
 
 # The drive and the loop tolerate a stalled user-mode-linux guest (see tools/demo-run).
 PLANT_TOLERANT = ["--sync-loss-periods", "250"]
 STREAM_TOLERANT = ["--heartbeat-ms", "2000", "--rt-priority", "50"]
 
-SCENARIOS = {
-    "000-scurve": (["--plant", "beam"], ["--profile", "scurve", "--distance", "0.07", "--time", f"{0.8 * TN:.9f}", "--omega", f"{W000}"], 1, 0.07),
-    "000-poly345": (["--plant", "beam"], ["--profile", "poly345", "--distance", "0.07", "--time", f"{1.75 * TN:.9f}"], 1, 0.07),
-    "001-computed": (["--plant", "sdof"], ["--profile", "ramp-versine", "--distance", "0.1", "--time", "0.167", "--omega", "28.2842712", "--zeta", "0.1590990"], 2, 0.1),
-    "001-arbitrary": (["--plant", "sdof"], ["--profile", "ramp-versine", "--distance", "0.1", "--time", "0.167", "--y", "0.5,0.25,0.25"], 2, 0.1),
-    # belt: D is in motor radians, the residual in platform radians (lambda = 1/30)
-    "004-optimised": (["--plant", "belt", "--load-counts-per-unit", "1e6"], ["--profile", "pseudopoly", "--distance", "94.2477796", "--time", "1", "--gammas", "3.024,4.565,5.874"], 200, 94.2477796 / 30),
-}
+# id -> (plant args, move args, axis vmax, out scale)
+SCENARIOS = {row[0]: (row[2], row[3], row[4], row[5]) for row in paper_scenarios.scenarios()}
 
 
 def fail(msg):
@@ -124,7 +121,7 @@ def main():
             with Bus(d):
                 scenario(d, TEST)
         elif TEST == "ten-thousand-ticks":
-            plant_args, move_args, vmax, _ = SCENARIOS["000-scurve"]
+            plant_args, move_args, vmax, _ = SCENARIOS["000-scurve-0.8"]
             p, plog, js = start_plant(d, "long", plant_args, PLANT_TOLERANT)
             rc, r, fb = stream(d, "long", plant_args, move_args, vmax, ["--settle-time", "9.8"])
             pj = stop_plant(p, js, d, "long")
