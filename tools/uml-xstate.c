@@ -13,7 +13,8 @@
  * This shim makes such a short SETREGSET whole: it reads the tracee's current full XSAVE area,
  * lays UML's bytes over its start (x87/SSE, header, AVX upper halves: everything UML saved) and
  * writes the full area. The components past UML's buffer (AVX-512, PKRU, AMX) keep the tracee's
- * own current values, which is what a UML guest already got on hosts where the write worked.
+ * own current values: they are not switched between the threads of one guest process, so
+ * tools/with-vcan also tells the guest's glibc not to use AVX-512 (GLIBC_TUNABLES).
  * Every other ptrace request passes through untouched. tools/with-vcan builds it and preloads
  * it into the UML kernel process only (never into the guest's programs).
  */
