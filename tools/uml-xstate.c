@@ -47,13 +47,18 @@ long ptrace(enum __ptrace_request request, ...)
 			return -1;
 		}
 	}
-	if (request == PTRACE_SETREGSET && (unsigned long)addr == NT_X86_XSTATE && data) {
+	/* The host's XSAVE size is a constant: learnt from the first read, so a write that is already
+	 * whole (every write, on hosts without AVX-512 or AMX) costs no extra read. */
+	static size_t host_size;
+	struct iovec *given = data;
+	if (request == PTRACE_SETREGSET && (unsigned long)addr == NT_X86_XSTATE && given &&
+	    (host_size == 0 || given->iov_len < host_size)) {
 		/* The largest XSAVE area today (AMX) is about 11 KiB. */
 		static _Thread_local unsigned char full[64 * 1024] __attribute__((aligned(64)));
-		struct iovec *given = data;
 		struct iovec whole = {full, sizeof full};
 		if (real(PTRACE_GETREGSET, pid, (void *)(unsigned long)NT_X86_XSTATE, &whole) < 0)
 			return -1;
+		host_size = whole.iov_len;
 		if (given->iov_len < whole.iov_len) {
 			memcpy(full, given->iov_base, given->iov_len);
 			return real(PTRACE_SETREGSET, pid, addr, &whole);
