@@ -4,6 +4,8 @@ prints the table, tests/e2e/e2e.py checks each of them on vcan0 (ctest -L vcan).
 
   tools/paper_scenarios.py [--gammas G1,G2,G3]     # one line per scenario:
                                                    # id|label|plant options|move options|axis vmax|out scale
+  tools/paper_scenarios.py --ids                   # the ids alone, one per line (ctest's test names)
+  tools/paper_scenarios.py --paper-gammas          # seed 004's published exponents (the default)
 
 Seed 000: the Table 1 beam (3 modes), first mode 22.04871 rad/s. The paper gives no distance; as in
 `settle reproduce 000` (docs/simulation.md), D = 0.07 m puts the S-curve's peak velocity at the
@@ -47,9 +49,15 @@ def scenarios(gammas=PAPER_GAMMAS):
 if __name__ == "__main__":
     g = PAPER_GAMMAS
     args = sys.argv[1:]
+    if args == ["--paper-gammas"]:
+        print(PAPER_GAMMAS)
+        sys.exit(0)
+    if args == ["--ids"]:
+        print("\n".join(row[0] for row in scenarios()))
+        sys.exit(0)
     if args[:1] == ["--gammas"] and len(args) == 2:
         g = args[1]
     elif args:
-        sys.exit("usage: tools/paper_scenarios.py [--gammas G1,G2,G3]")
+        sys.exit("usage: tools/paper_scenarios.py [--gammas G1,G2,G3 | --ids | --paper-gammas]")
     for id_, label, plant, move, vmax, scale in scenarios(g):
         print("|".join([id_, label, " ".join(plant), " ".join(move), str(vmax), repr(scale)]))
