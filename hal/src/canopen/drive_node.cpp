@@ -13,6 +13,7 @@ namespace {
   o.comm.product_code = c.product_code;
   o.comm.revision = c.revision;
   o.comm.serial = c.serial;
+  o.comm.sync_counter_overflow = c.sync_counter_overflow;
   o.comm.sdo_cob_rx = cob_id(cob::sdo_rx, c.node);
   o.comm.sdo_cob_tx = cob_id(cob::sdo_tx, c.node);
   // The mapping objects describe the static mapping; they are read-only on the bus.
@@ -35,6 +36,7 @@ namespace {
   o.app.following_error_timeout_ms = c.following_error_timeout_ms;
   o.app.position_limit_min = c.position_limit_min;
   o.app.position_limit_max = c.position_limit_max;
+  o.app.max_profile_velocity = c.max_profile_velocity;
   // 0x6502 bit n-1 for mode n: interpolated position (7) and cyclic synchronous position (8).
   o.app.supported_modes = (1U << 6U) | (1U << 7U);
   return o;
@@ -44,6 +46,7 @@ namespace {
   switch (error_code >> 8U) {
     case 0x81:
     case 0x82: return error_register::communication;
+    case 0x84:  // CiA 402: velocity speed controller (the step limit)
     case 0x86: return error_register::device_profile;
     default: return 0;
   }
@@ -54,7 +57,37 @@ namespace {
          mode == static_cast<std::int8_t>(OperationMode::cyclic_synchronous_position);
 }
 
+// A third party's NMT command that ends the master's control of an enabled drive: the node
+// leaves operational (no more setpoints, no more feedback), or its communication is reset.
+// Reset node is left out: it resets the application too, power stage included.
+[[nodiscard]] bool aborts_connection(NmtCommand command, NmtState state) noexcept {
+  switch (command) {
+    case NmtCommand::stop: return state != NmtState::stopped;
+    case NmtCommand::enter_pre_operational: return state == NmtState::operational;
+    case NmtCommand::reset_communication: return true;
+    case NmtCommand::start:
+    case NmtCommand::reset_node: return false;
+  }
+  return false;
+}
+
+// Position counts wrap modulo 2^32, as a drive's position counter does: the distance from b
+// to a is the short way round, in -2^31..2^31-1, widened so that its magnitude cannot overflow.
+[[nodiscard]] std::int64_t position_difference(std::int32_t a, std::int32_t b) noexcept {
+  return std::int64_t{static_cast<std::int32_t>(static_cast<std::uint32_t>(a) - static_cast<std::uint32_t>(b))};
+}
+
+[[nodiscard]] std::int64_t magnitude(std::int64_t v) noexcept { return v < 0 ? -v : v; }
+
 }  // namespace
+
+EmcyDetail emcy_detail(std::uint8_t cause, std::int64_t value) noexcept {
+  constexpr std::int64_t lo = std::numeric_limits<std::int32_t>::min();
+  constexpr std::int64_t hi = std::numeric_limits<std::int32_t>::max();
+  const auto v = static_cast<std::uint32_t>(static_cast<std::int32_t>(value < lo ? lo : (value > hi ? hi : value)));
+  return {cause, static_cast<std::uint8_t>(v & 0xFFU), static_cast<std::uint8_t>((v >> 8U) & 0xFFU),
+          static_cast<std::uint8_t>((v >> 16U) & 0xFFU), static_cast<std::uint8_t>(v >> 24U)};
+}
 
 DriveNode::DriveNode(const DriveNodeConfig& config) noexcept
     : config_{config},
@@ -92,7 +125,7 @@ std::array<OdEntry, DriveNode::entry_count> DriveNode::make_entries() noexcept {
       od_entry(obj::identity, 2, c.product_code, A::ro),
       od_entry(obj::identity, 3, c.revision, A::ro),
       od_entry(obj::identity, 4, c.serial, A::ro),
-      od_entry(obj::sync_counter_overflow, 0, c.sync_counter_overflow, A::ro),
+      od_entry(obj::sync_counter_overflow, 0, c.sync_counter_overflow, A::rw, false, 0, sync_counter_max),
       od_entry(obj::sdo_server_parameter, 0, c.sdo_parameter_count, A::constant),
       od_entry(obj::sdo_server_parameter, 1, c.sdo_cob_rx, A::ro),
       od_entry(obj::sdo_server_parameter, 2, c.sdo_cob_tx, A::ro),
@@ -131,6 +164,7 @@ std::array<OdEntry, DriveNode::entry_count> DriveNode::make_entries() noexcept {
       od_entry(obj::software_position_limit, 0, a.position_limit_count, A::constant),
       od_entry(obj::software_position_limit, 1, a.position_limit_min, A::rw),
       od_entry(obj::software_position_limit, 2, a.position_limit_max, A::rw),
+      od_entry(obj::max_profile_velocity, 0, a.max_profile_velocity, A::rw, false, 1),
       od_entry(obj::interpolation_data_record, 0, a.ip_data_count, A::constant),
       od_entry(obj::interpolation_data_record, 1, a.ip_data, A::rw, map),
       od_entry(obj::interpolation_time_period, 0, a.ip_period_count, A::constant),
@@ -150,7 +184,13 @@ void DriveNode::bind_pdos() noexcept {
 
 void DriveNode::restore(bool application) noexcept {
   const DriveObjects defaults = defaults_for(config_);
+  // The error register reports the device's errors, not a parameter: a reset of the
+  // communication alone keeps it (the drive may still be in fault).
+  const std::uint8_t error_register = objects_.comm.error_register;
   objects_.comm = defaults.comm;
+  if (!application) {
+    objects_.comm.error_register = error_register;
+  }
   if (application) {
     objects_.app = defaults.app;
     power_.reset();
@@ -158,6 +198,7 @@ void DriveNode::restore(bool application) noexcept {
     following_error_ = false;
     limit_active_ = false;
     following_error_timer_.disarm();
+    sync_error_reported_ = false;
   }
   pending_rpdo_.reset();
   rpdo_missing_run_ = 0;
@@ -181,6 +222,9 @@ void DriveNode::apply_configuration(std::uint16_t index) noexcept {
   if (all || index == obj::communication_cycle_period || index == obj::communication_loss_periods) {
     sync_.configure(c.cycle_period_us, objects_.app.communication_loss_periods);
   }
+  if (all || index == obj::sync_counter_overflow) {
+    sync_.set_counter_overflow(c.sync_counter_overflow);
+  }
   if (all || index == obj::inhibit_time_emcy) {
     emcy_.set_inhibit_us(std::uint32_t{c.inhibit_time_emcy} * 100U);
   }
@@ -202,6 +246,12 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     const auto message = decode_nmt(frame);
     if (!message || (message->node != 0 && message->node != config_.node)) {
       return DriveEvent::none;
+    }
+    // 0x6007 before the state changes: a stopped node may send no EMCY, and the master must
+    // learn why its drive went away.
+    if (power_.enabled() && aborts_connection(message->command, nmt_.state())) {
+      connection_lost(emcy_code::communication,
+                      emcy_detail(emcy_cause::nmt_command, static_cast<std::uint8_t>(message->command)), now_us, out);
     }
     const NmtEvent event = nmt_.on_message(*message, out);
     if (event == NmtEvent::reset_application || event == NmtEvent::reset_communication) {
@@ -225,8 +275,10 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     if (!sync) {
       return DriveEvent::none;
     }
-    on_sync(*sync, now_us, out);
-    return DriveEvent::sync;
+    // The rate check measures the frame's receive time when the bus gives one (SO_TIMESTAMP, the
+    // loopback hub's clock): a receiver that was descheduled reads a burst of SYNCs that were
+    // sent one period apart.
+    return on_sync(*sync, now_us, frame.timestamp_us != 0 ? frame.timestamp_us : now_us, out);
   }
   if (frame.id == objects_.comm.sdo_cob_rx) {
     if (!sdo_.on_frame(frame, out)) {
@@ -246,20 +298,38 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
   return DriveEvent::none;
 }
 
-void DriveNode::on_nmt(const NmtMessage& message, std::uint64_t now_us, FrameSink& out) noexcept {
-  if (message.command == NmtCommand::stop && power_.enabled()) {
-    connection_lost(emcy_code::communication, now_us, out);
-  }
+void DriveNode::on_nmt(const NmtMessage& message, std::uint64_t /*now_us*/, FrameSink& /*out*/) noexcept {
   if (message.command == NmtCommand::start) {
     pending_rpdo_.reset();
     rpdo_missing_run_ = 0;
   }
 }
 
-void DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, FrameSink& out) noexcept {
+DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std::uint64_t received_us,
+                             FrameSink& out) noexcept {
   ++counters_.syncs;
-  if (sync_.on_sync(sync, now_us) == SyncEvent::gap) {
+  const SyncEvent event = sync_.on_sync(sync, now_us, received_us);
+  if (event == SyncEvent::gap) {
     ++counters_.sync_gaps;
+  }
+  if (is_sync_error(event)) {
+    ++counters_.sync_errors;
+    // Enforced while the drive drives the axis (operation enabled, or bringing it to rest): a
+    // SYNC that is not the next period must not run one. A drive that holds a disabled axis
+    // moves nothing either way and only counts it.
+    if (power_.enabled() || power_.stopping()) {
+      if (!sync_error_reported_) {
+        sync_error_reported_ = true;
+        const bool no_counter = event == SyncEvent::unexpected_length;
+        const std::uint8_t cause = no_counter ? emcy_cause::sync_length
+                                   : event == SyncEvent::too_many ? emcy_cause::sync_rate
+                                                                  : emcy_cause::sync_counter;
+        connection_lost(no_counter ? emcy_code::sync_data_length : emcy_code::communication,
+                        emcy_detail(cause, sync.counter), now_us, out);
+      }
+      update_statusword();
+      return DriveEvent::sync_rejected;  // the latched RPDO waits for the next good SYNC
+    }
   }
   if (nmt_.pdo_allowed()) {
     if (pending_rpdo_) {
@@ -278,30 +348,70 @@ void DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, FrameSink
         ++counters_.rpdos_rejected;
         if (status == PdoStatus::too_short || status == PdoStatus::too_long) {
           signal_error(status == PdoStatus::too_short ? emcy_code::pdo_length : emcy_code::pdo_length_exceeded,
-                       error_register::communication, now_us, out);
+                       error_register::communication, emcy_detail(emcy_cause::none), now_us, out);
         }
       }
     } else if (power_.enabled()) {
       ++counters_.rpdos_missing;
       if (++rpdo_missing_run_ > objects_.app.communication_loss_periods) {
-        quick_stop_with_emcy(emcy_code::rpdo_timeout, now_us, out);
+        quick_stop_with_emcy(emcy_code::rpdo_timeout, emcy_detail(emcy_cause::rpdo_loss, rpdo_missing_run_), now_us,
+                             out);
       }
     }
   }
 
+  apply_setpoint(now_us, out);
+  update_statusword();
+  return DriveEvent::sync;
+}
+
+void DriveNode::apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept {
   DriveAppObjects& a = objects_.app;
   if (following()) {
     const bool ip = a.mode_display == static_cast<std::int8_t>(OperationMode::interpolated_position);
     const std::int32_t target = ip ? a.ip_data : a.target_position;
-    setpoint_ = target < a.position_limit_min ? a.position_limit_min
-                                              : (target > a.position_limit_max ? a.position_limit_max : target);
-    limit_active_ = setpoint_ != target;
+    const std::int32_t clamped = target < a.position_limit_min
+                                     ? a.position_limit_min
+                                     : (target > a.position_limit_max ? a.position_limit_max : target);
+    // The step limit: a setpoint the axis cannot reach within 0x607F is never applied, whoever
+    // wrote it (RPDO or SDO). The step is the short way round the counter's wrap (a move across
+    // it is a small step, a jump of 2^31 is the largest there is), its magnitude in 64 bits.
+    const std::int64_t step = position_difference(clamped, setpoint_);
+    if (magnitude(step) > step_limit_counts()) {
+      ++counters_.steps_refused;
+      fault_with(emcy_code::velocity, emcy_detail(emcy_cause::step_limit, step), now_us, out);
+      return;  // setpoint() stays the last applied one
+    }
+    setpoint_ = clamped;
+    limit_active_ = clamped != target;
   } else if (!power_.enabled()) {
-    // Not following: the drive holds where the axis is, so enabling never causes a jump.
+    // Not following: the drive holds where the axis is.
     setpoint_ = a.position_actual;
     limit_active_ = false;
   }
-  update_statusword();
+}
+
+std::int64_t DriveNode::step_limit_counts() const noexcept {
+  std::uint64_t period_us = interpolation_period_us();
+  const std::uint32_t cycle_us = objects_.comm.cycle_period_us;
+  if (cycle_us != 0 && cycle_us < period_us) {
+    period_us = cycle_us;
+  }
+  // Both factors are below 2^32: the product and the rounding fit 64 bits.
+  const std::uint64_t counts = (std::uint64_t{objects_.app.max_profile_velocity} * period_us + 999'999U) / 1'000'000U;
+  return static_cast<std::int64_t>(counts);
+}
+
+void DriveNode::latch_target() noexcept {
+  // Entering operation enabled: the drive's target becomes where the axis is, so the target
+  // that came with the enabling controlword (or was written before) moves nothing, and the
+  // first setpoint after it is checked against the position actual by the step limit.
+  DriveAppObjects& a = objects_.app;
+  a.target_position = a.position_actual;
+  a.ip_data = a.position_actual;
+  setpoint_ = a.position_actual;
+  limit_active_ = false;
+  sync_.rearm_rate_check();
 }
 
 bool DriveNode::following() const noexcept {
@@ -331,19 +441,19 @@ void DriveNode::publish(const DriveFeedback& feedback, std::uint64_t now_us, Fra
   }
 
   if (following() && a.following_error_window != following_error_window_off) {
-    const std::int64_t deviation = std::int64_t{setpoint_} - std::int64_t{a.position_actual};
-    const std::int64_t magnitude = deviation < 0 ? -deviation : deviation;
-    following_error_ = magnitude > std::int64_t{a.following_error_window};
+    const std::int64_t deviation = position_difference(setpoint_, a.position_actual);
+    following_error_ = magnitude(deviation) > std::int64_t{a.following_error_window};
+    const EmcyDetail detail = emcy_detail(emcy_cause::following_error, deviation);
     if (!following_error_) {
       following_error_timer_.disarm();
     } else if (a.following_error_timeout_ms == 0) {
-      raise_fault(emcy_code::following_error, now_us, out);
+      fault_with(emcy_code::following_error, detail, now_us, out);
     } else {
       if (!following_error_timer_.armed()) {
         following_error_timer_.arm(std::uint64_t{a.following_error_timeout_ms} * 1000U, now_us);
       }
       if (following_error_timer_.check(now_us)) {
-        raise_fault(emcy_code::following_error, now_us, out);
+        fault_with(emcy_code::following_error, detail, now_us, out);
       }
     }
   }
@@ -363,18 +473,23 @@ void DriveNode::publish(const DriveFeedback& feedback, std::uint64_t now_us, Fra
 void DriveNode::poll(std::uint64_t now_us, FrameSink& out) noexcept {
   (void)heartbeat_.poll(now_us, nmt_.state(), out);
   if (master_heartbeat_.poll(now_us) == HeartbeatEvent::lost) {
-    connection_lost(emcy_code::life_guard, now_us, out);
+    connection_lost(emcy_code::life_guard, emcy_detail(emcy_cause::heartbeat), now_us, out);
   }
   if (sync_.check_loss(now_us) && power_.enabled() && nmt_.pdo_allowed()) {
-    quick_stop_with_emcy(emcy_code::communication, now_us, out);
+    quick_stop_with_emcy(emcy_code::communication, emcy_detail(emcy_cause::sync_loss), now_us, out);
   }
   (void)emcy_.poll(now_us, out);
 }
 
 void DriveNode::raise_fault(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept {
+  fault_with(error_code, emcy_detail(emcy_cause::none), now_us, out);
+}
+
+void DriveNode::fault_with(std::uint16_t error_code, const EmcyDetail& detail, std::uint64_t now_us,
+                           FrameSink& out) noexcept {
   if (power_.fault()) {
     following_error_timer_.disarm();
-    signal_error(error_code, register_bits_for(error_code), now_us, out);
+    signal_error(error_code, register_bits_for(error_code), detail, now_us, out);
     update_statusword();
   }
 }
@@ -384,14 +499,15 @@ void DriveNode::stop_complete() noexcept {
   update_statusword();
 }
 
-void DriveNode::connection_lost(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept {
+void DriveNode::connection_lost(std::uint16_t error_code, const EmcyDetail& detail, std::uint64_t now_us,
+                                FrameSink& out) noexcept {
   if (!power_.enabled()) {
-    signal_error(error_code, error_register::communication, now_us, out);
+    signal_error(error_code, error_register::communication, detail, now_us, out);
     return;
   }
   switch (static_cast<AbortConnectionAction>(objects_.app.abort_connection_option)) {
     case AbortConnectionAction::fault:
-      raise_fault(error_code, now_us, out);
+      fault_with(error_code, detail, now_us, out);
       return;
     case AbortConnectionAction::disable_voltage:
       (void)power_.apply(Cia402Command::disable_voltage);
@@ -402,25 +518,26 @@ void DriveNode::connection_lost(std::uint16_t error_code, std::uint64_t now_us, 
     case AbortConnectionAction::none:
       break;
   }
-  signal_error(error_code, error_register::communication, now_us, out);
+  signal_error(error_code, error_register::communication, detail, now_us, out);
   update_statusword();
 }
 
-void DriveNode::quick_stop_with_emcy(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept {
+void DriveNode::quick_stop_with_emcy(std::uint16_t error_code, const EmcyDetail& detail, std::uint64_t now_us,
+                                     FrameSink& out) noexcept {
   if (power_.quick_stop()) {
-    signal_error(error_code, error_register::communication, now_us, out);
+    signal_error(error_code, error_register::communication, detail, now_us, out);
     update_statusword();
   }
 }
 
-void DriveNode::signal_error(std::uint16_t error_code, std::uint8_t register_bits, std::uint64_t now_us,
-                             FrameSink& out) noexcept {
+void DriveNode::signal_error(std::uint16_t error_code, std::uint8_t register_bits, const EmcyDetail& detail,
+                             std::uint64_t now_us, FrameSink& out) noexcept {
   objects_.app.error_code = error_code;
   // CiA 301: the generic bit is set whenever any error is present.
   objects_.comm.error_register = static_cast<std::uint8_t>(objects_.comm.error_register | register_bits |
                                                            error_register::generic);
   if (nmt_.emcy_allowed()) {
-    (void)emcy_.emit(EmcyMessage{error_code, objects_.comm.error_register, {}}, now_us, out);
+    (void)emcy_.emit(EmcyMessage{error_code, objects_.comm.error_register, detail}, now_us, out);
     ++counters_.emcy_sent;
   }
 }
@@ -431,6 +548,7 @@ void DriveNode::clear_errors(std::uint64_t now_us, FrameSink& out) noexcept {
   }
   objects_.app.error_code = 0;
   objects_.comm.error_register = 0;
+  sync_error_reported_ = false;
   if (nmt_.emcy_allowed()) {
     (void)emcy_.emit(EmcyMessage{emcy_code::no_error, 0, {}}, now_us, out);
     ++counters_.emcy_sent;
@@ -450,6 +568,9 @@ void DriveNode::apply_written_controlword(std::uint64_t now_us, FrameSink& out) 
     if ((before == Cia402State::fault && after == Cia402State::switch_on_disabled) ||
         after == Cia402State::operation_enabled) {
       clear_errors(now_us, out);
+    }
+    if (after == Cia402State::operation_enabled && before != Cia402State::operation_enabled) {
+      latch_target();
     }
     if (after == Cia402State::operation_enabled) {
       following_error_ = false;
@@ -491,6 +612,13 @@ SdoAbort DriveNode::check_write(void* self, const OdEntry& entry, std::int64_t v
       return SdoAbort::none;
     case obj::interpolation_time_period:
       return (entry.sub == 1 && value == 0) ? SdoAbort::value_too_low : SdoAbort::none;
+    case obj::sync_counter_overflow:
+      // CiA 301: 0 (no counter) or 2..240. Changing it under a running stream would refuse the
+      // next SYNC, so it is set before the drive is enabled.
+      if (node.power_.enabled()) {
+        return SdoAbort::cannot_store_device_state;
+      }
+      return value == 1 ? SdoAbort::invalid_value : SdoAbort::none;
     default:
       return SdoAbort::none;
   }

@@ -43,6 +43,7 @@ inline constexpr std::uint16_t following_error_timeout = 0x6066;  // ms
 inline constexpr std::uint16_t velocity_actual = 0x606C;
 inline constexpr std::uint16_t target_position = 0x607A;
 inline constexpr std::uint16_t software_position_limit = 0x607D;
+inline constexpr std::uint16_t max_profile_velocity = 0x607F;  // counts/s
 inline constexpr std::uint16_t interpolation_data_record = 0x60C1;
 inline constexpr std::uint16_t interpolation_time_period = 0x60C2;
 inline constexpr std::uint16_t supported_drive_modes = 0x6502;

@@ -7,6 +7,23 @@
 // applied; the application then moves its axis towards setpoint() for one period when
 // following(), brings it to rest when stopping() (and says so with stop_complete()), and
 // reports the result with publish(), which sends TPDO1/2.
+//
+// Drive-side safety rules (hal/README.md, "The drive"), each ending in a CiA 402 state and an EMCY:
+// - Enabling never moves the axis: entering operation enabled latches 0x607A (and 0x60C1:1) to
+//   the position actual; the target that came with the enabling controlword is not applied.
+// - Step limit: a setpoint further than 0x607F x period from the previous one (the latched
+//   position after enabling) is never applied: fault, EMCY 0x8400, the axis stays where it was.
+//   Whatever wrote 0x607A (RPDO or SDO) is checked the same way, at the SYNC that would apply it.
+// - Following error: |setpoint - position actual| over 0x6065 for longer than 0x6066 ms:
+//   fault, EMCY 0x8611. On by default.
+// - SYNC checks while the axis is driven: a counter (0x1019) that does not step by one, a
+//   missing counter, or more SYNCs than one per 0x1006 period beyond the burst 0x2001 allows:
+//   the SYNC is refused (DriveEvent::sync_rejected: no period is run), EMCY (0x8240 for a missing
+//   counter, 0x8100 otherwise) and the 0x6007 reaction.
+// - An NMT command that takes the node out of operational (stop, enter pre-operational, reset
+//   communication) while operation enabled: EMCY 0x8100, sent before the state changes, and the
+//   0x6007 reaction. The master's heartbeat lost (0x1016): EMCY 0x8130 and the 0x6007 reaction.
+// - SYNC loss, RPDO loss beyond 0x2001 periods: quick stop, EMCY 0x8100 / 0x8250.
 #pragma once
 
 #include <array>
@@ -33,16 +50,45 @@ namespace settle::hal::canopen {
 
 // 0x6065 = this value switches the following-error check off (CiA 402).
 inline constexpr std::uint32_t following_error_window_off = 0xFFFF'FFFF;
+// Defaults of the limits (hal/eds/settle_drive.eds). 0x607F: 1e7 counts/s is 10 m/s at 1 count =
+// 1 um, or 150 rev/s at 2^16 counts per revolution, five times the fastest move the demo
+// streams; at 1 kHz it allows 10 000 counts per SYNC. 0x6065: 100 000 counts, above the lag of
+// the simulator's 30 Hz servo model at that velocity (about 74 000 counts); 0x6066: 10 ms.
+inline constexpr std::uint32_t default_max_profile_velocity = 10'000'000;
+inline constexpr std::uint32_t default_following_error_window = 100'000;
+inline constexpr std::uint16_t default_following_error_timeout_ms = 10;
+
+// Byte 0 of the manufacturer-specific part of the drive's EMCY (frame bytes 3..7): which rule
+// fired; bytes 1..4 carry a detail, little-endian (the refused step in counts, saturated to
+// int32, for step_limit; the NMT command specifier in byte 1 for nmt_command).
+namespace emcy_cause {
+inline constexpr std::uint8_t none = 0;
+inline constexpr std::uint8_t step_limit = 1;
+inline constexpr std::uint8_t following_error = 2;
+inline constexpr std::uint8_t sync_counter = 3;  // 0x1019: counter repeated, skipped or beyond overflow
+inline constexpr std::uint8_t sync_length = 4;   // 0x1019 set, SYNC without counter
+inline constexpr std::uint8_t sync_rate = 5;     // more SYNCs than the 0x1006 period allows
+inline constexpr std::uint8_t nmt_command = 6;   // a third party's NMT command while enabled
+inline constexpr std::uint8_t heartbeat = 7;     // the master's heartbeat (0x1016) lost
+inline constexpr std::uint8_t sync_loss = 8;
+inline constexpr std::uint8_t rpdo_loss = 9;
+}  // namespace emcy_cause
+
+// The manufacturer-specific bytes of an EMCY (see emcy_cause).
+using EmcyDetail = std::array<std::uint8_t, 5>;
+[[nodiscard]] EmcyDetail emcy_detail(std::uint8_t cause, std::int64_t value = 0) noexcept;
 
 struct DriveNodeConfig {
   NodeId node{1};
   std::uint16_t heartbeat_period_ms{100};                 // 0x1017
   std::uint32_t sync_period_us{default_sync_period_us};   // 0x1006
+  std::uint8_t sync_counter_overflow{0};                  // 0x1019: 0 = SYNC counter not checked
   std::uint8_t communication_loss_periods{3};             // 0x2001: SYNC/RPDO periods tolerated
   std::int16_t quick_stop_option{2};                      // 0x605A: quick-stop ramp, then disabled
   std::int16_t abort_connection_option{1};                // 0x6007: fault
-  std::uint32_t following_error_window{following_error_window_off};  // 0x6065, counts
-  std::uint16_t following_error_timeout_ms{0};            // 0x6066
+  std::uint32_t following_error_window{default_following_error_window};  // 0x6065, counts
+  std::uint16_t following_error_timeout_ms{default_following_error_timeout_ms};  // 0x6066
+  std::uint32_t max_profile_velocity{default_max_profile_velocity};       // 0x607F, counts/s
   std::int32_t position_limit_min{std::numeric_limits<std::int32_t>::min()};  // 0x607D:1
   std::int32_t position_limit_max{std::numeric_limits<std::int32_t>::max()};  // 0x607D:2
   std::uint32_t vendor_id{0};                             // 0x1018
@@ -101,13 +147,14 @@ struct DriveAppObjects {  // 0x2000.. Settle, 0x6000.. CiA 402
   std::int8_t mode{static_cast<std::int8_t>(OperationMode::cyclic_synchronous_position)};
   std::int8_t mode_display{static_cast<std::int8_t>(OperationMode::cyclic_synchronous_position)};
   std::int32_t position_actual{0};
-  std::uint32_t following_error_window{following_error_window_off};
-  std::uint16_t following_error_timeout_ms{0};
+  std::uint32_t following_error_window{default_following_error_window};
+  std::uint16_t following_error_timeout_ms{default_following_error_timeout_ms};
   std::int32_t velocity_actual{0};
   std::int32_t target_position{0};
   std::uint8_t position_limit_count{2};
   std::int32_t position_limit_min{0};
   std::int32_t position_limit_max{0};
+  std::uint32_t max_profile_velocity{default_max_profile_velocity};
   std::uint8_t ip_data_count{1};
   std::int32_t ip_data{0};
   std::uint8_t ip_period_count{2};
@@ -125,6 +172,7 @@ enum class DriveEvent : std::uint8_t {
   none,     // not for this node (or ignored in the current NMT state)
   handled,  // taken (NMT, SDO, RPDO latched, heartbeat of the master)
   sync,     // a SYNC was processed: run the axis for one period, then publish()
+  sync_rejected,  // a SYNC failed the counter or rate check: run NO period (see counters().sync_errors)
   reset,    // NMT reset node: objects are back to their defaults, so is the axis state
 };
 
@@ -141,6 +189,8 @@ struct DriveCounters {
   std::uint64_t rpdos_rejected{0};     // wrong length or value out of range
   std::uint64_t rpdos_missing{0};      // SYNCs without a fresh RPDO while enabled
   std::uint64_t sync_gaps{0};
+  std::uint64_t sync_errors{0};        // SYNCs that failed the counter or rate check (refused while driven)
+  std::uint64_t steps_refused{0};      // setpoints over the step limit (0x607F x period)
   std::uint64_t emcy_sent{0};
 };
 
@@ -175,25 +225,34 @@ class DriveNode {
   [[nodiscard]] NmtState nmt_state() const noexcept { return nmt_.state(); }
   [[nodiscard]] OperationMode mode() const noexcept { return static_cast<OperationMode>(objects_.app.mode_display); }
   [[nodiscard]] std::uint32_t interpolation_period_us() const noexcept;
+  // The largest setpoint step the drive applies in one SYNC period: 0x607F (counts/s) times the
+  // shorter of 0x1006 and 0x60C2 (0x1006 = 0 counts as absent), rounded up. 64-bit: no overflow.
+  [[nodiscard]] std::int64_t step_limit_counts() const noexcept;
   [[nodiscard]] const DriveObjects& objects() const noexcept { return objects_; }
   [[nodiscard]] ObjectDictionary& dictionary() noexcept { return od_; }
   [[nodiscard]] const DriveCounters& counters() const noexcept { return counters_; }
   [[nodiscard]] NodeId node() const noexcept { return config_.node; }
 
  private:
-  static constexpr std::size_t entry_count = 59;
+  static constexpr std::size_t entry_count = 60;
 
   void restore(bool application) noexcept;
   void apply_configuration(std::uint16_t index) noexcept;  // 0: every configuration object
   void apply_written_controlword(std::uint64_t now_us, FrameSink& out) noexcept;
   void bind_pdos() noexcept;
   [[nodiscard]] std::array<OdEntry, entry_count> make_entries() noexcept;
-  void on_sync(const SyncMessage& sync, std::uint64_t now_us, FrameSink& out) noexcept;
+  [[nodiscard]] DriveEvent on_sync(const SyncMessage& sync, std::uint64_t now_us, std::uint64_t received_us,
+                                   FrameSink& out) noexcept;
   void on_nmt(const NmtMessage& message, std::uint64_t now_us, FrameSink& out) noexcept;
-  void connection_lost(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept;
-  void quick_stop_with_emcy(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept;
-  void signal_error(std::uint16_t error_code, std::uint8_t register_bits, std::uint64_t now_us,
-                    FrameSink& out) noexcept;
+  void apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept;
+  void latch_target() noexcept;
+  void fault_with(std::uint16_t error_code, const EmcyDetail& detail, std::uint64_t now_us, FrameSink& out) noexcept;
+  void connection_lost(std::uint16_t error_code, const EmcyDetail& detail, std::uint64_t now_us,
+                       FrameSink& out) noexcept;
+  void quick_stop_with_emcy(std::uint16_t error_code, const EmcyDetail& detail, std::uint64_t now_us,
+                            FrameSink& out) noexcept;
+  void signal_error(std::uint16_t error_code, std::uint8_t register_bits, const EmcyDetail& detail,
+                    std::uint64_t now_us, FrameSink& out) noexcept;
   void clear_errors(std::uint64_t now_us, FrameSink& out) noexcept;
   void update_statusword() noexcept;
 
@@ -222,6 +281,7 @@ class DriveNode {
   bool following_error_{false};
   bool limit_active_{false};
   bool controlword_written_{false};
+  bool sync_error_reported_{false};  // one EMCY per episode: cleared with the errors
 };
 
 }  // namespace settle::hal::canopen

@@ -16,12 +16,14 @@ namespace settle::hal::canopen {
 namespace emcy_code {
 inline constexpr std::uint16_t no_error = 0x0000;        // error reset
 inline constexpr std::uint16_t generic = 0x1000;
-inline constexpr std::uint16_t communication = 0x8100;   // used for SYNC loss
+inline constexpr std::uint16_t communication = 0x8100;   // SYNC loss, SYNC counter/rate, NMT abort
 inline constexpr std::uint16_t can_overrun = 0x8110;
 inline constexpr std::uint16_t life_guard = 0x8130;      // heartbeat of the master lost
 inline constexpr std::uint16_t pdo_length = 0x8210;      // RPDO shorter than its mapping
 inline constexpr std::uint16_t pdo_length_exceeded = 0x8220;
+inline constexpr std::uint16_t sync_data_length = 0x8240;  // SYNC without the counter 0x1019 asks for
 inline constexpr std::uint16_t rpdo_timeout = 0x8250;
+inline constexpr std::uint16_t velocity = 0x8400;        // CiA 402 "velocity speed controller": setpoint over 0x607F
 inline constexpr std::uint16_t following_error = 0x8611;
 inline constexpr std::uint16_t reference_limit = 0x8612;  // software position limit hit
 }  // namespace emcy_code

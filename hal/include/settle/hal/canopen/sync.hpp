@@ -50,32 +50,70 @@ class SyncProducer {
 
 enum class SyncEvent : std::uint8_t {
   in_order,  // first SYNC, or the counter followed on (or there is no counter)
-  gap,       // counter jumped: SYNCs were lost on the way (see missed())
+  gap,       // no counter configured: the counter jumped, SYNCs were lost on the way (see missed())
+  // The errors below mean this SYNC must not run a period (a second producer, a duplicated frame):
+  unexpected_length,  // a counter is configured (0x1019) but this SYNC carries none (CiA 301: EMCY 0x8240)
+  out_of_sequence,    // a counter is configured and this one is not the successor of the previous one
+  too_many,           // more SYNCs than one per period, beyond the tolerated burst (see SyncConsumer)
 };
+
+[[nodiscard]] constexpr bool is_sync_error(SyncEvent event) noexcept {
+  return event == SyncEvent::unexpected_length || event == SyncEvent::out_of_sequence || event == SyncEvent::too_many;
+}
 
 class SyncConsumer {
  public:
   // SYNC loss is declared when more than loss_periods SYNCs in a row are missing: after
   // (loss_periods + 1.5) periods of silence, the half period absorbing the producer's
   // jitter. Period 0 disables it.
+  //
+  // The same loss_periods bound the other way: SYNCs arriving faster than one per period.
+  // A consumer cannot tell a duplicated SYNC from one sent late and followed by one on time, so
+  // it measures the rate, by the frames' receive times, with a token bucket: every SYNC costs one
+  // period of credit, credit accrues at 9/8 of real time (so a producer whose clock runs up to
+  // 12.5 % fast still passes) and is capped at loss_periods + 1 periods. A producer that is late and
+  // then on time never runs short; a burst of more than loss_periods + 1 SYNCs at once, or a
+  // sustained double rate (a duplicating bus, a second producer) does: too_many, after at most
+  // about 1.15 x (loss_periods + 1) extra SYNCs. With a counter (set_counter_overflow) the first
+  // duplicate is caught by its counter.
   SyncConsumer(std::uint32_t period_us, std::uint32_t loss_periods) noexcept;
 
-  [[nodiscard]] SyncEvent on_sync(const SyncMessage& sync, std::uint64_t now_us) noexcept;
+  // now_us: the owner's clock, for the loss watchdog; received_us: when the frame arrived (its
+  // receive timestamp), for the rate. The two-argument form uses now_us for both.
+  [[nodiscard]] SyncEvent on_sync(const SyncMessage& sync, std::uint64_t now_us) noexcept {
+    return on_sync(sync, now_us, now_us);
+  }
+  [[nodiscard]] SyncEvent on_sync(const SyncMessage& sync, std::uint64_t now_us, std::uint64_t received_us) noexcept;
   // True once when SYNCs stopped arriving (only after the first SYNC has been seen).
   [[nodiscard]] bool check_loss(std::uint64_t now_us) noexcept { return watchdog_.check(now_us); }
   void configure(std::uint32_t period_us, std::uint32_t loss_periods) noexcept;
+  // 0x1019. 0: counters are optional and only counted (gap); 2..240: every SYNC must carry the
+  // successor of the previous counter (overflow, then 1). 1 is treated as 0.
+  void set_counter_overflow(std::uint8_t overflow) noexcept;
+  // Full credit again, as if the producer had been on time so far (a drive calls it when it
+  // starts to follow, so that bursts while it was idle count for nothing).
+  void rearm_rate_check() noexcept { credit_us_ = cap_us_; }
 
   [[nodiscard]] std::uint64_t received() const noexcept { return received_; }
   [[nodiscard]] std::uint64_t missed() const noexcept { return missed_; }
   [[nodiscard]] std::uint8_t last_counter() const noexcept { return last_counter_; }
 
  private:
+  [[nodiscard]] SyncEvent check_counter(std::uint8_t counter) noexcept;
+  [[nodiscard]] bool take_credit(std::uint64_t received_us) noexcept;
+
   Watchdog watchdog_{};
   std::uint64_t timeout_us_;
+  std::uint64_t period_us_;
+  std::int64_t cap_us_;
+  std::int64_t credit_us_;
+  std::uint64_t last_received_us_{0};
+  bool seen_{false};
   std::uint64_t received_{0};
   std::uint64_t missed_{0};
   std::uint8_t last_counter_{0};
   std::uint8_t max_counter_seen_{0};
+  std::uint8_t overflow_{0};
 };
 
 }  // namespace settle::hal::canopen

@@ -1,0 +1,557 @@
+// The drive's safety rules against the faults a hostile or broken peer produces (issue 12,
+// items 6-9), frame by frame on a virtual clock: enabling with a far target, steps beyond
+// 0x607F, SDO writes of 0x607A, duplicated and foreign SYNCs, a third party's NMT commands.
+// Each test checks the EMCY (code, register, cause byte), the CiA 402 state reached and that the
+// axis never moved further than the step limit allows.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <random>
+#include <vector>
+
+#include "frame_helpers.hpp"
+#include "settle/hal/canopen/drive_node.hpp"
+
+namespace settle::hal::canopen {
+namespace {
+
+constexpr NodeId node = 5;
+constexpr std::uint64_t period_us = 1000;
+
+class DriveSafety : public ::testing::Test {
+ protected:
+  DriveSafety() { drive.emplace(config()); }
+
+  static DriveNodeConfig config() {
+    DriveNodeConfig c{};
+    c.node = node;
+    c.heartbeat_period_ms = 0;  // no heartbeats: every frame the drive sends is one under test
+    return c;
+  }
+
+  // One frame from the bus, received at `at` (default: now). A SYNC that runs a period moves
+  // the ideal axis to the setpoint (or holds it, or completes a stop) and publishes.
+  DriveEvent deliver(CanFrame f, std::optional<std::uint64_t> at = std::nullopt) {
+    f.timestamp_us = at.value_or(now);
+    const DriveEvent e = drive->on_frame(f, now, out);
+    if (e == DriveEvent::sync) {
+      ++periods_run;
+      if (drive->stopping()) {
+        drive->stop_complete();
+      } else if (drive->following()) {
+        const std::int64_t step = std::int64_t{drive->setpoint()} - std::int64_t{axis};
+        largest_step = std::max(largest_step, step < 0 ? -step : step);
+        axis = drive->setpoint();
+      }
+      drive->publish(DriveFeedback{axis, 0, axis}, now, out);
+    }
+    collect();
+    return e;
+  }
+
+  // A servo period as a master runs it: RPDO (controlword, target), then SYNC.
+  DriveEvent period(std::uint16_t cw, std::int32_t target, std::uint8_t counter = 0) {
+    now += period_us;
+    (void)deliver(encode_rpdo1(node, Rpdo1{cw, target}));
+    const DriveEvent e = deliver(encode_sync(counter));
+    drive->poll(now, out);
+    collect();
+    return e;
+  }
+
+  void collect() {
+    for (const CanFrame& f : out.frames()) {
+      sent.push_back(f);
+    }
+    out.clear();
+  }
+
+  // NMT start and the enable sequence, every RPDO carrying the position the axis is at.
+  void enable(std::uint8_t counter_overflow = 0) {
+    (void)deliver(encode_nmt(NmtCommand::start, node));
+    ASSERT_EQ(drive->nmt_state(), NmtState::operational);
+    for (const std::uint16_t cw : {controlword::shutdown, controlword::switch_on, controlword::enable_operation}) {
+      (void)period(cw, axis, next_counter(counter_overflow));
+    }
+    ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+    ASSERT_TRUE(emcys().empty());
+  }
+
+  std::uint8_t next_counter(std::uint8_t overflow) {
+    if (overflow == 0) {
+      return 0;
+    }
+    counter = counter >= overflow ? 1 : static_cast<std::uint8_t>(counter + 1);
+    return counter;
+  }
+
+  SdoAbort sdo_write(std::uint16_t index, std::uint8_t sub, std::uint32_t value, std::uint8_t size) {
+    (void)deliver(encode_sdo_download_request(node, index, sub, value, size));
+    for (auto it = sent.rbegin(); it != sent.rend(); ++it) {
+      if (const auto r = decode_sdo_response(*it, node)) {
+        return r->kind == SdoKind::abort ? static_cast<SdoAbort>(r->abort_code) : SdoAbort::none;
+      }
+    }
+    return SdoAbort::general_error;
+  }
+
+  std::vector<EmcyMessage> emcys() const {
+    std::vector<EmcyMessage> v;
+    for (const CanFrame& f : sent) {
+      if (const auto e = decode_emcy(f); e && e->node == node) {
+        v.push_back(e->message);
+      }
+    }
+    return v;
+  }
+
+  std::size_t tpdos_sent() const {
+    std::size_t n = 0;
+    for (const CanFrame& f : sent) {
+      n += f.id == cob_id(cob::tpdo1, node) ? 1U : 0U;
+    }
+    return n;
+  }
+
+  std::optional<DriveNode> drive;
+  FrameBuffer<16> out;
+  std::vector<CanFrame> sent;
+  std::uint64_t now{0};
+  std::int32_t axis{0};
+  std::int64_t largest_step{0};
+  std::uint64_t periods_run{0};
+  std::uint8_t counter{0};
+};
+
+// The cause byte and its 32-bit detail, as the drive puts them in the EMCY.
+std::int32_t emcy_value(const EmcyMessage& m) {
+  return static_cast<std::int32_t>(std::uint32_t{m.data[1]} | (std::uint32_t{m.data[2]} << 8U) |
+                                   (std::uint32_t{m.data[3]} << 16U) | (std::uint32_t{m.data[4]} << 24U));
+}
+
+// --- Item 6: enabling never moves the axis ---------------------------------------------------
+
+TEST_F(DriveSafety, TheEnablingRpdoWithAFarTargetLeavesTheAxisWhereItIs) {
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  (void)period(controlword::shutdown, 0);
+  (void)period(controlword::switch_on, 0);
+  // The issue's frame: enable operation and a target a million counts away, in one RPDO.
+  EXPECT_EQ(period(controlword::enable_operation, 1'000'000), DriveEvent::sync);
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_EQ(axis, 0) << "enabling latched the target to the position actual";
+  EXPECT_EQ(drive->objects().app.target_position, 0) << "0x607A reads the latched position";
+  EXPECT_TRUE(emcys().empty());
+
+  // The first setpoint after enabling is checked against the latched position: the same far
+  // target again is a step of 1e6 counts in one period, 100 times the step limit.
+  EXPECT_EQ(period(controlword::enable_operation, 1'000'000), DriveEvent::sync);
+  EXPECT_EQ(drive->state(), Cia402State::fault);
+  EXPECT_EQ(axis, 0);
+  EXPECT_EQ(largest_step, 0) << "the axis never moved";
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::velocity);
+  EXPECT_EQ(e[0].error_register, error_register::generic | error_register::device_profile);
+  EXPECT_EQ(e[0].data[0], emcy_cause::step_limit);
+  EXPECT_EQ(emcy_value(e[0]), 1'000'000) << "the refused step";
+  EXPECT_EQ(drive->objects().app.error_code, emcy_code::velocity);
+  EXPECT_EQ(drive->counters().steps_refused, 1U);
+}
+
+TEST_F(DriveSafety, EnablingLatchesThePositionTheAxisIsAtNotZero) {
+  // An axis powered on away from zero: the drive reports it before it is enabled.
+  axis = -70'000;
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  (void)period(controlword::shutdown, 0);
+  (void)period(controlword::switch_on, 0);
+  (void)period(controlword::enable_operation, 0);  // a stale target of 0, 70 000 counts away
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_EQ(axis, -70'000);
+  EXPECT_EQ(drive->setpoint(), -70'000);
+  // From there the master's stream is applied, step by step.
+  for (std::int32_t k = 1; k <= 10; ++k) {
+    (void)period(controlword::enable_operation, -70'000 + 1000 * k);
+    ASSERT_EQ(axis, -70'000 + 1000 * k);
+  }
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_TRUE(emcys().empty());
+}
+
+// --- Item 7: the step limit ---------------------------------------------------------------
+
+TEST_F(DriveSafety, StepsOfTwoBillionCountsAreNeverAppliedAndFaultTheDrive) {
+  enable();
+  for (const std::int32_t target : {2'000'000'000, -2'000'000'000}) {
+    SCOPED_TRACE(target);
+    sent.clear();
+    (void)period(controlword::enable_operation, target);
+    EXPECT_EQ(drive->state(), Cia402State::fault);
+    EXPECT_EQ(axis, 0);
+    const auto e = emcys();
+    ASSERT_EQ(e.size(), 1U);
+    EXPECT_EQ(e[0].error_code, emcy_code::velocity);
+    EXPECT_EQ(emcy_value(e[0]), target);
+    // Recovery: fault reset (rising bit 7), then the enable sequence again.
+    (void)period(controlword::fault_reset, 0);
+    EXPECT_EQ(drive->state(), Cia402State::switch_on_disabled);
+    for (const std::uint16_t cw : {controlword::shutdown, controlword::switch_on, controlword::enable_operation}) {
+      (void)period(cw, target);  // the far target rides along: still never applied
+    }
+    EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+    EXPECT_EQ(axis, 0);
+  }
+  // Alternating +-2e9 per period, as the issue streamed them: the first is refused and faults,
+  // the drive follows nothing after it.
+  for (int k = 0; k < 20; ++k) {
+    (void)period(controlword::enable_operation, k % 2 == 0 ? 2'000'000'000 : -2'000'000'000);
+  }
+  EXPECT_EQ(drive->state(), Cia402State::fault);
+  EXPECT_EQ(largest_step, 0);
+  EXPECT_EQ(axis, 0);
+}
+
+TEST_F(DriveSafety, TheStepLimitIsMaxProfileVelocityTimesThePeriod) {
+  enable();
+  // Defaults: 0x607F = 1e7 counts/s, 0x60C2 = 0x1006 = 1 ms: 10 000 counts per SYNC.
+  EXPECT_EQ(drive->objects().app.max_profile_velocity, 10'000'000U);
+  EXPECT_EQ(drive->step_limit_counts(), 10'000);
+  (void)period(controlword::enable_operation, 10'000);
+  (void)period(controlword::enable_operation, 0);
+  EXPECT_EQ(axis, 0);
+  EXPECT_EQ(largest_step, 10'000) << "a step at the limit is applied";
+  (void)period(controlword::enable_operation, -10'001);
+  EXPECT_EQ(drive->state(), Cia402State::fault);
+  EXPECT_EQ(axis, 0) << "one count over it is not";
+}
+
+TEST_F(DriveSafety, TheStepLimitFollowsTheConfiguredObjects) {
+  EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, 0, 4), SdoAbort::value_too_low) << "0 would forbid all motion";
+  EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, 2'500'000, 4), SdoAbort::none);
+  EXPECT_EQ(drive->step_limit_counts(), 2'500);
+  // The shorter of 0x1006 and 0x60C2 sets it: a 2 ms cycle with a 1 ms interpolation period
+  // still allows one millisecond's worth.
+  EXPECT_EQ(sdo_write(obj::communication_cycle_period, 0, 2'000, 4), SdoAbort::none);
+  EXPECT_EQ(drive->step_limit_counts(), 2'500);
+  EXPECT_EQ(sdo_write(obj::interpolation_time_period, 1, 2, 1), SdoAbort::none);
+  EXPECT_EQ(drive->step_limit_counts(), 5'000);
+  // Rounded up: 7 counts/s over 2 ms is 0.014 counts, a step of 1 is allowed.
+  EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, 7, 4), SdoAbort::none);
+  EXPECT_EQ(drive->step_limit_counts(), 1);
+  // The largest product does not overflow: 0xFFFFFFFF counts/s over 255 s.
+  EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, 0xFFFF'FFFFU, 4), SdoAbort::none);
+  EXPECT_EQ(sdo_write(obj::communication_cycle_period, 0, 0, 4), SdoAbort::none);
+  EXPECT_EQ(sdo_write(obj::interpolation_time_period, 1, 255, 1), SdoAbort::none);
+  EXPECT_EQ(sdo_write(obj::interpolation_time_period, 2, 0, 1), SdoAbort::none);
+  EXPECT_EQ(drive->step_limit_counts(), std::int64_t{0xFFFF'FFFF} * 255);
+}
+
+TEST_F(DriveSafety, AnSdoWriteOfTheTargetWhileEnabledIsCheckedLikeAnRpdo) {
+  enable();
+  // Within the limit: applied at the next SYNC, as CSP applies 0x607A.
+  EXPECT_EQ(sdo_write(obj::target_position, 0, 4'000, 4), SdoAbort::none);
+  now += period_us;
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  EXPECT_EQ(axis, 4'000);
+  // Beyond it: the write itself succeeds (the object holds what was written), the SYNC that
+  // would apply it refuses the step and faults the drive.
+  EXPECT_EQ(sdo_write(obj::target_position, 0, static_cast<std::uint32_t>(2'000'000'000), 4), SdoAbort::none);
+  now += period_us;
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  EXPECT_EQ(drive->state(), Cia402State::fault);
+  EXPECT_EQ(axis, 4'000);
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::velocity);
+  EXPECT_EQ(emcy_value(e[0]), 2'000'000'000 - 4'000);
+}
+
+TEST_F(DriveSafety, StepsAreMeasuredTheShortWayRoundTheCountersWrap) {
+  axis = std::numeric_limits<std::int32_t>::max() - 5;
+  enable();
+  // Across the wrap: 11 counts, applied.
+  (void)period(controlword::enable_operation, std::numeric_limits<std::int32_t>::min() + 5);
+  EXPECT_EQ(axis, std::numeric_limits<std::int32_t>::min() + 5);
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  // Half the counter away (the largest step there is, whose magnitude overflows int32): refused.
+  (void)period(controlword::enable_operation, 5);
+  EXPECT_EQ(drive->state(), Cia402State::fault);
+  EXPECT_EQ(axis, std::numeric_limits<std::int32_t>::min() + 5);
+  EXPECT_EQ(emcy_value(emcys().at(0)), std::numeric_limits<std::int32_t>::min());
+}
+
+TEST_F(DriveSafety, TheFollowingErrorCheckIsOnByDefault) {
+  EXPECT_EQ(drive->objects().app.following_error_window, default_following_error_window);
+  EXPECT_EQ(drive->objects().app.following_error_timeout_ms, default_following_error_timeout_ms);
+  enable();
+  // The axis stops following (a seized motor): the drive reports it where it stands while the
+  // setpoints run away at 9 000 counts per period.
+  std::int32_t target = 0;
+  int faulted_at = 0;
+  for (int k = 1; k <= 40 && faulted_at == 0; ++k) {
+    target += 9'000;
+    now += period_us;
+    (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, target}));
+    CanFrame sync = encode_sync();
+    sync.timestamp_us = now;
+    if (drive->on_frame(sync, now, out) == DriveEvent::sync) {
+      if (drive->stopping()) {
+        drive->stop_complete();
+      }
+      drive->publish(DriveFeedback{0, 0, 0}, now, out);  // position actual stays 0
+    }
+    collect();
+    if (drive->state() != Cia402State::operation_enabled) {
+      faulted_at = k;
+    }
+  }
+  // The error passes 100 000 counts at period 12 (108 000) and stays there for 10 ms.
+  EXPECT_EQ(faulted_at, 12 + 10);
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::following_error);
+  EXPECT_EQ(e[0].data[0], emcy_cause::following_error);
+  EXPECT_EQ(emcy_value(e[0]), 22 * 9'000);
+}
+
+// --- Item 8: duplicated SYNC, a second SYNC producer --------------------------------------
+
+TEST_F(DriveSafety, ADuplicatedSyncIsRefusedAtOnceWhenTheCounterIsOn) {
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 16, 1), SdoAbort::none);
+  enable(16);
+  (void)period(controlword::enable_operation, 100, next_counter(16));
+  EXPECT_EQ(axis, 100);
+  const std::uint64_t periods = periods_run;
+  // The same SYNC twice (a duplicating bus, or a second producer in step with the first).
+  now += period_us;
+  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 200}));
+  const std::uint8_t c = next_counter(16);
+  EXPECT_EQ(deliver(encode_sync(c)), DriveEvent::sync);
+  EXPECT_EQ(deliver(encode_sync(c)), DriveEvent::sync_rejected);
+  EXPECT_EQ(periods_run, periods + 1) << "the plant advanced one period, not two";
+  EXPECT_EQ(axis, 200);
+  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active) << "0x6007 = 1: fault";
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::communication);
+  EXPECT_EQ(e[0].error_register, error_register::generic | error_register::communication);
+  EXPECT_EQ(e[0].data[0], emcy_cause::sync_counter);
+  EXPECT_EQ(e[0].data[1], c);
+  EXPECT_EQ(drive->counters().sync_errors, 1U);
+  // The fault reaction runs on the next good SYNC; the axis stays.
+  (void)period(controlword::enable_operation, 300, next_counter(16));
+  EXPECT_EQ(drive->state(), Cia402State::fault);
+  EXPECT_EQ(axis, 200);
+}
+
+TEST_F(DriveSafety, ASecondProducersCountersAreOutOfSequence) {
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 240, 1), SdoAbort::none);
+  enable(240);
+  // Another producer's SYNC, with its own counter, between the master's RPDO and SYNC: refused;
+  // the latched RPDO waits for the master's SYNC, which the fault reaction then runs.
+  now += period_us;
+  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 50}));
+  EXPECT_EQ(deliver(encode_sync(200)), DriveEvent::sync_rejected);
+  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+  EXPECT_EQ(emcys().at(0).data[0], emcy_cause::sync_counter);
+  EXPECT_EQ(axis, 0);
+}
+
+TEST_F(DriveSafety, ASyncWithoutTheConfiguredCounterIsAnUnexpectedLength) {
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::none);
+  enable(8);
+  EXPECT_EQ(period(controlword::enable_operation, 10, 0), DriveEvent::sync_rejected);
+  EXPECT_EQ(axis, 0);
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::sync_data_length);
+  EXPECT_EQ(e[0].data[0], emcy_cause::sync_length);
+  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+}
+
+TEST_F(DriveSafety, TheSyncCounterOverflowIsSetBeforeEnablingAndOnlyToValidValues) {
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 1, 1), SdoAbort::invalid_value);
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 241, 1), SdoAbort::value_too_high);
+  EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 0);
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 2, 1), SdoAbort::none);
+  enable(2);
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 0, 1), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 2);
+  // The counter wraps 1, 2, 1, 2, ...: in order.
+  for (int k = 0; k < 10; ++k) {
+    ASSERT_EQ(period(controlword::enable_operation, k, next_counter(2)), DriveEvent::sync) << k;
+  }
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_EQ(drive->counters().sync_errors, 0U);
+}
+
+TEST_F(DriveSafety, DuplicatedSyncsWithoutACounterAreCaughtByTheirRate) {
+  enable();
+  const std::uint64_t periods = periods_run;
+  // Every SYNC arrives twice. Without a counter the drive cannot tell the copy from a SYNC that
+  // is late: it tolerates 0x2001 (3) SYNCs in excess of one per period, then refuses.
+  int first_refused = 0;
+  for (int k = 1; k <= 10 && first_refused == 0; ++k) {
+    now += period_us;
+    (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10 * k}));
+    EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync) << k;
+    if (deliver(encode_sync()) == DriveEvent::sync_rejected) {
+      first_refused = k;
+    }
+  }
+  EXPECT_EQ(first_refused, 4);
+  EXPECT_EQ(periods_run - periods, 4U + 3U) << "four genuine periods, three copies before the fourth was refused";
+  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::communication);
+  EXPECT_EQ(e[0].data[0], emcy_cause::sync_rate);
+  EXPECT_LE(largest_step, 10) << "the copies ran no new setpoint: the axis held";
+}
+
+TEST_F(DriveSafety, ASecondProducerHalfAPeriodOutOfPhaseIsCaughtByTheRate) {
+  enable();
+  int first_refused = 0;
+  for (int k = 1; k <= 20 && first_refused == 0; ++k) {
+    (void)period(controlword::enable_operation, 0);
+    if (deliver(encode_sync(), now + period_us / 2) == DriveEvent::sync_rejected) {
+      first_refused = k;
+    }
+  }
+  EXPECT_GT(first_refused, 0);
+  EXPECT_LE(first_refused, 5) << "within (0x2001 + 1) / (1 - 1/8) periods";
+  EXPECT_EQ(emcys().at(0).data[0], emcy_cause::sync_rate);
+  EXPECT_NE(drive->state(), Cia402State::operation_enabled);
+}
+
+TEST_F(DriveSafety, ALateMasterIsNoSecondProducer) {
+  // The master's SYNCs leave anywhere up to a whole period late (a loaded host), and the
+  // receiving process reads them in bursts; the frames' receive times say when they were sent.
+  // Late-then-on-time is never an error, and neither is a reader that stalls.
+  enable();
+  std::mt19937 rng{12};
+  std::uniform_int_distribution<std::uint64_t> late{0, period_us - 1};
+  const std::uint64_t t0 = now;
+  std::vector<CanFrame> pending;
+  for (std::int32_t k = 1; k <= 20'000; ++k) {
+    const std::uint64_t sent_at = t0 + static_cast<std::uint64_t>(k) * period_us + late(rng);
+    CanFrame rpdo = encode_rpdo1(node, Rpdo1{controlword::enable_operation, k});
+    CanFrame sync = encode_sync();
+    rpdo.timestamp_us = sent_at;
+    sync.timestamp_us = sent_at;
+    pending.push_back(rpdo);
+    pending.push_back(sync);
+    if (k % 7 == 0) {  // the reader wakes every 7 ms and reads what queued up
+      now = sent_at;
+      for (const CanFrame& f : pending) {
+        ASSERT_NE(deliver(f, f.timestamp_us), DriveEvent::sync_rejected) << k;
+      }
+      pending.clear();
+      drive->poll(now, out);
+      collect();
+    }
+  }
+  EXPECT_EQ(drive->counters().sync_errors, 0U);
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_TRUE(emcys().empty());
+  EXPECT_EQ(largest_step, 1);
+}
+
+TEST_F(DriveSafety, SyncBurstsWhileDisabledAreCountedNotActedOn) {
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  for (int k = 0; k < 20; ++k) {
+    EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);  // all at the same instant
+  }
+  EXPECT_GT(drive->counters().sync_errors, 0U);
+  EXPECT_TRUE(emcys().empty());
+  // Enabling starts the check afresh: the stream that follows is clean.
+  enable();
+  for (std::int32_t k = 1; k <= 10; ++k) {
+    ASSERT_EQ(period(controlword::enable_operation, k), DriveEvent::sync);
+  }
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+}
+
+// --- Item 9: a third party's NMT command while enabled --------------------------------------
+
+TEST_F(DriveSafety, AThirdPartysNmtPreOperationalFaultsTheDriveWithAnEmcy) {
+  enable();
+  (void)period(controlword::enable_operation, 500);
+  const std::size_t tpdos = tpdos_sent();
+  sent.clear();
+  EXPECT_EQ(deliver(encode_nmt(NmtCommand::enter_pre_operational, node)), DriveEvent::handled);
+  EXPECT_EQ(drive->nmt_state(), NmtState::pre_operational);
+  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active) << "0x6007 = 1 (the EDS default): fault";
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::communication);
+  EXPECT_EQ(e[0].error_register, error_register::generic | error_register::communication);
+  EXPECT_EQ(e[0].data[0], emcy_cause::nmt_command);
+  EXPECT_EQ(e[0].data[1], static_cast<std::uint8_t>(NmtCommand::enter_pre_operational));
+  // SYNC still runs periods in pre-operational: the fault reaction completes, the axis holds;
+  // RPDOs are not taken and no TPDO is sent.
+  EXPECT_EQ(period(controlword::enable_operation, 9'000), DriveEvent::sync);
+  EXPECT_EQ(drive->state(), Cia402State::fault);
+  EXPECT_EQ(axis, 500);
+  EXPECT_EQ(tpdos_sent(), 0U);
+  EXPECT_GT(tpdos, 0U);
+}
+
+TEST_F(DriveSafety, AThirdPartysNmtStopSendsTheEmcyBeforeTheNodeFallsSilent) {
+  enable();
+  sent.clear();
+  EXPECT_EQ(deliver(encode_nmt(NmtCommand::stop, 0)), DriveEvent::handled);  // broadcast
+  EXPECT_EQ(drive->nmt_state(), NmtState::stopped);
+  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::communication);
+  EXPECT_EQ(e[0].data[1], static_cast<std::uint8_t>(NmtCommand::stop));
+  EXPECT_EQ(axis, 0);
+}
+
+TEST_F(DriveSafety, AResetOfCommunicationWhileEnabledFaultsAndKeepsTheErrorRegister) {
+  enable();
+  sent.clear();
+  EXPECT_EQ(deliver(encode_nmt(NmtCommand::reset_communication, node)), DriveEvent::handled);
+  EXPECT_EQ(drive->nmt_state(), NmtState::pre_operational);
+  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+  ASSERT_EQ(emcys().size(), 1U);
+  EXPECT_EQ(emcys()[0].data[1], static_cast<std::uint8_t>(NmtCommand::reset_communication));
+  EXPECT_NE(drive->objects().comm.error_register, 0) << "the drive is still in fault";
+}
+
+TEST_F(DriveSafety, TheNmtReactionFollowsTheAbortConnectionOption) {
+  struct Case {
+    std::int16_t option;
+    Cia402State after;
+  };
+  for (const Case c : {Case{0, Cia402State::operation_enabled}, Case{1, Cia402State::fault_reaction_active},
+                       Case{2, Cia402State::switch_on_disabled}, Case{3, Cia402State::quick_stop_active}}) {
+    SCOPED_TRACE(c.option);
+    drive.emplace(config());
+    sent.clear();
+    EXPECT_EQ(sdo_write(obj::abort_connection_option, 0, static_cast<std::uint32_t>(c.option), 2), SdoAbort::none);
+    enable();
+    (void)deliver(encode_nmt(NmtCommand::enter_pre_operational, node));
+    EXPECT_EQ(drive->state(), c.after);
+    const auto e = emcys();
+    ASSERT_EQ(e.size(), 1U) << "an EMCY whatever the reaction";
+    EXPECT_EQ(e[0].error_code, emcy_code::communication);
+  }
+}
+
+TEST_F(DriveSafety, NmtCommandsThatChangeNothingOrComeWhileDisabledNeedNoReaction) {
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  (void)deliver(encode_nmt(NmtCommand::enter_pre_operational, node));  // not enabled: no reaction
+  EXPECT_TRUE(emcys().empty());
+  enable();
+  (void)deliver(encode_nmt(NmtCommand::start, node));         // already operational
+  (void)deliver(encode_nmt(NmtCommand::stop, node + 1));      // another node
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_TRUE(emcys().empty());
+}
+
+}  // namespace
+}  // namespace settle::hal::canopen
