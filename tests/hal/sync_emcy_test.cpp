@@ -71,6 +71,48 @@ TEST(SyncConsumer, LossIsDeclaredAfterMoreThanTheToleratedPeriods) {
   EXPECT_FALSE(c.check_loss(22'000));
 }
 
+TEST(SyncConsumer, AConfiguredCounterMustStepByOne) {
+  SyncConsumer c{1000, 3};
+  c.set_counter_overflow(3);
+  std::uint64_t t = 0;
+  const auto next = [&](std::uint8_t counter) { return c.on_sync({counter}, t += 1000); };
+  EXPECT_EQ(next(2), SyncEvent::in_order) << "the first counter is the reference";
+  EXPECT_EQ(next(3), SyncEvent::in_order);
+  EXPECT_EQ(next(1), SyncEvent::in_order) << "the wrap after 0x1019";
+  EXPECT_EQ(next(1), SyncEvent::out_of_sequence) << "repeated";
+  EXPECT_EQ(next(2), SyncEvent::in_order) << "the repeat became the reference: one error, not a run";
+  EXPECT_EQ(next(1), SyncEvent::out_of_sequence) << "back";
+  EXPECT_EQ(next(3), SyncEvent::out_of_sequence) << "skipped one";
+  EXPECT_EQ(next(4), SyncEvent::out_of_sequence) << "beyond the overflow value";
+  EXPECT_EQ(next(0), SyncEvent::unexpected_length) << "no counter at all";
+  c.set_counter_overflow(1);  // 1 is no valid overflow: counters are optional again
+  EXPECT_EQ(next(0), SyncEvent::in_order);
+  EXPECT_EQ(next(7), SyncEvent::in_order);
+}
+
+TEST(SyncConsumer, TheRateAllowsTheLossPeriodsInExcessThenRefuses) {
+  SyncConsumer c{1000, 3};
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(c.on_sync({0}, 5'000), SyncEvent::in_order) << i;  // four at once: one + three extra
+  }
+  EXPECT_EQ(c.on_sync({0}, 5'000), SyncEvent::too_many);
+  EXPECT_EQ(c.on_sync({0}, 5'999), SyncEvent::in_order) << "a period's credit (x 9/8) came back";
+  EXPECT_EQ(c.on_sync({0}, 6'000), SyncEvent::too_many);
+  // Receive time (rate) and owner's clock (loss) are separate: a SYNC read late but stamped on time.
+  EXPECT_EQ(c.on_sync({0}, 50'000, 9'000), SyncEvent::in_order);
+  EXPECT_FALSE(c.check_loss(54'499));
+  // A receive clock that steps back restarts the bucket full instead of refusing.
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(c.on_sync({0}, 60'000, 100), SyncEvent::in_order) << i;
+  }
+  c.rearm_rate_check();
+  EXPECT_EQ(c.on_sync({0}, 60'000, 100), SyncEvent::in_order) << "rearmed: full credit";
+  SyncConsumer off{0, 3};
+  for (int i = 0; i < 100; ++i) {
+    ASSERT_EQ(off.on_sync({0}, 1), SyncEvent::in_order) << "0x1006 = 0: no period to measure against";
+  }
+}
+
 TEST(Emcy, FrameIsCodeRegisterAndFiveBytes) {
   const CanFrame f = encode_emcy(4, EmcyMessage{0x8611, 0x21, {1, 2, 3, 4, 5}});
   EXPECT_EQ(f.id, 0x84U);
