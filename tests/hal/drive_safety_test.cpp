@@ -425,6 +425,44 @@ TEST_F(DriveSafety, ASecondProducerHalfAPeriodOutOfPhaseIsCaughtByTheRate) {
   EXPECT_NE(drive->state(), Cia402State::operation_enabled);
 }
 
+TEST_F(DriveSafety, AForeignSyncThatTakesTheMastersRpdoGetsTheMastersSyncRefused) {
+  enable();
+  // The foreign SYNC arrives between the master's RPDO and SYNC: it applies the master's
+  // setpoint (one period early, within the step limit) and leaves the master's SYNC without an
+  // RPDO, and that SYNC is the extra one.
+  int first_refused = 0;
+  for (std::int32_t k = 1; k <= 20 && first_refused == 0; ++k) {
+    now += period_us;
+    (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10 * k}));
+    (void)deliver(encode_sync(), now - period_us / 3);
+    if (deliver(encode_sync()) == DriveEvent::sync_rejected) {
+      first_refused = k;
+    }
+  }
+  EXPECT_GT(first_refused, 0);
+  EXPECT_LE(first_refused, 5);
+  EXPECT_EQ(emcys().at(0).data[0], emcy_cause::sync_rate);
+  EXPECT_LE(largest_step, 10);
+}
+
+TEST_F(DriveSafety, AMasterCatchingUpWithItsOwnRpdosIsNotRefused) {
+  // A replay (canplayer) that fell behind sends the periods it owes in one burst, each SYNC
+  // with its RPDO: the SYNCs come far faster than 0x1006 allows, but every one brings the
+  // master's next setpoint. Applied in order, step by step; no error.
+  enable();
+  for (std::int32_t k = 1; k <= 300; ++k) {
+    (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 100 * k}));
+    ASSERT_EQ(deliver(encode_sync()), DriveEvent::sync) << k;  // all at the same instant
+  }
+  EXPECT_EQ(axis, 30'000);
+  EXPECT_EQ(largest_step, 100);
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_TRUE(emcys().empty());
+  // Right after it, with no credit left, a SYNC without an RPDO of its own is an extra one.
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync_rejected);
+  EXPECT_EQ(emcys().at(0).data[0], emcy_cause::sync_rate);
+}
+
 TEST_F(DriveSafety, ALateMasterIsNoSecondProducer) {
   // The master's SYNCs leave anywhere up to a whole period late (a loaded host), and the
   // receiving process reads them in bursts; the frames' receive times say when they were sent.

@@ -308,7 +308,14 @@ void DriveNode::on_nmt(const NmtMessage& message, std::uint64_t /*now_us*/, Fram
 DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std::uint64_t received_us,
                              FrameSink& out) noexcept {
   ++counters_.syncs;
-  const SyncEvent event = sync_.on_sync(sync, now_us, received_us);
+  SyncEvent event = sync_.on_sync(sync, now_us, received_us);
+  if (event == SyncEvent::too_many && pending_rpdo_ && nmt_.pdo_allowed()) {
+    // Too early, but it brings its own fresh RPDO: the master's own period delivered late (a
+    // replay catching up after a stall), not an extra SYNC. A duplicated SYNC, or a second
+    // producer's, has no RPDO of its own: it is the one refused (a foreign SYNC that takes the
+    // master's RPDO leaves the master's SYNC without one). The step limit bounds every step.
+    event = SyncEvent::in_order;
+  }
   if (event == SyncEvent::gap) {
     ++counters_.sync_gaps;
   }

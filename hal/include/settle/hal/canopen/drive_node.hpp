@@ -17,9 +17,10 @@
 // - Following error: |setpoint - position actual| over 0x6065 for longer than 0x6066 ms:
 //   fault, EMCY 0x8611. On by default.
 // - SYNC checks while the axis is driven: a counter (0x1019) that does not step by one, a
-//   missing counter, or more SYNCs than one per 0x1006 period beyond the burst 0x2001 allows:
-//   the SYNC is refused (DriveEvent::sync_rejected: no period is run), EMCY (0x8240 for a missing
-//   counter, 0x8100 otherwise) and the 0x6007 reaction.
+//   missing counter, or more SYNCs than one per 0x1006 period beyond the burst 0x2001 allows
+//   (a SYNC that brings its own fresh RPDO is never refused for its rate: the master's period,
+//   delivered late): the SYNC is refused (DriveEvent::sync_rejected: no period is run), EMCY
+//   (0x8240 for a missing counter, 0x8100 otherwise) and the 0x6007 reaction.
 // - An NMT command that takes the node out of operational (stop, enter pre-operational, reset
 //   communication) while operation enabled: EMCY 0x8100, sent before the state changes, and the
 //   0x6007 reaction. The master's heartbeat lost (0x1016): EMCY 0x8130 and the 0x6007 reaction.
