@@ -107,6 +107,12 @@ TEST(SyncConsumer, TheRateAllowsTheLossPeriodsInExcessThenRefuses) {
   }
   c.rearm_rate_check();
   EXPECT_EQ(c.on_sync({0}, 60'000, 100), SyncEvent::in_order) << "rearmed: full credit";
+  // An absurd receive time (a corrupt or hostile timestamp) whose 9/8 would wrap 64 bits: full
+  // credit, not a wrapped near-zero one.
+  for (int i = 0; i < 3; ++i) {
+    (void)c.on_sync({0}, 60'000, 100);
+  }
+  EXPECT_EQ(c.on_sync({0}, 60'000, 100 + 16'397'105'843'297'379'215ULL), SyncEvent::in_order);
   SyncConsumer off{0, 3};
   for (int i = 0; i < 100; ++i) {
     ASSERT_EQ(off.on_sync({0}, 1), SyncEvent::in_order) << "0x1006 = 0: no period to measure against";

@@ -139,9 +139,11 @@ bool SyncConsumer::take_credit(std::uint64_t received_us) noexcept {
     credit_us_ = cap_us_;
   } else {
     const std::uint64_t elapsed = received_us - last_received_us_;
-    const std::uint64_t gained = elapsed + elapsed / 8U;
     const std::uint64_t room = static_cast<std::uint64_t>(cap_us_ - credit_us_);
-    credit_us_ = gained >= room ? cap_us_ : credit_us_ + static_cast<std::int64_t>(gained);
+    // elapsed x 9/8, computed only below the room left (so it cannot wrap).
+    credit_us_ = elapsed >= room || elapsed + elapsed / 8U >= room
+                     ? cap_us_
+                     : credit_us_ + static_cast<std::int64_t>(elapsed + elapsed / 8U);
   }
   seen_ = true;
   last_received_us_ = received_us;
