@@ -83,8 +83,8 @@ class DriveSafety : public ::testing::Test {
     if (overflow == 0) {
       return 0;
     }
-    counter = counter >= overflow ? 1 : static_cast<std::uint8_t>(counter + 1);
-    return counter;
+    last_counter = last_counter >= overflow ? 1 : static_cast<std::uint8_t>(last_counter + 1);
+    return last_counter;
   }
 
   SdoAbort sdo_write(std::uint16_t index, std::uint8_t sub, std::uint32_t value, std::uint8_t size) {
@@ -122,7 +122,7 @@ class DriveSafety : public ::testing::Test {
   std::int32_t axis{0};
   std::int64_t largest_step{0};
   std::uint64_t periods_run{0};
-  std::uint8_t counter{0};
+  std::uint8_t last_counter{0};  // the master's SYNC counter, when 0x1019 is set
 };
 
 // The cause byte and its 32-bit detail, as the drive puts them in the EMCY.
