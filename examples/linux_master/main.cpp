@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   static fw::ServoLoop<double> loop{bus, period_us};  // static: the loop's queues stay off the stack
   fw::AxisConfig axis{};
   axis.drive.node = 1;
+  axis.drive.sdo_timeout_us = 1'000'000;  // patient configuration: a busy host may stall for a while
   axis.counts_per_unit = 1e6;  // 1 count = 1 µm
   axis.vmax = 1.0;             // m/s
   if (loop.add_axis(axis) != fw::LoopStatus::ok) return 1;
