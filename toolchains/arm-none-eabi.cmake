@@ -26,7 +26,9 @@ set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
 # newlib lives where the compiler already looks (Debian: /usr/lib/arm-none-eabi, headers in
 # /usr/include/newlib), so no --sysroot is passed; find_* is confined to that tree so that no
 # host library or package can be picked up by mistake.
-set(CMAKE_FIND_ROOT_PATH /usr/lib/${SETTLE_ARM_TRIPLE})
+# Prefixes given in CMAKE_PREFIX_PATH hold packages built for this target (settle's own:
+# `cmake --install build/cortex-m4f --prefix <p>`), so they are roots too.
+set(CMAKE_FIND_ROOT_PATH /usr/lib/${SETTLE_ARM_TRIPLE} ${CMAKE_PREFIX_PATH})
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)

@@ -1,0 +1,115 @@
+// Drive master firmware for a Cortex-M4F: plan a move on the target, then stream it at 1 kHz with
+// ServoLoop<float> (the FPU evaluates it) on the CAN controller's mailboxes, one tick per SysTick.
+// The "wire" here is software: a CiA 402 drive node (an ideal axis) in the same image, behind a
+// second controller; on a board the controller's interrupts move the frames instead.
+#include <cstdint>
+
+#include "settle/core/planner.hpp"
+#include "settle/firmware/runtime.hpp"
+#include "settle/firmware/semihosting.hpp"
+#include "settle/firmware/session.hpp"
+#include "settle/firmware/text.hpp"
+#include "settle/hal/canopen/drive_node.hpp"
+#include "settle/hal/mailbox_bus.hpp"
+
+namespace {
+
+namespace fw = settle::firmware;
+namespace hal = settle::hal;
+
+constexpr std::uint32_t kPeriodUs = 1000;
+constexpr std::uint32_t kCoreHz = 25'000'000;  // mps2-an386's processor clock
+volatile std::uint32_t systick_count = 0;
+
+// SysTick paces the loop: wait() sleeps (WFI) until the next interrupt.
+struct SysTickClock {
+  std::uint32_t seen{0};
+  void start() {
+    auto reg = [](std::uintptr_t a) { return reinterpret_cast<volatile std::uint32_t*>(a); };
+    *reg(0xE000E014) = kCoreHz / (1'000'000 / kPeriodUs) - 1;  // SYST_RVR
+    *reg(0xE000E018) = 0;                                      // SYST_CVR
+    *reg(0xE000E010) = 7;  // SYST_CSR: processor clock, interrupt, enable
+  }
+  std::uint64_t wait() {
+    for (;;) {  // interrupts masked between the check and WFI (which a pending SysTick still wakes)
+      asm volatile("cpsid i" ::: "memory");
+      const bool ticked = systick_count != seen;
+      if (!ticked) asm volatile("wfi" ::: "memory");
+      asm volatile("cpsie i" ::: "memory");  // the handler runs here
+      if (ticked) break;
+    }
+    const std::uint32_t now = systick_count;
+    const std::uint32_t missed = now - seen - 1;
+    seen = now;
+    return missed;
+  }
+  [[nodiscard]] std::uint64_t now_us() const { return std::uint64_t{seen} * kPeriodUs; }
+};
+
+using Controller = hal::MailboxBus<3, 8>;  // 3 transmit mailboxes, 8-frame receive FIFO
+using Loop = fw::ServoLoop<float, 1, 2, fw::FloatEvaluation<float>, Controller>;
+
+// The drive: follows each setpoint exactly, one period after the SYNC that applies it.
+struct IdealDrive {
+  hal::MailboxBus<8, 16> port{};
+  hal::canopen::DriveNode node{hal::canopen::DriveNodeConfig{.node = 1, .sync_period_us = kPeriodUs}};
+  std::int32_t position{0};
+  void process(std::uint64_t now_us) {
+    hal::CanFrame f{};
+    while (port.receive(f) == hal::ReceiveStatus::received) {
+      if (node.on_frame(f, now_us, port) != hal::canopen::DriveEvent::sync) continue;
+      const std::int64_t velocity = (std::int64_t{node.setpoint()} - position) * (1'000'000 / kPeriodUs);
+      position = node.setpoint();
+      if (node.stopping()) node.stop_complete();
+      node.publish({position, static_cast<std::int32_t>(velocity), position}, now_us, port);
+    }
+    node.poll(now_us, port);
+  }
+};
+
+Controller controller;
+Loop loop{controller, kPeriodUs};
+IdealDrive drive;
+
+void wire() {  // what the controllers' transmit and receive interrupts do on a board
+  hal::CanFrame f{};
+  while (controller.take_sent(f)) (void)drive.port.put_received(f);
+  while (drive.port.take_sent(f)) (void)controller.put_received(f);
+}
+
+}  // namespace
+
+extern "C" void settle_systick_handler() noexcept { systick_count = systick_count + 1; }
+
+int settle::firmware::image_main() {
+  settle::core::MoveRequest request{};
+  request.distance = 0.05;  // m
+  request.time = 0.3;       // s
+  request.omega = 22.0;     // rad/s: the mode the move leaves at rest
+  settle::core::Move<double> move{};
+  if (settle::core::plan(request, move) != settle::core::Status::ok) return 1;
+
+  fw::AxisConfig axis{};
+  axis.drive.node = 1;
+  axis.counts_per_unit = 1e6;  // 1 count = 1 µm
+  axis.vmax = 1.0;
+  if (loop.add_axis(axis) != fw::LoopStatus::ok) return 1;
+  drive.node.start(0, drive.port);
+  SysTickClock clock{};
+  clock.start();
+  fw::SessionConfig session{};
+  session.settle_ticks = 200;
+  const fw::SessionResult r = fw::run_session(loop, clock, &move, 1, 0, session, [&](std::uint64_t, bool) {
+    wire();
+    drive.process(clock.now_us());
+    wire();
+    loop.feedback_log(0).clear();
+  });
+
+  fw::Text<128> line{};
+  line.append("cortex_m4_drive: session ").append(fw::to_string(r.outcome)).append(" after ")
+      .append_unsigned(r.ticks).append(" ticks; drive at ").append_signed(drive.position)
+      .append(" counts (target ").append_signed(loop.record(0).target).append(")\n");
+  (void)fw::semihosting::write_console(line.view());
+  return r.outcome == fw::SessionOutcome::completed ? 0 : 1;
+}

@@ -1,0 +1,319 @@
+// The `settle` Python module: core's planner and sim's simulator for analysis in notebooks.
+//   settle.plan(**move)               the plan as a dict, as `settle plan --json` prints it
+//   settle.sample(dt=..., **move)     numpy arrays t, position, velocity, acceleration, jerk
+//   settle.simulate(plant=..., **move) the residual-vibration metrics of the move on a plant
+// The move's keywords are the CLI's options without their dashes (profile, distance, time, vmax,
+// amax, jmax, omega, zeta, gammas, y, shaper, vtol). A bad value raises ValueError naming the
+// keyword; an unknown keyword raises TypeError, as for any Python function.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "settle/core/planner.hpp"
+#include "settle/sim/command.hpp"
+#include "settle/sim/modal_plant.hpp"
+#include "settle/sim/simulate.hpp"
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+
+namespace settle::python {
+namespace {
+
+// ValueError("<keyword>: <reason>").
+[[noreturn]] void bad(const std::string& keyword, const std::string& reason) {
+  throw py::value_error(keyword + ": " + reason);
+}
+
+double number(const py::handle& v, const char* keyword) {
+  if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v) ||
+                                        py::hasattr(v, "__float__"))) {
+    bad(keyword, "expected a number, got " + std::string{py::str(py::type::of(v).attr("__name__"))});
+  }
+  return v.cast<double>();
+}
+
+std::vector<double> numbers(const py::handle& v, const char* keyword) {
+  if (py::isinstance<py::str>(v) || !py::isinstance<py::iterable>(v)) bad(keyword, "expected a sequence of numbers");
+  std::vector<double> out;
+  for (const py::handle item : v) out.push_back(number(item, keyword));
+  return out;
+}
+
+std::string text(const py::handle& v, const char* keyword) {
+  if (!py::isinstance<py::str>(v)) bad(keyword, "expected a string");
+  return v.cast<std::string>();
+}
+
+constexpr const char* kMoveKeywords[] = {"profile", "distance", "time",   "vmax",   "amax", "jmax",
+                                         "omega",   "zeta",     "gammas", "y",      "shaper", "vtol"};
+
+bool is_move_keyword(const std::string& k) {
+  for (const char* m : kMoveKeywords) {
+    if (k == m) return true;
+  }
+  return false;
+}
+
+// Every keyword must be a move keyword or one of `extra`.
+void check_keywords(const py::kwargs& kw, std::initializer_list<const char*> extra) {
+  for (const auto& [key, value] : kw) {
+    const std::string k = py::str(key);
+    bool known = is_move_keyword(k);
+    for (const char* e : extra) known = known || k == e;
+    if (!known) throw py::type_error("unexpected keyword argument '" + k + "'");
+  }
+}
+
+core::MoveRequest move_request(const py::kwargs& kw) {
+  core::MoveRequest r{};
+  const std::string profile = kw.contains("profile") ? text(kw["profile"], "profile") : "";
+  if (profile.empty()) bad("profile", "required (scurve, scurve-damped, ramp-versine, pseudopoly, poly345, trapezoid, jerk-limited)");
+  if (!core::parse_profile_kind(profile.c_str(), r.profile)) bad("profile", "unknown profile '" + profile + "'");
+  if (!kw.contains("distance")) bad("distance", "required");
+  r.distance = number(kw["distance"], "distance");
+  const std::pair<const char*, std::optional<double>*> optional_numbers[] = {
+      {"time", &r.time}, {"vmax", &r.vmax}, {"amax", &r.amax}, {"jmax", &r.jmax}, {"omega", &r.omega}};
+  for (const auto& [name, field] : optional_numbers) {
+    if (kw.contains(name) && !kw[name].is_none()) *field = number(kw[name], name);
+  }
+  if (kw.contains("zeta")) r.zeta = number(kw["zeta"], "zeta");
+  if (kw.contains("vtol")) r.vtol = number(kw["vtol"], "vtol");
+  if (kw.contains("gammas") && !kw["gammas"].is_none()) {
+    const std::vector<double> g = numbers(kw["gammas"], "gammas");
+    if (g.size() > core::kMaxGammas) bad("gammas", "at most " + std::to_string(core::kMaxGammas) + " exponents");
+    for (std::size_t i = 0; i < g.size(); ++i) r.gammas[i] = g[i];
+    r.gamma_count = g.size();
+  }
+  if (kw.contains("y") && !kw["y"].is_none()) {
+    const std::vector<double> y = numbers(kw["y"], "y");
+    if (y.size() != 3) bad("y", "expected three fractions Y1/L, Y2/L, Y3/L");
+    r.y_fractions = std::array<double, 3>{y[0], y[1], y[2]};
+  }
+  if (kw.contains("shaper") && !kw["shaper"].is_none()) {
+    const std::string s = text(kw["shaper"], "shaper");
+    bool found = false;
+    for (const core::ShaperKind k : {core::ShaperKind::none, core::ShaperKind::zv, core::ShaperKind::zvd,
+                                     core::ShaperKind::zvdd, core::ShaperKind::ei}) {
+      if (s == core::to_string(k)) {
+        r.shaper = k;
+        found = true;
+      }
+    }
+    if (!found) bad("shaper", "unknown shaper '" + s + "' (none, zv, zvd, zvdd, ei)");
+  }
+  return r;
+}
+
+// The keyword a planner status is about (the CLI's option names without their dashes).
+const char* keyword_of(core::Status s, const core::MoveRequest& r) {
+  using core::Status;
+  switch (s) {
+    case Status::non_positive_time:
+    case Status::time_too_short_for_vmax:
+    case Status::missing_time_or_limits: return "time";
+    case Status::non_positive_limit:
+      if (r.vmax && !(*r.vmax > 0.0)) return "vmax";
+      if (r.amax && !(*r.amax > 0.0)) return "amax";
+      return "jmax";
+    case Status::velocity_limit_exceeded: return "vmax";
+    case Status::acceleration_limit_exceeded: return "amax";
+    case Status::jerk_limit_exceeded: return "jmax";
+    case Status::non_positive_omega: return "omega";
+    case Status::zeta_out_of_range: return "zeta";
+    case Status::too_few_gammas:
+    case Status::too_many_gammas:
+    case Status::gamma_too_small:
+    case Status::gammas_not_distinct:
+    case Status::singular_system: return "gammas";
+    case Status::bad_shape_parameter: return "y";
+    case Status::vtol_out_of_range: return "vtol";
+    case Status::bad_impulse:
+    case Status::shaper_gain_not_unity:
+    case Status::too_many_impulses:
+    case Status::no_solution: return "shaper";
+    case Status::non_finite_input: {
+      const std::pair<const char*, std::optional<double>> values[] = {
+          {"distance", r.distance}, {"time", r.time}, {"vmax", r.vmax}, {"amax", r.amax},
+          {"jmax", r.jmax},         {"omega", r.omega}, {"zeta", r.zeta}, {"vtol", r.vtol}};
+      for (const auto& [name, v] : values) {
+        if (v && !std::isfinite(*v)) return name;
+      }
+      return r.y_fractions ? "y" : "gammas";
+    }
+    default: return "profile";
+  }
+}
+
+core::Move<double> planned(const py::kwargs& kw) {
+  const core::MoveRequest req = move_request(kw);
+  core::Move<double> move{};
+  if (const core::Status st = core::plan(req, move); st != core::Status::ok) {
+    bad(keyword_of(st, req), std::string{core::describe(st)} + " [" + core::to_string(st) + "]");
+  }
+  return move;
+}
+
+// The numbers that define each profile, named as `settle plan --json` names them.
+py::dict profile_params(const core::Profile<double>& prof) {
+  py::dict f;
+  prof.visit([&](const auto& p) {
+    using P = std::decay_t<decltype(p)>;
+    const auto& q = p.params();
+    if constexpr (std::is_same_v<P, core::RampCycloid<double>>) {
+      f["tau"] = q.tau;
+      f["cruise"] = q.cruise;
+      f["A"] = q.amplitude;
+      f["A2"] = q.amplitude * q.c2;
+      f["c2"] = q.c2;
+      f["c3"] = q.c3;
+    } else if constexpr (std::is_same_v<P, core::RampVersine<double>>) {
+      f["tau"] = q.tau;
+      f["Y1"] = q.y1;
+      f["Y2"] = q.y2;
+      f["Y3"] = q.y3;
+    } else if constexpr (std::is_same_v<P, core::PseudoPoly<double>>) {
+      for (std::size_t i = 0; i < q.count; ++i) f[py::str("gamma" + std::to_string(i))] = q.gammas[i];
+      for (std::size_t i = 0; i < q.count; ++i) f[py::str("C" + std::to_string(i))] = q.coeffs[i];
+    } else {
+      for (std::size_t i = 0; i < q.count; ++i) {
+        f[py::str("segment" + std::to_string(i) + "_duration")] = q.durations[i];
+        f[py::str("segment" + std::to_string(i) + "_jerk")] = q.jerk[i];
+      }
+    }
+  });
+  return f;
+}
+
+py::dict plan(const py::kwargs& kw) {
+  check_keywords(kw, {});
+  const core::Move<double> m = planned(kw);
+  const auto& pk = m.peaks();
+  py::list impulses;
+  for (std::size_t i = 0; i < m.shaper().count; ++i) {
+    impulses.append(py::dict("amplitude"_a = m.shaper().amp[i], "time"_a = m.shaper().time[i]));
+  }
+  return py::dict("status"_a = "ok", "profile"_a = core::to_string(m.profile().kind()), "distance"_a = m.distance(),
+                  "duration"_a = m.duration(), "profile_duration"_a = m.profile().duration(),
+                  "params"_a = profile_params(m.profile()),
+                  "peaks"_a = py::dict("velocity"_a = pk.v, "acceleration"_a = pk.a, "jerk"_a = pk.j,
+                                       "velocity_step"_a = pk.velocity_step,
+                                       "acceleration_step"_a = pk.acceleration_step),
+                  "shaper"_a = py::dict("impulses"_a = impulses));
+}
+
+py::dict sample(const py::kwargs& kw) {
+  check_keywords(kw, {"dt"});
+  if (!kw.contains("dt")) bad("dt", "required (sample period, s)");
+  const double dt = number(kw["dt"], "dt");
+  if (!std::isfinite(dt) || !(dt > 0.0)) bad("dt", "must be a positive, finite number of seconds");
+  const core::Move<double> move = planned(kw);
+  const double n_real = std::ceil(move.duration() / dt);
+  if (n_real > 1e8) bad("dt", "more than 1e8 samples");
+  const auto n = static_cast<py::ssize_t>(n_real) + 1;
+  py::array_t<double> t(n), p(n), v(n), a(n), j(n);
+  auto tt = t.mutable_unchecked<1>(), pp = p.mutable_unchecked<1>(), vv = v.mutable_unchecked<1>(),
+       aa = a.mutable_unchecked<1>(), jj = j.mutable_unchecked<1>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const double ti = std::min(static_cast<double>(i) * dt, move.duration());
+    const core::Sample<double> s = move.at(ti);
+    tt(i) = ti;
+    pp(i) = s.p;
+    vv(i) = s.v;
+    aa(i) = s.a;
+    jj(i) = s.j;
+  }
+  return py::dict("t"_a = t, "position"_a = p, "velocity"_a = v, "acceleration"_a = a, "jerk"_a = j);
+}
+
+sim::ModalPlant make_plant(const py::handle& spec) {
+  sim::PlantSpec ps{};
+  if (py::isinstance<py::str>(spec)) {
+    const std::string kind = spec.cast<std::string>();
+    if (kind == "sdof") {
+      ps.kind = sim::PlantKind::sdof;
+    } else if (kind == "beam") {
+      ps.kind = sim::PlantKind::beam;
+    } else if (kind == "belt") {
+      ps.kind = sim::PlantKind::belt;
+    } else {
+      bad("plant", "unknown plant '" + kind + "' (sdof, beam, belt, or a list of (omega, zeta[, gain]) modes)");
+    }
+  } else if (py::isinstance<py::iterable>(spec)) {
+    ps.kind = sim::PlantKind::modes;
+    for (const py::handle m : spec) {
+      const std::vector<double> v = numbers(m, "plant");
+      if (v.size() < 2 || v.size() > 3) bad("plant", "each mode is (omega, zeta) or (omega, zeta, gain)");
+      sim::Mode mode{};
+      mode.omega = v[0];
+      mode.zeta = v[1];
+      if (v.size() == 3) mode.gain = v[2];
+      ps.modes.push_back(mode);
+    }
+  } else {
+    bad("plant", "expected 'sdof', 'beam', 'belt' or a list of (omega, zeta[, gain]) modes");
+  }
+  sim::ModalPlant plant{};
+  if (const sim::SimStatus st = sim::make_plant(ps, plant); st != sim::SimStatus::ok) {
+    bad("plant", std::string{sim::describe(st)} + " [" + sim::to_string(st) + "]");
+  }
+  return plant;
+}
+
+py::dict simulate(const py::kwargs& kw) {
+  check_keywords(kw, {"plant", "dt"});
+  if (!kw.contains("plant")) bad("plant", "required ('sdof', 'beam', 'belt' or a list of (omega, zeta[, gain]) modes)");
+  const sim::ModalPlant plant = make_plant(kw["plant"]);
+  sim::SimOptions opt{};
+  opt.record = false;
+  if (kw.contains("dt")) {
+    opt.dt = number(kw["dt"], "dt");
+    if (!std::isfinite(opt.dt) || !(opt.dt > 0.0)) bad("dt", "must be a positive, finite number of seconds");
+  }
+  const core::Move<double> move = planned(kw);
+  const sim::MoveCommand cmd{move};
+  sim::SimResult result{};
+  if (const sim::SimStatus st = sim::simulate(plant, cmd, opt, result); st != sim::SimStatus::ok) {
+    bad("plant", std::string{sim::describe(st)} + " [" + sim::to_string(st) + "]");
+  }
+  const sim::SimMetrics& m = result.metrics;
+  return py::dict("plant"_a = sim::to_string(plant.kind()), "move_end"_a = m.move_end, "distance"_a = m.distance,
+                  "residual_amplitude"_a = m.residual_amplitude, "step_residual"_a = m.step_residual,
+                  "prv_percent"_a = m.prv_percent, "peak_deflection"_a = m.peak_deflection,
+                  "final_energy"_a = m.final_energy, "settling_band"_a = m.band, "settling_time"_a = m.settling_time,
+                  "mode_residual"_a = py::array_t<double>(py::ssize_t(m.mode_residual.size()), m.mode_residual.data()),
+                  "mode_prv_percent"_a =
+                      py::array_t<double>(py::ssize_t(m.mode_prv_percent.size()), m.mode_prv_percent.data()));
+}
+
+}  // namespace
+}  // namespace settle::python
+
+PYBIND11_MODULE(settle, m) {
+  m.doc() =
+      "Settle: vibration-free point-to-point moves (planning, sampling, simulation).\n"
+      "Every function takes the move as keywords, the `settle` CLI's options without their dashes:\n"
+      "  profile (scurve, scurve-damped, ramp-versine, pseudopoly, poly345, trapezoid, jerk-limited),\n"
+      "  distance, time (s) or vmax/amax/jmax, omega (rad/s) and zeta of the mode the move is for,\n"
+      "  gammas (pseudopoly exponents), y (ramp-versine Y/L fractions), shaper (none, zv, zvd, zvdd, ei), vtol.\n"
+      "A bad value raises ValueError('<keyword>: <reason>').";
+  m.def("plan", &settle::python::plan,
+        "plan(**move) -> dict: the planned move as `settle plan --json` prints it (status, profile, distance,\n"
+        "duration, profile_duration, params, peaks, shaper.impulses); an infinite peak is math.inf.");
+  m.def("sample", &settle::python::sample,
+        "sample(dt=..., **move) -> dict of numpy arrays t, position, velocity, acceleration, jerk: the move at\n"
+        "t = 0, dt, 2 dt, ... and at its end (as `settle sample --dt` prints).");
+  m.def("simulate", &settle::python::simulate,
+        "simulate(plant=..., dt=1e-4, **move) -> dict of residual-vibration metrics of the move on a plant:\n"
+        "plant is 'sdof', 'beam', 'belt' (the papers' defaults) or a list of (omega, zeta[, gain]) modes.\n"
+        "Keys: residual_amplitude, step_residual, prv_percent, peak_deflection, final_energy, settling_band,\n"
+        "settling_time, move_end, distance, mode_residual and mode_prv_percent (numpy arrays, per mode).");
+}

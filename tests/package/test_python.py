@@ -1,0 +1,174 @@
+#!/usr/bin/env python3
+"""The `settle` Python module (python/), from the build tree or an install (PYTHONPATH picks it).
+  test_python.py [--settle <settle CLI>]
+Each check stands on its own: plan() against what `settle plan --json` prints, sample()'s end
+against the distance and its velocity against its own position's differences, simulate()'s
+residual against a Duhamel integral of sample()'s acceleration, and every refusal naming its
+keyword."""
+import argparse
+import json
+import math
+import subprocess
+import sys
+import unittest
+
+import numpy as np
+
+import settle
+
+SETTLE_CLI = None
+OMEGA = 22.04871  # seed 000's beam, first mode
+MOVES = [
+    dict(profile="scurve", distance=0.05, time=0.8 * 2 * math.pi / OMEGA, omega=OMEGA),
+    dict(profile="scurve-damped", distance=0.05, time=0.3, omega=OMEGA, zeta=0.05),
+    dict(profile="ramp-versine", distance=0.02, time=0.5, omega=OMEGA),
+    dict(profile="pseudopoly", distance=0.05, time=0.8, gammas=[3, 4, 5, 6], omega=OMEGA, shaper="zv"),
+    dict(profile="poly345", distance=1.5, time=2.0),
+    dict(profile="trapezoid", distance=1.0, vmax=1.0, amax=2.0),
+    dict(profile="jerk-limited", distance=0.3, vmax=0.5, amax=2.0, jmax=40.0, shaper="ei", omega=30.0),
+]
+
+
+def cli_args(move):
+    args = []
+    for key, value in move.items():
+        if isinstance(value, list):
+            value = ",".join(str(v) for v in value)
+        args += ["--" + key, str(value)]
+    return args
+
+
+def json_like(value):
+    """plan() reports an infinite peak as math.inf; the JSON writer prints it as null."""
+    if isinstance(value, dict):
+        return {k: json_like(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [json_like(v) for v in value]
+    if isinstance(value, float) and math.isinf(value):
+        return None
+    return value
+
+
+class Plan(unittest.TestCase):
+    @unittest.skipUnless(SETTLE_CLI or "--settle" in sys.argv, "needs the settle CLI (--settle)")
+    def test_plan_is_what_the_cli_prints(self):
+        for move in MOVES:
+            with self.subTest(profile=move["profile"]):
+                out = subprocess.run([SETTLE_CLI, "plan", *cli_args(move), "--json"], capture_output=True,
+                                     text=True, check=True).stdout
+                # %.17g in the CLI's JSON round-trips: the same doubles, compared exactly.
+                self.assertEqual(json_like(settle.plan(**move)), json.loads(out))
+
+    def test_shaped_duration_is_profile_plus_last_impulse(self):
+        p = settle.plan(profile="scurve", distance=0.1, time=0.5, omega=10.0, shaper="zvd")
+        impulses = p["shaper"]["impulses"]
+        self.assertEqual(len(impulses), 3)
+        self.assertAlmostEqual(sum(i["amplitude"] for i in impulses), 1.0, places=12)
+        self.assertAlmostEqual(p["duration"], p["profile_duration"] + impulses[-1]["time"], places=12)
+        # ZVD's impulses are half a damped period apart.
+        self.assertAlmostEqual(impulses[1]["time"], math.pi / 10.0, places=9)
+
+
+class Sample(unittest.TestCase):
+    def test_arrays_cover_the_move_and_end_on_the_distance(self):
+        for move in MOVES:
+            with self.subTest(profile=move["profile"]):
+                duration = settle.plan(**move)["duration"]
+                s = settle.sample(dt=1e-3, **move)
+                for key in ("t", "position", "velocity", "acceleration", "jerk"):
+                    self.assertIsInstance(s[key], np.ndarray)
+                    self.assertEqual(s[key].dtype, np.float64)
+                    self.assertEqual(s[key].shape, (math.ceil(duration / 1e-3) + 1,))
+                self.assertEqual(s["t"][0], 0.0)
+                self.assertEqual(s["t"][-1], duration)
+                self.assertEqual(s["position"][0], 0.0)
+                self.assertEqual(s["position"][-1], move["distance"])
+                self.assertEqual(s["velocity"][-1], 0.0)
+
+    def test_velocity_is_the_derivative_of_position(self):
+        move = dict(profile="poly345", distance=1.5, time=2.0)
+        s = settle.sample(dt=1e-4, **move)
+        t, p, v = s["t"][:-1], s["position"][:-1], s["velocity"][:-1]  # the last step may be short
+        central = (p[2:] - p[:-2]) / (t[2:] - t[:-2])
+        np.testing.assert_allclose(central, v[1:-1], atol=1e-6 * np.max(np.abs(v)))
+        # 3-4-5 polynomial: peak velocity 15/8 D/T at mid-move.
+        self.assertAlmostEqual(np.max(v), 15 / 8 * 1.5 / 2.0, places=6)
+
+
+class Simulate(unittest.TestCase):
+    def duhamel_residual(self, omega, move):
+        """Residual amplitude of an undamped unit mode after the move: |∫ a(τ) e^{-iωτ} dτ| / ω."""
+        s = settle.sample(dt=1e-5, **move)
+        a = s["acceleration"] * np.exp(-1j * omega * s["t"])
+        return abs(np.trapz(a, s["t"])) / omega
+
+    def test_residual_matches_an_independent_duhamel_integral(self):
+        omega = 12.0
+        move = dict(profile="jerk-limited", distance=0.2, vmax=0.4, amax=1.5, jmax=20.0)
+        r = settle.simulate(plant=[(omega, 0.0)], **move)
+        expected = self.duhamel_residual(omega, move)
+        self.assertGreater(expected, 1e-4)
+        self.assertAlmostEqual(r["residual_amplitude"] / expected, 1.0, places=4)
+        self.assertIsInstance(r["mode_residual"], np.ndarray)
+        self.assertEqual(r["mode_residual"].shape, (1,))
+
+    def test_a_move_designed_for_the_mode_leaves_it_at_rest(self):
+        for omega in (8.0, 22.0, 40.0):
+            with self.subTest(omega=omega):
+                move = dict(profile="scurve", distance=0.05, time=0.5, omega=omega)
+                designed = settle.simulate(plant=[(omega, 0.0)], **move)["residual_amplitude"]
+                detuned = settle.simulate(plant=[(omega * 1.3, 0.0)], **move)["residual_amplitude"]
+                self.assertLess(designed, 1e-9 * move["distance"])
+                self.assertGreater(detuned, 1e3 * designed)
+
+    @unittest.skipUnless(SETTLE_CLI or "--settle" in sys.argv, "needs the settle CLI (--settle)")
+    def test_metrics_are_what_the_cli_prints(self):
+        move = MOVES[0]
+        out = subprocess.run([SETTLE_CLI, "simulate", "--plant", "beam", *cli_args(move), "--json"],
+                             capture_output=True, text=True, check=True).stdout
+        cli = json.loads(out)
+        r = settle.simulate(plant="beam", **move)
+        for key in ("residual_amplitude", "prv_percent", "step_residual", "peak_deflection", "final_energy",
+                    "settling_time"):
+            self.assertEqual(r[key], cli[key], key)
+        self.assertEqual(list(r["mode_residual"]), [m["residual_amplitude"] for m in cli["modes"]])
+
+
+class BadArguments(unittest.TestCase):
+    def assertNames(self, keyword, call, error=ValueError):
+        with self.assertRaises(error) as caught:
+            call()
+        self.assertTrue(str(caught.exception).startswith(keyword), f"{caught.exception!r} does not name {keyword}")
+
+    def test_each_refusal_names_its_keyword(self):
+        good = dict(profile="scurve", distance=0.05, time=0.5, omega=22.0)
+        cases = [
+            ("profile", dict(good, profile="warp")),
+            ("profile", dict(good, profile=3)),
+            ("distance", dict(good, distance=float("nan"))),
+            ("distance", dict(good, distance="far")),
+            ("time", dict(good, time=-1.0)),
+            ("omega", dict(good, omega=0.0)),
+            ("zeta", dict(good, zeta=1.5)),
+            ("shaper", dict(good, shaper="zz")),
+            ("vmax", dict(profile="trapezoid", distance=1.0, vmax=-1.0, amax=1.0)),
+            ("gammas", dict(profile="pseudopoly", distance=1.0, time=1.0, gammas=[3.0])),
+            ("y", dict(profile="ramp-versine", distance=1.0, time=1.0, omega=5.0, y=[0.5, 0.5])),
+        ]
+        for keyword, move in cases:
+            with self.subTest(keyword=keyword, move=move):
+                self.assertNames(keyword, lambda: settle.plan(**move))
+        self.assertNames("distance", lambda: settle.plan(profile="scurve", time=1.0, omega=3.0))
+        self.assertNames("dt", lambda: settle.sample(**good, dt=0.0))
+        self.assertNames("dt", lambda: settle.sample(**good))
+        self.assertNames("plant", lambda: settle.simulate(plant="moon", **good))
+        self.assertNames("plant", lambda: settle.simulate(plant=[(22.0, 2.0)], **good))
+        self.assertNames("unexpected keyword argument 'speed'", lambda: settle.plan(**good, speed=1.0), TypeError)
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--settle")
+    args, rest = parser.parse_known_args()
+    SETTLE_CLI = args.settle
+    unittest.main(argv=[sys.argv[0], *rest])
