@@ -159,12 +159,18 @@ TEST(Limits, GridOfMoreThanTheSampleBoundIsRefused) {
   EXPECT_TRUE(grid.empty());
   ModalPlant driven = p;
   EXPECT_EQ(drive(driven, cmd, o.dt), SimStatus::too_many_samples);
-  // Recorded: the grid and the tail steps count together (0.3 s + 1 s at 1e-7 s: 1.3e7 rows).
-  o.record = true;
+  EXPECT_EQ(command_grid(cmd, 0.0, grid), SimStatus::non_positive_step);
+}
+
+TEST(Limits, RecordedGridAndTailCountTogether) {
+  // 0.3 s + 1 s at 1e-7 s: 1.3e7 rows, each under the bound alone.
+  const ModalPlant p = modes_plant({mode(10.0, 0.1)});
+  SimOptions o;
   o.dt = 1e-7;
   o.tail = 1.0;
-  EXPECT_EQ(simulate(p, cmd, o, r), SimStatus::too_many_samples);
-  EXPECT_EQ(command_grid(cmd, 0.0, grid), SimStatus::non_positive_step);
+  SimResult r;
+  EXPECT_EQ(simulate(p, MoveCommand{poly345(0.1, 0.3)}, o, r), SimStatus::too_many_samples);
+  EXPECT_TRUE(r.history.empty());
 }
 
 TEST(Limits, AtMostKMaxModes) {
