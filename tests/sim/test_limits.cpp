@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "settle/core/planner.hpp"
+#include "settle/sim/energy_optimiser.hpp"
 #include "settle/sim/limits.hpp"
 #include "settle/sim/sensitivity.hpp"
 #include "settle/sim/simulate.hpp"
@@ -211,6 +212,24 @@ TEST(Limits, SweepsAreBounded) {
   ASSERT_EQ(insensitivity_width(StepsCommand{1.0, s}, 10.0, 0.0, 150.0, w), SimStatus::ok);
   EXPECT_TRUE(w.lo_open && w.hi_open);
   EXPECT_DOUBLE_EQ(w.hi, 3.0);
+}
+
+TEST(Limits, EnergyQuadratureIsBounded) {
+  // One quadrature panel per 2 rad of w T: w = 1e300 was an out-of-range float-to-int conversion,
+  // w T = 1e7 five million panels.
+  EnergyTarget t;
+  t.zeta = 0.02;
+  t.distance = 1.0;
+  t.duration = 1.0;
+  EnergyIntegrals e;
+  for (double w : {1e300, 1e7, 2.0 * kMaxEnergyPhase}) {
+    t.omega = w;
+    EXPECT_EQ(energy_integrals(t, {3.0, 4.0, 5.0}, e), SimStatus::too_many_samples) << w;
+    OptimiserResult o;
+    EXPECT_EQ(optimise_exponents(t, {3.0, 4.0, 5.0}, OptimiserOptions{}, o), SimStatus::too_many_samples) << w;
+  }
+  t.omega = 1e4;
+  EXPECT_EQ(energy_integrals(t, {3.0, 4.0, 5.0}, e), SimStatus::ok);
 }
 
 TEST(Limits, OverflowingPlantIsAStatusNotANumber) {

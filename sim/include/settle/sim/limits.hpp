@@ -28,6 +28,10 @@ inline constexpr double kMaxSettlingTime = 3600.0;
 // Points of a sensitivity sweep (omega_sensitivity, zeta_sensitivity): each is a simulation.
 inline constexpr std::size_t kMaxSweepPoints = 10'000;
 
+// Oscillation of the residual-energy integrand (seed 004): w T rad over the move, about one
+// quadrature panel per 2 rad; energy_integrals and optimise_exponents refuse more (too_many_samples).
+inline constexpr double kMaxEnergyPhase = 2e6;
+
 // Entries (samples x 2 per mode) of fitted_residual's least-squares matrix: 16 M doubles, 128 MB.
 inline constexpr std::size_t kMaxFitEntries = 16'000'000;
 
