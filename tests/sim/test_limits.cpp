@@ -61,6 +61,12 @@ TEST(Limits, DenormalDampingEndsBeyondTheHorizon) {
   EXPECT_EQ(r.metrics.settling, Settling::beyond_horizon);
   EXPECT_TRUE(std::isinf(r.metrics.settling_time));
   EXPECT_GT(r.metrics.residual_amplitude, r.metrics.band);  // it really is outside the band
+  // As `settle stream` runs it for its continuous reference: without recording.
+  SimOptions o;
+  o.record = false;
+  SimResult s;
+  ASSERT_EQ(simulate(p, MoveCommand{poly345(0.1, 0.5)}, o, s), SimStatus::ok);
+  EXPECT_EQ(s.metrics.settling, Settling::beyond_horizon);
 }
 
 TEST(Limits, DenormalDampingInTheClosedFormSearchDirectly) {
