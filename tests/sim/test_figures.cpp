@@ -3,6 +3,7 @@
 // injection, or with spaces and double quotes, gets its plots and nothing else happens.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -140,6 +141,27 @@ TEST_F(Figures, HostileDirectoryNamesGetTheirPlotsAndNothingElseHappens) {
     }
   }
   expect_only(dirs);  // no X, nothing else
+}
+
+TEST_F(Figures, WithoutGnuplotTheDataAndScriptsAreStillWritten) {
+  Options001 o;
+  o.grids = false;
+  Result001 r;
+  ASSERT_EQ(reproduce_001(o, r), SimStatus::ok);
+  // posix_spawnp searches this PATH: an empty directory, so no gnuplot (and no shell either).
+  const char* old_path = std::getenv("PATH");
+  const std::string saved = old_path != nullptr ? old_path : "";
+  fs::create_directories(base_ / "empty-bin");
+  ASSERT_EQ(::setenv("PATH", (base_ / "empty-bin").c_str(), 1), 0);
+  FigureFiles files;
+  const SimStatus st = write_figures_001(r, (base_ / "out").string(), files);
+  ::setenv("PATH", saved.c_str(), 1);
+  ASSERT_EQ(st, SimStatus::ok);
+  EXPECT_FALSE(files.gnuplot);
+  EXPECT_TRUE(files.png.empty());
+  EXPECT_FALSE(files.csv.empty());
+  EXPECT_TRUE(fs::exists(base_ / "out" / "001_responses.gp"));
+  EXPECT_FALSE(fs::exists(base_ / "out" / "001_responses.png"));
 }
 
 #ifdef SETTLE_CLI
