@@ -12,6 +12,7 @@
 #include "settle/hal/socketcan_bus.hpp"
 #include "socketcan_open.hpp"
 #include "settle/sim/plant_node.hpp"
+#include "settle/sim/sync_log.hpp"
 
 namespace settle::cli {
 
@@ -27,18 +28,6 @@ std::uint64_t now_us() {
 }
 
 }  // namespace
-
-bool write_plant_log(const char* path, const std::vector<sim::SyncRecord>& log) {
-  std::FILE* f = std::fopen(path, "w");
-  if (f == nullptr) return false;
-  std::fprintf(f, "sync,time_us,following,target,position_actual,velocity_actual,load_counts,load,base\n");
-  for (const auto& r : log) {
-    std::fprintf(f, "%llu,%llu,%d,%d,%d,%d,%d,%.12g,%.12g\n", static_cast<unsigned long long>(r.sync),
-                 static_cast<unsigned long long>(r.time_us), r.following ? 1 : 0, r.target,
-                 r.feedback.position_actual, r.feedback.velocity_actual, r.feedback.load_position, r.load, r.base);
-  }
-  return std::fclose(f) == 0;
-}
 
 int cmd_plant(int argc, char** argv) {
   std::set<std::string> values = kPlantValueOptions;
@@ -76,6 +65,14 @@ int cmd_plant(int argc, char** argv) {
     std::fprintf(stderr, "settle plant: cannot open %s: %s\n", iface.c_str(), hal::to_string(os));
     return kExitFailure;
   }
+  // Every SYNC's record streams to the file as it is made (bounded memory for any run length).
+  sim::SyncCsvLog log;
+  const auto log_path = args.get("--log");
+  if (log_path && !log.open(*log_path)) {
+    std::fprintf(stderr, "settle plant: cannot write %s\n", log_path->c_str());
+    return kExitFailure;
+  }
+  if (log_path) pn.set_sink(&log);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const std::uint64_t t0 = now_us();
@@ -94,8 +91,8 @@ int cmd_plant(int argc, char** argv) {
     pn.poll(now, bus);
     if (duration > 0 && static_cast<double>(now - t0) * 1e-6 > duration) break;
   }
-  if (const auto path = args.get("--log"); path && !write_plant_log(path->c_str(), pn.log())) {
-    std::fprintf(stderr, "settle plant: cannot write %s\n", path->c_str());
+  if (log_path && !log.close()) {
+    std::fprintf(stderr, "settle plant: cannot write %s\n", log_path->c_str());
     return kExitFailure;
   }
   const auto& c = pn.node().counters();

@@ -220,9 +220,11 @@ int cmd_stream(int argc, char** argv) {
   }
 
   // Offline: the same integer setpoints through the same drive model and plant, no bus.
-  const std::vector<std::int32_t> sp = sim::stream_setpoints(move, period_us, axis_cfg.counts_per_unit, 0);
+  std::vector<std::int32_t> sp;
   sim::Replay replay{};
-  const bool have_replay = sim::replay_stream(axis_cfg, plant, 0, sp, sc.settle_ticks, replay) == sim::SimStatus::ok;
+  const bool have_replay =
+      sim::stream_setpoints(move, period_us, axis_cfg.counts_per_unit, 0, sp) == sim::SimStatus::ok &&
+      sim::replay_stream(axis_cfg, plant, 0, sp, sc.settle_ticks, replay) == sim::SimStatus::ok;
   // From the CAN feedback: find the replay's period-by-period positions in the received sequence.
   // An exact match proves every setpoint was applied once, in order, with no feedback lost in
   // between; the load samples from the final setpoint on then give the measured residual.
@@ -257,10 +259,13 @@ int cmd_stream(int argc, char** argv) {
     }
     std::fclose(f);
   }
-  const sim::SampledResidual can = sim::fitted_residual(measured, axis_cfg.load_counts_per_unit, replay.final_load, dt,
-                                                        plant, replay.step_residual);
-  const sim::SampledResidual off = sim::fitted_residual(replay.load_after, axis_cfg.load_counts_per_unit,
-                                                        replay.final_load, dt, plant, replay.step_residual);
+  sim::SampledResidual can{}, off{};
+  if (sim::fitted_residual(measured, axis_cfg.load_counts_per_unit, replay.final_load, dt, plant,
+                           replay.step_residual, can) != sim::SimStatus::ok ||
+      sim::fitted_residual(replay.load_after, axis_cfg.load_counts_per_unit, replay.final_load, dt, plant,
+                           replay.step_residual, off) != sim::SimStatus::ok) {
+    can.amplitude = off.amplitude = can.prv_percent = off.prv_percent = NAN;
+  }
   sim::SimResult cont{};
   sim::SimOptions so{};
   so.record = false;

@@ -179,6 +179,8 @@ SimStatus energy_integrals(const EnergyTarget& t, const std::vector<double>& gam
   if (!(t.omega > 0.0)) return SimStatus::non_positive_omega;
   if (!(t.zeta >= 0.0 && t.zeta < 1.0)) return SimStatus::not_underdamped;
   if (!(t.duration > 0.0)) return SimStatus::non_positive_step;
+  // The quadrature takes a panel per 2 rad of w T: bounded before its panel count is converted.
+  if (!(t.omega * t.duration <= kMaxEnergyPhase)) return SimStatus::too_many_samples;
   Design d;
   const SimStatus st = design(gammas, d);
   if (st != SimStatus::ok) return st;

@@ -1,9 +1,10 @@
 #include "settle/sim/figures.hpp"
 
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
+
+#include "settle/sim/spawn.hpp"
 
 namespace settle::sim {
 
@@ -24,19 +25,32 @@ bool write_text(const std::string& path, const std::string& text) {
   return std::fclose(f) == 0 && ok;
 }
 
-bool have_gnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
+// gnuplot is found by posix_spawnp's PATH search: `gnuplot --version` runs, or it is absent.
+bool have_gnuplot() {
+  SpawnOptions o;
+  o.output = SpawnOutput::discard;
+  return run_program({"gnuplot", "--version"}, o).status == SpawnStatus::ok;
+}
 
-// Writes `script` next to the data and runs gnuplot in that directory, so the script refers to
-// the CSV files by their plain names and can be rerun by hand.
+// Writes `script` next to the data and runs gnuplot in that directory with the same script on its
+// standard input, so the script refers to the CSV files by their plain names and can be rerun by
+// hand. No shell and no path in any command: the directory is the child's working directory.
 SimStatus plot(const std::string& dir, const std::string& name, const std::string& script, FigureFiles& out) {
   const std::string gp = (fs::path{dir} / (name + ".gp")).string();
-  if (!write_text(gp, "set terminal pngcairo size 1400,1000 font 'Sans,10'\nset output '" + name +
-                          ".png'\nset datafile separator ','\nset grid\n" + script)) {
-    return SimStatus::io_error;
-  }
+  const std::string text = "set terminal pngcairo size 1400,1000 font 'Sans,10'\nset output " +
+                           gnuplot_string(name + ".png") + "\nset datafile separator ','\nset grid\n" + script;
+  if (!write_text(gp, text)) return SimStatus::io_error;
   if (!out.gnuplot) return SimStatus::ok;
-  const std::string cmd = "cd '" + dir + "' && gnuplot '" + name + ".gp' 2>&1";
-  if (std::system(cmd.c_str()) != 0) return SimStatus::io_error;
+  SpawnOptions o;
+  o.workdir = dir;
+  o.input = text;
+  o.output = SpawnOutput::to_stderr;  // gnuplot's messages never mix into our stdout (JSON)
+  const SpawnResult r = run_program({"gnuplot"}, o);
+  if (r.status == SpawnStatus::not_found) {
+    out.gnuplot = false;  // gone since prepare(): the script stays for a rerun by hand
+    return SimStatus::ok;
+  }
+  if (r.status != SpawnStatus::ok) return SimStatus::io_error;
   out.png.push_back((fs::path{dir} / (name + ".png")).string());
   return SimStatus::ok;
 }
@@ -51,6 +65,21 @@ SimStatus prepare(const std::string& dir, FigureFiles& out) {
 }
 
 }  // namespace
+
+std::string gnuplot_string(std::string_view text) {
+  std::string q = "'";
+  for (const char c : text) {
+    if (c == '\'') {
+      q += "''";
+    } else if (c == '\n' || c == '\r') {
+      q += ' ';
+    } else {
+      q += c;
+    }
+  }
+  q += '\'';
+  return q;
+}
 
 SimStatus write_history_csv(const std::vector<HistorySample>& h, const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
@@ -88,20 +117,22 @@ SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFi
       if (st != SimStatus::ok) return st;
       out.csv.push_back((fs::path{dir} / name).string());
       const int k = row.profile == core::ProfileKind::scurve ? 0 : 2;
-      const std::string title = "title '" + fmt("T = %.2f Tn", row.time_ratio) + "'";
+      const std::string title = "title " + gnuplot_string(fmt("T = %.2f Tn", row.time_ratio));
       for (int p = 0; p < 2; ++p) {
         std::string& s = panels[k + p];
-        s += (s.empty() ? "plot " : ", ") + std::string{"'"} + name + "' skip 1 using 1:" + (p == 0 ? "2" : "5") +
+        s += (s.empty() ? "plot " : ", ") + gnuplot_string(name) + " skip 1 using 1:" + (p == 0 ? "2" : "5") +
              " with lines lw 2 " + title;
       }
     }
     if (panels[0].empty()) continue;
-    std::string script = "set multiplot layout 2,2 title 'Seed 000, Table 1 beam (3 modes), D = " + dtag +
-                         " m: ramp-cycloid S-curve (top) against 3-4-5 polynomial (bottom)'\nset key right bottom\n";
+    std::string script = "set multiplot layout 2,2 title " +
+                         gnuplot_string("Seed 000, Table 1 beam (3 modes), D = " + dtag +
+                                        " m: ramp-cycloid S-curve (top) against 3-4-5 polynomial (bottom)") +
+                         "\nset key right bottom\n";
     const char* titles[4] = {"(a) S-curve: input displacement s(t) (m)", "(b) S-curve: tip deflection y(L,t) (m)",
                              "(c) 3-4-5: input displacement s(t) (m)", "(d) 3-4-5: tip deflection y(L,t) (m)"};
     for (int p = 0; p < 4; ++p) {
-      script += std::string{"set title '"} + titles[p] + "'\nset xlabel 't (s)'\n" +
+      script += "set title " + gnuplot_string(titles[p]) + "\nset xlabel 't (s)'\n" +
                 (p % 2 == 1 ? "set key right top\n" : "set key right bottom\n") + panels[p] + "\n";
     }
     script += "unset multiplot\n";
@@ -134,7 +165,7 @@ SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFi
   for (std::size_t k = 0; k < r.sensitivity.size(); ++k) {
     const bool shaper = r.sensitivity[k].name.rfind("shaper:", 0) == 0;
     script += ", '000_sensitivity.csv' skip 1 using 1:" + std::to_string(k + 2) + " with lines lw 2 lc rgb '" +
-              colours[k % 12] + "'" + (shaper ? " dt 4" : "") + " title '" + r.sensitivity[k].name + "'";
+              colours[k % 12] + "'" + (shaper ? " dt 4" : "") + " title " + gnuplot_string(r.sensitivity[k].name);
   }
   return plot(dir, "000_sensitivity", script + "\n", out);
 }
@@ -154,10 +185,11 @@ SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFi
       st = write_history_csv(h, (fs::path{dir} / name).string());
       if (st != SimStatus::ok) return st;
       out.csv.push_back((fs::path{dir} / name).string());
-      script += std::string{"set title '"} + (which == 0 ? "(a) arbitrary Y = (0.5, 0.25, 0.25)" : "(b) computed Y") +
-                fmt(", tau = %.3f s", c.tau) + "'\nplot '" + name +
-                "' skip 1 using 1:2 with lines lw 2 title 'command y(t)', '" + name +
-                "' skip 1 using 1:6 with lines lw 2 title 'mass x(t)'\n";
+      script += "set title " +
+                gnuplot_string(std::string{which == 0 ? "(a) arbitrary Y = (0.5, 0.25, 0.25)" : "(b) computed Y"} +
+                               fmt(", tau = %.3f s", c.tau)) +
+                "\nplot " + gnuplot_string(name) + " skip 1 using 1:2 with lines lw 2 title 'command y(t)', " +
+                gnuplot_string(name) + " skip 1 using 1:6 with lines lw 2 title 'mass x(t)'\n";
     }
   }
   script += "unset multiplot\n";
@@ -180,10 +212,10 @@ SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFi
     if (!write_text((fs::path{dir} / name).string(), csv)) return SimStatus::io_error;
     out.csv.push_back((fs::path{dir} / name).string());
     st = plot(dir, "001_robust_" + g.method,
-              "set title 'Seed 001, tau = 0.167 s, " + g.method +
-                  ": residual amplitude / L'\nset xlabel 'eps(w_n)'\nset ylabel 'eps(zeta)'\nset zlabel "
-                  "'residual / L' rotate by 90\nset view 60,30\nset xyplane at 0\nset hidden3d\nsplot '" +
-                  name + "' skip 1 using 1:2:3 with lines title ''\n",
+              "set title " + gnuplot_string("Seed 001, tau = 0.167 s, " + g.method + ": residual amplitude / L") +
+                  "\nset xlabel 'eps(w_n)'\nset ylabel 'eps(zeta)'\nset zlabel "
+                  "'residual / L' rotate by 90\nset view 60,30\nset xyplane at 0\nset hidden3d\nsplot " +
+                  gnuplot_string(name) + " skip 1 using 1:2:3 with lines title ''\n",
               out);
     if (st != SimStatus::ok) return st;
   }
@@ -204,8 +236,8 @@ SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFi
                          "set xlabel 'eps(w_n) = w_n*/w_n - 1'\nset ylabel 'residual amplitude / L'\n"
                          "set key top center\nplot ";
     for (std::size_t gi = 0; gi < r.grids.size(); ++gi) {
-      slices += std::string{gi == 0 ? "" : ", "} + "'" + name + "' skip 1 using 1:" + std::to_string(gi + 2) +
-                " with linespoints lw 2 title '" + r.grids[gi].method + "'";
+      slices += std::string{gi == 0 ? "" : ", "} + gnuplot_string(name) + " skip 1 using 1:" +
+                std::to_string(gi + 2) + " with linespoints lw 2 title " + gnuplot_string(r.grids[gi].method);
     }
     st = plot(dir, "001_robust_slices", slices + "\n", out);
     if (st != SimStatus::ok) return st;
@@ -235,10 +267,10 @@ SimStatus write_figures_004(const Result004& r, const std::string& dir, FigureFi
   for (int row = 0; row < 4; ++row) {
     for (int col = 0; col < 2; ++col) {
       const std::string f = names[col];
-      script += std::string{"set title '"} + rows[row][0] + (col == 0 ? ", gamma = (3,4,5)" : ", optimised") +
-                "'\nplot '" + f + "' skip 1 using 1:" + rows[row][1] + " with lines lw 2 title 'platform'";
+      script += "set title " + gnuplot_string(std::string{rows[row][0]} + (col == 0 ? ", gamma = (3,4,5)" : ", optimised")) +
+                "\nplot " + gnuplot_string(f) + " skip 1 using 1:" + rows[row][1] + " with lines lw 2 title 'platform'";
       if (row < 2) {
-        script += ", '" + f + "' skip 1 using 1:($" + cmd_cols[row] + "*" + fmt("%.17g", lambda) +
+        script += ", " + gnuplot_string(f) + " skip 1 using 1:($" + cmd_cols[row] + "*" + fmt("%.17g", lambda) +
                   ") with lines dt 2 lw 2 title 'command'";
       }
       script += "\n";

@@ -21,6 +21,7 @@ SimStatus LinearPlant::make(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, 
       d.cols() != 3) {
     return SimStatus::dimension_mismatch;
   }
+  if (static_cast<std::size_t>(n) > kMaxStates) return SimStatus::too_many_modes;
   if (!a.allFinite() || !b.allFinite() || !c.allFinite() || !d.allFinite()) return SimStatus::non_finite_parameter;
   LinearPlant p;
   p.a_ = a;
@@ -113,17 +114,11 @@ SimStatus LinearPlant::advance(double dt, const BasePolynomial& base) {
   const Eigen::Index n = a_.rows();
   const Eigen::Index m = n + base.degree + 1;
   const Eigen::Index stride = tr.packed.cols();
-  constexpr Eigen::Index kStack = 64;
-  double zbuf[kStack + kMaxBaseDegree + 1];
-  double obuf[kStack];
-  std::vector<double> heap;
-  double* z = zbuf;
-  double* out = obuf;
-  if (n > kStack) {
-    heap.resize(static_cast<std::size_t>(m + n));
-    z = heap.data();
-    out = z + m;
-  }
+  // make() bounds the states by kMaxStates, so the step needs no heap (a simulated drive steps
+  // in its receive path).
+  constexpr auto kStack = static_cast<Eigen::Index>(kMaxStates);
+  double z[kStack + kMaxBaseDegree + 1];
+  double out[kStack];
   for (Eigen::Index j = 0; j < n; ++j) z[j] = x_[j];
   for (int k = 0; k <= base.degree; ++k) z[n + k] = base.c[static_cast<std::size_t>(k)];
   const double* row = tr.packed.data();

@@ -18,6 +18,7 @@ double belt_lambda(const BeltParams& p) noexcept { return p.ratio * p.pulley_r /
 
 SimStatus ModalPlant::make_modes(const std::vector<Mode>& modes, double rigid_gain, PlantKind kind, ModalPlant& out) {
   if (modes.empty()) return SimStatus::bad_mode_count;
+  if (modes.size() > kMaxModes) return SimStatus::too_many_modes;  // before the matrices are sized
   if (!std::isfinite(rigid_gain)) return SimStatus::non_finite_parameter;
   for (const Mode& m : modes) {
     for (double v : {m.omega, m.zeta, m.gain, m.output, m.mass, m.coupling}) {

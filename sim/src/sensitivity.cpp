@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "settle/sim/limits.hpp"
 #include "settle/sim/modal_plant.hpp"
 #include "settle/sim/simulate.hpp"
 
@@ -29,8 +30,10 @@ namespace {
 
 template <typename F>
 SimStatus sweep(F&& prv_at, double lo, double hi, std::size_t n, std::vector<SensitivityPoint>& out) {
-  if (n < 2 || !(hi > lo) || !(lo > 0.0)) return SimStatus::non_positive_step;
+  if (n < 2 || !(hi > lo) || !(lo > 0.0) || !std::isfinite(hi)) return SimStatus::bad_range;
+  if (n > kMaxSweepPoints) return SimStatus::too_many_samples;
   std::vector<SensitivityPoint> pts;
+  pts.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double r = lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(n - 1);
     double prv = 0.0;
@@ -58,17 +61,24 @@ SimStatus zeta_sensitivity(const Command& cmd, double omega_true, double zeta_de
 
 SimStatus insensitivity_width(const Command& cmd, double omega_design, double zeta_true, double threshold_percent,
                               InsensitivityWidth& out, double r_min, double r_max) {
+  // The walks below take at most (r_max - r_min) / 0.005 steps, each a simulation: the range is
+  // bounded (0.01 <= r_min < 1 < r_max <= 100).
+  if (!(r_min >= 0.01) || !(r_min < 1.0) || !(r_max > 1.0) || !(r_max <= 100.0)) return SimStatus::bad_range;
   SimStatus st = SimStatus::ok;
   double last_prv = 0.0;
   auto over = [&](double r) {
     const SimStatus s = prv_on_mode(cmd, r * omega_design, zeta_true, last_prv);
-    if (s != SimStatus::ok) st = s;
+    if (s != SimStatus::ok) {
+      st = s;
+      return true;  // a failed point ends the walk; the status is returned
+    }
     // EI sits exactly on its tolerance at the nominal frequency: a relative slack keeps rounding
     // from deciding whether its nominal point counts.
     return last_prv > threshold_percent * (1.0 + 1e-9);
   };
   InsensitivityWidth w;
   if (over(1.0)) {
+    if (st != SimStatus::ok) return st;
     out = w;
     return st;
   }
@@ -97,8 +107,10 @@ SimStatus insensitivity_width(const Command& cmd, double omega_design, double ze
     }
   };
   w.hi = edge(+1.0, r_max, w.hi_open);
+  if (st != SimStatus::ok) return st;
   over(1.0);  // the lower walk starts from the nominal's PRV again
   w.lo = edge(-1.0, r_min, w.lo_open);
+  if (st != SimStatus::ok) return st;
   w.width = w.hi - w.lo;
   out = w;
   return st;

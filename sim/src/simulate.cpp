@@ -35,10 +35,24 @@ double envelope(const ModalPlant& plant, double tau) {
 
 }  // namespace
 
-void command_grid(const Command& cmd, double dt, std::vector<double>& times, std::vector<char>* is_break) {
+const char* to_string(Settling s) noexcept {
+  switch (s) {
+    case Settling::settled: return "settled";
+    case Settling::undamped: return "undamped";
+    case Settling::beyond_horizon: return "beyond_horizon";
+  }
+  return "unknown";
+}
+
+SimStatus command_grid(const Command& cmd, double dt, std::vector<double>& times, std::vector<char>* is_break) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) return SimStatus::non_positive_step;
   const double end = cmd.duration();
+  if (!(end >= 0.0) || !std::isfinite(end)) return SimStatus::too_long;
   std::vector<double> bp;
   cmd.breakpoints(bp);
+  // Checked in double, before the conversion and before the grid is allocated.
+  const double points = std::floor(end / dt) + 1.0 + static_cast<double>(bp.size()) + 1.0;
+  if (!(points <= static_cast<double>(kMaxSamples))) return SimStatus::too_many_samples;
   bp.push_back(end);
   std::sort(bp.begin(), bp.end());
   const auto n = static_cast<std::size_t>(std::floor(end / dt));
@@ -74,14 +88,15 @@ void command_grid(const Command& cmd, double dt, std::vector<double>& times, std
     }
   }
   if (is_break != nullptr) *is_break = std::move(flags);
+  return SimStatus::ok;
 }
 
 SimStatus drive(ModalPlant& plant, const Command& cmd, double dt,
                 const std::function<void(const ModalPlant&, const BaseState&)>& on_step) {
-  if (!(dt > 0.0) || !std::isfinite(dt)) return SimStatus::non_positive_step;
   std::vector<double> grid;
   std::vector<char> brk;
-  command_grid(cmd, dt, grid, &brk);
+  const SimStatus gs = command_grid(cmd, dt, grid, &brk);
+  if (gs != SimStatus::ok) return gs;
   plant.reset(0.0);
   BaseState s1{};
   for (std::size_t i = 0; i + 1 < grid.size(); ++i) {
@@ -100,45 +115,65 @@ SimStatus drive(ModalPlant& plant, const Command& cmd, double dt,
   return SimStatus::ok;
 }
 
-double free_settling_time(const ModalPlant& plant, double band) {
-  if (envelope(plant, 0.0) <= band) return 0.0;
+FreeSettling free_settling_time(const ModalPlant& plant, double band) {
+  if (!(envelope(plant, 0.0) > band)) return {Settling::settled, 0.0};
   double undamped = 0.0;
-  double slowest_decay = kInf;
   double shortest_period = kInf;
   for (std::size_t j = 0; j < plant.modes().size(); ++j) {
     const Mode& m = plant.modes()[j];
     if (m.zeta == 0.0) undamped += std::fabs(m.output) * plant.mode_residual(j);
-    if (m.zeta > 0.0) slowest_decay = std::min(slowest_decay, m.zeta * m.omega);
     shortest_period = std::min(shortest_period, kTwoPi / (m.omega * std::sqrt(1.0 - m.zeta * m.zeta)));
   }
-  if (undamped > band) return kInf;
-  // The envelope falls below the band by tau_b; the last excursion is before that. Scan the exact
-  // free response at 1/64 of the shortest period and refine the last crossing by bisection.
-  double lo = 0.0, hi = 1.0 / slowest_decay;
-  while (envelope(plant, hi) > band) hi *= 2.0;
+  if (undamped > band) return {Settling::undamped, kInf};
+  // The envelope decreases; past the horizon nothing is searched (a denormal damping ratio makes
+  // the decay time overflow to infinity, and a search towards it would never end).
+  if (!(envelope(plant, kMaxSettlingTime) <= band)) return {Settling::beyond_horizon, kInf};
+  // tau_b: where the envelope falls below the band; the last excursion is before that.
+  double lo = 0.0, hi = kMaxSettlingTime;
   for (int it = 0; it < 100; ++it) {
     const double mid = 0.5 * (lo + hi);
     (envelope(plant, mid) > band ? lo : hi) = mid;
   }
   const double tau_b = hi;
-  const double step = shortest_period / 64.0;
-  constexpr double kMaxSamples = 4e6;
-  const double h = std::max(step, tau_b / kMaxSamples);
-  double last_out = -1.0;
-  for (double tau = 0.0; tau <= tau_b; tau += h) {
-    if (std::fabs(free_deflection(plant, tau)) > band) last_out = tau;
+  // Scan the exact free response backwards from tau_b, at 1/64 of the shortest period, for the
+  // last sample outside the band, and refine that crossing by bisection. The scan's work is
+  // bounded: at most 4e6 samples, fewer for many modes (each sample costs one term per mode).
+  const double max_samples =
+      std::min(4e6, 6.4e7 / static_cast<double>(std::max<std::size_t>(plant.modes().size(), 1)));
+  const double h = std::max(shortest_period / 64.0, tau_b / max_samples);
+  const auto last_k = static_cast<std::size_t>(std::floor(tau_b / h));  // <= max_samples
+  bool found = false;
+  double last_out = 0.0;
+  for (std::size_t k = last_k + 1; k-- > 0;) {
+    const double tau = static_cast<double>(k) * h;
+    if (std::fabs(free_deflection(plant, tau)) > band) {
+      found = true;
+      last_out = tau;
+      break;
+    }
   }
-  if (last_out < 0.0) return 0.0;
+  if (!found) return {Settling::settled, 0.0};
   double a = last_out, b = last_out + h;
   for (int it = 0; it < 60; ++it) {
     const double mid = 0.5 * (a + b);
     (std::fabs(free_deflection(plant, mid)) > band ? a : b) = mid;
   }
-  return b;
+  return {Settling::settled, b};
 }
 
 SimStatus simulate(const ModalPlant& plant_in, const Command& cmd, const SimOptions& opt, SimResult& out) {
   if (!(opt.dt > 0.0) || !std::isfinite(opt.dt)) return SimStatus::non_positive_step;
+  if (plant_in.modes().empty()) return SimStatus::bad_mode_count;
+  // Sizes first, in double, before any conversion or allocation (limits.hpp).
+  const double duration = cmd.duration();
+  if (!(duration >= 0.0) || !(duration <= kMaxSimulatedTime)) return SimStatus::too_long;
+  double tail = 0.0;
+  if (opt.record) {
+    tail = opt.tail < 0.0 ? 3.0 * kTwoPi / plant_in.fundamental().omega : opt.tail;
+    if (!(duration + tail <= kMaxSimulatedTime)) return SimStatus::too_long;  // also NaN
+  }
+  const double tail_steps = std::ceil(tail / opt.dt);
+  if (!(duration / opt.dt + tail_steps <= static_cast<double>(kMaxSamples))) return SimStatus::too_many_samples;
   ModalPlant plant = plant_in;
   SimResult res;
   SimMetrics& m = res.metrics;
@@ -163,10 +198,15 @@ SimStatus simulate(const ModalPlant& plant_in, const Command& cmd, const SimOpti
           {p.time(), c, p.deflection(), p.position(), p.velocity(), p.acceleration(), p.energy()});
     }
   };
+  if (opt.record) {
+    // Grid points (multiples of dt plus a few breakpoints) and tail steps: allocated once, here.
+    res.history.reserve(static_cast<std::size_t>(duration / opt.dt + tail_steps) + 64);
+  }
   plant.reset(0.0);
   record(plant, BaseState{});
   SimStatus st = drive(plant, cmd, opt.dt, record);
   if (st != SimStatus::ok) return st;
+  if (!plant.linear().state().allFinite() || !std::isfinite(plant.position())) return SimStatus::non_finite_result;
 
   m.residual_amplitude = plant.residual_amplitude();
   m.prv_percent = m.step_residual > 0.0 ? 100.0 * m.residual_amplitude / m.step_residual : 0.0;
@@ -180,13 +220,16 @@ SimStatus simulate(const ModalPlant& plant_in, const Command& cmd, const SimOpti
   m.final_energy = e.kinetic + e.potential;
 
   // Settling: within the move from the grid, after it from the closed-form free response.
-  const double t_free = free_settling_time(plant, m.band);
-  m.settling_time = t_free > 0.0 ? m.move_end + t_free : (outside ? m.move_end : settle);
+  const FreeSettling free = free_settling_time(plant, m.band);
+  m.settling = free.status;
+  if (free.status != Settling::settled) {
+    m.settling_time = kInf;
+  } else {
+    m.settling_time = free.time > 0.0 ? m.move_end + free.time : (outside ? m.move_end : settle);
+  }
 
   if (opt.record) {
-    double tail = opt.tail;
-    if (tail < 0.0) tail = 3.0 * kTwoPi / plant.fundamental().omega;
-    const auto steps = static_cast<std::size_t>(std::ceil(tail / opt.dt));
+    const auto steps = static_cast<std::size_t>(tail_steps);
     const BasePolynomial rest = BasePolynomial::constant(plant.base().p);
     for (std::size_t k = 0; k < steps; ++k) {
       st = plant.advance(opt.dt, rest);

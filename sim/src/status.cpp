@@ -1,6 +1,11 @@
 #include "settle/sim/status.hpp"
 
+#include "settle/sim/limits.hpp"
+
 namespace settle::sim {
+
+// describe() spells the bounds out for humans; keep it in step with limits.hpp.
+static_assert(kMaxSamples == 10'000'000 && kMaxModes == 64 && kMaxSimulatedTime == 3600.0);
 
 const char* to_string(SimStatus s) noexcept {
   switch (s) {
@@ -30,6 +35,11 @@ const char* to_string(SimStatus s) noexcept {
     case SimStatus::io_error: return "io_error";
     case SimStatus::non_positive_scale: return "non_positive_scale";
     case SimStatus::bad_drive_model: return "bad_drive_model";
+    case SimStatus::too_many_samples: return "too_many_samples";
+    case SimStatus::too_many_modes: return "too_many_modes";
+    case SimStatus::too_long: return "too_long";
+    case SimStatus::bad_range: return "bad_range";
+    case SimStatus::non_finite_result: return "non_finite_result";
   }
   return "unknown";
 }
@@ -62,6 +72,11 @@ const char* describe(SimStatus s) noexcept {
     case SimStatus::io_error: return "a file could not be written";
     case SimStatus::non_positive_scale: return "counts per unit must be positive and finite";
     case SimStatus::bad_drive_model: return "the servo model needs a positive bandwidth and a damping ratio in (0, 1)";
+    case SimStatus::too_many_samples: return "the computation needs more than 10 000 000 samples (kMaxSamples)";
+    case SimStatus::too_many_modes: return "the plant has more than 64 modes (kMaxModes)";
+    case SimStatus::too_long: return "move plus tail exceeds 3600 s of simulated time (kMaxSimulatedTime) or is not finite";
+    case SimStatus::bad_range: return "the range is empty, not finite, or does not contain the nominal point";
+    case SimStatus::non_finite_result: return "the simulation overflowed: the parameters are too extreme for double precision";
   }
   return "unknown status";
 }

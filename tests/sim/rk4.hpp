@@ -6,8 +6,9 @@
 
 namespace settle::test {
 
-template <typename F>
-std::array<double, 2> rk4(F f, double t_end, int steps) {
+// Calls observe(t, x, v) after every step.
+template <typename F, typename Observe>
+std::array<double, 2> rk4_observed(F f, double t_end, int steps, Observe observe) {
   double x = 0.0, v = 0.0;
   const double h = t_end / steps;
   for (int i = 0; i < steps; ++i) {
@@ -18,8 +19,14 @@ std::array<double, 2> rk4(F f, double t_end, int steps) {
     const double k4x = v + h * k3v, k4v = f(t + h, x + h * k3x, v + h * k3v);
     x += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
     v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    observe((i + 1) * h, x, v);
   }
   return {x, v};
+}
+
+template <typename F>
+std::array<double, 2> rk4(F f, double t_end, int steps) {
+  return rk4_observed(f, t_end, steps, [](double, double, double) {});
 }
 
 }  // namespace settle::test

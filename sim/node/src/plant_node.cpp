@@ -4,10 +4,8 @@
 
 namespace settle::sim {
 
-PlantNode::PlantNode(const hal::canopen::DriveNodeConfig& node, DriveAxis axis)
-    : node_{node}, axis_{std::move(axis)} {
-  log_.reserve(1 << 16);
-}
+PlantNode::PlantNode(const hal::canopen::DriveNodeConfig& node, DriveAxis axis, std::size_t log_capacity)
+    : node_{node}, axis_{std::move(axis)}, log_(log_capacity) {}
 
 void PlantNode::start(std::uint64_t now_us, hal::FrameSink& out) { node_.start(now_us, out); }
 
@@ -37,7 +35,9 @@ bool PlantNode::on_frame(const hal::CanFrame& frame, std::uint64_t now_us, hal::
   rec.feedback = axis_.feedback();
   rec.load = axis_.load_position();
   rec.base = axis_.base_position();
-  log_.push_back(rec);
+  // Full: the oldest record is overwritten in place (no allocation); a zero capacity keeps none.
+  if (log_.capacity() > 0) log_.push_back(rec);
+  if (sink_ != nullptr) sink_->on_record(rec);
   node_.publish({rec.feedback.position_actual, rec.feedback.velocity_actual, rec.feedback.load_position}, now_us, out);
   return true;
 }

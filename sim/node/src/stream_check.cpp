@@ -7,22 +7,32 @@
 
 namespace settle::sim {
 
-std::vector<std::int32_t> stream_setpoints(const core::Move<double>& move, std::uint32_t period_us,
-                                           double counts_per_unit, std::int32_t origin) {
-  std::vector<std::int32_t> out;
+SimStatus stream_setpoints(const core::Move<double>& move, std::uint32_t period_us, double counts_per_unit,
+                           std::int32_t origin, std::vector<std::int32_t>& out) {
+  if (period_us == 0) return SimStatus::non_positive_step;
+  if (!(counts_per_unit > 0.0) || !std::isfinite(counts_per_unit)) return SimStatus::non_positive_scale;
+  // Ticks 0 .. stream_ticks (which saturates above core's own bound, and for a NaN duration).
+  const std::int64_t ticks = core::stream_ticks(move, period_us);
+  if (ticks < 0 || static_cast<std::uint64_t>(ticks) >= kMaxSamples) return SimStatus::too_many_samples;
+  std::vector<std::int32_t> sp;
+  sp.reserve(static_cast<std::size_t>(ticks) + 1);
   core::SetpointStream<double> s{move, period_us, counts_per_unit, origin};
-  for (bool last = false; !last;) out.push_back(s.next(last));
-  return out;
+  for (bool last = false; !last && sp.size() <= static_cast<std::size_t>(ticks);) sp.push_back(s.next(last));
+  out = std::move(sp);
+  return SimStatus::ok;
 }
 
 SimStatus replay_stream(const DriveAxisConfig& cfg, const ModalPlant& plant, std::int32_t origin,
                         std::span<const std::int32_t> setpoints, std::size_t window, Replay& out) {
   if (setpoints.empty() || window == 0) return SimStatus::non_positive_step;
+  if (setpoints.size() > kMaxSamples || window > kMaxSamples - setpoints.size()) return SimStatus::too_many_samples;
   DriveAxis axis{};
   SimStatus st = DriveAxis::make(cfg, plant, origin, axis);
   if (st != SimStatus::ok) return st;
   Replay r{};
   r.move_periods = setpoints.size();
+  r.feedback.reserve(setpoints.size() + window);
+  r.load_after.reserve(window);
   for (const std::int32_t sp : setpoints) {
     st = axis.step(sp);
     if (st != SimStatus::ok) return st;
@@ -54,17 +64,21 @@ std::optional<std::size_t> align_feedback(std::span<const std::int32_t> measured
   return std::nullopt;
 }
 
-SampledResidual fitted_residual(std::span<const std::int32_t> load_counts, double load_counts_per_unit,
-                                double final_load, double dt, const ModalPlant& plant, double step_residual) {
+SimStatus fitted_residual(std::span<const std::int32_t> load_counts, double load_counts_per_unit, double final_load,
+                          double dt, const ModalPlant& plant, double step_residual, SampledResidual& out) {
   SampledResidual r{};
   r.samples = load_counts.size();
   std::vector<const Mode*> modes;
   for (const Mode& m : plant.modes()) {
     if (m.omega * std::sqrt(1.0 - m.zeta * m.zeta) * dt < 3.14159265358979323846 * 0.95) modes.push_back(&m);
   }
+  if (!modes.empty() && load_counts.size() > kMaxFitEntries / (2 * modes.size())) return SimStatus::too_many_samples;
   const auto n = static_cast<Eigen::Index>(load_counts.size());
   const auto k = static_cast<Eigen::Index>(2 * modes.size());
-  if (n < k + 1 || k == 0) return r;
+  if (n < k + 1 || k == 0) {
+    out = r;
+    return SimStatus::ok;
+  }
   Eigen::MatrixXd basis(n, k);
   Eigen::VectorXd e(n);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -83,7 +97,8 @@ SampledResidual fitted_residual(std::span<const std::int32_t> load_counts, doubl
   }
   r.fit_rms = std::sqrt((basis * c - e).squaredNorm() / static_cast<double>(n));
   r.prv_percent = step_residual > 0.0 ? 100.0 * r.amplitude / step_residual : 0.0;
-  return r;
+  out = r;
+  return SimStatus::ok;
 }
 
 }  // namespace settle::sim

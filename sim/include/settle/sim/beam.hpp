@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "settle/sim/limits.hpp"
 #include "settle/sim/status.hpp"
 
 namespace settle::sim {
@@ -27,8 +28,6 @@ struct BeamMode {
   double lambda{0.0};   // -rho int phi - m_t phi(L): q'' + w^2 q = lambda a(t)
   double phi_tip{0.0};  // phi_j(L): tip deflection = sum phi_j(L) q_j
 };
-
-inline constexpr std::size_t kMaxBeamModes = 40;
 
 [[nodiscard]] SimStatus validate(const BeamParams& p) noexcept;
 // The first `count` modes, in increasing frequency. On failure `out` is untouched.

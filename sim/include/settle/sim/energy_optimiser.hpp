@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "settle/sim/limits.hpp"
 #include "settle/sim/modal_plant.hpp"
 #include "settle/sim/status.hpp"
 
@@ -34,6 +35,7 @@ struct EnergyIntegrals {
 // h = 1/2 J (lambda / w_d)^2.
 [[nodiscard]] double energy_scale(const EnergyTarget& t) noexcept;
 // F, G, H and E(T) for the pseudo-polynomial with the given exponents (core designs the C_i).
+// w T above kMaxEnergyPhase is refused (too_many_samples): the quadrature's work grows with it.
 [[nodiscard]] SimStatus energy_integrals(const EnergyTarget& t, const std::vector<double>& gammas,
                                          EnergyIntegrals& out);
 

@@ -1,8 +1,11 @@
 #pragma once
 // CSV of every curve of the reproduced experiments and gnuplot PNGs laid out like the papers'
 // figures (seed 000 Fig. 3, seed 001 Figs. 2-7, seed 004 Fig. 3). PNGs need gnuplot on the PATH;
-// without it the CSV files and the .gp scripts are still written.
+// without it the CSV files and the .gp scripts are still written. gnuplot runs without a shell
+// (spawn.hpp), in the output directory, with the script on its standard input: any directory name
+// works, quotes, spaces and semicolons included.
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "settle/sim/reproduce.hpp"
@@ -19,6 +22,10 @@ struct FigureFiles {
 [[nodiscard]] SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out);
 [[nodiscard]] SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFiles& out);
 [[nodiscard]] SimStatus write_figures_004(const Result004& r, const std::string& dir, FigureFiles& out);
+
+// `text` as a gnuplot single-quoted string: ' doubled (gnuplot's escape; backslashes are literal
+// there), line breaks as spaces (a gnuplot command is one line).
+[[nodiscard]] std::string gnuplot_string(std::string_view text);
 
 // Writes time histories as CSV: t, command p/v/a, deflection, position, velocity, acceleration,
 // kinetic and potential energy (the `--csv` of settle simulate uses it too).

@@ -14,6 +14,7 @@
 #include <Eigen/Dense>
 
 #include "settle/sim/base_motion.hpp"
+#include "settle/sim/limits.hpp"
 #include "settle/sim/status.hpp"
 
 namespace settle::sim {
@@ -23,7 +24,8 @@ class LinearPlant {
   LinearPlant() = default;
 
   // b has three columns (base position, velocity, acceleration); so has d. Fails on inconsistent
-  // sizes or non-finite entries and leaves `out` untouched.
+  // sizes, more than kMaxStates states (too_many_modes) or non-finite entries and leaves `out`
+  // untouched.
   [[nodiscard]] static SimStatus make(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, const Eigen::MatrixXd& c,
                                       const Eigen::MatrixXd& d, LinearPlant& out);
 

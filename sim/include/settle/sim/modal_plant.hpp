@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "settle/sim/beam.hpp"
+#include "settle/sim/limits.hpp"
 #include "settle/sim/linear_plant.hpp"
 #include "settle/sim/status.hpp"
 
@@ -69,6 +70,7 @@ class ModalPlant {
  public:
   ModalPlant() = default;
 
+  // At most kMaxModes modes (too_many_modes, checked before anything is sized).
   [[nodiscard]] static SimStatus make_modes(const std::vector<Mode>& modes, double rigid_gain, PlantKind kind,
                                             ModalPlant& out);
   [[nodiscard]] static SimStatus make_sdof(const SdofParams& p, ModalPlant& out);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "settle/sim/command.hpp"
+#include "settle/sim/limits.hpp"
 #include "settle/sim/status.hpp"
 
 namespace settle::sim {
@@ -18,7 +19,8 @@ struct SensitivityPoint {
   double prv_percent{0.0};
 };
 
-// PRV for true frequency ratio * omega_design, ratio evenly spaced in [lo, hi] (n >= 2 points).
+// PRV for true frequency ratio * omega_design, ratio evenly spaced in [lo, hi] (0 < lo < hi, both
+// finite, else bad_range; 2 <= n <= kMaxSweepPoints, else bad_range / too_many_samples).
 [[nodiscard]] SimStatus omega_sensitivity(const Command& cmd, double omega_design, double zeta_true, double lo,
                                           double hi, std::size_t n, std::vector<SensitivityPoint>& out);
 // PRV for true damping ratio * zeta_design on the designed frequency.
@@ -33,7 +35,8 @@ struct InsensitivityWidth {
   bool hi_open{false};  // the search limit was reached above
 };
 
-// The interval of ratios around 1 (searched within [r_min, r_max]) over which PRV <= threshold.
+// The interval of ratios around 1 (searched within [r_min, r_max], 0.01 <= r_min < 1 < r_max <= 100,
+// else bad_range) over which PRV <= threshold. A failed simulation ends the search with its status.
 [[nodiscard]] SimStatus insensitivity_width(const Command& cmd, double omega_design, double zeta_true,
                                             double threshold_percent, InsensitivityWidth& out, double r_min = 0.25,
                                             double r_max = 3.0);

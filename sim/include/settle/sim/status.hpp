@@ -33,6 +33,11 @@ enum class SimStatus : std::uint8_t {
   io_error,                 // a CSV or plot file could not be written
   non_positive_scale,       // a counts-per-unit scale <= 0 or not finite
   bad_drive_model,          // servo model bandwidth <= 0 or damping outside (0, 1)
+  too_many_samples,         // the computation needs more than kMaxSamples samples (limits.hpp)
+  too_many_modes,           // more than kMaxModes modes (or kMaxStates states)
+  too_long,                 // move + tail beyond kMaxSimulatedTime, or a NaN/infinite duration
+  bad_range,                // a sweep or search range that is empty, non-finite or not around 1
+  non_finite_result,        // the simulation overflowed: parameters too extreme for double precision
 };
 
 // Stable snake_case code for logs and JSON.

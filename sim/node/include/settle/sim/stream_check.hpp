@@ -10,12 +10,16 @@
 
 #include "settle/core/move.hpp"
 #include "settle/sim/drive_axis.hpp"
+#include "settle/sim/limits.hpp"
+#include "settle/sim/status.hpp"
 
 namespace settle::sim {
 
-// The loop's integer targets for a move, tick by tick, ending exactly on origin + D.
-[[nodiscard]] std::vector<std::int32_t> stream_setpoints(const core::Move<double>& move, std::uint32_t period_us,
-                                                         double counts_per_unit, std::int32_t origin);
+// The loop's integer targets for a move, tick by tick, ending exactly on origin + D. Refuses a zero
+// period (non_positive_step), a scale that is not positive and finite (non_positive_scale) and a
+// move of more than kMaxSamples setpoints at this period (too_many_samples) before allocating.
+[[nodiscard]] SimStatus stream_setpoints(const core::Move<double>& move, std::uint32_t period_us,
+                                         double counts_per_unit, std::int32_t origin, std::vector<std::int32_t>& out);
 
 struct Replay {
   std::vector<AxisFeedback> feedback;    // at the end of every period: the setpoints', then the window's
@@ -26,7 +30,7 @@ struct Replay {
 };
 
 // Runs the setpoints through a fresh DriveAxis at rest at `origin`, then `window` periods holding
-// the last one.
+// the last one. At most kMaxSamples periods in all (too_many_samples, checked before allocating).
 [[nodiscard]] SimStatus replay_stream(const DriveAxisConfig& cfg, const ModalPlant& plant, std::int32_t origin,
                                       std::span<const std::int32_t> setpoints, std::size_t window, Replay& out);
 
@@ -47,8 +51,10 @@ struct SampledResidual {
 // fit of the plant's free response, sum_j e^(-zeta_j w_j t)(A_j cos wd_j t + B_j sin wd_j t), and
 // sum_j sqrt(A_j^2 + B_j^2) at the first sample: the literature's amplitude (the envelope, not the
 // sampled peaks, which come after some decay). Modes above the sampling's Nyquist are left out.
-[[nodiscard]] SampledResidual fitted_residual(std::span<const std::int32_t> load_counts, double load_counts_per_unit,
-                                              double final_load, double dt, const ModalPlant& plant,
-                                              double step_residual);
+// Too few samples for the fit leave the amplitude 0. The fit's matrix (samples x 2 per mode) is
+// at most kMaxFitEntries (too_many_samples, checked before allocating).
+[[nodiscard]] SimStatus fitted_residual(std::span<const std::int32_t> load_counts, double load_counts_per_unit,
+                                        double final_load, double dt, const ModalPlant& plant, double step_residual,
+                                        SampledResidual& out);
 
 }  // namespace settle::sim

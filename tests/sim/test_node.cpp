@@ -1,0 +1,169 @@
+// The simulated drive's log is bounded and streamed (`settle plant` runs for hours at one record
+// per SYNC), and the offline replica of a streamed move refuses sizes beyond limits.hpp before
+// allocating. Allocations are counted by replacing malloc and the global operator new here.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <new>
+#include <string>
+#include <unistd.h>
+
+#include "settle/core/planner.hpp"
+#include "settle/sim/limits.hpp"
+#include "settle/sim/plant_node.hpp"
+#include "settle/sim/stream_check.hpp"
+#include "settle/sim/sync_log.hpp"
+
+namespace {
+std::atomic<std::uint64_t> g_allocations{0};
+}  // namespace
+
+// malloc too (Eigen's dynamic matrices allocate with it), as tests/firmware/test_no_alloc.cpp
+// does; not under AddressSanitizer, which owns malloc there (operator new still counts).
+#ifndef __SANITIZE_ADDRESS__
+extern "C" void* __libc_malloc(std::size_t);  // glibc's own allocator, beneath our hook
+extern "C" void* malloc(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(n);
+}
+#endif
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  void* p = std::malloc(n == 0 ? 1 : n);
+  if (p == nullptr) throw std::bad_alloc{};
+  return p;
+}
+// GCC cannot see that this operator new allocates with malloc.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
+
+namespace settle::sim {
+namespace {
+
+class Discard final : public hal::FrameSink {
+ public:
+  [[nodiscard]] bool put(const hal::CanFrame&) noexcept override { return true; }
+};
+
+ModalPlant beam() {
+  ModalPlant p;
+  EXPECT_EQ(ModalPlant::make_beam(BeamOptions{}, p), SimStatus::ok);
+  return p;
+}
+
+core::Move<double> poly345(double distance, double time) {
+  core::MoveRequest rq;
+  rq.profile = core::ProfileKind::poly345;
+  rq.distance = distance;
+  rq.time = time;
+  core::Move<double> m;
+  EXPECT_EQ(core::plan(rq, m), core::Status::ok);
+  return m;
+}
+
+TEST(PlantNodeLog, ManySyncsAllocateNothingAndTheFileHoldsEveryRecord) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("settle_plant_log_" + std::to_string(::getpid()) + ".csv")).string();
+  DriveAxis axis;
+  ASSERT_EQ(DriveAxis::make(DriveAxisConfig{}, beam(), 0, axis), SimStatus::ok);
+  hal::canopen::DriveNodeConfig dc{};
+  dc.node = 1;
+  dc.sync_period_us = 1000;
+  constexpr std::size_t kCapacity = 64;
+  PlantNode pn{dc, std::move(axis), kCapacity};
+  SyncCsvLog log;
+  ASSERT_TRUE(log.open(path));
+  pn.set_sink(&log);
+  Discard out;
+  pn.start(0, out);
+  hal::CanFrame sync{};
+  sync.id = 0x80;
+  // Warm-up: the plant's transition for this period is computed and cached on the first SYNC.
+  constexpr std::uint64_t kWarm = 10, kSyncs = 200'000;  // three times what the old log reserved
+  std::uint64_t t = 0;
+  for (std::uint64_t i = 0; i < kWarm; ++i) ASSERT_TRUE(pn.on_frame(sync, t += 1000, out));
+  const std::uint64_t before = g_allocations.load();
+  bool all_syncs = true;
+  for (std::uint64_t i = kWarm; i < kSyncs; ++i) all_syncs = pn.on_frame(sync, t += 1000, out) && all_syncs;
+  const std::uint64_t allocated = g_allocations.load() - before;
+  EXPECT_TRUE(all_syncs);
+  EXPECT_EQ(allocated, 0u);
+  EXPECT_EQ(pn.syncs(), kSyncs);
+  EXPECT_EQ(pn.log().capacity(), kCapacity);
+  ASSERT_EQ(pn.log().size(), kCapacity);
+  EXPECT_EQ(pn.log().front().sync, kSyncs - kCapacity);  // the last kCapacity records, in order
+  EXPECT_EQ(pn.log().back().sync, kSyncs - 1);
+  EXPECT_EQ(log.records(), kSyncs);
+  ASSERT_TRUE(log.close());
+
+  // The file: the header, then one line per SYNC with its index, in order.
+  std::ifstream f{path};
+  std::string line;
+  ASSERT_TRUE(std::getline(f, line));
+  EXPECT_EQ(line, "sync,time_us,following,target,position_actual,velocity_actual,load_counts,load,base");
+  std::uint64_t n = 0;
+  while (std::getline(f, line)) {
+    const std::string expected_prefix = std::to_string(n) + "," + std::to_string((n + 1) * 1000) + ",";
+    if (line.rfind(expected_prefix, 0) != 0) {
+      ADD_FAILURE() << "line " << n << ": " << line;
+      break;
+    }
+    ++n;
+  }
+  EXPECT_EQ(n, kSyncs);
+  std::filesystem::remove(path);
+}
+
+TEST(PlantNodeLog, UnwritableLogIsRefusedAtOpen) {
+  SyncCsvLog log;
+  EXPECT_FALSE(log.open("/nonexistent-dir/settle/log.csv"));
+  EXPECT_FALSE(log.close());
+}
+
+TEST(StreamCheck, SetpointsEndOnTheTargetAndAreCountedExactly) {
+  // 0.5 s at 1 ms: ticks 0 .. 500, the last one exactly on D = 0.1 m = 100 000 counts.
+  std::vector<std::int32_t> sp;
+  ASSERT_EQ(stream_setpoints(poly345(0.1, 0.5), 1000, 1e6, 7, sp), SimStatus::ok);
+  ASSERT_EQ(sp.size(), 501u);
+  EXPECT_EQ(sp.front(), 7);
+  EXPECT_EQ(sp.back(), 100'007);
+}
+
+TEST(StreamCheck, SizesAreCheckedBeforeAllocating) {
+  std::vector<std::int32_t> sp;
+  // 11 s at 1 us: 1.1e7 setpoints.
+  EXPECT_EQ(stream_setpoints(poly345(0.1, 11.0), 1, 1e6, 0, sp), SimStatus::too_many_samples);
+  EXPECT_EQ(stream_setpoints(poly345(0.1, 0.5), 0, 1e6, 0, sp), SimStatus::non_positive_step);
+  EXPECT_EQ(stream_setpoints(poly345(0.1, 0.5), 1000, 0.0, 0, sp), SimStatus::non_positive_scale);
+  EXPECT_TRUE(sp.empty());
+
+  const ModalPlant p = beam();
+  const std::vector<std::int32_t> few = {0, 10, 20};
+  Replay r;
+  const std::uint64_t before = g_allocations.load();
+  const SimStatus refused = replay_stream(DriveAxisConfig{}, p, 0, few, kMaxSamples, r);
+  const std::uint64_t allocated = g_allocations.load() - before;
+  EXPECT_EQ(refused, SimStatus::too_many_samples);
+  EXPECT_EQ(allocated, 0u);  // refused before the axis or the replay was made
+  // Within the bound: three setpoint periods, then the window's other four.
+  ASSERT_EQ(replay_stream(DriveAxisConfig{}, p, 0, few, 5, r), SimStatus::ok);
+  EXPECT_EQ(r.feedback.size(), 3u + 4u);
+
+  // The fit's matrix: samples x 2 per mode (the beam's three modes are all below Nyquist at 1 ms).
+  const std::vector<std::int32_t> loads(kMaxFitEntries / 6 + 1, 0);
+  SampledResidual s;
+  EXPECT_EQ(fitted_residual(loads, 1e6, 0.0, 1e-3, p, 1.0, s), SimStatus::too_many_samples);
+  EXPECT_EQ(fitted_residual(std::span<const std::int32_t>{loads}.first(1000), 1e6, 0.0, 1e-3, p, 1.0, s),
+            SimStatus::ok);
+  EXPECT_EQ(s.amplitude, 0.0);  // at rest
+}
+
+}  // namespace
+}  // namespace settle::sim
