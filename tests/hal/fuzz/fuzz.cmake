@@ -87,16 +87,30 @@ add_custom_target(hal_fuzz_servo ALL DEPENDS ${servo_fuzz_exe})
 # minimised input per invariant violation found; each is its own test).
 set(servo_seeds_dir ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/servo_seeds)
 set(servo_regressions_dir ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/regressions)
-set(SETTLE_SERVO_FUZZ_BRIEF_RUNS 3000 CACHE STRING "inputs the brief master-vs-drive fuzz run tries")
+set(SETTLE_SERVO_FUZZ_BRIEF_RUNS 600 CACHE STRING "inputs the brief master-vs-drive fuzz run tries")
 set(servo_fuzz_common -rss_limit_mb=2048 -max_len=1100 -artifact_prefix=${servo_fuzz_dir}/artifacts/)
 file(MAKE_DIRECTORY ${servo_fuzz_dir}/artifacts ${servo_fuzz_dir}/corpus-long)
 file(GLOB servo_seeds CONFIGURE_DEPENDS ${servo_seeds_dir}/*)
 file(GLOB servo_regressions CONFIGURE_DEPENDS ${servo_regressions_dir}/*)
 
-# Regressions that fail on today's code and pass once the drive and loop fixes of issue 12 are
-# merged (items 6-11): expected to fail until then. When a fix lands, its regression's test
-# "fails" (it passes): take its name out of this list.
-set(SETTLE_SERVO_FUZZ_PENDING_FIXES "" CACHE STRING "fuzz regressions expected to fail until their fix is merged")
+# Inputs that fail on the code this harness was written against and pass once the drive and loop
+# fixes of issue 12 are merged (the file name says which item; "new_" ones are defects the
+# harness found that no item names): ctest expects them to FAIL (WILL_FAIL) until then. When a
+# fix lands its test "fails" because the input passes: take its name out of this list. The
+# brief random run is in it as well while today's code still has defects it finds quickly.
+set(servo_fuzz_pending
+  item06_foreign_enabling_rpdo_far_target
+  item06_spoofed_feedback_while_enabling
+  item07_foreign_rpdo_far_step
+  item07_lost_rpdo_double_step
+  item07_sdo_target_write_far_step
+  item08_sync_burst_two_steps_in_one_period
+  item09_third_party_preop_mid_move
+  item10_spoofed_enabled_drive_preop
+  item10_third_party_stop_mid_move
+  item11_busy_sync_double_step
+  new_repeated_nmt_start_drops_latched_rpdo
+  hal_fuzz_servo_brief)
 
 # Every seed, run once (no fuzzing): the committed corpus stays green.
 add_test(NAME hal_fuzz_servo_seeds COMMAND ${servo_fuzz_exe} ${servo_fuzz_common} ${servo_seeds})
@@ -105,13 +119,15 @@ foreach(input IN LISTS servo_regressions)
   get_filename_component(name ${input} NAME)
   add_test(NAME hal_fuzz_servo_regression.${name} COMMAND ${servo_fuzz_exe} ${servo_fuzz_common} ${input})
   set_tests_properties(hal_fuzz_servo_regression.${name} PROPERTIES LABELS fuzz TIMEOUT 120)
-  if(name IN_LIST SETTLE_SERVO_FUZZ_PENDING_FIXES)
+  if(name IN_LIST servo_fuzz_pending)
     set_tests_properties(hal_fuzz_servo_regression.${name} PROPERTIES WILL_FAIL TRUE)
   endif()
 endforeach()
 
 # The brief run: a fixed number of runs from a fixed seed, starting from the seeds in an emptied
 # corpus, so it makes the same mutations every time (no wall-clock limit decides what it tries).
+# -use_cmp=0: the comparison-guided mutations would insert operands of compared pointers, which
+# differ from run to run (ASLR), and the run would no longer be reproducible.
 add_test(NAME hal_fuzz_servo_brief_reset
   COMMAND ${CMAKE_COMMAND} -E rm -rf ${servo_fuzz_dir}/corpus-brief)
 add_test(NAME hal_fuzz_servo_brief_mkdir
@@ -120,10 +136,13 @@ set_tests_properties(hal_fuzz_servo_brief_reset PROPERTIES LABELS fuzz FIXTURES_
 set_tests_properties(hal_fuzz_servo_brief_mkdir PROPERTIES LABELS fuzz FIXTURES_SETUP servo_brief_corpus
   DEPENDS hal_fuzz_servo_brief_reset)
 add_test(NAME hal_fuzz_servo_brief
-  COMMAND ${servo_fuzz_exe} ${servo_fuzz_common} -seed=1 -runs=${SETTLE_SERVO_FUZZ_BRIEF_RUNS}
+  COMMAND ${servo_fuzz_exe} ${servo_fuzz_common} -seed=1 -use_cmp=0 -runs=${SETTLE_SERVO_FUZZ_BRIEF_RUNS}
           ${servo_fuzz_dir}/corpus-brief ${servo_seeds_dir})
 set_tests_properties(hal_fuzz_servo_brief PROPERTIES LABELS fuzz TIMEOUT 300
   FIXTURES_REQUIRED servo_brief_corpus)
+if(hal_fuzz_servo_brief IN_LIST servo_fuzz_pending)
+  set_tests_properties(hal_fuzz_servo_brief PROPERTIES WILL_FAIL TRUE)
+endif()
 
 # The long run: 15 minutes, time-limited, its corpus kept in the build tree between runs.
 add_test(NAME hal_fuzz_servo_long

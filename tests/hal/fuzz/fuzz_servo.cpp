@@ -27,8 +27,9 @@
 //     h0      bits 0-1 profile (0, 3 scurve; 1 poly345; 2 ramp-versine), bit 2 interpolated
 //             position instead of CSP, bit 3 drive following-error window on, bit 4 master
 //             watches the drive's heartbeat, bit 5 drive's 0x6007 = quick stop instead of fault
-//     h1..h2  distance, int16 LE / 32768 * 0.25 units (m); h3 move time 0.03 + h3 ms... see below
-//     h3      time = 0.03 + h3 * 0.001 s;  h4 omega = 10 + h4 * 0.25 rad/s
+//     h1..h2  distance = int16 LE / 32768 * 0.25 units (m)
+//     h3      time = 0.03 + h3 * 0.001 s;  h4 omega = 10 + h4 * 0.25 rad/s (a move core refuses,
+//             or whose peak velocity is over kMaxPeakVelocity, is not submitted: no move)
 //     h5      tick at which the move is submitted
 //     h6..h9  seed of the fault double's random mode;  h10..h13 drive's initial position (i32 LE)
 //   then events, 4 bytes each [ticks after the previous event] [op] [a] [b]; the injecting ops
@@ -71,6 +72,10 @@ constexpr std::uint64_t kMaxEventTick = 1200;
 constexpr std::uint64_t kSettleTicks = 30;  // quiet ticks before (c) is judged: > every delay
 constexpr std::uint64_t kTailTicks = 250;   // quiet ticks after the last event (and the move)
 constexpr std::size_t kMaxDriveFramesPerTick = 64;
+// The valid moves: planned by core and no faster than this (units/s). A planned move of a few
+// centimetres in 30 ms designed for a slow mode peaks at thousands of m/s, and its step limit
+// would then let any hostile step through.
+constexpr double kMaxPeakVelocity = 5.0;
 
 std::uint64_t g_tick = 0;  // for the messages
 // FUZZ_SERVO_TRACE=1 in the environment: a line per event and per change of state, to read what
@@ -78,7 +83,9 @@ std::uint64_t g_tick = 0;  // for the messages
 const int g_trace = std::getenv("FUZZ_SERVO_TRACE") != nullptr ? std::atoi(std::getenv("FUZZ_SERVO_TRACE")) : 0;
 // Triage aid, never set by the tests: FUZZ_SERVO_EMULATE=<bits> makes the plant behave as the
 // fixed drive will, so that a campaign finds the other defects instead of these again:
-// 1 = refuse (fault) a step over the limit (item 7), 2 = hold at the enabling SYNC (item 6).
+// 1 = refuse (fault) a step over the limit (item 7), 2 = hold at the enabling SYNC (item 6),
+// 4 = ignore a second SYNC within one period (item 8), 8 = judge (c) only while the drive is
+// operational and following (hides items 9 and 10: a drive stopped behind the master's back).
 const unsigned g_emulate = std::getenv("FUZZ_SERVO_EMULATE") != nullptr
                                ? static_cast<unsigned>(std::atoi(std::getenv("FUZZ_SERVO_EMULATE")))
                                : 0U;
@@ -348,7 +355,10 @@ bool parse(const std::uint8_t* data, std::size_t size, Scenario& s) {
   q.time = 0.03 + time * 0.001;
   q.omega = 10.0 + omega * 0.25;
   core::Move<double> m{};
-  if (core::plan(q, m) == core::Status::ok && std::isfinite(m.peaks().v) && m.peaks().v > 0.0) s.move = m;
+  if (core::plan(q, m) == core::Status::ok && std::isfinite(m.peaks().v) && m.peaks().v > 0.0 &&
+      m.peaks().v <= kMaxPeakVelocity) {
+    s.move = m;
+  }
   s.limits = limits_for(s.move ? s.move->peaks().v : 0.0);
 
   std::uint64_t tick = 0;
@@ -582,7 +592,11 @@ class Run {
     static constexpr std::array<const char*, op_count> names{
         "target", "drop_tx", "drop_rx", "fail_tx", "delay_tx", "delay_rx", "random", "clear", "dup_rx",
         "dup_tx", "reorder_rx", "reorder_tx", "inject_before", "inject_after", "inject_sync"};
-    TRACE("event %s on the %s side, a=%u b=%u", names[ev.op], (ev.a & 1U) != 0 ? "drive" : "master", ev.a, ev.b);
+    if (ev.op == op_inject_before || ev.op == op_inject_sync) {
+      TRACE("event %s, a=%u b=%u", names[ev.op], ev.a, ev.b);
+    } else {
+      TRACE("event %s on the %s side, a=%u b=%u", names[ev.op], (ev.a & 1U) != 0 ? "drive" : "master", ev.a, ev.b);
+    }
     const int side = ev.a & 1;
     testing::FaultInjectingBus& f = side == 0 ? r.m_fault : r.d_fault;
     HarnessBus& h = side == 0 ? r.m_bus : r.d_bus;
@@ -693,6 +707,8 @@ class Run {
       if (event != DriveEvent::sync) continue;
       std::int32_t next = r.drive.following() ? r.drive.setpoint() : r.plant.position;
       if ((g_emulate & 2U) != 0 && before != Cia402State::operation_enabled) next = r.plant.position;
+      if ((g_emulate & 4U) != 0 && last_sync_us_ == now) next = r.plant.position;
+      last_sync_us_ = now;
       if ((g_emulate & 1U) != 0 && distance_counts(next, r.plant.position) > s_.limits.step_counts) {
         r.drive.raise_fault(emcy_code::following_error, now, r.d_bus);
         next = r.plant.position;
@@ -731,6 +747,7 @@ class Run {
                        r.m_fault.held_receives() == 0 && r.d_fault.held_sends() == 0 && r.d_fault.held_receives() == 0;
     if (!quiet) last_disturbance_ = tick;
     if (completed_ == 0 || foreign_ || !r.loop.idle() || !r.loop.ready(0)) return;
+    if ((g_emulate & 8U) != 0 && (r.drive.nmt_state() != NmtState::operational || !r.drive.following())) return;
     if (tick - last_disturbance_ < kSettleTicks) return;
     if (distance_counts(r.plant.position, target_) > 1) {
       violated("c", "a move the loop reports completed did not end at its target (drive position vs target)",
@@ -748,6 +765,7 @@ class Run {
   std::uint64_t completed_{0};
   std::int32_t target_{0};
   std::int32_t origin_{0};
+  std::uint64_t last_sync_us_{~std::uint64_t{0}};
   double distance_counts_{0.0};
   // For the trace only.
   RemoteDriveState view_{RemoteDriveState::idle};
