@@ -34,6 +34,11 @@
 //     h6..h9  seed of the fault double's random mode;  h10..h13 drive's initial position (i32 LE)
 //   then events, 4 bytes each [ticks after the previous event] [op] [a] [b]; the injecting ops
 //   take 4 more bytes [e0..e3]. See apply() for the ops and inject_frame() for the frames.
+//   servo_input.py writes inputs from a readable description (and the seed corpus); to read what
+//   an input does, run the harness on it with FUZZ_SERVO_TRACE=1 (2: every SYNC too).
+// After the last event every fault is cleared and the run goes on quietly for kTailTicks.
+// regressions/ holds one minimised input per violation found; fuzz.cmake says which are expected
+// to fail until their fix is merged.
 #include <algorithm>
 #include <array>
 #include <cmath>
