@@ -1,6 +1,8 @@
-# The libFuzzer harness needs clang (the main build uses g++), so it is compiled by a custom
-# command with clang++ and the sanitizers; the brief run is a default test, the long run has
-# the fuzz-long label:  ctest -L fuzz-long  (or SETTLE_TEST_LABELS=fuzz-long tools/test).
+# The libFuzzer harnesses need clang (the main build uses g++), so they are compiled by custom
+# commands with clang++ and the sanitizers; the brief runs are default tests (label fuzz), the
+# long runs have the fuzz-long label:  ctest -L fuzz-long  (or SETTLE_TEST_LABELS=fuzz-long tools/test).
+#   hal_fuzz_canopen  every decoder, the SDO server, the drive node and the master, frame by frame
+#   hal_fuzz_servo    the master against the drive through the fault-injecting bus (fuzz_servo.cpp)
 find_program(SETTLE_CLANGXX NAMES clang++ clang++-14 clang++-15 clang++-16)
 set(fuzz_dir ${CMAKE_CURRENT_BINARY_DIR}/fuzz)
 if(NOT SETTLE_CLANGXX)
