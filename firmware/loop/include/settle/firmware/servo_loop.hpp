@@ -216,7 +216,7 @@ class ServoLoop {
   // Starts every drive (NMT, SDO configuration, enable sequence); tick() must run from now on.
   void start(std::uint64_t now_us) noexcept {
     for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->start(now_us, bus_);
-    started_ = true;
+    sync_blocked_ &= static_cast<std::uint8_t>(~kSyncNotStarted);
   }
 
   // After a halt (feedback timeout, foreign SYNC, send failures, a drive someone else took out of
@@ -225,7 +225,7 @@ class ServoLoop {
   void restart(std::size_t axis, std::uint64_t now_us) noexcept {
     if (axis >= MaxAxes || axis >= count_) return;
     Axis& a = axes_[axis];
-    sync_halted_ = false;
+    sync_blocked_ &= static_cast<std::uint8_t>(~kSyncForeign);
     if (bus_state_ == hal::BusState::bus_off) return;  // the bus's recovery restarts it
     a.halt = AxisFault::none;
     a.have_target = false;
@@ -276,7 +276,7 @@ class ServoLoop {
     bool unit_ok = true;
     for (std::size_t i = 0; i < count_; ++i) unit_ok = stream(axes_[i]) && unit_ok;
     bool sync_sent = false;
-    if (started_ && !sync_halted_ && bus_state_ != hal::BusState::bus_off) {
+    if (sync_blocked_ == 0) {
       // The SYNC applies this tick's RPDOs: it goes out only with all of them.
       if (unit_ok) {
         if (!sync_unsent_) sync_frame_ = &sync_.next();
@@ -296,7 +296,10 @@ class ServoLoop {
         if (unsent_run_ >= config_.send_failure_periods) halt_all(AxisFault::send_failed);
       }
     }
-    for (std::size_t i = 0; i < count_; ++i) commit(axes_[i], sync_sent);
+    // stream() applied each sent RPDO's setpoint as if its SYNC would follow; it did not.
+    if (!sync_sent) {
+      for (std::size_t i = 0; i < count_; ++i) take_back(axes_[i]);
+    }
   }
 
   // One received frame: routed to its axis's drive, its feedback logged. tick() calls it for every
@@ -376,14 +379,12 @@ class ServoLoop {
     bool sent_prev_valid{false};
     bool end_pending{false};      // the final setpoint of a move is in the unit not yet applied
     bool finishing{false};        // a move's final setpoint was applied: waiting for the feedback
-    bool staged{false};           // this tick's RPDO went out; the SYNC decides whether it counts
     AxisFault halt{AxisFault::none};   // not none: the loop sends this axis nothing
     AxisFault fault{AxisFault::none};  // why it last stopped
-    std::uint16_t unanswered{0};  // SYNCs sent while ready since the last TPDO1
+    std::uint32_t unanswered{0};  // SYNCs sent while ready since the last TPDO1
     std::uint16_t finish_wait{0}; // periods spent finishing
     std::int32_t target{0};       // last target commanded (applied by a SYNC)
     std::int32_t sent_prev{0};    // target sent in the previous tick (what the feedback answers)
-    std::int32_t staged_target{0};
     std::int32_t final_target{0}; // while finishing: where the feedback must show the drive
     std::uint32_t guard{0};       // largest setpoint step allowed per tick, counts (2^31: any)
     std::optional<std::int32_t> pending{};  // computed, not yet applied (unit not sent): resent first
@@ -424,7 +425,6 @@ class ServoLoop {
     a.finishing = false;
     a.pending.reset();
     a.end_pending = false;
-    a.staged = false;
     a.queue.clear();
   }
 
@@ -461,8 +461,8 @@ class ServoLoop {
   // A second SYNC producer: two clocks would drive the drives; stop the loop's and every axis.
   [[gnu::noinline, gnu::cold]] void on_foreign_sync() noexcept {
     foreign_sync_seen_ = false;
-    if (sync_halted_) return;
-    sync_halted_ = true;
+    if ((sync_blocked_ & kSyncForeign) != 0) return;
+    sync_blocked_ |= kSyncForeign;
     note(LoopEventKind::foreign_sync, kBusEvent, AxisFault::foreign_sync);
     halt_all(AxisFault::foreign_sync);
   }
@@ -471,6 +471,11 @@ class ServoLoop {
   [[gnu::noinline, gnu::cold]] void on_bus_state(std::uint64_t now_us) noexcept {
     const hal::BusState before = bus_state_;
     bus_state_ = bus_.bus_state();
+    if (bus_state_ == hal::BusState::bus_off) {
+      sync_blocked_ |= kSyncBusOff;
+    } else {
+      sync_blocked_ &= static_cast<std::uint8_t>(~kSyncBusOff);
+    }
     switch (bus_state_) {
       case hal::BusState::error_active: note(LoopEventKind::bus_error_active, kBusEvent, AxisFault::none); break;
       case hal::BusState::error_warning: note(LoopEventKind::bus_error_warning, kBusEvent, AxisFault::none); break;
@@ -569,7 +574,6 @@ class ServoLoop {
     a.record.tick = stats_.ticks;
     a.record.sent = false;
     a.record.move_end = false;
-    a.staged = false;
     if (a.halt != AxisFault::none) {
       a.record.moving = false;
       return true;  // nothing for a halted axis
@@ -620,9 +624,26 @@ class ServoLoop {
     }
     const hal::SendStatus st = bus_.send(tx_);
     if (st == hal::SendStatus::sent) {
+      // Applied as if the SYNC follows, which it nearly always does; take_back() undoes this
+      // tick's part when it did not.
       ++a.stats.rpdo_sent;
-      a.staged = true;
-      a.staged_target = target;
+      a.record.sent = true;
+      a.pending.reset();
+      a.sent_prev = target;
+      a.sent_prev_valid = ready;
+      if (!ready) return true;
+      a.target = target;
+      ++a.unanswered;
+      if (a.end_pending) {
+        // The move's final setpoint is applied: it is done when the feedback shows it.
+        a.record.move_end = true;
+        a.end_pending = false;
+        a.active = false;
+        a.queue.drop_front();
+        a.finishing = true;
+        a.finish_wait = 0;
+        a.final_target = target;
+      }
       return true;
     }
     // Busy or error: not queued and not retried now (no bursts). No SYNC goes out this tick, and
@@ -633,33 +654,17 @@ class ServoLoop {
     return false;
   }
 
-  // After the SYNC: a sent unit applies the staged setpoint; an unsent one keeps it for next tick.
-  void commit(Axis& a, bool sync_sent) noexcept {
-    if (!a.staged) return;
-    a.staged = false;
-    const bool ready = a.drive->ready();
-    if (!sync_sent) {
-      if (ready) a.pending = a.staged_target;
-      a.sent_prev_valid = false;
-      return;
-    }
-    a.record.sent = true;
-    a.pending.reset();
-    a.sent_prev = a.staged_target;
-    a.sent_prev_valid = ready;
-    if (!ready) return;
-    a.target = a.staged_target;
-    if (a.unanswered < 0xFFFF) ++a.unanswered;
-    if (a.end_pending) {
-      // The move's final setpoint is applied: it is done when the feedback shows it.
-      a.record.move_end = true;
-      a.end_pending = false;
-      a.active = false;
-      a.queue.drop_front();
-      a.finishing = true;
-      a.finish_wait = 0;
-      a.final_target = a.target;
-    }
+  // The tick's SYNC did not go out: the RPDO this axis sent was never applied. Its setpoint goes
+  // out again next tick (the moves' clock holds); if it was a move's last, the move is finishing
+  // from the tick it is applied in (the drive's feedback decides either way).
+  [[gnu::noinline]] static void take_back(Axis& a) noexcept {
+    if (!a.record.sent) return;
+    a.record.sent = false;
+    a.record.move_end = false;
+    a.sent_prev_valid = false;
+    if (!a.drive->ready()) return;
+    a.pending = a.target;
+    --a.unanswered;
   }
 
   static constexpr std::uint8_t kNoAxis = 0xFF;
@@ -673,8 +678,12 @@ class ServoLoop {
   // Per-tick state first (short offsets on a Cortex-M0), the axes last.
   Bus& bus_;
   std::size_t count_{0};
-  bool started_{false};
-  bool sync_halted_{false};       // a foreign SYNC was seen: the loop sends none until restart()
+  // Why the loop sends no SYNC (0: it does): not started, a foreign SYNC seen (until restart()),
+  // the bus is off. One byte, so that the tick tests one thing.
+  static constexpr std::uint8_t kSyncNotStarted = 1;
+  static constexpr std::uint8_t kSyncForeign = 2;
+  static constexpr std::uint8_t kSyncBusOff = 4;
+  std::uint8_t sync_blocked_{kSyncNotStarted};
   bool sync_unsent_{false};       // the last SYNC built did not go out: resend that frame
   bool foreign_sync_seen_{false};
   hal::BusState bus_state_{hal::BusState::error_active};
