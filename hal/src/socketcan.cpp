@@ -160,9 +160,10 @@ OpenStatus SocketCanBus::open(const char* interface, const SocketCanOptions& opt
   fd_frames_ = options.fd_frames;
   kernel_drops_ = 0;
   interface_ = CanInterface{interface};
-  has_controller_ = interface_.has_controller();
+  // Whether it has a controller to ask is learnt with the first error frame: libsocketcan's query
+  // prints to stderr on a virtual interface, which never sends one.
+  controller_known_ = false;
   set_bus_state(BusState::error_active);
-  refresh_controller_state();
   return OpenStatus::ok;
 }
 
@@ -309,8 +310,12 @@ void SocketCanBus::take_error_frame(std::uint32_t can_id, std::span<const std::u
 }
 
 void SocketCanBus::refresh_controller_state() noexcept {
+  if (!controller_known_) {
+    has_controller_ = interface_.has_controller();
+    controller_known_ = true;
+  }
   if (!has_controller_) {
-    return;  // vcan and friends: no controller, no state; error frames alone speak
+    return;  // no controller to ask: the error frames alone speak
   }
   CanControllerState state{};
   if (interface_.state(state) != ControlStatus::ok) {

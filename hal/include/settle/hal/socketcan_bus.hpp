@@ -133,6 +133,7 @@ class SocketCanBus final : public CanBus {
   bool fd_frames_{false};
   std::uint32_t kernel_drops_{0};  // last SO_RXQ_OVFL value, which the kernel reports cumulatively
   bool has_controller_{false};     // can-dev: can_get_state and can_do_restart apply
+  bool controller_known_{false};
   CanInterface interface_{""};
 };
 
