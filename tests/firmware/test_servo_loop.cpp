@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -60,6 +61,7 @@ struct Rig {
   std::vector<Seen> frames;
   std::vector<firmware::LoopEvent> events;
   bool drive_alive = true;  // false: the drive's process hangs (it takes and sends nothing)
+  std::function<void()> before_drive;  // runs between the loop's tick and the drive's
 
   explicit Rig(const firmware::AxisConfig& a = axis(1)) {
     EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
@@ -73,6 +75,7 @@ struct Rig {
     faulty.set_time_us(now);
     loop.tick(now);
     if (loop.record(0).sent && loop.ready(0)) sent.push_back(loop.record(0).target);
+    if (before_drive) before_drive();
     if (drive_alive) drive.process(now);
     hal::CanFrame f{};
     while (wire.receive(f, 0) == hal::ReceiveStatus::received) frames.push_back({ticks, f});
@@ -796,6 +799,34 @@ TEST(ServoLoop, ARestartTheControllerCompletesAtOnceIsSeenInTheNextTick) {
                                                 Kind::bus_error_active, Kind::start_up_rerun}));
   ASSERT_TRUE(r.run_until_ready());
   EXPECT_EQ(r.loop.stats().bus_offs, 1u);
+}
+
+
+// A pre-operational heartbeat the drive sent before it took the NMT start can arrive after the
+// master sent it: that is start-up, not a third party. Only once the drive has been seen
+// operational (a TPDO, an operational heartbeat) does pre-operational mean it was stopped.
+TEST(ServoLoop, ALatePreOperationalHeartbeatDuringStartUpIsNotAStop) {
+  Rig r;
+  hal::CanFrame late{};
+  late.id = 0x701;
+  late.len = 1;
+  late.data[0] = 0x7F;  // pre-operational
+  // In the tick the master sends NMT start, the heartbeat reaches it before the drive's first TPDO.
+  bool sent_late = false;
+  r.before_drive = [&] {
+    if (!sent_late && r.loop.drive(0).state() == hal::canopen::RemoteDriveState::enabling) {
+      sent_late = r.third.send(late) == hal::SendStatus::sent;
+    }
+  };
+  ASSERT_TRUE(r.run_until_ready()) << hal::canopen::to_string(r.loop.drive(0).state());
+  ASSERT_TRUE(sent_late);
+  EXPECT_EQ(r.loop.fault(0), Fault::none);
+  // Once operational, the same heartbeat is a stop.
+  r.before_drive = nullptr;
+  ASSERT_EQ(r.third.send(late), hal::SendStatus::sent);
+  r.tick();
+  EXPECT_EQ(r.loop.fault(0), Fault::drive_not_operational);
+  EXPECT_FALSE(r.loop.ready(0));
 }
 
 }  // namespace
