@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <libsocketcan.h>
 #include <linux/can.h>
+#include <linux/can/error.h>
 #include <linux/can/netlink.h>
 #include <linux/can/raw.h>
 #include <linux/sock_diag.h>
@@ -149,9 +150,20 @@ OpenStatus SocketCanBus::open(const char* interface, const SocketCanOptions& opt
   if (::bind(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) < 0) {
     return fail(open_status_from_errno(errno));
   }
+  // Controller errors arrive as error frames: problems (warning, passive, active again),
+  // bus-off, restarted, and transmit timeouts (a frame nobody acknowledged).
+  const can_err_mask_t err_mask = CAN_ERR_TX_TIMEOUT | CAN_ERR_CRTL | CAN_ERR_BUSOFF | CAN_ERR_RESTARTED;
+  if (::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask) < 0) {
+    return fail(OpenStatus::error);
+  }
   fd_ = fd;
   fd_frames_ = options.fd_frames;
   kernel_drops_ = 0;
+  interface_ = CanInterface{interface};
+  // Whether it has a controller to ask is learnt with the first error frame: libsocketcan's query
+  // prints to stderr on a virtual interface, which never sends one.
+  controller_known_ = false;
+  set_bus_state(BusState::error_active);
   return OpenStatus::ok;
 }
 
@@ -197,6 +209,19 @@ ReceiveStatus SocketCanBus::do_receive(CanFrame& frame, std::uint32_t timeout_us
       return errno == EINTR ? ReceiveStatus::empty : ReceiveStatus::error;
     }
   }
+  // Error frames are taken here, not returned: a bounded number per call, then "empty" (the
+  // next call goes on), so a controller flooding errors cannot hold the caller.
+  for (int error_frames = 0; error_frames < 16; ++error_frames) {
+    bool error_frame = false;
+    const ReceiveStatus status = receive_one(frame, error_frame);
+    if (status != ReceiveStatus::received || !error_frame) {
+      return status;
+    }
+  }
+  return ReceiveStatus::empty;
+}
+
+ReceiveStatus SocketCanBus::receive_one(CanFrame& frame, bool& error_frame) noexcept {
   canfd_frame k{};
   iovec iov{&k, sizeof k};
   alignas(cmsghdr) std::array<char, CMSG_SPACE(sizeof(timeval)) + CMSG_SPACE(sizeof(std::uint32_t))> control{};
@@ -217,6 +242,11 @@ ReceiveStatus SocketCanBus::do_receive(CanFrame& frame, std::uint32_t timeout_us
   if (n != CAN_MTU && n != CANFD_MTU) {
     last_errno_ = EMSGSIZE;
     return ReceiveStatus::error;
+  }
+  if ((k.can_id & CAN_ERR_FLAG) != 0) {
+    error_frame = true;
+    take_error_frame(k.can_id, std::span<const std::uint8_t>{k.data, CAN_ERR_DLC});
+    return ReceiveStatus::received;
   }
   frame = CanFrame{};
   from_kernel_id(k.can_id, frame);
@@ -244,6 +274,74 @@ ReceiveStatus SocketCanBus::do_receive(CanFrame& frame, std::uint32_t timeout_us
     }
   }
   return ReceiveStatus::received;
+}
+
+BusState bus_state_from_error_frame(std::uint32_t can_id, std::span<const std::uint8_t> data,
+                                   BusState before) noexcept {
+  if ((can_id & CAN_ERR_BUSOFF) != 0) {
+    return BusState::bus_off;
+  }
+  if ((can_id & CAN_ERR_RESTARTED) != 0) {
+    return BusState::error_active;
+  }
+  if ((can_id & CAN_ERR_CRTL) != 0 && data.size() > 1) {
+    const std::uint8_t c = data[1];
+    if ((c & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0) {
+      return BusState::error_passive;
+    }
+    if ((c & (CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING)) != 0) {
+      return BusState::error_warning;
+    }
+    if ((c & CAN_ERR_CRTL_ACTIVE) != 0) {
+      return BusState::error_active;
+    }
+  }
+  return before;
+}
+
+void SocketCanBus::take_error_frame(std::uint32_t can_id, std::span<const std::uint8_t> data) noexcept {
+  count_error_frame();
+  set_bus_state(bus_state_from_error_frame(can_id, data, bus_state()));
+  // The frame says what changed; the driver knows where the controller is now (a restart, say,
+  // may already be over). Only on error frames: a netlink round trip is not for every tick.
+  if ((can_id & (CAN_ERR_BUSOFF | CAN_ERR_RESTARTED | CAN_ERR_CRTL)) != 0) {
+    refresh_controller_state();
+  }
+}
+
+void SocketCanBus::refresh_controller_state() noexcept {
+  if (!controller_known_) {
+    has_controller_ = interface_.has_controller();
+    controller_known_ = true;
+  }
+  if (!has_controller_) {
+    return;  // no controller to ask: the error frames alone speak
+  }
+  CanControllerState state{};
+  if (interface_.state(state) != ControlStatus::ok) {
+    return;
+  }
+  switch (state) {
+    case CanControllerState::error_active: set_bus_state(BusState::error_active); break;
+    case CanControllerState::error_warning: set_bus_state(BusState::error_warning); break;
+    case CanControllerState::error_passive: set_bus_state(BusState::error_passive); break;
+    case CanControllerState::bus_off:
+    case CanControllerState::stopped: set_bus_state(BusState::bus_off); break;  // off the bus either way
+    case CanControllerState::sleeping:
+    case CanControllerState::unknown: break;
+  }
+}
+
+BusStatus SocketCanBus::do_restart() noexcept {
+  if (fd_ < 0) {
+    return BusStatus::error;
+  }
+  const ControlStatus s = interface_.restart();
+  if (s == ControlStatus::ok) {
+    refresh_controller_state();
+    return BusStatus::ok;
+  }
+  return s == ControlStatus::not_supported ? BusStatus::not_supported : BusStatus::error;
 }
 
 void SocketCanBus::refresh_kernel_drops() noexcept {

@@ -86,7 +86,9 @@ TEST(FixedLoop, RefusesAtSubmitWhatItsFormatsCannotHold) {
   const auto applied = stream_once<FixedLoop>(m, st, why);
   EXPECT_EQ(st, firmware::LoopStatus::evaluation_refused);
   EXPECT_EQ(why, core::Status::transition_shorter_than_tick);
-  for (const auto a : applied) EXPECT_EQ(a, 0);  // the axis held where it was
+  // the axis held where it was, every period of the run
+  EXPECT_EQ(applied.size(), static_cast<std::size_t>(m.duration() * 1000) + 20);
+  for (const auto a : applied) EXPECT_EQ(a, 0);
 }
 
 // The loop's fixed-point slot holds a position plan of 24 intervals: a four-impulse shaper on a
@@ -109,6 +111,7 @@ TEST(FixedLoop, RefusesAMoveBeyondItsPlanAndALargerPlanStreamsIt) {
   const auto refused = stream_once<FixedLoop>(m, st, why);
   EXPECT_EQ(st, firmware::LoopStatus::evaluation_refused);
   EXPECT_EQ(why, core::Status::table_too_small);
+  EXPECT_EQ(refused.size(), static_cast<std::size_t>(m.duration() * 1000) + 20);
   for (const auto a : refused) EXPECT_EQ(a, 0);
 
   using RoomyLoop = firmware::ServoLoop<double, 1, 2, firmware::BasicFixedEvaluation<35>>;

@@ -1,6 +1,6 @@
 // The servo loop never touches the heap once started: global operator new and malloc are
 // replaced in this test binary and counted while the loop and a drive run 1 000 000 ticks on the
-// loopback bus, streaming moves back and forth.
+// loopback bus, streaming moves back and forth, and while every fault reaction runs.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -9,6 +9,7 @@
 
 #include "ideal_drive.hpp"
 #include "settle/firmware/servo_loop.hpp"
+#include "settle/hal/testing/fault_injecting_bus.hpp"
 
 namespace {
 std::atomic<bool> g_counting{false};
@@ -93,4 +94,64 @@ TEST(NoAllocation, OneMillionTicksOfStreamingMakeNoHeapCalls) {
 TEST(NoAllocation, TheFixedPointLoopToo) {
   EXPECT_GT(million_ticks_without_heap<FixedLoop>(), 1000u);
   EXPECT_EQ(g_allocations.load(), 0);
+}
+
+// The fault paths too: sends refused at random, bus-off and its recovery, a foreign SYNC, a drive
+// that stops answering, restarts, while the loop keeps streaming moves. Each fault's reaction (the
+// event log, halts, voided moves, start-up again) runs inside tick() without the heap.
+TEST(NoAllocation, TheFaultPathsMakeNoHeapCalls) {
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<256> port{hub};
+  hal::testing::FaultInjectingBus bus{port};
+  hal::LoopbackBus<16> other{hub};
+  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  FloatLoop loop{bus, 1000};
+  firmware::AxisConfig a{};
+  a.drive.heartbeat_timeout_ms = 500;
+  ASSERT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
+  drive.applied.reserve(300'000);
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::scurve;
+  r.time = 0.2;
+  r.omega = 22.0;
+  r.distance = 0.01;
+  core::Move<double> move{};
+  ASSERT_EQ(core::plan(r, move), core::Status::ok);
+  hal::testing::FaultRates rates{};
+  rates.tx_busy_ppm = 20'000;
+  rates.tx_error_ppm = 5'000;
+  bus.set_random(7, rates);
+  bus.set_restart_answer(hal::BusStatus::ok, false);
+  hal::CanFrame sync{};
+  sync.id = 0x080;
+  std::uint64_t now = 0;
+  drive.start(now);
+  loop.start(now);
+  std::uint64_t events = 0;
+  g_allocations = 0;
+  g_counting = true;
+  for (int i = 0; i < 200'000; ++i) {
+    now += 1000;
+    hub.set_time_us(now);
+    bus.set_time_us(now);
+    const int phase = i % 20'000;
+    if (phase == 5'000) bus.inject_bus_state(hal::BusState::error_passive);
+    if (phase == 6'000) bus.inject_bus_state(hal::BusState::bus_off);
+    if (phase == 6'050) bus.inject_bus_state(hal::BusState::error_active);
+    if (phase == 10'000) (void)other.send(sync);
+    if (phase == 10'100 || phase == 15'100) loop.restart(0, now);
+    if (loop.idle() && loop.ready(0)) (void)loop.submit(0, move);
+    loop.tick(now);
+    if (phase < 15'000 || phase > 15'050) drive.process(now);  // the drive hangs for 50 periods
+    for (firmware::LoopEvent e{}; loop.events().pop(e);) ++events;
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  // and the faults did happen
+  EXPECT_EQ(loop.stats().bus_offs, 10u);
+  EXPECT_EQ(loop.stats().foreign_syncs, 10u);
+  EXPECT_GE(loop.axis_stats(0).feedback_timeouts, 10u);
+  EXPECT_GT(loop.stats().units_held, 1000u);
+  EXPECT_GT(loop.axis_stats(0).moves_completed, 100u);
+  EXPECT_GT(events, 100u);
 }

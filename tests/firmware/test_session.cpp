@@ -1,7 +1,10 @@
 // A whole streaming session on the virtual clock: it refuses to stream before the drive is
-// enabled, completes with the settling window, and ends (without streaming further) when the
-// drive's heartbeat is lost mid-move or a move is refused.
+// enabled, completes with the settling window, and ends (without streaming further) with the
+// outcome that names why: the drive's heartbeat lost, its feedback stopped, a second SYNC
+// producer, or a refused move.
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include "ideal_drive.hpp"
 #include "settle/firmware/session.hpp"
@@ -27,8 +30,9 @@ struct Rig {
   test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
   firmware::ServoLoop<double, 1, 4> loop{master, 1000};
   firmware::VirtualClock clock{1000};
-  Rig() {
+  explicit Rig(std::uint16_t feedback_timeout_periods = firmware::kDefaultFeedbackTimeoutPeriods) {
     firmware::AxisConfig a{};
+    a.feedback_timeout_periods = feedback_timeout_periods;
     a.drive.heartbeat_timeout_ms = 300;
     EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
     drive.start(0);
@@ -38,15 +42,18 @@ struct Rig {
 TEST(Session, CompletesAfterTheSettlingWindow) {
   Rig r;
   const core::Move<double> moves[] = {move(0.1, 0.5), move(-0.02, 0.2)};
-  std::uint64_t streamed_before_ready = 0;
+  std::size_t applied_before_streaming = 0;
   const auto res = firmware::run_session(r.loop, r.clock, moves, 2, 0, firmware::SessionConfig{},
                                          [&](std::uint64_t, bool streaming) {
                                            r.hub.set_time_us(r.clock.now_us());
-                                           if (!streaming && r.loop.record(0).moving) ++streamed_before_ready;
                                            r.drive.process(r.clock.now_us());
+                                           if (!streaming) applied_before_streaming = r.drive.applied.size();
                                          });
   EXPECT_EQ(res.outcome, firmware::SessionOutcome::completed) << firmware::to_string(res.outcome);
-  EXPECT_EQ(streamed_before_ready, 0u);
+  EXPECT_EQ(res.fault, firmware::AxisFault::none);
+  // Before the session streamed, the enabled drive was only ever told to hold where it was.
+  for (std::size_t k = 0; k < applied_before_streaming; ++k) ASSERT_EQ(r.drive.applied[k], 0) << k;
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 2u);
   EXPECT_GT(res.ready_tick, 0u);
   EXPECT_EQ(res.ticks - res.stream_end_tick, 1000u);
   EXPECT_GE(res.stream_end_tick - res.ready_tick, 700u);
@@ -54,7 +61,7 @@ TEST(Session, CompletesAfterTheSettlingWindow) {
 }
 
 TEST(Session, HeartbeatLossMidMoveStopsStreaming) {
-  Rig r;
+  Rig r(0);  // the feedback watchdog off: the heartbeat alone must notice
   const core::Move<double> moves[] = {move(0.1, 0.5)};
   std::uint64_t sent_after_loss = 0, streaming_ticks = 0;
   bool lost = false;
@@ -68,9 +75,46 @@ TEST(Session, HeartbeatLossMidMoveStopsStreaming) {
                                            if (streaming_ticks < 200) r.drive.process(r.clock.now_us());
                                          });
   EXPECT_EQ(res.outcome, firmware::SessionOutcome::drive_lost) << firmware::to_string(res.outcome);
+  EXPECT_EQ(res.fault, firmware::AxisFault::heartbeat_lost);
   EXPECT_EQ(r.loop.axis_stats(0).heartbeat_losses, 1u);
   EXPECT_EQ(sent_after_loss, 0u);
   EXPECT_NE(r.drive.position(), 100'000);  // stopped mid-move
+}
+
+TEST(Session, ADriveThatStopsAnsweringEndsWithFeedbackTimeout) {
+  Rig r;
+  const core::Move<double> moves[] = {move(0.1, 0.5)};
+  std::uint64_t streaming_ticks = 0;
+  const auto res = firmware::run_session(r.loop, r.clock, moves, 1, 0, firmware::SessionConfig{},
+                                         [&](std::uint64_t, bool streaming) {
+                                           r.hub.set_time_us(r.clock.now_us());
+                                           if (streaming) ++streaming_ticks;
+                                           if (streaming_ticks < 200) r.drive.process(r.clock.now_us());
+                                         });
+  EXPECT_EQ(res.outcome, firmware::SessionOutcome::feedback_timeout) << firmware::to_string(res.outcome);
+  EXPECT_EQ(res.fault, firmware::AxisFault::feedback_timeout);
+  EXPECT_EQ(std::string{firmware::to_string(res.outcome)}, "feedback_timeout");
+  EXPECT_EQ(r.loop.axis_stats(0).heartbeat_losses, 0u) << "long before the 300 ms heartbeat timeout";
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 0u);
+}
+
+TEST(Session, ASecondSyncProducerEndsWithForeignSync) {
+  Rig r;
+  hal::LoopbackBus<16> other{r.hub};
+  const core::Move<double> moves[] = {move(0.1, 0.5)};
+  std::uint64_t streaming_ticks = 0;
+  const auto res = firmware::run_session(r.loop, r.clock, moves, 1, 0, firmware::SessionConfig{},
+                                         [&](std::uint64_t, bool streaming) {
+                                           r.hub.set_time_us(r.clock.now_us());
+                                           r.drive.process(r.clock.now_us());
+                                           if (streaming && ++streaming_ticks == 100) {
+                                             hal::CanFrame sync{};
+                                             sync.id = 0x080;
+                                             (void)other.send(sync);
+                                           }
+                                         });
+  EXPECT_EQ(res.outcome, firmware::SessionOutcome::foreign_sync) << firmware::to_string(res.outcome);
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 0u);
 }
 
 TEST(Session, RefusedMoveEndsTheSessionBeforeStreamingIt) {

@@ -103,5 +103,42 @@ TEST_F(FaultInjectingBusTest, RandomFaultsAreReproducibleFromTheSeed) {
   EXPECT_NE(run(8), first);
 }
 
+TEST_F(FaultInjectingBusTest, ControllerErrorStatesAreReportedAndBusOffSendsAndHearsNothing) {
+  EXPECT_EQ(bus.bus_state(), BusState::error_active);
+  bus.inject_bus_state(BusState::error_passive);
+  EXPECT_EQ(bus.bus_state(), BusState::error_passive);
+  // error-passive still sends and receives
+  EXPECT_EQ(bus.send(test::frame(0x1, {1})), SendStatus::sent);
+  ASSERT_EQ(peer.receive(f), ReceiveStatus::received);
+  bus.inject_bus_state(BusState::bus_off);
+  EXPECT_EQ(bus.counters().bus_off_events, 1U);
+  EXPECT_EQ(bus.counters().error_frames, 2U);
+  EXPECT_EQ(bus.send(test::frame(0x2, {2})), SendStatus::error);
+  EXPECT_EQ(peer.receive(f), ReceiveStatus::empty) << "nothing leaves a controller that is off the bus";
+  ASSERT_EQ(peer.send(test::frame(0x3, {3})), SendStatus::sent);
+  EXPECT_EQ(bus.receive(f), ReceiveStatus::empty) << "and nothing reaches it";
+  EXPECT_EQ(bus.stats().bus_off_rx_lost, 1U);
+  // by default a restart is refused (as vcan refuses can_do_restart)
+  EXPECT_EQ(bus.restart(), BusStatus::not_supported);
+  EXPECT_EQ(bus.bus_state(), BusState::bus_off);
+  bus.set_restart_answer(BusStatus::ok);
+  EXPECT_EQ(bus.restart(), BusStatus::ok);
+  EXPECT_EQ(bus.bus_state(), BusState::error_active);
+  EXPECT_EQ(bus.counters().restart_requests, 2U);
+  EXPECT_EQ(bus.send(test::frame(0x4, {4})), SendStatus::sent);
+  ASSERT_EQ(peer.receive(f), ReceiveStatus::received);
+  EXPECT_EQ(f.id, 0x4U);
+}
+
+TEST_F(FaultInjectingBusTest, ARestartThatTakesTimeLeavesTheStateToTheController) {
+  bus.inject_bus_state(BusState::bus_off);
+  bus.set_restart_answer(BusStatus::ok, false);
+  EXPECT_EQ(bus.restart(), BusStatus::ok);
+  EXPECT_EQ(bus.bus_state(), BusState::bus_off);
+  bus.inject_bus_state(BusState::error_active);  // the controller's "restarted"
+  EXPECT_EQ(bus.bus_state(), BusState::error_active);
+  EXPECT_EQ(bus.counters().bus_off_events, 1U);
+}
+
 }  // namespace
 }  // namespace settle::hal

@@ -185,6 +185,8 @@ class Program {
     [[nodiscard]] bool ready(std::size_t i) const noexcept { return p.loop_.ready(i); }
     [[nodiscard]] const AxisStats& axis_stats(std::size_t i) const noexcept { return p.loop_.axis_stats(i); }
     [[nodiscard]] bool idle() const noexcept { return p.loop_.idle(); }
+    [[nodiscard]] bool halted(std::size_t i) const noexcept { return p.loop_.halted(i); }
+    [[nodiscard]] AxisFault fault(std::size_t i) const noexcept { return p.loop_.fault(i); }
   };
 
   void at(std::uint64_t now_us) noexcept {

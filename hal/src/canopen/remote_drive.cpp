@@ -41,6 +41,7 @@ const char* to_string(RemoteDriveState state) noexcept {
     case RemoteDriveState::ready: return "ready";
     case RemoteDriveState::stopped: return "stopped";
     case RemoteDriveState::lost: return "lost";
+    case RemoteDriveState::not_operational: return "not_operational";
     case RemoteDriveState::failed: return "failed";
   }
   return "?";
@@ -93,6 +94,7 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   enable_timer_.disarm();
   step_ = 0;
   step_sent_ = false;
+  operational_seen_ = false;
   // SDO configuration belongs in pre-operational, where no process data flows.
   (void)out.put(encode_nmt(NmtCommand::enter_pre_operational, config_.node));
   next_step(now_us, out);
@@ -112,6 +114,7 @@ void RemoteDrive::next_step(std::uint64_t now_us, FrameSink& out) noexcept {
 
 void RemoteDrive::begin_enabling(std::uint64_t now_us) noexcept {
   state_ = RemoteDriveState::enabling;
+  operational_seen_ = false;  // NMT start has just been sent: what came before is stale
   enable_.reset();
   enable_timer_.arm(config_.enable_timeout_us, now_us);
 }
@@ -165,6 +168,19 @@ RemoteFrame RemoteDrive::on_heartbeat(std::uint8_t state_byte, std::uint64_t now
     case HeartbeatEvent::state_changed:
     case HeartbeatEvent::lost:
       break;
+  }
+  // Process data needs NMT operational. Once the drive has been operational after our start, a
+  // heartbeat saying pre-operational or stopped means someone else commanded it: whatever the
+  // master streams is no longer applied, and nothing about the drive can be assumed.
+  const bool streaming_state = state_ == RemoteDriveState::enabling || state_ == RemoteDriveState::ready ||
+                               state_ == RemoteDriveState::stopped;
+  if (*state == NmtState::operational) {
+    if (streaming_state) operational_seen_ = true;
+  } else if ((*state == NmtState::pre_operational || *state == NmtState::stopped) && streaming_state &&
+             operational_seen_) {
+    state_ = RemoteDriveState::not_operational;
+    enable_timer_.disarm();
+    events_ |= remote_event::left_operational;
   }
   return RemoteFrame::heartbeat;
 }
@@ -243,6 +259,7 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
     case RemoteDriveState::ready:
     case RemoteDriveState::stopped:
     case RemoteDriveState::lost:
+    case RemoteDriveState::not_operational:
     case RemoteDriveState::failed:
       break;
   }
@@ -253,7 +270,7 @@ bool RemoteDrive::enabling_rpdo(CanFrame& out) noexcept {
     encode_rpdo1(config_.node, Rpdo1{enable_.next(feedback_.statusword), feedback_.position_actual}, out);
     return true;
   }
-  return false;  // idle, configuring, stopped, lost, failed: no process data
+  return false;  // idle, configuring, stopped, lost, not_operational, failed: no process data
 }
 
 }  // namespace settle::hal::canopen

@@ -63,6 +63,10 @@ void FaultInjectingBus::set_time_us(std::uint64_t now_us) noexcept {
 }
 
 SendStatus FaultInjectingBus::do_send(const CanFrame& frame) noexcept {
+  if (bus_state() == BusState::bus_off) {
+    ++stats_.tx_errors;
+    return SendStatus::error;  // a controller off the bus sends nothing
+  }
   if (targeted(frame)) {
     if (fail_count_ > 0) {
       --fail_count_;
@@ -106,6 +110,10 @@ ReceiveStatus FaultInjectingBus::do_receive(CanFrame& frame, std::uint32_t timeo
     if (status != ReceiveStatus::received) {
       return status;
     }
+    if (bus_state() == BusState::bus_off) {
+      ++stats_.bus_off_rx_lost;  // off the bus: the controller never saw it
+      continue;
+    }
     if (targeted(frame) && (drop_rx_count_ > 0 || chance(rates_.rx_drop_ppm))) {
       if (drop_rx_count_ > 0) {
         --drop_rx_count_;
@@ -122,6 +130,13 @@ ReceiveStatus FaultInjectingBus::do_receive(CanFrame& frame, std::uint32_t timeo
     }
     return ReceiveStatus::received;
   }
+}
+
+BusStatus FaultInjectingBus::do_restart() noexcept {
+  if (restart_answer_ == BusStatus::ok && restart_completes_ && bus_state() == BusState::bus_off) {
+    set_bus_state(BusState::error_active);
+  }
+  return restart_answer_;
 }
 
 BusStatus FaultInjectingBus::do_set_filters(std::span<const CanFilter> filters) noexcept {

@@ -32,6 +32,25 @@ enum class BusStatus : std::uint8_t {
   error,
 };
 
+// The controller's fault-confinement state (ISO 11898-1), as the backend last learnt it: from
+// the controller's error frames or its driver. A backend without a controller stays error_active.
+enum class BusState : std::uint8_t {
+  error_active,   // normal
+  error_warning,  // an error counter reached 96: still sending and receiving
+  error_passive,  // an error counter reached 128: still sending, may no longer flag errors
+  bus_off,        // the transmit error counter passed 255: the controller is off the bus
+};
+
+[[nodiscard]] constexpr const char* to_string(BusState s) noexcept {
+  switch (s) {
+    case BusState::error_active: return "error_active";
+    case BusState::error_warning: return "error_warning";
+    case BusState::error_passive: return "error_passive";
+    case BusState::bus_off: return "bus_off";
+  }
+  return "?";
+}
+
 enum class FrameFormat : std::uint8_t { any, standard, extended };
 
 // Accepts a frame when (frame.id & mask) == (id & mask) and the format matches.
@@ -95,6 +114,9 @@ struct BusCounters {
   std::uint64_t tx_errors{0};
   std::uint64_t rx_overflow_drops{0};  // frames lost because a receive queue was full
   std::uint64_t rx_errors{0};
+  std::uint64_t error_frames{0};       // controller error reports taken (never returned as frames)
+  std::uint64_t bus_off_events{0};     // entries into bus-off
+  std::uint64_t restart_requests{0};   // restart() calls
 };
 
 // Public calls are non-virtual so that every backend counts the same way; a backend only
@@ -120,6 +142,16 @@ class CanBus : public FrameSink {
 
   [[nodiscard]] const BusCounters& counters() const noexcept { return counters_; }
 
+  // The controller's error state. Read every tick by the servo loop: a plain member, no call.
+  [[nodiscard]] BusState bus_state() const noexcept { return bus_state_; }
+  // Asks the controller to leave bus-off (CAN restart). not_supported: this backend cannot (a
+  // virtual interface, a controller that restarts by itself or not at all); bus_state() says
+  // when the controller is back. ok: requested; bus_state() changes when the controller is back.
+  [[nodiscard]] BusStatus restart() noexcept {
+    ++counters_.restart_requests;
+    return do_restart();
+  }
+
   // As a FrameSink a bus takes a frame when it was sent; busy and errors are counted above.
   [[nodiscard]] bool put(const CanFrame& frame) noexcept final { return send(frame) == SendStatus::sent; }
 
@@ -130,6 +162,12 @@ class CanBus : public FrameSink {
   ~CanBus() override = default;
 
   void count_rx_overflow(std::uint64_t dropped) noexcept { counters_.rx_overflow_drops += dropped; }
+  // A backend reports what its controller said (an error frame, the driver's state).
+  void count_error_frame() noexcept { ++counters_.error_frames; }
+  void set_bus_state(BusState state) noexcept {
+    if (state == BusState::bus_off && bus_state_ != BusState::bus_off) ++counters_.bus_off_events;
+    bus_state_ = state;
+  }
 
   // send() and receive() around a given hook: the validation and counting every path shares. A
   // `final` backend uses them to offer the same two calls bound at compile time (its own hook,
@@ -159,8 +197,10 @@ class CanBus : public FrameSink {
   [[nodiscard]] virtual SendStatus do_send(const CanFrame& frame) noexcept = 0;
   [[nodiscard]] virtual ReceiveStatus do_receive(CanFrame& frame, std::uint32_t timeout_us) noexcept = 0;
   [[nodiscard]] virtual BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept = 0;
+  [[nodiscard]] virtual BusStatus do_restart() noexcept { return BusStatus::not_supported; }
 
   BusCounters counters_{};
+  BusState bus_state_{BusState::error_active};
 };
 
 }  // namespace settle::hal

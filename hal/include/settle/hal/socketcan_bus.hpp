@@ -3,6 +3,12 @@
 // timestamps), and CanInterface, link control through libsocketcan. Host-only; the Linux CAN
 // headers stay inside src/socketcan.cpp.
 //
+// Controller errors: the socket subscribes to the kernel's error frames (CAN_RAW_ERR_FILTER:
+// controller problems, bus-off, restarted, transmit timeout). receive() never returns them as
+// frames; it turns them into bus_state() (confirmed through libsocketcan's can_get_state where
+// the interface has a controller) and counts them. restart() is can_do_restart, which a virtual
+// interface refuses (not_supported).
+//
 // Receive timestamps are the kernel's (SO_TIMESTAMP, CLOCK_REALTIME, µs since the epoch).
 // rx_overflow_drops is exact once receive() has found the queue empty.
 #pragma once
@@ -35,33 +41,13 @@ enum class OpenStatus : std::uint8_t {
 
 [[nodiscard]] const char* to_string(OpenStatus status) noexcept;
 
-class SocketCanBus final : public CanBus {
- public:
-  SocketCanBus() noexcept = default;
-  ~SocketCanBus() override;
+// What one kernel error frame (its can_id with CAN_ERR_FLAG, and its 8 data bytes) says about the
+// controller's state, given the state before it: bus-off, restarted (-> error_active), or the
+// controller-problem byte's warning/passive/active bits; anything else leaves the state as it was.
+// Defined with the kernel's constants (linux/can/error.h) in socketcan.cpp.
+[[nodiscard]] BusState bus_state_from_error_frame(std::uint32_t can_id, std::span<const std::uint8_t> data,
+                                                  BusState before) noexcept;
 
-  [[nodiscard]] OpenStatus open(const char* interface, const SocketCanOptions& options = {}) noexcept;
-  void close() noexcept;
-
-  [[nodiscard]] bool is_open() const noexcept { return fd_ >= 0; }
-  // The socket, for a caller that multiplexes with poll/epoll; reading it directly bypasses
-  // the counters.
-  [[nodiscard]] int native_handle() const noexcept { return fd_; }
-  // errno of the last failed system call (send, receive, open), for diagnostics.
-  [[nodiscard]] int last_errno() const noexcept { return last_errno_; }
-
- private:
-  [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override;
-  [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t timeout_us) noexcept override;
-  [[nodiscard]] BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept override;
-  void refresh_kernel_drops() noexcept;
-  void account_kernel_drops(std::uint32_t total) noexcept;
-
-  int fd_{-1};
-  int last_errno_{0};
-  bool fd_frames_{false};
-  std::uint32_t kernel_drops_{0};  // last SO_RXQ_OVFL value, which the kernel reports cumulatively
-};
 
 enum class ControlStatus : std::uint8_t {
   ok,
@@ -112,6 +98,43 @@ class CanInterface {
   [[nodiscard]] ControlStatus precheck(bool needs_controller) const noexcept;
 
   std::array<char, 16> name_{};
+};
+
+class SocketCanBus final : public CanBus {
+ public:
+  SocketCanBus() noexcept = default;
+  ~SocketCanBus() override;
+
+  [[nodiscard]] OpenStatus open(const char* interface, const SocketCanOptions& options = {}) noexcept;
+  void close() noexcept;
+
+  [[nodiscard]] bool is_open() const noexcept { return fd_ >= 0; }
+  // The socket, for a caller that multiplexes with poll/epoll; reading it directly bypasses
+  // the counters.
+  [[nodiscard]] int native_handle() const noexcept { return fd_; }
+  // errno of the last failed system call (send, receive, open), for diagnostics.
+  [[nodiscard]] int last_errno() const noexcept { return last_errno_; }
+
+ private:
+  [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override;
+  [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t timeout_us) noexcept override;
+  // One recvmsg: a data frame into `frame`, or an error frame taken (error_frame set).
+  [[nodiscard]] ReceiveStatus receive_one(CanFrame& frame, bool& error_frame) noexcept;
+  [[nodiscard]] BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept override;
+  [[nodiscard]] BusStatus do_restart() noexcept override;
+  // An error frame: the state it implies, or the driver's own (can_get_state) where it has one.
+  void take_error_frame(std::uint32_t can_id, std::span<const std::uint8_t> data) noexcept;
+  void refresh_controller_state() noexcept;
+  void refresh_kernel_drops() noexcept;
+  void account_kernel_drops(std::uint32_t total) noexcept;
+
+  int fd_{-1};
+  int last_errno_{0};
+  bool fd_frames_{false};
+  std::uint32_t kernel_drops_{0};  // last SO_RXQ_OVFL value, which the kernel reports cumulatively
+  bool has_controller_{false};     // can-dev: can_get_state and can_do_restart apply
+  bool controller_known_{false};
+  CanInterface interface_{""};
 };
 
 }  // namespace settle::hal

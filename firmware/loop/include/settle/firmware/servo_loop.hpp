@@ -4,6 +4,22 @@
 // Generic over the evaluation scalar, the number of axes and the queue depth; time is given by
 // the caller (the runner owns the clock), so the same loop runs under a Linux timer, a Cortex-M
 // SysTick or a test's virtual clock. No heap, no exceptions, bounded work per tick.
+//
+// Fail-safe rules (issue 12):
+// - One period is one unit: every axis's RPDO, then the SYNC that applies them. The SYNC goes out
+//   only if every RPDO of the tick did; if anything of the unit could not be sent (busy or error),
+//   no SYNC goes out and the next tick resends the same setpoints: the moves' clock holds for that
+//   period, so the drive applies every setpoint exactly once, in order, and never skips one.
+//   LoopConfig::send_failure_periods such ticks in a row halt every axis (send_failed).
+// - Feedback watchdog: AxisConfig::feedback_timeout_periods SYNCs in a row without a TPDO1 back
+//   halt the axis (feedback_timeout).
+// - A move is reported completed only when the drive's feedback shows it within one count of the
+//   move's final setpoint; anything that takes the drive out of operation first voids it.
+// - A SYNC the loop did not send (a second producer) halts every axis and the loop's SYNC.
+// - Bus-off halts every axis; the loop asks the controller to restart (CanBus::restart) and, when
+//   the bus is back, runs every drive's start-up again before anything is streamed.
+// A halted axis is sent nothing (its drive's own RPDO/SYNC-loss supervision then stops it) until
+// restart(axis) or, for bus-off, the bus's recovery. Everything that happens is in events().
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -36,19 +52,84 @@ enum class LoopStatus : std::uint8_t {
 
 [[nodiscard]] const char* to_string(LoopStatus s) noexcept;
 
+// Why the loop stopped a move or streaming to an axis.
+enum class AxisFault : std::uint8_t {
+  none,
+  heartbeat_lost,         // the drive's heartbeat timed out
+  drive_restarted,        // boot-up: the drive was power-cycled or reset
+  drive_left_enabled,     // statusword: fault or quick stop
+  drive_not_operational,  // heartbeat: pre-operational or stopped (someone else's NMT command)
+  start_up_failed,        // configuration refused or timed out, or enabling timed out
+  feedback_timeout,       // feedback_timeout_periods SYNCs in a row without a TPDO1 back
+  following_error,
+  step_guard,
+  not_in_position,        // the feedback never showed the move's final setpoint (within one count)
+  foreign_sync,           // a SYNC the loop did not send: a second SYNC producer on the bus
+  bus_off,
+  send_failed,            // send_failure_periods ticks in a row the RPDO + SYNC unit did not go out
+};
+
+[[nodiscard]] const char* to_string(AxisFault f) noexcept;
+
+// What the loop did or saw, in order (drain events() as the feedback log).
+enum class LoopEventKind : std::uint8_t {
+  drive_ready,            // axis: operation enabled; streaming may begin
+  move_started,           // axis
+  move_completed,         // axis: the feedback showed the final setpoint within one count
+  move_voided,            // axis, fault: the move (active, finishing or queued) will never complete
+  axis_stopped,           // axis, fault: streaming to it stopped
+  start_up_rerun,         // axis: NMT, SDO configuration and enabling run again
+  foreign_sync,           // bus: a SYNC the loop did not send
+  bus_error_warning,      // bus: the controller's state, as the bus reports it
+  bus_error_passive,
+  bus_error_active,
+  bus_off,
+  bus_restart_requested,  // bus: CanBus::restart() accepted
+  bus_restart_refused,    // bus: not supported (vcan) or failed; the loop waits for the bus
+};
+
+[[nodiscard]] const char* to_string(LoopEventKind k) noexcept;
+
+inline constexpr std::uint8_t kBusEvent = 0xFF;  // LoopEvent::axis of an event of the bus
+
+struct LoopEvent {
+  std::uint32_t tick{0};  // the tick it happened in (low 32 bits of LoopStats::ticks)
+  LoopEventKind kind{LoopEventKind::drive_ready};
+  std::uint8_t axis{kBusEvent};
+  AxisFault fault{AxisFault::none};
+};
+
+inline constexpr std::size_t kEventLogCapacity = 16;
+
+// Defaults of the supervision (documented in firmware/README.md).
+inline constexpr std::uint16_t kDefaultFeedbackTimeoutPeriods = 10;
+inline constexpr std::uint16_t kDefaultInPositionTimeoutPeriods = 2000;
+inline constexpr std::uint16_t kDefaultSendFailurePeriods = 10;
+
+struct LoopConfig {
+  // Ticks in a row whose RPDO + SYNC unit could not be sent before every axis halts (send_failed).
+  std::uint16_t send_failure_periods{kDefaultSendFailurePeriods};
+};
+
 struct AxisConfig {
   hal::canopen::RemoteDriveConfig drive{};
   double counts_per_unit{1e6};           // e.g. 1 count = 1 µm for the seed-000 beam
   double vmax{1.0};                      // actuator limit, units/s: moves above it are refused
   std::int32_t step_margin_counts{2};    // setpoint-step guard: vmax * period + this
   std::uint32_t following_error_counts{0};  // 0 = off
+  // SYNCs in a row the drive may leave without a TPDO1 before the axis halts (feedback_timeout).
+  // 0 switches the watchdog off (the drive's heartbeat is then the only supervision).
+  std::uint16_t feedback_timeout_periods{kDefaultFeedbackTimeoutPeriods};
+  // Periods after a move's final setpoint within which the feedback must show it (within one
+  // count); otherwise the move is void (not_in_position). 0 = wait as long as it takes.
+  std::uint16_t in_position_timeout_periods{kDefaultInPositionTimeoutPeriods};
 };
 
 // What one axis did in the last tick: the runner copies it out to log or plot.
 struct TickRecord {
   std::uint64_t tick{0};
   std::int32_t target{0};         // counts commanded this tick (held when not moving)
-  bool sent{false};               // an RPDO carrying it left this tick
+  bool sent{false};               // an RPDO carrying it and the SYNC applying it left this tick
   bool moving{false};
   bool move_end{false};           // this tick's RPDO carried a move's final setpoint
   std::int32_t position_actual{0};
@@ -77,6 +158,8 @@ struct AxisStats {
   std::uint64_t heartbeat_losses{0};
   std::uint64_t emcy_received{0};
   std::uint64_t restarts{0};  // the drive booted again and start-up re-ran
+  std::uint64_t feedback_timeouts{0};
+  std::uint64_t not_in_position{0};
   std::uint32_t max_following_error{0};  // counts, the shorter way round the int32 wrap
   std::uint64_t feedback_overflows{0};  // samples dropped because feedback_log() was not drained
 };
@@ -88,8 +171,12 @@ inline constexpr std::size_t kFeedbackLogCapacity = 16;
 struct LoopStats {
   std::uint64_t ticks{0};
   std::uint64_t sync_sent{0};
-  std::uint64_t sync_busy{0};
+  std::uint64_t sync_busy{0};    // SYNC sends that failed (busy or error)
   std::uint64_t frames_received{0};
+  std::uint64_t units_held{0};   // ticks whose RPDO + SYNC unit did not go out: the moves' clock held
+  std::uint64_t foreign_syncs{0};  // SYNC frames received (the loop never hears its own)
+  std::uint64_t bus_offs{0};
+  std::uint64_t events_dropped{0};  // events() was full
 };
 
 // Bus: hal::CanBus (any backend, through its virtual hooks) or a backend's own type such as
@@ -101,8 +188,8 @@ class ServoLoop {
   static_assert(std::is_base_of_v<hal::CanBus, Bus>, "Bus is hal::CanBus or one of its backends");
 
  public:
-  ServoLoop(Bus& bus, std::uint32_t period_us) noexcept
-      : bus_{bus}, period_us_{period_us}, sync_{period_us} {}
+  ServoLoop(Bus& bus, std::uint32_t period_us, const LoopConfig& config = {}) noexcept
+      : bus_{bus}, period_us_{period_us}, config_{config}, sync_{period_us} {}
   ServoLoop(const ServoLoop&) = delete;
   ServoLoop& operator=(const ServoLoop&) = delete;
 
@@ -129,7 +216,22 @@ class ServoLoop {
   // Starts every drive (NMT, SDO configuration, enable sequence); tick() must run from now on.
   void start(std::uint64_t now_us) noexcept {
     for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->start(now_us, bus_);
-    started_ = true;
+    sync_blocked_ &= static_cast<std::uint8_t>(~kSyncNotStarted);
+  }
+
+  // After a halt (feedback timeout, foreign SYNC, send failures, a drive someone else took out of
+  // operation): the application has decided to go on. Runs the drive's start-up again; streaming
+  // resumes once it is enabled, with new moves only. Clears the loop's own SYNC halt.
+  void restart(std::size_t axis, std::uint64_t now_us) noexcept {
+    if (axis >= MaxAxes || axis >= count_) return;
+    Axis& a = axes_[axis];
+    sync_blocked_ &= static_cast<std::uint8_t>(~kSyncForeign);
+    if (bus_state_ == hal::BusState::bus_off) return;  // the bus's recovery restarts it
+    a.halt = AxisFault::none;
+    a.have_target = false;
+    a.unanswered = 0;
+    a.drive->start(now_us, bus_);
+    note(LoopEventKind::start_up_rerun, static_cast<std::uint8_t>(axis), AxisFault::none);
   }
 
   // Plans a request and queues it. Runs in the caller's context, never inside tick(): planning
@@ -168,15 +270,35 @@ class ServoLoop {
   void tick(std::uint64_t now_us) noexcept {
     ++stats_.ticks;
     receive_all(now_us);
+    if (bus_.bus_state() != bus_state_) on_bus_state(now_us);
+    if (foreign_sync_seen_) on_foreign_sync();
     for (std::size_t i = 0; i < count_; ++i) supervise(axes_[i], now_us);
-    for (std::size_t i = 0; i < count_; ++i) stream(axes_[i]);
-    if (started_) {
-      const hal::SendStatus st = bus_.send(sync_.next());
-      if (st == hal::SendStatus::sent) {
-        ++stats_.sync_sent;
-      } else {
-        ++stats_.sync_busy;
+    bool unit_ok = true;
+    for (std::size_t i = 0; i < count_; ++i) unit_ok = stream(axes_[i]) && unit_ok;
+    bool sync_sent = false;
+    if (sync_blocked_ == 0) {
+      // The SYNC applies this tick's RPDOs: it goes out only with all of them.
+      if (unit_ok) {
+        if (!sync_unsent_) sync_frame_ = &sync_.next();
+        if (bus_.send(*sync_frame_) == hal::SendStatus::sent) {
+          ++stats_.sync_sent;
+          sync_sent = true;
+        } else {
+          ++stats_.sync_busy;
+        }
+        sync_unsent_ = !sync_sent;
       }
+      if (sync_sent) {
+        unsent_run_ = 0;
+      } else {
+        ++stats_.units_held;
+        if (unsent_run_ < 0xFFFF) ++unsent_run_;
+        if (unsent_run_ >= config_.send_failure_periods) halt_all(AxisFault::send_failed);
+      }
+    }
+    // stream() applied each sent RPDO's setpoint as if its SYNC would follow; it did not.
+    if (!sync_sent) {
+      for (std::size_t i = 0; i < count_; ++i) take_back(axes_[i]);
     }
   }
 
@@ -198,6 +320,11 @@ class ServoLoop {
         }
       }
     } else if (f.is_extended() || node == 0) {
+      if (f.id == hal::canopen::cob::sync && !f.is_extended()) {
+        // The loop never hears its own SYNC: this one is another producer's.
+        ++stats_.foreign_syncs;
+        foreign_sync_seen_ = true;
+      }
       for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->on_frame(f, now_us, bus_);
     }
   }
@@ -205,7 +332,7 @@ class ServoLoop {
   // Stops streaming on an axis: the active move and the queue are dropped, the axis holds.
   void abort(std::size_t axis) noexcept {
     if (axis >= MaxAxes || axis >= count_) return;
-    abandon(axes_[axis]);
+    abandon(axes_[axis], AxisFault::none);
   }
 
   [[nodiscard]] std::size_t axis_count() const noexcept { return count_; }
@@ -217,17 +344,25 @@ class ServoLoop {
     return axes_[i].feedback_log;
   }
   [[nodiscard]] const LoopStats& stats() const noexcept { return stats_; }
-  [[nodiscard]] bool ready(std::size_t i) const noexcept { return axes_[i].drive->ready(); }
+  // What happened, in order; the owner drains it (a full log counts LoopStats::events_dropped).
+  [[nodiscard]] FixedQueue<LoopEvent, kEventLogCapacity>& events() noexcept { return events_; }
+  // Streaming may go on: the drive is operation enabled and the loop has not halted the axis.
+  [[nodiscard]] bool ready(std::size_t i) const noexcept { return axes_[i].halt == AxisFault::none && axes_[i].drive->ready(); }
   [[nodiscard]] bool all_ready() const noexcept {
     for (std::size_t i = 0; i < count_; ++i) {
-      if (!axes_[i].drive->ready()) return false;
+      if (!ready(i)) return false;
     }
     return count_ > 0;
   }
-  // Nothing active and nothing queued on any axis.
+  // Why the axis last stopped (none: it never did since add_axis).
+  [[nodiscard]] AxisFault fault(std::size_t i) const noexcept { return axes_[i].fault; }
+  // The loop sends nothing to this axis until restart(i) (or the bus's recovery, for bus_off).
+  [[nodiscard]] bool halted(std::size_t i) const noexcept { return axes_[i].halt != AxisFault::none; }
+  [[nodiscard]] hal::BusState bus_state() const noexcept { return bus_state_; }
+  // Nothing active, nothing waiting for its feedback to show it done and nothing queued on any axis.
   [[nodiscard]] bool idle() const noexcept {
     for (std::size_t i = 0; i < count_; ++i) {
-      if (axes_[i].active || !axes_[i].queue.empty()) return false;
+      if (axes_[i].active || axes_[i].finishing || !axes_[i].queue.empty()) return false;
     }
     return true;
   }
@@ -242,11 +377,17 @@ class ServoLoop {
     bool active{false};
     bool have_target{false};
     bool sent_prev_valid{false};
-    bool end_pending{false};      // the final setpoint of a move is waiting to be sent
-    std::int32_t target{0};       // last target commanded
+    bool end_pending{false};      // the final setpoint of a move is in the unit not yet applied
+    bool finishing{false};        // a move's final setpoint was applied: waiting for the feedback
+    AxisFault halt{AxisFault::none};   // not none: the loop sends this axis nothing
+    AxisFault fault{AxisFault::none};  // why it last stopped
+    std::uint32_t unanswered{0};  // SYNCs sent while ready since the last TPDO1
+    std::uint16_t finish_wait{0}; // periods spent finishing
+    std::int32_t target{0};       // last target commanded (applied by a SYNC)
     std::int32_t sent_prev{0};    // target sent in the previous tick (what the feedback answers)
+    std::int32_t final_target{0}; // while finishing: where the feedback must show the drive
     std::uint32_t guard{0};       // largest setpoint step allowed per tick, counts (2^31: any)
-    std::optional<std::int32_t> pending{};  // computed but not yet sent (tx busy): resent first
+    std::optional<std::int32_t> pending{};  // computed, not yet applied (unit not sent): resent first
     std::uint64_t fb_seen{0};
     typename Evaluation::Stream setpoints{};
     TickRecord record{};
@@ -265,13 +406,49 @@ class ServoLoop {
     return d <= 0x8000'0000U ? d : 0U - d;
   }
 
-  // Drops the active move (counted as aborted) and everything queued; the axis holds.
-  static void abandon(Axis& a) noexcept {
-    if (a.active) ++a.stats.moves_aborted;
+  [[nodiscard]] std::uint8_t index_of(const Axis& a) const noexcept {
+    return static_cast<std::uint8_t>(&a - axes_.data());
+  }
+
+  void note(LoopEventKind kind, std::uint8_t axis, AxisFault fault) noexcept {
+    if (!events_.push(LoopEvent{static_cast<std::uint32_t>(stats_.ticks), kind, axis, fault})) ++stats_.events_dropped;
+  }
+
+  // Drops the active move, the one waiting for its feedback and everything queued (a move in
+  // flight is counted as aborted: it never completes); the axis holds. `why` (none: the
+  // application's abort) goes to the event log.
+  void abandon(Axis& a, AxisFault why) noexcept {
+    const bool in_flight = a.active || a.finishing;
+    if (in_flight || !a.queue.empty()) note(LoopEventKind::move_voided, index_of(a), why);
+    if (in_flight) ++a.stats.moves_aborted;
     a.active = false;
+    a.finishing = false;
     a.pending.reset();
     a.end_pending = false;
     a.queue.clear();
+  }
+
+  // Streaming to the axis stopped for `why`: every move is void. A halted axis keeps the reason it
+  // was halted for (what the drive does next, starved of setpoints, is a consequence).
+  void stopped(Axis& a, AxisFault why) noexcept {
+    if (a.halt == AxisFault::none || a.halt == why) {
+      a.fault = why;
+      note(LoopEventKind::axis_stopped, index_of(a), why);
+    }
+    abandon(a, why);
+  }
+
+  // The loop stops sending to the axis until restart() (or the bus's recovery).
+  void halt(Axis& a, AxisFault why) noexcept {
+    if (a.halt != AxisFault::none) return;
+    a.halt = why;
+    a.have_target = false;
+    a.sent_prev_valid = false;
+    stopped(a, why);
+  }
+
+  void halt_all(AxisFault why) noexcept {
+    for (std::size_t i = 0; i < count_; ++i) halt(axes_[i], why);
   }
 
   void receive_all(std::uint64_t now_us) noexcept {
@@ -281,55 +458,142 @@ class ServoLoop {
     }
   }
 
+  // A second SYNC producer: two clocks would drive the drives; stop the loop's and every axis.
+  [[gnu::noinline, gnu::cold]] void on_foreign_sync() noexcept {
+    foreign_sync_seen_ = false;
+    if ((sync_blocked_ & kSyncForeign) != 0) return;
+    sync_blocked_ |= kSyncForeign;
+    note(LoopEventKind::foreign_sync, kBusEvent, AxisFault::foreign_sync);
+    halt_all(AxisFault::foreign_sync);
+  }
+
+  // The controller's state changed (an error frame, the driver's report, a restart).
+  [[gnu::noinline, gnu::cold]] void on_bus_state(std::uint64_t now_us) noexcept {
+    const hal::BusState before = bus_state_;
+    bus_state_ = bus_.bus_state();
+    if (bus_state_ == hal::BusState::bus_off) {
+      sync_blocked_ |= kSyncBusOff;
+    } else {
+      sync_blocked_ &= static_cast<std::uint8_t>(~kSyncBusOff);
+    }
+    switch (bus_state_) {
+      case hal::BusState::error_active: note(LoopEventKind::bus_error_active, kBusEvent, AxisFault::none); break;
+      case hal::BusState::error_warning: note(LoopEventKind::bus_error_warning, kBusEvent, AxisFault::none); break;
+      case hal::BusState::error_passive: note(LoopEventKind::bus_error_passive, kBusEvent, AxisFault::none); break;
+      case hal::BusState::bus_off: {
+        ++stats_.bus_offs;
+        note(LoopEventKind::bus_off, kBusEvent, AxisFault::bus_off);
+        halt_all(AxisFault::bus_off);
+        const hal::BusStatus st = bus_.restart();
+        note(st == hal::BusStatus::ok ? LoopEventKind::bus_restart_requested : LoopEventKind::bus_restart_refused,
+             kBusEvent, AxisFault::none);
+        return;
+      }
+    }
+    if (before != hal::BusState::bus_off) return;
+    // Back on the bus: nothing the drives were told can be trusted (frames were lost both ways,
+    // a drive may have faulted or restarted meanwhile). Start-up runs again before streaming.
+    sync_unsent_ = false;
+    unsent_run_ = 0;
+    for (std::size_t i = 0; i < count_; ++i) {
+      Axis& a = axes_[i];
+      if (a.halt != AxisFault::bus_off) continue;
+      a.halt = AxisFault::none;
+      a.unanswered = 0;
+      a.drive->start(now_us, bus_);
+      note(LoopEventKind::start_up_rerun, static_cast<std::uint8_t>(i), AxisFault::none);
+    }
+  }
+
+  [[gnu::noinline]] void on_drive_events(Axis& a, std::uint16_t ev) noexcept {
+    namespace re = hal::canopen::remote_event;
+    if ((ev & re::emcy) != 0) ++a.stats.emcy_received;
+    if ((ev & re::heartbeat_lost) != 0) {
+      ++a.stats.heartbeat_losses;
+      stopped(a, AxisFault::heartbeat_lost);
+    }
+    if ((ev & re::boot_up) != 0) {
+      ++a.stats.restarts;
+      // A boot-up before the loop ever streamed is the drive coming up, not a fault.
+      if (a.have_target) stopped(a, AxisFault::drive_restarted);
+    }
+    if ((ev & re::left_enabled) != 0) stopped(a, AxisFault::drive_left_enabled);
+    if ((ev & re::left_operational) != 0) stopped(a, AxisFault::drive_not_operational);
+    if ((ev & re::failed) != 0) stopped(a, AxisFault::start_up_failed);
+    // Whatever took the drive out of operation voided the moves above: the axis is no longer where
+    // they were planned from. Nothing resumes by itself; the application decides, once the drive
+    // is ready again.
+    if ((ev & (re::boot_up | re::heartbeat_lost | re::left_enabled | re::left_operational)) != 0) a.have_target = false;
+    if ((ev & re::became_ready) != 0) {
+      a.unanswered = 0;
+      note(LoopEventKind::drive_ready, index_of(a), AxisFault::none);
+    }
+  }
+
   void supervise(Axis& a, std::uint64_t now_us) noexcept {
     hal::canopen::RemoteDrive& d = *a.drive;
     d.poll(now_us, bus_);
-    const std::uint16_t ev = d.take_events();
-    namespace re = hal::canopen::remote_event;
-    if ((ev & re::heartbeat_lost) != 0) ++a.stats.heartbeat_losses;
-    if ((ev & re::emcy) != 0) ++a.stats.emcy_received;
-    if ((ev & re::boot_up) != 0) ++a.stats.restarts;
-    // Whatever took the drive out of operation voids the move in flight and every queued one: the
-    // axis is no longer where they were planned from. Nothing resumes by itself; the application
-    // decides, once the drive is ready again.
-    if ((ev & (re::heartbeat_lost | re::left_enabled | re::boot_up | re::failed)) != 0) abandon(a);
-    if ((ev & (re::boot_up | re::heartbeat_lost | re::left_enabled)) != 0) a.have_target = false;
+    if (const std::uint16_t ev = d.take_events(); ev != 0) on_drive_events(a, ev);
 
-    // Following error: the feedback that arrived since the last tick answers the target sent in
-    // the previous tick (the drive reaches a target one period after the SYNC that applies it).
     const auto& fb = d.feedback();
     if (fb.tpdo1_received != a.fb_seen) {
       a.fb_seen = fb.tpdo1_received;
+      a.unanswered = 0;
+      // Following error: the feedback that arrived since the last tick answers the target sent in
+      // the previous tick (the drive reaches a target one period after the SYNC that applies it).
       if (d.ready() && a.sent_prev_valid) {
         const std::uint32_t mag = distance_counts(fb.position_actual, a.sent_prev);
         if (mag > a.stats.max_following_error) a.stats.max_following_error = mag;
         if (a.cfg.following_error_counts != 0 && mag > a.cfg.following_error_counts) {
           ++a.stats.following_error_trips;
-          abandon(a);
+          a.fault = AxisFault::following_error;
+          abandon(a, AxisFault::following_error);
         }
       }
+      // Done is what the drive says, not what was sent: at the final setpoint within one count.
+      if (a.finishing && d.ready() && distance_counts(fb.position_actual, a.final_target) <= 1) {
+        a.finishing = false;
+        ++a.stats.moves_completed;
+        note(LoopEventKind::move_completed, index_of(a), AxisFault::none);
+      }
+    } else if (a.unanswered >= a.cfg.feedback_timeout_periods && a.cfg.feedback_timeout_periods != 0 &&
+               a.halt == AxisFault::none && d.ready()) {
+      ++a.stats.feedback_timeouts;
+      halt(a, AxisFault::feedback_timeout);
+    }
+    if (a.finishing && a.cfg.in_position_timeout_periods != 0 && ++a.finish_wait > a.cfg.in_position_timeout_periods) {
+      ++a.stats.not_in_position;
+      a.fault = AxisFault::not_in_position;
+      abandon(a, AxisFault::not_in_position);
     }
   }
 
-  void stream(Axis& a) noexcept {
+  // Builds and sends the axis's RPDO of this tick's unit; false if it had one that did not go out.
+  [[nodiscard]] bool stream(Axis& a) noexcept {
     hal::canopen::RemoteDrive& d = *a.drive;
     a.record.tick = stats_.ticks;
     a.record.sent = false;
     a.record.move_end = false;
-    if (d.ready() && !a.have_target) {
+    if (a.halt != AxisFault::none) {
+      a.record.moving = false;
+      return true;  // nothing for a halted axis
+    }
+    const bool ready = d.ready();
+    if (ready && !a.have_target) {
       // Entering operation: hold where the drive is.
       a.target = d.feedback().position_actual;
       a.have_target = true;
     }
     std::int32_t target = a.target;
-    if (d.ready()) {
+    if (ready) {
       if (a.pending) {
-        target = *a.pending;
+        target = *a.pending;  // the unit did not go out last tick: the same setpoint again
       } else {
-        if (!a.active && !a.queue.empty()) {
+        if (!a.active && !a.finishing && !a.queue.empty()) {
           a.active = true;
           a.setpoints = Evaluation::start(a.queue.front(), a.target);
           ++a.stats.moves_started;
+          note(LoopEventKind::move_started, index_of(a), AxisFault::none);
         }
         if (a.active) {
           bool last = false;
@@ -337,15 +601,11 @@ class ServoLoop {
           if (distance_counts(next, a.target) > a.guard) {
             // Never command a jump the actuator cannot make: abandon the move, hold position.
             ++a.stats.step_guard_trips;
-            abandon(a);
+            a.fault = AxisFault::step_guard;
+            abandon(a, AxisFault::step_guard);
           } else {
             target = next;
-            if (last) {
-              a.end_pending = true;
-              a.active = false;
-              a.queue.drop_front();
-              ++a.stats.moves_completed;
-            }
+            a.end_pending = last;
           }
         }
       }
@@ -360,32 +620,51 @@ class ServoLoop {
     a.record.feedback_count = fb.tpdo1_received;
     if (!have_rpdo) {
       a.sent_prev_valid = false;
-      return;
+      return true;
     }
-    switch (bus_.send(tx_)) {
-      case hal::SendStatus::sent:
-        ++a.stats.rpdo_sent;
-        a.record.sent = true;
-        a.record.move_end = a.end_pending && d.ready();
+    const hal::SendStatus st = bus_.send(tx_);
+    if (st == hal::SendStatus::sent) {
+      // Applied as if the SYNC follows, which it nearly always does; take_back() undoes this
+      // tick's part when it did not.
+      ++a.stats.rpdo_sent;
+      a.record.sent = true;
+      a.pending.reset();
+      a.sent_prev = target;
+      a.sent_prev_valid = ready;
+      if (!ready) return true;
+      a.target = target;
+      ++a.unanswered;
+      if (a.end_pending) {
+        // The move's final setpoint is applied: it is done when the feedback shows it.
+        a.record.move_end = true;
         a.end_pending = false;
-        a.pending.reset();
-        if (d.ready()) a.target = target;
-        a.sent_prev = target;
-        a.sent_prev_valid = d.ready();
-        break;
-      case hal::SendStatus::busy:
-        // Not queued and not retried now (no bursts): the same target goes out next tick,
-        // and the move's clock waits for it.
-        ++a.stats.rpdo_busy;
-        if (d.ready()) a.pending = target;
-        a.sent_prev_valid = false;
-        break;
-      case hal::SendStatus::error:
-        ++a.stats.rpdo_errors;
-        if (d.ready()) a.pending = target;
-        a.sent_prev_valid = false;
-        break;
+        a.active = false;
+        a.queue.drop_front();
+        a.finishing = true;
+        a.finish_wait = 0;
+        a.final_target = target;
+      }
+      return true;
     }
+    // Busy or error: not queued and not retried now (no bursts). No SYNC goes out this tick, and
+    // the same target goes out next tick: the move's clock waits for it.
+    ++(st == hal::SendStatus::busy ? a.stats.rpdo_busy : a.stats.rpdo_errors);
+    if (ready) a.pending = target;
+    a.sent_prev_valid = false;
+    return false;
+  }
+
+  // The tick's SYNC did not go out: the RPDO this axis sent was never applied. Its setpoint goes
+  // out again next tick (the moves' clock holds); if it was a move's last, the move is finishing
+  // from the tick it is applied in (the drive's feedback decides either way).
+  [[gnu::noinline]] static void take_back(Axis& a) noexcept {
+    if (!a.record.sent) return;
+    a.record.sent = false;
+    a.record.move_end = false;
+    a.sent_prev_valid = false;
+    if (!a.drive->ready()) return;
+    a.pending = a.target;
+    --a.unanswered;
   }
 
   static constexpr std::uint8_t kNoAxis = 0xFF;
@@ -399,15 +678,27 @@ class ServoLoop {
   // Per-tick state first (short offsets on a Cortex-M0), the axes last.
   Bus& bus_;
   std::size_t count_{0};
-  bool started_{false};
+  // Why the loop sends no SYNC (0: it does): not started, a foreign SYNC seen (until restart()),
+  // the bus is off. One byte, so that the tick tests one thing.
+  static constexpr std::uint8_t kSyncNotStarted = 1;
+  static constexpr std::uint8_t kSyncForeign = 2;
+  static constexpr std::uint8_t kSyncBusOff = 4;
+  std::uint8_t sync_blocked_{kSyncNotStarted};
+  bool sync_unsent_{false};       // the last SYNC built did not go out: resend that frame
+  bool foreign_sync_seen_{false};
+  hal::BusState bus_state_{hal::BusState::error_active};
+  std::uint16_t unsent_run_{0};   // ticks in a row whose unit did not go out
   std::uint32_t period_us_;
+  LoopConfig config_;
   LoopStats stats_{};
   hal::canopen::SyncProducer sync_;
+  const hal::CanFrame* sync_frame_{nullptr};
   // The frames a tick receives into and builds its RPDOs in: kept, so that a tick neither zeroes
   // nor copies a whole (FD-sized) frame; encoders write the header and the bytes they carry.
   hal::CanFrame rx_{};
   hal::CanFrame tx_{};
   std::array<std::uint8_t, 128> axis_of_node_{no_axes()};
+  FixedQueue<LoopEvent, kEventLogCapacity> events_{};
   std::array<Axis, MaxAxes> axes_{};
 };
 

@@ -15,12 +15,21 @@ namespace settle::firmware {
 enum class SessionOutcome : std::uint8_t {
   completed,      // every move streamed and the settling window observed
   enable_failed,  // a drive never reached operation enabled (or refused its configuration)
-  drive_lost,     // heartbeat lost, fault or restart during the session: streaming stopped
+  drive_lost,     // heartbeat lost, fault, restart, step guard or following error: streaming stopped
   rejected,       // a move was refused before anything was streamed for it
   timeout,        // the session ran past max_ticks
+  // The loop halted the axis (SessionResult::fault says the same):
+  feedback_timeout,       // the drive stopped answering the SYNC (its TPDOs stopped)
+  drive_not_operational,  // its heartbeat said pre-operational or stopped: someone else's NMT
+  foreign_sync,           // a second SYNC producer on the bus
+  bus_off,                // the controller went bus-off (the loop restarts it and the drives' start-up)
+  send_failed,            // the RPDO + SYNC unit could not be sent for LoopConfig::send_failure_periods
+  not_in_position,        // the feedback never showed the final setpoint within one count
 };
 
 [[nodiscard]] const char* to_string(SessionOutcome o) noexcept;
+// The outcome that names the fault (drive_lost for the drive's own stops).
+[[nodiscard]] SessionOutcome session_outcome_for(AxisFault f) noexcept;
 
 struct SessionConfig {
   std::uint64_t enable_timeout_ticks{3000};
@@ -31,6 +40,7 @@ struct SessionConfig {
 struct SessionResult {
   SessionOutcome outcome{SessionOutcome::completed};
   LoopStatus rejection{LoopStatus::ok};
+  AxisFault fault{AxisFault::none};  // why streaming stopped, when it did
   std::uint64_t ticks{0};
   std::uint64_t ready_tick{0};      // first tick with every drive ready
   std::uint64_t stream_end_tick{0}; // first tick with every move done
@@ -68,6 +78,11 @@ SessionResult run_session(Loop& loop, Clock& clock, const core::Move<double>* mo
         phase = Phase::streaming;
         continue;
       }
+      if (loop.halted(axis)) {  // a foreign SYNC, bus-off, ... before streaming began
+        r.fault = loop.fault(axis);
+        r.outcome = session_outcome_for(r.fault);
+        return r;
+      }
       const auto state = loop.drive(axis).state();
       if (state == hal::canopen::RemoteDriveState::failed || r.ticks >= cfg.enable_timeout_ticks) {
         r.outcome = SessionOutcome::enable_failed;
@@ -78,7 +93,8 @@ SessionResult run_session(Loop& loop, Clock& clock, const core::Move<double>* mo
     // Streaming or settling: any loss of the drive ends the session, and the loop has already
     // stopped streaming to it.
     if (!loop.ready(axis) || loop.axis_stats(axis).moves_aborted != aborted_before) {
-      r.outcome = SessionOutcome::drive_lost;
+      r.fault = loop.fault(axis);
+      r.outcome = session_outcome_for(r.fault);
       loop.abort(axis);
       return r;
     }

@@ -61,6 +61,8 @@ enum class RemoteDriveState : std::uint8_t {
   ready,        // operation enabled in the configured mode: setpoints may be streamed
   stopped,      // the drive left operation enabled (fault, quick stop): call recover()
   lost,         // its heartbeat timed out
+  not_operational,  // its heartbeat said pre-operational or stopped after it had been operational
+                    // (someone else's NMT command): no process data; start() runs start-up again
   failed,       // configuration refused or timed out, or enabling timed out: see failure()
 };
 
@@ -85,6 +87,7 @@ inline constexpr std::uint16_t emcy = 0x0008;             // see last_emcy()
 inline constexpr std::uint16_t became_ready = 0x0010;
 inline constexpr std::uint16_t left_enabled = 0x0020;     // fault or quick stop while ready
 inline constexpr std::uint16_t failed = 0x0040;
+inline constexpr std::uint16_t left_operational = 0x0080;  // heartbeat: pre-operational or stopped
 }  // namespace remote_event
 
 // What on_frame found a received frame to be.
@@ -182,6 +185,7 @@ class RemoteDrive {
     feedback_.position_actual = p.position_actual;
     feedback_.tpdo1_time_us = now_us;
     ++feedback_.tpdo1_received;
+    operational_seen_ = true;  // TPDOs flow only in NMT operational
     const bool enabled = EnableSequence::done(p.statusword);
     if (enabled != (state_ == RemoteDriveState::ready)) enabled_changed(enabled);
   }
@@ -212,6 +216,9 @@ class RemoteDrive {
   std::size_t step_count_{0};
   std::size_t step_{0};
   bool step_sent_{false};
+  // The drive has been seen operational since start-up sent NMT start (a TPDO or an operational
+  // heartbeat): from then on a pre-operational or stopped heartbeat is news, not a late echo.
+  bool operational_seen_{false};
   RemoteFeedback feedback_{};
   RemoteDriveFailure failure_{};
   std::uint16_t events_{0};

@@ -1,7 +1,11 @@
 // A test double for any CanBus: forwards to a real backend (usually a loopback port) and, on
 // request, makes sends report busy or error, loses frames in either direction, or holds them
 // back until the test's virtual time has advanced. Scripted (the next n frames) or random
-// (seeded rates), and optionally only for frames matching a filter (e.g. only SYNC).
+// (seeded rates), and optionally only for frames matching a filter (e.g. only SYNC). It also plays
+// the controller's error reports, which no virtual interface can produce: error-warning,
+// error-passive and bus-off (as the error frames a real controller sends), and the answer to a
+// restart request. While bus-off, every send fails with error and whatever reaches the
+// controller is lost, as on a controller that is off the bus.
 #pragma once
 
 #include <array>
@@ -29,6 +33,7 @@ struct FaultStats {
   std::uint64_t tx_dropped{0};  // reported sent, never forwarded
   std::uint64_t rx_dropped{0};  // taken from the backend and discarded
   std::uint64_t delayed{0};     // frames that waited in a hold queue
+  std::uint64_t bus_off_rx_lost{0};  // frames that arrived while the controller was off the bus
 };
 
 class FaultInjectingBus final : public CanBus {
@@ -48,6 +53,18 @@ class FaultInjectingBus final : public CanBus {
   // Faults touch only frames this filter matches; nullopt (the default) means every frame.
   void set_target(std::optional<CanFilter> target) noexcept { target_ = target; }
   void clear_faults() noexcept;
+
+  // The controller reports a new error state (what an error frame tells SocketCanBus).
+  void inject_bus_state(BusState state) noexcept {
+    count_error_frame();
+    set_bus_state(state);
+  }
+  // How the next restart requests are answered. ok: the controller is back (error_active) at once
+  // unless restart_completes is false (then inject the state when the test wants it back).
+  void set_restart_answer(BusStatus answer, bool restart_completes = true) noexcept {
+    restart_answer_ = answer;
+    restart_completes_ = restart_completes;
+  }
 
   // Advances virtual time and forwards delayed sends that are due.
   void set_time_us(std::uint64_t now_us) noexcept;
@@ -80,6 +97,7 @@ class FaultInjectingBus final : public CanBus {
   [[nodiscard]] SendStatus do_send(const CanFrame& frame) noexcept override;
   [[nodiscard]] ReceiveStatus do_receive(CanFrame& frame, std::uint32_t timeout_us) noexcept override;
   [[nodiscard]] BusStatus do_set_filters(std::span<const CanFilter> filters) noexcept override;
+  [[nodiscard]] BusStatus do_restart() noexcept override;
 
   [[nodiscard]] bool targeted(const CanFrame& frame) const noexcept;
   [[nodiscard]] bool chance(std::uint32_t ppm) noexcept;
@@ -98,6 +116,8 @@ class FaultInjectingBus final : public CanBus {
   HoldQueue tx_hold_{};
   HoldQueue rx_hold_{};
   FaultStats stats_{};
+  BusStatus restart_answer_{BusStatus::not_supported};
+  bool restart_completes_{true};
 };
 
 }  // namespace settle::hal::testing
