@@ -3,6 +3,7 @@
 #include <array>
 #include <cstring>
 #include <ctime>
+#include <new>
 
 #include "settle/hal/candump_log.hpp"
 
@@ -22,8 +23,15 @@ bool CandumpFile::open(const char* path, const char* iface) noexcept {
   if (file_ != nullptr || path == nullptr || iface == nullptr || std::strlen(iface) >= sizeof iface_ || iface[0] == '\0') {
     return false;
   }
+  buffer_.reset(new (std::nothrow) char[buffer_bytes]);
+  if (!buffer_) return false;
   file_ = std::fopen(path, "w");
   if (file_ == nullptr) return false;
+  if (std::setvbuf(file_, buffer_.get(), _IOFBF, buffer_bytes) != 0) {
+    std::fclose(file_);
+    file_ = nullptr;
+    return false;
+  }
   std::memcpy(iface_, iface, std::strlen(iface) + 1);
   lines_ = 0;
   lost_ = 0;

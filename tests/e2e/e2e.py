@@ -12,6 +12,7 @@ SETTLE = sys.argv[1]
 TEST = sys.argv[2]
 # The papers' scenarios, the same the demo streams (tools/paper_scenarios.py), and the harness's
 # own CAN node (tools/canbus.py): readiness and ordering by frames, never by sleeping.
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import canbus  # noqa: E402
 import paper_scenarios  # noqa: E402
@@ -136,6 +137,13 @@ def check_log(tag, r, dump, pj=None):
     return log
 
 
+def why_stopped(dump, pj):
+    """For a failure message: the drive's EMCYs (from the stream's log) and its counters."""
+    emcy = [data for _, cid, data in read_log(dump) if cid == 0x080 + NODE] if os.path.exists(dump) else []
+    return (f"; drive: {pj['state']}, EMCY {emcy or 'none'}, {pj['sync_gaps']} SYNC gaps, "
+            f"{pj['rpdos_missing']} RPDOs missing")
+
+
 def rpdo_target(data):
     return int.from_bytes(bytes(data[2:6]), "little", signed=True)
 
@@ -152,7 +160,8 @@ def scenario(d, tag):
     rc, r, fb, dump = stream(d, tag, plant_args, move_args, vmax)
     pj = plant.stop()
     check(rc == 0 and r["outcome"] == "completed",
-          f"{tag}: session completed ({r['outcome']}; drive {r.get('drive_state')} {r.get('drive_failure', '')})")
+          f"{tag}: session completed ({r['outcome']}; drive {r.get('drive_state')} {r.get('drive_failure', '')}"
+          f"{why_stopped(dump, pj)})")
     check(r["aligned"], f"{tag}: the CAN feedback matches the offline replay period by period")
     tol = 1e-6 * out_scale
     check(r["agreement"] <= tol, f"{tag}: residual from CAN {r['residual_can']:.6e} agrees with offline "
@@ -248,6 +257,31 @@ def main():
                                   f"heartbeat, at most {bound} within its {hb_ms} ms timeout)")
             targets = [rpdo_target(bytes.fromhex(data)) for _, cid, data in log if cid == 0x200 + NODE]
             check(max(targets) < 500000, f"the move was cut short (last setpoint {targets[-1]} of 500000 counts)")
+        elif TEST == "plant-stalls-mid-move":
+            # The drive's process is not scheduled for 300 periods (SIGSTOP: a loaded host) while
+            # the loop keeps streaming: the SYNCs wait in its queue. That is not a lost SYNC: it
+            # takes them in order once it runs again and the move completes, every setpoint
+            # applied once. (It failed with EMCY 0x8100 when the plant judged its SYNC timeout
+            # after one queued frame.) Counted in frames: the stall lasts until 300 SYNCs were sent.
+            plant_args, move_args, vmax, _ = SCENARIOS["000-scurve-1.75"]
+            plant = Plant(d, "stall", plant_args, PLANT_TOLERANT)
+            bus = canbus.Socket(filters=[(0x200 + NODE, 0x7FF), (0x080, 0x7FF)])
+            cmd, fb, dump = stream_cmd(d, "stall", plant_args, move_args, vmax, STREAM_TOLERANT)
+            s = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
+            wait_mid_move(bus, 70000, lambda: s.poll() is None)
+            plant.p.send_signal(signal.SIGSTOP)
+            syncs = [0]
+            guarded(bus.wait_for, lambda cid, data: cid == 0x080 and (syncs.__setitem__(0, syncs[0] + 1) or syncs[0] >= 300),
+                    "300 SYNCs while the drive is stopped", lambda: s.poll() is None)
+            plant.p.send_signal(signal.SIGCONT)
+            out, _ = s.communicate(timeout=300)
+            pj = plant.stop()
+            r = json.loads(out)
+            check(s.returncode == 0 and r["outcome"] == "completed",
+                  f"the move completed across the drive's stall ({r['outcome']}; drive {r['drive_state']}"
+                  f"{why_stopped(dump, pj)})")
+            check(pj["emcy_sent"] == 0 and r["aligned"], "no EMCY, every setpoint applied once, in order")
+            check_log("stall", r, dump, pj)
         elif TEST == "loop-dies-mid-move":
             plant_args = ["--plant", "beam"]
             move = ["--profile", "scurve", "--distance", "0.5", "--time", "4", "--omega", f"{W000}"]
