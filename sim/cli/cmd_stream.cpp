@@ -16,6 +16,7 @@
 #include "plant_options.hpp"
 #include "settle/firmware/linux/periodic.hpp"
 #include "settle/firmware/session.hpp"
+#include "settle/hal/candump_file.hpp"
 #include "settle/hal/candump_log.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/hal/socketcan_bus.hpp"
@@ -139,6 +140,9 @@ int cmd_stream(int argc, char** argv) {
   firmware::SessionConfig sc{};
   sc.settle_ticks = static_cast<std::uint64_t>(settle_time * 1e6 / period_us);
   sc.enable_timeout_ticks = 5'000'000 / period_us;
+  // The drive's own enabling deadline is the session's 5 s window, not RemoteDrive's 1 s default:
+  // a host that stalls the process for a second must not fail a drive that enables in time.
+  ac.drive.enable_timeout_us = static_cast<std::uint32_t>(sc.enable_timeout_ticks * period_us);
   const std::uint64_t move_ticks = static_cast<std::uint64_t>(move.duration() * 1e6 / period_us) + 2;
   sc.max_ticks = sc.enable_timeout_ticks + move_ticks + sc.settle_ticks + 10;
 
@@ -197,18 +201,33 @@ int cmd_stream(int argc, char** argv) {
                    hal::to_string(os));
       return kExitFailure;
     }
+    // --candump: this process's own log of every frame it sends and receives (complete, unlike a
+    // sniffer's), written between ticks; its line count equals frames_sent + frames_received.
+    auto recorder = std::make_unique<hal::RecordingBus<1024>>(bus, hal::realtime_us);
+    hal::CandumpFile dump;
+    if (const auto path = args.get("--candump"); path && !dump.open(path->c_str(), bus_name.c_str())) {
+      std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
+      return kExitFailure;
+    }
+    hal::CanBus& link = dump.is_open() ? static_cast<hal::CanBus&>(*recorder) : bus;
     if (priority > 0) rt = firmware::linux_rt::request_realtime(static_cast<int>(priority));
-    auto loop = std::make_unique<Loop>(bus, period_us);
+    auto loop = std::make_unique<Loop>(link, period_us);
     if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
     RealtimeClock clock{period_us};
     out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
       out.record(*loop);
+      if (dump.is_open()) (void)dump.write_records(*recorder);
     });
     // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
     hal::CanFrame f{};
-    while (bus.receive(f, 50000) == hal::ReceiveStatus::received) {
+    while (link.receive(f, 50000) == hal::ReceiveStatus::received) {
       loop->receive(f, clock.now_us());
       out.drain(*loop);
+    }
+    if (dump.is_open() && !(dump.write_records(*recorder) && dump.close())) {
+      std::fprintf(stderr, "settle stream: the --candump log is incomplete (%llu records lost or unwritten)\n",
+                   static_cast<unsigned long long>(dump.records_lost()));
+      return kExitFailure;
     }
     out.finish(*loop, bus);
     latency = clock.timer().latency();

@@ -3,9 +3,13 @@
 #include <array>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "frame_helpers.hpp"
 #include "settle/hal/candump_log.hpp"
+#include "settle/hal/loopback_bus.hpp"
+#include "settle/hal/recording_bus.hpp"
+#include "settle/hal/testing/fault_injecting_bus.hpp"
 
 namespace settle::hal {
 namespace {
@@ -61,6 +65,70 @@ TEST(CandumpLog, RejectsMalformedLines) {
         "(1.000000) averyveryverylongifname 123#00"}) {
     EXPECT_FALSE(parse(line)) << '"' << line << '"';
   }
+}
+
+std::uint64_t fixed_clock() noexcept { return 42'000'001; }
+
+// A log written from a RecordingBus holds exactly the frames its counters count: each sent frame
+// (busy and refused ones never reached the wire), each received frame, in the order they passed.
+TEST(RecordingBus, RecordsEverySentAndReceivedFrameInOrderAndNothingElse) {
+  LoopbackHub hub;
+  LoopbackBus<16> wire{hub};
+  LoopbackBus<16> peer{hub};
+  testing::FaultInjectingBus faulty{wire};
+  RecordingBus<8> bus{faulty, fixed_clock};
+  hub.set_time_us(7);
+  ASSERT_EQ(bus.send(test::frame(0x080, {})), SendStatus::sent);
+  faulty.fail_sends(1, SendStatus::busy);
+  ASSERT_EQ(bus.send(test::frame(0x201, {1})), SendStatus::busy);
+  faulty.fail_sends(1, SendStatus::error);
+  ASSERT_EQ(bus.send(test::frame(0x201, {2})), SendStatus::error);
+  ASSERT_EQ(bus.send(test::frame(0x201, {3})), SendStatus::sent);
+  ASSERT_EQ(peer.send(test::frame(0x181, {4, 5})), SendStatus::sent);
+  CanFrame got{};
+  ASSERT_EQ(bus.receive(got), ReceiveStatus::received);
+  ASSERT_EQ(bus.receive(got), ReceiveStatus::empty);
+
+  EXPECT_EQ(bus.counters().sent, 2U);
+  EXPECT_EQ(bus.counters().received, 1U);
+  EXPECT_EQ(bus.recorded(), 3U);
+  EXPECT_EQ(bus.overflows(), 0U);
+  const std::array<std::pair<CanFrame, FrameDirection>, 3> expected{{{test::frame(0x080, {}), FrameDirection::sent},
+                                                                     {test::frame(0x201, {3}), FrameDirection::sent},
+                                                                     {test::frame(0x181, {4, 5}), FrameDirection::received}}};
+  for (const auto& [frame, direction] : expected) {
+    RecordedFrame r{};
+    ASSERT_TRUE(bus.take(r));
+    EXPECT_EQ(r.frame, frame);
+    EXPECT_EQ(r.direction, direction);
+    // Sent frames carry the given clock's time, received ones the backend's receive time.
+    EXPECT_EQ(r.frame.timestamp_us, direction == FrameDirection::sent ? 42'000'001U : 7U);
+  }
+  RecordedFrame r{};
+  EXPECT_FALSE(bus.take(r));
+}
+
+TEST(RecordingBus, AFullRingIsCountedAndTheFrameStillPasses) {
+  LoopbackHub hub;
+  LoopbackBus<16> wire{hub};
+  LoopbackBus<16> peer{hub};
+  RecordingBus<2> bus{wire};
+  for (std::uint8_t i = 0; i < 3; ++i) ASSERT_EQ(bus.send(test::frame(0x201, {i})), SendStatus::sent);
+  EXPECT_EQ(bus.recorded(), 2U);
+  EXPECT_EQ(bus.overflows(), 1U);
+  CanFrame got{};
+  for (std::uint8_t i = 0; i < 3; ++i) {
+    ASSERT_EQ(peer.receive(got), ReceiveStatus::received);
+    EXPECT_EQ(got, test::frame(0x201, {i})) << "the unrecorded frame was sent all the same";
+  }
+  RecordedFrame r{};
+  ASSERT_TRUE(bus.take(r));
+  EXPECT_EQ(r.frame.timestamp_us, 0U) << "no clock given";
+  ASSERT_TRUE(bus.take(r));
+  EXPECT_EQ(r.frame, test::frame(0x201, {1}));
+  EXPECT_FALSE(bus.take(r));
+  ASSERT_EQ(bus.send(test::frame(0x201, {9})), SendStatus::sent);
+  EXPECT_EQ(bus.recorded(), 3U) << "room again once taken";
 }
 
 }  // namespace
