@@ -15,12 +15,12 @@ int cmd_sample(int argc, char** argv) {
   RequestError err;
   if (!parse_move_request(args, req, err)) return report_bad_request(err, args.json());
   const auto dt = args.real("--dt");
-  if (!dt) return report_bad_request({"missing_option", "--dt", "--dt is required (sample period, s)"}, args.json());
+  if (!dt) return report_bad_request({"missing_option", "--dt", "--dt: required (sample period, s)"}, args.json());
   core::Move<double> move{};
   if (!plan_move(req, move, err)) return report_bad_request(err, args.json());
   const double n_real = std::ceil(move.duration() / *dt);
   if (!(n_real + 1.0 <= kMaxRows)) {
-    return report_bad_request({"too_many_samples", "--dt", "--dt: " + std::to_string(n_real + 1.0) +
+    return report_bad_request({"too_many_samples", "--dt", "--dt: " + format_number(n_real + 1.0) +
                                                                " samples; at most 1e7 (move duration / --dt)"},
                               args.json());
   }

@@ -126,7 +126,7 @@ int cmd_simulate(int argc, char** argv) {
   const double tail = opt.record ? (opt.tail >= 0.0 ? opt.tail : 3.0 * 2.0 * M_PI / plant.fundamental().omega) : 0.0;
   if (move.duration() + tail > kMaxSeconds) {
     return report_bad_request({"too_long", "--tail",
-                               "--tail: move + tail would be " + std::to_string(move.duration() + tail) +
+                               "--tail: move + tail would be " + format_number(move.duration() + tail) +
                                    " s; at most 3600 s"},
                               json);
   }
@@ -134,7 +134,7 @@ int cmd_simulate(int argc, char** argv) {
   const double max_steps = opt.record ? kMaxCsvRows : kMaxRows;
   if (!(steps <= max_steps)) {
     return report_bad_request({"too_many_samples", "--dt",
-                               "--dt: " + std::to_string(steps) + " grid steps; at most " +
+                               "--dt: " + format_number(steps) + " grid steps; at most " +
                                    (opt.record ? std::string{"1e6 rows with --csv"} : std::string{"1e7"})},
                               json);
   }

@@ -128,14 +128,14 @@ int cmd_stream(int argc, char** argv) {
   // continuous simulation (1e-4 s grid) all grow with the move and the settle time.
   if (move.duration() + settle_time > kMaxSeconds || move.duration() / 1e-4 > kMaxRows) {
     return report_bad_request({"too_long", "--time",
-                               "--time: the move lasts " + std::to_string(move.duration()) +
+                               "--time: the move lasts " + format_number(move.duration()) +
                                    " s; stream takes at most 1000 s of move and 3600 s of move + settle time"},
                               json);
   }
   const double periods = (5.0 + move.duration() + settle_time) * 1e6 / period_us;
   if (periods > kMaxStreamPeriods) {
     return report_bad_request({"too_many_samples", "--period-us",
-                               "--period-us: " + std::to_string(periods) +
+                               "--period-us: " + format_number(periods) +
                                    " periods of start-up + move + settle time; at most 4e6"},
                               json);
   }

@@ -70,7 +70,7 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
   core::MoveRequest r{};
   const auto prof = a.text("--profile");
   if (!prof) {
-    err = {"missing_option", "--profile", "--profile is required (scurve, scurve-damped, ramp-versine, pseudopoly, "
+    err = {"missing_option", "--profile", "--profile: required (scurve, scurve-damped, ramp-versine, pseudopoly, "
                                           "poly345, trapezoid, jerk-limited)"};
     return false;
   }
@@ -80,7 +80,7 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
   }
   const auto distance = a.real("--distance");
   if (!distance) {
-    err = {"missing_option", "--distance", "--distance is required"};
+    err = {"missing_option", "--distance", "--distance: required"};
     return false;
   }
   r.distance = *distance;
@@ -96,7 +96,7 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
     r.gamma_count = v.size();  // at most kMaxGammas: the table's item limit
     for (std::size_t i = 0; i < v.size() && i < r.gammas.size(); ++i) r.gammas[i] = v[i];
   } else if (r.profile == core::ProfileKind::pseudopoly) {
-    err = {"missing_option", "--gammas", "--gammas is required for the pseudopoly profile"};
+    err = {"missing_option", "--gammas", "--gammas: required for the pseudopoly profile"};
     return false;
   }
   if (a.has("--y")) {
@@ -126,9 +126,10 @@ bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestErr
     return false;
   }
   if (out.duration() > kMaxSeconds) {
-    const char* who = req.shaper != core::ShaperKind::none ? "--omega" : main;
-    err = {"too_long", who, std::string{who} + ": the planned move lasts " + std::to_string(out.duration()) +
-                                " s; at most 3600 s"};
+    const char* who = req.time ? (out.profile().duration() > kMaxSeconds ? "--time" : "--omega") : main;
+    err = {"too_long", who,
+           std::string{who} + ": the planned move lasts " + format_number(out.duration()) + " s; at most 3600 s" +
+               (req.time ? "" : " (raise --vmax, --amax or --jmax)")};
     return false;
   }
   return true;

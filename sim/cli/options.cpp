@@ -285,8 +285,7 @@ struct Parser {
   void unknown(const std::string& name) {
     const std::string near = nearest_option(c, name);
     fail("bad_option", name,
-                "unknown option '" + name + "' for settle " + c.name +
-                    (near.empty() ? "" : " (did you mean " + near + "?)"));
+         name + ": unknown option for settle " + c.name + (near.empty() ? "" : " (did you mean " + near + "?)"));
   }
 
   // Checks one value of option `o` and records it.
@@ -405,10 +404,14 @@ struct Parser {
           const bool next_is_option = i + 1 < argc && std::string_view{argv[i + 1]}.rfind("--", 0) == 0 &&
                                       find(std::string{argv[i + 1]}.substr(0, std::string{argv[i + 1]}.find('='))) != nullptr;
           if (i + 1 >= argc || next_is_option) {
-            fail("missing_value", name, "option " + name + " needs a value; expected " + expectation(*o));
+            fail("missing_value", name, name + ": needs a value; expected " + expectation(*o));
             return ParseOutcome::error;
           }
           value = argv[++i];
+        }
+        if (value.empty()) {  // CLI11 would take "--x=" for a missing value: say what is wrong with it
+          validate(*o, value);
+          return ParseOutcome::error;
         }
         tokens.push_back(name + "=" + value);
       } else if (a.size() > 1 && a[0] == '-' && !looks_like_number(a)) {
@@ -418,8 +421,8 @@ struct Parser {
         have_positional = true;
         tokens.push_back(a);
       } else {
-        fail("bad_option", last_option.empty() ? a : last_option,
-             "unexpected argument '" + a + "'" + (last_option.empty() ? "" : " after " + last_option));
+        const std::string who = last_option.empty() ? "--" + c.name : last_option;
+        fail("bad_option", who, who + ": unexpected argument '" + a + "' after it");
         return ParseOutcome::error;
       }
     }
@@ -477,11 +480,11 @@ struct Parser {
     }
     if (!c.positional_choices.empty()) {
       if (!have_positional) {
-        fail("missing_experiment", "experiment", "usage: settle " + c.name + " " + c.usage + " [options]");
+        fail("missing_experiment", "experiment", "experiment: required (settle " + c.name + " " + c.usage + " [options])");
         return ParseOutcome::error;
       }
       if (std::find(c.positional_choices.begin(), c.positional_choices.end(), positional) == c.positional_choices.end()) {
-        fail("unknown_experiment", "experiment", "unknown experiment '" + positional + "' (" + c.usage + ")");
+        fail("unknown_experiment", "experiment", "experiment: unknown experiment '" + positional + "' (" + c.usage + ")");
         return ParseOutcome::error;
       }
       out.positional_ = positional;
@@ -489,6 +492,8 @@ struct Parser {
     return ParseOutcome::ok;
   }
 };
+
+std::string format_number(double v) { return num(v); }
 
 std::string Range::text() const {
   return std::string{lo_open ? "(" : "["} + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]");

@@ -129,6 +129,9 @@ enum class ParseOutcome : unsigned char { ok, help_printed, error };
 // after --help, 2 after a bad request has been reported).
 [[nodiscard]] int parse_or_exit(std::string_view command, int argc, char** argv, ParsedArgs& out);
 
+// A number as %g prints it ("1e+06"), for messages.
+[[nodiscard]] std::string format_number(double v);
+
 // Prints the error (stderr line, or JSON on stdout when json is set) and returns exit status 2.
 int report_bad_request(const RequestError& err, bool json);
 

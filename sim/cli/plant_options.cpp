@@ -1,5 +1,6 @@
 #include "plant_options.hpp"
 
+#include <cmath>
 #include <initializer_list>
 #include <string>
 #include <vector>
@@ -69,7 +70,7 @@ bool parse_plant(const ParsedArgs& a, sim::ModalPlant& plant, RequestError& err)
   const std::string kind = a.text("--plant", "beam");
   for (const Owned& o : kOwned) {
     if (kind != o.kind && a.has(o.option)) {
-      err = {"option_not_for_plant", o.option, std::string{o.option} + " does not apply to --plant " + kind};
+      err = {"option_not_for_plant", o.option, std::string{o.option} + ": does not apply to --plant " + kind};
       return false;
     }
   }
@@ -110,7 +111,7 @@ bool parse_plant(const ParsedArgs& a, sim::ModalPlant& plant, RequestError& err)
       modes.push_back(md);
     }
     if (modes.empty()) {
-      err = {"missing_option", "--mode", "--mode OMEGA,ZETA,GAIN is required (repeatable) for --plant modes"};
+      err = {"missing_option", "--mode", "--mode: OMEGA,ZETA,GAIN required (repeatable) for --plant modes"};
       return false;
     }
     st = sim::ModalPlant::make_modes(modes, 1.0, sim::PlantKind::modes, plant);
@@ -123,7 +124,7 @@ bool parse_plant(const ParsedArgs& a, sim::ModalPlant& plant, RequestError& err)
       const char* p = plant_param(sim::SimStatus::non_finite_parameter, kind, a);
       err = {"plant_out_of_range", p,
              std::string{p} + ": the plant's natural frequencies must lie in [0.01, 1e7] rad/s (got " +
-                 std::to_string(m.omega) + ")"};
+                 format_number(m.omega) + ")"};
       return false;
     }
   }
