@@ -41,6 +41,17 @@ int cmd_sample(int argc, char** argv) {
       }
     }
   }
+  if (args.json()) {
+    // Streamed (1e7 samples would not fit a document in memory); every number is finite.
+    std::printf("{\"status\":\"ok\",\"columns\":[\"t\",\"position\",\"velocity\",\"acceleration\",\"jerk\"],"
+                "\"rows\":[");
+    for (long i = 0; i <= n; ++i) {
+      const auto r = sample(i);
+      std::printf("%s[%.17g,%.17g,%.17g,%.17g,%.17g]", i == 0 ? "" : ",", r[0], r[1], r[2], r[3], r[4]);
+    }
+    std::printf("]}\n");
+    return kExitOk;
+  }
   std::printf("t,position,velocity,acceleration,jerk\n");
   for (long i = 0; i <= n; ++i) {
     const auto r = sample(i);

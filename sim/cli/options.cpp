@@ -163,7 +163,7 @@ const std::vector<OptionSpec> kReproduce = {
 const std::vector<CommandSpec> kCommands = {
     {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "", .groups = {kMove, kOutput}},
     {.name = "sample",
-     .summary = "plan a move and print t,position,velocity,acceleration,jerk as CSV (--dt)",
+     .summary = "plan a move and print t,position,velocity,acceleration,jerk every --dt (CSV, or --json)",
      .usage = "",
      .groups = {kMove, kSample, kOutput},
      .notes = "Bounds: at most 1e7 samples (move duration / --dt)."},
