@@ -228,7 +228,9 @@ TEST(CliHelp, EveryOptionOfTheTableIsInItsCommandsHelp) {
     ASSERT_EQ(h2.status, 0) << h2.out;
     EXPECT_EQ(h.stdout_text, h2.stdout_text);
     const std::set<std::string> listed = options_in_help(h.stdout_text);
+    std::set<std::string> names;
     for (const settle::cli::OptionSpec* o : settle::cli::options_of(c)) {
+      EXPECT_TRUE(names.insert(o->name).second) << o->name << " declared twice for " << c.name;
       EXPECT_EQ(listed.count(o->name), 1u) << o->name << " missing from\n" << h.stdout_text;
       if (o->kind == settle::cli::Kind::real || o->kind == settle::cli::Kind::integer) {
         // The range as the table states it appears on the option's line.
