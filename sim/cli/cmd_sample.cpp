@@ -21,12 +21,12 @@ int cmd_sample(int argc, char** argv) {
   const double n_real = std::ceil(move.duration() / *dt);
   if (!(n_real + 1.0 <= kMaxRows)) {
     return report_bad_request({"too_many_samples", "--dt", "--dt: " + format_number(n_real + 1.0) +
-                                                               " samples; at most 1e7 (move duration / --dt)"},
+                                                               " samples; at most 2e6 (move duration / --dt)"},
                               args.json());
   }
   const long n = static_cast<long>(n_real);
   // Every sample is computed and checked before the first line is printed (two passes, so that
-  // 1e7 samples need no memory).
+  // 2e6 samples need no memory).
   auto sample = [&](long i) {
     const double t = std::min(static_cast<double>(i) * *dt, move.duration());
     const auto s = move.at(t);
@@ -42,7 +42,7 @@ int cmd_sample(int argc, char** argv) {
     }
   }
   if (args.json()) {
-    // Streamed (1e7 samples would not fit a document in memory); every number is finite.
+    // Streamed, not built as a document; every number is finite.
     std::printf("{\"status\":\"ok\",\"columns\":[\"t\",\"position\",\"velocity\",\"acceleration\",\"jerk\"],"
                 "\"rows\":[");
     for (long i = 0; i <= n; ++i) {

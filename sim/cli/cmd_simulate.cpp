@@ -131,11 +131,12 @@ int cmd_simulate(int argc, char** argv) {
                               json);
   }
   const double steps = (move.duration() + tail) / opt.dt;
-  const double max_steps = opt.record ? kMaxCsvRows : kMaxRows;
-  if (!(steps <= max_steps)) {
+  const double work = steps * static_cast<double>(plant.modes().size());
+  if (!(work <= kMaxSimWork) || (opt.record && !(steps <= kMaxCsvRows))) {
     return report_bad_request({"too_many_samples", "--dt",
-                               "--dt: " + format_number(steps) + " grid steps; at most " +
-                                   (opt.record ? std::string{"1e6 rows with --csv"} : std::string{"1e7"})},
+                               "--dt: " + format_number(steps) + " grid steps x " +
+                                   format_number(static_cast<double>(plant.modes().size())) +
+                                   " modes; at most 2e6 (and 1e6 rows with --csv)"},
                               json);
   }
 

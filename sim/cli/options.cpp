@@ -121,12 +121,12 @@ const std::vector<OptionSpec> kDrive = {
 };
 
 const std::vector<OptionSpec> kSample = {
-    real("--dt", "s", "", {0.0, kMaxSeconds, true}, "sample period (required); at most 1e7 samples"),
+    real("--dt", "s", "", {0.0, kMaxSeconds, true}, "sample period (required); at most 2e6 samples"),
 };
 
 const std::vector<OptionSpec> kSimulate = {
     text("--csv", "", "write the time history to FILE (at most 1e6 rows)", "FILE"),
-    real("--dt", "s", "1e-4", {1e-7, 1.0}, "simulation grid step; at most 1e7 steps over move + tail"),
+    real("--dt", "s", "1e-4", {1e-7, 1.0}, "simulation grid step; at most 2e6 steps x modes"),
     real("--band", "m or rad", "5 % of an unshaped step's residual", {0.0, 1e6, true}, "settling band"),
     real("--tail", "s", "3 periods of the slowest mode", {0.0, kMaxSeconds},
          "time simulated after the move; move + tail at most 3600 s"),
@@ -166,13 +166,13 @@ const std::vector<CommandSpec> kCommands = {
      .summary = "plan a move and print t,position,velocity,acceleration,jerk every --dt (CSV, or --json)",
      .usage = "",
      .groups = {kMove, kSample, kOutput},
-     .notes = "Bounds: at most 1e7 samples (move duration / --dt)."},
+     .notes = "Bounds: at most 2e6 samples (move duration / --dt); the move at most 3600 s."},
     {.name = "simulate",
      .summary = "run a move on a plant (sdof, beam, belt, modes): residual, PRV, energy",
      .usage = "",
      .groups = {kMove, kPlant, kSimulate, kOutput},
-     .notes = "Bounds: move + tail at most 3600 s; at most 1e7 grid steps; with --csv at most 1e6 rows; at most 64 "
-              "--mode."},
+     .notes = "Bounds: move + tail at most 3600 s; grid steps ((move + tail) / --dt) x modes at most 2e6; with --csv "
+              "at most 1e6 rows; at most 64 --mode."},
     {.name = "reproduce",
      .summary = "rerun a paper's experiment (000, 001, 004) as tables, CSV and plots",
      .usage = "000|001|004",
@@ -187,7 +187,7 @@ const std::vector<CommandSpec> kCommands = {
      .summary = "stream a move to a drive over CAN and measure the residual vibration",
      .usage = "",
      .groups = {kStream, kMove, kPlant, kDrive, kOutput},
-     .notes = "Bounds: move + settle time at most 3600 s and at most 4e6 periods (5 s start-up included); "
+     .notes = "Bounds: move + settle time at most 3600 s and at most 1e6 periods (5 s start-up included); "
               "setpoints must fit in 32-bit counts. Exit 1 when the bus cannot be opened or the move did not "
               "complete."},
 };

@@ -135,11 +135,13 @@ enum class ParseOutcome : unsigned char { ok, help_printed, error };
 // Prints the error (stderr line, or JSON on stdout when json is set) and returns exit status 2.
 int report_bad_request(const RequestError& err, bool json);
 
-// The CLI's documented size bounds (checked before anything is allocated or printed).
-inline constexpr double kMaxRows = 1e7;          // samples, grid steps or rows
-inline constexpr double kMaxCsvRows = 1e6;       // simulate --csv keeps its history in memory
-inline constexpr double kMaxSeconds = 3600.0;    // move + tail (or settle time)
-inline constexpr double kMaxStreamPeriods = 4e6; // stream: start-up + move + settle, in periods
+// The CLI's documented size bounds, checked before anything is allocated or printed. Each keeps
+// a valid run of a release build within a few seconds (and under ASan within about a minute).
+inline constexpr double kMaxRows = 2e6;          // sample: samples printed
+inline constexpr double kMaxSimWork = 2e6;       // simulate: grid steps x modes
+inline constexpr double kMaxCsvRows = 1e6;       // simulate --csv: rows (the history is kept in memory)
+inline constexpr double kMaxSeconds = 3600.0;    // a move, move + tail, move + settle time
+inline constexpr double kMaxStreamPeriods = 1e6; // stream: start-up (5 s) + move + settle, in periods
 inline constexpr std::size_t kMaxModes = 64;     // --mode
 
 }  // namespace settle::cli
