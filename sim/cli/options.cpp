@@ -543,7 +543,7 @@ std::string nearest_option(const CommandSpec& c, std::string_view given) {
 }
 
 std::string command_help(const CommandSpec& c) {
-  CLI::App app{c.summary, "settle " + c.name + (c.usage.empty() ? "" : " " + c.usage)};
+  CLI::App app{c.summary, "settle " + c.name};
   app.set_help_flag("-h,--help", kHelp.help);
   std::string dummy;
   for (const OptionGroup& g : c.groups) {
