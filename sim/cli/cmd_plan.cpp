@@ -45,31 +45,33 @@ Fields profile_fields(const core::Profile<double>& prof) {
   return f;
 }
 
-void print_json(const core::Move<double>& m) {
-  JsonWriter w{stdout};
-  w.begin_object()
-      .field("status", "ok")
-      .field("profile", core::to_string(m.profile().kind()))
-      .field("distance", m.distance())
-      .field("duration", m.duration())
-      .field("profile_duration", m.profile().duration());
-  w.key("params").begin_object();
-  for (const auto& [k, v] : profile_fields(m.profile())) w.field(k, v);
-  w.end_object();
+// Every number the plan reports. A peak that is an impulse (a velocity or acceleration step) is
+// null, and flagged; any other non-finite number makes the plan unreportable.
+Json plan_json(const core::Move<double>& m) {
+  Json j;
+  j["status"] = "ok";
+  j["profile"] = core::to_string(m.profile().kind());
+  j["distance"] = m.distance();
+  j["duration"] = m.duration();
+  j["profile_duration"] = m.profile().duration();
+  Json params = Json::object();
+  for (const auto& [k, v] : profile_fields(m.profile())) params[k] = v;
+  j["params"] = params;
   const auto& pk = m.peaks();
-  w.key("peaks")
-      .begin_object()
-      .field("velocity", pk.v)
-      .field("acceleration", pk.a)
-      .field("jerk", pk.j)
-      .field("velocity_step", pk.velocity_step)
-      .field("acceleration_step", pk.acceleration_step)
-      .end_object();
-  w.key("shaper").begin_object().key("impulses").begin_array();
+  const bool impulse_a = pk.velocity_step || pk.acceleration_step;
+  Json peaks;
+  peaks["velocity"] = pk.v;
+  peaks["acceleration"] = pk.velocity_step && !std::isfinite(pk.a) ? Json(nullptr) : Json(pk.a);
+  peaks["jerk"] = impulse_a && !std::isfinite(pk.j) ? Json(nullptr) : Json(pk.j);
+  peaks["velocity_step"] = pk.velocity_step;
+  peaks["acceleration_step"] = pk.acceleration_step;
+  j["peaks"] = peaks;
+  Json impulses = Json::array();
   for (std::size_t i = 0; i < m.shaper().count; ++i) {
-    w.begin_object().field("amplitude", m.shaper().amp[i]).field("time", m.shaper().time[i]).end_object();
+    impulses.push_back(Json{{"amplitude", m.shaper().amp[i]}, {"time", m.shaper().time[i]}});
   }
-  w.end_array().end_object().end_object().finish();
+  j["shaper"]["impulses"] = impulses;
+  return j;
 }
 
 void print_text(const core::Move<double>& m) {
@@ -79,7 +81,7 @@ void print_text(const core::Move<double>& m) {
               m.shaper().duration());
   for (const auto& [k, v] : profile_fields(m.profile())) std::printf("  %-22s %.9g\n", k.c_str(), v);
   const auto& pk = m.peaks();
-  auto show = [](double v) { return std::isfinite(v) ? std::to_string(v) : std::string{"inf (impulse)"}; };
+  auto show = [](double v) { return std::isfinite(v) ? std::to_string(v) : std::string{"unbounded (impulse)"}; };
   std::printf("peak |v|     %s\npeak |a|     %s\npeak |j|     %s\n", show(pk.v).c_str(), show(pk.a).c_str(),
               show(pk.j).c_str());
   if (pk.velocity_step) std::printf("note         the command steps in velocity at start and end\n");
@@ -95,16 +97,20 @@ void print_text(const core::Move<double>& m) {
 }  // namespace
 
 int cmd_plan(int argc, char** argv) {
-  const Args args{argc, argv, kMoveValueOptions, kMoveFlagOptions};
-  const bool json = args.flag("--json");
-  if (!args.ok()) return report_bad_request({"bad_option", args.error_param(), args.error()}, json);
+  ParsedArgs args;
+  if (const int rc = parse_or_exit("plan", argc, argv, args); rc >= 0) return rc;
   core::MoveRequest req{};
   RequestError err;
-  if (!parse_move_request(args, req, err)) return report_bad_request(err, json);
+  if (!parse_move_request(args, req, err)) return report_bad_request(err, args.json());
   core::Move<double> move{};
-  if (!plan_move(req, move, err)) return report_bad_request(err, json);
-  if (json) {
-    print_json(move);
+  if (!plan_move(req, move, err)) return report_bad_request(err, args.json());
+  const Json j = plan_json(move);
+  if (!all_finite(j)) {
+    return report_bad_request({"non_finite_result", "--distance", "--distance: the plan has a non-finite number"},
+                              args.json());
+  }
+  if (args.json()) {
+    print_json(j);
   } else {
     print_text(move);
   }

@@ -7,7 +7,7 @@
 
 #include "commands.hpp"
 #include "json.hpp"
-#include "move_options.hpp"
+#include "options.hpp"
 #include "plant_options.hpp"
 #include "settle/hal/socketcan_bus.hpp"
 #include "socketcan_open.hpp"
@@ -30,25 +30,21 @@ std::uint64_t now_us() {
 }  // namespace
 
 int cmd_plant(int argc, char** argv) {
-  std::set<std::string> values = kPlantValueOptions;
-  values.insert(kDriveValueOptions.begin(), kDriveValueOptions.end());
-  values.insert({"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--log", "--duration"});
-  const Args args{argc, argv, values, {"--json"}};
-  const bool json = args.flag("--json");
-  if (!args.ok()) return report_bad_request({"bad_option", args.error_param(), args.error()}, json);
+  ParsedArgs args;
+  if (const int rc = parse_or_exit("plant", argc, argv, args); rc >= 0) return rc;
+  const bool json = args.json();
   RequestError err;
   sim::ModalPlant plant{};
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
   sim::DriveAxisConfig axis_cfg{};
   std::uint32_t period_us = 1000;
   if (!parse_drive(args, plant, axis_cfg, period_us, err)) return report_bad_request(err, json);
-  double node = 1, heartbeat = 100, loss = 3, duration = 0;
-  for (auto [name, v] : {std::pair{"--node", &node}, std::pair{"--heartbeat-ms", &heartbeat},
-                         std::pair{"--sync-loss-periods", &loss}, std::pair{"--duration", &duration}}) {
-    if (!read_number(args, name, *v, err)) return report_bad_request(err, json);
-  }
-  if (!(node >= 1 && node <= 127)) return report_bad_request({"bad_number", "--node", "--node: 1..127"}, json);
-  const std::string iface = args.get("--bus").value_or("vcan0");
+  // Each in its table range: node 1..127, heartbeat 10..10000 ms, loss 1..255 periods.
+  const long long node = args.integer("--node", 1);
+  const long long heartbeat = args.integer("--heartbeat-ms", 100);
+  const long long loss = args.integer("--sync-loss-periods", 3);
+  const double duration = args.real("--duration", 0.0);
+  const std::string iface = args.text("--bus", "vcan0");
 
   hal::canopen::DriveNodeConfig dc{};
   dc.node = static_cast<hal::canopen::NodeId>(node);
@@ -67,7 +63,7 @@ int cmd_plant(int argc, char** argv) {
   }
   // Every SYNC's record streams to the file as it is made (bounded memory for any run length).
   sim::SyncCsvLog log;
-  const auto log_path = args.get("--log");
+  const auto log_path = args.text("--log");
   if (log_path && !log.open(*log_path)) {
     std::fprintf(stderr, "settle plant: cannot write %s\n", log_path->c_str());
     return kExitFailure;
@@ -105,20 +101,17 @@ int cmd_plant(int argc, char** argv) {
   }
   const auto& c = pn.node().counters();
   const auto& bc = bus.counters();
-  JsonWriter w{json ? stdout : stderr};
-  w.begin_object()
-      .field("syncs", static_cast<long long>(c.syncs))
-      .field("rpdos_applied", static_cast<long long>(c.rpdos_applied))
-      .field("rpdos_missing", static_cast<long long>(c.rpdos_missing))
-      .field("sync_gaps", static_cast<long long>(c.sync_gaps))
-      .field("emcy_sent", static_cast<long long>(c.emcy_sent))
-      .field("frames_sent", static_cast<long long>(bc.sent))
-      .field("frames_received", static_cast<long long>(bc.received))
-      .field("tx_busy", static_cast<long long>(bc.tx_busy))
-      .field("rx_overflow_drops", static_cast<long long>(bc.rx_overflow_drops))
-      .field("state", hal::canopen::to_string(pn.node().state()))
-      .end_object()
-      .finish();
+  const Json summary{{"syncs", static_cast<long long>(c.syncs)},
+                     {"rpdos_applied", static_cast<long long>(c.rpdos_applied)},
+                     {"rpdos_missing", static_cast<long long>(c.rpdos_missing)},
+                     {"sync_gaps", static_cast<long long>(c.sync_gaps)},
+                     {"emcy_sent", static_cast<long long>(c.emcy_sent)},
+                     {"frames_sent", static_cast<long long>(bc.sent)},
+                     {"frames_received", static_cast<long long>(bc.received)},
+                     {"tx_busy", static_cast<long long>(bc.tx_busy)},
+                     {"rx_overflow_drops", static_cast<long long>(bc.rx_overflow_drops)},
+                     {"state", hal::canopen::to_string(pn.node().state())}};
+  print_json(summary, json ? stdout : stderr);
   return pn.status() == sim::SimStatus::ok ? kExitOk : kExitFailure;
 }
 

@@ -2,12 +2,11 @@
 // its table (or one JSON object), and with --out write the CSV and PNG figures.
 #include <cmath>
 #include <cstdio>
-#include <set>
 #include <string>
 
 #include "commands.hpp"
 #include "json.hpp"
-#include "move_options.hpp"
+#include "options.hpp"
 #include "settle/sim/figures.hpp"
 #include "settle/sim/reproduce.hpp"
 
@@ -15,14 +14,8 @@ namespace settle::cli {
 
 namespace {
 
-void width_json(JsonWriter& w, const sim::InsensitivityWidth& x) {
-  w.begin_object()
-      .field("lo", x.lo)
-      .field("hi", x.hi)
-      .field("width", x.width)
-      .field("lo_open", x.lo_open)
-      .field("hi_open", x.hi_open)
-      .end_object();
+Json width_json(const sim::InsensitivityWidth& x) {
+  return Json{{"lo", x.lo}, {"hi", x.hi}, {"width", x.width}, {"lo_open", x.lo_open}, {"hi_open", x.hi_open}};
 }
 
 std::string width_text(const sim::InsensitivityWidth& x) {
@@ -33,12 +26,18 @@ std::string width_text(const sim::InsensitivityWidth& x) {
   return buf;
 }
 
-void files_json(JsonWriter& w, const sim::FigureFiles& f) {
-  w.key("files").begin_object().key("csv").begin_array();
-  for (const auto& s : f.csv) w.value(s);
-  w.end_array().key("png").begin_array();
-  for (const auto& s : f.png) w.value(s);
-  w.end_array().field("gnuplot", f.gnuplot).end_object();
+Json files_json(const sim::FigureFiles& f) {
+  return Json{{"csv", f.csv}, {"png", f.png}, {"gnuplot", f.gnuplot}};
+}
+
+// Prints the experiment's JSON; false (and nothing printed) when a number in it is not finite.
+bool emit(const Json& j) {
+  if (!all_finite(j)) {
+    std::fprintf(stderr, "settle: reproduce: a result is not finite\n");
+    return false;
+  }
+  print_json(j);
+  return true;
 }
 
 void files_text(const sim::FigureFiles& f, const std::string& dir) {
@@ -69,50 +68,41 @@ int run_000(bool json, const std::string* out) {
   sim::FigureFiles files;
   if (!compute("000", sim::reproduce_000, sim::write_figures_000, out, r, files)) return kExitFailure;
   if (json) {
-    JsonWriter w{stdout};
-    w.begin_object().field("status", "ok").field("experiment", "000").field("period", r.period);
-    w.field("vmax", sim::kVmax000).key("modes").begin_array();
+    Json j{{"status", "ok"}, {"experiment", "000"}, {"period", r.period}, {"vmax", sim::kVmax000}};
+    Json modes = Json::array();
     for (const auto& m : r.modes) {
-      w.begin_object()
-          .field("beta", m.beta)
-          .field("omega", m.omega)
-          .field("lambda", m.lambda)
-          .field("phi_tip", m.phi_tip)
-          .end_object();
+      modes.push_back(Json{{"beta", m.beta}, {"omega", m.omega}, {"lambda", m.lambda}, {"phi_tip", m.phi_tip}});
     }
-    w.end_array().key("runs").begin_array();
+    j["modes"] = modes;
+    Json runs = Json::array();
     for (const auto& run : r.runs) {
-      w.begin_object().field("distance", run.distance).key("rows").begin_array();
+      Json rows = Json::array();
       for (const auto& row : run.rows) {
-        w.begin_object()
-            .field("time_ratio", row.time_ratio)
-            .field("time", row.time)
-            .field("profile", core::to_string(row.profile))
-            .field("plan_status", core::to_string(row.plan_status))
-            .field("cruise", row.cruise)
-            .field("peak_velocity", row.peak_velocity)
-            .field("peak_acceleration", row.peak_acceleration)
-            .field("over_vmax", row.over_vmax)
-            .field("prv_mode1", row.prv_mode1)
-            .field("prv_tip", row.prv_tip)
-            .field("residual_tip", row.residual_tip)
-            .field("peak_deflection", row.peak_deflection)
-            .key("width");
-        width_json(w, row.width);
-        w.end_object();
+        rows.push_back(Json{{"time_ratio", row.time_ratio},
+                            {"time", row.time},
+                            {"profile", core::to_string(row.profile)},
+                            {"plan_status", core::to_string(row.plan_status)},
+                            {"cruise", row.cruise},
+                            {"peak_velocity", row.peak_velocity},
+                            {"peak_acceleration", row.peak_acceleration},
+                            {"over_vmax", row.over_vmax},
+                            {"prv_mode1", row.prv_mode1},
+                            {"prv_tip", row.prv_tip},
+                            {"residual_tip", row.residual_tip},
+                            {"peak_deflection", row.peak_deflection},
+                            {"width", width_json(row.width)}});
       }
-      w.end_array().end_object();
+      runs.push_back(Json{{"distance", run.distance}, {"rows", rows}});
     }
-    w.end_array().key("sensitivity").begin_array();
-    for (const auto& s : r.sensitivity) {
-      w.begin_object().field("name", s.name).field("duration", s.duration).field("prv_nominal", s.prv_nominal).key("width");
-      width_json(w, s.width);
-      w.end_object();
+    j["runs"] = runs;
+    Json sens = Json::array();
+    for (const auto& x : r.sensitivity) {
+      sens.push_back(Json{{"name", x.name}, {"duration", x.duration}, {"prv_nominal", x.prv_nominal},
+                          {"width", width_json(x.width)}});
     }
-    w.end_array();
-    if (out != nullptr) files_json(w, files);
-    w.end_object().finish();
-    return kExitOk;
+    j["sensitivity"] = sens;
+    if (out != nullptr) j["files"] = files_json(files);
+    return emit(j) ? kExitOk : kExitFailure;
   }
   std::printf("Seed 000: ramp-cycloid S-curve against the 3-4-5 polynomial, Table 1 beam with 3 modes\n");
   for (std::size_t j = 0; j < r.modes.size(); ++j) {
@@ -157,36 +147,27 @@ int run_001(bool json, const std::string* out) {
   sim::FigureFiles files;
   if (!compute("001", sim::reproduce_001, sim::write_figures_001, out, r, files)) return kExitFailure;
   if (json) {
-    JsonWriter w{stdout};
-    w.begin_object().field("status", "ok").field("experiment", "001").field("omega", r.omega).field("zeta", r.zeta);
-    w.key("cases").begin_array();
+    Json j{{"status", "ok"}, {"experiment", "001"}, {"omega", r.omega}, {"zeta", r.zeta}};
+    Json cases = Json::array();
     for (const auto& c : r.cases) {
-      w.begin_object().field("tau", c.tau).key("y_computed").begin_array();
-      for (double y : c.y_computed) w.value(y);
-      w.end_array()
-          .field("residual_arbitrary", c.residual_arbitrary)
-          .field("residual_computed", c.residual_computed)
-          .end_object();
+      cases.push_back(Json{{"tau", c.tau},
+                           {"y_computed", c.y_computed},
+                           {"residual_arbitrary", c.residual_arbitrary},
+                           {"residual_computed", c.residual_computed}});
     }
-    w.end_array().key("robustness").begin_array();
+    j["cases"] = cases;
+    Json grids = Json::array();
     for (const auto& g : r.grids) {
-      w.begin_object()
-          .field("method", g.method)
-          .field("nominal", g.nominal)
-          .field("worst", g.worst)
-          .field("move_time", g.move_time)
-          .end_object();
+      grids.push_back(Json{{"method", g.method}, {"nominal", g.nominal}, {"worst", g.worst}, {"move_time", g.move_time}});
     }
-    w.end_array().key("widths").begin_array();
+    j["robustness"] = grids;
+    Json widths = Json::array();
     for (const auto& x : r.widths) {
-      w.begin_object().field("method", x.method).field("zeta", x.zeta).key("width");
-      width_json(w, x.width);
-      w.end_object();
+      widths.push_back(Json{{"method", x.method}, {"zeta", x.zeta}, {"width", width_json(x.width)}});
     }
-    w.end_array();
-    if (out != nullptr) files_json(w, files);
-    w.end_object().finish();
-    return kExitOk;
+    j["widths"] = widths;
+    if (out != nullptr) j["files"] = files_json(files);
+    return emit(j) ? kExitOk : kExitFailure;
   }
   std::printf("Seeds 001/002: ramp + cycloid + versine command, m = 1 kg, k = 800 N/m, c = 9 N s/m\n");
   std::printf("  omega_n = %.4f rad/s, zeta = %.4f; distance L = 1; residual = amplitude of the mass's free\n"
@@ -220,41 +201,35 @@ int run_004(bool json, const std::string* out) {
   sim::FigureFiles files;
   if (!compute("004", sim::reproduce_004, sim::write_figures_004, out, r, files)) return kExitFailure;
   if (json) {
-    JsonWriter w{stdout};
-    w.begin_object()
-        .field("status", "ok")
-        .field("experiment", "004")
-        .field("omega", r.target.omega)
-        .field("zeta", r.target.zeta)
-        .field("lambda", r.target.lambda)
-        .field("h", r.h_scale)
-        .field("H_initial", r.initial.h_index)
-        .field("E_initial", r.initial.energy)
-        .field("H_paper", r.paper.h_index)
-        .field("E_paper", r.paper.energy)
-        .field("H_optimized", r.optimised.h_index)
-        .field("E_optimized", r.optimised.energy);
-    w.key("gammas").begin_array();
-    for (double g : r.optimiser.gammas) w.value(g);
-    w.end_array()
-        .field("optimizer_ms", r.optimiser_ms)
-        .field("optimizer_evaluations", static_cast<long long>(r.optimiser.evaluations))
-        .field("boundary_error", r.boundary_error)
-        .field("H_simulated_initial", r.h_simulated_initial)
-        .field("H_simulated_optimized", r.h_simulated_optimised)
-        .key("exponents")
-        .begin_array();
+    Json j{{"status", "ok"},
+           {"experiment", "004"},
+           {"omega", r.target.omega},
+           {"zeta", r.target.zeta},
+           {"lambda", r.target.lambda},
+           {"h", r.h_scale},
+           {"H_initial", r.initial.h_index},
+           {"E_initial", r.initial.energy},
+           {"H_paper", r.paper.h_index},
+           {"E_paper", r.paper.energy},
+           {"H_optimized", r.optimised.h_index},
+           {"E_optimized", r.optimised.energy}};
+    j["gammas"] = r.optimiser.gammas;
+    j["optimizer_ms"] = r.optimiser_ms;
+    j["optimizer_evaluations"] = static_cast<long long>(r.optimiser.evaluations);
+    j["boundary_error"] = r.boundary_error;
+    j["H_simulated_initial"] = r.h_simulated_initial;
+    j["H_simulated_optimized"] = r.h_simulated_optimised;
+    Json exps = Json::array();
     for (const auto& e : r.exponents) {
-      w.begin_object().field("count", static_cast<long long>(e.count)).key("gammas").begin_array();
-      for (double g : e.gammas) w.value(g);
-      w.end_array().field("H", e.h_index).field("slope", e.slope).key("width");
-      width_json(w, e.width);
-      w.end_object();
+      exps.push_back(Json{{"count", static_cast<long long>(e.count)},
+                          {"gammas", e.gammas},
+                          {"H", e.h_index},
+                          {"slope", e.slope},
+                          {"width", width_json(e.width)}});
     }
-    w.end_array();
-    if (out != nullptr) files_json(w, files);
-    w.end_object().finish();
-    return kExitOk;
+    j["exponents"] = exps;
+    if (out != nullptr) j["files"] = files_json(files);
+    return emit(j) ? kExitOk : kExitFailure;
   }
   std::printf("Seed 004: pseudo-polynomial motor command, Table III belt platform, Phi = 15 rev, T = 1 s\n");
   std::printf("  omega_n = %.4f rad/s, xi = %.5f, lambda = %.6f, h = 1/2 J (lambda/omega_d)^2 = %.6e\n\n",
@@ -289,22 +264,14 @@ int run_004(bool json, const std::string* out) {
 }  // namespace
 
 int cmd_reproduce(int argc, char** argv) {
-  bool json = false;
-  for (int i = 0; i < argc; ++i) json = json || std::string{argv[i]} == "--json";
-  if (argc < 1 || argv[0][0] == '-') {
-    return report_bad_request({"missing_experiment", "experiment", "usage: settle reproduce 000|001|004 [--out DIR] [--json]"},
-                              json);
-  }
-  const std::string which = argv[0];
-  const Args args{argc - 1, argv + 1, {"--out"}, {"--json"}};
-  if (!args.ok()) return report_bad_request({"bad_option", args.error_param(), args.error()}, json);
-  const auto out = args.get("--out");
+  ParsedArgs args;
+  if (const int rc = parse_or_exit("reproduce", argc, argv, args); rc >= 0) return rc;
+  const auto out = args.text("--out");
   const std::string* dir = out ? &*out : nullptr;
-  if (which == "000") return run_000(json, dir);
-  if (which == "001") return run_001(json, dir);
-  if (which == "004") return run_004(json, dir);
-  return report_bad_request({"unknown_experiment", "experiment", "unknown experiment '" + which + "' (000, 001, 004)"},
-                            json);
+  const std::string& which = args.positional();  // one of the table's experiments
+  if (which == "000") return run_000(args.json(), dir);
+  if (which == "001") return run_001(args.json(), dir);
+  return run_004(args.json(), dir);
 }
 
 }  // namespace settle::cli

@@ -1,7 +1,7 @@
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <set>
-#include <string>
 
 #include "commands.hpp"
 #include "move_options.hpp"
@@ -9,30 +9,53 @@
 namespace settle::cli {
 
 int cmd_sample(int argc, char** argv) {
-  std::set<std::string> values = kMoveValueOptions;
-  values.insert("--dt");
-  const Args args{argc, argv, values, kMoveFlagOptions};
-  const bool json = args.flag("--json");
-  if (!args.ok()) return report_bad_request({"bad_option", args.error_param(), args.error()}, json);
+  ParsedArgs args;
+  if (const int rc = parse_or_exit("sample", argc, argv, args); rc >= 0) return rc;
   core::MoveRequest req{};
   RequestError err;
-  if (!parse_move_request(args, req, err)) return report_bad_request(err, json);
-  double dt = 0.0;
-  const auto dts = args.get("--dt");
-  if (!dts) return report_bad_request({"missing_option", "--dt", "--dt is required (sample period, s)"}, json);
-  if (!parse_double(*dts, dt) || !std::isfinite(dt) || !(dt > 0.0)) {
-    return report_bad_request({"bad_number", "--dt", "--dt: must be a positive, finite number of seconds"}, json);
-  }
+  if (!parse_move_request(args, req, err)) return report_bad_request(err, args.json());
+  const auto dt = args.real("--dt");
+  if (!dt) return report_bad_request({"missing_option", "--dt", "--dt: required (sample period, s)"}, args.json());
   core::Move<double> move{};
-  if (!plan_move(req, move, err)) return report_bad_request(err, json);
-  const double n_real = std::ceil(move.duration() / dt);
-  if (n_real > 1e8) return report_bad_request({"too_many_samples", "--dt", "--dt: more than 1e8 samples"}, json);
+  if (!plan_move(req, move, err)) return report_bad_request(err, args.json());
+  const double n_real = std::ceil(move.duration() / *dt);
+  if (!(n_real + 1.0 <= kMaxRows)) {
+    return report_bad_request({"too_many_samples", "--dt", "--dt: " + format_number(n_real + 1.0) +
+                                                               " samples; at most 2e6 (move duration / --dt)"},
+                              args.json());
+  }
   const long n = static_cast<long>(n_real);
+  // Every sample is computed and checked before the first line is printed (two passes, so that
+  // 2e6 samples need no memory).
+  auto sample = [&](long i) {
+    const double t = std::min(static_cast<double>(i) * *dt, move.duration());
+    const auto s = move.at(t);
+    return std::array<double, 5>{t, s.p, s.v, s.a, s.j};
+  };
+  for (long i = 0; i <= n; ++i) {
+    for (double x : sample(i)) {
+      if (!std::isfinite(x)) {
+        return report_bad_request({"non_finite_result", "--profile",
+                                   "--profile: a sample of this move is not finite"},
+                                  args.json());
+      }
+    }
+  }
+  if (args.json()) {
+    // Streamed, not built as a document; every number is finite.
+    std::printf("{\"status\":\"ok\",\"columns\":[\"t\",\"position\",\"velocity\",\"acceleration\",\"jerk\"],"
+                "\"rows\":[");
+    for (long i = 0; i <= n; ++i) {
+      const auto r = sample(i);
+      std::printf("%s[%.17g,%.17g,%.17g,%.17g,%.17g]", i == 0 ? "" : ",", r[0], r[1], r[2], r[3], r[4]);
+    }
+    std::printf("]}\n");
+    return kExitOk;
+  }
   std::printf("t,position,velocity,acceleration,jerk\n");
   for (long i = 0; i <= n; ++i) {
-    const double t = std::min(static_cast<double>(i) * dt, move.duration());
-    const auto s = move.at(t);
-    std::printf("%.9g,%.12g,%.12g,%.12g,%.12g\n", t, s.p, s.v, s.a, s.j);
+    const auto r = sample(i);
+    std::printf("%.9g,%.12g,%.12g,%.12g,%.12g\n", r[0], r[1], r[2], r[3], r[4]);
   }
   return kExitOk;
 }

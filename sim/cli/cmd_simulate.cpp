@@ -2,7 +2,6 @@
 // fundamental mode when not given) and run it on the plant's true parameters.
 #include <cmath>
 #include <cstdio>
-#include <set>
 #include <string>
 
 #include "commands.hpp"
@@ -27,55 +26,47 @@ bool needs_mode(const core::MoveRequest& r) {
 
 const char* units(sim::PlantKind k) { return k == sim::PlantKind::belt ? "rad" : "m"; }
 
-bool positive_option(const Args& a, const char* name, double& out, RequestError& err) {
-  const auto s = a.get(name);
-  if (!s) return true;
-  double v = 0.0;
-  if (!parse_double(*s, v) || !std::isfinite(v) || !(v > 0.0)) {
-    err = {"bad_number", name, std::string{name} + ": must be a positive, finite number"};
-    return false;
+// Every number simulate reports; the settling time is null when it never comes (an undamped
+// mode), and the text output says "never".
+Json result_json(const sim::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
+                 const sim::SimMetrics& m, const sim::InsensitivityWidth* width) {
+  Json j;
+  j["status"] = "ok";
+  j["plant"] = sim::to_string(plant.kind());
+  j["units"] = units(plant.kind());
+  j["profile"] = core::to_string(move.profile().kind());
+  j["distance"] = move.distance();
+  j["move_duration"] = move.duration();
+  if (needs_mode(req)) {
+    j["designed_omega"] = *req.omega;
+    j["designed_zeta"] = req.zeta;
   }
-  out = v;
-  return true;
-}
-
-void print_json(const sim::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
-                const sim::SimMetrics& m, const sim::InsensitivityWidth* width) {
-  JsonWriter w{stdout};
-  w.begin_object()
-      .field("status", "ok")
-      .field("plant", sim::to_string(plant.kind()))
-      .field("units", units(plant.kind()))
-      .field("profile", core::to_string(move.profile().kind()))
-      .field("distance", move.distance())
-      .field("move_duration", move.duration());
-  if (needs_mode(req)) w.field("designed_omega", *req.omega).field("designed_zeta", req.zeta);
-  w.field("residual_amplitude", m.residual_amplitude)
-      .field("prv_percent", m.prv_percent)
-      .field("step_residual", m.step_residual)
-      .field("peak_deflection", m.peak_deflection)
-      .field("final_energy", m.final_energy)
-      .field("settling_band", m.band)
-      .field("settling_time", m.settling_time);
+  j["residual_amplitude"] = m.residual_amplitude;
+  j["prv_percent"] = m.prv_percent;
+  j["step_residual"] = m.step_residual;
+  j["peak_deflection"] = m.peak_deflection;
+  j["final_energy"] = m.final_energy;
+  j["settling_band"] = m.band;
+  j["settling_time"] = finite_or_null(m.settling_time);
   if (width != nullptr) {
-    w.key("insensitivity_width")
-        .begin_object()
-        .field("threshold_percent", 5.0)
-        .field("ratio_lo", width->lo)
-        .field("ratio_hi", width->hi)
-        .field("width", width->width)
-        .field("lo_open", width->lo_open)
-        .field("hi_open", width->hi_open)
-        .end_object();
+    j["insensitivity_width"] = Json{{"threshold_percent", 5.0}, {"ratio_lo", width->lo}, {"ratio_hi", width->hi},
+                                    {"width", width->width},    {"lo_open", width->lo_open}, {"hi_open", width->hi_open}};
   }
-  w.key("modes").begin_array();
-  for (std::size_t j = 0; j < plant.modes().size(); ++j) {
-    const sim::Mode& md = plant.modes()[j];
-    w.begin_object().field("omega", md.omega).field("zeta", md.zeta).field("gain", md.gain).field("output", md.output);
-    if (plant.kind() == sim::PlantKind::beam) w.field("beta", md.beta).field("lambda", md.gain).field("phi_tip", md.output);
-    w.field("residual_amplitude", m.mode_residual[j]).field("prv_percent", m.mode_prv_percent[j]).end_object();
+  Json modes = Json::array();
+  for (std::size_t k = 0; k < plant.modes().size(); ++k) {
+    const sim::Mode& md = plant.modes()[k];
+    Json o{{"omega", md.omega}, {"zeta", md.zeta}, {"gain", md.gain}, {"output", md.output}};
+    if (plant.kind() == sim::PlantKind::beam) {
+      o["beta"] = md.beta;
+      o["lambda"] = md.gain;
+      o["phi_tip"] = md.output;
+    }
+    o["residual_amplitude"] = m.mode_residual[k];
+    o["prv_percent"] = m.mode_prv_percent[k];
+    modes.push_back(o);
   }
-  w.end_array().end_object().finish();
+  j["modes"] = modes;
+  return j;
 }
 
 void print_text(const sim::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
@@ -110,35 +101,43 @@ void print_text(const sim::ModalPlant& plant, const core::Move<double>& move, co
 }  // namespace
 
 int cmd_simulate(int argc, char** argv) {
-  std::set<std::string> values = kMoveValueOptions;
-  values.insert(kPlantValueOptions.begin(), kPlantValueOptions.end());
-  for (const char* o : {"--csv", "--dt", "--band", "--tail"}) values.insert(o);
-  std::set<std::string> flags = kMoveFlagOptions;
-  flags.insert("--sensitivity");
-  const Args args{argc, argv, values, flags};
-  const bool json = args.flag("--json");
-  if (!args.ok()) return report_bad_request({"bad_option", args.error_param(), args.error()}, json);
-
+  ParsedArgs args;
+  if (const int rc = parse_or_exit("simulate", argc, argv, args); rc >= 0) return rc;
+  const bool json = args.json();
   sim::ModalPlant plant;
   RequestError err;
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
   core::MoveRequest req{};
   if (!parse_move_request(args, req, err)) return report_bad_request(err, json);
-  if (needs_mode(req) && !args.get("--omega")) {
+  if (needs_mode(req) && !args.has("--omega")) {
     // No belief given: design for the plant's own fundamental mode.
     req.omega = plant.fundamental().omega;
-    if (!args.get("--zeta")) req.zeta = plant.fundamental().zeta;
+    if (!args.has("--zeta")) req.zeta = plant.fundamental().zeta;
   }
   sim::SimOptions opt;
-  opt.record = args.get("--csv").has_value();
-  if (!positive_option(args, "--dt", opt.dt, err) || !positive_option(args, "--band", opt.band, err) ||
-      !positive_option(args, "--tail", opt.tail, err)) {
-    return report_bad_request(err, json);
-  }
+  opt.record = args.has("--csv");
+  opt.dt = args.real("--dt", opt.dt);
+  opt.band = args.real("--band", opt.band);
+  opt.tail = args.real("--tail", opt.tail);
   core::Move<double> move{};
   if (!plan_move(req, move, err)) return report_bad_request(err, json);
-  if (move.duration() / opt.dt > 1e8) {
-    return report_bad_request({"too_many_samples", "--dt", "--dt: more than 1e8 steps over the move"}, json);
+  // Sizes, before anything is allocated: the grid over the move, and with --csv the rows of the
+  // history (move + tail, the tail defaulting to 3 periods of the fundamental as sim does).
+  const double tail = opt.record ? (opt.tail >= 0.0 ? opt.tail : 3.0 * 2.0 * M_PI / plant.fundamental().omega) : 0.0;
+  if (move.duration() + tail > kMaxSeconds) {
+    return report_bad_request({"too_long", "--tail",
+                               "--tail: move + tail would be " + format_number(move.duration() + tail) +
+                                   " s; at most 3600 s"},
+                              json);
+  }
+  const double steps = (move.duration() + tail) / opt.dt;
+  const double work = steps * static_cast<double>(plant.modes().size());
+  if (!(work <= kMaxSimWork) || (opt.record && !(steps <= kMaxCsvRows))) {
+    return report_bad_request({"too_many_samples", "--dt",
+                               "--dt: " + format_number(steps) + " grid steps x " +
+                                   format_number(static_cast<double>(plant.modes().size())) +
+                                   " modes; at most 2e6 (and 1e6 rows with --csv)"},
+                              json);
   }
 
   const sim::MoveCommand cmd{move};
@@ -159,14 +158,20 @@ int cmd_simulate(int argc, char** argv) {
       return kExitFailure;
     }
   }
-  if (const auto csv = args.get("--csv")) {
+  const Json j = result_json(plant, move, req, res.metrics, want_width ? &width : nullptr);
+  if (!all_finite(j)) {
+    return report_bad_request({"non_finite_result", "--distance",
+                               "--distance: the simulation's result is not finite for this move and plant"},
+                              json);
+  }
+  if (const auto csv = args.text("--csv")) {
     if (sim::write_history_csv(res.history, *csv) != sim::SimStatus::ok) {
       std::fprintf(stderr, "settle: cannot write %s\n", csv->c_str());
       return kExitFailure;
     }
   }
   if (json) {
-    print_json(plant, move, req, res.metrics, want_width ? &width : nullptr);
+    print_json(j);
   } else {
     print_text(plant, move, req, res.metrics, want_width ? &width : nullptr);
   }

@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "json.hpp"
 #include "move_options.hpp"
+#include "options.hpp"
 #include "plant_options.hpp"
 #include "settle/firmware/linux/periodic.hpp"
 #include "settle/firmware/session.hpp"
@@ -61,6 +62,7 @@ struct Outcome {
   void finish(const Loop& loop, const hal::CanBus& on) {
     bus = on.counters();
     axis = loop.axis_stats(0);
+    units_held = loop.stats().units_held;
     const auto& d = loop.drive(0);
     drive_state = hal::canopen::to_string(d.state());
     if (d.state() != hal::canopen::RemoteDriveState::failed) return;
@@ -80,6 +82,7 @@ struct Outcome {
   }
   hal::BusCounters bus{};
   firmware::AxisStats axis{};
+  std::uint64_t units_held{0};
   std::string drive_state;
   std::string drive_failure;  // empty unless start-up failed
 };
@@ -100,14 +103,9 @@ bool write_stream_log(const char* path, const std::vector<firmware::TickRecord>&
 }  // namespace
 
 int cmd_stream(int argc, char** argv) {
-  std::set<std::string> values = kMoveValueOptions;
-  values.insert(kPlantValueOptions.begin(), kPlantValueOptions.end());
-  values.insert(kDriveValueOptions.begin(), kDriveValueOptions.end());
-  values.insert({"--bus", "--node", "--axis-vmax", "--settle-time", "--log", "--rt-priority", "--heartbeat-ms",
-                 "--candump", "--sdo-timeout-ms", "--feedback-log"});
-  const Args args{argc, argv, values, kMoveFlagOptions};
-  const bool json = args.flag("--json");
-  if (!args.ok()) return report_bad_request({"bad_option", args.error_param(), args.error()}, json);
+  ParsedArgs args;
+  if (const int rc = parse_or_exit("stream", argc, argv, args); rc >= 0) return rc;
+  const bool json = args.json();
   RequestError err;
   core::MoveRequest req{};
   if (!parse_move_request(args, req, err)) return report_bad_request(err, json);
@@ -118,25 +116,56 @@ int cmd_stream(int argc, char** argv) {
   if (!parse_drive(args, plant, axis_cfg, period_us, err)) return report_bad_request(err, json);
   core::Move<double> move{};
   if (!plan_move(req, move, err)) return report_bad_request(err, json);
-  double node = 1, axis_vmax = std::fmax(move.peaks().v, 1e-12) * 1.5, settle_time = 1.0, priority = 0,
-         heartbeat = 500, sdo_timeout = 1000;
-  for (auto [name, v] : {std::pair{"--node", &node}, std::pair{"--axis-vmax", &axis_vmax},
-                         std::pair{"--settle-time", &settle_time}, std::pair{"--rt-priority", &priority},
-                         std::pair{"--heartbeat-ms", &heartbeat}, std::pair{"--sdo-timeout-ms", &sdo_timeout}}) {
-    if (!read_number(args, name, *v, err)) return report_bad_request(err, json);
-  }
-  if (!(settle_time > 0.0 && settle_time < 600.0)) {
-    return report_bad_request({"bad_number", "--settle-time", "--settle-time: seconds in (0, 600)"}, json);
-  }
-  const std::string bus_name = args.get("--bus").value_or("vcan0");
+  // Each in its table range: node 1..127, rt priority 0..99, heartbeat 10..10000 ms, SDO timeout
+  // 1..60000 ms, settle time (0, 600) s, axis vmax (0, 1e9].
+  const long long node = args.integer("--node", 1);
+  const long long priority = args.integer("--rt-priority", 0);
+  const long long heartbeat = args.integer("--heartbeat-ms", 500);
+  const long long sdo_timeout = args.integer("--sdo-timeout-ms", 1000);
+  static_assert(firmware::kDefaultFeedbackTimeoutPeriods == 10, "the option table documents the loop's default");
+  const long long feedback_timeout = args.integer("--feedback-timeout-periods", firmware::kDefaultFeedbackTimeoutPeriods);
+  const double settle_time = args.real("--settle-time", 1.0);
+  const double axis_vmax = args.real("--axis-vmax", std::fmax(move.peaks().v, 1e-12) * 1.5);
+  const std::string bus_name = args.text("--bus", "vcan0");
   const bool loopback = bus_name == "loopback";
+
+  // Sizes, before anything is allocated: the session's records, the offline replay and the
+  // continuous simulation (1e-4 s grid) all grow with the move and the settle time.
+  if (move.duration() + settle_time > kMaxSeconds) {
+    return report_bad_request({"too_long", "--time",
+                               "--time: the move lasts " + format_number(move.duration()) +
+                                   " s; at most 3600 s of move + settle time"},
+                              json);
+  }
+  const double periods = (5.0 + move.duration() + settle_time) * 1e6 / period_us;
+  if (periods > kMaxStreamPeriods) {
+    const char* who = move.duration() >= settle_time ? "--time" : "--settle-time";
+    return report_bad_request({"too_many_samples", who,
+                               std::string{who} + ": " + format_number(periods) +
+                                   " periods of start-up (5 s) + move + settle time; at most 1e6 (or a longer "
+                                   "--period-us)"},
+                              json);
+  }
+  // Every setpoint and every load position must fit the drive's 32-bit counts.
+  const double reach = std::fabs(move.distance()) * 2.0 + 1.0;
+  if (reach * axis_cfg.counts_per_unit > 2e9) {
+    return report_bad_request({"out_of_range", "--counts-per-unit",
+                               "--counts-per-unit: --distance x --counts-per-unit exceeds 32-bit counts (1e9)"},
+                              json);
+  }
+  if (reach * axis_cfg.load_counts_per_unit > 2e9) {
+    return report_bad_request({"out_of_range", "--load-counts-per-unit",
+                               "--load-counts-per-unit: --distance x --load-counts-per-unit exceeds 32-bit counts (1e9)"},
+                              json);
+  }
 
   firmware::AxisConfig ac{};
   ac.drive.node = static_cast<hal::canopen::NodeId>(node);
   ac.drive.heartbeat_timeout_ms = static_cast<std::uint16_t>(heartbeat);
-  ac.drive.sdo_timeout_us = static_cast<std::uint32_t>(sdo_timeout * 1000.0);
+  ac.drive.sdo_timeout_us = static_cast<std::uint32_t>(sdo_timeout * 1000);
   ac.counts_per_unit = axis_cfg.counts_per_unit;
   ac.vmax = axis_vmax;
+  ac.feedback_timeout_periods = static_cast<std::uint16_t>(feedback_timeout);  // 0..65535
   firmware::SessionConfig sc{};
   sc.settle_ticks = static_cast<std::uint64_t>(settle_time * 1e6 / period_us);
   sc.enable_timeout_ticks = 5'000'000 / period_us;
@@ -144,7 +173,8 @@ int cmd_stream(int argc, char** argv) {
   // a host that stalls the process for a second must not fail a drive that enables in time.
   ac.drive.enable_timeout_us = static_cast<std::uint32_t>(sc.enable_timeout_ticks * period_us);
   const std::uint64_t move_ticks = static_cast<std::uint64_t>(move.duration() * 1e6 / period_us) + 2;
-  sc.max_ticks = sc.enable_timeout_ticks + move_ticks + sc.settle_ticks + 10;
+  // Completion waits for the feedback to show the target (at most in_position_timeout_periods).
+  sc.max_ticks = sc.enable_timeout_ticks + move_ticks + sc.settle_ticks + ac.in_position_timeout_periods + 10;
 
   Outcome out{};
   // Allocated before the loop starts: no heap use while streaming.
@@ -160,7 +190,7 @@ int cmd_stream(int argc, char** argv) {
     // A listening port sees every frame on the in-process bus: the loopback run's candump log.
     hal::LoopbackBus<256> sniffer{hub};
     std::FILE* dump = nullptr;
-    if (const auto path = args.get("--candump")) {
+    if (const auto path = args.text("--candump")) {
       dump = std::fopen(path->c_str(), "w");
       if (dump == nullptr) {
         std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
@@ -205,12 +235,12 @@ int cmd_stream(int argc, char** argv) {
     // sniffer's), written between ticks; its line count equals frames_sent + frames_received.
     auto recorder = std::make_unique<hal::RecordingBus<1024>>(bus, hal::realtime_us);
     hal::CandumpFile dump;
-    if (const auto path = args.get("--candump"); path && !dump.open(path->c_str(), bus_name.c_str())) {
+    if (const auto path = args.text("--candump"); path && !dump.open(path->c_str(), bus_name.c_str())) {
       std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
       return kExitFailure;
     }
     hal::CanBus& link = dump.is_open() ? static_cast<hal::CanBus&>(*recorder) : bus;
-    if (priority > 0) rt = firmware::linux_rt::request_realtime(static_cast<int>(priority));
+    if (priority > 0) rt = firmware::linux_rt::request_realtime(static_cast<int>(priority));  // 1..99
     auto loop = std::make_unique<Loop>(link, period_us);
     if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
     RealtimeClock clock{period_us};
@@ -233,7 +263,7 @@ int cmd_stream(int argc, char** argv) {
     latency = clock.timer().latency();
     overruns = clock.timer().overruns();
   }
-  if (const auto path = args.get("--log"); path && !write_stream_log(path->c_str(), out.log, period_us)) {
+  if (const auto path = args.text("--log"); path && !write_stream_log(path->c_str(), out.log, period_us)) {
     std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
     return kExitFailure;
   }
@@ -260,7 +290,7 @@ int cmd_stream(int argc, char** argv) {
   }
   const double dt = period_us * 1e-6;
   // Commanded and measured motion per drive period, aligned: what the plots show.
-  if (const auto path = args.get("--feedback-log"); path && aligned) {
+  if (const auto path = args.text("--feedback-log"); path && aligned) {
     std::FILE* f = std::fopen(path->c_str(), "w");
     if (f == nullptr) {
       std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
@@ -288,6 +318,9 @@ int cmd_stream(int argc, char** argv) {
   sim::SimResult cont{};
   sim::SimOptions so{};
   so.record = false;
+  // The residual is exact at the move's end whatever the grid; the grid only samples the peak
+  // deflection and the settling time, so a long move takes a coarser one (at most 2e6 steps x modes).
+  so.dt = std::max(so.dt, move.duration() * static_cast<double>(plant.modes().size()) / kMaxSimWork);
   const bool have_cont = sim::simulate(plant, sim::MoveCommand{move}, so, cont) == sim::SimStatus::ok;
   const double agreement = aligned ? std::fabs(can.amplitude - off.amplitude) : double{NAN};
   std::uint64_t late = 0;
@@ -299,73 +332,88 @@ int cmd_stream(int argc, char** argv) {
   const auto lost = static_cast<long long>(out.bus.rx_overflow_drops + out.bus.tx_errors);
 
   const bool completed = out.session.outcome == firmware::SessionOutcome::completed && aligned;
+  const Json j{
+      {"status", completed ? "ok" : "error"},
+      {"outcome", firmware::to_string(out.session.outcome)},
+      {"fault", firmware::to_string(out.session.fault)},
+      {"drive_state", out.drive_state},
+      {"drive_failure", out.drive_failure},
+      {"bus", loopback ? "loopback (in-process, virtual time)" : bus_name},
+      {"profile", core::to_string(move.profile().kind())},
+      {"distance", move.distance()},
+      {"move_time", move.duration()},
+      {"period_us", static_cast<long long>(period_us)},
+      {"ticks", static_cast<long long>(out.session.ticks)},
+      {"frames_sent", static_cast<long long>(out.bus.sent)},
+      {"frames_received", static_cast<long long>(out.bus.received)},
+      {"tx_busy", static_cast<long long>(out.bus.tx_busy)},
+      {"rx_overflow_drops", static_cast<long long>(out.bus.rx_overflow_drops)},
+      {"feedback_samples", static_cast<long long>(out.feedback.size())},
+      {"feedback_late_ticks", static_cast<long long>(late)},
+      {"aligned", aligned},
+      {"frames_lost", lost},
+      {"overruns", static_cast<long long>(overruns)},
+      {"skipped_periods", static_cast<long long>(out.session.missed_periods)},
+      {"rpdo_sent", static_cast<long long>(out.axis.rpdo_sent)},
+      {"step_guard_trips", static_cast<long long>(out.axis.step_guard_trips)},
+      {"heartbeat_losses", static_cast<long long>(out.axis.heartbeat_losses)},
+      {"emcy_received", static_cast<long long>(out.axis.emcy_received)},
+      {"drive_restarts", static_cast<long long>(out.axis.restarts)},
+      {"moves_aborted", static_cast<long long>(out.axis.moves_aborted)},
+      {"max_following_error", static_cast<long long>(out.axis.max_following_error)},
+      {"feedback_overflows", static_cast<long long>(out.axis.feedback_overflows)},
+      {"feedback_timeouts", static_cast<long long>(out.axis.feedback_timeouts)},
+      {"units_held", static_cast<long long>(out.units_held)},
+      // Absent (null) when there is nothing to measure: the move did not complete, or the
+      // feedback did not match the setpoints.
+      {"residual_can", finite_or_null(can.amplitude)},
+      {"prv_can_percent", finite_or_null(can.prv_percent)},
+      {"residual_offline", finite_or_null(off.amplitude)},
+      {"prv_offline_percent", finite_or_null(off.prv_percent)},
+      {"agreement", finite_or_null(agreement)},
+      {"fit_rms_can", finite_or_null(can.fit_rms)},
+      {"residual_continuous", have_cont ? finite_or_null(cont.metrics.residual_amplitude) : Json(nullptr)},
+      {"prv_continuous_percent", have_cont ? finite_or_null(cont.metrics.prv_percent) : Json(nullptr)},
+      {"window_samples", static_cast<long long>(measured.size())},
+      {"latency_ns", Json{{"count", static_cast<long long>(latency.count())},
+                          {"min", static_cast<long long>(latency.min_ns())},
+                          {"p50", static_cast<long long>(latency.quantile_ns(0.5))},
+                          {"p99", static_cast<long long>(latency.quantile_ns(0.99))},
+                          {"max", static_cast<long long>(latency.max_ns())}}},
+      {"realtime", Json{{"sched_fifo", rt.fifo},
+                        {"sched_fifo_error", rt.fifo_error},
+                        {"mlockall", rt.locked},
+                        {"mlockall_error", rt.lock_error}}},
+  };
+  // Success is reported only with every measurement present and finite.
+  const bool measured_ok = completed && !j["residual_can"].is_null() && !j["residual_offline"].is_null() &&
+                           !j["agreement"].is_null() && !j["residual_continuous"].is_null();
   if (json) {
-    JsonWriter w{stdout};
-    w.begin_object()
-        .field("status", completed ? "ok" : "error")
-        .field("outcome", firmware::to_string(out.session.outcome))
-        .field("drive_state", out.drive_state.c_str())
-        .field("drive_failure", out.drive_failure.c_str())
-        .field("bus", loopback ? "loopback (in-process, virtual time)" : bus_name.c_str())
-        .field("profile", core::to_string(move.profile().kind()))
-        .field("distance", move.distance())
-        .field("move_time", move.duration())
-        .field("period_us", static_cast<long long>(period_us))
-        .field("ticks", static_cast<long long>(out.session.ticks))
-        .field("frames_sent", static_cast<long long>(out.bus.sent))
-        .field("frames_received", static_cast<long long>(out.bus.received))
-        .field("tx_busy", static_cast<long long>(out.bus.tx_busy))
-        .field("rx_overflow_drops", static_cast<long long>(out.bus.rx_overflow_drops))
-        .field("feedback_samples", static_cast<long long>(out.feedback.size()))
-        .field("feedback_late_ticks", static_cast<long long>(late))
-        .field("aligned", aligned)
-        .field("frames_lost", lost)
-        .field("overruns", static_cast<long long>(overruns))
-        .field("skipped_periods", static_cast<long long>(out.session.missed_periods))
-        .field("rpdo_sent", static_cast<long long>(out.axis.rpdo_sent))
-        .field("step_guard_trips", static_cast<long long>(out.axis.step_guard_trips))
-        .field("heartbeat_losses", static_cast<long long>(out.axis.heartbeat_losses))
-        .field("emcy_received", static_cast<long long>(out.axis.emcy_received))
-        .field("drive_restarts", static_cast<long long>(out.axis.restarts))
-        .field("moves_aborted", static_cast<long long>(out.axis.moves_aborted))
-        .field("max_following_error", static_cast<long long>(out.axis.max_following_error))
-        .field("feedback_overflows", static_cast<long long>(out.axis.feedback_overflows))
-        .field("residual_can", can.amplitude)
-        .field("prv_can_percent", can.prv_percent)
-        .field("residual_offline", off.amplitude)
-        .field("prv_offline_percent", off.prv_percent)
-        .field("agreement", agreement)
-        .field("fit_rms_can", can.fit_rms)
-        .field("residual_continuous", have_cont ? cont.metrics.residual_amplitude : double{NAN})
-        .field("prv_continuous_percent", have_cont ? cont.metrics.prv_percent : double{NAN})
-        .field("window_samples", static_cast<long long>(measured.size()));
-    w.key("latency_ns")
-        .begin_object()
-        .field("count", static_cast<long long>(latency.count()))
-        .field("min", static_cast<long long>(latency.min_ns()))
-        .field("p50", static_cast<long long>(latency.quantile_ns(0.5)))
-        .field("p99", static_cast<long long>(latency.quantile_ns(0.99)))
-        .field("max", static_cast<long long>(latency.max_ns()))
-        .end_object();
-    w.key("realtime")
-        .begin_object()
-        .field("sched_fifo", rt.fifo)
-        .field("sched_fifo_error", rt.fifo_error)
-        .field("mlockall", rt.locked)
-        .field("mlockall_error", rt.lock_error)
-        .end_object();
-    w.end_object().finish();
+    Json doc = j;
+    if (!measured_ok) doc["status"] = "error";
+    print_json(doc);
   } else {
-    std::printf("outcome            %s on %s\n", firmware::to_string(out.session.outcome),
-                loopback ? "loopback (in-process, virtual time)" : bus_name.c_str());
+    std::printf("outcome            %s on %s%s%s\n", firmware::to_string(out.session.outcome),
+                loopback ? "loopback (in-process, virtual time)" : bus_name.c_str(),
+                out.session.fault == firmware::AxisFault::none ? "" : ", fault: ",
+                out.session.fault == firmware::AxisFault::none ? "" : firmware::to_string(out.session.fault));
     std::printf("frames             sent %llu, received %llu, tx busy %llu, late feedback ticks %llu, %s\n",
                 static_cast<unsigned long long>(out.bus.sent), static_cast<unsigned long long>(out.bus.received),
                 static_cast<unsigned long long>(out.bus.tx_busy), static_cast<unsigned long long>(late),
                 aligned ? "every setpoint applied once, in order" : "FEEDBACK DOES NOT MATCH THE SETPOINTS");
-    std::printf("residual (CAN)     %.9g (PRV %.4f %%)\n", can.amplitude, can.prv_percent);
-    std::printf("residual (offline) %.9g (PRV %.4f %%), agreement %.3g\n", off.amplitude, off.prv_percent, agreement);
+    // A measurement that is absent (no aligned feedback) is "n/a", never a printed nan.
+    auto g = [](double v, const char* f) {
+      if (!std::isfinite(v)) return std::string{"n/a"};
+      std::array<char, 32> b{};
+      std::snprintf(b.data(), b.size(), f, v);
+      return std::string{b.data()};
+    };
+    std::printf("residual (CAN)     %s (PRV %s %%)\n", g(can.amplitude, "%.9g").c_str(), g(can.prv_percent, "%.4f").c_str());
+    std::printf("residual (offline) %s (PRV %s %%), agreement %s\n", g(off.amplitude, "%.9g").c_str(),
+                g(off.prv_percent, "%.4f").c_str(), g(agreement, "%.3g").c_str());
     if (have_cont) {
-      std::printf("continuous profile %.9g (PRV %.4f %%)\n", cont.metrics.residual_amplitude, cont.metrics.prv_percent);
+      std::printf("continuous profile %s (PRV %s %%)\n", g(cont.metrics.residual_amplitude, "%.9g").c_str(),
+                  g(cont.metrics.prv_percent, "%.4f").c_str());
     }
     if (!loopback) {
       std::printf("wake-up latency    min %lld p50 %lld p99 %lld max %lld ns, overruns %llu%s\n",
@@ -375,7 +423,7 @@ int cmd_stream(int argc, char** argv) {
                   rt.fifo ? "" : " (SCHED_FIFO not used: pass --rt-priority N as root)");
     }
   }
-  return completed ? kExitOk : kExitFailure;
+  return measured_ok ? kExitOk : kExitFailure;
 }
 
 }  // namespace settle::cli

@@ -1,6 +1,8 @@
 #pragma once
 // The settle subcommands. Each takes the arguments after its own name and returns the process
-// exit status: 0 success, 2 bad request (a one-line error on stderr, or JSON with --json), 1 failure.
+// exit status: 0 success (finite output only), 2 bad request (a one-line error on stderr naming
+// the option, or JSON with --json), 1 a runtime failure (a bus that cannot be opened, a move
+// that did not complete, a file that cannot be written).
 namespace settle::cli {
 
 int cmd_plan(int argc, char** argv);

@@ -1,100 +1,35 @@
 #pragma once
-// A minimal streaming JSON writer for the CLI's --json output (objects, arrays, numbers,
-// strings, booleans). Non-finite numbers become null: JSON has no infinity, and a peak that is
-// a Dirac is flagged separately by the caller.
+// The CLI's JSON output (nlohmann-json, keys in insertion order). A document is printed only when
+// every number in it is finite: JSON has no infinity, and the CLI never reports success with a
+// non-finite result. A value that may legitimately be absent (a peak that is a Dirac impulse, a
+// settling time that never comes) is put in as null by the caller, on purpose.
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <string>
-#include <string_view>
 
 namespace settle::cli {
 
-class JsonWriter {
- public:
-  explicit JsonWriter(std::FILE* out) : out_{out} {}
+using Json = nlohmann::ordered_json;
 
-  JsonWriter& begin_object() { return open('{'); }
-  JsonWriter& end_object() { return close('}'); }
-  JsonWriter& begin_array() { return open('['); }
-  JsonWriter& end_array() { return close(']'); }
-
-  JsonWriter& key(std::string_view k) {
-    comma();
-    write_string(k);
-    std::fputc(':', out_);
-    after_key_ = true;
-    return *this;
-  }
-  JsonWriter& value(double v) {
-    comma();
-    if (std::isfinite(v)) {
-      std::fprintf(out_, "%.17g", v);
-    } else {
-      std::fputs("null", out_);
+// True when no number in `j` is NaN or infinite.
+[[nodiscard]] inline bool all_finite(const Json& j) {
+  if (j.is_number_float()) return std::isfinite(j.get<double>());
+  if (j.is_structured()) {
+    for (const auto& v : j) {
+      if (!all_finite(v)) return false;
     }
-    return *this;
   }
-  JsonWriter& value(long long v) {
-    comma();
-    std::fprintf(out_, "%lld", v);
-    return *this;
-  }
-  JsonWriter& value(bool v) {
-    comma();
-    std::fputs(v ? "true" : "false", out_);
-    return *this;
-  }
-  JsonWriter& value(std::string_view s) {
-    comma();
-    write_string(s);
-    return *this;
-  }
-  JsonWriter& value(const char* s) { return value(std::string_view{s}); }
-  template <typename V>
-  JsonWriter& field(std::string_view k, V v) {
-    key(k);
-    return value(v);
-  }
-  void finish() { std::fputc('\n', out_); }
+  return true;
+}
 
- private:
-  JsonWriter& open(char c) {
-    comma();
-    std::fputc(c, out_);
-    first_ = true;
-    return *this;
-  }
-  JsonWriter& close(char c) {
-    std::fputc(c, out_);
-    first_ = false;
-    return *this;
-  }
-  void comma() {
-    if (after_key_) {
-      after_key_ = false;
-      return;
-    }
-    if (!first_) std::fputc(',', out_);
-    first_ = false;
-  }
-  void write_string(std::string_view s) {
-    std::fputc('"', out_);
-    for (char c : s) {
-      if (c == '"' || c == '\\') {
-        std::fputc('\\', out_);
-        std::fputc(c, out_);
-      } else if (static_cast<unsigned char>(c) < 0x20) {
-        std::fprintf(out_, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
-      } else {
-        std::fputc(c, out_);
-      }
-    }
-    std::fputc('"', out_);
-  }
+// A number, or null when it is not finite (for values documented as possibly absent).
+[[nodiscard]] inline Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
-  std::FILE* out_;
-  bool first_{true};
-  bool after_key_{false};
-};
+// One line on `out`; strings that are not valid UTF-8 (a hostile path) are printed with U+FFFD.
+inline void print_json(const Json& j, std::FILE* out = stdout) {
+  const std::string s = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  std::fprintf(out, "%s\n", s.c_str());
+}
 
 }  // namespace settle::cli

@@ -1,43 +1,60 @@
+// settle: the command-line front end. Commands and their options are declared in options.cpp;
+// each cmd_*.cpp turns validated options into a library call and prints the result.
 #include <cstdio>
 #include <cstring>
+#include <string_view>
 
 #include "commands.hpp"
+#include "options.hpp"
 
 namespace {
 
-struct Command {
+struct Entry {
   const char* name;
   int (*run)(int, char**);
-  const char* help;
 };
 
-constexpr Command kCommands[] = {
-    {"plan", settle::cli::cmd_plan, "plan a move and print it (text or --json)"},
-    {"sample", settle::cli::cmd_sample, "plan a move and print t,position,velocity,acceleration,jerk as CSV (--dt)"},
-    {"plant", settle::cli::cmd_plant, "run the simulated CiA 402 drive with a plant behind it on a CAN bus"},
-    {"stream", settle::cli::cmd_stream, "stream a move to a drive over CAN and measure the residual vibration"},
-    // commands of the simulator issue
-    {"simulate", settle::cli::cmd_simulate, "run a move on a plant (sdof, beam, belt, modes): residual, PRV, energy"},
-    {"reproduce", settle::cli::cmd_reproduce, "rerun a paper's experiment (000, 001, 004) as tables, CSV and plots"},
+constexpr Entry kRun[] = {
+    {"plan", settle::cli::cmd_plan},         {"sample", settle::cli::cmd_sample},
+    {"simulate", settle::cli::cmd_simulate}, {"reproduce", settle::cli::cmd_reproduce},
+    {"plant", settle::cli::cmd_plant},       {"stream", settle::cli::cmd_stream},
 };
 
-void usage(std::FILE* f) {
-  std::fprintf(f, "usage: settle <command> [options]\n\ncommands:\n");
-  for (const Command& c : kCommands) std::fprintf(f, "  %-10s %s\n", c.name, c.help);
-  std::fprintf(f, "\nrun 'settle <command> --help' for the options of a command\n");
+int unknown_command(const char* name) {
+  std::fprintf(stderr, "settle: error: unknown command '%s' (plan, sample, simulate, reproduce, plant, stream) [bad_command]\n",
+               name);
+  return settle::cli::kExitBadRequest;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
-    usage(argc < 2 ? stderr : stdout);
-    return argc < 2 ? settle::cli::kExitBadRequest : settle::cli::kExitOk;
+  using namespace settle::cli;
+  if (argc < 2) {
+    std::fputs(program_help().c_str(), stderr);
+    return kExitBadRequest;
   }
-  for (const Command& c : kCommands) {
-    if (std::strcmp(argv[1], c.name) == 0) return c.run(argc - 2, argv + 2);
+  const std::string_view first = argv[1];
+  if (first == "--help" || first == "-h") {
+    std::fputs(program_help().c_str(), stdout);
+    return kExitOk;
   }
-  std::fprintf(stderr, "settle: unknown command '%s'\n", argv[1]);
-  usage(stderr);
-  return settle::cli::kExitBadRequest;
+  if (first == "help") {  // settle help [<command>]
+    if (argc < 3) {
+      std::fputs(program_help().c_str(), stdout);
+      return kExitOk;
+    }
+    if (argc > 3) {
+      std::fprintf(stderr, "settle: error: usage: settle help [<command>] [bad_command]\n");
+      return kExitBadRequest;
+    }
+    const CommandSpec* c = find_command(argv[2]);
+    if (c == nullptr) return unknown_command(argv[2]);
+    std::fputs(command_help(*c).c_str(), stdout);
+    return kExitOk;
+  }
+  for (const Entry& e : kRun) {
+    if (first == e.name) return e.run(argc - 2, argv + 2);
+  }
+  return unknown_command(argv[1]);
 }

@@ -1,99 +1,11 @@
 #include "move_options.hpp"
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <sstream>
-
-#include "commands.hpp"
-#include "json.hpp"
+#include <string>
 
 namespace settle::cli {
 
-const std::set<std::string> kMoveValueOptions = {"--profile", "--distance", "--time", "--vmax",  "--amax", "--jmax",
-                                                 "--omega",   "--zeta",     "--gammas", "--y", "--shaper", "--vtol"};
-const std::set<std::string> kMoveFlagOptions = {"--json"};
-
-Args::Args(int argc, char** argv, const std::set<std::string>& value_options,
-           const std::set<std::string>& flag_options) {
-  // Keep scanning after the first error so that a --json anywhere still selects the error format.
-  auto fail = [this](const std::string& msg, const std::string& param) {
-    if (!error_.empty()) return;
-    error_ = msg;
-    error_param_ = param;
-  };
-  for (int i = 0; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (value_options.count(a) != 0) {
-      if (i + 1 >= argc) {
-        fail("option " + a + " needs a value", a);
-        break;
-      }
-      values_.emplace(a, argv[++i]);
-    } else if (flag_options.count(a) != 0) {
-      flags_.insert(a);
-    } else {
-      fail("unknown option '" + a + "'", a);
-    }
-  }
-}
-
-std::optional<std::string> Args::get(const std::string& name) const {
-  auto it = values_.find(name);
-  if (it == values_.end()) return std::nullopt;
-  return it->second;
-}
-
-std::vector<std::string> Args::all(const std::string& name) const {
-  std::vector<std::string> out;
-  auto [lo, hi] = values_.equal_range(name);
-  for (auto it = lo; it != hi; ++it) out.push_back(it->second);
-  return out;
-}
-
-bool parse_double(const std::string& s, double& out) {
-  if (s.empty()) return false;
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (end == s.c_str() || *end != '\0') return false;
-  out = v;
-  return true;
-}
-
-bool parse_list(const std::string& s, std::vector<double>& out) {
-  std::vector<double> v;
-  std::stringstream ss{s};
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    double x = 0.0;
-    if (!parse_double(item, x)) return false;
-    v.push_back(x);
-  }
-  if (v.empty()) return false;
-  out = std::move(v);
-  return true;
-}
-
-bool read_number(const Args& a, const char* name, double& out, RequestError& err) {
-  const auto s = a.get(name);
-  if (!s) return true;
-  if (!parse_double(*s, out)) {
-    err = {"bad_number", name, std::string{name} + ": '" + *s + "' is not a number"};
-    return false;
-  }
-  return true;
-}
-
 namespace {
-
-// The same for options whose absence the planner must see (no default).
-bool number_option(const Args& a, const char* name, std::optional<double>& out, RequestError& err) {
-  if (!a.get(name)) return true;
-  double v = 0.0;
-  if (!read_number(a, name, v, err)) return false;
-  out = v;
-  return true;
-}
 
 struct ShaperName {
   const char* name;
@@ -105,7 +17,8 @@ constexpr ShaperName kShapers[] = {{"none", core::ShaperKind::none},
                                    {"zvdd", core::ShaperKind::zvdd},
                                    {"ei", core::ShaperKind::ei}};
 
-// The option a planner status is about, so the user is told what to change.
+}  // namespace
+
 const char* param_of(core::Status s, const core::MoveRequest& r) {
   using core::Status;
   switch (s) {
@@ -130,8 +43,14 @@ const char* param_of(core::Status s, const core::MoveRequest& r) {
     case Status::vtol_out_of_range: return "--vtol";
     case Status::bad_impulse:
     case Status::shaper_gain_not_unity:
-    case Status::too_many_impulses:
-    case Status::no_solution: return "--shaper";
+    case Status::too_many_impulses: return "--shaper";
+    case Status::no_solution:
+      // Without a shaper, what did not converge is the profile's own design for the mode or
+      // the limits: name what the user gave for it.
+      if (r.shaper != core::ShaperKind::none) return "--shaper";
+      if (r.time) return "--time";
+      if (r.vmax) return "--vmax";
+      return "--profile";
     case Status::non_finite_input: {
       const std::pair<const char*, std::optional<double>> opts[] = {
           {"--distance", r.distance}, {"--time", r.time}, {"--vmax", r.vmax}, {"--amax", r.amax},
@@ -140,77 +59,53 @@ const char* param_of(core::Status s, const core::MoveRequest& r) {
         if (v && !std::isfinite(*v)) return name;
       }
       if (r.y_fractions) return "--y";
-      return "--gammas";
+      if (r.gamma_count > 0) return "--gammas";
+      return "--distance";
     }
     default: return "--profile";
   }
 }
 
-}  // namespace
-
-bool parse_move_request(const Args& a, core::MoveRequest& req, RequestError& err) {
+bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestError& err) {
   core::MoveRequest r{};
-  const auto prof = a.get("--profile");
+  const auto prof = a.text("--profile");
   if (!prof) {
-    err = {"missing_option", "--profile", "--profile is required (scurve, scurve-damped, ramp-versine, pseudopoly, "
+    err = {"missing_option", "--profile", "--profile: required (scurve, scurve-damped, ramp-versine, pseudopoly, "
                                           "poly345, trapezoid, jerk-limited)"};
     return false;
   }
-  if (!core::parse_profile_kind(prof->c_str(), r.profile)) {
+  if (!core::parse_profile_kind(prof->c_str(), r.profile)) {  // the table lists only core's names
     err = {"unknown_profile", "--profile", "--profile: unknown profile '" + *prof + "'"};
     return false;
   }
-  std::optional<double> distance, zeta, vtol;
-  if (!number_option(a, "--distance", distance, err) || !number_option(a, "--time", r.time, err) ||
-      !number_option(a, "--vmax", r.vmax, err) || !number_option(a, "--amax", r.amax, err) ||
-      !number_option(a, "--jmax", r.jmax, err) || !number_option(a, "--omega", r.omega, err) ||
-      !number_option(a, "--zeta", zeta, err) || !number_option(a, "--vtol", vtol, err)) {
-    return false;
-  }
+  const auto distance = a.real("--distance");
   if (!distance) {
-    err = {"missing_option", "--distance", "--distance is required"};
+    err = {"missing_option", "--distance", "--distance: required"};
     return false;
   }
   r.distance = *distance;
-  r.zeta = zeta.value_or(0.0);
-  r.vtol = vtol.value_or(0.05);
-  if (const auto g = a.get("--gammas")) {
-    std::vector<double> v;
-    if (!parse_list(*g, v)) {
-      err = {"bad_number", "--gammas", "--gammas: expected a comma-separated list of numbers"};
-      return false;
-    }
-    if (v.size() > core::kMaxGammas) {
-      err = {core::to_string(core::Status::too_many_gammas), "--gammas",
-             "--gammas: at most " + std::to_string(core::kMaxGammas) + " exponents"};
-      return false;
-    }
-    r.gamma_count = v.size();
-    for (std::size_t i = 0; i < v.size(); ++i) r.gammas[i] = v[i];
+  r.time = a.real("--time");
+  r.vmax = a.real("--vmax");
+  r.amax = a.real("--amax");
+  r.jmax = a.real("--jmax");
+  r.omega = a.real("--omega");
+  r.zeta = a.real("--zeta", 0.0);
+  r.vtol = a.real("--vtol", 0.05);
+  if (a.has("--gammas")) {
+    const std::vector<double> v = a.list("--gammas");
+    r.gamma_count = v.size();  // at most kMaxGammas: the table's item limit
+    for (std::size_t i = 0; i < v.size() && i < r.gammas.size(); ++i) r.gammas[i] = v[i];
   } else if (r.profile == core::ProfileKind::pseudopoly) {
-    err = {"missing_option", "--gammas", "--gammas is required for the pseudopoly profile"};
+    err = {"missing_option", "--gammas", "--gammas: required for the pseudopoly profile"};
     return false;
   }
-  if (const auto y = a.get("--y")) {
-    std::vector<double> v;
-    if (!parse_list(*y, v) || v.size() != 3) {
-      err = {"bad_number", "--y", "--y: expected three fractions Y1/L,Y2/L,Y3/L"};
-      return false;
-    }
+  if (a.has("--y")) {
+    const std::vector<double> v = a.list("--y");
     r.y_fractions = std::array<double, 3>{v[0], v[1], v[2]};
   }
-  if (const auto s = a.get("--shaper")) {
-    bool found = false;
-    for (const ShaperName& n : kShapers) {
-      if (*s == n.name) {
-        r.shaper = n.kind;
-        found = true;
-      }
-    }
-    if (!found) {
-      err = {"unknown_shaper", "--shaper", "--shaper: unknown shaper '" + *s + "' (zv, zvd, zvdd, ei, none)"};
-      return false;
-    }
+  const std::string s = a.text("--shaper", "none");
+  for (const ShaperName& n : kShapers) {
+    if (s == n.name) r.shaper = n.kind;
   }
   req = r;
   return true;
@@ -218,26 +113,26 @@ bool parse_move_request(const Args& a, core::MoveRequest& req, RequestError& err
 
 bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestError& err) {
   const core::Status st = core::plan(req, out);
-  if (st == core::Status::ok) return true;
-  const char* p = param_of(st, req);
-  err = {core::to_string(st), p, std::string{p} + ": " + core::describe(st)};
-  return false;
-}
-
-int report_bad_request(const RequestError& err, bool json) {
-  if (json) {
-    JsonWriter w{stdout};
-    w.begin_object()
-        .field("status", "error")
-        .field("error", err.code)
-        .field("parameter", err.param)
-        .field("message", err.message)
-        .end_object()
-        .finish();
-  } else {
-    std::fprintf(stderr, "settle: error: %s [%s]\n", err.message.c_str(), err.code.c_str());
+  if (st != core::Status::ok) {
+    const char* p = param_of(st, req);
+    err = {core::to_string(st), p, std::string{p} + ": " + core::describe(st)};
+    return false;
   }
-  return kExitBadRequest;
+  // What the options allow can still plan into a move too long or too extreme to report:
+  // refuse it here, before anything is printed or sized from it.
+  const char* main = req.time ? "--time" : (req.vmax ? "--vmax" : "--distance");
+  if (!std::isfinite(out.duration()) || !std::isfinite(out.distance())) {
+    err = {"non_finite_result", main, std::string{main} + ": the planned move is not finite"};
+    return false;
+  }
+  if (out.duration() > kMaxSeconds) {
+    const char* who = req.time ? (out.profile().duration() > kMaxSeconds ? "--time" : "--omega") : main;
+    err = {"too_long", who,
+           std::string{who} + ": the planned move lasts " + format_number(out.duration()) + " s; at most 3600 s" +
+               (req.time ? "" : " (raise --vmax, --amax or --jmax)")};
+    return false;
+  }
+  return true;
 }
 
 }  // namespace settle::cli

@@ -1,51 +1,54 @@
 #include "plant_options.hpp"
 
 #include <cmath>
+#include <initializer_list>
+#include <string>
 #include <vector>
 
 namespace settle::cli {
 
-const std::set<std::string> kPlantValueOptions = {
-    "--plant",     "--mass",      "--stiffness",      "--damping",      "--length",   "--modulus",
-    "--thickness", "--width",     "--beam-mass",      "--tip-mass",     "--modes",    "--modal-damping",
-    "--inertia",   "--belt-stiffness", "--belt-damping", "--pulley-r", "--pulley-R", "--ratio", "--mode"};
-
-const std::set<std::string> kDriveValueOptions = {"--period-us", "--counts-per-unit", "--load-counts-per-unit",
-                                                  "--interp",    "--drive",           "--bandwidth",
-                                                  "--servo-damping"};
-
 namespace {
+
+// Of the options a combined condition depends on (a damping ratio from mass, stiffness and
+// damping), the one to name: the last of them the user gave, else the first.
+const char* given_of(const ParsedArgs& a, std::initializer_list<const char*> names) {
+  const char* pick = *names.begin();
+  for (const char* n : names) {
+    if (a.has(n)) pick = n;
+  }
+  return pick;
+}
+
+// The option a rejected plant parameter came from, so the user is told what to change. The
+// table has already checked each value alone; what is left are the conditions that combine
+// several (a damping ratio of 1 or more, a beam whose modes cannot be found).
+const char* plant_param(sim::SimStatus st, const std::string& kind, const ParsedArgs& a) {
+  using sim::SimStatus;
+  const bool damping_ratio = st == SimStatus::not_underdamped || st == SimStatus::negative_damping;
+  if (kind == "sdof") {
+    if (damping_ratio) return given_of(a, {"--damping", "--mass", "--stiffness", "--damping"});
+    if (st == SimStatus::non_positive_mass) return "--mass";
+    if (st == SimStatus::non_positive_stiffness) return "--stiffness";
+  } else if (kind == "beam") {
+    if (damping_ratio) return "--modal-damping";
+    if (st == SimStatus::bad_mode_count || st == SimStatus::root_not_found) return "--modes";
+    return given_of(a, {"--length", "--modulus", "--thickness", "--width", "--beam-mass", "--tip-mass"});
+  } else if (kind == "belt") {
+    if (damping_ratio) {
+      return given_of(a, {"--belt-damping", "--inertia", "--belt-stiffness", "--pulley-r", "--pulley-R", "--ratio",
+                          "--belt-damping"});
+    }
+    return given_of(a, {"--inertia", "--belt-stiffness", "--pulley-r", "--pulley-R", "--ratio"});
+  } else if (kind == "modes") {
+    return "--mode";
+  }
+  return "--plant";
+}
 
 bool sim_ok(sim::SimStatus st, const char* param, RequestError& err) {
   if (st == sim::SimStatus::ok) return true;
   err = {sim::to_string(st), param, std::string{param} + ": " + sim::describe(st)};
   return false;
-}
-
-// The option a rejected plant parameter came from, so the user is told what to change (the
-// plant constructors check in this order, so the first offending option is the one named).
-const char* plant_param(sim::SimStatus st, const std::string& kind, double first_of_pair) {
-  using sim::SimStatus;
-  if (kind == "sdof") {
-    if (st == SimStatus::non_positive_mass) return "--mass";
-    if (st == SimStatus::non_positive_stiffness) return "--stiffness";
-    if (st == SimStatus::negative_damping || st == SimStatus::not_underdamped) return "--damping";
-  } else if (kind == "beam") {
-    if (st == SimStatus::non_positive_length) return "--length";
-    if (st == SimStatus::non_positive_modulus) return "--modulus";
-    if (st == SimStatus::non_positive_section) return first_of_pair > 0.0 ? "--width" : "--thickness";
-    if (st == SimStatus::non_positive_mass) return "--beam-mass";
-    if (st == SimStatus::negative_tip_mass) return "--tip-mass";
-    if (st == SimStatus::negative_damping || st == SimStatus::not_underdamped) return "--modal-damping";
-    if (st == SimStatus::bad_mode_count || st == SimStatus::root_not_found) return "--modes";
-  } else if (kind == "belt") {
-    if (st == SimStatus::non_positive_mass) return "--inertia";
-    if (st == SimStatus::non_positive_stiffness) return "--belt-stiffness";
-    if (st == SimStatus::negative_damping || st == SimStatus::not_underdamped) return "--belt-damping";
-    if (st == SimStatus::non_positive_radius) return first_of_pair > 0.0 ? "--pulley-R" : "--pulley-r";
-    if (st == SimStatus::non_positive_ratio) return "--ratio";
-  }
-  return "--plant";
 }
 
 // Each plant's own parameter options: one given for another plant would be silently ignored,
@@ -63,58 +66,44 @@ constexpr Owned kOwned[] = {{"--mass", "sdof"},          {"--stiffness", "sdof"}
 
 }  // namespace
 
-bool parse_plant(const Args& a, sim::ModalPlant& plant, RequestError& err) {
-  const std::string kind = a.get("--plant").value_or("beam");
+bool parse_plant(const ParsedArgs& a, sim::ModalPlant& plant, RequestError& err) {
+  const std::string kind = a.text("--plant", "beam");
   for (const Owned& o : kOwned) {
-    if (kind != o.kind && (kind == "sdof" || kind == "beam" || kind == "belt" || kind == "modes") && a.get(o.option)) {
-      err = {"option_not_for_plant", o.option, std::string{o.option} + " does not apply to --plant " + kind};
+    if (kind != o.kind && a.has(o.option)) {
+      err = {"option_not_for_plant", o.option, std::string{o.option} + ": does not apply to --plant " + kind};
       return false;
     }
   }
+  sim::SimStatus st = sim::SimStatus::ok;
   if (kind == "sdof") {
     sim::SdofParams p{};
-    if (!read_number(a, "--mass", p.mass, err) || !read_number(a, "--stiffness", p.stiffness, err) ||
-        !read_number(a, "--damping", p.damping, err)) {
-      return false;
-    }
-    const sim::SimStatus st = sim::ModalPlant::make_sdof(p, plant);
-    return sim_ok(st, plant_param(st, kind, 0.0), err);
-  }
-  if (kind == "beam") {
+    p.mass = a.real("--mass", p.mass);
+    p.stiffness = a.real("--stiffness", p.stiffness);
+    p.damping = a.real("--damping", p.damping);
+    st = sim::ModalPlant::make_sdof(p, plant);
+  } else if (kind == "beam") {
     sim::BeamOptions o{};
-    double modes = static_cast<double>(o.modes);
-    if (!read_number(a, "--length", o.params.length, err) || !read_number(a, "--modulus", o.params.modulus, err) ||
-        !read_number(a, "--thickness", o.params.thickness, err) || !read_number(a, "--width", o.params.width, err) ||
-        !read_number(a, "--beam-mass", o.params.beam_mass, err) || !read_number(a, "--tip-mass", o.params.tip_mass, err) ||
-        !read_number(a, "--modes", modes, err) || !read_number(a, "--modal-damping", o.modal_damping, err)) {
-      return false;
-    }
-    if (!(modes >= 1.0 && modes <= static_cast<double>(sim::kMaxBeamModes)) || modes != std::floor(modes)) {
-      err = {"bad_mode_count", "--modes", "--modes: a whole number from 1 to " + std::to_string(sim::kMaxBeamModes)};
-      return false;
-    }
-    o.modes = static_cast<std::size_t>(modes);
-    const sim::SimStatus st = sim::ModalPlant::make_beam(o, plant);
-    return sim_ok(st, plant_param(st, kind, o.params.thickness), err);
-  }
-  if (kind == "belt") {
+    o.params.length = a.real("--length", o.params.length);
+    o.params.modulus = a.real("--modulus", o.params.modulus);
+    o.params.thickness = a.real("--thickness", o.params.thickness);
+    o.params.width = a.real("--width", o.params.width);
+    o.params.beam_mass = a.real("--beam-mass", o.params.beam_mass);
+    o.params.tip_mass = a.real("--tip-mass", o.params.tip_mass);
+    o.modes = static_cast<std::size_t>(a.integer("--modes", static_cast<long long>(o.modes)));
+    o.modal_damping = a.real("--modal-damping", o.modal_damping);
+    st = sim::ModalPlant::make_beam(o, plant);
+  } else if (kind == "belt") {
     sim::BeltParams p{};
-    if (!read_number(a, "--inertia", p.inertia, err) || !read_number(a, "--belt-stiffness", p.belt_stiffness, err) ||
-        !read_number(a, "--belt-damping", p.belt_damping, err) || !read_number(a, "--pulley-r", p.pulley_r, err) ||
-        !read_number(a, "--pulley-R", p.pulley_R, err) || !read_number(a, "--ratio", p.ratio, err)) {
-      return false;
-    }
-    const sim::SimStatus st = sim::ModalPlant::make_belt(p, plant);
-    return sim_ok(st, plant_param(st, kind, p.pulley_r), err);
-  }
-  if (kind == "modes") {
+    p.inertia = a.real("--inertia", p.inertia);
+    p.belt_stiffness = a.real("--belt-stiffness", p.belt_stiffness);
+    p.belt_damping = a.real("--belt-damping", p.belt_damping);
+    p.pulley_r = a.real("--pulley-r", p.pulley_r);
+    p.pulley_R = a.real("--pulley-R", p.pulley_R);
+    p.ratio = a.real("--ratio", p.ratio);
+    st = sim::ModalPlant::make_belt(p, plant);
+  } else {  // modes (the table admits no other name)
     std::vector<sim::Mode> modes;
-    for (const std::string& m : a.all("--mode")) {
-      std::vector<double> v;
-      if (!parse_list(m, v) || v.size() != 3) {
-        err = {"bad_number", "--mode", "--mode: expected OMEGA,ZETA,GAIN"};
-        return false;
-      }
+    for (const std::vector<double>& v : a.lists("--mode")) {  // OMEGA,ZETA,GAIN, each in range
       sim::Mode md{};
       md.omega = v[0];
       md.zeta = v[1];
@@ -122,47 +111,49 @@ bool parse_plant(const Args& a, sim::ModalPlant& plant, RequestError& err) {
       modes.push_back(md);
     }
     if (modes.empty()) {
-      err = {"missing_option", "--mode", "--mode OMEGA,ZETA,GAIN is required (repeatable) for --plant modes"};
+      err = {"missing_option", "--mode", "--mode: OMEGA,ZETA,GAIN required (repeatable) for --plant modes"};
       return false;
     }
-    return sim_ok(sim::ModalPlant::make_modes(modes, 1.0, sim::PlantKind::modes, plant), "--mode", err);
+    st = sim::ModalPlant::make_modes(modes, 1.0, sim::PlantKind::modes, plant);
   }
-  err = {"unknown_plant", "--plant", "--plant: unknown plant '" + kind + "' (sdof, beam, belt, modes)"};
-  return false;
+  if (!sim_ok(st, plant_param(st, kind, a), err)) return false;
+  // Parameters each in range can still combine into modes no computation should take.
+  for (const sim::Mode& m : plant.modes()) {
+    if (!std::isfinite(m.omega) || !(m.omega >= 1e-2 && m.omega <= 1e7) || !std::isfinite(m.gain) ||
+        !std::isfinite(m.output)) {
+      const char* p = plant_param(sim::SimStatus::non_finite_parameter, kind, a);
+      err = {"plant_out_of_range", p,
+             std::string{p} + ": the plant's natural frequencies must lie in [0.01, 1e7] rad/s (got " +
+                 format_number(m.omega) + ")"};
+      return false;
+    }
+  }
+  return true;
 }
 
-bool parse_drive(const Args& a, const sim::ModalPlant& plant, sim::DriveAxisConfig& cfg, std::uint32_t& period_us,
+bool parse_drive(const ParsedArgs& a, const sim::ModalPlant& plant, sim::DriveAxisConfig& cfg, std::uint32_t& period_us,
                  RequestError& err) {
   sim::DriveAxisConfig c{};
   if (plant.kind() == sim::PlantKind::belt) {
     c.counts_per_unit = 65536.0 / (2.0 * 3.14159265358979323846);  // 2^16 counts per motor revolution
   }
-  double period = 1000.0;
-  if (!read_number(a, "--period-us", period, err) || !read_number(a, "--counts-per-unit", c.counts_per_unit, err) ||
-      !read_number(a, "--load-counts-per-unit", c.load_counts_per_unit, err) ||
-      !read_number(a, "--bandwidth", c.model.bandwidth_hz, err) || !read_number(a, "--servo-damping", c.model.damping, err)) {
-    return false;
-  }
-  if (!(period >= 100.0 && period <= 100000.0) || period != std::floor(period)) {
-    err = {"bad_number", "--period-us", "--period-us: a whole number of microseconds from 100 to 100000"};
-    return false;
-  }
-  const std::string interp = a.get("--interp").value_or("linear");
-  if (interp != "linear" && interp != "cubic") {
-    err = {"bad_option", "--interp", "--interp: linear or cubic"};
-    return false;
-  }
-  c.interpolation = interp == "cubic" ? sim::Interpolation::cubic : sim::Interpolation::linear;
-  const std::string drive = a.get("--drive").value_or("ideal");
-  if (drive != "ideal" && drive != "servo") {
-    err = {"bad_option", "--drive", "--drive: ideal or servo"};
-    return false;
-  }
-  c.model.servo = drive == "servo";
-  c.period_s = period * 1e-6;
+  const long long period = a.integer("--period-us", 1000);  // 100..100000: the table's range
+  c.counts_per_unit = a.real("--counts-per-unit", c.counts_per_unit);
+  c.load_counts_per_unit = a.real("--load-counts-per-unit", c.load_counts_per_unit);
+  c.model.bandwidth_hz = a.real("--bandwidth", c.model.bandwidth_hz);
+  c.model.damping = a.real("--servo-damping", c.model.damping);
+  c.interpolation = a.text("--interp", "linear") == "cubic" ? sim::Interpolation::cubic : sim::Interpolation::linear;
+  c.model.servo = a.text("--drive", "ideal") == "servo";
+  c.period_s = static_cast<double>(period) * 1e-6;
   // Validate by building an axis once: the same checks the node will make.
   sim::DriveAxis probe{};
-  if (!sim_ok(sim::DriveAxis::make(c, plant, 0, probe), "--drive", err)) return false;
+  const sim::SimStatus st = sim::DriveAxis::make(c, plant, 0, probe);
+  if (st != sim::SimStatus::ok) {
+    const char* p = st == sim::SimStatus::non_positive_scale ? "--counts-per-unit"
+                    : st == sim::SimStatus::bad_drive_model  ? given_of(a, {"--bandwidth", "--servo-damping"})
+                                                             : "--drive";
+    return sim_ok(st, p, err);
+  }
   cfg = c;
   period_us = static_cast<std::uint32_t>(period);
   return true;

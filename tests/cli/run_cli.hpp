@@ -1,28 +1,85 @@
 #pragma once
-// Runs the settle executable (path in SETTLE_CLI) with arguments, as a user's shell would, and
-// returns its exit status and combined output. Shared by the CLI suites of every area.
+// Runs the settle executable (path in SETTLE_CLI) with an argument vector, without a shell
+// (posix_spawn), and returns its exit status, standard output and standard error. Shared by the
+// CLI suites of every area.
+#include <poll.h>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
-#include <cstdio>
+#include <array>
+#include <sstream>
 #include <string>
+#include <vector>
+
+extern char** environ;
 
 namespace settle::test {
 
 struct CliResult {
-  int status;
-  std::string out;
+  int status;          // exit status; -1 when killed by a signal or not started
+  std::string out;     // stdout followed by stderr
+  std::string stdout_text;
+  std::string stderr_text;
 };
 
+inline CliResult run_cli_argv(const std::vector<std::string>& args) {
+  std::vector<std::string> all{SETTLE_CLI};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  int out_pipe[2];
+  int err_pipe[2];
+  if (pipe(out_pipe) != 0) return {-1, {}, {}, {}};
+  if (pipe(err_pipe) != 0) return {-1, {}, {}, {}};
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_adddup2(&fa, out_pipe[1], 1);
+  posix_spawn_file_actions_adddup2(&fa, err_pipe[1], 2);
+  posix_spawn_file_actions_addclose(&fa, out_pipe[0]);
+  posix_spawn_file_actions_addclose(&fa, err_pipe[0]);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  close(out_pipe[1]);
+  close(err_pipe[1]);
+  CliResult r{-1, {}, {}, {}};
+  std::array<pollfd, 2> fds{pollfd{out_pipe[0], POLLIN, 0}, pollfd{err_pipe[0], POLLIN, 0}};
+  std::array<std::string*, 2> sinks{&r.stdout_text, &r.stderr_text};
+  int open_fds = 2;
+  while (rc == 0 && open_fds > 0) {
+    if (poll(fds.data(), fds.size(), -1) < 0) break;
+    for (std::size_t i = 0; i < fds.size(); ++i) {
+      if (fds[i].fd < 0 || fds[i].revents == 0) continue;
+      char buf[4096];
+      const ssize_t n = read(fds[i].fd, buf, sizeof buf);
+      if (n > 0) {
+        sinks[i]->append(buf, static_cast<std::size_t>(n));
+      } else {
+        close(fds[i].fd);
+        fds[i].fd = -1;
+        --open_fds;
+      }
+    }
+  }
+  for (const pollfd& p : fds) {
+    if (p.fd >= 0) close(p.fd);
+  }
+  if (rc != 0) return r;
+  int st = 0;
+  waitpid(pid, &st, 0);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  r.out = r.stdout_text + r.stderr_text;
+  return r;
+}
+
+// The arguments split at spaces (no quoting: nothing here goes through a shell).
 inline CliResult run_cli(const std::string& args) {
-  const std::string cmd = std::string{SETTLE_CLI} + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  if (p == nullptr) return {-1, out};
-  char buf[4096];
-  std::size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+  std::vector<std::string> v;
+  std::istringstream in{args};
+  for (std::string a; in >> a;) v.push_back(a);
+  return run_cli_argv(v);
 }
 
 }  // namespace settle::test

@@ -118,6 +118,9 @@ TEST(Cli, PlanJsonHasTheDocumentedShape) {
   EXPECT_NEAR(std::stod(j.flat.at("params.Y1")), 1.3462, 2e-3);
   EXPECT_EQ(j.flat.at("peaks.velocity_step"), "true");
   EXPECT_EQ(j.flat.at("peaks.acceleration"), "null");  // an impulse, flagged, not a number
+  const CliResult text = run("plan --profile ramp-versine --distance 1 --time 0.167 --omega 28.2843 --zeta 0.159");
+  ASSERT_EQ(text.status, 0) << text.out;
+  EXPECT_EQ(text.stdout_text.find("inf"), std::string::npos) << "an impulse is not printed as a number:\n" << text.out;
   EXPECT_EQ(j.flat.count("shaper.impulses.0.amplitude"), 1u);
 }
 
@@ -128,23 +131,24 @@ TEST(Cli, BadRequestsExitTwoNamingTheParameter) {
     const char* code;
   };
   const Case cases[] = {
-      {"plan --profile scurve --distance 0.1 --time -1 --omega 20", "--time", "non_positive_time"},
-      {"plan --profile scurve --distance 0.1 --time 1 --omega 0", "--omega", "non_positive_omega"},
-      {"plan --profile scurve --distance 0.1 --time 1 --omega 20 --zeta 1.5", "--zeta", "zeta_out_of_range"},
+      {"plan --profile scurve --distance 0.1 --time -1 --omega 20", "--time", "out_of_range"},
+      {"plan --profile scurve --distance 0.1 --time 1 --omega 0", "--omega", "out_of_range"},
+      {"plan --profile scurve --distance 0.1 --time 1 --omega 20 --zeta 1.5", "--zeta", "out_of_range"},
       {"plan --profile scurve --distance nan --time 1 --omega 20", "--distance", "non_finite_input"},
       {"plan --profile scurve --distance 1 --time 1 --vmax 0.5 --omega 20", "--time", "time_too_short_for_vmax"},
       {"plan --profile scurve --distance 0.1 --time 0.2 --omega 20 --amax 1", "--amax", "acceleration_limit_exceeded"},
       {"plan --profile pseudopoly --distance 1 --time 1 --gammas 3,3,5", "--gammas", "gammas_not_distinct"},
-      {"plan --profile pseudopoly --distance 1 --time 1 --gammas 1.5,3,5", "--gammas", "gamma_too_small"},
+      {"plan --profile pseudopoly --distance 1 --time 1 --gammas 1.5,3,5", "--gammas", "out_of_range"},
       {"plan --profile warp --distance 1 --time 1", "--profile", "unknown_profile"},
       {"plan --profile scurve --distance abc --time 1 --omega 2", "--distance", "bad_number"},
       {"plan --profile scurve --distance 1 --time 1 --omega 2 --bogus 3", "--bogus", "bad_option"},
-      {"sample --profile poly345 --distance 1 --time 1 --dt -0.1", "--dt", "bad_number"},
+      {"sample --profile poly345 --distance 1 --time 1 --dt -0.1", "--dt", "out_of_range"},
   };
   for (const Case& c : cases) {
     const CliResult text = run(c.args);
     EXPECT_EQ(text.status, 2) << c.args;
     EXPECT_EQ(std::count(text.out.begin(), text.out.end(), '\n'), 1) << "one line: " << text.out;
+    EXPECT_TRUE(text.stdout_text.empty()) << text.stdout_text;
     EXPECT_NE(text.out.find(c.param), std::string::npos) << text.out;
     const CliResult json = run(std::string{c.args} + " --json");
     EXPECT_EQ(json.status, 2) << c.args;

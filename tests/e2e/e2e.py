@@ -23,7 +23,9 @@ NODE = 1
 # The drive and the loop tolerate a stalled user-mode-linux guest (see tools/demo-run); the fault
 # tests set the one timeout they are about to what they test.
 PLANT_TOLERANT = ["--sync-loss-periods", "250"]
-STREAM_TOLERANT = ["--heartbeat-ms", "2000", "--sdo-timeout-ms", "5000", "--rt-priority", "50"]
+# The loop's feedback watchdog tolerates what the drive's SYNC watchdog tolerates (a guest's stall).
+STREAM_WATCHDOG = ["--heartbeat-ms", "2000", "--sdo-timeout-ms", "5000", "--rt-priority", "50"]
+STREAM_TOLERANT = [*STREAM_WATCHDOG, "--feedback-timeout-periods", "250"]
 
 # id -> (plant args, move args, axis vmax, out scale)
 SCENARIOS = {row[0]: (row[2], row[3], row[4], row[5]) for row in paper_scenarios.scenarios()}
@@ -237,7 +239,10 @@ def main():
             hb_ms = 400
             plant = Plant(d, "dies", plant_args, PLANT_TOLERANT)
             rpdos = canbus.Socket(filters=[(0x200 + NODE, 0x7FF)])
-            cmd, _, dump = stream_cmd(d, "dies", plant_args, move, 1, ["--heartbeat-ms", str(hb_ms), "--sdo-timeout-ms", "5000"])
+            # The feedback watchdog is off here: this scenario proves the heartbeat path
+            # (plant-dies-watchdog proves the watchdog's).
+            cmd, _, dump = stream_cmd(d, "dies", plant_args, move, 1, ["--heartbeat-ms", str(hb_ms), "--sdo-timeout-ms",
+                                                                       "5000", "--feedback-timeout-periods", "0"])
             s = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
             wait_mid_move(rpdos, 500000, lambda: s.poll() is None)
             plant.kill()
@@ -257,6 +262,28 @@ def main():
                                   f"heartbeat, at most {bound} within its {hb_ms} ms timeout)")
             targets = [rpdo_target(bytes.fromhex(data)) for _, cid, data in log if cid == 0x200 + NODE]
             check(max(targets) < 500000, f"the move was cut short (last setpoint {targets[-1]} of 500000 counts)")
+        elif TEST == "plant-dies-watchdog":
+            # The drive dies mid-move with the heartbeat timeout far away (2 s): the loop's feedback
+            # watchdog (10 periods, its default) halts the axis. Counted in frames from the loop's
+            # own log: after the drive's last TPDO1 at most 10 RPDOs left the loop (+1 for the tick
+            # in progress), and the move is void, never completed.
+            plant_args = ["--plant", "beam"]
+            move = ["--profile", "scurve", "--distance", "0.5", "--time", "4", "--omega", f"{W000}"]
+            plant = Plant(d, "watchdog", plant_args, PLANT_TOLERANT)
+            rpdos = canbus.Socket(filters=[(0x200 + NODE, 0x7FF)])
+            cmd, _, dump = stream_cmd(d, "watchdog", plant_args, move, 1, STREAM_WATCHDOG)
+            s = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
+            wait_mid_move(rpdos, 500000, lambda: s.poll() is None)
+            plant.kill()
+            out, _ = s.communicate(timeout=120)
+            r = json.loads(out)
+            check(r["outcome"] == "feedback_timeout" and s.returncode != 0,
+                  f"the loop reports the silent drive ({r['outcome']}, fault {r['fault']})")
+            check(r["feedback_timeouts"] == 1, f"one feedback timeout ({r['feedback_timeouts']})")
+            log = check_log("watchdog", r, dump)
+            last_tpdo = max(i for i, (_, cid, _) in enumerate(log) if cid == 0x180 + NODE)
+            after = sum(1 for _, cid, _ in log[last_tpdo + 1:] if cid == 0x200 + NODE)
+            check(after <= 11, f"at most 10 (+1) setpoints after the drive's last feedback ({after})")
         elif TEST == "plant-stalls-mid-move":
             # The drive's process is not scheduled for 300 periods (SIGSTOP: a loaded host) while
             # the loop keeps streaming: the SYNCs wait in its queue. That is not a lost SYNC: it
@@ -266,7 +293,9 @@ def main():
             plant_args, move_args, vmax, _ = SCENARIOS["000-scurve-1.75"]
             plant = Plant(d, "stall", plant_args, PLANT_TOLERANT)
             bus = canbus.Socket(filters=[(0x200 + NODE, 0x7FF), (0x080, 0x7FF)])
-            cmd, fb, dump = stream_cmd(d, "stall", plant_args, move_args, vmax, STREAM_TOLERANT)
+            # The loop's watchdog must outlast the 300-period stall.
+            cmd, fb, dump = stream_cmd(d, "stall", plant_args, move_args, vmax,
+                                       [*STREAM_WATCHDOG, "--feedback-timeout-periods", "1000"])
             s = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
             wait_mid_move(bus, 70000, lambda: s.poll() is None)
             plant.p.send_signal(signal.SIGSTOP)

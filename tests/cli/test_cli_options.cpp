@@ -1,0 +1,310 @@
+// The CLI's option layer as a user meets it (issue 12 item 4, issue 13 "A CLI that explains
+// itself"): every bad value exits 2 with one line naming the right option and nothing on stdout
+// (or, with --json, only the JSON error object); sizes are refused before any work; every
+// option a command accepts is in its help.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "move_options.hpp"
+#include "options.hpp"
+#include "run_cli.hpp"
+
+namespace {
+
+using settle::test::CliResult;
+using settle::test::run_cli;
+using settle::test::run_cli_argv;
+
+// A move, a plant and a bus that are valid for stream and plant, so that the one bad option of
+// each case is the only thing wrong. The interface does not exist: nothing here opens a bus.
+const std::string kStream = "stream --bus loopback --profile poly345 --distance 0.01 --time 0.1 ";
+const std::string kPlant = "plant --bus settle-no-such-can ";
+const std::string kPlan = "plan --profile poly345 --distance 0.1 --time 1 ";
+const std::string kSimulate = "simulate --profile poly345 --distance 0.1 --time 1 ";
+
+struct Case {
+  std::string args;
+  std::string param;  // the option the error must name
+  std::string code;   // "" = any
+};
+
+void expect_refused(const Case& c) {
+  SCOPED_TRACE(c.args);
+  const CliResult text = run_cli(c.args);
+  EXPECT_EQ(text.status, 2) << text.out;
+  EXPECT_TRUE(text.stdout_text.empty()) << "nothing on stdout on exit 2: " << text.stdout_text;
+  EXPECT_EQ(std::count(text.stderr_text.begin(), text.stderr_text.end(), '\n'), 1) << text.stderr_text;
+  // The option named is the one given: "settle: error: --node: ..." (or "... option --x ...").
+  EXPECT_NE(text.stderr_text.find(c.param + ":"), std::string::npos) << text.stderr_text;
+  const CliResult json = run_cli(c.args + " --json");
+  EXPECT_EQ(json.status, 2) << json.out;
+  const auto j = nlohmann::json::parse(json.stdout_text, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << json.stdout_text;
+  EXPECT_EQ(j.at("status"), "error");
+  EXPECT_EQ(j.at("parameter"), c.param) << json.stdout_text;
+  if (!c.code.empty()) {
+    EXPECT_EQ(j.at("error"), c.code) << json.stdout_text;
+  }
+  EXPECT_FALSE(j.at("message").get<std::string>().empty());
+  EXPECT_EQ(std::count(json.stdout_text.begin(), json.stdout_text.end(), '\n'), 1) << json.stdout_text;
+}
+
+// Issue 12 item 4, case by case.
+TEST(CliOptions, StreamAndPlantIntegersAreCheckedNotCast) {
+  const Case cases[] = {
+      {kStream + "--node 0", "--node", "out_of_range"},
+      {kStream + "--node 128", "--node", "out_of_range"},
+      {kStream + "--node NaN", "--node", "non_finite_input"},
+      {kStream + "--node -1", "--node", "out_of_range"},
+      {kStream + "--node 1.5", "--node", "not_an_integer"},
+      {kStream + "--node 99999999999999999999999", "--node", ""},
+      {kStream + "--axis-vmax 0", "--axis-vmax", "out_of_range"},
+      {kStream + "--heartbeat-ms -1", "--heartbeat-ms", "out_of_range"},
+      {kStream + "--heartbeat-ms NaN", "--heartbeat-ms", "non_finite_input"},
+      {kStream + "--heartbeat-ms 70000", "--heartbeat-ms", "out_of_range"},
+      {kStream + "--sdo-timeout-ms -1", "--sdo-timeout-ms", "out_of_range"},
+      {kStream + "--rt-priority 1e10", "--rt-priority", ""},
+      {kStream + "--rt-priority 100", "--rt-priority", "out_of_range"},
+      {kPlant + "--sync-loss-periods 0", "--sync-loss-periods", "out_of_range"},
+      {kPlant + "--sync-loss-periods 300", "--sync-loss-periods", "out_of_range"},
+      {kPlant + "--duration -1", "--duration", "out_of_range"},
+      {kPlant + "--duration NaN", "--duration", "non_finite_input"},
+      {kPlant + "--node 128", "--node", "out_of_range"},
+      {kPlant + "--heartbeat-ms 70000", "--heartbeat-ms", "out_of_range"},
+  };
+  for (const Case& c : cases) expect_refused(c);
+}
+
+TEST(CliOptions, NumbersOutsideTheirRangeNeverPrintInfOrNan) {
+  const Case cases[] = {
+      {"plan --profile poly345 --time 1 --distance 1e308", "--distance", "out_of_range"},
+      {kSimulate + "--plant sdof --stiffness 1e308", "--stiffness", "out_of_range"},
+      {kPlan + "--vmax inf", "--vmax", "non_finite_input"},
+      {kPlan + "--omega -inf", "--omega", "non_finite_input"},
+      {"plan --profile poly345 --time 1 --distance 1e400", "--distance", "non_finite_input"},
+      {kPlan + "--zeta 1", "--zeta", "out_of_range"},
+      {"plan --profile poly345 --time 1 --distance 1x", "--distance", "bad_number"},
+      {"plan --profile poly345 --time 1 --distance ''", "--distance", "bad_number"},
+      {kSimulate + "--plant beam --modes 2.5", "--modes", "not_an_integer"},
+  };
+  for (const Case& c : cases) expect_refused(c);
+  // At the edge of every range the result is finite, or refused: never inf or nan with exit 0.
+  for (const std::string args :
+       {"plan --profile poly345 --distance 1e6 --time 1e-6 --json", "plan --profile poly345 --distance -1e6 --time 3600",
+        "plan --profile trapezoid --distance 1e6 --vmax 1e9 --amax 1e12 --json",
+        "plan --profile scurve --distance 1e-300 --time 1e-6 --omega 1e6 --json"}) {
+    const CliResult r = run_cli(args);
+    EXPECT_TRUE(r.status == 0 || r.status == 2) << args << "\n" << r.out;
+    if (r.status == 0) {
+      EXPECT_EQ(r.stdout_text.find("inf"), std::string::npos) << args << "\n" << r.out;
+      EXPECT_EQ(r.stdout_text.find("nan"), std::string::npos) << args << "\n" << r.out;
+    }
+  }
+}
+
+TEST(CliOptions, DuplicatesListsAndUnknownOptions) {
+  const Case cases[] = {
+      {kPlan + "--time 2", "--time", "duplicate_option"},
+      {kStream + "--node 1 --node 2", "--node", "duplicate_option"},
+      {kSimulate + "--sensitivity --sensitivity", "--sensitivity", "duplicate_option"},
+      {"plan --profile pseudopoly --distance 1 --time 1 --gammas 3,4,5,", "--gammas", "bad_list"},
+      {"plan --profile pseudopoly --distance 1 --time 1 --gammas ,3,4", "--gammas", "bad_list"},
+      {"plan --profile pseudopoly --distance 1 --time 1 --gammas 3,,4", "--gammas", "bad_list"},
+      {"plan --profile pseudopoly --distance 1 --time 1 --gammas 3,4,5,6,7,8,9,10,11", "--gammas", "bad_list"},
+      {"plan --profile ramp-versine --distance 1 --time 1 --omega 20 --y 1,2", "--y", "bad_list"},
+      {kSimulate + "--plant modes --mode 10,0.1", "--mode", "bad_list"},
+      {kPlan + "--distnce 1", "--distnce", "bad_option"},
+      {kPlan + "--time", "--time", ""},  // duplicate, or a missing value: --time is named either way
+      {"plan --profile poly345 --distance 0.1 --time", "--time", "missing_value"},
+      {"plan --profile poly345 --distance --time 1", "--distance", "missing_value"},
+      {kPlan + "stray", "--time", "bad_option"},
+  };
+  for (const Case& c : cases) expect_refused(c);
+  // The unknown option's error names the nearest valid one.
+  const CliResult r = run_cli(kPlan + "--distnce 1");
+  EXPECT_NE(r.stderr_text.find("did you mean --distance"), std::string::npos) << r.stderr_text;
+  const CliResult s = run_cli(kStream + "--heartbeat 100");
+  EXPECT_NE(s.stderr_text.find("did you mean --heartbeat-ms"), std::string::npos) << s.stderr_text;
+  // An empty value is refused, naming the option.
+  const CliResult e = run_cli_argv({"plan", "--profile", "poly345", "--time", "1", "--distance", ""});
+  EXPECT_EQ(e.status, 2);
+  EXPECT_NE(e.stderr_text.find("--distance: '' is not a number"), std::string::npos) << e.stderr_text;
+  // --mode is documented as repeatable: twice is fine.
+  EXPECT_EQ(run_cli(kSimulate + "--plant modes --mode 20,0.01,1 --mode 90,0.02,0.3").status, 0);
+  // A value that starts with '-' is a value, not an option.
+  EXPECT_EQ(run_cli("plan --profile poly345 --distance -0.1 --time 1").status, 0);
+  EXPECT_EQ(run_cli("plan --profile poly345 --distance=-0 --time=1").status, 0);
+}
+
+// The wrong-option cases of the issue: each error names the option the user should change.
+TEST(CliOptions, ErrorsBlameTheRightOption) {
+  const Case cases[] = {
+      {kSimulate + "--plant sdof --stiffness nan", "--stiffness", "non_finite_input"},
+      {kSimulate + "--plant sdof --mass 1e-12", "--mass", "out_of_range"},
+      // In range, but with the default damping the plant is overdamped: the option changed is blamed.
+      {kSimulate + "--plant sdof --mass 1e-4", "--mass", "not_underdamped"},
+      {kSimulate + "--plant sdof --damping 1e6", "--damping", "not_underdamped"},
+      {kSimulate + "--plant belt --belt-damping 1e8", "--belt-damping", "not_underdamped"},
+      {kStream + "--drive servo --servo-damping 1", "--servo-damping", "out_of_range"},
+  };
+  for (const Case& c : cases) expect_refused(c);
+  // A plan without a shaper that does not converge is not blamed on --shaper.
+  settle::core::MoveRequest limits{};
+  limits.vmax = 1.0;
+  EXPECT_STREQ(settle::cli::param_of(settle::core::Status::no_solution, limits), "--vmax");
+  settle::core::MoveRequest timed{};
+  timed.time = 1.0;
+  EXPECT_STREQ(settle::cli::param_of(settle::core::Status::no_solution, timed), "--time");
+  settle::core::MoveRequest shaped{};
+  shaped.shaper = settle::core::ShaperKind::ei;
+  EXPECT_STREQ(settle::cli::param_of(settle::core::Status::no_solution, shaped), "--shaper");
+}
+
+// Issue 12 item 3: sizes are refused before anything is allocated or printed, naming the option.
+TEST(CliOptions, SizesAreBoundedBeforeAnyWork) {
+  const std::string csv = ::testing::TempDir() + "settle_cli_size.csv";
+  const Case cases[] = {
+      {"sample --profile poly345 --distance 1 --time 1 --dt 5e-9", "--dt", "too_many_samples"},
+      {kSimulate + "--plant sdof --tail 1e6 --csv " + csv, "--tail", "out_of_range"},
+      {kSimulate + "--plant sdof --tail 1e300", "--tail", "out_of_range"},
+      {"simulate --profile poly345 --distance 0.1 --time 3000 --plant sdof --tail 3000 --csv " + csv, "--tail",
+       "too_long"},
+      {kSimulate + "--plant sdof --dt 1e-7 --csv " + csv, "--dt", "too_many_samples"},
+      {"simulate --profile poly345 --distance 0.1 --time 3000 --plant sdof --dt 1e-4", "--dt", "too_many_samples"},
+      {"simulate --profile poly345 --distance 0.1 --time 1 --plant beam --modes 40 --dt 1e-5", "--dt",
+       "too_many_samples"},
+      {"sample --profile poly345 --distance 1 --time 3 --dt 1e-6", "--dt", "too_many_samples"},
+      {"stream --bus loopback --profile poly345 --distance 0.01 --time 1e5", "--time", "out_of_range"},
+      {"stream --bus loopback --profile poly345 --distance 0.01 --time 3600", "--time", "too_long"},
+      {"stream --bus loopback --profile poly345 --distance 0.01 --time 3000", "--time", "too_many_samples"},
+      {"stream --bus loopback --profile poly345 --distance 0.01 --time 1 --settle-time 200 --period-us 100",
+       "--settle-time", "too_many_samples"},
+      {"stream --bus loopback --profile poly345 --distance 1000 --time 1", "--counts-per-unit", "out_of_range"},
+      {"plan --profile scurve --distance 1 --vmax 1e-9 --amax 1 --omega 20", "--vmax", "too_long"},
+  };
+  for (const Case& c : cases) expect_refused(c);
+  // 2000 --mode options: refused as too many, naming --mode.
+  std::vector<std::string> args{"simulate", "--plant", "modes", "--profile", "poly345", "--distance", "0.1", "--time", "1"};
+  for (int i = 0; i < 2000; ++i) {
+    args.emplace_back("--mode");
+    args.emplace_back("10,0.01,1");
+  }
+  const CliResult r = run_cli_argv(args);
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.stderr_text.find("--mode: at most 64"), std::string::npos) << r.stderr_text;
+  EXPECT_TRUE(r.stdout_text.empty());
+  std::vector<std::string> ok{"simulate", "--plant", "modes", "--profile", "poly345", "--distance", "0.1", "--time", "1"};
+  for (int i = 0; i < 64; ++i) {
+    ok.emplace_back("--mode");
+    ok.emplace_back(std::to_string(10 + i) + ",0.01,1");
+  }
+  EXPECT_EQ(run_cli_argv(ok).status, 0) << "64 modes are allowed";
+}
+
+// ---- help ----------------------------------------------------------------------------------
+
+std::set<std::string> options_in_help(const std::string& help) {
+  std::set<std::string> names;
+  const std::regex option_line{R"(^\s+(?:-h,)?(--[A-Za-z][A-Za-z0-9-]*))"};
+  std::size_t b = 0;
+  for (std::size_t e; (e = help.find('\n', b)) != std::string::npos; b = e + 1) {
+    std::smatch m;
+    const std::string line = help.substr(b, e - b);
+    if (std::regex_search(line, m, option_line)) names.insert(m[1]);
+  }
+  return names;
+}
+
+// From the option table: every option of every command is in `settle <command> --help` and
+// in `settle help <command>`, with its range, and both exit 0.
+TEST(CliHelp, EveryOptionOfTheTableIsInItsCommandsHelp) {
+  for (const settle::cli::CommandSpec& c : settle::cli::commands()) {
+    SCOPED_TRACE(c.name);
+    const CliResult h = run_cli(c.name + " --help");
+    ASSERT_EQ(h.status, 0) << h.out;
+    const CliResult h2 = run_cli("help " + c.name);
+    ASSERT_EQ(h2.status, 0) << h2.out;
+    EXPECT_EQ(h.stdout_text, h2.stdout_text);
+    const std::set<std::string> listed = options_in_help(h.stdout_text);
+    std::set<std::string> names;
+    for (const settle::cli::OptionSpec* o : settle::cli::options_of(c)) {
+      EXPECT_TRUE(names.insert(o->name).second) << o->name << " declared twice for " << c.name;
+      EXPECT_EQ(listed.count(o->name), 1u) << o->name << " missing from\n" << h.stdout_text;
+      if (o->kind == settle::cli::Kind::real || o->kind == settle::cli::Kind::integer) {
+        // The range as the table states it appears on the option's line.
+        const std::string range = o->kind == settle::cli::Kind::integer
+                                      ? settle::cli::format_number(o->range.lo) + ".." +
+                                            settle::cli::format_number(o->range.hi)
+                                      : o->range.text();
+        const std::size_t at = h.stdout_text.find("  " + o->name + " ");
+        ASSERT_NE(at, std::string::npos);
+        const std::string line = h.stdout_text.substr(at, h.stdout_text.find('\n', at) - at);
+        EXPECT_NE(line.find(range), std::string::npos) << line;
+        if (!o->unit.empty()) {
+          EXPECT_NE(line.find(o->unit), std::string::npos) << line;
+        }
+      }
+    }
+  }
+}
+
+// From an independent list, written by hand: what each command accepts is exactly what its help
+// lists, and each listed option is accepted (not refused as unknown).
+TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
+  const std::vector<std::string> move{"--profile", "--distance", "--time",   "--vmax", "--amax", "--jmax",
+                                      "--omega",   "--zeta",     "--gammas", "--y",    "--shaper", "--vtol"};
+  const std::vector<std::string> plant{"--plant",     "--mass",      "--stiffness",     "--damping",
+                                       "--length",    "--modulus",   "--thickness",     "--width",
+                                       "--beam-mass", "--tip-mass",  "--modes",         "--modal-damping",
+                                       "--inertia",   "--belt-stiffness", "--belt-damping", "--pulley-r",
+                                       "--pulley-R",  "--ratio",     "--mode"};
+  const std::vector<std::string> drive{"--period-us", "--counts-per-unit", "--load-counts-per-unit", "--interp",
+                                       "--drive",     "--bandwidth",       "--servo-damping"};
+  auto join = [](std::initializer_list<std::vector<std::string>> parts) {
+    std::set<std::string> s{"--help", "--json"};
+    for (const auto& p : parts) s.insert(p.begin(), p.end());
+    return s;
+  };
+  const std::vector<std::pair<std::string, std::set<std::string>>> expected = {
+      {"plan", join({move})},
+      {"sample", join({move, {"--dt"}})},
+      {"simulate", join({move, plant, {"--csv", "--dt", "--band", "--tail", "--sensitivity"}})},
+      {"reproduce", join({{"--out"}})},
+      {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--log", "--duration"}})},
+      {"stream", join({move, plant, drive,
+                       {"--bus", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--heartbeat-ms",
+                        "--sdo-timeout-ms", "--log", "--candump", "--feedback-log"}})},
+  };
+  ASSERT_EQ(expected.size(), settle::cli::commands().size());
+  for (const auto& [cmd, options] : expected) {
+    SCOPED_TRACE(cmd);
+    const CliResult h = run_cli(cmd + " --help");
+    ASSERT_EQ(h.status, 0);
+    EXPECT_EQ(options_in_help(h.stdout_text), options);
+    for (const std::string& o : options) {
+      if (o == "--help") continue;
+      // Given with a value that may be wrong, an accepted option is never "unknown".
+      const CliResult r = run_cli_argv({cmd, o, "1"});
+      EXPECT_EQ(r.stderr_text.find("unknown option"), std::string::npos) << o << ": " << r.stderr_text;
+    }
+  }
+}
+
+TEST(CliHelp, ProgramHelpAndUnknownCommands) {
+  const CliResult h = run_cli("--help");
+  EXPECT_EQ(h.status, 0);
+  for (const settle::cli::CommandSpec& c : settle::cli::commands()) {
+    EXPECT_NE(h.stdout_text.find("  " + c.name + " "), std::string::npos) << c.name;
+  }
+  EXPECT_EQ(run_cli("help").status, 0);
+  EXPECT_EQ(run_cli("help frobnicate").status, 2);
+  EXPECT_EQ(run_cli("reproduce --help").status, 0);
+}
+
+}  // namespace
