@@ -559,7 +559,7 @@ std::string command_help(const CommandSpec& c) {
   }
   if (!c.positional_choices.empty()) app.add_option("experiment", dummy, "the experiment: " + c.usage)->required();
   app.footer(c.notes);
-  app.get_formatter()->column_width(30);
+  app.get_formatter()->column_width(34);
   return app.help();
 }
 

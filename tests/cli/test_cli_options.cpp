@@ -69,6 +69,8 @@ TEST(CliOptions, StreamAndPlantIntegersAreCheckedNotCast) {
       {kStream + "--heartbeat-ms NaN", "--heartbeat-ms", "non_finite_input"},
       {kStream + "--heartbeat-ms 70000", "--heartbeat-ms", "out_of_range"},
       {kStream + "--sdo-timeout-ms -1", "--sdo-timeout-ms", "out_of_range"},
+      {kStream + "--feedback-timeout-periods 65536", "--feedback-timeout-periods", "out_of_range"},
+      {kStream + "--feedback-timeout-periods 2.5", "--feedback-timeout-periods", "not_an_integer"},
       {kStream + "--rt-priority 1e10", "--rt-priority", ""},
       {kStream + "--rt-priority 100", "--rt-priority", "out_of_range"},
       {kPlant + "--sync-loss-periods 0", "--sync-loss-periods", "out_of_range"},
@@ -279,7 +281,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--log", "--duration"}})},
       {"stream", join({move, plant, drive,
                        {"--bus", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--heartbeat-ms",
-                        "--sdo-timeout-ms", "--log", "--candump", "--feedback-log"}})},
+                        "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log"}})},
   };
   ASSERT_EQ(expected.size(), settle::cli::commands().size());
   for (const auto& [cmd, options] : expected) {

@@ -102,20 +102,12 @@ file(GLOB servo_regressions CONFIGURE_DEPENDS ${servo_regressions_dir}/*)
 # lands its test fails, because the input now passes: take its name out of this list. The brief
 # random run is in it as well while today's code still has defects it finds within its runs.
 set(servo_fuzz_expected "fuzz_servo: invariant \\([abc]\\) violated")
+# Fixed by issue 12's drive and loop work: every other regression now runs clean. Still open:
+# a delayed bus that delivers two of the master's own SYNC+RPDO pairs within one period (the
+# drive accepts an early SYNC that brings its own fresh RPDO, so that a master catching up after
+# a stall is not taken for a second producer); each step is within the limit, two land in 1 ms.
 set(servo_fuzz_pending
-  item06_foreign_enabling_rpdo_far_target
-  item06_spoofed_feedback_while_enabling
-  item07_foreign_rpdo_far_step
-  item07_lost_rpdo_double_step
-  item07_sdo_target_write_far_step
-  item08_sync_burst_two_steps_in_one_period
-  item09_third_party_preop_mid_move
-  item10_spoofed_enabled_drive_preop
-  item10_third_party_stop_mid_move
-  item11_busy_sync_double_step
-  new_repeated_nmt_start_drops_latched_rpdo
-  new_completion_reported_before_drive_confirms
-  hal_fuzz_servo_brief)
+  item08_sync_burst_two_steps_in_one_period)
 
 # Every seed, run once (no fuzzing): the committed corpus stays green.
 add_test(NAME hal_fuzz_servo_seeds COMMAND ${servo_fuzz_exe} ${servo_fuzz_common} ${servo_seeds})
