@@ -9,6 +9,7 @@
 #include "move_options.hpp"
 #include "plant_options.hpp"
 #include "settle/sim/figures.hpp"
+#include "settle/sim/limits.hpp"
 #include "settle/sim/sensitivity.hpp"
 #include "settle/sim/simulate.hpp"
 
@@ -48,6 +49,7 @@ Json result_json(const sim::ModalPlant& plant, const core::Move<double>& move, c
   j["final_energy"] = m.final_energy;
   j["settling_band"] = m.band;
   j["settling_time"] = finite_or_null(m.settling_time);
+  j["settling"] = sim::to_string(m.settling);
   if (width != nullptr) {
     j["insensitivity_width"] = Json{{"threshold_percent", 5.0}, {"ratio_lo", width->lo}, {"ratio_hi", width->hi},
                                     {"width", width->width},    {"lo_open", width->lo_open}, {"hi_open", width->hi_open}};
@@ -89,6 +91,9 @@ void print_text(const sim::ModalPlant& plant, const core::Move<double>& move, co
   std::printf("final energy       %.6e J\n", m.final_energy);
   if (std::isfinite(m.settling_time)) {
     std::printf("settling time      %.6g s (band %.3e %s)\n", m.settling_time, m.band, u);
+  } else if (m.settling == sim::Settling::beyond_horizon) {
+    std::printf("settling time      not within %.0f s of the move's end (the decay is slower; band %.3e %s)\n",
+                sim::kMaxSettlingTime, m.band, u);
   } else {
     std::printf("settling time      never (an undamped mode stays outside the %.3e %s band)\n", m.band, u);
   }

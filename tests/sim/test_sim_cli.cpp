@@ -31,6 +31,20 @@ TEST(SimCli, SimulateJsonHasTheNamedKeys) {
   }
 }
 
+// Issue 12's hang: a denormal damping ratio ends (the search is bounded) and says why there is no
+// settling time, apart from an undamped mode that truly never settles.
+TEST(SimCli, SettlingBeyondTheHorizonIsToldApartFromUndamped) {
+  const Out slow = run("simulate --plant modes --mode 10,1e-320,1 --profile poly345 --distance 0.1 --time 0.5 --json");
+  ASSERT_EQ(slow.status, 0) << slow.text;
+  EXPECT_NE(slow.text.find("\"settling\":\"beyond_horizon\""), std::string::npos) << slow.text;
+  EXPECT_NE(slow.text.find("\"settling_time\":null"), std::string::npos) << slow.text;
+  const Out text = run("simulate --plant modes --mode 10,1e-320,1 --profile poly345 --distance 0.1 --time 0.5");
+  EXPECT_NE(text.text.find("not within 3600 s"), std::string::npos) << text.text;
+  const Out undamped = run("simulate --plant modes --mode 10,0,1 --profile poly345 --distance 0.1 --time 0.5 --json");
+  ASSERT_EQ(undamped.status, 0) << undamped.text;
+  EXPECT_NE(undamped.text.find("\"settling\":\"undamped\""), std::string::npos) << undamped.text;
+}
+
 TEST(SimCli, EveryPlantRuns) {
   for (const char* p : {"--plant sdof --mass 2 --stiffness 500 --damping 3", "--plant belt --inertia 5",
                         "--plant modes --mode 20,0.01,1 --mode 90,0.02,0.3", "--plant beam --modes 5 --modal-damping 0.01"}) {
