@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "planned_moves.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/sim/energy_optimiser.hpp"
 #include "settle/sim/limits.hpp"
@@ -41,15 +42,7 @@ Mode mode(double omega, double zeta) {
   return m;
 }
 
-core::Move<double> poly345(double distance, double time) {
-  core::MoveRequest rq;
-  rq.profile = core::ProfileKind::poly345;
-  rq.distance = distance;
-  rq.time = time;
-  core::Move<double> m;
-  EXPECT_EQ(core::plan(rq, m), core::Status::ok);
-  return m;
-}
+using testing::poly345;
 
 // The reproduction: settle simulate --plant modes --mode 10,1e-320,1 --profile poly345
 // --distance 0.1 --time 0.5 never ended (1 / (zeta w) overflows to infinity).

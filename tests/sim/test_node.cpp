@@ -12,6 +12,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "planned_moves.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/sim/limits.hpp"
 #include "settle/sim/plant_node.hpp"
@@ -58,15 +59,7 @@ ModalPlant beam() {
   return p;
 }
 
-core::Move<double> poly345(double distance, double time) {
-  core::MoveRequest rq;
-  rq.profile = core::ProfileKind::poly345;
-  rq.distance = distance;
-  rq.time = time;
-  core::Move<double> m;
-  EXPECT_EQ(core::plan(rq, m), core::Status::ok);
-  return m;
-}
+using testing::poly345;
 
 TEST(PlantNodeLog, ManySyncsAllocateNothingAndTheFileHoldsEveryRecord) {
   const std::string path =
