@@ -12,10 +12,10 @@
 #include <type_traits>
 #include <vector>
 
-#include "ideal_drive.hpp"
 #include "settle/firmware/servo_loop.hpp"
 #include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/mailbox_bus.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
 
 using namespace settle;
 
@@ -49,7 +49,7 @@ void BM_FullTick(benchmark::State& state, core::ShaperKind shaper) {
     while (master->receive(f, 0) == hal::ReceiveStatus::received) (void)controller->put_received(f);
   };
   auto loop = std::make_unique<firmware::ServoLoop<Scalar, kMaxAxes, 2, Evaluation, LoopBus>>(bus, 1000);
-  std::vector<std::unique_ptr<test::IdealDrive>> drives;
+  std::vector<std::unique_ptr<hal::testing::IdealDrive<>>> drives;
   for (std::size_t i = 0; i < n; ++i) {
     firmware::AxisConfig a{};
     a.drive.node = hal::canopen::NodeId{static_cast<std::uint8_t>(i + 1)};
@@ -57,7 +57,7 @@ void BM_FullTick(benchmark::State& state, core::ShaperKind shaper) {
     (void)loop->add_axis(a);
     hal::canopen::DriveNodeConfig dc{};
     dc.node = a.drive.node;
-    drives.push_back(std::make_unique<test::IdealDrive>(hub, dc));
+    drives.push_back(std::make_unique<hal::testing::IdealDrive<>>(hub, dc));
   }
   std::uint64_t now = 0;
   for (auto& d : drives) d->start(now);

@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "ideal_drive.hpp"
 #include "settle/firmware/linux/periodic.hpp"
 #include "settle/firmware/servo_loop.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
 
 using namespace settle;
 
@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
   const auto rt = firmware::linux_rt::request_realtime(priority);
   hal::LoopbackHub hub;
   hal::LoopbackBus<256> master{hub};
-  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
   firmware::ServoLoop<double, 1, 4> loop{master, period_us};
   firmware::AxisConfig a{};
   if (loop.add_axis(a) != firmware::LoopStatus::ok) return 1;

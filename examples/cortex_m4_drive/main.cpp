@@ -1,7 +1,8 @@
 // Drive master firmware for a Cortex-M4F: plan a move on the target, then stream it at 1 kHz with
 // ServoLoop<float> (the FPU evaluates it) on the CAN controller's mailboxes, one tick per SysTick.
-// The "wire" here is software: a CiA 402 drive node (an ideal axis) in the same image, behind a
-// second controller; on a board the controller's interrupts move the frames instead.
+// The "wire" here is software: Settle's ideal CiA 402 drive (settle::hal_testing) in the same
+// image, behind a second controller; on a board the controller's interrupts move the frames
+// instead, and the drive is a real one.
 #include <cstdint>
 
 #include "settle/core/planner.hpp"
@@ -11,6 +12,7 @@
 #include "settle/firmware/text.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/mailbox_bus.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
 
 namespace {
 
@@ -49,32 +51,18 @@ struct SysTickClock {
 using Controller = hal::MailboxBus<3, 8>;  // 3 transmit mailboxes, 8-frame receive FIFO
 using Loop = fw::ServoLoop<float, 1, 2, fw::FloatEvaluation<float>, Controller>;
 
-// The drive: follows each setpoint exactly, one period after the SYNC that applies it.
-struct IdealDrive {
-  hal::MailboxBus<8, 16> port{};
-  hal::canopen::DriveNode node{hal::canopen::DriveNodeConfig{.node = 1, .sync_period_us = kPeriodUs}};
-  std::int32_t position{0};
-  void process(std::uint64_t now_us) {
-    hal::CanFrame f{};
-    while (port.receive(f) == hal::ReceiveStatus::received) {
-      if (node.on_frame(f, now_us, port) != hal::canopen::DriveEvent::sync) continue;
-      const std::int64_t velocity = (std::int64_t{node.setpoint()} - position) * (1'000'000 / kPeriodUs);
-      position = node.setpoint();
-      if (node.stopping()) node.stop_complete();
-      node.publish({position, static_cast<std::int32_t>(velocity), position}, now_us, port);
-    }
-    node.poll(now_us, port);
-  }
-};
+// The drive: follows each setpoint exactly, one period after the SYNC that applies it, on its own
+// controller (8 transmit mailboxes, a 16-frame receive FIFO).
+using IdealDrive = hal::testing::IdealDrive<hal::MailboxBus<8, 16>>;
 
 Controller controller;
 Loop loop{controller, kPeriodUs};
-IdealDrive drive;
+IdealDrive drive{hal::canopen::DriveNodeConfig{.node = 1, .sync_period_us = kPeriodUs}};
 
 void wire() {  // what the controllers' transmit and receive interrupts do on a board
   hal::CanFrame f{};
-  while (controller.take_sent(f)) (void)drive.port.put_received(f);
-  while (drive.port.take_sent(f)) (void)controller.put_received(f);
+  while (controller.take_sent(f)) (void)drive.port().put_received(f);
+  while (drive.port().take_sent(f)) (void)controller.put_received(f);
 }
 
 }  // namespace
@@ -94,7 +82,7 @@ int settle::firmware::image_main() {
   axis.counts_per_unit = 1e6;  // 1 count = 1 µm
   axis.vmax = 1.0;
   if (loop.add_axis(axis) != fw::LoopStatus::ok) return 1;
-  drive.node.start(0, drive.port);
+  drive.start(0);
   SysTickClock clock{};
   clock.start();
   fw::SessionConfig session{};
@@ -108,7 +96,7 @@ int settle::firmware::image_main() {
 
   fw::Text<128> line{};
   line.append("cortex_m4_drive: session ").append(fw::to_string(r.outcome)).append(" after ")
-      .append_unsigned(r.ticks).append(" ticks; drive at ").append_signed(drive.position)
+      .append_unsigned(r.ticks).append(" ticks; drive at ").append_signed(drive.position())
       .append(" counts (target ").append_signed(loop.record(0).target).append(")\n");
   (void)fw::semihosting::write_console(line.view());
   return r.outcome == fw::SessionOutcome::completed ? 0 : 1;

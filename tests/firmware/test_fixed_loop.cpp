@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "ideal_drive.hpp"
 #include "settle/firmware/servo_loop.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
 
 using namespace settle;
 
@@ -17,7 +17,9 @@ template <typename Loop>
 std::vector<std::int32_t> stream_once(const core::Move<double>& m, firmware::LoopStatus& st, core::Status& why) {
   hal::LoopbackHub hub;
   hal::LoopbackBus<256> master{hub};
-  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
+  std::vector<std::int32_t> record(1 << 16);
+  drive.record_applied(record);
   Loop loop{master, 1000};
   firmware::AxisConfig a{};
   a.vmax = 5.0;
@@ -33,11 +35,12 @@ std::vector<std::int32_t> stream_once(const core::Move<double>& m, firmware::Loo
   };
   for (int i = 0; i < 2000 && !loop.ready(0); ++i) tick();
   EXPECT_TRUE(loop.ready(0));
-  drive.applied.clear();
+  drive.clear_applied();
   st = loop.submit(0, m, &why);
   const auto n = static_cast<int>(m.duration() * 1000) + 20;
   for (int i = 0; i < n; ++i) tick();
-  return drive.applied;
+  EXPECT_FALSE(drive.applied_truncated());
+  return {drive.applied().begin(), drive.applied().end()};
 }
 
 core::Move<double> plan(core::ProfileKind k, double d, double t, core::ShaperKind s = core::ShaperKind::none,

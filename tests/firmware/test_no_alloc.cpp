@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <new>
 
-#include "ideal_drive.hpp"
 #include "settle/firmware/servo_loop.hpp"
 #include "settle/hal/testing/fault_injecting_bus.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
 
 namespace {
 std::atomic<bool> g_counting{false};
@@ -37,12 +37,11 @@ template <typename Loop>
 std::uint64_t million_ticks_without_heap() {
   hal::LoopbackHub hub;
   hal::LoopbackBus<256> master{hub};
-  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
   Loop loop{master, 1000};
   firmware::AxisConfig a{};
   a.drive.heartbeat_timeout_ms = 500;
   EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
-  drive.applied.reserve(1'100'000);  // the test's own log, allocated before counting starts
   core::MoveRequest r{};
   r.profile = core::ProfileKind::scurve;
   r.time = 0.4;
@@ -104,12 +103,11 @@ TEST(NoAllocation, TheFaultPathsMakeNoHeapCalls) {
   hal::LoopbackBus<256> port{hub};
   hal::testing::FaultInjectingBus bus{port};
   hal::LoopbackBus<16> other{hub};
-  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
   FloatLoop loop{bus, 1000};
   firmware::AxisConfig a{};
   a.drive.heartbeat_timeout_ms = 500;
   ASSERT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
-  drive.applied.reserve(300'000);
   core::MoveRequest r{};
   r.profile = core::ProfileKind::scurve;
   r.time = 0.2;

@@ -12,10 +12,10 @@
 #include <optional>
 #include <vector>
 
-#include "ideal_drive.hpp"
 #include "settle/firmware/servo_loop.hpp"
 #include "settle/hal/mailbox_bus.hpp"
 #include "settle/hal/testing/fault_injecting_bus.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
 
 using namespace settle;
 
@@ -53,7 +53,8 @@ struct Rig {
   hal::testing::FaultInjectingBus faulty{master};  // the loop's bus: passes everything unless told
   hal::LoopbackBus<256> wire{hub};                 // hears every frame anyone sends (a candump)
   hal::LoopbackBus<256> third{hub};                // another node: NMT master, SYNC producer, ...
-  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
+  std::vector<std::int32_t> applied_log = std::vector<std::int32_t>(1 << 18);  // what drive.applied() holds
   firmware::ServoLoop<double, 1, 4> loop{faulty, kPeriod};
   std::uint64_t now = 0;
   std::uint64_t ticks = 0;
@@ -65,6 +66,7 @@ struct Rig {
 
   explicit Rig(const firmware::AxisConfig& a = axis(1)) {
     EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
+    drive.record_applied(applied_log);
     drive.start(now);
     loop.start(now);
   }
@@ -137,7 +139,7 @@ TEST(ServoLoop, StreamsAMoveExactlyOnceInOrderAndEndsOnTarget) {
   ASSERT_TRUE(r.run_until_ready());
   // Within one rig tick the drive applies what the loop sent, so both logs align here.
   r.sent.clear();
-  r.drive.applied.clear();
+  r.drive.clear_applied();
   ASSERT_EQ(r.loop.submit(0, scurve(0.1, 0.5)), firmware::LoopStatus::ok);
   ASSERT_EQ(r.loop.submit(0, scurve(-0.05, 0.3)), firmware::LoopStatus::ok);
   for (int i = 0; i < 1000; ++i) r.tick();
@@ -145,8 +147,8 @@ TEST(ServoLoop, StreamsAMoveExactlyOnceInOrderAndEndsOnTarget) {
   EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 2u);
   EXPECT_EQ(r.drive.position(), 50'000);  // 0.1 m - 0.05 m at 1 µm per count, exactly
   // every setpoint the loop sent while operating was applied once, in order
-  ASSERT_EQ(r.drive.applied.size(), r.sent.size());
-  for (std::size_t i = 0; i < r.sent.size(); ++i) ASSERT_EQ(r.drive.applied[i], r.sent[i]) << i;
+  ASSERT_EQ(r.drive.applied().size(), r.sent.size());
+  for (std::size_t i = 0; i < r.sent.size(); ++i) ASSERT_EQ(r.drive.applied()[i], r.sent[i]) << i;
   // and they follow the profile
   core::Move<double> m{};
   ASSERT_EQ(core::plan(scurve(0.1, 0.5), m), core::Status::ok);
@@ -160,7 +162,7 @@ TEST(ServoLoop, FeedbackLogKeepsEachPeriodInArrivalOrderAndCountsWhatItHadToDrop
   Rig r;
   ASSERT_TRUE(r.run_until_ready());
   while (!r.loop.feedback_log(0).empty()) r.loop.feedback_log(0).drop_front();
-  r.drive.applied.clear();
+  r.drive.clear_applied();
   ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), firmware::LoopStatus::ok);
   // Drained every tick: one sample per period. A tick receives what the drive published after
   // the previous tick's SYNC, so sample k + 1 is the drive's answer to the k-th applied setpoint.
@@ -170,8 +172,8 @@ TEST(ServoLoop, FeedbackLogKeepsEachPeriodInArrivalOrderAndCountsWhatItHadToDrop
     for (firmware::FeedbackSample fs{}; r.loop.feedback_log(0).pop(fs);) logged.push_back(fs.position_actual);
   }
   ASSERT_EQ(logged.size(), 101U);
-  ASSERT_GE(r.drive.applied.size(), 100U);
-  for (std::size_t k = 0; k < 100; ++k) EXPECT_EQ(logged[k + 1], r.drive.applied[k]) << "period " << k;
+  ASSERT_GE(r.drive.applied().size(), 100U);
+  for (std::size_t k = 0; k < 100; ++k) EXPECT_EQ(logged[k + 1], r.drive.applied()[k]) << "period " << k;
   EXPECT_EQ(r.loop.axis_stats(0).feedback_overflows, 0U);
   // Not drained: the log holds its capacity, the oldest samples stay, the rest are counted.
   const std::size_t extra = 5;
@@ -180,7 +182,7 @@ TEST(ServoLoop, FeedbackLogKeepsEachPeriodInArrivalOrderAndCountsWhatItHadToDrop
   EXPECT_EQ(r.loop.axis_stats(0).feedback_overflows, extra);
   firmware::FeedbackSample first{};
   ASSERT_TRUE(r.loop.feedback_log(0).pop(first));
-  EXPECT_EQ(first.position_actual, r.drive.applied[100]) << "the oldest undrained sample comes first";
+  EXPECT_EQ(first.position_actual, r.drive.applied()[100]) << "the oldest undrained sample comes first";
 }
 
 TEST(ServoLoop, RefusesWhatItCannotStreamAndChangesNothing) {
@@ -220,7 +222,7 @@ struct UnitRun {
 UnitRun run_with_send_faults(std::optional<std::uint32_t> only_id, hal::SendStatus status, bool random) {
   Rig r;
   EXPECT_TRUE(r.run_until_ready());
-  r.drive.applied.clear();
+  r.drive.clear_applied();
   EXPECT_EQ(r.loop.submit(0, scurve(0.1, 0.5)), firmware::LoopStatus::ok);
   const auto held_before = r.loop.stats().units_held;
   if (only_id) r.faulty.set_target(hal::CanFilter{*only_id, 0x7FF, hal::FrameFormat::standard});
@@ -236,7 +238,7 @@ UnitRun run_with_send_faults(std::optional<std::uint32_t> only_id, hal::SendStat
     r.tick();
   }
   UnitRun u;
-  u.applied = r.drive.applied;
+  u.applied.assign(r.drive.applied().begin(), r.drive.applied().end());
   u.units_held = r.loop.stats().units_held - held_before;
   u.failed_sends = r.faulty.stats().tx_busy + r.faulty.stats().tx_errors;
   u.completed = r.loop.axis_stats(0).moves_completed;
@@ -301,8 +303,8 @@ TEST(ServoLoop, SendsThatKeepFailingHaltTheAxisAndVoidTheMove) {
   r.tick();
   EXPECT_EQ(r.faulty.stats().tx_errors, errors + 1);
   EXPECT_EQ(r.loop.axis_stats(0).rpdo_errors, rpdo_errors);
-  for (std::size_t k = 1; k < r.drive.applied.size(); ++k) {
-    ASSERT_LE(std::abs(r.drive.applied[k] - r.drive.applied[k - 1]), 2002) << k;
+  for (std::size_t k = 1; k < r.drive.applied().size(); ++k) {
+    ASSERT_LE(std::abs(r.drive.applied()[k] - r.drive.applied()[k - 1]), 2002) << k;
   }
   EXPECT_LT(r.drive.position(), 100'000);
 }
@@ -333,7 +335,7 @@ std::vector<hal::CanFrame> run_on_controller() {
   hal::LoopbackHub hub;
   hal::LoopbackBus<64> wire{hub};  // the controller's wire side
   hal::MailboxBus<3, 8> controller;
-  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
   firmware::ServoLoop<double, 1, 4, firmware::FloatEvaluation<double>, LoopBus> loop{controller, kPeriod};
   EXPECT_EQ(loop.add_axis(axis(1)), firmware::LoopStatus::ok);
   std::vector<hal::CanFrame> sent;
@@ -385,7 +387,7 @@ TEST(ServoLoop, AMoveAcrossTheCountWrapStreamsItsTrueStepsAndEndsOnTarget) {
   for (int i = 0; i < 5; ++i) r.tick();
   ASSERT_EQ(r.drive.position(), kStart) << "enabling never moved the axis";
   r.sent.clear();
-  r.drive.applied.clear();
+  r.drive.clear_applied();
   ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), firmware::LoopStatus::ok);
   for (int i = 0; i < 300; ++i) r.tick();
   EXPECT_EQ(r.loop.axis_stats(0).step_guard_trips, 0u);
@@ -492,7 +494,8 @@ TEST(ServoLoop, StepGuardHoldsWhenAMovesPeaksAreWrong) {
 TEST(ServoLoop, RestartedDriveIsEnabledAgainBeforeStreaming) {
   hal::LoopbackHub hub;
   hal::LoopbackBus<256> master{hub};
-  std::optional<test::IdealDrive> drive;
+  std::optional<hal::testing::IdealDrive<>> drive;
+  std::vector<std::int32_t> record(1 << 16);
   drive.emplace(hub, hal::canopen::DriveNodeConfig{});
   firmware::ServoLoop<double, 1, 4> loop{master, kPeriod};
   ASSERT_EQ(loop.add_axis(axis(1)), firmware::LoopStatus::ok);
@@ -513,6 +516,7 @@ TEST(ServoLoop, RestartedDriveIsEnabledAgainBeforeStreaming) {
   const auto restarts_before = loop.axis_stats(0).restarts;
   // The drive power-cycles mid-move: a fresh node on the bus, which announces itself (boot-up).
   drive.emplace(hub, hal::canopen::DriveNodeConfig{});
+  drive->record_applied(record);
   drive->start(now);
   tick();
   tick();
@@ -526,8 +530,8 @@ TEST(ServoLoop, RestartedDriveIsEnabledAgainBeforeStreaming) {
   EXPECT_EQ(drive->node().mode(), hal::canopen::OperationMode::cyclic_synchronous_position);
   // Nothing of the voided moves reached the new drive: it held where it booted, every period.
   for (int i = 0; i < 20; ++i) tick();
-  ASSERT_GE(drive->applied.size(), 20u);
-  for (const auto sp : drive->applied) ASSERT_EQ(sp, 0);
+  ASSERT_GE(drive->applied().size(), 20u);
+  for (const auto sp : drive->applied()) ASSERT_EQ(sp, 0);
   ASSERT_EQ(loop.submit(0, scurve(0.02, 0.3)), firmware::LoopStatus::ok);
   for (int i = 0; i < 400; ++i) tick();
   EXPECT_EQ(loop.axis_stats(0).moves_completed, 1u);
@@ -537,13 +541,13 @@ TEST(ServoLoop, RestartedDriveIsEnabledAgainBeforeStreaming) {
 TEST(ServoLoop, ThreeAxesOnOneBusEachFollowTheirOwnMove) {
   hal::LoopbackHub hub;
   hal::LoopbackBus<256> master{hub};
-  std::vector<std::unique_ptr<test::IdealDrive>> drives;
+  std::vector<std::unique_ptr<hal::testing::IdealDrive<>>> drives;
   firmware::ServoLoop<double, 3, 2> loop{master, kPeriod};
   for (std::uint8_t n = 1; n <= 3; ++n) {
     ASSERT_EQ(loop.add_axis(axis(n)), firmware::LoopStatus::ok);
     hal::canopen::DriveNodeConfig dc{};
     dc.node = n;
-    drives.push_back(std::make_unique<test::IdealDrive>(hub, dc));
+    drives.push_back(std::make_unique<hal::testing::IdealDrive<>>(hub, dc));
   }
   EXPECT_EQ(loop.add_axis(axis(4)), firmware::LoopStatus::too_many_axes);
   std::uint64_t now = 0;

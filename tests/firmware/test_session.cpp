@@ -5,9 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
-#include "ideal_drive.hpp"
 #include "settle/firmware/session.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
 
 using namespace settle;
 
@@ -27,7 +28,8 @@ core::Move<double> move(double d, double t) {
 struct Rig {
   hal::LoopbackHub hub;
   hal::LoopbackBus<256> master{hub};
-  test::IdealDrive drive{hub, hal::canopen::DriveNodeConfig{}};
+  hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
+  std::vector<std::int32_t> applied_log = std::vector<std::int32_t>(1 << 16);  // what drive.applied() holds
   firmware::ServoLoop<double, 1, 4> loop{master, 1000};
   firmware::VirtualClock clock{1000};
   explicit Rig(std::uint16_t feedback_timeout_periods = firmware::kDefaultFeedbackTimeoutPeriods) {
@@ -35,6 +37,7 @@ struct Rig {
     a.feedback_timeout_periods = feedback_timeout_periods;
     a.drive.heartbeat_timeout_ms = 300;
     EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
+    drive.record_applied(applied_log);
     drive.start(0);
   }
 };
@@ -47,12 +50,12 @@ TEST(Session, CompletesAfterTheSettlingWindow) {
                                          [&](std::uint64_t, bool streaming) {
                                            r.hub.set_time_us(r.clock.now_us());
                                            r.drive.process(r.clock.now_us());
-                                           if (!streaming) applied_before_streaming = r.drive.applied.size();
+                                           if (!streaming) applied_before_streaming = r.drive.applied().size();
                                          });
   EXPECT_EQ(res.outcome, firmware::SessionOutcome::completed) << firmware::to_string(res.outcome);
   EXPECT_EQ(res.fault, firmware::AxisFault::none);
   // Before the session streamed, the enabled drive was only ever told to hold where it was.
-  for (std::size_t k = 0; k < applied_before_streaming; ++k) ASSERT_EQ(r.drive.applied[k], 0) << k;
+  for (std::size_t k = 0; k < applied_before_streaming; ++k) ASSERT_EQ(r.drive.applied()[k], 0) << k;
   EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 2u);
   EXPECT_GT(res.ready_tick, 0u);
   EXPECT_EQ(res.ticks - res.stream_end_tick, 1000u);

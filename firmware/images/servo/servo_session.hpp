@@ -1,8 +1,8 @@
 #pragma once
 // The servo-loop image's program, shared by the Cortex-M images and the host build
 // (settle_servo_image_host) so that both send the same frames: one axis of ServoLoop<float> on a
-// virtual 1 kHz clock streams one move to an ideal CiA 402 drive (hal's DriveNode, in the same
-// program on an in-process loopback bus), and every frame the master sends is written as a
+// virtual 1 kHz clock streams one move to an ideal CiA 402 drive (hal/testing's IdealDrive, in
+// the same program on an in-process loopback bus), and every frame the master sends is written as a
 // candump line to the caller's sink. The loop itself runs on a CAN controller's buffers
 // (hal::MailboxBus), as it would in drive firmware; the harness plays the controller's wire
 // side between ticks, moving frames to and from the loopback bus and the log, so a timed tick
@@ -20,6 +20,7 @@
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/hal/mailbox_bus.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
 
 namespace settle::firmware::servo_image {
 
@@ -61,43 +62,16 @@ using Loop = LoopOf<>;
 // drive and log. A move that needs more is refused at submit (table_too_small).
 using FixedImageEvaluation = BasicFixedEvaluation<8>;
 
-// An ideal position-following drive: hal's DriveNode whose axis reaches each target exactly one
-// period after the SYNC that applies it (as tests/firmware/ideal_drive.hpp, without the heap).
-class IdealDrive {
- public:
-  explicit IdealDrive(hal::LoopbackHub& hub) noexcept : bus_{hub}, node_{config()} {}
-  void start(std::uint64_t now_us) noexcept { node_.start(now_us, bus_); }
-  void process(std::uint64_t now_us) noexcept {
-    hal::CanFrame f{};
-    while (bus_.receive(f, 0) == hal::ReceiveStatus::received) {
-      if (node_.on_frame(f, now_us, bus_) == hal::canopen::DriveEvent::sync) {
-        const std::int32_t sp = node_.setpoint();
-        if (node_.following()) ++applied_;
-        velocity_ = (sp - position_) * static_cast<std::int32_t>(1'000'000 / kPeriodUs);
-        position_ = sp;
-        if (node_.stopping()) node_.stop_complete();
-        node_.publish({position_, velocity_, position_}, now_us, bus_);
-      }
-    }
-    node_.poll(now_us, bus_);
-  }
-  [[nodiscard]] std::int32_t position() const noexcept { return position_; }
-  [[nodiscard]] std::uint64_t applied() const noexcept { return applied_; }
-  [[nodiscard]] std::uint64_t rx_overflows() const noexcept { return bus_.counters().rx_overflow_drops; }
-
- private:
-  static hal::canopen::DriveNodeConfig config() noexcept {
-    hal::canopen::DriveNodeConfig c{};
-    c.node = kNode;
-    c.sync_period_us = kPeriodUs;
-    return c;
-  }
-  hal::LoopbackBus<8> bus_;
-  hal::canopen::DriveNode node_;
-  std::int32_t position_{0};
-  std::int32_t velocity_{0};
-  std::uint64_t applied_{0};
-};
+// The far end of the bus: hal/testing's ideal drive (a DriveNode whose axis reaches each target
+// one period after the SYNC that applies it), on its own 8-frame loopback port. It only counts
+// the setpoints it applies (no record buffer).
+using Drive = hal::testing::IdealDrive<hal::LoopbackBus<8>>;
+[[nodiscard]] constexpr hal::canopen::DriveNodeConfig drive_config() noexcept {
+  hal::canopen::DriveNodeConfig c{};
+  c.node = kNode;
+  c.sync_period_us = kPeriodUs;
+  return c;
+}
 
 // What a run did, for the image's report and the host's summary.
 struct RunResult {
@@ -117,7 +91,7 @@ template <typename LineSink, typename Timer, typename Evaluation = FloatEvaluati
 class Program {
  public:
   Program(LineSink& sink, Timer& timer) noexcept
-      : master_port_{hub_}, tap_{master_port_, sink, kIface}, drive_{hub_}, loop_{controller_, kPeriodUs},
+      : master_port_{hub_}, tap_{master_port_, sink, kIface}, drive_{hub_, drive_config()}, loop_{controller_, kPeriodUs},
         timer_{timer} {}
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;
@@ -146,8 +120,8 @@ class Program {
     r.frames_logged = tap_.counters().sent;
     r.format_errors = tap_.format_errors();
     r.early_flushes = tap_.early_flushes();
-    r.applied = drive_.applied();
-    r.rx_overflows = drive_.rx_overflows() + master_port_.counters().rx_overflow_drops +
+    r.applied = drive_.applied_count();
+    r.rx_overflows = drive_.port().counters().rx_overflow_drops + master_port_.counters().rx_overflow_drops +
                      controller_.counters().rx_overflow_drops;
     return r;
   }
@@ -209,7 +183,7 @@ class Program {
   hal::LoopbackBus<4> master_port_;
   CandumpTapBus<LineSink> tap_;
   Controller controller_{};
-  IdealDrive drive_;
+  Drive drive_;
   LoopOf<Evaluation> loop_;
   Timer& timer_;
 };
