@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "commands.hpp"
@@ -15,6 +16,7 @@
 #include "move_options.hpp"
 #include "options.hpp"
 #include "plant_options.hpp"
+#include "settle/firmware/evaluation.hpp"
 #include "settle/firmware/linux/periodic.hpp"
 #include "settle/firmware/session.hpp"
 #include "settle/hal/candump_file.hpp"
@@ -31,7 +33,26 @@ namespace settle::cli {
 
 namespace {
 
-using Loop = firmware::ServoLoop<double, 1, 4>;
+// The loop's evaluation is chosen by --scalar: ServoLoop<Scalar, 1, 4, Evaluation> for
+// (double, FloatEvaluation<double>), (float, FloatEvaluation<float>) or (double, FixedEvaluation).
+template <typename Scalar, typename Evaluation>
+using LoopOf = firmware::ServoLoop<Scalar, 1, 4, Evaluation>;
+
+// The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end:
+// the prepare/start/next the loop runs in its ticks, offline: the replay's setpoints for every
+// scalar come from here, and so do the double evaluator's they are compared with. False when the
+// evaluation refuses the move (the loop refuses it at submit too). The caller has bounded the periods.
+template <typename Evaluation>
+bool evaluated_setpoints(const core::Move<double>& move, std::uint32_t period_us, double counts_per_unit,
+                         std::vector<std::int32_t>& out) {
+  out.clear();
+  auto slot = std::make_unique<typename Evaluation::Stored>();  // not movable: the stream refers into it
+  if (Evaluation::prepare(move, period_us, counts_per_unit, *slot) != core::Status::ok) return false;
+  typename Evaluation::Stream s = Evaluation::start(*slot, 0);
+  bool last = false;
+  while (!last && out.size() <= static_cast<std::size_t>(kMaxStreamPeriods)) out.push_back(s.next(last));
+  return last;
+}
 
 // The Linux periodic timer as a session clock.
 class RealtimeClock {
@@ -51,14 +72,17 @@ struct Outcome {
   std::vector<firmware::FeedbackSample> feedback;  // every TPDO pair, in arrival order
 
   // After each tick: its record, and the feedback the loop received (draining its log).
+  template <typename Loop>
   void record(Loop& loop) {
     log.push_back(loop.record(0));
     drain(loop);
   }
+  template <typename Loop>
   void drain(Loop& loop) {
     for (firmware::FeedbackSample fs{}; loop.feedback_log(0).pop(fs);) feedback.push_back(fs);
   }
   // After the session: the counters, and where the drive's start-up stands (why, when it failed).
+  template <typename Loop>
   void finish(const Loop& loop, const hal::CanBus& on) {
     bus = on.counters();
     axis = loop.axis_stats(0);
@@ -183,6 +207,14 @@ int cmd_stream(int argc, char** argv) {
   firmware::linux_rt::RealtimeSetup rt{};
   firmware::linux_rt::LatencyHistogram latency{};
   std::uint64_t overruns = 0;
+  // The setpoints the selected evaluation produces (the replay's), and the double evaluator's.
+  std::vector<std::int32_t> sp;
+  bool have_sp = false;
+  // The session, once for each evaluation: -1 when it ran (whatever its outcome), else the exit code.
+  const auto session = [&]<typename Scalar, typename Evaluation>(std::type_identity<Scalar>,
+                                                                 std::type_identity<Evaluation>) -> int {
+  using Loop = LoopOf<Scalar, Evaluation>;
+  have_sp = evaluated_setpoints<Evaluation>(move, period_us, axis_cfg.counts_per_unit, sp);
   if (loopback) {
     hal::LoopbackHub hub;
     hal::LoopbackBus<256> master{hub};
@@ -263,17 +295,41 @@ int cmd_stream(int argc, char** argv) {
     latency = clock.timer().latency();
     overruns = clock.timer().overruns();
   }
+  return -1;
+  };
+  const std::string scalar = args.text("--scalar", "double");
+  const int rc = scalar == "float"   ? session(std::type_identity<float>{}, std::type_identity<firmware::FloatEvaluation<float>>{})
+                 : scalar == "fixed" ? session(std::type_identity<double>{}, std::type_identity<firmware::FixedEvaluation>{})
+                                     : session(std::type_identity<double>{}, std::type_identity<firmware::FloatEvaluation<double>>{});
+  if (rc >= 0) return rc;
   if (const auto path = args.text("--log"); path && !write_stream_log(path->c_str(), out.log, period_us)) {
     std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
     return kExitFailure;
   }
 
   // Offline: the same integer setpoints through the same drive model and plant, no bus.
-  std::vector<std::int32_t> sp;
   sim::Replay replay{};
   const bool have_replay =
-      sim::stream_setpoints(move, period_us, axis_cfg.counts_per_unit, 0, sp) == sim::SimStatus::ok &&
-      sim::replay_stream(axis_cfg, plant, 0, sp, sc.settle_ticks, replay) == sim::SimStatus::ok;
+      have_sp && sim::replay_stream(axis_cfg, plant, 0, sp, sc.settle_ticks, replay) == sim::SimStatus::ok;
+  // The double evaluator's setpoints and their replay: what --scalar double streams (its run
+  // aligns with exactly this replay), the reference float and fixed are held to.
+  std::vector<std::int32_t> sp_double;
+  sim::Replay replay_double{};
+  const bool have_double =
+      evaluated_setpoints<firmware::FloatEvaluation<double>>(move, period_us, axis_cfg.counts_per_unit, sp_double) &&
+      sim::replay_stream(axis_cfg, plant, 0, sp_double, sc.settle_ticks, replay_double) == sim::SimStatus::ok;
+  // Setpoint by setpoint (the shorter sequence held at its last), the largest difference in counts.
+  long long sp_max_diff = -1;
+  long long sp_differing = 0;
+  if (have_sp && have_double) {
+    sp_max_diff = 0;
+    for (std::size_t i = 0; i < std::max(sp.size(), sp_double.size()); ++i) {
+      const std::int64_t a = i < sp.size() ? sp[i] : sp.back();
+      const std::int64_t b = i < sp_double.size() ? sp_double[i] : sp_double.back();
+      sp_max_diff = std::max<long long>(sp_max_diff, a > b ? a - b : b - a);
+      sp_differing += a != b ? 1 : 0;
+    }
+  }
   // From the CAN feedback: find the replay's period-by-period positions in the received sequence.
   // An exact match proves every setpoint was applied once, in order, with no feedback lost in
   // between; the load samples from the final setpoint on then give the measured residual.
@@ -315,6 +371,15 @@ int cmd_stream(int argc, char** argv) {
                            replay.step_residual, off) != sim::SimStatus::ok) {
     can.amplitude = off.amplitude = can.prv_percent = off.prv_percent = NAN;
   }
+  sim::SampledResidual off_double{};
+  if (!have_double || sim::fitted_residual(replay_double.load_after, axis_cfg.load_counts_per_unit,
+                                           replay_double.final_load, dt, plant, replay_double.step_residual,
+                                           off_double) != sim::SimStatus::ok) {
+    off_double.amplitude = NAN;
+  }
+  // The residual measured over CAN against the double run's (its aligned replay), in percent.
+  const double vs_double =
+      aligned ? std::fabs(can.amplitude - off_double.amplitude) / off_double.amplitude * 100.0 : double{NAN};
   sim::SimResult cont{};
   sim::SimOptions so{};
   so.record = false;
@@ -340,6 +405,11 @@ int cmd_stream(int argc, char** argv) {
       {"drive_failure", out.drive_failure},
       {"bus", loopback ? "loopback (in-process, virtual time)" : bus_name},
       {"profile", core::to_string(move.profile().kind())},
+      {"scalar", scalar},
+      {"setpoints", static_cast<long long>(sp.size())},
+      // Against the double evaluator's setpoints (null when either evaluation refused the move).
+      {"setpoints_vs_double_max_counts", sp_max_diff < 0 ? Json(nullptr) : Json(sp_max_diff)},
+      {"setpoints_differing_from_double", sp_max_diff < 0 ? Json(nullptr) : Json(sp_differing)},
       {"distance", move.distance()},
       {"move_time", move.duration()},
       {"period_us", static_cast<long long>(period_us)},
@@ -371,6 +441,8 @@ int cmd_stream(int argc, char** argv) {
       {"residual_offline", finite_or_null(off.amplitude)},
       {"prv_offline_percent", finite_or_null(off.prv_percent)},
       {"agreement", finite_or_null(agreement)},
+      {"residual_double", finite_or_null(off_double.amplitude)},
+      {"residual_vs_double_percent", finite_or_null(vs_double)},
       {"fit_rms_can", finite_or_null(can.fit_rms)},
       {"residual_continuous", have_cont ? finite_or_null(cont.metrics.residual_amplitude) : Json(nullptr)},
       {"prv_continuous_percent", have_cont ? finite_or_null(cont.metrics.prv_percent) : Json(nullptr)},
@@ -411,6 +483,10 @@ int cmd_stream(int argc, char** argv) {
     std::printf("residual (CAN)     %s (PRV %s %%)\n", g(can.amplitude, "%.9g").c_str(), g(can.prv_percent, "%.4f").c_str());
     std::printf("residual (offline) %s (PRV %s %%), agreement %s\n", g(off.amplitude, "%.9g").c_str(),
                 g(off.prv_percent, "%.4f").c_str(), g(agreement, "%.3g").c_str());
+    std::printf("scalar             %s: setpoints within %s counts of double's (%lld differ), residual %s %% "
+                "from double's %s\n",
+                scalar.c_str(), sp_max_diff < 0 ? "n/a" : std::to_string(sp_max_diff).c_str(), sp_differing,
+                g(vs_double, "%.3g").c_str(), g(off_double.amplitude, "%.9g").c_str());
     if (have_cont) {
       std::printf("continuous profile %s (PRV %s %%)\n", g(cont.metrics.residual_amplitude, "%.9g").c_str(),
                   g(cont.metrics.prv_percent, "%.4f").c_str());
