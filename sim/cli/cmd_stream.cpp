@@ -40,18 +40,20 @@ using LoopOf = firmware::ServoLoop<Scalar, 1, 4, Evaluation>;
 
 // The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end:
 // the prepare/start/next the loop runs in its ticks, offline: the replay's setpoints for every
-// scalar come from here, and so do the double evaluator's they are compared with. False when the
+// scalar come from here, and so do the double evaluator's they are compared with. Not ok when the
 // evaluation refuses the move (the loop refuses it at submit too). The caller has bounded the periods.
 template <typename Evaluation>
-bool evaluated_setpoints(const core::Move<double>& move, std::uint32_t period_us, double counts_per_unit,
+core::Status evaluated_setpoints(const core::Move<double>& move, std::uint32_t period_us, double counts_per_unit,
                          std::vector<std::int32_t>& out) {
   out.clear();
   auto slot = std::make_unique<typename Evaluation::Stored>();  // not movable: the stream refers into it
-  if (Evaluation::prepare(move, period_us, counts_per_unit, *slot) != core::Status::ok) return false;
+  if (const core::Status st = Evaluation::prepare(move, period_us, counts_per_unit, *slot); st != core::Status::ok) {
+    return st;
+  }
   typename Evaluation::Stream s = Evaluation::start(*slot, 0);
   bool last = false;
   while (!last && out.size() <= static_cast<std::size_t>(kMaxStreamPeriods)) out.push_back(s.next(last));
-  return last;
+  return last ? core::Status::ok : core::Status::duration_does_not_fit;
 }
 
 // The Linux periodic timer as a session clock.
@@ -209,12 +211,12 @@ int cmd_stream(int argc, char** argv) {
   std::uint64_t overruns = 0;
   // The setpoints the selected evaluation produces (the replay's), and the double evaluator's.
   std::vector<std::int32_t> sp;
-  bool have_sp = false;
+  core::Status evaluation = core::Status::ok;
   // The session, once for each evaluation: -1 when it ran (whatever its outcome), else the exit code.
   const auto session = [&]<typename Scalar, typename Evaluation>(std::type_identity<Scalar>,
                                                                  std::type_identity<Evaluation>) -> int {
   using Loop = LoopOf<Scalar, Evaluation>;
-  have_sp = evaluated_setpoints<Evaluation>(move, period_us, axis_cfg.counts_per_unit, sp);
+  evaluation = evaluated_setpoints<Evaluation>(move, period_us, axis_cfg.counts_per_unit, sp);
   if (loopback) {
     hal::LoopbackHub hub;
     hal::LoopbackBus<256> master{hub};
@@ -309,6 +311,7 @@ int cmd_stream(int argc, char** argv) {
 
   // Offline: the same integer setpoints through the same drive model and plant, no bus.
   sim::Replay replay{};
+  const bool have_sp = evaluation == core::Status::ok;
   const bool have_replay =
       have_sp && sim::replay_stream(axis_cfg, plant, 0, sp, sc.settle_ticks, replay) == sim::SimStatus::ok;
   // The double evaluator's setpoints and their replay: what --scalar double streams (its run
@@ -316,7 +319,8 @@ int cmd_stream(int argc, char** argv) {
   std::vector<std::int32_t> sp_double;
   sim::Replay replay_double{};
   const bool have_double =
-      evaluated_setpoints<firmware::FloatEvaluation<double>>(move, period_us, axis_cfg.counts_per_unit, sp_double) &&
+      evaluated_setpoints<firmware::FloatEvaluation<double>>(move, period_us, axis_cfg.counts_per_unit, sp_double) ==
+          core::Status::ok &&
       sim::replay_stream(axis_cfg, plant, 0, sp_double, sc.settle_ticks, replay_double) == sim::SimStatus::ok;
   // Setpoint by setpoint (the shorter sequence held at its last), the largest difference in counts.
   long long sp_max_diff = -1;
@@ -406,6 +410,9 @@ int cmd_stream(int argc, char** argv) {
       {"bus", loopback ? "loopback (in-process, virtual time)" : bus_name},
       {"profile", core::to_string(move.profile().kind())},
       {"scalar", scalar},
+      // Why the selected evaluation refused the move ("ok" when it took it), e.g. a profile the
+      // fixed-point plan cannot hold (table_too_small: core::fixed::Motion holds 8 segments).
+      {"evaluation", core::to_string(evaluation)},
       {"setpoints", static_cast<long long>(sp.size())},
       // Against the double evaluator's setpoints (null when either evaluation refused the move).
       {"setpoints_vs_double_max_counts", sp_max_diff < 0 ? Json(nullptr) : Json(sp_max_diff)},
@@ -483,6 +490,7 @@ int cmd_stream(int argc, char** argv) {
     std::printf("residual (CAN)     %s (PRV %s %%)\n", g(can.amplitude, "%.9g").c_str(), g(can.prv_percent, "%.4f").c_str());
     std::printf("residual (offline) %s (PRV %s %%), agreement %s\n", g(off.amplitude, "%.9g").c_str(),
                 g(off.prv_percent, "%.4f").c_str(), g(agreement, "%.3g").c_str());
+    if (!have_sp) std::printf("evaluation         %s refused the move: %s\n", scalar.c_str(), core::to_string(evaluation));
     std::printf("scalar             %s: setpoints within %s counts of double's (%lld differ), residual %s %% "
                 "from double's %s\n",
                 scalar.c_str(), sp_max_diff < 0 ? "n/a" : std::to_string(sp_max_diff).c_str(), sp_differing,
