@@ -450,6 +450,9 @@ int cmd_stream(int argc, char** argv) {
       {"agreement", finite_or_null(agreement)},
       {"residual_double", finite_or_null(off_double.amplitude)},
       {"residual_vs_double_percent", finite_or_null(vs_double)},
+      // The same difference in load counts: what it is next to the measurement's resolution.
+      {"residual_vs_double_load_counts",
+       finite_or_null(std::fabs(can.amplitude - off_double.amplitude) * axis_cfg.load_counts_per_unit)},
       {"fit_rms_can", finite_or_null(can.fit_rms)},
       {"residual_continuous", have_cont ? finite_or_null(cont.metrics.residual_amplitude) : Json(nullptr)},
       {"prv_continuous_percent", have_cont ? finite_or_null(cont.metrics.prv_percent) : Json(nullptr)},
