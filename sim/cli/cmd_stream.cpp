@@ -215,94 +215,96 @@ int cmd_stream(int argc, char** argv) {
   // The session, once for each evaluation: -1 when it ran (whatever its outcome), else the exit code.
   const auto session = [&]<typename Scalar, typename Evaluation>(std::type_identity<Scalar>,
                                                                  std::type_identity<Evaluation>) -> int {
-  using Loop = LoopOf<Scalar, Evaluation>;
-  evaluation = evaluated_setpoints<Evaluation>(move, period_us, axis_cfg.counts_per_unit, sp);
-  if (loopback) {
-    hal::LoopbackHub hub;
-    hal::LoopbackBus<256> master{hub};
-    hal::LoopbackBus<256> drive_port{hub};
-    // A listening port sees every frame on the in-process bus: the loopback run's candump log.
-    hal::LoopbackBus<256> sniffer{hub};
-    std::FILE* dump = nullptr;
-    if (const auto path = args.text("--candump")) {
-      dump = std::fopen(path->c_str(), "w");
-      if (dump == nullptr) {
+    using Loop = LoopOf<Scalar, Evaluation>;
+    evaluation = evaluated_setpoints<Evaluation>(move, period_us, axis_cfg.counts_per_unit, sp);
+    if (loopback) {
+      hal::LoopbackHub hub;
+      hal::LoopbackBus<256> master{hub};
+      hal::LoopbackBus<256> drive_port{hub};
+      // A listening port sees every frame on the in-process bus: the loopback run's candump log.
+      hal::LoopbackBus<256> sniffer{hub};
+      std::FILE* dump = nullptr;
+      if (const auto path = args.text("--candump")) {
+        dump = std::fopen(path->c_str(), "w");
+        if (dump == nullptr) {
+          std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
+          return kExitFailure;
+        }
+      }
+      hal::canopen::DriveNodeConfig dc{};
+      dc.node = ac.drive.node;
+      dc.sync_period_us = period_us;
+      sim::DriveAxis axis{};
+      if (sim::DriveAxis::make(axis_cfg, plant, 0, axis) != sim::SimStatus::ok) return kExitFailure;
+      sim::PlantNode pn{dc, std::move(axis)};
+      pn.start(0, drive_port);
+      auto loop = std::make_unique<Loop>(master, period_us);
+      if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
+      firmware::VirtualClock clock{period_us};
+      hub.set_time_us(period_us);  // the first tick
+      out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
+        out.record(*loop);
+        hub.set_time_us(clock.now_us());  // the drive answers within this period
+        hal::CanFrame f{};
+        while (drive_port.receive(f, 0) == hal::ReceiveStatus::received) (void)pn.on_frame(f, clock.now_us(), drive_port);
+        pn.poll(clock.now_us(), drive_port);
+        std::array<char, 256> line{};
+        while (sniffer.receive(f, 0) == hal::ReceiveStatus::received) {
+          const std::size_t n = hal::format_candump_line(f, "loopback", line);
+          if (dump != nullptr && n > 0) std::fprintf(dump, "%.*s\n", static_cast<int>(n), line.data());
+        }
+        hub.set_time_us(clock.now_us() + period_us);  // the loop's next tick sends at that time
+      });
+      if (dump != nullptr) std::fclose(dump);
+      out.finish(*loop, master);
+    } else {
+      hal::SocketCanBus bus;
+      const hal::OpenStatus os = open_socketcan(bus, bus_name);
+      if (os != hal::OpenStatus::ok) {
+        std::fprintf(stderr, "settle stream: cannot open %s: %s (try --bus loopback)\n", bus_name.c_str(),
+                     hal::to_string(os));
+        return kExitFailure;
+      }
+      // --candump: this process's own log of every frame it sends and receives (complete, unlike a
+      // sniffer's), written between ticks; its line count equals frames_sent + frames_received.
+      auto recorder = std::make_unique<hal::RecordingBus<1024>>(bus, hal::realtime_us);
+      hal::CandumpFile dump;
+      if (const auto path = args.text("--candump"); path && !dump.open(path->c_str(), bus_name.c_str())) {
         std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
         return kExitFailure;
       }
-    }
-    hal::canopen::DriveNodeConfig dc{};
-    dc.node = ac.drive.node;
-    dc.sync_period_us = period_us;
-    sim::DriveAxis axis{};
-    if (sim::DriveAxis::make(axis_cfg, plant, 0, axis) != sim::SimStatus::ok) return kExitFailure;
-    sim::PlantNode pn{dc, std::move(axis)};
-    pn.start(0, drive_port);
-    auto loop = std::make_unique<Loop>(master, period_us);
-    if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
-    firmware::VirtualClock clock{period_us};
-    hub.set_time_us(period_us);  // the first tick
-    out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
-      out.record(*loop);
-      hub.set_time_us(clock.now_us());  // the drive answers within this period
+      hal::CanBus& link = dump.is_open() ? static_cast<hal::CanBus&>(*recorder) : bus;
+      if (priority > 0) rt = firmware::linux_rt::request_realtime(static_cast<int>(priority));  // 1..99
+      auto loop = std::make_unique<Loop>(link, period_us);
+      if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
+      RealtimeClock clock{period_us};
+      out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
+        out.record(*loop);
+        if (dump.is_open()) (void)dump.write_records(*recorder);
+      });
+      // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
       hal::CanFrame f{};
-      while (drive_port.receive(f, 0) == hal::ReceiveStatus::received) (void)pn.on_frame(f, clock.now_us(), drive_port);
-      pn.poll(clock.now_us(), drive_port);
-      std::array<char, 256> line{};
-      while (sniffer.receive(f, 0) == hal::ReceiveStatus::received) {
-        const std::size_t n = hal::format_candump_line(f, "loopback", line);
-        if (dump != nullptr && n > 0) std::fprintf(dump, "%.*s\n", static_cast<int>(n), line.data());
+      while (link.receive(f, 50000) == hal::ReceiveStatus::received) {
+        loop->receive(f, clock.now_us());
+        out.drain(*loop);
       }
-      hub.set_time_us(clock.now_us() + period_us);  // the loop's next tick sends at that time
-    });
-    if (dump != nullptr) std::fclose(dump);
-    out.finish(*loop, master);
-  } else {
-    hal::SocketCanBus bus;
-    const hal::OpenStatus os = open_socketcan(bus, bus_name);
-    if (os != hal::OpenStatus::ok) {
-      std::fprintf(stderr, "settle stream: cannot open %s: %s (try --bus loopback)\n", bus_name.c_str(),
-                   hal::to_string(os));
-      return kExitFailure;
+      if (dump.is_open() && !(dump.write_records(*recorder) && dump.close())) {
+        std::fprintf(stderr, "settle stream: the --candump log is incomplete (%llu records lost or unwritten)\n",
+                     static_cast<unsigned long long>(dump.records_lost()));
+        return kExitFailure;
+      }
+      out.finish(*loop, bus);
+      latency = clock.timer().latency();
+      overruns = clock.timer().overruns();
     }
-    // --candump: this process's own log of every frame it sends and receives (complete, unlike a
-    // sniffer's), written between ticks; its line count equals frames_sent + frames_received.
-    auto recorder = std::make_unique<hal::RecordingBus<1024>>(bus, hal::realtime_us);
-    hal::CandumpFile dump;
-    if (const auto path = args.text("--candump"); path && !dump.open(path->c_str(), bus_name.c_str())) {
-      std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
-      return kExitFailure;
-    }
-    hal::CanBus& link = dump.is_open() ? static_cast<hal::CanBus&>(*recorder) : bus;
-    if (priority > 0) rt = firmware::linux_rt::request_realtime(static_cast<int>(priority));  // 1..99
-    auto loop = std::make_unique<Loop>(link, period_us);
-    if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
-    RealtimeClock clock{period_us};
-    out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
-      out.record(*loop);
-      if (dump.is_open()) (void)dump.write_records(*recorder);
-    });
-    // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
-    hal::CanFrame f{};
-    while (link.receive(f, 50000) == hal::ReceiveStatus::received) {
-      loop->receive(f, clock.now_us());
-      out.drain(*loop);
-    }
-    if (dump.is_open() && !(dump.write_records(*recorder) && dump.close())) {
-      std::fprintf(stderr, "settle stream: the --candump log is incomplete (%llu records lost or unwritten)\n",
-                   static_cast<unsigned long long>(dump.records_lost()));
-      return kExitFailure;
-    }
-    out.finish(*loop, bus);
-    latency = clock.timer().latency();
-    overruns = clock.timer().overruns();
-  }
-  return -1;
+    return -1;
   };
   const std::string scalar = args.text("--scalar", "double");
-  const int rc = scalar == "float"   ? session(std::type_identity<float>{}, std::type_identity<firmware::FloatEvaluation<float>>{})
-                 : scalar == "fixed" ? session(std::type_identity<double>{}, std::type_identity<firmware::FixedEvaluation>{})
-                                     : session(std::type_identity<double>{}, std::type_identity<firmware::FloatEvaluation<double>>{});
+  using std::type_identity;
+  const int rc =
+      scalar == "float"   ? session(type_identity<float>{}, type_identity<firmware::FloatEvaluation<float>>{})
+      : scalar == "fixed" ? session(type_identity<double>{}, type_identity<firmware::FixedEvaluation>{})
+                          : session(type_identity<double>{}, type_identity<firmware::FloatEvaluation<double>>{});
   if (rc >= 0) return rc;
   if (const auto path = args.text("--log"); path && !write_stream_log(path->c_str(), out.log, period_us)) {
     std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
