@@ -34,7 +34,8 @@ namespace settle::cli {
 namespace {
 
 // The loop's evaluation is chosen by --scalar: ServoLoop<Scalar, 1, 4, Evaluation> for
-// (double, FloatEvaluation<double>), (float, FloatEvaluation<float>) or (double, FixedEvaluation).
+// (double, FloatEvaluation<double>), (float, FloatEvaluation<float>) or (double, PolyFixedEvaluation:
+// the firmware's fixed-point evaluation with room for the pseudo-polynomial's pieces).
 template <typename Scalar, typename Evaluation>
 using LoopOf = firmware::ServoLoop<Scalar, 1, 4, Evaluation>;
 
@@ -303,7 +304,7 @@ int cmd_stream(int argc, char** argv) {
   using std::type_identity;
   const int rc =
       scalar == "float"   ? session(type_identity<float>{}, type_identity<firmware::FloatEvaluation<float>>{})
-      : scalar == "fixed" ? session(type_identity<double>{}, type_identity<firmware::FixedEvaluation>{})
+      : scalar == "fixed" ? session(type_identity<double>{}, type_identity<firmware::PolyFixedEvaluation>{})
                           : session(type_identity<double>{}, type_identity<firmware::FloatEvaluation<double>>{});
   if (rc >= 0) return rc;
   if (const auto path = args.text("--log"); path && !write_stream_log(path->c_str(), out.log, period_us)) {
@@ -413,7 +414,7 @@ int cmd_stream(int argc, char** argv) {
       {"profile", core::to_string(move.profile().kind())},
       {"scalar", scalar},
       // Why the selected evaluation refused the move ("ok" when it took it), e.g. a profile the
-      // fixed-point plan cannot hold (table_too_small: core::fixed::Motion holds 8 segments).
+      // fixed-point formats cannot hold.
       {"evaluation", core::to_string(evaluation)},
       {"setpoints", static_cast<long long>(sp.size())},
       // Against the double evaluator's setpoints (null when either evaluation refused the move).

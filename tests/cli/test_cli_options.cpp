@@ -356,4 +356,24 @@ TEST(StreamScalar, EveryEvaluationAgreesWithDoubleOverLoopback) {
   }
 }
 
+// Seed 004's optimised pseudo-polynomial (004-optimised, the paper's exponents): its non-integer
+// exponents need the fixed-point motion's piecewise-quintic form (core::fixed::PolyMotion), which
+// the stream's fixed evaluation has room for. Its residual is at the measurement's floor (under one
+// load count), where a one-count setpoint difference moves it by more than 1 %: there the residuals
+// agree within half a load count, the resolution of the load encoder.
+TEST(StreamScalar, FixedStreamsThePseudoPolynomial) {
+  const CliResult res = run_cli(
+      "stream --bus loopback --scalar fixed --plant belt --load-counts-per-unit 1e6 --profile pseudopoly "
+      "--distance 94.2477796 --time 1 --gammas 3.024,4.565,5.874 --axis-vmax 200 --json");
+  ASSERT_EQ(res.status, 0) << res.out;
+  const auto j = nlohmann::json::parse(res.stdout_text, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << res.stdout_text;
+  EXPECT_EQ(j.at("evaluation"), "ok");
+  EXPECT_TRUE(j.at("aligned").get<bool>());
+  EXPECT_LE(j.at("setpoints_vs_double_max_counts").get<long long>(), 1);
+  EXPECT_GT(j.at("setpoints_differing_from_double").get<long long>(), 0);
+  EXPECT_LT(j.at("residual_double").get<double>() * 1e6, 1.0);  // under one load count
+  EXPECT_LE(j.at("residual_vs_double_load_counts").get<double>(), 0.5);
+}
+
 }  // namespace
