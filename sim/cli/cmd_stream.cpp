@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "commands.hpp"
@@ -15,6 +16,7 @@
 #include "move_options.hpp"
 #include "options.hpp"
 #include "plant_options.hpp"
+#include "settle/firmware/evaluation.hpp"
 #include "settle/firmware/linux/periodic.hpp"
 #include "settle/firmware/session.hpp"
 #include "settle/hal/candump_file.hpp"
@@ -31,7 +33,29 @@ namespace settle::cli {
 
 namespace {
 
-using Loop = firmware::ServoLoop<double, 1, 4>;
+// The loop's evaluation is chosen by --scalar: ServoLoop<Scalar, 1, 4, Evaluation> for
+// (double, FloatEvaluation<double>), (float, FloatEvaluation<float>) or (double, PolyFixedEvaluation:
+// the firmware's fixed-point evaluation with room for the pseudo-polynomial's pieces).
+template <typename Scalar, typename Evaluation>
+using LoopOf = firmware::ServoLoop<Scalar, 1, 4, Evaluation>;
+
+// The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end:
+// the prepare/start/next the loop runs in its ticks, offline: the replay's setpoints for every
+// scalar come from here, and so do the double evaluator's they are compared with. Not ok when the
+// evaluation refuses the move (the loop refuses it at submit too). The caller has bounded the periods.
+template <typename Evaluation>
+core::Status evaluated_setpoints(const core::Move<double>& move, std::uint32_t period_us, double counts_per_unit,
+                         std::vector<std::int32_t>& out) {
+  out.clear();
+  auto slot = std::make_unique<typename Evaluation::Stored>();  // not movable: the stream refers into it
+  if (const core::Status st = Evaluation::prepare(move, period_us, counts_per_unit, *slot); st != core::Status::ok) {
+    return st;
+  }
+  typename Evaluation::Stream s = Evaluation::start(*slot, 0);
+  bool last = false;
+  while (!last && out.size() <= static_cast<std::size_t>(kMaxStreamPeriods)) out.push_back(s.next(last));
+  return last ? core::Status::ok : core::Status::duration_does_not_fit;
+}
 
 // The Linux periodic timer as a session clock.
 class RealtimeClock {
@@ -51,14 +75,17 @@ struct Outcome {
   std::vector<firmware::FeedbackSample> feedback;  // every TPDO pair, in arrival order
 
   // After each tick: its record, and the feedback the loop received (draining its log).
+  template <typename Loop>
   void record(Loop& loop) {
     log.push_back(loop.record(0));
     drain(loop);
   }
+  template <typename Loop>
   void drain(Loop& loop) {
     for (firmware::FeedbackSample fs{}; loop.feedback_log(0).pop(fs);) feedback.push_back(fs);
   }
   // After the session: the counters, and where the drive's start-up stands (why, when it failed).
+  template <typename Loop>
   void finish(const Loop& loop, const hal::CanBus& on) {
     bus = on.counters();
     axis = loop.axis_stats(0);
@@ -183,97 +210,133 @@ int cmd_stream(int argc, char** argv) {
   firmware::linux_rt::RealtimeSetup rt{};
   firmware::linux_rt::LatencyHistogram latency{};
   std::uint64_t overruns = 0;
-  if (loopback) {
-    hal::LoopbackHub hub;
-    hal::LoopbackBus<256> master{hub};
-    hal::LoopbackBus<256> drive_port{hub};
-    // A listening port sees every frame on the in-process bus: the loopback run's candump log.
-    hal::LoopbackBus<256> sniffer{hub};
-    std::FILE* dump = nullptr;
-    if (const auto path = args.text("--candump")) {
-      dump = std::fopen(path->c_str(), "w");
-      if (dump == nullptr) {
+  // The setpoints the selected evaluation produces (the replay's), and the double evaluator's.
+  std::vector<std::int32_t> sp;
+  core::Status evaluation = core::Status::ok;
+  // The session, once for each evaluation: -1 when it ran (whatever its outcome), else the exit code.
+  const auto session = [&]<typename Scalar, typename Evaluation>(std::type_identity<Scalar>,
+                                                                 std::type_identity<Evaluation>) -> int {
+    using Loop = LoopOf<Scalar, Evaluation>;
+    evaluation = evaluated_setpoints<Evaluation>(move, period_us, axis_cfg.counts_per_unit, sp);
+    if (loopback) {
+      hal::LoopbackHub hub;
+      hal::LoopbackBus<256> master{hub};
+      hal::LoopbackBus<256> drive_port{hub};
+      // A listening port sees every frame on the in-process bus: the loopback run's candump log.
+      hal::LoopbackBus<256> sniffer{hub};
+      std::FILE* dump = nullptr;
+      if (const auto path = args.text("--candump")) {
+        dump = std::fopen(path->c_str(), "w");
+        if (dump == nullptr) {
+          std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
+          return kExitFailure;
+        }
+      }
+      hal::canopen::DriveNodeConfig dc{};
+      dc.node = ac.drive.node;
+      dc.sync_period_us = period_us;
+      sim::DriveAxis axis{};
+      if (sim::DriveAxis::make(axis_cfg, plant, 0, axis) != sim::SimStatus::ok) return kExitFailure;
+      sim::PlantNode pn{dc, std::move(axis)};
+      pn.start(0, drive_port);
+      auto loop = std::make_unique<Loop>(master, period_us);
+      if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
+      firmware::VirtualClock clock{period_us};
+      hub.set_time_us(period_us);  // the first tick
+      out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
+        out.record(*loop);
+        hub.set_time_us(clock.now_us());  // the drive answers within this period
+        hal::CanFrame f{};
+        while (drive_port.receive(f, 0) == hal::ReceiveStatus::received) (void)pn.on_frame(f, clock.now_us(), drive_port);
+        pn.poll(clock.now_us(), drive_port);
+        std::array<char, 256> line{};
+        while (sniffer.receive(f, 0) == hal::ReceiveStatus::received) {
+          const std::size_t n = hal::format_candump_line(f, "loopback", line);
+          if (dump != nullptr && n > 0) std::fprintf(dump, "%.*s\n", static_cast<int>(n), line.data());
+        }
+        hub.set_time_us(clock.now_us() + period_us);  // the loop's next tick sends at that time
+      });
+      if (dump != nullptr) std::fclose(dump);
+      out.finish(*loop, master);
+    } else {
+      hal::SocketCanBus bus;
+      const hal::OpenStatus os = open_socketcan(bus, bus_name);
+      if (os != hal::OpenStatus::ok) {
+        std::fprintf(stderr, "settle stream: cannot open %s: %s (try --bus loopback)\n", bus_name.c_str(),
+                     hal::to_string(os));
+        return kExitFailure;
+      }
+      // --candump: this process's own log of every frame it sends and receives (complete, unlike a
+      // sniffer's), written between ticks; its line count equals frames_sent + frames_received.
+      auto recorder = std::make_unique<hal::RecordingBus<1024>>(bus, hal::realtime_us);
+      hal::CandumpFile dump;
+      if (const auto path = args.text("--candump"); path && !dump.open(path->c_str(), bus_name.c_str())) {
         std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
         return kExitFailure;
       }
-    }
-    hal::canopen::DriveNodeConfig dc{};
-    dc.node = ac.drive.node;
-    dc.sync_period_us = period_us;
-    sim::DriveAxis axis{};
-    if (sim::DriveAxis::make(axis_cfg, plant, 0, axis) != sim::SimStatus::ok) return kExitFailure;
-    sim::PlantNode pn{dc, std::move(axis)};
-    pn.start(0, drive_port);
-    auto loop = std::make_unique<Loop>(master, period_us);
-    if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
-    firmware::VirtualClock clock{period_us};
-    hub.set_time_us(period_us);  // the first tick
-    out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
-      out.record(*loop);
-      hub.set_time_us(clock.now_us());  // the drive answers within this period
+      hal::CanBus& link = dump.is_open() ? static_cast<hal::CanBus&>(*recorder) : bus;
+      if (priority > 0) rt = firmware::linux_rt::request_realtime(static_cast<int>(priority));  // 1..99
+      auto loop = std::make_unique<Loop>(link, period_us);
+      if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
+      RealtimeClock clock{period_us};
+      out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
+        out.record(*loop);
+        if (dump.is_open()) (void)dump.write_records(*recorder);
+      });
+      // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
       hal::CanFrame f{};
-      while (drive_port.receive(f, 0) == hal::ReceiveStatus::received) (void)pn.on_frame(f, clock.now_us(), drive_port);
-      pn.poll(clock.now_us(), drive_port);
-      std::array<char, 256> line{};
-      while (sniffer.receive(f, 0) == hal::ReceiveStatus::received) {
-        const std::size_t n = hal::format_candump_line(f, "loopback", line);
-        if (dump != nullptr && n > 0) std::fprintf(dump, "%.*s\n", static_cast<int>(n), line.data());
+      while (link.receive(f, 50000) == hal::ReceiveStatus::received) {
+        loop->receive(f, clock.now_us());
+        out.drain(*loop);
       }
-      hub.set_time_us(clock.now_us() + period_us);  // the loop's next tick sends at that time
-    });
-    if (dump != nullptr) std::fclose(dump);
-    out.finish(*loop, master);
-  } else {
-    hal::SocketCanBus bus;
-    const hal::OpenStatus os = open_socketcan(bus, bus_name);
-    if (os != hal::OpenStatus::ok) {
-      std::fprintf(stderr, "settle stream: cannot open %s: %s (try --bus loopback)\n", bus_name.c_str(),
-                   hal::to_string(os));
-      return kExitFailure;
+      if (dump.is_open() && !(dump.write_records(*recorder) && dump.close())) {
+        std::fprintf(stderr, "settle stream: the --candump log is incomplete (%llu records lost or unwritten)\n",
+                     static_cast<unsigned long long>(dump.records_lost()));
+        return kExitFailure;
+      }
+      out.finish(*loop, bus);
+      latency = clock.timer().latency();
+      overruns = clock.timer().overruns();
     }
-    // --candump: this process's own log of every frame it sends and receives (complete, unlike a
-    // sniffer's), written between ticks; its line count equals frames_sent + frames_received.
-    auto recorder = std::make_unique<hal::RecordingBus<1024>>(bus, hal::realtime_us);
-    hal::CandumpFile dump;
-    if (const auto path = args.text("--candump"); path && !dump.open(path->c_str(), bus_name.c_str())) {
-      std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
-      return kExitFailure;
-    }
-    hal::CanBus& link = dump.is_open() ? static_cast<hal::CanBus&>(*recorder) : bus;
-    if (priority > 0) rt = firmware::linux_rt::request_realtime(static_cast<int>(priority));  // 1..99
-    auto loop = std::make_unique<Loop>(link, period_us);
-    if (loop->add_axis(ac) != firmware::LoopStatus::ok) return kExitFailure;
-    RealtimeClock clock{period_us};
-    out.session = firmware::run_session(*loop, clock, &move, 1, 0, sc, [&](std::uint64_t, bool) {
-      out.record(*loop);
-      if (dump.is_open()) (void)dump.write_records(*recorder);
-    });
-    // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
-    hal::CanFrame f{};
-    while (link.receive(f, 50000) == hal::ReceiveStatus::received) {
-      loop->receive(f, clock.now_us());
-      out.drain(*loop);
-    }
-    if (dump.is_open() && !(dump.write_records(*recorder) && dump.close())) {
-      std::fprintf(stderr, "settle stream: the --candump log is incomplete (%llu records lost or unwritten)\n",
-                   static_cast<unsigned long long>(dump.records_lost()));
-      return kExitFailure;
-    }
-    out.finish(*loop, bus);
-    latency = clock.timer().latency();
-    overruns = clock.timer().overruns();
-  }
+    return -1;
+  };
+  const std::string scalar = args.text("--scalar", "double");
+  using std::type_identity;
+  const int rc =
+      scalar == "float"   ? session(type_identity<float>{}, type_identity<firmware::FloatEvaluation<float>>{})
+      : scalar == "fixed" ? session(type_identity<double>{}, type_identity<firmware::PolyFixedEvaluation>{})
+                          : session(type_identity<double>{}, type_identity<firmware::FloatEvaluation<double>>{});
+  if (rc >= 0) return rc;
   if (const auto path = args.text("--log"); path && !write_stream_log(path->c_str(), out.log, period_us)) {
     std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
     return kExitFailure;
   }
 
   // Offline: the same integer setpoints through the same drive model and plant, no bus.
-  std::vector<std::int32_t> sp;
   sim::Replay replay{};
+  const bool have_sp = evaluation == core::Status::ok;
   const bool have_replay =
-      sim::stream_setpoints(move, period_us, axis_cfg.counts_per_unit, 0, sp) == sim::SimStatus::ok &&
-      sim::replay_stream(axis_cfg, plant, 0, sp, sc.settle_ticks, replay) == sim::SimStatus::ok;
+      have_sp && sim::replay_stream(axis_cfg, plant, 0, sp, sc.settle_ticks, replay) == sim::SimStatus::ok;
+  // The double evaluator's setpoints and their replay: what --scalar double streams (its run
+  // aligns with exactly this replay), the reference float and fixed are held to.
+  std::vector<std::int32_t> sp_double;
+  sim::Replay replay_double{};
+  const bool have_double =
+      evaluated_setpoints<firmware::FloatEvaluation<double>>(move, period_us, axis_cfg.counts_per_unit, sp_double) ==
+          core::Status::ok &&
+      sim::replay_stream(axis_cfg, plant, 0, sp_double, sc.settle_ticks, replay_double) == sim::SimStatus::ok;
+  // Setpoint by setpoint (the shorter sequence held at its last), the largest difference in counts.
+  long long sp_max_diff = -1;
+  long long sp_differing = 0;
+  if (have_sp && have_double) {
+    sp_max_diff = 0;
+    for (std::size_t i = 0; i < std::max(sp.size(), sp_double.size()); ++i) {
+      const std::int64_t a = i < sp.size() ? sp[i] : sp.back();
+      const std::int64_t b = i < sp_double.size() ? sp_double[i] : sp_double.back();
+      sp_max_diff = std::max<long long>(sp_max_diff, a > b ? a - b : b - a);
+      sp_differing += a != b ? 1 : 0;
+    }
+  }
   // From the CAN feedback: find the replay's period-by-period positions in the received sequence.
   // An exact match proves every setpoint was applied once, in order, with no feedback lost in
   // between; the load samples from the final setpoint on then give the measured residual.
@@ -315,6 +378,15 @@ int cmd_stream(int argc, char** argv) {
                            replay.step_residual, off) != sim::SimStatus::ok) {
     can.amplitude = off.amplitude = can.prv_percent = off.prv_percent = NAN;
   }
+  sim::SampledResidual off_double{};
+  if (!have_double || sim::fitted_residual(replay_double.load_after, axis_cfg.load_counts_per_unit,
+                                           replay_double.final_load, dt, plant, replay_double.step_residual,
+                                           off_double) != sim::SimStatus::ok) {
+    off_double.amplitude = NAN;
+  }
+  // The residual measured over CAN against the double run's (its aligned replay), in percent.
+  const double vs_double =
+      aligned ? std::fabs(can.amplitude - off_double.amplitude) / off_double.amplitude * 100.0 : double{NAN};
   sim::SimResult cont{};
   sim::SimOptions so{};
   so.record = false;
@@ -340,6 +412,14 @@ int cmd_stream(int argc, char** argv) {
       {"drive_failure", out.drive_failure},
       {"bus", loopback ? "loopback (in-process, virtual time)" : bus_name},
       {"profile", core::to_string(move.profile().kind())},
+      {"scalar", scalar},
+      // Why the selected evaluation refused the move ("ok" when it took it), e.g. a profile the
+      // fixed-point formats cannot hold.
+      {"evaluation", core::to_string(evaluation)},
+      {"setpoints", static_cast<long long>(sp.size())},
+      // Against the double evaluator's setpoints (null when either evaluation refused the move).
+      {"setpoints_vs_double_max_counts", sp_max_diff < 0 ? Json(nullptr) : Json(sp_max_diff)},
+      {"setpoints_differing_from_double", sp_max_diff < 0 ? Json(nullptr) : Json(sp_differing)},
       {"distance", move.distance()},
       {"move_time", move.duration()},
       {"period_us", static_cast<long long>(period_us)},
@@ -371,6 +451,11 @@ int cmd_stream(int argc, char** argv) {
       {"residual_offline", finite_or_null(off.amplitude)},
       {"prv_offline_percent", finite_or_null(off.prv_percent)},
       {"agreement", finite_or_null(agreement)},
+      {"residual_double", finite_or_null(off_double.amplitude)},
+      {"residual_vs_double_percent", finite_or_null(vs_double)},
+      // The same difference in load counts: what it is next to the measurement's resolution.
+      {"residual_vs_double_load_counts",
+       finite_or_null(std::fabs(can.amplitude - off_double.amplitude) * axis_cfg.load_counts_per_unit)},
       {"fit_rms_can", finite_or_null(can.fit_rms)},
       {"residual_continuous", have_cont ? finite_or_null(cont.metrics.residual_amplitude) : Json(nullptr)},
       {"prv_continuous_percent", have_cont ? finite_or_null(cont.metrics.prv_percent) : Json(nullptr)},
@@ -411,6 +496,11 @@ int cmd_stream(int argc, char** argv) {
     std::printf("residual (CAN)     %s (PRV %s %%)\n", g(can.amplitude, "%.9g").c_str(), g(can.prv_percent, "%.4f").c_str());
     std::printf("residual (offline) %s (PRV %s %%), agreement %s\n", g(off.amplitude, "%.9g").c_str(),
                 g(off.prv_percent, "%.4f").c_str(), g(agreement, "%.3g").c_str());
+    if (!have_sp) std::printf("evaluation         %s refused the move: %s\n", scalar.c_str(), core::to_string(evaluation));
+    std::printf("scalar             %s: setpoints within %s counts of double's (%lld differ), residual %s %% "
+                "from double's %s\n",
+                scalar.c_str(), sp_max_diff < 0 ? "n/a" : std::to_string(sp_max_diff).c_str(), sp_differing,
+                g(vs_double, "%.3g").c_str(), g(off_double.amplitude, "%.9g").c_str());
     if (have_cont) {
       std::printf("continuous profile %s (PRV %s %%)\n", g(cont.metrics.residual_amplitude, "%.9g").c_str(),
                   g(cont.metrics.prv_percent, "%.4f").c_str());

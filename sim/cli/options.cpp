@@ -135,6 +135,8 @@ const std::vector<OptionSpec> kSimulate = {
 
 const std::vector<OptionSpec> kStream = {
     text("--bus", "vcan0", "SocketCAN interface, or 'loopback' (in-process drive, virtual time)", "IFACE"),
+    choice("--scalar", "double", {"double", "float", "fixed"},
+           "the loop's evaluation: the move in double or float, or the integer-only fixed-point plan"),
     integer("--node", "", "1", {1.0, 127.0}, "the drive's CANopen node id"),
     real("--axis-vmax", "unit/s", "1.5 x the move's peak velocity", {0.0, 1e9, true},
          "the loop's step guard: largest velocity one setpoint step may imply"),

@@ -154,6 +154,8 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
       {kSimulate + "--plant sdof --damping 1e6", "--damping", "not_underdamped"},
       {kSimulate + "--plant belt --belt-damping 1e8", "--belt-damping", "not_underdamped"},
       {kStream + "--drive servo --servo-damping 1", "--servo-damping", "out_of_range"},
+      {kStream + "--scalar half", "--scalar", "unknown_scalar"},
+      {kStream + "--scalar", "--scalar", ""},
   };
   for (const Case& c : cases) expect_refused(c);
   // A plan without a shaper that does not converge is not blamed on --shaper.
@@ -280,7 +282,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"reproduce", join({{"--out"}})},
       {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--log", "--duration"}})},
       {"stream", join({move, plant, drive,
-                       {"--bus", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--heartbeat-ms",
+                       {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--heartbeat-ms",
                         "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log"}})},
   };
   ASSERT_EQ(expected.size(), settle::cli::commands().size());
@@ -307,6 +309,71 @@ TEST(CliHelp, ProgramHelpAndUnknownCommands) {
   EXPECT_EQ(run_cli("help").status, 0);
   EXPECT_EQ(run_cli("help frobnicate").status, 2);
   EXPECT_EQ(run_cli("reproduce --help").status, 0);
+}
+
+// Issue 13: --scalar is in stream's help with its three evaluations and its default.
+TEST(CliHelp, StreamHelpListsTheScalars) {
+  const CliResult h = run_cli("stream --help");
+  ASSERT_EQ(h.status, 0);
+  const auto at = h.stdout_text.find("--scalar");
+  ASSERT_NE(at, std::string::npos) << h.stdout_text;
+  const std::string line = h.stdout_text.substr(at, h.stdout_text.find('\n', at) - at);
+  EXPECT_NE(line.find("default double"), std::string::npos) << line;
+  EXPECT_NE(line.find("double, float, fixed"), std::string::npos) << line;
+}
+
+// Issue 13: `stream --scalar double|float|fixed` over the loopback bus on two paper scenarios
+// (tools/paper_scenarios.py: 000-poly345-1.75, the beam, and 004-poly345, the belt at ~1e6 counts).
+// Each run is proven against the replay of the setpoints its own evaluation produces (status ok =
+// the CAN feedback matched them exactly), and agrees with the double evaluator's setpoints within
+// one count and with the double run's residual within 1 %. Float and fixed really ran: each has a
+// scenario whose setpoints are not bit-identical to double's, so a run that evaluated in double
+// instead would not have aligned with its replay.
+TEST(StreamScalar, EveryEvaluationAgreesWithDoubleOverLoopback) {
+  const std::string beam = "--plant beam --profile poly345 --distance 0.07 --time 0.498694676 --axis-vmax 1";
+  const std::string belt =
+      "--plant belt --load-counts-per-unit 1e6 --profile poly345 --distance 94.2477796 --time 1 --axis-vmax 200";
+  struct Run {
+    std::string scalar;
+    std::string scenario;
+    bool differs;  // its setpoints are not bit-identical to double's on this scenario
+  };
+  const Run runs[] = {{"double", beam, false}, {"float", beam, true}, {"fixed", beam, false}, {"fixed", belt, true}};
+  for (const Run& r : runs) {
+    SCOPED_TRACE(r.scalar + " " + r.scenario);
+    const CliResult res = run_cli("stream --bus loopback --scalar " + r.scalar + " " + r.scenario + " --json");
+    ASSERT_EQ(res.status, 0) << res.out;
+    const auto j = nlohmann::json::parse(res.stdout_text, nullptr, false);
+    ASSERT_FALSE(j.is_discarded()) << res.stdout_text;
+    EXPECT_EQ(j.at("status"), "ok");
+    EXPECT_EQ(j.at("scalar"), r.scalar);
+    EXPECT_EQ(j.at("evaluation"), "ok");
+    EXPECT_TRUE(j.at("aligned").get<bool>());
+    EXPECT_LE(j.at("setpoints_vs_double_max_counts").get<long long>(), 1);
+    EXPECT_EQ(j.at("setpoints_differing_from_double").get<long long>() > 0, r.differs);
+    EXPECT_LE(j.at("residual_vs_double_percent").get<double>(), 1.0);
+    EXPECT_GT(j.at("residual_double").get<double>(), 0.0);
+  }
+}
+
+// Seed 004's optimised pseudo-polynomial (004-optimised, the paper's exponents): its non-integer
+// exponents need the fixed-point motion's piecewise-quintic form (core::fixed::PolyMotion), which
+// the stream's fixed evaluation has room for. Its residual is at the measurement's floor (under one
+// load count), where a one-count setpoint difference moves it by more than 1 %: there the residuals
+// agree within half a load count, the resolution of the load encoder.
+TEST(StreamScalar, FixedStreamsThePseudoPolynomial) {
+  const CliResult res = run_cli(
+      "stream --bus loopback --scalar fixed --plant belt --load-counts-per-unit 1e6 --profile pseudopoly "
+      "--distance 94.2477796 --time 1 --gammas 3.024,4.565,5.874 --axis-vmax 200 --json");
+  ASSERT_EQ(res.status, 0) << res.out;
+  const auto j = nlohmann::json::parse(res.stdout_text, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << res.stdout_text;
+  EXPECT_EQ(j.at("evaluation"), "ok");
+  EXPECT_TRUE(j.at("aligned").get<bool>());
+  EXPECT_LE(j.at("setpoints_vs_double_max_counts").get<long long>(), 1);
+  EXPECT_GT(j.at("setpoints_differing_from_double").get<long long>(), 0);
+  EXPECT_LT(j.at("residual_double").get<double>() * 1e6, 1.0);  // under one load count
+  EXPECT_LE(j.at("residual_vs_double_load_counts").get<double>(), 0.5);
 }
 
 }  // namespace

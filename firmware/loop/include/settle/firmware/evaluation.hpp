@@ -57,8 +57,10 @@ struct FloatEvaluation {
 // bounds the plan; the default, 24 (1.6 KiB per slot with its stepper on a Cortex-M, about what a
 // Motion took), holds every closed form unshaped or with up to three impulses, and four-impulse
 // shapers on profiles of up to five segments; a move needing more is refused at submit
-// (table_too_small), as is one the fixed-point formats cannot hold.
-template <std::size_t Intervals>
+// (table_too_small), as is one the fixed-point formats cannot hold. `Motion` is the integer motion
+// built at submit: core::fixed::Motion (8 segments) holds the closed forms; a pseudo-polynomial with
+// non-integer exponents needs core::fixed::PolyMotion's 32 (PolyFixedEvaluation, below).
+template <std::size_t Intervals, typename Motion = core::fixed::Motion>
 struct BasicFixedEvaluation {
   // The plan and a stepper on it, both built when the move is submitted. The stepper refers to the
   // plan next to it: a Stored never moves or copies.
@@ -94,7 +96,7 @@ struct BasicFixedEvaluation {
     core::fixed::Scale scale{};
     scale.counts_per_unit = counts_per_unit;
     scale.tick_seconds = period_us * 1e-6;
-    core::fixed::Motion motion{};
+    Motion motion{};
     core::Status st = motion.build(m, scale);
     if (st == core::Status::ok) st = out.plan.build(motion);
     if (st == core::Status::ok) out.stepper = core::fixed::PositionStepper{out.plan};
@@ -107,5 +109,11 @@ struct BasicFixedEvaluation {
 };
 
 using FixedEvaluation = BasicFixedEvaluation<24>;
+// Room for every profile, the pseudo-polynomial's piecewise-quintic form included, where memory is
+// not tight (a host: `settle stream --scalar fixed`): the same per-tick code, larger tables.
+using PolyFixedEvaluation =
+    BasicFixedEvaluation<core::fixed::position_intervals_for(core::fixed::PolyMotion::kMaxSegments,
+                                                             core::fixed::PolyMotion::kMaxTracks),
+                         core::fixed::PolyMotion>;
 
 }  // namespace settle::firmware
