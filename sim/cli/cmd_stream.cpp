@@ -268,7 +268,7 @@ int cmd_stream(int argc, char** argv) {
       }
       // --candump: this process's own log of every frame it sends and receives (complete, unlike a
       // sniffer's), written between ticks; its line count equals frames_sent + frames_received.
-      auto recorder = std::make_unique<hal::RecordingBus<1024>>(bus, hal::realtime_us);
+      auto recorder = std::make_unique<hal::RecordingBus<4096>>(bus, hal::realtime_us);
       hal::CandumpFile dump;
       if (const auto path = args.text("--candump"); path && !dump.open(path->c_str(), bus_name.c_str())) {
         std::fprintf(stderr, "settle stream: cannot write %s\n", path->c_str());
@@ -288,6 +288,7 @@ int cmd_stream(int argc, char** argv) {
       while (link.receive(f, 50000) == hal::ReceiveStatus::received) {
         loop->receive(f, clock.now_us());
         out.drain(*loop);
+        if (dump.is_open()) (void)dump.write_records(*recorder);  // the recorder's ring is bounded
       }
       if (dump.is_open() && !(dump.write_records(*recorder) && dump.close())) {
         std::fprintf(stderr, "settle stream: the --candump log is incomplete (%llu records lost or unwritten)\n",
