@@ -55,6 +55,9 @@ atexit.register(_reap)
 
 def fail(msg):
     print("FAIL:", msg)
+    for p in _started:  # what a process that already ended said: why it ended
+        if p.poll() is not None and p.stdout is not None and not p.stdout.closed:
+            print(f"  {' '.join(p.args[:2])} ended with exit {p.returncode}: {p.stdout.read()[:3000]}")
     sys.exit(1)
 
 
