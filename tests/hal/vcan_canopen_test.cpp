@@ -104,7 +104,9 @@ Exchange run_exchange(int ticks, const std::string& candump_log) {
 
   test::Child candump;
   if (!candump_log.empty()) {
-    EXPECT_TRUE(candump.start({"candump", "-L", test::vcan_interface}, candump_log));
+    // A 16 MB receive buffer (-r, forced as root): a candump that is not scheduled for a while on a
+    // loaded host keeps every frame queued instead of dropping them.
+    EXPECT_TRUE(candump.start({"candump", "-r", "16777216", "-L", test::vcan_interface}, candump_log));
     CanFrame probe{};
     probe.id = probe_id;
     probe.flags = can_flag::extended;
