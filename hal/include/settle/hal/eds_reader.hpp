@@ -1,0 +1,140 @@
+// A drive's description from its EDS or DCF file (CiA 306, INI format, read with inih): every
+// object's index, sub-index, name, data type, access, PDO mappability, limits and default (or,
+// in a DCF, configured) value, the device's identity, and its PDO communication and mapping
+// objects. Host only (files, strings, the heap): the master configures a drive from it and the
+// simulated drive builds its dictionary from it; neither runs it in the servo loop.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace settle::hal::eds {
+
+// Bounds checked before anything grows: a description larger than these is refused.
+inline constexpr std::size_t max_file_bytes = 4u << 20;
+inline constexpr std::size_t max_entries = 16384;
+
+enum class Access : std::uint8_t { ro, wo, rw, rwr, rww, constant };
+[[nodiscard]] const char* to_string(Access access) noexcept;
+
+// CiA 301 data type indices (the EDS's DataType), the ones a drive's objects use.
+namespace data_type {
+inline constexpr std::uint16_t boolean = 0x0001;
+inline constexpr std::uint16_t i8 = 0x0002;
+inline constexpr std::uint16_t i16 = 0x0003;
+inline constexpr std::uint16_t i32 = 0x0004;
+inline constexpr std::uint16_t u8 = 0x0005;
+inline constexpr std::uint16_t u16 = 0x0006;
+inline constexpr std::uint16_t u32 = 0x0007;
+inline constexpr std::uint16_t real32 = 0x0008;
+inline constexpr std::uint16_t visible_string = 0x0009;
+inline constexpr std::uint16_t octet_string = 0x000A;
+inline constexpr std::uint16_t unicode_string = 0x000B;
+inline constexpr std::uint16_t domain = 0x000F;
+inline constexpr std::uint16_t i64 = 0x0015;
+inline constexpr std::uint16_t u64 = 0x001B;
+}  // namespace data_type
+
+// Size in bits of a fixed-size type (what a PDO mapping entry states); 0 for strings and domains.
+[[nodiscard]] unsigned data_type_bits(std::uint16_t type) noexcept;
+[[nodiscard]] bool data_type_is_integer(std::uint16_t type) noexcept;
+[[nodiscard]] bool data_type_is_signed(std::uint16_t type) noexcept;
+
+struct Entry {
+  std::uint16_t index{0};
+  std::uint8_t sub{0};
+  std::string name;
+  std::uint16_t data_type{0};
+  Access access{Access::ro};
+  bool pdo_mappable{false};
+  std::string default_value;    // as written (integers may use $NODEID); empty when absent
+  std::string parameter_value;  // a DCF's configured value; empty when absent
+  std::optional<std::int64_t> low_limit;
+  std::optional<std::int64_t> high_limit;
+
+  [[nodiscard]] bool readable() const noexcept { return access != Access::wo; }
+  [[nodiscard]] bool writable() const noexcept {
+    return access == Access::wo || access == Access::rw || access == Access::rwr || access == Access::rww;
+  }
+  // The value the object holds after start-up: the DCF's ParameterValue, else DefaultValue, as
+  // an integer with $NODEID resolved; nullopt for non-integer types or when neither is given.
+  [[nodiscard]] std::optional<std::int64_t> value(std::uint8_t node) const;
+};
+
+struct DeviceInfo {
+  std::string vendor_name;
+  std::uint32_t vendor_number{0};
+  std::string product_name;
+  std::uint32_t product_number{0};
+  std::uint32_t revision_number{0};
+  unsigned nr_rx_pdo{0};
+  unsigned nr_tx_pdo{0};
+  unsigned granularity{0};  // 0: mapping is not dynamic (CiA 306); 8: byte granularity
+};
+
+struct MappedObject {
+  std::uint16_t index{0};
+  std::uint8_t sub{0};
+  std::uint8_t bits{0};
+};
+
+// One PDO as the description defines it: its communication object (0x1400/0x1800 + n) and its
+// mapping object (0x1600/0x1A00 + n).
+struct Pdo {
+  bool receive{false};          // RPDO (the drive receives it) or TPDO
+  unsigned number{1};           // 1-based: RPDO1 is 0x1400/0x1600
+  std::uint32_t cob_id{0};      // with $NODEID resolved; bit 31 set = not valid (disabled)
+  std::uint8_t transmission_type{0};
+  bool mapping_writable{false};  // sub 0 of the mapping object is writable: dynamic mapping
+  std::vector<MappedObject> mapping;  // the default (or a DCF's configured) entries
+
+  [[nodiscard]] std::uint16_t communication_index() const noexcept {
+    return static_cast<std::uint16_t>((receive ? 0x1400 : 0x1800) + number - 1);
+  }
+  [[nodiscard]] std::uint16_t mapping_index() const noexcept {
+    return static_cast<std::uint16_t>((receive ? 0x1600 : 0x1A00) + number - 1);
+  }
+};
+
+class Description {
+ public:
+  [[nodiscard]] const std::vector<Entry>& entries() const noexcept { return entries_; }
+  [[nodiscard]] const Entry* find(std::uint16_t index, std::uint8_t sub) const noexcept;
+  [[nodiscard]] bool has(std::uint16_t index) const noexcept;
+  [[nodiscard]] const DeviceInfo& device() const noexcept { return device_; }
+  // The indices the object lists ([Mandatory|Optional|ManufacturerObjects]) name, in file order.
+  [[nodiscard]] const std::vector<std::uint16_t>& listed() const noexcept { return listed_; }
+  // A DCF's [DeviceComissioning] NodeID, when it has one.
+  [[nodiscard]] std::optional<std::uint8_t> dcf_node_id() const noexcept { return dcf_node_id_; }
+  // The PDOs whose communication and mapping objects are both described, by number.
+  // Values with $NODEID are resolved for `node`.
+  [[nodiscard]] std::vector<Pdo> rpdos(std::uint8_t node) const;
+  [[nodiscard]] std::vector<Pdo> tpdos(std::uint8_t node) const;
+
+ private:
+  friend struct Builder;
+  std::vector<Entry> entries_;  // sorted by (index, sub), unique
+  DeviceInfo device_;
+  std::vector<std::uint16_t> listed_;
+  std::optional<std::uint8_t> dcf_node_id_;
+};
+
+struct LoadResult {
+  std::optional<Description> description;
+  std::string error;  // why not: names the file's line or the object at fault
+};
+
+// Reads an EDS or DCF file (at most max_file_bytes).
+[[nodiscard]] LoadResult load(const std::string& path);
+// The same from text held in memory (tests, descriptions received over SDO 0x1021).
+[[nodiscard]] LoadResult parse(std::string_view text);
+
+// An EDS integer as CiA 306 writes it: decimal, 0x hex, leading-0 octal, optionally with a
+// sign, or $NODEID+value / value+$NODEID. nullopt when the text is none of these.
+[[nodiscard]] std::optional<std::int64_t> parse_integer(std::string_view text, std::uint8_t node);
+
+}  // namespace settle::hal::eds

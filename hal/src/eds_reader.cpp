@@ -1,0 +1,427 @@
+// EDS/DCF reading: inih splits the file into sections and keys; this file gives them CiA 306's
+// meaning (object sections [IIII] and [IIIIsubS], the object lists, DeviceInfo, a DCF's
+// ParameterValue and NodeID) and checks what a master relies on.
+#include "settle/hal/eds_reader.hpp"
+
+#include <ini.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+
+namespace settle::hal::eds {
+namespace {
+
+std::string lower(std::string_view s) {
+  std::string out{s};
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::string trim(std::string_view s) {
+  std::size_t b = 0;
+  std::size_t e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return std::string{s.substr(b, e - b)};
+}
+
+std::string hex4(std::uint16_t index) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "0x%04X", index);
+  return buf;
+}
+
+std::string object_name(std::uint16_t index, std::uint8_t sub) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%04X:%u", index, sub);
+  return buf;
+}
+
+std::optional<std::uint64_t> parse_unsigned(std::string_view text) {
+  if (text.empty()) return std::nullopt;
+  unsigned base = 10;
+  if (text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) {
+    base = 16;
+    text.remove_prefix(2);
+  } else if (text.size() > 1 && text[0] == '0') {
+    base = 8;
+    text.remove_prefix(1);
+  }
+  if (text.empty()) return std::nullopt;
+  std::uint64_t v = 0;
+  for (const char c : text) {
+    unsigned d = 0;
+    if (c >= '0' && c <= '9') {
+      d = static_cast<unsigned>(c - '0');
+    } else if (c >= 'a' && c <= 'f') {
+      d = static_cast<unsigned>(c - 'a' + 10);
+    } else if (c >= 'A' && c <= 'F') {
+      d = static_cast<unsigned>(c - 'A' + 10);
+    } else {
+      return std::nullopt;
+    }
+    if (d >= base) return std::nullopt;
+    if (v > (std::numeric_limits<std::uint64_t>::max() - d) / base) return std::nullopt;
+    v = v * base + d;
+  }
+  return v;
+}
+
+// One section of the file: its keys in lower case, and the line it started on.
+struct Section {
+  std::map<std::string, std::string> keys;
+  int line{0};
+  [[nodiscard]] const std::string* get(const char* key) const {
+    const auto it = keys.find(key);
+    return it == keys.end() ? nullptr : &it->second;
+  }
+};
+
+struct Raw {
+  std::map<std::string, Section> sections;  // upper-case section name
+  std::size_t values{0};
+  std::string error;
+};
+
+int on_value(void* user, const char* section, const char* name, const char* value) {
+  auto& raw = *static_cast<Raw*>(user);
+  if (++raw.values > 16 * max_entries) {
+    if (raw.error.empty()) raw.error = "more than " + std::to_string(16 * max_entries) + " keys";
+    return 0;
+  }
+  std::string s{section};
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  const std::string key = lower(trim(name));
+  auto& sec = raw.sections[s];
+  if (sec.keys.count(key) != 0) {
+    if (raw.error.empty()) raw.error = "[" + std::string{section} + "] gives " + std::string{name} + " twice";
+    return 0;
+  }
+  sec.keys.emplace(key, trim(value));
+  return 1;
+}
+
+// "1018" or "1018SUB2" (upper case) -> (index, sub, has_sub); anything else -> nullopt.
+struct ObjectSection {
+  std::uint16_t index;
+  std::uint8_t sub;
+  bool has_sub;
+};
+std::optional<ObjectSection> object_section(const std::string& name) {
+  if (name.size() < 4) return std::nullopt;
+  const auto index = parse_unsigned("0x" + name.substr(0, 4));
+  if (!index) return std::nullopt;
+  if (name.size() == 4) return ObjectSection{static_cast<std::uint16_t>(*index), 0, false};
+  if (name.size() < 8 || name.size() > 9 || name.compare(4, 3, "SUB") != 0) return std::nullopt;
+  const auto sub = parse_unsigned("0x" + name.substr(7));
+  if (!sub || *sub > 0xFF) return std::nullopt;
+  return ObjectSection{static_cast<std::uint16_t>(*index), static_cast<std::uint8_t>(*sub), true};
+}
+
+std::optional<Access> parse_access(const std::string& text) {
+  const std::string t = lower(text);
+  if (t == "ro") return Access::ro;
+  if (t == "wo") return Access::wo;
+  if (t == "rw") return Access::rw;
+  if (t == "rwr") return Access::rwr;
+  if (t == "rww") return Access::rww;
+  if (t == "const") return Access::constant;
+  return std::nullopt;
+}
+
+}  // namespace
+
+struct Builder {
+  static LoadResult build(const Raw& raw);
+};
+
+const char* to_string(Access access) noexcept {
+  switch (access) {
+    case Access::ro: return "ro";
+    case Access::wo: return "wo";
+    case Access::rw: return "rw";
+    case Access::rwr: return "rwr";
+    case Access::rww: return "rww";
+    case Access::constant: return "const";
+  }
+  return "?";
+}
+
+unsigned data_type_bits(std::uint16_t type) noexcept {
+  switch (type) {
+    case data_type::boolean:
+    case data_type::i8:
+    case data_type::u8: return 8;
+    case data_type::i16:
+    case data_type::u16: return 16;
+    case data_type::i32:
+    case data_type::u32:
+    case data_type::real32: return 32;
+    case data_type::i64:
+    case data_type::u64: return 64;
+    default: return 0;
+  }
+}
+
+bool data_type_is_integer(std::uint16_t type) noexcept {
+  return type == data_type::boolean || type == data_type::i8 || type == data_type::i16 || type == data_type::i32 ||
+         type == data_type::u8 || type == data_type::u16 || type == data_type::u32 || type == data_type::i64 ||
+         type == data_type::u64;
+}
+
+bool data_type_is_signed(std::uint16_t type) noexcept {
+  return type == data_type::i8 || type == data_type::i16 || type == data_type::i32 || type == data_type::i64;
+}
+
+std::optional<std::int64_t> parse_integer(std::string_view text, std::uint8_t node) {
+  std::string t = trim(text);
+  std::int64_t base = 0;
+  const std::string l = lower(t);
+  const std::string tag = "$nodeid";
+  if (const auto at = l.find(tag); at != std::string::npos) {
+    base = node;
+    std::string rest = t.substr(0, at) + t.substr(at + tag.size());
+    rest = trim(rest);
+    // $NODEID+v or v+$NODEID: strip the one '+' that joined them.
+    if (!rest.empty() && rest.front() == '+') {
+      rest = trim(rest.substr(1));
+    } else if (!rest.empty() && rest.back() == '+') {
+      rest = trim(rest.substr(0, rest.size() - 1));
+    } else if (!rest.empty()) {
+      return std::nullopt;
+    }
+    if (rest.empty()) return base;
+    t = rest;
+  }
+  bool negative = false;
+  if (!t.empty() && (t[0] == '-' || t[0] == '+')) {
+    negative = t[0] == '-';
+    t.erase(0, 1);
+  }
+  const auto v = parse_unsigned(t);
+  if (!v) return std::nullopt;
+  // 64-bit objects aside, every value fits an int64 with room for the node id.
+  if (*v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) - 0x80) return std::nullopt;
+  const auto magnitude = static_cast<std::int64_t>(*v);
+  return base + (negative ? -magnitude : magnitude);
+}
+
+std::optional<std::int64_t> Entry::value(std::uint8_t node) const {
+  if (!data_type_is_integer(data_type)) return std::nullopt;
+  const std::string& text = parameter_value.empty() ? default_value : parameter_value;
+  if (text.empty()) return std::nullopt;
+  return parse_integer(text, node);
+}
+
+const Entry* Description::find(std::uint16_t index, std::uint8_t sub) const noexcept {
+  const auto it = std::lower_bound(entries_.begin(), entries_.end(), std::pair{index, sub},
+                                   [](const Entry& e, const std::pair<std::uint16_t, std::uint8_t>& k) {
+                                     return e.index != k.first ? e.index < k.first : e.sub < k.second;
+                                   });
+  return it != entries_.end() && it->index == index && it->sub == sub ? &*it : nullptr;
+}
+
+bool Description::has(std::uint16_t index) const noexcept {
+  const auto it = std::lower_bound(entries_.begin(), entries_.end(), index,
+                                   [](const Entry& e, std::uint16_t i) { return e.index < i; });
+  return it != entries_.end() && it->index == index;
+}
+
+namespace {
+
+std::vector<Pdo> pdos(const Description& d, bool receive, std::uint8_t node) {
+  std::vector<Pdo> out;
+  for (unsigned n = 1; n <= 512; ++n) {
+    Pdo p{};
+    p.receive = receive;
+    p.number = n;
+    const Entry* cob = d.find(p.communication_index(), 1);
+    const Entry* count = d.find(p.mapping_index(), 0);
+    if (cob == nullptr || count == nullptr) continue;
+    p.cob_id = static_cast<std::uint32_t>(cob->value(node).value_or(0x80000000));
+    if (const Entry* type = d.find(p.communication_index(), 2)) {
+      p.transmission_type = static_cast<std::uint8_t>(type->value(node).value_or(0));
+    }
+    p.mapping_writable = count->writable();
+    const auto entries = count->value(node).value_or(0);
+    for (std::int64_t i = 1; i <= entries && i <= 64; ++i) {
+      const Entry* m = d.find(p.mapping_index(), static_cast<std::uint8_t>(i));
+      if (m == nullptr) break;
+      const auto raw = static_cast<std::uint32_t>(m->value(node).value_or(0));
+      p.mapping.push_back(MappedObject{static_cast<std::uint16_t>(raw >> 16), static_cast<std::uint8_t>(raw >> 8),
+                                       static_cast<std::uint8_t>(raw)});
+    }
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Pdo> Description::rpdos(std::uint8_t node) const { return pdos(*this, true, node); }
+std::vector<Pdo> Description::tpdos(std::uint8_t node) const { return pdos(*this, false, node); }
+
+LoadResult Builder::build(const Raw& raw) {
+  LoadResult r{};
+  Description d{};
+  auto fail = [&](std::string message) {
+    r.error = std::move(message);
+    return r;
+  };
+  // Object sections: a VAR at [IIII] is sub 0; an ARRAY or RECORD [IIII] has its subs in
+  // [IIIIsubS] and defines no value itself. Data type definitions (0x0001..0x025F) are skipped.
+  for (const auto& [name, sec] : raw.sections) {
+    const auto obj = object_section(name);
+    if (!obj || obj->index < 0x1000) continue;
+    const bool has_subs = raw.sections.count(name.substr(0, 4) + "SUB0") != 0;
+    if (!obj->has_sub && has_subs) {
+      const std::string* ot = sec.get("objecttype");
+      const auto type = ot ? parse_integer(*ot, 0) : std::nullopt;
+      if (!type || (*type != 0x8 && *type != 0x9)) {
+        return fail("[" + name + "] has sub-index sections but is not an ARRAY or RECORD (ObjectType 0x8 or 0x9)");
+      }
+      const std::string* sn = sec.get("subnumber");
+      const auto stated = sn ? parse_integer(*sn, 0) : std::nullopt;
+      const auto described = std::count_if(raw.sections.begin(), raw.sections.end(), [&](const auto& s) {
+        const auto o = object_section(s.first);
+        return o && o->has_sub && o->index == obj->index;
+      });
+      if (!stated || *stated != described) {
+        return fail("[" + name + "] SubNumber " + (sn ? *sn : std::string{"(missing)"}) + " but " +
+                    std::to_string(described) + " sub-index sections");
+      }
+      continue;
+    }
+    if (obj->has_sub && raw.sections.count(name.substr(0, 4)) == 0) {
+      return fail("[" + name + "] has no object section [" + name.substr(0, 4) + "]");
+    }
+    if (d.entries_.size() >= max_entries) {
+      return fail("more than " + std::to_string(max_entries) + " objects");
+    }
+    Entry e{};
+    e.index = obj->index;
+    e.sub = obj->sub;
+    const std::string where = "[" + name + "] (" + object_name(e.index, e.sub) + ")";
+    if (const std::string* v = sec.get("parametername")) e.name = *v;
+    const std::string* dt = sec.get("datatype");
+    const auto type = dt ? parse_integer(*dt, 0) : std::nullopt;
+    if (!type || *type <= 0 || *type > 0xFFFF) return fail(where + ": no valid DataType");
+    e.data_type = static_cast<std::uint16_t>(*type);
+    const std::string* acc = sec.get("accesstype");
+    const auto access = acc ? parse_access(*acc) : std::nullopt;
+    if (!access) return fail(where + ": AccessType must be ro, wo, rw, rwr, rww or const");
+    e.access = *access;
+    if (const std::string* m = sec.get("pdomapping")) {
+      if (*m != "0" && *m != "1") return fail(where + ": PDOMapping must be 0 or 1");
+      e.pdo_mappable = *m == "1";
+    }
+    if (const std::string* v = sec.get("defaultvalue")) e.default_value = *v;
+    if (const std::string* v = sec.get("parametervalue")) e.parameter_value = *v;
+    for (const auto& [key, value] : sec.keys) {
+      if (key == "lowlimit" || key == "highlimit") {
+        if (value.empty()) continue;
+        const auto limit = parse_integer(value, 0);
+        if (!limit) return fail(where + ": " + key + " is not a number");
+        (key == "lowlimit" ? e.low_limit : e.high_limit) = *limit;
+      }
+    }
+    if (data_type_is_integer(e.data_type)) {
+      for (const std::string* text : {&e.default_value, &e.parameter_value}) {
+        if (!text->empty() && !parse_integer(*text, 1)) {
+          return fail(where + ": value '" + *text + "' is not an integer");
+        }
+      }
+    }
+    d.entries_.push_back(std::move(e));
+  }
+  std::sort(d.entries_.begin(), d.entries_.end(),
+            [](const Entry& a, const Entry& b) { return a.index != b.index ? a.index < b.index : a.sub < b.sub; });
+
+  // Every object the lists name is described.
+  for (const char* list : {"MANDATORYOBJECTS", "OPTIONALOBJECTS", "MANUFACTUREROBJECTS"}) {
+    const auto it = raw.sections.find(list);
+    if (it == raw.sections.end()) continue;
+    const std::string* count_text = it->second.get("supportedobjects");
+    const auto count = count_text ? parse_integer(*count_text, 0) : std::nullopt;
+    if (!count || *count < 0 || *count > static_cast<std::int64_t>(max_entries)) {
+      return fail(std::string{"["} + list + "]: no valid SupportedObjects");
+    }
+    for (std::int64_t i = 1; i <= *count; ++i) {
+      const std::string* item = it->second.get(std::to_string(i).c_str());
+      const auto index = item ? parse_integer(*item, 0) : std::nullopt;
+      if (!index || *index < 0 || *index > 0xFFFF) {
+        return fail(std::string{"["} + list + "]: entry " + std::to_string(i) + " is missing or not an index");
+      }
+      if (*index >= 0x1000 && !d.has(static_cast<std::uint16_t>(*index))) {
+        return fail(hex4(static_cast<std::uint16_t>(*index)) + " is listed in [" + list + "] but not described");
+      }
+      d.listed_.push_back(static_cast<std::uint16_t>(*index));
+    }
+  }
+  if (!d.has(0x1000)) return fail("0x1000 (device type) is not described: not a CANopen device description");
+
+  if (const auto it = raw.sections.find("DEVICEINFO"); it != raw.sections.end()) {
+    const Section& s = it->second;
+    auto number = [&](const char* key) -> std::uint32_t {
+      const std::string* v = s.get(key);
+      const auto n = v ? parse_integer(*v, 0) : std::nullopt;
+      return n && *n >= 0 && *n <= 0xFFFFFFFF ? static_cast<std::uint32_t>(*n) : 0u;
+    };
+    if (const std::string* v = s.get("vendorname")) d.device_.vendor_name = *v;
+    if (const std::string* v = s.get("productname")) d.device_.product_name = *v;
+    d.device_.vendor_number = number("vendornumber");
+    d.device_.product_number = number("productnumber");
+    d.device_.revision_number = number("revisionnumber");
+    d.device_.nr_rx_pdo = number("nrofrxpdo");
+    d.device_.nr_tx_pdo = number("nroftxpdo");
+    d.device_.granularity = number("granularity");
+  }
+  if (const auto it = raw.sections.find("DEVICECOMISSIONING"); it != raw.sections.end()) {
+    if (const std::string* v = it->second.get("nodeid")) {
+      const auto id = parse_integer(*v, 0);
+      if (!id || *id < 1 || *id > 127) return fail("[DeviceComissioning] NodeID must be 1..127");
+      d.dcf_node_id_ = static_cast<std::uint8_t>(*id);
+    }
+  }
+  r.description = std::move(d);
+  return r;
+}
+
+LoadResult parse(std::string_view text) {
+  if (text.size() > max_file_bytes) {
+    return LoadResult{std::nullopt, "larger than " + std::to_string(max_file_bytes) + " bytes"};
+  }
+  Raw raw{};
+  const std::string copy{text};  // inih wants a terminated string
+  const int status = ini_parse_string(copy.c_str(), on_value, &raw);
+  if (status < 0) return LoadResult{std::nullopt, "out of memory while reading"};
+  if (status != 0 || !raw.error.empty()) {
+    std::string why = "line " + std::to_string(status) + ": ";
+    why += raw.error.empty() ? "not an INI line" : raw.error;
+    return LoadResult{std::nullopt, why};
+  }
+  return Builder::build(raw);
+}
+
+LoadResult load(const std::string& path) {
+  std::ifstream in{path, std::ios::binary};
+  if (!in) return LoadResult{std::nullopt, path + ": cannot be opened"};
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) return LoadResult{std::nullopt, path + ": cannot be read"};
+  if (static_cast<std::uint64_t>(size) > max_file_bytes) {
+    return LoadResult{std::nullopt, path + ": larger than " + std::to_string(max_file_bytes) + " bytes"};
+  }
+  in.seekg(0);
+  std::string text(static_cast<std::size_t>(size), '\0');
+  if (!in.read(text.data(), size)) return LoadResult{std::nullopt, path + ": cannot be read"};
+  LoadResult r = parse(text);
+  if (!r.error.empty()) r.error = path + ": " + r.error;
+  return r;
+}
+
+}  // namespace settle::hal::eds
