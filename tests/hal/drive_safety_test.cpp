@@ -358,6 +358,21 @@ TEST_F(DriveSafety, ASecondProducersCountersAreOutOfSequence) {
   EXPECT_EQ(axis, 0);
 }
 
+TEST_F(DriveSafety, ACounterAboveTheConfiguredOverflowDoesNotMatch0x1019) {
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::none);
+  enable(8);
+  now += period_us;
+  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10}));
+  EXPECT_EQ(deliver(encode_sync(9)), DriveEvent::sync_rejected);
+  EXPECT_EQ(axis, 0);
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::sync_data_length);
+  EXPECT_EQ(e[0].data[0], emcy_cause::sync_counter);
+  EXPECT_EQ(e[0].data[1], 9);
+  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+}
+
 TEST_F(DriveSafety, ASyncWithoutTheConfiguredCounterIsAnUnexpectedLength) {
   EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::none);
   enable(8);
@@ -589,6 +604,86 @@ TEST_F(DriveSafety, NmtCommandsThatChangeNothingOrComeWhileDisabledNeedNoReactio
   (void)deliver(encode_nmt(NmtCommand::stop, node + 1));      // another node
   EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
   EXPECT_TRUE(emcys().empty());
+}
+
+// CiA 301 PDO length rules as common stacks apply them (CANopenNode, Lely): a frame shorter than
+// the mapping is not processed (0x8210) and must not displace the good RPDO of its period; a
+// longer one is processed from its mapped bytes (0x8220). Either way 0x1001/0x603F report the
+// error while the drive runs on, and the next RPDO of the right length clears them (EMCY 0000).
+TEST_F(DriveSafety, AShortRpdoNeverReplacesTheGoodOneOfItsPeriod) {
+  enable();
+  now += period_us;
+  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 500}));
+  CanFrame shorter = encode_rpdo1(node, Rpdo1{controlword::enable_operation, 9000});
+  shorter.len = 5;
+  (void)deliver(shorter);
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  EXPECT_EQ(axis, 500) << "the good RPDO of the period was applied";
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0].error_code, emcy_code::pdo_length);
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+}
+
+TEST_F(DriveSafety, ALongerRpdoIsAppliedFromItsMappedBytesAndReported) {
+  enable();
+  now += period_us;
+  CanFrame longer = encode_rpdo1(node, Rpdo1{controlword::enable_operation, 700});
+  longer.len = 8;
+  longer.data[6] = 0xAA;
+  longer.data[7] = 0x55;
+  (void)deliver(longer);
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  EXPECT_EQ(axis, 700);
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0].error_code, emcy_code::pdo_length_exceeded);
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+}
+
+TEST_F(DriveSafety, TheLengthErrorIsClearedWithEmcyZeroOnceRpdosAreRightAgain) {
+  enable();
+  for (const std::uint8_t len : {std::uint8_t{5}, std::uint8_t{8}}) {
+    sent.clear();
+    now += period_us;
+    CanFrame bad = encode_rpdo1(node, Rpdo1{controlword::enable_operation, axis + 10});
+    bad.len = len;
+    (void)deliver(bad);
+    (void)deliver(encode_sync());
+    drive->poll(now, out);
+    collect();
+    // Set while the drive runs on: the error register and 0x603F say what happened.
+    EXPECT_EQ(drive->objects().comm.error_register, error_register::generic | error_register::communication) << int{len};
+    EXPECT_EQ(drive->objects().app.error_code, len < 6 ? emcy_code::pdo_length : emcy_code::pdo_length_exceeded);
+    EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+    // Still set after a period without any RPDO (the condition is not known to be gone).
+    now += period_us;
+    (void)deliver(encode_sync());
+    EXPECT_NE(drive->objects().comm.error_register, 0) << int{len};
+    // A good RPDO: cleared, and the master is told with EMCY 0000.
+    (void)period(controlword::enable_operation, axis + 20);
+    EXPECT_EQ(drive->objects().comm.error_register, 0) << int{len};
+    EXPECT_EQ(drive->objects().app.error_code, 0) << int{len};
+    const auto e = emcys();
+    ASSERT_EQ(e.size(), 2u) << int{len};
+    EXPECT_EQ(e[1].error_code, emcy_code::no_error);
+    EXPECT_EQ(e[1].error_register, 0);
+  }
+}
+
+TEST_F(DriveSafety, AGoodRpdoDoesNotClearAFaultThatFollowedALengthError) {
+  enable();
+  now += period_us;
+  CanFrame bad = encode_rpdo1(node, Rpdo1{controlword::enable_operation, axis});
+  bad.len = 8;
+  (void)deliver(bad);
+  (void)deliver(encode_sync());
+  // Then a step far beyond 0x607F x period: the drive faults (0x8400).
+  (void)period(controlword::enable_operation, axis + 5'000'000);
+  ASSERT_EQ(drive->objects().app.error_code, emcy_code::velocity);
+  (void)period(controlword::enable_operation, axis);
+  EXPECT_EQ(drive->objects().app.error_code, emcy_code::velocity) << "only a fault reset clears a fault";
+  EXPECT_NE(drive->objects().comm.error_register, 0);
 }
 
 }  // namespace

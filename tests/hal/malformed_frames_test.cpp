@@ -137,16 +137,17 @@ TEST_F(DriveRejects, SdoForAnotherNodeIsIgnored) {
   expect_no_effect(encode_sdo_download_request(node + 1, 0x6060, 0, 7, 1), "SDO to another node");
 }
 
-TEST_F(DriveRejects, WrongLengthRpdoIsNotApplied) {
+TEST_F(DriveRejects, ShortRpdoIsNotAppliedLongerIsAppliedFromItsMappedBytes) {
   for (const int len : {0, 1, 5, 7, 8}) {
     CanFrame f = encode_rpdo1(node, Rpdo1{0x0006, 999});
     f.len = static_cast<std::uint8_t>(len);
     FrameBuffer<8> out;
     (void)drive.on_frame(f, 1000, out);
     (void)drive.on_frame(encode_sync(), 2000, out);
-    EXPECT_EQ(drive.objects().app.target_position, 0) << len;
-    EXPECT_EQ(drive.state(), Cia402State::switch_on_disabled) << len;
-    // Only the error objects may change: a length error is reported by EMCY 0x8210/0x8220.
+    // Shorter: nothing changes but the error objects. Longer: the six mapped bytes are taken
+    // (controlword "shutdown", target 999), the rest ignored. Either way EMCY 0x8210/0x8220.
+    EXPECT_EQ(drive.objects().app.target_position, len < 6 ? 0 : 999) << len;
+    EXPECT_EQ(drive.state(), len < 6 ? Cia402State::switch_on_disabled : Cia402State::ready_to_switch_on) << len;
     ASSERT_FALSE(out.empty()) << len;
     const auto emcy = decode_emcy(out[0]);
     ASSERT_TRUE(emcy);

@@ -164,12 +164,23 @@ TEST(PdoBinding, WrongLengthOrIdLeavesEveryVariableUntouched) {
   CanFrame f = encode_rpdo1(4, Rpdo1{0x000F, 1000});
   f.len = 5;
   EXPECT_EQ(rpdo.unpack(f), PdoStatus::too_short);
-  f.len = 8;
-  EXPECT_EQ(rpdo.unpack(f), PdoStatus::too_long);
   f = encode_rpdo1(5, Rpdo1{0x000F, 1000});
   EXPECT_EQ(rpdo.unpack(f), PdoStatus::wrong_id);
   EXPECT_EQ(drive.objects().app.controlword, before.app.controlword);
   EXPECT_EQ(drive.objects().app.target_position, before.app.target_position);
+}
+
+TEST(PdoBinding, ALongerFrameIsAppliedFromItsMappedBytes) {
+  DriveNode drive{DriveNodeConfig{4}};
+  PdoBinding rpdo;
+  ASSERT_EQ(rpdo.bind(default_rpdo1_mapping(4), drive.dictionary()), SdoAbort::none);
+  CanFrame f = encode_rpdo1(4, Rpdo1{0x000F, 1000});
+  f.len = 8;
+  f.data[6] = 0xFF;
+  f.data[7] = 0xFF;
+  EXPECT_EQ(rpdo.unpack(f), PdoStatus::applied_longer);
+  EXPECT_EQ(drive.objects().app.controlword, 0x000F);
+  EXPECT_EQ(drive.objects().app.target_position, 1000);
 }
 
 }  // namespace

@@ -83,7 +83,7 @@ TEST(SyncConsumer, AConfiguredCounterMustStepByOne) {
   EXPECT_EQ(next(2), SyncEvent::in_order) << "the repeat became the reference: one error, not a run";
   EXPECT_EQ(next(1), SyncEvent::out_of_sequence) << "back";
   EXPECT_EQ(next(3), SyncEvent::out_of_sequence) << "skipped one";
-  EXPECT_EQ(next(4), SyncEvent::out_of_sequence) << "beyond the overflow value";
+  EXPECT_EQ(next(4), SyncEvent::out_of_range) << "beyond the overflow value";
   EXPECT_EQ(next(0), SyncEvent::unexpected_length) << "no counter at all";
   c.set_counter_overflow(1);  // 1 is no valid overflow: counters are optional again
   EXPECT_EQ(next(0), SyncEvent::in_order);

@@ -199,6 +199,8 @@ void DriveNode::restore(bool application) noexcept {
     limit_active_ = false;
     following_error_timer_.disarm();
     sync_error_reported_ = false;
+    pdo_length_error_ = false;
+    length_ok_since_error_ = false;
   }
   pending_rpdo_.reset();
   rpdo_missing_run_ = 0;
@@ -288,6 +290,19 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     return DriveEvent::handled;
   }
   if (frame.id == objects_.comm.rpdo1_comm.cob_id && nmt_.pdo_allowed()) {
+    // A frame too short for the mapping cannot be processed: refused now, so that it never
+    // replaces a good RPDO already latched for this period.
+    const std::size_t mapped = rpdo1_.mapping().byte_length();
+    if (frame.len < mapped) {
+      ++counters_.rpdos_rejected;
+      pdo_length_error_ = true;
+      length_ok_since_error_ = false;
+      signal_error(emcy_code::pdo_length, error_register::communication, emcy_detail(emcy_cause::none), now_us, out);
+      return DriveEvent::handled;
+    }
+    // A frame of the mapped length after a length error shows the condition is gone (cleared
+    // when it is applied); a longer one is reported when it is applied.
+    length_ok_since_error_ = pdo_length_error_ && frame.len == mapped;
     // Synchronous RPDO: latched now, applied at the next SYNC (CiA 301 transmission type 1).
     if (pending_rpdo_) {
       ++counters_.rpdos_overwritten;
@@ -327,11 +342,14 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
     if (power_.enabled() || power_.stopping()) {
       if (!sync_error_reported_) {
         sync_error_reported_ = true;
-        const bool no_counter = event == SyncEvent::unexpected_length;
-        const std::uint8_t cause = no_counter ? emcy_cause::sync_length
-                                   : event == SyncEvent::too_many ? emcy_cause::sync_rate
-                                                                  : emcy_cause::sync_counter;
-        connection_lost(no_counter ? emcy_code::sync_data_length : emcy_code::communication,
+        // A SYNC whose counter does not match 0x1019 (none while one is configured, or one above
+        // 0x1019) is CiA 301's unexpected SYNC data length; a repeated or skipped counter, or a
+        // rate beyond one per period, is a communication error.
+        const bool mismatch = event == SyncEvent::unexpected_length || event == SyncEvent::out_of_range;
+        const std::uint8_t cause = event == SyncEvent::unexpected_length ? emcy_cause::sync_length
+                                   : event == SyncEvent::too_many        ? emcy_cause::sync_rate
+                                                                         : emcy_cause::sync_counter;
+        connection_lost(mismatch ? emcy_code::sync_data_length : emcy_code::communication,
                         emcy_detail(cause, sync.counter), now_us, out);
       }
       update_statusword();
@@ -342,7 +360,22 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
     if (pending_rpdo_) {
       const PdoStatus status = rpdo1_.unpack(*pending_rpdo_);
       pending_rpdo_.reset();
-      if (status == PdoStatus::ok) {
+      if (status == PdoStatus::applied_longer) {
+        pdo_length_error_ = true;
+        signal_error(emcy_code::pdo_length_exceeded, error_register::communication, emcy_detail(emcy_cause::none),
+                     now_us, out);
+      } else if (status == PdoStatus::ok && length_ok_since_error_) {
+        // The length error is gone: clear 0x603F/0x1001 with EMCY 0000, unless a later error
+        // (a fault, a SYNC error) is what they now report.
+        pdo_length_error_ = false;
+        length_ok_since_error_ = false;
+        const std::uint16_t code = objects_.app.error_code;
+        if ((code == emcy_code::pdo_length || code == emcy_code::pdo_length_exceeded) && power_.state() != Cia402State::fault &&
+            !power_.stopping()) {
+          clear_errors(now_us, out);
+        }
+      }
+      if (status == PdoStatus::ok || status == PdoStatus::applied_longer) {
         // Interpolated position takes its setpoint from 0x60C1:01; the default RPDO1 carries
         // 0x607A, so a received target feeds the interpolation record too.
         if (objects_.app.mode_display == static_cast<std::int8_t>(OperationMode::interpolated_position)) {
@@ -353,10 +386,6 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
         apply_written_controlword(now_us, out);
       } else {
         ++counters_.rpdos_rejected;
-        if (status == PdoStatus::too_short || status == PdoStatus::too_long) {
-          signal_error(status == PdoStatus::too_short ? emcy_code::pdo_length : emcy_code::pdo_length_exceeded,
-                       error_register::communication, emcy_detail(emcy_cause::none), now_us, out);
-        }
       }
     } else if (power_.enabled()) {
       ++counters_.rpdos_missing;

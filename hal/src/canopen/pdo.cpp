@@ -61,9 +61,7 @@ PdoStatus PdoBinding::unpack(const CanFrame& in) noexcept {
   if (in.len < expected) {
     return PdoStatus::too_short;
   }
-  if (in.len > expected) {
-    return PdoStatus::too_long;
-  }
+
   // Check every value before storing any: a PDO is applied whole or not at all.
   std::array<std::uint32_t, pdo_max_entries> raw{};
   std::size_t offset = 0;
@@ -78,7 +76,7 @@ PdoStatus PdoBinding::unpack(const CanFrame& in) noexcept {
   for (std::size_t i = 0; i < mapping_.count; ++i) {
     od_->store_entry(*resolved_[i], raw[i]);
   }
-  return PdoStatus::ok;
+  return in.len > expected ? PdoStatus::applied_longer : PdoStatus::ok;
 }
 
 }  // namespace settle::hal::canopen

@@ -101,7 +101,7 @@ SyncEvent SyncConsumer::check_counter(std::uint8_t counter) noexcept {
     const std::uint8_t previous = last_counter_;
     last_counter_ = counter;
     if (counter > overflow_) {
-      return SyncEvent::out_of_sequence;
+      return SyncEvent::out_of_range;
     }
     if (previous != 0) {
       const std::uint8_t expected = previous >= overflow_ ? 1 : static_cast<std::uint8_t>(previous + 1U);

@@ -283,6 +283,8 @@ class DriveNode {
   bool limit_active_{false};
   bool controlword_written_{false};
   bool sync_error_reported_{false};  // one EMCY per episode: cleared with the errors
+  bool pdo_length_error_{false};       // an RPDO had the wrong length: a later right one clears it
+  bool length_ok_since_error_{false};  // the RPDO latched since then has the mapped length
 };
 
 }  // namespace settle::hal::canopen

@@ -52,7 +52,8 @@ enum class PdoStatus : std::uint8_t {
   unbound,      // bind() did not succeed
   wrong_id,     // not this PDO's COB-ID (or not a CANopen data frame)
   too_short,    // fewer bytes than mapped: not processed (EMCY 0x8210)
-  too_long,     // more bytes than mapped: not processed (EMCY 0x8220)
+  applied_longer,  // more bytes than mapped: the mapped bytes applied, the rest ignored (EMCY
+                   // 0x8220), as CANopenNode and Lely do
   rejected,     // a mapped object refused the value (range, owner's veto)
 };
 
@@ -65,8 +66,9 @@ class PdoBinding {
 
   // Fills a TPDO from the current values of the mapped variables.
   [[nodiscard]] PdoStatus pack(CanFrame& out) const noexcept;
-  // Applies an RPDO to the mapped variables. The length must match exactly, and values are
-  // checked before any is stored, so a rejected frame leaves every variable untouched.
+  // Applies an RPDO to the mapped variables. A frame shorter than the mapping is not processed;
+  // a longer one is, from its mapped bytes (applied_longer, so the owner reports 0x8220). Values
+  // are checked before any is stored, so a rejected frame leaves every variable untouched.
   [[nodiscard]] PdoStatus unpack(const CanFrame& in) noexcept;
 
   [[nodiscard]] const PdoMapping& mapping() const noexcept { return mapping_; }

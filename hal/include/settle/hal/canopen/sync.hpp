@@ -53,12 +53,14 @@ enum class SyncEvent : std::uint8_t {
   gap,       // no counter configured: the counter jumped, SYNCs were lost on the way (see missed())
   // The errors below mean this SYNC must not run a period (a second producer, a duplicated frame):
   unexpected_length,  // a counter is configured (0x1019) but this SYNC carries none (CiA 301: EMCY 0x8240)
+  out_of_range,       // a counter above 0x1019's overflow value: it does not match 0x1019 (EMCY 0x8240)
   out_of_sequence,    // a counter is configured and this one is not the successor of the previous one
   too_many,           // more SYNCs than one per period, beyond the tolerated burst (see SyncConsumer)
 };
 
 [[nodiscard]] constexpr bool is_sync_error(SyncEvent event) noexcept {
-  return event == SyncEvent::unexpected_length || event == SyncEvent::out_of_sequence || event == SyncEvent::too_many;
+  return event == SyncEvent::unexpected_length || event == SyncEvent::out_of_range ||
+         event == SyncEvent::out_of_sequence || event == SyncEvent::too_many;
 }
 
 class SyncConsumer {
