@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The test harness's own CAN node, for readiness and ordering by frames instead of sleeps
-(tests/e2e, tests/cross/servo-replay, tools/demo-run; inside tools/with-vcan's guest).
+(tests/e2e, tests/cross/servo-replay; inside tools/with-vcan's guest; `settle demo` does the same in C++).
 
   tools/canbus.py wait-heartbeat IFACE NODE   returns once NODE's boot-up or heartbeat is on the bus
   tools/canbus.py barrier IFACE NODE          returns once NODE has answered an SDO upload of 0x1018:4:

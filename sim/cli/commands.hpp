@@ -11,6 +11,7 @@ int cmd_simulate(int argc, char** argv);
 int cmd_reproduce(int argc, char** argv);
 int cmd_plant(int argc, char** argv);
 int cmd_stream(int argc, char** argv);
+int cmd_demo(int argc, char** argv);
 
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;

@@ -18,10 +18,11 @@ constexpr Entry kRun[] = {
     {"plan", settle::cli::cmd_plan},         {"sample", settle::cli::cmd_sample},
     {"simulate", settle::cli::cmd_simulate}, {"reproduce", settle::cli::cmd_reproduce},
     {"plant", settle::cli::cmd_plant},       {"stream", settle::cli::cmd_stream},
+    {"demo", settle::cli::cmd_demo},
 };
 
 int unknown_command(const char* name) {
-  std::fprintf(stderr, "settle: error: unknown command '%s' (plan, sample, simulate, reproduce, plant, stream) [bad_command]\n",
+  std::fprintf(stderr, "settle: error: unknown command '%s' (plan, sample, simulate, reproduce, plant, stream, demo) [bad_command]\n",
                name);
   return settle::cli::kExitBadRequest;
 }

@@ -35,9 +35,10 @@ bool have_gnuplot() {
 // Writes `script` next to the data and runs gnuplot in that directory with the same script on its
 // standard input, so the script refers to the CSV files by their plain names and can be rerun by
 // hand. No shell and no path in any command: the directory is the child's working directory.
-SimStatus plot(const std::string& dir, const std::string& name, const std::string& script, FigureFiles& out) {
+SimStatus plot(const std::string& dir, const std::string& name, const std::string& script, FigureFiles& out,
+               const char* terminal = "size 1400,1000") {
   const std::string gp = (fs::path{dir} / (name + ".gp")).string();
-  const std::string text = "set terminal pngcairo size 1400,1000 font 'Sans,10'\nset output " +
+  const std::string text = std::string{"set terminal pngcairo "} + terminal + " font 'Sans,10'\nset output " +
                            gnuplot_string(name + ".png") + "\nset datafile separator ','\nset grid\n" + script;
   if (!write_text(gp, text)) return SimStatus::io_error;
   if (!out.gnuplot) return SimStatus::ok;
@@ -92,6 +93,21 @@ SimStatus write_history_csv(const std::vector<HistorySample>& h, const std::stri
                  s.energy.potential);
   }
   return std::fclose(f) == 0 ? SimStatus::ok : SimStatus::io_error;
+}
+
+SimStatus write_stream_figure(const std::string& dir, const std::string& name, const std::string& csv,
+                              const std::string& title, FigureFiles& out) {
+  const SimStatus st = prepare(dir, out);
+  if (st != SimStatus::ok) return st;
+  const std::string data = gnuplot_string(csv);
+  const std::string script =
+      "set title " + gnuplot_string(title) +
+      "\nset xlabel 't from the move start (s)'\nset ylabel 'counts'\nset key bottom right\n"
+      "plot " + data + " every ::1 using 2:3 with lines lw 2 title 'commanded setpoint (RPDO1)', \\\n"
+      "     '' every ::1 using 2:4 with lines title 'drive position (TPDO1)', \\\n"
+      "     '' every ::1 using 2:5 with lines lw 2 title 'load position (TPDO2)', \\\n"
+      "     '' every ::1 using 2:6 with lines dt 2 title 'load position, offline replay'\n";
+  return plot(dir, name, script, out, "noenhanced size 900,500");  // ids and paths are plain text
 }
 
 SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out) {

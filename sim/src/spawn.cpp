@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <utility>
 #include <ctime>
 
 extern char** environ;
@@ -25,6 +26,7 @@ const char* to_string(SpawnStatus s) noexcept {
     case SpawnStatus::wait_failed: return "wait_failed";
     case SpawnStatus::exit_nonzero: return "exit_nonzero";
     case SpawnStatus::killed: return "killed";
+    case SpawnStatus::output_failed: return "output_failed";
   }
   return "unknown";
 }
@@ -84,9 +86,39 @@ bool write_all_no_sigpipe(int fd, std::string_view data) {
 
 }  // namespace
 
-SpawnResult run_program(const std::vector<std::string>& argv, const SpawnOptions& opt) {
+namespace {
+
+// An output file of the child, opened here (close-on-exec; the child gets a dup2'd copy) so that
+// a path that cannot be created is told apart from a program that cannot be found.
+int open_output(const std::string& path) {
+  int fd = -1;
+  do {
+    fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  } while (fd < 0 && errno == EINTR);
+  return fd;
+}
+
+// The status of an ended child, as run_program reports it.
+SpawnResult result_of(int wstatus, bool input_written) {
   SpawnResult r{};
-  if (argv.empty() || argv[0].empty()) {
+  if (WIFSIGNALED(wstatus)) {
+    r.status = SpawnStatus::killed;
+    r.signal = WTERMSIG(wstatus);
+  } else if (WIFEXITED(wstatus) && WEXITSTATUS(wstatus) != 0) {
+    r.status = SpawnStatus::exit_nonzero;
+    r.exit_code = WEXITSTATUS(wstatus);
+  } else if (!input_written) {
+    r.status = SpawnStatus::input_failed;
+    r.error = EPIPE;
+  }
+  return r;
+}
+
+}  // namespace
+
+SpawnResult start_program(const std::vector<std::string>& argv, const SpawnOptions& opt, ChildProcess& out) {
+  SpawnResult r{};
+  if (argv.empty() || argv[0].empty() || (opt.output == SpawnOutput::to_file && opt.output_file.empty())) {
     r.status = SpawnStatus::bad_request;
     r.error = EINVAL;
     return r;
@@ -105,10 +137,24 @@ SpawnResult run_program(const std::vector<std::string>& argv, const SpawnOptions
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
 
+  int out_fd = -1, err_fd = -1;
+  if (opt.output == SpawnOutput::to_file && (out_fd = open_output(opt.output_file)) < 0) {
+    r.status = SpawnStatus::output_failed;
+    r.error = errno;
+    return r;
+  }
+  if (!opt.error_file.empty() && (err_fd = open_output(opt.error_file)) < 0) {
+    r.status = SpawnStatus::output_failed;
+    r.error = errno;
+    close_fd(out_fd);
+    return r;
+  }
   int fds[2] = {-1, -1};
   if (::pipe2(fds, O_CLOEXEC) != 0) {
     r.status = SpawnStatus::spawn_failed;
     r.error = errno;
+    close_fd(out_fd);
+    close_fd(err_fd);
     return r;
   }
   SpawnSetup s;
@@ -117,12 +163,15 @@ SpawnResult run_program(const std::vector<std::string>& argv, const SpawnOptions
   if (rc == 0) rc = posix_spawnattr_init(&s.attr);
   s.have_attr = s.have_actions && rc == 0;
   // The child's stdin is the pipe's read end (dup2 clears close-on-exec on the copy; both
-  // originals close at exec).
+  // originals close at exec). Its stderr is redirected before stdout may be made a copy of it.
   if (rc == 0) rc = posix_spawn_file_actions_adddup2(&s.actions, fds[0], STDIN_FILENO);
+  if (rc == 0 && err_fd >= 0) rc = posix_spawn_file_actions_adddup2(&s.actions, err_fd, STDERR_FILENO);
   if (rc == 0 && opt.output == SpawnOutput::to_stderr) {
     rc = posix_spawn_file_actions_adddup2(&s.actions, STDERR_FILENO, STDOUT_FILENO);
   } else if (rc == 0 && opt.output == SpawnOutput::discard) {
     rc = posix_spawn_file_actions_addopen(&s.actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  } else if (rc == 0 && opt.output == SpawnOutput::to_file) {
+    rc = posix_spawn_file_actions_adddup2(&s.actions, out_fd, STDOUT_FILENO);
   }
   if (rc == 0 && !opt.workdir.empty()) rc = posix_spawn_file_actions_addchdir_np(&s.actions, opt.workdir.c_str());
   // The child starts with no blocked signals and SIGPIPE at its default, whatever the caller set.
@@ -136,35 +185,96 @@ SpawnResult run_program(const std::vector<std::string>& argv, const SpawnOptions
   pid_t pid = -1;
   if (rc == 0) rc = posix_spawnp(&pid, args[0], &s.actions, &s.attr, args.data(), environ);
   close_fd(fds[0]);
+  close_fd(out_fd);
+  close_fd(err_fd);
   if (rc != 0) {
     close_fd(fds[1]);
     r.status = rc == ENOENT || rc == EACCES || rc == ENOEXEC ? SpawnStatus::not_found : SpawnStatus::spawn_failed;
     r.error = rc;
     return r;
   }
-  const bool written = write_all_no_sigpipe(fds[1], opt.input);
+  ChildProcess child;
+  child.pid_ = pid;
+  child.input_written_ = write_all_no_sigpipe(fds[1], opt.input);
   close_fd(fds[1]);
+  out = std::move(child);
+  return r;
+}
+
+SpawnResult run_program(const std::vector<std::string>& argv, const SpawnOptions& opt) {
+  ChildProcess child;
+  const SpawnResult r = start_program(argv, opt, child);
+  if (r.status != SpawnStatus::ok) return r;
+  return child.wait();
+}
+
+ChildProcess::~ChildProcess() {
+  if (pid_ > 0 && !ended_) {
+    ::kill(pid_, SIGKILL);
+    (void)wait();
+  }
+}
+
+ChildProcess::ChildProcess(ChildProcess&& other) noexcept
+    : pid_{other.pid_}, ended_{other.ended_}, input_written_{other.input_written_}, result_{other.result_} {
+  other.pid_ = -1;
+}
+
+ChildProcess& ChildProcess::operator=(ChildProcess&& other) noexcept {
+  if (this != &other) {
+    if (pid_ > 0 && !ended_) {
+      ::kill(pid_, SIGKILL);
+      (void)wait();
+    }
+    pid_ = other.pid_;
+    ended_ = other.ended_;
+    input_written_ = other.input_written_;
+    result_ = other.result_;
+    other.pid_ = -1;
+  }
+  return *this;
+}
+
+void ChildProcess::take_status(int wstatus) noexcept {
+  ended_ = true;
+  result_ = result_of(wstatus, input_written_);
+}
+
+bool ChildProcess::running() noexcept {
+  if (pid_ <= 0 || ended_) return false;
   int wstatus = 0;
   pid_t w = -1;
   do {
-    w = ::waitpid(pid, &wstatus, 0);
+    w = ::waitpid(pid_, &wstatus, WNOHANG);
+  } while (w < 0 && errno == EINTR);
+  if (w == 0) return true;
+  if (w < 0) {
+    ended_ = true;
+    result_ = SpawnResult{SpawnStatus::wait_failed, 0, 0, errno};
+    return false;
+  }
+  take_status(wstatus);
+  return false;
+}
+
+void ChildProcess::signal(int sig) noexcept {
+  if (pid_ > 0 && !ended_) ::kill(pid_, sig);
+}
+
+SpawnResult ChildProcess::wait() noexcept {
+  if (pid_ <= 0 || ended_) return result_;
+  int wstatus = 0;
+  pid_t w = -1;
+  do {
+    w = ::waitpid(pid_, &wstatus, 0);
   } while (w < 0 && errno == EINTR);
   if (w < 0) {
-    r.status = SpawnStatus::wait_failed;
-    r.error = errno;
-    return r;
+    ended_ = true;
+    result_ = SpawnResult{SpawnStatus::wait_failed, 0, 0, errno};
+    return result_;
   }
-  if (WIFSIGNALED(wstatus)) {
-    r.status = SpawnStatus::killed;
-    r.signal = WTERMSIG(wstatus);
-  } else if (WIFEXITED(wstatus) && WEXITSTATUS(wstatus) != 0) {
-    r.status = SpawnStatus::exit_nonzero;
-    r.exit_code = WEXITSTATUS(wstatus);
-  } else if (!written) {
-    r.status = SpawnStatus::input_failed;
-    r.error = EPIPE;
-  }
-  return r;
+  take_status(wstatus);
+  return result_;
 }
 
 }  // namespace settle::sim

@@ -284,6 +284,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"stream", join({move, plant, drive,
                        {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--heartbeat-ms",
                         "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log"}})},
+      {"demo", join({{"--bus", "--out", "--list"}})},
   };
   ASSERT_EQ(expected.size(), settle::cli::commands().size());
   for (const auto& [cmd, options] : expected) {

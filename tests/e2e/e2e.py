@@ -11,17 +11,19 @@ import json, os, signal, subprocess, sys, tempfile
 
 SETTLE = sys.argv[1]
 TEST = sys.argv[2]
-# The papers' scenarios, the same the demo streams (tools/paper_scenarios.py), and the harness's
-# own CAN node (tools/canbus.py): readiness and ordering by frames, never by sleeping.
+# The papers' scenarios, the same the demo streams (`settle demo --list --json`, with the constants
+# they derive from), and the harness's own CAN node (tools/canbus.py): readiness and ordering by
+# frames, never by sleeping.
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import canbus  # noqa: E402
-import paper_scenarios  # noqa: E402
 
-W000 = paper_scenarios.W000
+TABLE = json.loads(subprocess.run([SETTLE, "demo", "--list", "--json"], capture_output=True, text=True, check=True,
+                                  timeout=60).stdout)
+W000 = TABLE["beam_omega1"]
 NODE = 1
 
-# The drive and the loop tolerate a stalled user-mode-linux guest (see tools/demo-run); the fault
+# The drive and the loop tolerate a stalled user-mode-linux guest (as in sim/cli/demo.cpp); the fault
 # tests set the one timeout they are about to what they test.
 PLANT_TOLERANT = ["--sync-loss-periods", "250"]
 # The loop's feedback watchdog tolerates what the drive's SYNC watchdog tolerates (a guest's stall).
@@ -34,7 +36,7 @@ STREAM_WATCHDOG = ["--heartbeat-ms", "2000", "--sdo-timeout-ms", "5000"]
 STREAM_TOLERANT = [*STREAM_WATCHDOG, "--feedback-timeout-periods", "250"]
 
 # id -> (plant args, move args, axis vmax, out scale)
-SCENARIOS = {row[0]: (row[2], row[3], row[4], row[5]) for row in paper_scenarios.scenarios()}
+SCENARIOS = {s["id"]: (s["plant"], s["move"], s["axis_vmax"], s["out_scale"]) for s in TABLE["scenarios"]}
 
 
 # Every process a test starts is killed when the test ends, however it ends (a failed check, an

@@ -23,6 +23,13 @@ struct FigureFiles {
 [[nodiscard]] SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFiles& out);
 [[nodiscard]] SimStatus write_figures_004(const Result004& r, const std::string& dir, FigureFiles& out);
 
+// The demo's figure of one streamed move, from its `settle stream --feedback-log` CSV (`csv`, a
+// file in `dir`: period, t, commanded, drive position, load position, load position replayed
+// offline): commanded and measured motion in counts, which coincide when the bus is faithful.
+// Writes <name>.gp and, with gnuplot, <name>.png in `dir`.
+[[nodiscard]] SimStatus write_stream_figure(const std::string& dir, const std::string& name, const std::string& csv,
+                                            const std::string& title, FigureFiles& out);
+
 // `text` as a gnuplot single-quoted string: ' doubled (gnuplot's escape; backslashes are literal
 // there), line breaks as spaces (a gnuplot command is one line).
 [[nodiscard]] std::string gnuplot_string(std::string_view text);

@@ -1,0 +1,500 @@
+#include "demo.hpp"
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "settle/hal/canopen/heartbeat.hpp"
+#include "settle/hal/canopen/sdo.hpp"
+#include "settle/hal/socketcan_bus.hpp"
+#include "settle/sim/figures.hpp"
+#include "settle/sim/spawn.hpp"
+#include "socketcan_open.hpp"
+
+namespace settle::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace co = hal::canopen;
+
+constexpr co::NodeId kNode = 1;
+// A bound on a hang (a drive that never boots, never answers), not a readiness delay.
+constexpr std::chrono::seconds kGuard{60};
+// The object the barrier reads: the identity's serial number, which no master here reads.
+constexpr std::uint16_t kBarrierIndex = 0x1018;
+constexpr std::uint8_t kBarrierSub = 4;
+
+std::string num(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string path_in(const std::string& dir, const std::string& name) { return (fs::path{dir} / name).string(); }
+
+// The harness's own CAN node for one drive process: opened before the process starts, so that
+// its boot-up cannot be missed; it hears only the drive's heartbeats and SDO answers.
+class DriveWatch {
+ public:
+  [[nodiscard]] hal::OpenStatus open(const std::string& iface) {
+    const hal::OpenStatus st = open_socketcan(bus_, iface);
+    if (st != hal::OpenStatus::ok) return st;
+    const hal::CanFilter filters[] = {
+        {co::cob_id(co::cob::heartbeat, kNode), 0x7FF, hal::FrameFormat::standard},
+        {co::cob_id(co::cob::sdo_tx, kNode), 0x7FF, hal::FrameFormat::standard},
+    };
+    if (bus_.set_filters(filters) != hal::BusStatus::ok) return hal::OpenStatus::error;
+    return st;
+  }
+
+  // The drive's boot-up or heartbeat: its socket is open and it takes frames from now on.
+  [[nodiscard]] bool wait_heartbeat(sim::ChildProcess& drive, std::string& why) {
+    return wait_for([](const hal::CanFrame& f) { return co::decode_heartbeat(f).has_value() && f.id == co::cob_id(co::cob::heartbeat, kNode); },
+                    drive, "the drive's boot-up or heartbeat", why);
+  }
+
+  // Sends an SDO upload and waits for the answer (the value or an abort). The drive takes the
+  // frames of its queue in order, so it has then taken every frame sent on the bus before.
+  [[nodiscard]] bool barrier(sim::ChildProcess& drive, std::string& why) {
+    hal::CanFrame f{};
+    while (bus_.receive(f, 0) == hal::ReceiveStatus::received) {  // answers queued before are not this one's
+    }
+    const hal::CanFrame request = co::encode_sdo_upload_request(kNode, kBarrierIndex, kBarrierSub);
+    const auto end = std::chrono::steady_clock::now() + kGuard;
+    hal::SendStatus sent = bus_.send(request);
+    while (sent == hal::SendStatus::busy && std::chrono::steady_clock::now() < end) {
+      hal::CanFrame ignored{};
+      (void)bus_.receive(ignored, 1000);  // a full transmit queue drains within a frame time
+      sent = bus_.send(request);
+    }
+    if (sent != hal::SendStatus::sent) {
+      why = "the barrier SDO could not be sent";
+      return false;
+    }
+    return wait_for(
+        [](const hal::CanFrame& fr) {
+          const auto m = co::decode_sdo_response(fr, kNode);
+          return m && m->index == kBarrierIndex && m->sub == kBarrierSub &&
+                 (m->kind == co::SdoKind::upload_response || m->kind == co::SdoKind::abort);
+        },
+        drive, "the drive's answer to the barrier SDO", why);
+  }
+
+ private:
+  template <typename Match>
+  bool wait_for(Match match, sim::ChildProcess& drive, const char* what, std::string& why) {
+    const auto end = std::chrono::steady_clock::now() + kGuard;
+    hal::CanFrame f{};
+    while (std::chrono::steady_clock::now() < end) {
+      const hal::ReceiveStatus rs = bus_.receive(f, 100'000);
+      if (rs == hal::ReceiveStatus::received && match(f)) return true;
+      if (rs == hal::ReceiveStatus::error) {
+        why = std::string{what} + ": receive failed (errno " + std::to_string(bus_.last_errno()) + ")";
+        return false;
+      }
+      if (!drive.running()) {
+        why = std::string{what} + ": the drive process has exited";
+        return false;
+      }
+    }
+    why = std::string{what} + ": not seen within " + std::to_string(kGuard.count()) + " s";
+    return false;
+  }
+
+  hal::SocketCanBus bus_;
+};
+
+std::optional<Json> read_json(const std::string& path, std::string& why) {
+  std::ifstream in{path};
+  if (!in) {
+    why = "no " + fs::path{path}.filename().string();
+    return std::nullopt;
+  }
+  Json j = Json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) {
+    why = fs::path{path}.filename().string() + " is not one JSON object";
+    return std::nullopt;
+  }
+  return j;
+}
+
+long long count_lines(const std::string& path) {
+  std::ifstream in{path};
+  if (!in) return 0;
+  return static_cast<long long>(std::count(std::istreambuf_iterator<char>{in}, std::istreambuf_iterator<char>{}, '\n'));
+}
+
+std::vector<std::string> concat(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+// `settle stream` on the scenario: the common part of every run's command line.
+std::vector<std::string> stream_argv(const DemoSpec& spec, const PaperScenario& s, const std::string& bus) {
+  std::vector<std::string> v{spec.settle, "stream", "--bus", bus};
+  v = concat(concat(v, s.plant), s.move);
+  return concat(v, {"--axis-vmax", num("%g", s.axis_vmax), "--settle-time", "1"});
+}
+
+sim::SpawnOptions to_files(const std::string& out, const std::string& err) {
+  sim::SpawnOptions o;
+  o.output = sim::SpawnOutput::to_file;
+  o.output_file = out;
+  o.error_file = err;
+  return o;
+}
+
+std::string spawn_failure(const char* what, const sim::SpawnResult& r) {
+  return std::string{what} + " could not be started: " + sim::to_string(r.status) + " (errno " +
+         std::to_string(r.error) + ")";
+}
+
+// Every file a run of the demo writes for one scenario: removed first, so that a file left by an
+// earlier run (a plant summary after a loopback run) is never read as this run's.
+void remove_outputs(const std::string& dir, const std::string& id) {
+  std::vector<std::string> names{"plant-" + id + ".json",    "plant-" + id + ".csv",  "plant-" + id + ".err",
+                                 "stream-" + id + ".json",   "stream-" + id + ".csv", "stream-" + id + ".err",
+                                 "stream-" + id + ".log",    "feedback-" + id + ".csv", "bus-" + id + ".log",
+                                 id + ".png",                id + ".gp"};
+  for (const char* sc : kDemoScalars) {
+    names.push_back("scalar-" + std::string{sc} + "-" + id + ".json");
+    names.push_back("scalar-" + std::string{sc} + "-" + id + ".err");
+  }
+  std::error_code ec;
+  for (const std::string& n : names) fs::remove(path_in(dir, n), ec);
+}
+
+// One scenario over SocketCAN: the drive process, readiness by its heartbeat, the loop process,
+// the barrier, SIGTERM, and both JSON summaries.
+void run_socketcan(const DemoSpec& spec, DemoRun& run) {
+  const PaperScenario& s = run.scenario;
+  const std::string& id = s.id;
+  DriveWatch watch;
+  if (const hal::OpenStatus st = watch.open(spec.bus); st != hal::OpenStatus::ok) {
+    run.error = "cannot open " + spec.bus + ": " + hal::to_string(st);
+    return;
+  }
+  // The drive tolerates 250 missing SYNC periods, the loop 250 periods without feedback and 2 s
+  // of heartbeat silence: sized for a user-mode-linux guest on a busy host, whose timer can stall
+  // for tens of milliseconds. The plant is SYNC-driven, so a stall delays the physics but never
+  // changes it. No SCHED_FIFO for the loop: in the guest both processes share one CPU, and a loop
+  // kept late by a loaded host would starve the drive's process (see tests/e2e/e2e.py).
+  const std::vector<std::string> plant_argv =
+      concat(concat({spec.settle, "plant", "--bus", spec.bus}, s.plant),
+             {"--sync-loss-periods", "250", "--log", path_in(spec.out, "plant-" + id + ".csv"), "--json"});
+  sim::ChildProcess drive;
+  sim::SpawnResult r = sim::start_program(
+      plant_argv, to_files(path_in(spec.out, "plant-" + id + ".json"), path_in(spec.out, "plant-" + id + ".err")), drive);
+  if (r.status != sim::SpawnStatus::ok) {
+    run.error = spawn_failure("settle plant", r);
+    return;
+  }
+  if (!watch.wait_heartbeat(drive, run.error)) return;  // the drive is killed with `drive`
+  const std::vector<std::string> loop_argv = concat(
+      stream_argv(spec, s, spec.bus),
+      {"--heartbeat-ms", "2000", "--feedback-timeout-periods", "250", "--sdo-timeout-ms", "5000",
+       "--log", path_in(spec.out, "stream-" + id + ".csv"), "--feedback-log", path_in(spec.out, "feedback-" + id + ".csv"),
+       "--candump", path_in(spec.out, "stream-" + id + ".log"), "--json"});
+  r = sim::run_program(loop_argv, to_files(path_in(spec.out, "stream-" + id + ".json"),
+                                           path_in(spec.out, "stream-" + id + ".err")));
+  if (r.status != sim::SpawnStatus::ok && r.status != sim::SpawnStatus::exit_nonzero) {
+    run.error = spawn_failure("settle stream", r);
+    return;
+  }
+  std::string barrier_why;
+  const bool drained = watch.barrier(drive, barrier_why);
+  drive.signal(SIGTERM);
+  (void)drive.wait();
+  std::string why;
+  run.stream = read_json(path_in(spec.out, "stream-" + id + ".json"), why);
+  if (!run.stream) run.error = why;
+  run.plant = read_json(path_in(spec.out, "plant-" + id + ".json"), why);
+  run.logged = count_lines(path_in(spec.out, "stream-" + id + ".log"));
+  if (!drained && run.error.empty()) run.error = barrier_why;
+}
+
+void run_loopback(const DemoSpec& spec, DemoRun& run) {
+  const std::string& id = run.scenario.id;
+  const std::vector<std::string> argv =
+      concat(stream_argv(spec, run.scenario, "loopback"),
+             {"--log", path_in(spec.out, "stream-" + id + ".csv"), "--feedback-log",
+              path_in(spec.out, "feedback-" + id + ".csv"), "--candump", path_in(spec.out, "bus-" + id + ".log"), "--json"});
+  const sim::SpawnResult r = sim::run_program(
+      argv, to_files(path_in(spec.out, "stream-" + id + ".json"), path_in(spec.out, "stream-" + id + ".err")));
+  if (r.status != sim::SpawnStatus::ok && r.status != sim::SpawnStatus::exit_nonzero) {
+    run.error = spawn_failure("settle stream", r);
+    return;
+  }
+  run.stream = read_json(path_in(spec.out, "stream-" + id + ".json"), run.error);
+}
+
+// The loop's three evaluations on the loopback bus, in virtual time: quick, where three real-time
+// runs per scenario on a SocketCAN bus would triple the demo. Each run is proven against the
+// replay of its own evaluation's setpoints.
+void run_scalars(const DemoSpec& spec, DemoScalarRuns& runs) {
+  const std::string& id = runs.scenario.id;
+  for (std::size_t k = 0; k < kDemoScalars.size(); ++k) {
+    const std::string sc = kDemoScalars[k];
+    const std::string base = path_in(spec.out, "scalar-" + sc + "-" + id);
+    const std::vector<std::string> argv =
+        concat(stream_argv(spec, runs.scenario, "loopback"), {"--scalar", sc, "--json"});
+    const sim::SpawnResult r = sim::run_program(argv, to_files(base + ".json", base + ".err"));
+    std::string why;
+    if (r.status == sim::SpawnStatus::ok || r.status == sim::SpawnStatus::exit_nonzero) {
+      runs.runs[k] = read_json(base + ".json", why);
+    }
+  }
+}
+
+// Appends `from` to `to`; false if either cannot be read or written.
+bool append_file(const std::string& from, std::ofstream& to) {
+  std::ifstream in{from, std::ios::binary};
+  if (!in) return false;
+  to << in.rdbuf();
+  return static_cast<bool>(to);
+}
+
+}  // namespace
+
+bool run_ok(const DemoRun& run, bool socketcan) {
+  if (!run.stream || !run.error.empty()) return false;
+  const Json& r = *run.stream;
+  if (r.value("status", "") != "ok") return false;
+  if (!socketcan) return true;
+  return run.logged == r.value("frames_sent", -1LL) + r.value("frames_received", -1LL);
+}
+
+bool DemoReport::ok() const {
+  for (const DemoRun& r : runs) {
+    if (!run_ok(r, socketcan)) return false;
+  }
+  return !runs.empty();
+}
+
+bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, DemoReport& report, std::string& why) {
+  std::error_code ec;
+  fs::create_directories(spec.out, ec);
+  if (ec || !fs::is_directory(spec.out)) {
+    why = "cannot create the output directory " + spec.out;
+    return false;
+  }
+  DemoReport rep;
+  rep.out = fs::absolute(spec.out, ec).lexically_normal().string();
+  rep.socketcan = spec.bus != "loopback";
+  rep.bus = rep.socketcan ? spec.bus : "loopback (in-process bus, virtual time: no kernel CAN involved)";
+  rep.gammas = scenarios.gammas_optimised;
+  if (rep.socketcan) {  // the bus must be there before any process is started
+    DriveWatch probe;
+    if (const hal::OpenStatus st = probe.open(spec.bus); st != hal::OpenStatus::ok) {
+      why = "cannot open " + spec.bus + ": " + hal::to_string(st) + " (tools/demo brings vcan0 up; or --bus loopback)";
+      return false;
+    }
+  }
+  for (const PaperScenario& s : scenarios.scenarios) remove_outputs(spec.out, s.id);
+  fs::remove(path_in(spec.out, "bus.log"), ec);
+
+  std::ofstream bus_log{path_in(spec.out, "bus.log"), std::ios::binary};
+  for (const PaperScenario& s : scenarios.scenarios) {
+    std::fprintf(stderr, "settle demo: %s on %s\n", s.id.c_str(), rep.socketcan ? spec.bus.c_str() : "loopback");
+    DemoRun run{s, std::nullopt, std::nullopt, -1, ""};
+    if (rep.socketcan) {
+      run_socketcan(spec, run);
+    } else {
+      run_loopback(spec, run);
+    }
+    // bus.log: every frame of every session, from the loops' own logs (on SocketCAN every frame
+    // the loop sent and received; on loopback a listening port's view of the in-process bus).
+    (void)append_file(path_in(spec.out, (rep.socketcan ? "stream-" : "bus-") + s.id + ".log"), bus_log);
+    rep.runs.push_back(std::move(run));
+  }
+  bus_log.close();
+  for (const PaperScenario& s : scenarios.scenarios) {
+    DemoScalarRuns runs{s, {}};
+    run_scalars(spec, runs);
+    rep.scalars.push_back(std::move(runs));
+  }
+  // Per scenario: the commanded setpoints and the load position measured over CAN (aligned
+  // period by period), with the offline replay on top.
+  for (const DemoRun& run : rep.runs) {
+    const std::string csv = "feedback-" + run.scenario.id + ".csv";
+    if (!fs::exists(path_in(spec.out, csv))) continue;
+    sim::FigureFiles files;
+    const std::string title = run.scenario.label + ", " + run.scenario.id + ": commanded and measured over CAN";
+    if (sim::write_stream_figure(spec.out, run.scenario.id, csv, title, files) == sim::SimStatus::ok) {
+      rep.gnuplot = files.gnuplot;
+      rep.plots.insert(rep.plots.end(), files.png.begin(), files.png.end());
+    }
+  }
+  report = std::move(rep);
+  return true;
+}
+
+// ---- the report ---------------------------------------------------------------------------------
+
+namespace {
+
+bool has_number(const Json& j, const char* key) { return j.contains(key) && j.at(key).is_number(); }
+
+std::string cell(const Json& j, const char* key, const char* f = "%.3e") {
+  return has_number(j, key) ? num(f, j.at(key).get<double>()) : "-";
+}
+
+long long integer(const Json& j, const char* key) { return has_number(j, key) ? j.at(key).get<long long>() : 0; }
+
+std::string text(const Json& j, const char* key) {
+  return j.contains(key) && j.at(key).is_string() ? j.at(key).get<std::string>() : "-";
+}
+
+// The scalar table: float or fixed against double, three cells and a note ("" when they agree).
+struct Comparison {
+  std::string sp{"-"}, residual{"-"}, dres{"-"};
+  std::string note;
+  bool agrees{false};
+};
+
+Comparison compare(const char* sc, const std::optional<Json>& r, const std::optional<Json>& d) {
+  Comparison c;
+  const std::string name = sc;
+  if (!r || !d || text(*d, "status") != "ok") {
+    c.note = name + ": no result";
+    return c;
+  }
+  if (text(*r, "evaluation") != "ok") {
+    c.residual = "refused";
+    c.note = name + ": refused (" + text(*r, "evaluation") + ")";
+    return c;
+  }
+  if (text(*r, "status") != "ok" || !has_number(*r, "residual_can") || !has_number(*d, "residual_can")) {
+    c.note = name + ": " + text(*r, "outcome") + ", not aligned";
+    return c;
+  }
+  const long long dsp = integer(*r, "setpoints_vs_double_max_counts");
+  const double rr = r->at("residual_can").get<double>(), rd = d->at("residual_can").get<double>();
+  const double dres = std::abs(rr - rd) / rd * 100.0;
+  c.sp = std::to_string(dsp);
+  c.residual = num("%.4e", rr);
+  c.dres = num("%.3g", dres);
+  std::string bad;
+  if (dsp > 1) bad = std::to_string(dsp) + " counts";
+  if (dres > 1.0) {
+    bad += (bad.empty() ? "" : ", ") + num("%.3g", dres) + " % = " + cell(*r, "residual_vs_double_load_counts", "%.2g") +
+           " load count";
+  }
+  if (bad.empty()) {
+    c.agrees = true;
+  } else {
+    c.note = name + ": NO, " + bad;
+  }
+  return c;
+}
+
+}  // namespace
+
+void print_demo(const DemoReport& rep, std::FILE* out) {
+  std::fprintf(out, "\nSettle demo: bus %s\n", rep.bus.c_str());
+  std::string g;
+  for (const double x : rep.gammas) g += (g.empty() ? "" : ",") + num("%.9g", x);
+  std::fprintf(out, "seed 004 exponents: %s (optimised from 3,4,5)\n\n", g.c_str());
+  const char* row = "%-19s %-13s %7s %6s %6s %6s %4s %5s %8s %13s %9s %16s %9s %9s %16s";
+  std::fprintf(out, row, "scenario", "profile", "T (s)", "sent", "recv", "logged", "lost", "late", "overruns",
+               "residual CAN", "PRV CAN %", "residual offline", "PRV off %", "agreement", "continuous PRV %");
+  std::fputc('\n', out);
+  long long log_total = 0, frames_total = 0;
+  for (const DemoRun& run : rep.runs) {
+    const char* name = run.scenario.label.c_str();
+    if (!run.stream) {
+      std::fprintf(out, "%-19s %s: no result (%s)\n", name, run.scenario.id.c_str(), run.error.c_str());
+      continue;
+    }
+    const Json& r = *run.stream;
+    long long lost = integer(r, "frames_lost");
+    if (run.plant) lost += integer(*run.plant, "rx_overflow_drops");
+    const long long counted = integer(r, "frames_sent") + integer(r, "frames_received");
+    std::string logged = "-";
+    if (rep.socketcan) {
+      logged = std::to_string(run.logged);
+      log_total += run.logged;
+      frames_total += counted;
+    }
+    const std::string continuous =
+        has_number(r, "residual_continuous") ? cell(r, "prv_continuous_percent", "%.4f") : "-";
+    std::fprintf(out, row, name, text(r, "profile").c_str(), cell(r, "move_time", "%.4f").c_str(),
+                 std::to_string(integer(r, "frames_sent")).c_str(), std::to_string(integer(r, "frames_received")).c_str(),
+                 logged.c_str(), std::to_string(lost).c_str(), std::to_string(integer(r, "feedback_late_ticks")).c_str(),
+                 std::to_string(integer(r, "overruns")).c_str(), cell(r, "residual_can").c_str(),
+                 cell(r, "prv_can_percent", "%.4f").c_str(), cell(r, "residual_offline").c_str(),
+                 cell(r, "prv_offline_percent", "%.4f").c_str(), cell(r, "agreement", "%.1e").c_str(), continuous.c_str());
+    if (!run_ok(run, rep.socketcan)) {
+      const std::string why = !run.error.empty()           ? run.error
+                              : text(r, "status") != "ok" ? text(r, "outcome")
+                                                           : "bus log incomplete";
+      std::fprintf(out, "  <- %s", why.c_str());
+    }
+    std::fputc('\n', out);
+  }
+  if (rep.socketcan) {
+    std::fprintf(out, "\nbus.log: %lld frames, the streams' frames sent + received: %lld%s\n", log_total, frames_total,
+                 log_total == frames_total ? " (complete)" : " -- INCOMPLETE");
+  }
+
+  // The three evaluations: setpoints against double's (largest difference, counts) and the
+  // residual measured over CAN against the double run's (percent; and in load counts, next to
+  // the resolution).
+  std::fprintf(out, "\nThe loop's evaluation (settle stream --scalar, loopback bus): float and fixed against double\n\n");
+  const char* srow = "%-19s %-13s %13s | %5s %13s %8s | %5s %13s %8s | %s\n";
+  std::fprintf(out, srow, "scenario", "profile", "residual dbl", "d sp", "residual flt", "d res %", "d sp", "residual fix",
+               "d res %", "agree (sp <= 1 count, residual <= 1 %)");
+  int agree = 0, total = 0;
+  for (const DemoScalarRuns& s : rep.scalars) {
+    const std::optional<Json>& d = s.runs[0];
+    const Comparison f = compare("float", s.runs[1], d), x = compare("fixed", s.runs[2], d);
+    total += 2;
+    agree += (f.agrees ? 1 : 0) + (x.agrees ? 1 : 0);
+    std::string notes = f.note;
+    if (!x.note.empty()) notes += (notes.empty() ? "" : "; ") + x.note;
+    std::fprintf(out, srow, s.scenario.label.c_str(), d ? text(*d, "profile").c_str() : "-",
+                 d ? cell(*d, "residual_can", "%.4e").c_str() : "-", f.sp.c_str(), f.residual.c_str(), f.dres.c_str(),
+                 x.sp.c_str(), x.residual.c_str(), x.dres.c_str(), notes.empty() ? "yes" : notes.c_str());
+  }
+  std::fprintf(out, "\nfloat and fixed agree with double on %d of %d runs\n", agree, total);
+  std::fputs("'d sp' = largest |setpoint - double's setpoint| in counts; 'd res %' = |residual - double's| / double's.\n"
+             "A residual under one load count is at the measurement's floor: a one-count setpoint change moves it\n"
+             "by more than 1 % there, so such rows also give the difference in load counts.\n"
+             "\nresiduals in output units (m of tip or mass, rad of platform); PRV = % of an unshaped step's residual;\n"
+             "'logged' = lines of the stream's own bus log (every frame it sent and received; = sent + recv);\n"
+             "'late' = servo ticks whose feedback arrived after the next tick began (aligned by sequence, not lost);\n"
+             "'continuous' = the same move without sampling or quantisation: the difference is what 1 kHz and 1 count "
+             "add.\n",
+             out);
+  std::fprintf(out, "\nresults, logs and plots: %s\n", rep.out.c_str());
+  std::fprintf(out,
+               "  bus.log (candump format, every frame of every session), stream-*.json/csv/log (servo loop), "
+               "feedback-*.csv (aligned), plant-*.csv (drive), *.png%s\n",
+               rep.gnuplot ? "" : " (gnuplot not found: .gp scripts written, PNGs not rendered)");
+}
+
+Json demo_json(const DemoReport& rep) {
+  Json runs = Json::array();
+  for (const DemoRun& r : rep.runs) {
+    runs.push_back(Json{{"id", r.scenario.id},
+                        {"label", r.scenario.label},
+                        {"ok", run_ok(r, rep.socketcan)},
+                        {"error", r.error},
+                        {"logged", r.logged < 0 ? Json(nullptr) : Json(r.logged)},
+                        {"stream", r.stream ? *r.stream : Json(nullptr)},
+                        {"plant", r.plant ? *r.plant : Json(nullptr)}});
+  }
+  Json scalars = Json::array();
+  for (const DemoScalarRuns& s : rep.scalars) {
+    Json j{{"id", s.scenario.id}};
+    for (std::size_t k = 0; k < kDemoScalars.size(); ++k) j[kDemoScalars[k]] = s.runs[k] ? *s.runs[k] : Json(nullptr);
+    scalars.push_back(j);
+  }
+  return Json{{"status", rep.ok() ? "ok" : "error"}, {"bus", rep.bus}, {"out", rep.out}, {"gammas", rep.gammas},
+              {"runs", runs}, {"scalars", scalars}, {"plots", rep.plots}};
+}
+
+}  // namespace settle::cli

@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""`settle demo` against its own scenario list (`settle demo --list --json`): its first table has one
+row per scenario, in order, with the scenario's label and profile, each run completed and aligned
+with its offline replay, and the residuals it prints are the ones its runs reported (their JSON
+files); on a SocketCAN bus each row's bus log holds every frame its counters count, and bus.log is
+their sum. The second table compares double, float and fixed on every scenario. A plot per
+scenario when gnuplot is there.
+
+  demo_test.py SETTLE loopback|IFACE      (IFACE: run through tools/with-vcan)
+"""
+import json, os, re, shutil, subprocess, sys, tempfile
+
+SETTLE, BUS = sys.argv[1], sys.argv[2]
+
+
+def fail(msg):
+    print("FAIL:", msg)
+    sys.exit(1)
+
+
+def check(cond, msg):
+    if not cond:
+        fail(msg)
+    print("ok:", msg)
+
+
+def option(args, name):
+    return args[args.index(name) + 1]
+
+
+def table(lines, header_start):
+    """The rows of the table whose header line starts with header_start: up to the first blank line."""
+    at = next((i for i, l in enumerate(lines) if l.startswith(header_start)), None)
+    if at is None:
+        fail(f"no table headed {header_start!r} in:\n" + "\n".join(lines))
+    rows = []
+    for l in lines[at + 1:]:
+        if not l.strip():
+            break
+        rows.append(l)
+    return rows
+
+
+def main():
+    listing = subprocess.run([SETTLE, "demo", "--list", "--json"], capture_output=True, text=True, timeout=60)
+    check(listing.returncode == 0, "settle demo --list --json")
+    scenarios = json.loads(listing.stdout)["scenarios"]
+    check(len(scenarios) >= 8, f"{len(scenarios)} scenarios listed")
+    socketcan = BUS != "loopback"
+    with tempfile.TemporaryDirectory(prefix="settle-demo-") as out:
+        r = subprocess.run([SETTLE, "demo", "--bus", BUS, "--out", out], capture_output=True, text=True, timeout=1100)
+        print(r.stdout)
+        check(r.returncode == 0, f"settle demo --bus {BUS} exited {r.returncode}: {r.stderr[-2000:]}")
+        lines = r.stdout.splitlines()
+        check(any(l.startswith("Settle demo: bus " + ("vcan0" if socketcan else "loopback")) for l in lines),
+              "the table says which bus was used")
+        rows = table(lines, "scenario            profile         T (s)")
+        check(len(rows) == len(scenarios), f"one row per scenario ({len(rows)} rows)")
+        logged_total = 0
+        for row, s in zip(rows, scenarios):
+            cells = row.split()
+            label_words = len(s["label"].split())
+            label, profile = " ".join(cells[:label_words]), cells[label_words]
+            check(label == s["label"] and profile == option(s["move"], "--profile"),
+                  f"{s['id']}: row '{label} {profile}' in the list's order")
+            check("<-" not in row and "no result" not in row, f"{s['id']}: no failure marked")
+            j = json.load(open(os.path.join(out, f"stream-{s['id']}.json")))
+            check(j["status"] == "ok" and j["aligned"], f"{s['id']}: completed, CAN feedback aligned with the replay")
+            nums = cells[label_words + 1:]
+            sent, recv, logged = nums[1], nums[2], nums[3]
+            check(sent == str(j["frames_sent"]) and recv == str(j["frames_received"]) and
+                  nums[7] == f"{j['residual_can']:.3e}" and nums[9] == f"{j['residual_offline']:.3e}",
+                  f"{s['id']}: frames {sent}/{recv} and residual {nums[7]} are its run's")
+            if socketcan:
+                lines_in_log = sum(1 for _ in open(os.path.join(out, f"stream-{s['id']}.log")))
+                check(logged == str(lines_in_log) and lines_in_log == j["frames_sent"] + j["frames_received"],
+                      f"{s['id']}: its bus log holds every frame it counted ({lines_in_log})")
+                logged_total += lines_in_log
+                plant = json.load(open(os.path.join(out, f"plant-{s['id']}.json")))
+                check(plant["frames_received"] == j["frames_sent"] + 1,
+                      f"{s['id']}: the drive process took every frame the loop sent, and the barrier")
+            else:
+                check(logged == "-", f"{s['id']}: no bus log counted on loopback")
+            if shutil.which("gnuplot"):
+                check(os.path.getsize(os.path.join(out, f"{s['id']}.png")) > 0, f"{s['id']}: plot written")
+        if socketcan:
+            bus_lines = sum(1 for _ in open(os.path.join(out, "bus.log")))
+            check(bus_lines == logged_total and any(l.startswith(f"bus.log: {bus_lines} frames") and "(complete)" in l
+                                                     for l in lines), f"bus.log: {bus_lines} frames, complete")
+        scalar_rows = table(lines, "scenario            profile        residual dbl")
+        check(len(scalar_rows) == len(scenarios), f"the evaluation table has one row per scenario")
+        for row, s in zip(scalar_rows, scenarios):
+            check(row.startswith(s["label"]) and "no result" not in row and "not aligned" not in row,
+                  f"{s['id']}: double, float and fixed ran and aligned")
+        m = next((re.match(r"float and fixed agree with double on (\d+) of (\d+) runs", l) for l in lines
+                  if l.startswith("float and fixed agree")), None)
+        check(m is not None and int(m.group(2)) == 2 * len(scenarios) and int(m.group(1)) <= int(m.group(2)),
+              "the agreement count covers float and fixed on every scenario")
+    print("the demo's tables match its scenario list")
+
+
+main()
