@@ -3,6 +3,8 @@
 // injection, or with spaces and double quotes, gets its plots and nothing else happens.
 #include <gtest/gtest.h>
 
+#include <cerrno>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -98,6 +100,53 @@ TEST_F(Spawn, AProgramThatStopsReadingDoesNotKillTheCaller) {
   EXPECT_EQ(run_program({"true"}, o).status, SpawnStatus::input_failed);
   o.input = "";
   EXPECT_EQ(run_program({"true"}, o).status, SpawnStatus::ok);
+}
+
+TEST_F(Spawn, OutputAndErrorGoToTheirFiles) {
+  // tee copies its input to standard output and to its standard error.
+  SpawnOptions o;
+  o.input = "line one\nline 'two'\n";
+  o.output = SpawnOutput::to_file;
+  o.output_file = (base_ / "out file").string();
+  o.error_file = (base_ / "err file").string();
+  ASSERT_EQ(run_program({"tee", "/dev/stderr"}, o).status, SpawnStatus::ok);
+  EXPECT_EQ(slurp(base_ / "out file"), o.input);
+  EXPECT_EQ(slurp(base_ / "err file"), o.input);
+  // A file that cannot be created is told apart from a missing program.
+  o.output_file = (base_ / "missing" / "out").string();
+  const SpawnResult r = run_program({"true"}, o);
+  EXPECT_EQ(r.status, SpawnStatus::output_failed);
+  EXPECT_EQ(r.error, ENOENT);
+  o.output_file.clear();
+  EXPECT_EQ(run_program({"true"}, o).status, SpawnStatus::bad_request);
+}
+
+TEST_F(Spawn, ABackgroundChildRunsUntilSignalledAndNeverOutlivesItsOwner) {
+  ChildProcess sleeper;
+  ASSERT_EQ(start_program({"sleep", "60"}, {}, sleeper).status, SpawnStatus::ok);
+  EXPECT_TRUE(sleeper.running());
+  sleeper.signal(SIGTERM);
+  const SpawnResult r = sleeper.wait();
+  EXPECT_EQ(r.status, SpawnStatus::killed);
+  EXPECT_EQ(r.signal, SIGTERM);
+  EXPECT_FALSE(sleeper.running());
+  EXPECT_EQ(sleeper.wait().signal, SIGTERM);  // the same result again
+  // One that ends by itself: its status once it has.
+  ChildProcess quick;
+  ASSERT_EQ(start_program({"false"}, {}, quick).status, SpawnStatus::ok);
+  EXPECT_EQ(quick.wait().status, SpawnStatus::exit_nonzero);
+  // Destroyed while running: killed and reaped, so its pid names no process any more.
+  int pid = -1;
+  {
+    ChildProcess orphan;
+    ASSERT_EQ(start_program({"sleep", "60"}, {}, orphan).status, SpawnStatus::ok);
+    pid = orphan.pid();
+    ASSERT_GT(pid, 0);
+    ASSERT_EQ(::kill(pid, 0), 0);
+  }
+  EXPECT_EQ(::kill(pid, 0), -1);
+  EXPECT_EQ(errno, ESRCH);
+  EXPECT_EQ(ChildProcess{}.wait().status, SpawnStatus::bad_request);
 }
 
 TEST(GnuplotString, DoublesSingleQuotesAndFlattensLineBreaks) {

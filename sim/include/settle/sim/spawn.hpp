@@ -68,6 +68,7 @@ class ChildProcess {
   // Blocks until it has ended; how it ended, as run_program reports it. Repeated calls give the
   // same result; a ChildProcess never started gives bad_request.
   [[nodiscard]] SpawnResult wait() noexcept;
+  [[nodiscard]] int pid() const noexcept { return pid_; }  // -1 when never started
 
  private:
   friend SpawnResult start_program(const std::vector<std::string>& argv, const SpawnOptions& opt, ChildProcess& out);
