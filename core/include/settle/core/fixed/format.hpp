@@ -24,7 +24,7 @@ namespace settle::core::fixed {
 // How SI maps to the drive: counts per metre (linear axis) or per radian (rotary), the servo
 // period, and how many fraction bits the velocity and acceleration outputs carry.
 struct Scale {
-  double counts_per_unit{1e6};  // 1 count = 1 um by default (DRIVE.md)
+  double counts_per_unit{1e6};  // 1 count = 1 um by default (docs/drive.md)
   double tick_seconds{1e-3};
   int velocity_frac_bits{16};   // 0..30
   int accel_frac_bits{16};      // 0..30

@@ -3,7 +3,7 @@
 // before SYNC k is applied at SYNC k and reached one period later, linearly interpolated (or by
 // a cubic through the previous setpoints), optionally through a position loop of finite
 // bandwidth, and the mechanical plant behind it is advanced exactly over each period (see
-// docs DRIVE.md). Used by the simulated drive node on the bus and, without any bus, as the
+// docs/drive.md). Used by the simulated drive node on the bus and, without any bus, as the
 // offline reference the end-to-end checks compare against: the same code, the same numbers.
 #include <cstdint>
 
