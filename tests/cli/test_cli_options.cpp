@@ -323,29 +323,56 @@ TEST(CliHelp, StreamHelpListsTheScalars) {
   EXPECT_NE(line.find("double, float, fixed"), std::string::npos) << line;
 }
 
+// A paper scenario's `settle stream` options (plant, move, --axis-vmax), from the one table the
+// demo and the end-to-end tests stream (`settle demo --list --json`).
+std::vector<std::string> scenario(const std::string& id) {
+  const CliResult list = run_cli("demo --list --json");
+  EXPECT_EQ(list.status, 0) << list.out;
+  const auto j = nlohmann::json::parse(list.stdout_text, nullptr, false);
+  if (j.is_discarded()) return {};
+  for (const auto& s : j.at("scenarios")) {
+    if (s.at("id") != id) continue;
+    std::vector<std::string> args = s.at("plant").get<std::vector<std::string>>();
+    for (const auto& m : s.at("move")) args.push_back(m.get<std::string>());
+    args.push_back("--axis-vmax");
+    args.push_back(settle::cli::format_number(s.at("axis_vmax").get<double>()));
+    return args;
+  }
+  ADD_FAILURE() << "no scenario " << id << " in " << list.stdout_text;
+  return {};
+}
+
+nlohmann::json stream_json(const std::string& scalar, const std::vector<std::string>& scenario_args) {
+  std::vector<std::string> argv{"stream", "--bus", "loopback", "--scalar", scalar};
+  argv.insert(argv.end(), scenario_args.begin(), scenario_args.end());
+  argv.push_back("--json");
+  const CliResult res = run_cli_argv(argv);
+  EXPECT_EQ(res.status, 0) << res.out;
+  const auto j = nlohmann::json::parse(res.stdout_text, nullptr, false);
+  EXPECT_FALSE(j.is_discarded()) << res.stdout_text;
+  return j.is_discarded() ? nlohmann::json::object() : j;
+}
+
 // Issue 13: `stream --scalar double|float|fixed` over the loopback bus on two paper scenarios
-// (tools/paper_scenarios.py: 000-poly345-1.75, the beam, and 004-poly345, the belt at ~1e6 counts).
+// (000-poly345-1.75, the beam, and 004-poly345, the belt at ~1e6 counts).
 // Each run is proven against the replay of the setpoints its own evaluation produces (status ok =
 // the CAN feedback matched them exactly), and agrees with the double evaluator's setpoints within
 // one count and with the double run's residual within 1 %. Float and fixed really ran: each has a
 // scenario whose setpoints are not bit-identical to double's, so a run that evaluated in double
 // instead would not have aligned with its replay.
 TEST(StreamScalar, EveryEvaluationAgreesWithDoubleOverLoopback) {
-  const std::string beam = "--plant beam --profile poly345 --distance 0.07 --time 0.498694676 --axis-vmax 1";
-  const std::string belt =
-      "--plant belt --load-counts-per-unit 1e6 --profile poly345 --distance 94.2477796 --time 1 --axis-vmax 200";
+  const std::vector<std::string> beam = scenario("000-poly345-1.75");
+  const std::vector<std::string> belt = scenario("004-poly345");
   struct Run {
     std::string scalar;
-    std::string scenario;
+    const std::vector<std::string>& scenario;
     bool differs;  // its setpoints are not bit-identical to double's on this scenario
   };
   const Run runs[] = {{"double", beam, false}, {"float", beam, true}, {"fixed", beam, false}, {"fixed", belt, true}};
   for (const Run& r : runs) {
-    SCOPED_TRACE(r.scalar + " " + r.scenario);
-    const CliResult res = run_cli("stream --bus loopback --scalar " + r.scalar + " " + r.scenario + " --json");
-    ASSERT_EQ(res.status, 0) << res.out;
-    const auto j = nlohmann::json::parse(res.stdout_text, nullptr, false);
-    ASSERT_FALSE(j.is_discarded()) << res.stdout_text;
+    SCOPED_TRACE(r.scalar + " " + (&r.scenario == &beam ? "000-poly345-1.75" : "004-poly345"));
+    const nlohmann::json j = stream_json(r.scalar, r.scenario);
+    ASSERT_TRUE(j.contains("status")) << j.dump();
     EXPECT_EQ(j.at("status"), "ok");
     EXPECT_EQ(j.at("scalar"), r.scalar);
     EXPECT_EQ(j.at("evaluation"), "ok");
@@ -357,18 +384,15 @@ TEST(StreamScalar, EveryEvaluationAgreesWithDoubleOverLoopback) {
   }
 }
 
-// Seed 004's optimised pseudo-polynomial (004-optimised, the paper's exponents): its non-integer
-// exponents need the fixed-point motion's piecewise-quintic form (core::fixed::PolyMotion), which
-// the stream's fixed evaluation has room for. Its residual is at the measurement's floor (under one
-// load count), where a one-count setpoint difference moves it by more than 1 %: there the residuals
-// agree within half a load count, the resolution of the load encoder.
+// Seed 004's optimised pseudo-polynomial (004-optimised): its non-integer exponents need the
+// fixed-point motion's piecewise-quintic form (core::fixed::PolyMotion), which the stream's fixed
+// evaluation has room for. Its residual is at the measurement's floor (under one load count), where
+// a one-count setpoint difference moves it by more than 1 %: there the residuals agree within half
+// a load count, the resolution of the load encoder.
 TEST(StreamScalar, FixedStreamsThePseudoPolynomial) {
-  const CliResult res = run_cli(
-      "stream --bus loopback --scalar fixed --plant belt --load-counts-per-unit 1e6 --profile pseudopoly "
-      "--distance 94.2477796 --time 1 --gammas 3.024,4.565,5.874 --axis-vmax 200 --json");
-  ASSERT_EQ(res.status, 0) << res.out;
-  const auto j = nlohmann::json::parse(res.stdout_text, nullptr, false);
-  ASSERT_FALSE(j.is_discarded()) << res.stdout_text;
+  const nlohmann::json j = stream_json("fixed", scenario("004-optimised"));
+  ASSERT_TRUE(j.contains("status")) << j.dump();
+  EXPECT_EQ(j.at("profile"), "pseudopoly");
   EXPECT_EQ(j.at("evaluation"), "ok");
   EXPECT_TRUE(j.at("aligned").get<bool>());
   EXPECT_LE(j.at("setpoints_vs_double_max_counts").get<long long>(), 1);

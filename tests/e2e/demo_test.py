@@ -96,6 +96,25 @@ def main():
                   if l.startswith("float and fixed agree")), None)
         check(m is not None and int(m.group(2)) == 2 * len(scenarios) and int(m.group(1)) <= int(m.group(2)),
               "the agreement count covers float and fixed on every scenario")
+    if not socketcan:
+        ids = [s["id"] for s in scenarios]
+        text = subprocess.run([SETTLE, "demo", "--list"], capture_output=True, text=True, timeout=60)
+        check(text.returncode == 0 and all(f"\n{i} " in text.stdout for i in ids), "settle demo --list names every id")
+        with tempfile.TemporaryDirectory(prefix="settle-demo-") as out:
+            r = subprocess.run([SETTLE, "demo", "--bus", "loopback", "--out", out, "--json"], capture_output=True,
+                               text=True, timeout=300)
+            j = json.loads(r.stdout)
+            check(r.returncode == 0 and j["status"] == "ok" and [x["id"] for x in j["runs"]] == ids and
+                  all(x["ok"] and x["stream"]["aligned"] for x in j["runs"]) and [x["id"] for x in j["scalars"]] == ids,
+                  "settle demo --json: one run and one set of evaluations per scenario, in order, each ok")
+            # A bus that cannot be opened is refused before any process starts.
+            r = subprocess.run([SETTLE, "demo", "--bus", "settle-no-such-can0", "--out", out + "/none"],
+                               capture_output=True, text=True, timeout=60)
+            check(r.returncode == 1 and "cannot open settle-no-such-can0" in r.stderr and
+                  not os.path.exists(out + "/none/stream-" + ids[0] + ".json"),
+                  f"an interface that does not exist: exit 1, nothing run ({r.stderr.strip()})")
+        r = subprocess.run([SETTLE, "demo", "--bus", ""], capture_output=True, text=True, timeout=60)
+        check(r.returncode == 2 and r.stderr.startswith("settle: error: --bus:"), "an empty --bus: exit 2 naming it")
     print("the demo's tables match its scenario list")
 
 
