@@ -1,6 +1,8 @@
 #include "demo.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -52,8 +54,11 @@ class DriveWatch {
 
   // The drive's boot-up or heartbeat: its socket is open and it takes frames from now on.
   [[nodiscard]] bool wait_heartbeat(sim::ChildProcess& drive, std::string& why) {
-    return wait_for([](const hal::CanFrame& f) { return co::decode_heartbeat(f).has_value() && f.id == co::cob_id(co::cob::heartbeat, kNode); },
-                    drive, "the drive's boot-up or heartbeat", why);
+    return wait_for(
+        [](const hal::CanFrame& f) {
+          return f.id == co::cob_id(co::cob::heartbeat, kNode) && co::decode_heartbeat(f).has_value();
+        },
+        drive, "the drive's boot-up or heartbeat", why);
   }
 
   // Sends an SDO upload and waits for the answer (the value or an abort). The drive takes the

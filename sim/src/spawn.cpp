@@ -235,45 +235,27 @@ ChildProcess& ChildProcess::operator=(ChildProcess&& other) noexcept {
   return *this;
 }
 
-void ChildProcess::take_status(int wstatus) noexcept {
-  ended_ = true;
-  result_ = result_of(wstatus, input_written_);
-}
-
-bool ChildProcess::running() noexcept {
-  if (pid_ <= 0 || ended_) return false;
+bool ChildProcess::reap(int options) noexcept {
+  if (pid_ <= 0 || ended_) return true;
   int wstatus = 0;
   pid_t w = -1;
   do {
-    w = ::waitpid(pid_, &wstatus, WNOHANG);
+    w = ::waitpid(pid_, &wstatus, options);
   } while (w < 0 && errno == EINTR);
-  if (w == 0) return true;
-  if (w < 0) {
-    ended_ = true;
-    result_ = SpawnResult{SpawnStatus::wait_failed, 0, 0, errno};
-    return false;
-  }
-  take_status(wstatus);
-  return false;
+  if (w == 0) return false;
+  ended_ = true;
+  result_ = w < 0 ? SpawnResult{SpawnStatus::wait_failed, 0, 0, errno} : result_of(wstatus, input_written_);
+  return true;
 }
+
+bool ChildProcess::running() noexcept { return !reap(WNOHANG); }
 
 void ChildProcess::signal(int sig) noexcept {
   if (pid_ > 0 && !ended_) ::kill(pid_, sig);
 }
 
 SpawnResult ChildProcess::wait() noexcept {
-  if (pid_ <= 0 || ended_) return result_;
-  int wstatus = 0;
-  pid_t w = -1;
-  do {
-    w = ::waitpid(pid_, &wstatus, 0);
-  } while (w < 0 && errno == EINTR);
-  if (w < 0) {
-    ended_ = true;
-    result_ = SpawnResult{SpawnStatus::wait_failed, 0, 0, errno};
-    return result_;
-  }
-  take_status(wstatus);
+  (void)reap(0);
   return result_;
 }
 

@@ -72,7 +72,9 @@ class ChildProcess {
 
  private:
   friend SpawnResult start_program(const std::vector<std::string>& argv, const SpawnOptions& opt, ChildProcess& out);
-  void take_status(int wstatus) noexcept;
+  // waitpid with `options` (0 blocks, WNOHANG polls): true once it has ended (its result kept),
+  // or when it was never started.
+  [[nodiscard]] bool reap(int options) noexcept;
   int pid_{-1};
   bool ended_{false};
   bool input_written_{true};
