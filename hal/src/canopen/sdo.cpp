@@ -42,8 +42,8 @@ constexpr std::uint8_t bit_last = 0x01;
   f.id = id;
   f.len = 8;
   const auto unused = static_cast<std::uint8_t>(sdo_segment_bytes - count);
-  f.data[0] = static_cast<std::uint8_t>((cs << 5U) | (toggle ? bit_toggle : 0U) | (unused << 1U) |
-                                        (last ? bit_last : 0U));
+  f.data[0] = static_cast<std::uint8_t>((static_cast<unsigned>(cs) << 5U) | (toggle ? bit_toggle : 0U) |
+                                        (static_cast<unsigned>(unused) << 1U) | (last ? bit_last : 0U));
   for (std::size_t i = 0; i < count; ++i) {
     f.data[1 + i] = data[i];
   }
