@@ -103,6 +103,15 @@ class SdoSegmented : public ::testing::Test {
   }
 
   static CanFrame raw(std::initializer_list<std::uint8_t> bytes) { return test::frame(0x600U + node, bytes); }
+
+  // The bus saw exactly these frames (id, bytes), in this order.
+  void expect_trace(const std::vector<std::pair<std::uint32_t, Bytes>>& expected) const {
+    ASSERT_EQ(trace.size(), expected.size());
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_EQ(trace[i].id, expected[i].first) << "frame " << i;
+      EXPECT_EQ(test::bytes_of(trace[i]), expected[i].second) << "frame " << i;
+    }
+  }
 };
 
 // ---- Sizes, both ways ----
@@ -177,11 +186,7 @@ TEST_F(SdoSegmented, GoldenSegmentedDownloadOfTenBytes) {
       // segment response: scs 1, t 1 -> 0x30
       {0x589, {0x30, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00}},
   };
-  ASSERT_EQ(trace.size(), expected.size());
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    EXPECT_EQ(trace[i].id, expected[i].first) << "frame " << i;
-    EXPECT_EQ(test::bytes_of(trace[i]), expected[i].second) << "frame " << i;
-  }
+  expect_trace(expected);
   EXPECT_EQ(view_of(label.view()), data);
 }
 
@@ -204,11 +209,7 @@ TEST_F(SdoSegmented, GoldenSegmentedUploadOfThirteenBytes) {
       // last segment: scs 0, t 1 (0x10), n 1 (0x02), c 1 -> 0x13; six bytes
       {0x589, {0x13, 'a', 'x', 'i', 's', ' ', 'X', 0x00}},
   };
-  ASSERT_EQ(trace.size(), expected.size());
-  for (std::size_t i = 0; i < expected.size(); ++i) {
-    EXPECT_EQ(trace[i].id, expected[i].first) << "frame " << i;
-    EXPECT_EQ(test::bytes_of(trace[i]), expected[i].second) << "frame " << i;
-  }
+  expect_trace(expected);
   EXPECT_EQ(client.result().length, 13U);
   EXPECT_EQ(Bytes(buffer.begin(), buffer.begin() + 13), text("Settle axis X"));
 }

@@ -458,8 +458,10 @@ bool SdoClient::download(std::uint16_t index, std::uint8_t sub, std::uint32_t va
 
 bool SdoClient::download_bytes(std::uint16_t index, std::uint8_t sub, std::span<const std::uint8_t> data,
                                std::uint64_t now_us, FrameSink& out) noexcept {
-  if (data.size() > 0xFFFF'FFFFU) {
-    return false;  // more than a size indication can say
+  if constexpr (sizeof(std::size_t) > sizeof(std::uint32_t)) {
+    if (data.size() > 0xFFFF'FFFFU) {
+      return false;  // more than a size indication can say
+    }
   }
   const auto total = static_cast<std::uint32_t>(data.size());
   if (total >= 1 && total <= 4) {
