@@ -33,6 +33,9 @@ std::pair<std::int64_t, std::int64_t> type_limits(OdType t) {
     case OdType::u8: return {0, std::numeric_limits<std::uint8_t>::max()};
     case OdType::u16: return {0, std::numeric_limits<std::uint16_t>::max()};
     case OdType::u32: return {0, std::numeric_limits<std::uint32_t>::max()};
+    case OdType::visible_string:
+    case OdType::octet_string:
+    case OdType::domain: return {0, 0};  // no value range: checked as bytes
   }
   return {0, 0};
 }
@@ -55,6 +58,13 @@ TEST_P(EdsMatchesDictionary, EveryEntryAgreesAndNothingIsMissing) {
     EXPECT_EQ(x->data_type, static_cast<std::uint16_t>(e.var.type())) << x->name;
     EXPECT_EQ(x->access, eds_access(e.access)) << x->name;
     EXPECT_EQ(x->pdo_mappable, e.pdo_mappable) << x->name;
+    if (const OdBytes* bytes = e.var.bytes(); bytes != nullptr) {
+      // A string's DefaultValue is its text; a byte string has no LowLimit/HighLimit.
+      const auto value = bytes->view();
+      EXPECT_EQ(x->default_value, std::string(value.begin(), value.end())) << x->name;
+      EXPECT_FALSE(x->low_limit.has_value() || x->high_limit.has_value()) << x->name;
+      continue;
+    }
     EXPECT_EQ(x->value(node), e.var.value()) << x->name;
     const auto [type_min, type_max] = type_limits(e.var.type());
     EXPECT_EQ(x->low_limit.value_or(type_min), e.min) << x->name;

@@ -1,6 +1,9 @@
 // The SDO client against the drive's server through a loopback bus, on a virtual clock.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <string>
+
 #include "frame_helpers.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/canopen/sdo.hpp"
@@ -25,7 +28,7 @@ class SdoClientTest : public ::testing::Test {
       (void)drive.on_frame(f, now_us, drive_bus);
     }
     while (master_bus.receive(f) == ReceiveStatus::received) {
-      (void)client.on_frame(f, master_bus);
+      (void)client.on_frame(f, now_us, master_bus);
     }
   }
 };
@@ -70,25 +73,80 @@ TEST_F(SdoClientTest, TimeoutFiresExactlyAtTheDeadlineAndAbortsOnTheBus) {
 
 TEST_F(SdoClientTest, ResponsesForAnotherObjectOrNodeAreIgnored) {
   ASSERT_TRUE(client.upload(0x1000, 0, 0, master_bus));
-  EXPECT_FALSE(client.on_frame(encode_sdo_upload_response(node, 0x1001, 0, 1, 1), master_bus));
-  EXPECT_FALSE(client.on_frame(encode_sdo_upload_response(node + 1, 0x1000, 0, 1, 4), master_bus));
-  EXPECT_FALSE(client.on_frame(encode_sdo_download_response(node, 0x1000, 0), master_bus))
+  EXPECT_FALSE(client.on_frame(encode_sdo_upload_response(node, 0x1001, 0, 1, 1), 0, master_bus));
+  EXPECT_FALSE(client.on_frame(encode_sdo_upload_response(node + 1, 0x1000, 0, 1, 4), 0, master_bus));
+  EXPECT_FALSE(client.on_frame(encode_sdo_download_response(node, 0x1000, 0), 0, master_bus))
       << "a download confirmation does not answer an upload";
   EXPECT_TRUE(client.busy());
-  EXPECT_TRUE(client.on_frame(encode_sdo_upload_response(node, 0x1000, 0, 0x1234, 2), master_bus));
+  EXPECT_TRUE(client.on_frame(encode_sdo_upload_response(node, 0x1000, 0, 0x1234, 2), 0, master_bus));
   EXPECT_EQ(client.result().value, 0x1234U);
 }
 
-TEST_F(SdoClientTest, SegmentedUploadAnswerIsAbortedBecauseItIsNotSupported) {
+TEST_F(SdoClientTest, IntegerUploadOfALongerObjectAbortsLengthTooHigh) {
+  // upload() reads an integer of up to four bytes: a segmented answer announcing 20 does not fit.
   ASSERT_TRUE(client.upload(0x1008, 0, 0, master_bus));
   CanFrame segmented = encode_sdo_upload_response(node, 0x1008, 0, 20, 4);
   segmented.data[0] = 0x41;  // initiate upload, segmented, size 20 indicated
-  EXPECT_TRUE(client.on_frame(segmented, master_bus));
+  EXPECT_TRUE(client.on_frame(segmented, 0, master_bus));
   EXPECT_EQ(client.status(), SdoClientStatus::aborted);
+  EXPECT_EQ(client.result().abort, SdoAbort::length_too_high);
   CanFrame f{};
   ASSERT_EQ(drive_bus.receive(f), ReceiveStatus::received);  // the upload request
   ASSERT_EQ(drive_bus.receive(f), ReceiveStatus::received);
-  EXPECT_EQ(f.data[0], 0x80);
+  EXPECT_EQ(test::bytes_of(f), (std::vector<std::uint8_t>{0x80, 0x08, 0x10, 0x00, 0x12, 0x00, 0x07, 0x06}));
+}
+
+TEST_F(SdoClientTest, IntegerUploadTakesASegmentedAnswerOfUpToFourBytes) {
+  // CiA 301 lets a server answer any object segmented; the client must not care.
+  ASSERT_TRUE(client.upload(0x1017, 0, 0, master_bus));
+  CanFrame initiate = encode_sdo_upload_segmented_response(node, 0x1017, 0, 2);
+  EXPECT_TRUE(client.on_frame(initiate, 0, master_bus));
+  EXPECT_TRUE(client.busy());
+  const std::uint8_t bytes[] = {0xE8, 0x03};
+  EXPECT_TRUE(client.on_frame(encode_sdo_upload_segment(node, false, bytes, true), 0, master_bus));
+  ASSERT_EQ(client.status(), SdoClientStatus::done);
+  EXPECT_EQ(client.result().value, 1000U);
+  EXPECT_EQ(client.result().size, 2);
+  EXPECT_EQ(client.result().length, 2U);
+}
+
+TEST_F(SdoClientTest, ReadsTheDrivesStringsBySegmentedUpload) {
+  // Each exchange() moves one request and its answer: the client runs one frame at a time.
+  const auto read = [&](std::uint16_t index) {
+    std::array<std::uint8_t, 64> buffer{};
+    EXPECT_TRUE(client.upload_bytes(index, 0, buffer, 0, master_bus));
+    for (int i = 0; i < 20 && client.busy(); ++i) {
+      exchange(0);
+    }
+    EXPECT_EQ(client.status(), SdoClientStatus::done);
+    return std::string(buffer.begin(), buffer.begin() + client.result().length);
+  };
+  EXPECT_EQ(read(0x1008), "Settle simulated CiA 402 drive");
+  EXPECT_EQ(read(0x1009), "simulated");
+  EXPECT_EQ(read(0x100A), "Settle 0.1.0");
+  EXPECT_EQ(read(0x1008), drive_device_name);
+}
+
+TEST_F(SdoClientTest, TheDriveDropsASegmentedUploadWhoseClientWentSilent) {
+  FrameBuffer<4> out;
+  ASSERT_EQ(drive.on_frame(encode_sdo_upload_request(node, 0x1008, 0), 1'000, out), DriveEvent::handled);
+  ASSERT_EQ(out.size(), 1U);
+  EXPECT_EQ(out[0].data[0], 0x41) << "segmented, size indicated";
+  out.clear();
+  drive.poll(1'000 + sdo_server_default_timeout_us - 1, out);
+  for (const CanFrame& g : out.frames()) {
+    EXPECT_NE(g.id, 0x580U + node) << "no SDO frame before the deadline";
+  }
+  out.clear();
+  drive.poll(1'000 + sdo_server_default_timeout_us, out);
+  bool aborted = false;
+  for (const CanFrame& g : out.frames()) {
+    if (g.id == 0x580U + node) {
+      EXPECT_EQ(test::bytes_of(g), (std::vector<std::uint8_t>{0x80, 0x08, 0x10, 0x00, 0x00, 0x00, 0x04, 0x05}));
+      aborted = true;
+    }
+  }
+  EXPECT_TRUE(aborted);
 }
 
 }  // namespace

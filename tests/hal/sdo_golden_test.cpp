@@ -118,13 +118,41 @@ TEST_F(SdoServerGolden, PositionLimitsMayNotCross) {
 }
 
 TEST_F(SdoServerGolden, UnknownOrUnsupportedCommandSpecifierAborts05040001) {
-  for (const std::uint8_t command : {std::uint8_t{0xE0}, std::uint8_t{0x21}, std::uint8_t{0x60}, std::uint8_t{0xC0},
-                                     std::uint8_t{0xA0}, std::uint8_t{0x00}}) {
+  // Command 7 exists in no service; 6 and 5 are block download and upload, not supported.
+  for (const std::uint8_t command : {std::uint8_t{0xE0}, std::uint8_t{0xC0}, std::uint8_t{0xC6}, std::uint8_t{0xA0},
+                                     std::uint8_t{0xA4}}) {
     CanFrame request = encode_sdo_upload_request(node, 0x1000, 0);
     request.data[0] = command;
     EXPECT_EQ(answer(request), (Bytes{0x80, 0x00, 0x10, 0x00, 0x01, 0x00, 0x04, 0x05}))
         << "command byte " << std::hex << int{command};
   }
+  // A segment (upload request 0x60, download 0x00) with no transfer running: its bytes 1-3 are
+  // no multiplexer, so the abort names none.
+  for (const std::uint8_t command : {std::uint8_t{0x60}, std::uint8_t{0x00}}) {
+    CanFrame request = encode_sdo_upload_request(node, 0x1000, 0);
+    request.data[0] = command;
+    EXPECT_EQ(answer(request), (Bytes{0x80, 0x00, 0x00, 0x00, 0x01, 0x00, 0x04, 0x05}))
+        << "command byte " << std::hex << int{command};
+  }
+}
+
+TEST_F(SdoServerGolden, SegmentedDownloadToAReadOnlyObjectAborts06010002) {
+  EXPECT_EQ(answer(encode_sdo_download_segmented_request(node, 0x1000, 0, 4)),
+            (Bytes{0x80, 0x00, 0x10, 0x00, 0x02, 0x00, 0x01, 0x06}));
+  EXPECT_EQ(answer(encode_sdo_download_segmented_request(node, 0x1008, 0, 4)),
+            (Bytes{0x80, 0x08, 0x10, 0x00, 0x02, 0x00, 0x01, 0x06}))
+      << "the device name is const";
+}
+
+TEST_F(SdoServerGolden, HardwareVersionUploadsInTwoSegments) {
+  // "simulated", nine bytes: written from the CiA 301 layout.
+  EXPECT_EQ(answer(encode_sdo_upload_request(node, 0x1009, 0)),
+            (Bytes{0x41, 0x09, 0x10, 0x00, 0x09, 0x00, 0x00, 0x00}))  // scs 2, e 0, s 1, size 9
+      ;
+  EXPECT_EQ(answer(test::frame(0x605, {0x60, 0, 0, 0, 0, 0, 0, 0})),  // ccs 3, t 0
+            (Bytes{0x00, 's', 'i', 'm', 'u', 'l', 'a', 't'}));       // scs 0, t 0, n 0, c 0
+  EXPECT_EQ(answer(test::frame(0x605, {0x70, 0, 0, 0, 0, 0, 0, 0})),  // ccs 3, t 1
+            (Bytes{0x1B, 'e', 'd', 0, 0, 0, 0, 0}));                 // scs 0, t 1, n 5, c 1
 }
 
 TEST_F(SdoServerGolden, ClientAbortNeedsNoAnswer) {

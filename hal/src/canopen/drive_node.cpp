@@ -100,6 +100,9 @@ DriveNode::DriveNode(const DriveNodeConfig& config) noexcept
       master_heartbeat_{0, 0},
       sync_{config.sync_period_us, config.communication_loss_periods},
       emcy_{config.node} {
+  device_name_.assign(drive_device_name);
+  hardware_version_.assign(drive_hardware_version);
+  software_version_.assign(drive_software_version);
   od_.set_hooks(&DriveNode::check_write, &DriveNode::on_written, this);
   bind_pdos();
   restore(true);
@@ -115,6 +118,9 @@ std::array<OdEntry, DriveNode::entry_count> DriveNode::make_entries() noexcept {
       od_entry(obj::error_register, 0, c.error_register, A::ro, map),
       od_entry(obj::cob_id_sync, 0, c.cob_id_sync, A::ro),
       od_entry(obj::communication_cycle_period, 0, c.cycle_period_us, A::rw),
+      od_bytes_entry(obj::device_name, 0, device_name_.bytes(), OdType::visible_string, A::constant),
+      od_bytes_entry(obj::hardware_version, 0, hardware_version_.bytes(), OdType::visible_string, A::constant),
+      od_bytes_entry(obj::software_version, 0, software_version_.bytes(), OdType::visible_string, A::constant),
       od_entry(obj::cob_id_emcy, 0, c.cob_id_emcy, A::ro),
       od_entry(obj::inhibit_time_emcy, 0, c.inhibit_time_emcy, A::rw),
       od_entry(obj::consumer_heartbeat_time, 0, c.consumer_heartbeat_count, A::constant),
@@ -257,6 +263,7 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     }
     const NmtEvent event = nmt_.on_message(*message, out);
     if (event == NmtEvent::reset_application || event == NmtEvent::reset_communication) {
+      sdo_.reset();
       restore(event == NmtEvent::reset_application);
       heartbeat_.start(now_us + std::uint64_t{objects_.comm.producer_heartbeat_ms} * 1000U);
       return event == NmtEvent::reset_application ? DriveEvent::reset : DriveEvent::handled;
@@ -283,7 +290,7 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     return on_sync(*sync, now_us, frame.timestamp_us != 0 ? frame.timestamp_us : now_us, out);
   }
   if (frame.id == objects_.comm.sdo_cob_rx) {
-    if (!sdo_.on_frame(frame, out)) {
+    if (!sdo_.on_frame(frame, now_us, out)) {
       return DriveEvent::none;
     }
     apply_written_controlword(now_us, out);
@@ -515,6 +522,7 @@ void DriveNode::poll(std::uint64_t now_us, FrameSink& out) noexcept {
     quick_stop_with_emcy(emcy_code::communication, emcy_detail(emcy_cause::sync_loss), now_us, out);
   }
   (void)emcy_.poll(now_us, out);
+  sdo_.poll(now_us, out);
 }
 
 void DriveNode::raise_fault(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept {

@@ -12,6 +12,9 @@ std::uint32_t OdVar::raw() const noexcept {
     case OdType::i16: return static_cast<std::uint16_t>(*p_.i16);
     case OdType::u32: return *p_.u32;
     case OdType::i32: return static_cast<std::uint32_t>(*p_.i32);
+    case OdType::visible_string:
+    case OdType::octet_string:
+    case OdType::domain: return 0;
   }
   return 0;
 }
@@ -32,6 +35,9 @@ void OdVar::set_raw(std::uint32_t raw) const noexcept {
     case OdType::i16: *p_.i16 = static_cast<std::int16_t>(static_cast<std::uint16_t>(raw)); break;
     case OdType::u32: *p_.u32 = raw; break;
     case OdType::i32: *p_.i32 = static_cast<std::int32_t>(raw); break;
+    case OdType::visible_string:
+    case OdType::octet_string:
+    case OdType::domain: break;  // bytes are stored by ObjectDictionary::write_bytes
   }
 }
 
@@ -89,14 +95,29 @@ SdoAbort ObjectDictionary::locate(std::uint16_t index, std::uint8_t sub, const O
   return has_index(index) ? SdoAbort::no_sub_index : SdoAbort::no_object;
 }
 
-SdoAbort ObjectDictionary::read(std::uint16_t index, std::uint8_t sub, std::uint32_t& raw,
-                                std::uint8_t& size) const noexcept {
-  const OdEntry* entry = nullptr;
+SdoAbort ObjectDictionary::readable(std::uint16_t index, std::uint8_t sub, const OdEntry*& entry) const noexcept {
   if (const SdoAbort abort = locate(index, sub, entry); abort != SdoAbort::none) {
     return abort;
   }
-  if (entry->access == OdAccess::wo) {
-    return SdoAbort::write_only;
+  return entry->access == OdAccess::wo ? SdoAbort::write_only : SdoAbort::none;
+}
+
+SdoAbort ObjectDictionary::writable(std::uint16_t index, std::uint8_t sub, const OdEntry*& entry) const noexcept {
+  if (const SdoAbort abort = locate(index, sub, entry); abort != SdoAbort::none) {
+    return abort;
+  }
+  return entry->access == OdAccess::ro || entry->access == OdAccess::constant ? SdoAbort::read_only
+                                                                                : SdoAbort::none;
+}
+
+SdoAbort ObjectDictionary::read(std::uint16_t index, std::uint8_t sub, std::uint32_t& raw,
+                                std::uint8_t& size) const noexcept {
+  const OdEntry* entry = nullptr;
+  if (const SdoAbort abort = readable(index, sub, entry); abort != SdoAbort::none) {
+    return abort;
+  }
+  if (entry->var.bytes() != nullptr) {
+    return SdoAbort::unsupported_access;
   }
   raw = entry->var.raw();
   size = od_type_size(entry->var.type());
@@ -106,11 +127,14 @@ SdoAbort ObjectDictionary::read(std::uint16_t index, std::uint8_t sub, std::uint
 SdoAbort ObjectDictionary::write(std::uint16_t index, std::uint8_t sub, std::uint32_t raw,
                                  std::uint8_t size) noexcept {
   const OdEntry* entry = nullptr;
-  if (const SdoAbort abort = locate(index, sub, entry); abort != SdoAbort::none) {
+  if (const SdoAbort abort = writable(index, sub, entry); abort != SdoAbort::none) {
     return abort;
   }
-  if (entry->access == OdAccess::ro || entry->access == OdAccess::constant) {
-    return SdoAbort::read_only;
+  if (entry->var.bytes() != nullptr) {
+    const std::uint8_t count = size == 0 || size > 4 ? 4 : size;
+    std::uint8_t bytes[4]{};
+    put_u32(bytes, raw);
+    return write_bytes(*entry, std::span<const std::uint8_t>{bytes, count});
   }
   const std::uint8_t expected = od_type_size(entry->var.type());
   if (size != 0 && size > expected) {
@@ -123,6 +147,36 @@ SdoAbort ObjectDictionary::write(std::uint16_t index, std::uint8_t sub, std::uin
   // own bytes count, so stray padding cannot turn into a range error.
   const std::uint32_t mask = expected == 4 ? 0xFFFF'FFFFU : ((1U << (8U * expected)) - 1U);
   return write_entry(*entry, raw & mask);
+}
+
+SdoAbort ObjectDictionary::write_bytes(const OdEntry& entry, std::span<const std::uint8_t> bytes) noexcept {
+  OdBytes* target = entry.var.bytes();
+  if (target == nullptr) {
+    return SdoAbort::unsupported_access;
+  }
+  if (bytes.size() > target->capacity) {
+    return SdoAbort::length_too_high;
+  }
+  const auto length = static_cast<std::int64_t>(bytes.size());
+  if (length > entry.max) {
+    return SdoAbort::length_too_high;
+  }
+  if (length < entry.min) {
+    return SdoAbort::length_too_low;
+  }
+  if (check_ != nullptr) {
+    if (const SdoAbort abort = check_(context_, entry, length); abort != SdoAbort::none) {
+      return abort;
+    }
+  }
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    target->data[i] = bytes[i];
+  }
+  target->size = static_cast<std::uint32_t>(bytes.size());
+  if (written_ != nullptr) {
+    written_(context_, entry);
+  }
+  return SdoAbort::none;
 }
 
 SdoAbort ObjectDictionary::check_entry(const OdEntry& entry, std::uint32_t raw) const noexcept {

@@ -207,7 +207,7 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
     default:
       return RemoteFrame::ignored;
   }
-  if (state_ != RemoteDriveState::configuring || !sdo_.on_frame(frame, out)) {
+  if (state_ != RemoteDriveState::configuring || !sdo_.on_frame(frame, now_us, out)) {
     return RemoteFrame::ignored;
   }
   const SdoResult& r = sdo_.result();

@@ -75,6 +75,12 @@ inline constexpr std::uint8_t sync_loss = 8;
 inline constexpr std::uint8_t rpdo_loss = 9;
 }  // namespace emcy_cause
 
+// 0x1008..0x100A (const VISIBLE_STRINGs, served by segmented SDO upload): what the drive says it
+// is. hal/eds/settle_drive.eds carries the same text.
+inline constexpr char drive_device_name[] = "Settle simulated CiA 402 drive";
+inline constexpr char drive_hardware_version[] = "simulated";
+inline constexpr char drive_software_version[] = "Settle 0.1.0";
+
 // The manufacturer-specific bytes of an EMCY (see emcy_cause).
 using EmcyDetail = std::array<std::uint8_t, 5>;
 [[nodiscard]] EmcyDetail emcy_detail(std::uint8_t cause, std::int64_t value = 0) noexcept;
@@ -235,7 +241,7 @@ class DriveNode {
   [[nodiscard]] NodeId node() const noexcept { return config_.node; }
 
  private:
-  static constexpr std::size_t entry_count = 60;
+  static constexpr std::size_t entry_count = 63;
 
   void restore(bool application) noexcept;
   void apply_configuration(std::uint16_t index) noexcept;  // 0: every configuration object
@@ -262,6 +268,9 @@ class DriveNode {
 
   DriveNodeConfig config_;
   DriveObjects objects_{};
+  OdByteString<sizeof drive_device_name - 1> device_name_{};
+  OdByteString<sizeof drive_hardware_version - 1> hardware_version_{};
+  OdByteString<sizeof drive_software_version - 1> software_version_{};
   std::array<OdEntry, entry_count> entries_;
   ObjectDictionary od_;
   NmtSlave nmt_;
