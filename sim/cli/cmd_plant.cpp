@@ -76,24 +76,36 @@ int cmd_plant(int argc, char** argv) {
   std::fprintf(stderr, "settle plant: node %d on %s, %s plant, %u us period\n", static_cast<int>(node), iface.c_str(),
                sim::to_string(plant.kind()), period_us);
   hal::CanFrame f{};
+  std::uint64_t now = t0;  // when the last frame was taken
   while (g_stop == 0) {
+    if (duration > 0 && static_cast<double>(now_us() - t0) * 1e-6 > duration) break;
     hal::ReceiveStatus rs = bus.receive(f, 2000);
-    std::uint64_t now = now_us();
     // Frames already queued are taken before the timeouts are judged: a SYNC still waiting in this
-    // process's own queue (it was not scheduled for a while: a loaded host) is not a lost SYNC.
-    // At most 256 at a time, so the heartbeat goes out even while the plant catches up.
+    // process's own queue (it was not scheduled for a while: a loaded host, SIGSTOP) is not a lost
+    // SYNC. At most 256 at a time, so the heartbeat goes out even while the plant catches up.
     for (int queued = 0; rs == hal::ReceiveStatus::received && queued < 256; ++queued) {
+      now = now_us();
       (void)pn.on_frame(f, now, bus);
       rs = bus.receive(f, 0);
-      now = now_us();
     }
-    if (rs == hal::ReceiveStatus::received) (void)pn.on_frame(f, now, bus);
     if (rs == hal::ReceiveStatus::error) {
       std::fprintf(stderr, "settle plant: receive failed (errno %d)\n", bus.last_errno());
       break;
     }
-    pn.poll(now, bus);
-    if (duration > 0 && static_cast<double>(now - t0) * 1e-6 > duration) break;
+    // The timeouts are judged at a time taken *before* the queue is seen empty. When frames are
+    // still there (the batch limit; the wait ended by a stop and continue, or its timeout ran out
+    // while the process was stopped; a stop just now), they are judged as of the last frame taken,
+    // and the queue is taken next: a process that was not running never blames the bus for it.
+    const std::uint64_t judged = now_us();
+    if (rs != hal::ReceiveStatus::received) rs = bus.receive(f, 0);
+    if (rs == hal::ReceiveStatus::received) {
+      pn.poll(now, bus);
+      now = now_us();
+      (void)pn.on_frame(f, now, bus);
+      continue;
+    }
+    pn.poll(judged, bus);
+    now = judged;
   }
   if (log_path && !log.close()) {
     std::fprintf(stderr, "settle plant: cannot write %s\n", log_path->c_str());
