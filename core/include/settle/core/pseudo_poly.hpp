@@ -32,6 +32,7 @@ struct PseudoPolyParams {
 template <typename T>
 class PseudoPoly {
  public:
+  using Params = PseudoPolyParams;
   PseudoPoly() = default;
   explicit PseudoPoly(const PseudoPolyParams& p) noexcept
       : params_{p}, d_{static_cast<T>(p.distance)}, dur_{static_cast<T>(p.duration)}, n_{p.count} {
