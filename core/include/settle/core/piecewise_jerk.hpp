@@ -60,6 +60,16 @@ class PiecewiseJerk {
   [[nodiscard]] T duration() const noexcept { return dur_; }
   [[nodiscard]] T distance() const noexcept { return dist_; }
 
+  // Its parameters as named numbers, as `settle plan` and Python's plan() report them: f(name, i, value)
+  // per number, where a '#' in the name stands for i (a per-segment or per-exponent number).
+  template <typename F>
+  void for_each_param(F&& f) const {
+    for (std::size_t i = 0; i < params_.count; ++i) {
+      f("segment#_duration", i, params_.durations[i]);
+      f("segment#_jerk", i, params_.jerk[i]);
+    }
+  }
+
   // The exact decomposition (piece.hpp): one cubic per segment, from this evaluator's own segment
   // states. Meant for PiecewiseJerk<double> (the fixed-point builder's input).
   [[nodiscard]] int piece_count() const noexcept { return static_cast<int>(n_); }

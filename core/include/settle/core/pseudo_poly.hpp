@@ -54,6 +54,14 @@ class PseudoPoly {
   [[nodiscard]] T duration() const noexcept { return dur_; }
   [[nodiscard]] T distance() const noexcept { return d_; }
 
+  // Its parameters as named numbers, as `settle plan` and Python's plan() report them: f(name, i, value)
+  // per number, where a '#' in the name stands for i (a per-segment or per-exponent number).
+  template <typename F>
+  void for_each_param(F&& f) const {
+    for (std::size_t i = 0; i < params_.count; ++i) f("gamma#", i, params_.gammas[i]);
+    for (std::size_t i = 0; i < params_.count; ++i) f("C#", i, params_.coeffs[i]);
+  }
+
   [[nodiscard]] Sample<T> at(T t) const noexcept {
     if (!(t > T(0))) return {};
     if (t >= dur_) return {d_, T(0), T(0), T(0)};

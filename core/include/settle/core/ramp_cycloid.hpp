@@ -154,6 +154,18 @@ class RampCycloid {
             sa * (T(1) - ra), -sa * inv_tau_ * rj};
   }
 
+  // Its parameters as named numbers, as `settle plan` and Python's plan() report them: f(name, i, value)
+  // per number, where a '#' in the name stands for i (a per-segment or per-exponent number).
+  template <typename F>
+  void for_each_param(F&& f) const {
+    f("tau", 0, params_.tau);
+    f("cruise", 0, params_.cruise);
+    f("A", 0, params_.amplitude);
+    f("A2", 0, params_.amplitude * params_.c2);
+    f("c2", 0, params_.c2);
+    f("c3", 0, params_.c3);
+  }
+
   // The exact decomposition (piece.hpp) read off this evaluator's own segment table: 4 pieces,
   // or 5 with a cruise. Meant for RampCycloid<double> (the fixed-point builder's input).
   [[nodiscard]] int piece_count() const noexcept { return params_.cruise > 0.0 ? 5 : 4; }

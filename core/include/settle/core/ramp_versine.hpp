@@ -60,6 +60,16 @@ class RampVersine {
   }
   [[nodiscard]] T rate() const noexcept { return r_; }
 
+  // Its parameters as named numbers, as `settle plan` and Python's plan() report them: f(name, i, value)
+  // per number, where a '#' in the name stands for i (a per-segment or per-exponent number).
+  template <typename F>
+  void for_each_param(F&& f) const {
+    f("tau", 0, params_.tau);
+    f("Y1", 0, params_.y1);
+    f("Y2", 0, params_.y2);
+    f("Y3", 0, params_.y3);
+  }
+
   // The exact decomposition (piece.hpp): one piece, a ramp plus the phasor of y above.
   [[nodiscard]] int piece_count() const noexcept { return params_.tau > 0.0 ? 1 : 0; }
   [[nodiscard]] Piece piece(int) const noexcept {
