@@ -156,3 +156,43 @@ TEST(Registry, FixedPointMatchesDoubleAtEveryTick) {
     EXPECT_EQ(fm.at_tick(fm.end_tick()).p, fm.target());
   });
 }
+
+// A closed-form shape's pieces (what the fixed-point builder quantises and the simulator's
+// one-sided evaluation reads) are the very curve its floating-point at() evaluates: p, v, a and j
+// agree to rounding inside every piece, and the pieces tile [0, duration] without gaps.
+TEST(Registry, PiecesAreTheCurveTheEvaluatorComputes) {
+  int closed_form = 0;
+  core::for_each_profile([&](auto kind) {
+    SCOPED_TRACE(core::to_string(kind.value));
+    const core::Move<double> m = plan_example(kind);
+    m.profile().visit([&](const auto& shape) {
+      if constexpr (requires { shape.piece_count(); }) {
+        ++closed_form;
+        const core::Sample<double> pk{m.distance(), m.peaks().v, m.peaks().a, m.peaks().j};
+        double end = 0.0;
+        ASSERT_GT(shape.piece_count(), 0);
+        for (int i = 0; i < shape.piece_count(); ++i) {
+          const core::Piece pc = shape.piece(i);
+          EXPECT_NEAR(pc.start, end, 1e-12 * shape.duration());
+          end = pc.start + pc.length;
+          for (int k = 1; k < 16; ++k) {
+            const double t = pc.start + pc.length * k / 16.0;
+            const core::Sample<double> a = shape.at(t), b = core::piece_at(pc, t);
+            EXPECT_NEAR(a.p, b.p, 1e-12 * std::fabs(pk.p)) << "piece " << i << " t " << t;
+            if (std::isfinite(pk.v)) {
+              EXPECT_NEAR(a.v, b.v, 1e-9 * pk.v) << "piece " << i << " t " << t;
+            }
+            if (std::isfinite(pk.a)) {
+              EXPECT_NEAR(a.a, b.a, 1e-9 * pk.a) << "piece " << i << " t " << t;
+            }
+            if (std::isfinite(pk.j)) {
+              EXPECT_NEAR(a.j, b.j, 1e-9 * pk.j) << "piece " << i << " t " << t;
+            }
+          }
+        }
+        EXPECT_NEAR(end, shape.duration(), 1e-12 * shape.duration());
+      }
+    });
+  });
+  EXPECT_GE(closed_form, 5);  // scurve, scurve-damped, ramp-versine, trapezoid, jerk-limited at least
+}
