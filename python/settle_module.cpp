@@ -13,13 +13,13 @@
 #include <limits>
 #include <optional>
 #include <string>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "settle/core/planner.hpp"
 #include "settle/sim/command.hpp"
 #include "settle/sim/modal_plant.hpp"
+#include "settle/sim/move_vocabulary.hpp"
 #include "settle/sim/simulate.hpp"
 
 namespace py = pybind11;
@@ -76,7 +76,7 @@ void check_keywords(const py::kwargs& kw, std::initializer_list<const char*> ext
 core::MoveRequest move_request(const py::kwargs& kw) {
   core::MoveRequest r{};
   const std::string profile = kw.contains("profile") ? text(kw["profile"], "profile") : "";
-  if (profile.empty()) bad("profile", "required (scurve, scurve-damped, ramp-versine, pseudopoly, poly345, trapezoid, jerk-limited)");
+  if (profile.empty()) bad("profile", "required (" + sim::profile_list() + ")");
   if (!core::parse_profile_kind(profile.c_str(), r.profile)) bad("profile", "unknown profile '" + profile + "'");
   if (!kw.contains("distance")) bad("distance", "required");
   r.distance = number(kw["distance"], "distance");
@@ -100,58 +100,13 @@ core::MoveRequest move_request(const py::kwargs& kw) {
   }
   if (kw.contains("shaper") && !kw["shaper"].is_none()) {
     const std::string s = text(kw["shaper"], "shaper");
-    bool found = false;
-    for (const core::ShaperKind k : {core::ShaperKind::none, core::ShaperKind::zv, core::ShaperKind::zvd,
-                                     core::ShaperKind::zvdd, core::ShaperKind::ei}) {
-      if (s == core::to_string(k)) {
-        r.shaper = k;
-        found = true;
-      }
-    }
-    if (!found) bad("shaper", "unknown shaper '" + s + "' (none, zv, zvd, zvdd, ei)");
+    if (!sim::parse_shaper(s, r.shaper)) bad("shaper", "unknown shaper '" + s + "' (" + sim::shaper_list() + ")");
   }
   return r;
 }
 
-// The keyword a planner status is about (the CLI's option names without their dashes).
-const char* keyword_of(core::Status s, const core::MoveRequest& r) {
-  using core::Status;
-  switch (s) {
-    case Status::non_positive_time:
-    case Status::time_too_short_for_vmax:
-    case Status::missing_time_or_limits: return "time";
-    case Status::non_positive_limit:
-      if (r.vmax && !(*r.vmax > 0.0)) return "vmax";
-      if (r.amax && !(*r.amax > 0.0)) return "amax";
-      return "jmax";
-    case Status::velocity_limit_exceeded: return "vmax";
-    case Status::acceleration_limit_exceeded: return "amax";
-    case Status::jerk_limit_exceeded: return "jmax";
-    case Status::non_positive_omega: return "omega";
-    case Status::zeta_out_of_range: return "zeta";
-    case Status::too_few_gammas:
-    case Status::too_many_gammas:
-    case Status::gamma_too_small:
-    case Status::gammas_not_distinct:
-    case Status::singular_system: return "gammas";
-    case Status::bad_shape_parameter: return "y";
-    case Status::vtol_out_of_range: return "vtol";
-    case Status::bad_impulse:
-    case Status::shaper_gain_not_unity:
-    case Status::too_many_impulses:
-    case Status::no_solution: return "shaper";
-    case Status::non_finite_input: {
-      const std::pair<const char*, std::optional<double>> values[] = {
-          {"distance", r.distance}, {"time", r.time}, {"vmax", r.vmax}, {"amax", r.amax},
-          {"jmax", r.jmax},         {"omega", r.omega}, {"zeta", r.zeta}, {"vtol", r.vtol}};
-      for (const auto& [name, v] : values) {
-        if (v && !std::isfinite(*v)) return name;
-      }
-      return r.y_fractions ? "y" : "gammas";
-    }
-    default: return "profile";
-  }
-}
+// The keyword a planner status is about: the CLI's option without its dashes.
+const char* keyword_of(core::Status s, const core::MoveRequest& r) { return sim::option_of(s, r) + 2; }
 
 core::Move<double> planned(const py::kwargs& kw) {
   const core::MoveRequest req = move_request(kw);
@@ -162,34 +117,10 @@ core::Move<double> planned(const py::kwargs& kw) {
   return move;
 }
 
-// The numbers that define each profile, named as `settle plan --json` names them.
+// The numbers that define the profile, named as `settle plan --json` names them.
 py::dict profile_params(const core::Profile<double>& prof) {
   py::dict f;
-  prof.visit([&](const auto& p) {
-    using P = std::decay_t<decltype(p)>;
-    const auto& q = p.params();
-    if constexpr (std::is_same_v<P, core::RampCycloid<double>>) {
-      f["tau"] = q.tau;
-      f["cruise"] = q.cruise;
-      f["A"] = q.amplitude;
-      f["A2"] = q.amplitude * q.c2;
-      f["c2"] = q.c2;
-      f["c3"] = q.c3;
-    } else if constexpr (std::is_same_v<P, core::RampVersine<double>>) {
-      f["tau"] = q.tau;
-      f["Y1"] = q.y1;
-      f["Y2"] = q.y2;
-      f["Y3"] = q.y3;
-    } else if constexpr (std::is_same_v<P, core::PseudoPoly<double>>) {
-      for (std::size_t i = 0; i < q.count; ++i) f[py::str("gamma" + std::to_string(i))] = q.gammas[i];
-      for (std::size_t i = 0; i < q.count; ++i) f[py::str("C" + std::to_string(i))] = q.coeffs[i];
-    } else {
-      for (std::size_t i = 0; i < q.count; ++i) {
-        f[py::str("segment" + std::to_string(i) + "_duration")] = q.durations[i];
-        f[py::str("segment" + std::to_string(i) + "_jerk")] = q.jerk[i];
-      }
-    }
-  });
+  for (const auto& [name, value] : sim::profile_params(prof)) f[py::str(name)] = value;
   return f;
 }
 
@@ -298,13 +229,19 @@ py::dict simulate(const py::kwargs& kw) {
 }  // namespace settle::python
 
 PYBIND11_MODULE(settle, m) {
-  m.doc() =
+  const std::string profiles = settle::sim::profile_list();
+  const std::string doc =
       "Settle: vibration-free point-to-point moves (planning, sampling, simulation).\n"
       "Every function takes the move as keywords, the `settle` CLI's options without their dashes:\n"
-      "  profile (scurve, scurve-damped, ramp-versine, pseudopoly, poly345, trapezoid, jerk-limited),\n"
+      "  profile (" + profiles + "),\n"
       "  distance, time (s) or vmax/amax/jmax, omega (rad/s) and zeta of the mode the move is for,\n"
-      "  gammas (pseudopoly exponents), y (ramp-versine Y/L fractions), shaper (none, zv, zvd, zvdd, ei), vtol.\n"
-      "A bad value raises ValueError('<keyword>: <reason>').";
+      "  gammas (pseudopoly exponents), y (ramp-versine Y/L fractions), shaper (" + settle::sim::shaper_list() +
+      "), vtol.\n"
+      "A bad value raises ValueError('<keyword>: <reason>'). settle.PROFILES lists the profiles.";
+  m.doc() = doc;
+  py::tuple names(settle::core::kProfileCount);
+  for (std::size_t i = 0; i < settle::core::kProfileCount; ++i) names[i] = settle::core::profile_names()[i];
+  m.attr("PROFILES") = names;
   m.def("plan", &settle::python::plan,
         "plan(**move) -> dict: the planned move as `settle plan --json` prints it (status, profile, distance,\n"
         "duration, profile_duration, params, peaks, shaper.impulses); an infinite peak is math.inf.");

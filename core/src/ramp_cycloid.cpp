@@ -154,4 +154,125 @@ Peaks<double> ramp_cycloid_peaks(const RampCycloidParams& p) noexcept {
   return out;
 }
 
+namespace {
+
+RampCycloidParams scurve_params(double distance, double tau, double cruise, double v, double omega,
+                                double zeta) noexcept {
+  const CycloidWeights w = cycloid_weights(tau, omega, zeta);
+  const double sg = distance < 0.0 ? -1.0 : 1.0;
+  return {distance, tau, cruise, sg * v / tau, w.c2, w.c3};
+}
+
+constexpr double inf = infinity_v<double>;
+
+}  // namespace
+
+// Seed 000's planning rule: with vmax the profile cruises at vmax when it must; otherwise (or when
+// vmax is generous) the 4-segment profile.
+Status scurve_timed(double distance, double time, double vmax, double omega, double zeta,
+                    RampCycloidParams& out) noexcept {
+  const double d = std::fabs(distance);
+  const double t = time;
+  const bool has_vmax = vmax > 0.0;
+  if (has_vmax && d / vmax >= t) return Status::time_too_short_for_vmax;
+  double tau = t / 4.0;
+  double cruise = 0.0;
+  if (has_vmax && vmax < 2.0 * d / t) {  // a cruise at vmax is needed
+    // With a short transition the velocity overshoots vmax; lowering the cruise velocity only
+    // shortens tau and makes that worse, so such a request is refused by the peak check.
+    tau = (t * vmax - d) / (2.0 * vmax);
+    cruise = t - 4.0 * tau;
+  }
+  out = scurve_params(distance, tau, cruise, d / (t - 2.0 * tau), omega, zeta);
+  return Status::ok;
+}
+
+Status plan_fastest_scurve(double distance, double vmax, double amax, double jmax, double omega, double zeta,
+                           bool damped, RampCycloidParams& out) noexcept {
+  if (!std::isfinite(distance) || !std::isfinite(vmax) || !std::isfinite(amax) || std::isnan(jmax) ||
+      !std::isfinite(omega) || !std::isfinite(zeta)) {
+    return Status::non_finite_input;
+  }
+  if (!(vmax > 0.0 && amax > 0.0 && jmax > 0.0)) return Status::non_positive_limit;
+  if (!(omega > 0.0)) return Status::non_positive_omega;
+  if (!(zeta >= 0.0 && zeta < 1.0)) return Status::zeta_out_of_range;
+  const double z = damped ? zeta : 0.0;
+  const double d = std::fabs(distance);
+  if (d == 0.0) {
+    out = RampCycloidParams{};
+    return Status::ok;
+  }
+  // For a transition length tau, the largest cruise velocity V that keeps every true peak
+  // within its limit; the move then lasts D/V + 2 tau (with no cruise when V = D/(2 tau)).
+  // Peaks scale as |v| = V vn, |a| = (V/tau) an, |j| = (V/tau^2) jn with vn, an, jn shape factors.
+  // vn needs root finding, so the search first runs on a relaxation that applies vmax to V
+  // alone (vn >= 1): its minimum is a lower bound, and it is the answer whenever the true
+  // velocity peak there is within vmax. Only otherwise is the search repeated with vn.
+  bool with_vn = false;
+  auto best_v = [&](double tau) {
+    const CycloidWeights w = cycloid_weights(tau, omega, z);
+    const TransitionPeaks u = transition_peaks(w.c2, w.c3);
+    double v = std::min({vmax, amax * tau / u.accel, d / (2.0 * tau)});
+    if (std::isfinite(jmax)) v = std::min(v, jmax * tau * tau / u.jerk);
+    if (with_vn && u.accel > 1.0) v = std::min(v, vmax / transition_velocity_peak(w.c2, w.c3));
+    return v;
+  };
+  auto total = [&](double tau) { return d / best_v(tau) + 2.0 * tau; };
+  const double scales[4] = {d / vmax, std::sqrt(d / amax), 6.283185307179586 / omega,
+                            std::isfinite(jmax) ? std::cbrt(d / jmax) : d / vmax};
+  const double s_lo = *std::min_element(scales, scales + 4) * 1e-2;
+  const double s_hi = std::max(d / vmax, std::sqrt(d / amax)) * 2.0;
+  auto search = [&]() {
+    // Geometric scan of tau, then golden section on the best bracket. T(tau) is flat at its
+    // minimum, so tau to 1e-7 gives T to far better than 1e-9.
+    constexpr int kScan = 32;
+    const double ratio = std::pow(s_hi / s_lo, 1.0 / kScan);
+    int best = 0;
+    double best_t = inf;
+    for (int i = 0; i <= kScan; ++i) {
+      const double t = total(s_lo * std::pow(ratio, i));
+      if (t < best_t) {
+        best_t = t;
+        best = i;
+      }
+    }
+    double lo = s_lo * std::pow(ratio, std::max(best - 1, 0));
+    double hi = s_lo * std::pow(ratio, std::min(best + 1, kScan));
+    constexpr double g = 0.6180339887498948482;
+    double c = hi - g * (hi - lo), e = lo + g * (hi - lo);
+    double fc = total(c), fe = total(e);
+    for (int it = 0; it < 40 && hi - lo > 1e-7 * hi; ++it) {
+      if (fc < fe) {
+        hi = e;
+        e = c;
+        fe = fc;
+        c = hi - g * (hi - lo);
+        fc = total(c);
+      } else {
+        lo = c;
+        c = e;
+        fc = fe;
+        e = lo + g * (hi - lo);
+        fe = total(e);
+      }
+    }
+    const double grid = s_lo * std::pow(ratio, best);
+    if (best_t < std::min(fc, fe)) return grid;
+    return fc < fe ? c : e;
+  };
+  double tau = search();
+  {
+    const CycloidWeights w = cycloid_weights(tau, omega, z);
+    if (best_v(tau) * transition_velocity_peak(w.c2, w.c3) > vmax * (1.0 + 1e-12)) {
+      with_vn = true;
+      tau = search();
+    }
+  }
+  const double v = best_v(tau);
+  const double cruise = std::max(0.0, d / v - 2.0 * tau);
+  if (!std::isfinite(v) || !(v > 0.0)) return Status::no_solution;
+  out = scurve_params(distance, tau, cruise, v, omega, z);
+  return Status::ok;
+}
+
 }  // namespace settle::core

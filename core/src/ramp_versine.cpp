@@ -6,6 +6,52 @@ namespace settle::core {
 
 namespace {
 constexpr double two_pi = 6.283185307179586476925286766559;
+
+// Generic shortest move time: the smallest T in [t_lo, t_hi] for which feasible(T) holds, by a
+// geometric scan and bisection. For peaks that have no closed-form inverse.
+template <typename F>
+bool shortest_time(F&& feasible, double t_lo, double t_hi, double& t_out) noexcept {
+  constexpr int kScan = 64;
+  const double ratio = std::pow(t_hi / t_lo, 1.0 / kScan);
+  double prev = t_lo;
+  if (feasible(t_lo)) {
+    t_out = t_lo;
+    return true;
+  }
+  for (int i = 1; i <= kScan; ++i) {
+    const double t = t_lo * std::pow(ratio, i);
+    if (feasible(t)) {
+      double lo = prev, hi = t;
+      for (int it = 0; it < 60 && hi - lo > 1e-13 * hi; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        if (feasible(mid)) {
+          hi = mid;
+        } else {
+          lo = mid;
+        }
+      }
+      t_out = hi;
+      return true;
+    }
+    prev = t;
+  }
+  return false;
+}
+}  // namespace
+
+RampVersineParams ramp_versine_make(double distance, double tau, const double* fractions, double omega,
+                                    double zeta) noexcept {
+  if (fractions != nullptr) {
+    return RampVersineParams{distance, tau, fractions[0] * distance, fractions[1] * distance, fractions[2] * distance};
+  }
+  return ramp_versine_zero_vibration(distance, tau, omega, zeta);
+}
+
+bool ramp_versine_shortest(double distance, double vmax, const double* fractions, double omega, double zeta,
+                           double& tau) noexcept {
+  const double d = std::fabs(distance);
+  auto ok = [&](double t) { return ramp_versine_peaks(ramp_versine_make(distance, t, fractions, omega, zeta)).v <= vmax; };
+  return shortest_time(ok, d / vmax, 1e4 * d / vmax, tau);
 }
 
 RampVersineParams ramp_versine_zero_vibration(double distance, double tau, double omega,

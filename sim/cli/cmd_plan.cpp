@@ -7,43 +7,11 @@
 #include "commands.hpp"
 #include "json.hpp"
 #include "move_options.hpp"
+#include "settle/sim/move_vocabulary.hpp"
 
 namespace settle::cli {
 
 namespace {
-
-using Fields = std::vector<std::pair<std::string, double>>;
-
-// The numbers that define each profile, named as in SEEDS.md, shared by text and JSON output.
-Fields profile_fields(const core::Profile<double>& prof) {
-  Fields f;
-  prof.visit([&](const auto& p) {
-    using P = std::decay_t<decltype(p)>;
-    if constexpr (std::is_same_v<P, core::RampCycloid<double>>) {
-      const auto& q = p.params();
-      f = {{"tau", q.tau},
-           {"cruise", q.cruise},
-           {"A", q.amplitude},
-           {"A2", q.amplitude * q.c2},
-           {"c2", q.c2},
-           {"c3", q.c3}};
-    } else if constexpr (std::is_same_v<P, core::RampVersine<double>>) {
-      const auto& q = p.params();
-      f = {{"tau", q.tau}, {"Y1", q.y1}, {"Y2", q.y2}, {"Y3", q.y3}};
-    } else if constexpr (std::is_same_v<P, core::PseudoPoly<double>>) {
-      const auto& q = p.params();
-      for (std::size_t i = 0; i < q.count; ++i) f.emplace_back("gamma" + std::to_string(i), q.gammas[i]);
-      for (std::size_t i = 0; i < q.count; ++i) f.emplace_back("C" + std::to_string(i), q.coeffs[i]);
-    } else {
-      const auto& q = p.params();
-      for (std::size_t i = 0; i < q.count; ++i) {
-        f.emplace_back("segment" + std::to_string(i) + "_duration", q.durations[i]);
-        f.emplace_back("segment" + std::to_string(i) + "_jerk", q.jerk[i]);
-      }
-    }
-  });
-  return f;
-}
 
 // Every number the plan reports. A peak that is an impulse (a velocity or acceleration step) is
 // null, and flagged; any other non-finite number makes the plan unreportable.
@@ -55,7 +23,7 @@ Json plan_json(const core::Move<double>& m) {
   j["duration"] = m.duration();
   j["profile_duration"] = m.profile().duration();
   Json params = Json::object();
-  for (const auto& [k, v] : profile_fields(m.profile())) params[k] = v;
+  for (const auto& [k, v] : sim::profile_params(m.profile())) params[k] = v;
   j["params"] = params;
   const auto& pk = m.peaks();
   const bool impulse_a = pk.velocity_step || pk.acceleration_step;
@@ -79,7 +47,7 @@ void print_text(const core::Move<double>& m) {
   std::printf("distance     %.9g\n", m.distance());
   std::printf("duration     %.9g s (profile %.9g s + shaper %.9g s)\n", m.duration(), m.profile().duration(),
               m.shaper().duration());
-  for (const auto& [k, v] : profile_fields(m.profile())) std::printf("  %-22s %.9g\n", k.c_str(), v);
+  for (const auto& [k, v] : sim::profile_params(m.profile())) std::printf("  %-22s %.9g\n", k.c_str(), v);
   const auto& pk = m.peaks();
   auto show = [](double v) { return std::isfinite(v) ? std::to_string(v) : std::string{"unbounded (impulse)"}; };
   std::printf("peak |v|     %s\npeak |a|     %s\npeak |j|     %s\n", show(pk.v).c_str(), show(pk.a).c_str(),

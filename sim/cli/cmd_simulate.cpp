@@ -17,14 +17,6 @@ namespace settle::cli {
 
 namespace {
 
-// Whether planning uses the mode (mirrors core's rule): only then do we fill --omega/--zeta from
-// the plant, and only then are they reported as what the move was designed for.
-bool needs_mode(const core::MoveRequest& r) {
-  return r.shaper != core::ShaperKind::none || r.profile == core::ProfileKind::scurve ||
-         r.profile == core::ProfileKind::scurve_damped ||
-         (r.profile == core::ProfileKind::ramp_versine && !r.y_fractions);
-}
-
 const char* units(sim::PlantKind k) { return k == sim::PlantKind::belt ? "rad" : "m"; }
 
 // Every number simulate reports; the settling time is null when it never comes (an undamped

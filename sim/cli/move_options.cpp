@@ -3,75 +3,15 @@
 #include <cmath>
 #include <string>
 
+#include "settle/sim/move_vocabulary.hpp"
+
 namespace settle::cli {
-
-namespace {
-
-struct ShaperName {
-  const char* name;
-  core::ShaperKind kind;
-};
-constexpr ShaperName kShapers[] = {{"none", core::ShaperKind::none},
-                                   {"zv", core::ShaperKind::zv},
-                                   {"zvd", core::ShaperKind::zvd},
-                                   {"zvdd", core::ShaperKind::zvdd},
-                                   {"ei", core::ShaperKind::ei}};
-
-}  // namespace
-
-const char* param_of(core::Status s, const core::MoveRequest& r) {
-  using core::Status;
-  switch (s) {
-    case Status::non_positive_time:
-    case Status::time_too_short_for_vmax:
-    case Status::missing_time_or_limits: return "--time";
-    case Status::non_positive_limit:
-      if (r.vmax && !(*r.vmax > 0.0)) return "--vmax";
-      if (r.amax && !(*r.amax > 0.0)) return "--amax";
-      return "--jmax";
-    case Status::velocity_limit_exceeded: return "--vmax";
-    case Status::acceleration_limit_exceeded: return "--amax";
-    case Status::jerk_limit_exceeded: return "--jmax";
-    case Status::non_positive_omega: return "--omega";
-    case Status::zeta_out_of_range: return "--zeta";
-    case Status::too_few_gammas:
-    case Status::too_many_gammas:
-    case Status::gamma_too_small:
-    case Status::gammas_not_distinct:
-    case Status::singular_system: return "--gammas";
-    case Status::bad_shape_parameter: return "--y";
-    case Status::vtol_out_of_range: return "--vtol";
-    case Status::bad_impulse:
-    case Status::shaper_gain_not_unity:
-    case Status::too_many_impulses: return "--shaper";
-    case Status::no_solution:
-      // Without a shaper, what did not converge is the profile's own design for the mode or
-      // the limits: name what the user gave for it.
-      if (r.shaper != core::ShaperKind::none) return "--shaper";
-      if (r.time) return "--time";
-      if (r.vmax) return "--vmax";
-      return "--profile";
-    case Status::non_finite_input: {
-      const std::pair<const char*, std::optional<double>> opts[] = {
-          {"--distance", r.distance}, {"--time", r.time}, {"--vmax", r.vmax}, {"--amax", r.amax},
-          {"--jmax", r.jmax},         {"--omega", r.omega}, {"--zeta", r.zeta}, {"--vtol", r.vtol}};
-      for (const auto& [name, v] : opts) {
-        if (v && !std::isfinite(*v)) return name;
-      }
-      if (r.y_fractions) return "--y";
-      if (r.gamma_count > 0) return "--gammas";
-      return "--distance";
-    }
-    default: return "--profile";
-  }
-}
 
 bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestError& err) {
   core::MoveRequest r{};
   const auto prof = a.text("--profile");
   if (!prof) {
-    err = {"missing_option", "--profile", "--profile: required (scurve, scurve-damped, ramp-versine, pseudopoly, "
-                                          "poly345, trapezoid, jerk-limited)"};
+    err = {"missing_option", "--profile", "--profile: required (" + sim::profile_list() + ")"};
     return false;
   }
   if (!core::parse_profile_kind(prof->c_str(), r.profile)) {  // the table lists only core's names
@@ -103,10 +43,7 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
     const std::vector<double> v = a.list("--y");
     r.y_fractions = std::array<double, 3>{v[0], v[1], v[2]};
   }
-  const std::string s = a.text("--shaper", "none");
-  for (const ShaperName& n : kShapers) {
-    if (s == n.name) r.shaper = n.kind;
-  }
+  (void)sim::parse_shaper(a.text("--shaper", "none"), r.shaper);  // the table lists only these names
   req = r;
   return true;
 }
@@ -114,7 +51,7 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
 bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestError& err) {
   const core::Status st = core::plan(req, out);
   if (st != core::Status::ok) {
-    const char* p = param_of(st, req);
+    const char* p = sim::option_of(st, req);
     err = {core::to_string(st), p, std::string{p} + ": " + core::describe(st)};
     return false;
   }

@@ -9,10 +9,9 @@ namespace settle::cli {
 // Fills `req` from the options (already range-checked); false (with `err`) when a required
 // option is missing or the options contradict each other.
 [[nodiscard]] bool parse_move_request(const ParsedArgs& args, core::MoveRequest& req, RequestError& err);
-// Plans the request; on failure fills `err` naming the option the status is about. A plan whose
+// Plans the request; on failure fills `err` naming the option the status is about
+// (sim::option_of). A plan whose
 // duration, peaks or shaper are not finite, or that lasts longer than kMaxSeconds, is refused.
 [[nodiscard]] bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestError& err);
-// The option a planner status is about, so that the user is told what to change.
-[[nodiscard]] const char* param_of(core::Status s, const core::MoveRequest& r);
 
 }  // namespace settle::cli

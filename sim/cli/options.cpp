@@ -13,6 +13,7 @@
 #include "json.hpp"
 #include "settle/core/profile.hpp"
 #include "settle/sim/beam.hpp"
+#include "settle/sim/move_vocabulary.hpp"
 
 namespace settle::cli {
 
@@ -25,12 +26,13 @@ std::string num(double v) {
 }
 
 std::vector<std::string> profile_names() {
+  const auto names = core::profile_names();
+  return {names.begin(), names.end()};
+}
+
+std::vector<std::string> shaper_names() {
   std::vector<std::string> names;
-  for (int i = 0; i < 64; ++i) {
-    const std::string n = core::to_string(static_cast<core::ProfileKind>(i));
-    if (n == "unknown") break;
-    names.push_back(n);
-  }
+  for (const sim::ShaperName& s : sim::shaper_names()) names.emplace_back(s.name);
   return names;
 }
 
@@ -79,7 +81,7 @@ const std::vector<OptionSpec> kMove = [] {
        .value_name = "G1,G2,..."},
       {.name = "--y", .kind = Kind::list, .unit = "", .def = "computed", .help = "ramp-versine fractions "
        "Y1/L,Y2/L,Y3/L", .range = {-100.0, 100.0}, .min_items = 3, .max_items = 3, .value_name = "Y1,Y2,Y3"},
-      choice("--shaper", "none", {"none", "zv", "zvd", "zvdd", "ei"}, "input shaper convolved with the profile"),
+      choice("--shaper", "none", shaper_names(), "input shaper convolved with the profile"),
       real("--vtol", "", "0.05", {0.0, 0.5, true, true}, "EI shaper vibration tolerance"),
   };
   return v;

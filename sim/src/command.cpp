@@ -7,36 +7,24 @@ namespace settle::sim {
 
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586476925286766559;
-
 // t is inside (lo, hi] for a left sample and inside [lo, hi) for a right one.
 bool inside(double t, double lo, double hi, bool left) { return left ? (t > lo && t <= hi) : (t >= lo && t < hi); }
 
-BaseState ramp_cycloid_sample(const core::RampCycloid<double>& rc, double t, bool left) {
-  const double dur = rc.duration();
-  if (!inside(t, 0.0, dur, left)) {
-    return (left ? t > dur : t >= dur) ? BaseState{rc.distance(), 0.0, 0.0} : BaseState{};
+// A closed-form shape at t, from its exact pieces (settle/core/piece.hpp): on a breakpoint the
+// piece ending there for a left sample, the one starting there for a right one.
+template <typename S>
+BaseState piece_sample(const S& shape, double t, bool left) {
+  const double dur = shape.duration();
+  const int n = shape.piece_count();
+  if (n == 0 || !inside(t, 0.0, dur, left)) {
+    return (left ? t > dur : t >= dur) ? BaseState{shape.distance(), 0.0, 0.0} : BaseState{};
   }
-  int k = 4;
-  while (k > 0 && (left ? t <= rc.segment(k).start : t < rc.segment(k).start)) --k;
-  const double u = t - rc.segment(k).start;
-  core::Sample<double> s{};
-  if (rc.segment(k).cruise) {
-    s = rc.in_segment(k, u, 0.0, 1.0);
-  } else {
-    const double th = kTwoPi * u / rc.tau();
-    s = rc.in_segment(k, u, std::sin(th), std::cos(th));
+  core::Piece pc{};
+  for (int k = 0; k < n; ++k) {
+    pc = shape.piece(k);
+    if (inside(t, pc.start, pc.start + pc.length, left)) break;
   }
-  return {s.p, s.v, s.a};
-}
-
-BaseState ramp_versine_sample(const core::RampVersine<double>& rv, double t, bool left) {
-  const double dur = rv.duration();
-  if (!inside(t, 0.0, dur, left)) {
-    return (left ? t > dur : t >= dur) ? BaseState{rv.distance(), 0.0, 0.0} : BaseState{};
-  }
-  const double th = rv.rate() * t;
-  const core::Sample<double> s = rv.at_angle(th, std::sin(th), std::cos(th));
+  const core::Sample<double> s = core::piece_at(pc, t);
   return {s.p, s.v, s.a};
 }
 
@@ -61,41 +49,15 @@ BaseState pseudo_poly_sample(const core::PseudoPoly<double>& pp, double t, bool 
   return {d - d * p, d * it * v, -d * it * it * a};
 }
 
-BaseState piecewise_sample(const core::PiecewiseJerk<double>& pj, double t, bool left) {
-  const auto& q = pj.params();
-  const double dur = pj.duration();
-  if (q.count == 0 || !inside(t, 0.0, dur, left)) {
-    return (left ? t > dur : t >= dur) ? BaseState{q.distance, 0.0, 0.0} : BaseState{};
-  }
-  double start = 0.0, p = 0.0, v = 0.0;
-  for (std::size_t i = 0; i < q.count; ++i) {
-    const double d = q.durations[i];
-    const bool last = i + 1 == q.count;
-    if (last || inside(t, start, start + d, left)) {
-      const double u = t - start;
-      const double a0 = q.accel0[i], j = q.jerk[i];
-      return {p + u * (v + u * (a0 / 2.0 + j * u / 6.0)), v + u * (a0 + j * u / 2.0), a0 + j * u};
-    }
-    p += v * d + q.accel0[i] * d * d / 2.0 + q.jerk[i] * d * d * d / 6.0;
-    v += q.accel0[i] * d + q.jerk[i] * d * d / 2.0;
-    start += d;
-  }
-  return {};
-}
-
 }  // namespace
 
 BaseState profile_sample(const core::Profile<double>& prof, double t, bool left) {
   return prof.visit([&](const auto& p) -> BaseState {
     using P = std::decay_t<decltype(p)>;
-    if constexpr (std::is_same_v<P, core::RampCycloid<double>>) {
-      return ramp_cycloid_sample(p, t, left);
-    } else if constexpr (std::is_same_v<P, core::RampVersine<double>>) {
-      return ramp_versine_sample(p, t, left);
-    } else if constexpr (std::is_same_v<P, core::PseudoPoly<double>>) {
+    if constexpr (std::is_same_v<P, core::PseudoPoly<double>>) {
       return pseudo_poly_sample(p, t, left);
     } else {
-      return piecewise_sample(p, t, left);
+      return piece_sample(p, t, left);
     }
   });
 }
@@ -104,11 +66,8 @@ void profile_breakpoints(const core::Profile<double>& prof, std::vector<double>&
   out.push_back(0.0);
   prof.visit([&](const auto& p) {
     using P = std::decay_t<decltype(p)>;
-    if constexpr (std::is_same_v<P, core::RampCycloid<double>>) {
-      for (int k = 1; k < 5; ++k) out.push_back(p.segment(k).start);
-    } else if constexpr (std::is_same_v<P, core::PiecewiseJerk<double>>) {
-      double t = 0.0;
-      for (std::size_t i = 0; i < p.params().count; ++i) out.push_back(t += p.params().durations[i]);
+    if constexpr (!std::is_same_v<P, core::PseudoPoly<double>>) {
+      for (int k = 1; k < p.piece_count(); ++k) out.push_back(p.piece(k).start);
     }
     out.push_back(p.duration());
   });

@@ -7,33 +7,30 @@ namespace settle::sim {
 
 namespace {
 
-// Every core profile and every shaper, on the first beam mode (undamped), PRV against the
+// The seven profiles of the comparison and every shaper, on the first beam mode (undamped), PRV against the
 // frequency ratio from 0.5 to 2 and the 5 % width.
 SimStatus sensitivity_study(double w1, double tn, std::vector<Sensitivity000>& out) {
   const double d = 0.07, t = 2.0 * tn;
-  struct Case {
-    const char* name;
-    core::ProfileKind kind;
-  };
-  const Case profiles[] = {{"scurve", core::ProfileKind::scurve},           {"scurve-damped", core::ProfileKind::scurve_damped},
-                           {"ramp-versine", core::ProfileKind::ramp_versine}, {"pseudopoly", core::ProfileKind::pseudopoly},
-                           {"poly345", core::ProfileKind::poly345},         {"trapezoid", core::ProfileKind::trapezoid},
-                           {"jerk-limited", core::ProfileKind::jerk_limited}};
+  // The paper's comparison set (its rows are this study's; a new registry profile is not added to it).
+  const core::ProfileKind profiles[] = {core::ProfileKind::scurve,     core::ProfileKind::scurve_damped,
+                                        core::ProfileKind::ramp_versine, core::ProfileKind::pseudopoly,
+                                        core::ProfileKind::poly345,    core::ProfileKind::trapezoid,
+                                        core::ProfileKind::jerk_limited};
   std::vector<std::pair<std::string, std::unique_ptr<Command>>> cmds;
-  for (const Case& c : profiles) {
+  for (const core::ProfileKind kind : profiles) {
     core::MoveRequest r;
-    r.profile = c.kind;
+    r.profile = kind;
     r.distance = d;
     r.time = t;
     r.omega = w1;
-    if (c.kind == core::ProfileKind::pseudopoly) {
+    if (kind == core::ProfileKind::pseudopoly) {
       // Seed 004's Table II pseudo-polynomial: not designed for any mode, a shape for comparison.
       r.gammas[0] = 4.5;
       r.gammas[1] = 6.2;
       r.gammas[2] = 8.4;
       r.gamma_count = 3;
     }
-    if (c.kind == core::ProfileKind::jerk_limited) {
+    if (kind == core::ProfileKind::jerk_limited) {
       // Limits loose enough for the stretch to T to be feasible: cruise at most 2 D/T.
       r.vmax = 2.0 * d / t;
       r.amax = 16.0 * d / (t * t);
@@ -41,7 +38,7 @@ SimStatus sensitivity_study(double w1, double tn, std::vector<Sensitivity000>& o
     }
     core::Move<double> m;
     if (core::plan(r, m) != core::Status::ok) return SimStatus::plan_failed;
-    cmds.emplace_back(c.name, std::make_unique<MoveCommand>(m));
+    cmds.emplace_back(core::to_string(kind), std::make_unique<MoveCommand>(m));
   }
   for (auto kind : {core::ShaperKind::zv, core::ShaperKind::zvd, core::ShaperKind::zvdd, core::ShaperKind::ei}) {
     core::Shaper<double> sh;

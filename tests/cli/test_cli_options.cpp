@@ -14,6 +14,7 @@
 #include "move_options.hpp"
 #include "options.hpp"
 #include "run_cli.hpp"
+#include "settle/sim/move_vocabulary.hpp"
 
 namespace {
 
@@ -161,13 +162,13 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
   // A plan without a shaper that does not converge is not blamed on --shaper.
   settle::core::MoveRequest limits{};
   limits.vmax = 1.0;
-  EXPECT_STREQ(settle::cli::param_of(settle::core::Status::no_solution, limits), "--vmax");
+  EXPECT_STREQ(settle::sim::option_of(settle::core::Status::no_solution, limits), "--vmax");
   settle::core::MoveRequest timed{};
   timed.time = 1.0;
-  EXPECT_STREQ(settle::cli::param_of(settle::core::Status::no_solution, timed), "--time");
+  EXPECT_STREQ(settle::sim::option_of(settle::core::Status::no_solution, timed), "--time");
   settle::core::MoveRequest shaped{};
   shaped.shaper = settle::core::ShaperKind::ei;
-  EXPECT_STREQ(settle::cli::param_of(settle::core::Status::no_solution, shaped), "--shaper");
+  EXPECT_STREQ(settle::sim::option_of(settle::core::Status::no_solution, shaped), "--shaper");
 }
 
 // Issue 12 item 3: sizes are refused before anything is allocated or printed, naming the option.

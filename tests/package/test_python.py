@@ -59,6 +59,19 @@ class Plan(unittest.TestCase):
                 # %.17g in the CLI's JSON round-trips: the same doubles, compared exactly.
                 self.assertEqual(json_like(settle.plan(**move)), json.loads(out))
 
+    def test_profile_names_are_the_registrys_as_the_cli_lists_them(self):
+        self.assertEqual(settle.PROFILES[0], "scurve")
+        with self.assertRaises(ValueError) as caught:
+            settle.plan(distance=1.0)
+        self.assertEqual(str(caught.exception), "profile: required (" + ", ".join(settle.PROFILES) + ")")
+        for name in settle.PROFILES:  # every name is taken: what is missing is then the distance
+            with self.subTest(profile=name):
+                self.assertRaisesRegex(ValueError, "^distance: required", lambda: settle.plan(profile=name))
+        if SETTLE_CLI:
+            out = subprocess.run([SETTLE_CLI, "plan", "--distance", "1"], capture_output=True, text=True)
+            self.assertEqual(out.returncode, 2)
+            self.assertIn("--profile: required (" + ", ".join(settle.PROFILES) + ")", out.stderr)
+
     def test_shaped_duration_is_profile_plus_last_impulse(self):
         p = settle.plan(profile="scurve", distance=0.1, time=0.5, omega=10.0, shaper="zvd")
         impulses = p["shaper"]["impulses"]

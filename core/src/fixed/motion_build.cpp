@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <type_traits>
 
@@ -30,75 +31,15 @@ constexpr double kFitAccelTolerance = 0x1p-12;
 constexpr double kFitShortPositionTolerance = 0.25;
 constexpr std::size_t kMaxFitPieces = 64;
 
-// One piece in double: P(s) = sum c_k s^k + Im(Z e^{2 pi i s}) in the move's units over [start, start + length).
-struct Piece {
-  double start{0.0};
-  double length{0.0};
-  std::array<double, kMaxDegree + 1> c{};
-  double zr{0.0}, zi{0.0};
-  bool trig{false};
+// Every profile reaches the builder as pieces (settle/core/piece.hpp): the closed-form shapes give
+// their own exact decomposition (piece_count(), piece(i)); a pseudo-polynomial is fitted below.
+static_assert(kMaxPieceDegree == static_cast<std::size_t>(kMaxDegree), "a piece is what a segment holds");
+
+template <typename S>
+concept ClosedForm = requires(const S& s, int i) {
+  { s.piece_count() } -> std::same_as<int>;
+  { s.piece(i) } -> std::same_as<Piece>;
 };
-
-// ---- Pieces of each profile kind -------------------------------------------------------------
-
-int count_pieces(const RampCycloid<double>& rc) noexcept {
-  return rc.params().cruise > 0.0 ? 5 : 4;
-}
-
-Piece ramp_cycloid_piece(const RampCycloid<double>& rc, int i) noexcept {
-  const int k = (rc.params().cruise > 0.0 || i < 2) ? i : i + 1;  // skip an empty cruise
-  const auto& g = rc.segment(k);
-  const auto& sh = rc.shape();
-  const double tau = rc.tau();
-  Piece pc{};
-  pc.start = g.start;
-  if (g.cruise) {
-    pc.length = rc.params().cruise;
-    pc.c = {g.p0, rc.peak_velocity_nominal() * pc.length};
-    return pc;
-  }
-  // rise: p0 + v0 u + K r_p(s); fall: p0 + v0 u + K (s^2/2 - r_p(s)); K = sign A tau^2 and
-  // r_p = s^3/6 + (k3/2) s^2 - m2 s - q3 + (q2 sin + q3 cos) (docs/scurve-damped.md).
-  const double kk = g.sign * rc.amplitude() * tau * tau;
-  const double sg = g.fall ? -1.0 : 1.0;
-  pc.length = tau;
-  pc.c = {g.p0 - sg * kk * sh.q3, g.v0 * tau - sg * kk * sh.m2, sg * kk * sh.k3 / 2.0 + (g.fall ? kk / 2.0 : 0.0),
-          sg * kk / 6.0};
-  pc.zr = sg * kk * sh.q2;
-  pc.zi = sg * kk * sh.q3;
-  pc.trig = true;
-  return pc;
-}
-
-Piece ramp_versine_piece(const RampVersine<double>& rv) noexcept {
-  const auto& p = rv.params();
-  Piece pc{};
-  pc.length = p.tau;
-  pc.c = {p.y3 / kTwoPi, p.distance};
-  pc.zr = -p.y2 / kTwoPi;
-  pc.zi = -p.y3 / kTwoPi;
-  pc.trig = true;
-  return pc;
-}
-
-Piece piecewise_piece(const PiecewiseJerk<double>& pj, int i) noexcept {
-  const auto& p = pj.params();
-  double t = 0.0, pos = 0.0, v = 0.0;
-  for (int k = 0; k < i; ++k) {  // the same recurrence as PiecewiseJerk's constructor
-    const auto u = static_cast<std::size_t>(k);
-    const double d = p.durations[u], a = p.accel0[u], j = p.jerk[u];
-    pos += v * d + a * d * d / 2.0 + j * d * d * d / 6.0;
-    v += a * d + j * d * d / 2.0;
-    t += d;
-  }
-  const auto u = static_cast<std::size_t>(i);
-  const double d = p.durations[u];
-  Piece pc{};
-  pc.start = t;
-  pc.length = d;
-  pc.c = {pos, v * d, p.accel0[u] * d * d / 2.0, p.jerk[u] * d * d * d / 6.0};
-  return pc;
-}
 
 // The unit pseudo-polynomial phi(s) = 1 - sum C_i (1 - s)^g_i with phi' and phi''.
 struct UnitShape {
@@ -140,26 +81,20 @@ class Pieces {
   }
 
  private:
-  Status init_one(const RampCycloid<double>& p, const Ctx&, std::size_t) noexcept {
-    count_ = p.duration() > 0.0 ? count_pieces(p) : 0;
-    return Status::ok;
-  }
-  Status init_one(const RampVersine<double>& p, const Ctx&, std::size_t) noexcept {
-    count_ = p.duration() > 0.0 ? 1 : 0;
-    return Status::ok;
-  }
-  Status init_one(const PiecewiseJerk<double>& p, const Ctx&, std::size_t) noexcept {
-    count_ = static_cast<int>(p.params().count);
+  template <ClosedForm S>
+  Status init_one(const S& p, const Ctx&, std::size_t) noexcept {
+    count_ = p.duration() > 0.0 ? p.piece_count() : 0;
     for (int i = 0; i < count_; ++i) {
-      if (!(p.params().durations[static_cast<std::size_t>(i)] > 0.0)) return Status::bad_shape_parameter;
+      if (!(p.piece(i).length > 0.0)) return Status::bad_shape_parameter;
     }
     return Status::ok;
   }
   Status init_one(const PseudoPoly<double>& p, const Ctx& ctx, std::size_t capacity) noexcept;
 
-  Piece get_one(const RampCycloid<double>& p, int i) const noexcept { return ramp_cycloid_piece(p, i); }
-  Piece get_one(const RampVersine<double>& p, int) const noexcept { return ramp_versine_piece(p); }
-  Piece get_one(const PiecewiseJerk<double>& p, int i) const noexcept { return piecewise_piece(p, i); }
+  template <ClosedForm S>
+  Piece get_one(const S& p, int i) const noexcept {
+    return p.piece(i);
+  }
   Piece get_one(const PseudoPoly<double>& p, int i) const noexcept {
     const auto& pp = p.params();
     const UnitShape u{&pp};

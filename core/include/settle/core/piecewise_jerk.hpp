@@ -7,6 +7,7 @@
 #include <cstddef>
 
 #include "settle/core/kinematics.hpp"
+#include "settle/core/piece.hpp"
 #include "settle/core/status.hpp"
 
 namespace settle::core {
@@ -34,6 +35,7 @@ struct PiecewiseJerkParams {
 template <typename T>
 class PiecewiseJerk {
  public:
+  using Params = PiecewiseJerkParams;
   PiecewiseJerk() = default;
   explicit PiecewiseJerk(const PiecewiseJerkParams& p) noexcept : params_{p}, n_{p.count} {
     double t = 0.0, pos = 0.0, v = 0.0;
@@ -57,6 +59,30 @@ class PiecewiseJerk {
   [[nodiscard]] const PiecewiseJerkParams& params() const noexcept { return params_; }
   [[nodiscard]] T duration() const noexcept { return dur_; }
   [[nodiscard]] T distance() const noexcept { return dist_; }
+
+  // Its parameters as named numbers, as `settle plan` and Python's plan() report them: f(name, i, value)
+  // per number, where a '#' in the name stands for i (a per-segment or per-exponent number).
+  template <typename F>
+  void for_each_param(F&& f) const {
+    for (std::size_t i = 0; i < params_.count; ++i) {
+      f("segment#_duration", i, params_.durations[i]);
+      f("segment#_jerk", i, params_.jerk[i]);
+    }
+  }
+
+  // The exact decomposition (piece.hpp): one cubic per segment, from this evaluator's own segment
+  // states. Meant for PiecewiseJerk<double> (the fixed-point builder's input).
+  [[nodiscard]] int piece_count() const noexcept { return static_cast<int>(n_); }
+  [[nodiscard]] Piece piece(int i) const noexcept {
+    const auto k = static_cast<std::size_t>(i);
+    const double d = params_.durations[k];
+    Piece pc{};
+    pc.start = static_cast<double>(start_[k]);
+    pc.length = d;
+    pc.c = {static_cast<double>(p0_[k]), static_cast<double>(v0_[k]) * d, params_.accel0[k] * d * d / 2.0,
+            params_.jerk[k] * d * d * d / 6.0};
+    return pc;
+  }
 
   [[nodiscard]] Sample<T> at(T t) const noexcept {
     if (!(t > T(0))) return {};

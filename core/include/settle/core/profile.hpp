@@ -1,37 +1,49 @@
 #pragma once
 // Any core profile behind one value type, so that the servo loop, the simulator and the CLI can
-// hold "a move" without templates leaking into them. A closed set: dispatch is a switch, no
-// virtual calls, no heap.
-#include <cstdint>
+// hold "a move" without templates leaking into them. A closed set, generated from the registry
+// (profiles/registry.hpp): the variant holds each registered profile's shape once, and dispatch is
+// an if-chain over its alternatives, no virtual calls, no heap.
+#include <cstddef>
+#include <type_traits>
+#include <utility>
 #include <variant>
 
 #include "settle/core/kinematics.hpp"
-#include "settle/core/piecewise_jerk.hpp"
-#include "settle/core/pseudo_poly.hpp"
-#include "settle/core/ramp_cycloid.hpp"
-#include "settle/core/ramp_versine.hpp"
+#include "settle/core/profiles/registry.hpp"
 
 namespace settle::core {
 
-enum class ProfileKind : std::uint8_t {
-  scurve,         // ramp-cycloid S-curve, seed 000
-  scurve_damped,  // ramp-cycloid + versine, exact for a damped mode (ours)
-  ramp_versine,   // ramp + cycloid + versine position command, seeds 001/002
-  pseudopoly,     // pseudo-polynomial, seed 004
-  poly345,        // 3-4-5 polynomial (pseudopoly with gamma = 3, 4, 5)
-  trapezoid,      // trapezoidal velocity
-  jerk_limited,   // classic 7-phase jerk-limited S-curve
+namespace detail {
+template <typename... Ts>
+struct TypeList {};
+template <typename List, typename T>
+struct AppendUnique;
+template <typename... Ts, typename T>
+struct AppendUnique<TypeList<Ts...>, T> {
+  using type = std::conditional_t<(std::is_same_v<T, Ts> || ...), TypeList<Ts...>, TypeList<Ts..., T>>;
 };
-
-[[nodiscard]] const char* to_string(ProfileKind k) noexcept;
-// Parses the CLI names (scurve, scurve-damped, ramp-versine, pseudopoly, poly345, trapezoid,
-// jerk-limited). Returns false for an unknown name and leaves `out` untouched.
-[[nodiscard]] bool parse_profile_kind(const char* name, ProfileKind& out) noexcept;
+// The registered profiles' shapes in registry order, each once (two profiles may share a shape).
+template <typename T, std::size_t I = 0, typename Acc = TypeList<>>
+constexpr auto registered_shapes() {
+  if constexpr (I == kProfileCount) {
+    return std::type_identity<Acc>{};
+  } else {
+    using Shape = typename profile_t<static_cast<ProfileKind>(I)>::template Shape<T>;
+    return registered_shapes<T, I + 1, typename AppendUnique<Acc, Shape>::type>();
+  }
+}
+template <typename List>
+struct VariantOf;
+template <typename... Ts>
+struct VariantOf<TypeList<Ts...>> {
+  using type = std::variant<Ts...>;
+};
+}  // namespace detail
 
 template <typename T>
 class Profile {
  public:
-  using Variant = std::variant<PiecewiseJerk<T>, RampCycloid<T>, RampVersine<T>, PseudoPoly<T>>;
+  using Variant = typename detail::VariantOf<typename decltype(detail::registered_shapes<T>())::type>::type;
 
   Profile() = default;  // a zero-length move of zero distance
   Profile(ProfileKind kind, const Variant& v) noexcept : kind_{kind}, v_{v} {}
@@ -43,16 +55,13 @@ class Profile {
   [[nodiscard]] ProfileKind kind() const noexcept { return kind_; }
   [[nodiscard]] const Variant& variant() const noexcept { return v_; }
 
-  // Calls f with the concrete profile. std::visit is avoided on purpose: it may throw
+  // Calls f with the concrete shape. One branch per alternative, generated: the last alternative
+  // is reached only when index() names it (a variant has no index past its last alternative, and
+  // cannot become valueless without exceptions). std::visit is avoided on purpose: it may throw
   // bad_variant_access, and core is built without exceptions.
   template <typename F>
   decltype(auto) visit(F&& f) const noexcept {
-    switch (v_.index()) {
-      case 1: return f(*std::get_if<1>(&v_));
-      case 2: return f(*std::get_if<2>(&v_));
-      case 3: return f(*std::get_if<3>(&v_));
-      default: return f(*std::get_if<0>(&v_));
-    }
+    return visit_from<0>(f);
   }
 
   [[nodiscard]] Sample<T> at(T t) const noexcept {
@@ -66,12 +75,21 @@ class Profile {
   }
 
  private:
+  template <std::size_t I, typename F>
+  decltype(auto) visit_from(F& f) const noexcept {
+    if constexpr (I + 1 == std::variant_size_v<Variant>) {
+      return f(*std::get_if<I>(&v_));
+    } else {
+      if (v_.index() == I) return f(*std::get_if<I>(&v_));
+      return visit_from<I + 1>(f);
+    }
+  }
   template <typename U, template <typename> class P>
   void assign(const P<U>& p) noexcept {
     v_ = P<T>{p};
   }
 
-  ProfileKind kind_{ProfileKind::trapezoid};
+  ProfileKind kind_{};
   Variant v_{};
 };
 

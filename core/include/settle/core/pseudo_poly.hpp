@@ -32,6 +32,7 @@ struct PseudoPolyParams {
 template <typename T>
 class PseudoPoly {
  public:
+  using Params = PseudoPolyParams;
   PseudoPoly() = default;
   explicit PseudoPoly(const PseudoPolyParams& p) noexcept
       : params_{p}, d_{static_cast<T>(p.distance)}, dur_{static_cast<T>(p.duration)}, n_{p.count} {
@@ -52,6 +53,14 @@ class PseudoPoly {
   [[nodiscard]] const PseudoPolyParams& params() const noexcept { return params_; }
   [[nodiscard]] T duration() const noexcept { return dur_; }
   [[nodiscard]] T distance() const noexcept { return d_; }
+
+  // Its parameters as named numbers, as `settle plan` and Python's plan() report them: f(name, i, value)
+  // per number, where a '#' in the name stands for i (a per-segment or per-exponent number).
+  template <typename F>
+  void for_each_param(F&& f) const {
+    for (std::size_t i = 0; i < params_.count; ++i) f("gamma#", i, params_.gammas[i]);
+    for (std::size_t i = 0; i < params_.count; ++i) f("C#", i, params_.coeffs[i]);
+  }
 
   [[nodiscard]] Sample<T> at(T t) const noexcept {
     if (!(t > T(0))) return {};

@@ -7,6 +7,8 @@
 #include <cstdint>
 
 #include "settle/core/kinematics.hpp"
+#include "settle/core/piece.hpp"
+#include "settle/core/status.hpp"
 
 namespace settle::core {
 
@@ -66,6 +68,7 @@ struct CycloidShape {
 template <typename T>
 class RampCycloid {
  public:
+  using Params = RampCycloidParams;
   // One transition or the cruise. A transition either rises (0 -> sign*A) or falls
   // (sign*A -> 0); fall(u) = A - rise(u).
   struct Segment {
@@ -151,6 +154,47 @@ class RampCycloid {
             sa * (T(1) - ra), -sa * inv_tau_ * rj};
   }
 
+  // Its parameters as named numbers, as `settle plan` and Python's plan() report them: f(name, i, value)
+  // per number, where a '#' in the name stands for i (a per-segment or per-exponent number).
+  template <typename F>
+  void for_each_param(F&& f) const {
+    f("tau", 0, params_.tau);
+    f("cruise", 0, params_.cruise);
+    f("A", 0, params_.amplitude);
+    f("A2", 0, params_.amplitude * params_.c2);
+    f("c2", 0, params_.c2);
+    f("c3", 0, params_.c3);
+  }
+
+  // The exact decomposition (piece.hpp) read off this evaluator's own segment table: 4 pieces,
+  // or 5 with a cruise. Meant for RampCycloid<double> (the fixed-point builder's input).
+  [[nodiscard]] int piece_count() const noexcept { return params_.cruise > 0.0 ? 5 : 4; }
+  [[nodiscard]] Piece piece(int i) const noexcept {
+    const int k = (params_.cruise > 0.0 || i < 2) ? i : i + 1;  // skip an empty cruise
+    const Segment& g = seg_[k];
+    const double tau = static_cast<double>(tau_);
+    Piece pc{};
+    pc.start = static_cast<double>(g.start);
+    if (g.cruise) {
+      pc.length = params_.cruise;
+      pc.c = {static_cast<double>(g.p0), static_cast<double>(vpk_) * pc.length};
+      return pc;
+    }
+    // rise: p0 + v0 u + K r_p(s); fall: p0 + v0 u + K (s^2/2 - r_p(s)); K = sign A tau^2 and
+    // r_p = s^3/6 + (k3/2) s^2 - m2 s - q3 + (q2 sin + q3 cos) (docs/scurve-damped.md).
+    const double kk = static_cast<double>(g.sign) * static_cast<double>(amp_) * tau * tau;
+    const double sg = g.fall ? -1.0 : 1.0;
+    const double p0 = static_cast<double>(g.p0), v0 = static_cast<double>(g.v0);
+    const double k3 = static_cast<double>(shape_.k3), m2 = static_cast<double>(shape_.m2);
+    const double q2 = static_cast<double>(shape_.q2), q3 = static_cast<double>(shape_.q3);
+    pc.length = tau;
+    pc.c = {p0 - sg * kk * q3, v0 * tau - sg * kk * m2, sg * kk * k3 / 2.0 + (g.fall ? kk / 2.0 : 0.0), sg * kk / 6.0};
+    pc.zr = sg * kk * q2;
+    pc.zi = sg * kk * q3;
+    pc.trig = true;
+    return pc;
+  }
+
   [[nodiscard]] Sample<T> at(T t) const noexcept {
     if (!(t > T(0))) return {};
     if (t >= duration_) return {dist_, T(0), T(0), T(0)};
@@ -181,5 +225,14 @@ struct TransitionPeaks {
 // Peak |v| of the whole profile in units of A*tau (>= 1; > 1 when the acceleration overshoots).
 // Never more than 2 * TransitionPeaks::accel, which lets a planner skip it when v cannot bind.
 [[nodiscard]] double transition_velocity_peak(double c2, double c3) noexcept;
+
+// The S-curve of move time `time` (seed 000's rule): 4 segments, or a cruise at vmax when vmax
+// (0: none) binds. Undamped when zeta = 0.
+[[nodiscard]] Status scurve_timed(double distance, double time, double vmax, double omega, double zeta,
+                                  RampCycloidParams& out) noexcept;
+// The shortest ramp-cycloid S-curve (undamped or damped variant per `damped`) that leaves the
+// mode at rest and whose true peaks respect vmax, amax and jmax (jmax may be +infinity).
+[[nodiscard]] Status plan_fastest_scurve(double distance, double vmax, double amax, double jmax, double omega,
+                                         double zeta, bool damped, RampCycloidParams& out) noexcept;
 
 }  // namespace settle::core

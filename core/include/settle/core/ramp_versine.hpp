@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "settle/core/kinematics.hpp"
+#include "settle/core/piece.hpp"
 
 namespace settle::core {
 
@@ -18,10 +19,18 @@ struct RampVersineParams {
 [[nodiscard]] RampVersineParams ramp_versine_zero_vibration(double distance, double tau, double omega,
                                                             double zeta) noexcept;
 [[nodiscard]] Peaks<double> ramp_versine_peaks(const RampVersineParams& p) noexcept;
+// The command of duration tau: Y = fractions[0..3) * L when fractions is given, else the
+// zero-vibration Y for (omega, zeta).
+[[nodiscard]] RampVersineParams ramp_versine_make(double distance, double tau, const double* fractions, double omega,
+                                                  double zeta) noexcept;
+// The shortest tau whose peak velocity stays within vmax (searched up to 1e4 |D|/vmax); false if none.
+[[nodiscard]] bool ramp_versine_shortest(double distance, double vmax, const double* fractions, double omega,
+                                         double zeta, double& tau) noexcept;
 
 template <typename T>
 class RampVersine {
  public:
+  using Params = RampVersineParams;
   RampVersine() = default;
   explicit RampVersine(const RampVersineParams& p) noexcept
       : params_{p},
@@ -50,6 +59,29 @@ class RampVersine {
             r_ * r_ * (y2_ * sn + y3_ * cs), r_ * r_ * r_ * (y2_ * cs - y3_ * sn)};
   }
   [[nodiscard]] T rate() const noexcept { return r_; }
+
+  // Its parameters as named numbers, as `settle plan` and Python's plan() report them: f(name, i, value)
+  // per number, where a '#' in the name stands for i (a per-segment or per-exponent number).
+  template <typename F>
+  void for_each_param(F&& f) const {
+    f("tau", 0, params_.tau);
+    f("Y1", 0, params_.y1);
+    f("Y2", 0, params_.y2);
+    f("Y3", 0, params_.y3);
+  }
+
+  // The exact decomposition (piece.hpp): one piece, a ramp plus the phasor of y above.
+  [[nodiscard]] int piece_count() const noexcept { return params_.tau > 0.0 ? 1 : 0; }
+  [[nodiscard]] Piece piece(int) const noexcept {
+    constexpr double two_pi = 6.283185307179586476925286766559;
+    Piece pc{};
+    pc.length = params_.tau;
+    pc.c = {params_.y3 / two_pi, params_.distance};
+    pc.zr = -params_.y2 / two_pi;
+    pc.zi = -params_.y3 / two_pi;
+    pc.trig = true;
+    return pc;
+  }
 
  private:
   RampVersineParams params_{};

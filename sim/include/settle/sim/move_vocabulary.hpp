@@ -1,0 +1,35 @@
+#pragma once
+// The words a move is asked for and reported in, shared by the settle CLI (as --options) and the
+// Python module (as keywords, the options without their dashes): the profiles' names (core's
+// registry), the shapers a request may name, each profile's parameters as named numbers, and the
+// option a planner refusal is about.
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "settle/core/planner.hpp"
+
+namespace settle::sim {
+
+// "scurve, scurve-damped, ...": every registered profile, in registry order.
+[[nodiscard]] std::string profile_list();
+
+struct ShaperName {
+  const char* name;
+  core::ShaperKind kind;
+};
+// The shapers a request may name (none, zv, zvd, zvdd, ei).
+[[nodiscard]] std::span<const ShaperName> shaper_names();
+[[nodiscard]] std::string shaper_list();  // "none, zv, zvd, zvdd, ei"
+// False for a name shaper_names() does not hold (and `out` untouched).
+[[nodiscard]] bool parse_shaper(const std::string& name, core::ShaperKind& out);
+
+// The numbers that define the planned profile, named as `settle plan --json` names them.
+[[nodiscard]] std::vector<std::pair<std::string, double>> profile_params(const core::Profile<double>& prof);
+
+// The option a planner status is about ("--time", "--vmax", ...), so that the user is told what
+// to change.
+[[nodiscard]] const char* option_of(core::Status s, const core::MoveRequest& r);
+
+}  // namespace settle::sim

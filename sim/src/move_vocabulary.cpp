@@ -1,0 +1,107 @@
+#include "settle/sim/move_vocabulary.hpp"
+
+#include <cmath>
+#include <optional>
+
+namespace settle::sim {
+
+namespace {
+
+constexpr ShaperName kShapers[] = {{"none", core::ShaperKind::none},
+                                   {"zv", core::ShaperKind::zv},
+                                   {"zvd", core::ShaperKind::zvd},
+                                   {"zvdd", core::ShaperKind::zvdd},
+                                   {"ei", core::ShaperKind::ei}};
+
+template <typename Range, typename Name>
+std::string join(const Range& items, Name&& name) {
+  std::string out;
+  for (const auto& item : items) {
+    if (!out.empty()) out += ", ";
+    out += name(item);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string profile_list() {
+  return join(core::profile_names(), [](const char* n) { return n; });
+}
+
+std::span<const ShaperName> shaper_names() { return kShapers; }
+
+std::string shaper_list() {
+  return join(shaper_names(), [](const ShaperName& s) { return s.name; });
+}
+
+bool parse_shaper(const std::string& name, core::ShaperKind& out) {
+  for (const ShaperName& s : kShapers) {
+    if (name == s.name) {
+      out = s.kind;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::vector<std::pair<std::string, double>> profile_params(const core::Profile<double>& prof) {
+  std::vector<std::pair<std::string, double>> out;
+  prof.visit([&](const auto& shape) {
+    shape.for_each_param([&](const char* name, std::size_t index, double value) {
+      std::string n = name;
+      if (const auto hash = n.find('#'); hash != std::string::npos) n.replace(hash, 1, std::to_string(index));
+      out.emplace_back(std::move(n), value);
+    });
+  });
+  return out;
+}
+
+const char* option_of(core::Status s, const core::MoveRequest& r) {
+  using core::Status;
+  switch (s) {
+    case Status::non_positive_time:
+    case Status::time_too_short_for_vmax:
+    case Status::missing_time_or_limits: return "--time";
+    case Status::non_positive_limit:
+      if (r.vmax && !(*r.vmax > 0.0)) return "--vmax";
+      if (r.amax && !(*r.amax > 0.0)) return "--amax";
+      return "--jmax";
+    case Status::velocity_limit_exceeded: return "--vmax";
+    case Status::acceleration_limit_exceeded: return "--amax";
+    case Status::jerk_limit_exceeded: return "--jmax";
+    case Status::non_positive_omega: return "--omega";
+    case Status::zeta_out_of_range: return "--zeta";
+    case Status::too_few_gammas:
+    case Status::too_many_gammas:
+    case Status::gamma_too_small:
+    case Status::gammas_not_distinct:
+    case Status::singular_system: return "--gammas";
+    case Status::bad_shape_parameter: return "--y";
+    case Status::vtol_out_of_range: return "--vtol";
+    case Status::bad_impulse:
+    case Status::shaper_gain_not_unity:
+    case Status::too_many_impulses: return "--shaper";
+    case Status::no_solution:
+      // Without a shaper, what did not converge is the profile's own design for the mode or
+      // the limits: name what the user gave for it.
+      if (r.shaper != core::ShaperKind::none) return "--shaper";
+      if (r.time) return "--time";
+      if (r.vmax) return "--vmax";
+      return "--profile";
+    case Status::non_finite_input: {
+      const std::pair<const char*, std::optional<double>> opts[] = {
+          {"--distance", r.distance}, {"--time", r.time}, {"--vmax", r.vmax}, {"--amax", r.amax},
+          {"--jmax", r.jmax},         {"--omega", r.omega}, {"--zeta", r.zeta}, {"--vtol", r.vtol}};
+      for (const auto& [name, v] : opts) {
+        if (v && !std::isfinite(*v)) return name;
+      }
+      if (r.y_fractions) return "--y";
+      if (r.gamma_count > 0) return "--gammas";
+      return "--distance";
+    }
+    default: return "--profile";
+  }
+}
+
+}  // namespace settle::sim

@@ -1,0 +1,198 @@
+// Every profile in the registry (settle/core/profiles/registry.hpp), so that a new registry line is
+// covered without a new test: its name round-trips, its example request plans into its own kind
+// and shape, and the double, float and fixed-point evaluators (random access and stepping) agree
+// on it. Also the generated dispatch: visit reaches every alternative of the variant, and a
+// ProfileKind value no registry line defines is refused, never mapped onto another profile.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <set>
+#include <string>
+#include <variant>
+
+#include "settle/core/fixed/motion.hpp"
+#include "settle/core/planner.hpp"
+#include "settle/core/stepper.hpp"
+
+using namespace settle;
+using core::ProfileKind;
+using core::Status;
+
+namespace {
+
+constexpr auto kUnregistered = static_cast<ProfileKind>(core::kProfileCount);
+
+template <typename Kind>
+core::Move<double> plan_example(Kind kind) {
+  core::MoveRequest r = core::profile_t<kind.value>::example();
+  r.profile = kind.value;
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(r, m), Status::ok) << core::to_string(kind.value);
+  return m;
+}
+
+}  // namespace
+
+TEST(Registry, EveryNameRoundTripsAndIsUnique) {
+  std::set<std::string> seen;
+  int visited = 0;
+  core::for_each_profile([&](auto kind) {
+    using P = core::profile_t<kind.value>;
+    ++visited;
+    EXPECT_EQ(static_cast<std::size_t>(kind.value), static_cast<std::size_t>(visited - 1));
+    EXPECT_STREQ(core::to_string(kind.value), P::name);
+    EXPECT_STRNE(core::summary(kind.value), "");
+    ProfileKind parsed = kUnregistered;
+    ASSERT_TRUE(core::parse_profile_kind(P::name, parsed)) << P::name;
+    EXPECT_EQ(parsed, kind.value);
+    EXPECT_TRUE(seen.insert(P::name).second) << "two profiles are named " << P::name;
+  });
+  EXPECT_EQ(static_cast<std::size_t>(visited), core::kProfileCount);
+  EXPECT_EQ(core::profile_names().size(), core::kProfileCount);
+  ProfileKind untouched = ProfileKind::trapezoid;
+  EXPECT_FALSE(core::parse_profile_kind("s-curve", untouched));
+  EXPECT_FALSE(core::parse_profile_kind(nullptr, untouched));
+  EXPECT_EQ(untouched, ProfileKind::trapezoid);
+  EXPECT_STREQ(core::to_string(kUnregistered), "unknown");
+}
+
+TEST(Registry, AKindNoLineDefinesIsRefusedNotMappedOntoAnother) {
+  core::MoveRequest r = core::ScurveProfile::example();
+  r.profile = kUnregistered;
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(r, m), Status::unsupported_request);
+  r.distance = 0.0;  // not even as a trivial move
+  EXPECT_EQ(core::plan(r, m), Status::unsupported_request);
+}
+
+// The generated visit hands f the alternative the variant holds, for every alternative (the
+// hand-written switch it replaces sent every index it did not list to alternative 0).
+TEST(Registry, VisitReachesEveryAlternative) {
+  using Variant = core::Profile<double>::Variant;
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    (
+        [&] {
+          const core::Profile<double> p{ProfileKind{}, Variant{std::in_place_index<I>}};
+          const std::size_t got = p.visit([](const auto& shape) {
+            using S = std::decay_t<decltype(shape)>;
+            return Variant{S{}}.index();
+          });
+          EXPECT_EQ(got, I);
+        }(),
+        ...);
+  }(std::make_index_sequence<std::variant_size_v<Variant>>{});
+}
+
+TEST(Registry, EveryExamplePlansIntoItsOwnKindAndShape) {
+  core::for_each_profile([&](auto kind) {
+    using P = core::profile_t<kind.value>;
+    SCOPED_TRACE(P::name);
+    const core::Move<double> m = plan_example(kind);
+    EXPECT_EQ(m.profile().kind(), kind.value);
+    EXPECT_TRUE(std::holds_alternative<typename P::template Shape<double>>(m.profile().variant()));
+    ASSERT_GT(m.duration(), 0.0);
+    ASSERT_NE(m.distance(), 0.0);
+    EXPECT_EQ(m.at(m.duration()).p, m.distance());
+    EXPECT_EQ(m.at(0.0).v, m.at(0.0).v);  // finite at the start (no NaN)
+    EXPECT_TRUE(std::isfinite(m.peaks().v));
+    // The trivial move of the same kind keeps its kind and shape too.
+    core::MoveRequest z = P::example();
+    z.profile = kind.value;
+    z.distance = 0.0;
+    core::Move<double> zm{};
+    ASSERT_EQ(core::plan(z, zm), Status::ok);
+    EXPECT_TRUE(std::holds_alternative<typename P::template Shape<double>>(zm.profile().variant()));
+  });
+}
+
+// Float evaluation (the Cortex-M4F's) of every example within float rounding of double, random
+// access and stepping alike; the double stepper equals random access to rounding.
+TEST(Registry, DoubleAndFloatEvaluatorsAgree) {
+  core::for_each_profile([&](auto kind) {
+    SCOPED_TRACE(core::to_string(kind.value));
+    const core::Move<double> md = plan_example(kind);
+    const core::Move<float> mf{md};
+    const double dt = 1e-3;
+    core::MoveStepper<double> sd{md, dt};
+    core::MoveStepper<float> sf{mf, static_cast<float>(dt)};
+    const double tol = 4e-6 * std::fabs(md.distance());
+    const auto n_end = static_cast<int>(std::ceil(md.duration() / dt)) + 2;
+    double worst_f = 0.0, worst_step = 0.0;
+    for (int n = 0; n <= n_end; ++n) {
+      const double t = n * dt;
+      const double pd = md.at(t).p;
+      worst_f = std::max(worst_f, std::fabs(static_cast<double>(mf.at(static_cast<float>(t)).p) - pd));
+      worst_f = std::max(worst_f, std::fabs(static_cast<double>(sf.step().p) - pd));
+      worst_step = std::max(worst_step, std::fabs(sd.step().p - pd));
+    }
+    EXPECT_LE(worst_f, tol);
+    EXPECT_LE(worst_step, 1e-12 * std::fabs(md.distance()));
+  });
+}
+
+// The fixed-point motion built from every example (its pieces: the shape's own decomposition, or
+// the pseudo-polynomial fit) is within one count of the double move at every tick, rests exactly
+// on the rounded target, and its stepper gives random access's positions.
+TEST(Registry, FixedPointMatchesDoubleAtEveryTick) {
+  core::for_each_profile([&](auto kind) {
+    SCOPED_TRACE(core::to_string(kind.value));
+    const core::Move<double> m = plan_example(kind);
+    const core::fixed::Scale scale{1e5 / std::fabs(m.distance()), 1e-3, 16, 16};  // 1e5 counts
+    core::fixed::PolyMotion fm{};
+    ASSERT_EQ(fm.build(m, scale), Status::ok);
+    EXPECT_EQ(fm.target(), static_cast<std::int32_t>(std::nearbyint(m.distance() * scale.counts_per_unit)));
+    core::fixed::MotionStepper<core::fixed::PolyMotion::kMaxTracks> stepper{fm};
+    double worst = 0.0;
+    std::int32_t worst_step = 0;
+    for (std::int32_t n = 0; n <= fm.end_tick() + 2; ++n) {
+      const core::fixed::Sample f = fm.at_tick(n);
+      const double want = m.at(n * scale.tick_seconds).p * scale.counts_per_unit;
+      worst = std::max(worst, std::fabs(f.p - want));
+      worst_step = std::max(worst_step, std::abs(stepper.next().p - f.p));
+    }
+    EXPECT_LE(worst, 1.0);
+    EXPECT_LE(worst_step, 1);
+    EXPECT_EQ(fm.at_tick(fm.end_tick()).p, fm.target());
+  });
+}
+
+// A closed-form shape's pieces (what the fixed-point builder quantises and the simulator's
+// one-sided evaluation reads) are the very curve its floating-point at() evaluates: p, v, a and j
+// agree to rounding inside every piece, and the pieces tile [0, duration] without gaps.
+TEST(Registry, PiecesAreTheCurveTheEvaluatorComputes) {
+  int closed_form = 0;
+  core::for_each_profile([&](auto kind) {
+    SCOPED_TRACE(core::to_string(kind.value));
+    const core::Move<double> m = plan_example(kind);
+    m.profile().visit([&](const auto& shape) {
+      if constexpr (requires { shape.piece_count(); }) {
+        ++closed_form;
+        const core::Sample<double> pk{m.distance(), m.peaks().v, m.peaks().a, m.peaks().j};
+        double end = 0.0;
+        ASSERT_GT(shape.piece_count(), 0);
+        for (int i = 0; i < shape.piece_count(); ++i) {
+          const core::Piece pc = shape.piece(i);
+          EXPECT_NEAR(pc.start, end, 1e-12 * shape.duration());
+          end = pc.start + pc.length;
+          for (int k = 1; k < 16; ++k) {
+            const double t = pc.start + pc.length * k / 16.0;
+            const core::Sample<double> a = shape.at(t), b = core::piece_at(pc, t);
+            EXPECT_NEAR(a.p, b.p, 1e-12 * std::fabs(pk.p)) << "piece " << i << " t " << t;
+            if (std::isfinite(pk.v)) {
+              EXPECT_NEAR(a.v, b.v, 1e-9 * pk.v) << "piece " << i << " t " << t;
+            }
+            if (std::isfinite(pk.a)) {
+              EXPECT_NEAR(a.a, b.a, 1e-9 * pk.a) << "piece " << i << " t " << t;
+            }
+            if (std::isfinite(pk.j)) {
+              EXPECT_NEAR(a.j, b.j, 1e-9 * pk.j) << "piece " << i << " t " << t;
+            }
+          }
+        }
+        EXPECT_NEAR(end, shape.duration(), 1e-12 * shape.duration());
+      }
+    });
+  });
+  EXPECT_GE(closed_form, 5);  // scurve, scurve-damped, ramp-versine, trapezoid, jerk-limited at least
+}
