@@ -35,7 +35,7 @@ constexpr Case kCases[] = {
     {"trapezoid", ProfileKind::trapezoid, ShaperKind::none},
     {"scurve_damped+zvd", ProfileKind::scurve_damped, ShaperKind::zvd},
 };
-constexpr fixed::Scale kScale{1e6, 1e-3, 16, 16};
+constexpr fixed::Scale kScale{{1e6, 1000}, 16, 16};
 
 Move<double> plan_case(const Case& c) {
   MoveRequest r{};

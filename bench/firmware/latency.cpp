@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
   firmware::ServoLoop<double, 1, 4> loop{master, period_us};
   firmware::AxisConfig a{};
+  a.scale.period_us = period_us;
   if (loop.add_axis(a) != firmware::LoopStatus::ok) return 1;
   core::MoveRequest r{};
   r.profile = core::ProfileKind::scurve;

@@ -79,7 +79,7 @@ int settle::firmware::image_main() {
 
   fw::AxisConfig axis{};
   axis.drive.node = 1;
-  axis.counts_per_unit = 1e6;  // 1 count = 1 µm
+  axis.scale = {1e6, kPeriodUs};  // 1 count = 1 µm, at the loop's period
   axis.vmax = 1.0;
   if (loop.add_axis(axis) != fw::LoopStatus::ok) return 1;
   drive.start(0);

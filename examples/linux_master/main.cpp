@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   axis.drive.node = 1;
   axis.drive.sdo_timeout_us = 1'000'000;  // patient configuration: a busy host may stall for a while
   axis.feedback_timeout_periods = 250;     // a drive process on the same busy host, not a real drive (default 10)
-  axis.counts_per_unit = 1e6;  // 1 count = 1 µm
+  axis.scale = {1e6, period_us};  // 1 count = 1 µm, at the loop's period
   axis.vmax = 1.0;             // m/s
   if (loop.add_axis(axis) != fw::LoopStatus::ok) return 1;
 

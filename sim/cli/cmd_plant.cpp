@@ -37,8 +37,7 @@ int cmd_plant(int argc, char** argv) {
   sim::ModalPlant plant{};
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
   sim::DriveAxisConfig axis_cfg{};
-  std::uint32_t period_us = 1000;
-  if (!parse_drive(args, plant, axis_cfg, period_us, err)) return report_bad_request(err, json);
+  if (!parse_drive(args, plant, axis_cfg, err)) return report_bad_request(err, json);
   // Each in its table range: node 1..127, heartbeat 10..10000 ms, loss 1..255 periods.
   const long long node = args.integer("--node", 1);
   const long long heartbeat = args.integer("--heartbeat-ms", 100);
@@ -49,7 +48,7 @@ int cmd_plant(int argc, char** argv) {
   hal::canopen::DriveNodeConfig dc{};
   dc.node = static_cast<hal::canopen::NodeId>(node);
   dc.heartbeat_period_ms = static_cast<std::uint16_t>(heartbeat);
-  dc.sync_period_us = period_us;
+  dc.sync_period_us = axis_cfg.scale.period_us;
   dc.communication_loss_periods = static_cast<std::uint8_t>(loss);
   sim::DriveAxis axis{};
   if (sim::DriveAxis::make(axis_cfg, plant, 0, axis) != sim::SimStatus::ok) return kExitFailure;
@@ -74,7 +73,7 @@ int cmd_plant(int argc, char** argv) {
   const std::uint64_t t0 = now_us();
   pn.start(t0, bus);
   std::fprintf(stderr, "settle plant: node %d on %s, %s plant, %u us period\n", static_cast<int>(node), iface.c_str(),
-               sim::to_string(plant.kind()), period_us);
+               sim::to_string(plant.kind()), axis_cfg.scale.period_us);
   hal::CanFrame f{};
   std::uint64_t now = t0;  // when the last frame was taken
   while (g_stop == 0) {

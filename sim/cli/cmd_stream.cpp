@@ -44,11 +44,11 @@ using LoopOf = firmware::ServoLoop<Scalar, 1, 4, Evaluation>;
 // scalar come from here, and so do the double evaluator's they are compared with. Not ok when the
 // evaluation refuses the move (the loop refuses it at submit too). The caller has bounded the periods.
 template <typename Evaluation>
-core::Status evaluated_setpoints(const core::Move<double>& move, std::uint32_t period_us, double counts_per_unit,
+core::Status evaluated_setpoints(const core::Move<double>& move, const core::AxisScale& scale,
                          std::vector<std::int32_t>& out) {
   out.clear();
   auto slot = std::make_unique<typename Evaluation::Stored>();  // not movable: the stream refers into it
-  if (const core::Status st = Evaluation::prepare(move, period_us, counts_per_unit, *slot); st != core::Status::ok) {
+  if (const core::Status st = Evaluation::prepare(move, scale, *slot); st != core::Status::ok) {
     return st;
   }
   typename Evaluation::Stream s = Evaluation::start(*slot, 0);
@@ -139,8 +139,8 @@ int cmd_stream(int argc, char** argv) {
   sim::ModalPlant plant{};
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
   sim::DriveAxisConfig axis_cfg{};
-  std::uint32_t period_us = 1000;
-  if (!parse_drive(args, plant, axis_cfg, period_us, err)) return report_bad_request(err, json);
+  if (!parse_drive(args, plant, axis_cfg, err)) return report_bad_request(err, json);
+  const std::uint32_t period_us = axis_cfg.scale.period_us;
   core::Move<double> move{};
   if (!plan_move(req, move, err)) return report_bad_request(err, json);
   // Each in its table range: node 1..127, rt priority 0..99, heartbeat 10..10000 ms, SDO timeout
@@ -175,7 +175,7 @@ int cmd_stream(int argc, char** argv) {
   }
   // Every setpoint and every load position must fit the drive's 32-bit counts.
   const double reach = std::fabs(move.distance()) * 2.0 + 1.0;
-  if (reach * axis_cfg.counts_per_unit > 2e9) {
+  if (reach * axis_cfg.scale.counts_per_unit > 2e9) {
     return report_bad_request({"out_of_range", "--counts-per-unit",
                                "--counts-per-unit: --distance x --counts-per-unit exceeds 32-bit counts (1e9)"},
                               json);
@@ -190,7 +190,7 @@ int cmd_stream(int argc, char** argv) {
   ac.drive.node = static_cast<hal::canopen::NodeId>(node);
   ac.drive.heartbeat_timeout_ms = static_cast<std::uint16_t>(heartbeat);
   ac.drive.sdo_timeout_us = static_cast<std::uint32_t>(sdo_timeout * 1000);
-  ac.counts_per_unit = axis_cfg.counts_per_unit;
+  ac.scale = axis_cfg.scale;
   ac.vmax = axis_vmax;
   ac.feedback_timeout_periods = static_cast<std::uint16_t>(feedback_timeout);  // 0..65535
   firmware::SessionConfig sc{};
@@ -217,7 +217,7 @@ int cmd_stream(int argc, char** argv) {
   const auto session = [&]<typename Scalar, typename Evaluation>(std::type_identity<Scalar>,
                                                                  std::type_identity<Evaluation>) -> int {
     using Loop = LoopOf<Scalar, Evaluation>;
-    evaluation = evaluated_setpoints<Evaluation>(move, period_us, axis_cfg.counts_per_unit, sp);
+    evaluation = evaluated_setpoints<Evaluation>(move, axis_cfg.scale, sp);
     if (loopback) {
       hal::LoopbackHub hub;
       hal::LoopbackBus<256> master{hub};
@@ -323,7 +323,7 @@ int cmd_stream(int argc, char** argv) {
   std::vector<std::int32_t> sp_double;
   sim::Replay replay_double{};
   const bool have_double =
-      evaluated_setpoints<firmware::FloatEvaluation<double>>(move, period_us, axis_cfg.counts_per_unit, sp_double) ==
+      evaluated_setpoints<firmware::FloatEvaluation<double>>(move, axis_cfg.scale, sp_double) ==
           core::Status::ok &&
       sim::replay_stream(axis_cfg, plant, 0, sp_double, sc.settle_ticks, replay_double) == sim::SimStatus::ok;
   // Setpoint by setpoint (the shorter sequence held at its last), the largest difference in counts.

@@ -131,20 +131,19 @@ bool parse_plant(const ParsedArgs& a, sim::ModalPlant& plant, RequestError& err)
   return true;
 }
 
-bool parse_drive(const ParsedArgs& a, const sim::ModalPlant& plant, sim::DriveAxisConfig& cfg, std::uint32_t& period_us,
-                 RequestError& err) {
+bool parse_drive(const ParsedArgs& a, const sim::ModalPlant& plant, sim::DriveAxisConfig& cfg, RequestError& err) {
   sim::DriveAxisConfig c{};
   if (plant.kind() == sim::PlantKind::belt) {
-    c.counts_per_unit = 65536.0 / (2.0 * 3.14159265358979323846);  // 2^16 counts per motor revolution
+    c.scale.counts_per_unit = 65536.0 / (2.0 * 3.14159265358979323846);  // 2^16 counts per motor revolution
   }
   const long long period = a.integer("--period-us", 1000);  // 100..100000: the table's range
-  c.counts_per_unit = a.real("--counts-per-unit", c.counts_per_unit);
+  c.scale.counts_per_unit = a.real("--counts-per-unit", c.scale.counts_per_unit);
   c.load_counts_per_unit = a.real("--load-counts-per-unit", c.load_counts_per_unit);
   c.model.bandwidth_hz = a.real("--bandwidth", c.model.bandwidth_hz);
   c.model.damping = a.real("--servo-damping", c.model.damping);
   c.interpolation = a.text("--interp", "linear") == "cubic" ? sim::Interpolation::cubic : sim::Interpolation::linear;
   c.model.servo = a.text("--drive", "ideal") == "servo";
-  c.period_s = static_cast<double>(period) * 1e-6;
+  c.scale.period_us = static_cast<std::uint32_t>(period);
   // Validate by building an axis once: the same checks the node will make.
   sim::DriveAxis probe{};
   const sim::SimStatus st = sim::DriveAxis::make(c, plant, 0, probe);
@@ -155,7 +154,6 @@ bool parse_drive(const ParsedArgs& a, const sim::ModalPlant& plant, sim::DriveAx
     return sim_ok(st, p, err);
   }
   cfg = c;
-  period_us = static_cast<std::uint32_t>(period);
   return true;
 }
 

@@ -15,8 +15,8 @@ namespace settle::cli {
 [[nodiscard]] bool parse_plant(const ParsedArgs& args, sim::ModalPlant& plant, RequestError& err);
 
 // Counts default by plant kind (1 µm for sdof and beam; 2^16 per motor revolution and 1e6 per
-// platform radian for the belt).
+// platform radian for the belt); the period (--period-us) is the scale's.
 [[nodiscard]] bool parse_drive(const ParsedArgs& args, const sim::ModalPlant& plant, sim::DriveAxisConfig& cfg,
-                               std::uint32_t& period_us, RequestError& err);
+                               RequestError& err);
 
 }  // namespace settle::cli

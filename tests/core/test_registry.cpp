@@ -138,16 +138,16 @@ TEST(Registry, FixedPointMatchesDoubleAtEveryTick) {
   core::for_each_profile([&](auto kind) {
     SCOPED_TRACE(core::to_string(kind.value));
     const core::Move<double> m = plan_example(kind);
-    const core::fixed::Scale scale{1e5 / std::fabs(m.distance()), 1e-3, 16, 16};  // 1e5 counts
+    const core::fixed::Scale scale{{1e5 / std::fabs(m.distance()), 1000}, 16, 16};  // 1e5 counts, 1 ms
     core::fixed::PolyMotion fm{};
     ASSERT_EQ(fm.build(m, scale), Status::ok);
-    EXPECT_EQ(fm.target(), static_cast<std::int32_t>(std::nearbyint(m.distance() * scale.counts_per_unit)));
+    EXPECT_EQ(fm.target(), static_cast<std::int32_t>(std::nearbyint(m.distance() * scale.axis.counts_per_unit)));
     core::fixed::MotionStepper<core::fixed::PolyMotion::kMaxTracks> stepper{fm};
     double worst = 0.0;
     std::int32_t worst_step = 0;
     for (std::int32_t n = 0; n <= fm.end_tick() + 2; ++n) {
       const core::fixed::Sample f = fm.at_tick(n);
-      const double want = m.at(n * scale.tick_seconds).p * scale.counts_per_unit;
+      const double want = m.at(n * scale.axis.period_s()).p * scale.axis.counts_per_unit;
       worst = std::max(worst, std::fabs(f.p - want));
       worst_step = std::max(worst_step, std::abs(stepper.next().p - f.p));
     }

@@ -1,7 +1,8 @@
 #pragma once
 // Seeded random moves for the fixed-point suites: every profile kind, shaped or not, distances
-// up to 2^24 counts, 16 to 2^17 ticks, move times between half and ten periods of the mode (the
-// range the papers' designs are meant for), and output formats that fit each move.
+// up to 2^24 counts, 16 to 2^17 ticks (periods in whole microseconds), move times between half and
+// ten periods of the mode (the range the papers' designs are meant for), and output formats that
+// fit each move.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -101,9 +102,11 @@ struct FixedCaseGen {
       if (core::design_shaper(c.req.shaper, *c.req.omega, c.req.zeta, c.req.vtol, s) != core::Status::ok) return false;
       c.move = core::Move<double>{c.move.profile(), s, c.move.peaks()};
     }
-    c.scale.counts_per_unit = logu(1.0, 16777216.0) / std::fabs(c.req.distance);
-    c.scale.tick_seconds = c.move.duration() / logu(16.0, 131072.0);
-    const double dt = c.scale.tick_seconds, cpu = c.scale.counts_per_unit;
+    c.scale.axis.counts_per_unit = logu(1.0, 16777216.0) / std::fabs(c.req.distance);
+    // The period is a whole number of microseconds: a move shorter than 2^17 us gets fewer ticks.
+    c.scale.axis.period_us =
+        static_cast<std::uint32_t>(std::max(1.0, std::nearbyint(c.move.duration() * 1e6 / logu(16.0, 131072.0))));
+    const double dt = c.scale.axis.period_s(), cpu = c.scale.axis.counts_per_unit;
     const core::Peaks<double>& pk = c.move.peaks();
     const double vp = pk.v * cpu * dt;
     const double ap = std::isfinite(pk.a) ? pk.a * cpu * dt * dt : vp;
@@ -119,7 +122,7 @@ struct Reference {
 };
 inline Reference reference(const core::Move<double>& m, const core::fixed::Scale& s, double t) {
   const core::Sample<double> x = m.at(t);
-  const double cpu = s.counts_per_unit, dt = s.tick_seconds;
+  const double cpu = s.axis.counts_per_unit, dt = s.axis.period_s();
   return {x.p * cpu, std::ldexp(x.v * cpu * dt, s.velocity_frac_bits),
           std::ldexp(x.a * cpu * dt * dt, s.accel_frac_bits)};
 }
@@ -133,14 +136,14 @@ struct Errors {
 };
 inline Errors errors_at(const core::Move<double>& m, const core::fixed::Scale& s, std::int32_t n,
                         const core::fixed::Sample& f) {
-  const double t = n * s.tick_seconds;
+  const double t = n * s.axis.period_s();
   auto diff = [&](double tt) {
     const Reference r = reference(m, s, tt);
     return Errors{std::fabs(f.p - r.p), std::fabs(f.v - r.v), std::fabs(f.a - r.a), r};
   };
   Errors e = diff(t);
   if (e.v > 1.0 || e.a > 1.0) {
-    for (double tt : {t - 1e-7 * s.tick_seconds, t + 1e-7 * s.tick_seconds}) {
+    for (double tt : {t - 1e-7 * s.axis.period_s(), t + 1e-7 * s.axis.period_s()}) {
       const Errors o = diff(tt);
       e.p = std::min(e.p, o.p);
       e.v = std::min(e.v, o.v);

@@ -37,7 +37,7 @@ double worst_p(const CamTable& t, const core::Move<double>& m, const core::fixed
 // end, where the jerk jumps, falls on a knot).
 TEST(FixedCam, QuinticTableOfAQuinticIsExact) {
   const auto m = planned(core::ProfileKind::poly345, 0.25, 0.512);
-  const core::fixed::Scale s{1e6, 1e-3, 16, 16};
+  const core::fixed::Scale s{{1e6, 1000}, 16, 16};
   std::vector<core::fixed::CamKnot> knots(9);
   CamTable t{};
   ASSERT_EQ(core::fixed::build_cam_table(m, s, CamOrder::quintic, knots, t), Status::ok);
@@ -49,7 +49,7 @@ TEST(FixedCam, QuinticTableOfAQuinticIsExact) {
 
 TEST(FixedCam, HigherOrderIsCloserForTheSameTable) {
   const auto m = planned(core::ProfileKind::scurve_damped, 0.1, 0.6, 15.0);
-  const core::fixed::Scale s{1e6, 1e-3, 16, 16};
+  const core::fixed::Scale s{{1e6, 1000}, 16, 16};
   std::vector<core::fixed::CamKnot> knots(80);
   double err[3];
   int i = 0;

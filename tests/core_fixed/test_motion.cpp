@@ -38,7 +38,7 @@ test::Errors worst_over(const Motion& fm, const core::Move<double>& m, const Sca
 // Seed 000's beam (Tn = 0.285 s) moved 100 mm in 0.8 Tn, 1 um counts, 1 kHz.
 TEST(FixedMotion, BeamMoveWithinHalfACountAtEveryTick) {
   const auto m = planned(ProfileKind::scurve, 0.1, 0.8 * 6.283185307179586 / 22.04871, 22.04871);
-  const Scale s{1e6, 1e-3, 16, 16};
+  const Scale s{{1e6, 1000}, 16, 16};
   Motion fm{};
   ASSERT_EQ(fm.build(m, s), Status::ok);
   EXPECT_EQ(fm.end_tick(), static_cast<std::int32_t>(std::ceil(m.duration() / 1e-3)));
@@ -51,7 +51,7 @@ TEST(FixedMotion, BeamMoveWithinHalfACountAtEveryTick) {
 TEST(FixedMotion, RestsExactlyOnTargetAndIsZeroBeforeTheStart) {
   const auto m = planned(ProfileKind::scurve_damped, -0.0421, 0.37, 30.0, 0.12);
   Motion fm{};
-  ASSERT_EQ(fm.build(m, Scale{1e6, 1e-3, 16, 16}), Status::ok);
+  ASSERT_EQ(fm.build(m, Scale{{1e6, 1000}, 16, 16}), Status::ok);
   EXPECT_EQ(fm.target(), -42100);
   for (std::int32_t n : {fm.end_tick(), fm.end_tick() + 1, INT32_MAX}) {
     const Sample s = fm.at_tick(n);
@@ -80,7 +80,7 @@ TEST(FixedMotion, ShaperImpulsesBetweenTicksAreExact) {
   const double dt = 1e-3, half = 12.37 * dt;  // pi / omega
   const double omega = 3.141592653589793 / half;
   const auto m = planned(ProfileKind::scurve_damped, 0.05, 0.2, omega * 1.3, 0.05, core::ShaperKind::zv);
-  const Scale s{1e6, dt, 16, 16};
+  const Scale s{{1e6, 1000}, 16, 16};
   Motion fm{};
   ASSERT_EQ(fm.build(m, s), Status::ok);
   ASSERT_EQ(fm.header().tracks, 2U);
@@ -97,7 +97,7 @@ TEST(FixedMotion, ShaperImpulsesBetweenTicksAreExact) {
 TEST(FixedMotion, AbsolutePositionsWrapAcrossTheInt32Boundary) {
   const auto m = planned(ProfileKind::poly345, 0.5, 0.4);
   Motion fm{};
-  ASSERT_EQ(fm.build(m, Scale{1e6, 1e-3, 16, 16}), Status::ok);
+  ASSERT_EQ(fm.build(m, Scale{{1e6, 1000}, 16, 16}), Status::ok);
   const std::int32_t start = INT32_MAX - 200000;
   std::int32_t prev = start;
   for (std::int32_t n = 0; n <= fm.end_tick(); ++n) {

@@ -81,11 +81,11 @@ std::vector<std::int32_t> ticks_of(const PolyMotion& m, std::mt19937_64& rng, in
 double peak_a(const test::FixedCase& c, double observed) {
   const double a = c.move.peaks().a;
   if (!std::isfinite(a)) return observed;
-  return std::ldexp(a * c.scale.counts_per_unit * c.scale.tick_seconds * c.scale.tick_seconds, c.scale.accel_frac_bits);
+  return std::ldexp(a * c.scale.axis.counts_per_unit * c.scale.axis.period_s() * c.scale.axis.period_s(), c.scale.accel_frac_bits);
 }
 
 double peak_v(const test::FixedCase& c) {
-  return std::ldexp(c.move.peaks().v * c.scale.counts_per_unit * c.scale.tick_seconds, c.scale.velocity_frac_bits);
+  return std::ldexp(c.move.peaks().v * c.scale.axis.counts_per_unit * c.scale.axis.period_s(), c.scale.velocity_frac_bits);
 }
 
 struct Suite {
@@ -124,7 +124,7 @@ struct Suite {
         w.add(e, vpk, apk, lsb_allowance);
         if (e.p > 1.0) {
           ADD_FAILURE() << group(c.req) << " tick " << n << " of " << motion->end_tick() << ": position off by "
-                        << e.p << " counts (distance " << c.req.distance * c.scale.counts_per_unit << ")";
+                        << e.p << " counts (distance " << c.req.distance * c.scale.axis.counts_per_unit << ")";
         }
       }
     }

@@ -58,7 +58,7 @@ std::vector<std::int32_t> interval_starts(const PositionPlan& p) {
 // the 1/16-count drift budget).
 TEST(FixedPosition, BeamMoveAtEveryTick) {
   const auto m = planned(ProfileKind::scurve, 0.05, 0.8 * 6.283185307179586 / 22.04871, 22.04871);
-  const Scale s{1e6, 1e-3, 16, 16};
+  const Scale s{{1e6, 1000}, 16, 16};
   Motion fm{};
   ASSERT_EQ(fm.build(m, s), Status::ok);
   PositionPlan plan{};
@@ -80,7 +80,7 @@ TEST(FixedPosition, BeamMoveAtEveryTick) {
 TEST(FixedPosition, ZeroBeforeTheStartAndExactlyOnTargetAfterTheEnd) {
   const auto m = planned(ProfileKind::scurve_damped, -0.0421, 0.37, 30.0, 0.12, core::ShaperKind::zv);
   Motion fm{};
-  ASSERT_EQ(fm.build(m, Scale{1e6, 1e-3, 16, 16}), Status::ok);
+  ASSERT_EQ(fm.build(m, Scale{{1e6, 1000}, 16, 16}), Status::ok);
   PositionPlan plan{};
   ASSERT_EQ(plan.build(fm), Status::ok);
   ASSERT_EQ(plan.target(), -42100);
@@ -106,7 +106,7 @@ TEST(FixedPosition, ShapedTracksMergeOnTheirBoundaries) {
   const double omega = 3.141592653589793 / (12.37e-3);
   const auto m = planned(ProfileKind::scurve_damped, 0.05, 0.2, omega * 1.3, 0.05, core::ShaperKind::zvd);
   Motion fm{};
-  ASSERT_EQ(fm.build(m, Scale{1e6, 1e-3, 16, 16}), Status::ok);
+  ASSERT_EQ(fm.build(m, Scale{{1e6, 1000}, 16, 16}), Status::ok);
   ASSERT_EQ(fm.header().tracks, 3U);
   PositionPlan plan{};
   ASSERT_EQ(plan.build(fm), Status::ok);
@@ -145,7 +145,7 @@ TEST(FixedPosition, RefusesWhatItCannotHoldAndChangesNothing) {
 // bits (two products per tick) there; every tick stays within one count of the double evaluator.
 TEST(FixedPosition, LargeSinusoidsUseTheLongRotationConstant) {
   const auto m = planned(ProfileKind::ramp_versine, 1.0, 1.0, 20.0, 0.1);
-  const Scale s{5e8, 1e-3, 0, 0};
+  const Scale s{{5e8, 1000}, 0, 0};
   auto fm = std::make_unique<Motion>();
   ASSERT_EQ(fm->build(m, s), Status::ok);
   auto plan = std::make_unique<PositionPlan>();
@@ -171,8 +171,8 @@ TEST(FixedPosition, LargeSinusoidsUseTheLongRotationConstant) {
 #define SETTLE_FIXED_WHOLE_LONG_MOVE 0
 #endif
 TEST(FixedPosition, LongPiecesAreSplitForTheDriftBudget) {
-  const auto m = planned(ProfileKind::poly345, 1.0, 1.0);
-  const Scale s{1e6, 1.0 / 3.2e8, 0, 0};
+  const auto m = planned(ProfileKind::poly345, 1.0, 320.0);
+  const Scale s{{1e6, 1}, 0, 0};  // 320 s at 1 us
   Motion fm{};
   ASSERT_EQ(fm.build(m, s), Status::ok);
   ASSERT_EQ(fm.header().segments, 1U);
@@ -180,7 +180,7 @@ TEST(FixedPosition, LongPiecesAreSplitForTheDriftBudget) {
   ASSERT_EQ(plan.build(fm), Status::ok);
   ASSERT_GE(plan.header().intervals, 2U);
   const std::vector<std::int32_t> starts = interval_starts(plan);
-  auto off = [&](std::int32_t n, std::int32_t p) { return std::fabs(p - m.at(n * s.tick_seconds).p * 1e6); };
+  auto off = [&](std::int32_t n, std::int32_t p) { return std::fabs(p - m.at(n * s.axis.period_s()).p * 1e6); };
   double worst = 0.0;
   PositionStepper st{plan};
   for (std::int32_t first : starts) {

@@ -40,46 +40,46 @@ void expect_refused(const core::Move<double>& m, const Scale& s, Status want) {
 
 TEST(FixedRefusal, ScaleMustBeFinitePositiveWithSaneFractionBits) {
   const auto m = planned(ProfileKind::scurve, 0.1, 0.5);
-  expect_refused(m, Scale{0.0, 1e-3, 16, 16}, Status::scale_invalid);
-  expect_refused(m, Scale{NAN, 1e-3, 16, 16}, Status::scale_invalid);
-  expect_refused(m, Scale{1e6, -1e-3, 16, 16}, Status::scale_invalid);
-  expect_refused(m, Scale{1e6, INFINITY, 16, 16}, Status::scale_invalid);
-  expect_refused(m, Scale{1e6, 1e-3, 31, 16}, Status::scale_invalid);
-  expect_refused(m, Scale{1e6, 1e-3, 16, -1}, Status::scale_invalid);
+  expect_refused(m, Scale{{0.0, 1000}, 16, 16}, Status::scale_invalid);
+  expect_refused(m, Scale{{NAN, 1000}, 16, 16}, Status::scale_invalid);
+  expect_refused(m, Scale{{1e6, 0}, 16, 16}, Status::scale_invalid);
+  expect_refused(m, Scale{{INFINITY, 1000}, 16, 16}, Status::scale_invalid);
+  expect_refused(m, Scale{{1e6, 1000}, 31, 16}, Status::scale_invalid);
+  expect_refused(m, Scale{{1e6, 1000}, 16, -1}, Status::scale_invalid);
 }
 
 TEST(FixedRefusal, DistanceBeyondTheCountFormat) {
   // 2^31 counts: not a relative int32 position.
-  expect_refused(planned(ProfileKind::scurve, 2147.483648, 5.0), Scale{1e6, 1e-3, 8, 8}, Status::distance_does_not_fit);
+  expect_refused(planned(ProfileKind::scurve, 2147.483648, 5.0), Scale{{1e6, 1000}, 8, 8}, Status::distance_does_not_fit);
   // A trapezoid of 2^30 counts: the distance itself fits int32 but not the evaluator's headroom.
-  expect_refused(planned(ProfileKind::trapezoid, 1073.741824, 50.0), Scale{1e6, 1e-3, 0, 0},
+  expect_refused(planned(ProfileKind::trapezoid, 1073.741824, 50.0), Scale{{1e6, 1000}, 0, 0},
                  Status::distance_does_not_fit);
 }
 
 TEST(FixedRefusal, VelocityOrAccelerationBeyondTheirFormats) {
   // 2 m in 0.1 s at 1 um, 1 kHz: 1.875 D/T = 37500 counts/tick is over Q16.16's 2^15, not Q20.12's.
   const auto m = planned(ProfileKind::poly345, 2.0, 0.1);
-  expect_refused(m, Scale{1e6, 1e-3, 16, 8}, Status::velocity_does_not_fit);
+  expect_refused(m, Scale{{1e6, 1000}, 16, 8}, Status::velocity_does_not_fit);
   Motion fm{};
-  EXPECT_EQ(fm.build(m, Scale{1e6, 1e-3, 12, 8}), Status::ok);
+  EXPECT_EQ(fm.build(m, Scale{{1e6, 1000}, 12, 8}), Status::ok);
   // Its peak acceleration, 5.77 D/T^2 = 1155 counts/tick^2, does not fit 22 fraction bits.
-  expect_refused(m, Scale{1e6, 1e-3, 12, 22}, Status::acceleration_does_not_fit);
+  expect_refused(m, Scale{{1e6, 1000}, 12, 22}, Status::acceleration_does_not_fit);
 }
 
 TEST(FixedRefusal, DurationBeyondTheTickFormat) {
-  // 0.5 s at 0.1 ns ticks: 5e9 ticks.
-  expect_refused(planned(ProfileKind::scurve, 0.1, 0.5), Scale{1e6, 1e-10, 0, 0}, Status::duration_does_not_fit);
+  // 1100 s at 1 us ticks: 1.1e9 ticks, over 2^30.
+  expect_refused(planned(ProfileKind::scurve, 0.1, 1100.0), Scale{{1e6, 1}, 0, 0}, Status::duration_does_not_fit);
 }
 
 TEST(FixedRefusal, TransitionShorterThanATick) {
   // tau = T/4 = 0.5 ms at a 1 ms tick.
-  expect_refused(planned(ProfileKind::scurve, 1e-4, 2e-3, 2000.0), Scale{1e6, 1e-3, 16, 16},
+  expect_refused(planned(ProfileKind::scurve, 1e-4, 2e-3, 2000.0), Scale{{1e6, 1000}, 16, 16},
                  Status::transition_shorter_than_tick);
 }
 
 TEST(FixedRefusal, PseudoPolyTooShortForItsDistance) {
   // 2^23 counts in 16 ticks: the non-smooth end needs pieces shorter than a tick.
-  expect_refused<core::fixed::PolyMotion>(planned(ProfileKind::pseudopoly, 8.388608, 0.016), Scale{1e6, 1e-3, 0, 0},
+  expect_refused<core::fixed::PolyMotion>(planned(ProfileKind::pseudopoly, 8.388608, 0.016), Scale{{1e6, 1000}, 0, 0},
                                           Status::precision_insufficient);
 }
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -36,7 +37,7 @@ firmware::AxisConfig axis(std::uint8_t node) {
   firmware::AxisConfig a{};
   a.drive.node = hal::canopen::NodeId{node};
   a.drive.heartbeat_timeout_ms = 500;
-  a.counts_per_unit = 1e6;
+  a.scale = {1e6, kPeriod};
   a.vmax = 2.0;
   return a;
 }
@@ -536,6 +537,23 @@ TEST(ServoLoop, RestartedDriveIsEnabledAgainBeforeStreaming) {
   for (int i = 0; i < 400; ++i) tick();
   EXPECT_EQ(loop.axis_stats(0).moves_completed, 1u);
   EXPECT_EQ(drive->position(), 20'000);  // the new drive started at 0 and the loop held there
+}
+
+// The axis's scale is the one value its setpoints are computed with: a period that is not the
+// loop's, or a scale that is not positive and finite, is refused before the axis exists.
+TEST(ServoLoop, AnAxisScaleMustBeValidAndAtTheLoopsPeriod) {
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<256> master{hub};
+  firmware::ServoLoop<double, 2, 2> loop{master, kPeriod};
+  firmware::AxisConfig a = axis(1);
+  a.scale.period_us = kPeriod / 2;
+  EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::bad_axis_config);
+  a.scale = {0.0, kPeriod};
+  EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::bad_axis_config);
+  a.scale = {std::numeric_limits<double>::infinity(), kPeriod};
+  EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::bad_axis_config);
+  a.scale = {1e6, kPeriod};
+  EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
 }
 
 TEST(ServoLoop, ThreeAxesOnOneBusEachFollowTheirOwnMove) {

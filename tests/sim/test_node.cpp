@@ -123,7 +123,7 @@ TEST(PlantNodeLog, UnwritableLogIsRefusedAtOpen) {
 TEST(StreamCheck, SetpointsEndOnTheTargetAndAreCountedExactly) {
   // 0.5 s at 1 ms: ticks 0 .. 500, the last one exactly on D = 0.1 m = 100 000 counts.
   std::vector<std::int32_t> sp;
-  ASSERT_EQ(stream_setpoints(poly345(0.1, 0.5), 1000, 1e6, 7, sp), SimStatus::ok);
+  ASSERT_EQ(stream_setpoints(poly345(0.1, 0.5), {1e6, 1000}, 7, sp), SimStatus::ok);
   ASSERT_EQ(sp.size(), 501u);
   EXPECT_EQ(sp.front(), 7);
   EXPECT_EQ(sp.back(), 100'007);
@@ -132,9 +132,9 @@ TEST(StreamCheck, SetpointsEndOnTheTargetAndAreCountedExactly) {
 TEST(StreamCheck, SizesAreCheckedBeforeAllocating) {
   std::vector<std::int32_t> sp;
   // 11 s at 1 us: 1.1e7 setpoints.
-  EXPECT_EQ(stream_setpoints(poly345(0.1, 11.0), 1, 1e6, 0, sp), SimStatus::too_many_samples);
-  EXPECT_EQ(stream_setpoints(poly345(0.1, 0.5), 0, 1e6, 0, sp), SimStatus::non_positive_step);
-  EXPECT_EQ(stream_setpoints(poly345(0.1, 0.5), 1000, 0.0, 0, sp), SimStatus::non_positive_scale);
+  EXPECT_EQ(stream_setpoints(poly345(0.1, 11.0), {1e6, 1}, 0, sp), SimStatus::too_many_samples);
+  EXPECT_EQ(stream_setpoints(poly345(0.1, 0.5), {1e6, 0}, 0, sp), SimStatus::non_positive_step);
+  EXPECT_EQ(stream_setpoints(poly345(0.1, 0.5), {0.0, 1000}, 0, sp), SimStatus::non_positive_scale);
   EXPECT_TRUE(sp.empty());
 
   const ModalPlant p = beam();

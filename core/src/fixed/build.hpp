@@ -26,12 +26,11 @@ struct Ctx {
 };
 
 [[nodiscard]] inline Status make_ctx(const Scale& s, Ctx& out) noexcept {
-  if (!std::isfinite(s.counts_per_unit) || !std::isfinite(s.tick_seconds) || !(s.counts_per_unit > 0.0) ||
-      !(s.tick_seconds > 0.0) || s.velocity_frac_bits < 0 || s.velocity_frac_bits > 30 || s.accel_frac_bits < 0 ||
+  if (!s.axis.valid() || s.velocity_frac_bits < 0 || s.velocity_frac_bits > 30 || s.accel_frac_bits < 0 ||
       s.accel_frac_bits > 30) {
     return Status::scale_invalid;
   }
-  out = Ctx{s.counts_per_unit, s.tick_seconds, s.velocity_frac_bits, s.accel_frac_bits};
+  out = Ctx{s.axis.counts_per_unit, s.axis.period_s(), s.velocity_frac_bits, s.accel_frac_bits};
   return Status::ok;
 }
 

@@ -83,14 +83,14 @@ void fold_plan(const GoldenPlan& p, Fold& f) noexcept {
 }
 
 constexpr GoldenMove kMoves[] = {
-    {"scurve", ProfileKind::scurve, 0.1, 0.5, 22.05, 0.0, 1e6, 1e-3, ShaperKind::none},
-    {"scurve_damped", ProfileKind::scurve_damped, -0.05, 0.3, 30.0, 0.1, 1e6, 5e-4, ShaperKind::none},
-    {"ramp_versine", ProfileKind::ramp_versine, 1.0, 0.74, 28.28, 0.159, 166886.0, 1e-3, ShaperKind::none},
-    {"poly345", ProfileKind::poly345, 0.2, 1.0, 0.0, 0.0, 2e6, 2e-3, ShaperKind::none},
-    {"pseudopoly", ProfileKind::pseudopoly, 3.0, 0.8, 0.0, 0.0, 3e5, 1e-3, ShaperKind::none},
-    {"trapezoid", ProfileKind::trapezoid, -0.3, 0.6, 0.0, 0.0, 1e7, 1e-3, ShaperKind::none},
-    {"scurve_zv", ProfileKind::scurve, 0.02, 0.25, 40.0, 0.0, 1e6, 2.5e-4, ShaperKind::zv},
-    {"scurve_damped_zvd", ProfileKind::scurve_damped, 0.4, 0.9, 12.0, 0.2, 4e6, 1e-3, ShaperKind::zvd},
+    {"scurve", ProfileKind::scurve, 0.1, 0.5, 22.05, 0.0, {1e6, 1000}, ShaperKind::none},
+    {"scurve_damped", ProfileKind::scurve_damped, -0.05, 0.3, 30.0, 0.1, {1e6, 500}, ShaperKind::none},
+    {"ramp_versine", ProfileKind::ramp_versine, 1.0, 0.74, 28.28, 0.159, {166886.0, 1000}, ShaperKind::none},
+    {"poly345", ProfileKind::poly345, 0.2, 1.0, 0.0, 0.0, {2e6, 2000}, ShaperKind::none},
+    {"pseudopoly", ProfileKind::pseudopoly, 3.0, 0.8, 0.0, 0.0, {3e5, 1000}, ShaperKind::none},
+    {"trapezoid", ProfileKind::trapezoid, -0.3, 0.6, 0.0, 0.0, {1e7, 1000}, ShaperKind::none},
+    {"scurve_zv", ProfileKind::scurve, 0.02, 0.25, 40.0, 0.0, {1e6, 250}, ShaperKind::zv},
+    {"scurve_damped_zvd", ProfileKind::scurve_damped, 0.4, 0.9, 12.0, 0.2, {4e6, 1000}, ShaperKind::zvd},
 };
 
 }  // namespace

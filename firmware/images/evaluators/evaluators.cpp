@@ -96,7 +96,7 @@ core::Status measure_move(const fw::InstructionCounter& counter, const fx::Golde
 
 #if defined(__ARM_FP)
   g_move_f = core::Move<float>{g_move_d};
-  g_step_f = core::MoveStepper<float>{g_move_f, static_cast<float>(g.tick)};
+  g_step_f = core::MoveStepper<float>{g_move_f, static_cast<float>(g.scale.period_s())};
   report(counter, name, "float_step", float_step, calls);
 #endif
   report(counter, name, "fixed_at", fixed_at, calls);

@@ -188,7 +188,7 @@ int settle::firmware::image_main() {
   append_cost(rep, "at_float", counter.measure(at_float, calls));
   append_cost(rep, "step_double", counter.measure(step_double, calls));
   append_cost(rep, "step_float", counter.measure(step_float, calls));
-  g_stream_f = core::SetpointStream<float>{g_move_f, si::kPeriodUs, si::kCountsPerUnit, 0};
+  g_stream_f = core::SetpointStream<float>{g_move_f, si::kScale, 0};
   append_cost(rep, "setpoint_float", counter.measure(setpoint_float, calls));
   rep.append("fixed_build ").append(fixed_status == core::Status::ok ? "ok" : "failed").append("\n");
   if (fixed_status == core::Status::ok) {

@@ -24,8 +24,7 @@
 
 namespace settle::firmware::servo_image {
 
-inline constexpr std::uint32_t kPeriodUs = 1000;
-inline constexpr double kCountsPerUnit = 1e6;  // 1 count = 1 µm
+inline constexpr core::AxisScale kScale{1e6, 1000};  // 1 count = 1 µm, a 1 kHz loop
 inline constexpr std::uint8_t kNode = 1;       // `settle plant`'s default node
 inline constexpr std::uint64_t kSettleTicks = 1000;
 inline constexpr const char* kIface = "vcan0";  // the interface named in the log (canplayer's)
@@ -69,7 +68,7 @@ using Drive = hal::testing::IdealDrive<hal::LoopbackBus<8>>;
 [[nodiscard]] constexpr hal::canopen::DriveNodeConfig drive_config() noexcept {
   hal::canopen::DriveNodeConfig c{};
   c.node = kNode;
-  c.sync_period_us = kPeriodUs;
+  c.sync_period_us = kScale.period_us;
   return c;
 }
 
@@ -91,7 +90,7 @@ template <typename LineSink, typename Timer, typename Evaluation = FloatEvaluati
 class Program {
  public:
   Program(LineSink& sink, Timer& timer) noexcept
-      : master_port_{hub_}, tap_{master_port_, sink, kIface}, drive_{hub_, drive_config()}, loop_{controller_, kPeriodUs},
+      : master_port_{hub_}, tap_{master_port_, sink, kIface}, drive_{hub_, drive_config()}, loop_{controller_, kScale.period_us},
         timer_{timer} {}
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;
@@ -99,7 +98,7 @@ class Program {
   [[nodiscard]] RunResult run(const core::Move<double>& move) noexcept {
     AxisConfig ac{};
     ac.drive.node = kNode;
-    ac.counts_per_unit = kCountsPerUnit;
+    ac.scale = kScale;
     ac.vmax = 1.0;
     RunResult r{};
     if (loop_.add_axis(ac) != LoopStatus::ok) {
@@ -107,7 +106,7 @@ class Program {
       r.session.rejection = LoopStatus::bad_axis_config;
       return r;
     }
-    VirtualClock clock{kPeriodUs};
+    VirtualClock clock{kScale.period_us};
     SessionConfig cfg{};
     cfg.settle_ticks = kSettleTicks;
     cfg.max_ticks = 10'000;

@@ -18,20 +18,20 @@ namespace hal = settle::hal;
 namespace si = settle::firmware::servo_image;
 
 si::Controller g_bus{};
-si::Loop g_loop{g_bus, si::kPeriodUs};
+si::Loop g_loop{g_bus, si::kScale.period_us};
 
 }  // namespace
 
 int settle::firmware::image_main() {
   fw::AxisConfig ac{};
   ac.drive.node = si::kNode;
-  ac.counts_per_unit = si::kCountsPerUnit;
+  ac.scale = si::kScale;
   if (g_loop.add_axis(ac) != fw::LoopStatus::ok) return 1;
   g_loop.start(0);
   if (g_loop.submit(0, si::pinned_move()) != fw::LoopStatus::ok) return 1;
   hal::CanFrame wire{};
   for (std::uint64_t n = 1; n <= 100; ++n) {
-    g_loop.tick(n * si::kPeriodUs);
+    g_loop.tick(n * si::kScale.period_us);
     while (g_bus.take_sent(wire)) {
     }
   }

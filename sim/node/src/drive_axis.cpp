@@ -14,15 +14,14 @@ std::int32_t to_counts(double units, double per_unit) {
 
 SimStatus DriveAxis::make(const DriveAxisConfig& cfg, const ModalPlant& plant, std::int32_t start_counts,
                           DriveAxis& out) {
-  if (!(cfg.period_s > 0.0) || !std::isfinite(cfg.period_s)) return SimStatus::non_positive_step;
-  if (!(cfg.counts_per_unit > 0.0) || !(cfg.load_counts_per_unit > 0.0) || !std::isfinite(cfg.counts_per_unit) ||
-      !std::isfinite(cfg.load_counts_per_unit)) {
+  if (cfg.scale.period_us == 0) return SimStatus::non_positive_step;
+  if (!cfg.scale.valid() || !(cfg.load_counts_per_unit > 0.0) || !std::isfinite(cfg.load_counts_per_unit)) {
     return SimStatus::non_positive_scale;
   }
   DriveAxis a{};
   a.cfg_ = cfg;
   a.plant_ = plant;
-  const double x0 = start_counts / cfg.counts_per_unit;
+  const double x0 = start_counts / cfg.scale.counts_per_unit;
   a.plant_.reset(x0);
   a.x_prev_ = a.x_prev2_ = x0;
   if (cfg.model.servo) {
@@ -39,12 +38,12 @@ SimStatus DriveAxis::make(const DriveAxisConfig& cfg, const ModalPlant& plant, s
   return SimStatus::ok;
 }
 
-SimStatus DriveAxis::step(std::int32_t target_counts) { return advance_to(target_counts / cfg_.counts_per_unit); }
+SimStatus DriveAxis::step(std::int32_t target_counts) { return advance_to(target_counts / cfg_.scale.counts_per_unit); }
 
 SimStatus DriveAxis::hold() { return advance_to(x_prev_); }
 
 SimStatus DriveAxis::advance_to(double x_new) {
-  const double dt = cfg_.period_s;
+  const double dt = cfg_.scale.period_s();
   BasePolynomial ref{};
   if (cfg_.interpolation == Interpolation::cubic) {
     // Velocities from the setpoints themselves (backward differences), so the reference is C1
@@ -75,8 +74,8 @@ SimStatus DriveAxis::advance_to(double x_new) {
 
 void DriveAxis::update_feedback() {
   const BaseState& b = plant_.base();
-  fb_.position_actual = to_counts(b.p, cfg_.counts_per_unit);
-  fb_.velocity_actual = to_counts(b.v, cfg_.counts_per_unit);
+  fb_.position_actual = to_counts(b.p, cfg_.scale.counts_per_unit);
+  fb_.velocity_actual = to_counts(b.v, cfg_.scale.counts_per_unit);
   fb_.load_position = to_counts(plant_.position(), cfg_.load_counts_per_unit);
 }
 

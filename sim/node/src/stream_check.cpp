@@ -7,16 +7,16 @@
 
 namespace settle::sim {
 
-SimStatus stream_setpoints(const core::Move<double>& move, std::uint32_t period_us, double counts_per_unit,
-                           std::int32_t origin, std::vector<std::int32_t>& out) {
-  if (period_us == 0) return SimStatus::non_positive_step;
-  if (!(counts_per_unit > 0.0) || !std::isfinite(counts_per_unit)) return SimStatus::non_positive_scale;
+SimStatus stream_setpoints(const core::Move<double>& move, const core::AxisScale& scale, std::int32_t origin,
+                           std::vector<std::int32_t>& out) {
+  if (scale.period_us == 0) return SimStatus::non_positive_step;
+  if (!scale.valid()) return SimStatus::non_positive_scale;
   // Ticks 0 .. stream_ticks (which saturates above core's own bound, and for a NaN duration).
-  const std::int64_t ticks = core::stream_ticks(move, period_us);
+  const std::int64_t ticks = core::stream_ticks(move, scale.period_us);
   if (ticks < 0 || static_cast<std::uint64_t>(ticks) >= kMaxSamples) return SimStatus::too_many_samples;
   std::vector<std::int32_t> sp;
   sp.reserve(static_cast<std::size_t>(ticks) + 1);
-  core::SetpointStream<double> s{move, period_us, counts_per_unit, origin};
+  core::SetpointStream<double> s{move, scale, origin};
   for (bool last = false; !last && sp.size() <= static_cast<std::size_t>(ticks);) sp.push_back(s.next(last));
   out = std::move(sp);
   return SimStatus::ok;
@@ -45,9 +45,9 @@ SimStatus replay_stream(const DriveAxisConfig& cfg, const ModalPlant& plant, std
     r.feedback.push_back(axis.feedback());
     r.load_after.push_back(axis.feedback().load_position);
   }
-  const double final_base = setpoints.back() / cfg.counts_per_unit;
+  const double final_base = setpoints.back() / cfg.scale.counts_per_unit;
   r.final_load = plant.rigid_gain() * final_base;
-  r.step_residual = plant.step_residual((setpoints.back() - origin) / cfg.counts_per_unit);
+  r.step_residual = plant.step_residual((setpoints.back() - origin) / cfg.scale.counts_per_unit);
   out = std::move(r);
   return SimStatus::ok;
 }

@@ -335,7 +335,7 @@ firmware::AxisConfig axis_config(const Scenario& s) {
   a.drive.node = kDrive;
   a.drive.mode = (s.flags & 0x04U) != 0 ? OperationMode::interpolated_position : OperationMode::cyclic_synchronous_position;
   a.drive.heartbeat_timeout_ms = (s.flags & 0x10U) != 0 ? 350 : 0;
-  a.counts_per_unit = kCountsPerUnit;
+  a.scale = {kCountsPerUnit, kPeriodUs};
   a.vmax = s.limits.velocity;
   return a;
 }

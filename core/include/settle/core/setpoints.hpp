@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "settle/core/axis_scale.hpp"
 #include "settle/core/status.hpp"
 #include "settle/core/stepper.hpp"
 
@@ -39,10 +40,10 @@ class SetpointStream {
   // The move must outlive the stream, and pass check_streamable. Everything in double is done
   // here, once: the tick path works in Scalar and int32 only (the Cortex-M4F has no
   // double-precision FPU and no 64-bit conversions).
-  SetpointStream(const Move<Scalar>& m, std::uint32_t period_us, double counts_per_unit, std::int32_t origin) noexcept
-      : stepper_{m, static_cast<Scalar>(period_us * 1e-6)},
-        last_tick_{static_cast<std::int32_t>(std::min(stream_ticks(m, period_us), kMaxStreamTicks))},
-        counts_per_unit_{static_cast<Scalar>(counts_per_unit)},
+  SetpointStream(const Move<Scalar>& m, const AxisScale& scale, std::int32_t origin) noexcept
+      : stepper_{m, static_cast<Scalar>(scale.period_s())},
+        last_tick_{static_cast<std::int32_t>(std::min(stream_ticks(m, scale.period_us), kMaxStreamTicks))},
+        counts_per_unit_{static_cast<Scalar>(scale.counts_per_unit)},
         origin_{origin} {}
 
   // The next target; `last` is set on the final one, the first tick at or after the move's end

@@ -17,15 +17,15 @@
 //   cam knots       int32 p, v, a with per-table fraction bits (CamTable::formats())
 #include <cstdint>
 
+#include "settle/core/axis_scale.hpp"
 #include "settle/core/fixed/qmath.hpp"
 
 namespace settle::core::fixed {
 
-// How SI maps to the drive: counts per metre (linear axis) or per radian (rotary), the servo
-// period, and how many fraction bits the velocity and acceleration outputs carry.
+// How SI maps to the drive (the axis's counts per unit and servo period, one tick per period) and
+// how many fraction bits the velocity and acceleration outputs carry.
 struct Scale {
-  double counts_per_unit{1e6};  // 1 count = 1 um by default (docs/drive.md)
-  double tick_seconds{1e-3};
+  AxisScale axis{};
   int velocity_frac_bits{16};   // 0..30
   int accel_frac_bits{16};      // 0..30
 };

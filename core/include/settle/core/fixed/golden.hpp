@@ -18,12 +18,13 @@ namespace settle::core::fixed {
 struct GoldenMove {
   const char* name;  // scurve, scurve_damped, ramp_versine, poly345, pseudopoly, trapezoid, scurve_zv, ...
   ProfileKind kind;
-  double distance, time, omega, zeta, counts_per_unit, tick;
+  double distance, time, omega, zeta;
+  AxisScale scale;    // every period a whole number of microseconds
   ShaperKind shaper;  // ZV and ZVD designed with zeta = 0: impulses at fractional ticks, libm-free
 };
 [[nodiscard]] std::span<const GoldenMove> golden_moves() noexcept;
 [[nodiscard]] Status plan_golden(const GoldenMove& g, Move<double>& out) noexcept;
-[[nodiscard]] constexpr Scale golden_scale(const GoldenMove& g) noexcept { return Scale{g.counts_per_unit, g.tick, 16, 16}; }
+[[nodiscard]] constexpr Scale golden_scale(const GoldenMove& g) noexcept { return Scale{g.scale, 16, 16}; }
 
 struct GoldenResult {
   std::uint64_t build{0};    // every field of every built object (segments, tracks, cam knots)

@@ -36,12 +36,12 @@ struct FloatEvaluation {
     core::SetpointStream<Scalar>* s_{nullptr};
   };
 
-  [[nodiscard]] static core::Status prepare(const core::Move<double>& m, std::uint32_t period_us,
-                                            double counts_per_unit, Stored& out) noexcept {
-    const core::Status st = core::check_streamable(m, period_us);
+  [[nodiscard]] static core::Status prepare(const core::Move<double>& m, const core::AxisScale& scale,
+                                            Stored& out) noexcept {
+    const core::Status st = core::check_streamable(m, scale.period_us);
     if (st != core::Status::ok) return st;
     out.move = core::Move<Scalar>{m};
-    out.stream = core::SetpointStream<Scalar>{out.move, period_us, counts_per_unit, 0};
+    out.stream = core::SetpointStream<Scalar>{out.move, scale, 0};
     return core::Status::ok;
   }
   // In the tick that starts the move: only where tick 0 is.
@@ -91,13 +91,10 @@ struct BasicFixedEvaluation {
 
   // Builds the integer motion for this axis's scale and period (a temporary: 1.5 KiB of stack at
   // submit), then its position plan; refuses what does not fit, leaving `out` unchanged.
-  [[nodiscard]] static core::Status prepare(const core::Move<double>& m, std::uint32_t period_us,
-                                            double counts_per_unit, Stored& out) noexcept {
-    core::fixed::Scale scale{};
-    scale.counts_per_unit = counts_per_unit;
-    scale.tick_seconds = period_us * 1e-6;
+  [[nodiscard]] static core::Status prepare(const core::Move<double>& m, const core::AxisScale& scale,
+                                            Stored& out) noexcept {
     Motion motion{};
-    core::Status st = motion.build(m, scale);
+    core::Status st = motion.build(m, core::fixed::Scale{scale});
     if (st == core::Status::ok) st = out.plan.build(motion);
     if (st == core::Status::ok) out.stepper = core::fixed::PositionStepper{out.plan};
     return st;

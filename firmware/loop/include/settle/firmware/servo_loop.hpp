@@ -28,6 +28,7 @@
 #include <optional>
 #include <type_traits>
 
+#include "settle/core/axis_scale.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/firmware/evaluation.hpp"
 #include "settle/firmware/fixed_queue.hpp"
@@ -113,7 +114,9 @@ struct LoopConfig {
 
 struct AxisConfig {
   hal::canopen::RemoteDriveConfig drive{};
-  double counts_per_unit{1e6};           // e.g. 1 count = 1 µm for the seed-000 beam
+  // Counts per unit (e.g. 1 count = 1 µm for the seed-000 beam) and the period, which must be the
+  // loop's (add_axis refuses another: bad_axis_config).
+  core::AxisScale scale{};
   double vmax{1.0};                      // actuator limit, units/s: moves above it are refused
   std::int32_t step_margin_counts{2};    // setpoint-step guard: vmax * period + this
   std::uint32_t following_error_counts{0};  // 0 = off
@@ -195,7 +198,7 @@ class ServoLoop {
 
   [[nodiscard]] LoopStatus add_axis(const AxisConfig& cfg) noexcept {
     if (count_ == MaxAxes) return LoopStatus::too_many_axes;
-    if (!(cfg.counts_per_unit > 0.0) || !std::isfinite(cfg.counts_per_unit) || !(cfg.vmax > 0.0) ||
+    if (!cfg.scale.valid() || cfg.scale.period_us != period_us_ || !(cfg.vmax > 0.0) ||
         !std::isfinite(cfg.vmax) || cfg.step_margin_counts < 0) {
       return LoopStatus::bad_axis_config;
     }
@@ -207,7 +210,7 @@ class ServoLoop {
     a.cfg.drive.sync_period_us = period_us_;
     a.drive.emplace(a.cfg.drive);
     // In whole counts, once: the tick compares integers. At or past 2^31 no step can exceed it.
-    const double guard = std::floor(cfg.vmax * cfg.counts_per_unit * period_us_ * 1e-6) + cfg.step_margin_counts;
+    const double guard = std::floor(cfg.vmax * cfg.scale.counts_per_unit * cfg.scale.period_s()) + cfg.step_margin_counts;
     a.guard = guard < 2147483648.0 ? static_cast<std::uint32_t>(guard) : std::uint32_t{1} << 31U;
     ++count_;
     return LoopStatus::ok;
@@ -252,14 +255,14 @@ class ServoLoop {
     // A velocity step (seed 001's command) is streamable: sampled, it is a jump of at most
     // peak |v| * period, which the step guard allows whenever peak |v| is within vmax.
     if (!(m.peaks().v <= a.cfg.vmax * (1.0 + 1e-9))) return LoopStatus::exceeds_axis_velocity;
-    const double counts = std::fabs(m.distance()) * a.cfg.counts_per_unit;
+    const double counts = std::fabs(m.distance()) * a.cfg.scale.counts_per_unit;
     if (!(counts < static_cast<double>(std::numeric_limits<std::int32_t>::max()) / 2)) {
       return LoopStatus::does_not_fit_counts;
     }
     if (a.queue.full()) return LoopStatus::queue_full;
     // Prepared in place in the queue's free slot, which joins the queue only on success: a
     // refusal leaves the queue as it was, and no second copy of a move is ever held.
-    const core::Status st = Evaluation::prepare(m, period_us_, a.cfg.counts_per_unit, a.queue.back_slot());
+    const core::Status st = Evaluation::prepare(m, a.cfg.scale, a.queue.back_slot());
     if (why != nullptr) *why = st;
     if (st != core::Status::ok) return LoopStatus::evaluation_refused;
     a.queue.commit_back();

@@ -7,6 +7,7 @@
 // offline reference the end-to-end checks compare against: the same code, the same numbers.
 #include <cstdint>
 
+#include "settle/core/axis_scale.hpp"
 #include "settle/sim/modal_plant.hpp"
 #include "settle/sim/status.hpp"
 
@@ -21,8 +22,7 @@ struct DriveModel {
 };
 
 struct DriveAxisConfig {
-  double period_s{1e-3};
-  double counts_per_unit{1e6};       // base (motor) position counts per m or rad
+  core::AxisScale scale{};           // base (motor) position counts per m or rad, and the SYNC period
   double load_counts_per_unit{1e6};  // load position counts per output unit (m, or rad of platform)
   Interpolation interpolation{Interpolation::linear};
   DriveModel model{};

@@ -18,8 +18,8 @@ namespace settle::sim {
 // The loop's integer targets for a move, tick by tick, ending exactly on origin + D. Refuses a zero
 // period (non_positive_step), a scale that is not positive and finite (non_positive_scale) and a
 // move of more than kMaxSamples setpoints at this period (too_many_samples) before allocating.
-[[nodiscard]] SimStatus stream_setpoints(const core::Move<double>& move, std::uint32_t period_us,
-                                         double counts_per_unit, std::int32_t origin, std::vector<std::int32_t>& out);
+[[nodiscard]] SimStatus stream_setpoints(const core::Move<double>& move, const core::AxisScale& scale,
+                                         std::int32_t origin, std::vector<std::int32_t>& out);
 
 struct Replay {
   std::vector<AxisFeedback> feedback;    // at the end of every period: the setpoints', then the window's
