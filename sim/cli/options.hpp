@@ -16,6 +16,8 @@
 #include <string_view>
 #include <vector>
 
+#include "settle/sim/limits.hpp"
+
 namespace settle::cli {
 
 // A closed or open interval of valid values.
@@ -138,7 +140,7 @@ int report_bad_request(const RequestError& err, bool json);
 // The CLI's documented size bounds, checked before anything is allocated or printed. Each keeps
 // a valid run of a release build within a few seconds (and under ASan within about a minute).
 inline constexpr double kMaxRows = 2e6;          // sample: samples printed
-inline constexpr double kMaxSimWork = 2e6;       // simulate: grid steps x modes
+inline constexpr double kMaxSimWork = sim::kMaxSimWork;  // simulate: grid steps x modes
 inline constexpr double kMaxCsvRows = 1e6;       // simulate --csv: rows (the history is kept in memory)
 inline constexpr double kMaxSeconds = 3600.0;    // a move, move + tail, move + settle time
 inline constexpr double kMaxStreamPeriods = 1e6; // stream: start-up (5 s) + move + settle, in periods

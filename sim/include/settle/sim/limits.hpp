@@ -11,6 +11,9 @@ namespace settle::sim {
 // (simulate's grid plus its tail, stream_setpoints, replay_stream's periods plus its window).
 inline constexpr std::size_t kMaxSamples = 10'000'000;
 
+// Grid steps x modes of the continuous simulations the CLI runs (simulate, stream's reference).
+inline constexpr double kMaxSimWork = 2e6;
+
 // Modes of a ModalPlant (each is two states; a LinearPlant has at most 2 kMaxModes states).
 inline constexpr std::size_t kMaxModes = 64;
 inline constexpr std::size_t kMaxStates = 2 * kMaxModes;

@@ -1,0 +1,85 @@
+#pragma once
+// The two places a stream runs. LoopbackStreamBus: the simulated drive (the spec's plant behind
+// hal's drive node) on the in-process bus, in virtual time, deterministic. SocketCanStreamBus: a
+// SocketCAN interface (vcan0, can0) in real time, against a `settle plant` process or a drive.
+// Either can write a candump log of the run (`candump -l` format, replayable with canplayer).
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "settle/firmware/linux/periodic.hpp"
+#include "settle/firmware/session.hpp"
+#include "settle/hal/candump_file.hpp"
+#include "settle/hal/recording_bus.hpp"
+#include "settle/hal/loopback_bus.hpp"
+#include "settle/hal/socketcan_bus.hpp"
+#include "settle/sim/plant_node.hpp"
+#include "settle/sim/stream.hpp"
+
+namespace settle::sim {
+
+class LoopbackStreamBus final : public StreamBus {
+ public:
+  // candump_path: where to log every frame on the bus (a listening port sees them all); "" none.
+  explicit LoopbackStreamBus(std::string candump_path = {});
+  ~LoopbackStreamBus() override;
+
+  [[nodiscard]] std::string name() const override { return "loopback (in-process, virtual time)"; }
+  [[nodiscard]] bool realtime() const override { return false; }
+  [[nodiscard]] std::string open(const StreamSpec& spec) override;
+  [[nodiscard]] hal::CanBus& link() override { return master_; }
+  void begin() override;
+  std::uint64_t wait() override { return clock_.wait(); }
+  [[nodiscard]] std::uint64_t now_us() const override { return clock_.now_us(); }
+  void between_ticks() override;
+  [[nodiscard]] std::string finish(const FrameTaker& take) override;
+  [[nodiscard]] hal::BusCounters counters() const override { return master_.counters(); }
+  [[nodiscard]] StreamTiming timing() const override { return {}; }
+
+ private:
+  std::string candump_path_;
+  hal::LoopbackHub hub_;
+  hal::LoopbackBus<256> master_{hub_};
+  hal::LoopbackBus<256> drive_port_{hub_};
+  hal::LoopbackBus<256> sniffer_{hub_};
+  std::unique_ptr<PlantNode> node_;
+  hal::CandumpFile dump_;
+  std::uint32_t period_us_{1000};
+  firmware::VirtualClock clock_{1000};
+};
+
+class SocketCanStreamBus final : public StreamBus {
+ public:
+  // `opened`: the interface, already open (it must outlive this). rt_priority 1..99 asks for
+  // SCHED_FIFO (and locked memory) at open; 0 runs as scheduled. candump_path: this process's own
+  // log of every frame it sends and receives (complete, unlike a sniffer's: its line count equals
+  // frames_sent + frames_received); "" none.
+  SocketCanStreamBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path = {},
+                     int rt_priority = 0);
+  ~SocketCanStreamBus() override;
+
+  [[nodiscard]] std::string name() const override { return interface_; }
+  [[nodiscard]] bool realtime() const override { return true; }
+  [[nodiscard]] std::string open(const StreamSpec& spec) override;
+  [[nodiscard]] hal::CanBus& link() override;
+  void begin() override;
+  std::uint64_t wait() override { return timer_->wait(); }
+  [[nodiscard]] std::uint64_t now_us() const override { return timer_->now_us(); }
+  void between_ticks() override;
+  [[nodiscard]] std::string finish(const FrameTaker& take) override;
+  [[nodiscard]] hal::BusCounters counters() const override { return bus_.counters(); }
+  [[nodiscard]] StreamTiming timing() const override;
+
+ private:
+  hal::SocketCanBus& bus_;
+  std::string interface_;
+  std::string candump_path_;
+  int rt_priority_;
+  std::unique_ptr<hal::RecordingBus<4096>> recorder_;  // only with a candump log
+  hal::CandumpFile dump_;
+  std::optional<firmware::linux_rt::PeriodicTimer> timer_;
+  firmware::linux_rt::RealtimeSetup realtime_{};
+};
+
+}  // namespace settle::sim

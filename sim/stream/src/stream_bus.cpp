@@ -1,0 +1,104 @@
+#include "settle/sim/stream_bus.hpp"
+
+#include <utility>
+
+namespace settle::sim {
+
+// ---- the in-process bus, in virtual time ----
+
+LoopbackStreamBus::LoopbackStreamBus(std::string candump_path) : candump_path_{std::move(candump_path)} {}
+
+LoopbackStreamBus::~LoopbackStreamBus() = default;
+
+std::string LoopbackStreamBus::open(const StreamSpec& spec) {
+  period_us_ = spec.drive.scale.period_us;
+  clock_ = firmware::VirtualClock{period_us_};
+  if (!candump_path_.empty() && !dump_.open(candump_path_.c_str(), "loopback")) {
+    return "cannot write " + candump_path_;
+  }
+  hal::canopen::DriveNodeConfig dc{};
+  dc.node = spec.node;
+  dc.sync_period_us = period_us_;
+  DriveAxis axis{};
+  if (const SimStatus st = DriveAxis::make(spec.drive, spec.plant, 0, axis); st != SimStatus::ok) {
+    return std::string{"the simulated drive refused its configuration: "} + to_string(st);
+  }
+  node_ = std::make_unique<PlantNode>(dc, std::move(axis));
+  node_->start(0, drive_port_);
+  return {};
+}
+
+void LoopbackStreamBus::begin() { hub_.set_time_us(period_us_); }  // the first tick
+
+void LoopbackStreamBus::between_ticks() {
+  const std::uint64_t now = clock_.now_us();
+  hub_.set_time_us(now);  // the drive answers within this period
+  hal::CanFrame f{};
+  while (drive_port_.receive(f, 0) == hal::ReceiveStatus::received) (void)node_->on_frame(f, now, drive_port_);
+  node_->poll(now, drive_port_);
+  // A listening port sees every frame on the in-process bus: the run's candump log.
+  while (sniffer_.receive(f, 0) == hal::ReceiveStatus::received) {
+    if (dump_.is_open()) (void)dump_.write(f);
+  }
+  hub_.set_time_us(now + period_us_);  // the loop's next tick sends at that time
+}
+
+std::string LoopbackStreamBus::finish(const FrameTaker& /*take*/) {
+  // The drive answered within each tick's period: nothing is still on its way.
+  if (dump_.is_open() && !dump_.close()) return "the candump log " + candump_path_ + " is incomplete";
+  return {};
+}
+
+// ---- a SocketCAN interface, in real time ----
+
+SocketCanStreamBus::SocketCanStreamBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path,
+                                       int rt_priority)
+    : bus_{opened}, interface_{std::move(interface)}, candump_path_{std::move(candump_path)}, rt_priority_{rt_priority} {}
+
+SocketCanStreamBus::~SocketCanStreamBus() = default;
+
+hal::CanBus& SocketCanStreamBus::link() {
+  return recorder_ ? static_cast<hal::CanBus&>(*recorder_) : static_cast<hal::CanBus&>(bus_);
+}
+
+std::string SocketCanStreamBus::open(const StreamSpec& spec) {
+  if (!candump_path_.empty()) {
+    if (!dump_.open(candump_path_.c_str(), interface_.c_str())) return "cannot write " + candump_path_;
+    recorder_ = std::make_unique<hal::RecordingBus<4096>>(bus_, hal::realtime_us);
+  }
+  if (rt_priority_ > 0) realtime_ = firmware::linux_rt::request_realtime(rt_priority_);
+  timer_.emplace(spec.drive.scale.period_us);
+  return {};
+}
+
+void SocketCanStreamBus::begin() { timer_->start(); }
+
+// Written between ticks: the recorder's ring is bounded.
+void SocketCanStreamBus::between_ticks() {
+  if (dump_.is_open()) (void)dump_.write_records(*recorder_);
+}
+
+std::string SocketCanStreamBus::finish(const FrameTaker& take) {
+  hal::CanFrame f{};
+  while (link().receive(f, 50000) == hal::ReceiveStatus::received) {
+    take(f, timer_->now_us());
+    between_ticks();
+  }
+  if (dump_.is_open() && !(dump_.write_records(*recorder_) && dump_.close())) {
+    return "the candump log " + candump_path_ + " is incomplete (" + std::to_string(dump_.records_lost()) +
+           " records lost or unwritten)";
+  }
+  return {};
+}
+
+StreamTiming SocketCanStreamBus::timing() const {
+  StreamTiming t{};
+  t.realtime = realtime_;
+  if (timer_) {
+    t.latency = timer_->latency();
+    t.overruns = timer_->overruns();
+  }
+  return t;
+}
+
+}  // namespace settle::sim

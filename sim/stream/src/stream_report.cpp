@@ -1,0 +1,168 @@
+#include "settle/sim/stream_report.hpp"
+
+#include <array>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace settle::sim {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// A measurement that is absent (not aligned, not finite) is null, never a NaN.
+Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+long long count(std::uint64_t v) { return static_cast<long long>(v); }
+
+// ... and in text, "n/a".
+std::string shown(double v, const char* format) {
+  if (!std::isfinite(v)) return "n/a";
+  std::array<char, 32> b{};
+  std::snprintf(b.data(), b.size(), format, v);
+  return b.data();
+}
+
+}  // namespace
+
+void write_stream_text(const StreamReport& r, std::FILE* out) {
+  const bool fault = r.session.fault != firmware::AxisFault::none;
+  std::fprintf(out, "outcome            %s on %s%s%s\n", firmware::to_string(r.session.outcome), r.bus.c_str(),
+               fault ? ", fault: " : "", fault ? firmware::to_string(r.session.fault) : "");
+  std::fprintf(out, "frames             sent %llu, received %llu, tx busy %llu, late feedback ticks %llu, %s\n",
+               static_cast<unsigned long long>(r.counters.sent), static_cast<unsigned long long>(r.counters.received),
+               static_cast<unsigned long long>(r.counters.tx_busy),
+               static_cast<unsigned long long>(r.feedback_late_ticks),
+               r.aligned() ? "every setpoint applied once, in order" : "FEEDBACK DOES NOT MATCH THE SETPOINTS");
+  std::fprintf(out, "residual (CAN)     %s (PRV %s %%)\n", shown(r.residual_can.amplitude, "%.9g").c_str(),
+               shown(r.residual_can.prv_percent, "%.4f").c_str());
+  std::fprintf(out, "residual (offline) %s (PRV %s %%), agreement %s\n",
+               shown(r.residual_offline.amplitude, "%.9g").c_str(),
+               shown(r.residual_offline.prv_percent, "%.4f").c_str(), shown(r.agreement, "%.3g").c_str());
+  if (r.evaluation != core::Status::ok) {
+    std::fprintf(out, "evaluation         %s refused the move: %s\n", to_string(r.scalar), core::to_string(r.evaluation));
+  }
+  const std::string within =
+      r.setpoints_vs_double_max_counts ? std::to_string(*r.setpoints_vs_double_max_counts) : std::string{"n/a"};
+  std::fprintf(out,
+               "scalar             %s: setpoints within %s counts of double's (%lld differ), residual %s %% "
+               "from double's %s\n",
+               to_string(r.scalar), within.c_str(), static_cast<long long>(r.setpoints_differing_from_double),
+               shown(r.residual_vs_double_percent, "%.3g").c_str(), shown(r.residual_double, "%.9g").c_str());
+  if (r.continuous_simulated) {
+    std::fprintf(out, "continuous profile %s (PRV %s %%)\n", shown(r.residual_continuous, "%.9g").c_str(),
+                 shown(r.prv_continuous_percent, "%.4f").c_str());
+  }
+  if (r.realtime) {
+    const firmware::linux_rt::LatencyHistogram& l = r.timing.latency;
+    std::fprintf(out, "wake-up latency    min %lld p50 %lld p99 %lld max %lld ns, overruns %llu%s\n",
+                 static_cast<long long>(l.min_ns()), static_cast<long long>(l.quantile_ns(0.5)),
+                 static_cast<long long>(l.quantile_ns(0.99)), static_cast<long long>(l.max_ns()),
+                 static_cast<unsigned long long>(r.timing.overruns),
+                 r.timing.realtime.fifo ? "" : " (SCHED_FIFO not used: pass --rt-priority N as root)");
+  }
+}
+
+std::string stream_json(const StreamReport& r) {
+  const bool have_diff = r.setpoints_vs_double_max_counts.has_value();
+  const firmware::linux_rt::LatencyHistogram& l = r.timing.latency;
+  const Json j{
+      {"status", r.measured() ? "ok" : "error"},
+      {"outcome", firmware::to_string(r.session.outcome)},
+      {"fault", firmware::to_string(r.session.fault)},
+      {"drive_state", r.drive_state},
+      {"drive_failure", r.drive_failure},
+      {"bus", r.bus},
+      {"profile", core::to_string(r.profile)},
+      {"scalar", to_string(r.scalar)},
+      // Why the selected evaluation refused the move ("ok" when it took it), e.g. a profile the
+      // fixed-point formats cannot hold.
+      {"evaluation", core::to_string(r.evaluation)},
+      {"setpoints", static_cast<long long>(r.setpoints.size())},
+      // Against the double evaluator's setpoints (null when either evaluation refused the move).
+      {"setpoints_vs_double_max_counts",
+       have_diff ? Json(static_cast<long long>(*r.setpoints_vs_double_max_counts)) : Json(nullptr)},
+      {"setpoints_differing_from_double",
+       have_diff ? Json(static_cast<long long>(r.setpoints_differing_from_double)) : Json(nullptr)},
+      {"distance", r.distance},
+      {"move_time", r.move_time},
+      {"period_us", static_cast<long long>(r.scale.period_us)},
+      {"ticks", count(r.session.ticks)},
+      {"frames_sent", count(r.counters.sent)},
+      {"frames_received", count(r.counters.received)},
+      {"tx_busy", count(r.counters.tx_busy)},
+      {"rx_overflow_drops", count(r.counters.rx_overflow_drops)},
+      {"feedback_samples", static_cast<long long>(r.feedback.size())},
+      {"feedback_late_ticks", count(r.feedback_late_ticks)},
+      {"aligned", r.aligned()},
+      {"frames_lost", count(r.frames_lost)},
+      {"overruns", count(r.timing.overruns)},
+      {"skipped_periods", count(r.session.missed_periods)},
+      {"rpdo_sent", count(r.axis.rpdo_sent)},
+      {"step_guard_trips", count(r.axis.step_guard_trips)},
+      {"heartbeat_losses", count(r.axis.heartbeat_losses)},
+      {"emcy_received", count(r.axis.emcy_received)},
+      {"drive_restarts", count(r.axis.restarts)},
+      {"moves_aborted", count(r.axis.moves_aborted)},
+      {"max_following_error", count(r.axis.max_following_error)},
+      {"feedback_overflows", count(r.axis.feedback_overflows)},
+      {"feedback_timeouts", count(r.axis.feedback_timeouts)},
+      {"units_held", count(r.units_held)},
+      // Absent (null) when there is nothing to measure: the move did not complete, or the
+      // feedback did not match the setpoints.
+      {"residual_can", number_or_null(r.residual_can.amplitude)},
+      {"prv_can_percent", number_or_null(r.residual_can.prv_percent)},
+      {"residual_offline", number_or_null(r.residual_offline.amplitude)},
+      {"prv_offline_percent", number_or_null(r.residual_offline.prv_percent)},
+      {"agreement", number_or_null(r.agreement)},
+      {"residual_double", number_or_null(r.residual_double)},
+      {"residual_vs_double_percent", number_or_null(r.residual_vs_double_percent)},
+      // The same difference in load counts: what it is next to the measurement's resolution.
+      {"residual_vs_double_load_counts", number_or_null(r.residual_vs_double_load_counts)},
+      {"fit_rms_can", number_or_null(r.residual_can.fit_rms)},
+      {"residual_continuous", number_or_null(r.residual_continuous)},
+      {"prv_continuous_percent", number_or_null(r.prv_continuous_percent)},
+      {"window_samples", static_cast<long long>(r.window_samples)},
+      {"latency_ns", Json{{"count", count(l.count())},
+                          {"min", static_cast<long long>(l.min_ns())},
+                          {"p50", static_cast<long long>(l.quantile_ns(0.5))},
+                          {"p99", static_cast<long long>(l.quantile_ns(0.99))},
+                          {"max", static_cast<long long>(l.max_ns())}}},
+      {"realtime", Json{{"sched_fifo", r.timing.realtime.fifo},
+                        {"sched_fifo_error", r.timing.realtime.fifo_error},
+                        {"mlockall", r.timing.realtime.locked},
+                        {"mlockall_error", r.timing.realtime.lock_error}}},
+  };
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+bool write_tick_csv(const StreamReport& r, std::FILE* out) {
+  bool ok = std::fprintf(out, "tick,t,target,sent,moving,move_end,position_actual,load_position,velocity_actual,"
+                              "feedback_count\n") > 0;
+  for (const firmware::TickRecord& t : r.log) {
+    ok = ok && std::fprintf(out, "%llu,%.6f,%d,%d,%d,%d,%d,%d,%d,%llu\n", static_cast<unsigned long long>(t.tick),
+                            static_cast<double>(t.tick) * r.scale.period_s(), t.target, t.sent ? 1 : 0,
+                            t.moving ? 1 : 0, t.move_end ? 1 : 0, t.position_actual, t.load_position,
+                            t.velocity_actual, static_cast<unsigned long long>(t.feedback_count)) > 0;
+  }
+  return ok;
+}
+
+bool write_feedback_csv(const StreamReport& r, std::FILE* out) {
+  if (!r.aligned() || r.setpoints.empty()) return false;
+  const std::vector<std::int32_t>& sp = r.setpoints;
+  const std::size_t o = *r.alignment;
+  const std::size_t pre = std::min<std::size_t>(o, 50);
+  bool ok = std::fprintf(out, "period,t,commanded,position_can,load_can,load_offline\n") > 0;
+  for (std::size_t i = o - pre; i < o + r.replay.feedback.size(); ++i) {
+    const long k = static_cast<long>(i) - static_cast<long>(o);
+    const auto ku = static_cast<std::size_t>(k);
+    const std::int32_t commanded = k < 0 ? sp.front() : (ku < sp.size() ? sp[ku] : sp.back());
+    const std::int32_t load_offline = k < 0 ? r.feedback[i].load_position : r.replay.feedback[ku].load_position;
+    ok = ok && std::fprintf(out, "%ld,%.6f,%d,%d,%d,%d\n", k, static_cast<double>(k + 1) * r.scale.period_s(),
+                            commanded, r.feedback[i].position_actual, r.feedback[i].load_position, load_offline) > 0;
+  }
+  return ok;
+}
+
+}  // namespace settle::sim

@@ -1,0 +1,281 @@
+// run_stream on the in-process loopback bus, held to what is known without it: the frames a
+// sniffer saw on the bus (one SYNC per tick, one RPDO per streamed tick carrying every setpoint
+// once, in order), the setpoint count from the move's duration, the settling window from the
+// settle time, the refusals a loop makes at submit; and no heap use while the loop streams.
+// Allocations are counted by replacing malloc and the global operator new here.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <new>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "planned_moves.hpp"
+#include "settle/core/planner.hpp"
+#include "settle/sim/stream.hpp"
+#include "settle/sim/stream_bus.hpp"
+
+namespace {
+std::atomic<std::uint64_t> g_allocations{0};
+}  // namespace
+
+// malloc too (Eigen's dynamic matrices allocate with it), as tests/sim/test_node.cpp does; not
+// under AddressSanitizer, which owns malloc there (operator new still counts).
+#ifndef __SANITIZE_ADDRESS__
+extern "C" void* __libc_malloc(std::size_t);  // glibc's own allocator, beneath our hook
+extern "C" void* malloc(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(n);
+}
+#endif
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  void* p = std::malloc(n == 0 ? 1 : n);
+  if (p == nullptr) throw std::bad_alloc{};
+  return p;
+}
+// GCC cannot see that this operator new allocates with malloc.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
+
+namespace settle::sim {
+namespace {
+
+using testing::poly345;
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("settle_stream_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+ModalPlant beam() {
+  ModalPlant p;
+  EXPECT_EQ(ModalPlant::make_beam(BeamOptions{}, p), SimStatus::ok);
+  return p;
+}
+
+StreamSpec spec_for(const core::Move<double>& move, double settle_time_s = 0.2) {
+  StreamSpec s{};
+  s.move = move;
+  s.plant = beam();
+  s.settle_time_s = settle_time_s;
+  return s;
+}
+
+// One frame of a candump -l line: "(sec.usec) iface ID#DATA".
+struct Logged {
+  std::uint32_t id{0};
+  std::vector<std::uint8_t> data;
+};
+
+std::vector<Logged> read_candump(const std::string& path) {
+  std::vector<Logged> out;
+  std::ifstream f{path};
+  for (std::string line; std::getline(f, line);) {
+    const std::size_t hash = line.find('#');
+    const std::size_t space = line.rfind(' ', hash);
+    EXPECT_NE(hash, std::string::npos) << line;
+    if (hash == std::string::npos || space == std::string::npos) continue;
+    Logged l{};
+    l.id = static_cast<std::uint32_t>(std::stoul(line.substr(space + 1, hash - space - 1), nullptr, 16));
+    for (std::size_t i = hash + 1; i + 1 < line.size(); i += 2) {
+      l.data.push_back(static_cast<std::uint8_t>(std::stoul(line.substr(i, 2), nullptr, 16)));
+    }
+    out.push_back(l);
+  }
+  return out;
+}
+
+// RPDO1 (the default mapping): controlword 0x6040 in bytes 0-1, target position 0x607A in 2-5.
+std::int32_t rpdo_target(const std::vector<std::uint8_t>& d) {
+  return static_cast<std::int32_t>(static_cast<std::uint32_t>(d.at(2)) | (static_cast<std::uint32_t>(d.at(3)) << 8U) |
+                                   (static_cast<std::uint32_t>(d.at(4)) << 16U) |
+                                   (static_cast<std::uint32_t>(d.at(5)) << 24U));
+}
+
+TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
+  const std::string dump = temp_path("run.log");
+  const StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.2);
+  LoopbackStreamBus bus{dump};
+  const StreamReport r = run_stream(spec, bus);
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_EQ(r.session.outcome, firmware::SessionOutcome::completed);
+  EXPECT_TRUE(r.aligned());
+  EXPECT_TRUE(r.measured());
+  EXPECT_EQ(r.bus, "loopback (in-process, virtual time)");
+  EXPECT_FALSE(r.realtime);
+
+  // From the move and the spec alone: 0.5 s at 1 ms is ticks 0..500, a 0.2 s window 200 samples.
+  EXPECT_EQ(r.setpoints.size(), 501U);
+  EXPECT_EQ(r.setpoints.front(), 0);
+  EXPECT_EQ(r.setpoints.back(), 10000);  // 0.01 m at 1e6 counts/m
+  EXPECT_EQ(r.window_samples, 200U);
+  EXPECT_EQ(r.log.size(), r.session.ticks + 1);  // ticks 0 .. session.ticks
+
+  const std::vector<Logged> frames = read_candump(dump);
+  std::uint64_t syncs = 0, from_master = 0;
+  std::vector<std::int32_t> targets;
+  for (const Logged& f : frames) {
+    // The master sends NMT (0x000), SYNC (0x080), RPDO1 (0x201) and SDO requests (0x601).
+    if (f.id == 0x000 || f.id == 0x080 || f.id == 0x201 || f.id == 0x601) ++from_master;
+    if (f.id == 0x080) ++syncs;
+    if (f.id == 0x201) targets.push_back(rpdo_target(f.data));
+  }
+  EXPECT_EQ(syncs, r.session.ticks + 1);  // one SYNC per tick
+  EXPECT_EQ(from_master, r.counters.sent);
+  EXPECT_EQ(targets.size(), r.axis.rpdo_sent);
+  // Every setpoint once and in order: the RPDOs hold the origin, carry the move, then hold its end.
+  const auto move = std::search(targets.begin(), targets.end(), r.setpoints.begin(), r.setpoints.end());
+  ASSERT_NE(move, targets.end()) << "the setpoints are not in the RPDOs in order";
+  EXPECT_TRUE(std::all_of(targets.begin(), move, [](std::int32_t t) { return t == 0; }));
+  EXPECT_TRUE(std::all_of(move + 501, targets.end(), [](std::int32_t t) { return t == 10000; }));
+  EXPECT_GT(targets.end() - (move + 501), 200);  // the settling window
+
+  // The ideal drive and plant on the bus are the replay's: the same loads, to the count.
+  EXPECT_EQ(r.agreement, 0.0);
+  EXPECT_EQ(r.residual_can.amplitude, r.residual_offline.amplitude);
+  EXPECT_EQ(r.setpoints_vs_double_max_counts, 0);
+  // Sampled at 1 kHz, the residual is the continuous profile's within a few per cent.
+  EXPECT_NEAR(r.residual_can.amplitude, r.residual_continuous, 0.02 * r.residual_continuous);
+  EXPECT_EQ(r.frames_lost, 0U);
+  std::filesystem::remove(dump);
+}
+
+TEST(RunStream, EveryScalarStreamsTheDoubleSetpointsWithinOneCount) {
+  core::MoveRequest rq{};
+  rq.profile = core::ProfileKind::scurve;
+  rq.distance = 0.05;
+  rq.time = 0.3;
+  rq.omega = 22.04871;
+  core::Move<double> move{};
+  ASSERT_EQ(core::plan(rq, move), core::Status::ok);
+  for (const StreamScalar scalar :
+       {StreamScalar::double_precision, StreamScalar::single_precision, StreamScalar::fixed_point}) {
+    StreamSpec spec = spec_for(move);
+    spec.scalar = scalar;
+    LoopbackStreamBus bus;
+    const StreamReport r = run_stream(spec, bus);
+    ASSERT_TRUE(r.failure.empty()) << r.failure;
+    EXPECT_TRUE(r.measured()) << to_string(scalar);
+    EXPECT_EQ(r.scalar, scalar);
+    ASSERT_TRUE(r.setpoints_vs_double_max_counts.has_value());
+    EXPECT_LE(*r.setpoints_vs_double_max_counts, scalar == StreamScalar::double_precision ? 0 : 1);
+    EXPECT_EQ(r.setpoints.back(), 50000);
+    EXPECT_NEAR(r.residual_can.amplitude, r.residual_double, 0.01 * r.residual_double) << to_string(scalar);
+  }
+}
+
+// The fixed-point evaluation cannot hold a transition shorter than a tick: the loop refuses the
+// move at submit, nothing of it is streamed, and there is nothing to measure.
+TEST(RunStream, ARefusedMoveIsReportedAndNotStreamed) {
+  core::MoveRequest rq{};
+  rq.profile = core::ProfileKind::scurve;
+  rq.distance = 1e-4;
+  rq.time = 0.002;
+  rq.omega = 22.0;
+  core::Move<double> move{};
+  ASSERT_EQ(core::plan(rq, move), core::Status::ok);
+  StreamSpec spec = spec_for(move);
+  spec.scalar = StreamScalar::fixed_point;
+  const std::string dump = temp_path("refused.log");
+  LoopbackStreamBus bus{dump};
+  const StreamReport r = run_stream(spec, bus);
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_EQ(r.session.outcome, firmware::SessionOutcome::rejected);
+  EXPECT_EQ(r.session.rejection, firmware::LoopStatus::evaluation_refused);
+  EXPECT_EQ(r.evaluation, core::Status::transition_shorter_than_tick);
+  EXPECT_TRUE(r.setpoints.empty());
+  EXPECT_FALSE(r.setpoints_vs_double_max_counts.has_value());
+  EXPECT_FALSE(r.aligned());
+  EXPECT_FALSE(r.measured());
+  EXPECT_TRUE(std::isfinite(r.residual_double));  // the double evaluation took it
+  for (const Logged& f : read_candump(dump)) {
+    if (f.id == 0x201) {
+      EXPECT_EQ(rpdo_target(f.data), 0) << "a target of the refused move was sent";
+    }
+  }
+  std::filesystem::remove(dump);
+}
+
+TEST(RunStream, AMoveOverTheAxisVelocityIsRejected) {
+  StreamSpec spec = spec_for(poly345(0.01, 0.5));
+  spec.axis_vmax = 0.001;  // the move peaks at 0.0375 m/s
+  LoopbackStreamBus bus;
+  const StreamReport r = run_stream(spec, bus);
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_EQ(r.session.outcome, firmware::SessionOutcome::rejected);
+  EXPECT_EQ(r.session.rejection, firmware::LoopStatus::exceeds_axis_velocity);
+  EXPECT_EQ(r.evaluation, core::Status::ok);  // the evaluation took it; the loop's limit did not
+  EXPECT_FALSE(r.measured());
+}
+
+TEST(RunStream, WhatCannotRunIsAFailureBeforeAnythingStreams) {
+  LoopbackStreamBus unwritable{"/nonexistent-settle-dir/run.log"};
+  const StreamReport a = run_stream(spec_for(poly345(0.01, 0.5)), unwritable);
+  EXPECT_EQ(a.failure, "cannot write /nonexistent-settle-dir/run.log");
+  EXPECT_TRUE(a.log.empty());
+
+  StreamSpec no_period = spec_for(poly345(0.01, 0.5));
+  no_period.drive.scale.period_us = 0;
+  LoopbackStreamBus bus;
+  EXPECT_FALSE(run_stream(no_period, bus).failure.empty());
+}
+
+// A bus that counts the heap allocations made between its between-ticks calls: everything the
+// loop, the session and run_stream's observer do in ticks 1..N, but not the in-process drive's
+// own work (its plant integrates with Eigen, which allocates: it stands for the hardware).
+class CountingBus final : public StreamBus {
+ public:
+  [[nodiscard]] std::string name() const override { return inner_.name(); }
+  [[nodiscard]] bool realtime() const override { return false; }
+  [[nodiscard]] std::string open(const StreamSpec& spec) override { return inner_.open(spec); }
+  [[nodiscard]] hal::CanBus& link() override { return inner_.link(); }
+  void begin() override { inner_.begin(); }
+  std::uint64_t wait() override { return inner_.wait(); }
+  [[nodiscard]] std::uint64_t now_us() const override { return inner_.now_us(); }
+  void between_ticks() override {
+    if (ticks_ > 0) outside_ += g_allocations.load() - after_;
+    inner_.between_ticks();
+    after_ = g_allocations.load();
+    ++ticks_;
+  }
+  [[nodiscard]] std::string finish(const FrameTaker& take) override { return inner_.finish(take); }
+  [[nodiscard]] hal::BusCounters counters() const override { return inner_.counters(); }
+  [[nodiscard]] StreamTiming timing() const override { return inner_.timing(); }
+
+  [[nodiscard]] std::uint64_t allocations() const { return outside_; }
+  [[nodiscard]] std::uint64_t ticks() const { return ticks_; }
+
+ private:
+  LoopbackStreamBus inner_;
+  std::uint64_t after_{0};
+  std::uint64_t outside_{0};
+  std::uint64_t ticks_{0};
+};
+
+TEST(RunStream, NothingIsAllocatedWhileStreaming) {
+  for (const StreamScalar scalar :
+       {StreamScalar::double_precision, StreamScalar::single_precision, StreamScalar::fixed_point}) {
+    StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.5);
+    spec.scalar = scalar;
+    CountingBus bus;
+    const StreamReport r = run_stream(spec, bus);
+    ASSERT_TRUE(r.failure.empty()) << r.failure;
+    EXPECT_TRUE(r.measured()) << to_string(scalar);
+    EXPECT_GT(bus.ticks(), 1000U);
+    EXPECT_EQ(bus.allocations(), 0U) << to_string(scalar);
+  }
+}
+
+}  // namespace
+}  // namespace settle::sim
