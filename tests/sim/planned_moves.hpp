@@ -17,4 +17,15 @@ inline core::Move<double> poly345(double distance, double time) {
   return m;
 }
 
+inline core::Move<double> scurve(double distance, double time, double omega) {
+  core::MoveRequest rq;
+  rq.profile = core::ProfileKind::scurve;
+  rq.distance = distance;
+  rq.time = time;
+  rq.omega = omega;
+  core::Move<double> m;
+  EXPECT_EQ(core::plan(rq, m), core::Status::ok);
+  return m;
+}
+
 }  // namespace settle::sim::testing

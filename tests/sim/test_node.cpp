@@ -1,6 +1,6 @@
 // The simulated drive's log is bounded and streamed (`settle plant` runs for hours at one record
 // per SYNC), and the offline replica of a streamed move refuses sizes beyond limits.hpp before
-// allocating. Allocations are counted by replacing malloc and the global operator new here.
+// allocating. Allocations are counted by heap_counter.hpp.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -12,38 +12,13 @@
 #include <string>
 #include <unistd.h>
 
+#include "heap_counter.hpp"
 #include "planned_moves.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/sim/limits.hpp"
 #include "settle/sim/plant_node.hpp"
 #include "settle/sim/stream_check.hpp"
 #include "settle/sim/sync_log.hpp"
-
-namespace {
-std::atomic<std::uint64_t> g_allocations{0};
-}  // namespace
-
-// malloc too (Eigen's dynamic matrices allocate with it), as tests/firmware/test_no_alloc.cpp
-// does; not under AddressSanitizer, which owns malloc there (operator new still counts).
-#ifndef __SANITIZE_ADDRESS__
-extern "C" void* __libc_malloc(std::size_t);  // glibc's own allocator, beneath our hook
-extern "C" void* malloc(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-#endif
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  void* p = std::malloc(n == 0 ? 1 : n);
-  if (p == nullptr) throw std::bad_alloc{};
-  return p;
-}
-// GCC cannot see that this operator new allocates with malloc.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 namespace settle::sim {
 namespace {

@@ -2,7 +2,7 @@
 // sniffer saw on the bus (one SYNC per tick, one RPDO per streamed tick carrying every setpoint
 // once, in order), the setpoint count from the move's duration, the settling window from the
 // settle time, the refusals a loop makes at submit; and no heap use while the loop streams.
-// Allocations are counted by replacing malloc and the global operator new here.
+// Allocations are counted by heap_counter.hpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,41 +17,16 @@
 #include <unistd.h>
 #include <vector>
 
+#include "heap_counter.hpp"
 #include "planned_moves.hpp"
-#include "settle/core/planner.hpp"
 #include "settle/sim/stream.hpp"
 #include "settle/sim/stream_bus.hpp"
-
-namespace {
-std::atomic<std::uint64_t> g_allocations{0};
-}  // namespace
-
-// malloc too (Eigen's dynamic matrices allocate with it), as tests/sim/test_node.cpp does; not
-// under AddressSanitizer, which owns malloc there (operator new still counts).
-#ifndef __SANITIZE_ADDRESS__
-extern "C" void* __libc_malloc(std::size_t);  // glibc's own allocator, beneath our hook
-extern "C" void* malloc(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-#endif
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  void* p = std::malloc(n == 0 ? 1 : n);
-  if (p == nullptr) throw std::bad_alloc{};
-  return p;
-}
-// GCC cannot see that this operator new allocates with malloc.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#pragma GCC diagnostic pop
 
 namespace settle::sim {
 namespace {
 
 using testing::poly345;
+using testing::scurve;
 
 std::string temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("settle_stream_" + std::to_string(::getpid()) + "_" + name))
@@ -152,13 +127,7 @@ TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
 }
 
 TEST(RunStream, EveryScalarStreamsTheDoubleSetpointsWithinOneCount) {
-  core::MoveRequest rq{};
-  rq.profile = core::ProfileKind::scurve;
-  rq.distance = 0.05;
-  rq.time = 0.3;
-  rq.omega = 22.04871;
-  core::Move<double> move{};
-  ASSERT_EQ(core::plan(rq, move), core::Status::ok);
+  const core::Move<double> move = scurve(0.05, 0.3, 22.04871);
   for (const StreamScalar scalar :
        {StreamScalar::double_precision, StreamScalar::single_precision, StreamScalar::fixed_point}) {
     StreamSpec spec = spec_for(move);
@@ -178,14 +147,7 @@ TEST(RunStream, EveryScalarStreamsTheDoubleSetpointsWithinOneCount) {
 // The fixed-point evaluation cannot hold a transition shorter than a tick: the loop refuses the
 // move at submit, nothing of it is streamed, and there is nothing to measure.
 TEST(RunStream, ARefusedMoveIsReportedAndNotStreamed) {
-  core::MoveRequest rq{};
-  rq.profile = core::ProfileKind::scurve;
-  rq.distance = 1e-4;
-  rq.time = 0.002;
-  rq.omega = 22.0;
-  core::Move<double> move{};
-  ASSERT_EQ(core::plan(rq, move), core::Status::ok);
-  StreamSpec spec = spec_for(move);
+  StreamSpec spec = spec_for(scurve(1e-4, 0.002, 22.0));
   spec.scalar = StreamScalar::fixed_point;
   const std::string dump = temp_path("refused.log");
   LoopbackStreamBus bus{dump};

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "settle/sim/stream_report.hpp"
@@ -14,18 +15,26 @@
 namespace settle::sim {
 namespace {
 
-// What a writer wrote, through a temporary file.
+// What a writer wrote, through a temporary file, and what it returned (true for a void writer).
+struct Written {
+  bool ok{true};
+  std::string text;
+};
 template <typename Writer>
-std::string captured(Writer&& write) {
+Written captured(Writer&& write) {
+  Written w{};
   std::FILE* f = std::tmpfile();
   EXPECT_NE(f, nullptr);
-  if (f == nullptr) return {};
-  write(f);
+  if (f == nullptr) return w;
+  if constexpr (std::is_void_v<decltype(write(f))>) {
+    write(f);
+  } else {
+    w.ok = write(f);
+  }
   std::rewind(f);
-  std::string text;
-  for (int c = std::fgetc(f); c != EOF; c = std::fgetc(f)) text.push_back(static_cast<char>(c));
+  for (int c = std::fgetc(f); c != EOF; c = std::fgetc(f)) w.text.push_back(static_cast<char>(c));
   std::fclose(f);
-  return text;
+  return w;
 }
 
 // A real-time run that completed and aligned, every measurement present.
@@ -79,7 +88,7 @@ StreamReport refused_run() {
 }
 
 TEST(StreamReportText, ACompletedRealTimeRun) {
-  EXPECT_EQ(captured([](std::FILE* f) { write_stream_text(completed_run(), f); }),
+  EXPECT_EQ(captured([](std::FILE* f) { write_stream_text(completed_run(), f); }).text,
             "outcome            completed on vcan9\n"
             "frames             sent 10, received 12, tx busy 1, late feedback ticks 2, every setpoint applied once, "
             "in order\n"
@@ -93,7 +102,7 @@ TEST(StreamReportText, ACompletedRealTimeRun) {
 }
 
 TEST(StreamReportText, AbsentMeasurementsAreNotAvailableNeverNan) {
-  EXPECT_EQ(captured([](std::FILE* f) { write_stream_text(refused_run(), f); }),
+  EXPECT_EQ(captured([](std::FILE* f) { write_stream_text(refused_run(), f); }).text,
             "outcome            feedback_timeout on loopback (in-process, virtual time), fault: feedback_timeout\n"
             "frames             sent 0, received 0, tx busy 0, late feedback ticks 0, FEEDBACK DOES NOT MATCH THE "
             "SETPOINTS\n"
@@ -181,11 +190,9 @@ TEST(StreamReportCsv, OneRowPerTick) {
   b.velocity_actual = -8;
   b.feedback_count = 2;
   r.log = {a, b};
-  std::string text;
-  bool ok = false;
-  text = captured([&](std::FILE* f) { ok = write_tick_csv(r, f); });
-  EXPECT_TRUE(ok);
-  EXPECT_EQ(text,
+  const Written w = captured([&](std::FILE* f) { return write_tick_csv(r, f); });
+  EXPECT_TRUE(w.ok);
+  EXPECT_EQ(w.text,
             "tick,t,target,sent,moving,move_end,position_actual,load_position,velocity_actual,feedback_count\n"
             "0,0.000000,0,0,0,0,0,0,0,0\n"
             "3,0.001500,-7,1,1,1,5,6,-8,2\n");
@@ -198,11 +205,9 @@ TEST(StreamReportCsv, FeedbackAlignedWithTheReplay) {
   r.alignment = 2;  // the replay's first period is the third feedback sample
   for (std::int32_t i = 0; i < 6; ++i) r.feedback.push_back({100 + i, 200 + i, 0});  // position, load, velocity
   for (std::int32_t i = 0; i < 4; ++i) r.replay.feedback.push_back({0, 0, 300 + i});  // position, velocity, load
-  std::string text;
-  bool ok = false;
-  text = captured([&](std::FILE* f) { ok = write_feedback_csv(r, f); });
-  EXPECT_TRUE(ok);
-  EXPECT_EQ(text,
+  const Written w = captured([&](std::FILE* f) { return write_feedback_csv(r, f); });
+  EXPECT_TRUE(w.ok);
+  EXPECT_EQ(w.text,
             "period,t,commanded,position_can,load_can,load_offline\n"
             "-2,-0.001000,0,100,200,200\n"
             "-1,0.000000,0,101,201,201\n"
