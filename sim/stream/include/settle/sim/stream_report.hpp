@@ -1,6 +1,6 @@
 #pragma once
 // A stream's report as people and programs read it: the text summary `settle stream` prints, its
-// --json document (one line; the field names are an interface: tools/demo-run, tests/e2e and the
+// --json document (one line; the field names are an interface: settle demo, tests/e2e and the
 // examples parse them), and the CSV files of its --log (every tick) and --feedback-log (commanded
 // and measured motion, aligned with the offline replay).
 #include <cstdio>
