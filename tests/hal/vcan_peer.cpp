@@ -24,6 +24,10 @@ using namespace settle::hal;
 int run_drive(SocketCanBus& bus, canopen::NodeId node) {
   canopen::DriveNodeConfig config{};
   config.node = node;
+  // The tolerance the e2e drives get (settle plant --sync-loss-periods 250): a user-mode-linux
+  // guest on a busy host runs this lock-step exchange at tens of cycles per second, and the
+  // default 3 periods (4.5 ms) made the drive quick-stop mid-test.
+  config.communication_loss_periods = 250;
   canopen::DriveNode drive{config};
   drive.start(test::monotonic_us(), bus);
   std::int32_t axis = 0;
