@@ -144,6 +144,9 @@ const std::vector<OptionSpec> kStream = {
          "the loop's step guard: largest velocity one setpoint step may imply"),
     real("--settle-time", "s", "1", {0.0, 600.0, true, true}, "time streamed after the move"),
     integer("--rt-priority", "", "0 (no SCHED_FIFO)", {0.0, 99.0}, "SCHED_FIFO priority of the loop"),
+    choice("--pm-qos", "on", {"on", "off"},
+           "hold /dev/cpu_dma_latency at 0 us while the loop runs on a CAN interface (CPUs stay out of deep "
+           "idle states: lower wake-up latency, more power)"),
     integer("--heartbeat-ms", "ms", "500", {10.0, 10000.0}, "the drive's heartbeat timeout at the loop"),
     integer("--sdo-timeout-ms", "ms", "1000", {1.0, 60000.0}, "timeout of each start-up SDO"),
     integer("--feedback-timeout-periods", "periods", "10", {0.0, 65535.0},

@@ -74,6 +74,7 @@ TEST(CliOptions, StreamAndPlantIntegersAreCheckedNotCast) {
       {kStream + "--feedback-timeout-periods 2.5", "--feedback-timeout-periods", "not_an_integer"},
       {kStream + "--rt-priority 1e10", "--rt-priority", ""},
       {kStream + "--rt-priority 100", "--rt-priority", "out_of_range"},
+      {kStream + "--pm-qos maybe", "--pm-qos", ""},
       {kPlant + "--sync-loss-periods 0", "--sync-loss-periods", "out_of_range"},
       {kPlant + "--sync-loss-periods 300", "--sync-loss-periods", "out_of_range"},
       {kPlant + "--duration -1", "--duration", "out_of_range"},
@@ -283,7 +284,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"reproduce", join({{"--out"}})},
       {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--log", "--duration"}})},
       {"stream", join({move, plant, drive,
-                       {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--heartbeat-ms",
+                       {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--pm-qos", "--heartbeat-ms",
                         "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log"}})},
       {"demo", join({{"--bus", "--out", "--list"}})},
   };

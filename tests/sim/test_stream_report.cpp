@@ -69,6 +69,7 @@ StreamReport completed_run() {
   r.window_samples = 10;
   r.timing.latency.add(1500);
   r.timing.overruns = 4;
+  r.timing.realtime.pm_qos = true;
   return r;
 }
 
@@ -98,7 +99,15 @@ TEST(StreamReportText, ACompletedRealTimeRun) {
             "0.0001234\n"
             "continuous profile 0.00012 (PRV 1.4500 %)\n"
             "wake-up latency    min 1500 p50 2000 p99 2000 max 1500 ns, overruns 4 (SCHED_FIFO not used: pass "
-            "--rt-priority N as root)\n");
+            "--rt-priority N as root); PM QoS held at 0 us\n");
+}
+
+TEST(StreamReportText, APmQosRequestNotHeldSaysWhy) {
+  StreamReport r = completed_run();
+  r.timing.realtime.pm_qos = false;
+  r.timing.realtime.pm_qos_error = "Permission denied";
+  const std::string text = captured([&](std::FILE* f) { write_stream_text(r, f); }).text;
+  EXPECT_NE(text.find("; PM QoS not held (Permission denied)\n"), std::string::npos) << text;
 }
 
 TEST(StreamReportText, AbsentMeasurementsAreNotAvailableNeverNan) {
@@ -151,6 +160,8 @@ TEST(StreamReportJson, ACompletedRunIsOkWithItsNumbers) {
   EXPECT_EQ(j["latency_ns"]["count"], 1);
   EXPECT_EQ(j["latency_ns"]["min"], 1500);
   EXPECT_EQ(j["overruns"], 4);
+  EXPECT_EQ(j["realtime"]["pm_qos"], true);
+  EXPECT_EQ(j["realtime"]["pm_qos_error"], "");
 }
 
 TEST(StreamReportJson, AbsentMeasurementsAreNullAndTheStatusAnError) {

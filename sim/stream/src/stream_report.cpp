@@ -55,11 +55,13 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
   }
   if (r.realtime) {
     const firmware::linux_rt::LatencyHistogram& l = r.timing.latency;
-    std::fprintf(out, "wake-up latency    min %lld p50 %lld p99 %lld max %lld ns, overruns %llu%s\n",
+    const firmware::linux_rt::RealtimeSetup& rt = r.timing.realtime;
+    const std::string pm_qos = rt.pm_qos ? "held at 0 us" : "not held (" + rt.pm_qos_error + ")";
+    std::fprintf(out, "wake-up latency    min %lld p50 %lld p99 %lld max %lld ns, overruns %llu%s; PM QoS %s\n",
                  static_cast<long long>(l.min_ns()), static_cast<long long>(l.quantile_ns(0.5)),
                  static_cast<long long>(l.quantile_ns(0.99)), static_cast<long long>(l.max_ns()),
                  static_cast<unsigned long long>(r.timing.overruns),
-                 r.timing.realtime.fifo ? "" : " (SCHED_FIFO not used: pass --rt-priority N as root)");
+                 rt.fifo ? "" : " (SCHED_FIFO not used: pass --rt-priority N as root)", pm_qos.c_str());
   }
 }
 
@@ -131,7 +133,9 @@ std::string stream_json(const StreamReport& r) {
       {"realtime", Json{{"sched_fifo", r.timing.realtime.fifo},
                         {"sched_fifo_error", r.timing.realtime.fifo_error},
                         {"mlockall", r.timing.realtime.locked},
-                        {"mlockall_error", r.timing.realtime.lock_error}}},
+                        {"mlockall_error", r.timing.realtime.lock_error},
+                        {"pm_qos", r.timing.realtime.pm_qos},
+                        {"pm_qos_error", r.timing.realtime.pm_qos_error}}},
   };
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
