@@ -29,6 +29,12 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
   const bool fault = r.session.fault != firmware::AxisFault::none;
   std::fprintf(out, "outcome            %s on %s%s%s\n", firmware::to_string(r.session.outcome), r.bus.c_str(),
                fault ? ", fault: " : "", fault ? firmware::to_string(r.session.fault) : "");
+  if (r.start_up_us) {
+    std::fprintf(out, "start-up           operation enabled after %.1f ms (tick %llu)\n",
+                 static_cast<double>(*r.start_up_us) / 1000.0, static_cast<unsigned long long>(r.session.ready_tick));
+  } else {
+    std::fprintf(out, "start-up           the drive never reached operation enabled\n");
+  }
   std::fprintf(out, "frames             sent %llu, received %llu, tx busy %llu, late feedback ticks %llu, %s\n",
                static_cast<unsigned long long>(r.counters.sent), static_cast<unsigned long long>(r.counters.received),
                static_cast<unsigned long long>(r.counters.tx_busy),
@@ -90,6 +96,9 @@ std::string stream_json(const StreamReport& r) {
       {"move_time", r.move_time},
       {"period_us", static_cast<long long>(r.scale.period_us)},
       {"ticks", count(r.session.ticks)},
+      // Time to operation enabled (null: never), and its tick.
+      {"start_up_ms", r.start_up_us ? Json(static_cast<double>(*r.start_up_us) / 1000.0) : Json(nullptr)},
+      {"ready_tick", count(r.session.ready_tick)},
       {"frames_sent", count(r.counters.sent)},
       {"frames_received", count(r.counters.received)},
       {"tx_busy", count(r.counters.tx_busy)},
