@@ -174,7 +174,7 @@ const std::vector<OptionSpec> kDriveNodeId = {
 const std::vector<OptionSpec> kDriveObject = [] {
   OptionSpec index = integer("--index", "", "", {1.0, 65535.0}, "the object's index, e.g. 0x6041 (required)");
   index.hex = true;
-  index.value_name = "0xIIII";
+  index.value_name = "INDEX";
   OptionSpec sub = integer("--sub", "", "0", {0.0, 255.0}, "the object's sub-index");
   sub.hex = true;
   return std::vector<OptionSpec>{
@@ -203,7 +203,7 @@ const std::vector<OptionSpec> kDemo = {
 const std::string kDriveNotes =
     "With --bus loopback the simulated drive (hal's DriveNode, default configuration) runs in this process. "
     "Exit 1 when the bus cannot be opened, the drive does not answer within --timeout-ms, or it aborts the "
-    "transfer (the CiA 301 abort code and its meaning are printed).";
+    "transfer (the CiA 301 abort code and its meaning are printed), or (write) the value reads back different.";
 
 const std::vector<CommandSpec> kCommands = {
     {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "", .groups = {kMove, kOutput}},
@@ -514,7 +514,8 @@ struct Parser {
         have_positional = true;
         tokens.push_back(a);
       } else {
-        const std::string who = last_option.empty() ? "--" + c.name : last_option;
+        std::string who = last_option.empty() ? "--" + c.name : last_option;  // one word: "--drive-scan"
+        std::replace(who.begin(), who.end(), ' ', '-');
         fail("bad_option", who, who + ": unexpected argument '" + a + "' after it");
         return ParseOutcome::error;
       }
