@@ -1,7 +1,9 @@
 // settle drive info|read|write|scan: a CANopen drive's dictionary over SDO (hal's SdoClient,
 // expedited and segmented), on a SocketCAN interface or on the simulated drive in this process
 // (--bus loopback, drive_link.hpp). `settle drive config` (configure and verify what streaming
-// needs) is the master's start-up and is not part of this build.
+// needs) is the master's start-up and is not part of this build. --eds FILE (on a bus) gives read
+// and write their --type and names the mapped objects in info; with --bus loopback it is refused
+// until the simulated drive is built from an EDS (drive_link.cpp, make_loopback_drive).
 //
 // Exit status (commands.hpp): 0 done; 2 a bad request, before anything is sent; 1 the bus cannot
 // be opened, the drive does not answer within --timeout-ms, or it aborts a transfer (the CiA 301
@@ -20,6 +22,7 @@
 #include "json.hpp"
 #include "options.hpp"
 #include "settle/hal/canopen/sdo_abort.hpp"
+#include "settle/hal/eds_reader.hpp"
 
 namespace settle::cli {
 
@@ -196,15 +199,37 @@ std::string drive_help() {
   return h;
 }
 
-// The options every subcommand shares, beyond the table's own checks. Exit status or -1.
-int check_common(const ParsedArgs& args) {
-  if (args.has("--eds")) {
+// --eds FILE: the drive's description, read before anything is sent. Exit status or -1.
+int load_description(const ParsedArgs& args, std::optional<hal::eds::Description>& out) {
+  const auto path = args.text("--eds");
+  if (!path) return -1;
+  if (args.text("--bus", "vcan0") == "loopback") {
     return report_bad_request({"not_implemented", "--eds",
-                               "--eds: reading a drive description is not yet part of settle drive in this build "
-                               "(leave --eds out)"},
+                               "--eds: the simulated drive of --bus loopback is not yet built from an EDS in this "
+                               "build (leave --eds out, or use a bus)"},
                               args.json());
   }
+  hal::eds::LoadResult r = hal::eds::load(*path);
+  if (!r.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + r.error}, args.json());
+  out = std::move(r.description);
   return -1;
+}
+
+// What --type an object's EDS data type reads as; "" for a type settle drive does not read.
+std::string type_name_of(std::uint16_t data_type) {
+  namespace t = hal::eds::data_type;
+  switch (data_type) {
+    case t::u8: return "u8";
+    case t::u16: return "u16";
+    case t::u32: return "u32";
+    case t::i8: return "i8";
+    case t::i16: return "i16";
+    case t::i32: return "i32";
+    case t::visible_string:
+    case t::octet_string:
+    case t::domain: return "string";
+    default: return "";
+  }
 }
 
 // ---- info ----------------------------------------------------------------------------------
@@ -254,7 +279,9 @@ std::string string_text(const Read& r) {
 }
 
 // One PDO's communication and mapping objects; nullopt when the drive stopped answering.
-std::optional<Json> read_pdo(InfoReader& reader, bool receive, unsigned number, std::string& text) {
+// With a description, each mapped object is named as the EDS names it.
+std::optional<Json> read_pdo(InfoReader& reader, const hal::eds::Description* eds, bool receive, unsigned number,
+                             std::string& text) {
   const auto comm = static_cast<std::uint16_t>((receive ? 0x1400 : 0x1800) + number - 1);
   const auto map = static_cast<std::uint16_t>((receive ? 0x1600 : 0x1A00) + number - 1);
   const std::string label = std::string{receive ? "RPDO" : "TPDO"} + std::to_string(number);
@@ -297,8 +324,13 @@ std::optional<Json> read_pdo(InfoReader& reader, bool receive, unsigned number, 
     const auto index = static_cast<std::uint16_t>(raw >> 16);
     const auto osub = static_cast<std::uint8_t>((raw >> 8) & 0xFF);
     const auto bits = static_cast<unsigned>(raw & 0xFF);
-    entries.push_back({{"index", index}, {"sub", osub}, {"bits", bits}});
+    Json entry{{"index", index}, {"sub", osub}, {"bits", bits}};
     text += " " + object_name(index, osub) + "/" + std::to_string(bits);
+    if (const hal::eds::Entry* described = eds != nullptr ? eds->find(index, osub) : nullptr) {
+      entry["name"] = described->name;
+      text += " (" + described->name + ")";
+    }
+    entries.push_back(entry);
   }
   if (n == 0) text += " none";
   j["mapping"] = entries;
@@ -306,7 +338,7 @@ std::optional<Json> read_pdo(InfoReader& reader, bool receive, unsigned number, 
   return j;
 }
 
-int drive_info(const ParsedArgs& args) {
+int drive_info(const ParsedArgs& args, const hal::eds::Description* eds) {
   Session s{args, "info"};
   if (const int rc = s.open(); rc >= 0) return rc;
   InfoReader reader{s};
@@ -351,7 +383,7 @@ int drive_info(const ParsedArgs& args) {
   for (const bool receive : {true, false}) {
     Json pdos = Json::array();
     for (unsigned number = 1; number <= 4; ++number) {
-      const auto pdo = read_pdo(reader, receive, number, text);
+      const auto pdo = read_pdo(reader, eds, receive, number, text);
       if (!pdo) return reader.failed_status;
       pdos.push_back(*pdo);
     }
@@ -369,24 +401,27 @@ int drive_info(const ParsedArgs& args) {
 // ---- read, write ---------------------------------------------------------------------------
 
 struct Object {
-  std::uint16_t index;
-  std::uint8_t sub;
-  const ValueType* type;
+  std::uint16_t index{0};
+  std::uint8_t sub{0};
+  const ValueType* type{nullptr};
 };
 
-Object object_of(const ParsedArgs& args) {
-  return {static_cast<std::uint16_t>(args.integer("--index", 0)),  // 1..0xFFFF
-          static_cast<std::uint8_t>(args.integer("--sub", 0)),      // 0..255
-          &value_type(args.text("--type", "u32"))};
-}
-
-// A required option that was not given: exit 2 naming it, or -1.
-int require(const ParsedArgs& args, std::initializer_list<const char*> names) {
-  for (const char* n : names) {
-    if (!args.has(n)) {
-      return report_bad_request({"missing_option", n, std::string{n} + ": required"}, args.json());
-    }
+// --index, --sub and --type, the type from the EDS when --type is not given. Exit status or -1.
+int object_of(const ParsedArgs& args, const hal::eds::Description* eds, Object& o) {
+  if (!args.has("--index")) return report_bad_request({"missing_option", "--index", "--index: required"}, args.json());
+  o.index = static_cast<std::uint16_t>(args.integer("--index", 0));  // 1..0xFFFF
+  o.sub = static_cast<std::uint8_t>(args.integer("--sub", 0));       // 0..255
+  std::string type = args.text("--type", "");
+  if (type.empty() && eds != nullptr) {
+    if (const hal::eds::Entry* e = eds->find(o.index, o.sub)) type = type_name_of(e->data_type);
   }
+  if (type.empty()) {
+    const std::string why = eds != nullptr ? " (the EDS gives no type settle drive reads for " +
+                                                 object_name(o.index, o.sub) + ")"
+                                           : "";
+    return report_bad_request({"missing_option", "--type", "--type: required" + why}, args.json());
+  }
+  o.type = &value_type(type);
   return -1;
 }
 
@@ -428,9 +463,9 @@ void print_value(const Session& s, const Object& o, const Json& value, const std
   }
 }
 
-int drive_read(const ParsedArgs& args) {
-  if (const int rc = require(args, {"--index", "--type"}); rc >= 0) return rc;
-  const Object o = object_of(args);
+int drive_read(const ParsedArgs& args, const hal::eds::Description* eds) {
+  Object o{};
+  if (const int rc = object_of(args, eds, o); rc >= 0) return rc;
   Session s{args, "read"};
   if (const int rc = s.open(); rc >= 0) return rc;
   const Read r = s.read(o.index, o.sub);
@@ -442,9 +477,10 @@ int drive_read(const ParsedArgs& args) {
   return kExitOk;
 }
 
-int drive_write(const ParsedArgs& args) {
-  if (const int rc = require(args, {"--index", "--type", "--value"}); rc >= 0) return rc;
-  const Object o = object_of(args);
+int drive_write(const ParsedArgs& args, const hal::eds::Description* eds) {
+  Object o{};
+  if (const int rc = object_of(args, eds, o); rc >= 0) return rc;
+  if (!args.has("--value")) return report_bad_request({"missing_option", "--value", "--value: required"}, args.json());
   const std::string text = args.text("--value", "");
   // The value against its type, before anything is sent.
   std::uint32_t raw = 0;
@@ -564,10 +600,12 @@ int cmd_drive(int argc, char** argv) {
   const std::string name = "drive " + sub;
   ParsedArgs args;
   if (const int rc = parse_or_exit(name, argc - 1, argv + 1, args); rc >= 0) return rc;
-  if (const int rc = check_common(args); rc >= 0) return rc;
-  if (sub == "info") return drive_info(args);
-  if (sub == "read") return drive_read(args);
-  if (sub == "write") return drive_write(args);
+  std::optional<hal::eds::Description> description;
+  if (const int rc = load_description(args, description); rc >= 0) return rc;
+  const hal::eds::Description* eds = description ? &*description : nullptr;
+  if (sub == "info") return drive_info(args, eds);
+  if (sub == "read") return drive_read(args, eds);
+  if (sub == "write") return drive_write(args, eds);
   return drive_scan(args);
 }
 

@@ -166,7 +166,8 @@ const std::vector<OptionSpec> kPlantNode = {
 const std::vector<OptionSpec> kDriveBus = {
     text("--bus", "vcan0", "SocketCAN interface, or 'loopback' (the simulated drive in this process)", "IFACE"),
     integer("--timeout-ms", "ms", "1000", {1.0, 60000.0}, "timeout of each SDO request (scan: of each batch)"),
-    text("--eds", "", "the drive's EDS/DCF (not yet used in this build: refused)", "FILE"),
+    text("--eds", "", "the drive's EDS/DCF: read/write take --type from it, info names the mapped objects (not "
+                      "with --bus loopback in this build)", "FILE"),
 };
 const std::vector<OptionSpec> kDriveNodeId = {
     integer("--node", "", "1", {1.0, 127.0}, "the drive's CANopen node id"),
@@ -180,7 +181,8 @@ const std::vector<OptionSpec> kDriveObject = [] {
   return std::vector<OptionSpec>{
       index, sub,
       choice("--type", "", {"u8", "u16", "u32", "i8", "i16", "i32", "string"},
-             "the object's data type (required): unsigned/signed 8/16/32-bit integer, or a string"),
+             "the object's data type (required unless --eds gives it): unsigned/signed 8/16/32-bit integer, or a "
+             "string"),
   };
 }();
 const std::vector<OptionSpec> kDriveValue = {

@@ -178,6 +178,7 @@ TEST(CliOptions, DriveOptionsAreChecked) {
       {"drive info --bus", "--bus", "missing_value"},
       {"drive info --bus loopback --eds", "--eds", "missing_value"},
       {"drive info --bus loopback --eds x.eds", "--eds", "not_implemented"},
+      {"drive info --bus settle-no-such-can --eds /nonexistent/x.eds", "--eds", "bad_eds"},
       {"drive scan - --bus loopback", "--drive-scan", "bad_option"},  // a stray argument, one word
   };
   for (const Case& c : cases) expect_refused(c);
