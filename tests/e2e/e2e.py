@@ -275,6 +275,18 @@ def drive_commands(d):
     check(rc == 2 and "--value: 256 is out of range" in err, f"a value out of its type's range is refused: {err}")
     requests = [(cid, bytes(data).hex()) for cid, data in frames if 0x600 < cid <= 0x67F]  # the plant's heartbeats go on
     check(not requests and sniffer.sock.drops == 0, f"and no SDO request reached the bus ({requests})")
+    # Strings go segmented when longer than four bytes (initiate 0x21, size indicated), expedited
+    # otherwise (0x23 | (4 - n) << 2): the simulated drive's strings are read-only, so each ends in
+    # its abort, but the request on the bus shows how it was sent.
+    for text, initiate in (("hello world", bytes([0x21, 0x08, 0x10, 0x00, 11, 0, 0, 0])),
+                           ("abc", bytes([0x27, 0x08, 0x10, 0x00]) + b"abc\0")):
+        sniffer = canbus.Sniffer()
+        rc, out, err = drive("write", "--bus", "vcan0", *wait, "--index", "0x1008", "--type", "string", "--value", text)
+        frames = guarded(sniffer.stop)
+        requests = [bytes(data) for cid, data in frames if cid == 0x600 + NODE]
+        check(rc == 1 and "SDO abort 0x06010002" in err and requests[:1] == [initiate],
+              f"a {len(text)}-byte string goes {'segmented' if len(text) > 4 else 'expedited'}: "
+              f"{[r.hex() for r in requests]} {err}")
     rc, out, err = drive("read", "--bus", "vcan0", *wait, "--index", "0x2100", "--type", "u32")
     check(rc == 1 and "SDO abort 0x06020000 (object does not exist" in err, f"an abort, with its meaning: {err}")
     rc, out, err = drive("read", "--bus", "vcan0", "--node", "9", "--timeout-ms", "300", "--index", "0x1000",
