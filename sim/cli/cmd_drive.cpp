@@ -110,8 +110,9 @@ std::string printable(const std::string& s) {
 // The link, the client and the output of one subcommand.
 class Session {
  public:
-  Session(const ParsedArgs& args, std::string command)
+  Session(const ParsedArgs& args, std::string command, const hal::eds::Description* eds)
       : command_{std::move(command)},
+        eds_{eds},
         bus_name_{args.text("--bus", "vcan0")},
         node_{static_cast<hal::canopen::NodeId>(args.integer("--node", 1))},  // 1..127
         timeout_us_{static_cast<std::uint32_t>(args.integer("--timeout-ms", 1000)) * 1000U},  // 1..60000 ms
@@ -121,7 +122,7 @@ class Session {
   // Exit status when the bus cannot be opened, or -1.
   int open() {
     std::string error;
-    link_ = open_drive_link(bus_name_, node_, error);
+    link_ = open_drive_link(bus_name_, node_, eds_, error);
     if (!link_) return failed("bus", error);
     return -1;
   }
@@ -178,6 +179,7 @@ class Session {
 
  private:
   std::string command_;
+  const hal::eds::Description* eds_;
   std::string bus_name_;
   hal::canopen::NodeId node_;
   std::uint32_t timeout_us_;
@@ -339,7 +341,7 @@ std::optional<Json> read_pdo(InfoReader& reader, const hal::eds::Description* ed
 }
 
 int drive_info(const ParsedArgs& args, const hal::eds::Description* eds) {
-  Session s{args, "info"};
+  Session s{args, "info", eds};
   if (const int rc = s.open(); rc >= 0) return rc;
   InfoReader reader{s};
   // 0x1000 first: a drive that does not answer it is not there.
@@ -466,7 +468,7 @@ void print_value(const Session& s, const Object& o, const Json& value, const std
 int drive_read(const ParsedArgs& args, const hal::eds::Description* eds) {
   Object o{};
   if (const int rc = object_of(args, eds, o); rc >= 0) return rc;
-  Session s{args, "read"};
+  Session s{args, "read", eds};
   if (const int rc = s.open(); rc >= 0) return rc;
   const Read r = s.read(o.index, o.sub);
   if (!r.ok()) return s.transfer_failed(r.result);
@@ -505,7 +507,7 @@ int drive_write(const ParsedArgs& args, const hal::eds::Description* eds) {
                                    std::to_string(kMaxObjectBytes)},
                               args.json());
   }
-  Session s{args, "write"};
+  Session s{args, "write", eds};
   if (const int rc = s.open(); rc >= 0) return rc;
   const std::vector<std::uint8_t> bytes(text.begin(), text.end());
   const SdoResult w = o.type->bytes != 0 ? s.write_integer(o.index, o.sub, raw, o.type->bytes)
@@ -534,8 +536,8 @@ int drive_write(const ParsedArgs& args, const hal::eds::Description* eds) {
 
 // ---- scan ----------------------------------------------------------------------------------
 
-int drive_scan(const ParsedArgs& args) {
-  Session s{args, "scan"};
+int drive_scan(const ParsedArgs& args, const hal::eds::Description* eds) {
+  Session s{args, "scan", eds};
   if (const int rc = s.open(); rc >= 0) return rc;
   Json nodes = Json::array();
   std::string text;
@@ -606,7 +608,7 @@ int cmd_drive(int argc, char** argv) {
   if (sub == "info") return drive_info(args, eds);
   if (sub == "read") return drive_read(args, eds);
   if (sub == "write") return drive_write(args, eds);
-  return drive_scan(args);
+  return drive_scan(args, eds);
 }
 
 }  // namespace settle::cli

@@ -17,8 +17,14 @@ using hal::canopen::DriveNodeConfig;
 using hal::canopen::NodeId;
 
 // The simulated drive `--bus loopback` talks to: hal's DriveNode with its default configuration
-// (hal/eds/settle_drive.eds) as `node`. The one place the loopback drive is made.
-std::unique_ptr<DriveNode> make_loopback_drive(NodeId node) {
+// (hal/eds/settle_drive.eds) as `node`. The one place the loopback drive is made. Building it
+// from `eds` (the --eds description) is not part of this build: settle drive refuses --eds with
+// --bus loopback before it gets here, so `eds` is null; nullptr with `error` when it cannot be built.
+std::unique_ptr<DriveNode> make_loopback_drive(NodeId node, const hal::eds::Description* eds, std::string& error) {
+  if (eds != nullptr) {
+    error = "the simulated drive is not yet built from an EDS in this build";
+    return nullptr;
+  }
   DriveNodeConfig config{};
   config.node = node;
   return std::make_unique<DriveNode>(config);
@@ -48,7 +54,7 @@ class SocketCanDriveLink final : public DriveLink {
 // to it (and answer at once); time moves only when nothing is left to take.
 class LoopbackDriveLink final : public DriveLink {
  public:
-  explicit LoopbackDriveLink(NodeId node) : drive_{make_loopback_drive(node)} {
+  explicit LoopbackDriveLink(std::unique_ptr<DriveNode> drive) : drive_{std::move(drive)} {
     drive_->start(now_, drive_port_);
   }
   hal::CanBus& bus() override { return master_; }
@@ -77,8 +83,13 @@ constexpr std::uint32_t kWaitUs = 10'000;
 
 }  // namespace
 
-std::unique_ptr<DriveLink> open_drive_link(const std::string& bus, NodeId node, std::string& error) {
-  if (bus == "loopback") return std::make_unique<LoopbackDriveLink>(node);
+std::unique_ptr<DriveLink> open_drive_link(const std::string& bus, NodeId node, const hal::eds::Description* eds,
+                                           std::string& error) {
+  if (bus == "loopback") {
+    std::unique_ptr<DriveNode> drive = make_loopback_drive(node, eds, error);
+    if (!drive) return nullptr;
+    return std::make_unique<LoopbackDriveLink>(std::move(drive));
+  }
   auto link = std::make_unique<SocketCanDriveLink>();
   if (const hal::OpenStatus os = link->open(bus); os != hal::OpenStatus::ok) {
     error = "cannot open " + bus + ": " + hal::to_string(os) + " (try --bus loopback)";

@@ -5,7 +5,7 @@
 //
 // The loopback drive is built in one place, make_loopback_drive() (drive_link.cpp): hal's
 // DriveNode with its default configuration at the requested node id. A drive built from an EDS
-// (--eds FILE) plugs in there.
+// (--eds FILE) plugs in there: open_drive_link already hands it the description.
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -13,6 +13,7 @@
 
 #include "settle/hal/can_bus.hpp"
 #include "settle/hal/canopen/sdo.hpp"
+#include "settle/hal/eds_reader.hpp"
 
 namespace settle::cli {
 
@@ -31,10 +32,11 @@ class DriveLink {
   [[nodiscard]] virtual bool receive(hal::CanFrame& frame, std::uint32_t wait_us) = 0;
 };
 
-// The interface named by --bus: "loopback" (the in-process drive as `node`), else a SocketCAN
-// interface. nullptr with `error` set when it cannot be opened.
+// The interface named by --bus: "loopback" (the in-process drive as `node`, described by `eds`
+// when there is one), else a SocketCAN interface. nullptr with `error` set when it cannot be
+// opened (or, loopback, when the drive cannot be built from `eds`).
 [[nodiscard]] std::unique_ptr<DriveLink> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
-                                                         std::string& error);
+                                                         const hal::eds::Description* eds, std::string& error);
 
 // Runs the transfers already started on `clients` until none is busy: each answer goes to the
 // client it belongs to, and each times out on its own (its own abort on the bus).
