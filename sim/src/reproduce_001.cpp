@@ -47,6 +47,8 @@ std::unique_ptr<Command> design(const std::string& method, double tau, double om
 }  // namespace
 
 SimStatus referred_residual_001(const Command& cmd, double dt, double t_ref, double& out) {
+  // A residual relative to the distance needs a distance; a reference time has to be a time.
+  if (!std::isfinite(t_ref) || !(std::fabs(cmd.final_position()) > 0.0)) return SimStatus::bad_range;
   ModalPlant p;
   SimStatus st = ModalPlant::make_sdof(kSystem001, p);
   if (st != SimStatus::ok) return st;
@@ -54,7 +56,10 @@ SimStatus referred_residual_001(const Command& cmd, double dt, double t_ref, dou
   if (st != SimStatus::ok) return st;
   // The free vibration of the true plant from the command's end on, extended to t_ref.
   const Mode& m = p.modes()[0];
-  out = p.residual_amplitude() * std::exp(m.zeta * m.omega * (cmd.duration() - t_ref)) / std::fabs(cmd.final_position());
+  const double r =
+      p.residual_amplitude() * std::exp(m.zeta * m.omega * (cmd.duration() - t_ref)) / std::fabs(cmd.final_position());
+  if (!std::isfinite(r)) return SimStatus::non_finite_result;
+  out = r;
   return SimStatus::ok;
 }
 

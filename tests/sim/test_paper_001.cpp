@@ -292,6 +292,17 @@ TEST_F(Robust001, SahinkayaReferredResidualDoesNotDependOnTheTailCutOff) {
   }
 }
 
+TEST(Referred001, RefusesWhatItCannotRefer) {
+  const InverseDynamicsCommand c{1.0, 0.167, kW, kZ};
+  double r = -1.0;
+  EXPECT_EQ(referred_residual_001(c, 2e-4, std::nan(""), r), SimStatus::bad_range);
+  EXPECT_EQ(referred_residual_001(c, 2e-4, -HUGE_VAL, r), SimStatus::bad_range);
+  EXPECT_EQ(referred_residual_001(InverseDynamicsCommand{0.0, 0.167, kW, kZ}, 2e-4, 0.167, r), SimStatus::bad_range);
+  // exp(zeta w_n x 1e3 s) overflows.
+  EXPECT_EQ(referred_residual_001(c, 2e-4, -1e3, r), SimStatus::non_finite_result);
+  EXPECT_EQ(r, -1.0);
+}
+
 // The artefact docs/simulation.md describes, over the whole grid: the worst residual at the
 // command's own end falls as the tail is cut later; referred to 0.167 s it stays 0.2640 (a cut at
 // 1e-3 D is itself a step big enough to show).

@@ -134,7 +134,8 @@ struct Options001 {
 [[nodiscard]] SimStatus reproduce_001(const Options001& o, Result001& out);
 
 // The residual amplitude / final position that `cmd` leaves on the seed-001 plant (its true
-// w_n, zeta), referred to time t_ref: A(end) exp(zeta w_n (end - t_ref)).
+// w_n, zeta), referred to time t_ref: A(end) exp(zeta w_n (end - t_ref)). bad_range for a
+// non-finite t_ref or a command that ends where it started; non_finite_result if it overflows.
 [[nodiscard]] SimStatus referred_residual_001(const Command& cmd, double dt, double t_ref, double& out);
 
 // Shaper insensitivity widths of shaped steps on one mode (for tests and the 001 table).
