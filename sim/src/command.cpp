@@ -1,6 +1,7 @@
 #include "settle/sim/command.hpp"
 
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 namespace settle::sim {
@@ -73,14 +74,27 @@ void profile_breakpoints(const core::Profile<double>& prof, std::vector<double>&
   });
 }
 
+MoveCommand::MoveCommand(const core::Move<double>& m) : move_{m} { profile_breakpoints(move_.profile(), profile_breaks_); }
+
 BaseState MoveCommand::sample(double t, bool left) const {
   const auto& sh = move_.shaper();
   const double end = move_.duration();
   // Past the end the move rests exactly on its target, as core's Move::at does.
   if (left ? t > end : t >= end) return {move_.distance(), 0.0, 0.0};
+  // A breakpoint of a shaped move is t_i + b, rounded: t - t_i can miss the profile's breakpoint b
+  // by an ulp and give the wrong one-sided limit (a velocity step lost on one side). Within
+  // rounding, t - t_i is taken to be b.
+  const double tol = 16.0 * std::numeric_limits<double>::epsilon() * (std::fabs(t) + end);
   BaseState acc{};
   for (std::size_t i = 0; i < sh.count; ++i) {
-    const BaseState s = profile_sample(move_.profile(), t - sh.time[i], left);
+    double u = t - sh.time[i];
+    for (double b : profile_breaks_) {
+      if (std::fabs(u - b) <= tol) {
+        u = b;
+        break;
+      }
+    }
+    const BaseState s = profile_sample(move_.profile(), u, left);
     acc.p += sh.amp[i] * s.p;
     acc.v += sh.amp[i] * s.v;
     acc.a += sh.amp[i] * s.a;
@@ -125,14 +139,16 @@ void StepsCommand::breakpoints(std::vector<double>& out) const {
   for (std::size_t i = 0; i < shaper_.count; ++i) out.push_back(shaper_.time[i]);
 }
 
-InverseDynamicsCommand::InverseDynamicsCommand(double distance, double time, double omega, double zeta, int degree)
+InverseDynamicsCommand::InverseDynamicsCommand(double distance, double time, double omega, double zeta, int degree,
+                                               double tail_cutoff)
     : d_{distance}, t_{time}, omega_{omega}, zeta_{zeta}, kappa_{2.0 * zeta / omega}, degree_{degree == 3 ? 3 : 5} {
   end_ = t_;
   if (kappa_ > 0.0) {
     wp0_ = wp_derivative(0, 0.0);
     w_end_ = wp_derivative(0, t_) - wp0_ * std::exp(-t_ / kappa_);
-    // The tail lasts until w is below 1e-16 of the distance; then the command rests exactly.
-    const double ratio = std::fabs(w_end_) / (1e-16 * std::fabs(d_));
+    // The tail lasts until w is below tail_cutoff of the distance; then the command rests exactly.
+    const double cut = tail_cutoff > 0.0 && tail_cutoff < 1.0 ? tail_cutoff : kDefaultTailCutoff;
+    const double ratio = std::fabs(w_end_) / (cut * std::fabs(d_));
     if (ratio > 1.0) end_ = t_ + kappa_ * std::log(ratio);
   }
 }

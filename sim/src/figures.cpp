@@ -228,7 +228,7 @@ SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFi
     if (!write_text((fs::path{dir} / name).string(), csv)) return SimStatus::io_error;
     out.csv.push_back((fs::path{dir} / name).string());
     st = plot(dir, "001_robust_" + g.method,
-              "set title " + gnuplot_string("Seed 001, tau = 0.167 s, " + g.method + ": residual amplitude / L") +
+              "set title " + gnuplot_string("Seed 001, tau = 0.167 s, " + g.method + fmt(": residual / L at t = %.3f s", r.residual_at)) +
                   "\nset xlabel 'eps(w_n)'\nset ylabel 'eps(zeta)'\nset zlabel "
                   "'residual / L' rotate by 90\nset view 60,30\nset xyplane at 0\nset hidden3d\nsplot " +
                   gnuplot_string(name) + " skip 1 using 1:2:3 with lines title ''\n",
@@ -249,7 +249,7 @@ SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFi
     if (!write_text((fs::path{dir} / name).string(), csv)) return SimStatus::io_error;
     out.csv.push_back((fs::path{dir} / name).string());
     std::string slices = "set title 'Seed 001, tau = 0.167 s: residual against eps(w_n) at eps(zeta) = 0'\n"
-                         "set xlabel 'eps(w_n) = w_n*/w_n - 1'\nset ylabel 'residual amplitude / L'\n"
+                         "set xlabel 'eps(w_n) = w_n*/w_n - 1'\nset ylabel 'residual amplitude / L, referred to t = tau'\n"
                          "set key top center\nplot ";
     for (std::size_t gi = 0; gi < r.grids.size(); ++gi) {
       slices += std::string{gi == 0 ? "" : ", "} + gnuplot_string(name) + " skip 1 using 1:" +

@@ -18,13 +18,18 @@ core::Move<double> plan(core::MoveRequest r) {
   return m;
 }
 
-TEST(Commands, RampVersineVelocityStepsAreOneSided) {
+// Seed 001's family with given Y / L: L = 1 in 0.167 s.
+core::MoveRequest ramp_versine(std::array<double, 3> y) {
   core::MoveRequest r;
   r.profile = core::ProfileKind::ramp_versine;
   r.distance = 1.0;
   r.time = 0.167;
-  r.y_fractions = std::array<double, 3>{0.5, 0.25, 0.25};
-  const MoveCommand c{plan(r)};
+  r.y_fractions = y;
+  return r;
+}
+
+TEST(Commands, RampVersineVelocityStepsAreOneSided) {
+  const MoveCommand c{plan(ramp_versine({0.5, 0.25, 0.25}))};
   const double rate = 2.0 * M_PI / 0.167;
   // y' = (R/2pi)(L - Y2 cos Rt + Y3 sin Rt): at both ends (R/2pi)(L - Y2).
   const double v_end = rate / (2.0 * M_PI) * (1.0 - 0.25);
@@ -106,6 +111,22 @@ TEST(Commands, TwoExponentPseudoPolyStartsWithAnAccelerationStep) {
   // phi = 1 - 4 w^3 + 3 w^4: phi''(0+) = -(12*2*(-4)/... ) = 12 (12 w^2 ... ) -> 12 at w = 1.
   EXPECT_NEAR(c.at(0.0).a, 12.0, 1e-12);
   EXPECT_DOUBLE_EQ(c.at_left(0.0).a, 0.0);
+}
+
+// A shaped ramp's velocity drops by A_i L / tau where impulse i's copy ends, at t_i + tau: both
+// one-sided limits there, though t_i + tau - t_i need not round back to tau.
+TEST(Commands, ShapedRampKeepsEveryVelocityStepOneSided) {
+  core::MoveRequest r = ramp_versine({1.0, 0.0, 0.0});
+  r.omega = 33.375;
+  r.zeta = 0.1559;
+  r.shaper = core::ShaperKind::zvd;
+  const MoveCommand c{plan(r)};
+  const auto& sh = c.move().shaper();
+  ASSERT_EQ(sh.count, 3u);
+  for (std::size_t i = 0; i < sh.count; ++i) {
+    const double t = sh.time[i] + 0.167;
+    EXPECT_NEAR(c.at_left(t).v - c.at(t).v, sh.amp[i] / 0.167, 1e-9) << i;
+  }
 }
 
 TEST(Commands, StepsCommandJumpsAtItsImpulses) {

@@ -8,7 +8,9 @@
 #include <complex>
 #include <functional>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "rk4.hpp"
 #include "settle/core/planner.hpp"
@@ -133,6 +135,217 @@ TEST_F(Paper001, EveryComparedCommandIsExactOnTheNominalPlant) {
   ModalPlant q = p;
   ASSERT_EQ(drive(q, MoveCommand{m}, 1e-4), SimStatus::ok);
   EXPECT_LT(q.residual_amplitude(), 1e-12) << "hybrid";
+}
+
+// ---- The robustness comparison, like for like ------------------------------------------------
+// Independent of the simulator. A command y(t) that moves the plant from rest leaves, once its
+// forcing has died out, z = x - y = -Im[e^{st} I] / w_d, with s = -zeta w + i w_d the TRUE plant's
+// pole and I = int_0^inf y''(u) e^{-su} du = s int_0^inf y'(u) e^{-su} du (Duhamel's integral of
+// z'' + 2 zeta w z' + w^2 z = -y'' against e^{-zeta w t} sin(w_d t) / w_d). Its amplitude at any
+// time t, extended to t_ref by the same decay, is |I| e^{-zeta w t_ref} / w_d: no end time and no
+// cut-off enter.
+const std::complex<double> kPole{-kZ * kW, kW * std::sqrt(1 - kZ * kZ)};
+
+double referred(std::complex<double> velocity_transform, double t_ref) {
+  return std::abs(kPole * velocity_transform) * std::exp(-kZ * kW * t_ref) / kPole.imag();
+}
+
+// int_0^tau y'(u) e^{-su} du for the family y' = (R / 2pi)(1 - a cos Ru + b sin Ru), R = 2 pi / tau
+// (the ramp: a = b = 0; the proposed command: a = Y2/L, b = Y3/L), from int_0^tau e^{cu} du.
+std::complex<double> family_velocity(double tau, double a, double b) {
+  const double r = 2 * M_PI / tau;
+  const std::complex<double> i{0, 1};
+  auto e = [&](std::complex<double> c) { return (std::exp(c * tau) - 1.0) / c; };
+  const std::complex<double> up = e(-kPole + i * r), down = e(-kPole - i * r);
+  return r / (2 * M_PI) * (e(-kPole) - a * (up + down) / 2.0 + b * (up - down) / (2.0 * i));
+}
+
+// The proposed command designed for (ws, zs): Y2/L = 1 - R^2/ws^2, Y3/L = 2 zs R / ws (SEEDS.md B).
+std::complex<double> proposed_velocity(double tau, double ws, double zs) {
+  const double r = 2 * M_PI / tau;
+  return family_velocity(tau, 1 - r * r / (ws * ws), 2 * zs * r / ws);
+}
+
+// sum_i A_i e^{-s t_i} of Singer & Seering's ZV (n = 1) and ZVD (n = 2) designed for (ws, zs):
+// binomial amplitudes in K = exp(-zs pi / sqrt(1 - zs^2)) at multiples of pi / w_d*.
+std::complex<double> shaper_phasor(int n, double ws, double zs) {
+  const double k = std::exp(-zs * M_PI / std::sqrt(1 - zs * zs)), half = M_PI / (ws * std::sqrt(1 - zs * zs));
+  std::complex<double> sum = 0.0;
+  double binom = 1.0;
+  for (int i = 0; i <= n; ++i) {
+    sum += binom * std::pow(k, i) / std::pow(1 + k, n) * std::exp(-kPole * (i * half));
+    binom = binom * (n - i) / (i + 1);
+  }
+  return sum;
+}
+
+// Sahinkaya's input for an output polynomial x of duration T: y = x + w, 2 zs ws w' + ws^2 w = x'',
+// w(0) = 0, w -> 0. Transforming at s: int w' e^{-su} = s int w e^{-su}, and
+// (2 zs ws s + ws^2) int w e^{-su} = int x'' e^{-su} = s X1 (x' = 0 at both ends), so
+// int y' e^{-su} = X1 (1 + s^2 / (2 zs ws s + ws^2)), X1 = int_0^T x' e^{-su} by parts (x' a polynomial).
+std::complex<double> sahinkaya_velocity(double tt, int degree, double ws, double zs) {
+  // x' / L as polynomial coefficients in t, lowest first.
+  std::vector<double> c = degree == 3 ? std::vector<double>{0, 6 / std::pow(tt, 2), -6 / std::pow(tt, 3)}
+                                      : std::vector<double>{0, 0, 30 / std::pow(tt, 3), -60 / std::pow(tt, 4),
+                                                            30 / std::pow(tt, 5)};
+  // int p e^{-su} = -e^{-su} sum_k p^(k)(u) / s^(k+1).
+  auto antiderivative = [&](double u) {
+    std::vector<double> p = c;
+    std::complex<double> acc = 0.0, sk = kPole;
+    while (!p.empty()) {
+      double v = 0.0;
+      for (std::size_t j = p.size(); j-- > 0;) v = v * u + p[j];
+      acc += v / sk;
+      sk *= kPole;
+      for (std::size_t j = 1; j < p.size(); ++j) p[j - 1] = static_cast<double>(j) * p[j];
+      p.pop_back();
+    }
+    return -std::exp(-kPole * u) * acc;
+  };
+  const std::complex<double> x1 = antiderivative(tt) - antiderivative(0.0);
+  return x1 * (1.0 + kPole * kPole / (2 * zs * ws * kPole + ws * ws));
+}
+
+// The independent residual of each compared method designed for (ws, zs), referred to t_ref.
+double independent_residual(const std::string& method, double ws, double zs, double t_ref) {
+  const double tau = kTaus001[0];
+  std::complex<double> v = 0.0;
+  if (method == "proposed") v = proposed_velocity(tau, ws, zs);
+  if (method == "hybrid") v = proposed_velocity(tau, ws, zs) * shaper_phasor(1, ws, zs);
+  if (method == "zv") v = family_velocity(tau, 0, 0) * shaper_phasor(1, ws, zs);
+  if (method == "zvd") v = family_velocity(tau, 0, 0) * shaper_phasor(2, ws, zs);
+  if (method == "sahinkaya") v = sahinkaya_velocity(tau, 5, ws, zs);
+  if (method == "sahinkaya-cubic") v = sahinkaya_velocity(tau, 3, ws, zs);
+  return referred(v, t_ref);
+}
+
+class Robust001 : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    Options001 o;
+    o.history = false;
+    ASSERT_EQ(reproduce_001(o, result_), SimStatus::ok);
+  }
+  static const Grid001& grid(const std::string& m) {
+    for (const Grid001& g : result_.grids) {
+      if (g.method == m) return g;
+    }
+    throw std::runtime_error{"no grid " + m};
+  }
+  static Result001 result_;
+};
+Result001 Robust001::result_;
+
+TEST_F(Robust001, EveryMethodMovesInTheSameTimeAndIsReferredToIt) {
+  EXPECT_DOUBLE_EQ(result_.residual_at, 0.167);
+  const double tau = kTaus001[0];
+  const double half = M_PI / (kW * std::sqrt(1 - kZ * kZ));  // ZV's second impulse
+  EXPECT_NEAR(grid("proposed").move_time, tau, 1e-12);
+  EXPECT_NEAR(grid("zv").move_time, tau + half, 1e-12);      // a ramp of tau, shaped
+  EXPECT_NEAR(grid("zvd").move_time, tau + 2 * half, 1e-12);
+  EXPECT_NEAR(grid("hybrid").move_time, tau + half, 1e-12);
+  EXPECT_GT(grid("sahinkaya").move_time, tau + 0.3);         // its tail
+}
+
+// The grid's corners (and every other point) against the Laplace transform of the command: ZV and
+// ZVD on the ramp, the proposed command and the hybrid (phasor sums), Sahinkaya's two inputs.
+TEST_F(Robust001, GridAgreesWithTheIndependentResidual) {
+  for (const char* m : {"proposed", "zv", "zvd", "hybrid", "sahinkaya", "sahinkaya-cubic"}) {
+    const Grid001& g = grid(m);
+    const std::size_t n = g.eps.size();
+    ASSERT_EQ(n, 21u);
+    EXPECT_NEAR(g.eps.front(), -0.2, 1e-15);
+    EXPECT_NEAR(g.eps.back(), 0.2, 1e-15);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = 0; j < n; ++j) {
+        const double want = independent_residual(m, kW * (1 + g.eps[i]), kZ * (1 + g.eps[j]), 0.167);
+        worst = std::max(worst, want);
+        EXPECT_NEAR(g.residual[i * n + j], want, 1e-8) << m << " eps(w) " << g.eps[i] << " eps(zeta) " << g.eps[j];
+      }
+    }
+    EXPECT_NEAR(g.worst, worst, 1e-8) << m;
+    EXPECT_LT(g.nominal, 1e-12) << m;
+  }
+}
+
+// Sahinkaya's command only ends where its tail is cut; its own-end residual moves with the cut,
+// the referred one does not.
+TEST_F(Robust001, SahinkayaReferredResidualDoesNotDependOnTheTailCutOff) {
+  for (double e : {-0.2, 0.2}) {
+    const double ws = kW * (1 + e), zs = kZ * (1 + e);
+    const double want = independent_residual("sahinkaya", ws, zs, 0.167);
+    std::vector<double> own_end;
+    for (double cut : {1e-10, 1e-13, 1e-16}) {
+      const InverseDynamicsCommand c{1.0, 0.167, ws, zs, 5, cut};
+      double r = 0.0;
+      ASSERT_EQ(referred_residual_001(c, 2e-4, 0.167, r), SimStatus::ok);
+      EXPECT_NEAR(r, want, 1e-8) << "cut-off " << cut;
+      ModalPlant p;
+      ASSERT_EQ(ModalPlant::make_sdof({}, p), SimStatus::ok);
+      ASSERT_EQ(drive(p, c, 2e-4), SimStatus::ok);
+      own_end.push_back(p.residual_amplitude());
+    }
+    // Each 1e-3 of cut-off is 3 kappa* = 3 x 2 zs / ws more tail, a factor exp(6 zeta zs w / ws).
+    EXPECT_GT(own_end[0] / own_end[1], 1.2) << e;
+    EXPECT_GT(own_end[1] / own_end[2], 1.2) << e;
+  }
+}
+
+TEST(Referred001, RefusesWhatItCannotRefer) {
+  const InverseDynamicsCommand c{1.0, 0.167, kW, kZ};
+  double r = -1.0;
+  EXPECT_EQ(referred_residual_001(c, 2e-4, std::nan(""), r), SimStatus::bad_range);
+  EXPECT_EQ(referred_residual_001(c, 2e-4, -HUGE_VAL, r), SimStatus::bad_range);
+  EXPECT_EQ(referred_residual_001(InverseDynamicsCommand{0.0, 0.167, kW, kZ}, 2e-4, 0.167, r), SimStatus::bad_range);
+  // exp(zeta w_n x 1e3 s) overflows.
+  EXPECT_EQ(referred_residual_001(c, 2e-4, -1e3, r), SimStatus::non_finite_result);
+  EXPECT_EQ(r, -1.0);
+}
+
+// The artefact docs/simulation.md describes, over the whole grid: the worst residual at the
+// command's own end falls as the tail is cut later; referred to 0.167 s it stays 0.2640 (a cut at
+// 1e-3 D is itself a step big enough to show).
+TEST_F(Robust001, SahinkayaOwnEndWorstFollowsTheCutOff) {
+  const double cuts[4] = {1e-3, 1e-6, 1e-10, 1e-16}, own_end[4] = {0.2030, 0.1429, 0.0897, 0.0461};
+  const double referred_tol[4] = {5e-4, 1e-6, 1e-6, 1e-6};
+  const Grid001& g = grid("sahinkaya");
+  for (int k = 0; k < 4; ++k) {
+    double worst_own = 0.0, worst_referred = 0.0;
+    for (double ew : g.eps) {
+      for (double ez : g.eps) {
+        const InverseDynamicsCommand c{1.0, 0.167, kW * (1 + ew), kZ * (1 + ez), 5, cuts[k]};
+        ModalPlant p;
+        ASSERT_EQ(ModalPlant::make_sdof({}, p), SimStatus::ok);
+        ASSERT_EQ(drive(p, c, 2e-4), SimStatus::ok);
+        worst_own = std::max(worst_own, p.residual_amplitude());
+        double r = 0.0;
+        ASSERT_EQ(referred_residual_001(c, 2e-4, 0.167, r), SimStatus::ok);
+        worst_referred = std::max(worst_referred, r);
+      }
+    }
+    EXPECT_NEAR(worst_own, own_end[k], 1e-4) << cuts[k];
+    EXPECT_NEAR(worst_referred, g.worst, referred_tol[k]) << cuts[k];
+  }
+  EXPECT_NEAR(g.worst, 0.2640, 1e-4);
+}
+
+// What docs/simulation.md reports: referred to the common time, the hybrid is more robust than
+// Sahinkaya's input (both outputs) and than the proposed command; the shaped ramps rank EI, ZVD, ZV.
+TEST_F(Robust001, PaperRankingOnTheCommonTime) {
+  EXPECT_LT(grid("hybrid").worst, grid("sahinkaya").worst);
+  EXPECT_LT(grid("hybrid").worst, grid("sahinkaya-cubic").worst);
+  EXPECT_LT(grid("hybrid").worst, 0.6 * grid("proposed").worst);
+  EXPECT_LT(grid("ei").worst, grid("zvd").worst);
+  EXPECT_LT(grid("zvd").worst, grid("zv").worst);
+  EXPECT_NEAR(grid("proposed").worst, 0.2738, 1e-4);
+  EXPECT_NEAR(grid("zv").worst, 0.1269, 1e-4);
+  EXPECT_NEAR(grid("zvd").worst, 0.0666, 1e-4);
+  EXPECT_NEAR(grid("ei").worst, 0.0381, 1e-4);
+  EXPECT_NEAR(grid("ei").nominal, 0.0330, 1e-4);
+  EXPECT_NEAR(grid("sahinkaya").worst, 0.2640, 1e-4);
+  EXPECT_NEAR(grid("sahinkaya-cubic").worst, 0.2213, 1e-4);
+  EXPECT_NEAR(grid("hybrid").worst, 0.1438, 1e-4);
 }
 
 }  // namespace

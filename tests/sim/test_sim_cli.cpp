@@ -96,6 +96,15 @@ TEST(SimCli, Reproduce004Json) {
   for (const char* k : {"H_initial", "H_paper", "H_optimized", "gammas"}) EXPECT_TRUE(has(o.text, k)) << k;
 }
 
+// Seed 001 states how its residuals compare: referred to one time, divided by the distance.
+TEST(SimCli, Reproduce001JsonStatesItsResidualConvention) {
+  const Out o = run("reproduce 001 --json");
+  ASSERT_EQ(o.status, 0) << o.text;
+  EXPECT_NE(o.text.find("\"residual_at\":0.167"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("\"normalised_by\":\"distance\""), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("\"method\":\"ei\""), std::string::npos) << o.text;
+}
+
 TEST(SimCli, UnknownExperiment) { EXPECT_EQ(run("reproduce 003").status, 2); }
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <complex>
 #include <random>
 
 #include "residual.hpp"
@@ -30,26 +29,21 @@ TEST(Soak, Experiment000WithWidths) {
   }
 }
 
-TEST(Soak, Experiment001GridsAgreeWithClosedFormsWhereTheyExist) {
+// Every grid point against an independent closed form is in test_paper_001.cpp (Robust001); here
+// the full experiment's invariants: zero residual at the design, except EI, which leaves its
+// tolerance there by construction.
+TEST(Soak, Experiment001GridsAreExactAtTheirDesign) {
   Result001 r;
   ASSERT_EQ(reproduce_001(Options001{}, r), SimStatus::ok);
-  const double w = r.omega, z = r.zeta;
+  ASSERT_EQ(r.grids.size(), 7u);
   for (const Grid001& g : r.grids) {
-    EXPECT_LT(g.nominal, 1e-12) << g.method;
-    if (g.method != "zv") continue;
-    const std::size_t n = g.eps.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t j = 0; j < n; ++j) {
-        // ZV designed for (w*, z*) on the true (w, z): residual = |sum A_i e^{-z w (tN - ti)} e^{i wd (tN - ti)}| / sqrt(1 - z^2).
-        const double ws = w * (1 + g.eps[i]), zs = z * (1 + g.eps[j]);
-        const double k = std::exp(-zs * M_PI / std::sqrt(1 - zs * zs));
-        const double t2 = M_PI / (ws * std::sqrt(1 - zs * zs));
-        const double wd = w * std::sqrt(1 - z * z);
-        const std::complex<double> s =
-            1.0 / (1 + k) * std::exp(std::complex<double>{-z * w * t2, wd * t2}) + k / (1 + k);
-        EXPECT_NEAR(g.residual[i * n + j], std::abs(s) / std::sqrt(1 - z * z), 1e-9);
-      }
+    if (g.method == "ei") {
+      EXPECT_GT(g.nominal, 1e-3);
+      EXPECT_LE(g.nominal, g.worst);
+      continue;
     }
+    EXPECT_LT(g.nominal, 1e-12) << g.method;
+    EXPECT_GT(g.worst, 1e-3) << g.method;
   }
 }
 

@@ -31,7 +31,7 @@ class Command {
 // Any planned core move, shaped or not.
 class MoveCommand final : public Command {
  public:
-  explicit MoveCommand(const core::Move<double>& m) : move_{m} {}
+  explicit MoveCommand(const core::Move<double>& m);
   [[nodiscard]] double duration() const override { return move_.duration(); }
   [[nodiscard]] double final_position() const override { return move_.distance(); }
   [[nodiscard]] BaseState at(double t) const override { return sample(t, false); }
@@ -42,6 +42,7 @@ class MoveCommand final : public Command {
  private:
   [[nodiscard]] BaseState sample(double t, bool left) const;
   core::Move<double> move_;
+  std::vector<double> profile_breaks_;  // of the unshaped profile, relative to its start
 };
 
 // A position step shaped by impulses: y(t) = distance * sum_{t_i <= t} A_i. The classic input
@@ -64,12 +65,16 @@ class StepsCommand final : public Command {
 // comparison): the output is to follow a polynomial x(t) of duration T (the cubic 3s^2 - 2s^3 of
 // Sahinkaya's paper, or the smoother 3-4-5), and the command is what the nominal model needs for
 // that: y = x + w with 2 zeta w_n w' + w_n^2 w = x'', w(0) = 0. After T, w decays with time
-// constant 2 zeta / w_n; the command ends when it is below 1e-16 D. With the cubic, x'' steps at
-// both ends and so does the command's velocity.
+// constant 2 zeta / w_n and never ends: the command is cut (steps to rest) once |w| is below
+// tail_cutoff x D (default 1e-16). Where it ends therefore depends on that cut-off; a residual
+// referred back to a fixed time does not (reproduce.hpp, referred_residual_001). With the cubic,
+// x'' steps at both ends and so does the command's velocity.
 class InverseDynamicsCommand final : public Command {
  public:
-  // degree: 3 (cubic) or 5 (3-4-5).
-  InverseDynamicsCommand(double distance, double time, double omega, double zeta, int degree = 5);
+  static constexpr double kDefaultTailCutoff = 1e-16;
+  // degree: 3 (cubic) or 5 (3-4-5); 0 < tail_cutoff < 1 (outside: the default).
+  InverseDynamicsCommand(double distance, double time, double omega, double zeta, int degree = 5,
+                         double tail_cutoff = kDefaultTailCutoff);
   [[nodiscard]] double duration() const override { return end_; }
   [[nodiscard]] double final_position() const override { return d_; }
   [[nodiscard]] BaseState at(double t) const override { return sample(t, false); }

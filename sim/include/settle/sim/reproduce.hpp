@@ -78,24 +78,35 @@ struct Options000 {
 
 inline constexpr std::array<double, 2> kTaus001{0.167, 0.74};
 inline constexpr std::array<double, 3> kArbitraryY001{0.5, 0.25, 0.25};
+// The robustness comparison (Figs. 4-7) is at the move time kTaus001[0] for every method. The
+// shapers (ZV, ZVD, EI) shape the plain ramp of that family, Y = (L, 0, 0): L in tau at constant
+// velocity, the base the proposed command adds its cycloid and versine to. The hybrid shapes the
+// proposed command itself.
+inline constexpr std::array<double, 3> kRampY001{1.0, 0.0, 0.0};
+// Every robustness residual is referred to this one time (the move time): a command that ends at
+// t_end leaves a free vibration of the TRUE plant, whose amplitude decays exactly as
+// exp(-zeta w_n t), so its amplitude at t_ref is A(t_end) exp(zeta w_n (t_end - t_ref)). Two
+// commands compared this way are compared as if both masses were observed at one instant after
+// both commands have ended; the choice of t_ref scales every residual by the same factor.
+inline constexpr double kResidualAt001 = kTaus001[0];
 
 struct Case001 {
   double tau{0.0};
   std::array<double, 3> y_computed{};      // Y / L from the zero-vibration conditions
-  double residual_arbitrary{0.0};          // residual amplitude / L
+  double residual_arbitrary{0.0};          // residual amplitude / L at tau (the command's end)
   double residual_computed{0.0};
   std::vector<HistorySample> history_arbitrary, history_computed;
 };
 
-// Residual amplitude / L over eps(w) = w*/w - 1 (rows) and eps(zeta) = zeta*/zeta - 1 (columns),
-// starred = what the command was designed with.
+// Residual amplitude / L, referred to kResidualAt001, over eps(w) = w*/w - 1 (rows) and
+// eps(zeta) = zeta*/zeta - 1 (columns), starred = what the command was designed with.
 struct Grid001 {
   std::string method;
   std::vector<double> eps;        // the same axis for both
   std::vector<double> residual;   // row-major [i_omega][i_zeta]
   double nominal{0.0};
   double worst{0.0};
-  double move_time{0.0};          // how long the command lasts (s)
+  double move_time{0.0};          // when the nominal command ends (s)
 };
 
 struct Width001 {
@@ -107,8 +118,10 @@ struct Width001 {
 struct Result001 {
   double omega{0.0}, zeta{0.0};
   std::vector<Case001> cases;
-  // proposed, zv, zvd, sahinkaya (3-4-5 output), sahinkaya-cubic, hybrid at tau = 0.167 s
+  double residual_at{kResidualAt001};  // the grids' reference time (s)
+  // proposed, zv, zvd, ei, sahinkaya (3-4-5 output), sahinkaya-cubic, hybrid at tau = 0.167 s
   std::vector<Grid001> grids;
+  // Textbook insensitivity widths: ZV, ZVD, EI shaping a step on an undamped mode.
   std::vector<Width001> widths;
 };
 
@@ -119,6 +132,11 @@ struct Options001 {
   double dt{2e-4};
 };
 [[nodiscard]] SimStatus reproduce_001(const Options001& o, Result001& out);
+
+// The residual amplitude / final position that `cmd` leaves on the seed-001 plant (its true
+// w_n, zeta), referred to time t_ref: A(end) exp(zeta w_n (end - t_ref)). bad_range for a
+// non-finite t_ref or a command that ends where it started; non_finite_result if it overflows.
+[[nodiscard]] SimStatus referred_residual_001(const Command& cmd, double dt, double t_ref, double& out);
 
 // Shaper insensitivity widths of shaped steps on one mode (for tests and the 001 table).
 [[nodiscard]] SimStatus shaper_width(core::ShaperKind kind, double zeta, double threshold_percent,
