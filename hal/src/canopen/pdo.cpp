@@ -5,7 +5,7 @@
 
 namespace settle::hal::canopen {
 
-SdoAbort PdoBinding::bind(const PdoMapping& mapping, ObjectDictionary& od) noexcept {
+SdoAbort PdoBinding::bind(const PdoMapping& mapping, ObjectDictionary& od, PdoDirection direction) noexcept {
   od_ = nullptr;
   if (mapping.count > pdo_max_entries) {
     return SdoAbort::pdo_too_long;
@@ -20,7 +20,10 @@ SdoAbort PdoBinding::bind(const PdoMapping& mapping, ObjectDictionary& od) noexc
     if (entry == nullptr) {
       return od.has_index(m.index) ? SdoAbort::no_sub_index : SdoAbort::no_object;
     }
-    if (!entry->pdo_mappable) {
+    const bool readable = entry->access != OdAccess::wo;
+    const bool writable = entry->access == OdAccess::wo || entry->access == OdAccess::rw;
+    if (!entry->pdo_mappable || (direction == PdoDirection::receive && !writable) ||
+        (direction == PdoDirection::transmit && !readable)) {
       return SdoAbort::not_mappable;
     }
     if (m.bits != 8U * od_type_size(entry->var.type())) {
@@ -32,6 +35,15 @@ SdoAbort PdoBinding::bind(const PdoMapping& mapping, ObjectDictionary& od) noexc
   resolved_ = resolved;
   od_ = &od;
   return SdoAbort::none;
+}
+
+bool PdoBinding::carries(std::uint16_t index, std::uint8_t sub) const noexcept {
+  for (std::size_t i = 0; i < mapping_.count && od_ != nullptr; ++i) {
+    if (mapping_.entries[i].index == index && mapping_.entries[i].sub == sub) {
+      return true;
+    }
+  }
+  return false;
 }
 
 PdoStatus PdoBinding::pack(CanFrame& out) const noexcept {
