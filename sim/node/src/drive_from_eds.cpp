@@ -198,7 +198,7 @@ DriveFromEds drive_config_from_eds(const eds::Description& d, co::NodeId node) {
 DriveFromEds load_drive_config(const std::string& path, co::NodeId node) {
   const eds::LoadResult loaded = eds::load(path);
   if (!loaded.description) {
-    return DriveFromEds{std::nullopt, path + ": " + loaded.error};
+    return DriveFromEds{std::nullopt, loaded.error};  // the reader names the file and line
   }
   DriveFromEds r = drive_config_from_eds(*loaded.description, node);
   if (!r.config) {
