@@ -167,6 +167,8 @@ TEST_F(DrivePdos, EachWrongStepIsRefusedWithItsAbortCode) {
   EXPECT_EQ(write(0x1600, 1, 0x6040'0010U), SdoAbort::invalid_value);
   EXPECT_EQ(write(0x1400, 1, 0x204), SdoAbort::invalid_value);
   EXPECT_EQ(write(0x1400, 1, 0x2000'0203U), SdoAbort::invalid_value) << "29-bit ids are not supported";
+  EXPECT_EQ(write(0x1400, 1, 0x8000'0803U), SdoAbort::invalid_value) << "bits 11..28";
+  EXPECT_EQ(write(0x1400, 1, 0x8000'0000U), SdoAbort::invalid_value) << "id 0";
   // Disabled, but sub 0 not yet 0: the entries stay locked.
   ASSERT_EQ(write(0x1400, 1, 0x8000'0203U), SdoAbort::none);
   EXPECT_EQ(write(0x1600, 1, 0x6040'0010U), SdoAbort::invalid_value);
@@ -177,6 +179,10 @@ TEST_F(DrivePdos, EachWrongStepIsRefusedWithItsAbortCode) {
   EXPECT_EQ(write(0x1600, 0, 1, 1), SdoAbort::no_object);
   ASSERT_EQ(write(0x1600, 1, 0x1000'0020U), SdoAbort::none);
   EXPECT_EQ(write(0x1600, 0, 1, 1), SdoAbort::not_mappable) << "device type is not mappable";
+  ASSERT_EQ(write(0x1600, 1, 0x60C2'0508U), SdoAbort::none);
+  EXPECT_EQ(write(0x1600, 0, 1, 1), SdoAbort::no_sub_index);
+  ASSERT_EQ(write(0x1600, 1, 0x607A'0010U), SdoAbort::none);
+  EXPECT_EQ(write(0x1600, 0, 1, 1), SdoAbort::length_mismatch) << "0x607A is 32 bits";
   ASSERT_EQ(write(0x1600, 1, 0x6041'0010U), SdoAbort::none);
   EXPECT_EQ(write(0x1600, 0, 1, 1), SdoAbort::not_mappable) << "an RPDO cannot write the statusword";
   ASSERT_EQ(write(0x1600, 1, 0x607A'0020U), SdoAbort::none);

@@ -393,7 +393,7 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     }
     // A frame too short for the mapping cannot be processed: refused now, so that it never
     // replaces a good RPDO already latched for this period.
-    const std::size_t mapped = rpdo_[i].mapping().byte_length();
+    const std::size_t mapped = rpdo_[i].byte_length();
     if (frame.len < mapped) {
       ++counters_.rpdos_rejected;
       pdo_length_error_ = true;

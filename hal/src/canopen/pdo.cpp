@@ -31,15 +31,17 @@ SdoAbort PdoBinding::bind(const PdoMapping& mapping, ObjectDictionary& od, PdoDi
     }
     resolved[i] = entry;
   }
-  mapping_ = mapping;
   resolved_ = resolved;
+  cob_id_ = mapping.cob_id;
+  count_ = mapping.count;
+  bytes_ = static_cast<std::uint8_t>(mapping.byte_length());
   od_ = &od;
   return SdoAbort::none;
 }
 
 bool PdoBinding::carries(std::uint16_t index, std::uint8_t sub) const noexcept {
-  for (std::size_t i = 0; i < mapping_.count && od_ != nullptr; ++i) {
-    if (mapping_.entries[i].index == index && mapping_.entries[i].sub == sub) {
+  for (std::size_t i = 0; i < count_ && od_ != nullptr; ++i) {
+    if (resolved_[i]->index == index && resolved_[i]->sub == sub) {
       return true;
     }
   }
@@ -51,9 +53,9 @@ PdoStatus PdoBinding::pack(CanFrame& out) const noexcept {
     return PdoStatus::unbound;
   }
   out = CanFrame{};
-  out.id = mapping_.cob_id;
+  out.id = cob_id_;
   std::size_t offset = 0;
-  for (std::size_t i = 0; i < mapping_.count; ++i) {
+  for (std::size_t i = 0; i < count_; ++i) {
     const std::size_t n = od_type_size(resolved_[i]->var.type());
     put_le(std::span<std::uint8_t>{out.data}.subspan(offset, n), resolved_[i]->var.raw(), n);
     offset += n;
@@ -66,10 +68,10 @@ PdoStatus PdoBinding::unpack(const CanFrame& in) noexcept {
   if (od_ == nullptr) {
     return PdoStatus::unbound;
   }
-  if (!is_canopen_data_frame(in) || in.id != mapping_.cob_id) {
+  if (!is_canopen_data_frame(in) || in.id != cob_id_) {
     return PdoStatus::wrong_id;
   }
-  const std::size_t expected = mapping_.byte_length();
+  const std::size_t expected = bytes_;
   if (in.len < expected) {
     return PdoStatus::too_short;
   }
@@ -77,7 +79,7 @@ PdoStatus PdoBinding::unpack(const CanFrame& in) noexcept {
   // Check every value before storing any: a PDO is applied whole or not at all.
   std::array<std::uint32_t, pdo_max_entries> raw{};
   std::size_t offset = 0;
-  for (std::size_t i = 0; i < mapping_.count; ++i) {
+  for (std::size_t i = 0; i < count_; ++i) {
     const std::size_t n = od_type_size(resolved_[i]->var.type());
     raw[i] = get_le(std::span<const std::uint8_t>{in.data}.subspan(offset, n), n);
     offset += n;
@@ -85,7 +87,7 @@ PdoStatus PdoBinding::unpack(const CanFrame& in) noexcept {
       return PdoStatus::rejected;
     }
   }
-  for (std::size_t i = 0; i < mapping_.count; ++i) {
+  for (std::size_t i = 0; i < count_; ++i) {
     od_->store_entry(*resolved_[i], raw[i]);
   }
   return in.len > expected ? PdoStatus::applied_longer : PdoStatus::ok;

@@ -203,9 +203,9 @@ struct DriveCommObjects {  // 0x1000..0x1FFF, CiA 301
   std::uint8_t sdo_parameter_count{2};
   std::uint32_t sdo_cob_rx{0};
   std::uint32_t sdo_cob_tx{0};
-  struct PdoComm {
-    std::uint8_t count{2};
+  struct PdoComm {  // the word first: 8 bytes, not 12 (the micro:bit image counts them)
     std::uint32_t cob_id{0};
+    std::uint8_t count{2};
     std::uint8_t transmission_type{pdo_transmission::synchronous};
   };
   struct PdoMap {

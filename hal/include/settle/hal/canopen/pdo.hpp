@@ -80,13 +80,18 @@ class PdoBinding {
   // are checked before any is stored, so a rejected frame leaves every variable untouched.
   [[nodiscard]] PdoStatus unpack(const CanFrame& in) noexcept;
 
-  [[nodiscard]] const PdoMapping& mapping() const noexcept { return mapping_; }
+  // The bytes the mapping fills (a frame shorter than this is not processed).
+  [[nodiscard]] std::size_t byte_length() const noexcept { return bytes_; }
   [[nodiscard]] bool bound() const noexcept { return od_ != nullptr; }
 
  private:
-  PdoMapping mapping_{};
+  // The mapping is kept as its resolved entries only (each names its object and has its size):
+  // a drive holds one binding per PDO, and the smallest image counts their bytes.
   std::array<const OdEntry*, pdo_max_entries> resolved_{};
   ObjectDictionary* od_{nullptr};
+  std::uint32_t cob_id_{0};
+  std::uint8_t count_{0};
+  std::uint8_t bytes_{0};
 };
 
 }  // namespace settle::hal::canopen
