@@ -237,30 +237,24 @@ void DriveNode::bind_pdos() noexcept {
 }
 
 SdoAbort DriveNode::default_mapping_error() noexcept {
-  PdoBinding trial{};
-  for (std::size_t i = 0; i < config_.rpdo_count && i < drive_rpdo_capacity; ++i) {
-    const PdoMapping& m = config_.rpdos[i];
-    if (m.count > drive_pdo_entry_capacity) {
-      return SdoAbort::pdo_too_long;
-    }
-    if ((m.cob_id & pdo_cob_invalid) == 0 || m.count != 0) {
-      if (const SdoAbort abort = trial.bind(m, od_, PdoDirection::receive); abort != SdoAbort::none) {
-        return abort;
+  // Each PDO in the dictionary that is valid or maps something must bind.
+  const auto check = [this](const auto& pdos, std::size_t count, PdoDirection direction) noexcept {
+    PdoBinding trial{};
+    for (std::size_t i = 0; i < count && i < pdos.size(); ++i) {
+      const PdoMapping& m = pdos[i];
+      if (m.count > drive_pdo_entry_capacity) {
+        return SdoAbort::pdo_too_long;
+      }
+      if ((m.cob_id & pdo_cob_invalid) == 0 || m.count != 0) {
+        if (const SdoAbort abort = trial.bind(m, od_, direction); abort != SdoAbort::none) {
+          return abort;
+        }
       }
     }
-  }
-  for (std::size_t i = 0; i < config_.tpdo_count && i < drive_tpdo_capacity; ++i) {
-    const PdoMapping& m = config_.tpdos[i];
-    if (m.count > drive_pdo_entry_capacity) {
-      return SdoAbort::pdo_too_long;
-    }
-    if ((m.cob_id & pdo_cob_invalid) == 0 || m.count != 0) {
-      if (const SdoAbort abort = trial.bind(m, od_, PdoDirection::transmit); abort != SdoAbort::none) {
-        return abort;
-      }
-    }
-  }
-  return SdoAbort::none;
+    return SdoAbort::none;
+  };
+  const SdoAbort rpdos = check(config_.rpdos, config_.rpdo_count, PdoDirection::receive);
+  return rpdos != SdoAbort::none ? rpdos : check(config_.tpdos, config_.tpdo_count, PdoDirection::transmit);
 }
 
 bool DriveNode::rpdo_active(std::size_t i) const noexcept {

@@ -117,25 +117,25 @@ inline constexpr std::uint32_t pdo_cob_id_mask = 0x7FFU;
 // valid and synchronous, the others not valid and empty. In a DriveNodeConfig a COB-ID whose
 // 11-bit id is 0 stands for the predefined connection set's id of the node (an EDS's
 // $NODEID+0x200 and so on), so the same configuration serves any node id.
-[[nodiscard]] constexpr std::array<PdoMapping, drive_rpdo_capacity> default_drive_rpdos() noexcept {
-  std::array<PdoMapping, drive_rpdo_capacity> pdos{};
-  for (PdoMapping& m : pdos) {
-    m.cob_id = pdo_cob_invalid;
+template <std::size_t N, std::size_t K>
+[[nodiscard]] constexpr std::array<PdoMapping, N> drive_pdos(const std::array<PdoMapping, K>& valid) noexcept {
+  static_assert(K <= N);
+  std::array<PdoMapping, N> pdos{};
+  for (std::size_t i = 0; i < N; ++i) {
+    if (i < K) {
+      pdos[i] = valid[i];
+      pdos[i].cob_id = 0;  // the predefined id of the node
+    } else {
+      pdos[i].cob_id = pdo_cob_invalid;
+    }
   }
-  pdos[0] = default_rpdo1_mapping(0);
-  pdos[0].cob_id = 0;
   return pdos;
 }
+[[nodiscard]] constexpr std::array<PdoMapping, drive_rpdo_capacity> default_drive_rpdos() noexcept {
+  return drive_pdos<drive_rpdo_capacity>(std::array{default_rpdo1_mapping(0)});
+}
 [[nodiscard]] constexpr std::array<PdoMapping, drive_tpdo_capacity> default_drive_tpdos() noexcept {
-  std::array<PdoMapping, drive_tpdo_capacity> pdos{};
-  for (PdoMapping& m : pdos) {
-    m.cob_id = pdo_cob_invalid;
-  }
-  pdos[0] = default_tpdo1_mapping(0);
-  pdos[0].cob_id = 0;
-  pdos[1] = default_tpdo2_mapping(0);
-  pdos[1].cob_id = 0;
-  return pdos;
+  return drive_pdos<drive_tpdo_capacity>(std::array{default_tpdo1_mapping(0), default_tpdo2_mapping(0)});
 }
 // The COB-ID the drive's PDO has for `node`: a configured id of 0 becomes the predefined one
 // (RPDOn 0x200 + 0x100 (n-1) + node, TPDOn 0x180 + 0x100 (n-1) + node); bits 29..31 are kept.
