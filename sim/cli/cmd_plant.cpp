@@ -50,8 +50,9 @@ int cmd_plant(int argc, char** argv) {
   // drive, which hal/eds/settle_drive.eds describes exactly (tests/sim/test_drive_from_eds.cpp).
   hal::canopen::DriveNodeConfig dc{};
   const auto eds = args.text("--eds");
+  sim::DriveFromEds loaded{};  // holds the strings dc points to, for the node's whole life
   if (eds) {
-    const sim::DriveFromEds loaded = sim::load_drive_config(*eds, static_cast<hal::canopen::NodeId>(node));
+    loaded = sim::load_drive_config(*eds, static_cast<hal::canopen::NodeId>(node));
     if (!loaded.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
     dc = *loaded.config;
   }

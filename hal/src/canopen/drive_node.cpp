@@ -122,9 +122,6 @@ DriveNode::DriveNode(const DriveNodeConfig& config) noexcept
       master_heartbeat_{0, 0},
       sync_{config.sync_period_us, config.communication_loss_periods},
       emcy_{config.node} {
-  device_name_.assign(drive_device_name);
-  hardware_version_.assign(drive_hardware_version);
-  software_version_.assign(drive_software_version);
   od_.set_hooks(&DriveNode::check_write, &DriveNode::on_written, this);
   restore(true);
 }
@@ -144,9 +141,9 @@ std::span<const OdEntry> DriveNode::make_entries() noexcept {
   add(od_entry(obj::error_register, 0, c.error_register, A::ro, map));
   add(od_entry(obj::cob_id_sync, 0, c.cob_id_sync, A::ro));
   add(od_entry(obj::communication_cycle_period, 0, c.cycle_period_us, A::rw));
-  add(od_bytes_entry(obj::device_name, 0, device_name_.bytes(), OdType::visible_string, A::constant));
-  add(od_bytes_entry(obj::hardware_version, 0, hardware_version_.bytes(), OdType::visible_string, A::constant));
-  add(od_bytes_entry(obj::software_version, 0, software_version_.bytes(), OdType::visible_string, A::constant));
+  add(od_bytes_entry(obj::device_name, 0, device_name_, OdType::visible_string, A::constant));
+  add(od_bytes_entry(obj::hardware_version, 0, hardware_version_, OdType::visible_string, A::constant));
+  add(od_bytes_entry(obj::software_version, 0, software_version_, OdType::visible_string, A::constant));
   add(od_entry(obj::cob_id_emcy, 0, c.cob_id_emcy, A::ro));
   add(od_entry(obj::inhibit_time_emcy, 0, c.inhibit_time_emcy, A::rw));
   add(od_entry(obj::consumer_heartbeat_time, 0, c.consumer_heartbeat_count, A::constant));
@@ -759,6 +756,16 @@ void DriveNode::update_statusword() noexcept {
     sw |= statusword::following_error;
   }
   objects_.app.statusword = sw;
+}
+
+OdBytes DriveNode::constant_text(const char* text) noexcept {
+  std::uint32_t length = 0;
+  while (text != nullptr && text[length] != '\0') {
+    ++length;
+  }
+  // The dictionary writes a byte string only through a writable entry; these are constant.
+  auto* bytes = const_cast<std::uint8_t*>(reinterpret_cast<const std::uint8_t*>(text));
+  return OdBytes{bytes, length, length};
 }
 
 SdoAbort DriveNode::check_write(void* self, const OdEntry& entry, std::int64_t value) noexcept {

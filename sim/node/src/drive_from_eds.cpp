@@ -141,6 +141,18 @@ DriveFromEds drive_config_from_eds(const eds::Description& d, co::NodeId node) {
     return r;
   }
   c.pdo_mapping_writable = writable.value_or(false);
+  // The strings, served as the EDS gives them (an absent one is reported below: the drive has it).
+  auto texts = std::make_unique<DriveTexts>();
+  const auto text_of = [&d](std::uint16_t index) {
+    const eds::Entry* e = d.find(index, 0);
+    return e != nullptr ? e->default_value : std::string{};
+  };
+  texts->device_name = text_of(co::obj::device_name);
+  texts->hardware_version = text_of(co::obj::hardware_version);
+  texts->software_version = text_of(co::obj::software_version);
+  c.device_name = texts->device_name.c_str();
+  c.hardware_version = texts->hardware_version.c_str();
+  c.software_version = texts->software_version.c_str();
 
   // The drive this configuration builds must be the one the EDS describes, object for object.
   const auto drive = std::make_unique<co::DriveNode>(c);
@@ -192,13 +204,14 @@ DriveFromEds drive_config_from_eds(const eds::Description& d, co::NodeId node) {
     }
   }
   r.config = c;
+  r.texts = std::move(texts);
   return r;
 }
 
 DriveFromEds load_drive_config(const std::string& path, co::NodeId node) {
   const eds::LoadResult loaded = eds::load(path);
   if (!loaded.description) {
-    return DriveFromEds{std::nullopt, loaded.error};  // the reader names the file and line
+    return DriveFromEds{std::nullopt, nullptr, loaded.error};  // the reader names the file and line
   }
   DriveFromEds r = drive_config_from_eds(*loaded.description, node);
   if (!r.config) {

@@ -76,8 +76,8 @@ inline constexpr std::uint8_t sync_loss = 8;
 inline constexpr std::uint8_t rpdo_loss = 9;
 }  // namespace emcy_cause
 
-// 0x1008..0x100A (const VISIBLE_STRINGs, served by segmented SDO upload): what the drive says it
-// is. hal/eds/settle_drive.eds carries the same text.
+// 0x1008..0x100A (const VISIBLE_STRINGs, served by segmented SDO upload): what the default drive
+// says it is (DriveNodeConfig can name other text). hal/eds/settle_drive.eds carries the same.
 inline constexpr char drive_device_name[] = "Settle simulated CiA 402 drive";
 inline constexpr char drive_hardware_version[] = "simulated";
 inline constexpr char drive_software_version[] = "Settle 0.1.0";
@@ -166,6 +166,11 @@ struct DriveNodeConfig {
   std::uint32_t revision{1};
   std::uint32_t serial{0};
   std::uint32_t device_type{cia402_device_type};          // 0x1000
+  // 0x1008..0x100A: NUL-terminated text the drive serves as it is, not copied: it must outlive
+  // the DriveNode (string literals do). nullptr serves an empty string.
+  const char* device_name{drive_device_name};
+  const char* hardware_version{drive_hardware_version};
+  const char* software_version{drive_software_version};
   // Optional objects: absent ones are not in the dictionary (SDO abort 0x06020000).
   bool has_interpolation_period{true};       // 0x60C2 (absent: the step limit uses 0x1006 alone)
   bool has_following_error_actual{true};     // 0x60F4
@@ -351,14 +356,16 @@ class DriveNode {
   void clear_errors(std::uint64_t now_us, FrameSink& out) noexcept;
   void update_statusword() noexcept;
 
+  [[nodiscard]] static OdBytes constant_text(const char* text) noexcept;
   static SdoAbort check_write(void* self, const OdEntry& entry, std::int64_t value) noexcept;
   static void on_written(void* self, const OdEntry& entry) noexcept;
 
   DriveNodeConfig config_;
   DriveObjects objects_{};
-  OdByteString<sizeof drive_device_name - 1> device_name_{};
-  OdByteString<sizeof drive_hardware_version - 1> hardware_version_{};
-  OdByteString<sizeof drive_software_version - 1> software_version_{};
+  // The configured strings, served in place (constant objects: never written through these).
+  OdBytes device_name_{constant_text(config_.device_name)};
+  OdBytes hardware_version_{constant_text(config_.hardware_version)};
+  OdBytes software_version_{constant_text(config_.software_version)};
   std::array<OdEntry, entry_capacity> entries_{};
   ObjectDictionary od_;
   NmtSlave nmt_;

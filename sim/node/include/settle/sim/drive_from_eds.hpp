@@ -6,6 +6,7 @@
 // take, a default mapping that cannot be bound). Host only (files, strings).
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -14,8 +15,18 @@
 
 namespace settle::sim {
 
+// The drive's strings 0x1008..0x100A as the EDS gives them (DefaultValue).
+struct DriveTexts {
+  std::string device_name;
+  std::string hardware_version;
+  std::string software_version;
+};
+
 struct DriveFromEds {
+  // Its device_name, hardware_version and software_version point into `texts`: keep this result
+  // (it moves, it does not copy) for as long as a DriveNode built from the config lives.
   std::optional<hal::canopen::DriveNodeConfig> config;
+  std::unique_ptr<const DriveTexts> texts;
   std::string error;  // why not, one line naming the object at fault
 };
 
