@@ -61,6 +61,13 @@ std::uint32_t read(co::DriveNode& drive, std::uint16_t index, std::uint8_t sub) 
   return raw;
 }
 
+// The identity and device name the drive answers with.
+void expect_identity(co::DriveNode& drive, std::uint32_t vendor, std::uint32_t product, const std::string& name) {
+  EXPECT_EQ(read(drive, 0x1018, 1), vendor);
+  EXPECT_EQ(read(drive, 0x1018, 2), product);
+  EXPECT_EQ(text_of(drive, 0x1008), name);
+}
+
 TEST(DriveFromEds, TheBundledEdsIsTheDefaultDrive) {
   for (const co::NodeId node : {co::NodeId{1}, co::NodeId{42}, co::NodeId{127}}) {
     const auto l = loaded(SETTLE_DRIVE_EDS_PATH, node);
@@ -100,9 +107,7 @@ TEST(DriveFromEds, TheBundledEdsIsTheDefaultDrive) {
 TEST(DriveFromEds, SplitRpdoDriveHasControlwordAndTargetInTwoWritablePdos) {
   const auto l = loaded(eds_path("split_rpdo_drive.eds"), 5);
   co::DriveNode& drive = *l->drive;
-  EXPECT_EQ(read(drive, 0x1018, 1), 0x5E01U);
-  EXPECT_EQ(read(drive, 0x1018, 2), 0xA001U);
-  EXPECT_EQ(text_of(drive, 0x1008), "Split-RPDO servo (simulated)");
+  expect_identity(drive, 0x5E01, 0xA001, "Split-RPDO servo (simulated)");
   EXPECT_EQ(text_of(drive, 0x100A), "Settle 0.1.0");
   EXPECT_EQ(read(drive, 0x1600, 0), 1U);
   EXPECT_EQ(read(drive, 0x1600, 1), 0x6040'0010U);
@@ -118,8 +123,7 @@ TEST(DriveFromEds, SplitRpdoDriveHasControlwordAndTargetInTwoWritablePdos) {
 TEST(DriveFromEds, VelocityFeedbackDriveLeavesTheLoadPositionUnmapped) {
   const auto l = loaded(eds_path("velocity_feedback_drive.eds"), 5);
   co::DriveNode& drive = *l->drive;
-  EXPECT_EQ(read(drive, 0x1018, 1), 0x5E02U);
-  EXPECT_EQ(text_of(drive, 0x1008), "Velocity-feedback servo (simulated)");
+  expect_identity(drive, 0x5E02, 0xB002, "Velocity-feedback servo (simulated)");
   EXPECT_EQ(read(drive, 0x1A01, 0), 2U);
   EXPECT_EQ(read(drive, 0x1A01, 1), 0x606C'0020U);
   EXPECT_EQ(read(drive, 0x1A01, 2), 0x60F4'0020U);
@@ -134,9 +138,7 @@ TEST(DriveFromEds, VelocityFeedbackDriveLeavesTheLoadPositionUnmapped) {
 TEST(DriveFromEds, StaticMappingDriveIsReadOnlyAndSuitable) {
   const auto l = loaded(eds_path("static_mapping_drive.eds"), 5);
   co::DriveNode& drive = *l->drive;
-  EXPECT_EQ(read(drive, 0x1018, 1), 0x5E03U);
-  EXPECT_EQ(read(drive, 0x1018, 2), 0xC003U);
-  EXPECT_EQ(text_of(drive, 0x1008), "Static-mapping servo (simulated)");
+  expect_identity(drive, 0x5E03, 0xC003, "Static-mapping servo (simulated)");
   EXPECT_EQ(read(drive, 0x1A01, 1), 0x2000'0020U);
   EXPECT_EQ(drive.dictionary().write(0x1600, 0, 0, 1), co::SdoAbort::read_only);
   EXPECT_EQ(drive.dictionary().write(0x1400, 1, 0x8000'0205U, 4), co::SdoAbort::read_only);
@@ -148,8 +150,7 @@ TEST(DriveFromEds, TheTestDriveWithout60C2HasNone) {
   std::uint32_t raw = 0;
   std::uint8_t size = 0;
   EXPECT_EQ(drive.dictionary().read(0x60C2, 1, raw, size), co::SdoAbort::no_object);
-  EXPECT_EQ(read(drive, 0x1018, 1), 0x5E04U);
-  EXPECT_EQ(text_of(drive, 0x1008), "Drive without 0x60C2 (simulated)");
+  expect_identity(drive, 0x5E04, 0xD004, "Drive without 0x60C2 (simulated)");
 }
 
 DriveFromEds from_text(const std::string& text) {
