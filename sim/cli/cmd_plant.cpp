@@ -11,6 +11,7 @@
 #include "plant_options.hpp"
 #include "settle/hal/socketcan_bus.hpp"
 #include "socketcan_open.hpp"
+#include "settle/sim/drive_from_eds.hpp"
 #include "settle/sim/plant_node.hpp"
 #include "settle/sim/sync_log.hpp"
 
@@ -45,11 +46,20 @@ int cmd_plant(int argc, char** argv) {
   const double duration = args.real("--duration", 0.0);
   const std::string iface = args.text("--bus", "vcan0");
 
+  // The drive: the EDS's when one is given (checked before the bus is opened), else the default
+  // drive, which hal/eds/settle_drive.eds describes exactly (tests/sim/test_drive_from_eds.cpp).
   hal::canopen::DriveNodeConfig dc{};
+  const auto eds = args.text("--eds");
+  sim::DriveFromEds loaded{};  // holds the strings dc points to, for the node's whole life
+  if (eds) {
+    loaded = sim::load_drive_config(*eds, static_cast<hal::canopen::NodeId>(node));
+    if (!loaded.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
+    dc = *loaded.config;
+  }
   dc.node = static_cast<hal::canopen::NodeId>(node);
-  dc.heartbeat_period_ms = static_cast<std::uint16_t>(heartbeat);
+  if (!eds || args.has("--heartbeat-ms")) dc.heartbeat_period_ms = static_cast<std::uint16_t>(heartbeat);
   dc.sync_period_us = axis_cfg.scale.period_us;
-  dc.communication_loss_periods = static_cast<std::uint8_t>(loss);
+  if (!eds || args.has("--sync-loss-periods")) dc.communication_loss_periods = static_cast<std::uint8_t>(loss);
   sim::DriveAxis axis{};
   if (sim::DriveAxis::make(axis_cfg, plant, 0, axis) != sim::SimStatus::ok) return kExitFailure;
   sim::PlantNode pn{dc, std::move(axis)};

@@ -161,6 +161,10 @@ const std::vector<OptionSpec> kPlantNode = {
     integer("--node", "", "1", {1.0, 127.0}, "this drive's CANopen node id"),
     integer("--heartbeat-ms", "ms", "100", {10.0, 10000.0}, "heartbeat producer period"),
     integer("--sync-loss-periods", "periods", "3", {1.0, 255.0}, "SYNC/RPDO periods tolerated before a fault"),
+    text("--eds", "hal/eds/settle_drive.eds",
+         "the drive to simulate: its objects, identity, defaults and PDO mappings (hal/eds has four); "
+         "--heartbeat-ms and --sync-loss-periods, when given, override its 0x1017 and 0x2001",
+         "FILE"),
     text("--log", "", "write one CSV row per SYNC to FILE", "FILE"),
     real("--duration", "s", "0 (until SIGINT/SIGTERM)", {0.0, 604800.0}, "run time"),
 };

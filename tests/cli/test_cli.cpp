@@ -143,6 +143,10 @@ TEST(Cli, BadRequestsExitTwoNamingTheParameter) {
       {"plan --profile scurve --distance abc --time 1 --omega 2", "--distance", "bad_number"},
       {"plan --profile scurve --distance 1 --time 1 --omega 2 --bogus 3", "--bogus", "bad_option"},
       {"sample --profile poly345 --distance 1 --time 1 --dt -0.1", "--dt", "out_of_range"},
+      // The drive's EDS is read before the bus is opened: a bad one exits 2 whatever the bus.
+      {"plant --bus no-such-can9 --eds /nonexistent/drive.eds", "--eds", "bad_eds"},
+      {"plant --bus no-such-can9 --eds " SETTLE_TEST_EDS_DIR "/no_interpolation_period_drive.eds --node 0", "--node",
+       "out_of_range"},
   };
   for (const Case& c : cases) {
     const CliResult text = run(c.args);
@@ -159,6 +163,24 @@ TEST(Cli, BadRequestsExitTwoNamingTheParameter) {
     EXPECT_EQ(j.flat.at("parameter"), c.param);
     EXPECT_FALSE(j.flat.at("message").empty());
   }
+}
+
+TEST(Cli, PlantSimulatesTheDriveItsEdsDescribes) {
+  // Each bundled drive and the test drive load; the bus is what fails (exit 1), not the EDS.
+  for (const std::string eds : {std::string{SETTLE_EDS_DIR} + "/split_rpdo_drive.eds",
+                                std::string{SETTLE_EDS_DIR} + "/velocity_feedback_drive.eds",
+                                std::string{SETTLE_EDS_DIR} + "/static_mapping_drive.eds",
+                                std::string{SETTLE_TEST_EDS_DIR} + "/no_interpolation_period_drive.eds"}) {
+    const CliResult r = run("plant --bus no-such-can9 --eds " + eds);
+    EXPECT_EQ(r.status, 1) << r.out;
+    EXPECT_NE(r.out.find("cannot open no-such-can9"), std::string::npos) << r.out;
+  }
+  // An EDS the simulated drive cannot be: one line naming the file and the object.
+  const std::string bad = std::string{SETTLE_EDS_DIR} + "/../CMakeLists.txt";
+  const CliResult r = run("plant --bus no-such-can9 --eds " + bad);
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+  EXPECT_NE(r.out.find("--eds: " + bad + ": "), std::string::npos) << r.out;
 }
 
 TEST(Cli, SampleWritesCsvOverTheWholeMove) {

@@ -321,7 +321,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"sample", join({move, {"--dt"}})},
       {"simulate", join({move, plant, {"--csv", "--dt", "--band", "--tail", "--sensitivity"}})},
       {"reproduce", join({{"--out"}})},
-      {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--log", "--duration"}})},
+      {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--log", "--duration"}})},
       {"stream", join({move, plant, drive,
                        {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--pm-qos", "--heartbeat-ms",
                         "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log"}})},

@@ -16,18 +16,22 @@ namespace {
   o.comm.sync_counter_overflow = c.sync_counter_overflow;
   o.comm.sdo_cob_rx = cob_id(cob::sdo_rx, c.node);
   o.comm.sdo_cob_tx = cob_id(cob::sdo_tx, c.node);
-  // The mapping objects describe the static mapping; they are read-only on the bus.
-  const auto describe = [](const PdoMapping& m, DriveCommObjects::PdoComm& comm, DriveCommObjects::PdoMap& map) {
-    comm.cob_id = m.cob_id;
+  const auto describe = [&c](const PdoMapping& m, bool receive, std::size_t number, DriveCommObjects::PdoComm& comm,
+                             DriveCommObjects::PdoMap& map) {
+    comm.cob_id = drive_pdo_cob_id(m.cob_id, receive, number, c.node);
     comm.transmission_type = m.transmission_type;
-    map.count = m.count;
+    map.count = m.count <= map.entries.size() ? m.count : 0;
     for (std::size_t i = 0; i < map.entries.size(); ++i) {
       map.entries[i] = m.entries[i].raw();
     }
   };
-  describe(default_rpdo1_mapping(c.node), o.comm.rpdo1_comm, o.comm.rpdo1_map);
-  describe(default_tpdo1_mapping(c.node), o.comm.tpdo1_comm, o.comm.tpdo1_map);
-  describe(default_tpdo2_mapping(c.node), o.comm.tpdo2_comm, o.comm.tpdo2_map);
+  for (std::size_t i = 0; i < drive_rpdo_capacity; ++i) {
+    describe(c.rpdos[i], true, i + 1, o.comm.rpdo_comm[i], o.comm.rpdo_map[i]);
+  }
+  for (std::size_t i = 0; i < drive_tpdo_capacity; ++i) {
+    describe(c.tpdos[i], false, i + 1, o.comm.tpdo_comm[i], o.comm.tpdo_map[i]);
+  }
+  o.comm.device_type = c.device_type;
 
   o.app.communication_loss_periods = c.communication_loss_periods;
   o.app.abort_connection_option = c.abort_connection_option;
@@ -40,6 +44,25 @@ namespace {
   // 0x6502 bit n-1 for mode n: interpolated position (7) and cyclic synchronous position (8).
   o.app.supported_modes = (1U << 6U) | (1U << 7U);
   return o;
+}
+
+// The mapping a PDO's communication and mapping objects describe, with `count` entries.
+[[nodiscard]] PdoMapping mapping_of(const DriveCommObjects::PdoComm& comm, const DriveCommObjects::PdoMap& map,
+                                    std::size_t count) noexcept {
+  PdoMapping m{};
+  m.cob_id = comm.cob_id & pdo_cob_id_mask;
+  m.transmission_type = comm.transmission_type;
+  m.count = static_cast<std::uint8_t>(count <= map.entries.size() ? count : map.entries.size());
+  for (std::size_t i = 0; i < m.count; ++i) {
+    const std::uint32_t raw = map.entries[i];
+    m.entries[i] = PdoMappingEntry{static_cast<std::uint16_t>(raw >> 16U), static_cast<std::uint8_t>((raw >> 8U) & 0xFFU),
+                                   static_cast<std::uint8_t>(raw & 0xFFU)};
+  }
+  return m;
+}
+
+[[nodiscard]] bool is_synchronous(std::int64_t transmission_type) noexcept {
+  return transmission_type >= 1 && transmission_type <= 240;  // CiA 301: every n-th SYNC
 }
 
 [[nodiscard]] std::uint8_t register_bits_for(std::uint16_t error_code) noexcept {
@@ -92,100 +115,153 @@ EmcyDetail emcy_detail(std::uint8_t cause, std::int64_t value) noexcept {
 DriveNode::DriveNode(const DriveNodeConfig& config) noexcept
     : config_{config},
       objects_{defaults_for(config)},
-      entries_{make_entries()},
-      od_{entries_},
+      od_{make_entries()},
       nmt_{config.node},
       sdo_{config.node, od_},
       heartbeat_{config.node, config.heartbeat_period_ms},
       master_heartbeat_{0, 0},
       sync_{config.sync_period_us, config.communication_loss_periods},
       emcy_{config.node} {
-  device_name_.assign(drive_device_name);
-  hardware_version_.assign(drive_hardware_version);
-  software_version_.assign(drive_software_version);
   od_.set_hooks(&DriveNode::check_write, &DriveNode::on_written, this);
-  bind_pdos();
   restore(true);
 }
 
-std::array<OdEntry, DriveNode::entry_count> DriveNode::make_entries() noexcept {
+std::span<const OdEntry> DriveNode::make_entries() noexcept {
   using A = OdAccess;
   constexpr bool map = true;
   DriveCommObjects& c = objects_.comm;
   DriveAppObjects& a = objects_.app;
-  return {{
-      od_entry(obj::device_type, 0, c.device_type, A::ro),
-      od_entry(obj::error_register, 0, c.error_register, A::ro, map),
-      od_entry(obj::cob_id_sync, 0, c.cob_id_sync, A::ro),
-      od_entry(obj::communication_cycle_period, 0, c.cycle_period_us, A::rw),
-      od_bytes_entry(obj::device_name, 0, device_name_.bytes(), OdType::visible_string, A::constant),
-      od_bytes_entry(obj::hardware_version, 0, hardware_version_.bytes(), OdType::visible_string, A::constant),
-      od_bytes_entry(obj::software_version, 0, software_version_.bytes(), OdType::visible_string, A::constant),
-      od_entry(obj::cob_id_emcy, 0, c.cob_id_emcy, A::ro),
-      od_entry(obj::inhibit_time_emcy, 0, c.inhibit_time_emcy, A::rw),
-      od_entry(obj::consumer_heartbeat_time, 0, c.consumer_heartbeat_count, A::constant),
-      od_entry(obj::consumer_heartbeat_time, 1, c.consumer_heartbeat, A::rw),
-      od_entry(obj::producer_heartbeat_time, 0, c.producer_heartbeat_ms, A::rw),
-      od_entry(obj::identity, 0, c.identity_count, A::constant),
-      od_entry(obj::identity, 1, c.vendor_id, A::ro),
-      od_entry(obj::identity, 2, c.product_code, A::ro),
-      od_entry(obj::identity, 3, c.revision, A::ro),
-      od_entry(obj::identity, 4, c.serial, A::ro),
-      od_entry(obj::sync_counter_overflow, 0, c.sync_counter_overflow, A::rw, false, 0, sync_counter_max),
-      od_entry(obj::sdo_server_parameter, 0, c.sdo_parameter_count, A::constant),
-      od_entry(obj::sdo_server_parameter, 1, c.sdo_cob_rx, A::ro),
-      od_entry(obj::sdo_server_parameter, 2, c.sdo_cob_tx, A::ro),
-      od_entry(obj::rpdo1_communication, 0, c.rpdo1_comm.count, A::constant),
-      od_entry(obj::rpdo1_communication, 1, c.rpdo1_comm.cob_id, A::ro),
-      od_entry(obj::rpdo1_communication, 2, c.rpdo1_comm.transmission_type, A::ro),
-      od_entry(obj::rpdo1_mapping, 0, c.rpdo1_map.count, A::ro),
-      od_entry(obj::rpdo1_mapping, 1, c.rpdo1_map.entries[0], A::ro),
-      od_entry(obj::rpdo1_mapping, 2, c.rpdo1_map.entries[1], A::ro),
-      od_entry(obj::tpdo1_communication, 0, c.tpdo1_comm.count, A::constant),
-      od_entry(obj::tpdo1_communication, 1, c.tpdo1_comm.cob_id, A::ro),
-      od_entry(obj::tpdo1_communication, 2, c.tpdo1_comm.transmission_type, A::ro),
-      od_entry(obj::tpdo2_communication, 0, c.tpdo2_comm.count, A::constant),
-      od_entry(obj::tpdo2_communication, 1, c.tpdo2_comm.cob_id, A::ro),
-      od_entry(obj::tpdo2_communication, 2, c.tpdo2_comm.transmission_type, A::ro),
-      od_entry(obj::tpdo1_mapping, 0, c.tpdo1_map.count, A::ro),
-      od_entry(obj::tpdo1_mapping, 1, c.tpdo1_map.entries[0], A::ro),
-      od_entry(obj::tpdo1_mapping, 2, c.tpdo1_map.entries[1], A::ro),
-      od_entry(obj::tpdo2_mapping, 0, c.tpdo2_map.count, A::ro),
-      od_entry(obj::tpdo2_mapping, 1, c.tpdo2_map.entries[0], A::ro),
-      od_entry(obj::tpdo2_mapping, 2, c.tpdo2_map.entries[1], A::ro),
-      od_entry(obj::load_position_actual, 0, a.load_position, A::ro, map),
-      od_entry(obj::communication_loss_periods, 0, a.communication_loss_periods, A::rw, false, 1, 255),
-      od_entry(obj::abort_connection_option, 0, a.abort_connection_option, A::rw, false, 0, 3),
-      od_entry(obj::error_code, 0, a.error_code, A::ro, map),
-      od_entry(obj::controlword, 0, a.controlword, A::rw, map),
-      od_entry(obj::statusword, 0, a.statusword, A::ro, map),
-      od_entry(obj::quick_stop_option, 0, a.quick_stop_option, A::rw, false, 0, 8),
-      od_entry(obj::modes_of_operation, 0, a.mode, A::rw, map),
-      od_entry(obj::modes_of_operation_display, 0, a.mode_display, A::ro, map),
-      od_entry(obj::position_actual, 0, a.position_actual, A::ro, map),
-      od_entry(obj::following_error_window, 0, a.following_error_window, A::rw),
-      od_entry(obj::following_error_timeout, 0, a.following_error_timeout_ms, A::rw),
-      od_entry(obj::velocity_actual, 0, a.velocity_actual, A::ro, map),
-      od_entry(obj::target_position, 0, a.target_position, A::rw, map),
-      od_entry(obj::software_position_limit, 0, a.position_limit_count, A::constant),
-      od_entry(obj::software_position_limit, 1, a.position_limit_min, A::rw),
-      od_entry(obj::software_position_limit, 2, a.position_limit_max, A::rw),
-      od_entry(obj::max_profile_velocity, 0, a.max_profile_velocity, A::rw, false, 1),
-      od_entry(obj::interpolation_data_record, 0, a.ip_data_count, A::constant),
-      od_entry(obj::interpolation_data_record, 1, a.ip_data, A::rw, map),
-      od_entry(obj::interpolation_time_period, 0, a.ip_period_count, A::constant),
-      od_entry(obj::interpolation_time_period, 1, a.ip_period_value, A::rw),
-      od_entry(obj::interpolation_time_period, 2, a.ip_period_index, A::rw, false, -6, 0),
-      od_entry(obj::supported_drive_modes, 0, a.supported_modes, A::ro),
-  }};
+  std::size_t n = 0;
+  const auto add = [this, &n](const OdEntry& e) noexcept {
+    if (n < entries_.size()) {
+      entries_[n++] = e;
+    }
+  };
+  add(od_entry(obj::device_type, 0, c.device_type, A::ro));
+  add(od_entry(obj::error_register, 0, c.error_register, A::ro, map));
+  add(od_entry(obj::cob_id_sync, 0, c.cob_id_sync, A::ro));
+  add(od_entry(obj::communication_cycle_period, 0, c.cycle_period_us, A::rw));
+  add(od_bytes_entry(obj::device_name, 0, device_name_, OdType::visible_string, A::constant));
+  add(od_bytes_entry(obj::hardware_version, 0, hardware_version_, OdType::visible_string, A::constant));
+  add(od_bytes_entry(obj::software_version, 0, software_version_, OdType::visible_string, A::constant));
+  add(od_entry(obj::cob_id_emcy, 0, c.cob_id_emcy, A::ro));
+  add(od_entry(obj::inhibit_time_emcy, 0, c.inhibit_time_emcy, A::rw));
+  add(od_entry(obj::consumer_heartbeat_time, 0, c.consumer_heartbeat_count, A::constant));
+  add(od_entry(obj::consumer_heartbeat_time, 1, c.consumer_heartbeat, A::rw));
+  add(od_entry(obj::producer_heartbeat_time, 0, c.producer_heartbeat_ms, A::rw));
+  add(od_entry(obj::identity, 0, c.identity_count, A::constant));
+  add(od_entry(obj::identity, 1, c.vendor_id, A::ro));
+  add(od_entry(obj::identity, 2, c.product_code, A::ro));
+  add(od_entry(obj::identity, 3, c.revision, A::ro));
+  add(od_entry(obj::identity, 4, c.serial, A::ro));
+  add(od_entry(obj::sync_counter_overflow, 0, c.sync_counter_overflow, A::rw, false, 0, sync_counter_max));
+  add(od_entry(obj::sdo_server_parameter, 0, c.sdo_parameter_count, A::constant));
+  add(od_entry(obj::sdo_server_parameter, 1, c.sdo_cob_rx, A::ro));
+  add(od_entry(obj::sdo_server_parameter, 2, c.sdo_cob_tx, A::ro));
+
+  // The PDOs: communication (sub 1 COB-ID, sub 2 transmission type) and mapping objects, in
+  // index order. Writable ones expose every mapping sub-index; static ones their mapped entries.
+  const A pdo_access = config_.pdo_mapping_writable ? A::rw : A::ro;
+  const std::size_t rpdos = config_.rpdo_count < drive_rpdo_capacity ? config_.rpdo_count : drive_rpdo_capacity;
+  const std::size_t tpdos = config_.tpdo_count < drive_tpdo_capacity ? config_.tpdo_count : drive_tpdo_capacity;
+  const auto add_comm = [&](std::uint16_t index, DriveCommObjects::PdoComm& comm) noexcept {
+    add(od_entry(index, 0, comm.count, A::constant));
+    add(od_entry(index, 1, comm.cob_id, pdo_access));
+    add(od_entry(index, 2, comm.transmission_type, pdo_access));
+  };
+  const auto add_map = [&](std::uint16_t index, DriveCommObjects::PdoMap& m) noexcept {
+    add(od_entry(index, 0, m.count, pdo_access));
+    const std::size_t rows = config_.pdo_mapping_writable ? m.entries.size() : m.count;
+    for (std::size_t i = 0; i < rows; ++i) {
+      add(od_entry(index, static_cast<std::uint8_t>(i + 1), m.entries[i], pdo_access));
+    }
+  };
+  for (std::size_t i = 0; i < rpdos; ++i) {
+    add_comm(static_cast<std::uint16_t>(obj::rpdo1_communication + i), c.rpdo_comm[i]);
+  }
+  for (std::size_t i = 0; i < rpdos; ++i) {
+    add_map(static_cast<std::uint16_t>(obj::rpdo1_mapping + i), c.rpdo_map[i]);
+  }
+  for (std::size_t i = 0; i < tpdos; ++i) {
+    add_comm(static_cast<std::uint16_t>(obj::tpdo1_communication + i), c.tpdo_comm[i]);
+  }
+  for (std::size_t i = 0; i < tpdos; ++i) {
+    add_map(static_cast<std::uint16_t>(obj::tpdo1_mapping + i), c.tpdo_map[i]);
+  }
+
+  add(od_entry(obj::load_position_actual, 0, a.load_position, A::ro, map));
+  add(od_entry(obj::communication_loss_periods, 0, a.communication_loss_periods, A::rw, false, 1, 255));
+  add(od_entry(obj::abort_connection_option, 0, a.abort_connection_option, A::rw, false, 0, 3));
+  add(od_entry(obj::error_code, 0, a.error_code, A::ro, map));
+  add(od_entry(obj::controlword, 0, a.controlword, A::rw, map));
+  add(od_entry(obj::statusword, 0, a.statusword, A::ro, map));
+  add(od_entry(obj::quick_stop_option, 0, a.quick_stop_option, A::rw, false, 0, 8));
+  add(od_entry(obj::modes_of_operation, 0, a.mode, A::rw, map));
+  add(od_entry(obj::modes_of_operation_display, 0, a.mode_display, A::ro, map));
+  add(od_entry(obj::position_actual, 0, a.position_actual, A::ro, map));
+  add(od_entry(obj::following_error_window, 0, a.following_error_window, A::rw));
+  add(od_entry(obj::following_error_timeout, 0, a.following_error_timeout_ms, A::rw));
+  add(od_entry(obj::velocity_actual, 0, a.velocity_actual, A::ro, map));
+  add(od_entry(obj::target_position, 0, a.target_position, A::rw, map));
+  add(od_entry(obj::software_position_limit, 0, a.position_limit_count, A::constant));
+  add(od_entry(obj::software_position_limit, 1, a.position_limit_min, A::rw));
+  add(od_entry(obj::software_position_limit, 2, a.position_limit_max, A::rw));
+  add(od_entry(obj::max_profile_velocity, 0, a.max_profile_velocity, A::rw, false, 1));
+  add(od_entry(obj::interpolation_data_record, 0, a.ip_data_count, A::constant));
+  add(od_entry(obj::interpolation_data_record, 1, a.ip_data, A::rw, map));
+  if (config_.has_interpolation_period) {
+    add(od_entry(obj::interpolation_time_period, 0, a.ip_period_count, A::constant));
+    add(od_entry(obj::interpolation_time_period, 1, a.ip_period_value, A::rw));
+    add(od_entry(obj::interpolation_time_period, 2, a.ip_period_index, A::rw, false, -6, 0));
+  }
+  if (config_.has_following_error_actual) {
+    add(od_entry(obj::following_error_actual, 0, a.following_error_actual, A::ro, map));
+  }
+  add(od_entry(obj::supported_drive_modes, 0, a.supported_modes, A::ro));
+  return {entries_.data(), n};
 }
 
 void DriveNode::bind_pdos() noexcept {
-  // The default mappings are fixed and the dictionary is ours, so these cannot fail; a test
-  // binds them against the same dictionary and checks the result.
-  (void)rpdo1_.bind(default_rpdo1_mapping(config_.node), od_);
-  (void)tpdo1_.bind(default_tpdo1_mapping(config_.node), od_);
-  (void)tpdo2_.bind(default_tpdo2_mapping(config_.node), od_);
+  // A default mapping that cannot be bound leaves its PDO unbound: neither sent nor applied
+  // (default_mapping_error() says why; Settle's default mapping always binds, a test checks it).
+  const DriveCommObjects& c = objects_.comm;
+  for (std::size_t i = 0; i < drive_rpdo_capacity; ++i) {
+    (void)rpdo_[i].bind(mapping_of(c.rpdo_comm[i], c.rpdo_map[i], c.rpdo_map[i].count), od_, PdoDirection::receive);
+  }
+  for (std::size_t i = 0; i < drive_tpdo_capacity; ++i) {
+    (void)tpdo_[i].bind(mapping_of(c.tpdo_comm[i], c.tpdo_map[i], c.tpdo_map[i].count), od_, PdoDirection::transmit);
+  }
+}
+
+SdoAbort DriveNode::default_mapping_error() noexcept {
+  // Each PDO in the dictionary that is valid or maps something must bind.
+  const auto check = [this](const auto& pdos, std::size_t count, PdoDirection direction) noexcept {
+    PdoBinding trial{};
+    for (std::size_t i = 0; i < count && i < pdos.size(); ++i) {
+      const PdoMapping& m = pdos[i];
+      if (m.count > drive_pdo_entry_capacity) {
+        return SdoAbort::pdo_too_long;
+      }
+      if ((m.cob_id & pdo_cob_invalid) == 0 || m.count != 0) {
+        if (const SdoAbort abort = trial.bind(m, od_, direction); abort != SdoAbort::none) {
+          return abort;
+        }
+      }
+    }
+    return SdoAbort::none;
+  };
+  const SdoAbort rpdos = check(config_.rpdos, config_.rpdo_count, PdoDirection::receive);
+  return rpdos != SdoAbort::none ? rpdos : check(config_.tpdos, config_.tpdo_count, PdoDirection::transmit);
+}
+
+bool DriveNode::rpdo_active(std::size_t i) const noexcept {
+  return i < config_.rpdo_count && i < drive_rpdo_capacity &&
+         (objects_.comm.rpdo_comm[i].cob_id & pdo_cob_invalid) == 0 && rpdo_[i].bound();
+}
+
+bool DriveNode::tpdo_active(std::size_t i) const noexcept {
+  return i < config_.tpdo_count && i < drive_tpdo_capacity &&
+         (objects_.comm.tpdo_comm[i].cob_id & pdo_cob_invalid) == 0 && tpdo_[i].bound();
 }
 
 void DriveNode::restore(bool application) noexcept {
@@ -209,7 +285,10 @@ void DriveNode::restore(bool application) noexcept {
     pdo_length_error_ = false;
     length_ok_since_error_ = false;
   }
-  pending_rpdo_.reset();
+  for (auto& pending : pending_rpdo_) {
+    pending.reset();
+  }
+  bind_pdos();
   rpdo_missing_run_ = 0;
   controlword_written_ = false;
   apply_configuration(0);
@@ -297,10 +376,16 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     apply_written_controlword(now_us, out);
     return DriveEvent::handled;
   }
-  if (frame.id == objects_.comm.rpdo1_comm.cob_id && nmt_.pdo_allowed()) {
+  if (!nmt_.pdo_allowed()) {
+    return DriveEvent::none;
+  }
+  for (std::size_t i = 0; i < drive_rpdo_capacity; ++i) {
+    if (!rpdo_active(i) || frame.id != (objects_.comm.rpdo_comm[i].cob_id & pdo_cob_id_mask)) {
+      continue;
+    }
     // A frame too short for the mapping cannot be processed: refused now, so that it never
     // replaces a good RPDO already latched for this period.
-    const std::size_t mapped = rpdo1_.mapping().byte_length();
+    const std::size_t mapped = rpdo_[i].byte_length();
     if (frame.len < mapped) {
       ++counters_.rpdos_rejected;
       pdo_length_error_ = true;
@@ -311,19 +396,31 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     // A frame of the mapped length after a length error shows the condition is gone (cleared
     // when it is applied); a longer one is reported when it is applied.
     length_ok_since_error_ = pdo_length_error_ && frame.len == mapped;
-    // Synchronous RPDO: latched now, applied at the next SYNC (CiA 301 transmission type 1).
-    if (pending_rpdo_) {
+    // Synchronous RPDO: latched now, applied at the next SYNC (CiA 301 transmission type 1..240).
+    if (pending_rpdo_[i]) {
       ++counters_.rpdos_overwritten;
     }
-    pending_rpdo_ = frame;
+    pending_rpdo_[i] = frame;
     return DriveEvent::handled;
   }
   return DriveEvent::none;
 }
 
+bool DriveNode::fresh_target() const noexcept {
+  for (std::size_t i = 0; i < drive_rpdo_capacity; ++i) {
+    if (pending_rpdo_[i] && rpdo_active(i) && (rpdo_[i].carries(obj::target_position, 0) ||
+                             rpdo_[i].carries(obj::interpolation_data_record, 1))) {
+      return true;
+    }
+  }
+  return false;
+}
+
 void DriveNode::on_nmt(const NmtMessage& message, std::uint64_t /*now_us*/, FrameSink& /*out*/) noexcept {
   if (message.command == NmtCommand::start) {
-    pending_rpdo_.reset();
+    for (auto& pending : pending_rpdo_) {
+      pending.reset();
+    }
     rpdo_missing_run_ = 0;
   }
 }
@@ -333,7 +430,7 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
   ++counters_.syncs;
   period_time_us_ = config_.axis_moves_at_sync_receive_time ? received_us : now_us;
   SyncEvent event = sync_.on_sync(sync, now_us, received_us);
-  if (event == SyncEvent::too_many && pending_rpdo_ && nmt_.pdo_allowed()) {
+  if (event == SyncEvent::too_many && fresh_target() && nmt_.pdo_allowed()) {
     // Too early, but it brings its own fresh RPDO: the master's own period delivered late (a
     // replay catching up after a stall), not an extra SYNC. A duplicated SYNC, or a second
     // producer's, has no RPDO of its own: it is the one refused (a foreign SYNC that takes the
@@ -367,9 +464,17 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
     }
   }
   if (nmt_.pdo_allowed()) {
-    if (pending_rpdo_) {
-      const PdoStatus status = rpdo1_.unpack(*pending_rpdo_);
-      pending_rpdo_.reset();
+    // RPDO loss: no fresh RPDO carrying the target (whichever PDO maps it) for this period.
+    const bool target_fresh = fresh_target();
+    bool target_received = false;  // applied: 0x607A or 0x60C1:01
+    bool target_applied = false;    // 0x607A without 0x60C1:01
+    for (std::size_t i = 0; i < drive_rpdo_capacity; ++i) {
+      if (!pending_rpdo_[i] || !rpdo_active(i)) {
+        pending_rpdo_[i].reset();  // a PDO disabled since: not applied
+        continue;
+      }
+      const PdoStatus status = rpdo_[i].unpack(*pending_rpdo_[i]);
+      pending_rpdo_[i].reset();
       if (status == PdoStatus::applied_longer) {
         pdo_length_error_ = true;
         signal_error(emcy_code::pdo_length_exceeded, error_register::communication, emcy_detail(emcy_cause::none),
@@ -380,30 +485,38 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
         pdo_length_error_ = false;
         length_ok_since_error_ = false;
         const std::uint16_t code = objects_.app.error_code;
-        if ((code == emcy_code::pdo_length || code == emcy_code::pdo_length_exceeded) && power_.state() != Cia402State::fault &&
-            !power_.stopping()) {
+        if ((code == emcy_code::pdo_length || code == emcy_code::pdo_length_exceeded) &&
+            power_.state() != Cia402State::fault && !power_.stopping()) {
           clear_errors(now_us, out);
         }
       }
       if (status == PdoStatus::ok || status == PdoStatus::applied_longer) {
-        // Interpolated position takes its setpoint from 0x60C1:01; the default RPDO1 carries
-        // 0x607A, so a received target feeds the interpolation record too.
-        if (objects_.app.mode_display == static_cast<std::int8_t>(OperationMode::interpolated_position)) {
-          objects_.app.ip_data = objects_.app.target_position;
-        }
+        const bool position = rpdo_[i].carries(obj::target_position, 0);
+        const bool ip = rpdo_[i].carries(obj::interpolation_data_record, 1);
+        target_received = target_received || position || ip;
+        target_applied = target_applied || (position && !ip);
         ++counters_.rpdos_applied;
-        rpdo_missing_run_ = 0;
-        apply_written_controlword(now_us, out);
       } else {
         ++counters_.rpdos_rejected;
       }
-    } else if (power_.enabled()) {
+    }
+    // Interpolated position takes its setpoint from 0x60C1:01; an RPDO that carries 0x607A
+    // (and not 0x60C1:01) feeds the interpolation record too.
+    if (target_applied &&
+        objects_.app.mode_display == static_cast<std::int8_t>(OperationMode::interpolated_position)) {
+      objects_.app.ip_data = objects_.app.target_position;
+    }
+    // A target that came but was refused neither counts as missing nor ends a run of them.
+    if (target_received) {
+      rpdo_missing_run_ = 0;
+    } else if (!target_fresh && power_.enabled()) {
       ++counters_.rpdos_missing;
       if (++rpdo_missing_run_ > objects_.app.communication_loss_periods) {
         quick_stop_with_emcy(emcy_code::rpdo_timeout, emcy_detail(emcy_cause::rpdo_loss, rpdo_missing_run_), now_us,
                              out);
       }
     }
+    apply_written_controlword(now_us, out);
   }
 
   apply_setpoint(now_us, out);
@@ -484,6 +597,10 @@ bool DriveNode::following() const noexcept {
 }
 
 std::uint32_t DriveNode::interpolation_period_us() const noexcept {
+  if (!config_.has_interpolation_period) {
+    // No 0x60C2: the drive interpolates over the communication cycle period.
+    return objects_.comm.cycle_period_us != 0 ? objects_.comm.cycle_period_us : default_sync_period_us;
+  }
   // 0x60C2: value x 10^index s; the index is limited to -6..0, so this is exact in µs.
   constexpr std::array<std::uint32_t, 7> us_per_unit{1, 10, 100, 1'000, 10'000, 100'000, 1'000'000};
   const auto i = static_cast<std::size_t>(objects_.app.ip_period_index + 6);
@@ -498,6 +615,7 @@ void DriveNode::publish(const DriveFeedback& feedback, std::uint64_t now_us, Fra
   if (!power_.enabled()) {
     setpoint_ = a.position_actual;
   }
+  a.following_error_actual = static_cast<std::int32_t>(position_difference(setpoint_, a.position_actual));
 
   if (following() && a.following_error_window != following_error_window_off) {
     const std::int64_t deviation = position_difference(setpoint_, a.position_actual);
@@ -519,12 +637,13 @@ void DriveNode::publish(const DriveFeedback& feedback, std::uint64_t now_us, Fra
   update_statusword();
 
   if (nmt_.pdo_allowed()) {
+    // Transmission type n: after every n-th SYNC.
     CanFrame frame{};
-    if (tpdo1_.pack(frame) == PdoStatus::ok) {
-      (void)out.put(frame);
-    }
-    if (tpdo2_.pack(frame) == PdoStatus::ok) {
-      (void)out.put(frame);
+    for (std::size_t i = 0; i < drive_tpdo_capacity; ++i) {
+      const std::uint8_t every = objects_.comm.tpdo_comm[i].transmission_type;
+      if (tpdo_active(i) && every != 0 && counters_.syncs % every == 0 && tpdo_[i].pack(frame) == PdoStatus::ok) {
+        (void)out.put(frame);
+      }
     }
   }
 }
@@ -655,9 +774,22 @@ void DriveNode::update_statusword() noexcept {
   objects_.app.statusword = sw;
 }
 
+OdBytes DriveNode::constant_text(const char* text) noexcept {
+  std::uint32_t length = 0;
+  while (text != nullptr && text[length] != '\0') {
+    ++length;
+  }
+  // The dictionary writes a byte string only through a writable entry; these are constant.
+  auto* bytes = const_cast<std::uint8_t*>(reinterpret_cast<const std::uint8_t*>(text));
+  return OdBytes{bytes, length, length};
+}
+
 SdoAbort DriveNode::check_write(void* self, const OdEntry& entry, std::int64_t value) noexcept {
   const auto& node = *static_cast<const DriveNode*>(self);
   const DriveAppObjects& a = node.objects_.app;
+  if (entry.index >= obj::rpdo1_communication && entry.index < obj::tpdo1_mapping + drive_tpdo_capacity) {
+    return static_cast<DriveNode*>(self)->check_pdo_write(entry, value);
+  }
   switch (entry.index) {
     case obj::modes_of_operation:
       return is_supported_mode(value) ? SdoAbort::none : SdoAbort::invalid_value;
@@ -682,6 +814,57 @@ SdoAbort DriveNode::check_write(void* self, const OdEntry& entry, std::int64_t v
     default:
       return SdoAbort::none;
   }
+}
+
+SdoAbort DriveNode::check_pdo_write(const OdEntry& entry, std::int64_t value) noexcept {
+  // Only reached for a writable mapping (the static one is read-only in the dictionary). The
+  // CiA 301 procedure: disable the PDO (COB-ID bit 31), set mapping sub 0 to 0, write the
+  // entries, set sub 0 to their number (which validates and binds them), enable the PDO.
+  const std::uint16_t index = entry.index;
+  const bool receive = index < obj::tpdo1_communication;
+  const bool mapping = (index & 0x0200U) != 0;
+  const std::size_t i = index & 0x00FFU;
+  DriveCommObjects& c = objects_.comm;
+  DriveCommObjects::PdoComm& comm = receive ? c.rpdo_comm[i] : c.tpdo_comm[i];
+  DriveCommObjects::PdoMap& map = receive ? c.rpdo_map[i] : c.tpdo_map[i];
+  PdoBinding& binding = receive ? rpdo_[i] : tpdo_[i];
+  const PdoDirection direction = receive ? PdoDirection::receive : PdoDirection::transmit;
+  const bool valid = (comm.cob_id & pdo_cob_invalid) == 0;
+  if (!mapping) {
+    if (entry.sub == 2) {
+      return is_synchronous(value) ? SdoAbort::none : SdoAbort::invalid_value;
+    }
+    const auto cob = static_cast<std::uint32_t>(value);
+    const bool enable = (cob & pdo_cob_invalid) == 0;
+    const std::uint32_t id = cob & pdo_cob_id_mask;
+    // 29-bit ids are not supported; the id of a valid PDO cannot change under it.
+    if ((cob & pdo_cob_extended) != 0 || (cob & 0x1FFF'F800U) != 0 || id == 0 ||
+        (valid && enable && id != (comm.cob_id & pdo_cob_id_mask))) {
+      return SdoAbort::invalid_value;
+    }
+    if (enable && !valid) {
+      // Enabling: only with a mapping that binds (sub 0 > 0, every entry valid).
+      PdoMapping m = mapping_of(comm, map, map.count);
+      m.cob_id = id;
+      if (map.count == 0 || binding.bind(m, od_, direction) != SdoAbort::none) {
+        return SdoAbort::invalid_value;
+      }
+    }
+    return SdoAbort::none;
+  }
+  if (valid) {
+    return SdoAbort::invalid_value;  // the mapping of a valid PDO cannot change
+  }
+  if (entry.sub != 0) {
+    return map.count == 0 ? SdoAbort::none : SdoAbort::invalid_value;  // entries only while sub 0 is 0
+  }
+  if (value > static_cast<std::int64_t>(map.entries.size())) {
+    return SdoAbort::value_too_high;
+  }
+  if (value == 0) {
+    return SdoAbort::none;
+  }
+  return binding.bind(mapping_of(comm, map, static_cast<std::size_t>(value)), od_, direction);
 }
 
 void DriveNode::on_written(void* self, const OdEntry& entry) noexcept {

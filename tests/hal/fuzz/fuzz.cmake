@@ -89,7 +89,10 @@ add_custom_target(hal_fuzz_servo ALL DEPENDS ${servo_fuzz_exe})
 # minimised input per invariant violation found; each is its own test).
 set(servo_seeds_dir ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/servo_seeds)
 set(servo_regressions_dir ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/regressions)
-set(SETTLE_SERVO_FUZZ_BRIEF_RUNS 600 CACHE STRING "inputs the brief master-vs-drive fuzz run tries")
+# The path the run takes follows the coverage map, so any change to the code under test moves
+# where it finds the pending item08 violation: after the drive's dynamic PDO mapping (issue 14)
+# seed 1 reaches it at run ~3750, no longer within 600.
+set(SETTLE_SERVO_FUZZ_BRIEF_RUNS 4000 CACHE STRING "inputs the brief master-vs-drive fuzz run tries")
 set(servo_fuzz_common -rss_limit_mb=2048 -max_len=1100 -artifact_prefix=${servo_fuzz_dir}/artifacts/)
 file(MAKE_DIRECTORY ${servo_fuzz_dir}/artifacts ${servo_fuzz_dir}/corpus-long)
 file(GLOB servo_seeds CONFIGURE_DEPENDS ${servo_seeds_dir}/*)

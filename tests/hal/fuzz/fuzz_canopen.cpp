@@ -1,6 +1,6 @@
 // libFuzzer harness over every CANopen decoder, the SDO server, the drive node and the master
 // side, fed one byte stream as a sequence of frames with time steps in between:
-//   byte 0: node id; then records of
+//   byte 0: node id (bit 7: the drive's PDO mapping is writable); then records of
 //   [time step /64 µs] [format bits] [id low] [id high] [len] [len data bytes]
 // Format bits: can_flag bits as they are; 0x80 reaches extended ids; 0x40 also hands the record's
 // first eight data bytes to the segmented-SDO rig as a request (0x600 + node), 0x20 to its
@@ -231,6 +231,18 @@ void check_dictionary(DriveNode& drive) {
       REQUIRE(v >= e.min && v <= e.max);
     }
   }
+  // The mapping procedure never leaves a valid PDO without a bound, non-empty mapping.
+  const DriveCommObjects& c = drive.objects().comm;
+  for (std::size_t p = 0; p < drive_rpdo_capacity; ++p) {
+    if (drive.dictionary().has_index(static_cast<std::uint16_t>(0x1400 + p)) && (c.rpdo_comm[p].cob_id >> 31U) == 0) {
+      REQUIRE(c.rpdo_map[p].count > 0 && drive.rpdo_active(p));
+    }
+  }
+  for (std::size_t p = 0; p < drive_tpdo_capacity; ++p) {
+    if (drive.dictionary().has_index(static_cast<std::uint16_t>(0x1800 + p)) && (c.tpdo_comm[p].cob_id >> 31U) == 0) {
+      REQUIRE(c.tpdo_map[p].count > 0 && drive.tpdo_active(p));
+    }
+  }
 }
 
 }  // namespace
@@ -252,6 +264,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   dc.node = node;
   dc.following_error_window = 1000;
   dc.following_error_timeout_ms = 2;
+  if ((data[0] & 0x80U) != 0) {  // a drive with dynamic mapping and every PDO it can have
+    dc.pdo_mapping_writable = true;
+    dc.rpdo_count = static_cast<std::uint8_t>(drive_rpdo_capacity);
+    dc.tpdo_count = static_cast<std::uint8_t>(drive_tpdo_capacity);
+  }
   DriveNode drive{dc};
   RemoteDriveConfig rc{};
   rc.node = node;

@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 
 #include "settle/hal/can_frame.hpp"
 #include "settle/hal/canopen/cia402.hpp"
@@ -79,8 +80,8 @@ inline constexpr std::uint8_t sync_loss = 8;
 inline constexpr std::uint8_t rpdo_loss = 9;
 }  // namespace emcy_cause
 
-// 0x1008..0x100A (const VISIBLE_STRINGs, served by segmented SDO upload): what the drive says it
-// is. hal/eds/settle_drive.eds carries the same text.
+// 0x1008..0x100A (const VISIBLE_STRINGs, served by segmented SDO upload): what the default drive
+// says it is (DriveNodeConfig can name other text). hal/eds/settle_drive.eds carries the same.
 inline constexpr char drive_device_name[] = "Settle simulated CiA 402 drive";
 inline constexpr char drive_hardware_version[] = "simulated";
 inline constexpr char drive_software_version[] = "Settle 0.1.0";
@@ -88,6 +89,68 @@ inline constexpr char drive_software_version[] = "Settle 0.1.0";
 // The manufacturer-specific bytes of an EMCY (see emcy_cause).
 using EmcyDetail = std::array<std::uint8_t, 5>;
 [[nodiscard]] EmcyDetail emcy_detail(std::uint8_t cause, std::int64_t value = 0) noexcept;
+
+// How many PDOs the drive can have, and how many objects each can map: the dictionary has a row
+// per communication and mapping sub-index, so these are compile-time capacities. A firmware
+// image short of RAM sets them lower (the micro:bit image: SETTLE_DRIVE_RPDOS=1,
+// SETTLE_DRIVE_TPDOS=2, SETTLE_DRIVE_PDO_ENTRIES=2, which hold Settle's default mapping).
+#ifndef SETTLE_DRIVE_RPDOS
+#define SETTLE_DRIVE_RPDOS 4
+#endif
+#ifndef SETTLE_DRIVE_TPDOS
+#define SETTLE_DRIVE_TPDOS 4
+#endif
+#ifndef SETTLE_DRIVE_PDO_ENTRIES
+#define SETTLE_DRIVE_PDO_ENTRIES 8
+#endif
+inline constexpr std::size_t drive_rpdo_capacity = SETTLE_DRIVE_RPDOS;
+inline constexpr std::size_t drive_tpdo_capacity = SETTLE_DRIVE_TPDOS;
+inline constexpr std::size_t drive_pdo_entry_capacity = SETTLE_DRIVE_PDO_ENTRIES;
+static_assert(drive_rpdo_capacity >= 1 && drive_rpdo_capacity <= 4, "CiA 301 predefined set: RPDO1..4");
+static_assert(drive_tpdo_capacity >= 2 && drive_tpdo_capacity <= 4, "TPDO1..4; the default mapping uses two");
+static_assert(drive_pdo_entry_capacity >= 2 && drive_pdo_entry_capacity <= pdo_max_entries,
+              "the default mapping maps two objects per PDO");
+
+// A PDO's COB-ID (comm sub 1) as CiA 301 writes it: bit 31 set = not valid (the PDO is off).
+inline constexpr std::uint32_t pdo_cob_invalid = 0x8000'0000U;
+inline constexpr std::uint32_t pdo_cob_no_rtr = 0x4000'0000U;  // TPDO: no remote request (ignored)
+inline constexpr std::uint32_t pdo_cob_extended = 0x2000'0000U;  // 29-bit id: not supported
+inline constexpr std::uint32_t pdo_cob_id_mask = 0x7FFU;
+
+// The drive's default PDOs (Settle's default mapping, default_mapping.hpp): RPDO1 and TPDO1/2
+// valid and synchronous, the others not valid and empty. In a DriveNodeConfig a COB-ID whose
+// 11-bit id is 0 stands for the predefined connection set's id of the node (an EDS's
+// $NODEID+0x200 and so on), so the same configuration serves any node id.
+template <std::size_t N, std::size_t K>
+[[nodiscard]] constexpr std::array<PdoMapping, N> drive_pdos(const std::array<PdoMapping, K>& valid) noexcept {
+  static_assert(K <= N);
+  std::array<PdoMapping, N> pdos{};
+  for (std::size_t i = 0; i < N; ++i) {
+    if (i < K) {
+      pdos[i] = valid[i];
+      pdos[i].cob_id = 0;  // the predefined id of the node
+    } else {
+      pdos[i].cob_id = pdo_cob_invalid;
+    }
+  }
+  return pdos;
+}
+[[nodiscard]] constexpr std::array<PdoMapping, drive_rpdo_capacity> default_drive_rpdos() noexcept {
+  return drive_pdos<drive_rpdo_capacity>(std::array{default_rpdo1_mapping(0)});
+}
+[[nodiscard]] constexpr std::array<PdoMapping, drive_tpdo_capacity> default_drive_tpdos() noexcept {
+  return drive_pdos<drive_tpdo_capacity>(std::array{default_tpdo1_mapping(0), default_tpdo2_mapping(0)});
+}
+// The COB-ID the drive's PDO has for `node`: a configured id of 0 becomes the predefined one
+// (RPDOn 0x200 + 0x100 (n-1) + node, TPDOn 0x180 + 0x100 (n-1) + node); bits 29..31 are kept.
+[[nodiscard]] constexpr std::uint32_t drive_pdo_cob_id(std::uint32_t configured, bool receive, std::size_t number,
+                                                       NodeId node) noexcept {
+  if ((configured & pdo_cob_id_mask) != 0) {
+    return configured;
+  }
+  const std::uint32_t base = (receive ? cob::rpdo1 : cob::tpdo1) + 0x100U * static_cast<std::uint32_t>(number - 1);
+  return configured | cob_id(static_cast<std::uint16_t>(base), node);
+}
 
 struct DriveNodeConfig {
   NodeId node{1};
@@ -106,6 +169,25 @@ struct DriveNodeConfig {
   std::uint32_t product_code{0x5E77'1E00};
   std::uint32_t revision{1};
   std::uint32_t serial{0};
+  std::uint32_t device_type{cia402_device_type};          // 0x1000
+  // 0x1008..0x100A: NUL-terminated text the drive serves as it is, not copied: it must outlive
+  // the DriveNode (string literals do). nullptr serves an empty string.
+  const char* device_name{drive_device_name};
+  const char* hardware_version{drive_hardware_version};
+  const char* software_version{drive_software_version};
+  // Optional objects: absent ones are not in the dictionary (SDO abort 0x06020000).
+  bool has_interpolation_period{true};       // 0x60C2 (absent: the step limit uses 0x1006 alone)
+  bool has_following_error_actual{true};     // 0x60F4
+  // Dynamic PDO mapping (CiA 301): the PDOs' COB-IDs, transmission types and mapping objects are
+  // writable, in the order CiA 301 prescribes. Otherwise they are read-only (abort 0x06010002)
+  // and the mapping below is static.
+  bool pdo_mapping_writable{false};
+  // The PDOs in the dictionary: RPDO1..rpdo_count, TPDO1..tpdo_count (at most the capacities).
+  std::uint8_t rpdo_count{1};
+  std::uint8_t tpdo_count{2};
+  // Their defaults: COB-ID (see default_drive_rpdos), transmission type and mapping.
+  std::array<PdoMapping, drive_rpdo_capacity> rpdos{default_drive_rpdos()};
+  std::array<PdoMapping, drive_tpdo_capacity> tpdos{default_drive_tpdos()};
   // The clock the step window measures periods in (step_window.hpp): when the axis moves. A
   // drive that moves its axis as it processes a SYNC (firmware) uses the time it processes it;
   // a simulated axis that advances one period per SYNC (sim's PlantNode) uses the SYNC's receive
@@ -135,21 +217,19 @@ struct DriveCommObjects {  // 0x1000..0x1FFF, CiA 301
   std::uint8_t sdo_parameter_count{2};
   std::uint32_t sdo_cob_rx{0};
   std::uint32_t sdo_cob_tx{0};
-  struct PdoComm {
-    std::uint8_t count{2};
+  struct PdoComm {  // the word first: 8 bytes, not 12 (the micro:bit image counts them)
     std::uint32_t cob_id{0};
+    std::uint8_t count{2};
     std::uint8_t transmission_type{pdo_transmission::synchronous};
   };
   struct PdoMap {
-    std::uint8_t count{2};
-    std::array<std::uint32_t, 2> entries{};
+    std::uint8_t count{0};
+    std::array<std::uint32_t, drive_pdo_entry_capacity> entries{};  // PdoMappingEntry::raw()
   };
-  PdoComm rpdo1_comm{};
-  PdoMap rpdo1_map{};
-  PdoComm tpdo1_comm{};
-  PdoComm tpdo2_comm{};
-  PdoMap tpdo1_map{};
-  PdoMap tpdo2_map{};
+  std::array<PdoComm, drive_rpdo_capacity> rpdo_comm{};
+  std::array<PdoMap, drive_rpdo_capacity> rpdo_map{};
+  std::array<PdoComm, drive_tpdo_capacity> tpdo_comm{};
+  std::array<PdoMap, drive_tpdo_capacity> tpdo_map{};
 };
 
 struct DriveAppObjects {  // 0x2000.. Settle, 0x6000.. CiA 402
@@ -167,6 +247,7 @@ struct DriveAppObjects {  // 0x2000.. Settle, 0x6000.. CiA 402
   std::uint16_t following_error_timeout_ms{default_following_error_timeout_ms};
   std::int32_t velocity_actual{0};
   std::int32_t target_position{0};
+  std::int32_t following_error_actual{0};  // 0x60F4: setpoint - position actual, counts
   std::uint8_t position_limit_count{2};
   std::int32_t position_limit_min{0};
   std::int32_t position_limit_max{0};
@@ -251,15 +332,27 @@ class DriveNode {
   [[nodiscard]] ObjectDictionary& dictionary() noexcept { return od_; }
   [[nodiscard]] const DriveCounters& counters() const noexcept { return counters_; }
   [[nodiscard]] NodeId node() const noexcept { return config_.node; }
+  // The first default mapping of a valid PDO that cannot be bound (an object missing, not
+  // mappable or not of the PDO's direction, more than 64 bits): none for a usable configuration.
+  // Such a PDO is neither sent nor applied; a configuration reader reports this as its error.
+  [[nodiscard]] SdoAbort default_mapping_error() noexcept;
+  // Whether the PDO (0-based: 0 = RPDO1 / TPDO1) is valid (COB-ID bit 31 clear) and bound.
+  [[nodiscard]] bool rpdo_active(std::size_t i) const noexcept;
+  [[nodiscard]] bool tpdo_active(std::size_t i) const noexcept;
 
  private:
-  static constexpr std::size_t entry_count = 63;
+  // Rows of the dictionary at most: the fixed objects, the optional ones, and per PDO its
+  // communication sub 0..2 and mapping sub 0..capacity.
+  static constexpr std::size_t entry_capacity =
+      46 + (drive_rpdo_capacity + drive_tpdo_capacity) * (4 + drive_pdo_entry_capacity);
 
   void restore(bool application) noexcept;
   void apply_configuration(std::uint16_t index) noexcept;  // 0: every configuration object
   void apply_written_controlword(std::uint64_t now_us, FrameSink& out) noexcept;
   void bind_pdos() noexcept;
-  [[nodiscard]] std::array<OdEntry, entry_count> make_entries() noexcept;
+  [[nodiscard]] std::span<const OdEntry> make_entries() noexcept;
+  [[nodiscard]] SdoAbort check_pdo_write(const OdEntry& entry, std::int64_t value) noexcept;
+  [[nodiscard]] bool fresh_target() const noexcept;
   [[nodiscard]] DriveEvent on_sync(const SyncMessage& sync, std::uint64_t now_us, std::uint64_t received_us,
                                    FrameSink& out) noexcept;
   void on_nmt(const NmtMessage& message, std::uint64_t now_us, FrameSink& out) noexcept;
@@ -275,15 +368,17 @@ class DriveNode {
   void clear_errors(std::uint64_t now_us, FrameSink& out) noexcept;
   void update_statusword() noexcept;
 
+  [[nodiscard]] static OdBytes constant_text(const char* text) noexcept;
   static SdoAbort check_write(void* self, const OdEntry& entry, std::int64_t value) noexcept;
   static void on_written(void* self, const OdEntry& entry) noexcept;
 
   DriveNodeConfig config_;
   DriveObjects objects_{};
-  OdByteString<sizeof drive_device_name - 1> device_name_{};
-  OdByteString<sizeof drive_hardware_version - 1> hardware_version_{};
-  OdByteString<sizeof drive_software_version - 1> software_version_{};
-  std::array<OdEntry, entry_count> entries_;
+  // The configured strings, served in place (constant objects: never written through these).
+  OdBytes device_name_{constant_text(config_.device_name)};
+  OdBytes hardware_version_{constant_text(config_.hardware_version)};
+  OdBytes software_version_{constant_text(config_.software_version)};
+  std::array<OdEntry, entry_capacity> entries_{};
   ObjectDictionary od_;
   NmtSlave nmt_;
   SdoServer sdo_;
@@ -292,10 +387,9 @@ class DriveNode {
   SyncConsumer sync_;
   EmcyProducer emcy_;
   PowerStateMachine power_{};
-  PdoBinding rpdo1_{};
-  PdoBinding tpdo1_{};
-  PdoBinding tpdo2_{};
-  std::optional<CanFrame> pending_rpdo_{};
+  std::array<PdoBinding, drive_rpdo_capacity> rpdo_{};
+  std::array<PdoBinding, drive_tpdo_capacity> tpdo_{};
+  std::array<std::optional<CanFrame>, drive_rpdo_capacity> pending_rpdo_{};
   Watchdog following_error_timer_{};
   DriveCounters counters_{};
   std::int32_t setpoint_{0};

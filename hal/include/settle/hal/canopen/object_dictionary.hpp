@@ -105,6 +105,9 @@ class OdVar {
   explicit constexpr OdVar(std::int32_t& v) noexcept : type_{OdType::i32} { p_.i32 = &v; }
   // type is one of the byte-string types (od_type_is_bytes).
   constexpr OdVar(OdBytes& b, OdType type) noexcept : type_{type} { p_.bytes = &b; }
+  // Refers to nothing: the spare rows of a table sized for its largest configuration, which no
+  // dictionary's span includes.
+  constexpr OdVar() noexcept : type_{OdType::u8} {}
 
   [[nodiscard]] constexpr OdType type() const noexcept { return type_; }
   // The byte string behind a byte-string entry; nullptr for an integer.

@@ -57,12 +57,21 @@ enum class PdoStatus : std::uint8_t {
   rejected,     // a mapped object refused the value (range, owner's veto)
 };
 
+// Which way a PDO carries its objects: an RPDO writes them (each must be writable), a TPDO reads
+// them (each must be readable). unchecked: mappability alone (a mapping tried on its own).
+enum class PdoDirection : std::uint8_t { unchecked, receive, transmit };
+
 // A mapping resolved to dictionary entries. Only whole-byte objects are mappable here
 // (every CiA 402 process value is 8, 16 or 32 bits).
 class PdoBinding {
  public:
-  // Checks every entry exists, is mappable, has its type's length, and fits eight bytes.
-  [[nodiscard]] SdoAbort bind(const PdoMapping& mapping, ObjectDictionary& od) noexcept;
+  // Checks every entry exists (0x06020000, 0x06090011), is mappable and, for a direction, has
+  // the access it needs (0x06040041), has its type's length (0x06070010), and that all fit eight
+  // bytes (0x06040042). On failure the binding is left unbound.
+  [[nodiscard]] SdoAbort bind(const PdoMapping& mapping, ObjectDictionary& od,
+                              PdoDirection direction = PdoDirection::unchecked) noexcept;
+  // Whether the mapping carries the object.
+  [[nodiscard]] bool carries(std::uint16_t index, std::uint8_t sub) const noexcept;
 
   // Fills a TPDO from the current values of the mapped variables.
   [[nodiscard]] PdoStatus pack(CanFrame& out) const noexcept;
@@ -71,13 +80,18 @@ class PdoBinding {
   // are checked before any is stored, so a rejected frame leaves every variable untouched.
   [[nodiscard]] PdoStatus unpack(const CanFrame& in) noexcept;
 
-  [[nodiscard]] const PdoMapping& mapping() const noexcept { return mapping_; }
+  // The bytes the mapping fills (a frame shorter than this is not processed).
+  [[nodiscard]] std::size_t byte_length() const noexcept { return bytes_; }
   [[nodiscard]] bool bound() const noexcept { return od_ != nullptr; }
 
  private:
-  PdoMapping mapping_{};
+  // The mapping is kept as its resolved entries only (each names its object and has its size):
+  // a drive holds one binding per PDO, and the smallest image counts their bytes.
   std::array<const OdEntry*, pdo_max_entries> resolved_{};
   ObjectDictionary* od_{nullptr};
+  std::uint32_t cob_id_{0};
+  std::uint8_t count_{0};
+  std::uint8_t bytes_{0};
 };
 
 }  // namespace settle::hal::canopen
