@@ -47,6 +47,69 @@ const char* to_string(RemoteDriveState state) noexcept {
   return "?";
 }
 
+const char* to_string(StartupError error) noexcept {
+  switch (error) {
+    case StartupError::none: return "none";
+    case StartupError::sdo_aborted: return "sdo_aborted";
+    case StartupError::sdo_timed_out: return "sdo_timed_out";
+    case StartupError::wrong_value: return "wrong_value";
+    case StartupError::not_cia402: return "not_cia402";
+    case StartupError::wrong_identity: return "wrong_identity";
+    case StartupError::mode_not_applied: return "mode_not_applied";
+    case StartupError::plan_too_long: return "plan_too_long";
+    case StartupError::enable_timeout: return "enable_timeout";
+  }
+  return "?";
+}
+
+std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config, std::span<StartupStep> out) noexcept {
+  std::size_t n = 0;
+  bool fits = true;
+  const auto add = [&](const StartupStep& s) {
+    if (n < out.size()) {
+      out[n++] = s;
+    } else {
+      fits = false;
+    }
+  };
+  using S = StartupStep;
+  const auto mode = static_cast<std::uint8_t>(config.mode);
+  // A CiA 402 device at all (profile number in the low 16 bits of 0x1000)?
+  add(S::check(obj::device_type, 0, cia402_device_type, 2));
+  // The drive the user expects, when they said which.
+  const std::array<std::uint32_t, 4> identity{config.expected_vendor_id, config.expected_product_code,
+                                              config.expected_revision, config.expected_serial};
+  for (std::size_t i = 0; i < identity.size(); ++i) {
+    if (identity[i] != 0) add(S::check(obj::identity, static_cast<std::uint8_t>(i + 1), identity[i], 4));
+  }
+  add(S::write(obj::modes_of_operation, 0, mode, 1));
+  if (const auto ip = interpolation_period_from_us(config.sync_period_us)) {
+    add(S::write(obj::interpolation_time_period, 1, ip->value, 1));
+    add(S::write(obj::interpolation_time_period, 2, static_cast<std::uint8_t>(ip->index), 1));
+  }
+  add(S::write(obj::communication_cycle_period, 0, config.sync_period_us, 4));
+  if (config.communication_loss_periods != 0) {
+    add(S::write(obj::communication_loss_periods, 0, config.communication_loss_periods, 1));
+  }
+  if (config.master_node != 0) {
+    const std::uint32_t hb = (std::uint32_t{config.master_node} << 16U) | config.master_heartbeat_timeout_ms;
+    add(S::write(obj::consumer_heartbeat_time, 1, hb, 4));
+  }
+  if (config.heartbeat_period_ms != 0) add(S::write(obj::producer_heartbeat_time, 0, config.heartbeat_period_ms, 2));
+  if (config.following_error_window != 0) {
+    add(S::write(obj::following_error_window, 0, config.following_error_window, 4));
+    add(S::write(obj::following_error_timeout, 0, config.following_error_timeout_ms, 2));
+  }
+  // The limits the loop enforces at submit; a drive without them limits nothing.
+  add(S::read(obj::software_position_limit, 1, StartupField::position_min, true));
+  add(S::read(obj::software_position_limit, 2, StartupField::position_max, true));
+  add(S::read(obj::max_profile_velocity, 0, StartupField::max_profile_velocity, true));
+  // The drive may accept a mode write and still run another one: trust the display.
+  add(S::check(obj::modes_of_operation_display, 0, mode, 1));
+  if (!fits) return std::nullopt;
+  return n;
+}
+
 RemoteDrive::RemoteDrive(const RemoteDriveConfig& config) noexcept
     : config_{config},
       tpdo1_id_{is_valid_node(config.node) ? cob_id(cob::tpdo1, config.node) : ~std::uint32_t{0}},
@@ -55,36 +118,14 @@ RemoteDrive::RemoteDrive(const RemoteDriveConfig& config) noexcept
       sdo_{config.node, config.sdo_timeout_us},
       heartbeat_{config.node, config.heartbeat_timeout_ms},
       emcy_{config.node} {
+  static_assert(remote_drive_max_steps <= 255, "step_count_ is a byte");
   // The steps depend on the configuration alone, which is fixed from here on: planned once, so
   // the tick that takes a drive's boot-up (start()) does no division and builds no table.
-  plan_configuration();
-}
-
-void RemoteDrive::plan_configuration() noexcept {
-  step_count_ = 0;
-  const auto add = [this](SdoStep s) {
-    if (step_count_ < max_steps) {
-      steps_[step_count_++] = s;
-    }
-  };
-  const auto mode = static_cast<std::uint8_t>(config_.mode);
-  // A CiA 402 device at all (profile number in the low 16 bits of 0x1000)?
-  add({obj::device_type, 0, cia402_device_type, 4, true, 0xFFFF});
-  add({obj::modes_of_operation, 0, mode, 1, false, 0});
-  if (const auto ip = interpolation_period_from_us(config_.sync_period_us)) {
-    add({obj::interpolation_time_period, 1, ip->value, 1, false, 0});
-    add({obj::interpolation_time_period, 2, static_cast<std::uint8_t>(ip->index), 1, false, 0});
+  if (const auto n = plan_start_up(config_, steps_)) {
+    step_count_ = static_cast<std::uint8_t>(*n);
+  } else {
+    plan_too_long_ = true;
   }
-  add({obj::communication_cycle_period, 0, config_.sync_period_us, 4, false, 0});
-  if (config_.communication_loss_periods != 0) {
-    add({obj::communication_loss_periods, 0, config_.communication_loss_periods, 1, false, 0});
-  }
-  if (config_.master_node != 0) {
-    const std::uint32_t hb = (std::uint32_t{config_.master_node} << 16U) | config_.master_heartbeat_timeout_ms;
-    add({obj::consumer_heartbeat_time, 1, hb, 4, false, 0});
-  }
-  // The drive may accept a mode write and still run another one: trust the display.
-  add({obj::modes_of_operation_display, 0, mode, 1, true, 0xFF});
 }
 
 void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
@@ -94,7 +135,15 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   enable_timer_.disarm();
   step_ = 0;
   step_sent_ = false;
+  verifying_ = false;
+  retried_ = false;
   operational_seen_ = false;
+  limits_ = RemoteDriveLimits{};
+  if (plan_too_long_) {
+    failure_.error = StartupError::plan_too_long;
+    fail(now_us);
+    return;
+  }
   // SDO configuration belongs in pre-operational, where no process data flows.
   (void)out.put(encode_nmt(NmtCommand::enter_pre_operational, config_.node));
   next_step(now_us, out);
@@ -107,9 +156,43 @@ void RemoteDrive::next_step(std::uint64_t now_us, FrameSink& out) noexcept {
     }
     return;
   }
-  const SdoStep& s = steps_[step_];
-  step_sent_ = s.upload ? sdo_.upload(s.index, s.sub, now_us, out)
-                        : sdo_.download(s.index, s.sub, s.value, s.size, now_us, out);
+  const StartupStep& s = steps_[step_];
+  step_sent_ = s.action() != StartupAction::write || verifying_
+                   ? sdo_.upload(s.index(), s.sub(), now_us, out)
+                   : sdo_.download(s.index(), s.sub(), s.value() & s.mask(), s.size(), now_us, out);
+}
+
+void RemoteDrive::fail_step(const SdoResult& r, StartupError error, std::uint64_t now_us) noexcept {
+  failure_ = RemoteDriveFailure{r.index, r.sub, r.status, r.abort, false, false, error, 0, 0};
+  fail(now_us);
+}
+
+bool RemoteDrive::take_step_result(const StartupStep& s, const SdoResult& r, std::uint64_t now_us) noexcept {
+  switch (s.action()) {
+    case StartupAction::write:  // the read-back
+    case StartupAction::check: break;
+    case StartupAction::read:
+      switch (s.field()) {
+        case StartupField::position_min: limits_.position_min = static_cast<std::int32_t>(r.value); break;
+        case StartupField::position_max: limits_.position_max = static_cast<std::int32_t>(r.value); break;
+        case StartupField::max_profile_velocity: limits_.max_profile_velocity = r.value; break;
+        case StartupField::none: break;
+      }
+      return true;
+  }
+  if ((r.value & s.mask()) != (s.value() & s.mask())) {
+    StartupError error = StartupError::wrong_value;
+    if (s.action() == StartupAction::check) {
+      if (s.index() == obj::device_type) error = StartupError::not_cia402;
+      if (s.index() == obj::identity) error = StartupError::wrong_identity;
+      if (s.index() == obj::modes_of_operation_display) error = StartupError::mode_not_applied;
+    }
+    failure_ = RemoteDriveFailure{r.index, r.sub, r.status, SdoAbort::none, true, false, error,
+                                  s.value() & s.mask(), r.value & s.mask()};
+    fail(now_us);
+    return false;
+  }
+  return true;
 }
 
 void RemoteDrive::begin_enabling(std::uint64_t now_us) noexcept {
@@ -211,18 +294,22 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
     return RemoteFrame::ignored;
   }
   const SdoResult& r = sdo_.result();
-  if (r.status != SdoClientStatus::done) {
-    failure_ = RemoteDriveFailure{r.index, r.sub, r.status, r.abort, false, false};
-    fail(now_us);
+  const StartupStep& s = steps_[step_];
+  const bool absent = r.abort == SdoAbort::no_object || r.abort == SdoAbort::no_sub_index;
+  if (r.status == SdoClientStatus::aborted && s.optional() && absent) {
+    ++step_;  // an optional object the drive does not have: the default stays
+  } else if (r.status != SdoClientStatus::done) {
+    fail_step(r, StartupError::sdo_aborted, now_us);
+    return RemoteFrame::sdo;
+  } else if (s.action() == StartupAction::write && !verifying_) {
+    verifying_ = true;  // written: now read it back
+  } else if (take_step_result(s, r, now_us)) {
+    ++step_;
+    verifying_ = false;
+  } else {
     return RemoteFrame::sdo;
   }
-  const SdoStep& s = steps_[step_];
-  if (s.upload && (r.value & s.mask) != (s.value & s.mask)) {
-    failure_ = RemoteDriveFailure{r.index, r.sub, r.status, SdoAbort::none, true, false};
-    fail(now_us);
-    return RemoteFrame::sdo;
-  }
-  ++step_;
+  retried_ = false;
   step_sent_ = false;
   next_step(now_us, out);
   return RemoteFrame::sdo;
@@ -241,9 +328,14 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
     case RemoteDriveState::configuring:
       sdo_.poll(now_us, out);
       if (sdo_.status() == SdoClientStatus::timed_out) {
-        const SdoResult& r = sdo_.result();
-        failure_ = RemoteDriveFailure{r.index, r.sub, r.status, r.abort, false, false};
-        fail(now_us);
+        if (!retried_) {
+          // One lost frame on a busy bus is not a broken drive: the same request once more.
+          retried_ = true;
+          step_sent_ = false;
+          next_step(now_us, out);
+        } else {
+          fail_step(sdo_.result(), StartupError::sdo_timed_out, now_us);
+        }
       } else if (!step_sent_ && !sdo_.busy()) {
         next_step(now_us, out);  // the request did not fit in the sink last time
       }
@@ -252,6 +344,7 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
       if (enable_timer_.check(now_us)) {
         failure_ = RemoteDriveFailure{};
         failure_.enable_timeout = true;
+        failure_.error = StartupError::enable_timeout;
         fail(now_us);
       }
       break;
