@@ -110,10 +110,12 @@ set(servo_fuzz_expected "fuzz_servo: invariant \\([abc]\\) violated")
 # (seed 1, 600 runs) also reaches this defect (a 2-tick delay on the drive side, then two pairs
 # at tick 48: 2575 counts in one period against 2167): it stays pending until item08 is fixed
 # (the master's SYNC counter, and a drive that bounds the steps per period of receive time).
+# Since RemoteDrive reads back every write and reads 0x607D/0x607F (issue 14), start-up takes
+# more SDO round trips and both the brief run and item08_sync_burst_after_a_drive_side_delay run
+# clean: their paths no longer reach the defect (not fixed: two_steps_in_one_period still shows
+# it, and the long run finds it within seconds, after a drive-side delay).
 set(servo_fuzz_pending
-  item08_sync_burst_two_steps_in_one_period
-  item08_sync_burst_after_a_drive_side_delay
-  hal_fuzz_servo_brief)
+  item08_sync_burst_two_steps_in_one_period)
 
 # Every seed, run once (no fuzzing): the committed corpus stays green.
 add_test(NAME hal_fuzz_servo_seeds COMMAND ${servo_fuzz_exe} ${servo_fuzz_common} ${servo_seeds})
