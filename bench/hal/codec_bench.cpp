@@ -4,6 +4,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <map>
 
 #include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
@@ -119,17 +120,20 @@ void BM_RemoteDrivePeriod(benchmark::State& state) {
   config.node = node;
   RemoteDrive remote{config};
   FrameBuffer<16> out;
-  // Bring it to "ready" by feeding the answers a drive would give.
+  // Bring it to "ready" by feeding the answers a drive would give: a write reads back as written.
+  std::map<std::uint32_t, std::uint32_t> objects{{obj::device_type << 8U, cia402_device_type},
+                                                 {obj::modes_of_operation_display << 8U, 8}};
   remote.start(0, out);
-  for (int i = 0; i < 16 && !remote.ready(); ++i) {
+  for (int i = 0; i < 64 && !remote.ready(); ++i) {
     for (std::size_t k = 0; k < out.size(); ++k) {
       const auto q = decode_sdo_request(out[k], node);
       if (!q) {
         continue;
       }
+      const std::uint32_t key = (std::uint32_t{q->index} << 8U) | q->sub;
+      if (q->kind == SdoKind::download_request) objects[key] = q->value;
       const CanFrame answer = q->kind == SdoKind::upload_request
-                                  ? encode_sdo_upload_response(node, q->index, q->sub,
-                                                               q->index == obj::device_type ? cia402_device_type : 8, 4)
+                                  ? encode_sdo_upload_response(node, q->index, q->sub, objects[key], 4)
                                   : encode_sdo_download_response(node, q->index, q->sub);
       out.clear();
       remote.on_frame(answer, 0, out);
