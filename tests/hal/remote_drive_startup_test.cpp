@@ -254,5 +254,229 @@ TEST(RemoteDriveStartUp, APlanLongerThanItsListIsRefused) {
   static_assert(sizeof(StartupStep) == 8, "eight bytes a step");
 }
 
+// ---- PDOs -------------------------------------------------------------------------------------
+
+using Bytes = std::vector<std::uint8_t>;
+
+// The master's SDO downloads to the PDO objects (0x1400-0x1BFF), byte for byte.
+std::vector<Bytes> pdo_downloads(const StartUp& s) {
+  std::vector<Bytes> out;
+  for (const CanFrame& f : s.sent) {
+    const auto m = decode_sdo_request(f, node);
+    if (m && m->kind == SdoKind::download_request && m->index >= 0x1400 && m->index < 0x1C00) {
+      out.push_back(hal::test::bytes_of(f));
+    }
+  }
+  return out;
+}
+
+// CiA 301 dynamic mapping of Settle's default layout, frame by frame: per PDO used, COB-ID bit 31
+// set, sub 0 = 0, the entries, sub 0 = n, transmission type 1, COB-ID enabled; the others disabled.
+TEST(RemoteDriveStartUp, DynamicMappingGoldenFrames) {
+  RemoteDriveConfig c = base_config();
+  c.pdo_setup = PdoSetup::dynamic;
+  StartUp s{c};
+  s.run();
+  ASSERT_EQ(s.remote.state(), RemoteDriveState::enabling) << to_string(s.remote.failure().error);
+  const std::vector<Bytes> expected{
+      // RPDO1 0x202: controlword + target position
+      {0x23, 0x00, 0x14, 0x01, 0x02, 0x02, 0x00, 0x80},
+      {0x2F, 0x00, 0x16, 0x00, 0x00, 0x00, 0x00, 0x00},
+      {0x23, 0x00, 0x16, 0x01, 0x10, 0x00, 0x40, 0x60},
+      {0x23, 0x00, 0x16, 0x02, 0x20, 0x00, 0x7A, 0x60},
+      {0x2F, 0x00, 0x16, 0x00, 0x02, 0x00, 0x00, 0x00},
+      {0x2F, 0x00, 0x14, 0x02, 0x01, 0x00, 0x00, 0x00},
+      {0x23, 0x00, 0x14, 0x01, 0x02, 0x02, 0x00, 0x00},
+      // RPDO2..4 disabled
+      {0x23, 0x01, 0x14, 0x01, 0x02, 0x03, 0x00, 0x80},
+      {0x23, 0x02, 0x14, 0x01, 0x02, 0x04, 0x00, 0x80},
+      {0x23, 0x03, 0x14, 0x01, 0x02, 0x05, 0x00, 0x80},
+      // TPDO1 0x182: statusword + position actual
+      {0x23, 0x00, 0x18, 0x01, 0x82, 0x01, 0x00, 0x80},
+      {0x2F, 0x00, 0x1A, 0x00, 0x00, 0x00, 0x00, 0x00},
+      {0x23, 0x00, 0x1A, 0x01, 0x10, 0x00, 0x41, 0x60},
+      {0x23, 0x00, 0x1A, 0x02, 0x20, 0x00, 0x64, 0x60},
+      {0x2F, 0x00, 0x1A, 0x00, 0x02, 0x00, 0x00, 0x00},
+      {0x2F, 0x00, 0x18, 0x02, 0x01, 0x00, 0x00, 0x00},
+      {0x23, 0x00, 0x18, 0x01, 0x82, 0x01, 0x00, 0x00},
+      // TPDO2 0x282: load position 0x2000 + velocity actual
+      {0x23, 0x01, 0x18, 0x01, 0x82, 0x02, 0x00, 0x80},
+      {0x2F, 0x01, 0x1A, 0x00, 0x00, 0x00, 0x00, 0x00},
+      {0x23, 0x01, 0x1A, 0x01, 0x20, 0x00, 0x00, 0x20},
+      {0x23, 0x01, 0x1A, 0x02, 0x20, 0x00, 0x6C, 0x60},
+      {0x2F, 0x01, 0x1A, 0x00, 0x02, 0x00, 0x00, 0x00},
+      {0x2F, 0x01, 0x18, 0x02, 0x01, 0x00, 0x00, 0x00},
+      {0x23, 0x01, 0x18, 0x01, 0x82, 0x02, 0x00, 0x00},
+      // TPDO3, TPDO4 disabled
+      {0x23, 0x02, 0x18, 0x01, 0x82, 0x03, 0x00, 0x80},
+      {0x23, 0x03, 0x18, 0x01, 0x82, 0x04, 0x00, 0x80},
+  };
+  EXPECT_EQ(pdo_downloads(s), expected);
+  // Each followed by its read-back (an upload of the same object), as every write.
+  const auto r = s.requests();
+  for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+    if (r[i].first == down) {
+      EXPECT_EQ(r[i + 1], std::make_pair(up, r[i].second)) << i;
+    }
+  }
+  EXPECT_EQ(s.drive.rpdo[0].count, 2U);
+  EXPECT_EQ(s.drive.rpdo[0].cob_id, 0x202U);
+  EXPECT_EQ(s.drive.rpdo[0].transmission_type, 1U);
+  EXPECT_EQ(s.drive.rpdo[1].cob_id, 0x8000'0302U);
+  EXPECT_EQ(s.drive.tpdo[1].entries[0], 0x2000'0020U);
+  EXPECT_EQ(s.drive.tpdo[3].cob_id, 0x8000'0482U);
+  EXPECT_EQ(s.remote.steps().size(), 9U + 26U);
+}
+
+// A drive that keeps a PDO enabled when told to disable it (the read-back shows bit 31 clear).
+TEST(RemoteDriveStartUp, ACobIdWriteTheDriveIgnoresIsCaught) {
+  RemoteDriveConfig c = base_config();
+  c.pdo_setup = PdoSetup::dynamic;
+  StartUp s{c};
+  s.drive.tpdo[2].cob_id = 0x382;
+  s.drive.ignored_index = 0x1802;
+  s.drive.ignored_sub = 1;
+  s.run();
+  ASSERT_EQ(s.remote.state(), RemoteDriveState::failed);
+  EXPECT_EQ(s.remote.failure().error, StartupError::wrong_value);
+  EXPECT_EQ(s.remote.failure().index, 0x1802U);
+  EXPECT_EQ(s.remote.failure().expected, 0x8000'0382U);
+  EXPECT_EQ(s.remote.failure().actual, 0x382U);
+}
+
+// Feeds the master a TPDO and returns what on_frame said it was.
+RemoteFrame feed(StartUp& s, std::uint32_t id, std::initializer_list<std::uint8_t> bytes) {
+  return s.remote.on_frame(hal::test::frame(id, bytes), s.now, s.to_drive);
+}
+
+// Another layout, written dynamically: controlword + target in RPDO2 (target first), statusword +
+// position in TPDO3, velocity + following error in TPDO1, the load-side position (a vendor object
+// 0x2100:1) in TPDO4. The master streams through it.
+TEST(RemoteDriveStartUp, AnotherLayoutIsMappedAndStreamedThrough) {
+  RemoteDriveConfig c = base_config();
+  c.pdo_setup = PdoSetup::dynamic;
+  c.layout.controlword = PdoSlot{2, 4, 2};
+  c.layout.target_position = PdoSlot{2, 0, 4};
+  c.layout.statusword = PdoSlot{3, 0, 2};
+  c.layout.position_actual = PdoSlot{3, 2, 4};
+  c.layout.velocity_actual = PdoSlot{1, 0, 4};
+  c.layout.following_error = PdoSlot{1, 4, 4};
+  c.layout.load_position = PdoSlot{4, 0, 4};
+  c.layout.load_position_index = 0x2100;
+  c.layout.load_position_sub = 1;
+  StartUp s{c};
+  s.run();
+  ASSERT_EQ(s.remote.state(), RemoteDriveState::enabling) << to_string(s.remote.failure().error);
+  EXPECT_EQ(s.drive.rpdo[0].cob_id, 0x8000'0202U) << "RPDO1 unused: disabled";
+  EXPECT_EQ(s.drive.rpdo[1].cob_id, 0x302U);
+  EXPECT_EQ(s.drive.rpdo[1].count, 2U);
+  EXPECT_EQ(s.drive.rpdo[1].entries[0], 0x607A'0020U);
+  EXPECT_EQ(s.drive.rpdo[1].entries[1], 0x6040'0010U);
+  EXPECT_EQ(s.drive.tpdo[2].entries[0], 0x6041'0010U);
+  EXPECT_EQ(s.drive.tpdo[3].entries[0], 0x2100'0120U);
+  EXPECT_EQ(s.drive.tpdo[0].entries[1], 0x60F4'0020U);
+
+  // Enabling: the RPDO is RPDO2 with the drive's own position as target.
+  EXPECT_EQ(feed(s, 0x382, {0x21, 0x02, 0x10, 0x27, 0x00, 0x00}), RemoteFrame::tpdo1);  // ready to switch on, 10000
+  CanFrame rpdo{};
+  ASSERT_TRUE(s.remote.rpdo(0, rpdo));
+  EXPECT_EQ(rpdo.id, 0x302U);
+  EXPECT_EQ(hal::test::bytes_of(rpdo), (Bytes{0x10, 0x27, 0x00, 0x00, 0x07, 0x00})) << "switch on, target = actual";
+  EXPECT_EQ(feed(s, 0x382, {0x27, 0x02, 0x11, 0x27, 0x00, 0x00}), RemoteFrame::tpdo1);  // operation enabled
+  ASSERT_TRUE(s.remote.ready());
+  ASSERT_TRUE(s.remote.rpdo(-5, rpdo));
+  EXPECT_EQ(hal::test::bytes_of(rpdo), (Bytes{0xFB, 0xFF, 0xFF, 0xFF, 0x0F, 0x00}));
+  EXPECT_EQ(feed(s, 0x182, {0x64, 0x00, 0x00, 0x00, 0xFE, 0xFF, 0xFF, 0xFF}), RemoteFrame::tpdo2);
+  EXPECT_EQ(feed(s, 0x482, {0x40, 0x42, 0x0F, 0x00}), RemoteFrame::tpdo2);
+  EXPECT_EQ(feed(s, 0x282, {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08}), RemoteFrame::ignored)
+      << "TPDO2 is not used by this layout";
+  EXPECT_EQ(feed(s, 0x482, {0x40, 0x42, 0x0F}), RemoteFrame::ignored) << "a TPDO of the wrong length";
+  const RemoteFeedback& fb = s.remote.feedback();
+  EXPECT_EQ(fb.position_actual, 10'001);
+  EXPECT_EQ(fb.velocity_actual, 100);
+  EXPECT_EQ(fb.following_error, -2);
+  EXPECT_EQ(fb.load_position, 1'000'000);
+  EXPECT_EQ(fb.tpdo1_received, 2U);
+  EXPECT_EQ(fb.tpdo2_received, 2U);
+}
+
+TEST(RemoteDriveStartUp, AnInvalidLayoutIsRefusedBeforeAnythingIsSent) {
+  RemoteDriveConfig c = base_config();
+  c.pdo_setup = PdoSetup::dynamic;
+  c.layout.target_position = PdoSlot{2, 0, 4};  // not with the controlword
+  StartUp s{c};
+  s.run();
+  ASSERT_EQ(s.remote.state(), RemoteDriveState::failed);
+  EXPECT_EQ(s.remote.failure().error, StartupError::bad_layout);
+  EXPECT_TRUE(s.sent.empty());
+}
+
+// A static mapping: the drive's RPDO1 carries the controlword alone, RPDO2 controlword + target;
+// TPDO1 statusword + mode display + position actual, TPDO2 velocity actual. The master reads
+// them, streams through RPDO2 and decodes TPDO1 with its gap.
+TEST(RemoteDriveStartUp, AStaticMappingIsReadAndStreamedThrough) {
+  RemoteDriveConfig c = base_config();
+  c.pdo_setup = PdoSetup::read_static;
+  StartUp s{c};
+  s.drive.rpdo[0] = test::ScriptedPdo{0x202, 1, 1, {0x6040'0010}};
+  s.drive.rpdo[1] = test::ScriptedPdo{0x302, 1, 2, {0x6040'0010, 0x607A'0020}};
+  s.drive.rpdo[2] = test::ScriptedPdo{0x8000'0402, 1, 2, {0x6060'0008, 0x6071'0010}};  // not used: no matter
+  s.drive.tpdo[0] = test::ScriptedPdo{0x182, 1, 3, {0x6041'0010, 0x6061'0008, 0x6064'0020}};
+  s.drive.tpdo[1] = test::ScriptedPdo{0x282, 1, 1, {0x606C'0020}};
+  s.run();
+  ASSERT_EQ(s.remote.state(), RemoteDriveState::enabling)
+      << to_string(s.remote.failure().error) << " " << std::hex << s.remote.failure().index;
+  EXPECT_TRUE(pdo_downloads(s).empty()) << "a static mapping is read, not written";
+  const ProcessDataLayout& l = s.remote.config().layout;
+  EXPECT_EQ(l.controlword, (PdoSlot{2, 0, 2}));
+  EXPECT_EQ(l.target_position, (PdoSlot{2, 2, 4}));
+  EXPECT_EQ(l.position_actual, (PdoSlot{1, 3, 4}));
+  EXPECT_EQ(l.velocity_actual, (PdoSlot{2, 0, 4}));
+  EXPECT_FALSE(l.load_position.mapped());
+  EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x08, 0x05, 0x00, 0x00, 0x00, 0x00}), RemoteFrame::ignored)
+      << "the mapping is seven bytes";
+  EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x08, 0x05, 0x00, 0x00, 0x00}), RemoteFrame::tpdo1);
+  EXPECT_TRUE(s.remote.ready());
+  EXPECT_EQ(s.remote.feedback().position_actual, 5);
+  EXPECT_EQ(feed(s, 0x282, {0x10, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2);
+  EXPECT_EQ(s.remote.feedback().velocity_actual, 16);
+  CanFrame rpdo{};
+  ASSERT_TRUE(s.remote.rpdo(7, rpdo));
+  EXPECT_EQ(rpdo.id, 0x302U);
+  EXPECT_EQ(hal::test::bytes_of(rpdo), (Bytes{0x0F, 0x00, 0x07, 0x00, 0x00, 0x00}));
+}
+
+TEST(RemoteDriveStartUp, AStaticMappingWithoutWhatStreamingNeedsIsRefusedNamingTheObject) {
+  RemoteDriveConfig c = base_config();
+  c.pdo_setup = PdoSetup::read_static;
+  {
+    StartUp s{c};  // the target position in another RPDO than the controlword
+    s.drive.rpdo[0] = test::ScriptedPdo{0x202, 1, 1, {0x6040'0010}};
+    s.drive.rpdo[1] = test::ScriptedPdo{0x302, 1, 1, {0x607A'0020}};
+    s.drive.tpdo[0] = test::ScriptedPdo{0x182, 1, 2, {0x6041'0010, 0x6064'0020}};
+    s.run();
+    ASSERT_EQ(s.remote.state(), RemoteDriveState::failed);
+    EXPECT_EQ(s.remote.failure().error, StartupError::mapping_unsuitable);
+    EXPECT_EQ(s.remote.failure().index, obj::target_position);
+  }
+  {
+    StartUp s{c};  // no position actual in any TPDO
+    s.drive.rpdo[0] = test::ScriptedPdo{0x202, 1, 2, {0x6040'0010, 0x607A'0020}};
+    s.drive.tpdo[0] = test::ScriptedPdo{0x182, 1, 1, {0x6041'0010}};
+    s.run();
+    ASSERT_EQ(s.remote.state(), RemoteDriveState::failed);
+    EXPECT_EQ(s.remote.failure().index, obj::position_actual);
+  }
+  {
+    StartUp s{c};  // the RPDO used also carries the mode, which the master cannot fill
+    s.drive.rpdo[0] = test::ScriptedPdo{0x202, 1, 3, {0x6040'0010, 0x607A'0020, 0x6060'0008}};
+    s.drive.tpdo[0] = test::ScriptedPdo{0x182, 1, 2, {0x6041'0010, 0x6064'0020}};
+    s.run();
+    ASSERT_EQ(s.remote.state(), RemoteDriveState::failed);
+    EXPECT_EQ(s.remote.failure().error, StartupError::mapping_unsuitable);
+    EXPECT_EQ(s.remote.failure().index, obj::modes_of_operation);
+  }
+}
+
 }  // namespace
 }  // namespace settle::hal::canopen

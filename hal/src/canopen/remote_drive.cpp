@@ -57,6 +57,8 @@ const char* to_string(StartupError error) noexcept {
     case StartupError::wrong_identity: return "wrong_identity";
     case StartupError::mode_not_applied: return "mode_not_applied";
     case StartupError::plan_too_long: return "plan_too_long";
+    case StartupError::bad_layout: return "bad_layout";
+    case StartupError::mapping_unsuitable: return "mapping_unsuitable";
     case StartupError::enable_timeout: return "enable_timeout";
   }
   return "?";
@@ -100,6 +102,34 @@ std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config, std::s
     add(S::write(obj::following_error_window, 0, config.following_error_window, 4));
     add(S::write(obj::following_error_timeout, 0, config.following_error_timeout_ms, 2));
   }
+  switch (config.pdo_setup) {
+    case PdoSetup::assume: break;
+    case PdoSetup::dynamic:
+      // CiA 301: a PDO is changed while it does not exist (COB-ID bit 31), its mapping while sub 0
+      // is 0; then it is given its entries, their number, synchronous transmission, and enabled.
+      for (const bool receive : {true, false}) {
+        for (std::uint8_t pdo = 1; pdo <= layout_pdo_count; ++pdo) {
+          const PdoMapping m = layout_mapping(config.layout, receive, pdo, config.node);
+          const std::uint16_t comm = pdo_communication_index(receive, pdo);
+          const std::uint16_t map = pdo_mapping_index(receive, pdo);
+          add(S::write_cob_id(comm, m.cob_id | pdo_cob_id_invalid));
+          if (m.count == 0) continue;  // not used: stays disabled
+          add(S::write(map, 0, 0, 1));
+          for (std::uint8_t i = 0; i < m.count; ++i) {
+            add(S::write(map, static_cast<std::uint8_t>(i + 1), m.entries[i].raw(), 4));
+          }
+          add(S::write(map, 0, m.count, 1));
+          add(S::write(comm, 2, m.transmission_type, 1));
+          add(S::write_cob_id(comm, m.cob_id));
+        }
+      }
+      break;
+    case PdoSetup::read_static:
+      for (const bool receive : {true, false}) {
+        for (std::uint8_t pdo = 1; pdo <= layout_pdo_count; ++pdo) add(S::read_mapping(pdo_mapping_index(receive, pdo)));
+      }
+      break;
+  }
   // The limits the loop enforces at submit; a drive without them limits nothing.
   add(S::read(obj::software_position_limit, 1, StartupField::position_min, true));
   add(S::read(obj::software_position_limit, 2, StartupField::position_max, true));
@@ -112,8 +142,6 @@ std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config, std::s
 
 RemoteDrive::RemoteDrive(const RemoteDriveConfig& config) noexcept
     : config_{config},
-      tpdo1_id_{is_valid_node(config.node) ? cob_id(cob::tpdo1, config.node) : ~std::uint32_t{0}},
-      tpdo2_id_{is_valid_node(config.node) ? cob_id(cob::tpdo2, config.node) : ~std::uint32_t{0}},
       heartbeat_id_{is_valid_node(config.node) ? cob_id(cob::heartbeat, config.node) : ~std::uint32_t{0}},
       sdo_{config.node, config.sdo_timeout_us},
       heartbeat_{config.node, config.heartbeat_timeout_ms},
@@ -126,6 +154,89 @@ RemoteDrive::RemoteDrive(const RemoteDriveConfig& config) noexcept
   } else {
     plan_too_long_ = true;
   }
+  apply_layout();
+}
+
+void RemoteDrive::apply_layout() noexcept {
+  const ProcessDataLayout& l = config_.layout;
+  default_layout_ = is_default_layout(l);
+  status_pdo_ = l.statusword.pdo;
+  second_pdo_ = 0;
+  for (std::uint8_t n = 1; n <= layout_pdo_count; ++n) {
+    if (config_.pdo_setup != PdoSetup::read_static) tpdo_len_[n - 1U] = layout_pdo_length(l, false, n);
+    if (n != status_pdo_ && tpdo_len_[n - 1U] != 0 && second_pdo_ == 0) second_pdo_ = n;
+  }
+  const bool valid = is_valid_node(config_.node);
+  const auto id = [&](std::uint8_t n) {
+    return valid && n != 0 && n <= layout_pdo_count ? pdo_cob_id(false, n, config_.node) : ~std::uint32_t{0};
+  };
+  tpdo1_id_ = id(status_pdo_);
+  tpdo2_id_ = id(second_pdo_);
+  tpdo1_len_ = status_pdo_ != 0 && status_pdo_ <= layout_pdo_count ? tpdo_len_[status_pdo_ - 1U] : 0;
+  tpdo2_len_ = second_pdo_ != 0 ? tpdo_len_[second_pdo_ - 1U] : 0;
+}
+
+RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept {
+  LayoutFeedback fb{feedback_.statusword, feedback_.position_actual, feedback_.load_position,
+                    feedback_.velocity_actual, feedback_.following_error};
+  const bool status = decode_layout_tpdo(config_.layout, number, frame, fb);
+  feedback_.load_position = fb.load_position;
+  feedback_.velocity_actual = fb.velocity_actual;
+  feedback_.following_error = fb.following_error;
+  if (status) {
+    take_tpdo1(Tpdo1{fb.statusword, fb.position_actual}, now_us);
+    return RemoteFrame::tpdo1;
+  }
+  ++feedback_.tpdo2_received;
+  return RemoteFrame::tpdo2;
+}
+
+bool RemoteDrive::take_mapping_entry(const StartupStep& s, std::uint32_t value) noexcept {
+  const bool receive = s.index() < 0x1A00U;
+  const auto number = static_cast<std::uint8_t>((s.index() & 0xFFU) + 1U);
+  if (map_sub_ == 0) {
+    map_count_ = static_cast<std::uint8_t>(value > pdo_max_entries ? pdo_max_entries : value);
+    map_bytes_ = 0;
+  } else {
+    if (!place_mapped_object(config_.layout, receive, number, map_bytes_, value) && unfillable_index_ == 0) {
+      unfillable_index_ = static_cast<std::uint16_t>(value >> 16U);
+      unfillable_pdo_ = number;
+    }
+    map_bytes_ = static_cast<std::uint8_t>(map_bytes_ + (value & 0xFFU) / 8U);
+  }
+  if (map_sub_ < map_count_) {
+    ++map_sub_;
+    return false;  // the next entry
+  }
+  if (!receive) tpdo_len_[number - 1U] = map_bytes_;
+  map_sub_ = 0;
+  return true;
+}
+
+bool RemoteDrive::check_derived_layout(std::uint64_t now_us) noexcept {
+  const ProcessDataLayout& l = config_.layout;
+  std::uint16_t missing = unfillable_pdo_ == l.controlword.pdo ? unfillable_index_ : 0;
+  if (missing == 0 && check_layout(l, false) != LayoutError::none) {
+    // Name the first value streaming needs that is not where it must be.
+    if (!l.controlword.mapped()) {
+      missing = obj::controlword;
+    } else if (l.target_position.pdo != l.controlword.pdo) {
+      missing = obj::target_position;
+    } else if (!l.statusword.mapped()) {
+      missing = obj::statusword;
+    } else {
+      missing = obj::position_actual;
+    }
+  }
+  if (missing != 0) {
+    failure_ = RemoteDriveFailure{};
+    failure_.index = missing;
+    failure_.error = StartupError::mapping_unsuitable;
+    fail(now_us);
+    return false;
+  }
+  apply_layout();
+  return true;
 }
 
 void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
@@ -139,10 +250,19 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   retried_ = false;
   operational_seen_ = false;
   limits_ = RemoteDriveLimits{};
-  if (plan_too_long_) {
-    failure_.error = StartupError::plan_too_long;
-    fail(now_us);
-    return;
+  map_sub_ = 0;
+  if (plan_too_long_ || check_layout(config_.layout, config_.pdo_setup == PdoSetup::dynamic) != LayoutError::none) {
+    if (config_.pdo_setup != PdoSetup::read_static || plan_too_long_) {
+      failure_.error = plan_too_long_ ? StartupError::plan_too_long : StartupError::bad_layout;
+      fail(now_us);
+      return;
+    }
+  }
+  if (config_.pdo_setup == PdoSetup::read_static) {
+    config_.layout = empty_layout(config_.layout);  // derived afresh from what the drive says
+    tpdo_len_ = {};
+    unfillable_index_ = 0;
+    unfillable_pdo_ = 0;
   }
   // SDO configuration belongs in pre-operational, where no process data flows.
   (void)out.put(encode_nmt(NmtCommand::enter_pre_operational, config_.node));
@@ -157,7 +277,8 @@ void RemoteDrive::next_step(std::uint64_t now_us, FrameSink& out) noexcept {
     return;
   }
   const StartupStep& s = steps_[step_];
-  step_sent_ = s.action() != StartupAction::write || verifying_
+  step_sent_ = s.action() == StartupAction::read_mapping ? sdo_.upload(s.index(), map_sub_, now_us, out)
+               : s.action() != StartupAction::write || verifying_
                    ? sdo_.upload(s.index(), s.sub(), now_us, out)
                    : sdo_.download(s.index(), s.sub(), s.value() & s.mask(), s.size(), now_us, out);
 }
@@ -171,6 +292,7 @@ bool RemoteDrive::take_step_result(const StartupStep& s, const SdoResult& r, std
   switch (s.action()) {
     case StartupAction::write:  // the read-back
     case StartupAction::check: break;
+    case StartupAction::read_mapping: return true;
     case StartupAction::read:
       switch (s.field()) {
         case StartupField::position_min: limits_.position_min = static_cast<std::int32_t>(r.value); break;
@@ -281,10 +403,21 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
       events_ |= remote_event::emcy;
       return RemoteFrame::emcy;
     case cob::heartbeat:
-    case cob::tpdo1:
-    case cob::tpdo2:
       // A valid one took on_frame's inline path: this one has the wrong length.
       return RemoteFrame::ignored;
+    case cob::tpdo1:
+    case cob::tpdo2:
+    case cob::tpdo3:
+    case cob::tpdo4: {
+      // The layout's first two TPDOs took on_frame's inline path when valid; a third or fourth
+      // comes here.
+      const auto n = static_cast<std::uint8_t>(((frame.id & 0x780U) - cob::tpdo1) / 0x100U + 1U);
+      if (!default_layout_ && n != status_pdo_ && n != second_pdo_ && tpdo_len_[n - 1U] != 0 &&
+          frame.len == tpdo_len_[n - 1U]) {
+        return take_layout_tpdo(frame, n, now_us);
+      }
+      return RemoteFrame::ignored;
+    }
     case cob::sdo_tx:
       break;
     default:
@@ -295,6 +428,7 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
   }
   const SdoResult& r = sdo_.result();
   const StartupStep& s = steps_[step_];
+  const std::uint8_t was = step_;
   const bool absent = r.abort == SdoAbort::no_object || r.abort == SdoAbort::no_sub_index;
   if (r.status == SdoClientStatus::aborted && s.optional() && absent) {
     ++step_;  // an optional object the drive does not have: the default stays
@@ -303,10 +437,17 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
     return RemoteFrame::sdo;
   } else if (s.action() == StartupAction::write && !verifying_) {
     verifying_ = true;  // written: now read it back
+  } else if (s.action() == StartupAction::read_mapping) {
+    if (take_mapping_entry(s, r.value)) ++step_;
   } else if (take_step_result(s, r, now_us)) {
     ++step_;
     verifying_ = false;
   } else {
+    return RemoteFrame::sdo;
+  }
+  // read_static: after the last mapping object, the layout derived must be one streaming can use.
+  if (s.action() == StartupAction::read_mapping && step_ != was &&
+      (step_ >= step_count_ || steps_[step_].action() != StartupAction::read_mapping) && !check_derived_layout(now_us)) {
     return RemoteFrame::sdo;
   }
   retried_ = false;
@@ -360,7 +501,7 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
 
 bool RemoteDrive::enabling_rpdo(CanFrame& out) noexcept {
   if (state_ == RemoteDriveState::enabling) {
-    encode_rpdo1(config_.node, Rpdo1{enable_.next(feedback_.statusword), feedback_.position_actual}, out);
+    encode_rpdo(enable_.next(feedback_.statusword), feedback_.position_actual, out);
     return true;
   }
   return false;  // idle, configuring, stopped, lost, not_operational, failed: no process data

@@ -49,6 +49,7 @@ inline constexpr std::uint16_t software_position_limit = 0x607D;
 inline constexpr std::uint16_t max_profile_velocity = 0x607F;  // counts/s
 inline constexpr std::uint16_t interpolation_data_record = 0x60C1;
 inline constexpr std::uint16_t interpolation_time_period = 0x60C2;
+inline constexpr std::uint16_t following_error_actual = 0x60F4;  // i32, counts
 inline constexpr std::uint16_t supported_drive_modes = 0x6502;
 }  // namespace obj
 

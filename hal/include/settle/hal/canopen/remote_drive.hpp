@@ -17,6 +17,7 @@
 #include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/canopen/emcy.hpp"
 #include "settle/hal/canopen/heartbeat.hpp"
+#include "settle/hal/canopen/process_data.hpp"
 #include "settle/hal/canopen/sdo.hpp"
 #include "settle/hal/canopen/watchdog.hpp"
 #include "settle/hal/frame_sink.hpp"
@@ -44,6 +45,15 @@ struct InterpolationPeriod {
 };
 [[nodiscard]] std::optional<InterpolationPeriod> interpolation_period_from_us(std::uint32_t period_us) noexcept;
 
+// How start-up sets up the drive's PDOs (see process_data.hpp).
+enum class PdoSetup : std::uint8_t {
+  assume,       // the drive's mapping is `layout` already (Settle's drive: the default): nothing written
+  dynamic,      // CiA 301 dynamic mapping of `layout`; the PDOs it does not use are disabled
+  read_static,  // read the drive's mapping (RPDO/TPDO 1..4) and derive the layout from it; a mapping
+                // without the controlword + target position in one RPDO and the statusword + position
+                // actual in one TPDO, or an RPDO with objects the master cannot fill, is refused
+};
+
 struct RemoteDriveConfig {
   NodeId node{1};
   OperationMode mode{OperationMode::cyclic_synchronous_position};
@@ -64,6 +74,8 @@ struct RemoteDriveConfig {
   // non-zero; otherwise the drive keeps its own.
   std::uint32_t following_error_window{0};
   std::uint16_t following_error_timeout_ms{0};
+  PdoSetup pdo_setup{PdoSetup::assume};
+  ProcessDataLayout layout{};
 };
 
 // What the drive said about its limits at start-up (0x607D, 0x607F); a drive without the objects
@@ -81,9 +93,12 @@ struct RemoteDriveLimits {
 //   write  download `value` (size bytes), then upload the same object: another value read back
 //          fails start-up (wrong_value naming the object), so a drive that ignores a write is caught;
 //   check  upload and compare the low `size` bytes with `value`;
-//   read   upload and keep the value in a field of RemoteDriveLimits.
+//   read   upload and keep the value in a field of RemoteDriveLimits;
+//   read_mapping  upload a PDO mapping object's sub 0 and its entries, and place what they map
+//          into the layout (PdoSetup::read_static).
 // An optional step is skipped when the drive has no such object (abort 0x06020000/0x06090011).
-enum class StartupAction : std::uint8_t { write = 0, check = 1, read = 2 };
+// A COB-ID write compares its read-back without bit 30 (a drive may set "no RTR" by itself).
+enum class StartupAction : std::uint8_t { write = 0, check = 1, read = 2, read_mapping = 3 };
 enum class StartupField : std::uint8_t { none = 0, position_min = 1, position_max = 2, max_profile_velocity = 3 };
 
 class StartupStep {
@@ -101,17 +116,27 @@ class StartupStep {
                                                   bool optional) noexcept {
     return StartupStep{index, sub, StartupAction::read, 4, field, optional, 0};
   }
+  [[nodiscard]] static constexpr StartupStep write_cob_id(std::uint16_t index, std::uint32_t value) noexcept {
+    StartupStep s{index, 1, StartupAction::write, 4, StartupField::none, false, value};
+    s.op_ = static_cast<std::uint8_t>(s.op_ | 0x10U);
+    return s;
+  }
+  [[nodiscard]] static constexpr StartupStep read_mapping(std::uint16_t mapping_index) noexcept {
+    return StartupStep{mapping_index, 0, StartupAction::read_mapping, 1, StartupField::none, true, 0};
+  }
 
   [[nodiscard]] constexpr std::uint16_t index() const noexcept { return index_; }
   [[nodiscard]] constexpr std::uint8_t sub() const noexcept { return sub_; }
   [[nodiscard]] constexpr StartupAction action() const noexcept { return static_cast<StartupAction>(op_ & 0x3U); }
-  [[nodiscard]] constexpr StartupField field() const noexcept { return static_cast<StartupField>((op_ >> 2U) & 0x7U); }
+  [[nodiscard]] constexpr StartupField field() const noexcept { return static_cast<StartupField>((op_ >> 2U) & 0x3U); }
+  [[nodiscard]] constexpr bool cob_id() const noexcept { return (op_ & 0x10U) != 0; }
   [[nodiscard]] constexpr bool optional() const noexcept { return (op_ & 0x20U) != 0; }
   // Bytes written, or compared (from the low end of the value read).
   [[nodiscard]] constexpr std::uint8_t size() const noexcept { return static_cast<std::uint8_t>(((op_ >> 6U) & 0x3U) + 1U); }
   [[nodiscard]] constexpr std::uint32_t value() const noexcept { return value_; }
   // The bits of a value read that must equal value().
   [[nodiscard]] constexpr std::uint32_t mask() const noexcept {
+    if (cob_id()) return ~pdo_cob_id_no_rtr;
     return size() >= 4 ? 0xFFFF'FFFFU : (std::uint32_t{1} << (8U * size())) - 1U;
   }
   friend constexpr bool operator==(const StartupStep&, const StartupStep&) = default;
@@ -128,7 +153,7 @@ class StartupStep {
 
   std::uint16_t index_{0};
   std::uint8_t sub_{0};
-  std::uint8_t op_{0};  // bits 0-1 action, 2-4 field, 5 optional, 6-7 size - 1
+  std::uint8_t op_{0};  // bits 0-1 action, 2-3 field, 4 COB-ID, 5 optional, 6-7 size - 1
   std::uint32_t value_{0};
 };
 
@@ -143,7 +168,9 @@ inline constexpr std::size_t remote_drive_max_steps = SETTLE_REMOTE_DRIVE_MAX_ST
 //   0x1000 low 16 bits = 402 (not_cia402); 0x1018:1..4 when expected (wrong_identity);
 //   0x6060 mode; 0x60C2:1/2 interpolation period; 0x1006 SYNC period; 0x2001 when set;
 //   0x1016:1 master heartbeat when set; 0x1017 when set; 0x6065/0x6066 when the window is set;
-//   0x607D:1/2 and 0x607F read (optional); 0x6061 shows the mode (mode_not_applied).
+//   the PDOs (dynamic: per PDO used: COB-ID bit 31 set, mapping sub 0 = 0, the entries, sub 0 = n,
+//   transmission type 1, COB-ID enabled; every other PDO disabled; read_static: the mapping objects
+//   read); 0x607D:1/2 and 0x607F read (optional); 0x6061 shows the mode (mode_not_applied).
 // Returns the number of steps, or nullopt when `out` is too short.
 [[nodiscard]] std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config,
                                                        std::span<StartupStep> out) noexcept;
@@ -172,6 +199,9 @@ enum class StartupError : std::uint8_t {
   wrong_identity,   // 0x1018:sub is not the expected one
   mode_not_applied, // 0x6061 does not show the mode written
   plan_too_long,    // the configuration needs more steps than remote_drive_max_steps
+  bad_layout,       // the configured ProcessDataLayout is not valid (check_layout): nothing sent
+  mapping_unsuitable,  // read_static: the drive's mapping lacks the object `index` (or maps, in an
+                       // RPDO, the object `index`, which the master cannot fill)
   enable_timeout,   // operation enabled not reached in time
 };
 [[nodiscard]] const char* to_string(StartupError error) noexcept;
@@ -206,8 +236,8 @@ enum class RemoteFrame : std::uint8_t {
   ignored,    // another node's, not CANopen, or a service the master does not consume
   heartbeat,  // this drive's heartbeat or boot-up
   emcy,
-  tpdo1,      // statusword + position actual: feedback() updated
-  tpdo2,      // load position + velocity actual: feedback() updated
+  tpdo1,      // the TPDO with the statusword + position actual: feedback() updated
+  tpdo2,      // another TPDO of the layout (load position, velocity, following error): feedback() updated
   sdo,        // an SDO response (used while configuring)
 };
 
@@ -216,6 +246,7 @@ struct RemoteFeedback {
   std::int32_t position_actual{0};
   std::int32_t load_position{0};
   std::int32_t velocity_actual{0};
+  std::int32_t following_error{0};  // 0x60F4, when the layout maps it
   std::uint64_t tpdo1_received{0};
   std::uint64_t tpdo2_received{0};
   std::uint64_t tpdo1_time_us{0};  // when the latest TPDO1 was taken (the caller's time)
@@ -236,11 +267,13 @@ class RemoteDrive {
   // a frame costs one decoder, not a try of each.
   RemoteFrame on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
     if (frame.flags == 0) {  // a classic data frame with a standard identifier
-      if (frame.id == tpdo1_id_ && frame.len == tpdo1_len) {
+      if (frame.id == tpdo1_id_ && frame.len == tpdo1_len_) {
+        if (!default_layout_) return take_layout_tpdo(frame, status_pdo_, now_us);
         take_tpdo1(tpdo1_fields(frame), now_us);
         return RemoteFrame::tpdo1;
       }
-      if (frame.id == tpdo2_id_ && frame.len == tpdo2_len) {
+      if (frame.id == tpdo2_id_ && frame.len == tpdo2_len_) {
+        if (!default_layout_) return take_layout_tpdo(frame, second_pdo_, now_us);
         const Tpdo2 p = tpdo2_fields(frame);
         feedback_.load_position = p.load_position;
         feedback_.velocity_actual = p.velocity_actual;
@@ -254,7 +287,7 @@ class RemoteDrive {
   // Timeouts (SDO, heartbeat, enabling) and the next configuration step.
   void poll(std::uint64_t now_us, FrameSink& out) noexcept;
 
-  // The RPDO1 for this tick, written over `out`; false (and `out` untouched) when the drive must
+  // The RPDO for this tick (RPDO1 under the default layout), written over `out`; false (and `out` untouched) when the drive must
   // not be sent process data. Enabling -> the enable sequence's controlword with the drive's own
   // position as target (so enabling never moves the axis); ready -> enable operation with the
   // given target.
@@ -262,7 +295,7 @@ class RemoteDrive {
     if (state_ != RemoteDriveState::ready) return enabling_rpdo(out);
     std::uint16_t cw = controlword::enable_operation;
     if (config_.mode == OperationMode::interpolated_position) cw |= controlword::enable_ip_mode;
-    encode_rpdo1(config_.node, Rpdo1{cw, target_counts}, out);
+    encode_rpdo(cw, target_counts, out);
     return true;
   }
 
@@ -296,6 +329,21 @@ class RemoteDrive {
   }
   // Enabling -> ready on the first enabled statusword; ready -> stopped when it is no longer.
   void enabled_changed(bool enabled) noexcept;
+  void encode_rpdo(std::uint16_t cw, std::int32_t target, CanFrame& out) const noexcept {
+    if (default_layout_) {
+      encode_rpdo1(config_.node, Rpdo1{cw, target}, out);
+    } else {
+      encode_layout_rpdo(config_.layout, config_.node, cw, target, out);
+    }
+  }
+  // A TPDO of a layout other than the default: every value it carries.
+  RemoteFrame take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept;
+  // The identifiers and lengths on_frame matches, from the layout in use.
+  void apply_layout() noexcept;
+  // read_mapping: one entry (or sub 0) read; false when start-up must stop.
+  [[nodiscard]] bool take_mapping_entry(const StartupStep& s, std::uint32_t value) noexcept;
+  // read_static, after the last mapping: the layout derived is one streaming can use.
+  [[nodiscard]] bool check_derived_layout(std::uint64_t now_us) noexcept;
   // rpdo() in every state but ready.
   [[nodiscard]] bool enabling_rpdo(CanFrame& out) noexcept;
   RemoteFrame on_heartbeat(std::uint8_t state_byte, std::uint64_t now_us, FrameSink& out) noexcept;
@@ -310,8 +358,20 @@ class RemoteDrive {
   RemoteDriveConfig config_;
   // The identifiers on_frame matches inline; an impossible one for an invalid node, so that
   // nothing matches.
-  std::uint32_t tpdo1_id_;
-  std::uint32_t tpdo2_id_;
+  std::uint32_t tpdo1_id_{~std::uint32_t{0}};  // the TPDO with the statusword
+  std::uint32_t tpdo2_id_{~std::uint32_t{0}};  // the next TPDO the layout uses
+  std::uint8_t tpdo1_len_{0};
+  std::uint8_t tpdo2_len_{0};
+  std::uint8_t status_pdo_{1};
+  std::uint8_t second_pdo_{2};
+  bool default_layout_{true};                  // the inline codecs of default_mapping.hpp apply
+  std::array<std::uint8_t, layout_pdo_count> tpdo_len_{};  // bytes each TPDO carries (0 = unused)
+  // read_mapping's progress through a mapping object.
+  std::uint8_t map_sub_{0};
+  std::uint8_t map_count_{0};
+  std::uint8_t map_bytes_{0};
+  std::uint16_t unfillable_index_{0};  // read_static: the first object an RPDO maps that the master cannot fill
+  std::uint8_t unfillable_pdo_{0};     // ... and that RPDO (it matters only if it is the one used)
   std::uint32_t heartbeat_id_;
   RemoteDriveState state_{RemoteDriveState::idle};
   SdoClient sdo_;
