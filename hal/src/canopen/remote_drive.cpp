@@ -112,8 +112,11 @@ std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config, std::s
           const PdoMapping m = layout_mapping(config.layout, receive, pdo, config.node);
           const std::uint16_t comm = pdo_communication_index(receive, pdo);
           const std::uint16_t map = pdo_mapping_index(receive, pdo);
+          if (m.count == 0) {
+            add(S::write_cob_id(comm, m.cob_id | pdo_cob_id_invalid, true));  // not used (if it exists): disabled
+            continue;
+          }
           add(S::write_cob_id(comm, m.cob_id | pdo_cob_id_invalid));
-          if (m.count == 0) continue;  // not used: stays disabled
           add(S::write(map, 0, 0, 1));
           for (std::uint8_t i = 0; i < m.count; ++i) {
             add(S::write(map, static_cast<std::uint8_t>(i + 1), m.entries[i].raw(), 4));

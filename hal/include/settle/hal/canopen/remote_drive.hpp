@@ -116,8 +116,9 @@ class StartupStep {
                                                   bool optional) noexcept {
     return StartupStep{index, sub, StartupAction::read, 4, field, optional, 0};
   }
-  [[nodiscard]] static constexpr StartupStep write_cob_id(std::uint16_t index, std::uint32_t value) noexcept {
-    StartupStep s{index, 1, StartupAction::write, 4, StartupField::none, false, value};
+  [[nodiscard]] static constexpr StartupStep write_cob_id(std::uint16_t index, std::uint32_t value,
+                                                          bool optional = false) noexcept {
+    StartupStep s{index, 1, StartupAction::write, 4, StartupField::none, optional, value};
     s.op_ = static_cast<std::uint8_t>(s.op_ | 0x10U);
     return s;
   }
@@ -169,8 +170,8 @@ inline constexpr std::size_t remote_drive_max_steps = SETTLE_REMOTE_DRIVE_MAX_ST
 //   0x6060 mode; 0x60C2:1/2 interpolation period; 0x1006 SYNC period; 0x2001 when set;
 //   0x1016:1 master heartbeat when set; 0x1017 when set; 0x6065/0x6066 when the window is set;
 //   the PDOs (dynamic: per PDO used: COB-ID bit 31 set, mapping sub 0 = 0, the entries, sub 0 = n,
-//   transmission type 1, COB-ID enabled; every other PDO disabled; read_static: the mapping objects
-//   read); 0x607D:1/2 and 0x607F read (optional); 0x6061 shows the mode (mode_not_applied).
+//   transmission type 1, COB-ID enabled; every other PDO disabled, when the drive has it;
+//   read_static: the mapping objects read); 0x607D:1/2 and 0x607F read (optional); 0x6061 shows the mode (mode_not_applied).
 // Returns the number of steps, or nullopt when `out` is too short.
 [[nodiscard]] std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config,
                                                        std::span<StartupStep> out) noexcept;
