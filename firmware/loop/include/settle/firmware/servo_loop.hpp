@@ -262,6 +262,12 @@ class ServoLoop {
     if (!(counts < static_cast<double>(std::numeric_limits<std::int32_t>::max()) / 2)) {
       return LoopStatus::does_not_fit_counts;
     }
+    if (a.queue.full()) return LoopStatus::queue_full;
+    // Prepared in place in the queue's free slot, which joins the queue only on success: a
+    // refusal leaves the queue as it was, and no second copy of a move is ever held.
+    const core::Status st = Evaluation::prepare(m, a.cfg.scale, a.queue.back_slot());
+    if (why != nullptr) *why = st;
+    if (st != core::Status::ok) return LoopStatus::evaluation_refused;
     // What the drive said at start-up (nothing before it ran, or when it has neither object).
     const hal::canopen::RemoteDriveLimits& limits = a.drive->limits();
     if (limits.max_profile_velocity != 0 &&
@@ -270,12 +276,6 @@ class ServoLoop {
     }
     const std::int32_t origin = move_origin(a);
     if (limits.has_position_limits() && !path_within(m, origin, cpu, limits)) return LoopStatus::position_limit;
-    if (a.queue.full()) return LoopStatus::queue_full;
-    // Prepared in place in the queue's free slot, which joins the queue only on success: a
-    // refusal leaves the queue as it was, and no second copy of a move is ever held.
-    const core::Status st = Evaluation::prepare(m, a.cfg.scale, a.queue.back_slot());
-    if (why != nullptr) *why = st;
-    if (st != core::Status::ok) return LoopStatus::evaluation_refused;
     a.queue.commit_back();
     a.queued_end = static_cast<std::int32_t>(static_cast<std::int64_t>(origin) + std::llround(m.distance() * cpu));
     return LoopStatus::ok;
