@@ -99,16 +99,17 @@ TEST(ProcessDataLayout, TheGenericCodecsFollowTheLayout) {
   EXPECT_EQ((std::array<std::uint8_t, 8>{rpdo.data[0], rpdo.data[1], rpdo.data[2], rpdo.data[3], rpdo.data[4],
                                          rpdo.data[5], rpdo.data[6], rpdo.data[7]}),
             (std::array<std::uint8_t, 8>{0xFE, 0xFF, 0xFF, 0xFF, 0x0F, 0x00, 0, 0}));
-  LayoutFeedback fb{};
   const CanFrame t3 = make_frame(0x385, std::array<std::uint8_t, 6>{0x10, 0x27, 0, 0, 0x37, 0x12});
-  EXPECT_TRUE(decode_layout_tpdo(l, 3, t3, fb));
-  EXPECT_EQ(fb.statusword, 0x1237U);
-  EXPECT_EQ(fb.position_actual, 10'000);
+  EXPECT_TRUE(slot_carried(l.statusword, 3, t3));
+  EXPECT_EQ(slot_value(l.statusword, t3), 0x1237U);
+  EXPECT_EQ(slot_value(l.position_actual, t3), 10'000U);
+  EXPECT_FALSE(slot_carried(l.velocity_actual, 3, t3)) << "TPDO1's";
   const CanFrame t1 = make_frame(0x185, std::array<std::uint8_t, 8>{0x9C, 0xFF, 0xFF, 0xFF, 3, 0, 0, 0});
-  EXPECT_FALSE(decode_layout_tpdo(l, 1, t1, fb));
-  EXPECT_EQ(fb.velocity_actual, -100);
-  EXPECT_EQ(fb.following_error, 3);
-  EXPECT_EQ(fb.statusword, 0x1237U) << "what TPDO1 does not carry stays";
+  EXPECT_TRUE(slot_carried(l.following_error, 1, t1));
+  EXPECT_EQ(static_cast<std::int32_t>(slot_value(l.velocity_actual, t1)), -100);
+  EXPECT_EQ(slot_value(l.following_error, t1), 3U);
+  const CanFrame short_t1 = make_frame(0x185, std::array<std::uint8_t, 6>{0x9C, 0xFF, 0xFF, 0xFF, 3, 0});
+  EXPECT_FALSE(slot_carried(l.following_error, 1, short_t1)) << "past the frame's bytes";
 }
 
 }  // namespace

@@ -26,6 +26,18 @@ RemoteDriveConfig base_config() {
   return c;
 }
 
+// Every optional write on: master heartbeat, heartbeat producer, following error, loss periods.
+RemoteDriveConfig every_option_config() {
+  RemoteDriveConfig c = base_config();
+  c.master_node = 127;
+  c.master_heartbeat_timeout_ms = 300;
+  c.heartbeat_period_ms = 50;
+  c.following_error_window = 1000;
+  c.following_error_timeout_ms = 10;
+  c.communication_loss_periods = 3;
+  return c;
+}
+
 // The master and the double, frame by frame on a 1 ms clock, until start-up leaves configuring.
 struct StartUp {
   explicit StartUp(const RemoteDriveConfig& c, bool without_limits = false) : drive{node, without_limits}, remote{c} {}
@@ -104,13 +116,7 @@ TEST(RemoteDriveStartUp, EveryWriteIsReadBackAndTheLimitsAreKept) {
 TEST(RemoteDriveStartUp, ADriveThatIgnoresAWriteFailsStartUpNamingTheObject) {
   for (const auto& [index, sub] : std::vector<std::pair<std::uint16_t, std::uint8_t>>{
            {0x6060, 0}, {0x60C2, 2}, {0x1006, 0}, {0x1016, 1}, {0x1017, 0}, {0x6065, 0}, {0x6066, 0}}) {
-    RemoteDriveConfig c = base_config();
-    c.master_node = 127;
-    c.master_heartbeat_timeout_ms = 300;
-    c.heartbeat_period_ms = 50;
-    c.following_error_window = 1000;
-    c.following_error_timeout_ms = 10;
-    StartUp s{c};
+    StartUp s{every_option_config()};
     s.drive.ignored_index = index;
     s.drive.ignored_sub = sub;
     s.run();
@@ -126,14 +132,7 @@ TEST(RemoteDriveStartUp, ADriveThatIgnoresAWriteFailsStartUpNamingTheObject) {
 }
 
 TEST(RemoteDriveStartUp, TheConfiguredObjectsAreWrittenWhenSet) {
-  RemoteDriveConfig c = base_config();
-  c.master_node = 127;
-  c.master_heartbeat_timeout_ms = 300;
-  c.heartbeat_period_ms = 50;
-  c.following_error_window = 1000;
-  c.following_error_timeout_ms = 10;
-  c.communication_loss_periods = 3;
-  StartUp s{c};
+  StartUp s{every_option_config()};
   s.run();
   ASSERT_EQ(s.remote.state(), RemoteDriveState::enabling) << to_string(s.remote.failure().error);
   EXPECT_EQ(s.drive.consumer_heartbeat, (127U << 16U) | 300U);

@@ -137,22 +137,8 @@ bool place_mapped_object(ProcessDataLayout& layout, bool receive, std::uint8_t n
   return !receive;  // a TPDO may carry more than the master reads; an RPDO may not
 }
 
-bool decode_layout_tpdo(const ProcessDataLayout& layout, std::uint8_t number, const CanFrame& frame,
-                        LayoutFeedback& out) noexcept {
-  const auto value = [&frame](const PdoSlot& s) {
-    return get_le(std::span<const std::uint8_t>{&frame.data[s.offset], s.size}, s.size);
-  };
-  const auto carried = [&](const PdoSlot& s) { return s.mapped() && s.pdo == number && s.offset + s.size <= frame.len; };
-  bool status = false;
-  if (carried(layout.statusword)) {
-    out.statusword = static_cast<std::uint16_t>(value(layout.statusword));
-    status = true;
-  }
-  if (carried(layout.position_actual)) out.position_actual = static_cast<std::int32_t>(value(layout.position_actual));
-  if (carried(layout.load_position)) out.load_position = static_cast<std::int32_t>(value(layout.load_position));
-  if (carried(layout.velocity_actual)) out.velocity_actual = static_cast<std::int32_t>(value(layout.velocity_actual));
-  if (carried(layout.following_error)) out.following_error = static_cast<std::int32_t>(value(layout.following_error));
-  return status;
+std::uint32_t slot_value(const PdoSlot& slot, const CanFrame& frame) noexcept {
+  return get_le(std::span<const std::uint8_t>{&frame.data[slot.offset], slot.size}, slot.size);
 }
 
 void encode_layout_rpdo(const ProcessDataLayout& layout, NodeId node, std::uint16_t controlword,

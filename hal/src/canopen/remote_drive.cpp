@@ -180,14 +180,14 @@ void RemoteDrive::apply_layout() noexcept {
 }
 
 RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept {
-  LayoutFeedback fb{feedback_.statusword, feedback_.position_actual, feedback_.load_position,
-                    feedback_.velocity_actual, feedback_.following_error};
-  const bool status = decode_layout_tpdo(config_.layout, number, frame, fb);
-  feedback_.load_position = fb.load_position;
-  feedback_.velocity_actual = fb.velocity_actual;
-  feedback_.following_error = fb.following_error;
-  if (status) {
-    take_tpdo1(Tpdo1{fb.statusword, fb.position_actual}, now_us);
+  const ProcessDataLayout& l = config_.layout;
+  const auto i32 = [&frame](const PdoSlot& s) { return static_cast<std::int32_t>(slot_value(s, frame)); };
+  if (slot_carried(l.load_position, number, frame)) feedback_.load_position = i32(l.load_position);
+  if (slot_carried(l.velocity_actual, number, frame)) feedback_.velocity_actual = i32(l.velocity_actual);
+  if (slot_carried(l.following_error, number, frame)) feedback_.following_error = i32(l.following_error);
+  if (slot_carried(l.statusword, number, frame)) {
+    // The layout keeps the position actual in the statusword's TPDO.
+    take_tpdo1(Tpdo1{static_cast<std::uint16_t>(slot_value(l.statusword, frame)), i32(l.position_actual)}, now_us);
     return RemoteFrame::tpdo1;
   }
   ++feedback_.tpdo2_received;

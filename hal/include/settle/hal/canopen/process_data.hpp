@@ -99,18 +99,12 @@ enum class LayoutError : std::uint8_t {
 [[nodiscard]] bool place_mapped_object(ProcessDataLayout& layout, bool receive, std::uint8_t number,
                                        std::uint8_t offset_bytes, std::uint32_t raw_entry) noexcept;
 
-// The feedback a TPDO carries under a layout: decoded in place from the frame's bytes.
-struct LayoutFeedback {
-  std::uint16_t statusword{0};
-  std::int32_t position_actual{0};
-  std::int32_t load_position{0};
-  std::int32_t velocity_actual{0};
-  std::int32_t following_error{0};
-};
-// Stores what TPDO `number` carries into `out` (the fields it does not carry stay); returns
-// whether it carries the statusword.
-bool decode_layout_tpdo(const ProcessDataLayout& layout, std::uint8_t number, const CanFrame& frame,
-                        LayoutFeedback& out) noexcept;
+// A received TPDO `number` carries the value at `slot` (mapped there, within the frame's bytes).
+[[nodiscard]] constexpr bool slot_carried(const PdoSlot& slot, std::uint8_t number, const CanFrame& frame) noexcept {
+  return slot.mapped() && slot.pdo == number && slot.offset + slot.size <= frame.len;
+}
+// The value at `slot` of a frame that carries it, little-endian, zero-extended.
+[[nodiscard]] std::uint32_t slot_value(const PdoSlot& slot, const CanFrame& frame) noexcept;
 // The RPDO under a layout: id, length and the two values (other bytes zero).
 void encode_layout_rpdo(const ProcessDataLayout& layout, NodeId node, std::uint16_t controlword,
                         std::int32_t target_position, CanFrame& out) noexcept;
