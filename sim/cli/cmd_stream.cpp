@@ -110,7 +110,8 @@ int cmd_stream(int argc, char** argv) {
       return failed("cannot open " + bus_name + ": " + hal::to_string(os) + " (try --bus loopback)");
     }
     const auto priority = static_cast<int>(args.integer("--rt-priority", 0));  // 0..99
-    bus = std::make_unique<sim::SocketCanStreamBus>(socketcan, bus_name, candump, priority);
+    const bool pm_qos = args.text("--pm-qos", "on") == "on";
+    bus = std::make_unique<sim::SocketCanStreamBus>(socketcan, bus_name, candump, priority, pm_qos);
   }
 
   const sim::StreamReport report = sim::run_stream(spec, *bus);

@@ -2,6 +2,7 @@
 // each cmd_*.cpp turns validated options into a library call and prints the result.
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <string_view>
 
 #include "commands.hpp"
@@ -18,11 +19,11 @@ constexpr Entry kRun[] = {
     {"plan", settle::cli::cmd_plan},         {"sample", settle::cli::cmd_sample},
     {"simulate", settle::cli::cmd_simulate}, {"reproduce", settle::cli::cmd_reproduce},
     {"plant", settle::cli::cmd_plant},       {"stream", settle::cli::cmd_stream},
-    {"demo", settle::cli::cmd_demo},
+    {"demo", settle::cli::cmd_demo},         {"drive", settle::cli::cmd_drive},
 };
 
 int unknown_command(const char* name) {
-  std::fprintf(stderr, "settle: error: unknown command '%s' (plan, sample, simulate, reproduce, plant, stream, demo) [bad_command]\n",
+  std::fprintf(stderr, "settle: error: unknown command '%s' (plan, sample, simulate, reproduce, plant, stream, demo, drive) [bad_command]\n",
                name);
   return settle::cli::kExitBadRequest;
 }
@@ -40,17 +41,24 @@ int main(int argc, char** argv) {
     std::fputs(program_help().c_str(), stdout);
     return kExitOk;
   }
-  if (first == "help") {  // settle help [<command>]
+  if (first == "help") {  // settle help [<command> [<subcommand>]]
     if (argc < 3) {
       std::fputs(program_help().c_str(), stdout);
       return kExitOk;
     }
-    if (argc > 3) {
+    const bool drive = std::string_view{argv[2]} == "drive";
+    if (argc > (drive ? 4 : 3)) {
       std::fprintf(stderr, "settle: error: usage: settle help [<command>] [bad_command]\n");
       return kExitBadRequest;
     }
-    const CommandSpec* c = find_command(argv[2]);
-    if (c == nullptr) return unknown_command(argv[2]);
+    if (drive && argc == 3) {
+      char help[] = "--help";
+      char* args[] = {help, nullptr};
+      return cmd_drive(1, args);
+    }
+    const std::string name = argc == 4 ? std::string{argv[2]} + " " + argv[3] : std::string{argv[2]};
+    const CommandSpec* c = find_command(name);
+    if (c == nullptr) return unknown_command(name.c_str());
     std::fputs(command_help(*c).c_str(), stdout);
     return kExitOk;
   }

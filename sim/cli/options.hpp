@@ -56,6 +56,8 @@ struct OptionSpec {
   std::size_t max_repeats{1};         // when repeatable
   std::vector<Range> item_ranges{};   // list: one range per position (overrides `range`)
   std::string value_name{};           // placeholder in help (defaults by kind)
+  bool hex{false};                    // integer: 0x-prefixed hexadecimal is accepted too
+
 
   // One line for help: "<help> [unit; default; range]".
   [[nodiscard]] std::string describe() const;
@@ -126,6 +128,11 @@ enum class ParseOutcome : unsigned char { ok, help_printed, error };
 // the caller can say "not finite" rather than "not a number").
 [[nodiscard]] bool parse_real(const std::string& s, double& out);
 [[nodiscard]] bool parse_integer(const std::string& s, long long& out);
+
+// Checks one value as the parser checks option `o`'s (kind, number, range), for a value whose
+// valid range depends on another option (settle drive write --value on --type). The number, when
+// the kind has one, goes to `number`.
+[[nodiscard]] bool check_value(const OptionSpec& o, const std::string& value, double& number, RequestError& err);
 
 // A command's start: parses its options. Returns -1 to go on, or the exit status to return (0
 // after --help, 2 after a bad request has been reported).

@@ -74,6 +74,7 @@ TEST(CliOptions, StreamAndPlantIntegersAreCheckedNotCast) {
       {kStream + "--feedback-timeout-periods 2.5", "--feedback-timeout-periods", "not_an_integer"},
       {kStream + "--rt-priority 1e10", "--rt-priority", ""},
       {kStream + "--rt-priority 100", "--rt-priority", "out_of_range"},
+      {kStream + "--pm-qos maybe", "--pm-qos", ""},
       {kPlant + "--sync-loss-periods 0", "--sync-loss-periods", "out_of_range"},
       {kPlant + "--sync-loss-periods 300", "--sync-loss-periods", "out_of_range"},
       {kPlant + "--duration -1", "--duration", "out_of_range"},
@@ -143,6 +144,45 @@ TEST(CliOptions, DuplicatesListsAndUnknownOptions) {
   // A value that starts with '-' is a value, not an option.
   EXPECT_EQ(run_cli("plan --profile poly345 --distance -0.1 --time 1").status, 0);
   EXPECT_EQ(run_cli("plan --profile poly345 --distance=-0 --time=1").status, 0);
+}
+
+// settle drive: the bus options, the object's index, sub-index and type, and a value that is
+// missing; each refused naming the option, before any bus is opened (the interface does not exist).
+TEST(CliOptions, DriveOptionsAreChecked) {
+  const std::string read = "drive read --bus settle-no-such-can --index 0x6041 --type u16 ";
+  const Case cases[] = {
+      {"drive info --bus settle-no-such-can --node 0", "--node", "out_of_range"},
+      {"drive info --bus settle-no-such-can --node 128", "--node", "out_of_range"},
+      {"drive info --bus settle-no-such-can --node nan", "--node", "non_finite_input"},
+      {"drive info --bus settle-no-such-can --timeout-ms 0", "--timeout-ms", "out_of_range"},
+      {"drive info --bus settle-no-such-can --timeout-ms 60001", "--timeout-ms", "out_of_range"},
+      {"drive info --bus settle-no-such-can --timeout-ms 1e400", "--timeout-ms", "non_finite_input"},
+      {"drive scan --bus settle-no-such-can --timeout-ms -5", "--timeout-ms", "out_of_range"},
+      {"drive scan --bus settle-no-such-can --node 1", "--node", "bad_option"},
+      {"drive read --bus settle-no-such-can --type u16", "--index", "missing_option"},
+      {"drive read --bus settle-no-such-can --index 0x6041", "--type", "missing_option"},
+      {"drive write --bus settle-no-such-can --index 0x6041 --type u16", "--value", "missing_option"},
+      {read + "--index 0x6042", "--index", "duplicate_option"},
+      {"drive read --type u16 --index 0", "--index", "out_of_range"},
+      {"drive read --type u16 --index 0x10000", "--index", "out_of_range"},
+      {"drive read --type u16 --index 99999999999999999999", "--index", "out_of_range"},
+      {"drive read --type u16 --index 0xZZ", "--index", "bad_number"},
+      {"drive read --type u16 --index 0x", "--index", "bad_number"},
+      {"drive read --type u16 --index -0x10", "--index", "out_of_range"},
+      {"drive read --type u16 --index 0x1p3", "--index", "not_an_integer"},
+      {"drive read --type u16 --index NaN", "--index", "non_finite_input"},
+      {read + "--sub 256", "--sub", "out_of_range"},
+      {read + "--sub 0x100", "--sub", "out_of_range"},
+      {read + "--sub -1", "--sub", "out_of_range"},
+      {"drive read --index 0x6041 --type float", "--type", "unknown_type"},
+      {"drive write --index 0x6041 --type u16 --value", "--value", "missing_value"},
+      {"drive info --bus", "--bus", "missing_value"},
+      {"drive info --bus loopback --eds", "--eds", "missing_value"},
+      {"drive info --bus loopback --eds x.eds", "--eds", "not_implemented"},
+      {"drive info --bus settle-no-such-can --eds /nonexistent/x.eds", "--eds", "bad_eds"},
+      {"drive scan - --bus loopback", "--drive-scan", "bad_option"},  // a stray argument, one word
+  };
+  for (const Case& c : cases) expect_refused(c);
 }
 
 // The wrong-option cases of the issue: each error names the option the user should change.
@@ -283,9 +323,13 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"reproduce", join({{"--out"}})},
       {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--log", "--duration"}})},
       {"stream", join({move, plant, drive,
-                       {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--heartbeat-ms",
+                       {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--pm-qos", "--heartbeat-ms",
                         "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log"}})},
       {"demo", join({{"--bus", "--out", "--list"}})},
+      {"drive info", join({{"--bus", "--timeout-ms", "--eds", "--node"}})},
+      {"drive read", join({{"--bus", "--timeout-ms", "--eds", "--node", "--index", "--sub", "--type"}})},
+      {"drive write", join({{"--bus", "--timeout-ms", "--eds", "--node", "--index", "--sub", "--type", "--value"}})},
+      {"drive scan", join({{"--bus", "--timeout-ms", "--eds"}})},
   };
   ASSERT_EQ(expected.size(), settle::cli::commands().size());
   for (const auto& [cmd, options] : expected) {
@@ -296,7 +340,13 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
     for (const std::string& o : options) {
       if (o == "--help") continue;
       // Given with a value that may be wrong, an accepted option is never "unknown".
-      const CliResult r = run_cli_argv({cmd, o, "1"});
+      std::vector<std::string> argv;  // "drive info" is two arguments
+      for (std::size_t b = 0, e = 0; e != std::string::npos; b = e + 1) {
+        e = cmd.find(' ', b);
+        argv.push_back(cmd.substr(b, e == std::string::npos ? e : e - b));
+      }
+      argv.insert(argv.end(), {o, "1"});
+      const CliResult r = run_cli_argv(argv);
       EXPECT_EQ(r.stderr_text.find("unknown option"), std::string::npos) << o << ": " << r.stderr_text;
     }
   }

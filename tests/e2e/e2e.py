@@ -235,6 +235,70 @@ def wait_mid_move(bus, distance_counts, alive):
                    rpdo_target(data) >= distance_counts // 10, "an RPDO a tenth of the way into the move", alive)
 
 
+def drive(*args, timeout=120):
+    """`settle drive ...`: (exit status, stdout, stderr)."""
+    r = subprocess.run([SETTLE, "drive", *args], capture_output=True, text=True, timeout=timeout)
+    return r.returncode, r.stdout, r.stderr
+
+
+def drive_commands(d):
+    """settle drive info/read/write/scan in their own processes against a `settle plant` process:
+    the same answers as from the simulated drive in the settle process (--bus loopback), a write
+    that the plant keeps, a refused value that never reaches the bus, an abort and a silent node."""
+    plant = Plant(d, "drive", ["--plant", "sdof"], PLANT_TOLERANT)
+    wait = ["--timeout-ms", "5000"]  # a user-mode-linux guest may stall a process for a while
+    rc, out, err = drive("info", "--bus", "vcan0", "--node", str(NODE), *wait, "--json")
+    check(rc == 0, f"drive info exits 0 ({rc} {err})")
+    info = json.loads(out)
+    rc, out, _ = drive("info", "--bus", "loopback", "--node", str(NODE), "--json")
+    local = json.loads(out)
+    check(info.pop("bus") == "vcan0" and local.pop("bus") == "loopback" and info == local,
+          f"drive info over vcan0 equals the in-process drive's: {info}")
+    check(info["device_type"] == 0x20192 and info["rpdos"][0]["mapping"][1] == {"index": 0x607A, "sub": 0, "bits": 32},
+          "device type CiA 402, RPDO1 maps the target position")
+    eds = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "hal", "eds", "settle_drive.eds")
+    rc, out, err = drive("info", "--bus", "vcan0", *wait, "--eds", eds, "--json")
+    named = json.loads(out)["rpdos"][0]["mapping"] if rc == 0 else []
+    check(rc == 0 and [m.get("name") for m in named] == ["Controlword", "Target position"],
+          f"with --eds the mapped objects are named as the EDS names them: {named} {err}")
+    rc, out, err = drive("read", "--bus", "vcan0", *wait, "--eds", eds, "--index", "0x6041", "--json")
+    check(rc == 0 and json.loads(out)["type"] == "u16", f"with --eds, read takes the type from it: {out} {err}")
+    rc, out, err = drive("read", "--bus", "vcan0", *wait, "--index", "0x1008", "--type", "string")
+    check(rc == 0 and out == f'0x1008:0 = "{local["device_name"]}"\n', f"the device name by segmented upload: {out}")
+    rc, out, err = drive("write", "--bus", "vcan0", *wait, "--index", "0x6065", "--type", "u32", "--value", "123456")
+    check(rc == 0 and "written and read back" in out, f"drive write 0x6065 = 123456: {out} {err}")
+    rc, out, err = drive("read", "--bus", "vcan0", *wait, "--index", "0x6065", "--type", "u32", "--json")
+    check(rc == 0 and json.loads(out)["value"] == 123456, f"the plant process kept the value: {out} {err}")
+    sniffer = canbus.Sniffer()
+    rc, out, err = drive("write", "--bus", "vcan0", "--index", "0x6065", "--type", "u8", "--value", "256")
+    frames = guarded(sniffer.stop)
+    check(rc == 2 and "--value: 256 is out of range" in err, f"a value out of its type's range is refused: {err}")
+    requests = [(cid, bytes(data).hex()) for cid, data in frames if 0x600 < cid <= 0x67F]  # the plant's heartbeats go on
+    check(not requests and sniffer.sock.drops == 0, f"and no SDO request reached the bus ({requests})")
+    # Strings go segmented when longer than four bytes (initiate 0x21, size indicated), expedited
+    # otherwise (0x23 | (4 - n) << 2): the simulated drive's strings are read-only, so each ends in
+    # its abort, but the request on the bus shows how it was sent.
+    for text, initiate in (("hello world", bytes([0x21, 0x08, 0x10, 0x00, 11, 0, 0, 0])),
+                           ("abc", bytes([0x27, 0x08, 0x10, 0x00]) + b"abc\0")):
+        sniffer = canbus.Sniffer()
+        rc, out, err = drive("write", "--bus", "vcan0", *wait, "--index", "0x1008", "--type", "string", "--value", text)
+        frames = guarded(sniffer.stop)
+        requests = [bytes(data) for cid, data in frames if cid == 0x600 + NODE]
+        check(rc == 1 and "SDO abort 0x06010002" in err and requests[:1] == [initiate],
+              f"a {len(text)}-byte string goes {'segmented' if len(text) > 4 else 'expedited'}: "
+              f"{[r.hex() for r in requests]} {err}")
+    rc, out, err = drive("read", "--bus", "vcan0", *wait, "--index", "0x2100", "--type", "u32")
+    check(rc == 1 and "SDO abort 0x06020000 (object does not exist" in err, f"an abort, with its meaning: {err}")
+    rc, out, err = drive("read", "--bus", "vcan0", "--node", "9", "--timeout-ms", "300", "--index", "0x1000",
+                         "--type", "u32")
+    check(rc == 1 and "no answer within 300 ms" in err, f"a node that is not there: {err}")
+    rc, out, err = drive("scan", "--bus", "vcan0", "--timeout-ms", "1000", "--json")
+    check(rc == 0 and json.loads(out)["nodes"] == [{"node": NODE, "device_type": 0x20192}],
+          f"drive scan finds the plant, and only it: {out} {err}")
+    pj = plant.stop()
+    check(pj["emcy_sent"] == 0 and pj["rx_overflow_drops"] == 0, f"the plant ran on undisturbed: {pj}")
+
+
 class _Kept:
     def __init__(self, d):
         self.d = d
@@ -412,6 +476,8 @@ def main():
                   f"and the loop says why: {j['drive_state']}: {j['drive_failure']}")
             check(sniffer.sock.drops == 0 and not any(cid == 0x201 for cid, _ in frames),
                   f"no setpoint was sent to a drive never enabled ({len(frames)} frames on the bus, none an RPDO)")
+        elif TEST == "drive-commands":
+            drive_commands(d)
         else:
             fail("unknown test " + TEST)
 

@@ -463,19 +463,47 @@ TEST_F(DriveSafety, AForeignSyncThatTakesTheMastersRpdoGetsTheMastersSyncRefused
 TEST_F(DriveSafety, AMasterCatchingUpWithItsOwnRpdosIsNotRefused) {
   // A replay (canplayer) that fell behind sends the periods it owes in one burst, each SYNC
   // with its RPDO: the SYNCs come far faster than 0x1006 allows, but every one brings the
-  // master's next setpoint. Applied in order, step by step; no error.
+  // master's next setpoint. Applied in order, step by step, no error; and the step window keeps
+  // the burst from moving the axis more than one step limit (10 000 counts) in its period.
   enable();
+  const std::int64_t limit = drive->step_limit_counts();
+  ASSERT_EQ(limit, 10'000);
   for (std::int32_t k = 1; k <= 300; ++k) {
     (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 100 * k}));
     ASSERT_EQ(deliver(encode_sync()), DriveEvent::sync) << k;  // all at the same instant
+    ASSERT_EQ(axis, std::min<std::int32_t>(100 * k, 10'000)) << k;
   }
-  EXPECT_EQ(axis, 30'000);
   EXPECT_EQ(largest_step, 100);
+  EXPECT_EQ(drive->counters().steps_bounded, 200U);
   EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
   EXPECT_TRUE(emcys().empty());
   // Right after it, with no credit left, a SYNC without an RPDO of its own is an extra one.
   EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync_rejected);
   EXPECT_EQ(emcys().at(0).data[0], emcy_cause::sync_rate);
+}
+
+TEST_F(DriveSafety, TwoPairsInOnePeriodMoveTheAxisOneStepAndItCatchesUp) {
+  // The fuzz harness's item08 inputs: a delayed bus delivers two of the master's SYNC+RPDO pairs
+  // within one period, each step within the limit. The axis moves one limit in that period
+  // (not two), keeps following, and reaches the master's targets at the next SYNCs.
+  enable();
+  const auto limit = static_cast<std::int32_t>(drive->step_limit_counts());
+  (void)period(controlword::enable_operation, limit);
+  ASSERT_EQ(axis, limit);
+  now += 2 * period_us;  // a period late, then both at once
+  for (const std::int32_t target : {2 * limit, 3 * limit}) {
+    (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, target}));
+    ASSERT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  }
+  EXPECT_EQ(axis, 2 * limit);
+  EXPECT_EQ(drive->counters().steps_bounded, 1U);
+  (void)period(controlword::enable_operation, 4 * limit);
+  EXPECT_EQ(axis, 3 * limit);
+  (void)period(controlword::enable_operation, 4 * limit);
+  EXPECT_EQ(axis, 4 * limit);
+  EXPECT_EQ(largest_step, limit);
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_TRUE(emcys().empty());
 }
 
 TEST_F(DriveSafety, ALateMasterIsNoSecondProducer) {

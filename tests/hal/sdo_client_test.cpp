@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <set>
 #include <string>
 
 #include "frame_helpers.hpp"
@@ -147,6 +148,25 @@ TEST_F(SdoClientTest, TheDriveDropsASegmentedUploadWhoseClientWentSilent) {
     }
   }
   EXPECT_TRUE(aborted);
+}
+
+// CiA 301 table 22, written out here: each has its meaning; other codes are "unknown".
+TEST(SdoAbortMeaning, EveryStandardCodeHasOne) {
+  const std::uint32_t standard[] = {
+      0x05030000, 0x05040000, 0x05040001, 0x05040002, 0x05040003, 0x05040004, 0x05040005, 0x06010000,
+      0x06010001, 0x06010002, 0x06020000, 0x06040041, 0x06040042, 0x06040043, 0x06040047, 0x06060000,
+      0x06070010, 0x06070012, 0x06070013, 0x06090011, 0x06090030, 0x06090031, 0x06090032, 0x06090036,
+      0x060A0023, 0x08000000, 0x08000020, 0x08000021, 0x08000022, 0x08000023, 0x08000024};
+  std::set<std::string> meanings;
+  for (const std::uint32_t code : standard) {
+    EXPECT_STRNE(abort_meaning(code), "unknown abort code") << std::hex << code;
+    EXPECT_TRUE(is_known_abort(code)) << std::hex << code;
+    EXPECT_TRUE(meanings.insert(abort_meaning(code)).second) << "the same meaning twice: " << abort_meaning(code);
+  }
+  EXPECT_STREQ(abort_meaning(0x0602'0000), "object does not exist in the object dictionary");
+  for (const std::uint32_t code : {0u, 0x12345678u, 0x05040006u, 0x0609'0037u, 0xFFFF'FFFFu}) {
+    EXPECT_STREQ(abort_meaning(code), "unknown abort code") << std::hex << code;
+  }
 }
 
 }  // namespace

@@ -96,6 +96,12 @@ TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
   EXPECT_EQ(r.setpoints.back(), 10000);  // 0.01 m at 1e6 counts/m
   EXPECT_EQ(r.window_samples, 200U);
   EXPECT_EQ(r.log.size(), r.session.ticks + 1);  // ticks 0 .. session.ticks
+  // Start-up on the virtual clock: the first tick is one period after the start, the ready one
+  // ready_tick periods later; the move is submitted then, so the drive is enabled before it.
+  ASSERT_TRUE(r.start_up_us.has_value());
+  EXPECT_EQ(*r.start_up_us, (r.session.ready_tick + 1) * 1000U);
+  EXPECT_GT(r.session.ready_tick, 2U);  // NMT, SDO configuration and three enabling controlwords take ticks
+  EXPECT_LT(r.session.ready_tick, 100U);
 
   const std::vector<Logged> frames = read_candump(dump);
   std::uint64_t syncs = 0, from_master = 0;

@@ -69,6 +69,9 @@ StreamReport completed_run() {
   r.window_samples = 10;
   r.timing.latency.add(1500);
   r.timing.overruns = 4;
+  r.start_up_us = 123'400;
+  r.session.ready_tick = 123;
+  r.timing.realtime.pm_qos = true;
   return r;
 }
 
@@ -90,6 +93,7 @@ StreamReport refused_run() {
 TEST(StreamReportText, ACompletedRealTimeRun) {
   EXPECT_EQ(captured([](std::FILE* f) { write_stream_text(completed_run(), f); }).text,
             "outcome            completed on vcan9\n"
+            "start-up           operation enabled after 123.4 ms (tick 123)\n"
             "frames             sent 10, received 12, tx busy 1, late feedback ticks 2, every setpoint applied once, "
             "in order\n"
             "residual (CAN)     0.000123456789 (PRV 1.5000 %)\n"
@@ -98,12 +102,21 @@ TEST(StreamReportText, ACompletedRealTimeRun) {
             "0.0001234\n"
             "continuous profile 0.00012 (PRV 1.4500 %)\n"
             "wake-up latency    min 1500 p50 2000 p99 2000 max 1500 ns, overruns 4 (SCHED_FIFO not used: pass "
-            "--rt-priority N as root)\n");
+            "--rt-priority N as root); PM QoS held at 0 us\n");
+}
+
+TEST(StreamReportText, APmQosRequestNotHeldSaysWhy) {
+  StreamReport r = completed_run();
+  r.timing.realtime.pm_qos = false;
+  r.timing.realtime.pm_qos_error = "Permission denied";
+  const std::string text = captured([&](std::FILE* f) { write_stream_text(r, f); }).text;
+  EXPECT_NE(text.find("; PM QoS not held (Permission denied)\n"), std::string::npos) << text;
 }
 
 TEST(StreamReportText, AbsentMeasurementsAreNotAvailableNeverNan) {
   EXPECT_EQ(captured([](std::FILE* f) { write_stream_text(refused_run(), f); }).text,
             "outcome            feedback_timeout on loopback (in-process, virtual time), fault: feedback_timeout\n"
+            "start-up           the drive never reached operation enabled\n"
             "frames             sent 0, received 0, tx busy 0, late feedback ticks 0, FEEDBACK DOES NOT MATCH THE "
             "SETPOINTS\n"
             "residual (CAN)     n/a (PRV n/a %)\n"
@@ -120,7 +133,7 @@ TEST(StreamReportJson, FieldNamesInOrder) {
   const std::vector<std::string> want{
       "status", "outcome", "fault", "drive_state", "drive_failure", "bus", "profile", "scalar", "evaluation",
       "setpoints", "setpoints_vs_double_max_counts", "setpoints_differing_from_double", "distance", "move_time",
-      "period_us", "ticks", "frames_sent", "frames_received", "tx_busy", "rx_overflow_drops", "feedback_samples",
+      "period_us", "ticks", "start_up_ms", "ready_tick", "frames_sent", "frames_received", "tx_busy", "rx_overflow_drops", "feedback_samples",
       "feedback_late_ticks", "aligned", "frames_lost", "overruns", "skipped_periods", "rpdo_sent",
       "step_guard_trips", "heartbeat_losses", "emcy_received", "drive_restarts", "moves_aborted",
       "max_following_error", "feedback_overflows", "feedback_timeouts", "units_held", "residual_can",
@@ -151,6 +164,10 @@ TEST(StreamReportJson, ACompletedRunIsOkWithItsNumbers) {
   EXPECT_EQ(j["latency_ns"]["count"], 1);
   EXPECT_EQ(j["latency_ns"]["min"], 1500);
   EXPECT_EQ(j["overruns"], 4);
+  EXPECT_EQ(j["realtime"]["pm_qos"], true);
+  EXPECT_EQ(j["start_up_ms"], 123.4);
+  EXPECT_EQ(j["ready_tick"], 123);
+  EXPECT_EQ(j["realtime"]["pm_qos_error"], "");
 }
 
 TEST(StreamReportJson, AbsentMeasurementsAreNullAndTheStatusAnError) {

@@ -1,8 +1,10 @@
 #include "settle/firmware/linux/periodic.hpp"
 
+#include <fcntl.h>
 #include <sched.h>
 #include <sys/mman.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -31,6 +33,25 @@ RealtimeSetup request_realtime(int priority) noexcept {
     r.lock_error = std::strerror(errno);
   }
   return r;
+}
+
+CpuLatencyRequest::CpuLatencyRequest(std::int32_t max_latency_us, const char* path) noexcept {
+  const int fd = ::open(path, O_WRONLY | O_CLOEXEC);
+  if (fd < 0) {
+    error_ = std::strerror(errno);
+    return;
+  }
+  const ssize_t written = ::write(fd, &max_latency_us, sizeof max_latency_us);
+  if (written != static_cast<ssize_t>(sizeof max_latency_us)) {
+    error_ = written < 0 ? std::strerror(errno) : "short write";
+    ::close(fd);
+    return;
+  }
+  fd_ = fd;
+}
+
+CpuLatencyRequest::~CpuLatencyRequest() {
+  if (fd_ >= 0) ::close(fd_);
 }
 
 void LatencyHistogram::add(std::int64_t ns) noexcept {

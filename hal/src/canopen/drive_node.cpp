@@ -201,6 +201,7 @@ void DriveNode::restore(bool application) noexcept {
     objects_.app = defaults.app;
     power_.reset();
     setpoint_ = 0;
+    accepted_target_ = 0;
     following_error_ = false;
     limit_active_ = false;
     following_error_timer_.disarm();
@@ -330,12 +331,14 @@ void DriveNode::on_nmt(const NmtMessage& message, std::uint64_t /*now_us*/, Fram
 DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std::uint64_t received_us,
                              FrameSink& out) noexcept {
   ++counters_.syncs;
+  period_time_us_ = config_.axis_moves_at_sync_receive_time ? received_us : now_us;
   SyncEvent event = sync_.on_sync(sync, now_us, received_us);
   if (event == SyncEvent::too_many && pending_rpdo_ && nmt_.pdo_allowed()) {
     // Too early, but it brings its own fresh RPDO: the master's own period delivered late (a
     // replay catching up after a stall), not an extra SYNC. A duplicated SYNC, or a second
     // producer's, has no RPDO of its own: it is the one refused (a foreign SYNC that takes the
-    // master's RPDO leaves the master's SYNC without one). The step limit bounds every step.
+    // master's RPDO leaves the master's SYNC without one). The step limit bounds every step,
+    // the step window the steps within a period (two such SYNCs move the axis one step).
     event = SyncEvent::in_order;
   }
   if (event == SyncEvent::gap) {
@@ -419,13 +422,22 @@ void DriveNode::apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept {
     // The step limit: a setpoint the axis cannot reach within 0x607F is never applied, whoever
     // wrote it (RPDO or SDO). The step is the short way round the counter's wrap (a move across
     // it is a small step, a jump of 2^31 is the largest there is), its magnitude in 64 bits.
-    const std::int64_t step = position_difference(clamped, setpoint_);
-    if (magnitude(step) > step_limit_counts()) {
+    // Measured from the previous target accepted (the latched position after enabling), which
+    // the setpoint follows unless the window below holds it back.
+    const std::int64_t step = position_difference(clamped, accepted_target_);
+    const std::int64_t limit = step_limit_counts();
+    if (magnitude(step) > limit) {
       ++counters_.steps_refused;
       fault_with(emcy_code::velocity, emcy_detail(emcy_cause::step_limit, step), now_us, out);
       return;  // setpoint() stays the last applied one
     }
-    setpoint_ = clamped;
+    accepted_target_ = clamped;
+    // Within one period the axis moves at most the step limit, however many SYNCs that period
+    // brought (tolerating SYNCs up to a quarter period early).
+    const std::uint32_t window_us = step_period_us() - step_period_us() / 4U;
+    setpoint_ = step_window_.bound(period_time_us_, clamped, limit, window_us);
+    step_window_.push(period_time_us_, setpoint_, window_us);
+    if (setpoint_ != clamped) ++counters_.steps_bounded;
     limit_active_ = clamped != target;
   } else if (!power_.enabled()) {
     // Not following: the drive holds where the axis is.
@@ -434,14 +446,16 @@ void DriveNode::apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept {
   }
 }
 
-std::int64_t DriveNode::step_limit_counts() const noexcept {
-  std::uint64_t period_us = interpolation_period_us();
+std::uint32_t DriveNode::step_period_us() const noexcept {
+  const std::uint32_t period_us = interpolation_period_us();
   const std::uint32_t cycle_us = objects_.comm.cycle_period_us;
-  if (cycle_us != 0 && cycle_us < period_us) {
-    period_us = cycle_us;
-  }
+  return cycle_us != 0 && cycle_us < period_us ? cycle_us : period_us;
+}
+
+std::int64_t DriveNode::step_limit_counts() const noexcept {
   // Both factors are below 2^32: the product and the rounding fit 64 bits.
-  const std::uint64_t counts = (std::uint64_t{objects_.app.max_profile_velocity} * period_us + 999'999U) / 1'000'000U;
+  const std::uint64_t counts =
+      (std::uint64_t{objects_.app.max_profile_velocity} * step_period_us() + 999'999U) / 1'000'000U;
   return static_cast<std::int64_t>(counts);
 }
 
@@ -453,6 +467,8 @@ void DriveNode::latch_target() noexcept {
   a.target_position = a.position_actual;
   a.ip_data = a.position_actual;
   setpoint_ = a.position_actual;
+  accepted_target_ = a.position_actual;
+  step_window_.reset(period_time_us_, a.position_actual);
   limit_active_ = false;
   sync_.rearm_rate_check();
 }

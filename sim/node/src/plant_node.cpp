@@ -4,8 +4,17 @@
 
 namespace settle::sim {
 
+namespace {
+// The simulated axis advances one period per SYNC, whenever the simulator gets to it: its
+// periods are the SYNCs' receive times, not the times a busy host processed them.
+hal::canopen::DriveNodeConfig moving_per_sync(hal::canopen::DriveNodeConfig c) {
+  c.axis_moves_at_sync_receive_time = true;
+  return c;
+}
+}  // namespace
+
 PlantNode::PlantNode(const hal::canopen::DriveNodeConfig& node, DriveAxis axis, std::size_t log_capacity)
-    : node_{node}, axis_{std::move(axis)}, log_(log_capacity) {}
+    : node_{moving_per_sync(node)}, axis_{std::move(axis)}, log_(log_capacity) {}
 
 void PlantNode::start(std::uint64_t now_us, hal::FrameSink& out) { node_.start(now_us, out); }
 

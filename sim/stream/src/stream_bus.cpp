@@ -52,8 +52,12 @@ std::string LoopbackStreamBus::finish(const FrameTaker& /*take*/) {
 // ---- a SocketCAN interface, in real time ----
 
 SocketCanStreamBus::SocketCanStreamBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path,
-                                       int rt_priority)
-    : bus_{opened}, interface_{std::move(interface)}, candump_path_{std::move(candump_path)}, rt_priority_{rt_priority} {}
+                                       int rt_priority, bool pm_qos)
+    : bus_{opened},
+      interface_{std::move(interface)},
+      candump_path_{std::move(candump_path)},
+      rt_priority_{rt_priority},
+      pm_qos_{pm_qos} {}
 
 SocketCanStreamBus::~SocketCanStreamBus() = default;
 
@@ -67,6 +71,13 @@ std::string SocketCanStreamBus::open(const StreamSpec& spec) {
     recorder_ = std::make_unique<hal::RecordingBus<4096>>(bus_, hal::realtime_us);
   }
   if (rt_priority_ > 0) realtime_ = firmware::linux_rt::request_realtime(rt_priority_);
+  if (pm_qos_) {
+    cpu_latency_.emplace();
+    realtime_.pm_qos = cpu_latency_->held();
+    realtime_.pm_qos_error = cpu_latency_->error();
+  } else {
+    realtime_.pm_qos_error = "off";
+  }
   timer_.emplace(spec.drive.scale.period_us);
   return {};
 }

@@ -29,6 +29,12 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
   const bool fault = r.session.fault != firmware::AxisFault::none;
   std::fprintf(out, "outcome            %s on %s%s%s\n", firmware::to_string(r.session.outcome), r.bus.c_str(),
                fault ? ", fault: " : "", fault ? firmware::to_string(r.session.fault) : "");
+  if (r.start_up_us) {
+    std::fprintf(out, "start-up           operation enabled after %.1f ms (tick %llu)\n",
+                 static_cast<double>(*r.start_up_us) / 1000.0, static_cast<unsigned long long>(r.session.ready_tick));
+  } else {
+    std::fprintf(out, "start-up           the drive never reached operation enabled\n");
+  }
   std::fprintf(out, "frames             sent %llu, received %llu, tx busy %llu, late feedback ticks %llu, %s\n",
                static_cast<unsigned long long>(r.counters.sent), static_cast<unsigned long long>(r.counters.received),
                static_cast<unsigned long long>(r.counters.tx_busy),
@@ -55,11 +61,13 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
   }
   if (r.realtime) {
     const firmware::linux_rt::LatencyHistogram& l = r.timing.latency;
-    std::fprintf(out, "wake-up latency    min %lld p50 %lld p99 %lld max %lld ns, overruns %llu%s\n",
+    const firmware::linux_rt::RealtimeSetup& rt = r.timing.realtime;
+    const std::string pm_qos = rt.pm_qos ? "held at 0 us" : "not held (" + rt.pm_qos_error + ")";
+    std::fprintf(out, "wake-up latency    min %lld p50 %lld p99 %lld max %lld ns, overruns %llu%s; PM QoS %s\n",
                  static_cast<long long>(l.min_ns()), static_cast<long long>(l.quantile_ns(0.5)),
                  static_cast<long long>(l.quantile_ns(0.99)), static_cast<long long>(l.max_ns()),
                  static_cast<unsigned long long>(r.timing.overruns),
-                 r.timing.realtime.fifo ? "" : " (SCHED_FIFO not used: pass --rt-priority N as root)");
+                 rt.fifo ? "" : " (SCHED_FIFO not used: pass --rt-priority N as root)", pm_qos.c_str());
   }
 }
 
@@ -88,6 +96,9 @@ std::string stream_json(const StreamReport& r) {
       {"move_time", r.move_time},
       {"period_us", static_cast<long long>(r.scale.period_us)},
       {"ticks", count(r.session.ticks)},
+      // Time to operation enabled (null: never), and its tick.
+      {"start_up_ms", r.start_up_us ? Json(static_cast<double>(*r.start_up_us) / 1000.0) : Json(nullptr)},
+      {"ready_tick", count(r.session.ready_tick)},
       {"frames_sent", count(r.counters.sent)},
       {"frames_received", count(r.counters.received)},
       {"tx_busy", count(r.counters.tx_busy)},
@@ -131,7 +142,9 @@ std::string stream_json(const StreamReport& r) {
       {"realtime", Json{{"sched_fifo", r.timing.realtime.fifo},
                         {"sched_fifo_error", r.timing.realtime.fifo_error},
                         {"mlockall", r.timing.realtime.locked},
-                        {"mlockall_error", r.timing.realtime.lock_error}}},
+                        {"mlockall_error", r.timing.realtime.lock_error},
+                        {"pm_qos", r.timing.realtime.pm_qos},
+                        {"pm_qos_error", r.timing.realtime.pm_qos_error}}},
   };
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

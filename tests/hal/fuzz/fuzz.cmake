@@ -102,22 +102,11 @@ file(GLOB servo_regressions CONFIGURE_DEPENDS ${servo_regressions_dir}/*)
 # lands its test fails, because the input now passes: take its name out of this list. The brief
 # random run is in it as well while today's code still has defects it finds within its runs.
 set(servo_fuzz_expected "fuzz_servo: invariant \\([abc]\\) violated")
-# Fixed by issue 12's drive and loop work: every other regression now runs clean. Still open:
-# a delayed bus that delivers two of the master's own SYNC+RPDO pairs within one period (the
-# drive accepts an early SYNC that brings its own fresh RPDO, so that a master catching up after
-# a stall is not taken for a second producer); each step is within the limit, two land in 1 ms.
-# Since the PDO-length, registry and stream changes of December 2026 moved its path, the brief run
-# (seed 1, 600 runs) also reaches this defect (a 2-tick delay on the drive side, then two pairs
-# at tick 48: 2575 counts in one period against 2167): it stays pending until item08 is fixed
-# (the master's SYNC counter, and a drive that bounds the steps per period of receive time).
-# Since RemoteDrive reads back every write and reads 0x607D/0x607F (issue 14), start-up takes
-# more SDO round trips and item08_sync_burst_after_a_drive_side_delay runs clean: its path no
-# longer reaches the defect (not fixed: two_steps_in_one_period still shows it). The brief run ran
-# clean after the read-backs alone, and reaches the defect again with the PDO-layout and
-# position-limit changes (a 2-tick drive-side delay, then 2911 counts in one period against 2167).
-set(servo_fuzz_pending
-  item08_sync_burst_two_steps_in_one_period
-  hal_fuzz_servo_brief)
+# Fixed by issue 12's drive and loop work and, for the item08 inputs (a delayed bus or a late
+# drive delivering two of the master's SYNC+RPDO pairs within one period), by the drive's step
+# window (hal/include/settle/hal/canopen/step_window.hpp): nothing is pending today. An input
+# that reproduces a defect not fixed yet goes here by name until its fix lands.
+set(servo_fuzz_pending)
 
 # Every seed, run once (no fuzzing): the committed corpus stays green.
 add_test(NAME hal_fuzz_servo_seeds COMMAND ${servo_fuzz_exe} ${servo_fuzz_common} ${servo_seeds})

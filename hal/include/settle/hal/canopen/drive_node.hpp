@@ -14,6 +14,9 @@
 // - Step limit: a setpoint further than 0x607F x period from the previous one (the latched
 //   position after enabling) is never applied: fault, EMCY 0x8400, the axis stays where it was.
 //   Whatever wrote 0x607A (RPDO or SDO) is checked the same way, at the SYNC that would apply it.
+// - Step window: within one period the axis moves at most that limit, so SYNC+RPDO pairs bunched
+//   by a late bus or a late drive do not add their steps up; the setpoint is held back and
+//   catches up at the next SYNCs (see step_window.hpp and axis_moves_at_sync_receive_time).
 // - Following error: |setpoint - position actual| over 0x6065 for longer than 0x6066 ms:
 //   fault, EMCY 0x8611. On by default.
 // - SYNC checks while the axis is driven: a counter (0x1019) that does not step by one, a
@@ -43,6 +46,7 @@
 #include "settle/hal/canopen/object_dictionary.hpp"
 #include "settle/hal/canopen/pdo.hpp"
 #include "settle/hal/canopen/sdo.hpp"
+#include "settle/hal/canopen/step_window.hpp"
 #include "settle/hal/canopen/sync.hpp"
 #include "settle/hal/canopen/watchdog.hpp"
 #include "settle/hal/frame_sink.hpp"
@@ -102,6 +106,11 @@ struct DriveNodeConfig {
   std::uint32_t product_code{0x5E77'1E00};
   std::uint32_t revision{1};
   std::uint32_t serial{0};
+  // The clock the step window measures periods in (step_window.hpp): when the axis moves. A
+  // drive that moves its axis as it processes a SYNC (firmware) uses the time it processes it;
+  // a simulated axis that advances one period per SYNC (sim's PlantNode) uses the SYNC's receive
+  // time, so a simulator that read a backlog late is not taken for a fast master.
+  bool axis_moves_at_sync_receive_time{false};
 };
 
 // The dictionary's variables, in two groups because NMT resets them in two groups:
@@ -198,6 +207,7 @@ struct DriveCounters {
   std::uint64_t sync_gaps{0};
   std::uint64_t sync_errors{0};        // SYNCs that failed the counter or rate check (refused while driven)
   std::uint64_t steps_refused{0};      // setpoints over the step limit (0x607F x period)
+  std::uint64_t steps_bounded{0};      // setpoints held back by the step window (SYNCs bunched in one period)
   std::uint64_t emcy_sent{0};
 };
 
@@ -235,6 +245,8 @@ class DriveNode {
   // The largest setpoint step the drive applies in one SYNC period: 0x607F (counts/s) times the
   // shorter of 0x1006 and 0x60C2 (0x1006 = 0 counts as absent), rounded up. 64-bit: no overflow.
   [[nodiscard]] std::int64_t step_limit_counts() const noexcept;
+  // The period step_limit_counts() is for: the shorter of 0x1006 and 0x60C2 (0x1006 = 0: 0x60C2).
+  [[nodiscard]] std::uint32_t step_period_us() const noexcept;
   [[nodiscard]] const DriveObjects& objects() const noexcept { return objects_; }
   [[nodiscard]] ObjectDictionary& dictionary() noexcept { return od_; }
   [[nodiscard]] const DriveCounters& counters() const noexcept { return counters_; }
@@ -287,6 +299,9 @@ class DriveNode {
   Watchdog following_error_timer_{};
   DriveCounters counters_{};
   std::int32_t setpoint_{0};
+  std::int32_t accepted_target_{0};     // the last target the step limit accepted
+  std::uint64_t period_time_us_{0};  // when the axis moves for the SYNC being processed
+  StepWindow step_window_{};
   std::uint32_t rpdo_missing_run_{0};
   bool following_error_{false};
   bool limit_active_{false};

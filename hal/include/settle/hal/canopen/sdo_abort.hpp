@@ -81,4 +81,46 @@ enum class SdoAbort : std::uint32_t {
   return false;
 }
 
+// The meaning CiA 301 gives each code (table 22), for people reading an abort; "unknown abort
+// code" for one outside the standard set.
+[[nodiscard]] constexpr const char* abort_meaning(std::uint32_t code) noexcept {
+  switch (static_cast<SdoAbort>(code)) {
+    case SdoAbort::toggle_bit: return "toggle bit not alternated";
+    case SdoAbort::timeout: return "SDO protocol timed out";
+    case SdoAbort::unknown_command: return "client/server command specifier not valid or unknown";
+    case SdoAbort::invalid_block_size: return "invalid block size (block mode only)";
+    case SdoAbort::invalid_sequence: return "invalid sequence number (block mode only)";
+    case SdoAbort::crc_error: return "CRC error (block mode only)";
+    case SdoAbort::out_of_memory: return "out of memory";
+    case SdoAbort::unsupported_access: return "unsupported access to an object";
+    case SdoAbort::write_only: return "attempt to read a write only object";
+    case SdoAbort::read_only: return "attempt to write a read only object";
+    case SdoAbort::no_object: return "object does not exist in the object dictionary";
+    case SdoAbort::not_mappable: return "object cannot be mapped to the PDO";
+    case SdoAbort::pdo_too_long: return "the number and length of the objects to be mapped would exceed the PDO length";
+    case SdoAbort::parameter_incompatible: return "general parameter incompatibility reason";
+    case SdoAbort::internal_incompatible: return "general internal incompatibility in the device";
+    case SdoAbort::hardware_error: return "access failed due to a hardware error";
+    case SdoAbort::length_mismatch: return "data type does not match, length of service parameter does not match";
+    case SdoAbort::length_too_high: return "data type does not match, length of service parameter too high";
+    case SdoAbort::length_too_low: return "data type does not match, length of service parameter too low";
+    case SdoAbort::no_sub_index: return "sub-index does not exist";
+    case SdoAbort::invalid_value: return "invalid value for parameter (download only)";
+    case SdoAbort::value_too_high: return "value of parameter written too high (download only)";
+    case SdoAbort::value_too_low: return "value of parameter written too low (download only)";
+    case SdoAbort::max_below_min: return "maximum value is less than minimum value";
+    case SdoAbort::no_resource: return "resource not available: SDO connection";
+    case SdoAbort::general_error: return "general error";
+    case SdoAbort::cannot_store: return "data cannot be transferred or stored to the application";
+    case SdoAbort::cannot_store_local_control:
+      return "data cannot be transferred or stored to the application because of local control";
+    case SdoAbort::cannot_store_device_state:
+      return "data cannot be transferred or stored to the application because of the present device state";
+    case SdoAbort::no_dictionary: return "object dictionary dynamic generation fails or no object dictionary is present";
+    case SdoAbort::no_data: return "no data available";
+    case SdoAbort::none: break;
+  }
+  return "unknown abort code";
+}
+
 }  // namespace settle::hal::canopen

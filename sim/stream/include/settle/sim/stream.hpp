@@ -96,6 +96,9 @@ struct StreamReport {
   core::AxisScale scale{};
 
   firmware::SessionResult session{};
+  // From the session's first tick to the first with the drive operation enabled (NMT, the SDO
+  // configuration, the enable sequence), on the bus's clock; absent when it never got there.
+  std::optional<std::uint64_t> start_up_us;
   std::string drive_state;
   std::string drive_failure;  // empty unless the drive's start-up failed
   hal::BusCounters counters{};

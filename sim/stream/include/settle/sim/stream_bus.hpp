@@ -54,9 +54,10 @@ class SocketCanStreamBus final : public StreamBus {
   // `opened`: the interface, already open (it must outlive this). rt_priority 1..99 asks for
   // SCHED_FIFO (and locked memory) at open; 0 runs as scheduled. candump_path: this process's own
   // log of every frame it sends and receives (complete, unlike a sniffer's: its line count equals
-  // frames_sent + frames_received); "" none.
+  // frames_sent + frames_received); "" none. pm_qos: hold /dev/cpu_dma_latency at 0 µs from open
+  // to destruction (CpuLatencyRequest; reported in timing().realtime, not fatal when refused).
   SocketCanStreamBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path = {},
-                     int rt_priority = 0);
+                     int rt_priority = 0, bool pm_qos = true);
   ~SocketCanStreamBus() override;
 
   [[nodiscard]] std::string name() const override { return interface_; }
@@ -76,7 +77,9 @@ class SocketCanStreamBus final : public StreamBus {
   std::string interface_;
   std::string candump_path_;
   int rt_priority_;
+  bool pm_qos_;
   std::unique_ptr<hal::RecordingBus<4096>> recorder_;  // only with a candump log
+  std::optional<firmware::linux_rt::CpuLatencyRequest> cpu_latency_;
   hal::CandumpFile dump_;
   std::optional<firmware::linux_rt::PeriodicTimer> timer_;
   firmware::linux_rt::RealtimeSetup realtime_{};

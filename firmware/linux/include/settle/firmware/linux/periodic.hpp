@@ -18,9 +18,33 @@ struct RealtimeSetup {
   int fifo_priority{0};
   std::string fifo_error;  // why not, when not (strerror)
   std::string lock_error;
+  bool pm_qos{false};      // a CpuLatencyRequest was held while the loop ran
+  std::string pm_qos_error;  // why not, when asked for and not held ("off" when switched off)
 };
 // Asks for SCHED_FIFO at `priority` and for locked memory; failing either is reported, not fatal.
 [[nodiscard]] RealtimeSetup request_realtime(int priority) noexcept;
+
+// The CPU power-management QoS request (Documentation/power/pm_qos_interface): while the file
+// /dev/cpu_dma_latency is held open with a value written to it, no CPU enters an idle state whose
+// exit latency exceeds that many µs. At 0 the CPUs stay out of deep idle states, which is most of
+// the wake-up latency a periodic loop sees on an idle machine (cyclictest holds it by default;
+// `cyclictest --laptop` does not). Closing the file (destruction) withdraws the request.
+class CpuLatencyRequest {
+ public:
+  static constexpr const char* kDevice = "/dev/cpu_dma_latency";
+  // Opens `path` and writes `max_latency_us` as the binary 32-bit value the kernel expects.
+  explicit CpuLatencyRequest(std::int32_t max_latency_us = 0, const char* path = kDevice) noexcept;
+  ~CpuLatencyRequest();
+  CpuLatencyRequest(const CpuLatencyRequest&) = delete;
+  CpuLatencyRequest& operator=(const CpuLatencyRequest&) = delete;
+
+  [[nodiscard]] bool held() const noexcept { return fd_ >= 0; }
+  [[nodiscard]] const std::string& error() const noexcept { return error_; }  // strerror when not held
+
+ private:
+  int fd_{-1};
+  std::string error_;
+};
 
 // Latency in ns, in fixed bins: 1 µs resolution to 1 ms, then 100 µs to 100 ms, then overflow.
 class LatencyHistogram {
