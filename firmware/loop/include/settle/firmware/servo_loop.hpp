@@ -114,8 +114,8 @@ struct LoopConfig {
   std::uint16_t send_failure_periods{kDefaultSendFailurePeriods};
 };
 
-struct AxisConfig {
-  hal::canopen::RemoteDriveConfig drive{};
+// What the loop keeps of an axis's configuration (the drive's part lives in its RemoteDrive).
+struct AxisLoopConfig {
   // Counts per unit (e.g. 1 count = 1 µm for the seed-000 beam) and the period, which must be the
   // loop's (add_axis refuses another: bad_axis_config).
   core::AxisScale scale{};
@@ -128,6 +128,10 @@ struct AxisConfig {
   // Periods after a move's final setpoint within which the feedback must show it (within one
   // count); otherwise the move is void (not_in_position). 0 = wait as long as it takes.
   std::uint16_t in_position_timeout_periods{kDefaultInPositionTimeoutPeriods};
+};
+
+struct AxisConfig : AxisLoopConfig {
+  hal::canopen::RemoteDriveConfig drive{};
 };
 
 // What one axis did in the last tick: the runner copies it out to log or plot.
@@ -208,9 +212,10 @@ class ServoLoop {
     if (node == 0 || node > 127 || axis_of_node_[node] != kNoAxis) return LoopStatus::bad_axis_config;
     Axis& a = axes_[count_];
     axis_of_node_[node] = static_cast<std::uint8_t>(count_);
-    a.cfg = cfg;
-    a.cfg.drive.sync_period_us = period_us_;
-    a.drive.emplace(a.cfg.drive);
+    a.cfg = static_cast<const AxisLoopConfig&>(cfg);  // the drive's part is kept by its RemoteDrive
+    hal::canopen::RemoteDriveConfig drive = cfg.drive;
+    drive.sync_period_us = period_us_;
+    a.drive.emplace(drive);
     // In whole counts, once: the tick compares integers. At or past 2^31 no step can exceed it.
     const double guard = std::floor(cfg.vmax * cfg.scale.counts_per_unit * cfg.scale.period_s()) + cfg.step_margin_counts;
     a.guard = guard < 2147483648.0 ? static_cast<std::uint32_t>(guard) : std::uint32_t{1} << 31U;
@@ -410,7 +415,7 @@ class ServoLoop {
     FixedQueue<FeedbackSample, kFeedbackLogCapacity> feedback_log{};
     std::optional<hal::canopen::RemoteDrive> drive{};
     std::int32_t queued_end{0};   // where the last move queued (or running) ends, counts
-    AxisConfig cfg{};
+    AxisLoopConfig cfg{};
     FixedQueue<typename Evaluation::Stored, QueueDepth> queue{};
   };
 
