@@ -4,10 +4,12 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <map>
 
 #include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/canopen/nmt.hpp"
+#include "settle/hal/canopen/process_data.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
 #include "settle/hal/canopen/sync.hpp"
 #include "settle/hal/loopback_bus.hpp"
@@ -113,29 +115,55 @@ void BM_DriveNodeSyncPeriod(benchmark::State& state) {
 }
 BENCHMARK(BM_DriveNodeSyncPeriod);
 
-// The master's side of one period for one axis: RPDO from RemoteDrive, feedback in.
-void BM_RemoteDrivePeriod(benchmark::State& state) {
+// The master's side of one period for one axis: RPDO from RemoteDrive, feedback in. Under the
+// default layout (inline codecs) and under another one (the generic ones of process_data.hpp):
+// controlword after the target in RPDO1, velocity and position in TPDO1 with the statusword last.
+void remote_drive_period(benchmark::State& state, bool other_layout) {
   RemoteDriveConfig config{};
   config.node = node;
+  if (other_layout) {
+    config.layout.controlword = PdoSlot{1, 4, 2};
+    config.layout.target_position = PdoSlot{1, 0, 4};
+    config.layout.statusword = PdoSlot{1, 4, 2};
+    config.layout.position_actual = PdoSlot{1, 0, 4};
+  }
   RemoteDrive remote{config};
   FrameBuffer<16> out;
-  // Bring it to "ready" by feeding the answers a drive would give.
+  // Bring it to "ready" by feeding the answers a drive would give: a write reads back as written.
+  std::map<std::uint32_t, std::uint32_t> objects{{obj::device_type << 8U, cia402_device_type},
+                                                 {obj::modes_of_operation_display << 8U, 8}};
+  // TPDO1 with the statusword "operation enabled" and a position, in the layout's places.
+  const auto tpdo1 = [&](std::int32_t position) {
+    CanFrame f = encode_tpdo1(node, Tpdo1{0x1237, position});
+    if (other_layout) {
+      const auto p = static_cast<std::uint32_t>(position);
+      f.data = {};
+      f.data[0] = static_cast<std::uint8_t>(p);
+      f.data[1] = static_cast<std::uint8_t>(p >> 8U);
+      f.data[2] = static_cast<std::uint8_t>(p >> 16U);
+      f.data[3] = static_cast<std::uint8_t>(p >> 24U);
+      f.data[4] = 0x37;
+      f.data[5] = 0x12;
+    }
+    return f;
+  };
   remote.start(0, out);
-  for (int i = 0; i < 16 && !remote.ready(); ++i) {
+  for (int i = 0; i < 64 && !remote.ready(); ++i) {
     for (std::size_t k = 0; k < out.size(); ++k) {
       const auto q = decode_sdo_request(out[k], node);
       if (!q) {
         continue;
       }
+      const std::uint32_t key = (std::uint32_t{q->index} << 8U) | q->sub;
+      if (q->kind == SdoKind::download_request) objects[key] = q->value;
       const CanFrame answer = q->kind == SdoKind::upload_request
-                                  ? encode_sdo_upload_response(node, q->index, q->sub,
-                                                               q->index == obj::device_type ? cia402_device_type : 8, 4)
+                                  ? encode_sdo_upload_response(node, q->index, q->sub, objects[key], 4)
                                   : encode_sdo_download_response(node, q->index, q->sub);
       out.clear();
       remote.on_frame(answer, 0, out);
       break;
     }
-    remote.on_frame(encode_tpdo1(node, Tpdo1{0x1237, 0}), 0, out);
+    remote.on_frame(tpdo1(0), 0, out);
   }
   if (!remote.ready()) {
     state.SkipWithError("remote drive did not become ready");
@@ -147,12 +175,15 @@ void BM_RemoteDrivePeriod(benchmark::State& state) {
     target += 3;
     benchmark::DoNotOptimize(remote.rpdo(target, rpdo));
     benchmark::DoNotOptimize(rpdo);
-    remote.on_frame(encode_tpdo1(node, Tpdo1{0x1237, target}), 0, out);
+    remote.on_frame(tpdo1(target), 0, out);
     remote.on_frame(encode_tpdo2(node, Tpdo2{target, 0}), 0, out);
   }
   benchmark::DoNotOptimize(remote.feedback());
   per_frame(state, 3);
 }
+void BM_RemoteDrivePeriod(benchmark::State& state) { remote_drive_period(state, false); }
 BENCHMARK(BM_RemoteDrivePeriod);
+void BM_RemoteDrivePeriodOtherLayout(benchmark::State& state) { remote_drive_period(state, true); }
+BENCHMARK(BM_RemoteDrivePeriodOtherLayout);
 
 }  // namespace

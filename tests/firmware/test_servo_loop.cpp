@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "settle/firmware/servo_loop.hpp"
@@ -54,7 +55,8 @@ struct Rig {
   hal::testing::FaultInjectingBus faulty{master};  // the loop's bus: passes everything unless told
   hal::LoopbackBus<256> wire{hub};                 // hears every frame anyone sends (a candump)
   hal::LoopbackBus<256> third{hub};                // another node: NMT master, SYNC producer, ...
-  hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
+  hal::canopen::DriveNodeConfig drive_config{};
+  hal::testing::IdealDrive<> drive{hub, drive_config};
   std::vector<std::int32_t> applied_log = std::vector<std::int32_t>(1 << 18);  // what drive.applied() holds
   firmware::ServoLoop<double, 1, 4> loop{faulty, kPeriod};
   std::uint64_t now = 0;
@@ -65,7 +67,8 @@ struct Rig {
   bool drive_alive = true;  // false: the drive's process hangs (it takes and sends nothing)
   std::function<void()> before_drive;  // runs between the loop's tick and the drive's
 
-  explicit Rig(const firmware::AxisConfig& a = axis(1)) {
+  explicit Rig(const firmware::AxisConfig& a = axis(1), const hal::canopen::DriveNodeConfig& dc = {})
+      : drive_config{dc} {
     EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
     drive.record_applied(applied_log);
     drive.start(now);
@@ -157,6 +160,53 @@ TEST(ServoLoop, StreamsAMoveExactlyOnceInOrderAndEndsOnTarget) {
     ASSERT_EQ(r.sent[k], static_cast<std::int32_t>(std::nearbyint(m.at(static_cast<double>(k) * 1e-3).p * 1e6))) << k;
   }
   EXPECT_EQ(r.loop.axis_stats(0).max_following_error, 0U);
+}
+
+// The drive's software position limits (0x607D, read at start-up) bound every move's path, from
+// where the moves queued before it end: a move that would leave them is refused, nothing queued.
+TEST(ServoLoop, AMoveWhosePathLeavesTheDrivesSoftwareLimitsIsRefused) {
+  hal::canopen::DriveNodeConfig dc{};
+  dc.position_limit_min = -20'000;
+  dc.position_limit_max = 100'000;
+  Rig r{axis(1), dc};
+  EXPECT_FALSE(r.loop.drive(0).limits().has_position_limits()) << "before start-up nothing is known";
+  ASSERT_TRUE(r.run_until_ready());
+  EXPECT_EQ(r.loop.drive(0).limits().position_min, -20'000);
+  EXPECT_EQ(r.loop.drive(0).limits().position_max, 100'000);
+  EXPECT_EQ(r.loop.submit(0, scurve(0.2, 0.5)), firmware::LoopStatus::position_limit);
+  EXPECT_EQ(r.loop.submit(0, scurve(-0.03, 0.5)), firmware::LoopStatus::position_limit);
+  EXPECT_TRUE(r.loop.idle()) << "nothing queued";
+  ASSERT_EQ(r.loop.submit(0, scurve(0.1, 0.5)), firmware::LoopStatus::ok) << "to the limit itself";
+  EXPECT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), firmware::LoopStatus::position_limit) << "from where the first ends";
+  ASSERT_EQ(r.loop.submit(0, scurve(-0.05, 0.3)), firmware::LoopStatus::ok);
+  EXPECT_EQ(std::string{firmware::to_string(firmware::LoopStatus::position_limit)}, "position_limit");
+  for (int i = 0; i < 1000; ++i) r.tick();
+  EXPECT_TRUE(r.loop.idle());
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 2u);
+  EXPECT_EQ(r.drive.position(), 50'000);
+  EXPECT_EQ(r.drive.node().counters().steps_refused, 0u);
+  // From 50 000 again: 0.06 m more leaves them, 0.05 m does not.
+  EXPECT_EQ(r.loop.submit(0, scurve(0.06, 0.3)), firmware::LoopStatus::position_limit);
+  EXPECT_EQ(r.loop.submit(0, scurve(0.05, 0.3)), firmware::LoopStatus::ok);
+}
+
+// The drive's max profile velocity (0x607F, counts/s) against the move's true peak velocity.
+TEST(ServoLoop, AMoveFasterThanTheDrivesMaxProfileVelocityIsRefused) {
+  hal::canopen::DriveNodeConfig dc{};
+  dc.max_profile_velocity = 100'000;  // 0.1 m/s at 1 µm per count
+  Rig r{axis(1), dc};
+  ASSERT_TRUE(r.run_until_ready());
+  EXPECT_EQ(r.loop.drive(0).limits().max_profile_velocity, 100'000U);
+  core::Move<double> fast{};
+  ASSERT_EQ(core::plan(scurve(0.1, 0.5), fast), core::Status::ok);
+  ASSERT_GT(fast.peaks().v, 0.1);
+  EXPECT_EQ(r.loop.submit(0, scurve(0.1, 0.5)), firmware::LoopStatus::exceeds_drive_velocity);
+  EXPECT_TRUE(r.loop.idle());
+  EXPECT_EQ(std::string{firmware::to_string(firmware::LoopStatus::exceeds_drive_velocity)}, "exceeds_drive_velocity");
+  ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.5)), firmware::LoopStatus::ok);
+  for (int i = 0; i < 700; ++i) r.tick();
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 1u);
+  EXPECT_EQ(r.drive.position(), 10'000);
 }
 
 TEST(ServoLoop, FeedbackLogKeepsEachPeriodInArrivalOrderAndCountsWhatItHadToDrop) {

@@ -421,15 +421,17 @@ TEST_F(DriveOverLoopback, UnsupportedModeFailsStartUpWithTheDrivesAbortCode) {
   EXPECT_EQ(remote->failure().abort, SdoAbort::invalid_value);
 }
 
+// The first request times out, is sent once more, and times out again.
 TEST_F(DriveOverLoopback, AbsentDriveTimesOutTheFirstSdo) {
   remote->start(now, master_port);
-  for (int i = 0; i < 19; ++i) {
+  for (int i = 0; i < 39; ++i) {
     tick(0, true, true, false);
   }
   EXPECT_EQ(remote->state(), RemoteDriveState::configuring);
   tick(0, true, true, false);
   EXPECT_EQ(remote->state(), RemoteDriveState::failed);
   EXPECT_EQ(remote->failure().status, SdoClientStatus::timed_out);
+  EXPECT_EQ(remote->failure().error, StartupError::sdo_timed_out);
   EXPECT_EQ(remote->failure().index, obj::device_type);
 }
 

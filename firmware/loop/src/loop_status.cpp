@@ -14,6 +14,8 @@ const char* to_string(LoopStatus s) noexcept {
     case LoopStatus::does_not_fit_counts: return "does_not_fit_counts";
     case LoopStatus::bad_axis_config: return "bad_axis_config";
     case LoopStatus::evaluation_refused: return "evaluation_refused";
+    case LoopStatus::position_limit: return "position_limit";
+    case LoopStatus::exceeds_drive_velocity: return "exceeds_drive_velocity";
   }
   return "unknown";
 }

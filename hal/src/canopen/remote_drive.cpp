@@ -47,44 +47,199 @@ const char* to_string(RemoteDriveState state) noexcept {
   return "?";
 }
 
+const char* to_string(StartupError error) noexcept {
+  switch (error) {
+    case StartupError::none: return "none";
+    case StartupError::sdo_aborted: return "sdo_aborted";
+    case StartupError::sdo_timed_out: return "sdo_timed_out";
+    case StartupError::wrong_value: return "wrong_value";
+    case StartupError::not_cia402: return "not_cia402";
+    case StartupError::wrong_identity: return "wrong_identity";
+    case StartupError::mode_not_applied: return "mode_not_applied";
+    case StartupError::plan_too_long: return "plan_too_long";
+    case StartupError::bad_layout: return "bad_layout";
+    case StartupError::mapping_unsuitable: return "mapping_unsuitable";
+    case StartupError::enable_timeout: return "enable_timeout";
+  }
+  return "?";
+}
+
+std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config, std::span<StartupStep> out) noexcept {
+  std::size_t n = 0;
+  bool fits = true;
+  const auto add = [&](const StartupStep& s) {
+    if (n < out.size()) {
+      out[n++] = s;
+    } else {
+      fits = false;
+    }
+  };
+  using S = StartupStep;
+  const auto mode = static_cast<std::uint8_t>(config.mode);
+  // A CiA 402 device at all (profile number in the low 16 bits of 0x1000)?
+  add(S::check(obj::device_type, 0, cia402_device_type, 2));
+  // The drive the user expects, when they said which.
+  const std::array<std::uint32_t, 4> identity{config.expected_vendor_id, config.expected_product_code,
+                                              config.expected_revision, config.expected_serial};
+  for (std::size_t i = 0; i < identity.size(); ++i) {
+    if (identity[i] != 0) add(S::check(obj::identity, static_cast<std::uint8_t>(i + 1), identity[i], 4));
+  }
+  add(S::write(obj::modes_of_operation, 0, mode, 1));
+  if (const auto ip = interpolation_period_from_us(config.sync_period_us)) {
+    add(S::write(obj::interpolation_time_period, 1, ip->value, 1));
+    add(S::write(obj::interpolation_time_period, 2, static_cast<std::uint8_t>(ip->index), 1));
+  }
+  add(S::write(obj::communication_cycle_period, 0, config.sync_period_us, 4));
+  if (config.communication_loss_periods != 0) {
+    add(S::write(obj::communication_loss_periods, 0, config.communication_loss_periods, 1));
+  }
+  if (config.master_node != 0) {
+    const std::uint32_t hb = (std::uint32_t{config.master_node} << 16U) | config.master_heartbeat_timeout_ms;
+    add(S::write(obj::consumer_heartbeat_time, 1, hb, 4));
+  }
+  if (config.heartbeat_period_ms != 0) add(S::write(obj::producer_heartbeat_time, 0, config.heartbeat_period_ms, 2));
+  if (config.following_error_window != 0) {
+    add(S::write(obj::following_error_window, 0, config.following_error_window, 4));
+    add(S::write(obj::following_error_timeout, 0, config.following_error_timeout_ms, 2));
+  }
+  switch (config.pdo_setup) {
+    case PdoSetup::assume: break;
+    case PdoSetup::dynamic:
+      // CiA 301: a PDO is changed while it does not exist (COB-ID bit 31), its mapping while sub 0
+      // is 0; then it is given its entries, their number, synchronous transmission, and enabled.
+      for (const bool receive : {true, false}) {
+        for (std::uint8_t pdo = 1; pdo <= layout_pdo_count; ++pdo) {
+          const PdoMapping m = layout_mapping(config.layout, receive, pdo, config.node);
+          const std::uint16_t comm = pdo_communication_index(receive, pdo);
+          const std::uint16_t map = pdo_mapping_index(receive, pdo);
+          if (m.count == 0) {
+            add(S::write_cob_id(comm, m.cob_id | pdo_cob_id_invalid, true));  // not used (if it exists): disabled
+            continue;
+          }
+          add(S::write_cob_id(comm, m.cob_id | pdo_cob_id_invalid));
+          add(S::write(map, 0, 0, 1));
+          for (std::uint8_t i = 0; i < m.count; ++i) {
+            add(S::write(map, static_cast<std::uint8_t>(i + 1), m.entries[i].raw(), 4));
+          }
+          add(S::write(map, 0, m.count, 1));
+          add(S::write(comm, 2, m.transmission_type, 1));
+          add(S::write_cob_id(comm, m.cob_id));
+        }
+      }
+      break;
+    case PdoSetup::read_static:
+      for (const bool receive : {true, false}) {
+        for (std::uint8_t pdo = 1; pdo <= layout_pdo_count; ++pdo) add(S::read_mapping(pdo_mapping_index(receive, pdo)));
+      }
+      break;
+  }
+  // The limits the loop enforces at submit; a drive without them limits nothing.
+  add(S::read(obj::software_position_limit, 1, StartupField::position_min, true));
+  add(S::read(obj::software_position_limit, 2, StartupField::position_max, true));
+  add(S::read(obj::max_profile_velocity, 0, StartupField::max_profile_velocity, true));
+  // The drive may accept a mode write and still run another one: trust the display.
+  add(S::check(obj::modes_of_operation_display, 0, mode, 1));
+  if (!fits) return std::nullopt;
+  return n;
+}
+
 RemoteDrive::RemoteDrive(const RemoteDriveConfig& config) noexcept
     : config_{config},
-      tpdo1_id_{is_valid_node(config.node) ? cob_id(cob::tpdo1, config.node) : ~std::uint32_t{0}},
-      tpdo2_id_{is_valid_node(config.node) ? cob_id(cob::tpdo2, config.node) : ~std::uint32_t{0}},
       heartbeat_id_{is_valid_node(config.node) ? cob_id(cob::heartbeat, config.node) : ~std::uint32_t{0}},
       sdo_{config.node, config.sdo_timeout_us},
       heartbeat_{config.node, config.heartbeat_timeout_ms},
       emcy_{config.node} {
+  static_assert(remote_drive_max_steps <= 255, "step_count_ is a byte");
   // The steps depend on the configuration alone, which is fixed from here on: planned once, so
   // the tick that takes a drive's boot-up (start()) does no division and builds no table.
-  plan_configuration();
+  if (const auto n = plan_start_up(config_, steps_)) {
+    step_count_ = static_cast<std::uint8_t>(*n);
+  } else {
+    plan_too_long_ = true;
+  }
+  apply_layout();
 }
 
-void RemoteDrive::plan_configuration() noexcept {
-  step_count_ = 0;
-  const auto add = [this](SdoStep s) {
-    if (step_count_ < max_steps) {
-      steps_[step_count_++] = s;
-    }
+void RemoteDrive::apply_layout() noexcept {
+  const ProcessDataLayout& l = config_.layout;
+  default_layout_ = is_default_layout(l);
+  status_pdo_ = l.statusword.pdo;
+  second_pdo_ = 0;
+  for (std::uint8_t n = 1; n <= layout_pdo_count; ++n) {
+    if (config_.pdo_setup != PdoSetup::read_static) tpdo_len_[n - 1U] = layout_pdo_length(l, false, n);
+    if (n != status_pdo_ && tpdo_len_[n - 1U] != 0 && second_pdo_ == 0) second_pdo_ = n;
+  }
+  const bool valid = is_valid_node(config_.node);
+  const auto id = [&](std::uint8_t n) {
+    return valid && n != 0 && n <= layout_pdo_count ? pdo_cob_id(false, n, config_.node) : ~std::uint32_t{0};
   };
-  const auto mode = static_cast<std::uint8_t>(config_.mode);
-  // A CiA 402 device at all (profile number in the low 16 bits of 0x1000)?
-  add({obj::device_type, 0, cia402_device_type, 4, true, 0xFFFF});
-  add({obj::modes_of_operation, 0, mode, 1, false, 0});
-  if (const auto ip = interpolation_period_from_us(config_.sync_period_us)) {
-    add({obj::interpolation_time_period, 1, ip->value, 1, false, 0});
-    add({obj::interpolation_time_period, 2, static_cast<std::uint8_t>(ip->index), 1, false, 0});
+  tpdo1_id_ = id(status_pdo_);
+  tpdo2_id_ = id(second_pdo_);
+  tpdo1_len_ = status_pdo_ != 0 && status_pdo_ <= layout_pdo_count ? tpdo_len_[status_pdo_ - 1U] : 0;
+  tpdo2_len_ = second_pdo_ != 0 ? tpdo_len_[second_pdo_ - 1U] : 0;
+}
+
+RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept {
+  const ProcessDataLayout& l = config_.layout;
+  const auto i32 = [&frame](const PdoSlot& s) { return static_cast<std::int32_t>(slot_value(s, frame)); };
+  if (slot_carried(l.load_position, number, frame)) feedback_.load_position = i32(l.load_position);
+  if (slot_carried(l.velocity_actual, number, frame)) feedback_.velocity_actual = i32(l.velocity_actual);
+  if (slot_carried(l.following_error, number, frame)) feedback_.following_error = i32(l.following_error);
+  if (slot_carried(l.statusword, number, frame)) {
+    // The layout keeps the position actual in the statusword's TPDO.
+    take_tpdo1(Tpdo1{static_cast<std::uint16_t>(slot_value(l.statusword, frame)), i32(l.position_actual)}, now_us);
+    return RemoteFrame::tpdo1;
   }
-  add({obj::communication_cycle_period, 0, config_.sync_period_us, 4, false, 0});
-  if (config_.communication_loss_periods != 0) {
-    add({obj::communication_loss_periods, 0, config_.communication_loss_periods, 1, false, 0});
+  ++feedback_.tpdo2_received;
+  return RemoteFrame::tpdo2;
+}
+
+bool RemoteDrive::take_mapping_entry(const StartupStep& s, std::uint32_t value) noexcept {
+  const bool receive = s.index() < 0x1A00U;
+  const auto number = static_cast<std::uint8_t>((s.index() & 0xFFU) + 1U);
+  if (map_sub_ == 0) {
+    map_count_ = static_cast<std::uint8_t>(value > pdo_max_entries ? pdo_max_entries : value);
+    map_bytes_ = 0;
+  } else {
+    if (!place_mapped_object(config_.layout, receive, number, map_bytes_, value) && unfillable_index_ == 0) {
+      unfillable_index_ = static_cast<std::uint16_t>(value >> 16U);
+      unfillable_pdo_ = number;
+    }
+    map_bytes_ = static_cast<std::uint8_t>(map_bytes_ + (value & 0xFFU) / 8U);
   }
-  if (config_.master_node != 0) {
-    const std::uint32_t hb = (std::uint32_t{config_.master_node} << 16U) | config_.master_heartbeat_timeout_ms;
-    add({obj::consumer_heartbeat_time, 1, hb, 4, false, 0});
+  if (map_sub_ < map_count_) {
+    ++map_sub_;
+    return false;  // the next entry
   }
-  // The drive may accept a mode write and still run another one: trust the display.
-  add({obj::modes_of_operation_display, 0, mode, 1, true, 0xFF});
+  if (!receive) tpdo_len_[number - 1U] = map_bytes_;
+  map_sub_ = 0;
+  return true;
+}
+
+bool RemoteDrive::check_derived_layout(std::uint64_t now_us) noexcept {
+  const ProcessDataLayout& l = config_.layout;
+  std::uint16_t missing = unfillable_pdo_ == l.controlword.pdo ? unfillable_index_ : 0;
+  if (missing == 0 && check_layout(l, false) != LayoutError::none) {
+    // Name the first value streaming needs that is not where it must be.
+    if (!l.controlword.mapped()) {
+      missing = obj::controlword;
+    } else if (l.target_position.pdo != l.controlword.pdo) {
+      missing = obj::target_position;
+    } else if (!l.statusword.mapped()) {
+      missing = obj::statusword;
+    } else {
+      missing = obj::position_actual;
+    }
+  }
+  if (missing != 0) {
+    failure_ = RemoteDriveFailure{};
+    failure_.index = missing;
+    failure_.error = StartupError::mapping_unsuitable;
+    fail(now_us);
+    return false;
+  }
+  apply_layout();
+  return true;
 }
 
 void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
@@ -94,7 +249,24 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   enable_timer_.disarm();
   step_ = 0;
   step_sent_ = false;
+  verifying_ = false;
+  retried_ = false;
   operational_seen_ = false;
+  limits_ = RemoteDriveLimits{};
+  map_sub_ = 0;
+  if (plan_too_long_ || check_layout(config_.layout, config_.pdo_setup == PdoSetup::dynamic) != LayoutError::none) {
+    if (config_.pdo_setup != PdoSetup::read_static || plan_too_long_) {
+      failure_.error = plan_too_long_ ? StartupError::plan_too_long : StartupError::bad_layout;
+      fail(now_us);
+      return;
+    }
+  }
+  if (config_.pdo_setup == PdoSetup::read_static) {
+    config_.layout = empty_layout(config_.layout);  // derived afresh from what the drive says
+    tpdo_len_ = {};
+    unfillable_index_ = 0;
+    unfillable_pdo_ = 0;
+  }
   // SDO configuration belongs in pre-operational, where no process data flows.
   (void)out.put(encode_nmt(NmtCommand::enter_pre_operational, config_.node));
   next_step(now_us, out);
@@ -107,9 +279,45 @@ void RemoteDrive::next_step(std::uint64_t now_us, FrameSink& out) noexcept {
     }
     return;
   }
-  const SdoStep& s = steps_[step_];
-  step_sent_ = s.upload ? sdo_.upload(s.index, s.sub, now_us, out)
-                        : sdo_.download(s.index, s.sub, s.value, s.size, now_us, out);
+  const StartupStep& s = steps_[step_];
+  step_sent_ = s.action() == StartupAction::read_mapping ? sdo_.upload(s.index(), map_sub_, now_us, out)
+               : s.action() != StartupAction::write || verifying_
+                   ? sdo_.upload(s.index(), s.sub(), now_us, out)
+                   : sdo_.download(s.index(), s.sub(), s.value() & s.mask(), s.size(), now_us, out);
+}
+
+void RemoteDrive::fail_step(const SdoResult& r, StartupError error, std::uint64_t now_us) noexcept {
+  failure_ = RemoteDriveFailure{r.index, r.sub, r.status, r.abort, false, false, error, 0, 0};
+  fail(now_us);
+}
+
+bool RemoteDrive::take_step_result(const StartupStep& s, const SdoResult& r, std::uint64_t now_us) noexcept {
+  switch (s.action()) {
+    case StartupAction::write:  // the read-back
+    case StartupAction::check: break;
+    case StartupAction::read_mapping: return true;
+    case StartupAction::read:
+      switch (s.field()) {
+        case StartupField::position_min: limits_.position_min = static_cast<std::int32_t>(r.value); break;
+        case StartupField::position_max: limits_.position_max = static_cast<std::int32_t>(r.value); break;
+        case StartupField::max_profile_velocity: limits_.max_profile_velocity = r.value; break;
+        case StartupField::none: break;
+      }
+      return true;
+  }
+  if ((r.value & s.mask()) != (s.value() & s.mask())) {
+    StartupError error = StartupError::wrong_value;
+    if (s.action() == StartupAction::check) {
+      if (s.index() == obj::device_type) error = StartupError::not_cia402;
+      if (s.index() == obj::identity) error = StartupError::wrong_identity;
+      if (s.index() == obj::modes_of_operation_display) error = StartupError::mode_not_applied;
+    }
+    failure_ = RemoteDriveFailure{r.index, r.sub, r.status, SdoAbort::none, true, false, error,
+                                  s.value() & s.mask(), r.value & s.mask()};
+    fail(now_us);
+    return false;
+  }
+  return true;
 }
 
 void RemoteDrive::begin_enabling(std::uint64_t now_us) noexcept {
@@ -198,10 +406,21 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
       events_ |= remote_event::emcy;
       return RemoteFrame::emcy;
     case cob::heartbeat:
-    case cob::tpdo1:
-    case cob::tpdo2:
       // A valid one took on_frame's inline path: this one has the wrong length.
       return RemoteFrame::ignored;
+    case cob::tpdo1:
+    case cob::tpdo2:
+    case cob::tpdo3:
+    case cob::tpdo4: {
+      // The layout's first two TPDOs took on_frame's inline path when valid; a third or fourth
+      // comes here.
+      const auto n = static_cast<std::uint8_t>(((frame.id & 0x780U) - cob::tpdo1) / 0x100U + 1U);
+      if (!default_layout_ && n != status_pdo_ && n != second_pdo_ && tpdo_len_[n - 1U] != 0 &&
+          frame.len == tpdo_len_[n - 1U]) {
+        return take_layout_tpdo(frame, n, now_us);
+      }
+      return RemoteFrame::ignored;
+    }
     case cob::sdo_tx:
       break;
     default:
@@ -211,18 +430,30 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
     return RemoteFrame::ignored;
   }
   const SdoResult& r = sdo_.result();
-  if (r.status != SdoClientStatus::done) {
-    failure_ = RemoteDriveFailure{r.index, r.sub, r.status, r.abort, false, false};
-    fail(now_us);
+  const StartupStep& s = steps_[step_];
+  const std::uint8_t was = step_;
+  const bool absent = r.abort == SdoAbort::no_object || r.abort == SdoAbort::no_sub_index;
+  if (r.status == SdoClientStatus::aborted && s.optional() && absent) {
+    ++step_;  // an optional object the drive does not have: the default stays
+  } else if (r.status != SdoClientStatus::done) {
+    fail_step(r, StartupError::sdo_aborted, now_us);
+    return RemoteFrame::sdo;
+  } else if (s.action() == StartupAction::write && !verifying_) {
+    verifying_ = true;  // written: now read it back
+  } else if (s.action() == StartupAction::read_mapping) {
+    if (take_mapping_entry(s, r.value)) ++step_;
+  } else if (take_step_result(s, r, now_us)) {
+    ++step_;
+    verifying_ = false;
+  } else {
     return RemoteFrame::sdo;
   }
-  const SdoStep& s = steps_[step_];
-  if (s.upload && (r.value & s.mask) != (s.value & s.mask)) {
-    failure_ = RemoteDriveFailure{r.index, r.sub, r.status, SdoAbort::none, true, false};
-    fail(now_us);
+  // read_static: after the last mapping object, the layout derived must be one streaming can use.
+  if (s.action() == StartupAction::read_mapping && step_ != was &&
+      (step_ >= step_count_ || steps_[step_].action() != StartupAction::read_mapping) && !check_derived_layout(now_us)) {
     return RemoteFrame::sdo;
   }
-  ++step_;
+  retried_ = false;
   step_sent_ = false;
   next_step(now_us, out);
   return RemoteFrame::sdo;
@@ -241,9 +472,14 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
     case RemoteDriveState::configuring:
       sdo_.poll(now_us, out);
       if (sdo_.status() == SdoClientStatus::timed_out) {
-        const SdoResult& r = sdo_.result();
-        failure_ = RemoteDriveFailure{r.index, r.sub, r.status, r.abort, false, false};
-        fail(now_us);
+        if (!retried_) {
+          // One lost frame on a busy bus is not a broken drive: the same request once more.
+          retried_ = true;
+          step_sent_ = false;
+          next_step(now_us, out);
+        } else {
+          fail_step(sdo_.result(), StartupError::sdo_timed_out, now_us);
+        }
       } else if (!step_sent_ && !sdo_.busy()) {
         next_step(now_us, out);  // the request did not fit in the sink last time
       }
@@ -252,6 +488,7 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
       if (enable_timer_.check(now_us)) {
         failure_ = RemoteDriveFailure{};
         failure_.enable_timeout = true;
+        failure_.error = StartupError::enable_timeout;
         fail(now_us);
       }
       break;
@@ -267,7 +504,7 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
 
 bool RemoteDrive::enabling_rpdo(CanFrame& out) noexcept {
   if (state_ == RemoteDriveState::enabling) {
-    encode_rpdo1(config_.node, Rpdo1{enable_.next(feedback_.statusword), feedback_.position_actual}, out);
+    encode_rpdo(enable_.next(feedback_.statusword), feedback_.position_actual, out);
     return true;
   }
   return false;  // idle, configuring, stopped, lost, not_operational, failed: no process data

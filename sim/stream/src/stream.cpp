@@ -67,8 +67,12 @@ std::string failure_text(const hal::canopen::RemoteDriveFailure& f) {
   if (f.enable_timeout) {
     std::snprintf(text.data(), text.size(), "the drive did not reach operation enabled in time");
   } else if (f.wrong_value) {
-    std::snprintf(text.data(), text.size(), "0x%04X:%u read back a value other than the one written", f.index,
-                  static_cast<unsigned>(f.sub));
+    // wrong_value (a write read back as another value), not_cia402, wrong_identity, mode_not_applied
+    std::snprintf(text.data(), text.size(), "0x%04X:%u %s: expected 0x%X, read 0x%X", f.index,
+                  static_cast<unsigned>(f.sub), hal::canopen::to_string(f.error), static_cast<unsigned>(f.expected),
+                  static_cast<unsigned>(f.actual));
+  } else if (f.error == hal::canopen::StartupError::plan_too_long) {
+    std::snprintf(text.data(), text.size(), "the configuration needs more start-up steps than the master holds");
   } else {
     std::snprintf(text.data(), text.size(), "SDO 0x%04X:%u %s (abort 0x%08X)", f.index, static_cast<unsigned>(f.sub),
                   sdo[static_cast<std::size_t>(f.status) % sdo.size()], static_cast<unsigned>(f.abort));

@@ -49,6 +49,8 @@ enum class LoopStatus : std::uint8_t {
   does_not_fit_counts,    // the move would leave the int32 count range
   evaluation_refused,     // the evaluator cannot hold the move (fixed point: see the core::Status)
   bad_axis_config,
+  position_limit,          // the move's path leaves the drive's software position limits (0x607D)
+  exceeds_drive_velocity,  // the move's peak velocity is over the drive's max profile velocity (0x607F)
 };
 
 [[nodiscard]] const char* to_string(LoopStatus s) noexcept;
@@ -112,8 +114,8 @@ struct LoopConfig {
   std::uint16_t send_failure_periods{kDefaultSendFailurePeriods};
 };
 
-struct AxisConfig {
-  hal::canopen::RemoteDriveConfig drive{};
+// What the loop keeps of an axis's configuration (the drive's part lives in its RemoteDrive).
+struct AxisLoopConfig {
   // Counts per unit (e.g. 1 count = 1 µm for the seed-000 beam) and the period, which must be the
   // loop's (add_axis refuses another: bad_axis_config).
   core::AxisScale scale{};
@@ -126,6 +128,10 @@ struct AxisConfig {
   // Periods after a move's final setpoint within which the feedback must show it (within one
   // count); otherwise the move is void (not_in_position). 0 = wait as long as it takes.
   std::uint16_t in_position_timeout_periods{kDefaultInPositionTimeoutPeriods};
+};
+
+struct AxisConfig : AxisLoopConfig {
+  hal::canopen::RemoteDriveConfig drive{};
 };
 
 // What one axis did in the last tick: the runner copies it out to log or plot.
@@ -206,9 +212,10 @@ class ServoLoop {
     if (node == 0 || node > 127 || axis_of_node_[node] != kNoAxis) return LoopStatus::bad_axis_config;
     Axis& a = axes_[count_];
     axis_of_node_[node] = static_cast<std::uint8_t>(count_);
-    a.cfg = cfg;
-    a.cfg.drive.sync_period_us = period_us_;
-    a.drive.emplace(a.cfg.drive);
+    a.cfg = static_cast<const AxisLoopConfig&>(cfg);  // the drive's part is kept by its RemoteDrive
+    hal::canopen::RemoteDriveConfig drive = cfg.drive;
+    drive.sync_period_us = period_us_;
+    a.drive.emplace(drive);
     // In whole counts, once: the tick compares integers. At or past 2^31 no step can exceed it.
     const double guard = std::floor(cfg.vmax * cfg.scale.counts_per_unit * cfg.scale.period_s()) + cfg.step_margin_counts;
     a.guard = guard < 2147483648.0 ? static_cast<std::uint32_t>(guard) : std::uint32_t{1} << 31U;
@@ -255,7 +262,8 @@ class ServoLoop {
     // A velocity step (seed 001's command) is streamable: sampled, it is a jump of at most
     // peak |v| * period, which the step guard allows whenever peak |v| is within vmax.
     if (!(m.peaks().v <= a.cfg.vmax * (1.0 + 1e-9))) return LoopStatus::exceeds_axis_velocity;
-    const double counts = std::fabs(m.distance()) * a.cfg.scale.counts_per_unit;
+    const double cpu = a.cfg.scale.counts_per_unit;
+    const double counts = std::fabs(m.distance()) * cpu;
     if (!(counts < static_cast<double>(std::numeric_limits<std::int32_t>::max()) / 2)) {
       return LoopStatus::does_not_fit_counts;
     }
@@ -265,7 +273,16 @@ class ServoLoop {
     const core::Status st = Evaluation::prepare(m, a.cfg.scale, a.queue.back_slot());
     if (why != nullptr) *why = st;
     if (st != core::Status::ok) return LoopStatus::evaluation_refused;
+    // What the drive said at start-up (nothing before it ran, or when it has neither object).
+    const hal::canopen::RemoteDriveLimits& limits = a.drive->limits();
+    if (limits.max_profile_velocity != 0 &&
+        !(m.peaks().v * cpu <= static_cast<double>(limits.max_profile_velocity) * (1.0 + 1e-9))) {
+      return LoopStatus::exceeds_drive_velocity;
+    }
+    const std::int32_t origin = move_origin(a);
+    if (limits.has_position_limits() && !path_within(m, origin, cpu, limits)) return LoopStatus::position_limit;
     a.queue.commit_back();
+    a.queued_end = static_cast<std::int32_t>(static_cast<std::int64_t>(origin) + std::llround(m.distance() * cpu));
     return LoopStatus::ok;
   }
 
@@ -397,7 +414,8 @@ class ServoLoop {
     AxisStats stats{};
     FixedQueue<FeedbackSample, kFeedbackLogCapacity> feedback_log{};
     std::optional<hal::canopen::RemoteDrive> drive{};
-    AxisConfig cfg{};
+    std::int32_t queued_end{0};   // where the last move queued (or running) ends, counts
+    AxisLoopConfig cfg{};
     FixedQueue<typename Evaluation::Stored, QueueDepth> queue{};
   };
 
@@ -407,6 +425,26 @@ class ServoLoop {
   [[nodiscard]] static std::uint32_t distance_counts(std::int32_t a, std::int32_t b) noexcept {
     const std::uint32_t d = static_cast<std::uint32_t>(a) - static_cast<std::uint32_t>(b);
     return d <= 0x8000'0000U ? d : 0U - d;
+  }
+
+  // Where a move submitted now starts: the end of the moves before it, or where the axis holds.
+  [[nodiscard]] static std::int32_t move_origin(const Axis& a) noexcept {
+    if (a.active || !a.queue.empty()) return a.queued_end;
+    return a.have_target ? a.target : a.drive->feedback().position_actual;
+  }
+  // The move's path from `origin` stays within the drive's software position limits: its ends
+  // and 256 samples between them (a shaper with negative impulses overshoots the end).
+  [[nodiscard]] static bool path_within(const core::Move<double>& m, std::int32_t origin, double cpu,
+                                        const hal::canopen::RemoteDriveLimits& limits) noexcept {
+    constexpr int samples = 256;
+    for (int k = 0; k <= samples; ++k) {
+      const double p = k == samples ? m.distance() : m.at(m.duration() * k / samples).p;
+      const double at = static_cast<double>(origin) + p * cpu;
+      if (!(at >= static_cast<double>(limits.position_min) && at <= static_cast<double>(limits.position_max))) {
+        return false;
+      }
+    }
+    return true;
   }
 
   [[nodiscard]] std::uint8_t index_of(const Axis& a) const noexcept {

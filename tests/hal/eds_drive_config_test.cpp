@@ -1,0 +1,266 @@
+// drive_config_from_eds: the objects streaming needs, checked in a drive's description with a
+// specific error for each way they can be wrong; dynamic mapping when the description's mapping
+// is writable, the drive's static mapping when it is not and carries what is needed; and the
+// bundled EDS configured against Settle's drive.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "settle/hal/canopen/drive_node.hpp"
+#include "settle/hal/canopen/remote_drive.hpp"
+#include "settle/hal/eds_drive_config.hpp"
+#include "settle/hal/eds_reader.hpp"
+#include "settle/hal/frame_sink.hpp"
+
+namespace settle::hal::eds {
+namespace {
+
+using canopen::PdoSetup;
+using canopen::PdoSlot;
+
+// A description written object by object.
+struct Obj {
+  std::uint16_t index;
+  int sub;  // -1: a VAR; otherwise a sub-index of a RECORD/ARRAY whose sub 0 is written for it
+  std::uint16_t type;
+  const char* access;
+  bool mappable;
+  std::string value;
+};
+
+class EdsText {
+ public:
+  EdsText& add(const Obj& o) {
+    objects_.push_back(o);
+    return *this;
+  }
+  // A PDO: communication (COB-ID, transmission type) and mapping objects.
+  EdsText& pdo(bool receive, unsigned n, bool writable, const std::vector<std::uint32_t>& entries) {
+    const auto comm = static_cast<std::uint16_t>((receive ? 0x1400 : 0x1800) + n - 1);
+    const auto map = static_cast<std::uint16_t>((receive ? 0x1600 : 0x1A00) + n - 1);
+    const unsigned cob = (receive ? 0x200U : 0x180U) + 0x100U * (n - 1U);
+    add({comm, 1, data_type::u32, "rw", false, "$NODEID+" + std::to_string(cob)});
+    add({comm, 2, data_type::u8, "rw", false, "1"});
+    add({map, 0, data_type::u8, writable ? "rw" : "const", false, std::to_string(entries.size())});
+    for (std::size_t i = 0; i < 8; ++i) {
+      add({map, static_cast<int>(i + 1), data_type::u32, writable ? "rw" : "const", false,
+           std::to_string(i < entries.size() ? entries[i] : 0)});
+    }
+    (receive ? rx_ : tx_) = std::max(receive ? rx_ : tx_, n);
+    return *this;
+  }
+  EdsText& without(std::uint16_t index) {
+    std::erase_if(objects_, [index](const Obj& o) { return o.index == index; });
+    return *this;
+  }
+  EdsText& replace(const Obj& o) {
+    for (Obj& x : objects_) {
+      if (x.index == o.index && x.sub == o.sub) x = o;
+    }
+    return *this;
+  }
+  [[nodiscard]] std::string text() const {
+    std::string t = "[FileInfo]\nFileName=test.eds\n[DeviceInfo]\nVendorName=Test\nVendorNumber=0x000000AB\n"
+                    "ProductName=Test drive\nProductNumber=0x1234\nRevisionNumber=0x00010000\n";
+    t += "NrOfRXPDO=" + std::to_string(rx_) + "\nNrOfTXPDO=" + std::to_string(tx_) + "\nGranularity=8\n";
+    std::vector<std::uint16_t> indices;
+    for (const Obj& o : objects_) {
+      if (std::find(indices.begin(), indices.end(), o.index) == indices.end()) indices.push_back(o.index);
+    }
+    t += "[OptionalObjects]\nSupportedObjects=" + std::to_string(indices.size()) + "\n";
+    for (std::size_t i = 0; i < indices.size(); ++i) t += std::to_string(i + 1) + "=" + hex(indices[i]) + "\n";
+    for (const std::uint16_t index : indices) {
+      std::vector<const Obj*> subs;
+      for (const Obj& o : objects_) {
+        if (o.index == index) subs.push_back(&o);
+      }
+      const std::string name = hex(index).substr(2);
+      if (subs.size() == 1 && subs[0]->sub < 0) {
+        t += "[" + name + "]\nParameterName=o" + name + "\nObjectType=0x7\n" + body(*subs[0]);
+        continue;
+      }
+      int highest = 0;
+      for (const Obj* o : subs) highest = std::max(highest, o->sub);
+      t += "[" + name + "]\nParameterName=o" + name + "\nObjectType=0x9\nSubNumber=" + std::to_string(highest + 1) + "\n";
+      bool have_sub0 = false;
+      for (const Obj* o : subs) have_sub0 = have_sub0 || o->sub == 0;
+      if (!have_sub0) {
+        t += "[" + name + "sub0]\nParameterName=count\nObjectType=0x7\nDataType=0x0005\nAccessType=const\nDefaultValue=" +
+             std::to_string(highest) + "\nPDOMapping=0\n";
+      }
+      for (const Obj* o : subs) {
+        t += "[" + name + "sub" + std::to_string(o->sub) + "]\nParameterName=s\nObjectType=0x7\n" + body(*o);
+      }
+    }
+    return t;
+  }
+
+ private:
+  static std::string hex(std::uint16_t v) {
+    char b[8];
+    std::snprintf(b, sizeof b, "0x%04X", static_cast<unsigned>(v));
+    return b;
+  }
+  static std::string body(const Obj& o) {
+    char type[8];
+    std::snprintf(type, sizeof type, "0x%04X", static_cast<unsigned>(o.type));
+    return std::string{"DataType="} + type + "\nAccessType=" + o.access + "\nDefaultValue=" + o.value +
+           "\nPDOMapping=" + (o.mappable ? "1" : "0") + "\n";
+  }
+  std::vector<Obj> objects_;
+  unsigned rx_{0};
+  unsigned tx_{0};
+};
+
+// What a CiA 402 drive describes, without PDOs.
+EdsText drive_objects() {
+  EdsText e;
+  e.add({0x1000, -1, data_type::u32, "ro", false, "0x00020192"})
+      .add({0x6040, -1, data_type::u16, "rw", true, "0"})
+      .add({0x6041, -1, data_type::u16, "ro", true, "0"})
+      .add({0x6060, -1, data_type::i8, "rw", false, "0"})
+      .add({0x6061, -1, data_type::i8, "ro", false, "0"})
+      .add({0x6064, -1, data_type::i32, "ro", true, "0"})
+      .add({0x606C, -1, data_type::i32, "ro", true, "0"})
+      .add({0x607A, -1, data_type::i32, "rw", true, "0"})
+      .add({0x60C2, 1, data_type::u8, "rw", false, "1"})
+      .add({0x60C2, 2, data_type::i8, "rw", false, "-3"})
+      .add({0x60F4, -1, data_type::i32, "ro", true, "0"});
+  return e;
+}
+
+Description parsed(const EdsText& e) {
+  LoadResult r = parse(e.text());
+  EXPECT_TRUE(r.description.has_value()) << r.error << "\n" << e.text();
+  return r.description ? *r.description : Description{};
+}
+
+canopen::RemoteDriveConfig base() {
+  canopen::RemoteDriveConfig c{};
+  c.node = 3;
+  return c;
+}
+
+constexpr std::uint32_t cw = 0x6040'0010, target = 0x607A'0020, sw = 0x6041'0010, pos = 0x6064'0020,
+                        vel = 0x606C'0020, fe = 0x60F4'0020;
+
+TEST(EdsDriveConfig, AWritableMappingIsMappedDynamicallyWithTheFeedbackAskedFor) {
+  EdsText e = drive_objects();
+  e.pdo(true, 1, true, {cw}).pdo(true, 2, true, {cw, target});
+  e.pdo(false, 1, true, {sw}).pdo(false, 2, true, {}).pdo(false, 3, true, {});
+  const DriveConfigResult r = drive_config_from_eds(parsed(e), base(), FeedbackRequest{true, true, 0, 0});
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_TRUE(r.mapping_writable);
+  EXPECT_EQ(r.config.pdo_setup, PdoSetup::dynamic);
+  EXPECT_EQ(r.config.node, 3U);
+  EXPECT_EQ(r.config.expected_vendor_id, 0xABU);
+  EXPECT_EQ(r.config.expected_product_code, 0x1234U);
+  EXPECT_EQ(r.config.layout.controlword, (PdoSlot{1, 0, 2}));
+  EXPECT_EQ(r.config.layout.target_position, (PdoSlot{1, 2, 4}));
+  EXPECT_EQ(r.config.layout.velocity_actual, (PdoSlot{2, 0, 4}));
+  EXPECT_EQ(r.config.layout.following_error, (PdoSlot{2, 4, 4}));
+  EXPECT_FALSE(r.config.layout.load_position.mapped());
+  EXPECT_EQ(canopen::check_layout(r.config.layout, true), canopen::LayoutError::none);
+}
+
+TEST(EdsDriveConfig, ADriveWithout60C2IsRefusedNamingIt) {
+  EdsText e = drive_objects();
+  e.without(0x60C2).pdo(true, 1, true, {}).pdo(false, 1, true, {});
+  const DriveConfigResult r = drive_config_from_eds(parsed(e), base(), {});
+  EXPECT_EQ(r.error, "the drive's EDS has no 0x60C2 (interpolation time period)");
+}
+
+TEST(EdsDriveConfig, EachRequiredObjectIsCheckedForPresenceTypeAccessAndMappability) {
+  const auto error_with = [](EdsText e, FeedbackRequest f = {}) {
+    e.pdo(true, 1, true, {}).pdo(false, 1, true, {}).pdo(false, 2, true, {});
+    return drive_config_from_eds(parsed(e), base(), f).error;
+  };
+  EXPECT_EQ(error_with(drive_objects().without(0x6061)), "the drive's EDS has no 0x6061 (modes of operation display)");
+  EXPECT_EQ(error_with(drive_objects().replace({0x607A, -1, data_type::u32, "rw", true, "0"})),
+            "the drive's EDS gives 0x607A (target position) the data type 0x0007, not INTEGER32");
+  EXPECT_EQ(error_with(drive_objects().replace({0x6040, -1, data_type::u16, "ro", true, "0"})),
+            "the drive's EDS makes 0x6040 (controlword) ro: the master must write it");
+  EXPECT_EQ(error_with(drive_objects().replace({0x6064, -1, data_type::i32, "ro", false, "0"})),
+            "the drive's EDS does not let 0x6064 (position actual value) be mapped to a PDO");
+  EXPECT_EQ(error_with(drive_objects().replace({0x60C2, 2, data_type::i8, "ro", false, "-3"})),
+            "the drive's EDS makes 0x60C2:2 (interpolation time index) ro: the master must write it");
+  EXPECT_EQ(error_with(drive_objects().without(0x60F4), FeedbackRequest{false, true, 0, 0}),
+            "the drive's EDS has no 0x60F4 (following error actual value)");
+  EXPECT_EQ(error_with(drive_objects(), FeedbackRequest{false, false, 0x2100, 1}),
+            "the drive's EDS has no 0x2100:1 (load-side position)");
+  EXPECT_TRUE(error_with(drive_objects(), FeedbackRequest{true, true, 0, 0}).empty());
+}
+
+TEST(EdsDriveConfig, AStaticMappingThatCarriesWhatIsNeededIsReadAtStartUp) {
+  EdsText e = drive_objects();
+  e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, pos}).pdo(false, 2, false, {vel, fe});
+  const DriveConfigResult r = drive_config_from_eds(parsed(e), base(), FeedbackRequest{true, true, 0, 0});
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_FALSE(r.mapping_writable);
+  EXPECT_EQ(r.config.pdo_setup, PdoSetup::read_static);
+  EXPECT_EQ(r.config.layout.velocity_actual, (PdoSlot{2, 0, 4}));
+  EXPECT_EQ(r.config.layout.following_error, (PdoSlot{2, 4, 4}));
+}
+
+TEST(EdsDriveConfig, AStaticMappingWithoutWhatIsNeededIsRefusedSaying) {
+  {
+    EdsText e = drive_objects();  // RPDO1 = controlword, RPDO2 = target position
+    e.pdo(true, 1, false, {cw}).pdo(true, 2, false, {target}).pdo(false, 1, false, {sw, pos});
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), {}).error,
+              "the drive's PDO mapping is static (not writable) and no RPDO carries both 0x6040 (controlword) and "
+              "0x607A (target position)");
+  }
+  {
+    EdsText e = drive_objects();
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, pos});
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), FeedbackRequest{false, true, 0, 0}).error,
+              "the drive's PDO mapping is static (not writable) and no TPDO carries 0x60F4 (following error actual "
+              "value)");
+  }
+  {
+    EdsText e = drive_objects();
+    e.pdo(true, 1, false, {cw, target, 0x6060'0008}).pdo(false, 1, false, {sw, pos});
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), {}).error,
+              "the drive's PDO mapping is static (not writable) and its RPDO1 also maps 0x6060, which the master "
+              "cannot fill");
+  }
+}
+
+// The bundled description of Settle's drive: static mapping, read at start-up, and the layout it
+// gives is the default one (so the master keeps its inline codecs). Then against the drive itself.
+TEST(EdsDriveConfig, TheBundledEdsConfiguresSettlesDrive) {
+  const LoadResult loaded = load(SETTLE_DRIVE_EDS_PATH);
+  ASSERT_TRUE(loaded.description) << loaded.error;
+  const DriveConfigResult r = drive_config_from_eds(*loaded.description, base(),
+                                                    FeedbackRequest{true, false, canopen::obj::load_position_actual, 0});
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.config.pdo_setup, PdoSetup::read_static);
+  EXPECT_TRUE(canopen::is_default_layout(r.config.layout));
+
+  canopen::DriveNode drive{canopen::DriveNodeConfig{3}};
+  canopen::RemoteDrive remote{r.config};
+  FrameBuffer<16> to_drive;
+  FrameBuffer<16> to_master;
+  std::uint64_t now = 0;
+  drive.start(now, to_master);
+  to_master.clear();
+  remote.start(now, to_drive);
+  for (int i = 0; i < 200 && remote.state() == canopen::RemoteDriveState::configuring; ++i) {
+    const std::vector<CanFrame> requests(to_drive.frames().begin(), to_drive.frames().end());
+    to_drive.clear();
+    for (const CanFrame& f : requests) (void)drive.on_frame(f, now, to_master);
+    const std::vector<CanFrame> answers(to_master.frames().begin(), to_master.frames().end());
+    to_master.clear();
+    for (const CanFrame& f : answers) (void)remote.on_frame(f, now, to_drive);
+    now += 1000;
+    remote.poll(now, to_drive);
+  }
+  ASSERT_EQ(remote.state(), canopen::RemoteDriveState::enabling)
+      << canopen::to_string(remote.failure().error) << " at 0x" << std::hex << remote.failure().index;
+  EXPECT_TRUE(canopen::is_default_layout(remote.config().layout)) << "derived from the drive's own mapping";
+}
+
+}  // namespace
+}  // namespace settle::hal::eds
