@@ -2,13 +2,14 @@
 // expedited and segmented), on a SocketCAN interface or on the simulated drive in this process
 // (--bus loopback, drive_link.hpp). `settle drive config` (configure and verify what streaming
 // needs) is the master's start-up and is not part of this build. --eds FILE (on a bus) gives read
-// and write their --type and names the mapped objects in info; with --bus loopback it is refused
-// until the simulated drive is built from an EDS (drive_link.cpp, make_loopback_drive).
+// and write their --type and names the mapped objects in info; with --bus loopback the simulated
+// drive is the one it describes (drive_link.cpp, make_loopback_drive).
 //
 // Exit status (commands.hpp): 0 done; 2 a bad request, before anything is sent; 1 the bus cannot
 // be opened, the drive does not answer within --timeout-ms, or it aborts a transfer (the CiA 301
 // code and its meaning are printed), or a written value reads back different.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -23,6 +24,11 @@
 #include "options.hpp"
 #include "settle/hal/canopen/sdo_abort.hpp"
 #include "settle/hal/eds_reader.hpp"
+#include "settle/hal/canopen/nmt.hpp"
+#include "settle/hal/canopen/remote_drive.hpp"
+#include "settle/hal/eds_drive_config.hpp"
+#include "settle/sim/drive_from_eds.hpp"
+#include "settle/sim/stream.hpp"
 
 namespace settle::cli {
 
@@ -33,7 +39,7 @@ using hal::canopen::SdoClient;
 using hal::canopen::SdoClientStatus;
 using hal::canopen::SdoResult;
 
-constexpr std::string_view kSubcommands[] = {"info", "read", "write", "scan"};
+constexpr std::string_view kSubcommands[] = {"info", "read", "write", "config", "scan"};
 // Scan: nodes asked at once, each batch waiting at most --timeout-ms (documented in options.cpp).
 constexpr hal::canopen::NodeId kScanBatch = 16;
 // The longest object read: a string (segmented upload) longer than this is aborted 0x06070012.
@@ -197,7 +203,7 @@ std::string drive_help() {
     std::snprintf(line, sizeof line, "  %-6s %s\n", c.name.substr(6).c_str(), c.summary.c_str());
     h += line;
   }
-  h += "\nrun 'settle drive <subcommand> --help' for its options. Not in this build: settle drive config.\n";
+  h += "\nrun 'settle drive <subcommand> --help' for its options.\n";
   return h;
 }
 
@@ -205,14 +211,13 @@ std::string drive_help() {
 int load_description(const ParsedArgs& args, std::optional<hal::eds::Description>& out) {
   const auto path = args.text("--eds");
   if (!path) return -1;
-  if (args.text("--bus", "vcan0") == "loopback") {
-    return report_bad_request({"not_implemented", "--eds",
-                               "--eds: the simulated drive of --bus loopback is not yet built from an EDS in this "
-                               "build (leave --eds out, or use a bus)"},
-                              args.json());
-  }
   hal::eds::LoadResult r = hal::eds::load(*path);
   if (!r.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + r.error}, args.json());
+  if (args.text("--bus", "vcan0") == "loopback") {
+    // The simulated drive is built from it: one it cannot be is a bad request too.
+    const sim::DriveFromEds d = sim::simulated_drive_from_eds(*r.description, 1);
+    if (!d.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + d.error}, args.json());
+  }
   out = std::move(r.description);
   return -1;
 }
@@ -583,6 +588,108 @@ int drive_scan(const ParsedArgs& args, const hal::eds::Description* eds) {
   return kExitOk;
 }
 
+// settle drive config: the master's start-up (hal's RemoteDrive, configured from the EDS as
+// `settle stream --eds` configures it) run to the end of its configuration. Every object it
+// writes is read first, so the output says what changed; RemoteDrive reads each write back.
+int drive_config(const ParsedArgs& args, const hal::eds::Description* eds) {
+  using hal::canopen::RemoteDrive;
+  using hal::canopen::RemoteDriveState;
+  using hal::canopen::StartupAction;
+  using hal::canopen::StartupStep;
+  if (eds == nullptr) {
+    return report_bad_request({"missing_option", "--eds", "--eds: required (drive config applies what the drive's EDS/DCF describes)"}, args.json());
+  }
+  Session s{args, "config", eds};
+  hal::canopen::RemoteDriveConfig base{};
+  base.node = s.node();
+  base.sdo_timeout_us = s.timeout_us();
+  const hal::eds::DriveConfigResult plan = hal::eds::drive_config_from_eds(*eds, base, sim::streaming_feedback(*eds));
+  if (!plan.ok()) return s.failed("cannot_stream", "node " + std::to_string(s.node()) + ": " + plan.error);
+  std::array<StartupStep, hal::canopen::remote_drive_max_steps> steps{};
+  const std::optional<std::size_t> count = hal::canopen::plan_start_up(plan.config, steps);
+  if (!count) return s.failed("plan_too_long", "the configuration needs more start-up steps than the master holds");
+  if (const int rc = s.open(); rc >= 0) return rc;
+
+  // What each written object holds now (absent: the drive lacks it; start-up decides whether
+  // that matters) and the last value start-up writes to it.
+  struct Change {
+    std::uint16_t index;
+    std::uint8_t sub;
+    std::optional<std::uint32_t> before;
+    std::uint32_t after;
+  };
+  std::vector<Change> changes;
+  for (std::size_t i = 0; i < *count; ++i) {
+    const StartupStep& st = steps[i];
+    if (st.action() != StartupAction::write) continue;
+    const auto known = std::find_if(changes.begin(), changes.end(),
+                                    [&](const Change& c) { return c.index == st.index() && c.sub == st.sub(); });
+    if (known != changes.end()) {
+      known->after = st.value();
+      continue;
+    }
+    const Read r = s.read(st.index(), st.sub());
+    if (r.timed_out()) return s.transfer_failed(r.result);
+    changes.push_back({st.index(), st.sub(), r.ok() ? std::optional<std::uint32_t>{r.unsigned_value()} : std::nullopt,
+                       st.value()});
+  }
+
+  DriveLink& link = s.link();
+  RemoteDrive drive{plan.config};
+  const std::uint64_t started_us = link.now_us();
+  drive.start(started_us, link.bus());
+  // Bounded: every step may wait two SDO timeouts (one retry), and NMT takes a moment.
+  const std::uint64_t deadline_us = started_us + (*count + 2) * 2ULL * s.timeout_us() + 1'000'000ULL;
+  while (drive.state() == RemoteDriveState::configuring && link.now_us() < deadline_us) {
+    hal::CanFrame f{};
+    if (link.receive(f, 10'000)) (void)drive.on_frame(f, link.now_us(), link.bus());
+    drive.poll(link.now_us(), link.bus());
+  }
+  const double took_ms = static_cast<double>(link.now_us() - started_us) / 1000.0;
+  // Start-up ends with NMT start; a configured drive is left pre-operational, not running.
+  (void)link.bus().send(hal::canopen::encode_nmt(hal::canopen::NmtCommand::enter_pre_operational, s.node()));
+  if (drive.state() == RemoteDriveState::configuring) {
+    return s.failed("timeout", "node " + std::to_string(s.node()) + ": configuration did not finish in time");
+  }
+  if (drive.state() == RemoteDriveState::failed) {
+    const hal::canopen::RemoteDriveFailure& f = drive.failure();
+    return s.failed("start_up_failed", "node " + std::to_string(s.node()) + ": " + sim::start_up_failure_text(f),
+                    {{"index", hex(f.index, 4)}, {"sub", f.sub}, {"reason", hal::canopen::to_string(f.error)}});
+  }
+  const char* setup = plan.config.pdo_setup == hal::canopen::PdoSetup::dynamic       ? "dynamic"
+                      : plan.config.pdo_setup == hal::canopen::PdoSetup::read_static ? "static (read and checked)"
+                                                                                     : "assumed";
+  std::size_t changed = 0;
+  for (const Change& c : changes) changed += c.before != c.after ? 1U : 0U;
+  if (s.json()) {
+    Json list = Json::array();
+    for (const Change& c : changes) {
+      list.push_back({{"object", object_name(c.index, c.sub)},
+                      {"before", c.before ? Json(*c.before) : Json(nullptr)},
+                      {"after", c.after},
+                      {"changed", c.before != c.after}});
+    }
+    print_json({{"status", "ok"},
+                {"node", s.node()},
+                {"pdo_mapping", setup},
+                {"steps", *count},
+                {"objects_written", changes.size()},
+                {"objects_changed", changed},
+                {"configured_ms", took_ms},
+                {"writes", list}});
+    return kExitOk;
+  }
+  std::printf("node %u configured and verified in %.1f ms: %zu steps, PDO mapping %s; %zu objects written, %zu "
+              "changed (each read back)\n",
+              static_cast<unsigned>(s.node()), took_ms, *count, setup, changes.size(), changed);
+  for (const Change& c : changes) {
+    std::printf("  %s  %-12s -> %-12s %s\n", object_name(c.index, c.sub).c_str(),
+                c.before ? hex(*c.before, 8).c_str() : "absent", hex(c.after, 8).c_str(),
+                c.before != c.after ? "changed" : "unchanged");
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int cmd_drive(int argc, char** argv) {
@@ -596,7 +703,7 @@ int cmd_drive(int argc, char** argv) {
     return report_bad_request({"bad_command", "drive",
                                "drive: " + (sub.empty() ? std::string{"needs a subcommand"}
                                                         : "unknown subcommand '" + sub + "'") +
-                                   " (info, read, write, scan; settle drive --help)"},
+                                   " (info, read, write, config, scan; settle drive --help)"},
                               json);
   }
   const std::string name = "drive " + sub;
@@ -608,6 +715,7 @@ int cmd_drive(int argc, char** argv) {
   if (sub == "info") return drive_info(args, eds);
   if (sub == "read") return drive_read(args, eds);
   if (sub == "write") return drive_write(args, eds);
+  if (sub == "config") return drive_config(args, eds);
   return drive_scan(args, eds);
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "settle/hal/eds_reader.hpp"
 #include "move_options.hpp"
 #include "options.hpp"
 #include "plant_options.hpp"
@@ -73,6 +74,12 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
     return report_bad_request({"out_of_range", "--load-counts-per-unit",
                                "--load-counts-per-unit: --distance x --load-counts-per-unit exceeds 32-bit counts (1e9)"},
                               json);
+  }
+  // The drive's description, read before anything is sent (what it says is checked at start-up).
+  if (const auto path = args.text("--eds")) {
+    hal::eds::LoadResult loaded = hal::eds::load(*path);
+    if (!loaded.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
+    spec.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
   }
   return -1;
 }

@@ -6,6 +6,7 @@
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/hal/socketcan_bus.hpp"
+#include "settle/sim/drive_from_eds.hpp"
 #include "socketcan_open.hpp"
 
 namespace settle::cli {
@@ -16,18 +17,29 @@ using hal::canopen::DriveNode;
 using hal::canopen::DriveNodeConfig;
 using hal::canopen::NodeId;
 
-// The simulated drive `--bus loopback` talks to: hal's DriveNode with its default configuration
-// (hal/eds/settle_drive.eds) as `node`. The one place the loopback drive is made. Building it
-// from `eds` (the --eds description) is not part of this build: settle drive refuses --eds with
-// --bus loopback before it gets here, so `eds` is null; nullptr with `error` when it cannot be built.
-std::unique_ptr<DriveNode> make_loopback_drive(NodeId node, const hal::eds::Description* eds, std::string& error) {
-  if (eds != nullptr) {
-    error = "the simulated drive is not yet built from an EDS in this build";
-    return nullptr;
-  }
+// The simulated drive `--bus loopback` talks to, as `node`: the one the --eds description
+// describes (sim::simulated_drive_from_eds, as `settle plant --eds` builds it), or hal's DriveNode
+// with its default configuration (hal/eds/settle_drive.eds) without one. The one place the
+// loopback drive is made. Its strings point into `source`, which lives as long as the drive.
+struct SimulatedDrive {
+  sim::DriveFromEds source;
+  std::unique_ptr<DriveNode> node;
+};
+
+SimulatedDrive make_loopback_drive(NodeId node, const hal::eds::Description* eds, std::string& error) {
+  SimulatedDrive d{};
   DriveNodeConfig config{};
   config.node = node;
-  return std::make_unique<DriveNode>(config);
+  if (eds != nullptr) {
+    d.source = sim::simulated_drive_from_eds(*eds, node);
+    if (!d.source.config) {
+      error = d.source.error;
+      return d;
+    }
+    config = *d.source.config;
+  }
+  d.node = std::make_unique<DriveNode>(config);
+  return d;
 }
 
 // Real time: a SocketCAN interface, only the SDO answers (0x580 + node) let through.
@@ -54,7 +66,7 @@ class SocketCanDriveLink final : public DriveLink {
 // to it (and answer at once); time moves only when nothing is left to take.
 class LoopbackDriveLink final : public DriveLink {
  public:
-  explicit LoopbackDriveLink(std::unique_ptr<DriveNode> drive) : drive_{std::move(drive)} {
+  explicit LoopbackDriveLink(SimulatedDrive drive) : source_{std::move(drive.source)}, drive_{std::move(drive.node)} {
     drive_->start(now_, drive_port_);
   }
   hal::CanBus& bus() override { return master_; }
@@ -75,6 +87,7 @@ class LoopbackDriveLink final : public DriveLink {
   hal::LoopbackHub hub_;
   hal::LoopbackBus<256> master_{hub_};
   hal::LoopbackBus<256> drive_port_{hub_};
+  sim::DriveFromEds source_;
   std::unique_ptr<DriveNode> drive_;
 };
 
@@ -86,8 +99,8 @@ constexpr std::uint32_t kWaitUs = 10'000;
 std::unique_ptr<DriveLink> open_drive_link(const std::string& bus, NodeId node, const hal::eds::Description* eds,
                                            std::string& error) {
   if (bus == "loopback") {
-    std::unique_ptr<DriveNode> drive = make_loopback_drive(node, eds, error);
-    if (!drive) return nullptr;
+    SimulatedDrive drive = make_loopback_drive(node, eds, error);
+    if (!drive.node) return nullptr;
     return std::make_unique<LoopbackDriveLink>(std::move(drive));
   }
   auto link = std::make_unique<SocketCanDriveLink>();

@@ -3,9 +3,9 @@
 // Two kinds: a SocketCAN interface in real time (a `settle plant` process, a real drive), and
 // --bus loopback, a simulated drive in this process on hal's loopback bus, in virtual time.
 //
-// The loopback drive is built in one place, make_loopback_drive() (drive_link.cpp): hal's
-// DriveNode with its default configuration at the requested node id. A drive built from an EDS
-// (--eds FILE) plugs in there: open_drive_link already hands it the description.
+// The loopback drive is built in one place, make_loopback_drive() (drive_link.cpp): the drive the
+// --eds description describes (as `settle plant --eds` builds it), or hal's DriveNode with its
+// default configuration, at the requested node id.
 #include <cstdint>
 #include <memory>
 #include <span>

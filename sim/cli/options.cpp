@@ -144,6 +144,8 @@ const std::vector<OptionSpec> kStream = {
          "the loop's step guard: largest velocity one setpoint step may imply"),
     real("--settle-time", "s", "1", {0.0, 600.0, true, true}, "time streamed after the move"),
     integer("--rt-priority", "", "0 (no SCHED_FIFO)", {0.0, 99.0}, "SCHED_FIFO priority of the loop"),
+    text("--eds", "", "the drive's EDS/DCF: start-up configures and verifies the drive from it (its PDO mapping, "
+                      "periods, identity); with --bus loopback the simulated drive is the one it describes", "FILE"),
     choice("--pm-qos", "on", {"on", "off"},
            "hold /dev/cpu_dma_latency at 0 us while the loop runs on a CAN interface (CPUs stay out of deep "
            "idle states: lower wake-up latency, more power)"),
@@ -173,8 +175,9 @@ const std::vector<OptionSpec> kPlantNode = {
 const std::vector<OptionSpec> kDriveBus = {
     text("--bus", "vcan0", "SocketCAN interface, or 'loopback' (the simulated drive in this process)", "IFACE"),
     integer("--timeout-ms", "ms", "1000", {1.0, 60000.0}, "timeout of each SDO request (scan: of each batch)"),
-    text("--eds", "", "the drive's EDS/DCF: read/write take --type from it, info names the mapped objects (not "
-                      "with --bus loopback in this build)", "FILE"),
+    text("--eds", "", "the drive's EDS/DCF: read/write take --type from it, info names the mapped objects, config "
+                      "applies what streaming needs (required there); with --bus loopback the simulated drive is the "
+                      "one it describes", "FILE"),
 };
 const std::vector<OptionSpec> kDriveNodeId = {
     integer("--node", "", "1", {1.0, 127.0}, "the drive's CANopen node id"),
@@ -210,7 +213,8 @@ const std::vector<OptionSpec> kDemo = {
 };
 
 const std::string kDriveNotes =
-    "With --bus loopback the simulated drive (hal's DriveNode, default configuration) runs in this process. "
+    "With --bus loopback the simulated drive (hal's DriveNode: the --eds drive, or the default configuration) runs in "
+    "this process. "
     "Exit 1 when the bus cannot be opened, the drive does not answer within --timeout-ms, or it aborts the "
     "transfer (the CiA 301 abort code and its meaning are printed), or (write) the value reads back different.";
 
@@ -259,6 +263,14 @@ const std::vector<CommandSpec> kCommands = {
      .usage = "",
      .groups = {kDriveBus, kDriveNodeId, kDriveObject, kDriveValue, kOutput},
      .notes = kDriveNotes},
+    {.name = "drive config",
+     .summary = "configure and verify what streaming needs, from the drive's EDS (--eds), and print what changed",
+     .usage = "",
+     .groups = {kDriveBus, kDriveNodeId, kOutput},
+     .notes = "Runs the master's start-up: device type and identity checked, mode, periods, heartbeat and PDO "
+              "mapping written, each write read back; the drive is left pre-operational. Exit 1 when the drive "
+              "cannot stream (the object is named), does not answer, aborts, or a written value reads back "
+              "different."},
     {.name = "drive scan",
      .summary = "list the node ids 1..127 that answer an SDO read of 0x1000, with their device types",
      .usage = "",

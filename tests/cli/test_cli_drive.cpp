@@ -168,21 +168,67 @@ TEST(CliDrive, ScanFindsTheDriveAndItsDeviceType) {
 TEST(CliDrive, SubcommandsAndHelp) {
   const CliResult h = run_cli("drive --help");
   EXPECT_EQ(h.status, 0);
-  for (const char* s : {"info", "read", "write", "scan"}) EXPECT_TRUE(has(h.stdout_text, std::string{"  "} + s)) << s;
+  for (const char* s : {"info", "read", "write", "config", "scan"}) EXPECT_TRUE(has(h.stdout_text, std::string{"  "} + s)) << s;
   EXPECT_EQ(run_cli("help drive").stdout_text, h.stdout_text);
   EXPECT_EQ(run_cli("help drive read").stdout_text, run_cli("drive read --help").stdout_text);
   EXPECT_EQ(run_cli("help drive read").status, 0);
-  for (const char* args : {"drive", "drive frob", "drive config --bus loopback"}) {
+  for (const char* args : {"drive", "drive frob"}) {
     const CliResult r = run_cli(args);
     EXPECT_EQ(r.status, 2) << args;
     EXPECT_TRUE(r.stdout_text.empty()) << args;
     EXPECT_TRUE(has(r.stderr_text, "settle: error: drive: ")) << r.stderr_text;
   }
-  // The loopback drive is not built from an EDS yet: --eds there is refused, by name.
-  const CliResult e = run_cli(std::string{"drive info --bus loopback --eds "} + SETTLE_DRIVE_EDS);
-  EXPECT_EQ(e.status, 2) << e.out;
-  EXPECT_TRUE(has(e.stderr_text, "settle: error: --eds: the simulated drive of --bus loopback is not yet built"))
-      << e.out;
+}
+
+// With --eds the loopback drive is the one the description describes: its own identity and
+// strings, and (split_rpdo_drive) its own default mapping, RPDO1 controlword only.
+TEST(CliDrive, TheLoopbackDriveIsTheOneTheEdsDescribes) {
+  const CliResult t = run_cli(std::string{"drive info --bus loopback --eds "} + SETTLE_EDS_DIR + "/split_rpdo_drive.eds");
+  ASSERT_EQ(t.status, 0) << t.out;
+  EXPECT_TRUE(has(t.stdout_text, "RPDO1  COB-ID 0x00000201 (enabled), transmission type 1, mapping: 0x6040:0/16 (Controlword)\n"))
+      << t.stdout_text;
+  EXPECT_TRUE(has(t.stdout_text, "RPDO2  COB-ID 0x00000301 (enabled), transmission type 1, mapping: 0x607A:0/32 (Target position)\n"))
+      << t.stdout_text;
+  EXPECT_FALSE(has(t.stdout_text, co::drive_device_name)) << t.stdout_text;
+}
+
+// drive config: each bundled drive configured and verified from its EDS; what streaming needs
+// written and read back (dynamic mapping where the EDS says it is writable, the static one read
+// and checked otherwise), the drive left pre-operational; a drive without 0x60C2 refused by name.
+TEST(CliDrive, ConfigAppliesAndVerifiesWhatStreamingNeedsForEachBundledDrive) {
+  struct Case {
+    const char* eds;
+    const char* mapping;
+    bool changes;  // its default mapping is not what streaming needs
+  };
+  for (const Case& c : {Case{"settle_drive", "static (read and checked)", false},
+                        Case{"split_rpdo_drive", "dynamic", true},
+                        Case{"velocity_feedback_drive", "dynamic", true},
+                        Case{"static_mapping_drive", "static (read and checked)", false}}) {
+    SCOPED_TRACE(c.eds);
+    const CliResult r =
+        run_cli(std::string{"drive config --bus loopback --json --eds "} + SETTLE_EDS_DIR + "/" + c.eds + ".eds");
+    ASSERT_EQ(r.status, 0) << r.out;
+    const nlohmann::json j = json_of(r);
+    EXPECT_EQ(j["status"], "ok");
+    EXPECT_EQ(j["pdo_mapping"], c.mapping);
+    EXPECT_EQ(j["objects_changed"].get<int>() > 0, c.changes) << j.dump();
+    // The mode and the interpolation period are written whatever the mapping.
+    bool mode = false;
+    for (const auto& w : j["writes"]) mode = mode || w["object"] == "0x6060:0";
+    EXPECT_TRUE(mode) << j.dump();
+  }
+  const CliResult split = run_cli(std::string{"drive config --bus loopback --eds "} + SETTLE_EDS_DIR +
+                                  "/split_rpdo_drive.eds");
+  ASSERT_EQ(split.status, 0) << split.out;
+  // RPDO1's mapping grows from the controlword alone to controlword + target position.
+  EXPECT_TRUE(has(split.stdout_text, "0x1600:0  0x00000001   -> 0x00000002   changed")) << split.stdout_text;
+  EXPECT_TRUE(has(split.stdout_text, "0x1600:2  0x00000000   -> 0x607A0020   changed")) << split.stdout_text;
+
+  const CliResult none = run_cli(std::string{"drive config --bus loopback --eds "} + SETTLE_TEST_EDS_DIR +
+                                 "/no_interpolation_period_drive.eds");
+  EXPECT_EQ(none.status, 1) << none.out;
+  EXPECT_TRUE(has(none.stderr_text, "0x60C2 (interpolation time period)")) << none.out;
 }
 
 // On a bus, --eds gives read and write their --type: with it the request gets as far as the bus

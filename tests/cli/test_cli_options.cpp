@@ -178,7 +178,10 @@ TEST(CliOptions, DriveOptionsAreChecked) {
       {"drive write --index 0x6041 --type u16 --value", "--value", "missing_value"},
       {"drive info --bus", "--bus", "missing_value"},
       {"drive info --bus loopback --eds", "--eds", "missing_value"},
-      {"drive info --bus loopback --eds x.eds", "--eds", "not_implemented"},
+      {"drive info --bus loopback --eds /nonexistent/x.eds", "--eds", "bad_eds"},
+      {"drive config --bus loopback", "--eds", "missing_option"},
+      {"drive config --bus loopback --eds /nonexistent/x.eds", "--eds", "bad_eds"},
+      {kStream + "--eds /nonexistent/x.eds", "--eds", "bad_eds"},
       {"drive info --bus settle-no-such-can --eds /nonexistent/x.eds", "--eds", "bad_eds"},
       {"drive scan - --bus loopback", "--drive-scan", "bad_option"},  // a stray argument, one word
   };
@@ -323,12 +326,13 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"reproduce", join({{"--out"}})},
       {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--log", "--duration"}})},
       {"stream", join({move, plant, drive,
-                       {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--pm-qos", "--heartbeat-ms",
+                       {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--eds", "--pm-qos", "--heartbeat-ms",
                         "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log"}})},
       {"demo", join({{"--bus", "--out", "--list"}})},
       {"drive info", join({{"--bus", "--timeout-ms", "--eds", "--node"}})},
       {"drive read", join({{"--bus", "--timeout-ms", "--eds", "--node", "--index", "--sub", "--type"}})},
       {"drive write", join({{"--bus", "--timeout-ms", "--eds", "--node", "--index", "--sub", "--type", "--value"}})},
+      {"drive config", join({{"--bus", "--timeout-ms", "--eds", "--node"}})},
       {"drive scan", join({{"--bus", "--timeout-ms", "--eds"}})},
   };
   ASSERT_EQ(expected.size(), settle::cli::commands().size());

@@ -1,4 +1,4 @@
-// The simulated drive configured from an EDS (sim::drive_config_from_eds): the bundled
+// The simulated drive configured from an EDS (sim::simulated_drive_from_eds): the bundled
 // settle_drive.eds is exactly the default drive; the other bundled drives load and answer SDO with
 // their identity and mapping; an EDS the simulated drive cannot be is refused naming the object.
 #include <gtest/gtest.h>
@@ -157,7 +157,7 @@ DriveFromEds from_text(const std::string& text) {
   const hal::eds::LoadResult r = hal::eds::parse(text);
   EXPECT_TRUE(r.description.has_value()) << r.error;
   if (!r.description) return {};
-  return drive_config_from_eds(*r.description, 1);
+  return simulated_drive_from_eds(*r.description, 1);
 }
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <new>
 #include <string>
 #include <unistd.h>
@@ -152,6 +153,42 @@ TEST(RunStream, EveryScalarStreamsTheDoubleSetpointsWithinOneCount) {
 
 // The fixed-point evaluation cannot hold a transition shorter than a tick: the loop refuses the
 // move at submit, nothing of it is streamed, and there is nothing to measure.
+// Issue 14: each bundled drive description, the master configuring and verifying the drive from
+// it (dynamic mapping where it is writable, the static one read and checked otherwise) and the
+// simulated drive built from it, streams the move to the end, every setpoint once and in order,
+// and leaves the same residual as Settle's own drive (the mapping changes where the bytes go, not
+// what the drive does). A description without 0x60C2 is refused before anything streams.
+TEST(RunStream, EachBundledDriveIsConfiguredFromItsEdsAndStreamed) {
+  const StreamSpec plain = spec_for(poly345(0.01, 0.5), 0.2);
+  LoopbackStreamBus own_bus{""};
+  const StreamReport own = run_stream(plain, own_bus);
+  ASSERT_TRUE(own.measured()) << own.failure;
+  for (const char* name : {"settle_drive", "split_rpdo_drive", "velocity_feedback_drive", "static_mapping_drive"}) {
+    SCOPED_TRACE(name);
+    hal::eds::LoadResult loaded = hal::eds::load(std::string{SETTLE_EDS_DIR} + "/" + name + ".eds");
+    ASSERT_TRUE(loaded.description) << loaded.error;
+    StreamSpec spec = plain;
+    spec.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
+    LoopbackStreamBus bus{""};
+    const StreamReport r = run_stream(spec, bus);
+    ASSERT_TRUE(r.failure.empty()) << r.failure;
+    EXPECT_EQ(r.session.outcome, firmware::SessionOutcome::completed) << r.drive_failure;
+    EXPECT_TRUE(r.aligned());
+    EXPECT_TRUE(r.measured());
+    EXPECT_EQ(r.setpoints, own.setpoints);
+    EXPECT_EQ(r.residual_can.amplitude, own.residual_can.amplitude);
+    ASSERT_TRUE(r.start_up_us.has_value());
+  }
+  hal::eds::LoadResult lacking = hal::eds::load(std::string{SETTLE_TEST_DATA_DIR} + "/no_interpolation_period_drive.eds");
+  ASSERT_TRUE(lacking.description) << lacking.error;
+  StreamSpec spec = plain;
+  spec.eds = std::make_shared<const hal::eds::Description>(std::move(*lacking.description));
+  LoopbackStreamBus bus{""};
+  const StreamReport r = run_stream(spec, bus);
+  EXPECT_NE(r.failure.find("0x60C2 (interpolation time period)"), std::string::npos) << r.failure;
+  EXPECT_TRUE(r.log.empty());  // refused before the loop ran
+}
+
 TEST(RunStream, ARefusedMoveIsReportedAndNotStreamed) {
   StreamSpec spec = spec_for(scurve(1e-4, 0.002, 22.0));
   spec.scalar = StreamScalar::fixed_point;

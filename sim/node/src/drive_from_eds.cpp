@@ -106,7 +106,7 @@ bool take_pdos(const std::vector<eds::Pdo>& pdos, bool receive, co::NodeId node,
 
 }  // namespace
 
-DriveFromEds drive_config_from_eds(const eds::Description& d, co::NodeId node) {
+DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node) {
   DriveFromEds r;
   co::DriveNodeConfig c{};
   c.node = node;
@@ -213,7 +213,7 @@ DriveFromEds load_drive_config(const std::string& path, co::NodeId node) {
   if (!loaded.description) {
     return DriveFromEds{std::nullopt, nullptr, loaded.error};  // the reader names the file and line
   }
-  DriveFromEds r = drive_config_from_eds(*loaded.description, node);
+  DriveFromEds r = simulated_drive_from_eds(*loaded.description, node);
   if (!r.config) {
     r.error = path + ": " + r.error;
   }

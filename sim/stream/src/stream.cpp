@@ -61,7 +61,9 @@ core::Status evaluated_setpoints(StreamScalar scalar, const core::Move<double>& 
 }
 
 // Why the drive's start-up failed, in one line.
-std::string failure_text(const hal::canopen::RemoteDriveFailure& f) {
+}  // namespace
+
+std::string start_up_failure_text(const hal::canopen::RemoteDriveFailure& f) {
   static constexpr std::array<const char*, 5> sdo{"idle", "busy", "done", "aborted", "timed out"};
   std::array<char, 96> text{};
   if (f.enable_timeout) {
@@ -79,6 +81,8 @@ std::string failure_text(const hal::canopen::RemoteDriveFailure& f) {
   }
   return text.data();
 }
+
+namespace {
 
 // The session's clock is the bus's.
 struct BusClock {
@@ -123,7 +127,7 @@ std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& a
   r.units_held = loop->stats().units_held;
   const auto& d = loop->drive(0);
   r.drive_state = hal::canopen::to_string(d.state());
-  if (d.state() == hal::canopen::RemoteDriveState::failed) r.drive_failure = failure_text(d.failure());
+  if (d.state() == hal::canopen::RemoteDriveState::failed) r.drive_failure = start_up_failure_text(d.failure());
   r.timing = bus.timing();
   return {};
 }
@@ -212,6 +216,16 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
 
 }  // namespace
 
+hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds) {
+  hal::eds::FeedbackRequest f{};
+  f.velocity_actual = eds.find(hal::canopen::obj::velocity_actual, 0) != nullptr;
+  if (eds.find(hal::canopen::obj::load_position_actual, 0) != nullptr) {
+    f.load_position_index = hal::canopen::obj::load_position_actual;
+    f.load_position_sub = 0;
+  }
+  return f;
+}
+
 StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
   StreamReport r{};
   const std::uint32_t period_us = spec.drive.scale.period_us;
@@ -229,6 +243,7 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
 
   firmware::AxisConfig ac{};
   ac.drive.node = spec.node;
+  ac.drive.sync_period_us = period_us;
   ac.drive.heartbeat_timeout_ms = spec.heartbeat_ms;
   ac.drive.sdo_timeout_us = spec.sdo_timeout_us;
   ac.scale = spec.drive.scale;
@@ -240,6 +255,14 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
   // The drive's own enabling deadline is the session's 5 s window, not RemoteDrive's 1 s default:
   // a host that stalls the process for a second must not fail a drive that enables in time.
   ac.drive.enable_timeout_us = static_cast<std::uint32_t>(sc.enable_timeout_ticks * period_us);
+  if (spec.eds) {
+    const hal::eds::DriveConfigResult d = hal::eds::drive_config_from_eds(*spec.eds, ac.drive, streaming_feedback(*spec.eds));
+    if (!d.ok()) {
+      r.failure = "--eds: " + d.error;
+      return r;
+    }
+    ac.drive = d.config;
+  }
   const std::uint64_t move_ticks = static_cast<std::uint64_t>(spec.move.duration() * 1e6 / period_us) + 2;
   // Completion waits for the feedback to show the target (at most in_position_timeout_periods).
   sc.max_ticks = sc.enable_timeout_ticks + move_ticks + sc.settle_ticks + ac.in_position_timeout_periods + 10;

@@ -17,6 +17,11 @@ std::string LoopbackStreamBus::open(const StreamSpec& spec) {
     return "cannot write " + candump_path_;
   }
   hal::canopen::DriveNodeConfig dc{};
+  if (spec.eds) {
+    simulated_ = simulated_drive_from_eds(*spec.eds, spec.node);
+    if (!simulated_.config) return "--eds: " + simulated_.error;
+    dc = *simulated_.config;
+  }
   dc.node = spec.node;
   dc.sync_period_us = period_us_;
   DriveAxis axis{};

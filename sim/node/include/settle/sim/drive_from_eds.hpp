@@ -31,7 +31,7 @@ struct DriveFromEds {
 };
 
 // The configuration for node `node` (values with $NODEID resolved for it).
-[[nodiscard]] DriveFromEds drive_config_from_eds(const hal::eds::Description& eds, hal::canopen::NodeId node);
+[[nodiscard]] DriveFromEds simulated_drive_from_eds(const hal::eds::Description& eds, hal::canopen::NodeId node);
 // The same from a file: the reader's error (which names the file), or the path and the above.
 [[nodiscard]] DriveFromEds load_drive_config(const std::string& path, hal::canopen::NodeId node);
 

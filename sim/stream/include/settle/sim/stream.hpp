@@ -6,6 +6,7 @@
 // StreamBus (stream_bus.hpp), how it is printed the reporters (stream_report.hpp).
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,8 @@
 #include "settle/firmware/servo_loop.hpp"
 #include "settle/firmware/session.hpp"
 #include "settle/hal/can_bus.hpp"
+#include "settle/hal/eds_drive_config.hpp"
+#include "settle/hal/eds_reader.hpp"
 #include "settle/sim/drive_axis.hpp"
 #include "settle/sim/modal_plant.hpp"
 #include "settle/sim/stream_check.hpp"
@@ -40,7 +43,20 @@ struct StreamSpec {
   std::optional<double> axis_vmax{};  // units/s; default 1.5 x the move's peak velocity
   double settle_time_s{1.0};          // periods observed after the move, at rest
   StreamScalar scalar{StreamScalar::double_precision};
+  // --eds: the drive's description. The master configures and verifies the drive from it
+  // (hal::eds::drive_config_from_eds with streaming_feedback), and on loopback the simulated drive
+  // is the one it describes (sim::simulated_drive_from_eds). Null: Settle's own drive, as assumed.
+  std::shared_ptr<const hal::eds::Description> eds;
 };
+
+// The feedback a stream maps besides statusword and position: the velocity actual 0x606C and
+// the load-side position 0x2000 (the simulated drive's load encoder), each when the description
+// has it.
+[[nodiscard]] hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds);
+
+// Why a drive's start-up failed, in one line: the object, what was expected and read, or the SDO
+// status and abort code.
+[[nodiscard]] std::string start_up_failure_text(const hal::canopen::RemoteDriveFailure& failure);
 
 // What the real-time clock saw (all zero on a virtual clock).
 struct StreamTiming {

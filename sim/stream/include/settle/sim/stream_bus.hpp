@@ -10,6 +10,7 @@
 
 #include "settle/firmware/linux/periodic.hpp"
 #include "settle/firmware/session.hpp"
+#include "settle/sim/drive_from_eds.hpp"
 #include "settle/hal/candump_file.hpp"
 #include "settle/hal/recording_bus.hpp"
 #include "settle/hal/loopback_bus.hpp"
@@ -43,6 +44,7 @@ class LoopbackStreamBus final : public StreamBus {
   hal::LoopbackBus<256> master_{hub_};
   hal::LoopbackBus<256> drive_port_{hub_};
   hal::LoopbackBus<256> sniffer_{hub_};
+  DriveFromEds simulated_;  // with --eds: the drive's strings point into it
   std::unique_ptr<PlantNode> node_;
   hal::CandumpFile dump_;
   std::uint32_t period_us_{1000};
