@@ -36,6 +36,7 @@ STREAM_WATCHDOG = ["--heartbeat-ms", "2000", "--sdo-timeout-ms", "5000"]
 STREAM_TOLERANT = [*STREAM_WATCHDOG, "--feedback-timeout-periods", "250"]
 
 # id -> (plant args, move args, axis vmax, out scale)
+EDS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "hal", "eds")
 SCENARIOS = {s["id"]: (s["plant"], s["move"], s["axis_vmax"], s["out_scale"]) for s in TABLE["scenarios"]}
 
 
@@ -196,10 +197,13 @@ def read_csv(path):
     return [dict(zip(head, map(float, l.split(",")))) for l in lines[1:] if l]
 
 
-def scenario(d, tag):
-    plant_args, move_args, vmax, out_scale = SCENARIOS[tag]
-    plant = Plant(d, tag, plant_args, PLANT_TOLERANT)
-    rc, r, fb, dump = stream(d, tag, plant_args, move_args, vmax)
+def scenario(d, tag, key=None, eds=()):
+    """A paper scenario (key, default the tag) streamed from a `settle stream` process to a
+    `settle plant` process; with eds (["--eds", FILE]) both use that drive description: the plant
+    simulates the drive it describes and the stream configures and verifies it from it."""
+    plant_args, move_args, vmax, out_scale = SCENARIOS[key or tag]
+    plant = Plant(d, tag, plant_args, [*PLANT_TOLERANT, *eds])
+    rc, r, fb, dump = stream(d, tag, plant_args, move_args, vmax, eds)
     pj = plant.stop()
     check(rc == 0 and r["outcome"] == "completed",
           f"{tag}: session completed ({r['outcome']}; drive {r.get('drive_state')} {r.get('drive_failure', '')}"
@@ -316,6 +320,12 @@ def main():
           _Kept(tempfile.mkdtemp(prefix=f"{TEST}-", dir=keep))) as d:
         if TEST in SCENARIOS:
             scenario(d, TEST)
+        elif TEST.startswith("eds-"):
+            # Issue 14: a bundled drive description, configured, verified and streamed end to end.
+            path = os.path.join(EDS_DIR, TEST[len("eds-"):] + ".eds")
+            r = scenario(d, TEST, "000-scurve-0.8", ["--eds", path])
+            check(r["start_up_ms"] is not None, f"{TEST}: start-up to operation enabled took {r['start_up_ms']} ms "
+                                                f"(tick {r['ready_tick']})")
         elif TEST == "bus-log-complete":
             # The stream's own log against an independent capture of the whole bus (a socket with a
             # 32 MB queue whose kernel drops are counted): frame for frame, nothing missing.
