@@ -69,9 +69,11 @@ BASE = {
     "drive read": ["--bus", "loopback", "--index", "0x6041", "--type", "u16"],
     "drive write": ["--bus", "loopback", "--index", "0x6065", "--type", "u32", "--value", "5000"],
     "drive scan": ["--bus", "loopback", "--timeout-ms", "50"],
+    "drive config": ["--bus", "loopback", "--eds", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                                                "hal", "eds", "split_rpdo_drive.eds")],
 }
 WEIGHT = {"plan": 20, "sample": 14, "simulate": 26, "reproduce": 6, "plant": 12, "stream": 22,
-          "drive info": 4, "drive read": 6, "drive write": 8, "drive scan": 3}
+          "drive info": 4, "drive read": 6, "drive write": 8, "drive scan": 3, "drive config": 5}
 
 # Sizes no run may honour; each must be refused before any work (exit 2).
 ABSURD = {
@@ -90,12 +92,15 @@ ABSURD = {
     "drive write": [["--type", "string", "--value", "x" * 5000], ["--type", "i32", "--value", "-2147483649"],
                     ["--type", "u32", "--value", "0x1FFFFFFFF"], ["--value", "1e300"]],
     "drive scan": [["--timeout-ms", "1e9"], ["--timeout-ms", "4.9e-324"]],
+    "drive config": [["--timeout-ms", "1e9"], ["--node", "1e300"], ["--eds", ""]],
 }
 
 # What a drive command's exit 1 may say: the bus, or the drive's answer (text on stderr, or the
 # JSON error object's code).
-DRIVE_FAILURES = re.compile(r"cannot open|SDO abort 0x[0-9A-F]{8} \(|no answer within|holds \d+ bytes; --type")
-DRIVE_FAILURE_CODES = {"bus", "sdo_abort", "sdo_timeout", "type_mismatch", "read_back_differs"}
+DRIVE_FAILURES = re.compile(r"cannot open|SDO abort 0x[0-9A-F]{8} \(|no answer within|holds \d+ bytes; --type|"
+                            r"^settle drive config: node \d+: ")
+DRIVE_FAILURE_CODES = {"bus", "sdo_abort", "sdo_timeout", "type_mismatch", "read_back_differs", "cannot_stream",
+                       "start_up_failed", "timeout", "plan_too_long"}
 
 SANITIZER = re.compile(r"AddressSanitizer|LeakSanitizer|UndefinedBehaviorSanitizer|runtime error:|MemorySanitizer")
 NON_FINITE = re.compile(r"(?i)(?<![a-z])-?(nan|inf|infinity)(?![a-z])")
