@@ -506,6 +506,24 @@ TEST_F(DriveSafety, TwoPairsInOnePeriodMoveTheAxisOneStepAndItCatchesUp) {
   EXPECT_TRUE(emcys().empty());
 }
 
+TEST_F(DriveSafety, AnAxisSimulatedInSyncTimeFollowsABurstStepByStep) {
+  // settle plant's axis advances one period per SYNC: a replay's burst of 300 pairs at one
+  // instant is 300 periods of its time, every setpoint applied as sent (each within the step
+  // limit); the same burst on a drive in processing time is held to one limit (see above).
+  DriveNodeConfig c = config();
+  c.axis_moves_one_period_per_sync = true;
+  drive.emplace(c);
+  enable();
+  for (std::int32_t k = 1; k <= 300; ++k) {
+    (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 100 * k}));
+    ASSERT_EQ(deliver(encode_sync()), DriveEvent::sync) << k;  // all at the same instant
+    ASSERT_EQ(axis, 100 * k) << k;
+  }
+  EXPECT_EQ(drive->counters().steps_bounded, 0U);
+  EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_TRUE(emcys().empty());
+}
+
 TEST_F(DriveSafety, ALateMasterIsNoSecondProducer) {
   // The master's SYNCs leave anywhere up to a whole period late (a loaded host), and the
   // receiving process reads them in bursts; the frames' receive times say when they were sent.

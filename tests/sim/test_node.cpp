@@ -15,6 +15,9 @@
 #include "heap_counter.hpp"
 #include "planned_moves.hpp"
 #include "settle/core/planner.hpp"
+#include "settle/hal/canopen/default_mapping.hpp"
+#include "settle/hal/canopen/nmt.hpp"
+#include "settle/hal/canopen/sync.hpp"
 #include "settle/sim/limits.hpp"
 #include "settle/sim/plant_node.hpp"
 #include "settle/sim/stream_check.hpp"
@@ -87,6 +90,42 @@ TEST(PlantNodeLog, ManySyncsAllocateNothingAndTheFileHoldsEveryRecord) {
   }
   EXPECT_EQ(n, kSyncs);
   std::filesystem::remove(path);
+}
+
+// settle plant's axis advances one period per SYNC: a replay that catches up with a burst of
+// SYNC + RPDO pairs, all received at one instant and moving twice the drive's step limit in all,
+// has every setpoint applied as sent (tests/cross/servo-replay checks exactly that). A drive in
+// processing time would hold this burst to one step limit (DriveSafety, step window).
+TEST(PlantNode, ABurstOfPairsAtOneInstantIsAppliedSetpointBySetpoint) {
+  namespace co = hal::canopen;
+  DriveAxis axis;
+  ASSERT_EQ(DriveAxis::make(DriveAxisConfig{}, beam(), 0, axis), SimStatus::ok);
+  co::DriveNodeConfig dc{};
+  dc.node = 1;
+  dc.heartbeat_period_ms = 0;
+  PlantNode pn{dc, std::move(axis), 1024};
+  Discard out;
+  pn.start(0, out);
+  std::uint64_t t = 0;
+  const auto pair = [&](std::uint16_t cw, std::int32_t target, std::uint64_t at) {
+    hal::CanFrame rpdo = co::encode_rpdo1(1, co::Rpdo1{cw, target});
+    hal::CanFrame sync = co::encode_sync();
+    rpdo.timestamp_us = sync.timestamp_us = at;
+    (void)pn.on_frame(rpdo, at, out);
+    return pn.on_frame(sync, at, out);
+  };
+  (void)pn.on_frame(co::encode_nmt(co::NmtCommand::start, 1), t, out);
+  for (const std::uint16_t cw : {co::controlword::shutdown, co::controlword::switch_on, co::controlword::enable_operation}) {
+    ASSERT_TRUE(pair(cw, 0, t += 1000));
+  }
+  const std::int64_t limit = pn.node().step_limit_counts();
+  const auto step = static_cast<std::int32_t>(limit / 10);
+  t += 1000;
+  for (std::int32_t k = 1; k <= 20; ++k) {
+    ASSERT_TRUE(pair(co::controlword::enable_operation, step * k, t)) << k;  // one instant
+    ASSERT_EQ(pn.log().back().target, step * k) << k;
+  }
+  EXPECT_EQ(pn.node().counters().steps_bounded, 0U);
 }
 
 TEST(PlantNodeLog, UnwritableLogIsRefusedAtOpen) {

@@ -428,7 +428,10 @@ void DriveNode::on_nmt(const NmtMessage& message, std::uint64_t /*now_us*/, Fram
 DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std::uint64_t received_us,
                              FrameSink& out) noexcept {
   ++counters_.syncs;
-  period_time_us_ = config_.axis_moves_at_sync_receive_time ? received_us : now_us;
+  // The step window's clock: a simulated axis that advances one period per SYNC lives in SYNC
+  // time (every SYNC one period after the previous, however they arrived); a real one in the
+  // time the drive processes the SYNC.
+  period_time_us_ = config_.axis_moves_one_period_per_sync ? period_time_us_ + step_period_us() : now_us;
   SyncEvent event = sync_.on_sync(sync, now_us, received_us);
   if (event == SyncEvent::too_many && fresh_target() && nmt_.pdo_allowed()) {
     // Too early, but it brings its own fresh RPDO: the master's own period delivered late (a

@@ -5,10 +5,10 @@
 namespace settle::sim {
 
 namespace {
-// The simulated axis advances one period per SYNC, whenever the simulator gets to it: its
-// periods are the SYNCs' receive times, not the times a busy host processed them.
+// The simulated axis advances one period per SYNC, whenever the simulator gets to it and however
+// the bus bunched the SYNCs: its clock is the SYNC count, not the host's.
 hal::canopen::DriveNodeConfig moving_per_sync(hal::canopen::DriveNodeConfig c) {
-  c.axis_moves_at_sync_receive_time = true;
+  c.axis_moves_one_period_per_sync = true;
   return c;
 }
 }  // namespace

@@ -16,7 +16,7 @@
 //   Whatever wrote 0x607A (RPDO or SDO) is checked the same way, at the SYNC that would apply it.
 // - Step window: within one period the axis moves at most that limit, so SYNC+RPDO pairs bunched
 //   by a late bus or a late drive do not add their steps up; the setpoint is held back and
-//   catches up at the next SYNCs (see step_window.hpp and axis_moves_at_sync_receive_time).
+//   catches up at the next SYNCs (see step_window.hpp and axis_moves_one_period_per_sync).
 // - Following error: |setpoint - position actual| over 0x6065 for longer than 0x6066 ms:
 //   fault, EMCY 0x8611. On by default.
 // - SYNC checks while the axis is driven: a counter (0x1019) that does not step by one, a
@@ -189,10 +189,12 @@ struct DriveNodeConfig {
   std::array<PdoMapping, drive_rpdo_capacity> rpdos{default_drive_rpdos()};
   std::array<PdoMapping, drive_tpdo_capacity> tpdos{default_drive_tpdos()};
   // The clock the step window measures periods in (step_window.hpp): when the axis moves. A
-  // drive that moves its axis as it processes a SYNC (firmware) uses the time it processes it;
-  // a simulated axis that advances one period per SYNC (sim's PlantNode) uses the SYNC's receive
-  // time, so a simulator that read a backlog late is not taken for a fast master.
-  bool axis_moves_at_sync_receive_time{false};
+  // drive that moves its axis as it processes a SYNC (firmware) uses the time it processes it.
+  // A simulated axis that advances one period per SYNC (sim's PlantNode) lives in SYNC time:
+  // each SYNC is one period after the previous however the bus bunched them (a replay that
+  // catches up sends dozens at once), so its simulated axis never moves faster than the step
+  // limit allows and the window never holds it back.
+  bool axis_moves_one_period_per_sync{false};
 };
 
 // The dictionary's variables, in two groups because NMT resets them in two groups:

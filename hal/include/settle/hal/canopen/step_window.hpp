@@ -10,7 +10,7 @@
 // is not refused (the master's own late periods are not an error): the axis moves as far towards
 // it as the bound allows and catches up at the next SYNCs, as a drive's velocity limit does.
 //
-// Times are when the axis moves for each SYNC (DriveNodeConfig::axis_moves_at_sync_receive_time
+// Times are when the axis moves for each SYNC (DriveNodeConfig::axis_moves_one_period_per_sync
 // says which clock that is).
 // Allocation-free and small (36 bytes: it lives in the drive node on a Cortex-M0); positions
 // wrap like the drive's 32-bit counter (differences the short way), times are kept as their low
