@@ -541,7 +541,8 @@ void DriveNode::apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept {
     // Measured from the previous target accepted (the latched position after enabling), which
     // the setpoint follows unless the window below holds it back.
     const std::int64_t step = position_difference(clamped, accepted_target_);
-    const std::int64_t limit = step_limit_counts();
+    const std::uint32_t period_us = step_period_us();
+    const std::int64_t limit = step_limit_counts(period_us);
     if (magnitude(step) > limit) {
       ++counters_.steps_refused;
       fault_with(emcy_code::velocity, emcy_detail(emcy_cause::step_limit, step), now_us, out);
@@ -550,7 +551,7 @@ void DriveNode::apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept {
     accepted_target_ = clamped;
     // Within one period the axis moves at most the step limit, however many SYNCs that period
     // brought (tolerating SYNCs up to a quarter period early).
-    const std::uint32_t window_us = step_period_us() - step_period_us() / 4U;
+    const std::uint32_t window_us = period_us - period_us / 4U;
     setpoint_ = step_window_.bound(period_time_us_, clamped, limit, window_us);
     step_window_.push(period_time_us_, setpoint_, window_us);
     if (setpoint_ != clamped) ++counters_.steps_bounded;
@@ -568,10 +569,12 @@ std::uint32_t DriveNode::step_period_us() const noexcept {
   return cycle_us != 0 && cycle_us < period_us ? cycle_us : period_us;
 }
 
-std::int64_t DriveNode::step_limit_counts() const noexcept {
+std::int64_t DriveNode::step_limit_counts() const noexcept { return step_limit_counts(step_period_us()); }
+
+std::int64_t DriveNode::step_limit_counts(std::uint32_t period_us) const noexcept {
   // Both factors are below 2^32: the product and the rounding fit 64 bits.
   const std::uint64_t counts =
-      (std::uint64_t{objects_.app.max_profile_velocity} * step_period_us() + 999'999U) / 1'000'000U;
+      (std::uint64_t{objects_.app.max_profile_velocity} * period_us + 999'999U) / 1'000'000U;
   return static_cast<std::int64_t>(counts);
 }
 

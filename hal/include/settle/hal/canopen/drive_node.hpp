@@ -360,6 +360,8 @@ class DriveNode {
   void on_nmt(const NmtMessage& message, std::uint64_t now_us, FrameSink& out) noexcept;
   void apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept;
   void latch_target() noexcept;
+  // step_limit_counts() for a step period already known (one SYNC computes it once).
+  [[nodiscard]] std::int64_t step_limit_counts(std::uint32_t period_us) const noexcept;
   void fault_with(std::uint16_t error_code, const EmcyDetail& detail, std::uint64_t now_us, FrameSink& out) noexcept;
   void connection_lost(std::uint16_t error_code, const EmcyDetail& detail, std::uint64_t now_us,
                        FrameSink& out) noexcept;
