@@ -1,0 +1,458 @@
+#include "settle/sim/tune.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <tuple>
+
+#include "settle/core/profiles/registry.hpp"
+#include "settle/sim/command.hpp"
+#include "settle/sim/sensitivity.hpp"
+
+namespace settle::sim {
+
+const char* to_string(TuneStatus s) noexcept {
+  switch (s) {
+    case TuneStatus::ok: return "ok";
+    case TuneStatus::no_modes: return "no_modes";
+    case TuneStatus::too_many_modes: return "too_many_modes";
+    case TuneStatus::bad_mode: return "bad_mode";
+    case TuneStatus::bad_band: return "bad_band";
+    case TuneStatus::bad_move: return "bad_move";
+    case TuneStatus::bad_residual_max: return "bad_residual_max";
+    case TuneStatus::bad_grid: return "bad_grid";
+    case TuneStatus::no_feasible_plan: return "no_feasible_plan";
+  }
+  return "unknown";
+}
+
+const char* describe(TuneStatus s) noexcept {
+  switch (s) {
+    case TuneStatus::ok: return "ok";
+    case TuneStatus::no_modes: return "no modes given";
+    case TuneStatus::too_many_modes: return "more modes than the tuner searches (8)";
+    case TuneStatus::bad_mode: return "a mode's omega is not positive and finite, its zeta is outside [0, 1), or its gain is not finite";
+    case TuneStatus::bad_band: return "a mode's band does not contain it (0 < omega_lo <= omega <= omega_hi, 0 <= zeta_lo <= zeta <= zeta_hi < 1)";
+    case TuneStatus::bad_move: return "the move needs a finite non-zero distance and a positive time or positive limits";
+    case TuneStatus::bad_residual_max: return "residual_max must lie in (0, 1)";
+    case TuneStatus::bad_grid: return "zeta_points must lie in 1..9";
+    case TuneStatus::no_feasible_plan:
+      return "no profile family keeps the residual within residual_max over the whole band (widen the limits or the "
+             "time, narrow the band, or raise residual_max)";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// The residual of the unshaped profile of `move` on (omega, zeta), relative to a step: what every
+// shaper multiplies by its V(omega, zeta).
+using ProfileFactor = std::function<SimStatus(double omega, double zeta, double& out)>;
+
+ProfileFactor direct_factor(const core::Move<double>& move) {
+  const core::Move<double> bare{move.profile(), core::Shaper<double>{}, move.peaks()};
+  auto cmd = std::make_shared<MoveCommand>(bare);
+  return [cmd](double omega, double zeta, double& out) {
+    double prv = 0.0;
+    const SimStatus st = prv_on_mode(*cmd, omega, zeta, prv);
+    if (st == SimStatus::ok) out = prv / 100.0;
+    return st;
+  };
+}
+
+// Golden-section search for the maximum of f on [a, b]; returns the best point seen.
+template <typename F>
+SimStatus golden_max(F&& f, double a, double b, int iterations, double& best_x, double& best_f) {
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  double x1 = b - g * (b - a), x2 = a + g * (b - a);
+  double f1 = 0.0, f2 = 0.0;
+  SimStatus st = f(x1, f1);
+  if (st != SimStatus::ok) return st;
+  st = f(x2, f2);
+  if (st != SimStatus::ok) return st;
+  auto keep = [&](double x, double v) {
+    if (v > best_f) {
+      best_f = v;
+      best_x = x;
+    }
+  };
+  keep(x1, f1);
+  keep(x2, f2);
+  for (int i = 0; i < iterations; ++i) {
+    if (f1 > f2) {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - g * (b - a);
+      st = f(x1, f1);
+      keep(x1, f1);
+    } else {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + g * (b - a);
+      st = f(x2, f2);
+      keep(x2, f2);
+    }
+    if (st != SimStatus::ok) return st;
+  }
+  return SimStatus::ok;
+}
+
+double lerp(double lo, double hi, std::size_t i, std::size_t n) {
+  if (n < 2) return lo;
+  return i + 1 == n ? hi : lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(n - 1);
+}
+
+// worst_in_band with the profile factor supplied (so that tune() can share it between shapers).
+// stop_above: once the grid exceeds it the refinement is skipped (the move fails either way).
+SimStatus worst_impl(const core::Shaper<double>& shaper, const ProfileFactor& factor, const UncertainMode& b,
+                     std::size_t n_omega, std::size_t n_zeta, double stop_above, BandWorst& out) {
+  if (!(b.omega_hi > b.omega_lo)) n_omega = 1;
+  if (!(b.zeta_hi > b.zeta_lo)) n_zeta = 1;
+  BandWorst w;
+  w.residual = -1.0;
+  auto eval = [&](double omega, double zeta, double& r) {
+    double pf = 0.0;
+    const SimStatus st = factor(omega, zeta, pf);
+    if (st != SimStatus::ok) return st;
+    r = pf * core::shaper_residual(shaper, omega, zeta);
+    if (!std::isfinite(r)) return SimStatus::non_finite_result;
+    ++w.evaluations;
+    if (r > w.residual) {
+      w.residual = r;
+      w.omega = omega;
+      w.zeta = zeta;
+    }
+    return SimStatus::ok;
+  };
+  std::vector<double> grid(n_omega * n_zeta);
+  for (std::size_t k = 0; k < n_zeta; ++k) {
+    for (std::size_t i = 0; i < n_omega; ++i) {
+      const SimStatus st = eval(lerp(b.omega_lo, b.omega_hi, i, n_omega), lerp(b.zeta_lo, b.zeta_hi, k, n_zeta),
+                                grid[k * n_omega + i]);
+      if (st != SimStatus::ok) return st;
+    }
+  }
+  if (w.residual > stop_above || n_omega * n_zeta == 1) {
+    out = w;
+    return SimStatus::ok;
+  }
+  // Local maxima along omega in every zeta row (ends count); the three largest are refined, each in
+  // omega between its grid neighbours, then in zeta between the neighbouring rows.
+  struct Peak {
+    double r;
+    std::size_t i, k;
+  };
+  std::vector<Peak> peaks;
+  for (std::size_t k = 0; k < n_zeta; ++k) {
+    for (std::size_t i = 0; i < n_omega; ++i) {
+      const double r = grid[k * n_omega + i];
+      const bool left = i == 0 || r >= grid[k * n_omega + i - 1];
+      const bool right = i + 1 == n_omega || r >= grid[k * n_omega + i + 1];
+      if (left && right) peaks.push_back({r, i, k});
+    }
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const Peak& x, const Peak& y) { return x.r > y.r; });
+  if (peaks.size() > 3) peaks.resize(3);
+  for (const Peak& p : peaks) {
+    double om = lerp(b.omega_lo, b.omega_hi, p.i, n_omega);
+    double ze = lerp(b.zeta_lo, b.zeta_hi, p.k, n_zeta);
+    double best = p.r;
+    if (n_omega > 1) {
+      const double a = lerp(b.omega_lo, b.omega_hi, p.i == 0 ? 0 : p.i - 1, n_omega);
+      const double c = lerp(b.omega_lo, b.omega_hi, std::min(p.i + 1, n_omega - 1), n_omega);
+      const SimStatus st = golden_max([&](double x, double& r) { return eval(x, ze, r); }, a, c, 24, om, best);
+      if (st != SimStatus::ok) return st;
+    }
+    if (n_zeta > 1) {
+      const double a = lerp(b.zeta_lo, b.zeta_hi, p.k == 0 ? 0 : p.k - 1, n_zeta);
+      const double c = lerp(b.zeta_lo, b.zeta_hi, std::min(p.k + 1, n_zeta - 1), n_zeta);
+      const SimStatus st = golden_max([&](double x, double& r) { return eval(om, x, r); }, a, c, 16, ze, best);
+      if (st != SimStatus::ok) return st;
+    }
+  }
+  out = w;
+  return SimStatus::ok;
+}
+
+bool valid_band(const UncertainMode& m) {
+  return m.omega_lo > 0.0 && m.omega_lo <= m.omega && m.omega <= m.omega_hi && std::isfinite(m.omega_hi) &&
+         m.zeta_lo >= 0.0 && m.zeta_lo <= m.zeta && m.zeta <= m.zeta_hi && m.zeta_hi < 1.0;
+}
+
+constexpr double kLimitSlack = 1e-9;  // as core's planner compares peaks with limits
+
+bool within_limits(const TuneMove& mv, const core::Peaks<double>& pk) {
+  if (mv.vmax && !(pk.v <= *mv.vmax * (1.0 + kLimitSlack))) return false;
+  if (mv.amax && !(pk.a <= *mv.amax * (1.0 + kLimitSlack))) return false;
+  if (mv.jmax && !(pk.j <= *mv.jmax * (1.0 + kLimitSlack))) return false;
+  return true;
+}
+
+// The unshaped profile of `req` within the move's limits: the profile's own planner, or, when it
+// refuses the combination of limits it was given (ramp-versine takes only vmax, say), the shortest
+// move time whose peaks are within them, found by doubling then bisection (peaks fall as the time
+// grows for every registered family; a family for which they do not is refused, never exceeded).
+core::Status plan_profile(core::MoveRequest req, const TuneMove& mv, core::Move<double>& out, bool& searched) {
+  searched = false;
+  core::Status st = core::plan(req, out);
+  if (st == core::Status::ok || mv.time) return st;
+  const core::Status own = st;
+  const double d = std::fabs(mv.distance);
+  double t_lo = 0.0;  // no rest-to-rest move of d is faster than these bounds
+  if (mv.vmax) t_lo = std::max(t_lo, d / *mv.vmax);
+  if (mv.amax) t_lo = std::max(t_lo, 2.0 * std::sqrt(d / *mv.amax));
+  if (mv.jmax) t_lo = std::max(t_lo, std::cbrt(32.0 * d / *mv.jmax));
+  req.vmax.reset();
+  req.amax.reset();
+  req.jmax.reset();
+  core::Move<double> found{};
+  auto ok_at = [&](double t, core::Move<double>& m) {
+    req.time = t;
+    return core::plan(req, m) == core::Status::ok && within_limits(mv, m.peaks());
+  };
+  double t_hi = std::max(t_lo, 1e-6);
+  int doublings = 0;
+  while (!ok_at(t_hi, found)) {
+    if (++doublings > 40 || t_hi > 3600.0) return own;
+    t_lo = t_hi;
+    t_hi *= 2.0;
+  }
+  for (int i = 0; i < 60 && t_hi - t_lo > 1e-12 * t_hi; ++i) {
+    const double mid = 0.5 * (t_lo + t_hi);
+    core::Move<double> m{};
+    if (ok_at(mid, m)) {
+      t_hi = mid;
+      found = m;
+    } else {
+      t_lo = mid;
+    }
+  }
+  out = found;
+  searched = true;
+  return core::Status::ok;
+}
+
+struct Design {
+  std::vector<double> omega, zeta;
+};
+
+core::Status compose_shaper(core::ShaperKind kind, const Design& d, double vtol, core::Shaper<double>& out) {
+  core::Shaper<double> acc{};
+  if (kind == core::ShaperKind::none) {
+    out = acc;
+    return core::Status::ok;
+  }
+  for (std::size_t j = 0; j < d.omega.size(); ++j) {
+    core::Shaper<double> s{}, c{};
+    core::Status st = core::design_shaper(kind, d.omega[j], d.zeta[j], vtol, s);
+    if (st != core::Status::ok) return st;
+    st = core::compose(acc, s, c);
+    if (st != core::Status::ok) return st;
+    acc = c;
+  }
+  out = acc;
+  return core::Status::ok;
+}
+
+}  // namespace
+
+SimStatus relative_residual(const core::Move<double>& move, double omega, double zeta, double& out) {
+  double pf = 0.0;
+  const SimStatus st = direct_factor(move)(omega, zeta, pf);
+  if (st != SimStatus::ok) return st;
+  out = pf * core::shaper_residual(move.shaper(), omega, zeta);
+  return SimStatus::ok;
+}
+
+std::size_t omega_points_for(const UncertainMode& band, double duration) noexcept {
+  const double phase = (band.omega_hi - band.omega_lo) * std::max(duration, 0.0);
+  const double n = std::ceil(phase / (std::numbers::pi / 4.0)) + 1.0;
+  if (!(n >= static_cast<double>(kMinTuneOmegaPoints))) return kMinTuneOmegaPoints;
+  if (n >= static_cast<double>(kMaxTuneOmegaPoints)) return kMaxTuneOmegaPoints;
+  return static_cast<std::size_t>(n);
+}
+
+SimStatus worst_in_band(const core::Move<double>& move, const UncertainMode& band, std::size_t omega_points,
+                        std::size_t zeta_points, BandWorst& out) {
+  if (!valid_band(band)) return SimStatus::bad_range;
+  if (omega_points < 1 || zeta_points < 1 || omega_points > kMaxTuneOmegaPoints || zeta_points > kMaxTuneZetaPoints) {
+    return SimStatus::too_many_samples;
+  }
+  return worst_impl(move.shaper(), direct_factor(move), band, omega_points, zeta_points,
+                    std::numeric_limits<double>::infinity(), out);
+}
+
+TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, const TuneOptions& opt,
+                TuneResult& out) {
+  if (modes_in.empty()) return TuneStatus::no_modes;
+  if (modes_in.size() > kMaxTuneModes) return TuneStatus::too_many_modes;
+  for (const UncertainMode& m : modes_in) {
+    if (!(m.omega > 0.0) || !std::isfinite(m.omega) || !(m.zeta >= 0.0 && m.zeta < 1.0) || !std::isfinite(m.gain)) {
+      return TuneStatus::bad_mode;
+    }
+    if (!valid_band(m)) return TuneStatus::bad_band;
+  }
+  const auto positive = [](const std::optional<double>& x) { return !x || (*x > 0.0 && std::isfinite(*x)); };
+  if (!(mv.distance != 0.0) || !std::isfinite(mv.distance) || !positive(mv.time) || !positive(mv.vmax) ||
+      !positive(mv.amax) || !positive(mv.jmax) || (!mv.time && !mv.vmax && !mv.amax && !mv.jmax)) {
+    return TuneStatus::bad_move;
+  }
+  if (!(opt.residual_max > 0.0 && opt.residual_max < 1.0)) return TuneStatus::bad_residual_max;
+  if (opt.zeta_points < 1 || opt.zeta_points > kMaxTuneZetaPoints) return TuneStatus::bad_grid;
+
+  std::vector<UncertainMode> modes = modes_in;
+  std::stable_sort(modes.begin(), modes.end(), [](const auto& a, const auto& b) { return a.omega < b.omega; });
+  const double vtol = opt.residual_max;  // EI designed for the tolerance asked: its widest band
+
+  // Every family: each registry profile, unshaped or shaped, at the nominal modes or retuned.
+  std::vector<core::ShaperKind> shapers = {core::ShaperKind::none, core::ShaperKind::zv, core::ShaperKind::zvd,
+                                           core::ShaperKind::ei};
+  std::vector<TuneCandidate> planned;  // every (family, design) that could be planned
+  std::vector<TuneCandidate> refused;
+  core::for_each_profile([&](auto kind) {
+    for (core::ShaperKind sk : shapers) {
+      for (std::size_t v = 0; v <= kTunePlacements; ++v) {  // v == 0: nominal, else placement v-1
+        TuneCandidate c;
+        c.profile = kind.value;
+        c.shaper = sk;
+        c.retuned = v > 0;
+        c.placement = v > 0 ? static_cast<double>(v - 1) / static_cast<double>(kTunePlacements - 1) : -1.0;
+        for (const UncertainMode& m : modes) {
+          c.design_omega.push_back(c.retuned ? m.omega_lo + c.placement * (m.omega_hi - m.omega_lo) : m.omega);
+          c.design_zeta.push_back(m.zeta);
+        }
+        core::MoveRequest r{};
+        r.profile = kind.value;
+        r.distance = mv.distance;
+        r.time = mv.time;
+        r.vmax = mv.vmax;
+        r.amax = mv.amax;
+        r.jmax = mv.jmax;
+        r.omega = c.design_omega[0];  // a profile that designs for a mode takes the fundamental
+        r.zeta = c.design_zeta[0];
+        c.request = r;
+        // A design that changes nothing (no shaper, a profile that ignores the mode) is one family.
+        if (c.retuned && sk == core::ShaperKind::none && !core::needs_mode(r)) continue;
+        c.name = std::string{core::to_string(kind.value)} + (sk == core::ShaperKind::none ? "" : "+") +
+                 (sk == core::ShaperKind::none ? "" : core::to_string(sk)) + (c.retuned ? "@retuned" : "");
+        core::Move<double> bare{};
+        core::Status st = plan_profile(r, mv, bare, c.time_searched);
+        core::Shaper<double> shaper{};
+        if (st == core::Status::ok) st = compose_shaper(sk, Design{c.design_omega, c.design_zeta}, vtol, shaper);
+        if (st == core::Status::ok) {
+          const core::Peaks<double> pk = core::shaped_peaks(bare.profile(), shaper, bare.peaks());
+          if (!within_limits(mv, pk)) st = core::Status::velocity_limit_exceeded;
+          c.move = core::Move<double>{bare.profile(), shaper, pk};
+        }
+        if (st != core::Status::ok || !std::isfinite(c.move.duration())) {
+          if (v <= 1) {  // one refusal per family is enough to show
+            c.refusal = st != core::Status::ok ? core::to_string(st) : "non_finite_result";
+            refused.push_back(std::move(c));
+          }
+          continue;
+        }
+        c.planned = true;
+        c.duration = c.move.duration();
+        planned.push_back(std::move(c));
+      }
+    }
+  });
+
+  // One omega grid per mode for every candidate (sized for the longest), so that candidates sharing
+  // a profile share its factor on the grid.
+  double longest = 0.0;
+  for (const TuneCandidate& c : planned) longest = std::max(longest, c.duration);
+  std::vector<std::size_t> n_omega;
+  for (const UncertainMode& m : modes) n_omega.push_back(omega_points_for(m, longest));
+  const std::size_t n_zeta = opt.zeta_points;
+
+  // Profile factors by (profile parameters, omega, zeta): a profile is identified by its request
+  // (the same request plans the same profile) and whether its time was searched.
+  std::map<std::tuple<int, double, double, double, double>, double> cache;
+  for (TuneCandidate& c : planned) {
+    const core::Move<double> bare{c.move.profile(), core::Shaper<double>{}, c.move.peaks()};
+    auto cmd = std::make_shared<MoveCommand>(bare);
+    const double key_omega = core::needs_mode(c.request) ? c.design_omega[0] : 0.0;
+    const double key_zeta = core::needs_mode(c.request) ? c.design_zeta[0] : 0.0;
+    const int key_kind = static_cast<int>(c.profile);
+    ProfileFactor factor = [&, cmd, key_kind, key_omega, key_zeta](double omega, double zeta, double& r) {
+      const auto key = std::make_tuple(key_kind, key_omega, key_zeta, omega, zeta);
+      if (auto it = cache.find(key); it != cache.end()) {
+        r = it->second;
+        return SimStatus::ok;
+      }
+      double prv = 0.0;
+      const SimStatus st = prv_on_mode(*cmd, omega, zeta, prv);
+      if (st != SimStatus::ok) return st;
+      r = prv / 100.0;
+      cache.emplace(key, r);
+      return SimStatus::ok;
+    };
+    c.meets = true;
+    c.worst.residual = -1.0;
+    for (std::size_t j = 0; j < modes.size(); ++j) {
+      BandWorst w;
+      const SimStatus st =
+          worst_impl(c.move.shaper(), factor, modes[j], n_omega[j], n_zeta, opt.residual_max, w);
+      if (st != SimStatus::ok) {
+        c.meets = false;
+        c.refusal = to_string(st);
+        break;
+      }
+      c.worst.evaluations += w.evaluations;
+      if (w.residual > c.worst.residual) {
+        const std::size_t evals = c.worst.evaluations;
+        c.worst = w;
+        c.worst.evaluations = evals;
+        c.worst_mode = j;
+      }
+      if (w.residual > opt.residual_max) c.meets = false;
+    }
+  }
+
+  // A retuned family is reported once: its fastest design that meets the bound, else its least bad.
+  std::vector<TuneCandidate> kept;
+  for (TuneCandidate& c : planned) {
+    if (!c.retuned) {
+      kept.push_back(std::move(c));
+      continue;
+    }
+    auto same = std::find_if(kept.begin(), kept.end(), [&](const TuneCandidate& k) {
+      return k.retuned && k.profile == c.profile && k.shaper == c.shaper;
+    });
+    if (same == kept.end()) {
+      kept.push_back(std::move(c));
+      continue;
+    }
+    const bool better = (c.meets && !same->meets) || (c.meets && same->meets && c.duration < same->duration) ||
+                        (!c.meets && !same->meets && c.worst.residual < same->worst.residual);
+    if (better) *same = std::move(c);
+  }
+  std::stable_sort(kept.begin(), kept.end(), [](const TuneCandidate& a, const TuneCandidate& b) {
+    if (a.duration != b.duration) return a.duration < b.duration;
+    return a.worst.residual < b.worst.residual;
+  });
+  TuneResult res;
+  res.modes = modes;
+  res.residual_max = opt.residual_max;
+  res.candidates = std::move(kept);
+  std::size_t chosen = res.candidates.size();
+  for (std::size_t i = 0; i < res.candidates.size(); ++i) {
+    if (res.candidates[i].meets) {
+      chosen = i;
+      break;
+    }
+  }
+  for (TuneCandidate& c : refused) res.candidates.push_back(std::move(c));
+  res.chosen = chosen;
+  out = std::move(res);
+  return chosen < out.candidates.size() ? TuneStatus::ok : TuneStatus::no_feasible_plan;
+}
+
+}  // namespace settle::sim
