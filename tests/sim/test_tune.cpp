@@ -13,6 +13,7 @@
 #include "rk4.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/core/profiles/registry.hpp"
+#include "settle/sim/command.hpp"
 #include "settle/sim/sensitivity.hpp"
 #include "settle/sim/tune.hpp"
 
@@ -167,6 +168,133 @@ TEST(Tune, OneModeWithLimitsPicksTheFastestRobustPlan) {
     EXPECT_LE(c.move.peaks().a, 5.0 * (1 + 1e-9)) << c.name;
     EXPECT_LE(c.move.peaks().j, 200.0 * (1 + 1e-9)) << c.name;
   }
+}
+
+
+TEST(TuneResidual, QuadratureEqualsTheSimulatorOnEveryRegisteredProfile) {
+  // relative_residual's Duhamel quadrature against sim's exact-stepping simulation (prv_on_mode),
+  // on each registry profile's own example request (a new profile is checked when registered).
+  core::for_each_profile([&](auto kind) {
+    core::MoveRequest r = core::profile_t<kind.value>::example();
+    r.profile = kind.value;
+    core::Move<double> m;
+    ASSERT_EQ(core::plan(r, m), core::Status::ok) << core::to_string(kind.value);
+    const MoveCommand cmd{m};
+    for (double w : {3.0, 17.0, 60.0}) {
+      for (double z : {0.0, 0.1}) {
+        double prv = 0.0, rel = 0.0;
+        ASSERT_EQ(prv_on_mode(cmd, w, z, prv), SimStatus::ok);
+        ASSERT_EQ(relative_residual(m, w, z, rel), SimStatus::ok);
+        EXPECT_NEAR(rel, prv / 100.0, 1e-7 + 1e-6 * rel) << core::to_string(kind.value) << " w=" << w;
+      }
+    }
+  });
+}
+
+TEST(Tune, EveryRegisteredProfileIsACandidate) {
+  TuneResult r;
+  TuneMove mv{.distance = 0.1, .time = 0.5, .vmax = {}, .amax = {}, .jmax = {}};
+  ASSERT_EQ(tune({pct(30.0, 0.02, 0.1, 0.0, 0.05)}, mv, {}, r), TuneStatus::ok);
+  for (const char* name : core::profile_names()) {
+    for (const char* suffix : {"", "+zv", "+zvd", "+ei"}) {
+      const std::string want = std::string{name} + suffix;
+      const bool found = std::any_of(r.candidates.begin(), r.candidates.end(),
+                                     [&](const TuneCandidate& c) { return c.name == want; });
+      EXPECT_TRUE(found) << want;
+    }
+  }
+}
+
+TEST(Tune, ALowModeNeedsShapingAndTheFasterFamiliesAreShownToFail) {
+  TuneResult r;
+  TuneMove mv{.distance = 0.1, .time = {}, .vmax = 0.5, .amax = 5.0, .jmax = 200.0};
+  ASSERT_EQ(tune({pct(2 * M_PI * 2, 0.03, 0.1, 0.01, 0.05)}, mv, {}, r), TuneStatus::ok);
+  const TuneCandidate& best = r.candidates[r.chosen];
+  EXPECT_NE(best.shaper, core::ShaperKind::none) << best.name;
+  EXPECT_GT(r.chosen, 0u);  // something faster was tried and failed
+  check_result(r, 0.05);
+}
+
+TEST(Tune, TwoModesWithAsymmetricIntervals) {
+  TuneResult r;
+  TuneMove mv{.distance = -0.05, .time = {}, .vmax = 0.4, .amax = 4.0, .jmax = 150.0};
+  const UncertainMode a{.omega = 14.0, .zeta = 0.02, .gain = 1.0, .omega_lo = 13.2, .omega_hi = 14.3,
+                        .zeta_lo = 0.01, .zeta_hi = 0.04};
+  const UncertainMode b{.omega = 47.0, .zeta = 0.05, .gain = 0.3, .omega_lo = 46.0, .omega_hi = 49.5,
+                        .zeta_lo = 0.03, .zeta_hi = 0.06};
+  ASSERT_EQ(tune({b, a}, mv, {.residual_max = 0.03, .zeta_points = 3}, r), TuneStatus::ok);
+  ASSERT_EQ(r.modes.size(), 2u);
+  EXPECT_EQ(r.modes[0].omega, 14.0);  // sorted by omega
+  check_result(r, 0.03);
+}
+
+TEST(Tune, AFixedMoveTimeKeepsTheProfileTimeAndAddsOnlyTheShaper) {
+  TuneResult r;
+  TuneMove mv{.distance = 0.2, .time = 0.3, .vmax = {}, .amax = {}, .jmax = {}};
+  ASSERT_EQ(tune({pct(12.0, 0.0, 0.05, 0.0, 0.02)}, mv, {}, r), TuneStatus::ok);
+  for (const TuneCandidate& c : r.candidates) {
+    if (!c.planned) continue;
+    EXPECT_NEAR(c.move.profile().duration(), 0.3, 1e-12) << c.name;
+  }
+  check_result(r, 0.05);
+}
+
+TEST(Tune, NoFeasiblePlanIsReportedWithWhatWasTried) {
+  TuneResult r;
+  TuneMove mv{.distance = 0.1, .time = 0.2, .vmax = {}, .amax = {}, .jmax = {}};
+  // +-60 % on a lightly damped mode with a 0.1 % bound: no shaper here is that insensitive.
+  const TuneStatus st = tune({pct(20.0, 0.01, 0.6, 0.0, 0.02)}, mv, {.residual_max = 0.001, .zeta_points = 5}, r);
+  ASSERT_EQ(st,
+            TuneStatus::no_feasible_plan);
+  ASSERT_FALSE(r.candidates.empty());
+  EXPECT_EQ(r.chosen, r.candidates.size());
+  for (const TuneCandidate& c : r.candidates) {
+    EXPECT_FALSE(c.meets) << c.name;
+    if (c.planned) {
+      EXPECT_GT(residual_rk4(c.move, c.worst.omega, c.worst.zeta), 0.001) << c.name;
+    }
+  }
+}
+
+TEST(Tune, BadInputsAreRefusedWithSpecificCodesAndTheResultUntouched) {
+  const UncertainMode ok = pct(20.0, 0.02, 0.1, 0.0, 0.05);
+  const TuneMove mv{.distance = 0.1, .time = 0.5, .vmax = {}, .amax = {}, .jmax = {}};
+  TuneResult r;
+  r.residual_max = 42.0;  // a marker: nothing may be written on refusal
+  EXPECT_EQ(tune({}, mv, {}, r), TuneStatus::no_modes);
+  EXPECT_EQ(tune(std::vector<UncertainMode>(kMaxTuneModes + 1, ok), mv, {}, r), TuneStatus::too_many_modes);
+  for (UncertainMode m : {ok, ok, ok, ok}) {
+    static int i = 0;
+    if (i == 0) m.omega = -1.0;
+    if (i == 1) m.zeta = 1.0;
+    if (i == 2) m.gain = NAN;
+    if (i == 3) m.omega = INFINITY;
+    ++i;
+    EXPECT_EQ(tune({m}, mv, {}, r), TuneStatus::bad_mode);
+  }
+  UncertainMode band = ok;
+  band.omega_lo = 21.0;  // above the nominal
+  EXPECT_EQ(tune({band}, mv, {}, r), TuneStatus::bad_band);
+  band = ok;
+  band.zeta_hi = 1.0;
+  EXPECT_EQ(tune({band}, mv, {}, r), TuneStatus::bad_band);
+  band = ok;
+  band.omega_lo = 0.0;
+  EXPECT_EQ(tune({band}, mv, {}, r), TuneStatus::bad_band);
+  TuneMove bad = mv;
+  bad.distance = 0.0;
+  EXPECT_EQ(tune({ok}, bad, {}, r), TuneStatus::bad_move);
+  bad = mv;
+  bad.time.reset();
+  EXPECT_EQ(tune({ok}, bad, {}, r), TuneStatus::bad_move);
+  bad.vmax = -1.0;
+  EXPECT_EQ(tune({ok}, bad, {}, r), TuneStatus::bad_move);
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.0, .zeta_points = 5}, r), TuneStatus::bad_residual_max);
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 1.0, .zeta_points = 5}, r), TuneStatus::bad_residual_max);
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = 0}, r), TuneStatus::bad_grid);
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = kMaxTuneZetaPoints + 1}, r), TuneStatus::bad_grid);
+  EXPECT_EQ(r.residual_max, 42.0);
+  EXPECT_TRUE(r.candidates.empty());
 }
 
 }  // namespace
