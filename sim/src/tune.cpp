@@ -26,6 +26,7 @@ const char* to_string(TuneStatus s) noexcept {
     case TuneStatus::bad_residual_max: return "bad_residual_max";
     case TuneStatus::bad_grid: return "bad_grid";
     case TuneStatus::no_feasible_plan: return "no_feasible_plan";
+    case TuneStatus::too_much_work: return "too_much_work";
   }
   return "unknown";
 }
@@ -34,12 +35,15 @@ const char* describe(TuneStatus s) noexcept {
   switch (s) {
     case TuneStatus::ok: return "ok";
     case TuneStatus::no_modes: return "no modes given";
-    case TuneStatus::too_many_modes: return "more modes than the tuner searches (8)";
+    case TuneStatus::too_many_modes: return "more modes than the tuner searches (4)";
     case TuneStatus::bad_mode: return "a mode's omega is not positive and finite, its zeta is outside [0, 1), or its gain is not finite";
     case TuneStatus::bad_band: return "a mode's band does not contain it (0 < omega_lo <= omega <= omega_hi, 0 <= zeta_lo <= zeta <= zeta_hi < 1)";
     case TuneStatus::bad_move: return "the move needs a finite non-zero distance and a positive time or positive limits";
     case TuneStatus::bad_residual_max: return "residual_max must lie in (0, 1)";
     case TuneStatus::bad_grid: return "zeta_points must lie in 1..9";
+    case TuneStatus::too_much_work:
+      return "the bands and the moves need too fine a search (omega_hi x move duration too large): narrow the band, "
+             "shorten the move or drop the highest mode";
     case TuneStatus::no_feasible_plan:
       return "no profile family keeps the residual within residual_max over the whole band (widen the limits or the "
              "time, narrow the band, or raise residual_max)";
@@ -88,6 +92,44 @@ class ProfileResidual {
     }
   }
 
+  // relative() at omega0 + k domega, k = 0..n-1, one zeta: with lambda = omega mu linear in omega,
+  // every node's exponential advances by a fixed factor per point (one complex multiply, not an
+  // exp); |factor| <= 1 since s <= T, so the recurrence cannot grow.
+  [[nodiscard]] SimStatus row(double zeta, double omega0, double domega, std::size_t n, double* out) const {
+    if (!(omega0 > 0.0) || !(zeta >= 0.0 && zeta < 1.0)) return SimStatus::bad_range;
+    const std::complex<double> mu{zeta, -std::sqrt(1.0 - zeta * zeta)};
+    std::vector<std::complex<double>> acc(n, {0.0, 0.0});
+    for (std::size_t q = 0; q < s_.size(); ++q) {
+      const double u = s_[q] - duration_;
+      std::complex<double> z = wa_[q] * std::exp(omega0 * mu * u);
+      const std::complex<double> step = std::exp(domega * mu * u);
+      for (std::size_t k = 0; k < n; ++k) {
+        acc[k] += z;
+        z *= step;
+      }
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      const double omega = omega0 + domega * static_cast<double>(k);
+      const std::complex<double> a = acc[k] + v0_ * std::exp(omega * mu * (-duration_)) - v1_;
+      out[k] = distance_ > 0.0 ? std::abs(a) / (omega * distance_) : 0.0;
+      if (!std::isfinite(out[k])) return SimStatus::non_finite_result;
+    }
+    return SimStatus::ok;
+  }
+  [[nodiscard]] std::size_t nodes() const noexcept { return s_.size(); }
+  // Nodes a profile of these pieces would get for omega_max (the work bound's estimate).
+  [[nodiscard]] static double node_estimate(const core::Profile<double>& p, double omega_max) {
+    std::vector<double> b;
+    profile_breakpoints(p, b);
+    std::sort(b.begin(), b.end());
+    double n = 0.0;
+    for (std::size_t i = 0; i + 1 < b.size(); ++i) {
+      const double len = b[i + 1] - b[i];
+      if (len > 0.0) n += 8.0 * std::max(2.0, std::ceil(omega_max * len / 1.5));
+    }
+    return n;
+  }
+
   [[nodiscard]] SimStatus relative(double omega, double zeta, double& out) const {
     if (!(omega > 0.0) || !(zeta >= 0.0 && zeta < 1.0)) return SimStatus::bad_range;
     if (!(distance_ > 0.0)) {
@@ -131,13 +173,6 @@ class ProfileResidual {
   std::vector<double> s_, wa_;
   double duration_{0.0}, distance_{0.0}, v0_{0.0}, v1_{0.0};
 };
-
-using ProfileFactor = std::function<SimStatus(double omega, double zeta, double& out)>;
-
-ProfileFactor direct_factor(const core::Move<double>& move, double omega_max) {
-  auto pr = std::make_shared<ProfileResidual>(move.profile(), move.peaks().velocity_step, omega_max);
-  return [pr](double omega, double zeta, double& out) { return pr->relative(omega, zeta, out); };
-}
 
 // Golden-section search for the maximum of f on [a, b]; returns the best point seen.
 template <typename F>
@@ -183,37 +218,51 @@ double lerp(double lo, double hi, std::size_t i, std::size_t n) {
   return i + 1 == n ? hi : lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(n - 1);
 }
 
-// worst_in_band with the profile factor supplied (so that tune() can share it between shapers).
-// stop_above: once the grid exceeds it the refinement is skipped (the move fails either way).
-SimStatus worst_impl(const core::Shaper<double>& shaper, const ProfileFactor& factor, const UncertainMode& b,
+// worst_in_band on a profile's quadrature (shared by every shaper and design that uses it).
+// stop_above: once a grid row exceeds it the search ends there (the move fails either way, and
+// what was found is a lower bound of its worst).
+SimStatus worst_impl(const core::Shaper<double>& shaper, const ProfileResidual& pr, const UncertainMode& b,
                      std::size_t n_omega, std::size_t n_zeta, double stop_above, BandWorst& out) {
   if (!(b.omega_hi > b.omega_lo)) n_omega = 1;
   if (!(b.zeta_hi > b.zeta_lo)) n_zeta = 1;
   BandWorst w;
   w.residual = -1.0;
-  auto eval = [&](double omega, double zeta, double& r) {
-    double pf = 0.0;
-    const SimStatus st = factor(omega, zeta, pf);
-    if (st != SimStatus::ok) return st;
-    r = pf * core::shaper_residual(shaper, omega, zeta);
-    if (!std::isfinite(r)) return SimStatus::non_finite_result;
+  auto keep = [&](double omega, double zeta, double r) {
     ++w.evaluations;
     if (r > w.residual) {
       w.residual = r;
       w.omega = omega;
       w.zeta = zeta;
     }
+  };
+  auto eval = [&](double omega, double zeta, double& r) {
+    double pf = 0.0;
+    const SimStatus st = pr.relative(omega, zeta, pf);
+    if (st != SimStatus::ok) return st;
+    r = pf * core::shaper_residual(shaper, omega, zeta);
+    if (!std::isfinite(r)) return SimStatus::non_finite_result;
+    keep(omega, zeta, r);
     return SimStatus::ok;
   };
+  const double domega = n_omega > 1 ? (b.omega_hi - b.omega_lo) / static_cast<double>(n_omega - 1) : 0.0;
+  auto omega_at = [&](std::size_t i) { return i + 1 == n_omega && n_omega > 1 ? b.omega_hi : b.omega_lo + domega * static_cast<double>(i); };
   std::vector<double> grid(n_omega * n_zeta);
   for (std::size_t k = 0; k < n_zeta; ++k) {
+    const double zeta = lerp(b.zeta_lo, b.zeta_hi, k, n_zeta);
+    double* row = grid.data() + k * n_omega;
+    const SimStatus st = pr.row(zeta, b.omega_lo, domega, n_omega, row);
+    if (st != SimStatus::ok) return st;
     for (std::size_t i = 0; i < n_omega; ++i) {
-      const SimStatus st = eval(lerp(b.omega_lo, b.omega_hi, i, n_omega), lerp(b.zeta_lo, b.zeta_hi, k, n_zeta),
-                                grid[k * n_omega + i]);
-      if (st != SimStatus::ok) return st;
+      row[i] *= core::shaper_residual(shaper, omega_at(i), zeta);
+      if (!std::isfinite(row[i])) return SimStatus::non_finite_result;
+      keep(omega_at(i), zeta, row[i]);
+    }
+    if (w.residual > stop_above) {
+      out = w;
+      return SimStatus::ok;
     }
   }
-  if (w.residual > stop_above || n_omega * n_zeta == 1) {
+  if (n_omega * n_zeta == 1) {
     out = w;
     return SimStatus::ok;
   }
@@ -235,12 +284,12 @@ SimStatus worst_impl(const core::Shaper<double>& shaper, const ProfileFactor& fa
   std::sort(peaks.begin(), peaks.end(), [](const Peak& x, const Peak& y) { return x.r > y.r; });
   if (peaks.size() > 3) peaks.resize(3);
   for (const Peak& p : peaks) {
-    double om = lerp(b.omega_lo, b.omega_hi, p.i, n_omega);
+    double om = omega_at(p.i);
     double ze = lerp(b.zeta_lo, b.zeta_hi, p.k, n_zeta);
     double best = p.r;
     if (n_omega > 1) {
-      const double a = lerp(b.omega_lo, b.omega_hi, p.i == 0 ? 0 : p.i - 1, n_omega);
-      const double c = lerp(b.omega_lo, b.omega_hi, std::min(p.i + 1, n_omega - 1), n_omega);
+      const double a = omega_at(p.i == 0 ? 0 : p.i - 1);
+      const double c = omega_at(std::min(p.i + 1, n_omega - 1));
       const SimStatus st = golden_max([&](double x, double& r) { return eval(x, ze, r); }, a, c, 24, om, best);
       if (st != SimStatus::ok) return st;
     }
@@ -339,7 +388,7 @@ core::Status compose_shaper(core::ShaperKind kind, const Design& d, double vtol,
 
 SimStatus relative_residual(const core::Move<double>& move, double omega, double zeta, double& out) {
   double pf = 0.0;
-  const SimStatus st = direct_factor(move, omega)(omega, zeta, pf);
+  const SimStatus st = ProfileResidual{move.profile(), move.peaks().velocity_step, omega}.relative(omega, zeta, pf);
   if (st != SimStatus::ok) return st;
   out = pf * core::shaper_residual(move.shaper(), omega, zeta);
   return SimStatus::ok;
@@ -359,7 +408,8 @@ SimStatus worst_in_band(const core::Move<double>& move, const UncertainMode& ban
   if (omega_points < 1 || zeta_points < 1 || omega_points > kMaxTuneOmegaPoints || zeta_points > kMaxTuneZetaPoints) {
     return SimStatus::too_many_samples;
   }
-  return worst_impl(move.shaper(), direct_factor(move, band.omega_hi), band, omega_points, zeta_points,
+  const ProfileResidual pr{move.profile(), move.peaks().velocity_step, band.omega_hi};
+  return worst_impl(move.shaper(), pr, band, omega_points, zeta_points,
                     std::numeric_limits<double>::infinity(), out);
 }
 
@@ -439,32 +489,43 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
     }
   });
 
-  // One omega grid per mode for every candidate (sized for the longest), so that candidates sharing
-  // a profile share its factor on the grid.
-  double longest = 0.0;
-  for (const TuneCandidate& c : planned) longest = std::max(longest, c.duration);
-  std::vector<std::size_t> n_omega;
-  for (const UncertainMode& m : modes) n_omega.push_back(omega_points_for(m, longest));
+  // Shortest first: each candidate is checked in turn until one meets the bound; the slower ones
+  // are then not evaluated (they could not be chosen). A failing candidate's search stops at the
+  // first grid row that breaks the bound.
+  std::stable_sort(planned.begin(), planned.end(),
+                   [](const TuneCandidate& a, const TuneCandidate& b) { return a.duration < b.duration; });
+  double omega_max = 0.0;
+  for (const UncertainMode& m : modes) omega_max = std::max(omega_max, m.omega_hi);
   const std::size_t n_zeta = opt.zeta_points;
+  // The work bound, before any evaluation: every candidate's grid times its quadrature's nodes.
+  double work = 0.0;
+  for (const TuneCandidate& c : planned) {
+    double points = 0.0;
+    for (const UncertainMode& m : modes) {
+      points += static_cast<double>(omega_points_for(m, c.duration) * n_zeta) + 120.0;
+    }
+    work += points * ProfileResidual::node_estimate(c.move.profile(), omega_max);
+  }
+  if (work > kMaxTuneWork) return TuneStatus::too_much_work;
 
   // One quadrature per distinct profile (a profile that ignores the mode is the same for every
   // design), shared by the shapers and designs that use it.
-  double omega_max = 0.0;
-  for (const UncertainMode& m : modes) omega_max = std::max(omega_max, m.omega_hi);
   std::map<std::tuple<int, double, double>, std::shared_ptr<ProfileResidual>> profiles;
-  for (TuneCandidate& c : planned) {
+  std::size_t chosen = planned.size();
+  for (std::size_t ci = 0; ci < planned.size() && chosen == planned.size(); ++ci) {
+    TuneCandidate& c = planned[ci];
     const bool by_mode = core::needs_mode(c.request);
     const auto key = std::make_tuple(static_cast<int>(c.profile), by_mode ? c.design_omega[0] : 0.0,
                                      by_mode ? c.design_zeta[0] : 0.0);
     auto& pr = profiles[key];
     if (!pr) pr = std::make_shared<ProfileResidual>(c.move.profile(), c.move.peaks().velocity_step, omega_max);
-    ProfileFactor factor = [pr](double omega, double zeta, double& r) { return pr->relative(omega, zeta, r); };
+    c.evaluated = true;
     c.meets = true;
     c.worst.residual = -1.0;
-    for (std::size_t j = 0; j < modes.size(); ++j) {
+    for (std::size_t j = 0; j < modes.size() && c.meets; ++j) {
       BandWorst w;
-      const SimStatus st =
-          worst_impl(c.move.shaper(), factor, modes[j], n_omega[j], n_zeta, opt.residual_max, w);
+      const SimStatus st = worst_impl(c.move.shaper(), *pr, modes[j], omega_points_for(modes[j], c.duration),
+                                      n_zeta, opt.residual_max, w);
       if (st != SimStatus::ok) {
         c.meets = false;
         c.refusal = to_string(st);
@@ -479,44 +540,41 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
       }
       if (w.residual > opt.residual_max) c.meets = false;
     }
+    if (c.meets) chosen = ci;
   }
 
-  // A retuned family is reported once: its fastest design that meets the bound, else its least bad.
+  // Reported: every family (profile, shaper, nominal or retuned) once, by its shortest design that
+  // was evaluated (the chosen one for the chosen family), else its shortest design.
   std::vector<TuneCandidate> kept;
+  auto family = [](const TuneCandidate& a, const TuneCandidate& b) {
+    return a.profile == b.profile && a.shaper == b.shaper && a.retuned == b.retuned;
+  };
+  if (chosen < planned.size()) kept.push_back(planned[chosen]);
   for (TuneCandidate& c : planned) {
-    if (!c.retuned) {
+    if (std::none_of(kept.begin(), kept.end(), [&](const TuneCandidate& k) { return family(k, c); })) {
       kept.push_back(std::move(c));
-      continue;
     }
-    auto same = std::find_if(kept.begin(), kept.end(), [&](const TuneCandidate& k) {
-      return k.retuned && k.profile == c.profile && k.shaper == c.shaper;
-    });
-    if (same == kept.end()) {
-      kept.push_back(std::move(c));
-      continue;
-    }
-    const bool better = (c.meets && !same->meets) || (c.meets && same->meets && c.duration < same->duration) ||
-                        (!c.meets && !same->meets && c.worst.residual < same->worst.residual);
-    if (better) *same = std::move(c);
   }
   std::stable_sort(kept.begin(), kept.end(), [](const TuneCandidate& a, const TuneCandidate& b) {
     if (a.duration != b.duration) return a.duration < b.duration;
-    return a.worst.residual < b.worst.residual;
+    return a.meets && !b.meets;
   });
   TuneResult res;
   res.modes = modes;
   res.residual_max = opt.residual_max;
   res.candidates = std::move(kept);
-  std::size_t chosen = res.candidates.size();
-  for (std::size_t i = 0; i < res.candidates.size(); ++i) {
-    if (res.candidates[i].meets) {
-      chosen = i;
-      break;
+  std::size_t pick = res.candidates.size();
+  if (chosen < planned.size()) {
+    for (std::size_t i = 0; i < res.candidates.size(); ++i) {
+      if (res.candidates[i].meets) {
+        pick = i;
+        break;
+      }
     }
   }
-  const bool found = chosen < res.candidates.size();
+  const bool found = pick < res.candidates.size();
   for (TuneCandidate& c : refused) res.candidates.push_back(std::move(c));
-  res.chosen = found ? chosen : res.candidates.size();
+  res.chosen = found ? pick : res.candidates.size();
   out = std::move(res);
   return found ? TuneStatus::ok : TuneStatus::no_feasible_plan;
 }

@@ -142,6 +142,7 @@ void check_result(const TuneResult& r, double residual_max) {
   }
   for (const TuneCandidate& c : r.candidates) {
     if (!c.planned || !(c.duration < best.duration)) continue;
+    EXPECT_TRUE(c.evaluated) << c.name;
     EXPECT_FALSE(c.meets) << c.name;
     // Where the tuner says it breaks the bound, RK4 agrees.
     const UncertainMode& b = r.modes[c.worst_mode];
@@ -293,6 +294,10 @@ TEST(Tune, BadInputsAreRefusedWithSpecificCodesAndTheResultUntouched) {
   EXPECT_EQ(tune({ok}, mv, {.residual_max = 1.0, .zeta_points = 5}, r), TuneStatus::bad_residual_max);
   EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = 0}, r), TuneStatus::bad_grid);
   EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = kMaxTuneZetaPoints + 1}, r), TuneStatus::bad_grid);
+  // A search too fine to bound: a fast mode under a long move.
+  EXPECT_EQ(tune({pct(1e4, 0.01, 0.5, 0.0, 0.02)}, {.distance = 1.0, .time = 100.0, .vmax = {}, .amax = {}, .jmax = {}},
+                 {}, r),
+            TuneStatus::too_much_work);
   EXPECT_EQ(r.residual_max, 42.0);
   EXPECT_TRUE(r.candidates.empty());
 }

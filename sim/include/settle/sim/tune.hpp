@@ -39,9 +39,13 @@ struct TuneOptions {
 
 // Bounds of one tune() call, checked before any work: the modes, and the grid each band is
 // searched on (kMaxTuneOmegaPoints omega points; fewer are used when the band is narrow).
-inline constexpr std::size_t kMaxTuneModes = 8;
+inline constexpr std::size_t kMaxTuneModes = 4;
 inline constexpr std::size_t kMinTuneOmegaPoints = 17;
-inline constexpr std::size_t kMaxTuneOmegaPoints = 257;
+inline constexpr std::size_t kMaxTuneOmegaPoints = 4097;
+// Residual evaluations x quadrature nodes summed over every candidate, estimated before any is
+// evaluated (about 2 s of one core at this bound, much less in practice: evaluation stops at the
+// first candidate that meets the bound): beyond it tune() refuses with too_much_work.
+inline constexpr double kMaxTuneWork = 1.5e9;
 inline constexpr std::size_t kMaxTuneZetaPoints = 9;
 // Where a retuned design may sit in each mode's omega band: lo + k/(n-1) (hi - lo), k = 0..n-1.
 inline constexpr std::size_t kTunePlacements = 9;
@@ -55,6 +59,7 @@ enum class TuneStatus : unsigned char {
   bad_move,            // distance zero or not finite, neither time nor limits, or a non-positive one
   bad_residual_max,    // residual_max outside (0, 1)
   bad_grid,            // zeta_points outside 1..kMaxTuneZetaPoints
+  too_much_work,       // the search would exceed kMaxTuneWork (omega_hi x move duration too large)
   no_feasible_plan,    // every candidate either cannot be planned or exceeds residual_max somewhere
 };
 [[nodiscard]] const char* to_string(TuneStatus s) noexcept;
@@ -97,20 +102,22 @@ struct TuneCandidate {
   std::string refusal;  // core's status when not planned
   core::Move<double> move{};
   double duration{0.0};
+  bool evaluated{false};  // false: slower than the chosen plan, so never checked
   bool meets{false};
-  BandWorst worst{};
+  BandWorst worst{};  // when !meets: the search stopped at the first row over the bound (a lower bound)
   std::size_t worst_mode{0};
 };
 
 struct TuneResult {
   std::vector<UncertainMode> modes;      // sorted by omega
-  std::vector<TuneCandidate> candidates;  // planned ones by duration (then worst residual), refused last
+  // Each family (profile, shaper, nominal or retuned) once: planned ones by duration, refused last.
+  std::vector<TuneCandidate> candidates;
   std::size_t chosen{0};                  // index into candidates (valid when status ok)
   double residual_max{0.0};
 };
 
-// Plans and checks every candidate. ok: candidates[chosen] is the shortest that meets residual_max
-// (on a tie in duration, the smaller worst residual). The result is filled even on no_feasible_plan,
+// Plans every candidate, then checks them shortest first. ok: candidates[chosen] is the shortest
+// that meets residual_max; every planned candidate before it was evaluated and breaks the bound. The result is filled even on no_feasible_plan,
 // so that the caller can show what was tried; on any other status `out` is untouched.
 [[nodiscard]] TuneStatus tune(const std::vector<UncertainMode>& modes, const TuneMove& move, const TuneOptions& opt,
                               TuneResult& out);
