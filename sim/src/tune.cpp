@@ -311,18 +311,22 @@ bool valid_band(const UncertainMode& m) {
 
 constexpr double kLimitSlack = 1e-9;  // as core's planner compares peaks with limits
 
+core::Status limits_status(const TuneMove& mv, const core::Peaks<double>& pk) {
+  if (mv.vmax && !(pk.v <= *mv.vmax * (1.0 + kLimitSlack))) return core::Status::velocity_limit_exceeded;
+  if (mv.amax && !(pk.a <= *mv.amax * (1.0 + kLimitSlack))) return core::Status::acceleration_limit_exceeded;
+  if (mv.jmax && !(pk.j <= *mv.jmax * (1.0 + kLimitSlack))) return core::Status::jerk_limit_exceeded;
+  return core::Status::ok;
+}
 bool within_limits(const TuneMove& mv, const core::Peaks<double>& pk) {
-  if (mv.vmax && !(pk.v <= *mv.vmax * (1.0 + kLimitSlack))) return false;
-  if (mv.amax && !(pk.a <= *mv.amax * (1.0 + kLimitSlack))) return false;
-  if (mv.jmax && !(pk.j <= *mv.jmax * (1.0 + kLimitSlack))) return false;
-  return true;
+  return limits_status(mv, pk) == core::Status::ok;
 }
 
 // The unshaped profile of `req` within the move's limits: the profile's own planner, or, when it
 // refuses the combination of limits it was given (ramp-versine takes only vmax, say), the shortest
 // move time whose peaks are within them, found by doubling then bisection (peaks fall as the time
 // grows for every registered family; a family for which they do not is refused, never exceeded).
-core::Status plan_profile(core::MoveRequest req, const TuneMove& mv, core::Move<double>& out, bool& searched) {
+core::Status plan_profile(core::MoveRequest& req_io, const TuneMove& mv, core::Move<double>& out, bool& searched) {
+  core::MoveRequest req = req_io;
   searched = false;
   core::Status st = core::plan(req, out);
   if (st == core::Status::ok || mv.time) return st;
@@ -358,6 +362,8 @@ core::Status plan_profile(core::MoveRequest req, const TuneMove& mv, core::Move<
     }
   }
   out = found;
+  req.time = t_hi;  // the request that plans `found` again
+  req_io = req;
   searched = true;
   return core::Status::ok;
 }
@@ -433,7 +439,8 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
 
   std::vector<UncertainMode> modes = modes_in;
   std::stable_sort(modes.begin(), modes.end(), [](const auto& a, const auto& b) { return a.omega < b.omega; });
-  const double vtol = opt.residual_max;  // EI designed for the tolerance asked: its widest band
+  // EI designed for the tolerance asked (its widest band), within the (0, 0.5) EI allows.
+  const double vtol = std::min(opt.residual_max, 0.49);
 
   // Every family: each registry profile, unshaped or shaped, at the nominal modes or retuned.
   std::vector<core::ShaperKind> shapers = {core::ShaperKind::none, core::ShaperKind::zv, core::ShaperKind::zvd,
@@ -461,23 +468,24 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
         r.jmax = mv.jmax;
         r.omega = c.design_omega[0];  // a profile that designs for a mode takes the fundamental
         r.zeta = c.design_zeta[0];
-        c.request = r;
         // A design that changes nothing (no shaper, a profile that ignores the mode) is one family.
         if (c.retuned && sk == core::ShaperKind::none && !core::needs_mode(r)) continue;
         c.name = std::string{core::to_string(kind.value)} + (sk == core::ShaperKind::none ? "" : "+") +
                  (sk == core::ShaperKind::none ? "" : core::to_string(sk)) + (c.retuned ? "@retuned" : "");
         core::Move<double> bare{};
         core::Status st = plan_profile(r, mv, bare, c.time_searched);
+        c.request = r;
         core::Shaper<double> shaper{};
         if (st == core::Status::ok) st = compose_shaper(sk, Design{c.design_omega, c.design_zeta}, vtol, shaper);
         if (st == core::Status::ok) {
           const core::Peaks<double> pk = core::shaped_peaks(bare.profile(), shaper, bare.peaks());
-          if (!within_limits(mv, pk)) st = core::Status::velocity_limit_exceeded;
+          st = limits_status(mv, pk);
           c.move = core::Move<double>{bare.profile(), shaper, pk};
         }
-        if (st != core::Status::ok || !std::isfinite(c.move.duration())) {
+        const bool too_long = st == core::Status::ok && !(c.move.duration() <= kMaxTuneDuration);
+        if (st != core::Status::ok || too_long) {
           if (v <= 1) {  // one refusal per family is enough to show
-            c.refusal = st != core::Status::ok ? core::to_string(st) : "non_finite_result";
+            c.refusal = st != core::Status::ok ? core::to_string(st) : "too_long";
             refused.push_back(std::move(c));
           }
           continue;
@@ -532,6 +540,7 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
         break;
       }
       c.worst.evaluations += w.evaluations;
+      c.mode_worst.push_back(w);
       if (w.residual > c.worst.residual) {
         const std::size_t evals = c.worst.evaluations;
         c.worst = w;

@@ -47,6 +47,8 @@ inline constexpr std::size_t kMaxTuneOmegaPoints = 4097;
 // first candidate that meets the bound): beyond it tune() refuses with too_much_work.
 inline constexpr double kMaxTuneWork = 1.5e9;
 inline constexpr std::size_t kMaxTuneZetaPoints = 9;
+// A candidate longer than this (s; or not finite) is refused as too_long.
+inline constexpr double kMaxTuneDuration = 3600.0;
 // Where a retuned design may sit in each mode's omega band: lo + k/(n-1) (hi - lo), k = 0..n-1.
 inline constexpr std::size_t kTunePlacements = 9;
 
@@ -96,7 +98,7 @@ struct TuneCandidate {
   double placement{-1.0};  // retuned: where in each omega band the design sits (0 lo .. 1 hi)
   std::vector<double> design_omega;  // per mode: what the shaper (and mode-designed profile) is for
   std::vector<double> design_zeta;
-  core::MoveRequest request{};  // the unshaped profile's request (shaper none)
+  core::MoveRequest request{};  // plans the unshaped profile again (shaper none; after a time search, its time)
   bool time_searched{false};  // the profile's own planner refused the limits: shortest T searched
   bool planned{false};
   std::string refusal;  // core's status when not planned
@@ -104,6 +106,7 @@ struct TuneCandidate {
   double duration{0.0};
   bool evaluated{false};  // false: slower than the chosen plan, so never checked
   bool meets{false};
+  std::vector<BandWorst> mode_worst;  // per mode checked (in TuneResult::modes order)
   BandWorst worst{};  // when !meets: the search stopped at the first row over the bound (a lower bound)
   std::size_t worst_mode{0};
 };
