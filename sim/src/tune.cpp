@@ -400,6 +400,25 @@ SimStatus relative_residual(const core::Move<double>& move, double omega, double
   return SimStatus::ok;
 }
 
+SimStatus residual_curve(const core::Move<double>& move, double omega_lo, double omega_hi, double zeta, std::size_t n,
+                         std::vector<double>& out) {
+  if (!(omega_lo > 0.0) || !(omega_hi > omega_lo) || !std::isfinite(omega_hi) || !(zeta >= 0.0 && zeta < 1.0) ||
+      n < 2) {
+    return SimStatus::bad_range;
+  }
+  if (n > kMaxTuneOmegaPoints) return SimStatus::too_many_samples;
+  const ProfileResidual pr{move.profile(), move.peaks().velocity_step, omega_hi};
+  const double dw = (omega_hi - omega_lo) / static_cast<double>(n - 1);
+  std::vector<double> r(n);
+  const SimStatus st = pr.row(zeta, omega_lo, dw, n, r.data());
+  if (st != SimStatus::ok) return st;
+  for (std::size_t i = 0; i < n; ++i) {
+    r[i] *= core::shaper_residual(move.shaper(), omega_lo + dw * static_cast<double>(i), zeta);
+  }
+  out = std::move(r);
+  return SimStatus::ok;
+}
+
 std::size_t omega_points_for(const UncertainMode& band, double duration) noexcept {
   const double phase = (band.omega_hi - band.omega_lo) * std::max(duration, 0.0);
   const double n = std::ceil(phase / (std::numbers::pi / 4.0)) + 1.0;

@@ -86,6 +86,11 @@ struct BandWorst {
 [[nodiscard]] SimStatus worst_in_band(const core::Move<double>& move, const UncertainMode& band,
                                       std::size_t omega_points, std::size_t zeta_points, BandWorst& out);
 
+// relative_residual at n evenly spaced omegas from omega_lo to omega_hi (0 < lo < hi, 2 <= n <=
+// kMaxTuneOmegaPoints, else bad_range / too_many_samples): the curve `settle tune --png` draws.
+[[nodiscard]] SimStatus residual_curve(const core::Move<double>& move, double omega_lo, double omega_hi, double zeta,
+                                       std::size_t n, std::vector<double>& out);
+
 // The omega grid size worst_in_band is given for a move of `duration` on a band: at least a point
 // every pi/4 of phase (omega * duration) across the band, within kMin/kMaxTuneOmegaPoints.
 [[nodiscard]] std::size_t omega_points_for(const UncertainMode& band, double duration) noexcept;
