@@ -136,7 +136,10 @@ std::vector<long long> moving_targets(const std::string& csv) {
 }
 
 TEST(CliTune, StreamPlanFromStreamsExactlyTheTunedPlan) {
-  const std::string file = write("identified2.json", kIdentified);
+  // Intervals of +-10 %: wide enough that the fastest robust plan is a shaped one.
+  const std::string file = write("identified2.json", R"({"status":"ok","modes":[
+    {"omega":12.566,"zeta":0.03,"gain":1.0,"omega_ci":[11.31,13.82],"zeta_ci":[0.02,0.04]},
+    {"omega":44.0,"zeta":0.02,"gain":0.4,"omega_ci":[39.6,48.4],"zeta_ci":[0.01,0.03]}]})");
   const CliResult t = run_cli("tune --modes-from " + file + kMove + " --json");
   ASSERT_EQ(t.status, 0) << t.out;
   const std::string plan = write("tuned.json", t.stdout_text);
@@ -161,9 +164,9 @@ TEST(CliTune, StreamPlanFromStreamsExactlyTheTunedPlan) {
   for (std::size_t k = 0; k < rows.size(); ++k) {
     EXPECT_EQ(targets[k], std::llround(rows[k][1].get<double>() * 1e6)) << "period " << k;
   }
-  // A different plan would have streamed different setpoints: the nominal-free poly345 of the same
-  // duration is not this move.
-  EXPECT_NE(tuned.at("shaper").at("impulses").size(), 0u);
+  // The plan is a shaped one (so the shaper's impulses travelled through the file too).
+  EXPECT_GT(tuned.at("shaper").at("impulses").size(), 1u);
+  EXPECT_NE(tuned.at("family").at("shaper"), "none");
 }
 
 TEST(CliTune, PngDrawsTheChosenPlanAndTheOnesItBeat) {
