@@ -40,7 +40,7 @@ const char* describe(TuneStatus s) noexcept {
     case TuneStatus::bad_band: return "a mode's band does not contain it (0 < omega_lo <= omega <= omega_hi, 0 <= zeta_lo <= zeta <= zeta_hi < 1)";
     case TuneStatus::bad_move: return "the move needs a finite non-zero distance and a positive time or positive limits";
     case TuneStatus::bad_residual_max: return "residual_max must lie in (0, 1)";
-    case TuneStatus::bad_grid: return "zeta_points must lie in 1..9";
+    case TuneStatus::bad_grid: return "zeta_points must lie in 1..9 and max_work be positive";
     case TuneStatus::too_much_work:
       return "the bands and the moves need too fine a search (omega_hi x move duration too large): narrow the band, "
              "shorten the move or drop the highest mode";
@@ -221,8 +221,15 @@ double lerp(double lo, double hi, std::size_t i, std::size_t n) {
 // worst_in_band on a profile's quadrature (shared by every shaper and design that uses it).
 // stop_above: once a grid row exceeds it the search ends there (the move fails either way, and
 // what was found is a lower bound of its worst).
+// work: evaluations x nodes so far, refused (too_many_samples) once it would pass max_work.
 SimStatus worst_impl(const core::Shaper<double>& shaper, const ProfileResidual& pr, const UncertainMode& b,
-                     std::size_t n_omega, std::size_t n_zeta, double stop_above, BandWorst& out) {
+                     std::size_t n_omega, std::size_t n_zeta, double stop_above, double& work, double max_work,
+                     BandWorst& out) {
+  const double nodes = static_cast<double>(pr.nodes()) + 1.0;
+  auto spend = [&](double points) {
+    work += points * nodes;
+    return work <= max_work;
+  };
   if (!(b.omega_hi > b.omega_lo)) n_omega = 1;
   if (!(b.zeta_hi > b.zeta_lo)) n_zeta = 1;
   BandWorst w;
@@ -236,6 +243,7 @@ SimStatus worst_impl(const core::Shaper<double>& shaper, const ProfileResidual& 
     }
   };
   auto eval = [&](double omega, double zeta, double& r) {
+    if (!spend(1.0)) return SimStatus::too_many_samples;
     double pf = 0.0;
     const SimStatus st = pr.relative(omega, zeta, pf);
     if (st != SimStatus::ok) return st;
@@ -250,6 +258,7 @@ SimStatus worst_impl(const core::Shaper<double>& shaper, const ProfileResidual& 
   for (std::size_t k = 0; k < n_zeta; ++k) {
     const double zeta = lerp(b.zeta_lo, b.zeta_hi, k, n_zeta);
     double* row = grid.data() + k * n_omega;
+    if (!spend(static_cast<double>(n_omega))) return SimStatus::too_many_samples;
     const SimStatus st = pr.row(zeta, b.omega_lo, domega, n_omega, row);
     if (st != SimStatus::ok) return st;
     for (std::size_t i = 0; i < n_omega; ++i) {
@@ -433,8 +442,10 @@ SimStatus worst_in_band(const core::Move<double>& move, const UncertainMode& ban
   if (omega_points < 1 || zeta_points < 1 || omega_points > kMaxTuneOmegaPoints || zeta_points > kMaxTuneZetaPoints) {
     return SimStatus::too_many_samples;
   }
+  if (ProfileResidual::node_estimate(move.profile(), band.omega_hi) > kMaxTuneNodes) return SimStatus::too_many_samples;
   const ProfileResidual pr{move.profile(), move.peaks().velocity_step, band.omega_hi};
-  return worst_impl(move.shaper(), pr, band, omega_points, zeta_points,
+  double work = 0.0;
+  return worst_impl(move.shaper(), pr, band, omega_points, zeta_points, std::numeric_limits<double>::infinity(), work,
                     std::numeric_limits<double>::infinity(), out);
 }
 
@@ -454,7 +465,9 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
     return TuneStatus::bad_move;
   }
   if (!(opt.residual_max > 0.0 && opt.residual_max < 1.0)) return TuneStatus::bad_residual_max;
-  if (opt.zeta_points < 1 || opt.zeta_points > kMaxTuneZetaPoints) return TuneStatus::bad_grid;
+  if (opt.zeta_points < 1 || opt.zeta_points > kMaxTuneZetaPoints || !(opt.max_work > 0.0)) {
+    return TuneStatus::bad_grid;
+  }
 
   std::vector<UncertainMode> modes = modes_in;
   std::stable_sort(modes.begin(), modes.end(), [](const auto& a, const auto& b) { return a.omega < b.omega; });
@@ -524,16 +537,11 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
   double omega_max = 0.0;
   for (const UncertainMode& m : modes) omega_max = std::max(omega_max, m.omega_hi);
   const std::size_t n_zeta = opt.zeta_points;
-  // The work bound, before any evaluation: every candidate's grid times its quadrature's nodes.
-  double work = 0.0;
+  // Memory, before any quadrature is built: every candidate's nodes.
   for (const TuneCandidate& c : planned) {
-    double points = 0.0;
-    for (const UncertainMode& m : modes) {
-      points += static_cast<double>(omega_points_for(m, c.duration) * n_zeta) + 120.0;
-    }
-    work += points * ProfileResidual::node_estimate(c.move.profile(), omega_max);
+    if (ProfileResidual::node_estimate(c.move.profile(), omega_max) > kMaxTuneNodes) return TuneStatus::too_much_work;
   }
-  if (work > kMaxTuneWork) return TuneStatus::too_much_work;
+  double work = 0.0;  // CPU: counted as the search goes
 
   // One quadrature per distinct profile (a profile that ignores the mode is the same for every
   // design), shared by the shapers and designs that use it.
@@ -552,7 +560,8 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
     for (std::size_t j = 0; j < modes.size() && c.meets; ++j) {
       BandWorst w;
       const SimStatus st = worst_impl(c.move.shaper(), *pr, modes[j], omega_points_for(modes[j], c.duration),
-                                      n_zeta, opt.residual_max, w);
+                                      n_zeta, opt.residual_max, work, opt.max_work, w);
+      if (st == SimStatus::too_many_samples) return TuneStatus::too_much_work;
       if (st != SimStatus::ok) {
         c.meets = false;
         c.refusal = to_string(st);

@@ -223,7 +223,7 @@ TEST(Tune, TwoModesWithAsymmetricIntervals) {
                         .zeta_lo = 0.01, .zeta_hi = 0.04};
   const UncertainMode b{.omega = 47.0, .zeta = 0.05, .gain = 0.3, .omega_lo = 46.0, .omega_hi = 49.5,
                         .zeta_lo = 0.03, .zeta_hi = 0.06};
-  ASSERT_EQ(tune({b, a}, mv, {.residual_max = 0.03, .zeta_points = 3}, r), TuneStatus::ok);
+  ASSERT_EQ(tune({b, a}, mv, {.residual_max = 0.03, .zeta_points = 3, .max_work = kMaxTuneWork}, r), TuneStatus::ok);
   ASSERT_EQ(r.modes.size(), 2u);
   EXPECT_EQ(r.modes[0].omega, 14.0);  // sorted by omega
   check_result(r, 0.03);
@@ -244,7 +244,7 @@ TEST(Tune, NoFeasiblePlanIsReportedWithWhatWasTried) {
   TuneResult r;
   TuneMove mv{.distance = 0.1, .time = 0.2, .vmax = {}, .amax = {}, .jmax = {}};
   // +-60 % on a lightly damped mode with a 0.1 % bound: no shaper here is that insensitive.
-  const TuneStatus st = tune({pct(20.0, 0.01, 0.6, 0.0, 0.02)}, mv, {.residual_max = 0.001, .zeta_points = 5}, r);
+  const TuneStatus st = tune({pct(20.0, 0.01, 0.6, 0.0, 0.02)}, mv, {.residual_max = 0.001, .zeta_points = 5, .max_work = kMaxTuneWork}, r);
   ASSERT_EQ(st,
             TuneStatus::no_feasible_plan);
   ASSERT_FALSE(r.candidates.empty());
@@ -290,14 +290,17 @@ TEST(Tune, BadInputsAreRefusedWithSpecificCodesAndTheResultUntouched) {
   EXPECT_EQ(tune({ok}, bad, {}, r), TuneStatus::bad_move);
   bad.vmax = -1.0;
   EXPECT_EQ(tune({ok}, bad, {}, r), TuneStatus::bad_move);
-  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.0, .zeta_points = 5}, r), TuneStatus::bad_residual_max);
-  EXPECT_EQ(tune({ok}, mv, {.residual_max = 1.0, .zeta_points = 5}, r), TuneStatus::bad_residual_max);
-  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = 0}, r), TuneStatus::bad_grid);
-  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = kMaxTuneZetaPoints + 1}, r), TuneStatus::bad_grid);
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.0, .zeta_points = 5, .max_work = kMaxTuneWork}, r), TuneStatus::bad_residual_max);
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 1.0, .zeta_points = 5, .max_work = kMaxTuneWork}, r), TuneStatus::bad_residual_max);
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = 0, .max_work = kMaxTuneWork}, r), TuneStatus::bad_grid);
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = kMaxTuneZetaPoints + 1, .max_work = kMaxTuneWork}, r), TuneStatus::bad_grid);
   // A search too fine to bound: a fast mode under a long move.
   EXPECT_EQ(tune({pct(1e4, 0.01, 0.5, 0.0, 0.02)}, {.distance = 1.0, .time = 100.0, .vmax = {}, .amax = {}, .jmax = {}},
                  {}, r),
             TuneStatus::too_much_work);
+  // The search's own budget, counted as it goes.
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = 5, .max_work = 1e4}, r), TuneStatus::too_much_work);
+  EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = 5, .max_work = 0.0}, r), TuneStatus::bad_grid);
   EXPECT_EQ(r.residual_max, 42.0);
   EXPECT_TRUE(r.candidates.empty());
 }

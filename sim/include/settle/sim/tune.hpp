@@ -32,25 +32,28 @@ struct TuneMove {
   std::optional<double> vmax, amax, jmax;
 };
 
-struct TuneOptions {
-  double residual_max{0.05};  // fraction of the unshaped residual (a step of the distance), (0, 1)
-  std::size_t zeta_points{5};  // grid points across each zeta band (1 if the band is a point)
-};
-
 // Bounds of one tune() call, checked before any work: the modes, and the grid each band is
 // searched on (kMaxTuneOmegaPoints omega points; fewer are used when the band is narrow).
 inline constexpr std::size_t kMaxTuneModes = 4;
 inline constexpr std::size_t kMinTuneOmegaPoints = 17;
 inline constexpr std::size_t kMaxTuneOmegaPoints = 4097;
-// Residual evaluations x quadrature nodes summed over every candidate, estimated before any is
-// evaluated (about 2 s of one core at this bound, much less in practice: evaluation stops at the
-// first candidate that meets the bound): beyond it tune() refuses with too_much_work.
-inline constexpr double kMaxTuneWork = 1.5e9;
+// The work of one tune() call, bounded two ways: no profile's quadrature may have more than
+// kMaxTuneNodes nodes (checked for every candidate before any is built: memory), and the residual
+// evaluations times the nodes they sum, counted as the search goes, may not exceed
+// TuneOptions::max_work (CPU: about 3 s of one core at kMaxTuneWork). Either gives too_much_work.
+inline constexpr double kMaxTuneNodes = 1e6;
+inline constexpr double kMaxTuneWork = 2e9;
 inline constexpr std::size_t kMaxTuneZetaPoints = 9;
 // A candidate longer than this (s; or not finite) is refused as too_long.
 inline constexpr double kMaxTuneDuration = 3600.0;
 // Where a retuned design may sit in each mode's omega band: lo + k/(n-1) (hi - lo), k = 0..n-1.
 inline constexpr std::size_t kTunePlacements = 9;
+
+struct TuneOptions {
+  double residual_max{0.05};  // fraction of the unshaped residual (a step of the distance), (0, 1)
+  std::size_t zeta_points{5};  // grid points across each zeta band (1 if the band is a point)
+  double max_work{kMaxTuneWork};  // evaluations x quadrature nodes; more: too_much_work
+};
 
 enum class TuneStatus : unsigned char {
   ok,
@@ -60,8 +63,8 @@ enum class TuneStatus : unsigned char {
   bad_band,            // omega_lo <= omega <= omega_hi, 0 < omega_lo, 0 <= zeta_lo <= zeta <= zeta_hi < 1 violated
   bad_move,            // distance zero or not finite, neither time nor limits, or a non-positive one
   bad_residual_max,    // residual_max outside (0, 1)
-  bad_grid,            // zeta_points outside 1..kMaxTuneZetaPoints
-  too_much_work,       // the search would exceed kMaxTuneWork (omega_hi x move duration too large)
+  bad_grid,            // zeta_points outside 1..kMaxTuneZetaPoints, or max_work not positive
+  too_much_work,       // a quadrature over kMaxTuneNodes, or the search over max_work (omega_hi x duration too large)
   no_feasible_plan,    // every candidate either cannot be planned or exceeds residual_max somewhere
 };
 [[nodiscard]] const char* to_string(TuneStatus s) noexcept;
