@@ -507,6 +507,15 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
         core::Move<double> bare{};
         core::Status st = plan_profile(r, mv, bare, c.time_searched);
         c.request = r;
+        if (st != core::Status::ok) {
+          // The profile itself cannot be planned: shown once, under its own name (a retuned design
+          // that cannot be planned is skipped).
+          if (v == 0 && sk == core::ShaperKind::none) {
+            c.refusal = core::to_string(st);
+            refused.push_back(std::move(c));
+          }
+          continue;
+        }
         core::Shaper<double> shaper{};
         if (st == core::Status::ok) st = compose_shaper(sk, Design{c.design_omega, c.design_zeta}, vtol, shaper);
         if (st == core::Status::ok) {
