@@ -252,6 +252,31 @@ TEST(Tune, AFixedMoveTimeKeepsTheProfileTimeAndAddsOnlyTheShaper) {
   check_result(r, 0.05);
 }
 
+TEST(Tune, AProfileWhosePlannerRefusesTheLimitsGetsTheShortestTimeWithinThem) {
+  // scurve's own planner needs vmax and amax; given only amax, its time is searched.
+  TuneResult r;
+  const TuneMove mv{.distance = 0.1, .time = {}, .vmax = {}, .amax = 2.0, .jmax = {}};
+  const TuneStatus st = tune({pct(30.0, 0.02, 0.05, 0.01, 0.03)}, mv, {}, r);
+  ASSERT_TRUE(st == TuneStatus::ok || st == TuneStatus::no_feasible_plan);
+  std::size_t searched = 0;
+  for (const TuneCandidate& c : r.candidates) {
+    if (!c.planned || !c.time_searched) continue;
+    ++searched;
+    EXPECT_LE(c.move.peaks().a, 2.0 * (1 + 1e-9)) << c.name;
+    ASSERT_TRUE(c.request.time.has_value());
+    EXPECT_FALSE(c.request.amax.has_value());
+    // The request re-plans the same profile, and 0.1 % less time breaks the limit: the shortest.
+    core::Move<double> again, shorter;
+    ASSERT_EQ(core::plan(c.request, again), core::Status::ok);
+    EXPECT_EQ(again.profile().duration(), c.move.profile().duration()) << c.name;
+    core::MoveRequest faster = c.request;
+    *faster.time *= 0.999;
+    ASSERT_EQ(core::plan(faster, shorter), core::Status::ok);
+    EXPECT_GT(shorter.peaks().a, 2.0) << c.name;
+  }
+  EXPECT_GT(searched, 0u);
+}
+
 TEST(Tune, NoFeasiblePlanIsReportedWithWhatWasTried) {
   TuneResult r;
   TuneMove mv{.distance = 0.1, .time = 0.2, .vmax = {}, .amax = {}, .jmax = {}};
