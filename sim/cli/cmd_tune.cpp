@@ -2,6 +2,7 @@
 // `settle identify --json` (--modes-from) or from --mode; the band from their intervals or from
 // --uncertainty PCT. The chosen plan is printed as `settle plan --json` prints it, plus the band,
 // its worst residual, the request that plans it again (for --plan-from) and the alternatives.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -119,8 +120,10 @@ bool modes_from_file(const std::string& path, const Band& band, std::vector<sim:
       if (!interval("zeta_ci", u.zeta_lo, u.zeta_hi)) {
         return bad(at + ".zeta_ci: [lo, hi] is required with --uncertainty ci (or give --uncertainty PCT)");
       }
-      if (!(u.zeta_lo >= 0.0 && u.zeta_lo <= zeta && zeta <= u.zeta_hi && u.zeta_hi < 1.0)) {
-        return bad(at + ".zeta_ci: must satisfy 0 <= lo <= zeta <= hi < 1");
+      // A symmetric interval around a small damping ratio may reach below 0: no damping is the least.
+      u.zeta_lo = std::max(u.zeta_lo, 0.0);
+      if (!(u.zeta_lo <= zeta && zeta <= u.zeta_hi && u.zeta_hi < 1.0)) {
+        return bad(at + ".zeta_ci: must satisfy lo <= zeta <= hi < 1");
       }
     }
     list.push_back(u);

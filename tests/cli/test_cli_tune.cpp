@@ -253,6 +253,11 @@ TEST(CliTune, BadInputsExitTwoNamingTheOption) {
        "--modes-from", "bad_modes_file"},
   };
   for (const Case& c : cases) expect_refused(c);
+  // A damping interval reaching below 0 is clipped at 0 (a symmetric CI around a small zeta).
+  const CliResult clipped = run_cli(file("negzeta.json", R"({"status":"ok","modes":[{"omega":30,"zeta":0.004,
+    "omega_ci":[29.5,30.5],"zeta_ci":[-0.003,0.011]}]})") + " --json");
+  ASSERT_EQ(clipped.status, 0) << clipped.out;
+  EXPECT_EQ(Json::parse(clipped.stdout_text).at("robust_band").at("modes")[0].at("zeta_band")[0], 0.0);
   // Without intervals the file is fine with a percentage band.
   const CliResult r = run_cli(file("noci2.json", R"({"status":"ok","modes":[{"omega":30,"zeta":0.1}]})") +
                               " --uncertainty 10");
