@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <complex>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -318,7 +317,8 @@ bool valid_band(const UncertainMode& m) {
          m.zeta_lo >= 0.0 && m.zeta_lo <= m.zeta && m.zeta <= m.zeta_hi && m.zeta_hi < 1.0;
 }
 
-constexpr double kLimitSlack = 1e-9;  // as core's planner compares peaks with limits
+constexpr double kLimitSlack = 1e-9;
+constexpr double kBuildCost = 64.0;  // as core's planner compares peaks with limits
 
 core::Status limits_status(const TuneMove& mv, const core::Peaks<double>& pk) {
   if (mv.vmax && !(pk.v <= *mv.vmax * (1.0 + kLimitSlack))) return core::Status::velocity_limit_exceeded;
@@ -562,7 +562,13 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
     const auto key = std::make_tuple(static_cast<int>(c.profile), by_mode ? c.design_omega[0] : 0.0,
                                      by_mode ? c.design_zeta[0] : 0.0);
     auto& pr = profiles[key];
-    if (!pr) pr = std::make_shared<ProfileResidual>(c.move.profile(), c.move.peaks().velocity_step, omega_max);
+    if (!pr) {
+      // Building a quadrature evaluates the profile at every node: charged as kBuildCost residual
+      // points per node (measured: a profile evaluation costs about that many recurrence steps).
+      work += kBuildCost * ProfileResidual::node_estimate(c.move.profile(), omega_max);
+      if (work > opt.max_work) return TuneStatus::too_much_work;
+      pr = std::make_shared<ProfileResidual>(c.move.profile(), c.move.peaks().velocity_step, omega_max);
+    }
     c.evaluated = true;
     c.meets = true;
     c.worst.residual = -1.0;
