@@ -99,6 +99,41 @@ TEST(CliTune, TheChosenPlanIsPrintedAsPlanPrintsItWithItsBand) {
   EXPECT_TRUE(seen_chosen);
 }
 
+// With one mode, every family is something `settle plan` can be asked for directly: the profile
+// and shaper designed at the family's design point (EI with --vtol = --residual-max). The tuned plan
+// must then be exactly what `settle plan --json` prints for that request.
+TEST(CliTune, AOneModePlanIsExactlyWhatPlanPrintsForItsDesign) {
+  for (const std::string& args : {"--mode 12.566,0.03 --uncertainty 10" + kMove,
+                                   std::string{"--mode 30,0.02 --uncertainty 10 --distance 0.2 --time 0.4"},
+                                   std::string{"--mode 20,0.05 --uncertainty 25 --distance -0.05 --vmax 0.3 --amax 2"},
+                                   std::string{"--mode 9,0.01 --uncertainty 5 --distance 0.3 --time 0.5 --residual-max 0.02"}}) {
+    SCOPED_TRACE(args);
+    const Json t = run_json("tune " + args);
+    const Json& rq = t.at("request");
+    const Json& family = t.at("family");
+    std::string plan = "plan --profile " + rq.at("profile").get<std::string>();
+    for (const char* k : {"distance", "time", "vmax", "amax", "jmax", "omega", "zeta"}) {
+      if (rq.contains(k)) {
+        std::ostringstream v;
+        v.precision(17);
+        v << rq.at(k).get<double>();
+        plan += std::string{" --"} + k + " " + v.str();
+      }
+    }
+    plan += " --shaper " + family.at("shaper").get<std::string>();
+    if (family.at("shaper") != "none") {
+      // The shaper was designed at the family's design point, the same as the profile's.
+      EXPECT_EQ(family.at("design_modes")[0].at("omega"), rq.at("omega"));
+      std::ostringstream v;
+      v.precision(17);
+      v << t.at("residual_max").get<double>();
+      plan += " --vtol " + v.str();
+    }
+    const Json p = run_json(plan);
+    for (auto it = p.begin(); it != p.end(); ++it) EXPECT_EQ(t.at(it.key()), it.value()) << it.key();
+  }
+}
+
 TEST(CliTune, HereAWiderBandOrATighterBoundCostsTime) {
   const double base = run_json("tune --mode 12.566,0.03 --uncertainty 5" + kMove).at("duration").get<double>();
   const double wider = run_json("tune --mode 12.566,0.03 --uncertainty +-20" + kMove).at("duration").get<double>();
