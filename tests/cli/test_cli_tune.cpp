@@ -199,6 +199,27 @@ TEST(CliTune, StreamPlanFromStreamsExactlyTheTunedPlan) {
   for (std::size_t k = 0; k < rows.size(); ++k) {
     EXPECT_EQ(targets[k], std::llround(rows[k][1].get<double>() * 1e6)) << "period " << k;
   }
+  // On a plant whose modes sit where the tuner found each one's worst case, the residual measured
+  // through the bus is the tuner's prediction: per mode r_j (relative to a step), combined as the
+  // plant's PRV combines them, sum g_j r_j s_j / sum g_j s_j with s_j = 1 / sqrt(1 - zeta_j^2).
+  std::string corner = "stream --bus loopback --plan-from " + plan + " --plant modes --json";
+  double num = 0.0, den = 0.0;
+  for (const Json& m : tuned.at("robust_band").at("modes")) {
+    const double w = m.at("worst_at").at("omega").get<double>(), z = m.at("worst_at").at("zeta").get<double>();
+    const double g = m.at("gain").get<double>(), sz = 1.0 / std::sqrt(1.0 - z * z);
+    std::ostringstream mode;
+    mode.precision(17);
+    mode << w << "," << z << "," << g;
+    corner += " --mode " + mode.str();
+    num += std::fabs(g) * m.at("worst_residual").get<double>() * sz;
+    den += std::fabs(g) * sz;
+  }
+  const CliResult at_corner = run_cli(corner);
+  ASSERT_EQ(at_corner.status, 0) << at_corner.out;
+  const Json measured = Json::parse(at_corner.stdout_text);
+  EXPECT_NEAR(measured.at("prv_continuous_percent").get<double>(), 100.0 * num / den, 1e-3 * 100.0 * num / den);
+  EXPECT_NEAR(measured.at("prv_can_percent").get<double>(), 100.0 * num / den, 2e-2 * 100.0 * num / den);
+  EXPECT_LE(measured.at("prv_can_percent").get<double>(), 5.0);
   // The plan is a shaped one (so the shaper's impulses travelled through the file too).
   EXPECT_GT(tuned.at("shaper").at("impulses").size(), 1u);
   EXPECT_NE(tuned.at("family").at("shaper"), "none");
