@@ -8,7 +8,9 @@
 
 #include "settle/core/planner.hpp"
 #include "settle/sim/energy_optimiser.hpp"
+#include "settle/sim/sensitivity.hpp"
 #include "settle/sim/simulate.hpp"
+#include "settle/sim/tune.hpp"
 
 namespace {
 
@@ -92,5 +94,61 @@ void BM_Optimiser004(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Optimiser004)->Unit(benchmark::kMillisecond);
+
+// settle tune's residual: the Duhamel quadrature (relative_residual) against the exact-stepping
+// simulation it replaces in the search (prv_on_mode), on the same shaped move and mode.
+core::Move<double> tune_bench_move() {
+  core::MoveRequest r;
+  r.profile = core::ProfileKind::poly345;
+  r.distance = 0.1;
+  r.time = 0.4;
+  r.omega = 12.566;
+  r.zeta = 0.03;
+  r.shaper = core::ShaperKind::zvd;
+  core::Move<double> m;
+  (void)core::plan(r, m);
+  return m;
+}
+
+void BM_TuneResidualQuadrature(benchmark::State& state) {
+  const core::Move<double> m = tune_bench_move();
+  double w = 11.0;
+  for (auto _ : state) {
+    double r = 0.0;
+    (void)sim::relative_residual(m, w, 0.03, r);
+    benchmark::DoNotOptimize(r);
+    w = w < 14.0 ? w + 0.01 : 11.0;
+  }
+}
+BENCHMARK(BM_TuneResidualQuadrature)->Unit(benchmark::kMicrosecond);
+
+void BM_TuneResidualSimulated(benchmark::State& state) {
+  const sim::MoveCommand cmd{tune_bench_move()};
+  double w = 11.0;
+  for (auto _ : state) {
+    double prv = 0.0;
+    (void)sim::prv_on_mode(cmd, w, 0.03, prv);
+    benchmark::DoNotOptimize(prv);
+    w = w < 14.0 ? w + 0.01 : 11.0;
+  }
+}
+BENCHMARK(BM_TuneResidualSimulated)->Unit(benchmark::kMicrosecond);
+
+// A whole search: two modes with +-10 % bands, limits (what docs/tuning.md's example asks).
+void BM_TuneTwoModesLimits(benchmark::State& state) {
+  auto band = [](double w, double z) {
+    return sim::UncertainMode{.omega = w, .zeta = z, .gain = 1.0, .omega_lo = 0.9 * w, .omega_hi = 1.1 * w,
+                              .zeta_lo = z - 0.01, .zeta_hi = z + 0.01};
+  };
+  const sim::TuneMove mv{.distance = 0.1, .time = {}, .vmax = 0.5, .amax = 5.0, .jmax = 200.0};
+  for (auto _ : state) {
+    sim::TuneResult r;
+    if (sim::tune({band(12.566, 0.03), band(44.0, 0.02)}, mv, {}, r) != sim::TuneStatus::ok) {
+      state.SkipWithError("tune failed");
+    }
+    benchmark::DoNotOptimize(r.chosen);
+  }
+}
+BENCHMARK(BM_TuneTwoModesLimits)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -6,41 +6,13 @@
 
 #include "commands.hpp"
 #include "json.hpp"
+#include "plan_json.hpp"
 #include "move_options.hpp"
 #include "settle/sim/move_vocabulary.hpp"
 
 namespace settle::cli {
 
 namespace {
-
-// Every number the plan reports. A peak that is an impulse (a velocity or acceleration step) is
-// null, and flagged; any other non-finite number makes the plan unreportable.
-Json plan_json(const core::Move<double>& m) {
-  Json j;
-  j["status"] = "ok";
-  j["profile"] = core::to_string(m.profile().kind());
-  j["distance"] = m.distance();
-  j["duration"] = m.duration();
-  j["profile_duration"] = m.profile().duration();
-  Json params = Json::object();
-  for (const auto& [k, v] : sim::profile_params(m.profile())) params[k] = v;
-  j["params"] = params;
-  const auto& pk = m.peaks();
-  const bool impulse_a = pk.velocity_step || pk.acceleration_step;
-  Json peaks;
-  peaks["velocity"] = pk.v;
-  peaks["acceleration"] = pk.velocity_step && !std::isfinite(pk.a) ? Json(nullptr) : Json(pk.a);
-  peaks["jerk"] = impulse_a && !std::isfinite(pk.j) ? Json(nullptr) : Json(pk.j);
-  peaks["velocity_step"] = pk.velocity_step;
-  peaks["acceleration_step"] = pk.acceleration_step;
-  j["peaks"] = peaks;
-  Json impulses = Json::array();
-  for (std::size_t i = 0; i < m.shaper().count; ++i) {
-    impulses.push_back(Json{{"amplitude", m.shaper().amp[i]}, {"time", m.shaper().time[i]}});
-  }
-  j["shaper"]["impulses"] = impulses;
-  return j;
-}
 
 void print_text(const core::Move<double>& m) {
   std::printf("profile      %s\n", core::to_string(m.profile().kind()));

@@ -11,13 +11,11 @@ namespace settle::cli {
 int cmd_sample(int argc, char** argv) {
   ParsedArgs args;
   if (const int rc = parse_or_exit("sample", argc, argv, args); rc >= 0) return rc;
-  core::MoveRequest req{};
   RequestError err;
-  if (!parse_move_request(args, req, err)) return report_bad_request(err, args.json());
+  core::Move<double> move{};
+  if (!move_from_args(args, move, err)) return report_bad_request(err, args.json());
   const auto dt = args.real("--dt");
   if (!dt) return report_bad_request({"missing_option", "--dt", "--dt: required (sample period, s)"}, args.json());
-  core::Move<double> move{};
-  if (!plan_move(req, move, err)) return report_bad_request(err, args.json());
   const double n_real = std::ceil(move.duration() / *dt);
   if (!(n_real + 1.0 <= kMaxRows)) {
     return report_bad_request({"too_many_samples", "--dt", "--dt: " + format_number(n_real + 1.0) +

@@ -27,11 +27,9 @@ namespace {
 int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
   const bool json = args.json();
   RequestError err;
-  core::MoveRequest req{};
-  if (!parse_move_request(args, req, err)) return report_bad_request(err, json);
   if (!parse_plant(args, spec.plant, err)) return report_bad_request(err, json);
   if (!parse_drive(args, spec.plant, spec.drive, err)) return report_bad_request(err, json);
-  if (!plan_move(req, spec.move, err)) return report_bad_request(err, json);
+  if (!move_from_args(args, spec.move, err)) return report_bad_request(err, json);
   const core::Move<double>& move = spec.move;
   // Node 1..127, heartbeat 10..10000 ms, SDO timeout 1..60000 ms, settle time (0, 600) s, axis
   // vmax (0, 1e9], feedback timeout 0..65535 periods.

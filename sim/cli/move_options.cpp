@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "plan_json.hpp"
 #include "settle/sim/move_vocabulary.hpp"
 
 namespace settle::cli {
@@ -70,6 +71,29 @@ bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestErr
     return false;
   }
   return true;
+}
+
+bool move_from_args(const ParsedArgs& args, core::Move<double>& out, RequestError& err) {
+  if (const auto file = args.text("--plan-from")) {
+    for (const char* o : {"--profile", "--distance", "--time", "--vmax", "--amax", "--jmax", "--omega", "--zeta",
+                          "--gammas", "--y", "--shaper", "--vtol"}) {
+      if (args.has(o)) {
+        err = {"conflicting_options", o, std::string{o} + ": the move comes from --plan-from; give no move option with it"};
+        return false;
+      }
+    }
+    core::Move<double> m{};
+    if (!load_plan_file(*file, "--plan-from", m, err)) return false;
+    if (!(m.duration() <= kMaxSeconds)) {
+      err = {"too_long", "--plan-from", "--plan-from: the plan lasts " + format_number(m.duration()) + " s; at most 3600 s"};
+      return false;
+    }
+    out = m;
+    return true;
+  }
+  core::MoveRequest req{};
+  if (!parse_move_request(args, req, err)) return false;
+  return plan_move(req, out, err);
 }
 
 }  // namespace settle::cli

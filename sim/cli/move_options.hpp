@@ -14,4 +14,8 @@ namespace settle::cli {
 // duration, peaks or shaper are not finite, or that lasts longer than kMaxSeconds, is refused.
 [[nodiscard]] bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestError& err);
 
+// The move of a command that takes either the move options or --plan-from FILE (a plan written by
+// `settle tune --json`, reproduced exactly; no move option may be given with it).
+[[nodiscard]] bool move_from_args(const ParsedArgs& args, core::Move<double>& out, RequestError& err);
+
 }  // namespace settle::cli

@@ -87,6 +87,38 @@ const std::vector<OptionSpec> kMove = [] {
   return v;
 }();
 
+// settle tune: the move's own options, taken from the move group (one row per option).
+const std::vector<OptionSpec> kTuneMove = [] {
+  std::vector<OptionSpec> v;
+  for (const OptionSpec& o : kMove) {
+    if (o.name == "--distance" || o.name == "--time" || o.name == "--vmax" || o.name == "--amax" || o.name == "--jmax") {
+      v.push_back(o);
+    }
+  }
+  return v;
+}();
+
+const std::vector<OptionSpec> kTune = {
+    text("--modes-from", "", "the modes and their confidence intervals: the JSON `settle identify --json` prints "
+                             "(at most 1 MiB, at most 4 modes)", "FILE"),
+    {.name = "--mode", .kind = Kind::list, .unit = "rad/s, -, -", .def = "", .help = "a mode OMEGA,ZETA[,GAIN] "
+     "instead of --modes-from (repeatable; needs --uncertainty PCT)", .range = {0.0, 0.0}, .min_items = 2,
+     .max_items = 3, .repeatable = true, .max_repeats = 4,
+     .item_ranges = {{1e-2, 1e6}, {0.0, 1.0, false, true}, {-1e6, 1e6}}, .value_name = "OMEGA,ZETA[,GAIN]"},
+    real("--residual-max", "fraction of the unshaped residual", "0.05", {0.0, 1.0, true, true},
+         "largest residual allowed anywhere in the band, relative to what an unshaped step of --distance leaves "
+         "on the same mode"),
+    text("--uncertainty", "ci", "the band searched: 'ci' (the intervals of --modes-from) or PCT, a percentage in "
+                                "(0, 90] (also written +-PCT): omega x (1 +- PCT/100)", "ci|PCT"),
+    real("--zeta-pm", "", "0.01", {0.0, 0.5}, "with --uncertainty PCT: zeta's band is zeta +- this (clipped to [0, 0.99])"),
+    text("--png", "", "draw residual against frequency error for the chosen plan and the faster plans it beat "
+                      "(needs gnuplot)", "FILE"),
+};
+
+const std::vector<OptionSpec> kPlanFrom = {
+    text("--plan-from", "", "the plan `settle tune --json` wrote: exactly that move (no move options with it)", "FILE"),
+};
+
 const std::vector<OptionSpec> kPlant = {
     choice("--plant", "beam", {"sdof", "beam", "belt", "modes"}, "the plant behind the drive"),
     real("--mass", "kg", "1", {1e-6, 1e6}, "sdof: mass"),
@@ -223,7 +255,7 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "sample",
      .summary = "plan a move and print t,position,velocity,acceleration,jerk every --dt (CSV, or --json)",
      .usage = "",
-     .groups = {kMove, kSample, kOutput},
+     .groups = {kMove, kPlanFrom, kSample, kOutput},
      .notes = "Bounds: at most 2e6 samples (move duration / --dt); the move at most 3600 s."},
     {.name = "simulate",
      .summary = "run a move on a plant (sdof, beam, belt, modes): residual, PRV, energy",
@@ -244,10 +276,19 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "stream",
      .summary = "stream a move to a drive over CAN and measure the residual vibration",
      .usage = "",
-     .groups = {kStream, kMove, kPlant, kDrive, kOutput},
+     .groups = {kStream, kPlanFrom, kMove, kPlant, kDrive, kOutput},
      .notes = "Bounds: move + settle time at most 3600 s and at most 1e6 periods (5 s start-up included); "
               "setpoints must fit in 32-bit counts. Exit 1 when the bus cannot be opened or the move did not "
               "complete."},
+    {.name = "tune",
+     .summary = "the fastest plan whose residual stays within --residual-max over the modes' uncertainty band",
+     .usage = "",
+     .groups = {kTuneMove, kTune, kOutput},
+     .notes = "Give --modes-from or --mode, and --time or limits (--vmax, --amax, --jmax). Every registered profile "
+              "is tried alone and with ZV, ZVD and EI composed over the modes, designed at the nominal modes and "
+              "retuned within the band (docs/tuning.md). Bounds: at most 4 modes; a search too fine to bound "
+              "(omega_hi x move duration too large) is refused (too_much_work). No plan within the bound: exit 2, "
+              "no_feasible_plan."},
     {.name = "drive info",
      .summary = "read a drive's identity, strings and PDO configuration over SDO",
      .usage = "",

@@ -1,5 +1,6 @@
 #include "settle/sim/figures.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -108,6 +109,65 @@ SimStatus write_stream_figure(const std::string& dir, const std::string& name, c
       "     '' every ::1 using 2:5 with lines lw 2 title 'load position (TPDO2)', \\\n"
       "     '' every ::1 using 2:6 with lines dt 2 title 'load position, offline replay'\n";
   return plot(dir, name, script, out, "noenhanced size 900,500");  // ids and paths are plain text
+}
+
+SimStatus write_tune_figure(const TuneResult& r, const std::string& dir, const std::string& name, FigureFiles& out) {
+  if (r.chosen >= r.candidates.size() || r.modes.empty()) return SimStatus::bad_range;
+  // The chosen plan and the closest of the faster ones it beat.
+  std::vector<const TuneCandidate*> shown{&r.candidates[r.chosen]};
+  for (std::size_t i = r.chosen; i-- > 0 && shown.size() < 7;) {
+    if (r.candidates[i].planned && r.candidates[i].evaluated) shown.push_back(&r.candidates[i]);
+  }
+  SimStatus st = prepare(dir, out);
+  if (st != SimStatus::ok) return st;
+  constexpr std::size_t kPoints = 401;
+  // x: frequency error in % around each mode's nominal, over twice its band (at least +-10 %).
+  double lo_pct = -10.0, hi_pct = 10.0;
+  for (const UncertainMode& m : r.modes) {
+    lo_pct = std::min(lo_pct, 2.0 * 100.0 * (m.omega_lo / m.omega - 1.0));
+    hi_pct = std::max(hi_pct, 2.0 * 100.0 * (m.omega_hi / m.omega - 1.0));
+  }
+  lo_pct = std::max(lo_pct, -95.0);
+  std::string csv = "error_pct";
+  std::vector<std::vector<double>> cols;
+  std::string plot_cmd = "plot ";
+  std::size_t col = 2;
+  for (const TuneCandidate* c : shown) {
+    for (std::size_t j = 0; j < r.modes.size(); ++j) {
+      const UncertainMode& m = r.modes[j];
+      std::vector<double> y;
+      st = residual_curve(c->move, m.omega * (1.0 + lo_pct / 100.0), m.omega * (1.0 + hi_pct / 100.0), m.zeta, kPoints,
+                          y);
+      if (st != SimStatus::ok) return st;
+      cols.push_back(std::move(y));
+      const std::string title = c->name + fmt(" (%.4g s)", c->duration) +
+                                (r.modes.size() > 1 ? " mode " + std::to_string(j + 1) : std::string{});
+      csv += "," + c->name + "_mode" + std::to_string(j + 1);
+      plot_cmd += (col > 2 ? ", " : "") + gnuplot_string(name + ".csv") + " skip 1 using 1:" + std::to_string(col) +
+                  " with lines" + (c == shown.front() ? " lw 3" : " lw 1 dt 2") + " title " + gnuplot_string(title);
+      ++col;
+    }
+  }
+  csv += "\n";
+  for (std::size_t i = 0; i < kPoints; ++i) {
+    csv += fmt("%.6g", lo_pct + (hi_pct - lo_pct) * static_cast<double>(i) / static_cast<double>(kPoints - 1));
+    for (const std::vector<double>& y : cols) csv += fmt(",%.9g", y[i]);
+    csv += "\n";
+  }
+  if (!write_text((fs::path{dir} / (name + ".csv")).string(), csv)) return SimStatus::io_error;
+  out.csv.push_back((fs::path{dir} / (name + ".csv")).string());
+  std::string edges;
+  for (const UncertainMode& m : r.modes) {
+    for (double e : {100.0 * (m.omega_lo / m.omega - 1.0), 100.0 * (m.omega_hi / m.omega - 1.0)}) {
+      edges += "set arrow from " + fmt("%.6g", e) + ", graph 0 to " + fmt("%.6g", e) + ", graph 1 nohead dt 3\n";
+    }
+  }
+  const std::string script =
+      "set title " + gnuplot_string("settle tune: residual over the band (bound " + fmt("%.4g", r.residual_max) + ")") +
+      "\nset xlabel 'frequency error (% of the nominal omega)'\nset ylabel 'residual / unshaped residual'\n"
+      "set key top left\n" + edges + plot_cmd + ", " + fmt("%.9g", r.residual_max) +
+      " with lines lc rgb 'red' title 'residual max'\n";
+  return plot(dir, name, script, out, "noenhanced size 1000,600");
 }
 
 SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out) {

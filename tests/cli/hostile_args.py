@@ -64,6 +64,7 @@ BASE = {
     # The interface does not exist: plant validates everything, then fails to open it (exit 1).
     "plant": ["--bus", "settle-hostile0", "--duration", "0.2"],
     "stream": ["--bus", "loopback", "--profile", "poly345", "--distance", "0.01", "--time", "0.1"],
+    "tune": ["--mode", "12.566,0.03", "--uncertainty", "10", "--distance", "0.1", "--time", "0.5"],
     # settle drive against the simulated drive in its own process.
     "drive info": ["--bus", "loopback", "--node", "2"],
     "drive read": ["--bus", "loopback", "--index", "0x6041", "--type", "u16"],
@@ -72,7 +73,7 @@ BASE = {
     "drive config": ["--bus", "loopback", "--eds", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                                                 "hal", "eds", "split_rpdo_drive.eds")],
 }
-WEIGHT = {"plan": 20, "sample": 14, "simulate": 26, "reproduce": 6, "plant": 12, "stream": 22,
+WEIGHT = {"plan": 20, "sample": 14, "simulate": 26, "reproduce": 6, "plant": 12, "stream": 22, "tune": 12,
           "drive info": 4, "drive read": 6, "drive write": 8, "drive scan": 3, "drive config": 5}
 
 # Sizes no run may honour; each must be refused before any work (exit 2).
@@ -86,6 +87,8 @@ ABSURD = {
     "plant": [["--duration", "1e300"], ["--sync-loss-periods", "1e9"], ["--period-us", "1e12"]],
     "stream": [["--time", "1e5"], ["--time", "3000"], ["--time", "900", "--period-us", "100"], ["--settle-time", "1e9"],
                ["--distance", "1e6"], ["--counts-per-unit", "1e9", "--distance", "10"], ["--time", "1e300"]],
+    "tune": [["--mode", "1e6,0.01", "--time", "3600"], ["--time", "3600"], ["--uncertainty", "1e300"],
+             ["--uncertainty", "90", "--time", "3000"], ["--modes-from", "@TMP@/absent.json"], ["--png", "@TMP@/t.svg"]],
     "drive info": [["--timeout-ms", "1e9"], ["--node", "1e300"]],
     "drive read": [["--index", "0x100000000"], ["--index", "0xFFFFFFFFFFFFFFFFFFFF"], ["--sub", "1e9"],
                    ["--timeout-ms", "99999999999999999999"]],
@@ -324,6 +327,7 @@ def main():
                     help=f"a sanitized settle: a valid run (exit 0) may take {SANITIZED_LIMIT_S:.0f} s")
     ap.add_argument("--skip-if-missing", action="store_true",
                     help="exit 77 (ctest: skipped) when --settle does not exist (the sanitized build is optional)")
+    ap.add_argument("--commands", default="", help="only these commands (comma-separated), for a quick local run")
     a = ap.parse_args()
     if a.skip_if_missing and not os.path.exists(a.settle):
         print(f"{a.settle} not built: skipped (cmake --preset host-clang-sanitize && cmake --build --preset "
@@ -331,8 +335,9 @@ def main():
         return 77
     a.settle = os.path.abspath(a.settle)
     rng = random.Random(a.seed)
-    opts = {c: help_options(a.settle, c) for c in BASE}
-    commands = [c for c in BASE for _ in range(WEIGHT[c])]
+    opts = {c: help_options(a.settle, c) for c in BASE if not a.commands or c in a.commands.split(",")}
+    only = set(a.commands.split(",")) if a.commands else set(BASE)
+    commands = [c for c in BASE if c in only for _ in range(WEIGHT[c])]
     failures = []
     codes = {}
     slowest = (0.0, None)

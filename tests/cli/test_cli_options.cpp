@@ -13,6 +13,7 @@
 
 #include "move_options.hpp"
 #include "options.hpp"
+#include "refusal.hpp"
 #include "run_cli.hpp"
 #include "settle/sim/move_vocabulary.hpp"
 
@@ -21,6 +22,8 @@ namespace {
 using settle::test::CliResult;
 using settle::test::run_cli;
 using settle::test::run_cli_argv;
+using settle::test::Case;
+using settle::test::expect_refused;
 
 // A move, a plant and a bus that are valid for stream and plant, so that the one bad option of
 // each case is the only thing wrong. The interface does not exist: nothing here opens a bus.
@@ -28,33 +31,6 @@ const std::string kStream = "stream --bus loopback --profile poly345 --distance 
 const std::string kPlant = "plant --bus settle-no-such-can ";
 const std::string kPlan = "plan --profile poly345 --distance 0.1 --time 1 ";
 const std::string kSimulate = "simulate --profile poly345 --distance 0.1 --time 1 ";
-
-struct Case {
-  std::string args;
-  std::string param;  // the option the error must name
-  std::string code;   // "" = any
-};
-
-void expect_refused(const Case& c) {
-  SCOPED_TRACE(c.args);
-  const CliResult text = run_cli(c.args);
-  EXPECT_EQ(text.status, 2) << text.out;
-  EXPECT_TRUE(text.stdout_text.empty()) << "nothing on stdout on exit 2: " << text.stdout_text;
-  EXPECT_EQ(std::count(text.stderr_text.begin(), text.stderr_text.end(), '\n'), 1) << text.stderr_text;
-  // The option named is the one given: "settle: error: --node: ..." (or "... option --x ...").
-  EXPECT_NE(text.stderr_text.find(c.param + ":"), std::string::npos) << text.stderr_text;
-  const CliResult json = run_cli(c.args + " --json");
-  EXPECT_EQ(json.status, 2) << json.out;
-  const auto j = nlohmann::json::parse(json.stdout_text, nullptr, false);
-  ASSERT_FALSE(j.is_discarded()) << json.stdout_text;
-  EXPECT_EQ(j.at("status"), "error");
-  EXPECT_EQ(j.at("parameter"), c.param) << json.stdout_text;
-  if (!c.code.empty()) {
-    EXPECT_EQ(j.at("error"), c.code) << json.stdout_text;
-  }
-  EXPECT_FALSE(j.at("message").get<std::string>().empty());
-  EXPECT_EQ(std::count(json.stdout_text.begin(), json.stdout_text.end(), '\n'), 1) << json.stdout_text;
-}
 
 // Issue 12 item 4, case by case.
 TEST(CliOptions, StreamAndPlantIntegersAreCheckedNotCast) {
@@ -321,13 +297,15 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
   };
   const std::vector<std::pair<std::string, std::set<std::string>>> expected = {
       {"plan", join({move})},
-      {"sample", join({move, {"--dt"}})},
+      {"sample", join({move, {"--dt", "--plan-from"}})},
       {"simulate", join({move, plant, {"--csv", "--dt", "--band", "--tail", "--sensitivity"}})},
       {"reproduce", join({{"--out"}})},
       {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--log", "--duration"}})},
       {"stream", join({move, plant, drive,
-                       {"--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--eds", "--pm-qos", "--heartbeat-ms",
+                       {"--plan-from", "--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--eds", "--pm-qos", "--heartbeat-ms",
                         "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log"}})},
+      {"tune", join({{"--distance", "--time", "--vmax", "--amax", "--jmax", "--modes-from", "--mode", "--residual-max",
+                      "--uncertainty", "--zeta-pm", "--png"}})},
       {"demo", join({{"--bus", "--out", "--list"}})},
       {"drive info", join({{"--bus", "--timeout-ms", "--eds", "--node"}})},
       {"drive read", join({{"--bus", "--timeout-ms", "--eds", "--node", "--index", "--sub", "--type"}})},

@@ -10,6 +10,7 @@
 
 #include "settle/sim/reproduce.hpp"
 #include "settle/sim/status.hpp"
+#include "settle/sim/tune.hpp"
 
 namespace settle::sim {
 
@@ -29,6 +30,13 @@ struct FigureFiles {
 // Writes <name>.gp and, with gnuplot, <name>.png in `dir`.
 [[nodiscard]] SimStatus write_stream_figure(const std::string& dir, const std::string& name, const std::string& csv,
                                             const std::string& title, FigureFiles& out);
+
+// `settle tune --png`: residual (fraction of the unshaped residual) against frequency error (%) of
+// each mode, at its nominal damping, for the chosen plan and the (at most six) slowest of the faster
+// plans it beat, with the bound and the band's edges. Writes <name>.csv, <name>.gp and, with
+// gnuplot, <name>.png in `dir`.
+[[nodiscard]] SimStatus write_tune_figure(const TuneResult& r, const std::string& dir, const std::string& name,
+                                          FigureFiles& out);
 
 // `text` as a gnuplot single-quoted string: ' doubled (gnuplot's escape; backslashes are literal
 // there), line breaks as spaces (a gnuplot command is one line).

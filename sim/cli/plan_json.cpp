@@ -1,0 +1,172 @@
+#include "plan_json.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "settle/core/profiles/registry.hpp"
+#include "settle/sim/move_vocabulary.hpp"
+
+namespace settle::cli {
+
+Json plan_json(const core::Move<double>& m) {
+  Json j;
+  j["status"] = "ok";
+  j["profile"] = core::to_string(m.profile().kind());
+  j["distance"] = m.distance();
+  j["duration"] = m.duration();
+  j["profile_duration"] = m.profile().duration();
+  Json params = Json::object();
+  for (const auto& [k, v] : sim::profile_params(m.profile())) params[k] = v;
+  j["params"] = params;
+  const auto& pk = m.peaks();
+  const bool impulse_a = pk.velocity_step || pk.acceleration_step;
+  Json peaks;
+  peaks["velocity"] = pk.v;
+  peaks["acceleration"] = pk.velocity_step && !std::isfinite(pk.a) ? Json(nullptr) : Json(pk.a);
+  peaks["jerk"] = impulse_a && !std::isfinite(pk.j) ? Json(nullptr) : Json(pk.j);
+  peaks["velocity_step"] = pk.velocity_step;
+  peaks["acceleration_step"] = pk.acceleration_step;
+  j["peaks"] = peaks;
+  Json impulses = Json::array();
+  for (std::size_t i = 0; i < m.shaper().count; ++i) {
+    impulses.push_back(Json{{"amplitude", m.shaper().amp[i]}, {"time", m.shaper().time[i]}});
+  }
+  j["shaper"]["impulses"] = impulses;
+  return j;
+}
+
+Json request_json(const core::MoveRequest& r) {
+  Json j;
+  j["profile"] = core::to_string(r.profile);
+  j["distance"] = r.distance;
+  if (r.time) j["time"] = *r.time;
+  if (r.vmax) j["vmax"] = *r.vmax;
+  if (r.amax) j["amax"] = *r.amax;
+  if (r.jmax) j["jmax"] = *r.jmax;
+  if (r.omega) j["omega"] = *r.omega;
+  j["zeta"] = r.zeta;
+  return j;
+}
+
+bool read_bounded_file(const std::string& path, const std::string& option, std::size_t max_bytes, std::string& out,
+                       RequestError& err) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) {
+    err = {"cannot_read", option, option + ": cannot read '" + path + "'"};
+    return false;
+  }
+  std::string text;
+  char buf[65536];
+  std::size_t n = 0;
+  bool too_large = false;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
+    if (text.size() + n > max_bytes) {
+      too_large = true;
+      break;
+    }
+    text.append(buf, n);
+  }
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (too_large) {
+    err = {"file_too_large", option, option + ": '" + path + "' is larger than " + std::to_string(max_bytes) + " bytes"};
+    return false;
+  }
+  if (failed) {
+    err = {"cannot_read", option, option + ": cannot read '" + path + "' (a directory?)"};
+    return false;
+  }
+  out = std::move(text);
+  return true;
+}
+
+namespace {
+
+bool close_to(double a, double b) { return std::fabs(a - b) <= 1e-9 * std::max({1.0, std::fabs(a), std::fabs(b)}); }
+
+}  // namespace
+
+bool load_plan_file(const std::string& path, const std::string& option, core::Move<double>& out, RequestError& err) {
+  std::string text;
+  if (!read_bounded_file(path, option, kMaxPlanFileBytes, text, err)) return false;
+  auto bad = [&](const std::string& why) {
+    err = {"bad_plan_file", option, option + ": " + why};
+    return false;
+  };
+  const Json j = Json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return bad("not a JSON object (the output of settle tune --json)");
+  if (!j.contains("status") || j["status"] != "ok") return bad("\"status\" is not \"ok\"");
+  if (!j.contains("request") || !j["request"].is_object()) return bad("no \"request\" object");
+  const Json& rq = j["request"];
+  core::MoveRequest r{};
+  if (!rq.contains("profile") || !rq["profile"].is_string() ||
+      !core::parse_profile_kind(rq["profile"].get<std::string>().c_str(), r.profile)) {
+    return bad("request.profile is not a profile's name (" + sim::profile_list() + ")");
+  }
+  auto number = [&](const char* key, std::optional<double>& to, bool required) {
+    if (!rq.contains(key)) return !required;
+    if (!rq[key].is_number() || !std::isfinite(rq[key].get<double>())) return false;
+    to = rq[key].get<double>();
+    return true;
+  };
+  std::optional<double> distance, zeta;
+  for (auto [key, to, required] : {std::tuple{"distance", &distance, true}, std::tuple{"time", &r.time, false},
+                                   std::tuple{"vmax", &r.vmax, false}, std::tuple{"amax", &r.amax, false},
+                                   std::tuple{"jmax", &r.jmax, false}, std::tuple{"omega", &r.omega, false},
+                                   std::tuple{"zeta", &zeta, false}}) {
+    if (!number(key, *to, required)) return bad(std::string{"request."} + key + " is missing or not a finite number");
+  }
+  r.distance = *distance;
+  r.zeta = zeta.value_or(0.0);
+  if (!j.contains("shaper") || !j["shaper"].is_object() || !j["shaper"].contains("impulses") ||
+      !j["shaper"]["impulses"].is_array()) {
+    return bad("no \"shaper\": {\"impulses\": [...]}");
+  }
+  const Json& imp = j["shaper"]["impulses"];
+  if (imp.empty() || imp.size() > core::kMaxImpulses) {
+    return bad("shaper.impulses must hold 1 to " + std::to_string(core::kMaxImpulses) + " impulses");
+  }
+  std::vector<double> amp, time;
+  for (const Json& i : imp) {
+    if (!i.is_object() || !i.contains("amplitude") || !i.contains("time") || !i["amplitude"].is_number() ||
+        !i["time"].is_number()) {
+      return bad("every shaper impulse needs numbers \"amplitude\" and \"time\"");
+    }
+    amp.push_back(i["amplitude"].get<double>());
+    time.push_back(i["time"].get<double>());
+  }
+  core::Move<double> bare{};
+  if (const core::Status st = core::plan(r, bare); st != core::Status::ok) {
+    return bad(std::string{"its request does not plan: "} + core::describe(st));
+  }
+  core::Shaper<double> shaper{};
+  if (const core::Status st = core::custom_shaper(amp.data(), time.data(), amp.size(), shaper); st != core::Status::ok) {
+    return bad(std::string{"its shaper is not valid: "} + core::describe(st));
+  }
+  const core::Move<double> m{bare.profile(), shaper, core::shaped_peaks(bare.profile(), shaper, bare.peaks())};
+  // The file's plan and the one planned again must be the same move.
+  const Json again = plan_json(m);
+  auto mismatch = [&](const std::string& what) {
+    err = {"plan_mismatch", option, option + ": " + what + " differs from what its request plans (edited, or made by another version?)"};
+    return false;
+  };
+  if (!j.contains("profile") || j["profile"] != again["profile"]) return mismatch("profile");
+  for (const char* key : {"distance", "duration", "profile_duration"}) {
+    if (!j.contains(key) || !j[key].is_number() || !close_to(j[key].get<double>(), again[key].get<double>())) {
+      return mismatch(key);
+    }
+  }
+  if (!j.contains("params") || !j["params"].is_object() || j["params"].size() != again["params"].size()) {
+    return mismatch("params");
+  }
+  for (const auto& [k, v] : again["params"].items()) {
+    if (!j["params"].contains(k) || !j["params"][k].is_number() || !close_to(j["params"][k].get<double>(), v.get<double>())) {
+      return mismatch("params." + k);
+    }
+  }
+  out = m;
+  return true;
+}
+
+}  // namespace settle::cli

@@ -1,0 +1,355 @@
+// settle tune and --plan-from as a user meets them (issue 15): the tuned plan is printed as
+// `settle plan --json` prints a plan, with its band and worst residual; it streams over the
+// loopback bus with exactly the setpoints the plan evaluates to; and every bad input is refused
+// naming its option.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "refusal.hpp"
+#include "run_cli.hpp"
+
+namespace {
+
+using settle::test::Case;
+using settle::test::CliResult;
+using settle::test::expect_refused;
+using settle::test::run_cli;
+using Json = nlohmann::json;
+namespace fs = std::filesystem;
+
+// A directory of its own for the files these tests write.
+fs::path scratch() {
+  static const fs::path dir = [] {
+    fs::path d = fs::temp_directory_path() / ("settle_cli_tune_" + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const fs::path p = scratch() / name;
+  std::ofstream{p} << text;
+  return p.string();
+}
+
+// What `settle identify --json` prints (issue 15): two modes with their intervals.
+const std::string kIdentified = R"({"status":"ok","modes":[
+  {"omega":12.566,"zeta":0.03,"gain":1.0,"omega_ci":[12.2,12.9],"zeta_ci":[0.02,0.045]},
+  {"omega":44.0,"zeta":0.02,"gain":0.4,"omega_ci":[43.1,45.3],"zeta_ci":[0.012,0.03]}],
+  "excitation":{"distance":0.01},"fit":{"order":4,"rms_residual":0.001}})";
+
+const std::string kMove = " --distance 0.1 --vmax 0.5 --amax 5 --jmax 200";
+
+Json run_json(const std::string& args) {
+  const CliResult r = run_cli(args + " --json");
+  EXPECT_EQ(r.status, 0) << args << "\n" << r.out;
+  const Json j = Json::parse(r.stdout_text, nullptr, false);
+  EXPECT_FALSE(j.is_discarded()) << r.stdout_text;
+  return j;
+}
+
+TEST(CliTune, TheChosenPlanIsPrintedAsPlanPrintsItWithItsBand) {
+  const std::string file = write("identified.json", kIdentified);
+  const Json j = run_json("tune --modes-from " + file + kMove);
+  ASSERT_EQ(j.at("status"), "ok");
+  // Every key of `settle plan --json`, in its order, then the tuner's own.
+  const Json plan = run_json("plan --profile poly345 --distance 0.1 --time 1");
+  std::vector<std::string> plan_keys, tune_keys;
+  for (auto it = plan.begin(); it != plan.end(); ++it) plan_keys.push_back(it.key());
+  for (auto it = j.begin(); it != j.end(); ++it) tune_keys.push_back(it.key());
+  for (const std::string& k : plan_keys) EXPECT_TRUE(j.contains(k)) << k;
+  for (const char* k : {"robust_band", "worst_residual", "residual_max", "family", "request", "alternatives"}) {
+    EXPECT_TRUE(j.contains(k)) << k;
+  }
+  // The band is the identified intervals, sorted by omega, and the worst is within the bound.
+  const Json& modes = j.at("robust_band").at("modes");
+  ASSERT_EQ(modes.size(), 2u);
+  EXPECT_EQ(j.at("robust_band").at("uncertainty"), "ci");
+  EXPECT_EQ(modes[0].at("omega_band"), Json::parse("[12.2,12.9]"));
+  EXPECT_EQ(modes[1].at("zeta_band"), Json::parse("[0.012,0.03]"));
+  EXPECT_LE(j.at("worst_residual").get<double>(), 0.05);
+  EXPECT_EQ(j.at("residual_max"), 0.05);
+  // Peaks within the limits, and every faster alternative was checked and fails.
+  EXPECT_LE(j.at("peaks").at("velocity").get<double>(), 0.5 * (1 + 1e-9));
+  EXPECT_LE(j.at("peaks").at("acceleration").get<double>(), 5.0 * (1 + 1e-9));
+  EXPECT_LE(j.at("peaks").at("jerk").get<double>(), 200.0 * (1 + 1e-9));
+  bool seen_chosen = false;
+  for (const Json& a : j.at("alternatives")) {
+    if (a.at("chosen") == true) {
+      seen_chosen = true;
+      EXPECT_DOUBLE_EQ(a.at("duration").get<double>(), j.at("duration").get<double>());
+      continue;
+    }
+    if (!seen_chosen && a.at("planned") == true) {
+      EXPECT_TRUE(a.at("evaluated").get<bool>()) << a;
+      EXPECT_FALSE(a.at("meets").get<bool>()) << a;
+      EXPECT_GT(a.at("worst_residual").get<double>(), 0.05) << a;
+      EXPECT_LE(a.at("duration").get<double>(), j.at("duration").get<double>()) << a;
+    }
+  }
+  EXPECT_TRUE(seen_chosen);
+}
+
+// With one mode, every family is something `settle plan` can be asked for directly: the profile
+// and shaper designed at the family's design point (EI with --vtol = --residual-max). The tuned plan
+// must then be exactly what `settle plan --json` prints for that request.
+TEST(CliTune, AOneModePlanIsExactlyWhatPlanPrintsForItsDesign) {
+  for (const std::string& args : {"--mode 12.566,0.03 --uncertainty 10" + kMove,
+                                   std::string{"--mode 30,0.02 --uncertainty 10 --distance 0.2 --time 0.4"},
+                                   std::string{"--mode 20,0.05 --uncertainty 25 --distance -0.05 --vmax 0.3 --amax 2"},
+                                   std::string{"--mode 9,0.01 --uncertainty 5 --distance 0.3 --time 0.5 --residual-max 0.02"}}) {
+    SCOPED_TRACE(args);
+    const Json t = run_json("tune " + args);
+    const Json& rq = t.at("request");
+    const Json& family = t.at("family");
+    std::string plan = "plan --profile " + rq.at("profile").get<std::string>();
+    for (const char* k : {"distance", "time", "vmax", "amax", "jmax", "omega", "zeta"}) {
+      if (rq.contains(k)) {
+        std::ostringstream v;
+        v.precision(17);
+        v << rq.at(k).get<double>();
+        plan += std::string{" --"} + k + " " + v.str();
+      }
+    }
+    plan += " --shaper " + family.at("shaper").get<std::string>();
+    if (family.at("shaper") != "none") {
+      // The shaper was designed at the family's design point, the same as the profile's.
+      EXPECT_EQ(family.at("design_modes")[0].at("omega"), rq.at("omega"));
+      std::ostringstream v;
+      v.precision(17);
+      v << t.at("residual_max").get<double>();
+      plan += " --vtol " + v.str();
+    }
+    const Json p = run_json(plan);
+    for (auto it = p.begin(); it != p.end(); ++it) EXPECT_EQ(t.at(it.key()), it.value()) << it.key();
+  }
+}
+
+TEST(CliTune, HereAWiderBandOrATighterBoundCostsTime) {
+  const double base = run_json("tune --mode 12.566,0.03 --uncertainty 5" + kMove).at("duration").get<double>();
+  const double wider = run_json("tune --mode 12.566,0.03 --uncertainty +-20" + kMove).at("duration").get<double>();
+  const double tighter =
+      run_json("tune --mode 12.566,0.03 --uncertainty 5 --residual-max 0.01" + kMove).at("duration").get<double>();
+  EXPECT_GE(wider, base);
+  EXPECT_GE(tighter, base);
+  const Json j = run_json("tune --mode 12.566,0.03 --uncertainty 20" + kMove);
+  EXPECT_EQ(j.at("robust_band").at("uncertainty"), "+-20%");
+  EXPECT_NEAR(j.at("robust_band").at("modes")[0].at("omega_band")[0].get<double>(), 12.566 * 0.8, 1e-12);
+  EXPECT_NEAR(j.at("robust_band").at("modes")[0].at("zeta_band")[1].get<double>(), 0.04, 1e-12);
+}
+
+TEST(CliTune, TextOutputNamesTheChoiceAndItsWorstResidual) {
+  const CliResult r = run_cli("tune --mode 30,0.02 --uncertainty 10 --distance 0.2 --time 0.4");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.stdout_text.find("chosen"), std::string::npos);
+  EXPECT_NE(r.stdout_text.find("worst"), std::string::npos);
+  EXPECT_NE(r.stdout_text.find("alternatives"), std::string::npos);
+}
+
+// The tick log of `settle stream --log`: target counts of the ticks during which the loop was moving.
+std::vector<long long> moving_targets(const std::string& csv) {
+  std::ifstream in{csv};
+  std::string line;
+  std::getline(in, line);  // header: tick,t,target,sent,moving,...
+  std::vector<long long> out;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss{line};
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    if (f.size() > 4 && f[4] == "1") out.push_back(std::stoll(f[2]));
+  }
+  return out;
+}
+
+TEST(CliTune, StreamPlanFromStreamsExactlyTheTunedPlan) {
+  // Intervals of +-10 %: wide enough that the fastest robust plan is a shaped one.
+  const std::string file = write("identified2.json", R"({"status":"ok","modes":[
+    {"omega":12.566,"zeta":0.03,"gain":1.0,"omega_ci":[11.31,13.82],"zeta_ci":[0.02,0.04]},
+    {"omega":44.0,"zeta":0.02,"gain":0.4,"omega_ci":[39.6,48.4],"zeta_ci":[0.01,0.03]}]})");
+  const CliResult t = run_cli("tune --modes-from " + file + kMove + " --json");
+  ASSERT_EQ(t.status, 0) << t.out;
+  const std::string plan = write("tuned.json", t.stdout_text);
+  const Json tuned = Json::parse(t.stdout_text);
+  // The plan's own evaluation at every period, printed by sample from the same file.
+  const CliResult s = run_cli("sample --plan-from " + plan + " --dt 0.001 --json");
+  ASSERT_EQ(s.status, 0) << s.out;
+  const Json rows = Json::parse(s.stdout_text).at("rows");
+  EXPECT_DOUBLE_EQ(rows.back()[0].get<double>(), tuned.at("duration").get<double>());
+  EXPECT_DOUBLE_EQ(rows.back()[1].get<double>(), 0.1);
+  const std::string log = (scratch() / "ticks.csv").string();
+  const CliResult st = run_cli("stream --bus loopback --plan-from " + plan +
+                               " --plant modes --mode 12.566,0.03,1 --mode 44,0.02,0.4 --log " + log + " --json");
+  ASSERT_EQ(st.status, 0) << st.out;
+  const Json report = Json::parse(st.stdout_text);
+  EXPECT_EQ(report.at("profile"), tuned.at("profile"));
+  EXPECT_DOUBLE_EQ(report.at("move_time").get<double>(), tuned.at("duration").get<double>());
+  // One moving tick per period from t = 0 to the end: the setpoint is the plan's position in counts
+  // (1e6 counts per unit, the default).
+  const std::vector<long long> targets = moving_targets(log);
+  ASSERT_EQ(targets.size(), rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_EQ(targets[k], std::llround(rows[k][1].get<double>() * 1e6)) << "period " << k;
+  }
+  // On a plant whose modes sit where the tuner found each one's worst case, the residual measured
+  // through the bus is the tuner's prediction: per mode r_j (relative to a step), combined as the
+  // plant's PRV combines them, sum g_j r_j s_j / sum g_j s_j with s_j = 1 / sqrt(1 - zeta_j^2).
+  std::string corner = "stream --bus loopback --plan-from " + plan + " --plant modes --json";
+  double num = 0.0, den = 0.0;
+  for (const Json& m : tuned.at("robust_band").at("modes")) {
+    const double w = m.at("worst_at").at("omega").get<double>(), z = m.at("worst_at").at("zeta").get<double>();
+    const double g = m.at("gain").get<double>(), sz = 1.0 / std::sqrt(1.0 - z * z);
+    std::ostringstream mode;
+    mode.precision(17);
+    mode << w << "," << z << "," << g;
+    corner += " --mode " + mode.str();
+    num += std::fabs(g) * m.at("worst_residual").get<double>() * sz;
+    den += std::fabs(g) * sz;
+  }
+  const CliResult at_corner = run_cli(corner);
+  ASSERT_EQ(at_corner.status, 0) << at_corner.out;
+  const Json measured = Json::parse(at_corner.stdout_text);
+  EXPECT_NEAR(measured.at("prv_continuous_percent").get<double>(), 100.0 * num / den, 1e-3 * 100.0 * num / den);
+  EXPECT_NEAR(measured.at("prv_can_percent").get<double>(), 100.0 * num / den, 2e-2 * 100.0 * num / den);
+  EXPECT_LE(measured.at("prv_can_percent").get<double>(), 5.0);
+  // The plan is a shaped one (so the shaper's impulses travelled through the file too).
+  EXPECT_GT(tuned.at("shaper").at("impulses").size(), 1u);
+  EXPECT_NE(tuned.at("family").at("shaper"), "none");
+}
+
+TEST(CliTune, PngDrawsTheChosenPlanAndTheOnesItBeat) {
+  const fs::path png = scratch() / "tune.png";
+  const CliResult r = run_cli("tune --mode 12.566,0.03 --uncertainty 10" + kMove + " --png " + png.string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(fs::exists(scratch() / "tune.gp"));
+  std::ifstream csv{scratch() / "tune.csv"};
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("error_pct,", 0), 0u) << header;
+  EXPECT_GE(std::count(header.begin(), header.end(), ','), 2) << "the chosen plan and at least one it beat";
+  if (r.stderr_text.find("gnuplot not found") == std::string::npos) {
+    EXPECT_TRUE(fs::exists(png));
+  }
+}
+
+TEST(CliTune, BadInputsExitTwoNamingTheOption) {
+  const std::string ok_modes = write("ok.json", kIdentified);
+  const std::string m = "tune --mode 12.566,0.03 --uncertainty 10" + kMove;
+  const std::string f = "tune --modes-from " + ok_modes + kMove;
+  auto file = [&](const std::string& name, const std::string& text) {
+    return "tune --modes-from " + write(name, text) + kMove;
+  };
+  std::string big(2 << 20, ' ');
+  big[0] = '{';
+  const std::vector<Case> cases = {
+      {"tune" + kMove, "--mode", "missing_option"},
+      {f + " --mode 10,0.1 --uncertainty 10", "--mode", "conflicting_options"},
+      {"tune --mode 12.566,0.03" + kMove, "--uncertainty", "missing_interval"},
+      {"tune --mode 12.566,0.03 --uncertainty abc" + kMove, "--uncertainty", "bad_uncertainty"},
+      {"tune --mode 12.566,0.03 --uncertainty 0" + kMove, "--uncertainty", "bad_uncertainty"},
+      {"tune --mode 12.566,0.03 --uncertainty 95" + kMove, "--uncertainty", "bad_uncertainty"},
+      {"tune --mode 12.566,0.03 --uncertainty nan" + kMove, "--uncertainty", "bad_uncertainty"},
+      {"tune --mode 12.566,0.03 --uncertainty -10" + kMove, "--uncertainty", "bad_uncertainty"},
+      {"tune --mode 0,0.1 --uncertainty 10" + kMove, "--mode", "out_of_range"},
+      {"tune --mode 10 --uncertainty 10" + kMove, "--mode", "bad_list"},
+      {"tune --mode 10,1.0 --uncertainty 10" + kMove, "--mode", "out_of_range"},
+      {"tune --mode 10,0.1,1,2 --uncertainty 10" + kMove, "--mode", "bad_list"},
+      {"tune --mode 10,nan --uncertainty 10" + kMove, "--mode", "non_finite_input"},
+      {"tune --mode 10,0.1 --mode 11,0.1 --mode 12,0.1 --mode 13,0.1 --mode 14,0.1 --uncertainty 10" + kMove,
+       "--mode", "too_many_values"},
+      {m + " --residual-max 0", "--residual-max", "out_of_range"},
+      {m + " --residual-max 1", "--residual-max", "out_of_range"},
+      {m + " --residual-max nan", "--residual-max", "non_finite_input"},
+      {m + " --zeta-pm 0.6", "--zeta-pm", "out_of_range"},
+      {"tune --mode 12.566,0.03 --uncertainty 10 --vmax 1", "--distance", "missing_option"},
+      {"tune --mode 12.566,0.03 --uncertainty 10 --distance 0 --time 1", "--distance", "out_of_range"},
+      {"tune --mode 12.566,0.03 --uncertainty 10 --distance 0.1", "--time", "missing_option"},
+      {m + " --time 1", "--time", "conflicting_options"},
+      {"tune --mode 12.566,0.03 --uncertainty 10 --distance 0.1 --time 0", "--time", "out_of_range"},
+      {"tune --mode 12.566,0.03 --uncertainty 10 --distance 0.1 --vmax -1", "--vmax", "out_of_range"},
+      {m + " --png out.svg", "--png", "bad_png"},
+      // No plan meets the bound: a wide band and a tiny bound.
+      {"tune --mode 20,0.01 --uncertainty 60 --distance 0.1 --time 0.2 --residual-max 0.001", "--residual-max",
+       "no_feasible_plan"},
+      // A search too fine to bound: a fast mode under a long move.
+      {"tune --mode 1e4,0.01 --uncertainty 50 --distance 1 --time 100", "--mode", "too_much_work"},
+      // --modes-from: the file and each field.
+      {"tune --modes-from " + (scratch() / "absent.json").string() + kMove, "--modes-from", "cannot_read"},
+      {"tune --modes-from " + scratch().string() + kMove, "--modes-from", "cannot_read"},
+      {file("big.json", big), "--modes-from", "file_too_large"},
+      {file("notjson.json", "modes: 1"), "--modes-from", "bad_modes_file"},
+      {file("array.json", "[1,2]"), "--modes-from", "bad_modes_file"},
+      {file("failed.json", R"({"status":"error","error":"drive_never_enabled"})"), "--modes-from", "bad_modes_file"},
+      {file("nomodes.json", R"({"status":"ok"})"), "--modes-from", "bad_modes_file"},
+      {file("empty.json", R"({"status":"ok","modes":[]})"), "--modes-from", "bad_modes_file"},
+      {file("five.json", R"({"status":"ok","modes":[{"omega":1,"zeta":0},{"omega":2,"zeta":0},{"omega":3,"zeta":0},
+        {"omega":4,"zeta":0},{"omega":5,"zeta":0}]})"), "--modes-from", "bad_modes_file"},
+      {file("noomega.json", R"({"status":"ok","modes":[{"zeta":0.1,"omega_ci":[1,2],"zeta_ci":[0,0.2]}]})"),
+       "--modes-from", "bad_modes_file"},
+      {file("strzeta.json", R"({"status":"ok","modes":[{"omega":10,"zeta":"0.1"}]})"), "--modes-from",
+       "bad_modes_file"},
+      {file("badzeta.json", R"({"status":"ok","modes":[{"omega":10,"zeta":1.5,"omega_ci":[9,11],"zeta_ci":[0,0.2]}]})"),
+       "--modes-from", "bad_modes_file"},
+      {file("noci.json", R"({"status":"ok","modes":[{"omega":10,"zeta":0.1}]})"), "--modes-from", "bad_modes_file"},
+      {file("ciout.json", R"({"status":"ok","modes":[{"omega":10,"zeta":0.1,"omega_ci":[11,12],"zeta_ci":[0,0.2]}]})"),
+       "--modes-from", "bad_modes_file"},
+      {file("zci.json", R"({"status":"ok","modes":[{"omega":10,"zeta":0.1,"omega_ci":[9,11],"zeta_ci":[0.2,0.3]}]})"),
+       "--modes-from", "bad_modes_file"},
+      {file("ci3.json", R"({"status":"ok","modes":[{"omega":10,"zeta":0.1,"omega_ci":[9,10,11],"zeta_ci":[0,0.2]}]})"),
+       "--modes-from", "bad_modes_file"},
+      {file("gain.json", R"({"status":"ok","modes":[{"omega":10,"zeta":0.1,"gain":1e9,"omega_ci":[9,11],"zeta_ci":[0,0.2]}]})"),
+       "--modes-from", "bad_modes_file"},
+  };
+  for (const Case& c : cases) expect_refused(c);
+  // A damping interval reaching below 0 is clipped at 0 (a symmetric CI around a small zeta).
+  const CliResult clipped = run_cli(file("negzeta.json", R"({"status":"ok","modes":[{"omega":30,"zeta":0.004,
+    "omega_ci":[29.5,30.5],"zeta_ci":[-0.003,0.011]}]})") + " --json");
+  ASSERT_EQ(clipped.status, 0) << clipped.out;
+  EXPECT_EQ(Json::parse(clipped.stdout_text).at("robust_band").at("modes")[0].at("zeta_band")[0], 0.0);
+  // Without intervals the file is fine with a percentage band.
+  const CliResult r = run_cli(file("noci2.json", R"({"status":"ok","modes":[{"omega":30,"zeta":0.1}]})") +
+                              " --uncertainty 10");
+  EXPECT_EQ(r.status, 0) << r.out;
+}
+
+TEST(CliTune, PlanFromRefusesWhatIsNotThePlanItClaims) {
+  const CliResult t = run_cli("tune --mode 12.566,0.03 --uncertainty 10" + kMove + " --json");
+  ASSERT_EQ(t.status, 0) << t.out;
+  const Json tuned = Json::parse(t.stdout_text);
+  const std::string plan = write("plan_ok.json", t.stdout_text);
+  Json edited = tuned;
+  edited["params"].begin().value() = edited["params"].begin().value().get<double>() * 1.01 + 1e-3;
+  Json longer = tuned;
+  longer["duration"] = tuned["duration"].get<double>() + 0.1;
+  Json no_request = tuned;
+  no_request.erase("request");
+  Json bad_profile = tuned;
+  bad_profile["request"]["profile"] = "warp";
+  Json bad_shaper = tuned;
+  bad_shaper["shaper"]["impulses"][0]["amplitude"] = 5.0;
+  const std::string sample = "sample --dt 0.01 --plan-from ";
+  const std::string stream = "stream --bus loopback --plan-from ";
+  const std::vector<Case> cases = {
+      {sample + write("edited.json", edited.dump()), "--plan-from", "plan_mismatch"},
+      {sample + write("longer.json", longer.dump()), "--plan-from", "plan_mismatch"},
+      {stream + write("norequest.json", no_request.dump()), "--plan-from", "bad_plan_file"},
+      {stream + write("badprofile.json", bad_profile.dump()), "--plan-from", "bad_plan_file"},
+      {stream + write("badshaper.json", bad_shaper.dump()), "--plan-from", "bad_plan_file"},
+      {stream + write("garbage.json", "not json"), "--plan-from", "bad_plan_file"},
+      {stream + (scratch() / "missing.json").string(), "--plan-from", "cannot_read"},
+      {stream + plan + " --distance 0.1", "--distance", "conflicting_options"},
+      {stream + plan + " --profile poly345", "--profile", "conflicting_options"},
+      {sample + plan + " --shaper zv", "--shaper", "conflicting_options"},
+  };
+  for (const Case& c : cases) expect_refused(c);
+}
+
+}  // namespace
