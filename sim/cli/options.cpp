@@ -133,6 +133,12 @@ const std::vector<OptionSpec> kSimulate = {
     real("--tail", "s", "3 periods of the slowest mode", {0.0, kMaxSeconds},
          "time simulated after the move; move + tail at most 3600 s"),
     flag("--sensitivity", "also report the 5 % insensitivity width on the fundamental mode"),
+    real("--halt-at", "s", "", {0.0, kMaxSeconds},
+         "halt the move at T s from its start (T within the move): blend to rest within --vmax/--amax/--jmax "
+         "(else the move's own peaks; a trapezoid's jerk: amax x omega), its design mode left at rest "
+         "(docs/online.md)"),
+    text("--retarget-at", "", "at T s from the move's start (T within the move), blend to NEW_DISTANCE "
+         "(m or rad, -1e6..1e6) instead, likewise", "T:NEW_DISTANCE"),
 };
 
 const std::vector<OptionSpec> kStream = {

@@ -322,7 +322,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
   const std::vector<std::pair<std::string, std::set<std::string>>> expected = {
       {"plan", join({move})},
       {"sample", join({move, {"--dt"}})},
-      {"simulate", join({move, plant, {"--csv", "--dt", "--band", "--tail", "--sensitivity"}})},
+      {"simulate", join({move, plant, {"--csv", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
       {"reproduce", join({{"--out"}})},
       {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--log", "--duration"}})},
       {"stream", join({move, plant, drive,
