@@ -154,7 +154,7 @@ TEST(ServoLoopOnline, TheTickNeverPlansAHaltWithoutServiceTheMoveRunsOnUnchanged
   EXPECT_EQ(r.loop.online_missed(0), 1u);
 }
 
-TEST(ServoLoopOnline, RefusedWithoutConfigurationOrWithAFixedPointEvaluation) {
+TEST(ServoLoopOnline, RefusedWithoutConfigurationOrWithoutTheDoubleEvaluation) {
   Rig r;
   EXPECT_FALSE(r.loop.halt(0));  // not configured
   firmware::OnlineConfig bad{};
@@ -162,8 +162,13 @@ TEST(ServoLoopOnline, RefusedWithoutConfigurationOrWithAFixedPointEvaluation) {
   EXPECT_EQ(r.loop.configure_online(0, bad), firmware::LoopStatus::bad_axis_config);
   EXPECT_FALSE(r.loop.retarget(0, 0.1));
   EXPECT_EQ(r.loop.configure_online(3, online_config(planned(scurve(0.1, 0.5)))), firmware::LoopStatus::no_such_axis);
+  hal::LoopbackBus<16> other{r.hub};
+  firmware::ServoLoop<float, 1, 2, firmware::FloatEvaluation<float>> small{other, kPeriod};
+  EXPECT_EQ(small.configure_online(0, online_config(planned(scurve(0.1, 0.5)))), firmware::LoopStatus::evaluation_refused);
+  EXPECT_FALSE(small.halt(0));
   static_assert(firmware::ServoLoop<double, 1, 4>::kOnlineChanges);
   static_assert(!firmware::ServoLoop<double, 1, 4, firmware::FixedEvaluation>::kOnlineChanges);
+  static_assert(!firmware::ServoLoop<float, 1, 4, firmware::FloatEvaluation<float>>::kOnlineChanges);
 }
 
 TEST(OnlineMailbox, OneProducerThreadOneConsumerEveryCommandOnceInOrder) {

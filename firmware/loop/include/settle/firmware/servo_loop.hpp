@@ -199,9 +199,11 @@ class ServoLoop {
 
  public:
   // Online changes (halt(), retarget(): issue 17, docs/online.md) need the planned move itself
-  // (its state and mode memory at the switch): evaluations that keep it (FloatEvaluation) have
-  // them; the fixed-point ones keep only integer plans and refuse them.
-  static constexpr bool kOnlineChanges = requires(typename Evaluation::Stored& s) { s.move.duration(); };
+  // (its state and mode memory at the switch) and evaluate the blend in double: the double
+  // evaluation (a Linux drive, the host) has them. The float one (Cortex-M4F, micro:bit) would
+  // pay ~1 KiB of RAM per axis and soft-double work in the tick, not measured yet; the fixed-point
+  // ones keep only integer plans. Without them halt()/retarget() return false and nothing is stored.
+  static constexpr bool kOnlineChanges = std::is_same_v<Evaluation, FloatEvaluation<double>>;
 
   ServoLoop(Bus& bus, std::uint32_t period_us, const LoopConfig& config = {}) noexcept
       : bus_{bus}, period_us_{period_us}, config_{config}, sync_{period_us} {}
