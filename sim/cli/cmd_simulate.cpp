@@ -134,7 +134,7 @@ int cmd_simulate(int argc, char** argv) {
   core::Move<double> move{};
   if (!plan_move(req, move, err)) return report_bad_request(err, json);
   std::optional<OnlineChange> change;
-  if (!parse_online_change(args, req, move, &plant, change, err)) return report_bad_request(err, json);
+  if (!parse_online_change(args, req, move, &plant, 0.0, change, err)) return report_bad_request(err, json);
   const double cmd_duration = change ? change->at + change->blend.duration() : move.duration();
   // Sizes, before anything is allocated: the grid over the move, and with --csv the rows of the
   // history (move + tail, the tail defaulting to 3 periods of the fundamental as sim does).

@@ -18,7 +18,8 @@ bool split_retarget(const std::string& s, double& t, double& d) {
 }  // namespace
 
 bool parse_online_change(const ParsedArgs& args, const core::MoveRequest& req, const core::Move<double>& move,
-                         const sim::ModalPlant* plant, std::optional<OnlineChange>& out, RequestError& err) {
+                         const sim::ModalPlant* plant, double period, std::optional<OnlineChange>& out,
+                         RequestError& err) {
   out.reset();
   const bool halt = args.has("--halt-at"), retarget = args.has("--retarget-at");
   if (!halt && !retarget) return true;
@@ -53,6 +54,7 @@ bool parse_online_change(const ParsedArgs& args, const core::MoveRequest& req, c
            opt + ": T " + format_number(c.at) + " s is outside the move, 0.." + format_number(move.duration()) + " s"};
     return false;
   }
+  if (period > 0.0) c.at = std::fmax(std::nearbyint(c.at / period), 3.0) * period;
   const core::Peaks<double>& pk = move.peaks();
   if (req.omega) {
     c.modes.push_back({*req.omega, req.zeta});

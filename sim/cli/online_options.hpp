@@ -22,9 +22,10 @@ struct OnlineChange {
   core::Blend blend{};
 };
 
-// False with `err` on a bad value; true with `out` empty when neither option is given.
+// False with `err` on a bad value; true with `out` empty when neither option is given. A positive
+// `period` (stream) rounds T to whole periods, at least 3 (the loop asks two periods ahead).
 [[nodiscard]] bool parse_online_change(const ParsedArgs& args, const core::MoveRequest& req,
-                                       const core::Move<double>& move, const sim::ModalPlant* plant,
+                                       const core::Move<double>& move, const sim::ModalPlant* plant, double period,
                                        std::optional<OnlineChange>& out, RequestError& err);
 
 }  // namespace settle::cli

@@ -91,3 +91,29 @@ TEST(CliOnline, ATrapezoidHaltsWithTheDocumentedJerkLimit) {
 }
 
 }  // namespace
+
+namespace {
+
+// The same changes streamed by the servo loop to the simulated drive (loopback, virtual time): the
+// loop's halt()/retarget() + service(), switched in at T, every setpoint applied once in order
+// (the feedback aligns with the offline replay of the changed setpoints), and the continuous
+// reference of the changed command at rest.
+const std::string kStreamMove = "stream --bus loopback --plant sdof --profile scurve --distance 0.1 --time 0.5 "
+                                "--omega 28.284271247461902 --zeta 0.15909902576697318 ";
+
+TEST(CliOnline, StreamHaltAndRetargetAreSwitchedInByTheLoop) {
+  const auto plain = run_json(kStreamMove);
+  for (const char* change : {"--halt-at 0.2", "--retarget-at 0.2:0.03", "--halt-at 0.0004"}) {
+    SCOPED_TRACE(change);
+    const auto j = run_json(kStreamMove + change);
+    EXPECT_EQ(j.at("outcome"), "completed");
+    EXPECT_TRUE(j.at("aligned").get<bool>());
+    EXPECT_NE(j.at("setpoints").get<int>(), plain.at("setpoints").get<int>());
+    EXPECT_EQ(j.at("step_guard_trips").get<int>(), 0);
+    EXPECT_LE(j.at("residual_continuous").get<double>(), 1e-9 * 0.1);
+  }
+  expect_refused(kStreamMove + "--halt-at 0.2 --scalar float", "--scalar", "unsupported_request");
+  expect_refused(kStreamMove + "--halt-at 0.9", "--halt-at", "out_of_range");
+}
+
+}  // namespace
