@@ -54,7 +54,15 @@ bool parse_online_change(const ParsedArgs& args, const core::MoveRequest& req, c
            opt + ": T " + format_number(c.at) + " s is outside the move, 0.." + format_number(move.duration()) + " s"};
     return false;
   }
-  if (period > 0.0) c.at = std::fmax(std::nearbyint(c.at / period), 3.0) * period;
+  if (period > 0.0) {
+    c.at = std::fmax(std::nearbyint(c.at / period), 3.0) * period;
+    if (!(c.at < move.duration())) {
+      err = {"out_of_range", opt,
+             opt + ": T rounds to " + format_number(c.at) + " s (whole periods, at least 3), not before the move's end " +
+                 format_number(move.duration()) + " s"};
+      return false;
+    }
+  }
   const core::Peaks<double>& pk = move.peaks();
   if (req.omega) {
     c.modes.push_back({*req.omega, req.zeta});
