@@ -406,7 +406,7 @@ ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexce
 Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
                       const OnlineLimits& limits, std::optional<double> target, OnlineRequest& out) noexcept {
   if (!std::isfinite(t) || (target && !std::isfinite(*target))) return Status::non_finite_input;
-  if (mode_count > kMaxOnlineModes) return Status::too_many_impulses;
+  if (mode_count > kMaxOnlineModes) return Status::unsupported_request;
   OnlineRequest r{};
   r.start = m.at(std::max(t, 0.0));
   r.start.j = 0.0;
@@ -431,7 +431,7 @@ Status plan_online(const OnlineRequest& r, Blend& out) noexcept {
     return Status::non_finite_input;
   }
   if (!(l.vmax > 0.0 && l.amax > 0.0 && l.jmax > 0.0)) return Status::non_positive_limit;
-  if (r.mode_count > kMaxOnlineModes) return Status::too_many_impulses;
+  if (r.mode_count > kMaxOnlineModes) return Status::unsupported_request;
   bool at_rest = r.start.v == 0.0 && r.start.a == 0.0 && (!r.target || *r.target == r.start.p);
   for (std::size_t i = 0; i < r.mode_count; ++i) {
     const Mode& m = r.modes[i];
