@@ -7,9 +7,11 @@
 #include "commands.hpp"
 #include "json.hpp"
 #include "move_options.hpp"
+#include "online_options.hpp"
 #include "plant_options.hpp"
 #include "settle/sim/figures.hpp"
 #include "settle/sim/limits.hpp"
+#include "settle/sim/online_command.hpp"
 #include "settle/sim/sensitivity.hpp"
 #include "settle/sim/simulate.hpp"
 
@@ -22,7 +24,7 @@ const char* units(sim::PlantKind k) { return k == sim::PlantKind::belt ? "rad" :
 // Every number simulate reports; the settling time is null when it never comes (an undamped
 // mode), and the text output says "never".
 Json result_json(const sim::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
-                 const sim::SimMetrics& m, const sim::InsensitivityWidth* width) {
+                 const sim::SimMetrics& m, const sim::InsensitivityWidth* width, const OnlineChange* change) {
   Json j;
   j["status"] = "ok";
   j["plant"] = sim::to_string(plant.kind());
@@ -33,6 +35,14 @@ Json result_json(const sim::ModalPlant& plant, const core::Move<double>& move, c
   if (needs_mode(req)) {
     j["designed_omega"] = *req.omega;
     j["designed_zeta"] = req.zeta;
+  }
+  if (change != nullptr) {
+    // The residual below is the one after the change: the command is the move to `at`, then the blend.
+    j["online"] = Json{{"kind", change->target ? "retarget" : "halt"},
+                       {"at", change->at},
+                       {"blend_duration", change->blend.duration()},
+                       {"command_duration", change->at + change->blend.duration()},
+                       {"end_position", change->blend.end_position()}};
   }
   j["residual_amplitude"] = m.residual_amplitude;
   j["prv_percent"] = m.prv_percent;
@@ -64,7 +74,7 @@ Json result_json(const sim::ModalPlant& plant, const core::Move<double>& move, c
 }
 
 void print_text(const sim::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
-                const sim::SimMetrics& m, const sim::InsensitivityWidth* width) {
+                const sim::SimMetrics& m, const sim::InsensitivityWidth* width, const OnlineChange* change) {
   const char* u = units(plant.kind());
   std::printf("plant              %s (%zu mode%s)\n", sim::to_string(plant.kind()), plant.modes().size(),
               plant.modes().size() == 1 ? "" : "s");
@@ -77,6 +87,11 @@ void print_text(const sim::ModalPlant& plant, const core::Move<double>& move, co
   std::printf("move               %s, distance %.9g, duration %.9g s", core::to_string(move.profile().kind()),
               move.distance(), move.duration());
   if (needs_mode(req)) std::printf(" (designed for omega %.7g, zeta %.5g)", *req.omega, req.zeta);
+  if (change != nullptr) {
+    std::printf("\n%-18s at %.9g s: blend %.9g s, at rest on %.9g %s at %.9g s", change->target ? "retarget" : "halt",
+                change->at, change->blend.duration(), change->blend.end_position(), u,
+                change->at + change->blend.duration());
+  }
   std::printf("\nresidual amplitude %.6e %s\n", m.residual_amplitude, u);
   std::printf("PRV                %.6g %% (of %.6e %s, an unshaped step's)\n", m.prv_percent, m.step_residual, u);
   std::printf("peak deflection    %.6e %s\n", m.peak_deflection, u);
@@ -118,16 +133,19 @@ int cmd_simulate(int argc, char** argv) {
   opt.tail = args.real("--tail", opt.tail);
   core::Move<double> move{};
   if (!plan_move(req, move, err)) return report_bad_request(err, json);
+  std::optional<OnlineChange> change;
+  if (!parse_online_change(args, req, move, &plant, 0.0, change, err)) return report_bad_request(err, json);
+  const double cmd_duration = change ? change->at + change->blend.duration() : move.duration();
   // Sizes, before anything is allocated: the grid over the move, and with --csv the rows of the
   // history (move + tail, the tail defaulting to 3 periods of the fundamental as sim does).
   const double tail = opt.record ? (opt.tail >= 0.0 ? opt.tail : 3.0 * 2.0 * M_PI / plant.fundamental().omega) : 0.0;
-  if (move.duration() + tail > kMaxSeconds) {
+  if (cmd_duration + tail > kMaxSeconds) {
     return report_bad_request({"too_long", "--tail",
-                               "--tail: move + tail would be " + format_number(move.duration() + tail) +
+                               "--tail: move + tail would be " + format_number(cmd_duration + tail) +
                                    " s; at most 3600 s"},
                               json);
   }
-  const double steps = (move.duration() + tail) / opt.dt;
+  const double steps = (cmd_duration + tail) / opt.dt;
   const double work = steps * static_cast<double>(plant.modes().size());
   if (!(work <= kMaxSimWork) || (opt.record && !(steps <= kMaxCsvRows))) {
     return report_bad_request({"too_many_samples", "--dt",
@@ -137,7 +155,10 @@ int cmd_simulate(int argc, char** argv) {
                               json);
   }
 
-  const sim::MoveCommand cmd{move};
+  const sim::MoveCommand plain{move};
+  std::optional<sim::OnlineChangeCommand> changed;
+  if (change) changed.emplace(move, change->at, change->blend);
+  const sim::Command& cmd = changed ? static_cast<const sim::Command&>(*changed) : plain;
   sim::SimResult res;
   sim::SimStatus st = sim::simulate(plant, cmd, opt, res);
   if (st != sim::SimStatus::ok) {
@@ -155,7 +176,8 @@ int cmd_simulate(int argc, char** argv) {
       return kExitFailure;
     }
   }
-  const Json j = result_json(plant, move, req, res.metrics, want_width ? &width : nullptr);
+  const OnlineChange* ch = change ? &*change : nullptr;
+  const Json j = result_json(plant, move, req, res.metrics, want_width ? &width : nullptr, ch);
   if (!all_finite(j)) {
     return report_bad_request({"non_finite_result", "--distance",
                                "--distance: the simulation's result is not finite for this move and plant"},
@@ -170,7 +192,7 @@ int cmd_simulate(int argc, char** argv) {
   if (json) {
     print_json(j);
   } else {
-    print_text(plant, move, req, res.metrics, want_width ? &width : nullptr);
+    print_text(plant, move, req, res.metrics, want_width ? &width : nullptr, ch);
   }
   return kExitOk;
 }

@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "settle/hal/eds_reader.hpp"
 #include "move_options.hpp"
+#include "online_options.hpp"
 #include "options.hpp"
 #include "plant_options.hpp"
 #include "settle/sim/stream.hpp"
@@ -46,13 +47,41 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
                 : scalar == "fixed" ? sim::StreamScalar::fixed_point
                                     : sim::StreamScalar::double_precision;
 
-  if (move.duration() + spec.settle_time_s > kMaxSeconds) {
+  // A halt or retarget blends with the design modes and limits of the move options; a plan file
+  // carries its own, which the blend does not read yet: the two are refused together.
+  core::MoveRequest req{};
+  if (args.has("--plan-from")) {
+    for (const char* o : {"--halt-at", "--retarget-at"}) {
+      if (args.has(o)) {
+        return report_bad_request(
+            {"conflicting_options", o, std::string{o} + ": not with --plan-from (give the move options instead)"}, json);
+      }
+    }
+  } else if (!parse_move_request(args, req, err)) {
+    return report_bad_request(err, json);  // not reached: move_from_args parsed the same options
+  }
+  std::optional<OnlineChange> change;
+  if (!parse_online_change(args, req, move, &spec.plant, spec.drive.scale.period_s(), change, err)) {
+    return report_bad_request(err, json);
+  }
+  double reach_distance = std::fabs(move.distance());
+  if (change) {
+    if (spec.scalar != sim::StreamScalar::double_precision) {
+      return report_bad_request({"unsupported_request", "--scalar",
+                                 std::string{"--scalar: "} + change->option + " needs the double evaluation (double)"},
+                                json);
+    }
+    spec.change = sim::StreamChange{change->at, change->target, change->modes, change->limits, change->blend};
+    reach_distance = std::fmax(reach_distance, std::fabs(change->blend.end_position()));
+  }
+  const double command_s = change ? change->at + change->blend.duration() : move.duration();
+  if (command_s + spec.settle_time_s > kMaxSeconds) {
     return report_bad_request({"too_long", "--time",
                                "--time: the move lasts " + format_number(move.duration()) +
                                    " s; at most 3600 s of move + settle time"},
                               json);
   }
-  const double periods = (5.0 + move.duration() + spec.settle_time_s) * 1e6 / spec.drive.scale.period_us;
+  const double periods = (5.0 + command_s + spec.settle_time_s) * 1e6 / spec.drive.scale.period_us;
   if (periods > kMaxStreamPeriods) {
     const char* who = move.duration() >= spec.settle_time_s ? "--time" : "--settle-time";
     return report_bad_request({"too_many_samples", who,
@@ -62,7 +91,7 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
                               json);
   }
   // Every setpoint and every load position must fit the drive's 32-bit counts.
-  const double reach = std::fabs(move.distance()) * 2.0 + 1.0;
+  const double reach = reach_distance * 2.0 + 1.0;
   if (reach * spec.drive.scale.counts_per_unit > 2e9) {
     return report_bad_request({"out_of_range", "--counts-per-unit",
                                "--counts-per-unit: --distance x --counts-per-unit exceeds 32-bit counts (1e9)"},

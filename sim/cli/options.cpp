@@ -167,6 +167,17 @@ const std::vector<OptionSpec> kSimulate = {
     flag("--sensitivity", "also report the 5 % insensitivity width on the fundamental mode"),
 };
 
+// simulate and stream: a change of the move mid-way (issue 17, docs/online.md).
+const std::vector<OptionSpec> kOnline = {
+    real("--halt-at", "s", "", {0.0, kMaxSeconds},
+         "halt the move at T s from its start (T within the move): blend to rest within --vmax/--amax/--jmax "
+         "(else the move's own peaks; a trapezoid's jerk: amax x omega), its design mode left at rest "
+         "(docs/online.md)"),
+    text("--retarget-at", "", "at T s from the move's start (T within the move), blend to NEW_DISTANCE "
+         "(m or rad, -1e6..1e6) instead, likewise; stream: T rounds to whole periods, at least 3, and needs "
+         "--scalar double", "T:NEW_DISTANCE"),
+};
+
 const std::vector<OptionSpec> kStream = {
     text("--bus", "vcan0", "SocketCAN interface, or 'loopback' (in-process drive, virtual time)", "IFACE"),
     choice("--scalar", "double", {"double", "float", "fixed"},
@@ -260,7 +271,7 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "simulate",
      .summary = "run a move on a plant (sdof, beam, belt, modes): residual, PRV, energy",
      .usage = "",
-     .groups = {kMove, kPlant, kSimulate, kOutput},
+     .groups = {kMove, kPlant, kSimulate, kOnline, kOutput},
      .notes = "Bounds: move + tail at most 3600 s; grid steps ((move + tail) / --dt) x modes at most 2e6; with --csv "
               "at most 1e6 rows; at most 64 --mode."},
     {.name = "reproduce",
@@ -276,7 +287,7 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "stream",
      .summary = "stream a move to a drive over CAN and measure the residual vibration",
      .usage = "",
-     .groups = {kStream, kPlanFrom, kMove, kPlant, kDrive, kOutput},
+     .groups = {kStream, kPlanFrom, kMove, kPlant, kDrive, kOnline, kOutput},
      .notes = "Bounds: move + settle time at most 3600 s and at most 1e6 periods (5 s start-up included); "
               "setpoints must fit in 32-bit counts. Exit 1 when the bus cannot be opened or the move did not "
               "complete."},

@@ -348,6 +348,8 @@ TEST(CliTune, PlanFromRefusesWhatIsNotThePlanItClaims) {
       {stream + plan + " --distance 0.1", "--distance", "conflicting_options"},
       {stream + plan + " --profile poly345", "--profile", "conflicting_options"},
       {sample + plan + " --shaper zv", "--shaper", "conflicting_options"},
+      {stream + plan + " --halt-at 0.1", "--halt-at", "conflicting_options"},
+      {stream + plan + " --retarget-at 0.1:0.2", "--retarget-at", "conflicting_options"},
   };
   for (const Case& c : cases) expect_refused(c);
 }

@@ -153,3 +153,51 @@ TEST(NoAllocation, TheFaultPathsMakeNoHeapCalls) {
   EXPECT_GT(loop.axis_stats(0).moves_completed, 100u);
   EXPECT_GT(events, 100u);
 }
+
+// Online halts (issue 17): halt() posts, service() plans the blend and the tick switches to it,
+// every move, 200 000 ticks: neither the planning nor the switch touches the heap.
+TEST(NoAllocation, HaltsPlannedAndSwitchedInMakeNoHeapCalls) {
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<256> master{hub};
+  hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
+  FloatLoop loop{master, 1000};
+  firmware::AxisConfig a{};
+  a.drive.heartbeat_timeout_ms = 500;
+  ASSERT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::scurve;
+  r.time = 0.4;
+  r.omega = 22.0;
+  r.distance = 0.1;
+  core::Move<double> move{};
+  ASSERT_EQ(core::plan(r, move), core::Status::ok);
+  firmware::OnlineConfig oc{};
+  oc.modes[0] = {22.0, 0.0};
+  oc.mode_count = 1;
+  oc.limits = {1.2 * move.peaks().v, 1.2 * move.peaks().a, 1.2 * move.peaks().j};
+  ASSERT_EQ(loop.configure_online(0, oc), firmware::LoopStatus::ok);
+  std::uint64_t now = 0;
+  drive.start(now);
+  loop.start(now);
+  int since_start = -1;
+  g_allocations = 0;
+  g_counting = true;
+  for (int i = 0; i < 200'000; ++i) {
+    now += 1000;
+    hub.set_time_us(now);
+    if (loop.idle() && loop.ready(0)) {
+      (void)loop.submit(0, move);
+      since_start = 0;
+    }
+    if (since_start >= 0 && ++since_start == 150) {
+      (void)loop.halt(0);
+      (void)loop.service();
+    }
+    loop.tick(now);
+    drive.process(now);
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(loop.online_switches(0), 100u);
+  EXPECT_EQ(loop.axis_stats(0).step_guard_trips, 0u);
+}

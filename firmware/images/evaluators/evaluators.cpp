@@ -11,7 +11,9 @@
 //   cam_<order>_at / cam_<order>_next   a cam table of the move (linear, cubic, quintic)
 // Report evaluators-<board>.txt, one line per measurement:
 //   cost <move> <evaluator> min <n> mean <n.nn> max <n> calls <n>
-// and `built <move> ok|<status>` per move; the image fails if any build fails.
+// and `built <move> ok|<status>` per move; the image fails if any build fails. Where there is an
+// FPU, also `halt_plan scurve ok|<status>` and `cost scurve halt_plan ...`: the instructions of
+// planning a halt of the S-curve half-way (core/online.hpp; issue 17).
 #include <array>
 #include <cstdint>
 #include <span>
@@ -22,6 +24,7 @@
 #include "settle/core/fixed/motion.hpp"
 #include "settle/core/fixed/position.hpp"
 #include "settle/core/stepper.hpp"
+#include "settle/core/online.hpp"
 #include "settle/firmware/instruction_counter.hpp"
 #include "settle/firmware/runtime.hpp"
 #include "settle/firmware/semihosting.hpp"
@@ -51,6 +54,20 @@ core::Move<float> g_move_f{};
 core::MoveStepper<float> g_step_f{};
 volatile float g_sink_f{};
 [[gnu::noinline]] void float_step() { g_sink_f = g_step_f.step().p; }
+// A halt planned on the target (issue 17, docs/online.md): the mode memory of the move half-way
+// and the blend's search, as a servo loop's service() runs them. Only where there is an FPU: the
+// plan is in double, and its ~10 KiB of stack is more than the micro:bit's image leaves.
+core::Blend g_blend{};
+core::Mode g_halt_mode{};
+core::OnlineLimits g_halt_limits{};
+double g_halt_at{0.0};
+volatile std::uint8_t g_halt_status{};
+[[gnu::noinline]] void halt_plan() {
+  core::OnlineRequest r{};
+  core::Status st = core::online_request(g_move_d, g_halt_at, &g_halt_mode, 1, g_halt_limits, std::nullopt, r);
+  if (st == core::Status::ok) st = core::plan_online(r, g_blend);
+  g_halt_status = static_cast<std::uint8_t>(st);
+}
 #else
 constexpr bool kFloat = false;
 #endif
@@ -98,6 +115,19 @@ core::Status measure_move(const fw::InstructionCounter& counter, const fx::Golde
   g_move_f = core::Move<float>{g_move_d};
   g_step_f = core::MoveStepper<float>{g_move_f, static_cast<float>(g.scale.period_s())};
   report(counter, name, "float_step", float_step, calls);
+  // The halt plan of the undamped S-curve only (a plan is ~1e5 instructions; three calls).
+  if (g.kind == core::ProfileKind::scurve && g.shaper == core::ShaperKind::none) {
+    const core::Peaks<double>& pk = g_move_d.peaks();
+    g_halt_mode = {g.omega, g.zeta};
+    g_halt_limits = {1.2 * pk.v, 1.2 * pk.a, 1.2 * pk.j};
+    g_halt_at = 0.5 * g_move_d.duration();
+    halt_plan();
+    fw::Text<96> line{};
+    line.append("halt_plan ").append(name).append(" ")
+        .append(core::to_string(static_cast<core::Status>(g_halt_status))).append("\n");
+    write_line(line);
+    if (g_halt_status == 0) report(counter, name, "halt_plan", halt_plan, 3);
+  }
 #endif
   report(counter, name, "fixed_at", fixed_at, calls);
   g_step = fx::MotionStepper<CostMotion::kMaxTracks>{g_motion};

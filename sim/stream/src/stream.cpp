@@ -9,6 +9,7 @@
 #include "settle/firmware/evaluation.hpp"
 #include "settle/sim/command.hpp"
 #include "settle/sim/limits.hpp"
+#include "settle/sim/online_command.hpp"
 #include "settle/sim/simulate.hpp"
 
 namespace settle::sim {
@@ -60,7 +61,31 @@ core::Status evaluated_setpoints(StreamScalar scalar, const core::Move<double>& 
   return evaluated_setpoints<firmware::FloatEvaluation<double>>(move, scale, out);
 }
 
-// Why the drive's start-up failed, in one line.
+// The setpoints of a changed move: the move's up to the switch, then the blend's, in counts as the
+// loop computes them (double).
+void apply_change(const StreamChange& c, const core::AxisScale& scale, std::vector<std::int32_t>& sp) {
+  const double dt = scale.period_s();
+  const auto k = static_cast<std::size_t>(std::llround(c.at / dt));
+  if (sp.size() > k) sp.resize(k);
+  while (sp.size() < k) sp.push_back(sp.empty() ? 0 : sp.back());
+  for (std::size_t i = 0; sp.size() < kMaxSamples; ++i) {
+    const double u = static_cast<double>(i) * dt;
+    sp.push_back(static_cast<std::int32_t>(std::nearbyint(c.blend.at(u).p * scale.counts_per_unit)));
+    if (!(u < c.blend.duration())) break;
+  }
+}
+
+core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, std::vector<std::int32_t>& out) {
+  const core::Status st = evaluated_setpoints(scalar, spec.move, spec.drive.scale, out);
+  if (st == core::Status::ok && spec.change) apply_change(*spec.change, spec.drive.scale, out);
+  return st;
+}
+
+// How long the command lasts: the move, or the move to the switch and then the blend.
+double command_duration(const StreamSpec& spec) {
+  return spec.change ? spec.change->at + spec.change->blend.duration() : spec.move.duration();
+}
+
 }  // namespace
 
 std::string start_up_failure_text(const hal::canopen::RemoteDriveFailure& f) {
@@ -104,6 +129,25 @@ std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& a
   const auto drain = [&] {
     for (firmware::FeedbackSample fs{}; loop->feedback_log(0).pop(fs);) r.feedback.push_back(fs);
   };
+  // A change: halt()/retarget() posted and service() run between two ticks, kOnlineLeadTicks
+  // setpoints before the switch, as an application would.
+  std::int64_t ask_at = -1;
+  if (spec.change) {
+    if constexpr (!Loop::kOnlineChanges) {
+      return "--halt-at and --retarget-at need the double evaluation (--scalar double)";
+    } else {
+      firmware::OnlineConfig oc{};
+      oc.mode_count = std::min(spec.change->modes.size(), oc.modes.size());
+      for (std::size_t i = 0; i < oc.mode_count; ++i) oc.modes[i] = spec.change->modes[i];
+      oc.limits = spec.change->limits;
+      if (const firmware::LoopStatus st = loop->configure_online(0, oc); st != firmware::LoopStatus::ok) {
+        return std::string{"the loop refused the online configuration: "} + firmware::to_string(st);
+      }
+      ask_at = std::llround(spec.change->at / ac.scale.period_s()) - firmware::kOnlineLeadTicks;
+    }
+  }
+  std::int64_t moving_ticks = 0;
+  bool asked_ok = true;
   BusClock clock{bus};
   bus.begin();
   const std::uint64_t started_us = clock.now_us();
@@ -111,9 +155,18 @@ std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& a
   r.session = firmware::run_session(*loop, clock, &spec.move, 1, 0, sc, [&](std::uint64_t, bool) {
     if (!r.start_up_us && loop->all_ready()) r.start_up_us = clock.now_us() - started_us;
     r.log.push_back(loop->record(0));
+    if (loop->record(0).moving && loop->record(0).sent) {
+      if (++moving_ticks == ask_at) {
+        asked_ok = (spec.change->target ? loop->retarget(0, *spec.change->target) : loop->halt(0)) &&
+                   loop->service() == firmware::LoopStatus::ok;
+      }
+    }
     drain();
     bus.between_ticks();
   });
+  if (spec.change && (!asked_ok || loop->online_switches(0) != 1)) {
+    return "the loop did not switch to the blend at " + std::to_string(spec.change->at) + " s";
+  }
   // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
   if (std::string why = bus.finish([&](const hal::CanFrame& f, std::uint64_t now_us) {
         loop->receive(f, now_us);
@@ -146,7 +199,7 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
   std::vector<std::int32_t> sp_double;
   Replay replay_double{};
   const bool have_double =
-      evaluated_setpoints(StreamScalar::double_precision, spec.move, scale, sp_double) == core::Status::ok &&
+      changed_setpoints(StreamScalar::double_precision, spec, sp_double) == core::Status::ok &&
       replay_stream(spec.drive, spec.plant, 0, sp_double, settle_ticks, replay_double) == SimStatus::ok;
   // Setpoint by setpoint (the shorter sequence held at its last), the largest difference in counts.
   if (have_sp && have_double) {
@@ -200,8 +253,13 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
   so.record = false;
   // The residual is exact at the move's end whatever the grid; the grid only samples the peak
   // deflection and the settling time, so a long move takes a coarser one (at most 2e6 steps x modes).
-  so.dt = std::max(so.dt, spec.move.duration() * static_cast<double>(spec.plant.modes().size()) / kMaxSimWork);
-  r.continuous_simulated = simulate(spec.plant, MoveCommand{spec.move}, so, cont) == SimStatus::ok;
+  so.dt = std::max(so.dt, command_duration(spec) * static_cast<double>(spec.plant.modes().size()) / kMaxSimWork);
+  if (spec.change) {
+    const OnlineChangeCommand changed{spec.move, spec.change->at, spec.change->blend};
+    r.continuous_simulated = simulate(spec.plant, changed, so, cont) == SimStatus::ok;
+  } else {
+    r.continuous_simulated = simulate(spec.plant, MoveCommand{spec.move}, so, cont) == SimStatus::ok;
+  }
   r.residual_continuous = r.continuous_simulated ? cont.metrics.residual_amplitude : double{NAN};
   r.prv_continuous_percent = r.continuous_simulated ? cont.metrics.prv_percent : double{NAN};
   for (std::size_t i = 1; i < r.log.size(); ++i) {
@@ -263,7 +321,7 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
     }
     ac.drive = d.config;
   }
-  const std::uint64_t move_ticks = static_cast<std::uint64_t>(spec.move.duration() * 1e6 / period_us) + 2;
+  const std::uint64_t move_ticks = static_cast<std::uint64_t>(command_duration(spec) * 1e6 / period_us) + 2;
   // Completion waits for the feedback to show the target (at most in_position_timeout_periods).
   sc.max_ticks = sc.enable_timeout_ticks + move_ticks + sc.settle_ticks + ac.in_position_timeout_periods + 10;
   if (sc.max_ticks > kMaxSamples) {
@@ -272,7 +330,7 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
   }
 
   // The setpoints the selected evaluation produces (the replay's).
-  r.evaluation = evaluated_setpoints(spec.scalar, spec.move, spec.drive.scale, r.setpoints);
+  r.evaluation = changed_setpoints(spec.scalar, spec, r.setpoints);
   // Allocated before the loop starts: no heap use while streaming.
   r.log.reserve(sc.max_ticks + 1);
   r.feedback.reserve(sc.max_ticks + 64);

@@ -32,6 +32,7 @@
 #include "settle/core/planner.hpp"
 #include "settle/firmware/evaluation.hpp"
 #include "settle/firmware/fixed_queue.hpp"
+#include "settle/firmware/online_change.hpp"
 #include "settle/hal/can_bus.hpp"
 #include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
@@ -197,6 +198,13 @@ class ServoLoop {
   static_assert(std::is_base_of_v<hal::CanBus, Bus>, "Bus is hal::CanBus or one of its backends");
 
  public:
+  // Online changes (halt(), retarget(): issue 17, docs/online.md) need the planned move itself
+  // (its state and mode memory at the switch) and evaluate the blend in double: the double
+  // evaluation (a Linux drive, the host) has them. The float one (Cortex-M4F, micro:bit) would
+  // pay ~1 KiB of RAM per axis and soft-double work in the tick, not measured yet; the fixed-point
+  // ones keep only integer plans. Without them halt()/retarget() return false and nothing is stored.
+  static constexpr bool kOnlineChanges = std::is_same_v<Evaluation, FloatEvaluation<double>>;
+
   ServoLoop(Bus& bus, std::uint32_t period_us, const LoopConfig& config = {}) noexcept
       : bus_{bus}, period_us_{period_us}, config_{config}, sync_{period_us} {}
   ServoLoop(const ServoLoop&) = delete;
@@ -219,6 +227,10 @@ class ServoLoop {
     // In whole counts, once: the tick compares integers. At or past 2^31 no step can exceed it.
     const double guard = std::floor(cfg.vmax * cfg.scale.counts_per_unit * cfg.scale.period_s()) + cfg.step_margin_counts;
     a.guard = guard < 2147483648.0 ? static_cast<std::uint32_t>(guard) : std::uint32_t{1} << 31U;
+    if constexpr (kOnlineChanges) {
+      a.online.counts_per_unit = cfg.scale.counts_per_unit;
+      a.online.period_s = cfg.scale.period_s();
+    }
     ++count_;
     return LoopStatus::ok;
   }
@@ -284,6 +296,85 @@ class ServoLoop {
     a.queue.commit_back();
     a.queued_end = static_cast<std::int32_t>(static_cast<std::int64_t>(origin) + std::llround(m.distance() * cpu));
     return LoopStatus::ok;
+  }
+
+  // The modes and limits an axis's halts and retargets respect (outside the tick). Refused:
+  // evaluation_refused without kOnlineChanges, bad_axis_config for a mode or limit out of range.
+  [[nodiscard]] LoopStatus configure_online(std::size_t axis, const OnlineConfig& c) noexcept {
+    if constexpr (!kOnlineChanges) {
+      (void)axis;
+      (void)c;
+      return LoopStatus::evaluation_refused;
+    } else {
+      if (axis >= MaxAxes || axis >= count_) return LoopStatus::no_such_axis;
+      const core::OnlineLimits& l = c.limits;
+      bool ok = c.mode_count <= core::kMaxOnlineModes && std::isfinite(l.vmax) && std::isfinite(l.amax) &&
+                std::isfinite(l.jmax) && l.vmax > 0.0 && l.amax > 0.0 && l.jmax > 0.0;
+      for (std::size_t i = 0; ok && i < c.mode_count; ++i) {
+        ok = std::isfinite(c.modes[i].omega) && c.modes[i].omega > 0.0 && c.modes[i].zeta >= 0.0 && c.modes[i].zeta < 1.0;
+      }
+      if (!ok) return LoopStatus::bad_axis_config;
+      axes_[axis].online.config = c;
+      axes_[axis].online.configured = true;
+      return LoopStatus::ok;
+    }
+  }
+
+  // From any context, lock-free (a single producer per axis): ask for the running move to stop as
+  // fast as the axis's online limits allow, leaving its modes at rest. False when the axis has no
+  // online configuration or four commands are already waiting for service().
+  [[nodiscard]] bool halt(std::size_t axis) noexcept { return post_online(axis, {OnlineKind::halt, 0.0}); }
+  // The same, to end at rest at `distance` from the running move's start (move units).
+  [[nodiscard]] bool retarget(std::size_t axis, double distance) noexcept {
+    return std::isfinite(distance) && post_online(axis, {OnlineKind::retarget, distance});
+  }
+
+  // Outside the tick, where submit() runs: plans what halt()/retarget() asked for, at most one
+  // command per axis per call, for a switch kOnlineLeadTicks setpoints ahead of the running move;
+  // the tick switches to it at exactly that setpoint. A command with no running move (or while a
+  // blend runs or waits) is dropped and counted in online_missed(). Returns plan_failed (why: the
+  // core::Status) if a blend could not be planned; the move then runs on unchanged.
+  [[nodiscard]] LoopStatus service(core::Status* why = nullptr) noexcept {
+    LoopStatus result = LoopStatus::ok;
+    if constexpr (kOnlineChanges) {
+      for (std::size_t i = 0; i < count_; ++i) {
+        Axis& a = axes_[i];
+        OnlineSlot& o = a.online;
+        OnlineCommand c{};
+        if (o.ready.load(std::memory_order_acquire) != 0 || !o.mailbox.take(c)) continue;
+        if (!a.active || o.running) {
+          o.missed.fetch_add(1, std::memory_order_relaxed);
+          continue;
+        }
+        const std::uint32_t serial = o.move_serial.load(std::memory_order_acquire);
+        const std::int32_t k = o.move_index.load(std::memory_order_acquire) + kOnlineLeadTicks;
+        const core::Move<double> m{a.queue.front().move};
+        core::OnlineRequest req{};
+        const std::optional<double> target =
+            c.kind == OnlineKind::retarget ? std::optional<double>{c.target} : std::nullopt;
+        core::Status st = core::online_request(m, static_cast<double>(k) * o.period_s, o.config.modes.data(),
+                                               o.config.mode_count, o.config.limits, target, req);
+        if (st == core::Status::ok) st = core::plan_online(req, o.blend);
+        if (st != core::Status::ok) {
+          if (why != nullptr) *why = st;
+          result = LoopStatus::plan_failed;
+          continue;
+        }
+        o.switch_index = k;
+        o.blend_serial = serial;
+        o.ready.store(1, std::memory_order_release);
+      }
+    }
+    return result;
+  }
+  // Blends the tick switched to, and commands or blends that came too late (see service()).
+  [[nodiscard]] std::uint32_t online_switches(std::size_t axis) const noexcept {
+    if constexpr (kOnlineChanges) return axes_[axis].online.switches.load(std::memory_order_relaxed);
+    return 0;
+  }
+  [[nodiscard]] std::uint32_t online_missed(std::size_t axis) const noexcept {
+    if constexpr (kOnlineChanges) return axes_[axis].online.missed.load(std::memory_order_relaxed);
+    return 0;
   }
 
   // One servo period. Bounded: drains at most kMaxFramesPerTick received frames.
@@ -417,7 +508,71 @@ class ServoLoop {
     std::int32_t queued_end{0};   // where the last move queued (or running) ends, counts
     AxisLoopConfig cfg{};
     FixedQueue<typename Evaluation::Stored, QueueDepth> queue{};
+    [[no_unique_address]] std::conditional_t<kOnlineChanges, OnlineSlot, NoOnline> online{};
   };
+
+  [[nodiscard]] bool post_online(std::size_t axis, const OnlineCommand& c) noexcept {
+    if constexpr (!kOnlineChanges) {
+      (void)axis;
+      (void)c;
+      return false;
+    } else {
+      if (axis >= MaxAxes || axis >= count_ || !axes_[axis].online.configured) return false;
+      return axes_[axis].online.mailbox.post(c);
+    }
+  }
+
+  // The active move's next setpoint, or the blend's once the tick has reached its switch index.
+  [[nodiscard]] std::int32_t next_setpoint(Axis& a, bool& last) noexcept {
+    if constexpr (kOnlineChanges) {
+      OnlineSlot& o = a.online;
+      const std::int32_t k = o.move_index.load(std::memory_order_relaxed);
+      if (!o.running && o.ready.load(std::memory_order_acquire) != 0) {
+        if (o.blend_serial != o.move_serial.load(std::memory_order_relaxed)) {
+          o.missed.fetch_add(1, std::memory_order_relaxed);  // planned for a move that has ended
+          o.ready.store(0, std::memory_order_release);
+        } else if (k == o.switch_index) {
+          o.running = true;
+          o.index = 0;
+          o.switches.fetch_add(1, std::memory_order_relaxed);
+        } else if (k > o.switch_index) {
+          o.missed.fetch_add(1, std::memory_order_relaxed);
+        }
+        if (o.running || k > o.switch_index) o.ready.store(0, std::memory_order_release);
+      }
+      if (o.running) {
+        // On the move's clock the blend starts at the switch index: its setpoint i is at i periods.
+        const double u = static_cast<double>(o.index) * o.period_s;
+        ++o.index;
+        last = !(u < o.blend.duration());
+        double x = std::nearbyint(o.blend.at(u).p * o.counts_per_unit);
+        x = x < -2147483648.0 ? -2147483648.0 : (x > 2147483647.0 ? 2147483647.0 : x);
+        return static_cast<std::int32_t>(static_cast<std::uint32_t>(o.origin) +
+                                         static_cast<std::uint32_t>(static_cast<std::int32_t>(x)));
+      }
+      o.move_index.store(k + 1, std::memory_order_relaxed);
+    }
+    return a.setpoints.next(last);
+  }
+
+  // The active move's final setpoint (its own, or its blend's) is applied.
+  void finish_active(Axis& a) noexcept {
+    if constexpr (kOnlineChanges) {
+      OnlineSlot& o = a.online;
+      if (o.ready.load(std::memory_order_acquire) != 0) {
+        o.ready.store(0, std::memory_order_release);  // planned for a switch the move never reached
+        o.missed.fetch_add(1, std::memory_order_relaxed);
+      }
+      if (o.running) {
+        // Moves queued behind a halted or retargeted one were planned from its old end: void.
+        o.running = false;
+        if (a.queue.size() > 1) note(LoopEventKind::move_voided, index_of(a), AxisFault::none);
+        a.queue.clear();
+        return;
+      }
+    }
+    a.queue.drop_front();
+  }
 
   // |a - b| in counts on the wrapping int32 scale every position lives on (streams wrap modulo
   // 2^32, as drives' position counters do): the shorter way round, at most 2^31. A move that
@@ -467,6 +622,10 @@ class ServoLoop {
     a.pending.reset();
     a.end_pending = false;
     a.queue.clear();
+    if constexpr (kOnlineChanges) {
+      a.online.running = false;
+      a.online.ready.store(0, std::memory_order_release);
+    }
   }
 
   // Streaming to the axis stopped for `why`: every move is void. A halted axis keeps the reason it
@@ -633,12 +792,17 @@ class ServoLoop {
         if (!a.active && !a.finishing && !a.queue.empty()) {
           a.active = true;
           a.setpoints = Evaluation::start(a.queue.front(), a.target);
+          if constexpr (kOnlineChanges) {
+            a.online.origin = a.target;
+            a.online.move_index.store(0, std::memory_order_relaxed);
+            a.online.move_serial.fetch_add(1, std::memory_order_release);
+          }
           ++a.stats.moves_started;
           note(LoopEventKind::move_started, index_of(a), AxisFault::none);
         }
         if (a.active) {
           bool last = false;
-          const std::int32_t next = a.setpoints.next(last);
+          const std::int32_t next = next_setpoint(a, last);
           if (distance_counts(next, a.target) > a.guard) {
             // Never command a jump the actuator cannot make: abandon the move, hold position.
             ++a.stats.step_guard_trips;
@@ -680,7 +844,7 @@ class ServoLoop {
         a.record.move_end = true;
         a.end_pending = false;
         a.active = false;
-        a.queue.drop_front();
+        finish_active(a);
         a.finishing = true;
         a.finish_wait = 0;
         a.final_target = target;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "settle/core/move.hpp"
+#include "settle/core/online.hpp"
 #include "settle/core/status.hpp"
 #include "settle/firmware/linux/periodic.hpp"
 #include "settle/firmware/servo_loop.hpp"
@@ -32,8 +33,20 @@ enum class StreamScalar : std::uint8_t { double_precision, single_precision, fix
 
 // What to stream, to what machine, and how the loop supervises the drive. The caller bounds the
 // sizes (move + settle time in periods, counts within 32 bits) before asking.
+// --halt-at / --retarget-at (docs/online.md): the loop's halt() or retarget() of the move, asked
+// for kOnlineLeadTicks periods before `at` (a whole number of periods, at least that lead) and
+// switched in at `at`; `blend` is what core plans there, for the offline replay and reference.
+struct StreamChange {
+  double at{0.0};
+  std::optional<double> target;
+  std::vector<core::Mode> modes;
+  core::OnlineLimits limits{};
+  core::Blend blend{};
+};
+
 struct StreamSpec {
   core::Move<double> move{};
+  std::optional<StreamChange> change;  // double evaluation only
   ModalPlant plant{};       // the machine behind the drive: the in-process drive's and the replay's
   DriveAxisConfig drive{};  // the simulated drive and the replay; drive.scale is the loop's axis scale too
   hal::canopen::NodeId node{1};

@@ -1,0 +1,545 @@
+#include "settle/core/online.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+
+#include "settle/core/piece.hpp"
+#include "settle/core/small_solve.hpp"
+
+namespace settle::core {
+
+namespace {
+
+// A complex number, just what the mode algebra needs (core has no <complex>).
+struct Cx {
+  double re{0.0}, im{0.0};
+};
+constexpr Cx operator+(Cx a, Cx b) noexcept { return {a.re + b.re, a.im + b.im}; }
+constexpr Cx operator-(Cx a, Cx b) noexcept { return {a.re - b.re, a.im - b.im}; }
+constexpr Cx operator*(Cx a, Cx b) noexcept { return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
+constexpr Cx operator*(double s, Cx a) noexcept { return {s * a.re, s * a.im}; }
+inline Cx operator/(Cx a, Cx b) noexcept {
+  const double d = b.re * b.re + b.im * b.im;
+  return {(a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d};
+}
+// The larger of |re| and |im|: within a factor sqrt(2) of the modulus, and without hypot's cost.
+inline double abs(Cx a) noexcept { return std::fmax(std::fabs(a.re), std::fabs(a.im)); }
+inline Cx cexp(Cx a) noexcept {
+  const double e = std::exp(a.re);
+  return {e * std::cos(a.im), e * std::sin(a.im)};
+}
+constexpr Cx conj(Cx a) noexcept { return {a.re, -a.im}; }
+
+Cx pole(const Mode& m) noexcept { return {-m.zeta * m.omega, m.omega * std::sqrt(1.0 - m.zeta * m.zeta)}; }
+
+// phi1(x) = (e^x - 1) / x and phi2(x) = (e^x - 1 - x) / x^2, by their series near 0 where the
+// closed forms cancel.
+Cx phi1(Cx x) noexcept {
+  if (abs(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
+  Cx term{1.0, 0.0}, sum{1.0, 0.0};
+  for (int n = 1; n < 20; ++n) {
+    term = (1.0 / (n + 1)) * (term * x);
+    sum = sum + term;
+  }
+  return sum;
+}
+Cx phi2(Cx x) noexcept {
+  if (abs(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
+  Cx term{0.5, 0.0}, sum{0.5, 0.0};
+  for (int n = 1; n < 24; ++n) {
+    term = (1.0 / (n + 2)) * (term * x);
+    sum = sum + term;
+  }
+  return sum;
+}
+
+// J_m(z, S) = int_0^S s^m e^{-z s} ds for m = 0..kMaxPieceDegree, Re z >= 0, 0 <= S <= 1: by the
+// power series when |z| S is small, by the upward recurrence otherwise (it then loses at most a
+// factor prod m / |z S| <= 4 of accuracy).
+void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept {
+  if (abs(z) * s < 1.5) {
+    // J_m = S^{m+1} sum_n c_n / (n + m + 1), c_n = (-z S)^n / n!: the c_n once for every m.
+    const Cx mzs = (-s) * z;
+    std::array<Cx, 32> c{};
+    c[0] = {1.0, 0.0};
+    std::size_t nt = 1;
+    while (nt < c.size() && abs(c[nt - 1]) > 1e-18) {
+      c[nt] = (1.0 / static_cast<double>(nt)) * (c[nt - 1] * mzs);
+      ++nt;
+    }
+    double sp = s;  // S^{m+1}
+    for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
+      Cx sum{};
+      for (std::size_t k = 0; k < nt; ++k) sum = sum + (1.0 / static_cast<double>(k + m + 1)) * c[k];
+      out[m] = sp * sum;
+      sp *= s;
+    }
+    return;
+  }
+  const Cx e = cexp(-s * z);
+  out[0] = (Cx{1.0, 0.0} - e) / z;
+  double sm = 1.0;
+  for (std::size_t m = 1; m <= kMaxPieceDegree; ++m) {
+    sm *= s;
+    out[m] = (static_cast<double>(m) * out[m - 1] - sm * e) / z;
+  }
+}
+
+// int over one piece, from its start to u_c = min(end, te), of e^{lambda (te - u)} P(u) du, exactly.
+// With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
+// pieces or heavy damping.
+Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
+  constexpr double w = 6.283185307179586476925286766559;
+  constexpr double binom[6][6] = {{1, 0, 0, 0, 0, 0},   {1, 1, 0, 0, 0, 0},    {1, 2, 1, 0, 0, 0},
+                                  {1, 3, 3, 1, 0, 0},   {1, 4, 6, 4, 1, 0},    {1, 5, 10, 10, 5, 1}};
+  const double uc = std::min(pc.start + pc.length, te);
+  const double len = pc.length;
+  const double s = (uc - pc.start) / len;
+  const Cx nu = -len * lam;
+  std::array<Cx, kMaxPieceDegree + 1> jm{};
+  moments(nu, s, jm);
+  // P(S - sigma) = sum_m b_m sigma^m.
+  Cx acc{};
+  for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
+    double b = 0.0, sp = 1.0;
+    for (std::size_t k = m; k <= kMaxPieceDegree; ++k) {
+      b += pc.c[k] * binom[k][m] * sp;
+      sp *= s;
+    }
+    if (m % 2 == 1) b = -b;
+    acc = acc + b * jm[m];
+  }
+  if (pc.trig) {
+    // Im(W e^{-i w sigma}) with W = Z e^{i w S}: (W J0(nu + i w) - conj(W) J0(nu - i w)) / (2i).
+    const Cx wz = Cx{pc.zr, pc.zi} * Cx{std::cos(w * s), std::sin(w * s)};
+    const Cx j_plus = s * phi1(-s * (nu + Cx{0.0, w}));
+    const Cx j_minus = s * phi1(-s * (nu - Cx{0.0, w}));
+    acc = acc + (wz * j_plus - conj(wz) * j_minus) / Cx{0.0, 2.0};
+  }
+  return len * (cexp((te - uc) * lam) * acc);
+}
+
+// Eight-point Gauss-Legendre on [-1, 1].
+constexpr double kGlX[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+                            0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+constexpr double kGlW[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
+                            0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+
+// F(te) = int_0^te e^{lambda (te - u)} p(u) du for an unshaped profile (p = D past its end).
+template <typename Shape>
+Cx profile_integral(const Shape& prof, Cx lam, double te) noexcept {
+  const double tp = prof.duration();
+  Cx acc{};
+  const double body = std::min(te, tp);
+  if constexpr (requires { prof.piece_count(); }) {
+    for (int i = 0; i < prof.piece_count(); ++i) {
+      const Piece pc = prof.piece(i);
+      if (!(pc.length > 0.0) || pc.start >= body) continue;
+      acc = acc + piece_integral(pc, lam, te);
+    }
+  } else {
+    // No exact pieces (the pseudo-polynomial): composite Gauss-Legendre on panels short against
+    // the mode's time scale, so that the exponential is resolved to rounding.
+    if (body > 0.0) {
+      const int panels = std::clamp(static_cast<int>(std::ceil(abs(lam) * body)) * 2, 32, 512);
+      const double hp = body / panels;
+      for (int k = 0; k < panels; ++k) {
+        const double mid = (k + 0.5) * hp;
+        for (int q = 0; q < 8; ++q) {
+          const double u = mid + 0.5 * hp * kGlX[q];
+          acc = acc + (0.5 * hp * kGlW[q] * prof.at(u).p) * cexp((te - u) * lam);
+        }
+      }
+    }
+  }
+  if (te > tp) acc = acc + (prof.distance() * (te - tp)) * phi1((te - tp) * lam);
+  return acc;
+}
+
+bool finite(const Sample<double>& s) noexcept {
+  return std::isfinite(s.p) && std::isfinite(s.v) && std::isfinite(s.a);
+}
+
+constexpr std::size_t kMaxRows = 3 + 2 * kMaxOnlineModes;
+constexpr double kLimitSlack = 1e-9;
+
+struct Solved {
+  std::array<double, kBlendSegments> jerk{};
+};
+
+// The time-optimal stop of the velocity alone, from (v0, a0) to v = a = 0 under |a| <= amax,
+// |j| <= jmax (position free): jerk -J, 0, +J in the direction that cancels the velocity the
+// state would reach if its acceleration were taken out at once. Up to three (duration, jerk)
+// phases; the blend uses it as its reference (below).
+struct Brake {
+  std::array<double, 3> dur{}, jerk{};
+};
+Brake velocity_stop(double v0, double a0, double amax, double jmax) noexcept {
+  Brake b{};
+  const double v_nat = v0 + a0 * std::fabs(a0) / (2.0 * jmax);
+  // Mirror so that the velocity to cancel is positive: the acceleration then goes negative.
+  const double sg = v_nat < 0.0 ? -1.0 : 1.0;
+  const double v = sg * v0, a = sg * a0;
+  if (v_nat == 0.0) {
+    b.dur[0] = std::fabs(a0) / jmax;
+    b.jerk[0] = a0 > 0.0 ? -jmax : jmax;
+    return b;
+  }
+  double ap = -std::sqrt(0.5 * a * a + jmax * v);  // peak deceleration without a plateau
+  double plateau = 0.0;
+  if (ap < -amax) {
+    ap = -amax;
+    const double dv = v + (a * a - amax * amax) / (2.0 * jmax) - amax * amax / (2.0 * jmax);
+    plateau = std::max(dv / amax, 0.0);
+  }
+  b.dur = {(a - ap) / jmax, plateau, -ap / jmax};
+  b.jerk = {-sg * jmax, 0.0, sg * jmax};
+  return b;
+}
+
+// A brake's jerk averaged over each blend segment of length h (zero past its end): its
+// acceleration at every segment boundary is the brake's own.
+void sample_brake(const Brake& b, double h, std::array<double, kBlendSegments>& out) noexcept {
+  out = {};
+  double t0 = 0.0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const double t1 = t0 + b.dur[i];
+    for (std::size_t k = 0; k < kBlendSegments; ++k) {
+      const double s0 = static_cast<double>(k) * h, s1 = s0 + h;
+      const double overlap = std::min(s1, t1) - std::max(s0, t0);
+      if (overlap > 0.0) out[k] += b.jerk[i] * overlap / h;
+    }
+    t0 = t1;
+  }
+}
+
+// The end conditions of a blend of duration T, linear in its jerks: mat j = rhs.
+struct System {
+  std::array<std::array<double, kBlendSegments>, kMaxRows> mat{};
+  std::array<double, kMaxRows> rhs{};
+  std::size_t rows{0};
+};
+
+// a = v = 0 at the end, p = target for a retarget, and per mode the blend's own contribution
+// cancelling the memory it starts with (docs/online.md, "conditions").
+void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept {
+  constexpr std::size_t n = kBlendSegments;
+  const double h = t_total / static_cast<double>(n);
+  const double p0 = r.start.p, v0 = r.start.v, a0 = r.start.a;
+  auto& mat = sys.mat;
+  auto& rhs = sys.rhs;
+  std::size_t rows = 0;
+  // a(T) = a0 + h sum j_k = 0
+  for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h;
+  rhs[rows++] = -a0;
+  // v(T) = v0 + a0 T + sum j_k h^2 (N - k - 1/2) = 0
+  for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h * h * (static_cast<double>(n - k) - 0.5);
+  rhs[rows++] = -v0 - a0 * t_total;
+  if (r.target) {
+    // p(T) = p0 + v0 T + a0 T^2 / 2 + sum j_k h^3 (1/6 + m/2 + m^2/2), m = N - 1 - k
+    for (std::size_t k = 0; k < n; ++k) {
+      const double m = static_cast<double>(n - 1 - k);
+      mat[rows][k] = h * h * h * (1.0 / 6.0 + 0.5 * m + 0.5 * m * m);
+    }
+    rhs[rows++] = *r.target - p0 - v0 * t_total - 0.5 * a0 * t_total * t_total;
+  }
+  for (std::size_t i = 0; i < r.mode_count; ++i) {
+    const Cx lam = pole(r.modes[i]);
+    const Cx x = h * lam;
+    const Cx e1 = cexp(x);
+    const Cx f1 = h * phi1(x);       // int_0^h e^{lambda w} dw
+    const Cx f2 = (h * h) * phi2(x);  // int_0^h e^{lambda w} (h - w) dw
+    // Column k (m = N - 1 - k segments after it): E^m f2 + h S_m, S_m = int_0^{m h} e^{lambda w} dw.
+    Cx em{1.0, 0.0}, sm{};
+    for (std::size_t m = 0; m < n; ++m) {
+      const Cx c = em * f2 + h * sm;
+      const std::size_t k = n - 1 - m;
+      mat[rows][k] = c.re;
+      mat[rows + 1][k] = c.im;
+      sm = e1 * sm + f1;
+      em = em * e1;
+    }
+    // int_0^T e^{lambda (T - u)} a(u) du = e^{lambda T} (lambda Q - v0)
+    const Cx q{r.memory[i].re, r.memory[i].im};
+    const Cx b = em * (lam * q - Cx{v0, 0.0}) - a0 * sm;
+    rhs[rows] = b.re;
+    rhs[rows + 1] = b.im;
+    rows += 2;
+  }
+  sys.rows = rows;
+}
+
+// The blend's jerks j = j_ref + dj, dj of least weighted norm sum dj_k^2 / w_k (sw = sqrt(w)),
+// meeting the system. False when it is singular to working precision or the solution misses it.
+bool solve_for(System sys, const std::array<double, kBlendSegments>& ref, const std::array<double, kBlendSegments>& sw,
+               Solved& out) noexcept {
+  constexpr std::size_t n = kBlendSegments;
+  auto& mat = sys.mat;
+  auto& rhs = sys.rhs;
+  const std::size_t rows = sys.rows;
+  // The reference's share of each condition is known: the unknowns are the deviation from it.
+  for (std::size_t i = 0; i < rows; ++i) {
+    double s = 0.0;
+    for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * ref[k];
+    rhs[i] -= s;
+  }
+  // Unknowns x_k = dj_k / sqrt(w_k): the weighted problem becomes a minimum-norm one. Then rows to
+  // unit length, so that the Gram matrix is as well conditioned as the geometry allows.
+  for (std::size_t i = 0; i < rows; ++i) {
+    for (std::size_t k = 0; k < n; ++k) mat[i][k] *= sw[k];
+  }
+  for (std::size_t i = 0; i < rows; ++i) {
+    double nn = 0.0;
+    for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k];
+    nn = std::sqrt(nn);
+    if (!(nn > 0.0) || !std::isfinite(nn)) return false;
+    for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;
+    rhs[i] /= nn;
+  }
+  std::array<std::array<double, kMaxRows>, kMaxRows> gram{};
+  for (std::size_t i = 0; i < rows; ++i) {
+    for (std::size_t l = 0; l <= i; ++l) {
+      double s = 0.0;
+      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k];
+      gram[i][l] = gram[l][i] = s;
+    }
+  }
+  std::array<double, n> jerk{};
+  std::array<double, kMaxRows> res = rhs;
+  double rhs_norm = 0.0;
+  for (std::size_t i = 0; i < rows; ++i) rhs_norm = std::max(rhs_norm, std::fabs(rhs[i]));
+  // Minimum norm: j = M^T (M M^T)^{-1} b, then one step of iterative refinement.
+  for (int pass = 0; pass < 2; ++pass) {
+    auto g = gram;
+    std::array<double, kMaxRows> y = res;
+    if (!solve_in_place(g, y, rows, 1e-14)) return false;
+    for (std::size_t k = 0; k < n; ++k) {
+      double s = 0.0;
+      for (std::size_t i = 0; i < rows; ++i) s += mat[i][k] * y[i];
+      jerk[k] += s;
+    }
+    double worst = 0.0, jn = 0.0;
+    for (std::size_t k = 0; k < n; ++k) jn = std::max(jn, std::fabs(jerk[k]));
+    for (std::size_t i = 0; i < rows; ++i) {
+      double s = 0.0;
+      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * jerk[k];
+      res[i] = rhs[i] - s;
+      worst = std::max(worst, std::fabs(res[i]));
+    }
+    if (pass == 1 && worst > 1e-12 * std::max(rhs_norm, jn)) return false;
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    jerk[k] = ref[k] + jerk[k] * sw[k];
+    if (!std::isfinite(jerk[k])) return false;
+  }
+  out.jerk = jerk;
+  return true;
+}
+
+bool within(const Peaks<double>& pk, const OnlineLimits& l) noexcept {
+  return pk.v <= l.vmax * (1.0 + kLimitSlack) && pk.a <= l.amax * (1.0 + kLimitSlack) &&
+         pk.j <= l.jmax * (1.0 + kLimitSlack);
+}
+
+}  // namespace
+
+Blend::Blend(const Sample<double>& start, double h, const std::array<double, kBlendSegments>& jerk) noexcept
+    : h_{h}, j_{jerk} {
+  p_[0] = start.p;
+  v_[0] = start.v;
+  a_[0] = start.a;
+  for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    const double j = j_[k];
+    p_[k + 1] = p_[k] + h * (v_[k] + h * (a_[k] / 2.0 + h * j / 6.0));
+    v_[k + 1] = v_[k] + h * (a_[k] + h * j / 2.0);
+    a_[k + 1] = a_[k] + h * j;
+  }
+  p_end_ = p_[kBlendSegments];
+}
+
+Sample<double> Blend::at(double u) const noexcept {
+  if (!(u < duration())) return {p_end_, 0.0, 0.0, 0.0};
+  if (!(u > 0.0)) return {p_[0], v_[0], a_[0], j_[0]};
+  std::size_t k = static_cast<std::size_t>(u / h_);
+  if (k >= kBlendSegments) k = kBlendSegments - 1;
+  const double w = u - static_cast<double>(k) * h_;
+  const double j = j_[k];
+  return {p_[k] + w * (v_[k] + w * (a_[k] / 2.0 + w * j / 6.0)), v_[k] + w * (a_[k] + w * j / 2.0), a_[k] + w * j,
+          j};
+}
+
+Peaks<double> Blend::peaks() const noexcept {
+  Peaks<double> pk{};
+  for (std::size_t k = 0; k <= kBlendSegments; ++k) {
+    pk.v = std::max(pk.v, std::fabs(v_[k]));
+    pk.a = std::max(pk.a, std::fabs(a_[k]));
+  }
+  for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    const double j = j_[k];
+    pk.j = std::max(pk.j, std::fabs(j));
+    if (j != 0.0) {
+      const double w = -a_[k] / j;  // where a crosses zero: a velocity extremum
+      if (w > 0.0 && w < h_) pk.v = std::max(pk.v, std::fabs(v_[k] + w * (a_[k] + w * j / 2.0)));
+    }
+  }
+  return pk;
+}
+
+ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
+  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
+  const Cx lam = pole(mode);
+  // Q(t) = -int_0^t e^{lambda (t-s)} x'(s) ds = -x(t) - lambda int_0^t e^{lambda (t-s)} x(s) ds, and the
+  // shaped x is sum_i A_i p(s - t_i): each impulse contributes its profile's integral.
+  Cx acc{};
+  const Shaper<double>& sh = m.shaper();
+  for (std::size_t i = 0; i < sh.count; ++i) {
+    const double te = t - sh.time[i];
+    if (!(te > 0.0)) continue;
+    const Cx f = m.profile().visit([&](const auto& p) { return profile_integral(p, lam, te); });
+    acc = acc + sh.amp[i] * f;
+  }
+  const Cx q = Cx{-m.at(t).p, 0.0} - lam * acc;
+  return {q.re, q.im};
+}
+
+Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
+                      const OnlineLimits& limits, std::optional<double> target, OnlineRequest& out) noexcept {
+  if (!std::isfinite(t) || (target && !std::isfinite(*target))) return Status::non_finite_input;
+  if (mode_count > kMaxOnlineModes) return Status::unsupported_request;
+  OnlineRequest r{};
+  r.start = m.at(std::max(t, 0.0));
+  r.start.j = 0.0;
+  r.limits = limits;
+  r.target = target;
+  r.mode_count = mode_count;
+  for (std::size_t i = 0; i < mode_count; ++i) {
+    if (!std::isfinite(modes[i].omega) || !std::isfinite(modes[i].zeta)) return Status::non_finite_input;
+    if (!(modes[i].omega > 0.0)) return Status::non_positive_omega;
+    if (!(modes[i].zeta >= 0.0 && modes[i].zeta < 1.0)) return Status::zeta_out_of_range;
+    r.modes[i] = modes[i];
+    r.memory[i] = mode_memory(m, t, modes[i]);
+  }
+  out = r;
+  return Status::ok;
+}
+
+Status plan_online(const OnlineRequest& r, Blend& out) noexcept {
+  const OnlineLimits& l = r.limits;
+  if (!finite(r.start) || !std::isfinite(l.vmax) || !std::isfinite(l.amax) || !std::isfinite(l.jmax) ||
+      (r.target && !std::isfinite(*r.target))) {
+    return Status::non_finite_input;
+  }
+  if (!(l.vmax > 0.0 && l.amax > 0.0 && l.jmax > 0.0)) return Status::non_positive_limit;
+  if (r.mode_count > kMaxOnlineModes) return Status::unsupported_request;
+  bool at_rest = r.start.v == 0.0 && r.start.a == 0.0 && (!r.target || *r.target == r.start.p);
+  for (std::size_t i = 0; i < r.mode_count; ++i) {
+    const Mode& m = r.modes[i];
+    if (!std::isfinite(m.omega) || !std::isfinite(m.zeta) || !std::isfinite(r.memory[i].re) ||
+        !std::isfinite(r.memory[i].im)) {
+      return Status::non_finite_input;
+    }
+    if (!(m.omega > 0.0)) return Status::non_positive_omega;
+    if (!(m.zeta >= 0.0 && m.zeta < 1.0)) return Status::zeta_out_of_range;
+    // A memory this small is rounding of an exactly cancelled one (a finished zero-residual move).
+    at_rest = at_rest && std::hypot(r.memory[i].re, r.memory[i].im) <= 1e-13 * std::fabs(r.start.p);
+  }
+  // The switch state must itself be within the limits: no blend can undo an excess it starts with.
+  if (std::fabs(r.start.v) > l.vmax * (1.0 + kLimitSlack)) return Status::velocity_limit_exceeded;
+  if (std::fabs(r.start.a) > l.amax * (1.0 + kLimitSlack)) return Status::acceleration_limit_exceeded;
+  // Nor one that must overshoot vmax: taking an acceleration a0 out at jmax adds a0^2 / (2 jmax) to
+  // the velocity first (a trapezoid's acceleration steps make such states).
+  if (r.start.v * r.start.a > 0.0 &&
+      std::fabs(r.start.v) + r.start.a * r.start.a / (2.0 * l.jmax) > l.vmax * (1.0 + kLimitSlack)) {
+    return Status::velocity_limit_exceeded;
+  }
+  if (at_rest) {
+    out = Blend{r.start, 0.0, {}};
+    return Status::ok;
+  }
+  // A duration no blend can beat: the time-optimal stop of the velocity alone (every blend ends
+  // with v = a = 0), and for a retarget the distance at vmax.
+  const Brake full = velocity_stop(r.start.v, r.start.a, 0.995 * l.amax, 0.995 * l.jmax);
+  const Brake exact = velocity_stop(r.start.v, r.start.a, l.amax, l.jmax);
+  double lower = exact.dur[0] + exact.dur[1] + exact.dur[2];
+  // A first guess of the right order: that stop plus half the slowest mode's damped period (what
+  // a shaper adds), and for a retarget a rest-to-rest move over the distance.
+  double half_period = 0.0;
+  for (std::size_t i = 0; i < r.mode_count; ++i) {
+    half_period = std::max(half_period, 3.14159265358979323846 / pole(r.modes[i]).im);
+  }
+  double guess = lower + half_period;
+  if (r.target) {
+    const double d = std::fabs(*r.target - r.start.p);
+    lower = std::max(lower, d / l.vmax);
+    guess = std::max({guess, 2.0 * std::sqrt(d / l.amax) + half_period, d / l.vmax + l.vmax / l.amax + half_period,
+                      2.0 * std::cbrt(d / l.jmax) + half_period});
+  }
+  if (!(guess > lower)) guess = lower > 0.0 ? 1.25 * lower : 1e-3;
+  Solved sol{};
+  // Four blends per duration, the first within the limits wins (docs/online.md):
+  //  0. the time-optimal velocity stop at 99.5 % of the limits, corrected where it leaves jerk headroom
+  //     (weights (1 - |j_ref| / jmax)^2): the fastest when vmax or amax is tight;
+  //  1. the same stop at 85 % of amax and jmax, corrected by the least uniform jerk;
+  //  2. the smoothest blend (least uniform jerk, no reference), good for retargets;
+  //  3. the least front-loaded jerk (weights falling as (1 - u/T)^3).
+  const Brake soft = velocity_stop(r.start.v, r.start.a, 0.85 * l.amax, 0.85 * l.jmax);
+  const std::array<double, kBlendSegments> none{};
+  std::array<double, kBlendSegments> uniform{}, front{};  // square roots of the weights
+  for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    uniform[k] = 1.0;
+    const double x = 1.0 - (static_cast<double>(k) + 0.5) / static_cast<double>(kBlendSegments);
+    front[k] = x * std::sqrt(x);
+  }
+  int last = 0, tries = 4;
+  auto feasible = [&](double t) {
+    const double h = t / static_cast<double>(kBlendSegments);
+    System sys{};
+    build_system(r, t, sys);
+    std::array<double, kBlendSegments> ref{}, w{};
+    // The blend that worked last is tried first: neighbouring durations usually agree.
+    for (int i = 0; i < tries; ++i) {
+      const int c = (i + last) % 4;
+      if (c == 0 || c == 1) ref = {};
+      if (c == 0) {
+        sample_brake(full, h, ref);
+        for (std::size_t k = 0; k < kBlendSegments; ++k) w[k] = 1.0 - std::fabs(ref[k]) / l.jmax;
+      } else if (c == 1) {
+        sample_brake(soft, h, ref);
+      }
+      Solved s{};
+      if (!solve_for(sys, c < 2 ? ref : none, c == 0 ? w : c == 3 ? front : uniform, s)) continue;
+      const Blend b{r.start, t / static_cast<double>(kBlendSegments), s.jerk};
+      if (!within(b.peaks(), l)) continue;
+      sol = s;
+      last = c;
+      return true;
+    }
+    return false;
+  };
+  // Bracket: grow until feasible, then bisect down towards the first feasible duration.
+  double lo = lower, hi = guess;
+  int grow = 0;
+  while (!feasible(hi)) {
+    lo = hi;
+    hi *= 1.5;
+    if (++grow > 60) return Status::no_solution;
+  }
+  // Bisection on the blend that made the bracket (`last`) alone: a quarter of the solves, and the
+  // duration found is that blend's shortest to within 0.5 %.
+  Solved best = sol;
+  tries = 1;
+  for (int it = 0; it < 40 && hi - lo > 5e-3 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid > lo && feasible(mid)) {
+      hi = mid;
+      best = sol;
+    } else {
+      lo = mid;
+    }
+  }
+  out = Blend{r.start, hi / static_cast<double>(kBlendSegments), best.jerk};
+  return Status::ok;
+}
+
+}  // namespace settle::core

@@ -1,0 +1,256 @@
+// Online halt and retarget (issue 17): from random states of random moves, the blend starts on
+// the command's p, v, a, ends at rest (on the new target for a retarget), stays within the limits,
+// and leaves every mode at rest; checked against an RK4 integration of the mode driven by the
+// whole command (mode_sim.hpp), not against the planner's own formulas.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <random>
+
+#include "mode_sim.hpp"
+#include "settle/core/online.hpp"
+#include "test_helpers.hpp"
+
+using namespace settle;
+using core::ProfileKind;
+using core::Status;
+
+namespace {
+
+struct Case {
+  core::Move<double> move{};
+  core::MoveRequest req{};
+  double t_switch{0.0};
+  std::array<core::Mode, 2> modes{};
+  std::size_t mode_count{1};
+  core::OnlineLimits limits{};
+};
+
+struct Gen {
+  std::mt19937_64 rng;
+  double uni(double a, double b) { return std::uniform_real_distribution<double>{a, b}(rng); }
+  double logu(double a, double b) { return std::exp(uni(std::log(a), std::log(b))); }
+  bool coin(double p = 0.5) { return uni(0, 1) < p; }
+
+  // A random move designed for a random mode (by its own profile or by a shaper), a random time
+  // inside it, sometimes a second mode the move was not designed for, and limits at or above the
+  // move's own peaks.
+  Case draw() {
+    static constexpr ProfileKind kinds[] = {ProfileKind::scurve,  ProfileKind::scurve_damped, ProfileKind::poly345,
+                                            ProfileKind::trapezoid, ProfileKind::jerk_limited, ProfileKind::pseudopoly};
+    for (;;) {
+      Case c{};
+      core::MoveRequest& r = c.req;
+      r.profile = kinds[rng() % std::size(kinds)];
+      r.distance = logu(0.01, 1.0) * (coin() ? 1 : -1);
+      const double d = std::fabs(r.distance);
+      r.omega = logu(5.0, 80.0);
+      r.zeta = r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.2);
+      if (r.profile == ProfileKind::jerk_limited) {
+        r.vmax = d * logu(1.0, 5.0);
+        r.amax = *r.vmax * logu(2.0, 20.0);
+        r.jmax = *r.amax * logu(5.0, 50.0);
+        r.shaper = coin() ? core::ShaperKind::zv : core::ShaperKind::zvd;
+      } else {
+        r.time = logu(0.1, 1.5);
+        if (r.profile == ProfileKind::pseudopoly) {
+          r.gamma_count = 3;
+          r.gammas = {3.0, 4.5, 6.0};
+        }
+        // Profiles that do not design for the mode themselves carry a shaper for it.
+        if (r.profile == ProfileKind::poly345 || r.profile == ProfileKind::trapezoid ||
+            r.profile == ProfileKind::pseudopoly) {
+          r.shaper = r.profile == ProfileKind::trapezoid ? core::ShaperKind::zvd : core::ShaperKind::zv;
+        }
+      }
+      if (core::plan(r, c.move) != Status::ok) continue;
+      c.t_switch = uni(0.0, 1.0) * c.move.duration();
+      c.modes[0] = {*r.omega, r.zeta};
+      if (coin(0.3)) {
+        c.modes[1] = {*r.omega * uni(1.5, 4.0), uni(0.0, 0.1)};
+        c.mode_count = 2;
+      }
+      const core::Peaks<double>& pk = c.move.peaks();
+      const double amax = pk.a * uni(1.0, 2.0);
+      if (std::isfinite(pk.j)) {
+        c.limits = {pk.v * uni(1.0, 2.0), amax, pk.j * uni(1.0, 2.0)};
+      } else {
+        // A trapezoid's acceleration steps: a jerk limit at which every state of it can still be
+        // stopped without passing vmax (taking a out adds a^2 / (2 jmax) to v).
+        const double vmax = pk.v * uni(1.2, 2.0);
+        c.limits = {vmax, amax, std::max(amax * *r.omega, pk.a * pk.a / (2.0 * (vmax - pk.v))) * uni(1.0, 2.0)};
+      }
+      return c;
+    }
+  }
+};
+
+double scale_of(const core::Move<double>& m) { return std::fabs(m.distance()); }
+
+// Sampled peaks of the blend, with the jerk from differences of the acceleration.
+core::Peaks<double> sampled_peaks(const core::Blend& b) {
+  core::Peaks<double> pk{};
+  const int n = 4000;
+  const double du = b.duration() / n;
+  double a_prev = b.at(0.0).a;
+  for (int i = 0; i <= n; ++i) {
+    const core::Sample<double> s = b.at(std::min(i * du, std::nextafter(b.duration(), 0.0)));
+    pk.v = std::max(pk.v, std::fabs(s.v));
+    pk.a = std::max(pk.a, std::fabs(s.a));
+    if (i > 0) pk.j = std::max(pk.j, std::fabs(s.a - a_prev) / du);
+    a_prev = s.a;
+  }
+  return pk;
+}
+
+void expect_blend(const Case& c, const core::Blend& b, std::optional<double> target, int n) {
+  const double d = std::max(scale_of(c.move), target ? std::fabs(*target) : 0.0);
+  const core::Sample<double> s0 = c.move.at(c.t_switch), b0 = b.at(0.0);
+  // Continuous p, v, a at the switch.
+  EXPECT_NEAR(b0.p, s0.p, 1e-12 * d) << "case " << n;
+  EXPECT_NEAR(b0.v, s0.v, 1e-12 * c.limits.vmax) << "case " << n;
+  EXPECT_NEAR(b0.a, s0.a, 1e-12 * c.limits.amax) << "case " << n;
+  // At rest at the end, the last instant of the last segment included.
+  const core::Sample<double> e = b.at(std::nextafter(b.duration(), 0.0));
+  EXPECT_LE(std::fabs(e.v), 1e-9 * c.limits.vmax) << "case " << n;
+  EXPECT_LE(std::fabs(e.a), 1e-9 * c.limits.amax) << "case " << n;
+  if (target) {
+    EXPECT_NEAR(b.end_position(), *target, 1e-9 * d) << "case " << n;
+  }
+  // Within the limits.
+  const core::Peaks<double> pk = sampled_peaks(b);
+  EXPECT_LE(pk.v, c.limits.vmax * (1 + 1e-9)) << "case " << n;
+  EXPECT_LE(pk.a, c.limits.amax * (1 + 1e-9)) << "case " << n;
+  EXPECT_LE(pk.j, c.limits.jmax * (1 + 1e-6)) << "case " << n;
+  // Every mode at rest once the whole command is over.
+  for (std::size_t i = 0; i < c.mode_count; ++i) {
+    const double res = test::residual_after_blend(c.move, c.t_switch, b, c.modes[i].omega, c.modes[i].zeta);
+    EXPECT_LE(res, 1e-9 * d) << "case " << n << " mode " << i << " omega " << c.modes[i].omega << " profile "
+                             << core::to_string(c.req.profile);
+  }
+}
+
+TEST(ModeMemory, MatchesTheModeStateIntegratedAlongTheMove) {
+  // Q = (q + v) / lambda with q = e' - conj(lambda) e (docs/online.md): compare with RK4's e, e'.
+  Gen g{std::mt19937_64{1717}};
+  for (int n = 0; n < 60; ++n) {
+    const Case c = g.draw();
+    for (std::size_t i = 0; i < c.mode_count; ++i) {
+      const core::Mode& md = c.modes[i];
+      const std::complex<double> lam{-md.zeta * md.omega, md.omega * std::sqrt(1 - md.zeta * md.zeta)};
+      const test::ModeState s = test::state_at_switch(c.move, c.t_switch, md.omega, md.zeta);
+      const std::complex<double> q = s.de - std::conj(lam) * s.e;
+      const std::complex<double> expect = (q + c.move.at(c.t_switch).v) / lam;
+      const core::ModeMemory got = core::mode_memory(c.move, c.t_switch, md);
+      // RK4's own error is relative to the state it integrates (|Q| can be well above D).
+      const double tol = 1e-10 * std::max(scale_of(c.move), std::abs(expect));
+      EXPECT_NEAR(got.re, expect.real(), tol) << "case " << n << " " << core::to_string(c.req.profile) << " w "
+                                              << md.omega << " z " << md.zeta << " t " << c.t_switch << " T "
+                                              << c.move.duration() << " D " << c.move.distance();
+      EXPECT_NEAR(got.im, expect.imag(), tol) << "case " << n << " " << core::to_string(c.req.profile);
+    }
+  }
+}
+
+TEST(ModeMemory, VanishesAfterAMoveDesignedForTheMode) {
+  Gen g{std::mt19937_64{99}};
+  for (int n = 0; n < 30; ++n) {
+    const Case c = g.draw();
+    const core::ModeMemory q = core::mode_memory(c.move, c.move.duration() * 1.001, c.modes[0]);
+    EXPECT_LE(std::hypot(q.re, q.im), 1e-9 * scale_of(c.move)) << core::to_string(c.req.profile);
+  }
+}
+
+TEST(OnlineHalt, HundredRandomStatesEndAtRestWithZeroResidualWithinLimits) {
+  Gen g{std::mt19937_64{20261202}};
+  for (int n = 0; n < 100; ++n) {
+    const Case c = g.draw();
+    core::OnlineRequest r{};
+    ASSERT_EQ(core::online_request(c.move, c.t_switch, c.modes.data(), c.mode_count, c.limits, std::nullopt, r),
+              Status::ok);
+    core::Blend b{};
+    ASSERT_EQ(core::plan_online(r, b), Status::ok) << "case " << n;
+    expect_blend(c, b, std::nullopt, n);
+  }
+}
+
+TEST(OnlineRetarget, HundredRandomStatesReachTheNewTargetAtRestWithZeroResidualWithinLimits) {
+  Gen g{std::mt19937_64{20261203}};
+  for (int n = 0; n < 100; ++n) {
+    const Case c = g.draw();
+    const double target = c.move.distance() * g.uni(-0.5, 1.5);
+    core::OnlineRequest r{};
+    ASSERT_EQ(core::online_request(c.move, c.t_switch, c.modes.data(), c.mode_count, c.limits, target, r),
+              Status::ok);
+    core::Blend b{};
+    ASSERT_EQ(core::plan_online(r, b), Status::ok)
+        << "case " << n << " " << core::to_string(c.req.profile) << " p,v,a " << r.start.p << " " << r.start.v << " "
+        << r.start.a << " target " << target << " limits " << c.limits.vmax << " " << c.limits.amax << " "
+        << c.limits.jmax << " modes " << c.mode_count << " w " << c.modes[0].omega;
+    expect_blend(c, b, target, n);
+  }
+}
+
+TEST(OnlineHalt, IgnoringTheModeMemoryLeavesResidual) {
+  // The check above can fail: the same stop planned without the mode conditions (a plain
+  // jerk-limited brake) leaves the modes ringing.
+  Gen g{std::mt19937_64{20261202}};
+  int ringing = 0;
+  for (int n = 0; n < 20; ++n) {
+    const Case c = g.draw();
+    core::OnlineRequest r{};
+    ASSERT_EQ(core::online_request(c.move, c.t_switch, c.modes.data(), 0, c.limits, std::nullopt, r), Status::ok);
+    core::Blend b{};
+    ASSERT_EQ(core::plan_online(r, b), Status::ok);
+    const double res = test::residual_after_blend(c.move, c.t_switch, b, c.modes[0].omega, c.modes[0].zeta);
+    if (res > 1e-6 * scale_of(c.move)) ++ringing;
+  }
+  EXPECT_GE(ringing, 15);
+}
+
+TEST(OnlineHalt, FromRestWithQuietModesIsImmediate) {
+  const core::Move<double> m = test::must_plan(test::timed(ProfileKind::scurve, 0.2, 0.5, 30.0));
+  const core::Mode md{30.0, 0.0};
+  core::OnlineRequest r{};
+  ASSERT_EQ(core::online_request(m, 2.0, &md, 1, {1, 10, 100}, std::nullopt, r), Status::ok);
+  core::Blend b{};
+  ASSERT_EQ(core::plan_online(r, b), Status::ok);
+  EXPECT_EQ(b.duration(), 0.0);
+  EXPECT_DOUBLE_EQ(b.at(0.0).p, 0.2);
+}
+
+TEST(OnlineHalt, RefusesBadRequestsAndLeavesTheOutputAlone) {
+  const core::Move<double> m = test::must_plan(test::timed(ProfileKind::scurve, 0.2, 0.5, 30.0));
+  const core::Mode md{30.0, 0.0};
+  core::OnlineRequest r{};
+  ASSERT_EQ(core::online_request(m, 0.2, &md, 1, {1, 10, 100}, std::nullopt, r), Status::ok);
+  core::Blend b{};
+  ASSERT_EQ(core::plan_online(r, b), Status::ok);
+  const double before = b.duration();
+  auto bad = r;
+  bad.limits.jmax = 0.0;
+  EXPECT_EQ(core::plan_online(bad, b), Status::non_positive_limit);
+  bad = r;
+  bad.limits.vmax = NAN;
+  EXPECT_EQ(core::plan_online(bad, b), Status::non_finite_input);
+  bad = r;
+  bad.modes[0].zeta = 1.0;
+  EXPECT_EQ(core::plan_online(bad, b), Status::zeta_out_of_range);
+  bad = r;
+  bad.limits.vmax = std::fabs(r.start.v) * 0.5;  // the switch state is already over it
+  EXPECT_EQ(core::plan_online(bad, b), Status::velocity_limit_exceeded);
+  bad = r;  // accelerating at 1 towards vmax = v + 0.4: taking a out at jmax = 1 adds 0.5 to v
+  bad.mode_count = 0;
+  bad.start.a = 1.0;
+  bad.start.v = 0.1;
+  bad.limits = {0.5, 10.0, 1.0};
+  EXPECT_EQ(core::plan_online(bad, b), Status::velocity_limit_exceeded);
+  bad.limits.vmax = 0.605;  // now it can (0.6 is the bound), in about the time-optimal 2.55 s
+  core::Blend ok{};
+  EXPECT_EQ(core::plan_online(bad, ok), Status::ok);
+  EXPECT_LT(ok.duration(), 2.55 * 1.01);
+  EXPECT_EQ(b.duration(), before);
+}
+
+}  // namespace

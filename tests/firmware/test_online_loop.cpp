@@ -1,0 +1,209 @@
+// Online changes in the servo loop (issue 17): halt() and retarget() post into a lock-free
+// mailbox, service() plans outside the tick, and the tick switches to the blend at exactly the
+// setpoint it was planned for: the setpoints before it are the move's, those after it the blend's,
+// with no jump in position, velocity or acceleration, and the drive ends on the blend's end.
+// That the blend itself leaves the modes at rest is proven in tests/core/test_online.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include "settle/firmware/servo_loop.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
+
+using namespace settle;
+
+namespace {
+
+constexpr std::uint32_t kPeriod = 1000;
+constexpr double kCpu = 1e6;  // counts per metre
+constexpr double kOmega = 22.04871;
+
+core::MoveRequest scurve(double d, double t) {
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::scurve;
+  r.distance = d;
+  r.time = t;
+  r.omega = kOmega;
+  return r;
+}
+
+core::Move<double> planned(const core::MoveRequest& req) {
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(req, m), core::Status::ok);
+  return m;
+}
+
+firmware::OnlineConfig online_config(const core::Move<double>& m) {
+  firmware::OnlineConfig c{};
+  c.modes[0] = {kOmega, 0.0};
+  c.mode_count = 1;
+  c.limits = {1.2 * m.peaks().v, 1.2 * m.peaks().a, 1.2 * m.peaks().j};
+  return c;
+}
+
+struct Rig {
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<256> master{hub};
+  hal::canopen::DriveNodeConfig drive_config{};
+  hal::testing::IdealDrive<> drive{hub, drive_config};
+  firmware::ServoLoop<double, 1, 4> loop{master, kPeriod};
+  std::uint64_t now = 0;
+  std::vector<std::int32_t> moving;  // what the loop sent while a move (or its blend) was active
+
+  Rig() {
+    firmware::AxisConfig a{};
+    a.drive.node = hal::canopen::NodeId{1};
+    a.drive.heartbeat_timeout_ms = 500;
+    a.scale = {kCpu, kPeriod};
+    a.vmax = 2.0;
+    EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
+    drive.start(now);
+    loop.start(now);
+    for (int i = 0; i < 2000 && !loop.ready(0); ++i) tick();
+    EXPECT_TRUE(loop.ready(0));
+  }
+  void tick() {
+    now += kPeriod;
+    hub.set_time_us(now);
+    loop.tick(now);
+    if (loop.record(0).sent && loop.record(0).moving) moving.push_back(loop.record(0).target);
+    drive.process(now);
+    for (firmware::LoopEvent e{}; loop.events().pop(e);) {
+    }
+  }
+};
+
+std::int32_t counts(double p) { return static_cast<std::int32_t>(std::nearbyint(p * kCpu)); }
+
+// The setpoints the loop must send: the move's up to the switch index k, then the blend planned
+// by core for the switch at k periods on the move's clock, to its end inclusive.
+std::vector<std::int32_t> expected_with_blend(const core::Move<double>& m, const firmware::OnlineConfig& c,
+                                              std::int32_t k, std::optional<double> target, core::Blend& blend) {
+  std::vector<std::int32_t> e;
+  for (std::int32_t i = 0; i < k; ++i) e.push_back(counts(m.at(i * 1e-3).p));
+  core::OnlineRequest r{};
+  EXPECT_EQ(core::online_request(m, k * 1e-3, c.modes.data(), c.mode_count, c.limits, target, r), core::Status::ok);
+  EXPECT_EQ(core::plan_online(r, blend), core::Status::ok);
+  for (std::int32_t i = 0;; ++i) {
+    const double u = i * 1e-3;
+    e.push_back(counts(blend.at(u).p));
+    if (!(u < blend.duration())) break;
+  }
+  return e;
+}
+
+// No jump at the switch: second differences of the setpoints stay within the acceleration limit
+// (plus rounding), the first ones within the velocity limit.
+void expect_smooth(const std::vector<std::int32_t>& s, const firmware::OnlineConfig& c) {
+  const double dv = c.limits.vmax * 1e-3 * kCpu + 1.0, da = c.limits.amax * 1e-6 * kCpu + 2.0;
+  for (std::size_t i = 1; i < s.size(); ++i) ASSERT_LE(std::abs(s[i] - s[i - 1]), dv) << i;
+  for (std::size_t i = 2; i < s.size(); ++i) ASSERT_LE(std::abs(s[i] - 2 * s[i - 1] + s[i - 2]), da) << i;
+}
+
+void run_change(std::optional<double> target) {
+  Rig r;
+  const core::MoveRequest req = scurve(0.1, 0.5);
+  const core::Move<double> m = planned(req);
+  const firmware::OnlineConfig c = online_config(m);
+  ASSERT_EQ(r.loop.configure_online(0, c), firmware::LoopStatus::ok);
+  ASSERT_EQ(r.loop.submit(0, req), firmware::LoopStatus::ok);
+  ASSERT_EQ(r.loop.submit(0, scurve(0.05, 0.3)), firmware::LoopStatus::ok);  // voided by the change
+  for (int i = 0; i < 200; ++i) r.tick();
+  ASSERT_EQ(r.moving.size(), 200u);
+  // "Another context" asks; the owner's service() plans between two ticks.
+  ASSERT_TRUE(target ? r.loop.retarget(0, *target) : r.loop.halt(0));
+  ASSERT_EQ(r.loop.service(), firmware::LoopStatus::ok);
+  for (int i = 0; i < 3000 && !r.loop.idle(); ++i) r.tick();
+  EXPECT_TRUE(r.loop.idle());
+  EXPECT_EQ(r.loop.online_switches(0), 1u);
+  EXPECT_EQ(r.loop.online_missed(0), 0u);
+  core::Blend b{};
+  const std::vector<std::int32_t> e = expected_with_blend(m, c, 200 + firmware::kOnlineLeadTicks, target, b);
+  ASSERT_EQ(r.moving.size(), e.size());
+  for (std::size_t i = 0; i < e.size(); ++i) ASSERT_EQ(r.moving[i], e[i]) << "setpoint " << i;
+  expect_smooth(r.moving, c);
+  EXPECT_EQ(r.drive.position(), counts(b.end_position()));
+  if (target) {
+    EXPECT_EQ(r.drive.position(), counts(*target));
+  }
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 1u);  // the queued second move was voided
+}
+
+TEST(ServoLoopOnline, HaltSwitchesAtItsSetpointAndStopsWhereTheBlendEnds) { run_change(std::nullopt); }
+
+TEST(ServoLoopOnline, RetargetSwitchesAtItsSetpointAndEndsOnTheNewTarget) { run_change(0.04); }
+
+TEST(ServoLoopOnline, TheTickNeverPlansAHaltWithoutServiceTheMoveRunsOnUnchanged) {
+  Rig r;
+  const core::MoveRequest req = scurve(0.1, 0.5);
+  const core::Move<double> m = planned(req);
+  ASSERT_EQ(r.loop.configure_online(0, online_config(m)), firmware::LoopStatus::ok);
+  ASSERT_EQ(r.loop.submit(0, req), firmware::LoopStatus::ok);
+  for (int i = 0; i < 100; ++i) r.tick();
+  ASSERT_TRUE(r.loop.halt(0));
+  for (int i = 0; i < 1000 && !r.loop.idle(); ++i) r.tick();
+  ASSERT_EQ(r.moving.size(), 501u);
+  for (std::size_t i = 0; i < r.moving.size(); ++i) {
+    ASSERT_EQ(r.moving[i], counts(m.at(static_cast<double>(i) * 1e-3).p)) << i;
+  }
+  EXPECT_EQ(r.loop.online_switches(0), 0u);
+  // Serviced after the move is over, the halt has nothing to stop.
+  EXPECT_EQ(r.loop.service(), firmware::LoopStatus::ok);
+  EXPECT_EQ(r.loop.online_missed(0), 1u);
+}
+
+TEST(ServoLoopOnline, RefusedWithoutConfigurationOrWithoutTheDoubleEvaluation) {
+  Rig r;
+  EXPECT_FALSE(r.loop.halt(0));  // not configured
+  firmware::OnlineConfig bad{};
+  bad.limits = {1.0, 0.0, 1.0};
+  EXPECT_EQ(r.loop.configure_online(0, bad), firmware::LoopStatus::bad_axis_config);
+  EXPECT_FALSE(r.loop.retarget(0, 0.1));
+  EXPECT_EQ(r.loop.configure_online(3, online_config(planned(scurve(0.1, 0.5)))), firmware::LoopStatus::no_such_axis);
+  hal::LoopbackBus<16> other{r.hub};
+  firmware::ServoLoop<float, 1, 2, firmware::FloatEvaluation<float>> small{other, kPeriod};
+  EXPECT_EQ(small.configure_online(0, online_config(planned(scurve(0.1, 0.5)))), firmware::LoopStatus::evaluation_refused);
+  EXPECT_FALSE(small.halt(0));
+  static_assert(firmware::ServoLoop<double, 1, 4>::kOnlineChanges);
+  static_assert(!firmware::ServoLoop<double, 1, 4, firmware::FixedEvaluation>::kOnlineChanges);
+  static_assert(!firmware::ServoLoop<float, 1, 4, firmware::FloatEvaluation<float>>::kOnlineChanges);
+}
+
+TEST(OnlineMailbox, OneProducerThreadOneConsumerEveryCommandOnceInOrder) {
+  firmware::OnlineMailbox<4> box;
+  constexpr int n = 5000;
+  std::thread producer([&] {
+    for (int i = 0; i < n; ++i) {
+      while (!box.post({firmware::OnlineKind::retarget, static_cast<double>(i)})) std::this_thread::yield();
+    }
+  });
+  int next = 0;
+  while (next < n) {
+    firmware::OnlineCommand c{};
+    if (!box.take(c)) {
+      std::this_thread::yield();
+      continue;
+    }
+    ASSERT_EQ(c.target, static_cast<double>(next));
+    ++next;
+  }
+  producer.join();
+  firmware::OnlineCommand c{};
+  EXPECT_FALSE(box.take(c));
+}
+
+TEST(OnlineMailbox, AFullMailboxRefusesAndKeepsWhatItHolds) {
+  firmware::OnlineMailbox<2> box;
+  EXPECT_TRUE(box.post({firmware::OnlineKind::halt, 1.0}));
+  EXPECT_TRUE(box.post({firmware::OnlineKind::halt, 2.0}));
+  EXPECT_FALSE(box.post({firmware::OnlineKind::halt, 3.0}));
+  firmware::OnlineCommand c{};
+  ASSERT_TRUE(box.take(c));
+  EXPECT_EQ(c.target, 1.0);
+  ASSERT_TRUE(box.take(c));
+  EXPECT_EQ(c.target, 2.0);
+}
+
+}  // namespace
