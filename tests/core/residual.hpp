@@ -46,6 +46,8 @@ inline std::vector<double> profile_breakpoints(const core::Profile<double>& prof
     } else if constexpr (std::is_same_v<P, core::PiecewiseJerk<double>>) {
       double t = 0.0;
       for (std::size_t i = 0; i < p.params().count; ++i) b.push_back(t += p.params().durations[i]);
+    } else if constexpr (requires { p.piece_count(); }) {
+      for (int i = 1; i < p.piece_count(); ++i) b.push_back(p.piece(i).start);
     }
     b.push_back(p.duration());
   });

@@ -1,0 +1,633 @@
+// Profile `fastest` (profiles/fastest.hpp): plans every family and keeps the shortest feasible
+// move. docs/fastest.md describes the method.
+#include "settle/core/profiles/fastest.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "settle/core/piecewise_jerk.hpp"
+#include "settle/core/shaper.hpp"
+#include "settle/core/small_solve.hpp"
+
+namespace settle::core {
+
+namespace {
+
+// A complex number (core keeps to <cmath>; four operations are all the solver needs).
+struct Cx {
+  double re{0.0}, im{0.0};
+};
+constexpr Cx operator+(Cx a, Cx b) noexcept { return {a.re + b.re, a.im + b.im}; }
+constexpr Cx operator*(Cx a, Cx b) noexcept { return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
+constexpr Cx operator*(double s, Cx a) noexcept { return {s * a.re, s * a.im}; }
+inline Cx cexp_neg(Cx p, double t) noexcept {  // e^{-p t}
+  const double m = std::exp(-p.re * t);
+  return {m * std::cos(p.im * t), -m * std::sin(p.im * t)};
+}
+inline double cabs(Cx a) noexcept { return std::hypot(a.re, a.im); }
+
+Cx pole(double omega, double zeta) noexcept { return {-zeta * omega, omega * std::sqrt(1.0 - zeta * zeta)}; }
+
+constexpr std::size_t kMaxModes = 1 + kMaxExtraModes;
+struct ModeSet {
+  std::array<Mode, kMaxModes> m{};
+  std::size_t n{0};
+};
+
+// ----- jerk tables ---------------------------------------------------------------------------
+
+// Laplace transform of the table's acceleration at p (the move starts from rest with a = 0):
+// A(p) = sum_i j_i (e^{-p t_i} - e^{-p t_{i+1}}) / p^2.
+Cx accel_transform(const FastestParams& p, Cx s) noexcept {
+  Cx acc{};
+  double t = 0.0;
+  Cx e0 = cexp_neg(s, 0.0);
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const double t1 = t + p.durations[i];
+    const Cx e1 = cexp_neg(s, t1);
+    acc = acc + p.jerk[i] * Cx{e0.re - e1.re, e0.im - e1.im};
+    e0 = e1;
+    t = t1;
+  }
+  // divide by s^2
+  const Cx s2 = s * s;
+  const double n2 = s2.re * s2.re + s2.im * s2.im;
+  return (1.0 / n2) * (acc * Cx{s2.re, -s2.im});
+}
+
+void push_segment(FastestParams& p, double d, double j) noexcept {
+  if (!(d > 0.0) || p.count >= kFastestSegments) return;
+  if (p.count > 0 && p.jerk[p.count - 1] == j) {
+    p.durations[p.count - 1] += d;
+    return;
+  }
+  p.durations[p.count] = d;
+  p.jerk[p.count] = j;
+  ++p.count;
+}
+
+double table_duration(const FastestParams& p) noexcept {
+  double t = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) t += p.durations[i];
+  return t;
+}
+
+// ----- family: the time-optimal move convolved with shapers -----------------------------------
+
+// The time-optimal move shaped by s, flattened into one constant-jerk table. False when the
+// breakpoints do not fit the table.
+bool flatten_shaped(const PiecewiseJerkParams& base, const Shaper<double>& s, FastestParams& out) noexcept {
+  std::array<double, kMaxJerkSegments + 1> bt{};
+  std::size_t nb = 0;
+  double t = 0.0;
+  bt[nb++] = 0.0;
+  for (std::size_t i = 0; i < base.count; ++i) bt[nb++] = (t += base.durations[i]);
+  const double total = t + s.duration();
+  std::array<double, (kMaxJerkSegments + 1) * kMaxImpulses> br{};
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < s.count; ++k) {
+    for (std::size_t i = 0; i < nb; ++i) br[n++] = bt[i] + s.time[k];
+  }
+  std::sort(br.begin(), br.begin() + static_cast<std::ptrdiff_t>(n));
+  const auto jerk_at = [&](double tm) {
+    double j = 0.0;
+    for (std::size_t k = 0; k < s.count; ++k) {
+      const double u = tm - s.time[k];
+      if (!(u > 0.0) || u >= t) continue;
+      double acc = 0.0;
+      for (std::size_t i = 0; i < base.count; ++i) {
+        if (u < acc + base.durations[i]) {
+          j += s.amp[k] * base.jerk[i];
+          break;
+        }
+        acc += base.durations[i];
+      }
+    }
+    return j;
+  };
+  FastestParams p{};
+  p.distance = base.distance;
+  const double merge = 1e-13 * total;
+  double last = 0.0;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (br[i] - last <= merge) continue;
+    if (p.count >= kFastestSegments) return false;
+    const double d = br[i] - last;
+    const double j = jerk_at(last + 0.5 * d);
+    p.durations[p.count] = d;
+    p.jerk[p.count] = j;
+    ++p.count;
+    last = br[i];
+  }
+  out = p;
+  return true;
+}
+
+// ----- family: bang-coast switch times ---------------------------------------------------------
+//
+// The acceleration is a(t) = g(t) - g(t - tau): a pulse g, a cruise, and the pulse mirrored, with
+// D = v_c tau (v_c the pulse's area). Its transform is G(s) (1 - e^{-s tau}), so the move leaves
+// a mode at rest when G vanishes at the mode's pole (and robustly when G's derivatives vanish too).
+// The pulse has h ramp/coast pairs, ramps alternately at +J and -J, and a closing ramp back to 0:
+// jerk stays in {+J, 0, -J} by construction. Its durations are t0 y^2 (never negative); levels,
+// vmax and a non-negative cruise are equalities with squared slacks. For a move time T the
+// equalities are solved by Levenberg-Marquardt (minimum-norm steps); T is bisected down to the
+// shortest that still solves.
+
+constexpr std::size_t kMaxPairs = 7;                  // 4h + 3 segments <= kFastestSegments
+constexpr std::size_t kMaxVars = 3 * kMaxPairs + 2;   // y (2h), level slacks (h), vmax, cruise
+constexpr std::size_t kMaxConds = 6;                  // complex conditions
+constexpr std::size_t kMaxEqs = 1 + 2 * kMaxConds + kMaxPairs + 2;
+
+struct Condition {
+  Cx p;         // the pole
+  double w;     // omega, to scale t
+  int order;    // derivative order q: sum dj (-w t)^q e^{-p t} = 0
+};
+
+struct BangCoast {
+  double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0}, t0{1.0};
+  std::size_t h{2};
+  std::array<Condition, kMaxConds> cond{};
+  std::size_t nc{0};
+  [[nodiscard]] std::size_t nvar() const noexcept { return 3 * h + 2; }
+  [[nodiscard]] std::size_t neq() const noexcept { return 1 + 2 * nc + h + 2; }
+};
+
+using Vec = std::array<double, kMaxVars>;
+using EqVec = std::array<double, kMaxEqs>;
+using Jac = std::array<std::array<double, kMaxVars>, kMaxEqs>;
+
+// The pulse's segment durations, jerks (units of J) and switch times from the variables.
+struct Pulse {
+  std::size_t nseg{0};
+  std::array<double, 2 * kMaxPairs + 1> d{}, j{};
+  std::array<double, 2 * kMaxPairs + 2> t{}, dj{};  // switch times and jerk jumps (units of J)
+  std::array<double, kMaxPairs> level{};             // acceleration on each coast (units of J s)
+  double close_sign{0.0};                            // d(closing)/d(sum sigma r) sign
+  double tg{0.0};
+};
+
+Pulse make_pulse(const BangCoast& b, const Vec& y) noexcept {
+  Pulse q{};
+  double lv = 0.0;
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
+    const double r = b.t0 * y[2 * i] * y[2 * i];
+    const double c = b.t0 * y[2 * i + 1] * y[2 * i + 1];
+    lv += sg * r;
+    q.level[i] = lv;
+    q.d[2 * i] = r;
+    q.j[2 * i] = sg;
+    q.d[2 * i + 1] = c;
+    q.j[2 * i + 1] = 0.0;
+  }
+  q.close_sign = lv >= 0.0 ? 1.0 : -1.0;
+  q.d[2 * b.h] = std::fabs(lv);
+  q.j[2 * b.h] = -q.close_sign;
+  q.nseg = 2 * b.h + 1;
+  double t = 0.0, prev = 0.0;
+  for (std::size_t k = 0; k < q.nseg; ++k) {
+    q.t[k] = t;
+    q.dj[k] = q.j[k] - prev;
+    prev = q.j[k];
+    t += q.d[k];
+  }
+  q.t[q.nseg] = t;
+  q.dj[q.nseg] = -prev;
+  q.tg = t;
+  return q;
+}
+
+// F(y) and its Jacobian for move time T.
+void residuals(const BangCoast& b, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
+  const Pulse q = make_pulse(b, y);
+  const std::size_t nv = b.nvar(), ns = q.nseg + 1;  // switch count
+  // d t_k / d y_v: t_k = sum_{m<k} d_m; d_m depends on y_{m} (m < 2h) or on all ramps (closing).
+  // dd[m][v]: derivative of segment m's duration with respect to y_v.
+  std::array<std::array<double, 2 * kMaxPairs>, 2 * kMaxPairs + 1> dd{};
+  for (std::size_t m = 0; m < 2 * b.h; ++m) dd[m][m] = 2.0 * b.t0 * y[m];
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
+    dd[2 * b.h][2 * i] = q.close_sign * sg * 2.0 * b.t0 * y[2 * i];
+  }
+  std::array<std::array<double, 2 * kMaxPairs>, 2 * kMaxPairs + 2> dt{};
+  for (std::size_t k = 1; k < ns; ++k) {
+    for (std::size_t v = 0; v < 2 * b.h; ++v) dt[k][v] = dt[k - 1][v] + dd[k - 1][v];
+  }
+  if (jac) {
+    for (auto& row : *jac) row.fill(0.0);
+  }
+  std::size_t e = 0;
+  // Area (velocity gain) v_c = J/2 sum dj t^2; tau = T - tg; D = v_c tau.
+  double vc = 0.0;
+  std::array<double, 2 * kMaxPairs> dvc{};
+  for (std::size_t k = 0; k < ns; ++k) {
+    vc += 0.5 * b.J * q.dj[k] * q.t[k] * q.t[k];
+    for (std::size_t v = 0; v < 2 * b.h; ++v) dvc[v] += b.J * q.dj[k] * q.t[k] * dt[k][v];
+  }
+  const double tau = T - q.tg;
+  const std::array<double, 2 * kMaxPairs>& dtg = dt[ns - 1];
+  f[e] = vc * tau / b.D - 1.0;
+  if (jac) {
+    for (std::size_t v = 0; v < 2 * b.h; ++v) (*jac)[e][v] = (dvc[v] * tau - vc * dtg[v]) / b.D;
+  }
+  ++e;
+  // Zero-residual conditions.
+  for (std::size_t c = 0; c < b.nc; ++c) {
+    const Condition& cd = b.cond[c];
+    Cx sum{};
+    std::array<Cx, 2 * kMaxPairs> grad{};
+    for (std::size_t k = 0; k < ns; ++k) {
+      if (q.dj[k] == 0.0) continue;
+      const Cx ex = cexp_neg(cd.p, q.t[k]);
+      const double u = -cd.w * q.t[k];
+      const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
+      sum = sum + (q.dj[k] * uq) * ex;
+      if (jac) {
+        // d/dt [u^q e^{-pt}] = (q u^{q-1} (-w) - p u^q) e^{-pt}
+        const double uq1 = cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
+        const Cx dk = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * ex);
+        for (std::size_t v = 0; v < 2 * b.h; ++v) grad[v] = grad[v] + dt[k][v] * dk;
+      }
+    }
+    f[e] = sum.re;
+    f[e + 1] = sum.im;
+    if (jac) {
+      for (std::size_t v = 0; v < 2 * b.h; ++v) {
+        (*jac)[e][v] = grad[v].re;
+        (*jac)[e + 1][v] = grad[v].im;
+      }
+    }
+    e += 2;
+  }
+  // Coast levels within amax: 1 - (J L / amax)^2 - s^2 = 0.
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double x = b.J * q.level[i] / b.amax;
+    const std::size_t sv = 2 * b.h + i;
+    f[e] = 1.0 - x * x - y[sv] * y[sv];
+    if (jac) {
+      for (std::size_t l = 0; l <= i; ++l) {
+        const double sg = (l % 2 == 0) ? 1.0 : -1.0;
+        (*jac)[e][2 * l] = -2.0 * x * (b.J / b.amax) * sg * 2.0 * b.t0 * y[2 * l];
+      }
+      (*jac)[e][sv] = -2.0 * y[sv];
+    }
+    ++e;
+  }
+  // vmax: 1 - v_c / vmax - s^2 = 0.
+  {
+    const std::size_t sv = 3 * b.h;
+    f[e] = 1.0 - vc / b.vmax - y[sv] * y[sv];
+    if (jac) {
+      for (std::size_t v = 0; v < 2 * b.h; ++v) (*jac)[e][v] = -dvc[v] / b.vmax;
+      (*jac)[e][sv] = -2.0 * y[sv];
+    }
+    ++e;
+  }
+  // Cruise >= 0: (T - 2 tg) / t0 - s^2 = 0.
+  {
+    const std::size_t sv = 3 * b.h + 1;
+    f[e] = (tau - q.tg) / b.t0 - y[sv] * y[sv];
+    if (jac) {
+      for (std::size_t v = 0; v < 2 * b.h; ++v) (*jac)[e][v] = -2.0 * dtg[v] / b.t0;
+      (*jac)[e][sv] = -2.0 * y[sv];
+    }
+    ++e;
+  }
+  (void)nv;
+}
+
+double norm_inf(const EqVec& f, std::size_t n) noexcept {
+  double m = 0.0;
+  for (std::size_t i = 0; i < n; ++i) m = std::fmax(m, std::fabs(f[i]));
+  return m;
+}
+double norm2(const EqVec& f, std::size_t n) noexcept {
+  double m = 0.0;
+  for (std::size_t i = 0; i < n; ++i) m += f[i] * f[i];
+  return m;
+}
+
+// Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F.
+bool solve_feasible(const BangCoast& b, double T, Vec& y, int max_iter) noexcept {
+  const std::size_t n = b.nvar(), m = b.neq();
+  EqVec f{};
+  Jac jac{};
+  residuals(b, T, y, f, &jac);
+  double cost = norm2(f, m);
+  double lambda = 1e-6;
+  for (int it = 0; it < max_iter; ++it) {
+    if (norm_inf(f, m) < 1e-14) return true;
+    std::array<std::array<double, kMaxEqs>, kMaxEqs> a{};
+    for (std::size_t r = 0; r < m; ++r) {
+      for (std::size_t c = 0; c <= r; ++c) {
+        double s = 0.0;
+        for (std::size_t v = 0; v < n; ++v) s += jac[r][v] * jac[c][v];
+        a[r][c] = a[c][r] = s;
+      }
+    }
+    bool improved = false;
+    for (int tries = 0; tries < 12 && !improved; ++tries) {
+      auto aa = a;
+      std::array<double, kMaxEqs> w{};
+      for (std::size_t r = 0; r < m; ++r) {
+        aa[r][r] += lambda * (1.0 + a[r][r]);
+        w[r] = f[r];
+      }
+      if (!solve_in_place(aa, w, m, 1e-300)) {
+        lambda *= 10.0;
+        continue;
+      }
+      Vec yn = y;
+      for (std::size_t v = 0; v < n; ++v) {
+        double s = 0.0;
+        for (std::size_t r = 0; r < m; ++r) s += jac[r][v] * w[r];
+        yn[v] -= s;
+      }
+      EqVec fn{};
+      residuals(b, T, yn, fn, nullptr);
+      const double cn = norm2(fn, m);
+      if (std::isfinite(cn) && cn < cost) {
+        y = yn;
+        cost = cn;
+        lambda = std::fmax(lambda * 0.1, 1e-15);
+        improved = true;
+      } else {
+        lambda *= 10.0;
+      }
+    }
+    if (!improved) return norm_inf(f, m) < 1e-14;
+    residuals(b, T, y, f, &jac);
+  }
+  return norm_inf(f, m) < 1e-14;
+}
+
+// The whole move from the pulse: g, cruise, -g (D > 0; the caller flips the sign).
+FastestParams bang_coast_table(const BangCoast& b, double T, const Vec& y, double distance) noexcept {
+  const Pulse q = make_pulse(b, y);
+  const double sg = distance < 0.0 ? -1.0 : 1.0;
+  FastestParams p{};
+  p.family = FastestFamily::bang_coast;
+  p.distance = distance;
+  for (std::size_t k = 0; k < q.nseg; ++k) push_segment(p, q.d[k], sg * b.J * q.j[k]);
+  push_segment(p, T - 2.0 * q.tg, 0.0);
+  for (std::size_t k = 0; k < q.nseg; ++k) push_segment(p, q.d[k], -sg * b.J * q.j[k]);
+  return p;
+}
+
+// Seeds: the pulse as a staircase up then down, its total length a fraction of T / 2.
+void seed(const BangCoast& b, double T, double frac, int style, Vec& y) noexcept {
+  y.fill(0.0);
+  const double tg = frac * T / 2.0;
+  const double vc = b.D / (T - tg);
+  // level reached by a trapezoid of length tg and area vc with ramps at J
+  const double each = tg / static_cast<double>(2 * b.h + 1);
+  for (std::size_t i = 0; i < b.h; ++i) {
+    double r = each;
+    if (style == 1) r = (i % 2 == 0) ? each : 0.3 * each;
+    if (style == 2) r = (i == 0) ? std::fmin(b.amax / b.J, tg / 3.0) : 0.2 * each;
+    y[2 * i] = std::sqrt(r / b.t0);
+    y[2 * i + 1] = std::sqrt(each / b.t0);
+  }
+  (void)vc;
+  for (std::size_t i = 0; i < b.h + 2; ++i) y[2 * b.h + i] = 0.5;
+}
+
+}  // namespace
+
+Peaks<double> jerk_table_peaks(const FastestParams& p) noexcept {
+  Peaks<double> pk{};
+  double v = 0.0, a = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const double d = p.durations[i], j = p.jerk[i];
+    pk.j = std::fmax(pk.j, std::fabs(j));
+    // v(u) = v + a u + j u^2 / 2 is extremal where a + j u = 0 inside the segment.
+    if (j != 0.0) {
+      const double u = -a / j;
+      if (u > 0.0 && u < d) pk.v = std::fmax(pk.v, std::fabs(v + a * u + j * u * u / 2.0));
+    }
+    v += d * (a + j * d / 2.0);
+    a += j * d;
+    pk.v = std::fmax(pk.v, std::fabs(v));
+    pk.a = std::fmax(pk.a, std::fabs(a));
+  }
+  return pk;
+}
+
+double fastest_residual_ratio(const FastestParams& p, double omega, double zeta) noexcept {
+  const Cx s = pole(omega, zeta);
+  return cabs(accel_transform(p, s)) / (std::fabs(p.distance) * omega);
+}
+
+namespace {
+
+// The largest residual ratio of any mode over omega (1 +- band), sampled finely (with --robust).
+double worst_over_band(const FastestParams& p, const ModeSet& ms, double band) noexcept {
+  double worst = 0.0;
+  constexpr int kSamples = 64;
+  for (std::size_t i = 0; i < ms.n; ++i) {
+    for (int k = 0; k <= kSamples; ++k) {
+      const double w = ms.m[i].omega * (1.0 - band + 2.0 * band * k / kSamples);
+      worst = std::fmax(worst, fastest_residual_ratio(p, w, ms.m[i].zeta));
+    }
+  }
+  return worst;
+}
+
+bool limits_ok(const Peaks<double>& pk, double vmax, double amax, double jmax) noexcept {
+  constexpr double slack = 1e-9;
+  return pk.v <= vmax * (1.0 + slack) && pk.a <= amax * (1.0 + slack) && pk.j <= jmax * (1.0 + slack);
+}
+
+struct Best {
+  FastestParams p{};
+  Peaks<double> pk{};
+  double time{INFINITY};
+};
+
+bool design_ok(const FastestParams& p, const ModeSet& ms, double band, double exact_tol) noexcept {
+  if (band > 0.0) return worst_over_band(p, ms, band) <= 0.05;
+  for (std::size_t i = 0; i < ms.n; ++i) {
+    if (!(fastest_residual_ratio(p, ms.m[i].omega, ms.m[i].zeta) <= exact_tol)) return false;
+  }
+  return true;
+}
+
+void consider(Best& best, const FastestParams& p, const Peaks<double>& pk, double time) noexcept {
+  if (time < best.time) {
+    best.p = p;
+    best.pk = pk;
+    best.time = time;
+  }
+}
+
+// Shortest bang-coast move for the conditions, below t_hi; false when none was found.
+bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<Condition, kMaxConds>& cond,
+                     std::size_t nc, double t_lo, double t_hi, double band, FastestParams& out,
+                     Peaks<double>& out_pk) noexcept {
+  BangCoast b{};
+  b.D = std::fabs(r.distance);
+  b.J = *r.jmax;
+  b.amax = *r.amax;
+  b.vmax = *r.vmax;
+  b.t0 = t_hi;
+  b.cond = cond;
+  b.nc = nc;
+  b.h = std::min(kMaxPairs, nc + 2);
+  if (b.neq() > kMaxEqs || b.nvar() > kMaxVars) return false;
+  // A first feasible point at t_hi (several seeds), then bisection with warm starts.
+  Vec y{};
+  bool found = false;
+  constexpr double kFracs[] = {0.9, 0.6, 0.98, 0.4};
+  for (int style = 0; style < 3 && !found; ++style) {
+    for (double fr : kFracs) {
+      seed(b, t_hi, fr, style, y);
+      if (solve_feasible(b, t_hi, y, 80)) {
+        found = true;
+        break;
+      }
+    }
+  }
+  if (!found) return false;
+  const auto accept = [&](double T, const Vec& yy, FastestParams& p, Peaks<double>& pk) {
+    p = bang_coast_table(b, T, yy, r.distance);
+    if (p.count == 0 || p.count >= kFastestSegments) return false;
+    pk = jerk_table_peaks(p);
+    return limits_ok(pk, b.vmax, b.amax, b.J) && design_ok(p, ms, band, 1e-10);
+  };
+  FastestParams bp{};
+  Peaks<double> bpk{};
+  double hi = t_hi;
+  Vec yhi = y;
+  bool have = accept(hi, yhi, bp, bpk);
+  double lo = t_lo;
+  for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    Vec yt = yhi;
+    FastestParams p{};
+    Peaks<double> pk{};
+    if (solve_feasible(b, mid, yt, 40) && accept(mid, yt, p, pk)) {
+      hi = mid;
+      yhi = yt;
+      bp = p;
+      bpk = pk;
+      have = true;
+    } else {
+      lo = mid;
+    }
+  }
+  if (!have) return false;
+  out = bp;
+  out_pk = bpk;
+  return true;
+}
+
+Status read_modes(const MoveRequest& r, ModeSet& ms) noexcept {
+  ms.m[0] = {*r.omega, r.zeta};
+  ms.n = 1;
+  if (r.extra_mode_count > kMaxExtraModes) return Status::unsupported_request;
+  for (std::size_t i = 0; i < r.extra_mode_count; ++i) {
+    const Mode md = r.extra_modes[i];
+    if (!std::isfinite(md.omega) || !std::isfinite(md.zeta)) return Status::non_finite_input;
+    if (!(md.omega > 0.0)) return Status::non_positive_omega;
+    if (!(md.zeta >= 0.0 && md.zeta < 1.0)) return Status::zeta_out_of_range;
+    ms.m[ms.n++] = md;
+  }
+  return Status::ok;
+}
+
+}  // namespace
+
+Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
+  if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
+  if (r.time) return Status::unsupported_request;  // the fastest move has no requested time
+  ModeSet ms{};
+  Status st = read_modes(r, ms);
+  if (st != Status::ok) return st;
+  double band = 0.0;
+  if (r.robust) {
+    if (!std::isfinite(*r.robust)) return Status::non_finite_input;
+    if (!(*r.robust > 0.0 && *r.robust <= 50.0)) return Status::bad_shape_parameter;
+    band = *r.robust / 100.0;
+  }
+  const double vmax = *r.vmax, amax = *r.amax, jmax = *r.jmax;
+  Best best{};
+  std::array<double, kFastestFamilies> times{};
+
+  // (c) the time-optimal move convolved with ZV / ZVD / ZVDD / EI, one shaper per mode.
+  const PiecewiseJerkParams to = jerk_limited_time_optimal(r.distance, vmax, amax, jmax);
+  const double t_to = piecewise_duration(to);
+  constexpr ShaperKind kShapers[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd, ShaperKind::ei};
+  constexpr FastestFamily kShaped[] = {FastestFamily::shaped_zv, FastestFamily::shaped_zvd, FastestFamily::shaped_zvdd,
+                                       FastestFamily::shaped_ei};
+  for (std::size_t k = 0; k < 4; ++k) {
+    Shaper<double> s{};
+    bool ok = true;
+    for (std::size_t i = 0; i < ms.n && ok; ++i) {
+      Shaper<double> one{}, both{};
+      ok = design_shaper(kShapers[k], ms.m[i].omega, ms.m[i].zeta, 0.05, one) == Status::ok &&
+           compose(s, one, both) == Status::ok;
+      if (ok) s = both;
+    }
+    FastestParams p{};
+    if (!ok || !flatten_shaped(to, s, p)) continue;
+    p.family = kShaped[k];
+    const Peaks<double> pk = jerk_table_peaks(p);
+    if (!limits_ok(pk, vmax, amax, jmax) || !design_ok(p, ms, band, 1e-9)) continue;
+    const double t = table_duration(p);
+    times[static_cast<std::size_t>(kShaped[k])] = t;
+    consider(best, p, pk, t);
+  }
+
+  // (b) the ramp-cycloid S-curves: one mode, exact at its design (not robust designs).
+  if (ms.n == 1 && band == 0.0) {
+    const bool damped = ms.m[0].zeta > 0.0;
+    FastestParams p{};
+    if (plan_fastest_scurve(r.distance, vmax, amax, jmax, ms.m[0].omega, ms.m[0].zeta, damped, p.curve) ==
+        Status::ok) {
+      p.family = damped ? FastestFamily::scurve_damped : FastestFamily::scurve;
+      p.distance = r.distance;
+      const Peaks<double> pk = ramp_cycloid_peaks(p.curve);
+      if (limits_ok(pk, vmax, amax, jmax)) {
+        const double t = Fastest<double>{p}.duration();
+        times[static_cast<std::size_t>(p.family)] = t;
+        consider(best, p, pk, t);
+      }
+    }
+  }
+
+  // (a) bang-coast switch times under the zero-residual conditions. Robust: derivative zeros
+  // (Singh & Vadali's multiple zeros) of increasing order until the band holds.
+  {
+    const double t_hi = std::isfinite(best.time) ? best.time : 4.0 * t_to + 8.0 * 3.14159 / ms.m[0].omega;
+    const int max_order = band > 0.0 ? 2 : 0;
+    for (int order = band > 0.0 ? 1 : 0; order <= max_order; ++order) {
+      std::array<Condition, kMaxConds> cond{};
+      std::size_t nc = 0;
+      for (std::size_t i = 0; i < ms.n; ++i) {
+        for (int q = 0; q <= order; ++q) {
+          if (nc < kMaxConds) cond[nc] = {pole(ms.m[i].omega, ms.m[i].zeta), ms.m[i].omega, q};
+          ++nc;
+        }
+      }
+      if (nc > kMaxConds) break;
+      FastestParams p{};
+      Peaks<double> pk{};
+      if (plan_bang_coast(r, ms, cond, nc, t_to, std::isfinite(best.time) ? best.time : t_hi, band, p, pk)) {
+        const double t = table_duration(p);
+        times[static_cast<std::size_t>(FastestFamily::bang_coast)] = t;
+        consider(best, p, pk, t);
+        break;
+      }
+    }
+  }
+
+  if (!std::isfinite(best.time)) return band > 0.0 ? Status::no_solution : Status::no_solution;
+  best.p.family_time = times;
+  out = best.p;
+  out_pk = best.pk;
+  return Status::ok;
+}
+
+}  // namespace settle::core

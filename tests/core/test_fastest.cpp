@@ -1,0 +1,99 @@
+// Profile `fastest` (profiles/fastest.hpp, docs/fastest.md): never slower than the time-optimal
+// jerk-limited move convolved with ZV (and, with --robust, with ZVD/EI at the robustness they
+// reach), its residual on every design mode below 1e-9 D by an independent computation (the
+// Duhamel quadrature of residual.hpp, not the Laplace sum the solver uses), its sampled peaks
+// within the limits.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "residual.hpp"
+#include "settle/core/planner.hpp"
+
+using namespace settle;
+using core::Status;
+
+namespace {
+
+core::MoveRequest request(double d, double v, double a, double j, double w, double z) {
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::fastest;
+  r.distance = d;
+  r.vmax = v;
+  r.amax = a;
+  r.jmax = j;
+  r.omega = w;
+  r.zeta = z;
+  return r;
+}
+
+// The time-optimal jerk-limited move shaped by `kind` for every mode of r, planned by core's own
+// jerk-limited profile and shaper (the baseline users compare against).
+double shaped_baseline(const core::MoveRequest& r, core::ShaperKind kind) {
+  core::MoveRequest b = r;
+  b.profile = core::ProfileKind::jerk_limited;
+  b.extra_mode_count = 0;
+  b.robust.reset();
+  b.shaper = core::ShaperKind::none;
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(b, m), Status::ok);
+  core::Shaper<double> s{};
+  std::vector<core::Mode> modes{{*r.omega, r.zeta}};
+  for (std::size_t i = 0; i < r.extra_mode_count; ++i) modes.push_back(r.extra_modes[i]);
+  for (const auto& md : modes) {
+    core::Shaper<double> one{}, both{};
+    EXPECT_EQ(core::design_shaper(kind, md.omega, md.zeta, 0.05, one), Status::ok);
+    EXPECT_EQ(core::compose(s, one, both), Status::ok);
+    s = both;
+  }
+  return m.duration() + s.duration();
+}
+
+// Largest |v|, |a|, |j| of the move sampled every dt (and just inside each end).
+core::Sample<double> sampled_peaks(const core::Move<double>& m, int n = 20000) {
+  core::Sample<double> pk{};
+  for (int i = 0; i <= n; ++i) {
+    const core::Sample<double> s = m.at(m.duration() * i / n);
+    pk.v = std::max(pk.v, std::fabs(s.v));
+    pk.a = std::max(pk.a, std::fabs(s.a));
+    pk.j = std::max(pk.j, std::fabs(s.j));
+  }
+  return pk;
+}
+
+void check_move(const core::MoveRequest& r, const core::Move<double>& m) {
+  const double d = std::fabs(r.distance);
+  std::vector<core::Mode> modes{{*r.omega, r.zeta}};
+  for (std::size_t i = 0; i < r.extra_mode_count; ++i) modes.push_back(r.extra_modes[i]);
+  for (const auto& md : modes) {
+    EXPECT_LE(test::residual_amplitude(m, md.omega, md.zeta), 1e-9 * d) << "omega " << md.omega << " zeta " << md.zeta;
+  }
+  const core::Sample<double> pk = sampled_peaks(m);
+  EXPECT_LE(pk.v, *r.vmax * (1 + 1e-9));
+  EXPECT_LE(pk.a, *r.amax * (1 + 1e-9));
+  EXPECT_LE(pk.j, *r.jmax * (1 + 1e-9));
+  EXPECT_NEAR(m.at(m.duration()).p, r.distance, 1e-12 * d);
+}
+
+core::FastestFamily family_of(const core::Move<double>& m) {
+  return std::get<core::Fastest<double>>(m.profile().variant()).family();
+}
+
+}  // namespace
+
+// The reference case: the ramp-cycloid optimum takes 0.3496 s, time-optimal * ZV 0.3178 s.
+TEST(Fastest, ReferenceCaseIsNoSlowerThanTimeOptimalZv) {
+  const core::MoveRequest r = request(0.1, 1.0, 20.0, 800.0, 22.0, 0.0);
+  core::Move<double> m{};
+  ASSERT_EQ(core::plan(r, m), Status::ok);
+  const double zv = shaped_baseline(r, core::ShaperKind::zv);
+  EXPECT_NEAR(zv, 0.3178, 5e-5);
+  EXPECT_LE(m.duration(), zv * (1 + 1e-12));
+  EXPECT_LE(m.duration(), 0.3178);
+  const auto& p = std::get<core::Fastest<double>>(m.profile().variant()).params();
+  EXPECT_NEAR(p.family_time[static_cast<std::size_t>(core::FastestFamily::scurve)], 0.3496, 5e-5);
+  check_move(r, m);
+  std::printf("reference: fastest %.5f s (%s), ZV %.5f s\n", m.duration(), core::to_string(family_of(m)), zv);
+}
