@@ -25,6 +25,11 @@ inline Cx cexp_neg(Cx p, double t) noexcept {  // e^{-p t}
   return {m * std::cos(p.im * t), -m * std::sin(p.im * t)};
 }
 inline double cabs(Cx a) noexcept { return std::hypot(a.re, a.im); }
+// e^{z} - 1, accurate for small |z| (a short segment's two exponentials nearly cancel).
+inline Cx cexpm1(Cx z) noexcept {
+  const double sh = std::sin(0.5 * z.im);
+  return {std::expm1(z.re) * std::cos(z.im) - 2.0 * sh * sh, std::exp(z.re) * std::sin(z.im)};
+}
 
 Cx pole(double omega, double zeta) noexcept { return {-zeta * omega, omega * std::sqrt(1.0 - zeta * zeta)}; }
 
@@ -36,20 +41,21 @@ struct ModeSet {
 
 // ----- jerk tables ---------------------------------------------------------------------------
 
-// Laplace transform of the table's acceleration at p (the move starts from rest with a = 0):
-// A(p) = sum_i j_i (e^{-p t_i} - e^{-p t_{i+1}}) / p^2.
-Cx accel_transform(const FastestParams& p, Cx s) noexcept {
+// Laplace transform of the table's acceleration at s, times e^{s T} (T its duration): the move
+// starts from rest with a = 0, so A(s) = sum_i j_i (e^{-s t_i} - e^{-s t_{i+1}}) / s^2. Referred
+// to the end every exponential has magnitude <= 1 for a stable pole, so long moves on damped
+// modes neither overflow nor cancel.
+Cx accel_transform_at_end(const FastestParams& p, Cx s) noexcept {
+  double total = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) total += p.durations[i];
+  // j_i (e^{s (T - t_i)} - e^{s (T - t_{i+1})}) = j_i e^{s (T - t_{i+1})} (e^{s d_i} - 1)
   Cx acc{};
   double t = 0.0;
-  Cx e0 = cexp_neg(s, 0.0);
   for (std::size_t i = 0; i < p.count; ++i) {
     const double t1 = t + p.durations[i];
-    const Cx e1 = cexp_neg(s, t1);
-    acc = acc + p.jerk[i] * Cx{e0.re - e1.re, e0.im - e1.im};
-    e0 = e1;
+    if (p.jerk[i] != 0.0) acc = acc + p.jerk[i] * (cexp_neg(s, t1 - total) * cexpm1(p.durations[i] * s));
     t = t1;
   }
-  // divide by s^2
   const Cx s2 = s * s;
   const double n2 = s2.re * s2.re + s2.im * s2.im;
   return (1.0 / n2) * (acc * Cx{s2.re, -s2.im});
@@ -147,6 +153,7 @@ struct Condition {
 
 struct BangCoast {
   double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0}, t0{1.0};
+  double t_ref{0.0};  // conditions are referred to this time (about the pulse's end): e^{-p (t - t_ref)}
   std::size_t h{2};
   std::array<Condition, kMaxConds> cond{};
   std::size_t nc{0};
@@ -240,8 +247,8 @@ void residuals(const BangCoast& b, double T, const Vec& y, EqVec& f, Jac* jac) n
     std::array<Cx, 2 * kMaxPairs> grad{};
     for (std::size_t k = 0; k < ns; ++k) {
       if (q.dj[k] == 0.0) continue;
-      const Cx ex = cexp_neg(cd.p, q.t[k]);
-      const double u = -cd.w * q.t[k];
+      const Cx ex = cexp_neg(cd.p, q.t[k] - b.t_ref);
+      const double u = -cd.w * (q.t[k] - b.t_ref);
       const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
       sum = sum + (q.dj[k] * uq) * ex;
       if (jac) {
@@ -249,6 +256,14 @@ void residuals(const BangCoast& b, double T, const Vec& y, EqVec& f, Jac* jac) n
         const double uq1 = cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
         const Cx dk = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * ex);
         for (std::size_t v = 0; v < 2 * b.h; ++v) grad[v] = grad[v] + dt[k][v] * dk;
+      }
+    }
+    if (cd.order == 0) {
+      // The same sum segment by segment, sum_m j_m e^{-p (t_{m+1} - t_ref)} (e^{p d_m} - 1):
+      // accurate to the terms' own size, where the jump form cancels (short segments, low omega).
+      sum = Cx{};
+      for (std::size_t m = 0; m < q.nseg; ++m) {
+        if (q.j[m] != 0.0) sum = sum + q.j[m] * (cexp_neg(cd.p, q.t[m + 1] - b.t_ref) * cexpm1(q.d[m] * cd.p));
       }
     }
     f[e] = sum.re;
@@ -415,9 +430,15 @@ Peaks<double> jerk_table_peaks(const FastestParams& p) noexcept {
   return pk;
 }
 
+double fastest_residual_amplitude(const FastestParams& p, double omega, double zeta) noexcept {
+  return cabs(accel_transform_at_end(p, pole(omega, zeta))) / (omega * std::sqrt(1.0 - zeta * zeta));
+}
+
 double fastest_residual_ratio(const FastestParams& p, double omega, double zeta) noexcept {
-  const Cx s = pole(omega, zeta);
-  return cabs(accel_transform(p, s)) / (std::fabs(p.distance) * omega);
+  // |A(p)| / (|D| omega) = amplitude at the end * wd e^{zeta omega T} / (|D| omega)
+  const double a = fastest_residual_amplitude(p, omega, zeta);
+  const double wd = omega * std::sqrt(1.0 - zeta * zeta);
+  return a * wd * std::exp(zeta * omega * table_duration(p)) / (std::fabs(p.distance) * omega);
 }
 
 namespace {
@@ -449,7 +470,8 @@ struct Best {
 bool design_ok(const FastestParams& p, const ModeSet& ms, double band, double exact_tol) noexcept {
   if (band > 0.0) return worst_over_band(p, ms, band) <= 0.05;
   for (std::size_t i = 0; i < ms.n; ++i) {
-    if (!(fastest_residual_ratio(p, ms.m[i].omega, ms.m[i].zeta) <= exact_tol)) return false;
+    const double amp = fastest_residual_amplitude(p, ms.m[i].omega, ms.m[i].zeta);
+    if (!(amp <= exact_tol * std::fabs(p.distance))) return false;
   }
   return true;
 }
@@ -483,6 +505,7 @@ bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<C
   for (int style = 0; style < 3 && !found; ++style) {
     for (double fr : kFracs) {
       seed(b, t_hi, fr, style, y);
+      b.t_ref = make_pulse(b, y).tg;
       if (solve_feasible(b, t_hi, y, 80)) {
         found = true;
         break;
@@ -574,7 +597,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     if (!ok || !flatten_shaped(to, s, p)) continue;
     p.family = kShaped[k];
     const Peaks<double> pk = jerk_table_peaks(p);
-    if (!limits_ok(pk, vmax, amax, jmax) || !design_ok(p, ms, band, 1e-9)) continue;
+    if (!limits_ok(pk, vmax, amax, jmax) || !design_ok(p, ms, band, 1e-10)) continue;
     const double t = table_duration(p);
     times[static_cast<std::size_t>(kShaped[k])] = t;
     consider(best, p, pk, t);

@@ -97,3 +97,77 @@ TEST(Fastest, ReferenceCaseIsNoSlowerThanTimeOptimalZv) {
   check_move(r, m);
   std::printf("reference: fastest %.5f s (%s), ZV %.5f s\n", m.duration(), core::to_string(family_of(m)), zv);
 }
+
+namespace {
+
+struct Limits {
+  double v, a, j;
+};
+constexpr Limits kLimitSets[] = {{1.0, 20.0, 800.0}, {0.2, 2.0, 50.0}, {3.0, 100.0, 1e4}};
+constexpr double kOmegas[] = {2.0, 7.0, 22.0, 70.0, 200.0};
+constexpr double kZetas[] = {0.0, 0.05, 0.2};
+constexpr double kDistances[] = {1e-3, 0.03, 1.0, 10.0};
+
+}  // namespace
+
+// One mode over the grid: never slower than time-optimal * ZV, at rest to 1e-9 D, within limits.
+TEST(Fastest, OneModeGridNeverSlowerThanTimeOptimalZv) {
+  int wins[core::kFastestFamilies] = {};
+  int cases = 0;
+  double best_gain = 0.0;
+  for (const Limits& l : kLimitSets) {
+    for (double w : kOmegas) {
+      for (double z : kZetas) {
+        for (double d : kDistances) {
+          SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w << " z " << z << " limits " << l.v << "/"
+                                            << l.a << "/" << l.j);
+          const core::MoveRequest r = request(d, l.v, l.a, l.j, w, z);
+          core::Move<double> m{};
+          ASSERT_EQ(core::plan(r, m), Status::ok);
+          const double zv = shaped_baseline(r, core::ShaperKind::zv);
+          EXPECT_LE(m.duration(), zv * (1 + 1e-12));
+          check_move(r, m);
+          ++wins[static_cast<int>(family_of(m))];
+          best_gain = std::max(best_gain, 1.0 - m.duration() / zv);
+          ++cases;
+        }
+      }
+    }
+  }
+  std::printf("one mode, %d cases; winners:", cases);
+  for (std::size_t k = 0; k < core::kFastestFamilies; ++k) {
+    if (wins[k]) std::printf(" %s %d", core::to_string(static_cast<core::FastestFamily>(k)), wins[k]);
+  }
+  std::printf("; largest gain over ZV %.1f %%\n", 100 * best_gain);
+}
+
+// Two modes (the second 2.7 times higher, its own damping), both left at rest.
+TEST(Fastest, TwoModeGridNeverSlowerThanTimeOptimalZv) {
+  int wins[core::kFastestFamilies] = {};
+  int cases = 0;
+  for (const Limits& l : kLimitSets) {
+    for (double w : kOmegas) {
+      for (double z : kZetas) {
+        for (double d : {1e-3, 1.0, 10.0}) {
+          SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w << " z " << z << " limits " << l.v << "/"
+                                            << l.a << "/" << l.j);
+          core::MoveRequest r = request(-d, l.v, l.a, l.j, w, z);
+          r.extra_modes[0] = {2.7 * w, 0.5 * z + 0.01};
+          r.extra_mode_count = 1;
+          core::Move<double> m{};
+          ASSERT_EQ(core::plan(r, m), Status::ok);
+          const double zv = shaped_baseline(r, core::ShaperKind::zv);
+          EXPECT_LE(m.duration(), zv * (1 + 1e-12));
+          check_move(r, m);
+          ++wins[static_cast<int>(family_of(m))];
+          ++cases;
+        }
+      }
+    }
+  }
+  std::printf("two modes, %d cases; winners:", cases);
+  for (std::size_t k = 0; k < core::kFastestFamilies; ++k) {
+    if (wins[k]) std::printf(" %s %d", core::to_string(static_cast<core::FastestFamily>(k)), wins[k]);
+  }
+  std::printf("\n");
+}

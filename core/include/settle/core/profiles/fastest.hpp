@@ -162,10 +162,11 @@ class Fastest {
 // also where the acceleration crosses zero inside a segment).
 [[nodiscard]] Peaks<double> jerk_table_peaks(const FastestParams& p) noexcept;
 
-// The residual of mode (omega, zeta) after the move, relative to a step of the same distance:
-// |A(p)| / (|D| omega), A the Laplace transform of the acceleration at the mode's pole p. 0 means
-// at rest; a step has 1. For the ramp-cycloid families it is computed from their pieces' closed
-// forms.
+// The residual vibration a jerk-table move leaves on mode (omega, zeta): its amplitude when the
+// move ends (move units), and its ratio to a step's of the same distance compared at the same
+// time, |A(p)| / (|D| omega) with A the Laplace transform of the acceleration at the pole p (the
+// V of the input-shaping literature; a step has 1). Not for the ramp-cycloid families.
+[[nodiscard]] double fastest_residual_amplitude(const FastestParams& p, double omega, double zeta) noexcept;
 [[nodiscard]] double fastest_residual_ratio(const FastestParams& p, double omega, double zeta) noexcept;
 
 struct FastestProfile {
