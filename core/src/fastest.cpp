@@ -386,7 +386,8 @@ FastestParams bang_coast_table(const BangCoast& b, double T, const Vec& y, doubl
   p.family = FastestFamily::bang_coast;
   p.distance = distance;
   for (std::size_t k = 0; k < q.nseg; ++k) push_segment(p, q.d[k], sg * b.J * q.j[k]);
-  push_segment(p, T - 2.0 * q.tg, 0.0);
+  const double cruise = T - 2.0 * q.tg;
+  if (cruise > 1e-12 * T) push_segment(p, cruise, 0.0);
   for (std::size_t k = 0; k < q.nseg; ++k) push_segment(p, q.d[k], -sg * b.J * q.j[k]);
   return p;
 }
@@ -484,66 +485,163 @@ void consider(Best& best, const FastestParams& p, const Peaks<double>& pk, doubl
   }
 }
 
-// Shortest bang-coast move for the conditions, below t_hi; false when none was found.
+// The slack variables that make the inequalities hold with equality at y's pulse (or nearly).
+void fit_slacks(const BangCoast& b, double T, Vec& y) noexcept {
+  const Pulse q = make_pulse(b, y);
+  double vc = 0.0;
+  for (std::size_t k = 0; k <= q.nseg; ++k) vc += 0.5 * b.J * q.dj[k] * q.t[k] * q.t[k];
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double x = b.J * q.level[i] / b.amax;
+    y[2 * b.h + i] = std::sqrt(std::fmax(1.0 - x * x, 1e-8));
+  }
+  y[3 * b.h] = std::sqrt(std::fmax(1.0 - vc / b.vmax, 1e-8));
+  y[3 * b.h + 1] = std::sqrt(std::fmax((T - 2.0 * q.tg) / b.t0, 1e-8));
+}
+
+// A seed from a pulse whose jerk may take any value in [-J, J] (the time-optimal pulse convolved
+// with a shaper): each segment of jerk f J becomes a ramp at sign(f) J for |f| of its length and
+// a coast for the rest (the same change of acceleration), then the ramps are laid onto the
+// alternating pattern (a tiny ramp where two ramps of one sign follow each other); the last ramp
+// is the pattern's closing ramp. False when it needs more pairs than the pattern holds.
+bool seed_from_pulse(BangCoast& b, const FastestParams& g, Vec& y) noexcept {
+  constexpr double kTiny = 1e-6;
+  std::array<double, 2 * kMaxPairs + 2> ramp{}, coast{};
+  std::size_t n = 0;
+  double expected = 1.0;
+  double lead = 0.0;  // coast before the first ramp (the pattern cannot hold it: dropped)
+  for (std::size_t k = 0; k < g.count; ++k) {
+    const double f = g.jerk[k] / b.J, d = g.durations[k];
+    if (std::fabs(f) < 1e-12) {
+      if (n == 0) lead += d;
+      else coast[n - 1] += d;
+      continue;
+    }
+    const double sg = f > 0.0 ? 1.0 : -1.0;
+    const double r = std::fmin(std::fabs(f), 1.0) * d;
+    if (sg != expected) {
+      if (n >= ramp.size()) return false;
+      ramp[n] = kTiny * b.t0;
+      coast[n] = 0.0;
+      ++n;
+      expected = -expected;
+    }
+    if (n >= ramp.size()) return false;
+    ramp[n] = r;
+    coast[n] = d - r;
+    ++n;
+    expected = -expected;
+  }
+  (void)lead;
+  if (n < 2) return false;
+  const std::size_t pairs = n - 1;  // the last ramp closes the pulse
+  if (pairs > kMaxPairs) return false;
+  b.h = std::max(pairs, std::min(kMaxPairs, b.nc + 1));
+  y.fill(0.0);
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double r = i < pairs ? ramp[i] : kTiny * b.t0;
+    const double c = i < pairs ? coast[i] : kTiny * b.t0;
+    y[2 * i] = std::sqrt(std::fmax(r, kTiny * b.t0) / b.t0);
+    y[2 * i + 1] = std::sqrt(std::fmax(c, kTiny * b.t0) / b.t0);
+  }
+  return true;
+}
+
+// Shortest bang-coast move for the conditions, no longer than t_cap; false when none was found.
+// `pulses` are seeds (the time-optimal pulse convolved with shapers) with the move time each
+// comes from.
+struct SeedPulse {
+  FastestParams g{};
+  double time{0.0};
+};
 bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<Condition, kMaxConds>& cond,
-                     std::size_t nc, double t_lo, double t_hi, double band, FastestParams& out,
-                     Peaks<double>& out_pk) noexcept {
+                     std::size_t nc, const SeedPulse* pulses, std::size_t npulses, double t_lo, double t_cap,
+                     double band, FastestParams& out, Peaks<double>& out_pk) noexcept {
   BangCoast b{};
   b.D = std::fabs(r.distance);
   b.J = *r.jmax;
   b.amax = *r.amax;
   b.vmax = *r.vmax;
-  b.t0 = t_hi;
+  b.t0 = t_cap;
   b.cond = cond;
   b.nc = nc;
-  b.h = std::min(kMaxPairs, nc + 2);
-  if (b.neq() > kMaxEqs || b.nvar() > kMaxVars) return false;
-  // A first feasible point at t_hi (several seeds), then bisection with warm starts.
-  Vec y{};
-  bool found = false;
-  constexpr double kFracs[] = {0.9, 0.6, 0.98, 0.4};
-  for (int style = 0; style < 3 && !found; ++style) {
-    for (double fr : kFracs) {
-      seed(b, t_hi, fr, style, y);
-      b.t_ref = make_pulse(b, y).tg;
-      if (solve_feasible(b, t_hi, y, 80)) {
-        found = true;
-        break;
-      }
-    }
-  }
-  if (!found) return false;
-  const auto accept = [&](double T, const Vec& yy, FastestParams& p, Peaks<double>& pk) {
-    p = bang_coast_table(b, T, yy, r.distance);
+  const auto accept = [&](const BangCoast& bb, double T, const Vec& yy, FastestParams& p, Peaks<double>& pk) {
+    p = bang_coast_table(bb, T, yy, r.distance);
     if (p.count == 0 || p.count >= kFastestSegments) return false;
     pk = jerk_table_peaks(p);
-    return limits_ok(pk, b.vmax, b.amax, b.J) && design_ok(p, ms, band, 1e-10);
+    return limits_ok(pk, bb.vmax, bb.amax, bb.J) && design_ok(p, ms, band, 1e-10);
   };
-  FastestParams bp{};
-  Peaks<double> bpk{};
-  double hi = t_hi;
-  Vec yhi = y;
-  bool have = accept(hi, yhi, bp, bpk);
-  double lo = t_lo;
-  for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    Vec yt = yhi;
-    FastestParams p{};
-    Peaks<double> pk{};
-    if (solve_feasible(b, mid, yt, 40) && accept(mid, yt, p, pk)) {
-      hi = mid;
-      yhi = yt;
-      bp = p;
-      bpk = pk;
+  // From each seed that solves (the shaped pulses at their own move time, then generic
+  // staircases at t_cap), bisection on the move time with warm starts; the shortest wins.
+  bool have = false;
+  const auto descend = [&](const BangCoast& bb, double T, Vec y) {
+    FastestParams bp{};
+    Peaks<double> bpk{};
+    if (!solve_feasible(bb, T, y, 80) || !accept(bb, T, y, bp, bpk)) return false;
+    double hi = T, lo = t_lo;
+    if (have) lo = std::fmax(lo, 0.0);
+    for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      Vec yt = y;
+      FastestParams p{};
+      Peaks<double> pk{};
+      if (solve_feasible(bb, mid, yt, 40) && accept(bb, mid, yt, p, pk)) {
+        hi = mid;
+        y = yt;
+        bp = p;
+        bpk = pk;
+      } else {
+        lo = mid;
+      }
+    }
+    if (!have || hi < table_duration(out)) {
+      out = bp;
+      out_pk = bpk;
       have = true;
-    } else {
-      lo = mid;
+    }
+    return true;
+  };
+  for (std::size_t k = 0; k < npulses; ++k) {
+    BangCoast bb = b;
+    Vec y{};
+    if (!seed_from_pulse(bb, pulses[k].g, y) || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
+    const double T = std::fmin(pulses[k].time, t_cap);
+    bb.t_ref = make_pulse(bb, y).tg;
+    fit_slacks(bb, T, y);
+    (void)descend(bb, T, y);
+  }
+  constexpr double kFracs[] = {0.9, 0.6, 0.98, 0.4};
+  BangCoast bg = b;
+  bg.h = std::min(kMaxPairs, nc + 2);
+  if (bg.neq() > kMaxEqs || bg.nvar() > kMaxVars) return have;
+  for (int style = 0; style < 3; ++style) {
+    for (double fr : kFracs) {
+      Vec y{};
+      seed(bg, t_cap, fr, style, y);
+      bg.t_ref = make_pulse(bg, y).tg;
+      fit_slacks(bg, t_cap, y);
+      if (descend(bg, t_cap, y)) break;
     }
   }
-  if (!have) return false;
-  out = bp;
-  out_pk = bpk;
-  return true;
+  return have;
+}
+
+// The time-optimal move's acceleration pulse (its segments up to where the acceleration first
+// returns to zero), positive.
+PiecewiseJerkParams accel_pulse(const PiecewiseJerkParams& to) noexcept {
+  PiecewiseJerkParams h{};
+  double a = 0.0, peak = 0.0;
+  const double sg = to.distance < 0.0 ? -1.0 : 1.0;
+  for (std::size_t i = 0; i < to.count; ++i) {
+    h.durations[h.count] = to.durations[i];
+    h.jerk[h.count] = sg * to.jerk[i];
+    h.accel0[h.count] = sg * to.accel0[i];
+    ++h.count;
+    a += sg * to.jerk[i] * to.durations[i];
+    peak = std::fmax(peak, std::fabs(a));
+    if (peak > 0.0 && std::fabs(a) <= 1e-9 * peak) break;
+  }
+  h.distance = 1.0;
+  return h;
 }
 
 Status read_modes(const MoveRequest& r, ModeSet& ms) noexcept {
@@ -621,9 +719,11 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
   }
 
   // (a) bang-coast switch times under the zero-residual conditions. Robust: derivative zeros
-  // (Singh & Vadali's multiple zeros) of increasing order until the band holds.
+  // (Singh & Vadali's multiple zeros) of increasing order until the band holds. Seeded from the
+  // time-optimal pulse convolved with the shaper of the same order (ZV, ZVD, ZVDD).
   {
-    const double t_hi = std::isfinite(best.time) ? best.time : 4.0 * t_to + 8.0 * 3.14159 / ms.m[0].omega;
+    const double t_cap = std::isfinite(best.time) ? best.time : 4.0 * t_to + 8.0 * 3.14159 / ms.m[0].omega;
+    const PiecewiseJerkParams h = accel_pulse(to);
     const int max_order = band > 0.0 ? 2 : 0;
     for (int order = band > 0.0 ? 1 : 0; order <= max_order; ++order) {
       std::array<Condition, kMaxConds> cond{};
@@ -635,9 +735,25 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
         }
       }
       if (nc > kMaxConds) break;
+      std::array<SeedPulse, 2> seeds{};
+      std::size_t ns = 0;
+      for (int so = order; so <= std::min(order + 1, 2) && ns < seeds.size(); ++so) {
+        Shaper<double> s{};
+        bool ok = true;
+        for (std::size_t i = 0; i < ms.n && ok; ++i) {
+          Shaper<double> one{}, both{};
+          ok = design_shaper(kShapers[so], ms.m[i].omega, ms.m[i].zeta, 0.05, one) == Status::ok &&
+               compose(s, one, both) == Status::ok;
+          if (ok) s = both;
+        }
+        if (ok && flatten_shaped(h, s, seeds[ns].g)) {
+          seeds[ns].time = t_to + s.duration();
+          ++ns;
+        }
+      }
       FastestParams p{};
       Peaks<double> pk{};
-      if (plan_bang_coast(r, ms, cond, nc, t_to, std::isfinite(best.time) ? best.time : t_hi, band, p, pk)) {
+      if (plan_bang_coast(r, ms, cond, nc, seeds.data(), ns, t_to, t_cap, band, p, pk)) {
         const double t = table_duration(p);
         times[static_cast<std::size_t>(FastestFamily::bang_coast)] = t;
         consider(best, p, pk, t);
