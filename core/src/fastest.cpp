@@ -8,6 +8,9 @@
 #include "settle/core/piecewise_jerk.hpp"
 #include "settle/core/shaper.hpp"
 #include "settle/core/small_solve.hpp"
+#ifndef DBG
+#define DBG(...) ((void)0)
+#endif
 
 namespace settle::core {
 
@@ -141,9 +144,11 @@ bool flatten_shaped(const PiecewiseJerkParams& base, const Shaper<double>& s, Fa
 // shortest that still solves.
 
 constexpr std::size_t kMaxPairs = 7;                  // 4h + 3 segments <= kFastestSegments
-constexpr std::size_t kMaxVars = 3 * kMaxPairs + 2;   // y (2h), level slacks (h), vmax, cruise
+constexpr std::size_t kMaxFullPairs = 15;             // 2H + 1 segments <= kFastestSegments
 constexpr std::size_t kMaxConds = 6;                  // complex conditions
-constexpr std::size_t kMaxEqs = 1 + 2 * kMaxConds + kMaxPairs + 2;
+// Sized for the larger of the two formulations (the whole move: y (2H), level slacks (H)).
+constexpr std::size_t kMaxVars = 3 * kMaxFullPairs;
+constexpr std::size_t kMaxEqs = 3 + 2 * kMaxConds + kMaxFullPairs;
 
 struct Condition {
   Cx p;         // the pole
@@ -324,16 +329,21 @@ double norm2(const EqVec& f, std::size_t n) noexcept {
   return m;
 }
 
-// Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F.
-bool solve_feasible(const BangCoast& b, double T, Vec& y, int max_iter) noexcept {
-  const std::size_t n = b.nvar(), m = b.neq();
+// The equations are dimensionless (relative distance and velocity, residual sums of order 1);
+// the move that comes out is checked on its own (limits, residual), so this only stops the solve.
+constexpr double kSolveTol = 1e-11;
+
+// Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F, for
+// fn(y, f, jac) with n unknowns and m equations.
+template <typename Fn>
+bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter) noexcept {
   EqVec f{};
   Jac jac{};
-  residuals(b, T, y, f, &jac);
+  residuals(y, f, &jac);
   double cost = norm2(f, m);
   double lambda = 1e-6;
   for (int it = 0; it < max_iter; ++it) {
-    if (norm_inf(f, m) < 1e-14) return true;
+    if (norm_inf(f, m) < kSolveTol) return true;
     std::array<std::array<double, kMaxEqs>, kMaxEqs> a{};
     for (std::size_t r = 0; r < m; ++r) {
       for (std::size_t c = 0; c <= r; ++c) {
@@ -343,15 +353,20 @@ bool solve_feasible(const BangCoast& b, double T, Vec& y, int max_iter) noexcept
       }
     }
     bool improved = false;
-    for (int tries = 0; tries < 12 && !improved; ++tries) {
+    // The undamped (Gauss-Newton, minimum-norm) step first: the rows differ in stiffness by many
+    // orders (the end velocity against the residual sums), and damping them evenly spoils the
+    // stiff ones near the solution. Then damped steps, more and more like gradient steps.
+    for (int tries = 0; tries < 13 && !improved; ++tries) {
+      const double lam = tries == 0 ? 0.0 : lambda;
       auto aa = a;
       std::array<double, kMaxEqs> w{};
       for (std::size_t r = 0; r < m; ++r) {
-        aa[r][r] += lambda * (1.0 + a[r][r]);
+        aa[r][r] += lam * (1.0 + a[r][r]);
         w[r] = f[r];
       }
       if (!solve_in_place(aa, w, m, 1e-300)) {
-        lambda *= 10.0;
+        DBG("    singular at lambda %g\n", lam);
+        if (tries > 0) lambda *= 10.0;
         continue;
       }
       Vec yn = y;
@@ -361,21 +376,32 @@ bool solve_feasible(const BangCoast& b, double T, Vec& y, int max_iter) noexcept
         yn[v] -= s;
       }
       EqVec fn{};
-      residuals(b, T, yn, fn, nullptr);
+      residuals(yn, fn, nullptr);
       const double cn = norm2(fn, m);
+      DBG("    try lambda %g cost %g -> %g\n", lam, cost, cn);
       if (std::isfinite(cn) && cn < cost) {
         y = yn;
         cost = cn;
-        lambda = std::fmax(lambda * 0.1, 1e-15);
+        if (tries > 0) lambda = std::fmax(lambda * 0.1, 1e-15);
         improved = true;
-      } else {
+      } else if (tries > 0) {
         lambda *= 10.0;
       }
     }
-    if (!improved) return norm_inf(f, m) < 1e-14;
-    residuals(b, T, y, f, &jac);
+    if (!improved) {
+      DBG("  lm stuck at it %d: |f| %g lambda %g\n", it, norm_inf(f, m), lambda);
+      for (std::size_t i = 0; i < m; ++i) DBG("    f[%zu] = %g\n", i, f[i]);
+      return norm_inf(f, m) < kSolveTol;
+    }
+    residuals(y, f, &jac);
   }
-  return norm_inf(f, m) < 1e-14;
+  DBG("  lm out of iterations: |f| %g lambda %g\n", norm_inf(f, m), lambda);
+  return norm_inf(f, m) < kSolveTol;
+}
+
+bool solve_feasible(const BangCoast& b, double T, Vec& y, int max_iter) noexcept {
+  return lm_solve([&](const Vec& yy, EqVec& f, Jac* jac) { residuals(b, T, yy, f, jac); }, b.nvar(), b.neq(), y,
+                  max_iter);
 }
 
 // The whole move from the pulse: g, cruise, -g (D > 0; the caller flips the sign).
@@ -625,6 +651,289 @@ bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<C
   return have;
 }
 
+// ----- bang-coast over the whole move ---------------------------------------------------------
+//
+// Without the mirror symmetry: the whole move is one alternating sequence, H ramp/coast pairs
+// (ramps at +J, -J, +J, ...) and a closing ramp back to a = 0; its unknowns are the durations
+// (t0 y^2) and squared slacks for |a| <= amax on each coast. The equalities: v = 0 and p = D at
+// the end, the end at T, and the zero-residual conditions referred to T. vmax is checked on the
+// result (the symmetric form above is the one that cruises at vmax). This form also holds moves
+// whose acceleration and deceleration phases overlap (short moves on slow modes), which the
+// symmetric form cannot.
+
+struct Whole {
+  double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0}, t0{1.0};
+  std::size_t h{3};
+  std::array<Condition, kMaxConds> cond{};
+  std::size_t nc{0};
+  [[nodiscard]] std::size_t nvar() const noexcept { return 3 * h; }
+  [[nodiscard]] std::size_t neq() const noexcept { return 3 + 2 * nc + h; }
+};
+
+struct Seq {
+  std::size_t nseg{0};
+  std::array<double, 2 * kMaxFullPairs + 1> d{}, j{};
+  std::array<double, 2 * kMaxFullPairs + 2> t{}, dj{};
+  std::array<double, kMaxFullPairs> level{};
+  double close_sign{0.0};
+};
+
+Seq make_seq(const Whole& b, const Vec& y) noexcept {
+  Seq q{};
+  double lv = 0.0;
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
+    const double r = b.t0 * y[2 * i] * y[2 * i];
+    lv += sg * r;
+    q.level[i] = lv;
+    q.d[2 * i] = r;
+    q.j[2 * i] = sg;
+    q.d[2 * i + 1] = b.t0 * y[2 * i + 1] * y[2 * i + 1];
+    q.j[2 * i + 1] = 0.0;
+  }
+  q.close_sign = lv >= 0.0 ? 1.0 : -1.0;
+  q.d[2 * b.h] = std::fabs(lv);
+  q.j[2 * b.h] = -q.close_sign;
+  q.nseg = 2 * b.h + 1;
+  double t = 0.0, prev = 0.0;
+  for (std::size_t k = 0; k < q.nseg; ++k) {
+    q.t[k] = t;
+    q.dj[k] = q.j[k] - prev;
+    prev = q.j[k];
+    t += q.d[k];
+  }
+  q.t[q.nseg] = t;
+  q.dj[q.nseg] = -prev;
+  return q;
+}
+
+void whole_residuals(const Whole& b, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
+  const Seq q = make_seq(b, y);
+  const std::size_t ns = q.nseg + 1, nv = 2 * b.h;
+  std::array<std::array<double, 2 * kMaxFullPairs>, 2 * kMaxFullPairs + 1> dd{};
+  for (std::size_t m = 0; m < nv; ++m) dd[m][m] = 2.0 * b.t0 * y[m];
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
+    dd[2 * b.h][2 * i] = q.close_sign * sg * 2.0 * b.t0 * y[2 * i];
+  }
+  std::array<std::array<double, 2 * kMaxFullPairs>, 2 * kMaxFullPairs + 2> dt{};
+  for (std::size_t k = 1; k < ns; ++k) {
+    for (std::size_t v = 0; v < nv; ++v) dt[k][v] = dt[k - 1][v] + dd[k - 1][v];
+  }
+  if (jac) {
+    for (auto& row : *jac) row.fill(0.0);
+  }
+  // With sum dj = 0 and sum dj t = 0 (a = 0 at the end): v_end = J/2 sum dj t^2 and, once
+  // v_end = 0, p_end = -J/6 sum dj t^3. Times are taken from T (t - T) to keep the sums small.
+  const double vs = b.D / T;
+  const double t_end = q.t[ns - 1];
+  double v = 0.0, p = 0.0;
+  for (std::size_t k = 0; k < ns; ++k) {
+    const double u = q.t[k] - t_end;
+    v += 0.5 * b.J * q.dj[k] * u * u;
+    p -= b.J * q.dj[k] * u * u * u / 6.0;
+  }
+  if (jac) {
+    // p(t_end) also moves with t_end at the rate v_end.
+    for (std::size_t k = 0; k < ns; ++k) {
+      const double u = q.t[k] - t_end;
+      for (std::size_t w = 0; w < nv; ++w) {
+        (*jac)[0][w] += b.J * q.dj[k] * u * dt[k][w] / vs;
+        (*jac)[1][w] -= 0.5 * b.J * q.dj[k] * u * u * dt[k][w] / b.D;
+      }
+    }
+    for (std::size_t w = 0; w < nv; ++w) {
+      (*jac)[1][w] += v * dt[ns - 1][w] / b.D;
+      (*jac)[2][w] = dt[ns - 1][w] / b.t0;
+    }
+  }
+  // The values themselves by integrating segment by segment (the sums above cancel to the last
+  // digits of J T^2; their derivatives are what the Jacobian needs).
+  (void)v;
+  (void)p;
+  double pe = 0.0, ve = 0.0, ae = 0.0;
+  for (std::size_t m = 0; m < q.nseg; ++m) {
+    const double d = q.d[m], jm = b.J * q.j[m];
+    pe += d * (ve + d * (ae / 2.0 + jm * d / 6.0));
+    ve += d * (ae + jm * d / 2.0);
+    ae += jm * d;
+  }
+  f[0] = ve / vs;
+  f[1] = pe / b.D - 1.0;
+  f[2] = (q.t[ns - 1] - T) / b.t0;
+  std::size_t e = 3;
+  for (std::size_t c = 0; c < b.nc; ++c) {
+    const Condition& cd = b.cond[c];
+    Cx sum{};
+    std::array<Cx, 2 * kMaxFullPairs> grad{};
+    for (std::size_t k = 0; k < ns; ++k) {
+      if (q.dj[k] == 0.0) continue;
+      const Cx ex = cexp_neg(cd.p, q.t[k] - T);
+      const double u = -cd.w * (q.t[k] - T);
+      const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
+      sum = sum + (q.dj[k] * uq) * ex;
+      if (jac) {
+        const double uq1 = cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
+        const Cx dk = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * ex);
+        for (std::size_t w = 0; w < nv; ++w) grad[w] = grad[w] + dt[k][w] * dk;
+      }
+    }
+    if (cd.order == 0) {
+      sum = Cx{};
+      for (std::size_t m = 0; m < q.nseg; ++m) {
+        if (q.j[m] != 0.0) sum = sum + q.j[m] * (cexp_neg(cd.p, q.t[m + 1] - T) * cexpm1(q.d[m] * cd.p));
+      }
+    }
+    f[e] = sum.re;
+    f[e + 1] = sum.im;
+    if (jac) {
+      for (std::size_t w = 0; w < nv; ++w) {
+        (*jac)[e][w] = grad[w].re;
+        (*jac)[e + 1][w] = grad[w].im;
+      }
+    }
+    e += 2;
+  }
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double x = b.J * q.level[i] / b.amax;
+    const std::size_t sv = 2 * b.h + i;
+    f[e] = 1.0 - x * x - y[sv] * y[sv];
+    if (jac) {
+      for (std::size_t l = 0; l <= i; ++l) {
+        const double sg = (l % 2 == 0) ? 1.0 : -1.0;
+        (*jac)[e][2 * l] = -2.0 * x * (b.J / b.amax) * sg * 2.0 * b.t0 * y[2 * l];
+      }
+      (*jac)[e][sv] = -2.0 * y[sv];
+    }
+    ++e;
+  }
+}
+
+FastestParams whole_table(const Whole& b, const Vec& y, double distance) noexcept {
+  const Seq q = make_seq(b, y);
+  const double sg = distance < 0.0 ? -1.0 : 1.0;
+  FastestParams p{};
+  p.family = FastestFamily::bang_coast;
+  p.distance = distance;
+  for (std::size_t k = 0; k < q.nseg; ++k) push_segment(p, q.d[k], sg * b.J * q.j[k]);
+  return p;
+}
+
+// A seed from a whole move whose jerk may take any value in [-J, J] (see seed_from_pulse).
+bool seed_whole(Whole& b, const FastestParams& g, Vec& y) noexcept {
+  constexpr double kTiny = 1e-6;
+  std::array<double, 2 * kMaxFullPairs + 2> ramp{}, coast{};
+  std::size_t n = 0;
+  double expected = 1.0;
+  for (std::size_t k = 0; k < g.count; ++k) {
+    const double f = g.jerk[k] / b.J, d = g.durations[k];
+    if (std::fabs(f) < 1e-12) {
+      if (n > 0) coast[n - 1] += d;
+      continue;
+    }
+    const double sg = f > 0.0 ? 1.0 : -1.0;
+    if (sg != expected) {
+      if (n >= ramp.size()) return false;
+      ramp[n] = kTiny * b.t0;
+      coast[n] = 0.0;
+      ++n;
+      expected = -expected;
+    }
+    if (n >= ramp.size()) return false;
+    ramp[n] = std::fmin(std::fabs(f), 1.0) * d;
+    coast[n] = d - ramp[n];
+    ++n;
+    expected = -expected;
+  }
+  if (n < 2 || n - 1 > kMaxFullPairs) return false;
+  const std::size_t pairs = n - 1;
+  b.h = std::max(pairs, std::min(kMaxFullPairs, b.nc + 2));
+  y.fill(0.0);
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double r = i < pairs ? ramp[i] : kTiny * b.t0;
+    const double c = i < pairs ? coast[i] : kTiny * b.t0;
+    y[2 * i] = std::sqrt(std::fmax(r, kTiny * b.t0) / b.t0);
+    y[2 * i + 1] = std::sqrt(std::fmax(c, kTiny * b.t0) / b.t0);
+  }
+  const Seq q = make_seq(b, y);
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double x = b.J * q.level[i] / b.amax;
+    y[2 * b.h + i] = std::sqrt(std::fmax(1.0 - x * x, 1e-8));
+  }
+  return true;
+}
+
+// Shortest whole-move bang-coast from each seed (whole moves, jerk in [-J, J], with their
+// durations), by bisection on T; false when no seed solves.
+bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condition, kMaxConds>& cond,
+                std::size_t nc, const FastestParams* moves, std::size_t nmoves, double t_lo, double t_cap,
+                double band, FastestParams& out, Peaks<double>& out_pk) noexcept {
+  Whole b{};
+  b.D = std::fabs(r.distance);
+  b.J = *r.jmax;
+  b.amax = *r.amax;
+  b.vmax = *r.vmax;
+  b.t0 = t_cap;
+  b.cond = cond;
+  b.nc = nc;
+  bool have = false;
+  for (std::size_t k = 0; k < nmoves; ++k) {
+    Whole bb = b;
+    Vec y{};
+    const bool seeded = seed_whole(bb, moves[k], y);
+    DBG("seed_whole %zu: %d h %zu count %zu\n", k, (int)seeded, bb.h, moves[k].count);
+    if (!seeded || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
+    const auto solve = [&](double T, Vec& yy, int iters) {
+      return lm_solve([&](const Vec& z, EqVec& f, Jac* jac) { whole_residuals(bb, T, z, f, jac); }, bb.nvar(),
+                      bb.neq(), yy, iters);
+    };
+    const auto accept = [&](const Vec& yy, FastestParams& p, Peaks<double>& pk) {
+      p = whole_table(bb, yy, r.distance);
+      if (p.count == 0 || p.count > kFastestSegments) return false;
+      pk = jerk_table_peaks(p);
+      return limits_ok(pk, bb.vmax, bb.amax, bb.J) && design_ok(p, ms, band, 1e-10);
+    };
+    double hi = std::fmin(table_duration(moves[k]), t_cap);
+    FastestParams bp{};
+    Peaks<double> bpk{};
+    const bool solved0 = solve(hi, y, 80);
+    DBG("whole seed %zu: h %zu T %g solved %d\n", k, bb.h, hi, (int)solved0);
+    if (solved0) {
+      FastestParams tp = whole_table(bb, y, r.distance);
+      Peaks<double> tpk = jerk_table_peaks(tp);
+      DBG("  peaks v %g a %g j %g count %zu design %d\n", tpk.v, tpk.a, tpk.j, tp.count, (int)design_ok(tp, ms, band, 1e-10));
+    }
+    if (!solved0 || !accept(y, bp, bpk)) continue;
+    double lo = t_lo;
+    for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      Vec yt = y;
+      FastestParams p{};
+      Peaks<double> pk{};
+      const bool sv = solve(mid, yt, 40);
+      const bool ac = sv && accept(yt, p, pk);
+      DBG("  bisect T %.9g solved %d accepted %d\n", mid, (int)sv, (int)ac);
+      if (sv && !ac) {
+        DBG("    peaks v %g a %g j %g count %zu design %d\n", pk.v, pk.a, pk.j, p.count, (int)design_ok(p, ms, band, 1e-10));
+      }
+      if (ac) {
+        hi = mid;
+        y = yt;
+        bp = p;
+        bpk = pk;
+      } else {
+        lo = mid;
+      }
+    }
+    if (!have || table_duration(bp) < table_duration(out)) {
+      out = bp;
+      out_pk = bpk;
+      have = true;
+    }
+  }
+  return have;
+}
+
 // The time-optimal move's acceleration pulse (its segments up to where the acceleration first
 // returns to zero), positive.
 PiecewiseJerkParams accel_pulse(const PiecewiseJerkParams& to) noexcept {
@@ -751,12 +1060,36 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
           ++ns;
         }
       }
+      bool solved = false;
       FastestParams p{};
       Peaks<double> pk{};
       if (plan_bang_coast(r, ms, cond, nc, seeds.data(), ns, t_to, t_cap, band, p, pk)) {
-        const double t = table_duration(p);
-        times[static_cast<std::size_t>(FastestFamily::bang_coast)] = t;
-        consider(best, p, pk, t);
+        solved = true;
+        consider(best, p, pk, table_duration(p));
+      }
+      // The whole-move form, seeded from the time-optimal move convolved with the same shapers.
+      std::array<FastestParams, 2> whole{};
+      std::size_t nw = 0;
+      for (int so = order; so <= std::min(order + 1, 2) && nw < whole.size(); ++so) {
+        Shaper<double> s{};
+        bool ok = true;
+        for (std::size_t i = 0; i < ms.n && ok; ++i) {
+          Shaper<double> one{}, both{};
+          ok = design_shaper(kShapers[so], ms.m[i].omega, ms.m[i].zeta, 0.05, one) == Status::ok &&
+               compose(s, one, both) == Status::ok;
+          if (ok) s = both;
+        }
+        if (ok && flatten_shaped(to, s, whole[nw])) ++nw;
+      }
+      if (plan_whole(r, ms, cond, nc, whole.data(), nw, t_to, std::isfinite(best.time) ? best.time : t_cap, band, p,
+                     pk)) {
+        solved = true;
+        consider(best, p, pk, table_duration(p));
+      }
+      if (solved) {
+        times[static_cast<std::size_t>(FastestFamily::bang_coast)] = best.p.family == FastestFamily::bang_coast
+                                                                        ? best.time
+                                                                        : table_duration(p);
         break;
       }
     }
