@@ -147,8 +147,8 @@ constexpr std::size_t kMaxPairs = 7;                  // 4h + 3 segments <= kFas
 constexpr std::size_t kMaxFullPairs = 15;             // 2H + 1 segments <= kFastestSegments
 constexpr std::size_t kMaxConds = 6;                  // complex conditions
 // Sized for the larger of the two formulations (the whole move: y (2H), level slacks (H)).
-constexpr std::size_t kMaxVars = 3 * kMaxFullPairs;
-constexpr std::size_t kMaxEqs = 3 + 2 * kMaxConds + kMaxFullPairs;
+constexpr std::size_t kMaxVars = 4 * kMaxFullPairs;
+constexpr std::size_t kMaxEqs = 3 + 2 * kMaxConds + 2 * kMaxFullPairs;
 
 struct Condition {
   Cx p;         // the pole
@@ -524,43 +524,70 @@ void fit_slacks(const BangCoast& b, double T, Vec& y) noexcept {
   y[3 * b.h + 1] = std::sqrt(std::fmax((T - 2.0 * q.tg) / b.t0, 1e-8));
 }
 
-// A seed from a pulse whose jerk may take any value in [-J, J] (the time-optimal pulse convolved
-// with a shaper): each segment of jerk f J becomes a ramp at sign(f) J for |f| of its length and
-// a coast for the rest (the same change of acceleration), then the ramps are laid onto the
-// alternating pattern (a tiny ramp where two ramps of one sign follow each other); the last ramp
+// Lays a move whose jerk takes any value in [-J, J] (the time-optimal move or pulse convolved
+// with a shaper) onto the alternating pattern: each maximal run of segments whose jerk has one
+// sign (zero-jerk segments inside it included) becomes one ramp at that sign with the run's
+// change of acceleration, followed by a coast for the rest of the run; a coast at zero
+// acceleration (a cruise, or rest between two parts) ends a run and stays a coast when
+// `break_at_rest` (two seeds: the other merges it into the run). Where two
+// ramps of one sign follow each other (and before a negative first one) a tiny opposite ramp
+// keeps the pattern alternating. Returns the number of ramps (0 when more than `cap`).
+std::size_t alternate_runs(const FastestParams& g, double J, double tiny, bool break_at_rest, double* ramp,
+                           double* coast, std::size_t cap) noexcept {
+  std::size_t n = 0;
+  double last_sign = -1.0;  // the pattern starts with a positive ramp
+  double run_sign = 0.0, run_da = 0.0, run_len = 0.0, a = 0.0, a_peak = 0.0;
+  const auto flush = [&]() {
+    if (run_sign == 0.0) return true;
+    if (run_sign == last_sign) {  // two ramps of one sign: a tiny opposite one between them
+      if (n >= cap) return false;
+      ramp[n] = tiny;
+      coast[n] = 0.0;
+      ++n;
+    }
+    if (n >= cap) return false;
+    ramp[n] = std::fmin(std::fabs(run_da) / J, run_len);
+    coast[n] = run_len - ramp[n];
+    ++n;
+    last_sign = run_sign;
+    run_sign = 0.0;
+    return true;
+  };
+  for (std::size_t k = 0; k < g.count; ++k) {
+    const double f = g.jerk[k] / J, d = g.durations[k];
+    if (std::fabs(f) < 1e-12) {
+      // A coast at zero acceleration (cruise, or rest between two parts of the move) ends the run.
+      if (break_at_rest && std::fabs(a) <= 1e-9 * a_peak && run_sign != 0.0) {
+        if (!flush()) return 0;
+      }
+      if (n > 0 && run_sign == 0.0) coast[n - 1] += d;
+      else if (run_sign != 0.0) run_len += d;
+      continue;
+    }
+    const double sg = f > 0.0 ? 1.0 : -1.0;
+    if (sg != run_sign) {
+      if (!flush()) return 0;
+      run_sign = sg;
+      run_da = 0.0;
+      run_len = 0.0;
+    }
+    run_da += f * J * d;
+    run_len += d;
+    a += f * J * d;
+    a_peak = std::fmax(a_peak, std::fabs(a));
+  }
+  if (!flush()) return 0;
+  return n;
+}
+
+// A seed from a pulse whose jerk may take any value in [-J, J] (alternate_runs); the last ramp
 // is the pattern's closing ramp. False when it needs more pairs than the pattern holds.
 bool seed_from_pulse(BangCoast& b, const FastestParams& g, Vec& y) noexcept {
   constexpr double kTiny = 1e-6;
   std::array<double, 2 * kMaxPairs + 2> ramp{}, coast{};
-  std::size_t n = 0;
-  double expected = 1.0;
-  double lead = 0.0;  // coast before the first ramp (the pattern cannot hold it: dropped)
-  for (std::size_t k = 0; k < g.count; ++k) {
-    const double f = g.jerk[k] / b.J, d = g.durations[k];
-    if (std::fabs(f) < 1e-12) {
-      if (n == 0) lead += d;
-      else coast[n - 1] += d;
-      continue;
-    }
-    const double sg = f > 0.0 ? 1.0 : -1.0;
-    const double r = std::fmin(std::fabs(f), 1.0) * d;
-    if (sg != expected) {
-      if (n >= ramp.size()) return false;
-      ramp[n] = kTiny * b.t0;
-      coast[n] = 0.0;
-      ++n;
-      expected = -expected;
-    }
-    if (n >= ramp.size()) return false;
-    ramp[n] = r;
-    coast[n] = d - r;
-    ++n;
-    expected = -expected;
-  }
-  (void)lead;
-  if (n < 2) return false;
+  const std::size_t n = alternate_runs(g, b.J, kTiny * b.t0, false, ramp.data(), coast.data(), ramp.size());
+  if (n < 2 || n - 1 > kMaxPairs) return false;
   const std::size_t pairs = n - 1;  // the last ramp closes the pulse
-  if (pairs > kMaxPairs) return false;
   b.h = std::max(pairs, std::min(kMaxPairs, b.nc + 1));
   y.fill(0.0);
   for (std::size_t i = 0; i < b.h; ++i) {
@@ -655,9 +682,9 @@ bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<C
 //
 // Without the mirror symmetry: the whole move is one alternating sequence, H ramp/coast pairs
 // (ramps at +J, -J, +J, ...) and a closing ramp back to a = 0; its unknowns are the durations
-// (t0 y^2) and squared slacks for |a| <= amax on each coast. The equalities: v = 0 and p = D at
-// the end, the end at T, and the zero-residual conditions referred to T. vmax is checked on the
-// result (the symmetric form above is the one that cruises at vmax). This form also holds moves
+// (t0 y^2) and squared slacks for |a| <= amax on each coast and |v| <= vmax at each coast's end.
+// The equalities: v = 0 and p = D at the end, the end at T, and the zero-residual conditions
+// referred to T. The velocity may still peak inside a ramp: the result is checked. This form also holds moves
 // whose acceleration and deceleration phases overlap (short moves on slow modes), which the
 // symmetric form cannot.
 
@@ -666,8 +693,8 @@ struct Whole {
   std::size_t h{3};
   std::array<Condition, kMaxConds> cond{};
   std::size_t nc{0};
-  [[nodiscard]] std::size_t nvar() const noexcept { return 3 * h; }
-  [[nodiscard]] std::size_t neq() const noexcept { return 3 + 2 * nc + h; }
+  [[nodiscard]] std::size_t nvar() const noexcept { return 4 * h; }
+  [[nodiscard]] std::size_t neq() const noexcept { return 3 + 2 * nc + 2 * h; }
 };
 
 struct Seq {
@@ -807,6 +834,32 @@ void whole_residuals(const Whole& b, double T, const Vec& y, EqVec& f, Jac* jac)
     }
     ++e;
   }
+  // |v| <= vmax at the end of each coast: 1 - (v / vmax)^2 - s^2 = 0, v from the integration,
+  // dv/dt_k = -J dj_k (t_e - t_k) and dv/dt_e = a(t_e) = J level.
+  {
+    double pe = 0.0, ve = 0.0, ae = 0.0;
+    (void)pe;
+    for (std::size_t i = 0; i < b.h; ++i) {
+      for (std::size_t m = 2 * i; m < 2 * i + 2; ++m) {
+        const double d = q.d[m], jm = b.J * q.j[m];
+        ve += d * (ae + jm * d / 2.0);
+        ae += jm * d;
+      }
+      const std::size_t ke = 2 * i + 2;  // the switch at the coast's end
+      const double x = ve / b.vmax;
+      const std::size_t sv = 3 * b.h + i;
+      f[e] = 1.0 - x * x - y[sv] * y[sv];
+      if (jac) {
+        for (std::size_t w = 0; w < nv; ++w) {
+          double dv = b.J * q.level[i] * dt[ke][w];
+          for (std::size_t k = 0; k < ke; ++k) dv -= b.J * q.dj[k] * (q.t[ke] - q.t[k]) * dt[k][w];
+          (*jac)[e][w] = -2.0 * x * dv / b.vmax;
+        }
+        (*jac)[e][sv] = -2.0 * y[sv];
+      }
+      ++e;
+    }
+  }
 }
 
 FastestParams whole_table(const Whole& b, const Vec& y, double distance) noexcept {
@@ -819,32 +872,12 @@ FastestParams whole_table(const Whole& b, const Vec& y, double distance) noexcep
   return p;
 }
 
-// A seed from a whole move whose jerk may take any value in [-J, J] (see seed_from_pulse).
-bool seed_whole(Whole& b, const FastestParams& g, Vec& y) noexcept {
+// A seed from a whole move whose jerk may take any value in [-J, J] (alternate_runs).
+bool seed_whole(Whole& b, const FastestParams& g, bool break_at_rest, Vec& y) noexcept {
   constexpr double kTiny = 1e-6;
   std::array<double, 2 * kMaxFullPairs + 2> ramp{}, coast{};
-  std::size_t n = 0;
-  double expected = 1.0;
-  for (std::size_t k = 0; k < g.count; ++k) {
-    const double f = g.jerk[k] / b.J, d = g.durations[k];
-    if (std::fabs(f) < 1e-12) {
-      if (n > 0) coast[n - 1] += d;
-      continue;
-    }
-    const double sg = f > 0.0 ? 1.0 : -1.0;
-    if (sg != expected) {
-      if (n >= ramp.size()) return false;
-      ramp[n] = kTiny * b.t0;
-      coast[n] = 0.0;
-      ++n;
-      expected = -expected;
-    }
-    if (n >= ramp.size()) return false;
-    ramp[n] = std::fmin(std::fabs(f), 1.0) * d;
-    coast[n] = d - ramp[n];
-    ++n;
-    expected = -expected;
-  }
+  const std::size_t n =
+      alternate_runs(g, b.J, kTiny * b.t0, break_at_rest, ramp.data(), coast.data(), ramp.size());
   if (n < 2 || n - 1 > kMaxFullPairs) return false;
   const std::size_t pairs = n - 1;
   b.h = std::max(pairs, std::min(kMaxFullPairs, b.nc + 2));
@@ -856,9 +889,16 @@ bool seed_whole(Whole& b, const FastestParams& g, Vec& y) noexcept {
     y[2 * i + 1] = std::sqrt(std::fmax(c, kTiny * b.t0) / b.t0);
   }
   const Seq q = make_seq(b, y);
+  double ve = 0.0, ae = 0.0;
   for (std::size_t i = 0; i < b.h; ++i) {
     const double x = b.J * q.level[i] / b.amax;
     y[2 * b.h + i] = std::sqrt(std::fmax(1.0 - x * x, 1e-8));
+    for (std::size_t m = 2 * i; m < 2 * i + 2; ++m) {
+      ve += q.d[m] * (ae + b.J * q.j[m] * q.d[m] / 2.0);
+      ae += b.J * q.j[m] * q.d[m];
+    }
+    const double xv = ve / b.vmax;
+    y[3 * b.h + i] = std::sqrt(std::fmax(1.0 - xv * xv, 1e-8));
   }
   return true;
 }
@@ -877,10 +917,11 @@ bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condit
   b.cond = cond;
   b.nc = nc;
   bool have = false;
-  for (std::size_t k = 0; k < nmoves; ++k) {
+  for (std::size_t kk = 0; kk < 2 * nmoves; ++kk) {
+    const std::size_t k = kk / 2;
     Whole bb = b;
     Vec y{};
-    const bool seeded = seed_whole(bb, moves[k], y);
+    const bool seeded = seed_whole(bb, moves[k], kk % 2 == 1, y);
     DBG("seed_whole %zu: %d h %zu count %zu\n", k, (int)seeded, bb.h, moves[k].count);
     if (!seeded || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
     const auto solve = [&](double T, Vec& yy, int iters) {
