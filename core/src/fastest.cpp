@@ -462,18 +462,21 @@ double fastest_residual_amplitude(const FastestParams& p, double omega, double z
 }
 
 double fastest_residual_ratio(const FastestParams& p, double omega, double zeta) noexcept {
-  // |A(p)| / (|D| omega) = amplitude at the end * wd e^{zeta omega T} / (|D| omega)
-  const double a = fastest_residual_amplitude(p, omega, zeta);
+  // A step of D leaves the amplitude |D| omega / wd right after it.
   const double wd = omega * std::sqrt(1.0 - zeta * zeta);
-  return a * wd * std::exp(zeta * omega * table_duration(p)) / (std::fabs(p.distance) * omega);
+  return fastest_residual_amplitude(p, omega, zeta) * wd / (std::fabs(p.distance) * omega);
 }
 
 namespace {
 
+// --robust: the residual ratio must stay <= 5 % over the band; it is sampled (129 frequencies per
+// mode), so the planner holds a small margin below 5 % for the frequencies in between.
+constexpr double kRobustLimit = 0.049;
+
 // The largest residual ratio of any mode over omega (1 +- band), sampled finely (with --robust).
 double worst_over_band(const FastestParams& p, const ModeSet& ms, double band) noexcept {
   double worst = 0.0;
-  constexpr int kSamples = 64;
+  constexpr int kSamples = 128;
   for (std::size_t i = 0; i < ms.n; ++i) {
     for (int k = 0; k <= kSamples; ++k) {
       const double w = ms.m[i].omega * (1.0 - band + 2.0 * band * k / kSamples);
@@ -495,7 +498,7 @@ struct Best {
 };
 
 bool design_ok(const FastestParams& p, const ModeSet& ms, double band, double exact_tol) noexcept {
-  if (band > 0.0) return worst_over_band(p, ms, band) <= 0.05;
+  if (band > 0.0) return worst_over_band(p, ms, band) <= kRobustLimit;
   for (std::size_t i = 0; i < ms.n; ++i) {
     const double amp = fastest_residual_amplitude(p, ms.m[i].omega, ms.m[i].zeta);
     if (!(amp <= exact_tol * std::fabs(p.distance))) return false;
@@ -1010,6 +1013,59 @@ Status read_modes(const MoveRequest& r, ModeSet& ms) noexcept {
 
 }  // namespace
 
+namespace {
+
+// Where the move is made to vanish: for every mode, the transform (and its derivatives up to
+// `order`) at the poles of omega (1 + spread x_i), x_i evenly spread over [-1, 1] (one point: at
+// omega itself). Non-robust: one zero of order 0. Robust: multiple zeros (derivatives, Singh &
+// Vadali) or zeros spread over the band (EI-like), whichever is shortest and holds the band.
+struct ZeroSet {
+  int points{1};
+  double spread{0.0};
+  int order{0};
+};
+
+double zero_frequency(const ZeroSet& z, double omega, int i) noexcept {
+  if (z.points == 1) return omega;
+  return omega * (1.0 + z.spread * (-1.0 + 2.0 * i / (z.points - 1)));
+}
+
+std::size_t zero_conditions(const ZeroSet& z, const ModeSet& ms, std::array<Condition, kMaxConds>& cond) noexcept {
+  std::size_t nc = 0;
+  for (std::size_t m = 0; m < ms.n; ++m) {
+    for (int i = 0; i < z.points; ++i) {
+      const double w = zero_frequency(z, ms.m[m].omega, i);
+      for (int q = 0; q <= z.order; ++q) {
+        if (nc >= kMaxConds) return kMaxConds + 1;
+        cond[nc++] = {pole(w, ms.m[m].zeta), w, q};
+      }
+    }
+  }
+  return nc;
+}
+
+// The shaper with the same zeros: ZV / ZVD / ZVDD at each point, composed over points and modes.
+bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexcept {
+  constexpr ShaperKind kByOrder[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd};
+  if (z.order < 0 || z.order > 2) return false;
+  Shaper<double> s{};
+  for (std::size_t m = 0; m < ms.n; ++m) {
+    for (int i = 0; i < z.points; ++i) {
+      Shaper<double> one{}, both{};
+      if (design_shaper(kByOrder[z.order], zero_frequency(z, ms.m[m].omega, i), ms.m[m].zeta, 0.05, one) !=
+              Status::ok ||
+          compose(s, one, both) != Status::ok) {
+        return false;
+      }
+      s = both;
+    }
+  }
+  out = s;
+  return true;
+}
+
+}  // namespace
+
 Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
   if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
   if (r.time) return Status::unsupported_request;  // the fastest move has no requested time
@@ -1025,6 +1081,11 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
   const double vmax = *r.vmax, amax = *r.amax, jmax = *r.jmax;
   Best best{};
   std::array<double, kFastestFamilies> times{};
+  const auto record = [&](FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) {
+    double& slot = times[static_cast<std::size_t>(f)];
+    if (slot == 0.0 || t < slot) slot = t;
+    consider(best, p, pk, t);
+  };
 
   // (c) the time-optimal move convolved with ZV / ZVD / ZVDD / EI, one shaper per mode.
   const PiecewiseJerkParams to = jerk_limited_time_optimal(r.distance, vmax, amax, jmax);
@@ -1032,6 +1093,14 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
   constexpr ShaperKind kShapers[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd, ShaperKind::ei};
   constexpr FastestFamily kShaped[] = {FastestFamily::shaped_zv, FastestFamily::shaped_zvd, FastestFamily::shaped_zvdd,
                                        FastestFamily::shaped_ei};
+  const auto try_shaped = [&](const Shaper<double>& s, FastestFamily fam) {
+    FastestParams p{};
+    if (!flatten_shaped(to, s, p)) return;
+    p.family = fam;
+    const Peaks<double> pk = jerk_table_peaks(p);
+    if (!limits_ok(pk, vmax, amax, jmax) || !design_ok(p, ms, band, 1e-10)) return;
+    record(fam, p, pk, table_duration(p));
+  };
   for (std::size_t k = 0; k < 4; ++k) {
     Shaper<double> s{};
     bool ok = true;
@@ -1041,14 +1110,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
            compose(s, one, both) == Status::ok;
       if (ok) s = both;
     }
-    FastestParams p{};
-    if (!ok || !flatten_shaped(to, s, p)) continue;
-    p.family = kShaped[k];
-    const Peaks<double> pk = jerk_table_peaks(p);
-    if (!limits_ok(pk, vmax, amax, jmax) || !design_ok(p, ms, band, 1e-10)) continue;
-    const double t = table_duration(p);
-    times[static_cast<std::size_t>(kShaped[k])] = t;
-    consider(best, p, pk, t);
+    if (ok) try_shaped(s, kShaped[k]);
   }
 
   // (b) the ramp-cycloid S-curves: one mode, exact at its design (not robust designs).
@@ -1060,83 +1122,70 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
       p.family = damped ? FastestFamily::scurve_damped : FastestFamily::scurve;
       p.distance = r.distance;
       const Peaks<double> pk = ramp_cycloid_peaks(p.curve);
-      if (limits_ok(pk, vmax, amax, jmax)) {
-        const double t = Fastest<double>{p}.duration();
-        times[static_cast<std::size_t>(p.family)] = t;
-        consider(best, p, pk, t);
-      }
+      if (limits_ok(pk, vmax, amax, jmax)) record(p.family, p, pk, Fastest<double>{p}.duration());
     }
   }
 
-  // (a) bang-coast switch times under the zero-residual conditions. Robust: derivative zeros
-  // (Singh & Vadali's multiple zeros) of increasing order until the band holds. Seeded from the
-  // time-optimal pulse convolved with the shaper of the same order (ZV, ZVD, ZVDD).
-  {
+  // Robust: the zero sets to try, and (c) once more with the shapers of the spread zero sets
+  // (ZV at omega (1 +- spread)).
+  std::array<ZeroSet, 9> sets{};
+  std::size_t nsets = 0;
+  if (band == 0.0) {
+    sets[nsets++] = {1, 0.0, 0};
+  } else {
+    sets[nsets++] = {1, 0.0, 1};
+    sets[nsets++] = {1, 0.0, 2};
+    for (double f : {0.5, 0.7, 0.9}) sets[nsets++] = {2, f * band, 0};
+    for (double f : {0.7, 0.9}) sets[nsets++] = {3, f * band, 0};
+    sets[nsets++] = {2, 0.8 * band, 1};
+    sets[nsets++] = {1, 0.0, 0};
+    for (std::size_t k = 0; k < nsets; ++k) {
+      Shaper<double> s{};
+      if (sets[k].points > 1 && zero_shaper(sets[k], ms, s)) try_shaped(s, FastestFamily::shaped_spread);
+    }
+  }
+
+  // (a) bang-coast switch times under the zero conditions, in both forms (mirrored pulse, whole
+  // move), seeded from the time-optimal move (or its pulse) convolved with the shaper of the
+  // same zeros and the next order.
+  const PiecewiseJerkParams h = accel_pulse(to);
+  for (std::size_t k = 0; k < nsets; ++k) {
+    const ZeroSet& z = sets[k];
+    std::array<Condition, kMaxConds> cond{};
+    const std::size_t nc = zero_conditions(z, ms, cond);
+    if (nc > kMaxConds) continue;
     const double t_cap = std::isfinite(best.time) ? best.time : 4.0 * t_to + 8.0 * 3.14159 / ms.m[0].omega;
-    const PiecewiseJerkParams h = accel_pulse(to);
-    const int max_order = band > 0.0 ? 2 : 0;
-    for (int order = band > 0.0 ? 1 : 0; order <= max_order; ++order) {
-      std::array<Condition, kMaxConds> cond{};
-      std::size_t nc = 0;
-      for (std::size_t i = 0; i < ms.n; ++i) {
-        for (int q = 0; q <= order; ++q) {
-          if (nc < kMaxConds) cond[nc] = {pole(ms.m[i].omega, ms.m[i].zeta), ms.m[i].omega, q};
-          ++nc;
-        }
+    std::array<SeedPulse, 2> pulses{};
+    std::array<FastestParams, 3> whole{};
+    std::size_t ns = 0, nw = 0;
+    for (int extra = 0; extra <= 1; ++extra) {
+      ZeroSet zs = z;
+      zs.order += extra;
+      Shaper<double> s{};
+      if (!zero_shaper(zs, ms, s)) continue;
+      if (flatten_shaped(h, s, pulses[ns].g)) {
+        pulses[ns].time = t_to + s.duration();
+        ++ns;
       }
-      if (nc > kMaxConds) break;
-      std::array<SeedPulse, 2> seeds{};
-      std::size_t ns = 0;
-      for (int so = order; so <= std::min(order + 1, 2) && ns < seeds.size(); ++so) {
-        Shaper<double> s{};
-        bool ok = true;
-        for (std::size_t i = 0; i < ms.n && ok; ++i) {
-          Shaper<double> one{}, both{};
-          ok = design_shaper(kShapers[so], ms.m[i].omega, ms.m[i].zeta, 0.05, one) == Status::ok &&
-               compose(s, one, both) == Status::ok;
-          if (ok) s = both;
-        }
-        if (ok && flatten_shaped(h, s, seeds[ns].g)) {
-          seeds[ns].time = t_to + s.duration();
-          ++ns;
-        }
-      }
-      bool solved = false;
-      FastestParams p{};
-      Peaks<double> pk{};
-      if (plan_bang_coast(r, ms, cond, nc, seeds.data(), ns, t_to, t_cap, band, p, pk)) {
-        solved = true;
-        consider(best, p, pk, table_duration(p));
-      }
-      // The whole-move form, seeded from the time-optimal move convolved with the same shapers.
-      std::array<FastestParams, 2> whole{};
-      std::size_t nw = 0;
-      for (int so = order; so <= std::min(order + 1, 2) && nw < whole.size(); ++so) {
-        Shaper<double> s{};
-        bool ok = true;
-        for (std::size_t i = 0; i < ms.n && ok; ++i) {
-          Shaper<double> one{}, both{};
-          ok = design_shaper(kShapers[so], ms.m[i].omega, ms.m[i].zeta, 0.05, one) == Status::ok &&
-               compose(s, one, both) == Status::ok;
-          if (ok) s = both;
-        }
-        if (ok && flatten_shaped(to, s, whole[nw])) ++nw;
-      }
-      if (plan_whole(r, ms, cond, nc, whole.data(), nw, t_to, std::isfinite(best.time) ? best.time : t_cap, band, p,
-                     pk)) {
-        solved = true;
-        consider(best, p, pk, table_duration(p));
-      }
-      if (solved) {
-        times[static_cast<std::size_t>(FastestFamily::bang_coast)] = best.p.family == FastestFamily::bang_coast
-                                                                        ? best.time
-                                                                        : table_duration(p);
-        break;
-      }
+      if (flatten_shaped(to, s, whole[nw])) ++nw;
+    }
+    // and from the shortest jerk-table move so far (its zeros lie near these).
+    if (std::isfinite(best.time) && best.p.family != FastestFamily::scurve &&
+        best.p.family != FastestFamily::scurve_damped) {
+      whole[nw++] = best.p;
+    }
+    FastestParams p{};
+    Peaks<double> pk{};
+    if (plan_bang_coast(r, ms, cond, nc, pulses.data(), ns, t_to, t_cap, band, p, pk)) {
+      record(FastestFamily::bang_coast, p, pk, table_duration(p));
+    }
+    if (plan_whole(r, ms, cond, nc, whole.data(), nw, t_to, std::isfinite(best.time) ? best.time : t_cap, band, p,
+                   pk)) {
+      record(FastestFamily::bang_coast, p, pk, table_duration(p));
     }
   }
 
-  if (!std::isfinite(best.time)) return band > 0.0 ? Status::no_solution : Status::no_solution;
+  if (!std::isfinite(best.time)) return Status::no_solution;
   best.p.family_time = times;
   out = best.p;
   out_pk = best.pk;

@@ -6,6 +6,7 @@
 //   bang_coast  jerk in {+J, 0, -J}, switch times solved under the zero-residual conditions
 //   scurve / scurve_damped   the ramp-cycloid S-curves (single mode)
 //   shaped_zv / _zvd / _zvdd / _ei   the time-optimal jerk-limited move convolved with shapers
+//   shaped_spread   (--robust) convolved with ZV shapers at frequencies spread over the band
 // Every family but the S-curves is a piecewise-constant-jerk move (the shaped ones flattened:
 // the sum of delayed copies is again piecewise constant in jerk), so the shape stores either a
 // ramp-cycloid or a constant-jerk segment table.
@@ -35,12 +36,13 @@ enum class FastestFamily : std::uint8_t {
   shaped_zvd,
   shaped_zvdd,
   shaped_ei,
+  shaped_spread,  // ZV at omega (1 +- spread) for --robust, composed
 };
-inline constexpr std::size_t kFastestFamilies = 8;
+inline constexpr std::size_t kFastestFamilies = 9;
 [[nodiscard]] constexpr const char* to_string(FastestFamily f) noexcept {
   constexpr const char* names[kFastestFamilies] = {"none",          "bang-coast", "scurve",         "scurve-damped",
                                                    "time-optimal*ZV", "time-optimal*ZVD", "time-optimal*ZVDD",
-                                                   "time-optimal*EI"};
+                                                   "time-optimal*EI", "time-optimal*spread-ZV"};
   const auto i = static_cast<std::size_t>(f);
   return i < kFastestFamilies ? names[i] : "unknown";
 }
@@ -144,7 +146,8 @@ class Fastest {
   }
   [[nodiscard]] static const char* family_param_name(std::size_t k) noexcept {
     constexpr const char* names[kFastestFamilies] = {"",         "time_bang_coast", "time_scurve", "time_scurve_damped",
-                                                     "time_zv",  "time_zvd",        "time_zvdd",   "time_ei"};
+                                                     "time_zv",  "time_zvd",        "time_zvdd",   "time_ei",
+                                                     "time_spread_zv"};
     return names[k];
   }
 
@@ -163,9 +166,11 @@ class Fastest {
 [[nodiscard]] Peaks<double> jerk_table_peaks(const FastestParams& p) noexcept;
 
 // The residual vibration a jerk-table move leaves on mode (omega, zeta): its amplitude when the
-// move ends (move units), and its ratio to a step's of the same distance compared at the same
-// time, |A(p)| / (|D| omega) with A the Laplace transform of the acceleration at the pole p (the
-// V of the input-shaping literature; a step has 1). Not for the ramp-cycloid families.
+// move ends (move units), and that amplitude relative to the one a step of the same distance
+// leaves right after it, |D| omega / wd (a step has 1; undamped this is the V(omega) of the
+// input-shaping literature, |A(p)| / (|D| omega), A the Laplace transform of the acceleration at
+// the pole p). Measured at the move's end, the damping during the move counts, as it does for
+// the machine. Not for the ramp-cycloid families.
 [[nodiscard]] double fastest_residual_amplitude(const FastestParams& p, double omega, double zeta) noexcept;
 [[nodiscard]] double fastest_residual_ratio(const FastestParams& p, double omega, double zeta) noexcept;
 
