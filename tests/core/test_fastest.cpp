@@ -171,3 +171,83 @@ TEST(Fastest, TwoModeGridNeverSlowerThanTimeOptimalZv) {
   }
   std::printf("\n");
 }
+
+namespace {
+
+// The worst residual over omega (1 +- pct/100) for every mode, relative to a step of the same
+// distance right after it (|D| omega / wd), by the Duhamel quadrature at 51 frequencies.
+double worst_band_ratio(const core::Move<double>& m, const std::vector<core::Mode>& modes, double pct) {
+  double worst = 0.0;
+  for (const auto& md : modes) {
+    for (int k = 0; k <= 50; ++k) {
+      const double w = md.omega * (1.0 + pct / 100.0 * (-1.0 + 2.0 * k / 50.0));
+      const double wd = w * std::sqrt(1.0 - md.zeta * md.zeta);
+      worst = std::max(worst, test::residual_amplitude(m, w, md.zeta) * wd / (std::fabs(m.distance()) * w));
+    }
+  }
+  return worst;
+}
+
+// The time-optimal move shaped by `kind` for every mode, as core's own plan builds it.
+core::Move<double> shaped_move(const core::MoveRequest& r, core::ShaperKind kind) {
+  core::MoveRequest b = r;
+  b.profile = core::ProfileKind::jerk_limited;
+  b.extra_mode_count = 0;
+  b.robust.reset();
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(b, m), Status::ok);
+  core::Shaper<double> s{};
+  std::vector<core::Mode> modes{{*r.omega, r.zeta}};
+  for (std::size_t i = 0; i < r.extra_mode_count; ++i) modes.push_back(r.extra_modes[i]);
+  for (const auto& md : modes) {
+    core::Shaper<double> one{}, both{};
+    EXPECT_EQ(core::design_shaper(kind, md.omega, md.zeta, 0.05, one), Status::ok);
+    EXPECT_EQ(core::compose(s, one, both), Status::ok);
+    s = both;
+  }
+  return core::Move<double>{m.profile(), s, m.peaks()};
+}
+
+}  // namespace
+
+// --robust PCT: wherever time-optimal * ZVD or * EI holds the band (by the independent check),
+// `fastest` plans, is no slower, and holds the band too; its sampled peaks respect the limits.
+TEST(Fastest, RobustNeverSlowerThanTimeOptimalZvdOrEiAtTheirRobustness) {
+  int compared = 0, wins_bang = 0;
+  for (const Limits& l : {kLimitSets[0], kLimitSets[2]}) {
+    for (double w : {2.0, 22.0, 200.0}) {
+      for (double z : {0.0, 0.1}) {
+        for (double d : {1e-3, 1.0}) {
+          for (double pct : {5.0, 10.0, 15.0, 20.0}) {
+            SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w << " z " << z << " pct " << pct << " limits "
+                                              << l.v << "/" << l.a << "/" << l.j);
+            core::MoveRequest r = request(d, l.v, l.a, l.j, w, z);
+            r.robust = pct;
+            const std::vector<core::Mode> modes{{w, z}};
+            double baseline = INFINITY;
+            for (auto kind : {core::ShaperKind::zvd, core::ShaperKind::ei}) {
+              const core::Move<double> sm = shaped_move(r, kind);
+              if (worst_band_ratio(sm, modes, pct) <= 0.05) baseline = std::min(baseline, sm.duration());
+            }
+            core::Move<double> m{};
+            const Status st = core::plan(r, m);
+            if (!std::isfinite(baseline) && st != Status::ok) continue;  // nobody holds this band
+            ASSERT_EQ(st, Status::ok);
+            EXPECT_LE(worst_band_ratio(m, modes, pct), 0.05);
+            const core::Sample<double> pk = sampled_peaks(m);
+            EXPECT_LE(pk.v, l.v * (1 + 1e-9));
+            EXPECT_LE(pk.a, l.a * (1 + 1e-9));
+            EXPECT_LE(pk.j, l.j * (1 + 1e-9));
+            if (std::isfinite(baseline)) {
+              EXPECT_LE(m.duration(), baseline * (1 + 1e-12));
+              ++compared;
+            }
+            wins_bang += family_of(m) == core::FastestFamily::bang_coast;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 20);  // the comparison is not vacuous
+  std::printf("robust: %d cases compared with ZVD/EI; bang-coast won %d\n", compared, wins_bang);
+}
