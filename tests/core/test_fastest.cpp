@@ -7,7 +7,9 @@
 
 #include <cmath>
 #include <cstdio>
-#include <random>
+#include <cstdlib>
+#include <string>
+#include <vector>
 
 #include "residual.hpp"
 #include "settle/core/planner.hpp"
@@ -250,4 +252,101 @@ TEST(Fastest, RobustNeverSlowerThanTimeOptimalZvdOrEiAtTheirRobustness) {
   }
   EXPECT_GT(compared, 20);  // the comparison is not vacuous
   std::printf("robust: %d cases compared with ZVD/EI; bang-coast won %d\n", compared, wins_bang);
+}
+
+// docs/fastest.md's table, regenerated from the planners: the test fails when the table in the
+// document is not what the code plans today. SETTLE_UPDATE_DOCS=1 rewrites it.
+namespace {
+
+std::string duration_cell(const core::MoveRequest& r) {
+  core::Move<double> m{};
+  if (core::plan(r, m) != Status::ok) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", m.duration());
+  return buf;
+}
+
+std::string shaped_cell(const core::MoveRequest& r, core::ShaperKind kind) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", shaped_move(r, kind).duration());
+  return buf;
+}
+
+std::string docs_table() {
+  struct Case {
+    double d, v, a, j, w, z;
+    double w2, z2;  // second mode (0: none)
+    double robust;  // 0: none
+  };
+  const Case cases[] = {
+      {0.1, 1, 20, 800, 22, 0, 0, 0, 0},        {0.1, 1, 20, 800, 22, 0.05, 0, 0, 0},
+      {0.1, 1, 20, 800, 22, 0.2, 0, 0, 0},      {1e-3, 1, 20, 800, 2, 0, 0, 0, 0},
+      {1, 1, 20, 800, 7, 0.1, 0, 0, 0},         {10, 0.2, 2, 50, 70, 0.05, 0, 0, 0},
+      {0.03, 3, 100, 1e4, 200, 0, 0, 0, 0},     {0.1, 1, 20, 800, 22, 0.02, 60, 0.01, 0},
+      {1, 1, 20, 800, 7, 0.05, 19, 0.02, 0},    {0.1, 1, 20, 800, 22, 0, 0, 0, 10},
+      {0.1, 1, 20, 800, 22, 0, 0, 0, 20},       {1, 1, 20, 800, 7, 0.1, 0, 0, 15},
+  };
+  std::string out =
+      "| D | vmax, amax, jmax | modes (omega rad/s, zeta) | robust | fastest (s) | family | TO*ZV | TO*ZVD | TO*EI | "
+      "ramp-cycloid S-curve |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const Case& c : cases) {
+    core::MoveRequest r = request(c.d, c.v, c.a, c.j, c.w, c.z);
+    if (c.w2 > 0) {
+      r.extra_modes[0] = {c.w2, c.z2};
+      r.extra_mode_count = 1;
+    }
+    if (c.robust > 0) r.robust = c.robust;
+    core::Move<double> m{};
+    const bool ok = core::plan(r, m) == Status::ok;
+    const auto g = [](double x) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%g", x);
+      return std::string(b);
+    };
+    out += "| " + g(c.d) + " | " + g(c.v) + ", " + g(c.a) + ", " + g(c.j) + " | " + g(c.w) + ", " + g(c.z) +
+           (c.w2 > 0 ? "; " + g(c.w2) + ", " + g(c.z2) : "") + " | " + (c.robust > 0 ? g(c.robust) + " %" : "-") +
+           " | ";
+    char fast[64];
+    std::snprintf(fast, sizeof fast, "%.4f", ok ? m.duration() : 0.0);
+    out += std::string(ok ? fast : "-") + " | " + (ok ? core::to_string(family_of(m)) : "-") + " | ";
+    out += shaped_cell(r, core::ShaperKind::zv) + " | " + shaped_cell(r, core::ShaperKind::zvd) + " | " +
+           shaped_cell(r, core::ShaperKind::ei) + " | ";
+    if (c.w2 > 0 || c.robust > 0) {
+      out += "- |\n";  // the S-curves are designed for one mode, exactly
+    } else {
+      core::MoveRequest s = r;
+      s.profile = c.z > 0 ? core::ProfileKind::scurve_damped : core::ProfileKind::scurve;
+      out += duration_cell(s) + " |\n";
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(Fastest, DocsTableIsWhatThePlannersGive) {
+  const std::string path = std::string(SETTLE_DOCS_DIR) + "/fastest.md";
+  std::string doc;
+  if (FILE* f = std::fopen(path.c_str(), "rb")) {
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) doc.append(buf, n);
+    std::fclose(f);
+  }
+  const std::string begin = "<!-- fastest-table begin -->\n", end = "<!-- fastest-table end -->";
+  const std::size_t b = doc.find(begin), e = doc.find(end);
+  ASSERT_NE(b, std::string::npos) << path;
+  ASSERT_NE(e, std::string::npos) << path;
+  const std::string table = docs_table();
+  const char* update = std::getenv("SETTLE_UPDATE_DOCS");
+  if (update != nullptr && std::string(update) == "1") {
+    doc.replace(b + begin.size(), e - b - begin.size(), table);
+    FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    std::fwrite(doc.data(), 1, doc.size(), f);
+    std::fclose(f);
+  } else {
+    EXPECT_EQ(doc.substr(b + begin.size(), e - b - begin.size()), table)
+        << "docs/fastest.md's table is stale: rerun with SETTLE_UPDATE_DOCS=1";
+  }
 }
