@@ -332,6 +332,11 @@ double norm2(const EqVec& f, std::size_t n) noexcept {
 // The equations are dimensionless (relative distance and velocity, residual sums of order 1);
 // the move that comes out is checked on its own (limits, residual), so this only stops the solve.
 constexpr double kSolveTol = 1e-11;
+// Iterations from a seed, and from the previous move time's solution (bisection steps); the
+// bisection stops at this relative width of the bracket.
+constexpr int kFirstIterations = 40;
+constexpr int kWarmIterations = 12;
+constexpr double kBisectTol = 1e-8;
 
 // Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F, for
 // fn(y, f, jac) with n unknowns and m equations.
@@ -342,8 +347,10 @@ bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter
   residuals(y, f, &jac);
   double cost = norm2(f, m);
   double lambda = 1e-6;
+  int slow = 0;
   for (int it = 0; it < max_iter; ++it) {
     if (norm_inf(f, m) < kSolveTol) return true;
+    const double cost_before = cost;
     std::array<std::array<double, kMaxEqs>, kMaxEqs> a{};
     for (std::size_t r = 0; r < m; ++r) {
       for (std::size_t c = 0; c <= r; ++c) {
@@ -390,9 +397,12 @@ bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter
     }
     if (!improved) {
       DBG("  lm stuck at it %d: |f| %g lambda %g\n", it, norm_inf(f, m), lambda);
-      for (std::size_t i = 0; i < m; ++i) DBG("    f[%zu] = %g\n", i, f[i]);
       return norm_inf(f, m) < kSolveTol;
     }
+    // Stagnating far from a solution (less than 1 % gained per step, three steps running):
+    // this start does not lead to one; stop rather than grind.
+    slow = cost > 0.99 * cost_before ? slow + 1 : 0;
+    if (slow >= 3 && cost > 1e-12) return false;
     residuals(y, f, &jac);
   }
   DBG("  lm out of iterations: |f| %g lambda %g\n", norm_inf(f, m), lambda);
@@ -661,15 +671,14 @@ bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<C
   const auto descend = [&](const BangCoast& bb, double T, Vec y) {
     FastestParams bp{};
     Peaks<double> bpk{};
-    if (!solve_feasible(bb, T, y, 80) || !accept(bb, T, y, bp, bpk)) return false;
+    if (!solve_feasible(bb, T, y, kFirstIterations) || !accept(bb, T, y, bp, bpk)) return false;
     double hi = T, lo = t_lo;
-    if (have) lo = std::fmax(lo, 0.0);
-    for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
+    for (int it = 0; it < 40 && hi - lo > kBisectTol * hi; ++it) {
       const double mid = 0.5 * (lo + hi);
       Vec yt = y;
       FastestParams p{};
       Peaks<double> pk{};
-      if (solve_feasible(bb, mid, yt, 40) && accept(bb, mid, yt, p, pk)) {
+      if (solve_feasible(bb, mid, yt, kWarmIterations) && accept(bb, mid, yt, p, pk)) {
         hi = mid;
         y = yt;
         bp = p;
@@ -698,7 +707,7 @@ bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<C
   BangCoast bg = b;
   bg.h = std::min(kMaxPairs, nc + 2);
   if (bg.neq() > kMaxEqs || bg.nvar() > kMaxVars) return have;
-  for (int style = 0; style < 3; ++style) {
+  for (int style = 0; style < 3 && !have; ++style) {
     for (double fr : kFracs) {
       Vec y{};
       seed(bg, t_cap, fr, style, y);
@@ -969,7 +978,7 @@ bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condit
     double hi = std::fmin(table_duration(moves[k]), t_cap);
     FastestParams bp{};
     Peaks<double> bpk{};
-    const bool solved0 = solve(hi, y, 80);
+    const bool solved0 = solve(hi, y, kFirstIterations);
     DBG("whole seed %zu: h %zu T %g solved %d\n", k, bb.h, hi, (int)solved0);
     if (solved0) {
       FastestParams tp = whole_table(bb, y, r.distance);
@@ -978,12 +987,12 @@ bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condit
     }
     if (!solved0 || !accept(y, bp, bpk)) continue;
     double lo = t_lo;
-    for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
+    for (int it = 0; it < 40 && hi - lo > kBisectTol * hi; ++it) {
       const double mid = 0.5 * (lo + hi);
       Vec yt = y;
       FastestParams p{};
       Peaks<double> pk{};
-      const bool sv = solve(mid, yt, 40);
+      const bool sv = solve(mid, yt, kWarmIterations);
       const bool ac = sv && accept(yt, p, pk);
       DBG("  bisect T %.9g solved %d accepted %d\n", mid, (int)sv, (int)ac);
       if (sv && !ac) {
