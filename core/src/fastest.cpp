@@ -8,9 +8,6 @@
 #include "settle/core/piecewise_jerk.hpp"
 #include "settle/core/shaper.hpp"
 #include "settle/core/small_solve.hpp"
-#ifndef DBG
-#define DBG(...) ((void)0)
-#endif
 
 namespace settle::core {
 
@@ -372,7 +369,6 @@ bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter
         w[r] = f[r];
       }
       if (!solve_in_place(aa, w, m, 1e-300)) {
-        DBG("    singular at lambda %g\n", lam);
         if (tries > 0) lambda *= 10.0;
         continue;
       }
@@ -385,7 +381,6 @@ bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter
       EqVec fn{};
       residuals(yn, fn, nullptr);
       const double cn = norm2(fn, m);
-      DBG("    try lambda %g cost %g -> %g\n", lam, cost, cn);
       if (std::isfinite(cn) && cn < cost) {
         y = yn;
         cost = cn;
@@ -395,17 +390,13 @@ bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter
         lambda *= 10.0;
       }
     }
-    if (!improved) {
-      DBG("  lm stuck at it %d: |f| %g lambda %g\n", it, norm_inf(f, m), lambda);
-      return norm_inf(f, m) < kSolveTol;
-    }
+    if (!improved) return norm_inf(f, m) < kSolveTol;
     // Stagnating far from a solution (less than 1 % gained per step, three steps running):
     // this start does not lead to one; stop rather than grind.
     slow = cost > 0.99 * cost_before ? slow + 1 : 0;
     if (slow >= 3 && cost > 1e-12) return false;
     residuals(y, f, &jac);
   }
-  DBG("  lm out of iterations: |f| %g lambda %g\n", norm_inf(f, m), lambda);
   return norm_inf(f, m) < kSolveTol;
 }
 
@@ -878,16 +869,15 @@ void whole_residuals(const Whole& b, double T, const Vec& y, EqVec& f, Jac* jac)
   // |v| <= vmax at the end of each coast: 1 - (v / vmax)^2 - s^2 = 0, v from the integration,
   // dv/dt_k = -J dj_k (t_e - t_k) and dv/dt_e = a(t_e) = J level.
   {
-    double pe = 0.0, ve = 0.0, ae = 0.0;
-    (void)pe;
+    double vc = 0.0, ac = 0.0;  // velocity and acceleration at each coast's end
     for (std::size_t i = 0; i < b.h; ++i) {
       for (std::size_t m = 2 * i; m < 2 * i + 2; ++m) {
         const double d = q.d[m], jm = b.J * q.j[m];
-        ve += d * (ae + jm * d / 2.0);
-        ae += jm * d;
+        vc += d * (ac + jm * d / 2.0);
+        ac += jm * d;
       }
       const std::size_t ke = 2 * i + 2;  // the switch at the coast's end
-      const double x = ve / b.vmax;
+      const double x = vc / b.vmax;
       const std::size_t sv = 3 * b.h + i;
       f[e] = 1.0 - x * x - y[sv] * y[sv];
       if (jac) {
@@ -962,9 +952,7 @@ bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condit
     const std::size_t k = kk / 2;
     Whole bb = b;
     Vec y{};
-    const bool seeded = seed_whole(bb, moves[k], kk % 2 == 1, y);
-    DBG("seed_whole %zu: %d h %zu count %zu\n", k, (int)seeded, bb.h, moves[k].count);
-    if (!seeded || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
+    if (!seed_whole(bb, moves[k], kk % 2 == 1, y) || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
     const auto solve = [&](double T, Vec& yy, int iters) {
       return lm_solve([&](const Vec& z, EqVec& f, Jac* jac) { whole_residuals(bb, T, z, f, jac); }, bb.nvar(),
                       bb.neq(), yy, iters);
@@ -978,27 +966,14 @@ bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condit
     double hi = std::fmin(table_duration(moves[k]), t_cap);
     FastestParams bp{};
     Peaks<double> bpk{};
-    const bool solved0 = solve(hi, y, kFirstIterations);
-    DBG("whole seed %zu: h %zu T %g solved %d\n", k, bb.h, hi, (int)solved0);
-    if (solved0) {
-      FastestParams tp = whole_table(bb, y, r.distance);
-      Peaks<double> tpk = jerk_table_peaks(tp);
-      DBG("  peaks v %g a %g j %g count %zu design %d\n", tpk.v, tpk.a, tpk.j, tp.count, (int)design_ok(tp, ms, band, 1e-10));
-    }
-    if (!solved0 || !accept(y, bp, bpk)) continue;
+    if (!solve(hi, y, kFirstIterations) || !accept(y, bp, bpk)) continue;
     double lo = t_lo;
     for (int it = 0; it < 40 && hi - lo > kBisectTol * hi; ++it) {
       const double mid = 0.5 * (lo + hi);
       Vec yt = y;
       FastestParams p{};
       Peaks<double> pk{};
-      const bool sv = solve(mid, yt, kWarmIterations);
-      const bool ac = sv && accept(yt, p, pk);
-      DBG("  bisect T %.9g solved %d accepted %d\n", mid, (int)sv, (int)ac);
-      if (sv && !ac) {
-        DBG("    peaks v %g a %g j %g count %zu design %d\n", pk.v, pk.a, pk.j, p.count, (int)design_ok(p, ms, band, 1e-10));
-      }
-      if (ac) {
+      if (solve(mid, yt, kWarmIterations) && accept(yt, p, pk)) {
         hi = mid;
         y = yt;
         bp = p;
