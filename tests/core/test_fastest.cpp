@@ -7,12 +7,16 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "residual.hpp"
+#include "settle/core/fixed/motion.hpp"
 #include "settle/core/planner.hpp"
+#include "settle/core/stepper.hpp"
 
 using namespace settle;
 using core::Status;
@@ -349,4 +353,52 @@ TEST(Fastest, DocsTableIsWhatThePlannersGive) {
     EXPECT_EQ(doc.substr(b + begin.size(), e - b - begin.size()), table)
         << "docs/fastest.md's table is stale: rerun with SETTLE_UPDATE_DOCS=1";
   }
+}
+
+// Whatever family wins, the move streams like every other profile: the fixed-point motion
+// (random access and stepping) within a count of the double move at every tick, and the float and
+// double steppers on the double evaluation. Cases: a bang-coast win, a time-optimal * ZV win (two
+// modes: the flattened table with the most segments), a ramp-cycloid win, and a robust plan.
+TEST(Fastest, EveryFamilyStreamsInDoubleFloatAndFixedPoint) {
+  std::vector<core::MoveRequest> reqs;
+  reqs.push_back(request(0.1, 1, 20, 800, 22, 0.0));
+  core::MoveRequest two = request(1, 1, 20, 800, 7, 0.05);
+  two.extra_modes[0] = {19, 0.02};
+  two.extra_mode_count = 1;
+  reqs.push_back(two);
+  reqs.push_back(request(10, 0.2, 2, 50, 7, 0));
+  core::MoveRequest rob = request(-0.1, 1, 20, 800, 22, 0.0);
+  rob.robust = 15.0;
+  reqs.push_back(rob);
+  std::set<int> families;
+  for (const core::MoveRequest& r : reqs) {
+    core::Move<double> m{};
+    ASSERT_EQ(core::plan(r, m), Status::ok);
+    SCOPED_TRACE(core::to_string(family_of(m)));
+    families.insert(static_cast<int>(family_of(m)));
+    const core::fixed::Scale scale{{1e5 / std::fabs(m.distance()), 1000}, 16, 16};
+    core::fixed::PolyMotion fm{};
+    ASSERT_EQ(fm.build(m, scale), Status::ok);
+    core::fixed::MotionStepper<core::fixed::PolyMotion::kMaxTracks> stepper{fm};
+    const core::Move<float> mf{m};
+    core::MoveStepper<double> sd{m, 1e-3};
+    core::MoveStepper<float> sf{mf, 1e-3f};
+    double worst = 0.0, worst_f = 0.0, worst_sd = 0.0;
+    std::int32_t worst_step = 0;
+    for (std::int32_t n = 0; n <= fm.end_tick() + 2; ++n) {
+      const double t = n * 1e-3;
+      const double want = m.at(t).p;
+      const core::fixed::Sample f = fm.at_tick(n);
+      worst = std::max(worst, std::fabs(f.p - want * scale.axis.counts_per_unit));
+      worst_step = std::max(worst_step, std::abs(stepper.next().p - f.p));
+      worst_f = std::max(worst_f, std::fabs(static_cast<double>(sf.step().p) - want));
+      worst_sd = std::max(worst_sd, std::fabs(sd.step().p - want));
+    }
+    EXPECT_LE(worst, 1.0);
+    EXPECT_LE(worst_step, 1);
+    EXPECT_EQ(fm.at_tick(fm.end_tick()).p, fm.target());
+    EXPECT_LE(worst_f, 4e-6 * std::fabs(m.distance()));
+    EXPECT_LE(worst_sd, 1e-12 * std::fabs(m.distance()));
+  }
+  EXPECT_GE(families.size(), 3u);  // the cases cover several winning families
 }
