@@ -61,15 +61,19 @@ Cx accel_transform_at_end(const FastestParams& p, Cx s) noexcept {
   return (1.0 / n2) * (acc * Cx{s2.re, -s2.im});
 }
 
-void push_segment(FastestParams& p, double d, double j) noexcept {
-  if (!(d > 0.0) || p.count >= kFastestSegments) return;
+// Appends a segment (merged with the last when its jerk is the same); false when the table is
+// full (the caller then drops the whole table).
+[[nodiscard]] bool push_segment(FastestParams& p, double d, double j) noexcept {
+  if (!(d > 0.0)) return true;
   if (p.count > 0 && p.jerk[p.count - 1] == j) {
     p.durations[p.count - 1] += d;
-    return;
+    return true;
   }
+  if (p.count >= kFastestSegments) return false;
   p.durations[p.count] = d;
   p.jerk[p.count] = j;
   ++p.count;
+  return true;
 }
 
 double table_duration(const FastestParams& p) noexcept {
@@ -412,10 +416,12 @@ FastestParams bang_coast_table(const BangCoast& b, double T, const Vec& y, doubl
   FastestParams p{};
   p.family = FastestFamily::bang_coast;
   p.distance = distance;
-  for (std::size_t k = 0; k < q.nseg; ++k) push_segment(p, q.d[k], sg * b.J * q.j[k]);
+  bool ok = true;
+  for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], sg * b.J * q.j[k]) && ok;
   const double cruise = T - 2.0 * q.tg;
-  if (cruise > 1e-12 * T) push_segment(p, cruise, 0.0);
-  for (std::size_t k = 0; k < q.nseg; ++k) push_segment(p, q.d[k], -sg * b.J * q.j[k]);
+  if (cruise > 1e-12 * T) ok = push_segment(p, cruise, 0.0) && ok;
+  for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], -sg * b.J * q.j[k]) && ok;
+  if (!ok) p.count = 0;  // does not fit: refused by the caller
   return p;
 }
 
@@ -652,7 +658,7 @@ bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<C
   b.nc = nc;
   const auto accept = [&](const BangCoast& bb, double T, const Vec& yy, FastestParams& p, Peaks<double>& pk) {
     p = bang_coast_table(bb, T, yy, r.distance);
-    if (p.count == 0 || p.count >= kFastestSegments) return false;
+    if (p.count == 0) return false;
     pk = jerk_table_peaks(p);
     return limits_ok(pk, bb.vmax, bb.amax, bb.J) && design_ok(p, ms, band, 1e-10);
   };
@@ -899,7 +905,9 @@ FastestParams whole_table(const Whole& b, const Vec& y, double distance) noexcep
   FastestParams p{};
   p.family = FastestFamily::bang_coast;
   p.distance = distance;
-  for (std::size_t k = 0; k < q.nseg; ++k) push_segment(p, q.d[k], sg * b.J * q.j[k]);
+  bool ok = true;
+  for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], sg * b.J * q.j[k]) && ok;
+  if (!ok) p.count = 0;  // does not fit: refused by the caller
   return p;
 }
 
@@ -959,7 +967,7 @@ bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condit
     };
     const auto accept = [&](const Vec& yy, FastestParams& p, Peaks<double>& pk) {
       p = whole_table(bb, yy, r.distance);
-      if (p.count == 0 || p.count > kFastestSegments) return false;
+      if (p.count == 0) return false;
       pk = jerk_table_peaks(p);
       return limits_ok(pk, bb.vmax, bb.amax, bb.J) && design_ok(p, ms, band, 1e-10);
     };
