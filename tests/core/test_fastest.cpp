@@ -357,16 +357,26 @@ TEST(Fastest, DocsTableIsWhatThePlannersGive) {
 
 // Whatever family wins, the move streams like every other profile: the fixed-point motion
 // (random access and stepping) within a count of the double move at every tick, and the float and
-// double steppers on the double evaluation. Cases: a bang-coast win, a time-optimal * ZV win (two
-// modes: the flattened table with the most segments), a ramp-cycloid win, and a robust plan.
+// double steppers on the double evaluation. Cases: the first grid case each family wins (one
+// mode), a two-mode plan and a robust one.
 TEST(Fastest, EveryFamilyStreamsInDoubleFloatAndFixedPoint) {
   std::vector<core::MoveRequest> reqs;
-  reqs.push_back(request(0.1, 1, 20, 800, 22, 0.0));
+  std::set<int> seen;
+  for (const Limits& l : kLimitSets) {
+    for (double w : kOmegas) {
+      for (double z : kZetas) {
+        for (double d : kDistances) {
+          const core::MoveRequest r = request(d, l.v, l.a, l.j, w, z);
+          core::Move<double> m{};
+          if (core::plan(r, m) == Status::ok && seen.insert(static_cast<int>(family_of(m))).second) reqs.push_back(r);
+        }
+      }
+    }
+  }
   core::MoveRequest two = request(1, 1, 20, 800, 7, 0.05);
   two.extra_modes[0] = {19, 0.02};
   two.extra_mode_count = 1;
   reqs.push_back(two);
-  reqs.push_back(request(10, 0.2, 2, 50, 7, 0));
   core::MoveRequest rob = request(-0.1, 1, 20, 800, 22, 0.0);
   rob.robust = 15.0;
   reqs.push_back(rob);
