@@ -364,7 +364,7 @@ bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter
     // The undamped (Gauss-Newton, minimum-norm) step first: the rows differ in stiffness by many
     // orders (the end velocity against the residual sums), and damping them evenly spoils the
     // stiff ones near the solution. Then damped steps, more and more like gradient steps.
-    for (int tries = 0; tries < 13 && !improved; ++tries) {
+    for (int tries = 0; tries < 8 && !improved; ++tries) {
       const double lam = tries == 0 ? 0.0 : lambda;
       auto aa = a;
       std::array<double, kMaxEqs> w{};
@@ -956,11 +956,16 @@ bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condit
   b.cond = cond;
   b.nc = nc;
   bool have = false;
+  Vec last_seed{};
+  std::size_t last_h = 0;
   for (std::size_t kk = 0; kk < 2 * nmoves; ++kk) {
     const std::size_t k = kk / 2;
     Whole bb = b;
     Vec y{};
     if (!seed_whole(bb, moves[k], kk % 2 == 1, y) || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
+    if (bb.h == last_h && y == last_seed) continue;  // the other run rule gave the same seed
+    last_seed = y;
+    last_h = bb.h;
     const auto solve = [&](double T, Vec& yy, int iters) {
       return lm_solve([&](const Vec& z, EqVec& f, Jac* jac) { whole_residuals(bb, T, z, f, jac); }, bb.nvar(),
                       bb.neq(), yy, iters);
