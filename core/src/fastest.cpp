@@ -337,7 +337,7 @@ constexpr double kSolveTol = 1e-11;
 // bisection stops at this relative width of the bracket.
 constexpr int kFirstIterations = 40;
 constexpr int kWarmIterations = 12;
-constexpr double kBisectTol = 1e-8;
+constexpr double kBisectTol = 1e-6;
 
 // Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F, for
 // fn(y, f, jac) with n unknowns and m equations.
