@@ -43,6 +43,10 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
     r.extra_modes[i - 1] = {omegas[i], i < zetas.size() ? zetas[i] : 0.0};
     r.extra_mode_count = i;
   }
+  if (r.profile == core::ProfileKind::fastest && r.time) {
+    err = {"bad_option", "--time", "--time: --profile fastest finds the shortest time itself; give --vmax, --amax, --jmax"};
+    return false;
+  }
   r.robust = a.real("--robust");
   if (r.robust && r.profile != core::ProfileKind::fastest) {
     err = {"bad_option", "--robust", "--robust: only --profile fastest takes it"};
