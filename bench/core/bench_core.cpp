@@ -111,3 +111,50 @@ BENCHMARK_CAPTURE(BM_Plan, jerk_limited, ProfileKind::jerk_limited, ShaperKind::
 BENCHMARK_CAPTURE(BM_Plan, jerk_limited_zvd, ProfileKind::jerk_limited, ShaperKind::zvd);
 BENCHMARK_CAPTURE(BM_PlanFastestScurve, undamped, false);
 BENCHMARK_CAPTURE(BM_PlanFastestScurve, damped, true);
+
+// Profile `fastest` (docs/fastest.md): planning the reference case (one mode, undamped
+// and damped), two modes, and --robust 10; and its per-tick cost once planned.
+namespace {
+
+MoveRequest fastest_request(int which) {
+  MoveRequest r{};
+  r.profile = ProfileKind::fastest;
+  r.distance = 0.1;
+  r.vmax = 1.0;
+  r.amax = 20.0;
+  r.jmax = 800.0;
+  r.omega = 22.0;
+  r.zeta = which == 1 ? 0.05 : 0.0;
+  if (which == 2) {
+    r.extra_modes[0] = {60.0, 0.01};
+    r.extra_mode_count = 1;
+  }
+  if (which == 3) r.robust = 10.0;
+  return r;
+}
+
+void BM_PlanFastest(benchmark::State& state, int which) {
+  const MoveRequest r = fastest_request(which);
+  Move<double> m{};
+  for (auto _ : state) benchmark::DoNotOptimize(plan(r, m));
+}
+
+void BM_EvaluateFastest(benchmark::State& state) {
+  Move<double> m{};
+  if (plan(fastest_request(0), m) != Status::ok) std::abort();
+  const double dt = m.duration() / 997.0;
+  double t = 0.0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(m.at(t));
+    t += dt;
+    if (t > m.duration()) t = 0.0;
+  }
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_PlanFastest, one_mode, 0)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_PlanFastest, one_damped_mode, 1)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_PlanFastest, two_modes, 2)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_PlanFastest, robust_10, 3)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_EvaluateFastest);

@@ -16,6 +16,7 @@ namespace {
 
 void print_text(const core::Move<double>& m) {
   std::printf("profile      %s\n", core::to_string(m.profile().kind()));
+  if (const std::string f = sim::profile_family(m.profile()); !f.empty()) std::printf("family       %s\n", f.c_str());
   std::printf("distance     %.9g\n", m.distance());
   std::printf("duration     %.9g s (profile %.9g s + shaper %.9g s)\n", m.duration(), m.profile().duration(),
               m.shaper().duration());

@@ -31,6 +31,28 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
   r.jmax = a.real("--jmax");
   r.omega = a.real("--omega");
   r.zeta = a.real("--zeta", 0.0);
+  const std::vector<double> omegas = a.reals("--omega"), zetas = a.reals("--zeta");
+  if (omegas.size() > 1 && r.profile != core::ProfileKind::fastest) {
+    err = {"bad_option", "--omega", "--omega: given more than once; only --profile fastest designs for several modes"};
+    return false;
+  }
+  if (zetas.size() > 1 && zetas.size() != omegas.size()) {
+    err = {"bad_option", "--zeta", "--zeta: give one per --omega, in the same order (or one for a single mode)"};
+    return false;
+  }
+  for (std::size_t i = 1; i < omegas.size(); ++i) {
+    r.extra_modes[i - 1] = {omegas[i], i < zetas.size() ? zetas[i] : 0.0};
+    r.extra_mode_count = i;
+  }
+  if (r.profile == core::ProfileKind::fastest && r.time) {
+    err = {"bad_option", "--time", "--time: --profile fastest finds the shortest time itself; give --vmax, --amax, --jmax"};
+    return false;
+  }
+  r.robust = a.real("--robust");
+  if (r.robust && r.profile != core::ProfileKind::fastest) {
+    err = {"bad_option", "--robust", "--robust: only --profile fastest takes it"};
+    return false;
+  }
   r.vtol = a.real("--vtol", 0.05);
   if (a.has("--gammas")) {
     const std::vector<double> v = a.list("--gammas");

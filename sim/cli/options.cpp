@@ -72,10 +72,14 @@ const std::vector<OptionSpec> kMove = [] {
       real("--vmax", "unit/s", "", {0.0, 1e9, true}, "velocity limit"),
       real("--amax", "unit/s^2", "", {0.0, 1e12, true}, "acceleration limit"),
       real("--jmax", "unit/s^3", "", {0.0, 1e15, true}, "jerk limit"),
-      real("--omega", "rad/s", "the plant's fundamental (simulate, stream)", {1e-3, 1e6},
-           "natural frequency the move is designed for"),
-      real("--zeta", "", "0 (simulate, stream: the plant's)", {0.0, 1.0, false, true},
-           "damping ratio the move is designed for"),
+      {.name = "--omega", .kind = Kind::real, .unit = "rad/s", .def = "the plant's fundamental (simulate, stream)",
+       .help = "natural frequency the move is designed for (repeat for more modes: --profile fastest)",
+       .range = {1e-3, 1e6}, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
+      {.name = "--zeta", .kind = Kind::real, .unit = "", .def = "0 (simulate, stream: the plant's)",
+       .help = "damping ratio the move is designed for (one per --omega, in order, when several)",
+       .range = {0.0, 1.0, false, true}, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
+      real("--robust", "%", "", {0.0, 50.0, true, false},
+           "fastest: keep every mode's residual <= 5 % of a step's over omega (1 +- PCT/100)"),
       {.name = "--gammas", .kind = Kind::list, .unit = "", .def = "", .help = "pseudopoly exponents G1,G2,... "
        "(required for pseudopoly)", .range = {2.0, 100.0, true, false}, .min_items = 1, .max_items = 8,
        .value_name = "G1,G2,..."},
@@ -789,6 +793,11 @@ std::optional<double> ParsedArgs::real(const std::string& name) const {
   const auto it = numbers_.find(name);
   if (it == numbers_.end() || it->second.empty()) return std::nullopt;
   return it->second.front();
+}
+
+std::vector<double> ParsedArgs::reals(const std::string& name) const {
+  const auto it = numbers_.find(name);
+  return it == numbers_.end() ? std::vector<double>{} : it->second;
 }
 
 long long ParsedArgs::integer(const std::string& name, long long fallback) const {

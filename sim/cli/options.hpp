@@ -93,6 +93,7 @@ class ParsedArgs {
   [[nodiscard]] bool flag(const std::string& name) const { return has(name); }
   [[nodiscard]] double real(const std::string& name, double fallback) const;
   [[nodiscard]] std::optional<double> real(const std::string& name) const;
+  [[nodiscard]] std::vector<double> reals(const std::string& name) const;  // every value (repeatable)
   [[nodiscard]] long long integer(const std::string& name, long long fallback) const;
   [[nodiscard]] std::string text(const std::string& name, const std::string& fallback) const;
   [[nodiscard]] std::optional<std::string> text(const std::string& name) const;

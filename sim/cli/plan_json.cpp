@@ -13,6 +13,7 @@ Json plan_json(const core::Move<double>& m) {
   Json j;
   j["status"] = "ok";
   j["profile"] = core::to_string(m.profile().kind());
+  if (const std::string f = sim::profile_family(m.profile()); !f.empty()) j["family"] = f;
   j["distance"] = m.distance();
   j["duration"] = m.duration();
   j["profile_duration"] = m.profile().duration();
@@ -46,6 +47,15 @@ Json request_json(const core::MoveRequest& r) {
   if (r.jmax) j["jmax"] = *r.jmax;
   if (r.omega) j["omega"] = *r.omega;
   j["zeta"] = r.zeta;
+  // The modes after the first, and the robustness, that the fastest profile plans for.
+  if (r.extra_mode_count > 0) {
+    Json extra = Json::array();
+    for (std::size_t i = 0; i < r.extra_mode_count; ++i) {
+      extra.push_back(Json{{"omega", r.extra_modes[i].omega}, {"zeta", r.extra_modes[i].zeta}});
+    }
+    j["extra_modes"] = extra;
+  }
+  if (r.robust) j["robust"] = *r.robust;
   return j;
 }
 
@@ -119,6 +129,22 @@ bool load_plan_file(const std::string& path, const std::string& option, core::Mo
   }
   r.distance = *distance;
   r.zeta = zeta.value_or(0.0);
+  std::optional<double> robust;
+  if (!number("robust", robust, false)) return bad("request.robust is not a finite number");
+  r.robust = robust;
+  if (rq.contains("extra_modes")) {
+    const Json& extra = rq["extra_modes"];
+    if (!extra.is_array() || extra.size() > core::kMaxExtraModes) {
+      return bad("request.extra_modes must be an array of at most " + std::to_string(core::kMaxExtraModes) + " modes");
+    }
+    for (const Json& e : extra) {
+      if (!e.is_object() || !e.contains("omega") || !e.contains("zeta") || !e["omega"].is_number() ||
+          !e["zeta"].is_number() || !std::isfinite(e["omega"].get<double>()) || !std::isfinite(e["zeta"].get<double>())) {
+        return bad("every request.extra_modes entry needs finite numbers \"omega\" and \"zeta\"");
+      }
+      r.extra_modes[r.extra_mode_count++] = {e["omega"].get<double>(), e["zeta"].get<double>()};
+    }
+  }
   if (!j.contains("shaper") || !j["shaper"].is_object() || !j["shaper"].contains("impulses") ||
       !j["shaper"]["impulses"].is_array()) {
     return bad("no \"shaper\": {\"impulses\": [...]}");

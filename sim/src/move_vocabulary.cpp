@@ -57,6 +57,14 @@ std::vector<std::pair<std::string, double>> profile_params(const core::Profile<d
   return out;
 }
 
+std::string profile_family(const core::Profile<double>& prof) {
+  std::string out;
+  prof.visit([&](const auto& shape) {
+    if constexpr (requires { to_string(shape.family()); }) out = to_string(shape.family());
+  });
+  return out;
+}
+
 const char* option_of(core::Status s, const core::MoveRequest& r) {
   using core::Status;
   switch (s) {
@@ -77,7 +85,7 @@ const char* option_of(core::Status s, const core::MoveRequest& r) {
     case Status::gamma_too_small:
     case Status::gammas_not_distinct:
     case Status::singular_system: return "--gammas";
-    case Status::bad_shape_parameter: return "--y";
+    case Status::bad_shape_parameter: return r.robust ? "--robust" : "--y";
     case Status::vtol_out_of_range: return "--vtol";
     case Status::bad_impulse:
     case Status::shaper_gain_not_unity:
@@ -86,6 +94,7 @@ const char* option_of(core::Status s, const core::MoveRequest& r) {
       // Without a shaper, what did not converge is the profile's own design for the mode or
       // the limits: name what the user gave for it.
       if (r.shaper != core::ShaperKind::none) return "--shaper";
+      if (r.robust) return "--robust";
       if (r.time) return "--time";
       if (r.vmax) return "--vmax";
       return "--profile";

@@ -165,6 +165,49 @@ TEST(Cli, BadRequestsExitTwoNamingTheParameter) {
   }
 }
 
+// --profile fastest: the plan names the family that won and what each family reached; --omega
+// repeats (one --zeta per --omega) for this profile only; --robust is this profile's only.
+TEST(Cli, FastestPlansSeveralModesAndSaysWhichFamilyWon) {
+  const CliResult one = run("plan --profile fastest --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 22 --json");
+  ASSERT_EQ(one.status, 0) << one.out;
+  const Json j{one.out};
+  ASSERT_TRUE(j.ok) << one.out;
+  EXPECT_EQ(j.flat.at("profile"), "fastest");
+  EXPECT_EQ(j.flat.count("family"), 1u);
+  EXPECT_LE(std::stod(j.flat.at("duration")), 0.3178);  // the time-optimal * ZV
+  EXPECT_NEAR(std::stod(j.flat.at("params.time_zv")), 0.3178, 5e-5);
+  const CliResult two = run(
+      "plan --profile fastest --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 22 --zeta 0.02 --omega 60 --zeta 0.01");
+  ASSERT_EQ(two.status, 0) << two.out;
+  EXPECT_NE(two.out.find("family"), std::string::npos) << two.out;
+  const CliResult robust =
+      run("plan --profile fastest --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 22 --robust 10 --json");
+  ASSERT_EQ(robust.status, 0) << robust.out;
+  struct Bad {
+    const char* args;
+    const char* param;
+    const char* code;
+  };
+  const Bad bad[] = {
+      {"plan --profile scurve --distance 0.1 --time 1 --omega 20 --omega 30", "--omega", "bad_option"},
+      {"plan --profile fastest --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 20 --omega 30 --zeta 0.1 "
+       "--zeta 0.1 --zeta 0.1",
+       "--zeta", "bad_option"},
+      {"plan --profile scurve --distance 0.1 --time 1 --omega 20 --robust 10", "--robust", "bad_option"},
+      {"plan --profile fastest --distance 0.1 --time 1 --vmax 1 --amax 20 --jmax 800 --omega 20", "--time", "bad_option"},
+      {"plan --profile fastest --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 20 --robust 0", "--robust",
+       "out_of_range"},
+  };
+  for (const Bad& c : bad) {
+    const CliResult json = run(std::string{c.args} + " --json");
+    EXPECT_EQ(json.status, 2) << c.args;
+    const Json jj{json.out};
+    ASSERT_TRUE(jj.ok) << json.out;
+    EXPECT_EQ(jj.flat.at("error"), c.code) << c.args;
+    EXPECT_EQ(jj.flat.at("parameter"), c.param) << c.args;
+  }
+}
+
 TEST(Cli, PlantSimulatesTheDriveItsEdsDescribes) {
   // Each bundled drive and the test drive load; the bus is what fails (exit 1), not the EDS.
   for (const std::string eds : {std::string{SETTLE_EDS_DIR} + "/split_rpdo_drive.eds",

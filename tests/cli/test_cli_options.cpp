@@ -282,7 +282,8 @@ TEST(CliHelp, EveryOptionOfTheTableIsInItsCommandsHelp) {
 // lists, and each listed option is accepted (not refused as unknown).
 TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
   const std::vector<std::string> move{"--profile", "--distance", "--time",   "--vmax", "--amax", "--jmax",
-                                      "--omega",   "--zeta",     "--gammas", "--y",    "--shaper", "--vtol"};
+                                      "--omega",   "--zeta",     "--gammas", "--y",    "--shaper", "--vtol",
+                                      "--robust"};
   const std::vector<std::string> plant{"--plant",     "--mass",      "--stiffness",     "--damping",
                                        "--length",    "--modulus",   "--thickness",     "--width",
                                        "--beam-mass", "--tip-mass",  "--modes",         "--modal-damping",

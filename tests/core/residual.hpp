@@ -46,6 +46,8 @@ inline std::vector<double> profile_breakpoints(const core::Profile<double>& prof
     } else if constexpr (std::is_same_v<P, core::PiecewiseJerk<double>>) {
       double t = 0.0;
       for (std::size_t i = 0; i < p.params().count; ++i) b.push_back(t += p.params().durations[i]);
+    } else if constexpr (requires { p.piece_count(); }) {
+      for (int i = 1; i < p.piece_count(); ++i) b.push_back(p.piece(i).start);
     }
     b.push_back(p.duration());
   });
@@ -64,13 +66,16 @@ inline std::vector<double> move_breakpoints(const core::Move<double>& m) {
 }
 
 // Residual vibration amplitude of the mode e'' + 2 zeta w e' + w^2 e = -(base acceleration)
-// once the move is over: e^{-zeta w T} |I| / wd, I = int a(s) e^{(zeta w - i wd) s} ds, plus the
+// once the move is over: |I| / wd, I = int a(s) e^{(zeta w - i wd)(s - T)} ds, plus the
 // Dirac terms of any velocity step at the profile's ends.
 inline double residual_amplitude(const core::Move<double>& m, double omega, double zeta, int panels_per_piece = 24) {
   static const GaussLegendre gl{12};
   const double wd = omega * std::sqrt(1.0 - zeta * zeta);
   const std::complex<double> k{zeta * omega, -wd};
   const std::vector<double> b = move_breakpoints(m);
+  // The kernel is referred to the end (e^{k (s - t_end)}, magnitude <= 1), so that long moves on
+  // damped modes do not overflow; the amplitude is then |I| / wd with no decay factor left.
+  const double t_end = b.back();
   std::complex<double> acc{0.0, 0.0};
   for (std::size_t i = 0; i + 1 < b.size(); ++i) {
     const double h = (b[i + 1] - b[i]) / panels_per_piece;
@@ -78,7 +83,7 @@ inline double residual_amplitude(const core::Move<double>& m, double omega, doub
       const double lo = b[i] + p * h;
       for (std::size_t q = 0; q < gl.x.size(); ++q) {
         const double s = lo + 0.5 * h * (gl.x[q] + 1.0);
-        acc += 0.5 * h * gl.w[q] * m.at(s).a * std::exp(k * s);
+        acc += 0.5 * h * gl.w[q] * m.at(s).a * std::exp(k * (s - t_end));
       }
     }
   }
@@ -88,12 +93,11 @@ inline double residual_amplitude(const core::Move<double>& m, double omega, doub
       const double t0 = m.shaper().time[i];
       const double t1 = t0 + m.profile().duration();
       const double w = m.shaper().amp[i];
-      acc += w * m.profile().at(t0 - t0).v * std::exp(k * t0);
-      acc -= w * m.profile().at(std::nextafter(m.profile().duration(), 0.0)).v * std::exp(k * t1);
+      acc += w * m.profile().at(t0 - t0).v * std::exp(k * (t0 - t_end));
+      acc -= w * m.profile().at(std::nextafter(m.profile().duration(), 0.0)).v * std::exp(k * (t1 - t_end));
     }
   }
-  const double t_end = b.back();
-  return std::exp(-zeta * omega * t_end) * std::abs(acc) / wd;
+  return std::abs(acc) / wd;
 }
 
 }  // namespace settle::test

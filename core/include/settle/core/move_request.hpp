@@ -16,6 +16,13 @@ namespace settle::core {
 // defines it; declared here so that the profiles' own headers can read a request.
 enum class ProfileKind : std::uint8_t;
 
+// A further mode a request is designed for (profile `fastest` reads every one of them).
+struct Mode {
+  double omega{0.0};  // rad/s
+  double zeta{0.0};
+};
+inline constexpr std::size_t kMaxExtraModes = 3;  // besides (omega, zeta): four modes at most
+
 struct MoveRequest {
   ProfileKind profile{};  // the registry's first profile (scurve) unless set
   double distance{0.0};
@@ -28,6 +35,9 @@ struct MoveRequest {
   std::optional<std::array<double, 3>> y_fractions;  // ramp-versine: Y/L given instead of computed
   ShaperKind shaper{ShaperKind::none};
   double vtol{0.05};  // EI tolerance
+  std::array<Mode, kMaxExtraModes> extra_modes{};  // modes after the first (profile `fastest`)
+  std::size_t extra_mode_count{0};
+  std::optional<double> robust;  // percent: residual <= 5 % over omega (1 +- robust/100) (`fastest`)
 };
 
 }  // namespace settle::core

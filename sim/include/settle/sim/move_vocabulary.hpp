@@ -27,6 +27,8 @@ struct ShaperName {
 
 // The numbers that define the planned profile, named as `settle plan --json` names them.
 [[nodiscard]] std::vector<std::pair<std::string, double>> profile_params(const core::Profile<double>& prof);
+// The family that won, for a profile that plans several (`fastest`); "" for the others.
+[[nodiscard]] std::string profile_family(const core::Profile<double>& prof);
 
 // The option a planner status is about ("--time", "--vmax", ...), so that the user is told what
 // to change.

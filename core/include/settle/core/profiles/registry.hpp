@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "settle/core/move_request.hpp"
+#include "settle/core/profiles/fastest.hpp"
 #include "settle/core/profiles/jerk_limited.hpp"
 #include "settle/core/profiles/poly345.hpp"
 #include "settle/core/profiles/pseudopoly.hpp"
@@ -30,7 +31,8 @@
   X(pseudopoly, PseudopolyProfile)         \
   X(poly345, Poly345Profile)               \
   X(trapezoid, TrapezoidProfile)           \
-  X(jerk_limited, JerkLimitedProfile)
+  X(jerk_limited, JerkLimitedProfile)      \
+  X(fastest, FastestProfile)
 
 namespace settle::core {
 

@@ -1,0 +1,1221 @@
+// Profile `fastest` (profiles/fastest.hpp): plans every family and keeps the shortest feasible
+// move. docs/fastest.md describes the method.
+#include "settle/core/profiles/fastest.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "settle/core/piecewise_jerk.hpp"
+#include "settle/core/shaper.hpp"
+#include "settle/core/small_solve.hpp"
+
+namespace settle::core {
+
+namespace {
+
+// A complex number (core keeps to <cmath>; four operations are all the solver needs).
+struct Cx {
+  double re{0.0}, im{0.0};
+};
+constexpr Cx operator+(Cx a, Cx b) noexcept { return {a.re + b.re, a.im + b.im}; }
+constexpr Cx operator*(Cx a, Cx b) noexcept { return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
+constexpr Cx operator*(double s, Cx a) noexcept { return {s * a.re, s * a.im}; }
+inline Cx cexp_neg(Cx p, double t) noexcept {  // e^{-p t}
+  const double m = std::exp(-p.re * t);
+  return {m * std::cos(p.im * t), -m * std::sin(p.im * t)};
+}
+inline double cabs(Cx a) noexcept { return std::hypot(a.re, a.im); }
+// e^{z} - 1, accurate for small |z| (a short segment's two exponentials nearly cancel).
+inline Cx cexpm1(Cx z) noexcept {
+  const double sh = std::sin(0.5 * z.im);
+  return {std::expm1(z.re) * std::cos(z.im) - 2.0 * sh * sh, std::exp(z.re) * std::sin(z.im)};
+}
+
+Cx pole(double omega, double zeta) noexcept { return {-zeta * omega, omega * std::sqrt(1.0 - zeta * zeta)}; }
+
+constexpr std::size_t kMaxModes = 1 + kMaxExtraModes;
+struct ModeSet {
+  std::array<Mode, kMaxModes> m{};
+  std::size_t n{0};
+};
+
+// ----- jerk tables ---------------------------------------------------------------------------
+
+// Laplace transform of the table's acceleration at s, times e^{s T} (T its duration): the move
+// starts from rest with a = 0, so A(s) = sum_i j_i (e^{-s t_i} - e^{-s t_{i+1}}) / s^2. Referred
+// to the end every exponential has magnitude <= 1 for a stable pole, so long moves on damped
+// modes neither overflow nor cancel.
+Cx accel_transform_at_end(const FastestParams& p, Cx s) noexcept {
+  double total = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) total += p.durations[i];
+  // j_i (e^{s (T - t_i)} - e^{s (T - t_{i+1})}) = j_i e^{s (T - t_{i+1})} (e^{s d_i} - 1)
+  Cx acc{};
+  double t = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const double t1 = t + p.durations[i];
+    if (p.jerk[i] != 0.0) acc = acc + p.jerk[i] * (cexp_neg(s, t1 - total) * cexpm1(p.durations[i] * s));
+    t = t1;
+  }
+  const Cx s2 = s * s;
+  const double n2 = s2.re * s2.re + s2.im * s2.im;
+  return (1.0 / n2) * (acc * Cx{s2.re, -s2.im});
+}
+
+// Appends a segment (merged with the last when its jerk is the same); false when the table is
+// full (the caller then drops the whole table).
+[[nodiscard]] bool push_segment(FastestParams& p, double d, double j) noexcept {
+  if (!(d > 0.0)) return true;
+  if (p.count > 0 && p.jerk[p.count - 1] == j) {
+    p.durations[p.count - 1] += d;
+    return true;
+  }
+  if (p.count >= kFastestSegments) return false;
+  p.durations[p.count] = d;
+  p.jerk[p.count] = j;
+  ++p.count;
+  return true;
+}
+
+double table_duration(const FastestParams& p) noexcept {
+  double t = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) t += p.durations[i];
+  return t;
+}
+
+// ----- family: the time-optimal move convolved with shapers -----------------------------------
+
+// The time-optimal move shaped by s, flattened into one constant-jerk table. False when the
+// breakpoints do not fit the table.
+bool flatten_shaped(const PiecewiseJerkParams& base, const Shaper<double>& s, FastestParams& out) noexcept {
+  std::array<double, kMaxJerkSegments + 1> bt{};
+  std::size_t nb = 0;
+  double t = 0.0;
+  bt[nb++] = 0.0;
+  for (std::size_t i = 0; i < base.count; ++i) bt[nb++] = (t += base.durations[i]);
+  const double total = t + s.duration();
+  std::array<double, (kMaxJerkSegments + 1) * kMaxImpulses> br{};
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < s.count; ++k) {
+    for (std::size_t i = 0; i < nb; ++i) br[n++] = bt[i] + s.time[k];
+  }
+  std::sort(br.begin(), br.begin() + static_cast<std::ptrdiff_t>(n));
+  const auto jerk_at = [&](double tm) {
+    double j = 0.0;
+    for (std::size_t k = 0; k < s.count; ++k) {
+      const double u = tm - s.time[k];
+      if (!(u > 0.0) || u >= t) continue;
+      double acc = 0.0;
+      for (std::size_t i = 0; i < base.count; ++i) {
+        if (u < acc + base.durations[i]) {
+          j += s.amp[k] * base.jerk[i];
+          break;
+        }
+        acc += base.durations[i];
+      }
+    }
+    return j;
+  };
+  FastestParams p{};
+  p.distance = base.distance;
+  const double merge = 1e-13 * total;
+  double last = 0.0;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (br[i] - last <= merge) continue;
+    if (p.count >= kFastestSegments) return false;
+    const double d = br[i] - last;
+    const double j = jerk_at(last + 0.5 * d);
+    p.durations[p.count] = d;
+    p.jerk[p.count] = j;
+    ++p.count;
+    last = br[i];
+  }
+  out = p;
+  return true;
+}
+
+// ----- family: bang-coast switch times ---------------------------------------------------------
+//
+// The acceleration is a(t) = g(t) - g(t - tau): a pulse g, a cruise, and the pulse mirrored, with
+// D = v_c tau (v_c the pulse's area). Its transform is G(s) (1 - e^{-s tau}), so the move leaves
+// a mode at rest when G vanishes at the mode's pole (and robustly when G's derivatives vanish too).
+// The pulse has h ramp/coast pairs, ramps alternately at +J and -J, and a closing ramp back to 0:
+// jerk stays in {+J, 0, -J} by construction. Its durations are t0 y^2 (never negative); levels,
+// vmax and a non-negative cruise are equalities with squared slacks. For a move time T the
+// equalities are solved by Levenberg-Marquardt (minimum-norm steps); T is bisected down to the
+// shortest that still solves.
+
+constexpr std::size_t kMaxPairs = 7;                  // 4h + 3 segments <= kFastestSegments
+constexpr std::size_t kMaxFullPairs = 15;             // 2H + 1 segments <= kFastestSegments
+constexpr std::size_t kMaxConds = 6;                  // complex conditions
+// Sized for the larger of the two formulations (the whole move: y (2H), level slacks (H)).
+constexpr std::size_t kMaxVars = 4 * kMaxFullPairs;
+constexpr std::size_t kMaxEqs = 3 + 2 * kMaxConds + 2 * kMaxFullPairs;
+
+struct Condition {
+  Cx p;         // the pole
+  double w;     // omega, to scale t
+  int order;    // derivative order q: sum dj (-w t)^q e^{-p t} = 0
+};
+
+struct BangCoast {
+  double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0}, t0{1.0};
+  double t_ref{0.0};  // conditions are referred to this time (about the pulse's end): e^{-p (t - t_ref)}
+  std::size_t h{2};
+  std::array<Condition, kMaxConds> cond{};
+  std::size_t nc{0};
+  [[nodiscard]] std::size_t nvar() const noexcept { return 3 * h + 2; }
+  [[nodiscard]] std::size_t neq() const noexcept { return 1 + 2 * nc + h + 2; }
+};
+
+using Vec = std::array<double, kMaxVars>;
+using EqVec = std::array<double, kMaxEqs>;
+using Jac = std::array<std::array<double, kMaxVars>, kMaxEqs>;
+
+// The pulse's segment durations, jerks (units of J) and switch times from the variables.
+struct Pulse {
+  std::size_t nseg{0};
+  std::array<double, 2 * kMaxPairs + 1> d{}, j{};
+  std::array<double, 2 * kMaxPairs + 2> t{}, dj{};  // switch times and jerk jumps (units of J)
+  std::array<double, kMaxPairs> level{};             // acceleration on each coast (units of J s)
+  double close_sign{0.0};                            // d(closing)/d(sum sigma r) sign
+  double tg{0.0};
+};
+
+Pulse make_pulse(const BangCoast& b, const Vec& y) noexcept {
+  Pulse q{};
+  double lv = 0.0;
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
+    const double r = b.t0 * y[2 * i] * y[2 * i];
+    const double c = b.t0 * y[2 * i + 1] * y[2 * i + 1];
+    lv += sg * r;
+    q.level[i] = lv;
+    q.d[2 * i] = r;
+    q.j[2 * i] = sg;
+    q.d[2 * i + 1] = c;
+    q.j[2 * i + 1] = 0.0;
+  }
+  q.close_sign = lv >= 0.0 ? 1.0 : -1.0;
+  q.d[2 * b.h] = std::fabs(lv);
+  q.j[2 * b.h] = -q.close_sign;
+  q.nseg = 2 * b.h + 1;
+  double t = 0.0, prev = 0.0;
+  for (std::size_t k = 0; k < q.nseg; ++k) {
+    q.t[k] = t;
+    q.dj[k] = q.j[k] - prev;
+    prev = q.j[k];
+    t += q.d[k];
+  }
+  q.t[q.nseg] = t;
+  q.dj[q.nseg] = -prev;
+  q.tg = t;
+  return q;
+}
+
+// F(y) and its Jacobian for move time T.
+void residuals(const BangCoast& b, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
+  const Pulse q = make_pulse(b, y);
+  const std::size_t nv = b.nvar(), ns = q.nseg + 1;  // switch count
+  // d t_k / d y_v: t_k = sum_{m<k} d_m; d_m depends on y_{m} (m < 2h) or on all ramps (closing).
+  // dd[m][v]: derivative of segment m's duration with respect to y_v.
+  std::array<std::array<double, 2 * kMaxPairs>, 2 * kMaxPairs + 1> dd{};
+  for (std::size_t m = 0; m < 2 * b.h; ++m) dd[m][m] = 2.0 * b.t0 * y[m];
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
+    dd[2 * b.h][2 * i] = q.close_sign * sg * 2.0 * b.t0 * y[2 * i];
+  }
+  std::array<std::array<double, 2 * kMaxPairs>, 2 * kMaxPairs + 2> dt{};
+  for (std::size_t k = 1; k < ns; ++k) {
+    for (std::size_t v = 0; v < 2 * b.h; ++v) dt[k][v] = dt[k - 1][v] + dd[k - 1][v];
+  }
+  if (jac) {
+    for (auto& row : *jac) row.fill(0.0);
+  }
+  std::size_t e = 0;
+  // Area (velocity gain) v_c = J/2 sum dj t^2; tau = T - tg; D = v_c tau.
+  double vc = 0.0;
+  std::array<double, 2 * kMaxPairs> dvc{};
+  for (std::size_t k = 0; k < ns; ++k) {
+    vc += 0.5 * b.J * q.dj[k] * q.t[k] * q.t[k];
+    for (std::size_t v = 0; v < 2 * b.h; ++v) dvc[v] += b.J * q.dj[k] * q.t[k] * dt[k][v];
+  }
+  const double tau = T - q.tg;
+  const std::array<double, 2 * kMaxPairs>& dtg = dt[ns - 1];
+  f[e] = vc * tau / b.D - 1.0;
+  if (jac) {
+    for (std::size_t v = 0; v < 2 * b.h; ++v) (*jac)[e][v] = (dvc[v] * tau - vc * dtg[v]) / b.D;
+  }
+  ++e;
+  // Zero-residual conditions.
+  for (std::size_t c = 0; c < b.nc; ++c) {
+    const Condition& cd = b.cond[c];
+    Cx sum{};
+    std::array<Cx, 2 * kMaxPairs> grad{};
+    for (std::size_t k = 0; k < ns; ++k) {
+      if (q.dj[k] == 0.0) continue;
+      const Cx ex = cexp_neg(cd.p, q.t[k] - b.t_ref);
+      const double u = -cd.w * (q.t[k] - b.t_ref);
+      const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
+      sum = sum + (q.dj[k] * uq) * ex;
+      if (jac) {
+        // d/dt [u^q e^{-pt}] = (q u^{q-1} (-w) - p u^q) e^{-pt}
+        const double uq1 = cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
+        const Cx dk = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * ex);
+        for (std::size_t v = 0; v < 2 * b.h; ++v) grad[v] = grad[v] + dt[k][v] * dk;
+      }
+    }
+    if (cd.order == 0) {
+      // The same sum segment by segment, sum_m j_m e^{-p (t_{m+1} - t_ref)} (e^{p d_m} - 1):
+      // accurate to the terms' own size, where the jump form cancels (short segments, low omega).
+      sum = Cx{};
+      for (std::size_t m = 0; m < q.nseg; ++m) {
+        if (q.j[m] != 0.0) sum = sum + q.j[m] * (cexp_neg(cd.p, q.t[m + 1] - b.t_ref) * cexpm1(q.d[m] * cd.p));
+      }
+    }
+    f[e] = sum.re;
+    f[e + 1] = sum.im;
+    if (jac) {
+      for (std::size_t v = 0; v < 2 * b.h; ++v) {
+        (*jac)[e][v] = grad[v].re;
+        (*jac)[e + 1][v] = grad[v].im;
+      }
+    }
+    e += 2;
+  }
+  // Coast levels within amax: 1 - (J L / amax)^2 - s^2 = 0.
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double x = b.J * q.level[i] / b.amax;
+    const std::size_t sv = 2 * b.h + i;
+    f[e] = 1.0 - x * x - y[sv] * y[sv];
+    if (jac) {
+      for (std::size_t l = 0; l <= i; ++l) {
+        const double sg = (l % 2 == 0) ? 1.0 : -1.0;
+        (*jac)[e][2 * l] = -2.0 * x * (b.J / b.amax) * sg * 2.0 * b.t0 * y[2 * l];
+      }
+      (*jac)[e][sv] = -2.0 * y[sv];
+    }
+    ++e;
+  }
+  // vmax: 1 - v_c / vmax - s^2 = 0.
+  {
+    const std::size_t sv = 3 * b.h;
+    f[e] = 1.0 - vc / b.vmax - y[sv] * y[sv];
+    if (jac) {
+      for (std::size_t v = 0; v < 2 * b.h; ++v) (*jac)[e][v] = -dvc[v] / b.vmax;
+      (*jac)[e][sv] = -2.0 * y[sv];
+    }
+    ++e;
+  }
+  // Cruise >= 0: (T - 2 tg) / t0 - s^2 = 0.
+  {
+    const std::size_t sv = 3 * b.h + 1;
+    f[e] = (tau - q.tg) / b.t0 - y[sv] * y[sv];
+    if (jac) {
+      for (std::size_t v = 0; v < 2 * b.h; ++v) (*jac)[e][v] = -2.0 * dtg[v] / b.t0;
+      (*jac)[e][sv] = -2.0 * y[sv];
+    }
+    ++e;
+  }
+  (void)nv;
+}
+
+double norm_inf(const EqVec& f, std::size_t n) noexcept {
+  double m = 0.0;
+  for (std::size_t i = 0; i < n; ++i) m = std::fmax(m, std::fabs(f[i]));
+  return m;
+}
+double norm2(const EqVec& f, std::size_t n) noexcept {
+  double m = 0.0;
+  for (std::size_t i = 0; i < n; ++i) m += f[i] * f[i];
+  return m;
+}
+
+// The equations are dimensionless (relative distance and velocity, residual sums of order 1);
+// the move that comes out is checked on its own (limits, residual), so this only stops the solve.
+constexpr double kSolveTol = 1e-11;
+// Iterations from a seed, and from the previous move time's solution (bisection steps); the
+// bisection stops at this relative width of the bracket.
+constexpr int kFirstIterations = 40;
+constexpr int kWarmIterations = 12;
+constexpr double kBisectTol = 1e-6;
+
+// Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F, for
+// fn(y, f, jac) with n unknowns and m equations.
+template <typename Fn>
+bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter) noexcept {
+  EqVec f{};
+  Jac jac{};
+  residuals(y, f, &jac);
+  double cost = norm2(f, m);
+  double lambda = 1e-6;
+  int slow = 0;
+  for (int it = 0; it < max_iter; ++it) {
+    if (norm_inf(f, m) < kSolveTol) return true;
+    const double cost_before = cost;
+    std::array<std::array<double, kMaxEqs>, kMaxEqs> a{};
+    for (std::size_t r = 0; r < m; ++r) {
+      for (std::size_t c = 0; c <= r; ++c) {
+        double s = 0.0;
+        for (std::size_t v = 0; v < n; ++v) s += jac[r][v] * jac[c][v];
+        a[r][c] = a[c][r] = s;
+      }
+    }
+    bool improved = false;
+    // The undamped (Gauss-Newton, minimum-norm) step first: the rows differ in stiffness by many
+    // orders (the end velocity against the residual sums), and damping them evenly spoils the
+    // stiff ones near the solution. Then damped steps, more and more like gradient steps.
+    for (int tries = 0; tries < 8 && !improved; ++tries) {
+      const double lam = tries == 0 ? 0.0 : lambda;
+      auto aa = a;
+      std::array<double, kMaxEqs> w{};
+      for (std::size_t r = 0; r < m; ++r) {
+        aa[r][r] += lam * (1.0 + a[r][r]);
+        w[r] = f[r];
+      }
+      if (!solve_in_place(aa, w, m, 1e-300)) {
+        if (tries > 0) lambda *= 10.0;
+        continue;
+      }
+      Vec yn = y;
+      for (std::size_t v = 0; v < n; ++v) {
+        double s = 0.0;
+        for (std::size_t r = 0; r < m; ++r) s += jac[r][v] * w[r];
+        yn[v] -= s;
+      }
+      EqVec fn{};
+      residuals(yn, fn, nullptr);
+      const double cn = norm2(fn, m);
+      if (std::isfinite(cn) && cn < cost) {
+        y = yn;
+        cost = cn;
+        if (tries > 0) lambda = std::fmax(lambda * 0.1, 1e-15);
+        improved = true;
+      } else if (tries > 0) {
+        lambda *= 10.0;
+      }
+    }
+    if (!improved) return norm_inf(f, m) < kSolveTol;
+    // Stagnating far from a solution (less than 1 % gained per step, three steps running):
+    // this start does not lead to one; stop rather than grind.
+    slow = cost > 0.99 * cost_before ? slow + 1 : 0;
+    if (slow >= 3 && cost > 1e-12) return false;
+    residuals(y, f, &jac);
+  }
+  return norm_inf(f, m) < kSolveTol;
+}
+
+bool solve_feasible(const BangCoast& b, double T, Vec& y, int max_iter) noexcept {
+  return lm_solve([&](const Vec& yy, EqVec& f, Jac* jac) { residuals(b, T, yy, f, jac); }, b.nvar(), b.neq(), y,
+                  max_iter);
+}
+
+// The whole move from the pulse: g, cruise, -g (D > 0; the caller flips the sign).
+FastestParams bang_coast_table(const BangCoast& b, double T, const Vec& y, double distance) noexcept {
+  const Pulse q = make_pulse(b, y);
+  const double sg = distance < 0.0 ? -1.0 : 1.0;
+  FastestParams p{};
+  p.family = FastestFamily::bang_coast;
+  p.distance = distance;
+  bool ok = true;
+  for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], sg * b.J * q.j[k]) && ok;
+  const double cruise = T - 2.0 * q.tg;
+  if (cruise > 1e-12 * T) ok = push_segment(p, cruise, 0.0) && ok;
+  for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], -sg * b.J * q.j[k]) && ok;
+  if (!ok) p.count = 0;  // does not fit: refused by the caller
+  return p;
+}
+
+// Seeds: the pulse as a staircase up then down, its total length a fraction of T / 2.
+void seed(const BangCoast& b, double T, double frac, int style, Vec& y) noexcept {
+  y.fill(0.0);
+  const double tg = frac * T / 2.0;
+  const double vc = b.D / (T - tg);
+  // level reached by a trapezoid of length tg and area vc with ramps at J
+  const double each = tg / static_cast<double>(2 * b.h + 1);
+  for (std::size_t i = 0; i < b.h; ++i) {
+    double r = each;
+    if (style == 1) r = (i % 2 == 0) ? each : 0.3 * each;
+    if (style == 2) r = (i == 0) ? std::fmin(b.amax / b.J, tg / 3.0) : 0.2 * each;
+    y[2 * i] = std::sqrt(r / b.t0);
+    y[2 * i + 1] = std::sqrt(each / b.t0);
+  }
+  (void)vc;
+  for (std::size_t i = 0; i < b.h + 2; ++i) y[2 * b.h + i] = 0.5;
+}
+
+}  // namespace
+
+Peaks<double> jerk_table_peaks(const FastestParams& p) noexcept {
+  Peaks<double> pk{};
+  double v = 0.0, a = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const double d = p.durations[i], j = p.jerk[i];
+    pk.j = std::fmax(pk.j, std::fabs(j));
+    // v(u) = v + a u + j u^2 / 2 is extremal where a + j u = 0 inside the segment.
+    if (j != 0.0) {
+      const double u = -a / j;
+      if (u > 0.0 && u < d) pk.v = std::fmax(pk.v, std::fabs(v + a * u + j * u * u / 2.0));
+    }
+    v += d * (a + j * d / 2.0);
+    a += j * d;
+    pk.v = std::fmax(pk.v, std::fabs(v));
+    pk.a = std::fmax(pk.a, std::fabs(a));
+  }
+  return pk;
+}
+
+double fastest_residual_amplitude(const FastestParams& p, double omega, double zeta) noexcept {
+  return cabs(accel_transform_at_end(p, pole(omega, zeta))) / (omega * std::sqrt(1.0 - zeta * zeta));
+}
+
+double fastest_residual_ratio(const FastestParams& p, double omega, double zeta) noexcept {
+  // A step of D leaves the amplitude |D| omega / wd right after it.
+  const double wd = omega * std::sqrt(1.0 - zeta * zeta);
+  return fastest_residual_amplitude(p, omega, zeta) * wd / (std::fabs(p.distance) * omega);
+}
+
+namespace {
+
+// --robust: the residual ratio must stay <= 5 % over the band. It is sampled at 129 frequencies
+// per mode and each local maximum is refined by golden-section search, so the bound holds between
+// the samples too.
+constexpr double kRobustLimit = 0.05;
+
+double worst_over_band(const FastestParams& p, const ModeSet& ms, double band) noexcept {
+  double worst = 0.0;
+  constexpr int kSamples = 128;
+  for (std::size_t i = 0; i < ms.n; ++i) {
+    const double w0 = ms.m[i].omega, z = ms.m[i].zeta;
+    const auto at = [&](int k) { return w0 * (1.0 - band + 2.0 * band * k / kSamples); };
+    const auto ratio = [&](double w) { return fastest_residual_ratio(p, w, z); };
+    double prev2 = -1.0, prev = ratio(at(0));
+    worst = std::fmax(worst, prev);
+    for (int k = 1; k <= kSamples; ++k) {
+      const double cur = ratio(at(k));
+      worst = std::fmax(worst, cur);
+      if (k >= 2 && prev >= prev2 && prev >= cur) {  // a local maximum around sample k - 1
+        double a = at(k - 2), b = at(k);
+        constexpr double g = 0.6180339887498949;
+        double x1 = b - g * (b - a), x2 = a + g * (b - a);
+        double f1 = ratio(x1), f2 = ratio(x2);
+        for (int it = 0; it < 40 && b - a > 1e-12 * w0; ++it) {
+          if (f1 > f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - g * (b - a);
+            f1 = ratio(x1);
+          } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + g * (b - a);
+            f2 = ratio(x2);
+          }
+        }
+        worst = std::fmax(worst, std::fmax(f1, f2));
+      }
+      prev2 = prev;
+      prev = cur;
+    }
+  }
+  return worst;
+}
+
+bool limits_ok(const Peaks<double>& pk, double vmax, double amax, double jmax) noexcept {
+  constexpr double slack = 1e-9;
+  return pk.v <= vmax * (1.0 + slack) && pk.a <= amax * (1.0 + slack) && pk.j <= jmax * (1.0 + slack);
+}
+
+struct Best {
+  FastestParams p{};
+  Peaks<double> pk{};
+  double time{INFINITY};
+};
+
+bool design_ok(const FastestParams& p, const ModeSet& ms, double band, double exact_tol) noexcept {
+  if (band > 0.0) return worst_over_band(p, ms, band) <= kRobustLimit;
+  for (std::size_t i = 0; i < ms.n; ++i) {
+    const double amp = fastest_residual_amplitude(p, ms.m[i].omega, ms.m[i].zeta);
+    if (!(amp <= exact_tol * std::fabs(p.distance))) return false;
+  }
+  return true;
+}
+
+void consider(Best& best, const FastestParams& p, const Peaks<double>& pk, double time) noexcept {
+  if (time < best.time) {
+    best.p = p;
+    best.pk = pk;
+    best.time = time;
+  }
+}
+
+// The slack variables that make the inequalities hold with equality at y's pulse (or nearly).
+void fit_slacks(const BangCoast& b, double T, Vec& y) noexcept {
+  const Pulse q = make_pulse(b, y);
+  double vc = 0.0;
+  for (std::size_t k = 0; k <= q.nseg; ++k) vc += 0.5 * b.J * q.dj[k] * q.t[k] * q.t[k];
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double x = b.J * q.level[i] / b.amax;
+    y[2 * b.h + i] = std::sqrt(std::fmax(1.0 - x * x, 1e-8));
+  }
+  y[3 * b.h] = std::sqrt(std::fmax(1.0 - vc / b.vmax, 1e-8));
+  y[3 * b.h + 1] = std::sqrt(std::fmax((T - 2.0 * q.tg) / b.t0, 1e-8));
+}
+
+// Lays a move whose jerk takes any value in [-J, J] (the time-optimal move or pulse convolved
+// with a shaper) onto the alternating pattern: each maximal run of segments whose jerk has one
+// sign (zero-jerk segments inside it included) becomes one ramp at that sign with the run's
+// change of acceleration, followed by a coast for the rest of the run; a coast at zero
+// acceleration (a cruise, or rest between two parts) ends a run and stays a coast when
+// `break_at_rest` (two seeds: the other merges it into the run). Where two
+// ramps of one sign follow each other (and before a negative first one) a tiny opposite ramp
+// keeps the pattern alternating. Returns the number of ramps (0 when more than `cap`).
+std::size_t alternate_runs(const FastestParams& g, double J, double tiny, bool break_at_rest, double* ramp,
+                           double* coast, std::size_t cap) noexcept {
+  std::size_t n = 0;
+  double last_sign = -1.0;  // the pattern starts with a positive ramp
+  double run_sign = 0.0, run_da = 0.0, run_len = 0.0, a = 0.0, a_peak = 0.0;
+  const auto flush = [&]() {
+    if (run_sign == 0.0) return true;
+    if (run_sign == last_sign) {  // two ramps of one sign: a tiny opposite one between them
+      if (n >= cap) return false;
+      ramp[n] = tiny;
+      coast[n] = 0.0;
+      ++n;
+    }
+    if (n >= cap) return false;
+    ramp[n] = std::fmin(std::fabs(run_da) / J, run_len);
+    coast[n] = run_len - ramp[n];
+    ++n;
+    last_sign = run_sign;
+    run_sign = 0.0;
+    return true;
+  };
+  for (std::size_t k = 0; k < g.count; ++k) {
+    const double f = g.jerk[k] / J, d = g.durations[k];
+    if (std::fabs(f) < 1e-12) {
+      // A coast at zero acceleration (cruise, or rest between two parts of the move) ends the run.
+      if (break_at_rest && std::fabs(a) <= 1e-9 * a_peak && run_sign != 0.0) {
+        if (!flush()) return 0;
+      }
+      if (n > 0 && run_sign == 0.0) coast[n - 1] += d;
+      else if (run_sign != 0.0) run_len += d;
+      continue;
+    }
+    const double sg = f > 0.0 ? 1.0 : -1.0;
+    if (sg != run_sign) {
+      if (!flush()) return 0;
+      run_sign = sg;
+      run_da = 0.0;
+      run_len = 0.0;
+    }
+    run_da += f * J * d;
+    run_len += d;
+    a += f * J * d;
+    a_peak = std::fmax(a_peak, std::fabs(a));
+  }
+  if (!flush()) return 0;
+  return n;
+}
+
+// A seed from a pulse whose jerk may take any value in [-J, J] (alternate_runs); the last ramp
+// is the pattern's closing ramp. False when it needs more pairs than the pattern holds.
+bool seed_from_pulse(BangCoast& b, const FastestParams& g, Vec& y) noexcept {
+  constexpr double kTiny = 1e-6;
+  std::array<double, 2 * kMaxPairs + 2> ramp{}, coast{};
+  const std::size_t n = alternate_runs(g, b.J, kTiny * b.t0, false, ramp.data(), coast.data(), ramp.size());
+  if (n < 2 || n - 1 > kMaxPairs) return false;
+  const std::size_t pairs = n - 1;  // the last ramp closes the pulse
+  b.h = std::max(pairs, std::min(kMaxPairs, b.nc + 1));
+  y.fill(0.0);
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double r = i < pairs ? ramp[i] : kTiny * b.t0;
+    const double c = i < pairs ? coast[i] : kTiny * b.t0;
+    y[2 * i] = std::sqrt(std::fmax(r, kTiny * b.t0) / b.t0);
+    y[2 * i + 1] = std::sqrt(std::fmax(c, kTiny * b.t0) / b.t0);
+  }
+  return true;
+}
+
+// Shortest bang-coast move for the conditions, no longer than t_cap; false when none was found.
+// `pulses` are seeds (the time-optimal pulse convolved with shapers) with the move time each
+// comes from.
+struct SeedPulse {
+  FastestParams g{};
+  double time{0.0};
+};
+bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<Condition, kMaxConds>& cond,
+                     std::size_t nc, const SeedPulse* pulses, std::size_t npulses, double t_lo, double t_cap,
+                     double band, FastestParams& out, Peaks<double>& out_pk) noexcept {
+  BangCoast b{};
+  b.D = std::fabs(r.distance);
+  b.J = *r.jmax;
+  b.amax = *r.amax;
+  b.vmax = *r.vmax;
+  b.t0 = t_cap;
+  b.cond = cond;
+  b.nc = nc;
+  const auto accept = [&](const BangCoast& bb, double T, const Vec& yy, FastestParams& p, Peaks<double>& pk) {
+    p = bang_coast_table(bb, T, yy, r.distance);
+    if (p.count == 0) return false;
+    pk = jerk_table_peaks(p);
+    return limits_ok(pk, bb.vmax, bb.amax, bb.J) && design_ok(p, ms, band, 1e-10);
+  };
+  // From each seed that solves (the shaped pulses at their own move time, then generic
+  // staircases at t_cap), bisection on the move time with warm starts; the shortest wins.
+  bool have = false;
+  const auto descend = [&](const BangCoast& bb, double T, Vec y) {
+    FastestParams bp{};
+    Peaks<double> bpk{};
+    if (!solve_feasible(bb, T, y, kFirstIterations) || !accept(bb, T, y, bp, bpk)) return false;
+    double hi = T, lo = t_lo;
+    for (int it = 0; it < 40 && hi - lo > kBisectTol * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      Vec yt = y;
+      FastestParams p{};
+      Peaks<double> pk{};
+      if (solve_feasible(bb, mid, yt, kWarmIterations) && accept(bb, mid, yt, p, pk)) {
+        hi = mid;
+        y = yt;
+        bp = p;
+        bpk = pk;
+      } else {
+        lo = mid;
+      }
+    }
+    if (!have || hi < table_duration(out)) {
+      out = bp;
+      out_pk = bpk;
+      have = true;
+    }
+    return true;
+  };
+  for (std::size_t k = 0; k < npulses; ++k) {
+    BangCoast bb = b;
+    Vec y{};
+    if (!seed_from_pulse(bb, pulses[k].g, y) || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
+    const double T = std::fmin(pulses[k].time, t_cap);
+    bb.t_ref = make_pulse(bb, y).tg;
+    fit_slacks(bb, T, y);
+    (void)descend(bb, T, y);
+  }
+  constexpr double kFracs[] = {0.9, 0.6, 0.98, 0.4};
+  BangCoast bg = b;
+  bg.h = std::min(kMaxPairs, nc + 2);
+  if (bg.neq() > kMaxEqs || bg.nvar() > kMaxVars) return have;
+  for (int style = 0; style < 3 && !have; ++style) {
+    for (double fr : kFracs) {
+      Vec y{};
+      seed(bg, t_cap, fr, style, y);
+      bg.t_ref = make_pulse(bg, y).tg;
+      fit_slacks(bg, t_cap, y);
+      if (descend(bg, t_cap, y)) break;
+    }
+  }
+  return have;
+}
+
+// ----- bang-coast over the whole move ---------------------------------------------------------
+//
+// Without the mirror symmetry: the whole move is one alternating sequence, H ramp/coast pairs
+// (ramps at +J, -J, +J, ...) and a closing ramp back to a = 0; its unknowns are the durations
+// (t0 y^2) and squared slacks for |a| <= amax on each coast and |v| <= vmax at each coast's end.
+// The equalities: v = 0 and p = D at the end, the end at T, and the zero-residual conditions
+// referred to T. The velocity may still peak inside a ramp: the result is checked. This form also holds moves
+// whose acceleration and deceleration phases overlap (short moves on slow modes), which the
+// symmetric form cannot.
+
+struct Whole {
+  double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0}, t0{1.0};
+  std::size_t h{3};
+  std::array<Condition, kMaxConds> cond{};
+  std::size_t nc{0};
+  [[nodiscard]] std::size_t nvar() const noexcept { return 4 * h; }
+  [[nodiscard]] std::size_t neq() const noexcept { return 3 + 2 * nc + 2 * h; }
+};
+
+struct Seq {
+  std::size_t nseg{0};
+  std::array<double, 2 * kMaxFullPairs + 1> d{}, j{};
+  std::array<double, 2 * kMaxFullPairs + 2> t{}, dj{};
+  std::array<double, kMaxFullPairs> level{};
+  double close_sign{0.0};
+};
+
+Seq make_seq(const Whole& b, const Vec& y) noexcept {
+  Seq q{};
+  double lv = 0.0;
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
+    const double r = b.t0 * y[2 * i] * y[2 * i];
+    lv += sg * r;
+    q.level[i] = lv;
+    q.d[2 * i] = r;
+    q.j[2 * i] = sg;
+    q.d[2 * i + 1] = b.t0 * y[2 * i + 1] * y[2 * i + 1];
+    q.j[2 * i + 1] = 0.0;
+  }
+  q.close_sign = lv >= 0.0 ? 1.0 : -1.0;
+  q.d[2 * b.h] = std::fabs(lv);
+  q.j[2 * b.h] = -q.close_sign;
+  q.nseg = 2 * b.h + 1;
+  double t = 0.0, prev = 0.0;
+  for (std::size_t k = 0; k < q.nseg; ++k) {
+    q.t[k] = t;
+    q.dj[k] = q.j[k] - prev;
+    prev = q.j[k];
+    t += q.d[k];
+  }
+  q.t[q.nseg] = t;
+  q.dj[q.nseg] = -prev;
+  return q;
+}
+
+void whole_residuals(const Whole& b, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
+  const Seq q = make_seq(b, y);
+  const std::size_t ns = q.nseg + 1, nv = 2 * b.h;
+  std::array<std::array<double, 2 * kMaxFullPairs>, 2 * kMaxFullPairs + 1> dd{};
+  for (std::size_t m = 0; m < nv; ++m) dd[m][m] = 2.0 * b.t0 * y[m];
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
+    dd[2 * b.h][2 * i] = q.close_sign * sg * 2.0 * b.t0 * y[2 * i];
+  }
+  std::array<std::array<double, 2 * kMaxFullPairs>, 2 * kMaxFullPairs + 2> dt{};
+  for (std::size_t k = 1; k < ns; ++k) {
+    for (std::size_t v = 0; v < nv; ++v) dt[k][v] = dt[k - 1][v] + dd[k - 1][v];
+  }
+  if (jac) {
+    for (auto& row : *jac) row.fill(0.0);
+  }
+  // With sum dj = 0 and sum dj t = 0 (a = 0 at the end): v_end = J/2 sum dj t^2 and, once
+  // v_end = 0, p_end = -J/6 sum dj t^3. Times are taken from T (t - T) to keep the sums small.
+  const double vs = b.D / T;
+  const double t_end = q.t[ns - 1];
+  double v = 0.0, p = 0.0;
+  for (std::size_t k = 0; k < ns; ++k) {
+    const double u = q.t[k] - t_end;
+    v += 0.5 * b.J * q.dj[k] * u * u;
+    p -= b.J * q.dj[k] * u * u * u / 6.0;
+  }
+  if (jac) {
+    // p(t_end) also moves with t_end at the rate v_end.
+    for (std::size_t k = 0; k < ns; ++k) {
+      const double u = q.t[k] - t_end;
+      for (std::size_t w = 0; w < nv; ++w) {
+        (*jac)[0][w] += b.J * q.dj[k] * u * dt[k][w] / vs;
+        (*jac)[1][w] -= 0.5 * b.J * q.dj[k] * u * u * dt[k][w] / b.D;
+      }
+    }
+    for (std::size_t w = 0; w < nv; ++w) {
+      (*jac)[1][w] += v * dt[ns - 1][w] / b.D;
+      (*jac)[2][w] = dt[ns - 1][w] / b.t0;
+    }
+  }
+  // The values themselves by integrating segment by segment (the sums above cancel to the last
+  // digits of J T^2; their derivatives are what the Jacobian needs).
+  (void)v;
+  (void)p;
+  double pe = 0.0, ve = 0.0, ae = 0.0;
+  for (std::size_t m = 0; m < q.nseg; ++m) {
+    const double d = q.d[m], jm = b.J * q.j[m];
+    pe += d * (ve + d * (ae / 2.0 + jm * d / 6.0));
+    ve += d * (ae + jm * d / 2.0);
+    ae += jm * d;
+  }
+  f[0] = ve / vs;
+  f[1] = pe / b.D - 1.0;
+  f[2] = (q.t[ns - 1] - T) / b.t0;
+  std::size_t e = 3;
+  for (std::size_t c = 0; c < b.nc; ++c) {
+    const Condition& cd = b.cond[c];
+    Cx sum{};
+    std::array<Cx, 2 * kMaxFullPairs> grad{};
+    for (std::size_t k = 0; k < ns; ++k) {
+      if (q.dj[k] == 0.0) continue;
+      const Cx ex = cexp_neg(cd.p, q.t[k] - T);
+      const double u = -cd.w * (q.t[k] - T);
+      const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
+      sum = sum + (q.dj[k] * uq) * ex;
+      if (jac) {
+        const double uq1 = cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
+        const Cx dk = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * ex);
+        for (std::size_t w = 0; w < nv; ++w) grad[w] = grad[w] + dt[k][w] * dk;
+      }
+    }
+    if (cd.order == 0) {
+      sum = Cx{};
+      for (std::size_t m = 0; m < q.nseg; ++m) {
+        if (q.j[m] != 0.0) sum = sum + q.j[m] * (cexp_neg(cd.p, q.t[m + 1] - T) * cexpm1(q.d[m] * cd.p));
+      }
+    }
+    f[e] = sum.re;
+    f[e + 1] = sum.im;
+    if (jac) {
+      for (std::size_t w = 0; w < nv; ++w) {
+        (*jac)[e][w] = grad[w].re;
+        (*jac)[e + 1][w] = grad[w].im;
+      }
+    }
+    e += 2;
+  }
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double x = b.J * q.level[i] / b.amax;
+    const std::size_t sv = 2 * b.h + i;
+    f[e] = 1.0 - x * x - y[sv] * y[sv];
+    if (jac) {
+      for (std::size_t l = 0; l <= i; ++l) {
+        const double sg = (l % 2 == 0) ? 1.0 : -1.0;
+        (*jac)[e][2 * l] = -2.0 * x * (b.J / b.amax) * sg * 2.0 * b.t0 * y[2 * l];
+      }
+      (*jac)[e][sv] = -2.0 * y[sv];
+    }
+    ++e;
+  }
+  // |v| <= vmax at the end of each coast: 1 - (v / vmax)^2 - s^2 = 0, v from the integration,
+  // dv/dt_k = -J dj_k (t_e - t_k) and dv/dt_e = a(t_e) = J level.
+  {
+    double vc = 0.0, ac = 0.0;  // velocity and acceleration at each coast's end
+    for (std::size_t i = 0; i < b.h; ++i) {
+      for (std::size_t m = 2 * i; m < 2 * i + 2; ++m) {
+        const double d = q.d[m], jm = b.J * q.j[m];
+        vc += d * (ac + jm * d / 2.0);
+        ac += jm * d;
+      }
+      const std::size_t ke = 2 * i + 2;  // the switch at the coast's end
+      const double x = vc / b.vmax;
+      const std::size_t sv = 3 * b.h + i;
+      f[e] = 1.0 - x * x - y[sv] * y[sv];
+      if (jac) {
+        for (std::size_t w = 0; w < nv; ++w) {
+          double dv = b.J * q.level[i] * dt[ke][w];
+          for (std::size_t k = 0; k < ke; ++k) dv -= b.J * q.dj[k] * (q.t[ke] - q.t[k]) * dt[k][w];
+          (*jac)[e][w] = -2.0 * x * dv / b.vmax;
+        }
+        (*jac)[e][sv] = -2.0 * y[sv];
+      }
+      ++e;
+    }
+  }
+}
+
+FastestParams whole_table(const Whole& b, const Vec& y, double distance) noexcept {
+  const Seq q = make_seq(b, y);
+  const double sg = distance < 0.0 ? -1.0 : 1.0;
+  FastestParams p{};
+  p.family = FastestFamily::bang_coast;
+  p.distance = distance;
+  bool ok = true;
+  for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], sg * b.J * q.j[k]) && ok;
+  if (!ok) p.count = 0;  // does not fit: refused by the caller
+  return p;
+}
+
+// A seed from a whole move whose jerk may take any value in [-J, J] (alternate_runs).
+bool seed_whole(Whole& b, const FastestParams& g, bool break_at_rest, Vec& y) noexcept {
+  constexpr double kTiny = 1e-6;
+  std::array<double, 2 * kMaxFullPairs + 2> ramp{}, coast{};
+  const std::size_t n =
+      alternate_runs(g, b.J, kTiny * b.t0, break_at_rest, ramp.data(), coast.data(), ramp.size());
+  if (n < 2 || n - 1 > kMaxFullPairs) return false;
+  const std::size_t pairs = n - 1;
+  b.h = std::max(pairs, std::min(kMaxFullPairs, b.nc + 2));
+  y.fill(0.0);
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double r = i < pairs ? ramp[i] : kTiny * b.t0;
+    const double c = i < pairs ? coast[i] : kTiny * b.t0;
+    y[2 * i] = std::sqrt(std::fmax(r, kTiny * b.t0) / b.t0);
+    y[2 * i + 1] = std::sqrt(std::fmax(c, kTiny * b.t0) / b.t0);
+  }
+  const Seq q = make_seq(b, y);
+  double ve = 0.0, ae = 0.0;
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double x = b.J * q.level[i] / b.amax;
+    y[2 * b.h + i] = std::sqrt(std::fmax(1.0 - x * x, 1e-8));
+    for (std::size_t m = 2 * i; m < 2 * i + 2; ++m) {
+      ve += q.d[m] * (ae + b.J * q.j[m] * q.d[m] / 2.0);
+      ae += b.J * q.j[m] * q.d[m];
+    }
+    const double xv = ve / b.vmax;
+    y[3 * b.h + i] = std::sqrt(std::fmax(1.0 - xv * xv, 1e-8));
+  }
+  return true;
+}
+
+// Shortest whole-move bang-coast from each seed (whole moves, jerk in [-J, J], with their
+// durations), by bisection on T; false when no seed solves.
+bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condition, kMaxConds>& cond,
+                std::size_t nc, const FastestParams* moves, std::size_t nmoves, double t_lo, double t_cap,
+                double band, FastestParams& out, Peaks<double>& out_pk) noexcept {
+  Whole b{};
+  b.D = std::fabs(r.distance);
+  b.J = *r.jmax;
+  b.amax = *r.amax;
+  b.vmax = *r.vmax;
+  b.t0 = t_cap;
+  b.cond = cond;
+  b.nc = nc;
+  bool have = false;
+  Vec last_seed{};
+  std::size_t last_h = 0;
+  for (std::size_t kk = 0; kk < 2 * nmoves; ++kk) {
+    const std::size_t k = kk / 2;
+    Whole bb = b;
+    Vec y{};
+    if (!seed_whole(bb, moves[k], kk % 2 == 1, y) || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
+    if (bb.h == last_h && y == last_seed) continue;  // the other run rule gave the same seed
+    last_seed = y;
+    last_h = bb.h;
+    const auto solve = [&](double T, Vec& yy, int iters) {
+      return lm_solve([&](const Vec& z, EqVec& f, Jac* jac) { whole_residuals(bb, T, z, f, jac); }, bb.nvar(),
+                      bb.neq(), yy, iters);
+    };
+    const auto accept = [&](const Vec& yy, FastestParams& p, Peaks<double>& pk) {
+      p = whole_table(bb, yy, r.distance);
+      if (p.count == 0) return false;
+      pk = jerk_table_peaks(p);
+      return limits_ok(pk, bb.vmax, bb.amax, bb.J) && design_ok(p, ms, band, 1e-10);
+    };
+    double hi = std::fmin(table_duration(moves[k]), t_cap);
+    FastestParams bp{};
+    Peaks<double> bpk{};
+    if (!solve(hi, y, kFirstIterations) || !accept(y, bp, bpk)) continue;
+    double lo = t_lo;
+    for (int it = 0; it < 40 && hi - lo > kBisectTol * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      Vec yt = y;
+      FastestParams p{};
+      Peaks<double> pk{};
+      if (solve(mid, yt, kWarmIterations) && accept(yt, p, pk)) {
+        hi = mid;
+        y = yt;
+        bp = p;
+        bpk = pk;
+      } else {
+        lo = mid;
+      }
+    }
+    if (!have || table_duration(bp) < table_duration(out)) {
+      out = bp;
+      out_pk = bpk;
+      have = true;
+    }
+  }
+  return have;
+}
+
+// The time-optimal move's acceleration pulse (its segments up to where the acceleration first
+// returns to zero), positive.
+PiecewiseJerkParams accel_pulse(const PiecewiseJerkParams& to) noexcept {
+  PiecewiseJerkParams h{};
+  double a = 0.0, peak = 0.0;
+  const double sg = to.distance < 0.0 ? -1.0 : 1.0;
+  for (std::size_t i = 0; i < to.count; ++i) {
+    h.durations[h.count] = to.durations[i];
+    h.jerk[h.count] = sg * to.jerk[i];
+    h.accel0[h.count] = sg * to.accel0[i];
+    ++h.count;
+    a += sg * to.jerk[i] * to.durations[i];
+    peak = std::fmax(peak, std::fabs(a));
+    if (peak > 0.0 && std::fabs(a) <= 1e-9 * peak) break;
+  }
+  h.distance = 1.0;
+  return h;
+}
+
+Status read_modes(const MoveRequest& r, ModeSet& ms) noexcept {
+  ms.m[0] = {*r.omega, r.zeta};
+  ms.n = 1;
+  if (r.extra_mode_count > kMaxExtraModes) return Status::unsupported_request;
+  for (std::size_t i = 0; i < r.extra_mode_count; ++i) {
+    const Mode md = r.extra_modes[i];
+    if (!std::isfinite(md.omega) || !std::isfinite(md.zeta)) return Status::non_finite_input;
+    if (!(md.omega > 0.0)) return Status::non_positive_omega;
+    if (!(md.zeta >= 0.0 && md.zeta < 1.0)) return Status::zeta_out_of_range;
+    ms.m[ms.n++] = md;
+  }
+  return Status::ok;
+}
+
+}  // namespace
+
+namespace {
+
+// Where the move is made to vanish: for every mode, the transform (and its derivatives up to
+// `order`) at the poles of omega (1 + spread x_i), x_i evenly spread over [-1, 1] (one point: at
+// omega itself). Non-robust: one zero of order 0. Robust: multiple zeros (derivatives, Singh &
+// Vadali) or zeros spread over the band (EI-like), whichever is shortest and holds the band.
+struct ZeroSet {
+  int points{1};
+  double spread{0.0};
+  int order{0};
+};
+
+double zero_frequency(const ZeroSet& z, double omega, int i) noexcept {
+  if (z.points == 1) return omega;
+  return omega * (1.0 + z.spread * (-1.0 + 2.0 * i / (z.points - 1)));
+}
+
+std::size_t zero_conditions(const ZeroSet& z, const ModeSet& ms, std::array<Condition, kMaxConds>& cond) noexcept {
+  std::size_t nc = 0;
+  for (std::size_t m = 0; m < ms.n; ++m) {
+    for (int i = 0; i < z.points; ++i) {
+      const double w = zero_frequency(z, ms.m[m].omega, i);
+      for (int q = 0; q <= z.order; ++q) {
+        if (nc >= kMaxConds) return kMaxConds + 1;
+        cond[nc++] = {pole(w, ms.m[m].zeta), w, q};
+      }
+    }
+  }
+  return nc;
+}
+
+// The shaper with the same zeros: ZV / ZVD / ZVDD at each point, composed over points and modes.
+bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexcept {
+  constexpr ShaperKind kByOrder[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd};
+  if (z.order < 0 || z.order > 2) return false;
+  Shaper<double> s{};
+  for (std::size_t m = 0; m < ms.n; ++m) {
+    for (int i = 0; i < z.points; ++i) {
+      Shaper<double> one{}, both{};
+      if (design_shaper(kByOrder[z.order], zero_frequency(z, ms.m[m].omega, i), ms.m[m].zeta, 0.05, one) !=
+              Status::ok ||
+          compose(s, one, both) != Status::ok) {
+        return false;
+      }
+      s = both;
+    }
+  }
+  out = s;
+  return true;
+}
+
+}  // namespace
+
+Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
+  if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
+  if (r.time) return Status::unsupported_request;  // the fastest move has no requested time
+  ModeSet ms{};
+  Status st = read_modes(r, ms);
+  if (st != Status::ok) return st;
+  double band = 0.0;
+  if (r.robust) {
+    if (!std::isfinite(*r.robust)) return Status::non_finite_input;
+    if (!(*r.robust > 0.0 && *r.robust <= 50.0)) return Status::bad_shape_parameter;
+    band = *r.robust / 100.0;
+  }
+  const double vmax = *r.vmax, amax = *r.amax, jmax = *r.jmax;
+  Best best{};
+  std::array<double, kFastestFamilies> times{};
+  const auto record = [&](FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) {
+    double& slot = times[static_cast<std::size_t>(f)];
+    if (slot == 0.0 || t < slot) slot = t;
+    consider(best, p, pk, t);
+  };
+
+  // (c) the time-optimal move convolved with ZV / ZVD / ZVDD / EI, one shaper per mode.
+  const PiecewiseJerkParams to = jerk_limited_time_optimal(r.distance, vmax, amax, jmax);
+  const double t_to = piecewise_duration(to);
+  constexpr ShaperKind kShapers[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd, ShaperKind::ei};
+  constexpr FastestFamily kShaped[] = {FastestFamily::shaped_zv, FastestFamily::shaped_zvd, FastestFamily::shaped_zvdd,
+                                       FastestFamily::shaped_ei};
+  const auto try_shaped = [&](const Shaper<double>& s, FastestFamily fam) {
+    FastestParams p{};
+    if (!flatten_shaped(to, s, p)) return;
+    p.family = fam;
+    const Peaks<double> pk = jerk_table_peaks(p);
+    if (!limits_ok(pk, vmax, amax, jmax) || !design_ok(p, ms, band, 1e-10)) return;
+    record(fam, p, pk, table_duration(p));
+  };
+  for (std::size_t k = 0; k < 4; ++k) {
+    Shaper<double> s{};
+    bool ok = true;
+    for (std::size_t i = 0; i < ms.n && ok; ++i) {
+      Shaper<double> one{}, both{};
+      ok = design_shaper(kShapers[k], ms.m[i].omega, ms.m[i].zeta, 0.05, one) == Status::ok &&
+           compose(s, one, both) == Status::ok;
+      if (ok) s = both;
+    }
+    if (ok) try_shaped(s, kShaped[k]);
+  }
+
+  // (b) the ramp-cycloid S-curves: one mode, exact at its design (not robust designs).
+  if (ms.n == 1 && band == 0.0) {
+    const bool damped = ms.m[0].zeta > 0.0;
+    FastestParams p{};
+    if (plan_fastest_scurve(r.distance, vmax, amax, jmax, ms.m[0].omega, ms.m[0].zeta, damped, p.curve) ==
+        Status::ok) {
+      p.family = damped ? FastestFamily::scurve_damped : FastestFamily::scurve;
+      p.distance = r.distance;
+      const Peaks<double> pk = ramp_cycloid_peaks(p.curve);
+      if (limits_ok(pk, vmax, amax, jmax)) record(p.family, p, pk, Fastest<double>{p}.duration());
+    }
+  }
+
+  // Robust: the zero sets to try, and (c) once more with the shapers of the spread zero sets
+  // (ZV at omega (1 +- spread)).
+  std::array<ZeroSet, 9> sets{};
+  std::size_t nsets = 0;
+  if (band == 0.0) {
+    sets[nsets++] = {1, 0.0, 0};
+  } else {
+    sets[nsets++] = {1, 0.0, 1};
+    sets[nsets++] = {1, 0.0, 2};
+    for (double f : {0.5, 0.7, 0.9}) sets[nsets++] = {2, f * band, 0};
+    for (double f : {0.7, 0.9}) sets[nsets++] = {3, f * band, 0};
+    sets[nsets++] = {2, 0.8 * band, 1};
+    sets[nsets++] = {1, 0.0, 0};
+    for (std::size_t k = 0; k < nsets; ++k) {
+      Shaper<double> s{};
+      if (sets[k].points > 1 && zero_shaper(sets[k], ms, s)) try_shaped(s, FastestFamily::shaped_spread);
+    }
+  }
+
+  // (a) bang-coast switch times under the zero conditions, in both forms (mirrored pulse, whole
+  // move), seeded from the time-optimal move (or its pulse) convolved with the shaper of the
+  // same zeros and the next order.
+  const PiecewiseJerkParams h = accel_pulse(to);
+  for (std::size_t k = 0; k < nsets; ++k) {
+    const ZeroSet& z = sets[k];
+    std::array<Condition, kMaxConds> cond{};
+    const std::size_t nc = zero_conditions(z, ms, cond);
+    if (nc > kMaxConds) continue;
+    const double t_cap = std::isfinite(best.time) ? best.time : 4.0 * t_to + 8.0 * 3.14159 / ms.m[0].omega;
+    std::array<SeedPulse, 2> pulses{};
+    std::array<FastestParams, 3> whole{};
+    std::size_t ns = 0, nw = 0;
+    for (int extra = 0; extra <= 1; ++extra) {
+      ZeroSet zs = z;
+      zs.order += extra;
+      Shaper<double> s{};
+      if (!zero_shaper(zs, ms, s)) continue;
+      if (flatten_shaped(h, s, pulses[ns].g)) {
+        pulses[ns].time = t_to + s.duration();
+        ++ns;
+      }
+      if (flatten_shaped(to, s, whole[nw])) ++nw;
+    }
+    // and from the shortest jerk-table move so far (its zeros lie near these).
+    if (std::isfinite(best.time) && best.p.family != FastestFamily::scurve &&
+        best.p.family != FastestFamily::scurve_damped) {
+      whole[nw++] = best.p;
+    }
+    FastestParams p{};
+    Peaks<double> pk{};
+    if (plan_bang_coast(r, ms, cond, nc, pulses.data(), ns, t_to, t_cap, band, p, pk)) {
+      record(FastestFamily::bang_coast, p, pk, table_duration(p));
+    }
+    if (plan_whole(r, ms, cond, nc, whole.data(), nw, t_to, std::isfinite(best.time) ? best.time : t_cap, band, p,
+                   pk)) {
+      record(FastestFamily::bang_coast, p, pk, table_duration(p));
+    }
+  }
+
+  if (!std::isfinite(best.time)) return Status::no_solution;
+  best.p.family_time = times;
+  out = best.p;
+  out_pk = best.pk;
+  return Status::ok;
+}
+
+}  // namespace settle::core

@@ -1,0 +1,417 @@
+// Profile `fastest` (profiles/fastest.hpp, docs/fastest.md): never slower than the time-optimal
+// jerk-limited move convolved with ZV (and, with --robust, with ZVD/EI at the robustness they
+// reach), its residual on every design mode below 1e-9 D by an independent computation (the
+// Duhamel quadrature of residual.hpp, not the Laplace sum the solver uses), its sampled peaks
+// within the limits.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdint>
+#include <cstdlib>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "residual.hpp"
+#include "settle/core/fixed/motion.hpp"
+#include "settle/core/planner.hpp"
+#include "settle/core/stepper.hpp"
+
+using namespace settle;
+using core::Status;
+
+namespace {
+
+core::MoveRequest request(double d, double v, double a, double j, double w, double z) {
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::fastest;
+  r.distance = d;
+  r.vmax = v;
+  r.amax = a;
+  r.jmax = j;
+  r.omega = w;
+  r.zeta = z;
+  return r;
+}
+
+// The time-optimal jerk-limited move shaped by `kind` for every mode of r, planned by core's own
+// jerk-limited profile and shaper (the baseline users compare against).
+double shaped_baseline(const core::MoveRequest& r, core::ShaperKind kind) {
+  core::MoveRequest b = r;
+  b.profile = core::ProfileKind::jerk_limited;
+  b.extra_mode_count = 0;
+  b.robust.reset();
+  b.shaper = core::ShaperKind::none;
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(b, m), Status::ok);
+  core::Shaper<double> s{};
+  std::vector<core::Mode> modes{{*r.omega, r.zeta}};
+  for (std::size_t i = 0; i < r.extra_mode_count; ++i) modes.push_back(r.extra_modes[i]);
+  for (const auto& md : modes) {
+    core::Shaper<double> one{}, both{};
+    EXPECT_EQ(core::design_shaper(kind, md.omega, md.zeta, 0.05, one), Status::ok);
+    EXPECT_EQ(core::compose(s, one, both), Status::ok);
+    s = both;
+  }
+  return m.duration() + s.duration();
+}
+
+// Largest |v|, |a|, |j| of the move sampled every dt (and just inside each end).
+core::Sample<double> sampled_peaks(const core::Move<double>& m, int n = 20000) {
+  core::Sample<double> pk{};
+  for (int i = 0; i <= n; ++i) {
+    const core::Sample<double> s = m.at(m.duration() * i / n);
+    pk.v = std::max(pk.v, std::fabs(s.v));
+    pk.a = std::max(pk.a, std::fabs(s.a));
+    pk.j = std::max(pk.j, std::fabs(s.j));
+  }
+  return pk;
+}
+
+void check_move(const core::MoveRequest& r, const core::Move<double>& m) {
+  const double d = std::fabs(r.distance);
+  std::vector<core::Mode> modes{{*r.omega, r.zeta}};
+  for (std::size_t i = 0; i < r.extra_mode_count; ++i) modes.push_back(r.extra_modes[i]);
+  for (const auto& md : modes) {
+    EXPECT_LE(test::residual_amplitude(m, md.omega, md.zeta), 1e-9 * d) << "omega " << md.omega << " zeta " << md.zeta;
+  }
+  const core::Sample<double> pk = sampled_peaks(m);
+  EXPECT_LE(pk.v, *r.vmax * (1 + 1e-9));
+  EXPECT_LE(pk.a, *r.amax * (1 + 1e-9));
+  EXPECT_LE(pk.j, *r.jmax * (1 + 1e-9));
+  EXPECT_NEAR(m.at(m.duration()).p, r.distance, 1e-12 * d);
+}
+
+core::FastestFamily family_of(const core::Move<double>& m) {
+  return std::get<core::Fastest<double>>(m.profile().variant()).family();
+}
+
+}  // namespace
+
+// The reference case: the ramp-cycloid optimum takes 0.3496 s, time-optimal * ZV 0.3178 s.
+TEST(Fastest, ReferenceCaseIsNoSlowerThanTimeOptimalZv) {
+  const core::MoveRequest r = request(0.1, 1.0, 20.0, 800.0, 22.0, 0.0);
+  core::Move<double> m{};
+  ASSERT_EQ(core::plan(r, m), Status::ok);
+  const double zv = shaped_baseline(r, core::ShaperKind::zv);
+  EXPECT_NEAR(zv, 0.3178, 5e-5);
+  EXPECT_LE(m.duration(), zv * (1 + 1e-12));
+  EXPECT_LE(m.duration(), 0.3178);
+  const auto& p = std::get<core::Fastest<double>>(m.profile().variant()).params();
+  EXPECT_NEAR(p.family_time[static_cast<std::size_t>(core::FastestFamily::scurve)], 0.3496, 5e-5);
+  check_move(r, m);
+  std::printf("reference: fastest %.5f s (%s), ZV %.5f s\n", m.duration(), core::to_string(family_of(m)), zv);
+}
+
+namespace {
+
+struct Limits {
+  double v, a, j;
+};
+constexpr Limits kLimitSets[] = {{1.0, 20.0, 800.0}, {0.2, 2.0, 50.0}, {3.0, 100.0, 1e4}};
+constexpr double kOmegas[] = {2.0, 7.0, 22.0, 70.0, 200.0};
+constexpr double kZetas[] = {0.0, 0.05, 0.2};
+constexpr double kDistances[] = {1e-3, 0.03, 1.0, 10.0};
+
+}  // namespace
+
+// One mode over the grid: never slower than time-optimal * ZV, at rest to 1e-9 D, within limits.
+TEST(Fastest, OneModeGridNeverSlowerThanTimeOptimalZv) {
+  int wins[core::kFastestFamilies] = {};
+  int cases = 0;
+  double best_gain = 0.0;
+  for (const Limits& l : kLimitSets) {
+    for (double w : kOmegas) {
+      for (double z : kZetas) {
+        for (double d : kDistances) {
+          SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w << " z " << z << " limits " << l.v << "/"
+                                            << l.a << "/" << l.j);
+          const core::MoveRequest r = request(d, l.v, l.a, l.j, w, z);
+          core::Move<double> m{};
+          ASSERT_EQ(core::plan(r, m), Status::ok);
+          const double zv = shaped_baseline(r, core::ShaperKind::zv);
+          EXPECT_LE(m.duration(), zv * (1 + 1e-12));
+          check_move(r, m);
+          ++wins[static_cast<int>(family_of(m))];
+          best_gain = std::max(best_gain, 1.0 - m.duration() / zv);
+          ++cases;
+        }
+      }
+    }
+  }
+  std::printf("one mode, %d cases; winners:", cases);
+  for (std::size_t k = 0; k < core::kFastestFamilies; ++k) {
+    if (wins[k]) std::printf(" %s %d", core::to_string(static_cast<core::FastestFamily>(k)), wins[k]);
+  }
+  std::printf("; largest gain over ZV %.1f %%\n", 100 * best_gain);
+}
+
+// Two modes (the second 2.7 times higher, its own damping), both left at rest.
+TEST(Fastest, TwoModeGridNeverSlowerThanTimeOptimalZv) {
+  int wins[core::kFastestFamilies] = {};
+  int cases = 0;
+  for (const Limits& l : kLimitSets) {
+    for (double w : kOmegas) {
+      for (double z : kZetas) {
+        for (double d : {1e-3, 1.0, 10.0}) {
+          SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w << " z " << z << " limits " << l.v << "/"
+                                            << l.a << "/" << l.j);
+          core::MoveRequest r = request(-d, l.v, l.a, l.j, w, z);
+          r.extra_modes[0] = {2.7 * w, 0.5 * z + 0.01};
+          r.extra_mode_count = 1;
+          core::Move<double> m{};
+          ASSERT_EQ(core::plan(r, m), Status::ok);
+          const double zv = shaped_baseline(r, core::ShaperKind::zv);
+          EXPECT_LE(m.duration(), zv * (1 + 1e-12));
+          check_move(r, m);
+          ++wins[static_cast<int>(family_of(m))];
+          ++cases;
+        }
+      }
+    }
+  }
+  std::printf("two modes, %d cases; winners:", cases);
+  for (std::size_t k = 0; k < core::kFastestFamilies; ++k) {
+    if (wins[k]) std::printf(" %s %d", core::to_string(static_cast<core::FastestFamily>(k)), wins[k]);
+  }
+  std::printf("\n");
+}
+
+namespace {
+
+// The worst residual over omega (1 +- pct/100) for every mode, relative to a step of the same
+// distance right after it (|D| omega / wd), by the Duhamel quadrature at 51 frequencies.
+double worst_band_ratio(const core::Move<double>& m, const std::vector<core::Mode>& modes, double pct) {
+  double worst = 0.0;
+  for (const auto& md : modes) {
+    for (int k = 0; k <= 50; ++k) {
+      const double w = md.omega * (1.0 + pct / 100.0 * (-1.0 + 2.0 * k / 50.0));
+      const double wd = w * std::sqrt(1.0 - md.zeta * md.zeta);
+      worst = std::max(worst, test::residual_amplitude(m, w, md.zeta) * wd / (std::fabs(m.distance()) * w));
+    }
+  }
+  return worst;
+}
+
+// The time-optimal move shaped by `kind` for every mode, as core's own plan builds it.
+core::Move<double> shaped_move(const core::MoveRequest& r, core::ShaperKind kind) {
+  core::MoveRequest b = r;
+  b.profile = core::ProfileKind::jerk_limited;
+  b.extra_mode_count = 0;
+  b.robust.reset();
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(b, m), Status::ok);
+  core::Shaper<double> s{};
+  std::vector<core::Mode> modes{{*r.omega, r.zeta}};
+  for (std::size_t i = 0; i < r.extra_mode_count; ++i) modes.push_back(r.extra_modes[i]);
+  for (const auto& md : modes) {
+    core::Shaper<double> one{}, both{};
+    EXPECT_EQ(core::design_shaper(kind, md.omega, md.zeta, 0.05, one), Status::ok);
+    EXPECT_EQ(core::compose(s, one, both), Status::ok);
+    s = both;
+  }
+  return core::Move<double>{m.profile(), s, m.peaks()};
+}
+
+}  // namespace
+
+// --robust PCT: wherever time-optimal * ZVD or * EI holds the band (by the independent check),
+// `fastest` plans, is no slower, and holds the band too; its sampled peaks respect the limits.
+TEST(Fastest, RobustNeverSlowerThanTimeOptimalZvdOrEiAtTheirRobustness) {
+  int compared = 0, wins_bang = 0;
+  for (const Limits& l : {kLimitSets[0], kLimitSets[2]}) {
+    for (double w : {2.0, 22.0, 200.0}) {
+      for (double z : {0.0, 0.1}) {
+        for (double d : {1e-3, 1.0}) {
+          for (double pct : {5.0, 10.0, 15.0, 20.0}) {
+            SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w << " z " << z << " pct " << pct << " limits "
+                                              << l.v << "/" << l.a << "/" << l.j);
+            core::MoveRequest r = request(d, l.v, l.a, l.j, w, z);
+            r.robust = pct;
+            const std::vector<core::Mode> modes{{w, z}};
+            double baseline = INFINITY;
+            for (auto kind : {core::ShaperKind::zvd, core::ShaperKind::ei}) {
+              const core::Move<double> sm = shaped_move(r, kind);
+              if (worst_band_ratio(sm, modes, pct) <= 0.05) baseline = std::min(baseline, sm.duration());
+            }
+            core::Move<double> m{};
+            const Status st = core::plan(r, m);
+            if (!std::isfinite(baseline) && st != Status::ok) continue;  // nobody holds this band
+            ASSERT_EQ(st, Status::ok);
+            EXPECT_LE(worst_band_ratio(m, modes, pct), 0.05);
+            const core::Sample<double> pk = sampled_peaks(m);
+            EXPECT_LE(pk.v, l.v * (1 + 1e-9));
+            EXPECT_LE(pk.a, l.a * (1 + 1e-9));
+            EXPECT_LE(pk.j, l.j * (1 + 1e-9));
+            if (std::isfinite(baseline)) {
+              EXPECT_LE(m.duration(), baseline * (1 + 1e-12));
+              ++compared;
+            }
+            wins_bang += family_of(m) == core::FastestFamily::bang_coast;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 20);  // the comparison is not vacuous
+  std::printf("robust: %d cases compared with ZVD/EI; bang-coast won %d\n", compared, wins_bang);
+}
+
+// docs/fastest.md's table, regenerated from the planners: the test fails when the table in the
+// document is not what the code plans today. SETTLE_UPDATE_DOCS=1 rewrites it.
+namespace {
+
+std::string duration_cell(const core::MoveRequest& r) {
+  core::Move<double> m{};
+  if (core::plan(r, m) != Status::ok) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", m.duration());
+  return buf;
+}
+
+std::string shaped_cell(const core::MoveRequest& r, core::ShaperKind kind) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", shaped_move(r, kind).duration());
+  return buf;
+}
+
+std::string docs_table() {
+  struct Case {
+    double d, v, a, j, w, z;
+    double w2, z2;  // second mode (0: none)
+    double robust;  // 0: none
+  };
+  const Case cases[] = {
+      {0.1, 1, 20, 800, 22, 0, 0, 0, 0},        {0.1, 1, 20, 800, 22, 0.05, 0, 0, 0},
+      {0.1, 1, 20, 800, 22, 0.2, 0, 0, 0},      {1e-3, 1, 20, 800, 2, 0, 0, 0, 0},
+      {1, 1, 20, 800, 7, 0.1, 0, 0, 0},         {10, 0.2, 2, 50, 70, 0.05, 0, 0, 0},
+      {0.03, 3, 100, 1e4, 200, 0, 0, 0, 0},     {0.1, 1, 20, 800, 22, 0.02, 60, 0.01, 0},
+      {1, 1, 20, 800, 7, 0.05, 19, 0.02, 0},    {0.1, 1, 20, 800, 22, 0, 0, 0, 10},
+      {0.1, 1, 20, 800, 22, 0, 0, 0, 20},       {1, 1, 20, 800, 7, 0.1, 0, 0, 15},
+  };
+  std::string out =
+      "| D | vmax, amax, jmax | modes (omega rad/s, zeta) | robust | fastest (s) | family | TO*ZV | TO*ZVD | TO*EI | "
+      "ramp-cycloid S-curve |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const Case& c : cases) {
+    core::MoveRequest r = request(c.d, c.v, c.a, c.j, c.w, c.z);
+    if (c.w2 > 0) {
+      r.extra_modes[0] = {c.w2, c.z2};
+      r.extra_mode_count = 1;
+    }
+    if (c.robust > 0) r.robust = c.robust;
+    core::Move<double> m{};
+    const bool ok = core::plan(r, m) == Status::ok;
+    const auto g = [](double x) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%g", x);
+      return std::string(b);
+    };
+    out += "| " + g(c.d) + " | " + g(c.v) + ", " + g(c.a) + ", " + g(c.j) + " | " + g(c.w) + ", " + g(c.z) +
+           (c.w2 > 0 ? "; " + g(c.w2) + ", " + g(c.z2) : "") + " | " + (c.robust > 0 ? g(c.robust) + " %" : "-") +
+           " | ";
+    char fast[64];
+    std::snprintf(fast, sizeof fast, "%.4f", ok ? m.duration() : 0.0);
+    out += std::string(ok ? fast : "-") + " | " + (ok ? core::to_string(family_of(m)) : "-") + " | ";
+    out += shaped_cell(r, core::ShaperKind::zv) + " | " + shaped_cell(r, core::ShaperKind::zvd) + " | " +
+           shaped_cell(r, core::ShaperKind::ei) + " | ";
+    if (c.w2 > 0 || c.robust > 0) {
+      out += "- |\n";  // the S-curves are designed for one mode, exactly
+    } else {
+      core::MoveRequest s = r;
+      s.profile = c.z > 0 ? core::ProfileKind::scurve_damped : core::ProfileKind::scurve;
+      out += duration_cell(s) + " |\n";
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(Fastest, DocsTableIsWhatThePlannersGive) {
+  const std::string path = std::string(SETTLE_DOCS_DIR) + "/fastest.md";
+  std::string doc;
+  if (FILE* f = std::fopen(path.c_str(), "rb")) {
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) doc.append(buf, n);
+    std::fclose(f);
+  }
+  const std::string begin = "<!-- fastest-table begin -->\n", end = "<!-- fastest-table end -->";
+  const std::size_t b = doc.find(begin), e = doc.find(end);
+  ASSERT_NE(b, std::string::npos) << path;
+  ASSERT_NE(e, std::string::npos) << path;
+  const std::string table = docs_table();
+  const char* update = std::getenv("SETTLE_UPDATE_DOCS");
+  if (update != nullptr && std::string(update) == "1") {
+    doc.replace(b + begin.size(), e - b - begin.size(), table);
+    FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    std::fwrite(doc.data(), 1, doc.size(), f);
+    std::fclose(f);
+  } else {
+    EXPECT_EQ(doc.substr(b + begin.size(), e - b - begin.size()), table)
+        << "docs/fastest.md's table is stale: rerun with SETTLE_UPDATE_DOCS=1";
+  }
+}
+
+// Whatever family wins, the move streams like every other profile: the fixed-point motion
+// (random access and stepping) within a count of the double move at every tick, and the float and
+// double steppers on the double evaluation. Cases: the first grid case each family wins (one
+// mode), a two-mode plan and a robust one.
+TEST(Fastest, EveryFamilyStreamsInDoubleFloatAndFixedPoint) {
+  std::vector<core::MoveRequest> reqs;
+  std::set<int> seen;
+  for (const Limits& l : kLimitSets) {
+    for (double w : kOmegas) {
+      for (double z : kZetas) {
+        for (double d : kDistances) {
+          const core::MoveRequest r = request(d, l.v, l.a, l.j, w, z);
+          core::Move<double> m{};
+          if (core::plan(r, m) == Status::ok && seen.insert(static_cast<int>(family_of(m))).second) reqs.push_back(r);
+        }
+      }
+    }
+  }
+  core::MoveRequest two = request(1, 1, 20, 800, 7, 0.05);
+  two.extra_modes[0] = {19, 0.02};
+  two.extra_mode_count = 1;
+  reqs.push_back(two);
+  core::MoveRequest rob = request(-0.1, 1, 20, 800, 22, 0.0);
+  rob.robust = 15.0;
+  reqs.push_back(rob);
+  std::set<int> families;
+  for (const core::MoveRequest& r : reqs) {
+    core::Move<double> m{};
+    ASSERT_EQ(core::plan(r, m), Status::ok);
+    SCOPED_TRACE(core::to_string(family_of(m)));
+    families.insert(static_cast<int>(family_of(m)));
+    const core::fixed::Scale scale{{1e5 / std::fabs(m.distance()), 1000}, 16, 16};
+    core::fixed::PolyMotion fm{};
+    ASSERT_EQ(fm.build(m, scale), Status::ok);
+    core::fixed::MotionStepper<core::fixed::PolyMotion::kMaxTracks> stepper{fm};
+    const core::Move<float> mf{m};
+    core::MoveStepper<double> sd{m, 1e-3};
+    core::MoveStepper<float> sf{mf, 1e-3f};
+    double worst = 0.0, worst_f = 0.0, worst_sd = 0.0;
+    std::int32_t worst_step = 0;
+    for (std::int32_t n = 0; n <= fm.end_tick() + 2; ++n) {
+      const double t = n * 1e-3;
+      const double want = m.at(t).p;
+      const core::fixed::Sample f = fm.at_tick(n);
+      worst = std::max(worst, std::fabs(f.p - want * scale.axis.counts_per_unit));
+      worst_step = std::max(worst_step, std::abs(stepper.next().p - f.p));
+      worst_f = std::max(worst_f, std::fabs(static_cast<double>(sf.step().p) - want));
+      worst_sd = std::max(worst_sd, std::fabs(sd.step().p - want));
+    }
+    EXPECT_LE(worst, 1.0);
+    EXPECT_LE(worst_step, 1);
+    EXPECT_EQ(fm.at_tick(fm.end_tick()).p, fm.target());
+    // Float: the registry's 4e-6 D, plus what float time alone costs (t to one float ulp at the
+    // peak velocity: a 1 mm move made as two quick halves 1.5 s apart has v well above D / T).
+    const double t_ulp = std::ldexp(1.0, std::ilogb(m.duration()) - 23);
+    EXPECT_LE(worst_f, 4e-6 * std::fabs(m.distance()) + 2.0 * t_ulp * m.peaks().v);
+    EXPECT_LE(worst_sd, 1e-12 * std::fabs(m.distance()));
+  }
+  EXPECT_GE(families.size(), 3u);  // the cases cover several winning families
+}
