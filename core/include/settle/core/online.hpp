@@ -9,6 +9,7 @@
 
 #include "settle/core/kinematics.hpp"
 #include "settle/core/move.hpp"
+#include "settle/core/move_request.hpp"  // Mode: one (omega, zeta), the same a request designs for
 #include "settle/core/status.hpp"
 
 namespace settle::core {
@@ -17,11 +18,6 @@ namespace settle::core {
 inline constexpr std::size_t kMaxOnlineModes = 4;
 // A blend is this many constant-jerk segments of equal length.
 inline constexpr std::size_t kBlendSegments = 24;
-
-struct Mode {
-  double omega{0.0};  // rad/s, > 0
-  double zeta{0.0};   // [0, 1)
-};
 
 struct OnlineLimits {
   double vmax{0.0};  // units/s, > 0
