@@ -20,10 +20,11 @@ constexpr Entry kRun[] = {
     {"simulate", settle::cli::cmd_simulate}, {"reproduce", settle::cli::cmd_reproduce},
     {"plant", settle::cli::cmd_plant},       {"stream", settle::cli::cmd_stream},
     {"demo", settle::cli::cmd_demo},         {"drive", settle::cli::cmd_drive},
+    {"identify", settle::cli::cmd_identify},
 };
 
 int unknown_command(const char* name) {
-  std::fprintf(stderr, "settle: error: unknown command '%s' (plan, sample, simulate, reproduce, plant, stream, demo, drive) [bad_command]\n",
+  std::fprintf(stderr, "settle: error: unknown command '%s' (plan, sample, simulate, reproduce, plant, stream, demo, drive, identify) [bad_command]\n",
                name);
   return settle::cli::kExitBadRequest;
 }

@@ -435,6 +435,7 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
   res.fitted_load.assign(fitted.data(), fitted.data() + fitted.size());
   res.rms_residual = std::sqrt(u.rss / static_cast<double>(n));
   res.rigid_gain = u.beta(0);
+  res.offset = u.beta(1);
   res.peak_deflection = (phi.rightCols(m) * u.beta.tail(m)).cwiseAbs().maxCoeff();
   res.order = 2 * static_cast<std::size_t>(m);
   res.status = IdentifyStatus::ok;

@@ -64,6 +64,7 @@ struct IdentifyResult {
   double rms_residual{0.0};           // of the final fit, output units
   double noise_rms{0.0};              // estimated from the free response's pencil, output units
   double rigid_gain{0.0};             // load per motor displacement (1 for a direct drive)
+  double offset{0.0};                 // load - rigid_gain x motor at rest, output units
   double peak_deflection{0.0};        // largest |load - rigid x motor - offset| the fit explains
   std::size_t motion_start{0};        // first sample with the motor moved
   std::size_t motion_end{0};          // first sample of the free response (motor at rest since)
