@@ -56,6 +56,14 @@ IdentifyRunReport run_identify(const IdentifyRunSpec& spec, StreamBus& bus) {
              " (state " + s.drive_state + ")");
     return r;
   }
+  if (s.session.outcome != firmware::SessionOutcome::completed) {
+    fail(r, "excitation_not_completed",
+         std::string{"the excitation did not complete: "} + firmware::to_string(s.session.outcome) +
+             (s.session.outcome == firmware::SessionOutcome::rejected
+                  ? " (the loop refused the move before streaming it: a step per period beyond what it streams)"
+                  : ""));
+    return r;
+  }
   if (!s.aligned()) {
     fail(r, "feedback_incomplete",
          "the drive's feedback does not show every setpoint applied once and in order (frames lost or late): the "
