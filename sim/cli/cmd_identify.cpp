@@ -93,6 +93,8 @@ int parse_spec(const ParsedArgs& args, sim::IdentifyRunSpec& spec) {
   s.node = static_cast<hal::canopen::NodeId>(args.integer("--node", 1));
   s.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms", 500));
   s.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms", 1000) * 1000);
+  s.feedback_timeout_periods = static_cast<std::uint16_t>(
+      args.integer("--feedback-timeout-periods", firmware::kDefaultFeedbackTimeoutPeriods));
   if (const auto path = args.text("--eds")) {
     hal::eds::LoadResult loaded = hal::eds::load(*path);
     if (!loaded.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);

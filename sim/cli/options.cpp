@@ -161,6 +161,13 @@ const std::vector<OptionSpec> kStream = {
     text("--feedback-log", "", "write commanded and measured motion per period as CSV to FILE", "FILE"),
 };
 
+// The simulated drive's load encoder noise: settle plant's, and settle identify's in-process drive.
+const std::vector<OptionSpec> kLoadNoise = {
+    real("--noise", "load counts", "0", {0.0, 1e6},
+         "white noise on the simulated drive's load-side feedback, standard deviation (identify: --bus loopback)"),
+    integer("--seed", "", "1", {0.0, 4294967295.0}, "seed of --noise"),
+};
+
 // settle identify: the rows it shares with stream (where and how the loop runs), taken from
 // kStream so that each is declared once, and its own: the excitation and the estimator.
 std::vector<OptionSpec> rows_of(const std::vector<OptionSpec>& from, std::initializer_list<std::string_view> names) {
@@ -173,8 +180,8 @@ std::vector<OptionSpec> rows_of(const std::vector<OptionSpec>& from, std::initia
   return v;
 }
 const std::vector<OptionSpec> kIdentifyLoop =
-    rows_of(kStream, {"--bus", "--node", "--eds", "--heartbeat-ms", "--sdo-timeout-ms", "--rt-priority", "--pm-qos",
-                      "--candump"});
+    rows_of(kStream, {"--bus", "--node", "--eds", "--heartbeat-ms", "--sdo-timeout-ms", "--feedback-timeout-periods",
+                      "--rt-priority", "--pm-qos", "--candump"});
 const std::vector<OptionSpec> kIdentify = {
     integer("--max-modes", "", "3", {1.0, static_cast<double>(sim::kMaxIdentifyModes)},
             "the most modes to identify (fewer are reported when fewer stand out of the noise)"),
@@ -184,9 +191,6 @@ const std::vector<OptionSpec> kIdentify = {
     real("--jmax", "unit/s^3", "5000", {0.0, 1e12, true},
          "excitation: jerk limit (amax / jmax is its jerk phase: shorter excites higher modes)"),
     real("--hold", "s", "4", {0.5, 600.0}, "excitation: time recorded at rest after the move (the free response)"),
-    real("--noise", "load counts", "0", {0.0, 1e6},
-         "white noise on the simulated drive's load-side feedback, standard deviation (--bus loopback)"),
-    integer("--seed", "", "1", {0.0, 4294967295.0}, "seed of --noise"),
     text("--png", "", "draw the measured response and the fitted model (time and frequency) to FILE (gnuplot)",
          "FILE"),
 };
@@ -272,7 +276,7 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "plant",
      .summary = "run the simulated CiA 402 drive with a plant behind it on a CAN bus",
      .usage = "",
-     .groups = {kPlantNode, kPlant, kDrive, kOutput},
+     .groups = {kPlantNode, kPlant, kDrive, kLoadNoise, kOutput},
      .notes = "Exit 1 when the bus cannot be opened or the drive faulted."},
     {.name = "stream",
      .summary = "stream a move to a drive over CAN and measure the residual vibration",
@@ -284,7 +288,7 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "identify",
      .summary = "excite the axis through the loop and the bus, and estimate the machine's modes from the drive's feedback",
      .usage = "",
-     .groups = {kIdentifyLoop, kIdentify, kPlant, kDrive, kOutput},
+     .groups = {kIdentifyLoop, kIdentify, kLoadNoise, kPlant, kDrive, kOutput},
      .notes = "The excitation is one jerk-limited move of --distance within --vmax/--amax/--jmax, then --hold s at "
               "rest; it lasts at most 600 s and 1e6 periods, and must fit 32-bit counts. The plant options describe "
               "the simulated drive's machine (--bus loopback); the estimate uses only the drive's frames. "
