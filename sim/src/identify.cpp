@@ -102,7 +102,8 @@ std::vector<Candidate> pencil(const VectorXd& z, double h, std::size_t max_order
     const std::complex<double> p = std::log(lambda) / h;
     const double wn = std::abs(p);
     const double zeta = -p.real() / wn;
-    if (zeta > 0.0 && zeta < 0.95) out.push_back({wn, zeta});
+    // An undamped mode's pole can land just outside the unit circle in the noise.
+    if (zeta > -0.02 && zeta < 0.95) out.push_back({wn, std::max(zeta, 0.0)});
   }
   return out;
 }
@@ -141,11 +142,12 @@ struct Model {
   }
 };
 
-// Keeps the parameters physical: 0 < omega below Nyquist, 1e-4 <= zeta <= 0.99.
+// Keeps the parameters physical: 0 < omega below Nyquist, 0 <= zeta <= 0.99 (an undamped mode,
+// a beam's, is exactly 0).
 void clamp(VectorXd& theta, double h) {
   for (Index j = 0; j < theta.size(); j += 2) {
     theta(j) = std::clamp(theta(j), 1e-3, 0.999 * kPi / h);
-    theta(j + 1) = std::clamp(theta(j + 1), 1e-4, 0.99);
+    theta(j + 1) = std::clamp(theta(j + 1), 0.0, 0.99);
   }
 }
 
@@ -387,7 +389,7 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
   VectorXd theta(2 * static_cast<Index>(cands.size()));
   for (std::size_t j = 0; j < cands.size(); ++j) {
     theta(2 * static_cast<Index>(j)) = cands[j].omega;
-    theta(2 * static_cast<Index>(j) + 1) = std::max(cands[j].zeta, 1e-4);
+    theta(2 * static_cast<Index>(j) + 1) = cands[j].zeta;
   }
   clamp(theta, h);
 
