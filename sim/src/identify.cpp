@@ -114,6 +114,7 @@ struct Model {
   const VectorXd& x;  // motor, output units
   const VectorXd& y;  // load, output units
   double h;
+  double load_count;  // one load count, output units
 
   // Regressors [x, 1, q_1 .. q_m] for the modes' parameters theta = (w_1, z_1, ...).
   [[nodiscard]] MatrixXd regressors(const VectorXd& theta) const {
@@ -200,6 +201,7 @@ double fit(const Model& model, VectorXd& theta, std::size_t& iterations) {
 }
 
 struct Uncertainty {
+  VectorXd peak;  // per mode: the largest |g_j q_j| over the record, output units
   VectorXd theta_sd;
   VectorXd beta;
   VectorXd beta_sd;
@@ -215,6 +217,8 @@ Uncertainty uncertainty(const Model& model, const VectorXd& theta) {
   u.beta = Model::solve(phi, model.y, r);
   u.rss = r.squaredNorm();
   const Index p = theta.size();
+  u.peak.resize(p / 2);
+  for (Index j = 0; j < p / 2; ++j) u.peak(j) = std::fabs(u.beta(2 + j)) * phi.col(2 + j).cwiseAbs().maxCoeff();
   const Index q = phi.cols();
   const Index n = r.size();
   MatrixXd jac(n, p + q);
@@ -259,6 +263,11 @@ void prune(const Model& model, const IdentifyOptions& opt, VectorXd& theta, Unce
       const double g = std::fabs(u.beta(2 + j));
       const double t = u.beta_sd(2 + j) > 0.0 ? g / u.beta_sd(2 + j) : std::numeric_limits<double>::infinity();
       bool undetermined = !(u.theta_sd(2 * j) < 0.5 * theta(2 * j)) || !std::isfinite(u.theta_sd(2 * j + 1));
+      // A mode that never moves the load by more than a few counts (and three times the fit's rms)
+      // is not measured: it is what the model cannot otherwise explain (quantisation, a drive
+      // whose motion between samples is not linear).
+      const double rms = std::sqrt(u.rss / static_cast<double>(model.y.size()));
+      undetermined = undetermined || u.peak(j) < std::max(3.0 * model.load_count, 3.0 * rms);
       // Two modes at one frequency are one mode split in two (their gains cancel): drop one.
       for (Index k = 0; k < j; ++k) undetermined = undetermined || std::fabs(theta(2 * k) / theta(2 * j) - 1.0) < 0.02;
       const double score = undetermined ? 0.0 : t;
@@ -396,7 +405,7 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
   // The pencil's candidates, pruned to the significant ones; then, while there is room, the mode
   // that best explains what is left (a scan over frequency and damping), kept only if it too is
   // significant after the joint fit.
-  const Model model{x, y, h};
+  const Model model{x, y, h, 1.0 / in.load_counts_per_unit};
   Uncertainty u{};
   prune(model, opt, theta, u, res.iterations);
   const double t_free = static_cast<double>(n - end) * h;
