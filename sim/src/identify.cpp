@@ -133,7 +133,7 @@ struct Model {
     VectorXd scale = phi.colwise().norm().transpose();
     for (Index i = 0; i < scale.size(); ++i) scale(i) = scale(i) > 0.0 ? scale(i) : 1.0;
     const MatrixXd scaled = phi * scale.cwiseInverse().asDiagonal();
-    const VectorXd b = scaled.colPivHouseholderQr().solve(y).cwiseQuotient(scale);
+    const VectorXd b = scaled.householderQr().solve(y).cwiseQuotient(scale);
     residual = y - phi * b;
     return b;
   }
