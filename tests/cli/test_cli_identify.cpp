@@ -140,6 +140,7 @@ TEST(CliIdentify, TextReportAndFigure) {
   EXPECT_LT(worst, 2e-6);  // two load counts
   EXPECT_TRUE(std::filesystem::exists(dir / "modes_spectrum.csv"));
   EXPECT_TRUE(std::filesystem::exists(dir / "modes.gp"));
+  EXPECT_GT(std::filesystem::file_size(dir / "modes.png"), 10000U);  // gnuplot: tools/setup installs it
   std::filesystem::remove_all(dir);
 }
 
