@@ -39,6 +39,8 @@ int cmd_plant(int argc, char** argv) {
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
   sim::DriveAxisConfig axis_cfg{};
   if (!parse_drive(args, plant, axis_cfg, err)) return report_bad_request(err, json);
+  axis_cfg.load_noise_counts = args.real("--noise", 0.0);  // the load encoder's (settle identify's e2e)
+  axis_cfg.noise_seed = static_cast<std::uint64_t>(args.integer("--seed", 1));
   // Each in its table range: node 1..127, heartbeat 10..10000 ms, loss 1..255 periods.
   const long long node = args.integer("--node", 1);
   const long long heartbeat = args.integer("--heartbeat-ms", 100);

@@ -11,6 +11,7 @@ int cmd_simulate(int argc, char** argv);
 int cmd_reproduce(int argc, char** argv);
 int cmd_plant(int argc, char** argv);
 int cmd_stream(int argc, char** argv);
+int cmd_identify(int argc, char** argv);
 int cmd_demo(int argc, char** argv);
 int cmd_tune(int argc, char** argv);
 // settle drive info|read|write|scan: argv[0] is the subcommand.

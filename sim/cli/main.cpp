@@ -21,10 +21,11 @@ constexpr Entry kRun[] = {
     {"plant", settle::cli::cmd_plant},       {"stream", settle::cli::cmd_stream},
     {"demo", settle::cli::cmd_demo},         {"drive", settle::cli::cmd_drive},
     {"tune", settle::cli::cmd_tune},
+    {"identify", settle::cli::cmd_identify},
 };
 
 int unknown_command(const char* name) {
-  std::fprintf(stderr, "settle: error: unknown command '%s' (plan, sample, simulate, reproduce, plant, stream, tune, demo, drive) [bad_command]\n",
+  std::fprintf(stderr, "settle: error: unknown command '%s' (plan, sample, simulate, reproduce, plant, stream, tune, demo, drive, identify) [bad_command]\n",
                name);
   return settle::cli::kExitBadRequest;
 }

@@ -7,12 +7,15 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <initializer_list>
 #include <iostream>
 #include <sstream>
+#include <string_view>
 
 #include "json.hpp"
 #include "settle/core/profile.hpp"
 #include "settle/sim/beam.hpp"
+#include "settle/sim/identify.hpp"
 #include "settle/sim/move_vocabulary.hpp"
 
 namespace settle::cli {
@@ -205,6 +208,40 @@ const std::vector<OptionSpec> kStream = {
     text("--feedback-log", "", "write commanded and measured motion per period as CSV to FILE", "FILE"),
 };
 
+// The simulated drive's load encoder noise: settle plant's, and settle identify's in-process drive.
+const std::vector<OptionSpec> kLoadNoise = {
+    real("--noise", "load counts", "0", {0.0, 1e6},
+         "white noise on the simulated drive's load-side feedback, standard deviation (identify: --bus loopback)"),
+    integer("--seed", "", "1", {0.0, 4294967295.0}, "seed of --noise"),
+};
+
+// settle identify: the rows it shares with stream (where and how the loop runs), taken from
+// kStream so that each is declared once, and its own: the excitation and the estimator.
+std::vector<OptionSpec> rows_of(const std::vector<OptionSpec>& from, std::initializer_list<std::string_view> names) {
+  std::vector<OptionSpec> v;
+  for (const std::string_view n : names) {
+    for (const OptionSpec& o : from) {
+      if (o.name == n) v.push_back(o);
+    }
+  }
+  return v;
+}
+const std::vector<OptionSpec> kIdentifyLoop =
+    rows_of(kStream, {"--bus", "--node", "--eds", "--heartbeat-ms", "--sdo-timeout-ms", "--feedback-timeout-periods",
+                      "--rt-priority", "--pm-qos", "--candump"});
+const std::vector<OptionSpec> kIdentify = {
+    integer("--max-modes", "", "3", {1.0, static_cast<double>(sim::kMaxIdentifyModes)},
+            "the most modes to identify (fewer are reported when fewer stand out of the noise)"),
+    real("--distance", "m or rad", "0.01", {0.0, 1e3, true}, "excitation: distance of its jerk-limited move"),
+    real("--vmax", "unit/s", "0.1", {0.0, 1e6, true}, "excitation: velocity limit"),
+    real("--amax", "unit/s^2", "5", {0.0, 1e9, true}, "excitation: acceleration limit"),
+    real("--jmax", "unit/s^3", "5000", {0.0, 1e12, true},
+         "excitation: jerk limit (amax / jmax is its jerk phase: shorter excites higher modes)"),
+    real("--hold", "s", "4", {0.5, 600.0}, "excitation: time recorded at rest after the move (the free response)"),
+    text("--png", "", "draw the measured response and the fitted model (time and frequency) to FILE (gnuplot)",
+         "FILE"),
+};
+
 const std::vector<OptionSpec> kPlantNode = {
     text("--bus", "vcan0", "SocketCAN interface", "IFACE"),
     integer("--node", "", "1", {1.0, 127.0}, "this drive's CANopen node id"),
@@ -286,7 +323,7 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "plant",
      .summary = "run the simulated CiA 402 drive with a plant behind it on a CAN bus",
      .usage = "",
-     .groups = {kPlantNode, kPlant, kDrive, kOutput},
+     .groups = {kPlantNode, kPlant, kDrive, kLoadNoise, kOutput},
      .notes = "Exit 1 when the bus cannot be opened or the drive faulted."},
     {.name = "stream",
      .summary = "stream a move to a drive over CAN and measure the residual vibration",
@@ -304,6 +341,15 @@ const std::vector<CommandSpec> kCommands = {
               "retuned within the band (docs/tuning.md). Bounds: at most 4 modes; a search too fine to bound "
               "(omega_hi x move duration too large) is refused (too_much_work). No plan within the bound: exit 2, "
               "no_feasible_plan."},
+    {.name = "identify",
+     .summary = "excite the axis through the loop and the bus, and estimate the machine's modes from the drive's feedback",
+     .usage = "",
+     .groups = {kIdentifyLoop, kIdentify, kLoadNoise, kPlant, kDrive, kOutput},
+     .notes = "The excitation is one jerk-limited move of --distance within --vmax/--amax/--jmax, then --hold s at "
+              "rest; it lasts at most 600 s and 1e6 periods, and must fit 32-bit counts. The plant options describe "
+              "the simulated drive's machine (--bus loopback); the estimate uses only the drive's frames. "
+              "Exit 1 when the drive never enables, no load-side feedback is mapped, the feedback is incomplete, or "
+              "the response is too small to fit (noise-dominated)."},
     {.name = "drive info",
      .summary = "read a drive's identity, strings and PDO configuration over SDO",
      .usage = "",

@@ -170,6 +170,23 @@ SimStatus write_tune_figure(const TuneResult& r, const std::string& dir, const s
   return plot(dir, name, script, out, "noenhanced size 1000,600");
 }
 
+SimStatus write_identify_figure(const std::string& dir, const std::string& name, const std::string& time_csv,
+                                const std::string& spectrum_csv, FigureFiles& out) {
+  const SimStatus st = prepare(dir, out);
+  if (st != SimStatus::ok) return st;
+  const std::string script =
+      "set datafile separator ','\nset multiplot layout 2,1\n"
+      "set title 'load deflection: measured and identified model'\nset xlabel 't from the excitation (s)'\n"
+      "set ylabel 'deflection (m or rad)'\nset key top right\n"
+      "plot " + gnuplot_string(time_csv) + " every ::1 using 1:2 with lines title 'measured (TPDO2 - rigid motion)', \\\n"
+      "     '' every ::1 using 1:3 with lines lw 2 title 'identified model'\n"
+      "set title 'spectrum of the free response'\nset xlabel 'frequency (Hz)'\nset ylabel 'amplitude'\n"
+      "set logscale xy\n"
+      "plot " + gnuplot_string(spectrum_csv) + " every ::1 using 1:2 with lines title 'measured', \\\n"
+      "     '' every ::1 using 1:3 with lines lw 2 title 'identified model'\nunset multiplot\n";
+  return plot(dir, name, script, out, "noenhanced size 900,800");
+}
+
 SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out) {
   SimStatus st = prepare(dir, out);
   if (st != SimStatus::ok) return st;

@@ -65,6 +65,7 @@ BASE = {
     "plant": ["--bus", "settle-hostile0", "--duration", "0.2"],
     "stream": ["--bus", "loopback", "--profile", "poly345", "--distance", "0.01", "--time", "0.1"],
     "tune": ["--mode", "12.566,0.03", "--uncertainty", "10", "--distance", "0.1", "--time", "0.5"],
+    "identify": ["--bus", "loopback", "--plant", "sdof", "--hold", "0.5"],
     # settle drive against the simulated drive in its own process.
     "drive info": ["--bus", "loopback", "--node", "2"],
     "drive read": ["--bus", "loopback", "--index", "0x6041", "--type", "u16"],
@@ -73,7 +74,7 @@ BASE = {
     "drive config": ["--bus", "loopback", "--eds", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                                                 "hal", "eds", "split_rpdo_drive.eds")],
 }
-WEIGHT = {"plan": 20, "sample": 14, "simulate": 26, "reproduce": 6, "plant": 12, "stream": 22, "tune": 12,
+WEIGHT = {"plan": 20, "sample": 14, "simulate": 26, "reproduce": 6, "plant": 12, "stream": 22, "tune": 12, "identify": 8,
           "drive info": 4, "drive read": 6, "drive write": 8, "drive scan": 3, "drive config": 5}
 
 # Sizes no run may honour; each must be refused before any work (exit 2).
@@ -89,6 +90,8 @@ ABSURD = {
                ["--distance", "1e6"], ["--counts-per-unit", "1e9", "--distance", "10"], ["--time", "1e300"]],
     "tune": [["--mode", "1e6,0.01", "--time", "3600"], ["--time", "3600"], ["--uncertainty", "1e300"],
              ["--uncertainty", "90", "--time", "3000"], ["--modes-from", "@TMP@/absent.json"], ["--png", "@TMP@/t.svg"]],
+    "identify": [["--hold", "1e9"], ["--distance", "1e300"], ["--max-modes", "1e9"], ["--hold", "600", "--period-us", "100"],
+                 ["--noise", "1e300"], ["--distance", "1000", "--vmax", "1e-6"]],
     "drive info": [["--timeout-ms", "1e9"], ["--node", "1e300"]],
     "drive read": [["--index", "0x100000000"], ["--index", "0xFFFFFFFFFFFFFFFFFFFF"], ["--sub", "1e9"],
                    ["--timeout-ms", "99999999999999999999"]],
@@ -104,6 +107,12 @@ DRIVE_FAILURES = re.compile(r"cannot open|SDO abort 0x[0-9A-F]{8} \(|no answer w
                             r"^settle drive config: node \d+: ")
 DRIVE_FAILURE_CODES = {"bus", "sdo_abort", "sdo_timeout", "type_mismatch", "read_back_differs", "cannot_stream",
                        "start_up_failed", "timeout", "plan_too_long"}
+
+# settle identify's runtime refusals (docs/identification.md): one line ending in its code.
+IDENTIFY_FAILURE_CODES = {"bus_unavailable", "run_failed", "drive_not_enabled", "excitation_not_completed",
+                          "feedback_incomplete", "no_load_feedback", "response_too_small", "free_response_too_short",
+                          "no_motion", "figure_failed"}
+IDENTIFY_FAILURES = re.compile(r"^settle identify: .+ \[(" + "|".join(sorted(IDENTIFY_FAILURE_CODES)) + r")\]$", re.M)
 
 SANITIZER = re.compile(r"AddressSanitizer|LeakSanitizer|UndefinedBehaviorSanitizer|runtime error:|MemorySanitizer")
 NON_FINITE = re.compile(r"(?i)(?<![a-z])-?(nan|inf|infinity)(?![a-z])")
@@ -192,7 +201,8 @@ def mutate(rng, command, opts, args, tmp):
         v = rng.choice([10 ** rng.uniform(-15, 15), -(10 ** rng.uniform(-15, 15)), rng.randint(-300, 300)])
         name = rng.choice(valued)
         if command == "stream" and name in ("--time", "--settle-time", "--period-us", "--vmax", "--amax", "--jmax",
-                                            "--omega"):
+                                            "--omega") or \
+                command == "identify" and name in ("--hold", "--period-us", "--distance", "--vmax", "--amax", "--jmax"):
             v = rng.choice(["-1", "0", "1e300", "nan"])  # valid large sizes make valid, long streams
         set_option(args, name, str(v))
     elif kind == 5:  # a duplicate
@@ -308,6 +318,17 @@ def check(command, argv, opts, result):
             elif DRIVE_FAILURES.search(text_err) and text_err.count("\n") == 1:
                 return None
             return "exit 1 that is not a documented drive failure:\n" + (text_err + text_out)[:2000]
+        if command == "identify":
+            if json_mode:
+                try:
+                    doc = json.loads(text_out)
+                except ValueError:
+                    return "exit 1 with --json but stdout is not one JSON object:\n" + text_out[:2000]
+                if doc.get("status") == "error" and doc.get("error") in IDENTIFY_FAILURE_CODES:
+                    return None
+            elif IDENTIFY_FAILURES.search(text_err) and text_err.count("\n") == 1:
+                return None
+            return "exit 1 that is not a documented identify failure:\n" + (text_err + text_out)[:2000]
         if command in ("plant", "stream") and ("cannot open" in text_err or "cannot write" in text_err):
             return None
         if command == "stream" and ("outcome" in text_out):

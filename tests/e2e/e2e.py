@@ -488,6 +488,33 @@ def main():
                   f"no setpoint was sent to a drive never enabled ({len(frames)} frames on the bus, none an RPDO)")
         elif TEST == "drive-commands":
             drive_commands(d)
+        elif TEST == "identify-two-modes":
+            # Issue 15: the modes only the drive process knows, measured from its frames by a separate
+            # settle identify process; the load encoder noisy (--noise, 30 load counts: about 0.5 % of
+            # this excitation's peak deflection, 6600 counts).
+            modes = [(25.0, 0.02, 1.0), (60.0, 0.05, 1.0)]
+            plant_args = ["--plant", "modes"] + [a for m in modes for a in ("--mode", ",".join(map(str, m)))]
+            plant = Plant(d, "identify", plant_args, [*PLANT_TOLERANT, "--noise", "30", "--seed", "3"])
+            r = subprocess.run([SETTLE, "identify", "--bus", "vcan0", "--node", str(NODE), *STREAM_TOLERANT,
+                                "--plant", "sdof", "--max-modes", "3", "--json",
+                                "--png", os.path.join(d, "identify.png")],
+                               capture_output=True, text=True, timeout=300)
+            pj = plant.stop()
+            check(r.returncode == 0, f"identify exited {r.returncode}: {r.stdout} {r.stderr}")
+            j = json.loads(r.stdout)
+            found = [(m["omega"], m["zeta"]) for m in j["modes"]]
+            check(len(found) == 2, f"two modes found: {found}")
+            for (w, z, _), m in zip(modes, j["modes"]):
+                check(abs(m["omega"] / w - 1) < 0.005 and abs(m["zeta"] - z) < 0.01,
+                      f"omega {m['omega']:.4f} (true {w}, interval {m['omega_ci']}), zeta {m['zeta']:.4f} (true {z}, "
+                      f"interval {m['zeta_ci']})")
+            check(pj["emcy_sent"] == 0, f"the drive ran on undisturbed: {pj['emcy_sent']} EMCY")
+        elif TEST == "identify-no-drive":
+            r = subprocess.run([SETTLE, "identify", "--bus", "vcan0", "--sdo-timeout-ms", "300", "--json"],
+                               capture_output=True, text=True, timeout=120)
+            j = json.loads(r.stdout)
+            check(r.returncode == 1 and j["error"] == "drive_not_enabled" and "never reached operation enabled" in
+                  j["message"], f"nobody answers: exit {r.returncode}, {j}")
         else:
             fail("unknown test " + TEST)
 

@@ -1,6 +1,7 @@
 #include "settle/sim/drive_axis.hpp"
 
 #include <cmath>
+#include <random>
 
 namespace settle::sim {
 
@@ -21,6 +22,8 @@ SimStatus DriveAxis::make(const DriveAxisConfig& cfg, const ModalPlant& plant, s
   DriveAxis a{};
   a.cfg_ = cfg;
   a.plant_ = plant;
+  if (!(cfg.load_noise_counts >= 0.0) || !std::isfinite(cfg.load_noise_counts)) return SimStatus::non_finite_parameter;
+  a.noise_rng_.seed(cfg.noise_seed);
   const double x0 = start_counts / cfg.scale.counts_per_unit;
   a.plant_.reset(x0);
   a.x_prev_ = a.x_prev2_ = x0;
@@ -76,7 +79,11 @@ void DriveAxis::update_feedback() {
   const BaseState& b = plant_.base();
   fb_.position_actual = to_counts(b.p, cfg_.scale.counts_per_unit);
   fb_.velocity_actual = to_counts(b.v, cfg_.scale.counts_per_unit);
-  fb_.load_position = to_counts(plant_.position(), cfg_.load_counts_per_unit);
+  double load = plant_.position();
+  if (cfg_.load_noise_counts > 0.0) {
+    load += std::normal_distribution<double>{0.0, cfg_.load_noise_counts}(noise_rng_) / cfg_.load_counts_per_unit;
+  }
+  fb_.load_position = to_counts(load, cfg_.load_counts_per_unit);
 }
 
 }  // namespace settle::sim

@@ -37,6 +37,13 @@ struct FigureFiles {
 // gnuplot, <name>.png in `dir`.
 [[nodiscard]] SimStatus write_tune_figure(const TuneResult& r, const std::string& dir, const std::string& name,
                                           FigureFiles& out);
+// settle identify's figure, like Klipper's resonance graph: above, the load deflection measured
+// and fitted against time (`time_csv`: t,measured,fitted); below, their spectra over the free
+// response against frequency (`spectrum_csv`: f_hz,measured,fitted, log axes). Both files in
+// `dir`; writes <name>.gp and, with gnuplot, <name>.png there.
+[[nodiscard]] SimStatus write_identify_figure(const std::string& dir, const std::string& name,
+                                              const std::string& time_csv, const std::string& spectrum_csv,
+                                              FigureFiles& out);
 
 // `text` as a gnuplot single-quoted string: ' doubled (gnuplot's escape; backslashes are literal
 // there), line breaks as spaces (a gnuplot command is one line).

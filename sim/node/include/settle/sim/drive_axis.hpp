@@ -6,6 +6,7 @@
 // docs/drive.md). Used by the simulated drive node on the bus and, without any bus, as the
 // offline reference the end-to-end checks compare against: the same code, the same numbers.
 #include <cstdint>
+#include <random>
 
 #include "settle/core/axis_scale.hpp"
 #include "settle/sim/modal_plant.hpp"
@@ -26,6 +27,10 @@ struct DriveAxisConfig {
   double load_counts_per_unit{1e6};  // load position counts per output unit (m, or rad of platform)
   Interpolation interpolation{Interpolation::linear};
   DriveModel model{};
+  // The load encoder's white noise: standard deviation in load counts, added before quantisation
+  // (0: a perfect encoder), from a generator seeded with noise_seed (`settle identify --noise`).
+  double load_noise_counts{0.0};
+  std::uint64_t noise_seed{1};
 };
 
 struct AxisFeedback {
@@ -62,6 +67,7 @@ class DriveAxis {
   double x_prev_{0.0};     // last two applied targets (units), for the interpolation
   double x_prev2_{0.0};
   AxisFeedback fb_{};
+  std::mt19937_64 noise_rng_{1};
 };
 
 }  // namespace settle::sim

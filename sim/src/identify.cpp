@@ -1,0 +1,456 @@
+#include "settle/sim/identify.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numeric>
+#include <unsupported/Eigen/MatrixFunctions>
+
+namespace settle::sim {
+
+const char* to_string(IdentifyStatus s) noexcept {
+  switch (s) {
+    case IdentifyStatus::ok: return "ok";
+    case IdentifyStatus::bad_input: return "bad_input";
+    case IdentifyStatus::too_many_samples: return "too_many_samples";
+    case IdentifyStatus::no_motion: return "no_motion";
+    case IdentifyStatus::free_response_too_short: return "free_response_too_short";
+    case IdentifyStatus::response_too_small: return "response_too_small";
+  }
+  return "?";
+}
+
+const char* describe(IdentifyStatus s) noexcept {
+  switch (s) {
+    case IdentifyStatus::ok: return "identified";
+    case IdentifyStatus::bad_input: return "the record is inconsistent (sizes, scales or mode count)";
+    case IdentifyStatus::too_many_samples: return "the record has more samples than the estimator takes (1e7)";
+    case IdentifyStatus::no_motion: return "the motor never moved: the record excites nothing";
+    case IdentifyStatus::free_response_too_short:
+      return "fewer than 100 samples were recorded after the motor came to rest";
+    case IdentifyStatus::response_too_small:
+      return "the load-side response is noise-dominated: no mode stands out of the noise (excite harder or "
+             "reduce the noise)";
+  }
+  return "?";
+}
+
+namespace {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Candidate {
+  double omega;
+  double zeta;
+};
+
+// The two-sided normal quantile of `confidence` (0.5..0.999), by bisection on erfc.
+double normal_quantile(double confidence) {
+  double lo = 0.0;
+  double hi = 10.0;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::sqrt(2.0)) > 1.0 - confidence ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Matrix pencil (Hua & Sarkar) on the free response z: a Hankel matrix of lagged windows, its
+// singular values for the order (those standing out of the noise floor, at most max_order), and
+// the eigenvalues of the shift between the windows' signal subspace for the poles. Complex pairs
+// with damping below 0.95 become candidates; real poles (the rest position) are left out.
+std::vector<Candidate> pencil(const VectorXd& z, double h, std::size_t max_order, std::size_t& order,
+                              double& noise_rms) {
+  const Index n = z.size();
+  const Index cols = std::min<Index>(std::max<Index>(n / 3, 8), 100);
+  const Index windows = n - cols + 1;
+  // Every stride-th window: the shift invariance is along the columns, so rows can be thinned to
+  // bound the cost; the nonlinear fit uses every sample afterwards.
+  const Index stride = std::max<Index>(1, (windows + 999) / 1000);
+  const Index rows = (windows + stride - 1) / stride;
+  MatrixXd hk(rows, cols);
+  for (Index i = 0; i < rows; ++i) hk.row(i) = z.segment(i * stride, cols).transpose();
+  const Eigen::BDCSVD<MatrixXd> svd(hk, Eigen::ComputeThinV);
+  const VectorXd& s = svd.singularValues();
+  const Index cap = std::min<Index>(static_cast<Index>(max_order), cols - 2);
+  // The noise floor: white noise of standard deviation sigma gives singular values of about
+  // sigma (sqrt(rows) + sqrt(cols)); those past the largest order possible are noise.
+  const Index tail_from = cap + 1;
+  std::vector<double> tail(s.data() + tail_from, s.data() + s.size());
+  std::nth_element(tail.begin(), tail.begin() + static_cast<std::ptrdiff_t>(tail.size() / 2), tail.end());
+  const double median = tail[tail.size() / 2];
+  noise_rms = median / (std::sqrt(static_cast<double>(rows)) + std::sqrt(static_cast<double>(cols)));
+  const double floor = 1.5 * s(cap);
+  Index k = 0;
+  while (k < cap && s(k) > floor) ++k;
+  order = static_cast<std::size_t>(k);
+  std::vector<Candidate> out;
+  if (k == 0) return out;
+  const MatrixXd v1 = svd.matrixV().topLeftCorner(cols - 1, k);
+  const MatrixXd v2 = svd.matrixV().block(1, 0, cols - 1, k);
+  const MatrixXd shift = v1.completeOrthogonalDecomposition().solve(v2);
+  const Eigen::EigenSolver<MatrixXd> eig(shift, false);
+  for (Index i = 0; i < k; ++i) {
+    const std::complex<double> lambda = eig.eigenvalues()(i);
+    if (lambda.imag() <= 1e-9 || std::abs(lambda) < 1e-12) continue;  // real poles, and one of each pair
+    const std::complex<double> p = std::log(lambda) / h;
+    const double wn = std::abs(p);
+    const double zeta = -p.real() / wn;
+    // An undamped mode's pole can land just outside the unit circle in the noise.
+    if (zeta > -0.02 && zeta < 0.95) out.push_back({wn, std::max(zeta, 0.0)});
+  }
+  return out;
+}
+
+// The load as the model explains it: rigid x motor + offset + sum_j g_j q_j, with the gains and
+// the two rigid parameters from linear least squares for given (omega, zeta) of each mode.
+struct Model {
+  const VectorXd& x;  // motor, output units
+  const VectorXd& y;  // load, output units
+  double h;
+  double load_count;  // one load count, output units
+
+  // Regressors [x, 1, q_1 .. q_m] for the modes' parameters theta = (w_1, z_1, ...).
+  [[nodiscard]] MatrixXd regressors(const VectorXd& theta) const {
+    const Index m = theta.size() / 2;
+    MatrixXd phi(x.size(), 2 + m);
+    phi.col(0) = x;
+    phi.col(1).setOnes();
+    for (Index j = 0; j < m; ++j) {
+      mode_response(theta(2 * j), theta(2 * j + 1), h, std::span<const double>{x.data(), static_cast<std::size_t>(x.size())},
+                    std::span<double>{phi.col(2 + j).data(), static_cast<std::size_t>(x.size())});
+    }
+    return phi;
+  }
+  // Least-squares linear parameters (columns scaled for conditioning) and the residual y - phi b.
+  static VectorXd solve(const MatrixXd& phi, const VectorXd& y, VectorXd& residual) {
+    VectorXd scale = phi.colwise().norm().transpose();
+    for (Index i = 0; i < scale.size(); ++i) scale(i) = scale(i) > 0.0 ? scale(i) : 1.0;
+    const MatrixXd scaled = phi * scale.cwiseInverse().asDiagonal();
+    const VectorXd b = scaled.householderQr().solve(y).cwiseQuotient(scale);
+    residual = y - phi * b;
+    return b;
+  }
+  [[nodiscard]] double cost(const VectorXd& theta, VectorXd& residual, VectorXd& beta) const {
+    beta = solve(regressors(theta), y, residual);
+    return residual.squaredNorm();
+  }
+};
+
+// Keeps the parameters physical: 0 < omega below Nyquist, 0 <= zeta <= 0.99 (an undamped mode,
+// a beam's, is exactly 0).
+void clamp(VectorXd& theta, double h) {
+  for (Index j = 0; j < theta.size(); j += 2) {
+    theta(j) = std::clamp(theta(j), 1e-3, 0.999 * kPi / h);
+    theta(j + 1) = std::clamp(theta(j + 1), 0.0, 0.99);
+  }
+}
+
+// Levenberg-Marquardt on the modes' (omega, zeta), the linear parameters projected out (variable
+// projection), the Jacobian by forward differences.
+double fit(const Model& model, VectorXd& theta, std::size_t& iterations) {
+  VectorXd r;
+  VectorXd beta;
+  double cost = model.cost(theta, r, beta);
+  double mu = 1e-3;
+  const Index p = theta.size();
+  MatrixXd jac(r.size(), p);
+  for (int it = 0; it < 60; ++it) {
+    ++iterations;
+    for (Index k = 0; k < p; ++k) {
+      VectorXd t = theta;
+      const double step = (k % 2 == 0 ? 1e-6 * theta(k) : 1e-6 * std::max(theta(k), 1e-2));
+      t(k) += step;
+      VectorXd rk;
+      VectorXd bk;
+      (void)model.cost(t, rk, bk);
+      jac.col(k) = (rk - r) / step;
+    }
+    const MatrixXd jtj = jac.transpose() * jac;
+    const VectorXd g = jac.transpose() * r;
+    bool improved = false;
+    for (int tries = 0; tries < 12 && !improved; ++tries) {
+      MatrixXd a = jtj;
+      a.diagonal() += mu * jtj.diagonal().cwiseMax(1e-300);
+      VectorXd t = theta - a.ldlt().solve(g);
+      clamp(t, model.h);
+      VectorXd rt;
+      VectorXd bt;
+      const double c = model.cost(t, rt, bt);
+      if (std::isfinite(c) && c < cost) {
+        const double gain = (cost - c) / cost;
+        theta = t;
+        r = rt;
+        cost = c;
+        mu = std::max(mu / 5.0, 1e-12);
+        improved = true;
+        if (gain < 1e-12) return cost;
+      } else {
+        mu *= 8.0;
+      }
+    }
+    if (!improved) break;
+  }
+  return cost;
+}
+
+struct Uncertainty {
+  VectorXd peak;  // per mode: the largest |g_j q_j| over the record, output units
+  VectorXd theta_sd;
+  VectorXd beta;
+  VectorXd beta_sd;
+  double rss{0.0};
+};
+
+// The covariance of every parameter from the full Jacobian at the optimum, s^2 (J'J)^-1 with s^2
+// the residual variance: the first-order (Gauss-Newton) confidence region.
+Uncertainty uncertainty(const Model& model, const VectorXd& theta) {
+  Uncertainty u{};
+  VectorXd r;
+  const MatrixXd phi = model.regressors(theta);
+  u.beta = Model::solve(phi, model.y, r);
+  u.rss = r.squaredNorm();
+  const Index p = theta.size();
+  u.peak.resize(p / 2);
+  for (Index j = 0; j < p / 2; ++j) u.peak(j) = std::fabs(u.beta(2 + j)) * phi.col(2 + j).cwiseAbs().maxCoeff();
+  const Index q = phi.cols();
+  const Index n = r.size();
+  MatrixXd jac(n, p + q);
+  for (Index k = 0; k < p; ++k) {
+    VectorXd t = theta;
+    const double step = (k % 2 == 0 ? 1e-6 * theta(k) : 1e-6 * std::max(theta(k), 1e-2));
+    t(k) += step;
+    const MatrixXd pk = model.regressors(t);
+    jac.col(k) = (pk - phi) * u.beta / step;
+  }
+  jac.rightCols(q) = phi;
+  VectorXd scale = jac.colwise().norm().transpose();
+  for (Index i = 0; i < scale.size(); ++i) scale(i) = scale(i) > 0.0 ? scale(i) : 1.0;
+  const MatrixXd js = jac * scale.cwiseInverse().asDiagonal();
+  const MatrixXd inv = (js.transpose() * js).ldlt().solve(MatrixXd::Identity(p + q, p + q));
+  const double s2 = u.rss / static_cast<double>(std::max<Index>(n - p - q, 1));
+  const VectorXd var = inv.diagonal().cwiseQuotient(scale.cwiseAbs2()) * s2;
+  const VectorXd sd = var.cwiseMax(0.0).cwiseSqrt();
+  u.theta_sd = sd.head(p);
+  u.beta_sd = sd.tail(q);
+  return u;
+}
+
+VectorXd without_mode(const VectorXd& theta, Index j) {
+  VectorXd t(theta.size() - 2);
+  t << theta.head(2 * j), theta.tail(theta.size() - 2 * j - 2);
+  return t;
+}
+
+// Fits theta, then drops the least significant mode until every one left stands out of the noise
+// (gain at least min_significance standard errors, frequency determined), there are at most
+// max_modes, and each has at least min_relative_gain of the largest gain. `u` is the final fit's.
+void prune(const Model& model, const IdentifyOptions& opt, VectorXd& theta, Uncertainty& u, std::size_t& iterations) {
+  while (theta.size() > 0) {
+    (void)fit(model, theta, iterations);
+    u = uncertainty(model, theta);
+    const Index m = theta.size() / 2;
+    Index weakest = 0;
+    double weakest_t = std::numeric_limits<double>::infinity();
+    double largest = 0.0;
+    for (Index j = 0; j < m; ++j) {
+      const double g = std::fabs(u.beta(2 + j));
+      const double t = u.beta_sd(2 + j) > 0.0 ? g / u.beta_sd(2 + j) : std::numeric_limits<double>::infinity();
+      bool undetermined = !(u.theta_sd(2 * j) < 0.5 * theta(2 * j)) || !std::isfinite(u.theta_sd(2 * j + 1));
+      // A mode that never moves the load by more than a few counts (and three times the fit's rms)
+      // is not measured: it is what the model cannot otherwise explain (quantisation, a drive
+      // whose motion between samples is not linear).
+      const double rms = std::sqrt(u.rss / static_cast<double>(model.y.size()));
+      undetermined = undetermined || u.peak(j) < std::max(3.0 * model.load_count, 3.0 * rms);
+      // Two modes at one frequency are one mode split in two (their gains cancel): drop one.
+      for (Index k = 0; k < j; ++k) undetermined = undetermined || std::fabs(theta(2 * k) / theta(2 * j) - 1.0) < 0.02;
+      const double score = undetermined ? 0.0 : t;
+      if (score < weakest_t) {
+        weakest_t = score;
+        weakest = j;
+      }
+      largest = std::max(largest, g);
+    }
+    if (weakest_t < opt.min_significance || m > static_cast<Index>(opt.max_modes)) {
+      theta = without_mode(theta, weakest);
+      continue;
+    }
+    Index smallest = 0;
+    for (Index j = 1; j < m; ++j) {
+      if (std::fabs(u.beta(2 + j)) < std::fabs(u.beta(2 + smallest))) smallest = j;
+    }
+    if (std::fabs(u.beta(2 + smallest)) < opt.min_relative_gain * largest) {
+      theta = without_mode(theta, smallest);
+      continue;
+    }
+    return;
+  }
+  u = uncertainty(model, theta);
+}
+
+// The (omega, zeta) on a grid (omega from omega_lo to 0.9 Nyquist in 8 % steps; zeta 0.02, 0.08,
+// 0.25) whose mode response, added to theta's regressors, most reduces the residual: the
+// projection of the residual on the new column once the existing ones are projected out.
+Eigen::Vector2d best_addition(const Model& model, const VectorXd& theta, double omega_lo) {
+  const MatrixXd phi = model.regressors(theta);
+  const Eigen::HouseholderQR<MatrixXd> qr(phi);
+  const MatrixXd q = qr.householderQ() * MatrixXd::Identity(phi.rows(), phi.cols());
+  const VectorXd r = model.y - q * (q.transpose() * model.y);
+  VectorXd u(model.x.size());
+  Eigen::Vector2d best{omega_lo, 0.05};
+  double best_score = -1.0;
+  const std::span<const double> xs{model.x.data(), static_cast<std::size_t>(model.x.size())};
+  const std::span<double> us{u.data(), static_cast<std::size_t>(u.size())};
+  for (double w = omega_lo; w < 0.9 * kPi / model.h; w *= 1.08) {
+    for (const double zeta : {0.02, 0.08, 0.25}) {
+      mode_response(w, zeta, model.h, xs, us);
+      u -= q * (q.transpose() * u);
+      const double uu = u.squaredNorm();
+      if (!(uu > 0.0)) continue;
+      const double ur = u.dot(r);
+      const double score = ur * ur / uu;
+      if (score > best_score) {
+        best_score = score;
+        best = {w, zeta};
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+void mode_response(double omega, double zeta, double period_s, std::span<const double> x, std::span<double> q) {
+  // State (q, r = q' - v) with v the base velocity, constant over each period: r is continuous
+  // where v jumps, and within a period d/dt (q, r) = A (q, r) + B v exactly.
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  m(0, 1) = 1.0;
+  m(1, 0) = -omega * omega;
+  m(1, 1) = -2.0 * zeta * omega;
+  m(0, 2) = 1.0;
+  m(1, 2) = -2.0 * zeta * omega;
+  const Eigen::Matrix3d e = (m * period_s).exp();
+  const double p00 = e(0, 0), p01 = e(0, 1), p10 = e(1, 0), p11 = e(1, 1), g0 = e(0, 2), g1 = e(1, 2);
+  double s0 = 0.0;
+  double s1 = 0.0;
+  const std::size_t n = std::min(x.size(), q.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    q[k] = s0;
+    if (k + 1 == n) break;
+    const double v = (x[k + 1] - x[k]) / period_s;
+    const double a = p00 * s0 + p01 * s1 + g0 * v;
+    s1 = p10 * s0 + p11 * s1 + g1 * v;
+    s0 = a;
+  }
+}
+
+IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& opt) {
+  IdentifyResult res{};
+  const std::size_t n = in.motor.size();
+  const bool scales_ok = std::isfinite(in.period_s) && in.period_s > 0.0 && std::isfinite(in.counts_per_unit) &&
+                         in.counts_per_unit > 0.0 && std::isfinite(in.load_counts_per_unit) &&
+                         in.load_counts_per_unit > 0.0;
+  if (n != in.load.size() || !scales_ok || opt.max_modes < 1 || opt.max_modes > kMaxIdentifyModes ||
+      !(opt.confidence >= 0.5 && opt.confidence <= 0.999) ||
+      !(opt.min_relative_gain >= 0.0 && opt.min_relative_gain < 1.0) || !(opt.min_significance > 0.0)) {
+    res.status = IdentifyStatus::bad_input;
+    return res;
+  }
+  if (n > kMaxIdentifySamples) {
+    res.status = IdentifyStatus::too_many_samples;
+    return res;
+  }
+  std::size_t first = 0;
+  while (first < n && in.motor[first] == in.motor[0]) ++first;
+  if (first >= n) {
+    res.status = IdentifyStatus::no_motion;
+    return res;
+  }
+  std::size_t end = n;
+  while (end > 0 && in.motor[end - 1] == in.motor[n - 1]) --end;
+  res.motion_start = first;
+  res.motion_end = end;
+  if (n - end < kMinFreeSamples) {
+    res.status = IdentifyStatus::free_response_too_short;
+    return res;
+  }
+  const double h = in.period_s;
+  const auto ni = static_cast<Index>(n);
+  VectorXd x(ni);
+  VectorXd y(ni);
+  for (Index k = 0; k < ni; ++k) {
+    x(k) = in.motor[static_cast<std::size_t>(k)] / in.counts_per_unit;
+    y(k) = in.load[static_cast<std::size_t>(k)] / in.load_counts_per_unit;
+  }
+
+  // Candidates from the free response (mean removed: the rest position is a pole at 1).
+  VectorXd z = y.tail(ni - static_cast<Index>(end));
+  z.array() -= z.mean();
+  const std::size_t max_order = 2 * opt.max_modes + 1;
+  std::vector<Candidate> cands = pencil(z, h, max_order, res.pencil_order, res.noise_rms);
+  std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.omega < b.omega; });
+  VectorXd theta(2 * static_cast<Index>(cands.size()));
+  for (std::size_t j = 0; j < cands.size(); ++j) {
+    theta(2 * static_cast<Index>(j)) = cands[j].omega;
+    theta(2 * static_cast<Index>(j) + 1) = cands[j].zeta;
+  }
+  clamp(theta, h);
+
+  // The pencil's candidates, pruned to the significant ones; then, while there is room, the mode
+  // that best explains what is left (a scan over frequency and damping), kept only if it too is
+  // significant after the joint fit.
+  const Model model{x, y, h, 1.0 / in.load_counts_per_unit};
+  Uncertainty u{};
+  prune(model, opt, theta, u, res.iterations);
+  const double t_free = static_cast<double>(n - end) * h;
+  while (theta.size() / 2 < static_cast<Index>(opt.max_modes)) {
+    VectorXd trial(theta.size() + 2);
+    trial << theta, best_addition(model, theta, 2.0 * kPi / t_free);
+    Uncertainty ut{};
+    prune(model, opt, trial, ut, res.iterations);
+    if (trial.size() <= theta.size()) break;
+    theta = trial;
+    u = ut;
+  }
+  if (theta.size() == 0) {
+    res.status = IdentifyStatus::response_too_small;
+    return res;
+  }
+
+  const double zq = normal_quantile(opt.confidence);
+  const Index m = theta.size() / 2;
+  for (Index j = 0; j < m; ++j) {
+    IdentifiedMode md{};
+    md.omega = theta(2 * j);
+    md.zeta = theta(2 * j + 1);
+    md.gain = u.beta(2 + j);
+    md.omega_sd = u.theta_sd(2 * j);
+    md.zeta_sd = u.theta_sd(2 * j + 1);
+    md.gain_sd = u.beta_sd(2 + j);
+    md.omega_lo = std::max(md.omega - zq * md.omega_sd, 0.0);
+    md.omega_hi = md.omega + zq * md.omega_sd;
+    md.zeta_lo = std::max(md.zeta - zq * md.zeta_sd, 0.0);
+    md.zeta_hi = md.zeta + zq * md.zeta_sd;
+    res.modes.push_back(md);
+  }
+  std::sort(res.modes.begin(), res.modes.end(),
+            [](const IdentifiedMode& a, const IdentifiedMode& b) { return a.omega < b.omega; });
+  const MatrixXd phi = model.regressors(theta);
+  const VectorXd fitted = phi * u.beta;
+  res.fitted_load.assign(fitted.data(), fitted.data() + fitted.size());
+  res.rms_residual = std::sqrt(u.rss / static_cast<double>(n));
+  res.rigid_gain = u.beta(0);
+  res.offset = u.beta(1);
+  res.peak_deflection = (phi.rightCols(m) * u.beta.tail(m)).cwiseAbs().maxCoeff();
+  res.order = 2 * static_cast<std::size_t>(m);
+  res.status = IdentifyStatus::ok;
+  return res;
+}
+
+}  // namespace settle::sim
