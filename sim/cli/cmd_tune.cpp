@@ -305,7 +305,7 @@ int cmd_tune(int argc, char** argv) {
   const sim::TuneCandidate& chosen = result.candidates[result.chosen];
 
   Json j = plan_json(chosen.move);
-  j["family"] = family_json(chosen);
+  j["candidate"] = family_json(chosen);  // "family" is the plan's own key (which family of a profile won)
   j["request"] = request_json(chosen.request);
   j["robust_band"] = band_json(result, chosen, band);
   j["worst_residual"] = chosen.worst.residual;

@@ -67,7 +67,7 @@ TEST(CliTune, TheChosenPlanIsPrintedAsPlanPrintsItWithItsBand) {
   for (auto it = plan.begin(); it != plan.end(); ++it) plan_keys.push_back(it.key());
   for (auto it = j.begin(); it != j.end(); ++it) tune_keys.push_back(it.key());
   for (const std::string& k : plan_keys) EXPECT_TRUE(j.contains(k)) << k;
-  for (const char* k : {"robust_band", "worst_residual", "residual_max", "family", "request", "alternatives"}) {
+  for (const char* k : {"robust_band", "worst_residual", "residual_max", "candidate", "request", "alternatives"}) {
     EXPECT_TRUE(j.contains(k)) << k;
   }
   // The band is the identified intervals, sorted by omega, and the worst is within the bound.
@@ -110,7 +110,7 @@ TEST(CliTune, AOneModePlanIsExactlyWhatPlanPrintsForItsDesign) {
     SCOPED_TRACE(args);
     const Json t = run_json("tune " + args);
     const Json& rq = t.at("request");
-    const Json& family = t.at("family");
+    const Json& family = t.at("candidate");
     std::string plan = "plan --profile " + rq.at("profile").get<std::string>();
     for (const char* k : {"distance", "time", "vmax", "amax", "jmax", "omega", "zeta"}) {
       if (rq.contains(k)) {
@@ -222,7 +222,7 @@ TEST(CliTune, StreamPlanFromStreamsExactlyTheTunedPlan) {
   EXPECT_LE(measured.at("prv_can_percent").get<double>(), 5.0);
   // The plan is a shaped one (so the shaper's impulses travelled through the file too).
   EXPECT_GT(tuned.at("shaper").at("impulses").size(), 1u);
-  EXPECT_NE(tuned.at("family").at("shaper"), "none");
+  EXPECT_NE(tuned.at("candidate").at("shaper"), "none");
 }
 
 TEST(CliTune, PngDrawsTheChosenPlanAndTheOnesItBeat) {
