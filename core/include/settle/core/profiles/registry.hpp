@@ -32,7 +32,26 @@
   X(poly345, Poly345Profile)               \
   X(trapezoid, TrapezoidProfile)           \
   X(jerk_limited, JerkLimitedProfile)      \
-  X(fastest, FastestProfile)
+  SETTLE_CORE_PROFILE_FASTEST(X)
+
+// `fastest` holds a table of up to 31 constant-jerk segments, and a Profile is as large as its
+// largest shape: with it every Move<double> grows from about 1.1 to 2.9 KiB, more than the
+// Cortex-M images' stacks hold (their RAM is counted in KiB). On M-profile cores it is therefore
+// left out of the registry unless SETTLE_CORE_FASTEST=1 is defined. A drive does not need it to
+// follow such a move: the master (Linux, host or aarch64) plans it and streams its setpoints. It is
+// the last line, so the other kinds keep their values on every target.
+#ifndef SETTLE_CORE_FASTEST
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
+#define SETTLE_CORE_FASTEST 0
+#else
+#define SETTLE_CORE_FASTEST 1
+#endif
+#endif
+#if SETTLE_CORE_FASTEST
+#define SETTLE_CORE_PROFILE_FASTEST(X) X(fastest, FastestProfile)
+#else
+#define SETTLE_CORE_PROFILE_FASTEST(X)
+#endif
 
 namespace settle::core {
 
