@@ -17,7 +17,7 @@
 #include "settle/sim/figures.hpp"
 #include "settle/sim/identify_run.hpp"
 #include "settle/sim/stream_bus.hpp"
-#include "socketcan_open.hpp"
+#include "stream_bus_open.hpp"
 
 namespace settle::cli {
 
@@ -153,21 +153,10 @@ int cmd_identify(int argc, char** argv) {
   sim::IdentifyRunSpec spec{};
   if (const int rc = parse_spec(args, spec); rc >= 0) return rc;
 
-  const std::string bus_name = args.text("--bus", "vcan0");
-  const std::string candump = args.text("--candump").value_or("");
   hal::SocketCanBus socketcan;
-  std::unique_ptr<sim::StreamBus> bus;
-  if (bus_name == "loopback") {
-    bus = std::make_unique<sim::LoopbackStreamBus>(candump);
-  } else {
-    if (const hal::OpenStatus os = open_socketcan(socketcan, bus_name); os != hal::OpenStatus::ok) {
-      const std::string why = "cannot open " + bus_name + ": " + hal::to_string(os) + " (try --bus loopback)";
-      return failed("bus_unavailable", why, args.json(), error_doc("bus_unavailable", why));
-    }
-    const auto priority = static_cast<int>(args.integer("--rt-priority", 0));
-    const bool pm_qos = args.text("--pm-qos", "on") == "on";
-    bus = std::make_unique<sim::SocketCanStreamBus>(socketcan, bus_name, candump, priority, pm_qos);
-  }
+  std::string bus_error;
+  const std::unique_ptr<sim::StreamBus> bus = open_stream_bus(args, socketcan, bus_error);
+  if (!bus) return failed("bus_unavailable", bus_error, args.json(), error_doc("bus_unavailable", bus_error));
 
   const sim::IdentifyRunReport report = sim::run_identify(spec, *bus);
   if (!report.ok()) return failed(report.failure_code, report.failure, args.json(), sim::identify_json(spec, report));

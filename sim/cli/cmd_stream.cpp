@@ -16,7 +16,7 @@
 #include "settle/sim/stream.hpp"
 #include "settle/sim/stream_bus.hpp"
 #include "settle/sim/stream_report.hpp"
-#include "socketcan_open.hpp"
+#include "stream_bus_open.hpp"
 
 namespace settle::cli {
 
@@ -133,20 +133,10 @@ int cmd_stream(int argc, char** argv) {
   sim::StreamSpec spec{};
   if (const int rc = parse_spec(args, spec); rc >= 0) return rc;
 
-  const std::string bus_name = args.text("--bus", "vcan0");
-  const std::string candump = args.text("--candump").value_or("");
   hal::SocketCanBus socketcan;
-  std::unique_ptr<sim::StreamBus> bus;
-  if (bus_name == "loopback") {
-    bus = std::make_unique<sim::LoopbackStreamBus>(candump);
-  } else {
-    if (const hal::OpenStatus os = open_socketcan(socketcan, bus_name); os != hal::OpenStatus::ok) {
-      return failed("cannot open " + bus_name + ": " + hal::to_string(os) + " (try --bus loopback)");
-    }
-    const auto priority = static_cast<int>(args.integer("--rt-priority", 0));  // 0..99
-    const bool pm_qos = args.text("--pm-qos", "on") == "on";
-    bus = std::make_unique<sim::SocketCanStreamBus>(socketcan, bus_name, candump, priority, pm_qos);
-  }
+  std::string error;
+  const std::unique_ptr<sim::StreamBus> bus = open_stream_bus(args, socketcan, error);
+  if (!bus) return failed(error);
 
   const sim::StreamReport report = sim::run_stream(spec, *bus);
   if (!report.failure.empty()) return failed(report.failure);
