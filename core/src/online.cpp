@@ -344,48 +344,6 @@ bool within(const Peaks<double>& pk, const OnlineLimits& l) noexcept {
 
 }  // namespace
 
-Blend::Blend(const Sample<double>& start, double h, const std::array<double, kBlendSegments>& jerk) noexcept
-    : h_{h}, j_{jerk} {
-  p_[0] = start.p;
-  v_[0] = start.v;
-  a_[0] = start.a;
-  for (std::size_t k = 0; k < kBlendSegments; ++k) {
-    const double j = j_[k];
-    p_[k + 1] = p_[k] + h * (v_[k] + h * (a_[k] / 2.0 + h * j / 6.0));
-    v_[k + 1] = v_[k] + h * (a_[k] + h * j / 2.0);
-    a_[k + 1] = a_[k] + h * j;
-  }
-  p_end_ = p_[kBlendSegments];
-}
-
-Sample<double> Blend::at(double u) const noexcept {
-  if (!(u < duration())) return {p_end_, 0.0, 0.0, 0.0};
-  if (!(u > 0.0)) return {p_[0], v_[0], a_[0], j_[0]};
-  std::size_t k = static_cast<std::size_t>(u / h_);
-  if (k >= kBlendSegments) k = kBlendSegments - 1;
-  const double w = u - static_cast<double>(k) * h_;
-  const double j = j_[k];
-  return {p_[k] + w * (v_[k] + w * (a_[k] / 2.0 + w * j / 6.0)), v_[k] + w * (a_[k] + w * j / 2.0), a_[k] + w * j,
-          j};
-}
-
-Peaks<double> Blend::peaks() const noexcept {
-  Peaks<double> pk{};
-  for (std::size_t k = 0; k <= kBlendSegments; ++k) {
-    pk.v = std::max(pk.v, std::fabs(v_[k]));
-    pk.a = std::max(pk.a, std::fabs(a_[k]));
-  }
-  for (std::size_t k = 0; k < kBlendSegments; ++k) {
-    const double j = j_[k];
-    pk.j = std::max(pk.j, std::fabs(j));
-    if (j != 0.0) {
-      const double w = -a_[k] / j;  // where a crosses zero: a velocity extremum
-      if (w > 0.0 && w < h_) pk.v = std::max(pk.v, std::fabs(v_[k] + w * (a_[k] + w * j / 2.0)));
-    }
-  }
-  return pk;
-}
-
 ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
   if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
   const Cx lam = pole(mode);
@@ -401,6 +359,47 @@ ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexce
   }
   const Cx q = Cx{-m.at(t).p, 0.0} - lam * acc;
   return {q.re, q.im};
+}
+
+namespace {
+// A blend seen from its start: its pieces less the start's position, at rest on end - start past
+// its end (profile_integral's view of a profile).
+struct BlendShape {
+  const Blend* b;
+  double p0;
+  [[nodiscard]] double duration() const noexcept { return b->duration(); }
+  [[nodiscard]] double distance() const noexcept { return b->end_position() - p0; }
+  [[nodiscard]] int piece_count() const noexcept { return b->piece_count(); }
+  [[nodiscard]] Piece piece(int i) const noexcept {
+    Piece pc = b->piece(i);
+    pc.c[0] -= p0;
+    return pc;
+  }
+};
+}  // namespace
+
+ModeMemory mode_memory(const Blend& b, const ModeMemory& at_start, double u, const Mode& mode) noexcept {
+  if (!(u > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return at_start;
+  // Q(u) = e^{lambda u} Q(0) - int_0^u e^{lambda (u - w)} b'(w) dw, and with c(w) = b(w) - b(0) the
+  // integral is c(u) + lambda int_0^u e^{lambda (u - w)} c(w) dw (by parts; c(0) = 0).
+  const Cx lam = pole(mode);
+  const BlendShape shape{&b, b.start().p};
+  const Cx f = profile_integral(shape, lam, u);
+  const Cx q = cexp(u * lam) * Cx{at_start.re, at_start.im} - Cx{b.at(u).p - shape.p0, 0.0} - lam * f;
+  return {q.re, q.im};
+}
+
+Status online_request(const Blend& b, const OnlineRequest& planned, double u, std::optional<double> target,
+                      OnlineRequest& out) noexcept {
+  if (!std::isfinite(u) || (target && !std::isfinite(*target))) return Status::non_finite_input;
+  if (planned.mode_count > kMaxOnlineModes) return Status::unsupported_request;
+  OnlineRequest r = planned;
+  r.start = b.at(std::max(u, 0.0));
+  r.start.j = 0.0;
+  r.target = target;
+  for (std::size_t i = 0; i < r.mode_count; ++i) r.memory[i] = mode_memory(b, planned.memory[i], u, r.modes[i]);
+  out = r;
+  return Status::ok;
 }
 
 Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,

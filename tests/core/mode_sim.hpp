@@ -57,18 +57,43 @@ inline ModeState state_at_switch(const core::Move<double>& m, double t_switch, d
   return s;
 }
 
-// Residual amplitude of the mode once the whole command (move to t_switch, then the blend) is over.
-inline double residual_after_blend(const core::Move<double>& m, double t_switch, const core::Blend& b, double omega,
-                                   double zeta) {
-  ModeState s = state_at_switch(m, t_switch, omega, zeta);
+// Continues `s` along blend b from its start (at t0 on the command's clock) to u_end on its clock,
+// segment by segment.
+inline void along_blend(ModeState& s, const core::Blend& b, double t0, double u_end, double omega, double zeta) {
   const double h = b.segment_length();
   for (std::size_t k = 0; k < core::kBlendSegments; ++k) {
     const double u0 = static_cast<double>(k) * h;
-    integrate(s, omega, zeta, t_switch + u0, t_switch + u0 + h,
-              [&](double t) { return b.at(std::clamp(t - t_switch, u0, u0 + h)).a; });
+    if (!(u0 < u_end)) break;
+    const double u1 = std::min(u0 + h, u_end);
+    integrate(s, omega, zeta, t0 + u0, t0 + u1, [&](double t) { return b.at(std::clamp(t - t0, u0, u1)).a; });
   }
+}
+
+inline double amplitude(const ModeState& s, double omega, double zeta) {
   const double wd = omega * std::sqrt(1.0 - zeta * zeta);
   return std::hypot(s.e, (s.de + zeta * omega * s.e) / wd);
+}
+
+// The mode's state at u on the blend's clock (move to t_switch, then the blend).
+inline ModeState state_in_blend(const core::Move<double>& m, double t_switch, const core::Blend& b, double u,
+                                double omega, double zeta) {
+  ModeState s = state_at_switch(m, t_switch, omega, zeta);
+  along_blend(s, b, t_switch, u, omega, zeta);
+  return s;
+}
+
+// Residual amplitude of the mode once the whole command (move to t_switch, then the blend) is over.
+inline double residual_after_blend(const core::Move<double>& m, double t_switch, const core::Blend& b, double omega,
+                                   double zeta) {
+  return amplitude(state_in_blend(m, t_switch, b, b.duration(), omega, zeta), omega, zeta);
+}
+
+// The same for a command changed twice: the move to t1, blend b1 to u2 on its clock, then b2.
+inline double residual_after_blends(const core::Move<double>& m, double t1, const core::Blend& b1, double u2,
+                                    const core::Blend& b2, double omega, double zeta) {
+  ModeState s = state_in_blend(m, t1, b1, u2, omega, zeta);
+  along_blend(s, b2, t1 + u2, b2.duration(), omega, zeta);
+  return amplitude(s, omega, zeta);
 }
 
 }  // namespace settle::test

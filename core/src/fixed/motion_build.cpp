@@ -68,15 +68,21 @@ struct UnitShape {
   }
 };
 
-// The pieces of a profile, produced on demand (so that no array of doubles sits on an M0 stack).
+// The pieces of a profile or of a blend, produced on demand (so that no array of doubles sits on
+// an M0 stack).
 class Pieces {
  public:
   Status init(const Profile<double>& prof, const Ctx& ctx, std::size_t capacity) noexcept {
     prof_ = &prof;
     return prof.visit([&](const auto& p) { return init_one(p, ctx, capacity); });
   }
+  Status init(const Blend& b) noexcept {
+    blend_ = &b;
+    return init_one(b, Ctx{}, 0);
+  }
   [[nodiscard]] int count() const noexcept { return count_; }
   [[nodiscard]] Piece get(int i) const noexcept {
+    if (blend_ != nullptr) return blend_->piece(i);
     return prof_->visit([&](const auto& p) { return get_one(p, i); });
   }
 
@@ -108,6 +114,7 @@ class Pieces {
   }
 
   const Profile<double>* prof_{nullptr};
+  const Blend* blend_{nullptr};
   int count_{0};
   std::array<double, kMaxFitPieces + 1> knots_{};
 };
@@ -351,23 +358,23 @@ bool fits_output(double peak, int frac) noexcept {
   return std::ldexp(peak * (1.0 + 0x1p-20), frac) + 2.0 < 0x1p31;
 }
 
-}  // namespace
-
-Status build_motion(const Move<double>& move, const Scale& scale, const MotionStorage& out) noexcept {
-  Ctx ctx{};
-  Status st = build::make_ctx(scale, ctx);
-  if (st != Status::ok) return st;
-  const double dist = move.distance() * ctx.cpu;
+// Where the command rests (units) and how long it lasts (s), within the formats' ranges.
+Status check_extent(double distance, double duration, const Ctx& ctx) noexcept {
+  const double dist = distance * ctx.cpu;
   if (!std::isfinite(dist) || !(std::fabs(dist) < build::kTwo30)) return Status::distance_does_not_fit;
-  if (!(move.duration() / ctx.dt < build::kTwo30)) return Status::duration_does_not_fit;
+  if (!(duration / ctx.dt < build::kTwo30)) return Status::duration_does_not_fit;
+  return Status::ok;
+}
 
-  Pieces pieces{};
-  st = pieces.init(move.profile(), ctx, out.seg_capacity);
-  if (st != Status::ok) return st;
+// The pieces with the shaper's tracks (check_extent passed): every check first, then the same
+// conversions written. `pk` are the command's peaks, `distance` where it rests (units).
+Status build_from(const Pieces& pieces, const Shaper<double>& shaper, const Peaks<double>& pk, double distance,
+                  const Ctx& ctx, const MotionStorage& out) noexcept {
+  const double dist = distance * ctx.cpu;
   if (static_cast<std::size_t>(pieces.count()) > out.seg_capacity) return Status::table_too_small;
   TrackSet tracks{};
-  if (move.shaper().count > out.trk_capacity) return Status::too_many_impulses;
-  st = make_tracks(move.shaper(), ctx, tracks);
+  if (shaper.count > out.trk_capacity) return Status::too_many_impulses;
+  Status st = make_tracks(shaper, ctx, tracks);
   if (st != Status::ok) return st;
 
   // Pass 1: every check, nothing written.
@@ -384,7 +391,6 @@ Status build_motion(const Move<double>& move, const Scale& scale, const MotionSt
   if (!(worst.p * tracks.weight_sum < build::kTwo30)) return Status::distance_does_not_fit;
   if (!(worst.v * tracks.weight_sum < build::kTwo30)) return Status::velocity_does_not_fit;
   if (!(worst.a * tracks.weight_sum < build::kTwo30)) return Status::acceleration_does_not_fit;
-  const Peaks<double>& pk = move.peaks();
   const double vpk = std::isfinite(pk.v) ? pk.v * ctx.cpu * ctx.dt : worst.v * tracks.weight_sum;
   const double apk = std::isfinite(pk.a) ? pk.a * ctx.cpu * ctx.dt * ctx.dt : worst.a * tracks.weight_sum;
   if (!fits_output(vpk, ctx.vf)) return Status::velocity_does_not_fit;
@@ -412,6 +418,33 @@ Status build_motion(const Move<double>& move, const Scale& scale, const MotionSt
   h.a_frac = static_cast<std::uint8_t>(ctx.af);
   h.unit_weight = tracks.n == 1;
   return Status::ok;
+}
+
+}  // namespace
+
+Status build_motion(const Move<double>& move, const Scale& scale, const MotionStorage& out) noexcept {
+  Ctx ctx{};
+  Status st = build::make_ctx(scale, ctx);
+  if (st != Status::ok) return st;
+  st = check_extent(move.distance(), move.duration(), ctx);
+  if (st != Status::ok) return st;
+  Pieces pieces{};
+  st = pieces.init(move.profile(), ctx, out.seg_capacity);
+  if (st != Status::ok) return st;
+  return build_from(pieces, move.shaper(), move.peaks(), move.distance(), ctx, out);
+}
+
+Status build_blend_motion(const Blend& blend, const Scale& scale, const MotionStorage& out) noexcept {
+  Ctx ctx{};
+  Status st = build::make_ctx(scale, ctx);
+  if (st != Status::ok) return st;
+  st = check_extent(blend.end_position(), blend.duration(), ctx);
+  if (st != Status::ok) return st;
+  Pieces pieces{};
+  st = pieces.init(blend);
+  if (st != Status::ok) return st;
+  // One track of weight 1: a blend is not shaped, it is the command itself from the switch on.
+  return build_from(pieces, Shaper<double>{}, blend.peaks(), blend.end_position(), ctx, out);
 }
 
 }  // namespace settle::core::fixed::detail

@@ -4,12 +4,14 @@
 // The derivation (mode memory, the conditions on the blend, the solver) is in docs/online.md.
 // Freestanding: no heap, no exceptions; a plan costs a few microseconds on a host.
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <optional>
 
 #include "settle/core/kinematics.hpp"
 #include "settle/core/move.hpp"
 #include "settle/core/move_request.hpp"  // Mode: one (omega, zeta), the same a request designs for
+#include "settle/core/piece.hpp"
 #include "settle/core/status.hpp"
 
 namespace settle::core {
@@ -49,28 +51,98 @@ struct OnlineRequest {
 };
 
 // A blend: kBlendSegments constant-jerk segments of length h from the switch state to rest.
-// Its clock starts at the switch (u = 0); past its end it is at rest on its final position.
-class Blend {
+// Its clock starts at the switch (u = 0); past its end it is at rest on its final position. Planned
+// in double (plan_online); a servo loop evaluates it in its own scalar like every move: the float
+// copy (BasicBlend<float>{blend}) converts the segment table, not the plan, and the fixed-point
+// evaluation quantises its pieces (piece(), the same decomposition the profiles give).
+template <typename T>
+class BasicBlend {
  public:
-  Blend() = default;
-  Blend(const Sample<double>& start, double h, const std::array<double, kBlendSegments>& jerk) noexcept;
+  BasicBlend() = default;
+  BasicBlend(const Sample<T>& start, T h, const std::array<T, kBlendSegments>& jerk) noexcept : h_{h}, j_{jerk} {
+    p_[0] = start.p;
+    v_[0] = start.v;
+    a_[0] = start.a;
+    for (std::size_t k = 0; k < kBlendSegments; ++k) {
+      const T j = j_[k];
+      p_[k + 1] = p_[k] + h * (v_[k] + h * (a_[k] / T(2) + h * j / T(6)));
+      v_[k + 1] = v_[k] + h * (a_[k] + h * j / T(2));
+      a_[k + 1] = a_[k] + h * j;
+    }
+    p_end_ = p_[kBlendSegments];
+  }
+  // The same segment table in another scalar (each value rounded once, none recomputed).
+  template <typename U>
+  explicit BasicBlend(const BasicBlend<U>& o) noexcept
+      : h_{static_cast<T>(o.segment_length())}, p_end_{static_cast<T>(o.end_position())} {
+    for (std::size_t k = 0; k <= kBlendSegments; ++k) {
+      const Sample<U> s = o.knot(k);
+      p_[k] = static_cast<T>(s.p);
+      v_[k] = static_cast<T>(s.v);
+      a_[k] = static_cast<T>(s.a);
+      if (k < kBlendSegments) j_[k] = static_cast<T>(o.jerk(k));
+    }
+  }
 
-  [[nodiscard]] Sample<double> at(double u) const noexcept;
-  [[nodiscard]] double duration() const noexcept { return h_ * static_cast<double>(kBlendSegments); }
-  [[nodiscard]] double segment_length() const noexcept { return h_; }
-  [[nodiscard]] double jerk(std::size_t k) const noexcept { return j_[k]; }
-  [[nodiscard]] Sample<double> start() const noexcept { return {p_[0], v_[0], a_[0], 0.0}; }
+  [[nodiscard]] Sample<T> at(T u) const noexcept {
+    if (!(u < duration())) return {p_end_, T(0), T(0), T(0)};
+    if (!(u > T(0))) return {p_[0], v_[0], a_[0], j_[0]};
+    auto k = static_cast<std::size_t>(u / h_);
+    if (k >= kBlendSegments) k = kBlendSegments - 1;
+    const T w = u - static_cast<T>(k) * h_;
+    const T j = j_[k];
+    return {p_[k] + w * (v_[k] + w * (a_[k] / T(2) + w * j / T(6))), v_[k] + w * (a_[k] + w * j / T(2)),
+            a_[k] + w * j, j};
+  }
+  [[nodiscard]] T duration() const noexcept { return h_ * static_cast<T>(kBlendSegments); }
+  [[nodiscard]] T segment_length() const noexcept { return h_; }
+  [[nodiscard]] T jerk(std::size_t k) const noexcept { return j_[k]; }
+  [[nodiscard]] Sample<T> start() const noexcept { return knot(0); }
+  // p, v, a at the start of segment k (k = kBlendSegments: the end); j is 0.
+  [[nodiscard]] Sample<T> knot(std::size_t k) const noexcept { return {p_[k], v_[k], a_[k], T(0)}; }
   // Position at rest at the end (units, on the running move's position scale).
-  [[nodiscard]] double end_position() const noexcept { return p_end_; }
+  [[nodiscard]] T end_position() const noexcept { return p_end_; }
   // Exact peaks of |v|, |a|, |j| over the blend (a is piecewise linear, v piecewise quadratic).
-  [[nodiscard]] Peaks<double> peaks() const noexcept;
+  [[nodiscard]] Peaks<T> peaks() const noexcept {
+    Peaks<T> pk{};
+    for (std::size_t k = 0; k <= kBlendSegments; ++k) {
+      pk.v = std::fmax(pk.v, std::fabs(v_[k]));
+      pk.a = std::fmax(pk.a, std::fabs(a_[k]));
+    }
+    for (std::size_t k = 0; k < kBlendSegments; ++k) {
+      const T j = j_[k];
+      pk.j = std::fmax(pk.j, std::fabs(j));
+      if (j != T(0)) {
+        const T w = -a_[k] / j;  // where a crosses zero: a velocity extremum
+        if (w > T(0) && w < h_) pk.v = std::fmax(pk.v, std::fabs(v_[k] + w * (a_[k] + w * j / T(2))));
+      }
+    }
+    return pk;
+  }
+  // Its exact decomposition into pieces (piece.hpp): segment k is the cubic
+  // p_k + v_k h s + a_k h^2 s^2 / 2 + j_k h^3 s^3 / 6 in its phase s. None when it has no duration.
+  [[nodiscard]] int piece_count() const noexcept { return h_ > T(0) ? static_cast<int>(kBlendSegments) : 0; }
+  [[nodiscard]] Piece piece(int i) const noexcept {
+    const auto k = static_cast<std::size_t>(i);
+    const double h = static_cast<double>(h_);
+    Piece pc{};
+    pc.start = static_cast<double>(k) * h;
+    pc.length = h;
+    pc.c[0] = static_cast<double>(p_[k]);
+    pc.c[1] = static_cast<double>(v_[k]) * h;
+    pc.c[2] = static_cast<double>(a_[k]) * h * h / 2.0;
+    pc.c[3] = static_cast<double>(j_[k]) * h * h * h / 6.0;
+    return pc;
+  }
 
  private:
-  double h_{0.0};
-  std::array<double, kBlendSegments + 1> p_{}, v_{}, a_{};
-  std::array<double, kBlendSegments> j_{};
-  double p_end_{0.0};
+  T h_{0};
+  std::array<T, kBlendSegments + 1> p_{}, v_{}, a_{};
+  std::array<T, kBlendSegments> j_{};
+  T p_end_{0};
 };
+
+using Blend = BasicBlend<double>;
 
 // Plans the fastest blend (within its family, docs/online.md) that meets the request within the
 // limits. A failed plan leaves `out` untouched.
@@ -81,5 +153,16 @@ class Blend {
 [[nodiscard]] Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
                                     const OnlineLimits& limits, std::optional<double> target,
                                     OnlineRequest& out) noexcept;
+
+// A blend's own mode memory: Q at u on the clock of blend `b`, of the command that reached the
+// blend's start with memory `at_start` and then followed the blend (the composition rule,
+// docs/online.md), from the blend's exact pieces. u past its end: the blend at rest on its end.
+[[nodiscard]] ModeMemory mode_memory(const Blend& b, const ModeMemory& at_start, double u, const Mode& mode) noexcept;
+
+// The request of a second change while a blend runs: halt or retarget (target: from the running
+// move's start, as before) at u on the clock of blend `b`, planned from `planned` (its start's
+// memory, its modes and limits are kept). A command changed twice leaves every mode at rest.
+[[nodiscard]] Status online_request(const Blend& b, const OnlineRequest& planned, double u,
+                                    std::optional<double> target, OnlineRequest& out) noexcept;
 
 }  // namespace settle::core

@@ -33,6 +33,19 @@ template <typename Scalar>
   return period_us > 0 && stream_ticks(m, period_us) <= kMaxStreamTicks ? Status::ok : Status::duration_does_not_fit;
 }
 
+// A position (units from tick 0's origin) as the drive's target: rounded to whole counts, then
+// added to the origin modulo 2^32 (positions wrap as a drive's position counter does); a
+// displacement beyond +-2^31 counts saturates (the loop refuses such moves when they are submitted).
+template <typename Scalar>
+[[nodiscard]] std::int32_t to_counts(Scalar p, Scalar counts_per_unit, std::int32_t origin) noexcept {
+  Scalar x = std::nearbyint(p * counts_per_unit);
+  constexpr Scalar lo = -2147483648.0;  // -2^31 and the largest float/double below 2^31
+  constexpr Scalar hi = std::is_same_v<Scalar, float> ? Scalar(2147483520.0F) : Scalar(2147483647.0);
+  x = x < lo ? lo : (x > hi ? hi : x);
+  const auto counts = static_cast<std::int32_t>(x);
+  return static_cast<std::int32_t>(static_cast<std::uint32_t>(origin) + static_cast<std::uint32_t>(counts));
+}
+
 template <typename Scalar>
 class SetpointStream {
  public:
@@ -47,18 +60,10 @@ class SetpointStream {
         origin_{origin} {}
 
   // The next target; `last` is set on the final one, the first tick at or after the move's end
-  // (where the move is exactly at rest on its distance). Positions wrap modulo 2^32 counts, as a
-  // drive's position counter does; a displacement beyond +-2^31 counts saturates (the loop
-  // refuses such moves when they are submitted).
+  // (where the move is exactly at rest on its distance), in counts as to_counts() gives them.
   [[nodiscard]] std::int32_t next(bool& last) noexcept {
     last = stepper_.tick() >= last_tick_;
-    const Sample<Scalar> s = stepper_.step();
-    Scalar x = std::nearbyint(s.p * counts_per_unit_);
-    constexpr Scalar lo = -2147483648.0;  // -2^31 and the largest float/double below 2^31
-    constexpr Scalar hi = std::is_same_v<Scalar, float> ? Scalar(2147483520.0F) : Scalar(2147483647.0);
-    x = x < lo ? lo : (x > hi ? hi : x);
-    const auto counts = static_cast<std::int32_t>(x);
-    return static_cast<std::int32_t>(static_cast<std::uint32_t>(origin_) + static_cast<std::uint32_t>(counts));
+    return to_counts(stepper_.step().p, counts_per_unit_, origin_);
   }
   [[nodiscard]] std::int32_t origin() const noexcept { return origin_; }
   // Moves tick 0 to another origin; before the first next() (a stream prepared in advance learns

@@ -11,6 +11,7 @@
 #include "settle/core/fixed/poly.hpp"
 #include "settle/core/fixed/qmath.hpp"
 #include "settle/core/move.hpp"
+#include "settle/core/online.hpp"
 #include "settle/core/status.hpp"
 
 namespace settle::core::fixed {
@@ -88,6 +89,7 @@ namespace detail {
 [[nodiscard]] Sample motion_next(const MotionView& m, TrackState* st, std::int32_t n) noexcept;
 void motion_restart(TrackState* st, std::size_t count) noexcept;
 [[nodiscard]] Status build_motion(const Move<double>& move, const Scale& scale, const MotionStorage& out) noexcept;
+[[nodiscard]] Status build_blend_motion(const Blend& blend, const Scale& scale, const MotionStorage& out) noexcept;
 }  // namespace detail
 
 template <std::size_t MaxSegments, std::size_t MaxTracks>
@@ -111,6 +113,11 @@ class BasicMotion {
   [[nodiscard]] Status build(const Move<double>& move, const Scale& scale) noexcept {
     return detail::build_motion(move, scale, {seg_.data(), MaxSegments, trk_.data(), MaxTracks, &hdr_});
   }
+  // Converts a blend (an online change, core/online.hpp): its pieces, one track of weight 1, tick 0
+  // at the switch, positions on the running move's scale. Needs kBlendSegments segments.
+  [[nodiscard]] Status build(const Blend& blend, const Scale& scale) noexcept {
+    return detail::build_blend_motion(blend, scale, {seg_.data(), MaxSegments, trk_.data(), MaxTracks, &hdr_});
+  }
 
  private:
   std::array<Segment, MaxSegments> seg_{};
@@ -122,6 +129,8 @@ class BasicMotion {
 using Motion = BasicMotion<8, 4>;
 // Room for the piecewise-quintic form of a pseudo-polynomial with non-integer exponents.
 using PolyMotion = BasicMotion<32, 4>;
+// A blend: its constant-jerk segments, one track.
+using BlendMotion = BasicMotion<kBlendSegments, 1>;
 
 // Converts `move` into `out`; see BasicMotion::build.
 template <std::size_t S, std::size_t K>
