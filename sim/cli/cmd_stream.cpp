@@ -66,11 +66,6 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
   }
   double reach_distance = std::fabs(move.distance());
   if (change) {
-    if (spec.scalar != sim::StreamScalar::double_precision) {
-      return report_bad_request({"unsupported_request", "--scalar",
-                                 std::string{"--scalar: "} + change->option + " needs the double evaluation (double)"},
-                                json);
-    }
     spec.change = sim::StreamChange{change->at, change->target, change->modes, change->limits, change->blend};
     reach_distance = std::fmax(reach_distance, std::fabs(change->blend.end_position()));
   }

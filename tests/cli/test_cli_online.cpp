@@ -112,8 +112,24 @@ TEST(CliOnline, StreamHaltAndRetargetAreSwitchedInByTheLoop) {
     EXPECT_EQ(j.at("step_guard_trips").get<int>(), 0);
     EXPECT_LE(j.at("residual_continuous").get<double>(), 1e-9 * 0.1);
   }
-  expect_refused(kStreamMove + "--halt-at 0.2 --scalar float", "--scalar", "unsupported_request");
   expect_refused(kStreamMove + "--halt-at 0.9", "--halt-at", "out_of_range");
+}
+
+// In float and fixed point the loop streams the blend in its own scalar: the replay of those
+// setpoints (the move's and then the blend's, as the evaluation gives them) aligns with the CAN
+// feedback, and they stay within a count of the double evaluation's.
+TEST(CliOnline, StreamChangesInFloatAndFixedPointToo) {
+  for (const char* scalar : {"float", "fixed"}) {
+    for (const char* change : {"--halt-at 0.2", "--retarget-at 0.2:0.03"}) {
+      SCOPED_TRACE(std::string{scalar} + " " + change);
+      const auto j = run_json(kStreamMove + change + " --scalar " + scalar);
+      EXPECT_EQ(j.at("outcome"), "completed");
+      EXPECT_TRUE(j.at("aligned").get<bool>());
+      EXPECT_EQ(j.at("step_guard_trips").get<int>(), 0);
+      EXPECT_LE(j.at("setpoints_vs_double_max_counts").get<int>(), 1);
+      EXPECT_LE(j.at("residual_continuous").get<double>(), 1e-9 * 0.1);
+    }
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <memory>
 #include <new>
 
 #include "settle/firmware/servo_loop.hpp"
@@ -154,13 +155,16 @@ TEST(NoAllocation, TheFaultPathsMakeNoHeapCalls) {
   EXPECT_GT(events, 100u);
 }
 
-// Online halts (issue 17): halt() posts, service() plans the blend and the tick switches to it,
-// every move, 200 000 ticks: neither the planning nor the switch touches the heap.
-TEST(NoAllocation, HaltsPlannedAndSwitchedInMakeNoHeapCalls) {
+// Online halts (issue 17): halt() posts, service() plans the blend and converts it to the loop's
+// scalar, and the tick switches to it, every move, 200 000 ticks: neither the planning, the
+// conversion nor the switch touches the heap. In double, float and fixed point.
+template <typename Loop>
+void halts_without_heap() {
   hal::LoopbackHub hub;
   hal::LoopbackBus<256> master{hub};
   hal::testing::IdealDrive<> drive{hub, hal::canopen::DriveNodeConfig{}};
-  FloatLoop loop{master, 1000};
+  auto owned = std::make_unique<Loop>(master, 1000);  // before counting starts
+  Loop& loop = *owned;
   firmware::AxisConfig a{};
   a.drive.heartbeat_timeout_ms = 500;
   ASSERT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
@@ -199,5 +203,14 @@ TEST(NoAllocation, HaltsPlannedAndSwitchedInMakeNoHeapCalls) {
   g_counting = false;
   EXPECT_EQ(g_allocations.load(), 0);
   EXPECT_GT(loop.online_switches(0), 100u);
+  EXPECT_EQ(loop.online_missed(0), 0u);
   EXPECT_EQ(loop.axis_stats(0).step_guard_trips, 0u);
+}
+
+TEST(NoAllocation, HaltsPlannedAndSwitchedInMakeNoHeapCalls) { halts_without_heap<FloatLoop>(); }
+TEST(NoAllocation, HaltsInTheSinglePrecisionLoopMakeNoHeapCalls) {
+  halts_without_heap<firmware::ServoLoop<float, 1, 2, firmware::FloatEvaluation<float>, hal::CanBus, true>>();
+}
+TEST(NoAllocation, HaltsInTheFixedPointLoopMakeNoHeapCalls) {
+  halts_without_heap<firmware::ServoLoop<double, 1, 2, firmware::FixedEvaluation, hal::CanBus, true>>();
 }

@@ -12,8 +12,10 @@
 // Report evaluators-<board>.txt, one line per measurement:
 //   cost <move> <evaluator> min <n> mean <n.nn> max <n> calls <n>
 // and `built <move> ok|<status>` per move; the image fails if any build fails. Where there is an
-// FPU, also `halt_plan scurve ok|<status>` and `cost scurve halt_plan ...`: the instructions of
-// planning a halt of the S-curve half-way (core/online.hpp; issue 17).
+// FPU, also `halt_plan <move> ok|<status>` and `cost <move> halt_plan ...`: the instructions of
+// planning a halt of the unshaped S-curves half-way (core/online.hpp; issue 17), and per tick of
+// the planned blend as the servo loop streams it: `blend_float` (core::BasicBlend<float>::at, the
+// FloatEvaluation<float>'s) and `blend_fixed_pos` (its fixed-point position plan, FixedEvaluation's).
 #include <array>
 #include <cstdint>
 #include <span>
@@ -58,6 +60,10 @@ volatile float g_sink_f{};
 // and the blend's search, as a servo loop's service() runs them. Only where there is an FPU: the
 // plan is in double, and its ~10 KiB of stack is more than the micro:bit's image leaves.
 core::Blend g_blend{};
+core::BasicBlend<float> g_blend_f{};
+float g_blend_dt{};
+fx::BlendMotion g_blend_motion{};
+fx::BasicPositionPlan<fx::position_intervals_for(fx::BlendMotion::kMaxSegments, fx::BlendMotion::kMaxTracks)> g_blend_plan{};
 core::Mode g_halt_mode{};
 core::OnlineLimits g_halt_limits{};
 double g_halt_at{0.0};
@@ -74,6 +80,9 @@ constexpr bool kFloat = false;
 
 // The tick at_tick() evaluates next; every body advances one tick per call.
 std::int32_t g_n{0};
+#if defined(__ARM_FP)
+[[gnu::noinline]] void blend_float() { g_sink_f = g_blend_f.at(static_cast<float>(g_n++) * g_blend_dt).p; }
+#endif
 volatile std::int32_t g_sink_q{};
 
 [[gnu::noinline]] void fixed_at() { g_sink_q = g_motion.at_tick(g_n++).p; }
@@ -126,7 +135,18 @@ core::Status measure_move(const fw::InstructionCounter& counter, const fx::Golde
     line.append("halt_plan ").append(name).append(" ")
         .append(core::to_string(static_cast<core::Status>(g_halt_status))).append("\n");
     write_line(line);
-    if (g_halt_status == 0) report(counter, name, "halt_plan", halt_plan, 3);
+    if (g_halt_status == 0) {
+      report(counter, name, "halt_plan", halt_plan, 3);
+      const auto blend_calls = static_cast<std::uint32_t>(g_blend.duration() / g.scale.period_s()) + 2;
+      g_blend_f = core::BasicBlend<float>{g_blend};
+      g_blend_dt = static_cast<float>(g.scale.period_s());
+      report(counter, name, "blend_float", blend_float, blend_calls);
+      st = g_blend_motion.build(g_blend, scale);
+      if (st == core::Status::ok) st = g_blend_plan.build(g_blend_motion);
+      if (st != core::Status::ok) return st;
+      g_pos = fx::PositionStepper{g_blend_plan};
+      report(counter, name, "blend_fixed_pos", fixed_pos, blend_calls);
+    }
   }
 #endif
   report(counter, name, "fixed_at", fixed_at, calls);

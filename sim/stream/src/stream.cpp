@@ -30,55 +30,44 @@ bool StreamReport::measured() const noexcept {
 
 namespace {
 
-// The loop for each evaluation (--scalar): its scalar, one axis, four queued moves.
+// The loop for each evaluation (--scalar): its scalar, one axis, four queued moves, online changes.
 template <typename Scalar, typename Evaluation>
-using LoopOf = firmware::ServoLoop<Scalar, 1, 4, Evaluation>;
+using LoopOf = firmware::ServoLoop<Scalar, 1, 4, Evaluation, hal::CanBus, true>;
 
-// The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end:
-// the prepare/start/next the loop runs in its ticks, offline. The replay's setpoints for every
-// scalar come from here, and so do the double evaluator's they are compared with. Not ok when the
-// evaluation refuses the move (the loop refuses it at submit too) or it has more than kMaxSamples.
+// The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end,
+// and with a change the move's up to the switch, then the blend's to its end: the prepare/start/
+// next the loop runs in its ticks and service(), offline. The replay's setpoints for every scalar
+// come from here, and so do the double evaluator's they are compared with. Not ok when the
+// evaluation refuses the move or the blend (the loop refuses them too) or it has more than kMaxSamples.
 template <typename Evaluation>
-core::Status evaluated_setpoints(const core::Move<double>& move, const core::AxisScale& scale,
-                                 std::vector<std::int32_t>& out) {
+core::Status evaluated_setpoints(const StreamSpec& spec, std::vector<std::int32_t>& out) {
+  const core::AxisScale& scale = spec.drive.scale;
   out.clear();
   auto slot = std::make_unique<typename Evaluation::Stored>();  // not movable: the stream refers into it
-  if (const core::Status st = Evaluation::prepare(move, scale, *slot); st != core::Status::ok) return st;
+  if (const core::Status st = Evaluation::prepare(spec.move, scale, *slot); st != core::Status::ok) return st;
   typename Evaluation::Stream s = Evaluation::start(*slot, 0);
   bool last = false;
   while (!last && out.size() < kMaxSamples) out.push_back(s.next(last));
+  if (!last) return core::Status::duration_does_not_fit;
+  if (!spec.change) return core::Status::ok;
+  const auto k = static_cast<std::size_t>(std::llround(spec.change->at / scale.period_s()));
+  if (out.size() > k) out.resize(k);
+  while (out.size() < k) out.push_back(out.empty() ? 0 : out.back());
+  auto blend = std::make_unique<typename Evaluation::BlendStored>();
+  if (const core::Status st = Evaluation::prepare(spec.change->blend, scale, *blend); st != core::Status::ok) return st;
+  typename Evaluation::BlendStream b = Evaluation::start(*blend, 0);
+  last = false;
+  while (!last && out.size() < kMaxSamples) out.push_back(b.next(last));
   return last ? core::Status::ok : core::Status::duration_does_not_fit;
 }
 
-core::Status evaluated_setpoints(StreamScalar scalar, const core::Move<double>& move, const core::AxisScale& scale,
-                                 std::vector<std::int32_t>& out) {
+core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, std::vector<std::int32_t>& out) {
   switch (scalar) {
-    case StreamScalar::single_precision:
-      return evaluated_setpoints<firmware::FloatEvaluation<float>>(move, scale, out);
-    case StreamScalar::fixed_point: return evaluated_setpoints<firmware::PolyFixedEvaluation>(move, scale, out);
+    case StreamScalar::single_precision: return evaluated_setpoints<firmware::FloatEvaluation<float>>(spec, out);
+    case StreamScalar::fixed_point: return evaluated_setpoints<firmware::PolyFixedEvaluation>(spec, out);
     case StreamScalar::double_precision: break;
   }
-  return evaluated_setpoints<firmware::FloatEvaluation<double>>(move, scale, out);
-}
-
-// The setpoints of a changed move: the move's up to the switch, then the blend's, in counts as the
-// loop computes them (double).
-void apply_change(const StreamChange& c, const core::AxisScale& scale, std::vector<std::int32_t>& sp) {
-  const double dt = scale.period_s();
-  const auto k = static_cast<std::size_t>(std::llround(c.at / dt));
-  if (sp.size() > k) sp.resize(k);
-  while (sp.size() < k) sp.push_back(sp.empty() ? 0 : sp.back());
-  for (std::size_t i = 0; sp.size() < kMaxSamples; ++i) {
-    const double u = static_cast<double>(i) * dt;
-    sp.push_back(static_cast<std::int32_t>(std::nearbyint(c.blend.at(u).p * scale.counts_per_unit)));
-    if (!(u < c.blend.duration())) break;
-  }
-}
-
-core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, std::vector<std::int32_t>& out) {
-  const core::Status st = evaluated_setpoints(scalar, spec.move, spec.drive.scale, out);
-  if (st == core::Status::ok && spec.change) apply_change(*spec.change, spec.drive.scale, out);
-  return st;
+  return evaluated_setpoints<firmware::FloatEvaluation<double>>(spec, out);
 }
 
 // How long the command lasts: the move, or the move to the switch and then the blend.
@@ -133,9 +122,7 @@ std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& a
   // setpoints before the switch, as an application would.
   std::int64_t ask_at = -1;
   if (spec.change) {
-    if constexpr (!Loop::kOnlineChanges) {
-      return "--halt-at and --retarget-at need the double evaluation (--scalar double)";
-    } else {
+    {
       firmware::OnlineConfig oc{};
       oc.mode_count = std::min(spec.change->modes.size(), oc.modes.size());
       for (std::size_t i = 0; i < oc.mode_count; ++i) oc.modes[i] = spec.change->modes[i];

@@ -4,11 +4,16 @@
 // fixed-point position plan, integer-only per tick (a Cortex-M0 without FPU). Both convert the planned
 // Move<double> when it is submitted, outside the tick, and may refuse it there; everything that
 // needs double arithmetic or trigonometry is done then, so starting a move in a tick is cheap.
+// An online change's blend (core/online.hpp, planned in double by ServoLoop::service()) goes the
+// same way: prepare(blend, ...) converts it to the evaluation's scalar outside the tick, start()
+// hands the tick its stream, and the tick streams it like a move.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
 #include "settle/core/fixed/motion.hpp"
 #include "settle/core/fixed/position.hpp"
+#include "settle/core/online.hpp"
 #include "settle/core/setpoints.hpp"
 #include "settle/core/status.hpp"
 
@@ -49,6 +54,45 @@ struct FloatEvaluation {
     s.stream.rebase(origin);
     return Stream{s.stream};
   }
+
+  // A blend in Scalar: its segment table converted once (BasicBlend<Scalar>{blend}); tick n is at
+  // n periods after the switch, on the running move's position scale.
+  struct BlendStored {
+    core::BasicBlend<Scalar> blend{};
+    Scalar period{0};
+    Scalar counts_per_unit{1};
+    std::int32_t last_tick{0};  // ceil(duration / period): the first tick at rest on its end
+  };
+  class BlendStream {
+   public:
+    BlendStream() = default;
+    BlendStream(const BlendStored& b, std::int32_t origin) noexcept : b_{&b}, origin_{origin} {}
+    // Same contract as core::SetpointStream::next.
+    [[nodiscard]] std::int32_t next(bool& last) noexcept {
+      last = n_ >= b_->last_tick;
+      const Scalar u = static_cast<Scalar>(n_) * b_->period;
+      core::advance_tick(n_);
+      return core::to_counts(b_->blend.at(u).p, b_->counts_per_unit, origin_);
+    }
+
+   private:
+    const BlendStored* b_{nullptr};
+    std::int32_t origin_{0};
+    std::int32_t n_{0};
+  };
+  [[nodiscard]] static core::Status prepare(const core::Blend& b, const core::AxisScale& scale,
+                                            BlendStored& out) noexcept {
+    const double ticks = std::ceil(b.duration() / scale.period_s());
+    if (!(ticks >= 0.0 && ticks <= static_cast<double>(core::kMaxStreamTicks))) return core::Status::duration_does_not_fit;
+    out.blend = core::BasicBlend<Scalar>{b};
+    out.period = static_cast<Scalar>(scale.period_s());
+    out.counts_per_unit = static_cast<Scalar>(scale.counts_per_unit);
+    out.last_tick = static_cast<std::int32_t>(ticks);
+    return core::Status::ok;
+  }
+  [[nodiscard]] static BlendStream start(const BlendStored& b, std::int32_t origin) noexcept {
+    return BlendStream{b, origin};
+  }
 };
 
 // The loop streams positions only (CiA 402 cyclic synchronous position), so a slot holds the
@@ -62,6 +106,11 @@ struct FloatEvaluation {
 // non-integer exponents needs core::fixed::PolyMotion's 32 (PolyFixedEvaluation, below).
 template <std::size_t Intervals, typename Motion = core::fixed::Motion>
 struct BasicFixedEvaluation {
+  // A blend's plan: one interval per segment (a cubic's drift stays within budget over any
+  // segment a blend has; a longer one is refused at service(): table_too_small).
+  static constexpr std::size_t kBlendIntervals =
+      core::fixed::position_intervals_for(core::fixed::BlendMotion::kMaxSegments, core::fixed::BlendMotion::kMaxTracks);
+
   // The plan and a stepper on it, both built when the move is submitted. The stepper refers to the
   // plan next to it: a Stored never moves or copies.
   struct Stored {
@@ -102,6 +151,28 @@ struct BasicFixedEvaluation {
   // In the tick that starts the move: only where tick 0 is.
   [[nodiscard]] static Stream start(Stored& s, std::int32_t origin) noexcept {
     return Stream{s.stepper, origin, s.plan.end_tick()};
+  }
+
+  // A blend as a position plan of its pieces (core::fixed::BlendMotion, built on the stack: ~4 KiB
+  // on a Cortex-M), stepped by the same per-tick code as a move. Tick 0 is the switch.
+  struct BlendStored {
+    BlendStored() = default;
+    BlendStored(const BlendStored&) = delete;
+    BlendStored& operator=(const BlendStored&) = delete;
+    core::fixed::BasicPositionPlan<kBlendIntervals> plan{};
+    core::fixed::PositionStepper stepper{};
+  };
+  using BlendStream = Stream;
+  [[nodiscard]] static core::Status prepare(const core::Blend& b, const core::AxisScale& scale,
+                                            BlendStored& out) noexcept {
+    core::fixed::BlendMotion motion{};
+    core::Status st = motion.build(b, core::fixed::Scale{scale});
+    if (st == core::Status::ok) st = out.plan.build(motion);
+    if (st == core::Status::ok) out.stepper = core::fixed::PositionStepper{out.plan};
+    return st;
+  }
+  [[nodiscard]] static BlendStream start(BlendStored& b, std::int32_t origin) noexcept {
+    return Stream{b.stepper, origin, b.plan.end_tick()};
   }
 };
 

@@ -3,7 +3,8 @@
 // per-axis single-producer mailbox from any context, lock-free; ServoLoop::service(), outside the
 // tick, plans the blend (core/online.hpp) for a switch a few ticks ahead and hands it over with one
 // atomic flag; the tick switches to it at exactly that setpoint index, so p, v, a are continuous.
-// Nothing here allocates or throws; the tick only loads a flag and compares an index.
+// The blend is evaluated in the loop's scalar (evaluation.hpp: prepare(blend), start()), as every
+// move is. Nothing here allocates or throws; the tick only loads a flag and compares an index.
 #include <array>
 #include <atomic>
 #include <cstddef>
@@ -11,7 +12,21 @@
 
 #include "settle/core/online.hpp"
 
+// Compile-time switch: 0 leaves online changes out of every ServoLoop (a loop that asks for them
+// does not compile). Default 0 on M-profile cores without an FPU (the Cortex-M0: planning a blend
+// takes ~10 KiB of stack in soft double, and a blend's fixed-point plan 1.5 KiB per axis, more than
+// the micro:bit's 16 KiB of RAM leave next to the loop), 1 everywhere else (docs/online.md).
+#ifndef SETTLE_ONLINE_CHANGES
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M' && !defined(__ARM_FP)
+#define SETTLE_ONLINE_CHANGES 0
+#else
+#define SETTLE_ONLINE_CHANGES 1
+#endif
+#endif
+
 namespace settle::firmware {
+
+inline constexpr bool kOnlineChangesAvailable = SETTLE_ONLINE_CHANGES != 0;
 
 enum class OnlineKind : std::uint8_t { halt, retarget };
 
@@ -50,37 +65,48 @@ class OnlineMailbox {
   std::atomic<std::uint32_t> tail_{0};
 };
 
-// What an axis's blends respect: the modes to leave at rest and the limits (move units).
+// Setpoint indices between the command's service() and the switch, by default: the blend is ready
+// before the tick reaches its index as long as service() completes within this many periods of the
+// last tick (a host plans a halt in ~20 us; a Cortex-M4F needs ~3.2 M instructions, docs/online.md).
+inline constexpr std::int32_t kOnlineLeadTicks = 2;
+
+// What an axis's blends respect: the modes to leave at rest and the limits (move units), and how
+// many setpoints ahead of the running command service() plans the switch (at least 1).
 struct OnlineConfig {
   std::array<core::Mode, core::kMaxOnlineModes> modes{};
   std::size_t mode_count{0};
   core::OnlineLimits limits{};
+  std::int32_t lead_ticks{kOnlineLeadTicks};
 };
 
-// Setpoint indices between the command's service() and the switch: the blend is ready before the
-// tick reaches its index as long as service() runs within this many periods of the last tick.
-inline constexpr std::int32_t kOnlineLeadTicks = 2;
-
-// Per-axis state of online changes. `ready` hands the blend from service() (which writes blend and
-// switch_index first) to the tick (which reads them only after seeing ready = 1, and sets it back
-// to 0 when it has switched or discarded it).
+// Per-axis state of online changes. `ready` hands the blend from service() (which writes its slot,
+// switch_index, from_blend and blend_serial first) to the tick (which reads them only after seeing
+// ready = 1, and sets it back to 0 when it has switched or discarded it). Two slots: a second
+// change is planned while the first one's blend is streamed from the other.
+template <typename Evaluation>
 struct OnlineSlot {
   OnlineMailbox<4> mailbox{};
   OnlineConfig config{};
   bool configured{false};
-  core::Blend blend{};
+  std::array<core::OnlineRequest, 2> request{};  // what each slot's blend was planned from (its start's memory)
+  std::array<core::Blend, 2> blend{};            // as planned, in double (service()'s)
+  std::array<typename Evaluation::BlendStored, 2> evaluated{};  // the same in the loop's scalar
+  std::uint8_t slot{0};        // the slot of the blend handed over with ready
+  bool from_blend{false};      // switch_index counts the running blend's setpoints, not the move's
   std::int32_t switch_index{0};
   std::atomic<std::uint8_t> ready{0};
   std::atomic<std::int32_t> move_index{0};  // setpoints the active move has produced (the tick's)
+  std::atomic<std::int32_t> blend_index{0};  // setpoints the running blend has produced (the tick's)
   std::atomic<std::uint32_t> move_serial{0};  // moves started (the tick's)
-  std::uint32_t blend_serial{0};  // the move_serial the blend was planned for (service()'s)
+  // The move_serial (from_blend: the switches count) the blend was planned for (service()'s).
+  std::uint32_t blend_serial{0};
   std::atomic<std::uint32_t> switches{0};   // blends the tick switched to (for the application)
   std::atomic<std::uint32_t> missed{0};     // blends discarded: the move ended or passed the index
   // The tick's own: the blend being streamed.
   bool running{false};
-  std::int32_t index{0};  // setpoints of the blend produced so far
+  std::uint8_t streaming{0};  // its slot
+  typename Evaluation::BlendStream stream{};
   std::int32_t origin{0};  // counts at the active move's start
-  double counts_per_unit{1.0};
   double period_s{0.0};
 };
 

@@ -192,18 +192,23 @@ struct LoopStats {
 // Bus: hal::CanBus (any backend, through its virtual hooks) or a backend's own type such as
 // hal::MailboxBus, whose send and receive are then direct calls the compiler inlines: what
 // firmware that knows its controller does (firmware/README.md: what the Cortex-M0 tick costs).
+//
+// Online: whether the loop offers halt()/retarget() (issue 17, docs/online.md). They need the
+// planned Move<double> of every queued move (its state and mode memory at the switch) and room for
+// a blend in the evaluation's scalar: on a Cortex-M4F about 0.4 KiB per queued move and 1.3 KiB
+// (float) or 2.5 KiB (fixed) per axis. On by default for the double evaluation (a master on Linux),
+// asked for by the others; never where SETTLE_ONLINE_CHANGES is 0 (the Cortex-M0).
 template <typename Scalar = double, std::size_t MaxAxes = 1, std::size_t QueueDepth = 4,
-          typename Evaluation = FloatEvaluation<Scalar>, typename Bus = hal::CanBus>
+          typename Evaluation = FloatEvaluation<Scalar>, typename Bus = hal::CanBus,
+          bool Online = kOnlineChangesAvailable && std::is_same_v<Evaluation, FloatEvaluation<double>>>
 class ServoLoop {
   static_assert(std::is_base_of_v<hal::CanBus, Bus>, "Bus is hal::CanBus or one of its backends");
+  static_assert(!Online || kOnlineChangesAvailable, "online changes are switched off (SETTLE_ONLINE_CHANGES=0)");
 
  public:
-  // Online changes (halt(), retarget(): issue 17, docs/online.md) need the planned move itself
-  // (its state and mode memory at the switch) and evaluate the blend in double: the double
-  // evaluation (a Linux drive, the host) has them. The float one (Cortex-M4F, micro:bit) would
-  // pay ~1 KiB of RAM per axis and soft-double work in the tick, not measured yet; the fixed-point
-  // ones keep only integer plans. Without them halt()/retarget() return false and nothing is stored.
-  static constexpr bool kOnlineChanges = std::is_same_v<Evaluation, FloatEvaluation<double>>;
+  // Without online changes halt()/retarget() return false and nothing is stored for them.
+  static constexpr bool kOnlineChanges = Online;
+  using EvaluationType = Evaluation;
 
   ServoLoop(Bus& bus, std::uint32_t period_us, const LoopConfig& config = {}) noexcept
       : bus_{bus}, period_us_{period_us}, config_{config}, sync_{period_us} {}
@@ -227,10 +232,7 @@ class ServoLoop {
     // In whole counts, once: the tick compares integers. At or past 2^31 no step can exceed it.
     const double guard = std::floor(cfg.vmax * cfg.scale.counts_per_unit * cfg.scale.period_s()) + cfg.step_margin_counts;
     a.guard = guard < 2147483648.0 ? static_cast<std::uint32_t>(guard) : std::uint32_t{1} << 31U;
-    if constexpr (kOnlineChanges) {
-      a.online.counts_per_unit = cfg.scale.counts_per_unit;
-      a.online.period_s = cfg.scale.period_s();
-    }
+    if constexpr (kOnlineChanges) a.online.period_s = cfg.scale.period_s();
     ++count_;
     return LoopStatus::ok;
   }
@@ -282,7 +284,7 @@ class ServoLoop {
     if (a.queue.full()) return LoopStatus::queue_full;
     // Prepared in place in the queue's free slot, which joins the queue only on success: a
     // refusal leaves the queue as it was, and no second copy of a move is ever held.
-    const core::Status st = Evaluation::prepare(m, a.cfg.scale, a.queue.back_slot());
+    const core::Status st = Evaluation::prepare(m, a.cfg.scale, a.queue.back_slot().eval);
     if (why != nullptr) *why = st;
     if (st != core::Status::ok) return LoopStatus::evaluation_refused;
     // What the drive said at start-up (nothing before it ran, or when it has neither object).
@@ -293,6 +295,7 @@ class ServoLoop {
     }
     const std::int32_t origin = move_origin(a);
     if (limits.has_position_limits() && !path_within(m, origin, cpu, limits)) return LoopStatus::position_limit;
+    if constexpr (kOnlineChanges) a.queue.back_slot().plan = m;
     a.queue.commit_back();
     a.queued_end = static_cast<std::int32_t>(static_cast<std::int64_t>(origin) + std::llround(m.distance() * cpu));
     return LoopStatus::ok;
@@ -308,7 +311,7 @@ class ServoLoop {
     } else {
       if (axis >= MaxAxes || axis >= count_) return LoopStatus::no_such_axis;
       const core::OnlineLimits& l = c.limits;
-      bool ok = c.mode_count <= core::kMaxOnlineModes && std::isfinite(l.vmax) && std::isfinite(l.amax) &&
+      bool ok = c.mode_count <= core::kMaxOnlineModes && c.lead_ticks >= 1 && std::isfinite(l.vmax) && std::isfinite(l.amax) &&
                 std::isfinite(l.jmax) && l.vmax > 0.0 && l.amax > 0.0 && l.jmax > 0.0;
       for (std::size_t i = 0; ok && i < c.mode_count; ++i) {
         ok = std::isfinite(c.modes[i].omega) && c.modes[i].omega > 0.0 && c.modes[i].zeta >= 0.0 && c.modes[i].zeta < 1.0;
@@ -330,36 +333,55 @@ class ServoLoop {
   }
 
   // Outside the tick, where submit() runs: plans what halt()/retarget() asked for, at most one
-  // command per axis per call, for a switch kOnlineLeadTicks setpoints ahead of the running move;
-  // the tick switches to it at exactly that setpoint. A command with no running move (or while a
-  // blend runs or waits) is dropped and counted in online_missed(). Returns plan_failed (why: the
-  // core::Status) if a blend could not be planned; the move then runs on unchanged.
+  // command per axis per call, for a switch lead_ticks (OnlineConfig) setpoints ahead of the running move,
+  // and converts the blend to the evaluation's scalar; the tick switches to it at exactly that
+  // setpoint. While a blend runs, the command changes the blend (a halt after a retarget): planned
+  // from the blend's state and its own mode memory, streamed from the other slot. A command with
+  // no running move (or while a blend waits for its switch) is dropped and counted in
+  // online_missed(). Returns plan_failed if a blend could not be planned,
+  // evaluation_refused if the evaluation cannot hold it (why: the core::Status); the move then
+  // runs on unchanged.
   [[nodiscard]] LoopStatus service(core::Status* why = nullptr) noexcept {
     LoopStatus result = LoopStatus::ok;
     if constexpr (kOnlineChanges) {
       for (std::size_t i = 0; i < count_; ++i) {
         Axis& a = axes_[i];
-        OnlineSlot& o = a.online;
+        auto& o = a.online;
         OnlineCommand c{};
         if (o.ready.load(std::memory_order_acquire) != 0 || !o.mailbox.take(c)) continue;
-        if (!a.active || o.running) {
+        if (!a.active) {
           o.missed.fetch_add(1, std::memory_order_relaxed);
           continue;
         }
-        const std::uint32_t serial = o.move_serial.load(std::memory_order_acquire);
-        const std::int32_t k = o.move_index.load(std::memory_order_acquire) + kOnlineLeadTicks;
-        const core::Move<double> m{a.queue.front().move};
-        core::OnlineRequest req{};
         const std::optional<double> target =
             c.kind == OnlineKind::retarget ? std::optional<double>{c.target} : std::nullopt;
-        core::Status st = core::online_request(m, static_cast<double>(k) * o.period_s, o.config.modes.data(),
-                                               o.config.mode_count, o.config.limits, target, req);
-        if (st == core::Status::ok) st = core::plan_online(req, o.blend);
+        // On the running blend (the tick's running and streaming: service() runs between ticks),
+        // into the other slot; else on the move.
+        const bool on_blend = o.running;
+        const std::uint8_t slot = on_blend ? static_cast<std::uint8_t>(1U - o.streaming) : std::uint8_t{0};
+        const std::uint32_t serial = on_blend ? o.switches.load(std::memory_order_relaxed)
+                                              : o.move_serial.load(std::memory_order_acquire);
+        const std::int32_t k =
+            (on_blend ? o.blend_index : o.move_index).load(std::memory_order_acquire) + o.config.lead_ticks;
+        const double at = static_cast<double>(k) * o.period_s;
+        core::Status st =
+            on_blend ? core::online_request(o.blend[o.streaming], o.request[o.streaming], at, target, o.request[slot])
+                     : core::online_request(a.queue.front().plan, at, o.config.modes.data(), o.config.mode_count,
+                                            o.config.limits, target, o.request[slot]);
+        if (st == core::Status::ok) st = core::plan_online(o.request[slot], o.blend[slot]);
         if (st != core::Status::ok) {
           if (why != nullptr) *why = st;
           result = LoopStatus::plan_failed;
           continue;
         }
+        st = Evaluation::prepare(o.blend[slot], a.cfg.scale, o.evaluated[slot]);
+        if (st != core::Status::ok) {
+          if (why != nullptr) *why = st;
+          result = LoopStatus::evaluation_refused;
+          continue;
+        }
+        o.slot = slot;
+        o.from_blend = on_blend;
         o.switch_index = k;
         o.blend_serial = serial;
         o.ready.store(1, std::memory_order_release);
@@ -482,6 +504,12 @@ class ServoLoop {
   static constexpr std::size_t kMaxFramesPerTick = 16 * MaxAxes + 16;
 
  private:
+  // A queued move: prepared for the evaluation, and as planned where online changes need it.
+  struct Queued {
+    typename Evaluation::Stored eval{};
+    [[no_unique_address]] std::conditional_t<kOnlineChanges, core::Move<double>, NoOnline> plan{};
+  };
+
   // What every tick touches comes first: a Cortex-M0 reaches only the first 32 bytes of a struct
   // with one byte load and the first 128 with one word load; the queue's prepared moves are large.
   struct Axis {
@@ -507,8 +535,8 @@ class ServoLoop {
     std::optional<hal::canopen::RemoteDrive> drive{};
     std::int32_t queued_end{0};   // where the last move queued (or running) ends, counts
     AxisLoopConfig cfg{};
-    FixedQueue<typename Evaluation::Stored, QueueDepth> queue{};
-    [[no_unique_address]] std::conditional_t<kOnlineChanges, OnlineSlot, NoOnline> online{};
+    FixedQueue<Queued, QueueDepth> queue{};
+    [[no_unique_address]] std::conditional_t<kOnlineChanges, OnlineSlot<Evaluation>, NoOnline> online{};
   };
 
   [[nodiscard]] bool post_online(std::size_t axis, const OnlineCommand& c) noexcept {
@@ -525,30 +553,31 @@ class ServoLoop {
   // The active move's next setpoint, or the blend's once the tick has reached its switch index.
   [[nodiscard]] std::int32_t next_setpoint(Axis& a, bool& last) noexcept {
     if constexpr (kOnlineChanges) {
-      OnlineSlot& o = a.online;
+      auto& o = a.online;
       const std::int32_t k = o.move_index.load(std::memory_order_relaxed);
-      if (!o.running && o.ready.load(std::memory_order_acquire) != 0) {
-        if (o.blend_serial != o.move_serial.load(std::memory_order_relaxed)) {
-          o.missed.fetch_add(1, std::memory_order_relaxed);  // planned for a move that has ended
+      const std::int32_t kb = o.blend_index.load(std::memory_order_relaxed);
+      if (o.ready.load(std::memory_order_acquire) != 0) {
+        // Valid while what it was planned on still runs: the same move, or the same blend.
+        const bool valid = o.from_blend ? o.running && o.blend_serial == o.switches.load(std::memory_order_relaxed)
+                                        : !o.running && o.blend_serial == o.move_serial.load(std::memory_order_relaxed);
+        const std::int32_t at = o.from_blend ? kb : k;
+        if (!valid || at > o.switch_index) {
+          o.missed.fetch_add(1, std::memory_order_relaxed);  // planned for what has ended or passed
           o.ready.store(0, std::memory_order_release);
-        } else if (k == o.switch_index) {
+        } else if (at == o.switch_index) {
           o.running = true;
-          o.index = 0;
+          o.streaming = o.slot;
+          o.stream = Evaluation::start(o.evaluated[o.slot], o.origin);
+          o.blend_index.store(0, std::memory_order_relaxed);
           o.switches.fetch_add(1, std::memory_order_relaxed);
-        } else if (k > o.switch_index) {
-          o.missed.fetch_add(1, std::memory_order_relaxed);
+          o.ready.store(0, std::memory_order_release);
         }
-        if (o.running || k > o.switch_index) o.ready.store(0, std::memory_order_release);
       }
+      // On the clock of what it changes the blend starts at the switch index: its setpoint i is at
+      // i periods after it.
       if (o.running) {
-        // On the move's clock the blend starts at the switch index: its setpoint i is at i periods.
-        const double u = static_cast<double>(o.index) * o.period_s;
-        ++o.index;
-        last = !(u < o.blend.duration());
-        double x = std::nearbyint(o.blend.at(u).p * o.counts_per_unit);
-        x = x < -2147483648.0 ? -2147483648.0 : (x > 2147483647.0 ? 2147483647.0 : x);
-        return static_cast<std::int32_t>(static_cast<std::uint32_t>(o.origin) +
-                                         static_cast<std::uint32_t>(static_cast<std::int32_t>(x)));
+        o.blend_index.store(o.blend_index.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+        return o.stream.next(last);
       }
       o.move_index.store(k + 1, std::memory_order_relaxed);
     }
@@ -558,7 +587,7 @@ class ServoLoop {
   // The active move's final setpoint (its own, or its blend's) is applied.
   void finish_active(Axis& a) noexcept {
     if constexpr (kOnlineChanges) {
-      OnlineSlot& o = a.online;
+      auto& o = a.online;
       if (o.ready.load(std::memory_order_acquire) != 0) {
         o.ready.store(0, std::memory_order_release);  // planned for a switch the move never reached
         o.missed.fetch_add(1, std::memory_order_relaxed);
@@ -791,7 +820,7 @@ class ServoLoop {
       } else {
         if (!a.active && !a.finishing && !a.queue.empty()) {
           a.active = true;
-          a.setpoints = Evaluation::start(a.queue.front(), a.target);
+          a.setpoints = Evaluation::start(a.queue.front().eval, a.target);
           if constexpr (kOnlineChanges) {
             a.online.origin = a.target;
             a.online.move_index.store(0, std::memory_order_relaxed);

@@ -46,7 +46,7 @@ struct StreamChange {
 
 struct StreamSpec {
   core::Move<double> move{};
-  std::optional<StreamChange> change;  // double evaluation only
+  std::optional<StreamChange> change;  // every scalar: the blend is evaluated in it
   ModalPlant plant{};       // the machine behind the drive: the in-process drive's and the replay's
   DriveAxisConfig drive{};  // the simulated drive and the replay; drive.scale is the loop's axis scale too
   hal::canopen::NodeId node{1};
