@@ -314,6 +314,61 @@ class _Kept:
         print(f"kept: {self.d}")
 
 
+def online_halt(d):
+    """Issue 17 over CAN: `settle stream --halt-at T` against a `settle plant` process. The loop's
+    halt() and service() switch the blend in at T: the drive's applied targets are the move's up to
+    T (the same move streamed without the halt, on loopback, gives them) and differ from there; the
+    CAN feedback aligns with the offline replay of the changed setpoints period by period; and the
+    drive ends at rest on the blend's end with no residual measured from its own load feedback,
+    where the uninterrupted move leaves one (the sdof plant's mode, which the S-curve does not
+    design for, is the one the halt brings to rest)."""
+    plant_args = ["--plant", "sdof"]
+    move_args = ["--profile", "scurve", "--distance", "0.1", "--time", "0.5", "--omega", "28.284271247461902",
+                 "--zeta", "0.15909902576697318"]
+    at, period = 0.2, 1e-3
+    k = round(at / period)
+    fb_plain = os.path.join(d, "feedback-plain.csv")
+    r = subprocess.run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--axis-vmax", "1",
+                        "--feedback-log", fb_plain, "--json"], capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0, f"the uninterrupted move on loopback: exit {r.returncode} {r.stderr}")
+    plain = json.loads(r.stdout)
+    plain_cmd = [int(row["commanded"]) for row in read_csv(fb_plain) if row["period"] >= 0]
+    for scalar in ("double", "fixed"):
+        tag = f"halt-{scalar}"
+        plant = Plant(d, tag, plant_args, PLANT_TOLERANT)
+        rc, r, fb, dump = stream(d, tag, plant_args, move_args, 1.0, ["--halt-at", str(at), "--scalar", scalar])
+        pj = plant.stop()
+        check(rc == 0 and r["outcome"] == "completed",
+              f"{tag}: session completed ({r['outcome']}; drive {r.get('drive_state')} {r.get('drive_failure', '')}"
+              f"{why_stopped(dump, pj, r)})")
+        check(r["frames_lost"] == 0 and pj["rx_overflow_drops"] == 0, f"{tag}: no frame lost{why_stopped(dump, pj, r)}")
+        check_log(tag, r, dump, pj)
+        check(r["aligned"], f"{tag}: the CAN feedback matches the offline replay of the changed setpoints")
+        # The switch at T: the setpoints are the move's up to T (the blend continues its p, v, a, so
+        # they part a few periods later) and then exactly those of the same halt on loopback, whose
+        # switch at T the unit suite checks setpoint by setpoint (tests/firmware/test_online_loop.cpp).
+        fb_loop = os.path.join(d, f"feedback-{tag}-loopback.csv")
+        rl = subprocess.run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--axis-vmax", "1",
+                             "--halt-at", str(at), "--scalar", scalar, "--feedback-log", fb_loop, "--json"],
+                            capture_output=True, text=True, timeout=300)
+        check(rl.returncode == 0, f"{tag}: the same halt on loopback: exit {rl.returncode} {rl.stderr}")
+        loop_cmd = [int(row["commanded"]) for row in read_csv(fb_loop) if row["period"] >= 0]
+        cmd = [int(row["commanded"]) for row in read_csv(fb) if row["period"] >= 0]
+        parted = next((i for i in range(min(len(cmd), len(plain_cmd))) if cmd[i] != plain_cmd[i]), None)
+        check(cmd == loop_cmd and parted is not None and k < parted <= k + 10,
+              f"{tag}: the loop switched at {at} s: the setpoints are the move's to period {k} and part from "
+              f"it at period {parted}; they are the loopback halt's ({len(cmd)} against {len(loop_cmd)})")
+        applied = [int(row["target"]) for row in read_csv(plant.log) if row["following"] == 1]
+        move = cmd[: cmd.index(cmd[-1]) + 1]
+        hits = [i for i in range(len(applied) - len(move) + 1) if applied[i:i + len(move)] == move]
+        check(len(hits) == 1, f"{tag}: the drive applied the {len(move)} changed setpoints once, in order")
+        check(r["residual_can"] <= 2e-6 and plain["residual_can"] > 100 * 2e-6,
+              f"{tag}: at rest after the halt: residual from the drive's feedback {r['residual_can']:.3e} m "
+              f"(<= 2 counts), the uninterrupted move's {plain['residual_can']:.3e} m")
+        check(r["residual_continuous"] <= 1e-9 * 0.1,
+              f"{tag}: the changed command's continuous residual {r['residual_continuous']:.3e} <= 1e-9 D")
+
+
 def main():
     keep = os.environ.get("SETTLE_E2E_KEEP")  # a directory: keep each test's files there to look at
     with (tempfile.TemporaryDirectory(prefix="settle-e2e-") if not keep else
@@ -522,6 +577,8 @@ def main():
                   and len(emcys) == pj["emcy_sent"] <= 1,
                   f"the drive ran on undisturbed while streamed: EMCY {[hex(c) for _, c in emcys]} "
                   f"(last SYNC at frame {syncs[-1] if syncs else None}, EMCY at {[i for i, _ in emcys]})")
+        elif TEST == "online-halt":
+            online_halt(d)
         elif TEST == "identify-no-drive":
             r = subprocess.run([SETTLE, "identify", "--bus", "vcan0", "--sdo-timeout-ms", "300", "--json"],
                                capture_output=True, text=True, timeout=120)
