@@ -14,7 +14,7 @@
 
 // Compile-time switch: 0 leaves online changes out of every ServoLoop (a loop that asks for them
 // does not compile). Default 0 on M-profile cores without an FPU (the Cortex-M0: planning a blend
-// takes ~10 KiB of stack in soft double, and a blend's fixed-point plan 1.5 KiB per axis, more than
+// takes ~10 KiB of stack in soft double, and the fixed-point blend slots 3.3 KiB per axis, more than
 // the micro:bit's 16 KiB of RAM leave next to the loop), 1 everywhere else (docs/online.md).
 #ifndef SETTLE_ONLINE_CHANGES
 #if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M' && !defined(__ARM_FP)

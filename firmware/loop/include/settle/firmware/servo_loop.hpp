@@ -194,10 +194,11 @@ struct LoopStats {
 // firmware that knows its controller does (firmware/README.md: what the Cortex-M0 tick costs).
 //
 // Online: whether the loop offers halt()/retarget() (issue 17, docs/online.md). They need the
-// planned Move<double> of every queued move (its state and mode memory at the switch) and room for
-// a blend in the evaluation's scalar: on a Cortex-M4F about 0.4 KiB per queued move and 1.3 KiB
-// (float) or 2.5 KiB (fixed) per axis. On by default for the double evaluation (a master on Linux),
-// asked for by the others; never where SETTLE_ONLINE_CHANGES is 0 (the Cortex-M0).
+// planned Move<double> of every queued move (its state and mode memory at the switch) and two blend
+// slots (the plan in double and in the evaluation's scalar): about 1.1 KiB per queued move and
+// 2.9 KiB (float) or 5.3 KiB (fixed) per axis, and service() builds a fixed-point blend's 4.2 KiB
+// Motion on its stack. On by default for the double evaluation (a master on Linux), asked for by the
+// others; never where SETTLE_ONLINE_CHANGES is 0 (the Cortex-M0).
 template <typename Scalar = double, std::size_t MaxAxes = 1, std::size_t QueueDepth = 4,
           typename Evaluation = FloatEvaluation<Scalar>, typename Bus = hal::CanBus,
           bool Online = kOnlineChangesAvailable && std::is_same_v<Evaluation, FloatEvaluation<double>>>
