@@ -40,9 +40,9 @@ inline constexpr std::size_t kMaxTuneOmegaPoints = 4097;
 // The work of one tune() call, bounded two ways: no profile's quadrature may have more than
 // kMaxTuneNodes nodes (checked for every candidate before any is built: memory), and the residual
 // evaluations times the nodes they sum, counted as the search goes, may not exceed
-// TuneOptions::max_work (CPU: about 3 s of one core at kMaxTuneWork). Either gives too_much_work.
+// TuneOptions::max_work (CPU: about 2 s of one core at kMaxTuneWork). Either gives too_much_work.
 inline constexpr double kMaxTuneNodes = 1e6;
-inline constexpr double kMaxTuneWork = 2e9;
+inline constexpr double kMaxTuneWork = 1e9;
 inline constexpr std::size_t kMaxTuneZetaPoints = 9;
 // A candidate longer than this (s; or not finite) is refused as too_long.
 inline constexpr double kMaxTuneDuration = 3600.0;
