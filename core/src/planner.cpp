@@ -79,13 +79,20 @@ Peaks<double> shaped_peaks(const Profile<double>& p, const Shaper<double>& s, co
   return out;
 }
 
-Status plan(const MoveRequest& r, Move<double>& out) noexcept {
+Status plan(const MoveRequest& r, Move<double>& out) noexcept { return plan(r, Shaper<double>{}, out); }
+
+Status plan(const MoveRequest& r, const Shaper<double>& extra, Move<double>& out) noexcept {
   if (!is_registered(r.profile)) return Status::unsupported_request;
   Status st = validate(r);
   if (st != Status::ok) return st;
   Shaper<double> shaper{};
   if (r.shaper != ShaperKind::none) {
     st = design_shaper(r.shaper, *r.omega, r.zeta, r.vtol, shaper);
+    if (st != Status::ok) return st;
+  }
+  if (!extra.is_identity()) {
+    Shaper<double> own = shaper;
+    st = compose(own, extra, shaper);
     if (st != Status::ok) return st;
   }
   Profile<double> prof{};
