@@ -39,6 +39,30 @@ bool reads_extra_modes(ProfileKind k) noexcept {
 #endif
 }
 
+// The modes the request's own plan does not cancel: one shaper each, of the request's kind (ZV when
+// it has none), composed.
+Status extra_shaper(const MoveRequest& r, const Mode* modes, std::size_t n, Shaper<double>& out) noexcept {
+  const ShaperKind kind = r.shaper != ShaperKind::none ? r.shaper : ShaperKind::zv;
+  Shaper<double> acc{};
+  for (std::size_t k = 0; k < n; ++k) {
+    Shaper<double> one{}, prev = acc;
+    Status st = design_shaper(kind, modes[k].omega, modes[k].zeta, r.vtol, one);
+    if (st == Status::ok) st = compose(prev, one, acc);
+    if (st != Status::ok) return st;
+  }
+  out = acc;
+  return Status::ok;
+}
+
+// Time sync: axis `q`'s own mode, when the profile and the shaper do not design for it, gets a
+// shaper of its own the same way.
+Status own_extra_shaper(const MoveRequest& q, Shaper<double>& out) noexcept {
+  out = Shaper<double>{};
+  if (!q.omega || needs_mode(q)) return Status::ok;
+  const Mode m{*q.omega, q.zeta};
+  return extra_shaper(q, &m, 1, out);
+}
+
 Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, kMaxAxes>& modes, std::size_t& nm,
                  std::size_t& culprit) noexcept {
   MoveRequest p = r.base;
@@ -90,17 +114,10 @@ Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, 
       p.extra_mode_count = covered - 1;
     }
   }
-  // Every other mode: one shaper of the request's kind (ZV when it has none) designed for it.
   Shaper<double> extra{};
-  const ShaperKind kind = r.base.shaper != ShaperKind::none ? r.base.shaper : ShaperKind::zv;
-  for (std::size_t k = covered; k < nm; ++k) {
-    Shaper<double> one{}, acc = extra;
-    Status st = design_shaper(kind, modes[k].omega, modes[k].zeta, r.base.vtol, one);
-    if (st == Status::ok) st = compose(acc, one, extra);
-    if (st != Status::ok) {
-      culprit = kMaxAxes;
-      return st;
-    }
+  if (const Status st = extra_shaper(r.base, modes.data() + covered, nm - covered, extra); st != Status::ok) {
+    culprit = kMaxAxes;
+    return st;
   }
   Move<double> path{};
   const Status st = plan(p, extra, path);
@@ -164,7 +181,10 @@ Status plan_axes(const MultiAxisRequest& r, MultiAxisPlan& out, std::size_t& cul
   };
   double t_common = 0.0;
   for (std::size_t i = 0; i < r.count; ++i) {
-    const Status st = plan(request_of(i), res.moves_[i]);
+    const MoveRequest q = request_of(i);
+    Shaper<double> extra{};
+    Status st = own_extra_shaper(q, extra);
+    if (st == Status::ok) st = plan(q, extra, res.moves_[i]);
     if (st != Status::ok) {
       culprit = i;
       return st;
@@ -176,7 +196,9 @@ Status plan_axes(const MultiAxisRequest& r, MultiAxisPlan& out, std::size_t& cul
     if (m.distance() == 0.0 || m.duration() == t_common) continue;
     MoveRequest q = request_of(i);
     q.time = t_common - m.shaper().duration();  // the unshaped profile's time; the shaper is the axis's own
-    const Status st = plan(q, m);
+    Shaper<double> extra{};
+    Status st = own_extra_shaper(q, extra);
+    if (st == Status::ok) st = plan(q, extra, m);
     if (st != Status::ok) {
       culprit = i;
       return st;

@@ -74,16 +74,28 @@ BASE = {
     "drive config": ["--bus", "loopback", "--eds", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                                                 "hal", "eds", "split_rpdo_drive.eds")],
 }
+# A coordinated move (--axes N, docs/multi_axis.md): half the plan, sample and simulate runs start
+# from these, so that the per-axis lists and --sync are mutated too.
+AXES_BASE = {
+    "plan": ["--axes", "3", "--profile", "jerk-limited", "--distance", "0.1,0.05,-0.2", "--omega", "22,30,15",
+             "--vmax", "1", "--amax", "20,10,40", "--jmax", "800"],
+    "sample": ["--axes", "2", "--sync", "time", "--profile", "poly345", "--distance", "0.1,-0.05", "--time", "1",
+               "--dt", "0.05"],
+    "simulate": ["--axes", "2", "--plant", "sdof", "--profile", "scurve", "--distance", "0.1,0.05", "--vmax", "1",
+                 "--amax", "20", "--jmax", "800", "--omega", "28,20"],
+}
 WEIGHT = {"plan": 20, "sample": 14, "simulate": 26, "reproduce": 6, "plant": 12, "stream": 22, "tune": 12, "identify": 8,
           "drive info": 4, "drive read": 6, "drive write": 8, "drive scan": 3, "drive config": 5}
 
 # Sizes no run may honour; each must be refused before any work (exit 2).
 ABSURD = {
-    "plan": [["--time", "1e300"], ["--distance", "1e300"], ["--vmax", "1e-300"]],
-    "sample": [["--dt", "5e-9"], ["--dt", "1e-300"], ["--dt", "4.9e-324"], ["--time", "3600", "--dt", "1e-4"]],
+    "plan": [["--time", "1e300"], ["--distance", "1e300"], ["--vmax", "1e-300"], ["--axes", "9"],
+             ["--distance", "1,2,3,4,5,6,7,8,9"], ["--vmax", "1e-300,1,1"], ["--axes", "1e9"]],
+    "sample": [["--dt", "5e-9"], ["--dt", "1e-300"], ["--dt", "4.9e-324"], ["--time", "3600", "--dt", "1e-4"],
+               ["--axes", "8", "--dt", "1e-6"]],
     "simulate": [["--tail", "1e6"], ["--tail", "1e300"], ["--dt", "1e-7"], ["--time", "3600"],
                  ["--tail", "3000", "--time", "1000", "--csv", "@TMP@/h.csv"], ["--dt", "1e-6", "--csv", "@TMP@/h.csv"],
-                 ["--modes", "1e9"], ["--plant", "beam", "--modes", "100000"]],
+                 ["--modes", "1e9"], ["--plant", "beam", "--modes", "100000"], ["--axes", "8", "--dt", "1e-6"]],
     "reproduce": [["--out", ""]],
     "plant": [["--duration", "1e300"], ["--sync-loss-periods", "1e9"], ["--period-us", "1e12"]],
     "stream": [["--time", "1e5"], ["--time", "3000"], ["--time", "900", "--period-us", "100"], ["--settle-time", "1e9"],
@@ -366,7 +378,7 @@ def main():
     with tempfile.TemporaryDirectory(prefix="settle-hostile-") as tmp:
         for k in range(a.count):
             command = commands[k % len(commands)] if k < len(commands) else rng.choice(commands)
-            args = list(BASE[command])
+            args = list(AXES_BASE[command] if command in AXES_BASE and rng.random() < 0.5 else BASE[command])
             for _ in range(rng.choice([1, 1, 2, 3])):
                 args = mutate(rng, command, opts[command], args, tmp)
             argv = [a.settle, *command.split()] + args

@@ -153,7 +153,9 @@ TEST(MultiAxis, PathLimitsAreTheTightestAxisLimitOverItsDistance) {
 }
 
 TEST(MultiAxis, TimeSyncStretchesEveryAxisToTheSlowestWithItsOwnModeAtRest) {
-  for (const core::ShaperKind sh : {core::ShaperKind::zv, core::ShaperKind::zvd}) {
+  // With no shaper, jerk-limited designs for no mode: each axis gets a ZV for its own, as with --shaper zv.
+  for (const core::ShaperKind sh : {core::ShaperKind::none, core::ShaperKind::zv, core::ShaperKind::zvd}) {
+    SCOPED_TRACE(core::to_string(sh));
     MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::time);
     r.base.shaper = sh;
     MultiAxisPlan p{};
@@ -164,6 +166,7 @@ TEST(MultiAxis, TimeSyncStretchesEveryAxisToTheSlowestWithItsOwnModeAtRest) {
     double slowest = 0.0;
     for (std::size_t i = 0; i < 3; ++i) {
       core::MoveRequest q = r.base;
+      if (sh == core::ShaperKind::none) q.shaper = core::ShaperKind::zv;
       q.distance = r.axes[i].distance;
       q.vmax = r.axes[i].vmax;
       q.amax = r.axes[i].amax;
@@ -200,12 +203,16 @@ TEST(MultiAxis, TimeSyncStretchesEveryAxisToTheSlowestWithItsOwnModeAtRest) {
 }
 
 TEST(MultiAxis, TheResidualCheckSeesAMoveNotShapedForTheMode) {
-  // The control of the checks above: unshaped jerk-limited moves leave every mode ringing.
+  // The control of the checks above: jerk-limited moves for axes that declare no mode leave the
+  // modes ringing.
   const MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::time);
+  MultiAxisRequest blind = r;
+  for (std::size_t i = 0; i < 3; ++i) blind.axes[i].omega.reset();
   MultiAxisPlan p{};
   std::size_t culprit = 0;
-  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  ASSERT_EQ(core::plan_axes(blind, p, culprit), Status::ok);
   for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_TRUE(p.axis_move(i).shaper().is_identity());
     EXPECT_GT(residual(p, i, *r.axes[i].omega, r.axes[i].zeta), 1e-4 * std::fabs(r.axes[i].distance)) << i;
   }
 }
