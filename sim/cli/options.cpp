@@ -571,19 +571,10 @@ struct Parser {
       }
       case Kind::list: {
         std::vector<double> items;
-        std::size_t b = 0;
-        while (true) {
-          const std::size_t e = v.find(',', b);
-          const std::string item = v.substr(b, e == std::string::npos ? std::string::npos : e - b);
-          if (item.empty()) return fail("bad_list", n, n + ": empty item in '" + v + "'" + want);
-          if (items.size() >= o.max_items) return fail("bad_list", n, n + ": too many items in '" + v + "'" + want);
-          const Range& r = o.item_ranges.empty() ? o.range : o.item_ranges[items.size()];
-          double x = 0.0;
-          if (!number(o, item, r, x, want)) return false;
-          items.push_back(x);
-          if (e == std::string::npos) break;
-          b = e + 1;
-        }
+        const auto range_of = [&](std::size_t i) -> const Range& {
+          return o.item_ranges.empty() ? o.range : o.item_ranges[i];
+        };
+        if (!comma_numbers(o, v, o.max_items, "too many items", range_of, want, items)) return false;
         if (items.size() < o.min_items) return fail("bad_list", n, n + ": too few items in '" + v + "'" + want);
         out.raw_[n].push_back(v);
         out.lists_[n].push_back(std::move(items));
@@ -596,24 +587,35 @@ struct Parser {
   // A per-axis real given as a comma list of up to kMaxAxes numbers, each in the option's range:
   // recorded as a list only (a single number is recorded as a number and as a list of one).
   bool per_axis(const OptionSpec& o, const std::string& v, const std::string& want) {
-    const std::string& n = o.name;
     std::vector<double> items;
+    const std::string too_many = "more than " + std::to_string(core::kMaxAxes) + " values";
+    if (!comma_numbers(o, v, core::kMaxAxes, too_many, [&](std::size_t) -> const Range& { return o.range; }, want,
+                       items)) {
+      return false;
+    }
+    out.raw_[o.name].push_back(v);
+    out.lists_[o.name].push_back(std::move(items));
+    return true;
+  }
+
+  // The comma-separated numbers of `v`: no empty item, at most `max_items` (else "<too_many> in
+  // 'v'"), item i checked in range_of(i).
+  template <typename RangeOf>
+  bool comma_numbers(const OptionSpec& o, const std::string& v, std::size_t max_items, const std::string& too_many,
+                     RangeOf&& range_of, const std::string& want, std::vector<double>& items) {
+    const std::string& n = o.name;
     std::size_t b = 0;
     while (true) {
       const std::size_t e = v.find(',', b);
       const std::string item = v.substr(b, e == std::string::npos ? std::string::npos : e - b);
       if (item.empty()) return fail("bad_list", n, n + ": empty item in '" + v + "'" + want);
-      if (items.size() >= core::kMaxAxes) {
-        return fail("bad_list", n, n + ": more than " + std::to_string(core::kMaxAxes) + " values in '" + v + "'" + want);
-      }
+      if (items.size() >= max_items) return fail("bad_list", n, n + ": " + too_many + " in '" + v + "'" + want);
       double x = 0.0;
-      if (!number(o, item, o.range, x, want)) return false;
+      if (!number(o, item, range_of(items.size()), x, want)) return false;
       items.push_back(x);
       if (e == std::string::npos) break;
       b = e + 1;
     }
-    out.raw_[n].push_back(v);
-    out.lists_[n].push_back(std::move(items));
     return true;
   }
 
