@@ -126,7 +126,7 @@ void BM_FullTickFixedMailbox(benchmark::State& s) { BM_FullTick<float, true, Fix
 
 }  // namespace
 
-BENCHMARK(BM_FullTickDouble)->UseManualTime()->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64);
+BENCHMARK(BM_FullTickDouble)->UseManualTime()->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64);
 BENCHMARK(BM_FullTickFloat)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);
 BENCHMARK(BM_FullTickDoubleZv)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);
 BENCHMARK(BM_FullTickDoubleMailbox)->UseManualTime()->Arg(1)->Arg(8)->Arg(64);

@@ -79,13 +79,26 @@ Peaks<double> shaped_peaks(const Profile<double>& p, const Shaper<double>& s, co
   return out;
 }
 
-Status plan(const MoveRequest& r, Move<double>& out) noexcept {
+namespace {
+
+// `extra` convolved after `shaper`, in place. Out of line: a plan without an extra shaper (every
+// plan the Cortex-M images make) does not carry this frame's copy on its stack.
+[[gnu::noinline]] Status compose_after(Shaper<double>& shaper, const Shaper<double>& extra) noexcept {
+  const Shaper<double> own = shaper;
+  return compose(own, extra, shaper);
+}
+
+Status plan_with(const MoveRequest& r, const Shaper<double>* extra, Move<double>& out) noexcept {
   if (!is_registered(r.profile)) return Status::unsupported_request;
   Status st = validate(r);
   if (st != Status::ok) return st;
   Shaper<double> shaper{};
   if (r.shaper != ShaperKind::none) {
     st = design_shaper(r.shaper, *r.omega, r.zeta, r.vtol, shaper);
+    if (st != Status::ok) return st;
+  }
+  if (extra != nullptr && !extra->is_identity()) {
+    st = compose_after(shaper, *extra);
     if (st != Status::ok) return st;
   }
   Profile<double> prof{};
@@ -106,6 +119,14 @@ Status plan(const MoveRequest& r, Move<double>& out) noexcept {
   if (st != Status::ok) return st;
   out = Move<double>{prof, shaper, pk};
   return Status::ok;
+}
+
+}  // namespace
+
+Status plan(const MoveRequest& r, Move<double>& out) noexcept { return plan_with(r, nullptr, out); }
+
+Status plan(const MoveRequest& r, const Shaper<double>& extra, Move<double>& out) noexcept {
+  return plan_with(r, &extra, out);
 }
 
 }  // namespace settle::core

@@ -35,11 +35,56 @@ void print_text(const core::Move<double>& m) {
   }
 }
 
+void print_axes_text(const core::MultiAxisPlan& p, const Json& j) {
+  std::printf("axes         %zu (sync %s)\n", p.count(), core::to_string(p.sync()));
+  std::printf("duration     %.9g s (every axis)\n", p.duration());
+  std::printf("line dev.    %.6e (largest distance from the straight line, axis units)\n",
+              j["line_deviation"].get<double>());
+  if (p.sync() == core::SyncMode::path) {
+    std::printf("path         s(t) from 0 to 1, shaped for %zu mode%s:", p.path_mode_count(),
+                p.path_mode_count() == 1 ? "" : "s");
+    for (std::size_t k = 0; k < p.path_mode_count(); ++k) {
+      std::printf(" (omega %.7g, zeta %.5g)", p.path_mode(k).omega, p.path_mode(k).zeta);
+    }
+    std::printf("\n");
+    print_text(p.path());
+  }
+  for (std::size_t i = 0; i < p.count(); ++i) {
+    const auto& pk = p.peaks(i);
+    auto show = [](double v) { return std::isfinite(v) ? std::to_string(v) : std::string{"unbounded"}; };
+    std::printf("axis %zu       distance %.9g  peak |v| %s  |a| %s  |j| %s  line dev. %.3e\n", i + 1, p.distance(i),
+                show(pk.v).c_str(), show(pk.a).c_str(), show(pk.j).c_str(),
+                j["axis"][i]["line_deviation"].get<double>());
+    if (p.sync() == core::SyncMode::time) print_text(p.axis_move(i));
+  }
+}
+
+// settle plan --axes N: the coordinated move (docs/multi_axis.md).
+int plan_axes_command(const ParsedArgs& args) {
+  core::MultiAxisRequest req{};
+  RequestError err;
+  if (!parse_axes_request(args, req, err)) return report_bad_request(err, args.json());
+  core::MultiAxisPlan plan{};
+  if (!plan_axes(req, plan, err)) return report_bad_request(err, args.json());
+  const Json j = axes_json(plan, req);
+  if (!all_finite(j)) {
+    return report_bad_request({"non_finite_result", "--distance", "--distance: the plan has a non-finite number"},
+                              args.json());
+  }
+  if (args.json()) {
+    print_json(j);
+  } else {
+    print_axes_text(plan, j);
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int cmd_plan(int argc, char** argv) {
   ParsedArgs args;
   if (const int rc = parse_or_exit("plan", argc, argv, args); rc >= 0) return rc;
+  if (wants_axes(args)) return plan_axes_command(args);
   core::MoveRequest req{};
   RequestError err;
   if (!parse_move_request(args, req, err)) return report_bad_request(err, args.json());

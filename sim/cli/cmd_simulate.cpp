@@ -1,8 +1,10 @@
 // settle simulate: plan a move with what the user believes (--omega/--zeta, or the plant's own
 // fundamental mode when not given) and run it on the plant's true parameters.
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "json.hpp"
@@ -110,6 +112,120 @@ void print_text(const sim::ModalPlant& plant, const core::Move<double>& move, co
   }
 }
 
+Json metrics_json(const sim::ModalPlant& plant, const sim::SimMetrics& m) {
+  Json j;
+  j["residual_amplitude"] = m.residual_amplitude;
+  j["prv_percent"] = m.prv_percent;
+  j["step_residual"] = m.step_residual;
+  j["peak_deflection"] = m.peak_deflection;
+  j["final_energy"] = m.final_energy;
+  j["settling_band"] = m.band;
+  j["settling_time"] = finite_or_null(m.settling_time);
+  j["settling"] = sim::to_string(m.settling);
+  Json modes = Json::array();
+  for (std::size_t k = 0; k < plant.modes().size(); ++k) {
+    modes.push_back(Json{{"omega", plant.modes()[k].omega},
+                         {"zeta", plant.modes()[k].zeta},
+                         {"residual_amplitude", m.mode_residual[k]},
+                         {"prv_percent", m.mode_prv_percent[k]}});
+  }
+  j["modes"] = modes;
+  return j;
+}
+
+// settle simulate --axes N: every axis of the coordinated move on its own copy of the plant
+// (docs/multi_axis.md). Without --omega, every axis is designed for the plant's fundamental when
+// the profile or shaper designs for a mode, as with one axis.
+int simulate_axes(const ParsedArgs& args, const sim::ModalPlant& plant) {
+  const bool json = args.json();
+  for (const char* o : {"--halt-at", "--retarget-at", "--sensitivity", "--csv"}) {
+    if (args.has(o)) {
+      return report_bad_request({"conflicting_options", o, std::string{o} + ": one axis at a time; not with --axes"},
+                                json);
+    }
+  }
+  RequestError err;
+  core::MultiAxisRequest req{};
+  if (!parse_axes_request(args, req, err)) return report_bad_request(err, json);
+  core::MoveRequest probe = req.base;
+  probe.omega = plant.fundamental().omega;
+  if (!args.has("--omega") && needs_mode(probe)) {
+    for (std::size_t i = 0; i < req.count; ++i) {
+      req.axes[i].omega = plant.fundamental().omega;
+      if (!args.has("--zeta")) req.axes[i].zeta = plant.fundamental().zeta;
+    }
+  }
+  core::MultiAxisPlan plan{};
+  if (!plan_axes(req, plan, err)) return report_bad_request(err, json);
+  sim::SimOptions opt;
+  opt.record = false;
+  opt.dt = args.real("--dt", opt.dt);
+  opt.band = args.real("--band", opt.band);
+  opt.tail = args.real("--tail", opt.tail);
+  const double work = plan.duration() / opt.dt * static_cast<double>(plant.modes().size() * plan.count());
+  if (!(work <= kMaxSimWork)) {
+    return report_bad_request({"too_many_samples", "--dt",
+                               "--dt: " + format_number(work) + " grid steps x modes x axes; at most 2e6"},
+                              json);
+  }
+  Json j;
+  j["status"] = "ok";
+  j["plant"] = sim::to_string(plant.kind());
+  j["units"] = units(plant.kind());
+  j["profile"] = core::to_string(req.base.profile);
+  j["axes"] = plan.count();
+  j["sync"] = core::to_string(plan.sync());
+  j["move_duration"] = plan.duration();
+  std::array<double, core::kMaxAxes> per_axis{};
+  j["line_deviation"] = core::line_deviation(plan, per_axis);
+  const sim::MoveCommand path{plan.path()};
+  Json axes = Json::array();
+  std::vector<sim::SimMetrics> metrics;
+  for (std::size_t i = 0; i < plan.count(); ++i) {
+    const sim::MoveCommand own{plan.axis_move(i)};
+    const sim::ScaledCommand scaled{path, plan.distance(i)};
+    const sim::Command& cmd = plan.sync() == core::SyncMode::path ? static_cast<const sim::Command&>(scaled) : own;
+    sim::SimResult res;
+    const sim::SimStatus st = sim::simulate(plant, cmd, opt, res);
+    if (st != sim::SimStatus::ok) {
+      std::fprintf(stderr, "settle: simulation of axis %zu failed: %s\n", i + 1, sim::describe(st));
+      return kExitFailure;
+    }
+    Json a = metrics_json(plant, res.metrics);
+    a["distance"] = plan.distance(i);
+    if (req.axes[i].omega) {
+      a["designed_omega"] = *req.axes[i].omega;
+      a["designed_zeta"] = req.axes[i].zeta;
+    }
+    axes.push_back(a);
+    metrics.push_back(res.metrics);
+  }
+  j["axis"] = axes;
+  if (!all_finite(j)) {
+    return report_bad_request({"non_finite_result", "--distance",
+                               "--distance: the simulation's result is not finite for this move and plant"},
+                              json);
+  }
+  if (json) {
+    print_json(j);
+    return kExitOk;
+  }
+  const char* u = units(plant.kind());
+  std::printf("plant              %s (%zu mode%s), one per axis\n", sim::to_string(plant.kind()), plant.modes().size(),
+              plant.modes().size() == 1 ? "" : "s");
+  std::printf("move               %s, %zu axes (sync %s), duration %.9g s, line deviation %.3e %s\n",
+              core::to_string(req.base.profile), plan.count(), core::to_string(plan.sync()), plan.duration(),
+              j["line_deviation"].get<double>(), u);
+  for (std::size_t i = 0; i < plan.count(); ++i) {
+    const sim::SimMetrics& m = metrics[i];
+    std::printf("axis %zu             distance %.9g %s: residual amplitude %.6e %s, PRV %.6g %%", i + 1, plan.distance(i),
+                u, m.residual_amplitude, u, m.prv_percent);
+    if (req.axes[i].omega) std::printf(" (designed for omega %.7g, zeta %.5g)", *req.axes[i].omega, req.axes[i].zeta);
+    std::printf("\n");
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int cmd_simulate(int argc, char** argv) {
@@ -119,6 +235,7 @@ int cmd_simulate(int argc, char** argv) {
   sim::ModalPlant plant;
   RequestError err;
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
+  if (wants_axes(args)) return simulate_axes(args, plant);
   core::MoveRequest req{};
   if (!parse_move_request(args, req, err)) return report_bad_request(err, json);
   if (needs_mode(req) && !args.has("--omega")) {

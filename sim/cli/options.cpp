@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "json.hpp"
+#include "settle/core/multi_axis.hpp"
 #include "settle/core/profile.hpp"
 #include "settle/sim/beam.hpp"
 #include "settle/sim/identify.hpp"
@@ -93,6 +94,25 @@ const std::vector<OptionSpec> kMove = [] {
   };
   return v;
 }();
+
+// plan, sample, simulate: the move group whose distance, limits and mode also take one value per
+// axis (--axes N, docs/multi_axis.md), and the coordination's own options.
+const std::vector<OptionSpec> kMoveAxes = [] {
+  std::vector<OptionSpec> v = kMove;
+  for (OptionSpec& o : v) {
+    o.per_axis = o.name == "--distance" || o.name == "--vmax" || o.name == "--amax" || o.name == "--jmax" ||
+                 o.name == "--omega" || o.name == "--zeta";
+  }
+  return v;
+}();
+const std::vector<OptionSpec> kAxes = {
+    integer("--axes", "", "1 (one axis, no coordination)", {1.0, static_cast<double>(core::kMaxAxes)},
+            "coordinate N axes that start and end together: --distance, --omega, --zeta take N comma-separated "
+            "values, --vmax, --amax, --jmax one or N (docs/multi_axis.md)"),
+    choice("--sync", "path", {"path", "time"},
+           "with --axes: 'path' (a straight line; every axis shaped for every axis's mode) or 'time' (each axis "
+           "its own move on its own mode, one common duration; reports the deviation from the line)"),
+};
 
 // settle tune: the move's own options, taken from the move group (one row per option).
 const std::vector<OptionSpec> kTuneMove = [] {
@@ -303,16 +323,16 @@ const std::string kDriveNotes =
     "transfer (the CiA 301 abort code and its meaning are printed), or (write) the value reads back different.";
 
 const std::vector<CommandSpec> kCommands = {
-    {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "", .groups = {kMove, kOutput}},
+    {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "", .groups = {kMoveAxes, kAxes, kOutput}},
     {.name = "sample",
      .summary = "plan a move and print t,position,velocity,acceleration,jerk every --dt (CSV, or --json)",
      .usage = "",
-     .groups = {kMove, kPlanFrom, kSample, kOutput},
+     .groups = {kMoveAxes, kAxes, kPlanFrom, kSample, kOutput},
      .notes = "Bounds: at most 2e6 samples (move duration / --dt); the move at most 3600 s."},
     {.name = "simulate",
      .summary = "run a move on a plant (sdof, beam, belt, modes): residual, PRV, energy",
      .usage = "",
-     .groups = {kMove, kPlant, kSimulate, kOnline, kOutput},
+     .groups = {kMoveAxes, kAxes, kPlant, kSimulate, kOnline, kOutput},
      .notes = "Bounds: move + tail at most 3600 s; grid steps ((move + tail) / --dt) x modes at most 2e6; with --csv "
               "at most 1e6 rows; at most 64 --mode."},
     {.name = "reproduce",
@@ -539,33 +559,62 @@ struct Parser {
         out.raw_[n].push_back(v);
         return true;
       case Kind::real:
+        if (o.per_axis && v.find(',') != std::string::npos) return per_axis(o, v, want);
+        [[fallthrough]];
       case Kind::integer: {
         double x = 0.0;
         if (!number(o, v, o.range, x, want)) return false;
         out.raw_[n].push_back(v);
         out.numbers_[n].push_back(x);
+        if (o.per_axis) out.lists_[n].push_back({x});
         return true;
       }
       case Kind::list: {
         std::vector<double> items;
-        std::size_t b = 0;
-        while (true) {
-          const std::size_t e = v.find(',', b);
-          const std::string item = v.substr(b, e == std::string::npos ? std::string::npos : e - b);
-          if (item.empty()) return fail("bad_list", n, n + ": empty item in '" + v + "'" + want);
-          if (items.size() >= o.max_items) return fail("bad_list", n, n + ": too many items in '" + v + "'" + want);
-          const Range& r = o.item_ranges.empty() ? o.range : o.item_ranges[items.size()];
-          double x = 0.0;
-          if (!number(o, item, r, x, want)) return false;
-          items.push_back(x);
-          if (e == std::string::npos) break;
-          b = e + 1;
-        }
+        const auto range_of = [&](std::size_t i) -> const Range& {
+          return o.item_ranges.empty() ? o.range : o.item_ranges[i];
+        };
+        if (!comma_numbers(o, v, o.max_items, "too many items", range_of, want, items)) return false;
         if (items.size() < o.min_items) return fail("bad_list", n, n + ": too few items in '" + v + "'" + want);
         out.raw_[n].push_back(v);
         out.lists_[n].push_back(std::move(items));
         return true;
       }
+    }
+    return true;
+  }
+
+  // A per-axis real given as a comma list of up to kMaxAxes numbers, each in the option's range:
+  // recorded as a list only (a single number is recorded as a number and as a list of one).
+  bool per_axis(const OptionSpec& o, const std::string& v, const std::string& want) {
+    std::vector<double> items;
+    const std::string too_many = "more than " + std::to_string(core::kMaxAxes) + " values";
+    if (!comma_numbers(o, v, core::kMaxAxes, too_many, [&](std::size_t) -> const Range& { return o.range; }, want,
+                       items)) {
+      return false;
+    }
+    out.raw_[o.name].push_back(v);
+    out.lists_[o.name].push_back(std::move(items));
+    return true;
+  }
+
+  // The comma-separated numbers of `v`: no empty item, at most `max_items` (else "<too_many> in
+  // 'v'"), item i checked in range_of(i).
+  template <typename RangeOf>
+  bool comma_numbers(const OptionSpec& o, const std::string& v, std::size_t max_items, const std::string& too_many,
+                     RangeOf&& range_of, const std::string& want, std::vector<double>& items) {
+    const std::string& n = o.name;
+    std::size_t b = 0;
+    while (true) {
+      const std::size_t e = v.find(',', b);
+      const std::string item = v.substr(b, e == std::string::npos ? std::string::npos : e - b);
+      if (item.empty()) return fail("bad_list", n, n + ": empty item in '" + v + "'" + want);
+      if (items.size() >= max_items) return fail("bad_list", n, n + ": " + too_many + " in '" + v + "'" + want);
+      double x = 0.0;
+      if (!number(o, item, range_of(items.size()), x, want)) return false;
+      items.push_back(x);
+      if (e == std::string::npos) break;
+      b = e + 1;
     }
     return true;
   }
@@ -731,6 +780,7 @@ std::string OptionSpec::describe() const {
   if (!def.empty()) meta += (meta.empty() ? "" : "; ") + std::string{"default "} + def;
   if (kind != Kind::flag && kind != Kind::text) meta += (meta.empty() ? "" : "; ") + expectation(*this);
   if (repeatable) meta += "; at most " + std::to_string(max_repeats);
+  if (per_axis) meta += "; with --axes N: one per axis, comma-separated";
   if (!meta.empty()) s += " [" + meta + "]";
   return s;
 }

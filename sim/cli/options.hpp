@@ -57,6 +57,7 @@ struct OptionSpec {
   std::vector<Range> item_ranges{};   // list: one range per position (overrides `range`)
   std::string value_name{};           // placeholder in help (defaults by kind)
   bool hex{false};                    // integer: 0x-prefixed hexadecimal is accepted too
+  bool per_axis{false};               // real: also a comma list, one value per axis (--axes N)
 
 
   // One line for help: "<help> [unit; default; range]".
@@ -99,6 +100,7 @@ class ParsedArgs {
   [[nodiscard]] std::optional<std::string> text(const std::string& name) const;
   [[nodiscard]] std::vector<double> list(const std::string& name) const;                // first value
   [[nodiscard]] std::vector<std::vector<double>> lists(const std::string& name) const;  // every value
+  // (a per-axis real option's values are lists too: a single number is a list of one)
   [[nodiscard]] const std::string& positional() const { return positional_; }
   [[nodiscard]] bool json() const { return json_; }
 

@@ -1,6 +1,7 @@
 #include "plan_json.hpp"
 
 #include <cmath>
+#include <array>
 #include <cstdio>
 #include <vector>
 
@@ -8,6 +9,17 @@
 #include "settle/sim/move_vocabulary.hpp"
 
 namespace settle::cli {
+
+Json peaks_json(const core::Peaks<double>& pk) {
+  const bool impulse_a = pk.velocity_step || pk.acceleration_step;
+  Json peaks;
+  peaks["velocity"] = pk.v;
+  peaks["acceleration"] = pk.velocity_step && !std::isfinite(pk.a) ? Json(nullptr) : Json(pk.a);
+  peaks["jerk"] = impulse_a && !std::isfinite(pk.j) ? Json(nullptr) : Json(pk.j);
+  peaks["velocity_step"] = pk.velocity_step;
+  peaks["acceleration_step"] = pk.acceleration_step;
+  return peaks;
+}
 
 Json plan_json(const core::Move<double>& m) {
   Json j;
@@ -20,20 +32,56 @@ Json plan_json(const core::Move<double>& m) {
   Json params = Json::object();
   for (const auto& [k, v] : sim::profile_params(m.profile())) params[k] = v;
   j["params"] = params;
-  const auto& pk = m.peaks();
-  const bool impulse_a = pk.velocity_step || pk.acceleration_step;
-  Json peaks;
-  peaks["velocity"] = pk.v;
-  peaks["acceleration"] = pk.velocity_step && !std::isfinite(pk.a) ? Json(nullptr) : Json(pk.a);
-  peaks["jerk"] = impulse_a && !std::isfinite(pk.j) ? Json(nullptr) : Json(pk.j);
-  peaks["velocity_step"] = pk.velocity_step;
-  peaks["acceleration_step"] = pk.acceleration_step;
-  j["peaks"] = peaks;
+  j["peaks"] = peaks_json(m.peaks());
   Json impulses = Json::array();
   for (std::size_t i = 0; i < m.shaper().count; ++i) {
     impulses.push_back(Json{{"amplitude", m.shaper().amp[i]}, {"time", m.shaper().time[i]}});
   }
   j["shaper"]["impulses"] = impulses;
+  return j;
+}
+
+Json axes_json(const core::MultiAxisPlan& p, const core::MultiAxisRequest& r) {
+  Json j;
+  j["status"] = "ok";
+  j["axes"] = p.count();
+  j["sync"] = core::to_string(p.sync());
+  j["profile"] = core::to_string(r.base.profile);
+  j["duration"] = p.duration();
+  std::array<double, core::kMaxAxes> per_axis{};
+  j["line_deviation"] = core::line_deviation(p, per_axis);
+  if (p.sync() == core::SyncMode::path) {
+    Json path = plan_json(p.path());
+    path.erase("status");
+    j["path"] = path;
+    Json modes = Json::array();
+    for (std::size_t k = 0; k < p.path_mode_count(); ++k) {
+      modes.push_back(Json{{"omega", p.path_mode(k).omega}, {"zeta", p.path_mode(k).zeta}});
+    }
+    j["path_modes"] = modes;
+  }
+  Json axes = Json::array();
+  for (std::size_t i = 0; i < p.count(); ++i) {
+    const core::AxisSpec& x = r.axes[i];
+    Json a;
+    a["distance"] = p.distance(i);
+    if (x.omega) a["omega"] = *x.omega;
+    a["zeta"] = x.zeta;
+    Json limits = Json::object();
+    if (x.vmax) limits["vmax"] = *x.vmax;
+    if (x.amax) limits["amax"] = *x.amax;
+    if (x.jmax) limits["jmax"] = *x.jmax;
+    a["limits"] = limits;
+    a["peaks"] = peaks_json(p.peaks(i));
+    a["line_deviation"] = per_axis[i];
+    if (p.sync() == core::SyncMode::time) {
+      Json own = plan_json(p.axis_move(i));
+      own.erase("status");
+      a["plan"] = own;
+    }
+    axes.push_back(a);
+  }
+  j["axis"] = axes;
   return j;
 }
 

@@ -6,6 +6,7 @@
 
 #include "json.hpp"
 #include "options.hpp"
+#include "settle/core/multi_axis.hpp"
 #include "settle/core/planner.hpp"
 
 namespace settle::cli {
@@ -13,6 +14,14 @@ namespace settle::cli {
 // Every number the plan reports. A peak that is an impulse (a velocity or acceleration step) is
 // null, and flagged; any other non-finite number makes the plan unreportable (all_finite).
 [[nodiscard]] Json plan_json(const core::Move<double>& m);
+
+// Peaks as plan_json reports them (an impulse null, and flagged).
+[[nodiscard]] Json peaks_json(const core::Peaks<double>& pk);
+
+// A coordinated move (`settle plan --axes N --json`, docs/multi_axis.md): the common duration, the
+// largest deviation from the straight line, the path (path sync) and every axis's distance, mode,
+// limits, peaks and deviation (time sync: its own plan too).
+[[nodiscard]] Json axes_json(const core::MultiAxisPlan& p, const core::MultiAxisRequest& r);
 
 // The fields of a request that plan an unshaped profile: profile, distance, and whichever of
 // time, vmax, amax, jmax, omega, zeta it has.

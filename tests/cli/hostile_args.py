@@ -74,16 +74,28 @@ BASE = {
     "drive config": ["--bus", "loopback", "--eds", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                                                 "hal", "eds", "split_rpdo_drive.eds")],
 }
+# A coordinated move (--axes N, docs/multi_axis.md): count / 5 further runs of plan, sample and
+# simulate start from these, so that the per-axis lists and --sync are mutated too.
+AXES_BASE = {
+    "plan": ["--axes", "3", "--profile", "jerk-limited", "--distance", "0.1,0.05,-0.2", "--omega", "22,30,15",
+             "--vmax", "1", "--amax", "20,10,40", "--jmax", "800"],
+    "sample": ["--axes", "2", "--sync", "time", "--profile", "poly345", "--distance", "0.1,-0.05", "--time", "1",
+               "--dt", "0.05"],
+    "simulate": ["--axes", "2", "--plant", "sdof", "--profile", "scurve", "--distance", "0.1,0.05", "--vmax", "1",
+                 "--amax", "20", "--jmax", "800", "--omega", "28,20"],
+}
 WEIGHT = {"plan": 20, "sample": 14, "simulate": 26, "reproduce": 6, "plant": 12, "stream": 22, "tune": 12, "identify": 8,
           "drive info": 4, "drive read": 6, "drive write": 8, "drive scan": 3, "drive config": 5}
 
 # Sizes no run may honour; each must be refused before any work (exit 2).
 ABSURD = {
-    "plan": [["--time", "1e300"], ["--distance", "1e300"], ["--vmax", "1e-300"]],
-    "sample": [["--dt", "5e-9"], ["--dt", "1e-300"], ["--dt", "4.9e-324"], ["--time", "3600", "--dt", "1e-4"]],
+    "plan": [["--time", "1e300"], ["--distance", "1e300"], ["--vmax", "1e-300"], ["--axes", "9"],
+             ["--distance", "1,2,3,4,5,6,7,8,9"], ["--vmax", "1e-300,1,1"], ["--axes", "1e9"]],
+    "sample": [["--dt", "5e-9"], ["--dt", "1e-300"], ["--dt", "4.9e-324"], ["--time", "3600", "--dt", "1e-4"],
+               ["--axes", "8", "--dt", "1e-6"]],
     "simulate": [["--tail", "1e6"], ["--tail", "1e300"], ["--dt", "1e-7"], ["--time", "3600"],
                  ["--tail", "3000", "--time", "1000", "--csv", "@TMP@/h.csv"], ["--dt", "1e-6", "--csv", "@TMP@/h.csv"],
-                 ["--modes", "1e9"], ["--plant", "beam", "--modes", "100000"]],
+                 ["--modes", "1e9"], ["--plant", "beam", "--modes", "100000"], ["--axes", "8", "--dt", "1e-6"]],
     "reproduce": [["--out", ""]],
     "plant": [["--duration", "1e300"], ["--sync-loss-periods", "1e9"], ["--period-us", "1e12"]],
     "stream": [["--time", "1e5"], ["--time", "3000"], ["--time", "900", "--period-us", "100"], ["--settle-time", "1e9"],
@@ -364,11 +376,19 @@ def main():
     slowest = (0.0, None)
     biggest = (0, None)
     with tempfile.TemporaryDirectory(prefix="settle-hostile-") as tmp:
-        for k in range(a.count):
-            command = commands[k % len(commands)] if k < len(commands) else rng.choice(commands)
-            args = list(BASE[command])
-            for _ in range(rng.choice([1, 1, 2, 3])):
-                args = mutate(rng, command, opts[command], args, tmp)
+        # The argument sets from BASE, then a fifth as many more from AXES_BASE on a generator of
+        # their own (so that the sets from BASE stay those every earlier run of a seed drew).
+        axes_commands = [c for c in commands if c in AXES_BASE]
+        axes_rng = random.Random(a.seed * 7919 + 1)
+        runs = [(k, rng, BASE) for k in range(a.count)]
+        if axes_commands:
+            runs += [(a.count + k, axes_rng, AXES_BASE) for k in range(a.count // 5)]
+        for k, g, bases in runs:
+            pool = commands if bases is BASE else axes_commands
+            command = pool[k % len(pool)] if bases is BASE and k < len(pool) else g.choice(pool)
+            args = list(bases[command])
+            for _ in range(g.choice([1, 1, 2, 3])):
+                args = mutate(g, command, opts[command], args, tmp)
             argv = [a.settle, *command.split()] + args
             result = run(argv, tmp, SANITIZED_LIMIT_S if a.sanitized else TIME_LIMIT_S)
             codes[(command, result[0])] = codes.get((command, result[0]), 0) + 1
@@ -380,14 +400,14 @@ def main():
             if why:
                 failures.append((k, argv, why))
     summary = ", ".join(f"{c} exit {s}: {n}" for (c, s), n in sorted(codes.items()))
-    print(f"{a.count} argument sets (seed {a.seed}); {summary}")
+    print(f"{len(runs)} argument sets (seed {a.seed}; {len(runs) - a.count} from AXES_BASE); {summary}")
     short = lambda v: [x if len(x) < 60 else x[:20] + f"...({len(x)} chars)" for x in v[1:]][:40]
     print(f"slowest {slowest[0]:.2f} s: {short(slowest[1]) if slowest[1] else ''}")
     print(f"largest RSS {biggest[0] / 1024:.0f} MB: {short(biggest[1]) if biggest[1] else ''}")
     for k, argv, why in failures[:30]:
         print(f"\nFAIL #{k}: settle {' '.join(repr(x) for x in short(argv))}\n  {why}")
     if failures:
-        print(f"\n{len(failures)} of {a.count} argument sets broke a rule")
+        print(f"\n{len(failures)} of {len(runs)} argument sets broke a rule")
         return 1
     print("every argument set ended cleanly")
     return 0

@@ -297,9 +297,9 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
     return s;
   };
   const std::vector<std::pair<std::string, std::set<std::string>>> expected = {
-      {"plan", join({move})},
-      {"sample", join({move, {"--dt", "--plan-from"}})},
-      {"simulate", join({move, plant, {"--csv", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
+      {"plan", join({move, {"--axes", "--sync"}})},
+      {"sample", join({move, {"--axes", "--sync", "--dt", "--plan-from"}})},
+      {"simulate", join({move, plant, {"--axes", "--sync", "--csv", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
       {"reproduce", join({{"--out"}})},
       {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--log", "--duration",
                                      "--noise", "--seed"}})},

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "settle/core/planner.hpp"
 #include "settle/sim/command.hpp"
@@ -26,6 +27,25 @@ core::MoveRequest ramp_versine(std::array<double, 3> y) {
   r.time = 0.167;
   r.y_fractions = y;
   return r;
+}
+
+TEST(Commands, ScaledCommandIsItsBaseTimesTheScaleOnBothSidesOfEveryBreak) {
+  // One axis of a path-synchronised move: D_i s(t) (docs/multi_axis.md); seed 001's command steps
+  // in velocity, so both one-sided values are checked.
+  const MoveCommand base{plan(ramp_versine({0.5, 0.25, 0.25}))};
+  const ScaledCommand c{base, -0.2};
+  EXPECT_EQ(c.duration(), base.duration());
+  EXPECT_EQ(c.final_position(), -0.2 * base.final_position());
+  std::vector<double> b0, b1;
+  base.breakpoints(b0);
+  c.breakpoints(b1);
+  EXPECT_EQ(b0, b1);
+  for (double t : {0.0, 0.05, 0.1, 0.167, 0.2}) {
+    EXPECT_EQ(c.at(t).p, -0.2 * base.at(t).p) << t;
+    EXPECT_EQ(c.at(t).v, -0.2 * base.at(t).v) << t;
+    EXPECT_EQ(c.at_left(t).v, -0.2 * base.at_left(t).v) << t;
+    EXPECT_EQ(c.at_left(t).a, -0.2 * base.at_left(t).a) << t;
+  }
 }
 
 TEST(Commands, RampVersineVelocityStepsAreOneSided) {

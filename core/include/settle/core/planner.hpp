@@ -10,6 +10,9 @@
 namespace settle::core {
 
 [[nodiscard]] Status plan(const MoveRequest& req, Move<double>& out) noexcept;
+// The same, convolved with `extra` too (after the request's own shaper): a coordinated path shaped
+// for further modes (multi_axis.hpp). Peaks and limits are the result's.
+[[nodiscard]] Status plan(const MoveRequest& req, const Shaper<double>& extra, Move<double>& out) noexcept;
 
 // Whether planning `req` uses the mode (omega, zeta): a shaper does, and so does a profile whose
 // hook designs for it. plan() then requires a positive omega.

@@ -45,6 +45,23 @@ class MoveCommand final : public Command {
   std::vector<double> profile_breaks_;  // of the unshaped profile, relative to its start
 };
 
+// Another command times a constant: one axis of a path-synchronised coordinated move, D_i s(t)
+// (core/multi_axis.hpp). Holds a reference: `base` must outlive it.
+class ScaledCommand final : public Command {
+ public:
+  ScaledCommand(const Command& base, double scale) : base_{&base}, k_{scale} {}
+  [[nodiscard]] double duration() const override { return base_->duration(); }
+  [[nodiscard]] double final_position() const override { return k_ * base_->final_position(); }
+  [[nodiscard]] BaseState at(double t) const override { return scaled(base_->at(t)); }
+  [[nodiscard]] BaseState at_left(double t) const override { return scaled(base_->at_left(t)); }
+  void breakpoints(std::vector<double>& out) const override { base_->breakpoints(out); }
+
+ private:
+  [[nodiscard]] BaseState scaled(const BaseState& s) const { return {k_ * s.p, k_ * s.v, k_ * s.a}; }
+  const Command* base_;
+  double k_;
+};
+
 // A position step shaped by impulses: y(t) = distance * sum_{t_i <= t} A_i. The classic input
 // shaping experiment (the staircase a ZV/ZVD/EI shaper makes of a step).
 class StepsCommand final : public Command {

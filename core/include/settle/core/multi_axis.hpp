@@ -1,0 +1,95 @@
+#pragma once
+// Coordinated moves of up to kMaxAxes axes that start together and end together, each at rest on
+// its own mode (issue 17, docs/multi_axis.md). Two ways to synchronise them:
+//   path  one common path parameter s(t) from 0 to 1, planned under the path limits
+//         min_i(limit_i / |D_i|) and shaped so that every moving axis's mode is at rest; axis i is
+//         D_i s(t). The path is a straight line by construction; every axis inherits every mode.
+//   time  each axis its own move on its own mode, all stretched to one common duration, the
+//         slowest axis's shortest; the path is no longer straight (line_deviation measures it).
+// Planning runs in double, allocation-free and exception-free like the rest of core.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+
+#include "settle/core/kinematics.hpp"
+#include "settle/core/move.hpp"
+#include "settle/core/move_request.hpp"
+#include "settle/core/status.hpp"
+
+namespace settle::core {
+
+inline constexpr std::size_t kMaxAxes = 8;
+
+enum class SyncMode : std::uint8_t { path, time };
+[[nodiscard]] constexpr const char* to_string(SyncMode s) noexcept { return s == SyncMode::path ? "path" : "time"; }
+
+// One axis's part of the request: its distance, its limits (absent: unlimited on that axis) and
+// the mode it is designed for (absent: none declared on that axis).
+struct AxisSpec {
+  double distance{0.0};
+  std::optional<double> vmax, amax, jmax;
+  std::optional<double> omega;  // rad/s
+  double zeta{0.0};
+};
+
+struct MultiAxisRequest {
+  // What every axis shares: profile, shaper, vtol, the unshaped move time when given, gammas, y.
+  // Its own distance, limits and modes are not read: they are the axes'.
+  MoveRequest base{};
+  std::array<AxisSpec, kMaxAxes> axes{};
+  std::size_t count{0};  // 1..kMaxAxes (else bad_shape_parameter)
+  SyncMode sync{SyncMode::path};
+};
+
+// A planned coordinated move: what every axis does from the common start.
+class MultiAxisPlan {
+ public:
+  [[nodiscard]] SyncMode sync() const noexcept { return sync_; }
+  [[nodiscard]] std::size_t count() const noexcept { return count_; }
+  [[nodiscard]] double duration() const noexcept { return duration_; }
+  [[nodiscard]] double distance(std::size_t axis) const noexcept { return distance_[axis]; }
+  // Peaks of axis `axis`'s own command.
+  [[nodiscard]] const Peaks<double>& peaks(std::size_t axis) const noexcept { return peaks_[axis]; }
+  // path: the path parameter's move s(t), 0 -> 1 (an empty move when no axis moves).
+  [[nodiscard]] const Move<double>& path() const noexcept { return path_; }
+  // time: axis `axis`'s own move (an empty move for an axis that does not move).
+  [[nodiscard]] const Move<double>& axis_move(std::size_t axis) const noexcept { return moves_[axis]; }
+  // The modes the path was shaped for (path sync), in the order of the axes that first named them.
+  [[nodiscard]] std::size_t path_mode_count() const noexcept { return path_mode_count_; }
+  [[nodiscard]] const Mode& path_mode(std::size_t k) const noexcept { return path_modes_[k]; }
+
+  // Axis `axis` at time t from the common start; at rest on its distance from duration() on.
+  [[nodiscard]] Sample<double> at(std::size_t axis, double t) const noexcept {
+    if (sync_ == SyncMode::time) return moves_[axis].at(t);
+    const Sample<double> s = path_.at(t);
+    const double d = distance_[axis];
+    if (t >= duration_) return {d, 0.0, 0.0, 0.0};
+    return {d * s.p, d * s.v, d * s.a, d * s.j};
+  }
+
+ private:
+  friend Status plan_axes(const MultiAxisRequest& req, MultiAxisPlan& out, std::size_t& culprit) noexcept;
+  SyncMode sync_{SyncMode::path};
+  std::size_t count_{0};
+  double duration_{0.0};
+  std::array<double, kMaxAxes> distance_{};
+  std::array<Peaks<double>, kMaxAxes> peaks_{};
+  Move<double> path_{};
+  std::array<Move<double>, kMaxAxes> moves_{};
+  std::array<Mode, kMaxAxes> path_modes_{};
+  std::size_t path_mode_count_{0};
+};
+
+// Plans a coordinated move. On failure `out` is untouched and `culprit` is the axis whose limits or
+// mode the status is about (time sync: the axis whose own plan failed), or kMaxAxes when it is about
+// the shared path or request.
+[[nodiscard]] Status plan_axes(const MultiAxisRequest& req, MultiAxisPlan& out, std::size_t& culprit) noexcept;
+
+// How far the coordinated move leaves the straight line from the start to (D_1, ..., D_N): the
+// largest Euclidean distance of the point (p_1(t), ..., p_N(t)) from the line over the move, and in
+// `per_axis` each axis's largest |p_i(t) - D_i sigma(t)|, sigma(t) the point's projection on the
+// line. Axis units. A dense scan refined at every local maximum (planning time only).
+[[nodiscard]] double line_deviation(const MultiAxisPlan& plan, std::array<double, kMaxAxes>& per_axis) noexcept;
+
+}  // namespace settle::core

@@ -1,0 +1,243 @@
+#include "settle/core/multi_axis.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "extrema.hpp"
+#include "settle/core/planner.hpp"
+#include "settle/core/profiles/registry.hpp"
+
+namespace settle::core {
+
+namespace {
+
+// The path limit min_i(limit_i / |D_i|) over the moving axes that give that limit (absent when
+// none does). A non-finite or non-positive axis limit passes through, for plan() to refuse.
+std::optional<double> path_limit(const MultiAxisRequest& r, std::optional<double> AxisSpec::*limit,
+                                 std::size_t& culprit) noexcept {
+  std::optional<double> out;
+  for (std::size_t i = 0; i < r.count; ++i) {
+    const AxisSpec& a = r.axes[i];
+    const std::optional<double>& l = a.*limit;
+    if (!l || a.distance == 0.0) continue;
+    const double v = *l / std::fabs(a.distance);
+    if (!out || !(v >= *out)) {  // a NaN wins, so that it is reported
+      out = v;
+      culprit = i;
+    }
+  }
+  return out;
+}
+
+// Whether the profile designs for the request's extra modes as well as its first one.
+bool reads_extra_modes(ProfileKind k) noexcept {
+#if SETTLE_CORE_FASTEST
+  return k == ProfileKind::fastest;
+#else
+  (void)k;
+  return false;
+#endif
+}
+
+// The modes the request's own plan does not cancel: one shaper each, of the request's kind (ZV when
+// it has none), composed.
+Status extra_shaper(const MoveRequest& r, const Mode* modes, std::size_t n, Shaper<double>& out) noexcept {
+  const ShaperKind kind = r.shaper != ShaperKind::none ? r.shaper : ShaperKind::zv;
+  Shaper<double> acc{};
+  for (std::size_t k = 0; k < n; ++k) {
+    Shaper<double> one{}, prev = acc;
+    Status st = design_shaper(kind, modes[k].omega, modes[k].zeta, r.vtol, one);
+    if (st == Status::ok) st = compose(prev, one, acc);
+    if (st != Status::ok) return st;
+  }
+  out = acc;
+  return Status::ok;
+}
+
+// Time sync: axis `q`'s own mode, when the profile and the shaper do not design for it, gets a
+// shaper of its own the same way.
+Status own_extra_shaper(const MoveRequest& q, Shaper<double>& out) noexcept {
+  out = Shaper<double>{};
+  if (!q.omega || needs_mode(q)) return Status::ok;
+  const Mode m{*q.omega, q.zeta};
+  return extra_shaper(q, &m, 1, out);
+}
+
+Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, kMaxAxes>& modes, std::size_t& nm,
+                 std::size_t& culprit) noexcept {
+  MoveRequest p = r.base;
+  p.extra_mode_count = 0;
+  p.omega.reset();
+  p.zeta = 0.0;
+  bool moving = false;
+  // The distinct modes of the moving axes, in axis order.
+  nm = 0;
+  for (std::size_t i = 0; i < r.count; ++i) {
+    const AxisSpec& a = r.axes[i];
+    if (!std::isfinite(a.distance)) {
+      culprit = i;
+      return Status::non_finite_input;
+    }
+    if (a.distance == 0.0) continue;
+    moving = true;
+    if (!a.omega) continue;
+    if (!std::isfinite(*a.omega) || !std::isfinite(a.zeta)) {
+      culprit = i;
+      return Status::non_finite_input;
+    }
+    if (!(*a.omega > 0.0)) {
+      culprit = i;
+      return Status::non_positive_omega;
+    }
+    if (!(a.zeta >= 0.0 && a.zeta < 1.0)) {
+      culprit = i;
+      return Status::zeta_out_of_range;
+    }
+    bool known = false;
+    for (std::size_t k = 0; k < nm; ++k) known = known || (modes[k].omega == *a.omega && modes[k].zeta == a.zeta);
+    if (!known) modes[nm++] = {*a.omega, a.zeta};
+  }
+  p.distance = moving ? 1.0 : 0.0;
+  std::size_t who_v = kMaxAxes, who_a = kMaxAxes, who_j = kMaxAxes;
+  p.vmax = path_limit(r, &AxisSpec::vmax, who_v);
+  p.amax = path_limit(r, &AxisSpec::amax, who_a);
+  p.jmax = path_limit(r, &AxisSpec::jmax, who_j);
+  // The first mode is the request's own: its shaper's and, when the profile designs for a mode,
+  // the profile's; `fastest` takes further ones as extra modes.
+  std::size_t covered = 0;
+  if (nm > 0) {
+    p.omega = modes[0].omega;
+    p.zeta = modes[0].zeta;
+    if (needs_mode(p)) covered = 1;
+    if (reads_extra_modes(p.profile)) {
+      for (; covered < nm && covered <= kMaxExtraModes; ++covered) p.extra_modes[covered - 1] = modes[covered];
+      p.extra_mode_count = covered - 1;
+    }
+  }
+  Shaper<double> extra{};
+  if (const Status st = extra_shaper(r.base, modes.data() + covered, nm - covered, extra); st != Status::ok) {
+    culprit = kMaxAxes;
+    return st;
+  }
+  Move<double> path{};
+  const Status st = plan(p, extra, path);
+  if (st != Status::ok) {
+    // The axis whose limit set the path limit the status is about.
+    auto bad = [](const std::optional<double>& l) { return l && !(*l > 0.0 && std::isfinite(*l)); };
+    switch (st) {
+      case Status::velocity_limit_exceeded:
+      case Status::time_too_short_for_vmax: culprit = who_v; break;
+      case Status::acceleration_limit_exceeded: culprit = who_a; break;
+      case Status::jerk_limit_exceeded: culprit = who_j; break;
+      case Status::non_positive_limit:
+      case Status::non_finite_input:
+        culprit = bad(p.vmax) ? who_v : bad(p.amax) ? who_a : bad(p.jmax) ? who_j : kMaxAxes;
+        break;
+      default: culprit = kMaxAxes;
+    }
+    return st;
+  }
+  out = path;
+  return Status::ok;
+}
+
+}  // namespace
+
+Status plan_axes(const MultiAxisRequest& r, MultiAxisPlan& out, std::size_t& culprit) noexcept {
+  culprit = kMaxAxes;
+  if (r.count == 0 || r.count > kMaxAxes) return Status::bad_shape_parameter;
+  MultiAxisPlan res{};
+  res.sync_ = r.sync;
+  res.count_ = r.count;
+  for (std::size_t i = 0; i < r.count; ++i) res.distance_[i] = r.axes[i].distance;
+  if (r.sync == SyncMode::path) {
+    std::size_t nm = 0;
+    const Status st = plan_path(r, res.path_, res.path_modes_, nm, culprit);
+    if (st != Status::ok) return st;
+    res.path_mode_count_ = nm;
+    res.duration_ = res.path_.duration();
+    const Peaks<double>& pk = res.path_.peaks();
+    for (std::size_t i = 0; i < r.count; ++i) {
+      const double d = std::fabs(r.axes[i].distance);
+      res.peaks_[i] = d == 0.0 ? Peaks<double>{} : Peaks<double>{d * pk.v, d * pk.a, d * pk.j, pk.velocity_step,
+                                                                   pk.acceleration_step};
+    }
+    out = res;
+    return Status::ok;
+  }
+  // Time sync: every axis's shortest move first, then each stretched to the slowest one's duration.
+  // A move time given in the request is every axis's shortest; the shaper delays still differ.
+  auto request_of = [&](std::size_t i) {
+    MoveRequest q = r.base;
+    const AxisSpec& a = r.axes[i];
+    q.distance = a.distance;
+    q.vmax = a.vmax;
+    q.amax = a.amax;
+    q.jmax = a.jmax;
+    q.omega = a.omega;
+    q.zeta = a.zeta;
+    q.extra_mode_count = 0;
+    return q;
+  };
+  double t_common = 0.0;
+  for (std::size_t i = 0; i < r.count; ++i) {
+    const MoveRequest q = request_of(i);
+    Shaper<double> extra{};
+    Status st = own_extra_shaper(q, extra);
+    if (st == Status::ok) st = plan(q, extra, res.moves_[i]);
+    if (st != Status::ok) {
+      culprit = i;
+      return st;
+    }
+    t_common = std::max(t_common, res.moves_[i].duration());
+  }
+  for (std::size_t i = 0; i < r.count; ++i) {
+    Move<double>& m = res.moves_[i];
+    if (m.distance() == 0.0 || m.duration() == t_common) continue;
+    MoveRequest q = request_of(i);
+    q.time = t_common - m.shaper().duration();  // the unshaped profile's time; the shaper is the axis's own
+    Shaper<double> extra{};
+    Status st = own_extra_shaper(q, extra);
+    if (st == Status::ok) st = plan(q, extra, m);
+    if (st != Status::ok) {
+      culprit = i;
+      return st;
+    }
+  }
+  res.duration_ = 0.0;
+  for (std::size_t i = 0; i < r.count; ++i) {
+    res.duration_ = std::max(res.duration_, res.moves_[i].duration());
+    res.peaks_[i] = res.moves_[i].peaks();
+  }
+  out = res;
+  return Status::ok;
+}
+
+double line_deviation(const MultiAxisPlan& plan, std::array<double, kMaxAxes>& per_axis) noexcept {
+  per_axis = {};
+  const std::size_t n = plan.count();
+  double dd = 0.0;
+  for (std::size_t i = 0; i < n; ++i) dd += plan.distance(i) * plan.distance(i);
+  const double t1 = plan.duration();
+  if (!(dd > 0.0) || !(t1 > 0.0)) return 0.0;
+  // The component of axis i off the line at t (axis == n: the Euclidean distance).
+  auto off = [&](std::size_t axis, double t) {
+    std::array<double, kMaxAxes> p{};
+    double pd = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      p[i] = plan.at(i, t).p;
+      pd += p[i] * plan.distance(i);
+    }
+    const double sigma = pd / dd;
+    if (axis < n) return p[axis] - plan.distance(axis) * sigma;
+    double e2 = 0.0;
+    for (std::size_t i = 0; i < n; ++i) e2 += (p[i] - plan.distance(i) * sigma) * (p[i] - plan.distance(i) * sigma);
+    return std::sqrt(e2);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    per_axis[i] = detail::max_abs([&](double t) { return off(i, t); }, 0.0, t1, 2048);
+  }
+  return detail::max_abs([&](double t) { return off(n, t); }, 0.0, t1, 2048);
+}
+
+}  // namespace settle::core

@@ -1,0 +1,272 @@
+// Coordinated multi-axis moves (issue 17, docs/multi_axis.md): every axis starts and ends together,
+// stays within its own limits, and leaves every mode at rest. The residuals are checked by an RK4
+// integration of each mode driven by the axis's own command (mode_sim.hpp), not by the planner's
+// formulas; the limits by sampling the commands densely, not by the reported peaks.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "mode_sim.hpp"
+#include "settle/core/multi_axis.hpp"
+#include "settle/core/planner.hpp"
+#include "settle/core/profiles/registry.hpp"
+
+using namespace settle;
+using core::MultiAxisPlan;
+using core::MultiAxisRequest;
+using core::ProfileKind;
+using core::Status;
+using core::SyncMode;
+
+namespace {
+
+// Three axes with three different modes and different limits (the second axis binds velocity).
+MultiAxisRequest three_axes(ProfileKind profile, SyncMode sync) {
+  MultiAxisRequest r{};
+  r.base.profile = profile;
+  r.sync = sync;
+  r.count = 3;
+  const double d[3] = {0.1, 0.05, -0.2}, w[3] = {22.0, 30.0, 15.0}, z[3] = {0.0, 0.05, 0.1};
+  const double v[3] = {1.0, 0.05, 1.5}, a[3] = {20.0, 10.0, 40.0}, j[3] = {800.0, 800.0, 1500.0};
+  for (std::size_t i = 0; i < 3; ++i) {
+    r.axes[i].distance = d[i];
+    r.axes[i].omega = w[i];
+    r.axes[i].zeta = z[i];
+    r.axes[i].vmax = v[i];
+    r.axes[i].amax = a[i];
+    r.axes[i].jmax = j[i];
+  }
+  return r;
+}
+
+// The breakpoints of axis `axis`'s command: its own move's (time sync) or the path's.
+std::vector<double> breakpoints(const MultiAxisPlan& p, std::size_t axis) {
+  std::vector<double> b = test::move_breakpoints(p.sync() == SyncMode::path ? p.path() : p.axis_move(axis));
+  b.insert(b.begin(), 0.0);
+  b.push_back(p.duration());
+  std::sort(b.begin(), b.end());
+  b.erase(std::unique(b.begin(), b.end(), [](double x, double y) { return std::fabs(x - y) < 1e-13; }), b.end());
+  return b;
+}
+
+// Residual amplitude of mode (omega, zeta) once axis `axis`'s command is over, by RK4.
+double residual(const MultiAxisPlan& p, std::size_t axis, double omega, double zeta) {
+  const std::vector<double> b = breakpoints(p, axis);
+  test::ModeState s{};
+  for (std::size_t k = 0; k + 1 < b.size(); ++k) {
+    test::integrate(s, omega, zeta, b[k], b[k + 1], [&](double t) { return p.at(axis, t).a; });
+  }
+  const double wd = omega * std::sqrt(1.0 - zeta * zeta);
+  return std::hypot(s.e, (s.de + zeta * omega * s.e) / wd);
+}
+
+struct Sampled {
+  double v{0.0}, a{0.0}, j{0.0};
+};
+Sampled sampled_peaks(const MultiAxisPlan& p, std::size_t axis) {
+  Sampled s{};
+  const int n = 200000;
+  for (int k = 0; k <= n; ++k) {
+    const auto x = p.at(axis, p.duration() * k / n);
+    s.v = std::max(s.v, std::fabs(x.v));
+    s.a = std::max(s.a, std::fabs(x.a));
+    s.j = std::max(s.j, std::fabs(x.j));
+  }
+  return s;
+}
+
+void expect_coordinated(const MultiAxisRequest& r, const MultiAxisPlan& p, bool every_mode_on_every_axis) {
+  ASSERT_EQ(p.count(), r.count);
+  ASSERT_GT(p.duration(), 0.0);
+  for (std::size_t i = 0; i < r.count; ++i) {
+    const double d = r.axes[i].distance;
+    SCOPED_TRACE(i);
+    // Every axis ends on its target at rest exactly when the move ends, and not before its last instant.
+    const auto end = p.at(i, p.duration());
+    EXPECT_EQ(end.p, d);
+    EXPECT_EQ(end.v, 0.0);
+    const double own = p.sync() == SyncMode::path ? p.duration() : p.axis_move(i).duration();
+    EXPECT_NEAR(own, p.duration(), 1e-12 * p.duration());
+    EXPECT_NE(p.at(i, p.duration() * (1.0 - 1e-3)).p, d);
+    // Each axis within its own limits (a relative 1e-9 of slack for limits met exactly).
+    const Sampled s = sampled_peaks(p, i);
+    EXPECT_LE(s.v, *r.axes[i].vmax * (1.0 + 1e-9));
+    EXPECT_LE(s.a, *r.axes[i].amax * (1.0 + 1e-9));
+    EXPECT_LE(s.j, *r.axes[i].jmax * (1.0 + 1e-9));
+    // Every mode at rest: the axis's own, and with path sync every other axis's too.
+    for (std::size_t k = 0; k < r.count; ++k) {
+      if (k != i && !every_mode_on_every_axis) continue;
+      EXPECT_LE(residual(p, i, *r.axes[k].omega, r.axes[k].zeta), 1e-9 * std::fabs(d))
+          << "axis " << i << " mode of axis " << k;
+    }
+  }
+}
+
+TEST(MultiAxis, PathSyncIsAStraightLineWithEveryModeAtRestOnEveryAxis) {
+  // jerk-limited: one ZV per mode; scurve: its own design for the first mode, ZV for the others;
+  // fastest: its own design for every mode (two here: its segment table holds the time-optimal move
+  // convolved with four impulses, not eight).
+  for (const ProfileKind k : {ProfileKind::jerk_limited, ProfileKind::scurve, ProfileKind::fastest}) {
+    SCOPED_TRACE(core::to_string(k));
+    MultiAxisRequest r = three_axes(k, SyncMode::path);
+    if (k == ProfileKind::fastest) r.count = 2;
+    MultiAxisPlan p{};
+    std::size_t culprit = 0;
+    ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+    EXPECT_EQ(p.path_mode_count(), r.count);
+    if (k == ProfileKind::fastest) EXPECT_TRUE(p.path().shaper().is_identity());
+    if (k == ProfileKind::jerk_limited) EXPECT_EQ(p.path().shaper().count, 8u);
+    if (k == ProfileKind::scurve) EXPECT_EQ(p.path().shaper().count, 4u);
+    expect_coordinated(r, p, true);
+    // Straight by construction: every axis is D_i s(t).
+    std::array<double, core::kMaxAxes> per_axis{};
+    EXPECT_LE(core::line_deviation(p, per_axis), 1e-15);
+    for (int n = 0; n <= 1000; ++n) {
+      const double t = p.duration() * n / 1000.0;
+      const double s = p.path().at(t).p;
+      for (std::size_t i = 0; i < r.count; ++i) EXPECT_EQ(p.at(i, t).p, r.axes[i].distance * s);
+    }
+  }
+}
+
+TEST(MultiAxis, PathLimitsAreTheTightestAxisLimitOverItsDistance) {
+  // Axis 1 (vmax 0.05 over 0.05: 1 path unit/s) binds the velocity of the jerk-limited path, whose
+  // shapers keep its cruise: axis 1 reaches its vmax, the others stay below theirs.
+  const MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::path);
+  MultiAxisPlan p{};
+  std::size_t culprit = 0;
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  EXPECT_NEAR(sampled_peaks(p, 1).v, 0.05, 1e-12);
+  EXPECT_LT(sampled_peaks(p, 0).v, 1.0);
+  EXPECT_LT(sampled_peaks(p, 2).v, 1.5);
+  // An axis that does not move neither limits the path nor brings its mode.
+  MultiAxisRequest r2 = r;
+  r2.count = 4;
+  r2.axes[3] = {0.0, 1e-9, 1e-9, 1e-9, 3.0, 0.0};
+  MultiAxisPlan p2{};
+  ASSERT_EQ(core::plan_axes(r2, p2, culprit), Status::ok);
+  EXPECT_EQ(p2.duration(), p.duration());
+  EXPECT_EQ(p2.path_mode_count(), 3u);
+  EXPECT_EQ(p2.at(3, 0.5 * p2.duration()).p, 0.0);
+}
+
+TEST(MultiAxis, TimeSyncStretchesEveryAxisToTheSlowestWithItsOwnModeAtRest) {
+  // With no shaper, jerk-limited designs for no mode: each axis gets a ZV for its own, as with --shaper zv.
+  for (const core::ShaperKind sh : {core::ShaperKind::none, core::ShaperKind::zv, core::ShaperKind::zvd}) {
+    SCOPED_TRACE(core::to_string(sh));
+    MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::time);
+    r.base.shaper = sh;
+    MultiAxisPlan p{};
+    std::size_t culprit = 0;
+    ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+    expect_coordinated(r, p, false);
+    // The common duration is the slowest axis's shortest move, planned alone.
+    double slowest = 0.0;
+    for (std::size_t i = 0; i < 3; ++i) {
+      core::MoveRequest q = r.base;
+      if (sh == core::ShaperKind::none) q.shaper = core::ShaperKind::zv;
+      q.distance = r.axes[i].distance;
+      q.vmax = r.axes[i].vmax;
+      q.amax = r.axes[i].amax;
+      q.jmax = r.axes[i].jmax;
+      q.omega = r.axes[i].omega;
+      q.zeta = r.axes[i].zeta;
+      core::Move<double> m{};
+      ASSERT_EQ(core::plan(q, m), Status::ok);
+      slowest = std::max(slowest, m.duration());
+    }
+    EXPECT_DOUBLE_EQ(p.duration(), slowest);
+    // The path leaves the line; the reported deviation matches a dense resampling of it.
+    std::array<double, core::kMaxAxes> per_axis{};
+    const double dev = core::line_deviation(p, per_axis);
+    double dd = 0.0;
+    for (std::size_t i = 0; i < 3; ++i) dd += r.axes[i].distance * r.axes[i].distance;
+    double resampled = 0.0;
+    for (int n = 0; n <= 100000; ++n) {
+      const double t = p.duration() * n / 100000.0;
+      double x[3], pd = 0.0;
+      for (std::size_t i = 0; i < 3; ++i) {
+        x[i] = p.at(i, t).p;
+        pd += x[i] * r.axes[i].distance;
+      }
+      double e2 = 0.0;
+      for (std::size_t i = 0; i < 3; ++i) e2 += std::pow(x[i] - r.axes[i].distance * pd / dd, 2);
+      resampled = std::max(resampled, std::sqrt(e2));
+    }
+    EXPECT_GT(dev, 1e-4);
+    EXPECT_GE(dev, resampled * (1.0 - 1e-12));
+    EXPECT_LE(dev, resampled * (1.0 + 1e-6));
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_LE(per_axis[i], dev * (1.0 + 1e-12));
+  }
+}
+
+TEST(MultiAxis, TheResidualCheckSeesAMoveNotShapedForTheMode) {
+  // The control of the checks above: jerk-limited moves for axes that declare no mode leave the
+  // modes ringing.
+  const MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::time);
+  MultiAxisRequest blind = r;
+  for (std::size_t i = 0; i < 3; ++i) blind.axes[i].omega.reset();
+  MultiAxisPlan p{};
+  std::size_t culprit = 0;
+  ASSERT_EQ(core::plan_axes(blind, p, culprit), Status::ok);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_TRUE(p.axis_move(i).shaper().is_identity());
+    EXPECT_GT(residual(p, i, *r.axes[i].omega, r.axes[i].zeta), 1e-4 * std::fabs(r.axes[i].distance)) << i;
+  }
+}
+
+TEST(MultiAxis, RefusesWithTheAxisToBlame) {
+  MultiAxisPlan p{};
+  std::size_t culprit = 0;
+  MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::path);
+  MultiAxisRequest bad = r;
+  bad.count = 0;
+  EXPECT_EQ(core::plan_axes(bad, p, culprit), Status::bad_shape_parameter);
+  bad.count = core::kMaxAxes + 1;
+  EXPECT_EQ(core::plan_axes(bad, p, culprit), Status::bad_shape_parameter);
+  bad = r;
+  bad.axes[1].vmax = -1.0;
+  EXPECT_EQ(core::plan_axes(bad, p, culprit), Status::non_positive_limit);
+  EXPECT_EQ(culprit, 1u);
+  bad = r;
+  bad.axes[2].zeta = 1.0;
+  EXPECT_EQ(core::plan_axes(bad, p, culprit), Status::zeta_out_of_range);
+  EXPECT_EQ(culprit, 2u);
+  bad = r;
+  bad.axes[0].distance = NAN;
+  EXPECT_EQ(core::plan_axes(bad, p, culprit), Status::non_finite_input);
+  EXPECT_EQ(culprit, 0u);
+  // Time sync stretches moves to a time: `fastest` finds its own and cannot.
+  bad = three_axes(ProfileKind::fastest, SyncMode::time);
+  EXPECT_EQ(core::plan_axes(bad, p, culprit), Status::unsupported_request);
+  EXPECT_LT(culprit, 3u);
+  // A failed plan leaves the output untouched.
+  EXPECT_EQ(p.count(), 0u);
+}
+
+TEST(MultiAxis, OneAxisIsTheSingleAxisPlan) {
+  // Path sync of one axis: the same move as planning it alone (scaled by its distance).
+  MultiAxisRequest r = three_axes(ProfileKind::scurve, SyncMode::path);
+  r.count = 1;
+  MultiAxisPlan p{};
+  std::size_t culprit = 0;
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  core::MoveRequest q{};
+  q.profile = ProfileKind::scurve;
+  q.distance = r.axes[0].distance;
+  q.vmax = r.axes[0].vmax;
+  q.amax = r.axes[0].amax;
+  q.jmax = r.axes[0].jmax;
+  q.omega = r.axes[0].omega;
+  core::Move<double> m{};
+  ASSERT_EQ(core::plan(q, m), Status::ok);
+  EXPECT_NEAR(p.duration(), m.duration(), 1e-12 * m.duration());
+  for (int n = 0; n <= 100; ++n) {
+    const double t = m.duration() * n / 100.0;
+    EXPECT_NEAR(p.at(0, t).p, m.at(t).p, 1e-12);
+  }
+}
+
+}  // namespace
