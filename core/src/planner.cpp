@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "extrema.hpp"
-
 namespace settle::core {
 
 namespace {
@@ -65,18 +63,6 @@ bool needs_mode(const MoveRequest& r) noexcept {
   bool hook = false;
   (void)with_profile(r.profile, [&](auto kind) { hook = profile_t<kind.value>::needs_mode(r); });
   return r.shaper != ShaperKind::none || hook;
-}
-
-Peaks<double> shaped_peaks(const Profile<double>& p, const Shaper<double>& s, const Peaks<double>& unshaped) noexcept {
-  if (s.is_identity()) return unshaped;
-  const Move<double> m{p, s, unshaped};
-  const double t1 = m.duration();
-  Peaks<double> out = unshaped;
-  // A Dirac in the profile stays a Dirac after shaping: keep the infinite peaks and flags.
-  if (std::isfinite(unshaped.v)) out.v = detail::max_abs([&](double t) { return m.at(t).v; }, 0.0, t1, 1024);
-  if (std::isfinite(unshaped.a)) out.a = detail::max_abs([&](double t) { return m.at(t).a; }, 0.0, t1, 1024);
-  if (std::isfinite(unshaped.j)) out.j = detail::max_abs([&](double t) { return m.at(t).j; }, 0.0, t1, 1024);
-  return out;
 }
 
 Status plan(const MoveRequest& r, Move<double>& out) noexcept {
