@@ -44,15 +44,35 @@ Status check_limits(const MoveRequest& r, const Peaks<double>& pk) noexcept {
   return Status::ok;
 }
 
-// The registered profile's hook: its shape's parameters, then the profile itself.
-Status plan_profile(const MoveRequest& r, Profile<double>& prof, Peaks<double>& pk) noexcept {
+// A validated request through `shaper` (nullptr: none). `out` is written only once everything
+// succeeded, and in place (see Move::assign).
+Status plan_shaped(const MoveRequest& r, const Shaper<double>* shaper, Move<double>& out) noexcept {
   Status st = Status::unsupported_request;  // a ProfileKind value no registry line defines
   (void)with_profile(r.profile, [&](auto kind) {
     using P = profile_t<kind.value>;
     using Shape = typename P::template Shape<double>;
+    if (r.distance == 0.0) {
+      // A trivial move: nothing to do, nothing to shape; still reject an ill-formed request above.
+      // Its shape is the profile's own, empty (a zero-length move on 0).
+      out.template assign<Shape>(kind.value, Shape{}, nullptr, Peaks<double>{});
+      st = Status::ok;
+      return;
+    }
+    // The registered profile's hook: its shape's parameters, then the profile itself.
     typename Shape::Params p{};
+    Peaks<double> pk{};
     st = P::plan(r, p, pk);
-    if (st == Status::ok) prof = Profile<double>{kind.value, Shape{p}};
+    if (st != Status::ok) return;
+    if (shaper == nullptr || shaper->is_identity()) {
+      st = check_limits(r, pk);
+      if (st == Status::ok) out.template assign<Shape>(kind.value, p, shaper, pk);
+      return;
+    }
+    Profile<double> prof{};
+    prof.template emplace<Shape>(kind.value, p);
+    pk = shaped_peaks(prof, *shaper, pk);
+    st = check_limits(r, pk);
+    if (st == Status::ok) out.template assign<Shape>(kind.value, *std::get_if<Shape>(&prof.variant()), shaper, pk);
   });
   return st;
 }
@@ -69,29 +89,11 @@ Status plan(const MoveRequest& r, Move<double>& out) noexcept {
   if (!is_registered(r.profile)) return Status::unsupported_request;
   Status st = validate(r);
   if (st != Status::ok) return st;
+  if (r.shaper == ShaperKind::none) return plan_shaped(r, nullptr, out);
   Shaper<double> shaper{};
-  if (r.shaper != ShaperKind::none) {
-    st = design_shaper(r.shaper, *r.omega, r.zeta, r.vtol, shaper);
-    if (st != Status::ok) return st;
-  }
-  Profile<double> prof{};
-  Peaks<double> pk{};
-  if (r.distance == 0.0) {
-    // A trivial move: nothing to do, nothing to shape; still reject an ill-formed request above.
-    // Its shape is the profile's own, empty (a zero-length move on 0).
-    (void)with_profile(r.profile, [&](auto kind) {
-      prof = Profile<double>{kind.value, typename profile_t<kind.value>::template Shape<double>{}};
-    });
-    out = Move<double>{prof, Shaper<double>{}, Peaks<double>{}};
-    return Status::ok;
-  }
-  st = plan_profile(r, prof, pk);
+  st = design_shaper(r.shaper, *r.omega, r.zeta, r.vtol, shaper);
   if (st != Status::ok) return st;
-  pk = shaped_peaks(prof, shaper, pk);
-  st = check_limits(r, pk);
-  if (st != Status::ok) return st;
-  out = Move<double>{prof, shaper, pk};
-  return Status::ok;
+  return plan_shaped(r, &shaper, out);
 }
 
 }  // namespace settle::core
