@@ -119,6 +119,13 @@ double max_abs_gen(const double* a, const double* e, std::size_t n) noexcept {
   double roots[kMaxGammas];
   std::size_t nr = 0;  // roots of the last level: none
   for (std::size_t j = h.n >= 1 ? h.n - 1 : 0; j-- > 0;) {
+    if (j + 2 == h.n) {
+      // Two terms, k0 + k1 w^(x1 - x0): its one root in closed form (the level below has none).
+      const double k0 = h.level(j, 0.0), k1 = h.level(j, 1.0) - k0;
+      const double q = -k0 / k1;
+      if (q > 0.0 && q < 1.0) roots[nr++] = std::pow(q, 1.0 / (h.x[j + 1] - h.x[j]));
+      continue;
+    }
     double next[kMaxGammas];
     std::size_t nn = 0;
     double lo = 0.0;

@@ -24,21 +24,24 @@ struct PeakFlags {
   bool v, a, j;
 };
 
-// Adds amp * (the piece, its phase at the interval's start s0) to f, in the interval's local time.
-void add_piece(detail::PhasorPoly& f, const Piece& pc, double amp, double s0) noexcept {
-  constexpr int n = static_cast<int>(kMaxPieceDegree);
-  static_assert(n <= detail::PhasorPoly::kDegree);
-  double d[n + 1];
+// Adds amp * (the piece from local time u of the piece onwards) to f, in the interval's local time.
+void add_piece(detail::PhasorPoly& f, const Piece& pc, double amp, double u) noexcept {
+  constexpr int kMax = static_cast<int>(kMaxPieceDegree);
+  static_assert(kMax <= detail::PhasorPoly::kDegree);
+  const double il = 1.0 / pc.length;
+  const double s0 = u * il;
+  int n = kMax;  // its degree (cubic for constant-jerk and ramp-cycloid pieces)
+  while (n > 0 && pc.c[static_cast<std::size_t>(n)] == 0.0) --n;
+  double d[kMax + 1]{};
   for (int k = 0; k <= n; ++k) d[k] = pc.c[static_cast<std::size_t>(k)];
   // Taylor shift: d becomes the coefficients of P(s0 + y) in y.
   for (int i = 0; i < n; ++i) {
     for (int k = n - 1; k >= i; --k) d[k] += s0 * d[k + 1];
   }
-  const double il = 1.0 / pc.length;
   double scale = amp;
-  for (int k = 0; k <= n; ++k) {
-    f.b[k] += scale * d[k];
+  for (int k = 1; k <= n; ++k) {  // b[0], the position, is not needed for v, a, j
     scale *= il;
+    f.b[k] += scale * d[k];
   }
   if (pc.trig) {
     const double c = std::cos(kTwoPi * s0), s = std::sin(kTwoPi * s0);
@@ -79,7 +82,7 @@ void exact_peaks(PieceOf&& piece_of, int count, double duration, const Shaper<do
       for (std::size_t i = 0; i < m; ++i) {
         if (next[i] == 0 || next[i] > count) continue;  // not started, or at rest on its target
         const Piece pc = piece_of(next[i] - 1);
-        add_piece(f, pc, s.amp[i], (t - s.time[i] - pc.start) / pc.length);
+        add_piece(f, pc, s.amp[i], t - s.time[i] - pc.start);
       }
       update(out, f, len, want);
     }
