@@ -77,6 +77,13 @@ void BM_Plan(benchmark::State& state, ProfileKind k, ShaperKind s) {
   for (auto _ : state) benchmark::DoNotOptimize(plan(r, m));
 }
 
+// The jerk-limited planner's phase solver alone: what BM_Plan/jerk_limited costs beyond it is
+// plan()'s own (validation, peaks, building the Move).
+void BM_JerkLimitedPhases(benchmark::State& state) {
+  const MoveRequest r = request(ProfileKind::jerk_limited);
+  for (auto _ : state) benchmark::DoNotOptimize(jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax));
+}
+
 void BM_PlanFastestScurve(benchmark::State& state, bool damped) {
   RampCycloidParams p{};
   for (auto _ : state) {
@@ -109,6 +116,7 @@ BENCHMARK_CAPTURE(BM_Plan, ramp_versine, ProfileKind::ramp_versine, ShaperKind::
 BENCHMARK_CAPTURE(BM_Plan, poly345, ProfileKind::poly345, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_Plan, jerk_limited, ProfileKind::jerk_limited, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_Plan, jerk_limited_zvd, ProfileKind::jerk_limited, ShaperKind::zvd);
+BENCHMARK(BM_JerkLimitedPhases);
 BENCHMARK_CAPTURE(BM_PlanFastestScurve, undamped, false);
 BENCHMARK_CAPTURE(BM_PlanFastestScurve, damped, true);
 

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "extrema.hpp"
-
 namespace settle::core {
 
 namespace {
@@ -46,17 +44,66 @@ Status check_limits(const MoveRequest& r, const Peaks<double>& pk) noexcept {
   return Status::ok;
 }
 
-// The registered profile's hook: its shape's parameters, then the profile itself.
-Status plan_profile(const MoveRequest& r, Profile<double>& prof, Peaks<double>& pk) noexcept {
+// A validated request through `shaper` (nullptr: none). `out` is written only once everything
+// succeeded, and in place (see Move::assign).
+Status plan_shaped(const MoveRequest& r, const Shaper<double>* shaper, Move<double>& out) noexcept {
   Status st = Status::unsupported_request;  // a ProfileKind value no registry line defines
   (void)with_profile(r.profile, [&](auto kind) {
     using P = profile_t<kind.value>;
     using Shape = typename P::template Shape<double>;
+    if (r.distance == 0.0) {
+      // A trivial move: nothing to do, nothing to shape; still reject an ill-formed request above.
+      // Its shape is the profile's own, empty (a zero-length move on 0).
+      out.template assign<Shape>(kind.value, Shape{}, nullptr, Peaks<double>{});
+      st = Status::ok;
+      return;
+    }
+    // The registered profile's hook: its shape's parameters, then the profile itself.
     typename Shape::Params p{};
+    Peaks<double> pk{};
     st = P::plan(r, p, pk);
-    if (st == Status::ok) prof = Profile<double>{kind.value, Shape{p}};
+    if (st != Status::ok) return;
+    if (shaper == nullptr || shaper->is_identity()) {
+      st = check_limits(r, pk);
+      if (st == Status::ok) out.template assign<Shape>(kind.value, p, shaper, pk);
+      return;
+    }
+    Profile<double> prof{};
+    prof.template emplace<Shape>(kind.value, p);
+    pk = shaped_peaks(prof, *shaper, pk);
+    st = check_limits(r, pk);
+    if (st == Status::ok) out.template assign<Shape>(kind.value, *std::get_if<Shape>(&prof.variant()), shaper, pk);
   });
   return st;
+}
+
+// `extra` convolved after `shaper`, in place. Out of line: a plan without an extra shaper (every
+// plan the Cortex-M images make) does not carry this frame's copy on its stack.
+[[gnu::noinline]] Status compose_after(Shaper<double>& shaper, const Shaper<double>& extra) noexcept {
+  const Shaper<double> own = shaper;
+  return compose(own, extra, shaper);
+}
+
+// A validated request: its own shaper (if any), then `extra` (nullptr or identity: none) after it.
+Status plan_with(const MoveRequest& r, const Shaper<double>* extra, Move<double>& out) noexcept {
+  const bool has_extra = extra != nullptr && !extra->is_identity();
+  if (r.shaper == ShaperKind::none && !has_extra) return plan_shaped(r, nullptr, out);
+  Shaper<double> shaper{};
+  Status st = Status::ok;
+  if (r.shaper != ShaperKind::none) {
+    st = design_shaper(r.shaper, *r.omega, r.zeta, r.vtol, shaper);
+    if (st != Status::ok) return st;
+  }
+  if (has_extra) {
+    st = compose_after(shaper, *extra);
+    if (st != Status::ok) return st;
+  }
+  return plan_shaped(r, &shaper, out);
+}
+
+Status checked(const MoveRequest& r) noexcept {
+  if (!is_registered(r.profile)) return Status::unsupported_request;
+  return validate(r);
 }
 
 }  // namespace
@@ -67,66 +114,14 @@ bool needs_mode(const MoveRequest& r) noexcept {
   return r.shaper != ShaperKind::none || hook;
 }
 
-Peaks<double> shaped_peaks(const Profile<double>& p, const Shaper<double>& s, const Peaks<double>& unshaped) noexcept {
-  if (s.is_identity()) return unshaped;
-  const Move<double> m{p, s, unshaped};
-  const double t1 = m.duration();
-  Peaks<double> out = unshaped;
-  // A Dirac in the profile stays a Dirac after shaping: keep the infinite peaks and flags.
-  if (std::isfinite(unshaped.v)) out.v = detail::max_abs([&](double t) { return m.at(t).v; }, 0.0, t1, 1024);
-  if (std::isfinite(unshaped.a)) out.a = detail::max_abs([&](double t) { return m.at(t).a; }, 0.0, t1, 1024);
-  if (std::isfinite(unshaped.j)) out.j = detail::max_abs([&](double t) { return m.at(t).j; }, 0.0, t1, 1024);
-  return out;
+Status plan(const MoveRequest& r, Move<double>& out) noexcept {
+  const Status st = checked(r);
+  return st == Status::ok ? plan_with(r, nullptr, out) : st;
 }
-
-namespace {
-
-// `extra` convolved after `shaper`, in place. Out of line: a plan without an extra shaper (every
-// plan the Cortex-M images make) does not carry this frame's copy on its stack.
-[[gnu::noinline]] Status compose_after(Shaper<double>& shaper, const Shaper<double>& extra) noexcept {
-  const Shaper<double> own = shaper;
-  return compose(own, extra, shaper);
-}
-
-Status plan_with(const MoveRequest& r, const Shaper<double>* extra, Move<double>& out) noexcept {
-  if (!is_registered(r.profile)) return Status::unsupported_request;
-  Status st = validate(r);
-  if (st != Status::ok) return st;
-  Shaper<double> shaper{};
-  if (r.shaper != ShaperKind::none) {
-    st = design_shaper(r.shaper, *r.omega, r.zeta, r.vtol, shaper);
-    if (st != Status::ok) return st;
-  }
-  if (extra != nullptr && !extra->is_identity()) {
-    st = compose_after(shaper, *extra);
-    if (st != Status::ok) return st;
-  }
-  Profile<double> prof{};
-  Peaks<double> pk{};
-  if (r.distance == 0.0) {
-    // A trivial move: nothing to do, nothing to shape; still reject an ill-formed request above.
-    // Its shape is the profile's own, empty (a zero-length move on 0).
-    (void)with_profile(r.profile, [&](auto kind) {
-      prof = Profile<double>{kind.value, typename profile_t<kind.value>::template Shape<double>{}};
-    });
-    out = Move<double>{prof, Shaper<double>{}, Peaks<double>{}};
-    return Status::ok;
-  }
-  st = plan_profile(r, prof, pk);
-  if (st != Status::ok) return st;
-  pk = shaped_peaks(prof, shaper, pk);
-  st = check_limits(r, pk);
-  if (st != Status::ok) return st;
-  out = Move<double>{prof, shaper, pk};
-  return Status::ok;
-}
-
-}  // namespace
-
-Status plan(const MoveRequest& r, Move<double>& out) noexcept { return plan_with(r, nullptr, out); }
 
 Status plan(const MoveRequest& r, const Shaper<double>& extra, Move<double>& out) noexcept {
-  return plan_with(r, &extra, out);
+  const Status st = checked(r);
+  return st == Status::ok ? plan_with(r, &extra, out) : st;
 }
 
 }  // namespace settle::core

@@ -185,3 +185,50 @@ TEST(Planner, FastestVibrationFreeMoveAgainstShapedJerkLimited) {
 }
 
 }  // namespace
+
+// plan() writes its Move in place (Move::assign): the same move as the constructor builds from the
+// same profile, shaper and peaks, for every profile, shaped or not, over an output that held a
+// different move before (entries past the shaper's count are not part of the move).
+TEST(Planner, InPlaceMoveEqualsTheConstructedOne) {
+  core::for_each_profile([&](auto kind) {
+    using P = core::profile_t<kind.value>;
+    if (kind.value == ProfileKind::fastest) return;  // planned in milliseconds; its own suite
+    for (auto s : {core::ShaperKind::none, core::ShaperKind::zvd}) {
+      core::MoveRequest r = P::example();
+      r.profile = kind.value;
+      r.shaper = s;
+      if (!r.omega) r.omega = 25.0;
+      core::Move<double> m = test::must_plan(test::timed(ProfileKind::scurve, 0.2, 0.6, 20.0));
+      {
+        core::MoveRequest ei = core::ScurveProfile::example();
+        ei.shaper = core::ShaperKind::ei;  // leaves 3+ impulses behind in m
+        ASSERT_EQ(core::plan(ei, m), Status::ok);
+      }
+      ASSERT_EQ(core::plan(r, m), Status::ok) << P::name;
+      // The same move built the old way: a Profile from the shape's parameters, then the Move's
+      // constructor; and the same request planned into a fresh Move.
+      using Shape = typename P::template Shape<double>;
+      const Shape* shape = std::get_if<Shape>(&m.profile().variant());
+      ASSERT_NE(shape, nullptr) << P::name;
+      const core::Move<double> c{core::Profile<double>{kind.value, Shape{shape->params()}}, m.shaper(), m.peaks()};
+      core::Move<double> fresh{};
+      ASSERT_EQ(core::plan(r, fresh), Status::ok) << P::name;
+      EXPECT_EQ(m.profile().kind(), kind.value);
+      EXPECT_EQ(m.duration(), c.duration()) << P::name;
+      EXPECT_EQ(m.distance(), c.distance()) << P::name;
+      EXPECT_EQ(m.duration(), fresh.duration()) << P::name;
+      EXPECT_EQ(m.peaks().v, fresh.peaks().v) << P::name;
+      EXPECT_EQ(m.shaper().count, s == core::ShaperKind::none ? 1U : 3U) << P::name;
+      for (std::size_t i = 0; i < m.shaper().count; ++i) {
+        EXPECT_EQ(m.shaper().amp[i], fresh.shaper().amp[i]) << P::name;
+        EXPECT_EQ(m.shaper().time[i], fresh.shaper().time[i]) << P::name;
+      }
+      for (int i = 0; i <= 200; ++i) {
+        const double t = c.duration() * i / 200.0;
+        EXPECT_EQ(m.at(t).p, c.at(t).p) << P::name << " " << t;
+        EXPECT_EQ(m.at(t).j, c.at(t).j) << P::name << " " << t;
+        EXPECT_EQ(m.at(t).v, fresh.at(t).v) << P::name << " " << t;
+      }
+    }
+  });
+}

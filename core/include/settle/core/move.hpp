@@ -24,6 +24,29 @@ class Move {
              Peaks<T>{static_cast<T>(o.peaks().v), static_cast<T>(o.peaks().a), static_cast<T>(o.peaks().j),
                       o.peaks().velocity_step, o.peaks().acceleration_step}) {}
 
+  // Becomes the move of a Shape (built from `arg`, its Params or a Shape) through `s` (nullptr:
+  // no shaper): the same move as Move{Profile{kind, Shape{arg}}, s, peaks}, built in place. A Move
+  // is kilobytes, mostly the largest shape's room and 32 impulses; plan() is timed in ns, so only
+  // the shape and the impulses in use are written (entries past count are not the shaper's).
+  template <typename Shape, typename Arg>
+  void assign(ProfileKind kind, const Arg& arg, const Shaper<T>* s, const Peaks<T>& peaks) noexcept {
+    profile_.template emplace<Shape>(kind, arg);
+    if (s != nullptr) {
+      shaper_.count = s->count;
+      for (std::size_t i = 0; i < s->count; ++i) {
+        shaper_.amp[i] = s->amp[i];
+        shaper_.time[i] = s->time[i];
+      }
+    } else {
+      shaper_.count = 1;
+      shaper_.amp[0] = T(1);
+      shaper_.time[0] = T(0);
+    }
+    peaks_ = peaks;
+    duration_ = profile_.duration() + shaper_.duration();
+    distance_ = profile_.distance();
+  }
+
   [[nodiscard]] const Profile<T>& profile() const noexcept { return profile_; }
   [[nodiscard]] const Shaper<T>& shaper() const noexcept { return shaper_; }
   [[nodiscard]] const Peaks<T>& peaks() const noexcept { return peaks_; }

@@ -52,6 +52,15 @@ class Profile {
     o.visit([this](const auto& p) { assign(p); });
   }
 
+  // Makes this profile a Shape of kind `kind` built from `arg` (its Params, or a Shape to copy),
+  // constructing only that alternative in place: no temporary variant, no copy of the largest
+  // shape's bytes (the planner's hot path).
+  template <typename Shape, typename Arg>
+  void emplace(ProfileKind kind, const Arg& arg) noexcept {
+    kind_ = kind;
+    v_.template emplace<Shape>(arg);
+  }
+
   [[nodiscard]] ProfileKind kind() const noexcept { return kind_; }
   [[nodiscard]] const Variant& variant() const noexcept { return v_; }
 
