@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "commands.hpp"
+#include "commissioning.hpp"
 #include "demo.hpp"
 #include "json.hpp"
 #include "options.hpp"
@@ -15,7 +16,7 @@ namespace settle::cli {
 
 namespace {
 
-void print_list(const PaperScenarios& s) {
+void print_list(const PaperScenarios& s, const CommissioningScenario& c) {
   std::printf("beam first mode %.9g rad/s; sdof %.9g rad/s, zeta %.9g; seed 004 exponents optimised from 3,4,5:",
               s.beam_omega1, s.sdof_omega, s.sdof_zeta);
   for (std::size_t i = 0; i < s.gammas_optimised.size(); ++i) std::printf("%s%.9g", i ? "," : " ", s.gammas_optimised[i]);
@@ -27,6 +28,14 @@ void print_list(const PaperScenarios& s) {
     }
     std::printf("%-16s %-19s %-9g %s\n", p.id.c_str(), p.label.c_str(), p.axis_vmax, args.c_str());
   }
+  std::string plant;
+  for (const auto* v : {&c.plant, &c.noise}) {
+    for (const std::string& a : *v) plant += (plant.empty() ? "" : " ") + a;
+  }
+  std::string tune;
+  for (const std::string& a : c.tune) tune += (tune.empty() ? "" : " ") + a;
+  std::printf("\n%s: identify against settle plant %s; tune %s; stream the tuned plan\n", c.id.c_str(), plant.c_str(),
+              tune.c_str());
 }
 
 }  // namespace
@@ -40,11 +49,18 @@ int cmd_demo(int argc, char** argv) {
     std::fprintf(stderr, "settle demo: the scenario table could not be derived: %s\n", sim::describe(st));
     return kExitFailure;
   }
+  CommissioningScenario commissioning;
+  if (const sim::SimStatus st = commissioning_scenario(commissioning); st != sim::SimStatus::ok) {
+    std::fprintf(stderr, "settle demo: the commissioning scenario could not be derived: %s\n", sim::describe(st));
+    return kExitFailure;
+  }
   if (args.flag("--list")) {
     if (json) {
-      print_json(to_json(scenarios));
+      Json j = to_json(scenarios);
+      j["commissioning"] = to_json(commissioning);
+      print_json(j);
     } else {
-      print_list(scenarios);
+      print_list(scenarios, commissioning);
     }
     return kExitOk;
   }
@@ -58,7 +74,7 @@ int cmd_demo(int argc, char** argv) {
   const DemoSpec spec{self.string(), args.text("--bus", "vcan0"), args.text("--out", "demo")};
   DemoReport report;
   std::string why;
-  if (!run_demo(spec, scenarios, report, why)) {
+  if (!run_demo(spec, scenarios, commissioning, report, why)) {
     std::fprintf(stderr, "settle demo: %s\n", why.c_str());
     return kExitFailure;
   }

@@ -172,53 +172,90 @@ void remove_outputs(const std::string& dir, const std::string& id) {
   for (const std::string& n : names) fs::remove(path_in(dir, n), ec);
 }
 
-// One scenario over SocketCAN: the drive process, readiness by its heartbeat, the loop process,
-// the barrier, SIGTERM, and both JSON summaries.
+// Every file the commissioning scenario writes, removed first (as remove_outputs does).
+void remove_commissioning_outputs(const std::string& dir, const std::string& id) {
+  std::error_code ec;
+  for (const std::string step : {"identify-", "tune-", "stream-"}) {
+    for (const char* ext : {".json", ".err", ".log", ".csv"}) fs::remove(path_in(dir, step + id + ext), ec);
+  }
+  for (const std::string& n : {"feedback-" + id + ".csv", "plant-" + id + "-identify.json",
+                               "plant-" + id + "-identify.csv", "plant-" + id + "-identify.err",
+                               "plant-" + id + "-stream.json", "plant-" + id + "-stream.csv",
+                               "plant-" + id + "-stream.err"}) {
+    fs::remove(path_in(dir, n), ec);
+  }
+}
+
+// The drive and the loop tolerate a stalled user-mode-linux guest: the drive 250 missing SYNC
+// periods, the loop 250 periods without feedback and 2 s of heartbeat silence, whose timer can
+// stall for tens of milliseconds. The plant is SYNC-driven, so a stall delays the physics but
+// never changes it. No SCHED_FIFO for the loop: in the guest both processes share one CPU, and a
+// loop kept late by a loaded host would starve the drive's process (see tests/e2e/e2e.py).
+const std::vector<std::string> kTolerantDrive{"--sync-loss-periods", "250"};
+const std::vector<std::string> kTolerantLoop{"--heartbeat-ms", "2000", "--feedback-timeout-periods", "250",
+                                             "--sdo-timeout-ms", "5000"};
+
+struct DriveSession {
+  bool ran{false};    // the master's process ran to its end (its JSON says how it went)
+  std::string error;  // why not, or why the session's end could not be confirmed
+};
+
+// One session against a drive process on spec.bus: `settle plant` with the plant's options (its
+// summary in plant-<tag>.json, its log plant-<tag>.csv), ready once its boot-up or heartbeat is on
+// the bus; the master's process `master` run to its end (stdout to <master_out>.json, stderr to
+// .err); the barrier, SIGTERM.
+DriveSession drive_session(const DemoSpec& spec, const std::vector<std::string>& plant, const std::string& tag,
+                           const std::vector<std::string>& master, const std::string& master_out) {
+  DriveSession d;
+  DriveWatch watch;
+  if (const hal::OpenStatus st = watch.open(spec.bus); st != hal::OpenStatus::ok) {
+    d.error = "cannot open " + spec.bus + ": " + hal::to_string(st);
+    return d;
+  }
+  const std::vector<std::string> plant_argv =
+      concat(concat(concat({spec.settle, "plant", "--bus", spec.bus}, plant), kTolerantDrive),
+             {"--log", path_in(spec.out, "plant-" + tag + ".csv"), "--json"});
+  sim::ChildProcess drive;
+  sim::SpawnResult r = sim::start_program(
+      plant_argv, to_files(path_in(spec.out, "plant-" + tag + ".json"), path_in(spec.out, "plant-" + tag + ".err")),
+      drive);
+  if (r.status != sim::SpawnStatus::ok) {
+    d.error = spawn_failure("settle plant", r);
+    return d;
+  }
+  if (!watch.wait_heartbeat(drive, d.error)) return d;  // the drive is killed with `drive`
+  r = sim::run_program(master, to_files(master_out + ".json", master_out + ".err"));
+  if (r.status != sim::SpawnStatus::ok && r.status != sim::SpawnStatus::exit_nonzero) {
+    d.error = spawn_failure(("settle " + master.at(1)).c_str(), r);
+    return d;
+  }
+  d.ran = true;
+  (void)watch.barrier(drive, d.error);
+  drive.signal(SIGTERM);
+  (void)drive.wait();
+  return d;
+}
+
+// One scenario over SocketCAN: the drive process and the loop process (drive_session), and both
+// JSON summaries.
 void run_socketcan(const DemoSpec& spec, DemoRun& run) {
   const PaperScenario& s = run.scenario;
   const std::string& id = s.id;
-  DriveWatch watch;
-  if (const hal::OpenStatus st = watch.open(spec.bus); st != hal::OpenStatus::ok) {
-    run.error = "cannot open " + spec.bus + ": " + hal::to_string(st);
-    return;
-  }
-  // The drive tolerates 250 missing SYNC periods, the loop 250 periods without feedback and 2 s
-  // of heartbeat silence: sized for a user-mode-linux guest on a busy host, whose timer can stall
-  // for tens of milliseconds. The plant is SYNC-driven, so a stall delays the physics but never
-  // changes it. No SCHED_FIFO for the loop: in the guest both processes share one CPU, and a loop
-  // kept late by a loaded host would starve the drive's process (see tests/e2e/e2e.py).
-  const std::vector<std::string> plant_argv =
-      concat(concat({spec.settle, "plant", "--bus", spec.bus}, s.plant),
-             {"--sync-loss-periods", "250", "--log", path_in(spec.out, "plant-" + id + ".csv"), "--json"});
-  sim::ChildProcess drive;
-  sim::SpawnResult r = sim::start_program(
-      plant_argv, to_files(path_in(spec.out, "plant-" + id + ".json"), path_in(spec.out, "plant-" + id + ".err")), drive);
-  if (r.status != sim::SpawnStatus::ok) {
-    run.error = spawn_failure("settle plant", r);
-    return;
-  }
-  if (!watch.wait_heartbeat(drive, run.error)) return;  // the drive is killed with `drive`
   const std::vector<std::string> loop_argv = concat(
-      stream_argv(spec, s, spec.bus),
-      {"--heartbeat-ms", "2000", "--feedback-timeout-periods", "250", "--sdo-timeout-ms", "5000",
-       "--log", path_in(spec.out, "stream-" + id + ".csv"), "--feedback-log", path_in(spec.out, "feedback-" + id + ".csv"),
+      concat(stream_argv(spec, s, spec.bus), kTolerantLoop),
+      {"--log", path_in(spec.out, "stream-" + id + ".csv"), "--feedback-log", path_in(spec.out, "feedback-" + id + ".csv"),
        "--candump", path_in(spec.out, "stream-" + id + ".log"), "--json"});
-  r = sim::run_program(loop_argv, to_files(path_in(spec.out, "stream-" + id + ".json"),
-                                           path_in(spec.out, "stream-" + id + ".err")));
-  if (r.status != sim::SpawnStatus::ok && r.status != sim::SpawnStatus::exit_nonzero) {
-    run.error = spawn_failure("settle stream", r);
+  const DriveSession d = drive_session(spec, s.plant, id, loop_argv, path_in(spec.out, "stream-" + id));
+  if (!d.ran) {
+    run.error = d.error;
     return;
   }
-  std::string barrier_why;
-  const bool drained = watch.barrier(drive, barrier_why);
-  drive.signal(SIGTERM);
-  (void)drive.wait();
   std::string why;
   run.stream = read_json(path_in(spec.out, "stream-" + id + ".json"), why);
   if (!run.stream) run.error = why;
   run.plant = read_json(path_in(spec.out, "plant-" + id + ".json"), why);
   run.logged = count_lines(path_in(spec.out, "stream-" + id + ".log"));
-  if (!drained && run.error.empty()) run.error = barrier_why;
+  if (!d.error.empty() && run.error.empty()) run.error = d.error;
 }
 
 void run_loopback(const DemoSpec& spec, DemoRun& run) {
@@ -254,6 +291,75 @@ void run_scalars(const DemoSpec& spec, DemoScalarRuns& runs) {
   }
 }
 
+// A process run to its end, its stdout (one JSON object) in <base>.json and its stderr in <base>.err.
+std::optional<Json> run_to_json(const std::vector<std::string>& argv, const std::string& base, std::string& why) {
+  const sim::SpawnResult r = sim::run_program(argv, to_files(base + ".json", base + ".err"));
+  if (r.status != sim::SpawnStatus::ok && r.status != sim::SpawnStatus::exit_nonzero) {
+    why = spawn_failure(("settle " + argv.at(1)).c_str(), r);
+    return std::nullopt;
+  }
+  return read_json(base + ".json", why);
+}
+
+// The commissioning scenario: settle identify measures the modes from the drive's frames (on
+// SocketCAN against a `settle plant` process that alone has the plant's options; on loopback its
+// in-process drive), settle tune plans the move for what was measured, and settle stream streams
+// that plan (--plan-from) to the same kind of drive. The stream is given the true plant only to
+// measure the residual from the feedback (as every scenario's is); the plan comes from the tune.
+void run_commissioning(const DemoSpec& spec, const CommissioningScenario& c, bool socketcan, CommissioningResult& res) {
+  const std::string id = c.id;
+  const std::string identify_base = path_in(spec.out, "identify-" + id);
+  const std::string tune_base = path_in(spec.out, "tune-" + id);
+  const std::string stream_base = path_in(spec.out, "stream-" + id);
+  std::string why;
+  // 1. identify
+  std::vector<std::string> identify{spec.settle, "identify", "--bus", socketcan ? spec.bus : "loopback"};
+  identify = concat(identify, c.identify);
+  if (socketcan) {
+    identify = concat(concat(identify, kTolerantLoop), {"--candump", identify_base + ".log", "--json"});
+    const DriveSession d = drive_session(spec, concat(c.plant, c.noise), id + "-identify", identify, identify_base);
+    res.plant_identify = read_json(path_in(spec.out, "plant-" + id + "-identify.json"), why);
+    if (!d.ran || !d.error.empty()) {
+      res.error = "settle identify: " + d.error;
+      return;
+    }
+    res.identify = read_json(identify_base + ".json", why);
+  } else {
+    identify = concat(concat(concat(identify, c.plant), c.noise), {"--candump", identify_base + ".log", "--json"});
+    res.identify = run_to_json(identify, identify_base, why);
+  }
+  if (!res.identify || res.identify->value("status", "") != "ok") {
+    if (!res.identify) res.error = "settle identify: " + why;
+    return;  // judge() says why
+  }
+  // 2. tune, from the identified modes and their intervals only
+  res.tune = run_to_json(concat(concat({spec.settle, "tune", "--modes-from", identify_base + ".json"}, c.tune), {"--json"}),
+                         tune_base, why);
+  if (!res.tune || res.tune->value("status", "") != "ok") {
+    if (!res.tune) res.error = "settle tune: " + why;
+    return;
+  }
+  // 3. stream the tuned plan
+  std::vector<std::string> stream{spec.settle, "stream", "--bus", socketcan ? spec.bus : "loopback", "--plan-from",
+                                  tune_base + ".json"};
+  stream = concat(concat(stream, c.plant), {"--settle-time", "1", "--log", stream_base + ".csv", "--feedback-log",
+                                            path_in(spec.out, "feedback-" + id + ".csv"), "--candump",
+                                            stream_base + ".log", "--json"});
+  if (socketcan) {
+    stream = concat(stream, kTolerantLoop);
+    const DriveSession d = drive_session(spec, concat(c.plant, c.noise), id + "-stream", stream, stream_base);
+    res.plant_stream = read_json(path_in(spec.out, "plant-" + id + "-stream.json"), why);
+    if (!d.ran || !d.error.empty()) {
+      res.error = "settle stream: " + d.error;
+      return;
+    }
+    res.stream = read_json(stream_base + ".json", why);
+  } else {
+    res.stream = run_to_json(stream, stream_base, why);
+  }
+  if (!res.stream) res.error = "settle stream: " + why;
+}
+
 // Appends `from` to `to`; false if either cannot be read or written.
 bool append_file(const std::string& from, std::ofstream& to) {
   std::ifstream in{from, std::ios::binary};
@@ -276,10 +382,11 @@ bool DemoReport::ok() const {
   for (const DemoRun& r : runs) {
     if (!run_ok(r, socketcan)) return false;
   }
-  return !runs.empty();
+  return !runs.empty() && commissioning.ok();
 }
 
-bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, DemoReport& report, std::string& why) {
+bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, const CommissioningScenario& commissioning,
+              DemoReport& report, std::string& why) {
   std::error_code ec;
   fs::create_directories(spec.out, ec);
   if (ec || !fs::is_directory(spec.out)) {
@@ -299,6 +406,7 @@ bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, DemoReport&
     }
   }
   for (const PaperScenario& s : scenarios.scenarios) remove_outputs(spec.out, s.id);
+  remove_commissioning_outputs(spec.out, commissioning.id);
   fs::remove(path_in(spec.out, "bus.log"), ec);
 
   std::ofstream bus_log{path_in(spec.out, "bus.log"), std::ios::binary};
@@ -316,6 +424,10 @@ bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, DemoReport&
     rep.runs.push_back(std::move(run));
   }
   bus_log.close();
+  std::fprintf(stderr, "settle demo: %s on %s\n", commissioning.id.c_str(), rep.socketcan ? spec.bus.c_str() : "loopback");
+  rep.commissioning_scenario = commissioning;
+  run_commissioning(spec, commissioning, rep.socketcan, rep.commissioning);
+  judge(commissioning, rep.commissioning);
   for (const PaperScenario& s : scenarios.scenarios) {
     DemoScalarRuns runs{s, {}};
     run_scalars(spec, runs);
@@ -396,6 +508,53 @@ Comparison compare(const char* sc, const std::optional<Json>& r, const std::opti
   return c;
 }
 
+// The commissioning table: each mode's truth against what was identified, the tuned plan, and
+// the PRV of that plan measured from the drive's CAN feedback.
+void print_commissioning(const DemoReport& rep, std::FILE* out) {
+  const CommissioningScenario& c = rep.commissioning_scenario;
+  const CommissioningResult& r = rep.commissioning;
+  std::string truth;
+  for (const std::string& a : c.plant) truth += (truth.empty() ? "" : " ") + a;
+  std::fprintf(out,
+               "\nCommissioning (issue 15): modes only the drive process knows (%s), its load encoder noisy (%.3g load "
+               "counts = 1 %% of the excitation's peak deflection %.4g mm); settle identify -> settle tune -> settle "
+               "stream --plan-from\n\n",
+               truth.c_str(), c.noise_counts, c.peak_deflection * 1e3);
+  const char* row = "%-5s %10s %34s %8s %8s %26s %8s %s\n";
+  std::fprintf(out, row, "mode", "true w", "identified w [95 % interval]", "err %", "true z", "identified z [interval]",
+               "err", "within (0.5 %, 0.01)");
+  for (std::size_t j = 0; j < r.modes.size(); ++j) {
+    const ModeCheck& m = r.modes[j];
+    std::fprintf(out, row, std::to_string(j + 1).c_str(), num("%.4f", m.truth.omega).c_str(),
+                 (num("%.4f", m.omega) + " [" + num("%.4f", m.omega_lo) + ", " + num("%.4f", m.omega_hi) + "]").c_str(),
+                 num("%+.3f", m.omega_error * 100.0).c_str(), num("%.4f", m.truth.zeta).c_str(),
+                 (num("%.4f", m.zeta) + " [" + num("%.4f", m.zeta_lo) + ", " + num("%.4f", m.zeta_hi) + "]").c_str(),
+                 num("%+.4f", m.zeta_error).c_str(), m.within ? "yes" : "NO");
+  }
+  if (r.identify && r.identify->value("status", "") == "ok" && r.modes.size() != c.modes.size()) {
+    std::fprintf(out, "  <- %zu modes identified, %zu true\n", r.identify->value("modes", Json::array()).size(),
+                 c.modes.size());
+  }
+  if (r.tune && r.tune->value("status", "") == "ok") {
+    const Json& t = *r.tune;
+    const std::string name = t.contains("candidate") ? t["candidate"].value("name", std::string{"-"}) : "-";
+    std::fprintf(out, "\ntuned plan   %s, %s s, worst residual over the identified band %s of a step's (bound %s)\n",
+                 name.c_str(), cell(t, "duration", "%.4f").c_str(), cell(t, "worst_residual", "%.4g").c_str(),
+                 cell(t, "residual_max", "%.4g").c_str());
+  }
+  if (r.stream) {
+    const Json& s = *r.stream;
+    std::fprintf(out, "streamed     %s, %s s; PRV measured from the drive's CAN feedback %s %% (offline replay %s %%, "
+                 "bound %.3g %%): %s\n",
+                 text(s, "profile").c_str(), cell(s, "move_time", "%.4f").c_str(), cell(s, "prv_can_percent", "%.4f").c_str(),
+                 cell(s, "prv_offline_percent", "%.4f").c_str(), c.prv_max_percent, r.prv_ok ? "yes" : "NO");
+  }
+  std::fprintf(out, "commissioning: %s\n", r.ok() ? "ok" : ("FAILED" + (r.error.empty() ? std::string{} : ": " + r.error)).c_str());
+  std::fputs("files: identify-commissioning.json/.log, tune-commissioning.json, stream-commissioning.json/.csv/.log, "
+             "feedback-commissioning.csv\n",
+             out);
+}
+
 }  // namespace
 
 void print_demo(const DemoReport& rep, std::FILE* out) {
@@ -444,6 +603,8 @@ void print_demo(const DemoReport& rep, std::FILE* out) {
     std::fprintf(out, "\nbus.log: %lld frames, the streams' frames sent + received: %lld%s\n", log_total, frames_total,
                  log_total == frames_total ? " (complete)" : " -- INCOMPLETE");
   }
+
+  print_commissioning(rep, out);
 
   // The three evaluations: setpoints against double's (largest difference, counts) and the
   // residual measured over CAN against the double run's (percent; and in load counts, next to
@@ -498,8 +659,33 @@ Json demo_json(const DemoReport& rep) {
     for (std::size_t k = 0; k < kDemoScalars.size(); ++k) j[kDemoScalars[k]] = s.runs[k] ? *s.runs[k] : Json(nullptr);
     scalars.push_back(j);
   }
+  const CommissioningResult& c = rep.commissioning;
+  Json modes = Json::array();
+  for (const ModeCheck& m : c.modes) {
+    modes.push_back(Json{{"true", Json{{"omega", m.truth.omega}, {"zeta", m.truth.zeta}, {"gain", m.truth.gain}}},
+                         {"omega", m.omega},
+                         {"zeta", m.zeta},
+                         {"omega_ci", Json::array({m.omega_lo, m.omega_hi})},
+                         {"zeta_ci", Json::array({m.zeta_lo, m.zeta_hi})},
+                         {"omega_error", m.omega_error},
+                         {"zeta_error", m.zeta_error},
+                         {"within", m.within}});
+  }
+  const auto doc = [](const std::optional<Json>& j) { return j ? *j : Json(nullptr); };
+  const Json commissioning{{"ok", c.ok()},
+                           {"error", c.error},
+                           {"scenario", to_json(rep.commissioning_scenario)},
+                           {"modes", modes},
+                           {"modes_ok", c.modes_ok},
+                           {"prv_percent", finite_or_null(c.prv_percent)},
+                           {"prv_ok", c.prv_ok},
+                           {"identify", doc(c.identify)},
+                           {"tune", doc(c.tune)},
+                           {"stream", doc(c.stream)},
+                           {"plant_identify", doc(c.plant_identify)},
+                           {"plant_stream", doc(c.plant_stream)}};
   return Json{{"status", rep.ok() ? "ok" : "error"}, {"bus", rep.bus}, {"out", rep.out}, {"gammas", rep.gammas},
-              {"runs", runs}, {"scalars", scalars}, {"plots", rep.plots}};
+              {"runs", runs}, {"scalars", scalars}, {"commissioning", commissioning}, {"plots", rep.plots}};
 }
 
 }  // namespace settle::cli

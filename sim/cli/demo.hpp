@@ -1,6 +1,8 @@
 #pragma once
 // settle demo: every paper scenario (paper_scenarios.hpp) streamed to the simulated drive, and the
-// table that says whether each machine ended at rest. On a SocketCAN interface the drive + plant
+// table that says whether each machine ended at rest; then the commissioning scenario
+// (commissioning.hpp): settle identify against a drive process, settle tune on what it measured,
+// settle stream of the tuned plan to a drive process again, and its table. On a SocketCAN interface the drive + plant
 // (`settle plant`) and the servo loop (`settle stream`) run as two processes: the drive is up once
 // its boot-up or heartbeat is on the bus, and it is stopped only once it has answered a barrier
 // SDO sent after the loop's last frame (readiness by frames, never by sleeping). On the loopback
@@ -14,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "commissioning.hpp"
 #include "json.hpp"
 #include "paper_scenarios.hpp"
 
@@ -48,19 +51,22 @@ struct DemoReport {
   std::vector<double> gammas;  // seed 004's exponents (optimised)
   std::vector<DemoRun> runs;
   std::vector<DemoScalarRuns> scalars;
+  CommissioningScenario commissioning_scenario;
+  CommissioningResult commissioning;  // identify -> tune -> stream, judged (commissioning.hpp)
   std::vector<std::string> plots;  // PNGs written
   bool gnuplot{false};
   std::string out;
 
   // Every scenario completed, with its feedback aligned with the replay, and (SocketCAN) a bus
-  // log holding every frame its counters count.
+  // log holding every frame its counters count; the commissioning identified the modes within
+  // the tolerances and its tuned move's PRV measured over CAN is within its bound.
   [[nodiscard]] bool ok() const;
 };
 
 // Runs the demo. False (with `why`) only when it could not run at all: the output directory or
 // the bus could not be opened; a scenario that fails is reported in its row.
-[[nodiscard]] bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, DemoReport& report,
-                            std::string& why);
+[[nodiscard]] bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios,
+                            const CommissioningScenario& commissioning, DemoReport& report, std::string& why);
 
 // The two tables and the notes under them, as the demo prints them.
 void print_demo(const DemoReport& report, std::FILE* out);

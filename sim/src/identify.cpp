@@ -2,11 +2,13 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <limits>
 #include <numeric>
 #include <unsupported/Eigen/MatrixFunctions>
+#include <utility>
 
 namespace settle::sim {
 
@@ -49,6 +51,46 @@ struct Candidate {
   double omega;
   double zeta;
 };
+
+// One period of a mode's exact stepping (mode_response): the state's transition and the base
+// velocity's input, from the matrix exponential.
+struct ModeStep {
+  double p00, p01, p10, p11, g0, g1;
+};
+
+ModeStep mode_step(double omega, double zeta, double period_s) {
+  // State (q, r = q' - v) with v the base velocity, constant over each period: r is continuous
+  // where v jumps, and within a period d/dt (q, r) = A (q, r) + B v exactly.
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  m(0, 1) = 1.0;
+  m(1, 0) = -omega * omega;
+  m(1, 1) = -2.0 * zeta * omega;
+  m(0, 2) = 1.0;
+  m(1, 2) = -2.0 * zeta * omega;
+  const Eigen::Matrix3d e = (m * period_s).exp();
+  return {e(0, 0), e(0, 1), e(1, 0), e(1, 1), e(0, 2), e(1, 2)};
+}
+
+// Several modes' responses to one motor record in one pass, column i of `q` for steps[i]: each
+// recurrence alone is bound by its own latency, side by side they share it. The same arithmetic,
+// in the same order, as mode_response for each.
+template <std::size_t N>
+void mode_responses(const std::array<ModeStep, N>& steps, double period_s, std::span<const double> x, MatrixXd& q) {
+  std::array<double, N> s0{};
+  std::array<double, N> s1{};
+  const auto n = static_cast<std::size_t>(q.rows());
+  for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t i = 0; i < N; ++i) q(static_cast<Index>(k), static_cast<Index>(i)) = s0[i];
+    if (k + 1 == n) break;
+    const double v = (x[k + 1] - x[k]) / period_s;
+    for (std::size_t i = 0; i < N; ++i) {
+      const ModeStep& p = steps[i];
+      const double a = p.p00 * s0[i] + p.p01 * s1[i] + p.g0 * v;
+      s1[i] = p.p10 * s0[i] + p.p11 * s1[i] + p.g1 * v;
+      s0[i] = a;
+    }
+  }
+}
 
 // The two-sided normal quantile of `confidence` (0.5..0.999), by bisection on erfc.
 double normal_quantile(double confidence) {
@@ -122,11 +164,14 @@ struct Model {
     MatrixXd phi(x.size(), 2 + m);
     phi.col(0) = x;
     phi.col(1).setOnes();
-    for (Index j = 0; j < m; ++j) {
-      mode_response(theta(2 * j), theta(2 * j + 1), h, std::span<const double>{x.data(), static_cast<std::size_t>(x.size())},
-                    std::span<double>{phi.col(2 + j).data(), static_cast<std::size_t>(x.size())});
-    }
+    for (Index j = 0; j < m; ++j) mode_column(theta, j, phi);
     return phi;
+  }
+  // Mode j's column of the regressors, for theta's (w_j, z_j): a parameter of one mode changes
+  // only its column, so the Jacobians recompute that one (the same numbers as regressors()).
+  void mode_column(const VectorXd& theta, Index j, MatrixXd& phi) const {
+    mode_response(theta(2 * j), theta(2 * j + 1), h, std::span<const double>{x.data(), static_cast<std::size_t>(x.size())},
+                  std::span<double>{phi.col(2 + j).data(), static_cast<std::size_t>(x.size())});
   }
   // Least-squares linear parameters (columns scaled for conditioning) and the residual y - phi b.
   static VectorXd solve(const MatrixXd& phi, const VectorXd& y, VectorXd& residual) {
@@ -137,8 +182,10 @@ struct Model {
     residual = y - phi * b;
     return b;
   }
-  [[nodiscard]] double cost(const VectorXd& theta, VectorXd& residual, VectorXd& beta) const {
-    beta = solve(regressors(theta), y, residual);
+  // The residual's sum of squares for theta, with its regressors `phi` and linear parameters.
+  [[nodiscard]] double cost(const VectorXd& theta, VectorXd& residual, VectorXd& beta, MatrixXd& phi) const {
+    phi = regressors(theta);
+    beta = solve(phi, y, residual);
     return residual.squaredNorm();
   }
 };
@@ -157,19 +204,24 @@ void clamp(VectorXd& theta, double h) {
 double fit(const Model& model, VectorXd& theta, std::size_t& iterations) {
   VectorXd r;
   VectorXd beta;
-  double cost = model.cost(theta, r, beta);
+  MatrixXd phi;  // theta's regressors
+  double cost = model.cost(theta, r, beta, phi);
   double mu = 1e-3;
   const Index p = theta.size();
   MatrixXd jac(r.size(), p);
+  VectorXd kept(r.size());
   for (int it = 0; it < 60; ++it) {
     ++iterations;
     for (Index k = 0; k < p; ++k) {
       VectorXd t = theta;
       const double step = (k % 2 == 0 ? 1e-6 * theta(k) : 1e-6 * std::max(theta(k), 1e-2));
       t(k) += step;
+      // t's regressors are theta's but for mode k/2's column: swap it in, solve, put it back.
+      kept = phi.col(2 + k / 2);
+      model.mode_column(t, k / 2, phi);
       VectorXd rk;
-      VectorXd bk;
-      (void)model.cost(t, rk, bk);
+      (void)Model::solve(phi, model.y, rk);
+      phi.col(2 + k / 2) = kept;
       jac.col(k) = (rk - r) / step;
     }
     const MatrixXd jtj = jac.transpose() * jac;
@@ -182,11 +234,13 @@ double fit(const Model& model, VectorXd& theta, std::size_t& iterations) {
       clamp(t, model.h);
       VectorXd rt;
       VectorXd bt;
-      const double c = model.cost(t, rt, bt);
+      MatrixXd pt;
+      const double c = model.cost(t, rt, bt, pt);
       if (std::isfinite(c) && c < cost) {
         const double gain = (cost - c) / cost;
         theta = t;
         r = rt;
+        phi = std::move(pt);
         cost = c;
         mu = std::max(mu / 5.0, 1e-12);
         improved = true;
@@ -222,12 +276,15 @@ Uncertainty uncertainty(const Model& model, const VectorXd& theta) {
   const Index q = phi.cols();
   const Index n = r.size();
   MatrixXd jac(n, p + q);
+  MatrixXd pk = phi;
   for (Index k = 0; k < p; ++k) {
     VectorXd t = theta;
     const double step = (k % 2 == 0 ? 1e-6 * theta(k) : 1e-6 * std::max(theta(k), 1e-2));
     t(k) += step;
-    const MatrixXd pk = model.regressors(t);
-    jac.col(k) = (pk - phi) * u.beta / step;
+    // Only mode k/2's column moves with its parameters.
+    model.mode_column(t, k / 2, pk);
+    jac.col(k) = (pk.col(2 + k / 2) - phi.col(2 + k / 2)) * u.beta(2 + k / 2) / step;
+    pk.col(2 + k / 2) = phi.col(2 + k / 2);
   }
   jac.rightCols(q) = phi;
   VectorXd scale = jac.colwise().norm().transpose();
@@ -302,14 +359,20 @@ Eigen::Vector2d best_addition(const Model& model, const VectorXd& theta, double 
   const Eigen::HouseholderQR<MatrixXd> qr(phi);
   const MatrixXd q = qr.householderQ() * MatrixXd::Identity(phi.rows(), phi.cols());
   const VectorXd r = model.y - q * (q.transpose() * model.y);
+  constexpr std::array<double, 3> zetas{0.02, 0.08, 0.25};
+  MatrixXd responses(model.x.size(), static_cast<Index>(zetas.size()));
   VectorXd u(model.x.size());
   Eigen::Vector2d best{omega_lo, 0.05};
   double best_score = -1.0;
   const std::span<const double> xs{model.x.data(), static_cast<std::size_t>(model.x.size())};
-  const std::span<double> us{u.data(), static_cast<std::size_t>(u.size())};
   for (double w = omega_lo; w < 0.9 * kPi / model.h; w *= 1.08) {
-    for (const double zeta : {0.02, 0.08, 0.25}) {
-      mode_response(w, zeta, model.h, xs, us);
+    // The three damping ratios' responses at this frequency in one pass.
+    std::array<ModeStep, zetas.size()> steps{};
+    for (std::size_t i = 0; i < zetas.size(); ++i) steps[i] = mode_step(w, zetas[i], model.h);
+    mode_responses(steps, model.h, xs, responses);
+    for (std::size_t i = 0; i < zetas.size(); ++i) {
+      const double zeta = zetas[i];
+      u = responses.col(static_cast<Index>(i));
       u -= q * (q.transpose() * u);
       const double uu = u.squaredNorm();
       if (!(uu > 0.0)) continue;
@@ -327,16 +390,8 @@ Eigen::Vector2d best_addition(const Model& model, const VectorXd& theta, double 
 }  // namespace
 
 void mode_response(double omega, double zeta, double period_s, std::span<const double> x, std::span<double> q) {
-  // State (q, r = q' - v) with v the base velocity, constant over each period: r is continuous
-  // where v jumps, and within a period d/dt (q, r) = A (q, r) + B v exactly.
-  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
-  m(0, 1) = 1.0;
-  m(1, 0) = -omega * omega;
-  m(1, 1) = -2.0 * zeta * omega;
-  m(0, 2) = 1.0;
-  m(1, 2) = -2.0 * zeta * omega;
-  const Eigen::Matrix3d e = (m * period_s).exp();
-  const double p00 = e(0, 0), p01 = e(0, 1), p10 = e(1, 0), p11 = e(1, 1), g0 = e(0, 2), g1 = e(1, 2);
+  const ModeStep st = mode_step(omega, zeta, period_s);
+  const double p00 = st.p00, p01 = st.p01, p10 = st.p10, p11 = st.p11, g0 = st.g0, g1 = st.g1;
   double s0 = 0.0;
   double s1 = 0.0;
   const std::size_t n = std::min(x.size(), q.size());

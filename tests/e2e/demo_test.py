@@ -45,6 +45,7 @@ def main():
     listing = subprocess.run([SETTLE, "demo", "--list", "--json"], capture_output=True, text=True, timeout=60)
     check(listing.returncode == 0, "settle demo --list --json")
     scenarios = json.loads(listing.stdout)["scenarios"]
+    commissioning = json.loads(listing.stdout)["commissioning"]
     check(len(scenarios) >= 8, f"{len(scenarios)} scenarios listed")
     socketcan = BUS != "loopback"
     with tempfile.TemporaryDirectory(prefix="settle-demo-") as out:
@@ -96,6 +97,28 @@ def main():
                   if l.startswith("float and fixed agree")), None)
         check(m is not None and int(m.group(2)) == 2 * len(scenarios) and int(m.group(1)) <= int(m.group(2)),
               "the agreement count covers float and fixed on every scenario")
+        # The commissioning scenario: one row per true mode, identified within the tolerances (the
+        # numbers its identify run reported), the tuned plan streamed with its PRV from the CAN
+        # feedback within the bound, and the verdict.
+        cid = commissioning["id"]
+        ident = json.load(open(os.path.join(out, f"identify-{cid}.json")))
+        tuned = json.load(open(os.path.join(out, f"tune-{cid}.json")))
+        streamed = json.load(open(os.path.join(out, f"stream-{cid}.json")))
+        mode_rows = table(lines, "mode  ")
+        check(len(mode_rows) == len(commissioning["modes"]) == len(ident["modes"]),
+              f"commissioning: one row per true mode ({len(mode_rows)})")
+        for row, truth, m in zip(mode_rows, commissioning["modes"], ident["modes"]):
+            cells = row.split()
+            check(cells[1] == f"{truth['omega']:.4f}" and cells[2] == f"{m['omega']:.4f}" and cells[-1] == "yes" and
+                  abs(m["omega"] / truth["omega"] - 1) <= commissioning["omega_tolerance"] and
+                  abs(m["zeta"] - truth["zeta"]) <= commissioning["zeta_tolerance"],
+                  f"commissioning: {row.strip()}")
+        check(streamed["status"] == "ok" and streamed["move_time"] == tuned["duration"] and
+              streamed["prv_can_percent"] <= commissioning["prv_max_percent"] and
+              any(l.startswith("streamed ") and f"{streamed['prv_can_percent']:.4f} %" in l for l in lines),
+              f"commissioning: the tuned plan ({tuned['candidate']['name']}, {tuned['duration']:.4f} s) streamed, "
+              f"PRV from CAN {streamed['prv_can_percent']:.4f} %")
+        check("commissioning: ok" in lines, "commissioning: ok")
     if not socketcan:
         ids = [s["id"] for s in scenarios]
         text = subprocess.run([SETTLE, "demo", "--list"], capture_output=True, text=True, timeout=60)
@@ -105,8 +128,10 @@ def main():
                                text=True, timeout=300)
             j = json.loads(r.stdout)
             check(r.returncode == 0 and j["status"] == "ok" and [x["id"] for x in j["runs"]] == ids and
-                  all(x["ok"] and x["stream"]["aligned"] for x in j["runs"]) and [x["id"] for x in j["scalars"]] == ids,
-                  "settle demo --json: one run and one set of evaluations per scenario, in order, each ok")
+                  all(x["ok"] and x["stream"]["aligned"] for x in j["runs"]) and [x["id"] for x in j["scalars"]] == ids
+                  and j["commissioning"]["ok"] and len(j["commissioning"]["modes"]) == len(commissioning["modes"]),
+                  "settle demo --json: one run and one set of evaluations per scenario, in order, each ok; the "
+                  "commissioning ok")
             # A bus that cannot be opened is refused before any process starts.
             r = subprocess.run([SETTLE, "demo", "--bus", "settle-no-such-can0", "--out", out + "/none"],
                                capture_output=True, text=True, timeout=60)

@@ -1,7 +1,8 @@
 // A whole streaming session on the virtual clock: it refuses to stream before the drive is
 // enabled, completes with the settling window, and ends (without streaming further) with the
 // outcome that names why: the drive's heartbeat lost, its feedback stopped, a second SYNC
-// producer, or a refused move.
+// producer, or a refused move. A drive still enabled at the end is released (Shutdown) before
+// the master goes quiet, so it does not report the master lost.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -61,6 +62,84 @@ TEST(Session, CompletesAfterTheSettlingWindow) {
   EXPECT_EQ(res.ticks - res.stream_end_tick, 1000u);
   EXPECT_GE(res.stream_end_tick - res.ready_tick, 700u);
   EXPECT_EQ(r.drive.position(), 80'000);
+}
+
+// The drive's view after the session: the master then sends nothing (its process ends), and the
+// drive's own supervision runs on (here for 2 s, 2000 of its SYNC-loss periods).
+struct Aftermath {
+  std::uint64_t emcy{0};
+  hal::canopen::Cia402State state{};
+};
+Aftermath silence_after(Rig& r) {
+  const std::uint64_t emcy_before = r.drive.node().counters().emcy_sent;
+  for (int k = 0; k < 2000; ++k) {
+    (void)r.clock.wait();
+    r.hub.set_time_us(r.clock.now_us());
+    r.drive.process(r.clock.now_us());
+  }
+  return {r.drive.node().counters().emcy_sent - emcy_before, r.drive.node().state()};
+}
+
+TEST(Session, TheDriveIsReleasedBeforeTheMasterGoesQuiet) {
+  Rig r;
+  const core::Move<double> moves[] = {move(0.1, 0.5)};
+  std::uint64_t last_tick = 0;
+  const auto res = firmware::run_session(r.loop, r.clock, moves, 1, 0, firmware::SessionConfig{},
+                                         [&](std::uint64_t tick, bool) {
+                                           last_tick = tick;
+                                           r.hub.set_time_us(r.clock.now_us());
+                                           r.drive.process(r.clock.now_us());
+                                         });
+  EXPECT_EQ(res.outcome, firmware::SessionOutcome::completed) << firmware::to_string(res.outcome);
+  EXPECT_TRUE(res.released);
+  // Shutdown goes out with the first release tick's SYNC; the next tick's feedback confirms it.
+  EXPECT_EQ(res.release_ticks, 2u);
+  EXPECT_EQ(last_tick, res.ticks + res.release_ticks);
+  EXPECT_EQ(r.loop.drive(0).state(), hal::canopen::RemoteDriveState::released);
+  EXPECT_EQ(r.loop.drive(0).drive_state(), hal::canopen::Cia402State::ready_to_switch_on);
+  EXPECT_FALSE(r.loop.ready(0));
+  EXPECT_EQ(r.drive.position(), 100'000) << "held where the move ended";
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 1u);
+  EXPECT_EQ(r.loop.axis_stats(0).moves_aborted, 0u);
+  EXPECT_EQ(r.drive.node().counters().emcy_sent, 0u);
+  const Aftermath after = silence_after(r);
+  EXPECT_EQ(after.emcy, 0u) << "a released drive does not report the master's silence";
+  EXPECT_EQ(after.state, hal::canopen::Cia402State::ready_to_switch_on);
+}
+
+// What the release prevents (the same session with no tick to release in): the drive, left
+// operation enabled, detects the missing SYNCs, reports them (EMCY) and quick-stops.
+TEST(Session, ADriveLeftEnabledReportsTheMasterLost) {
+  Rig r;
+  const core::Move<double> moves[] = {move(0.1, 0.5)};
+  firmware::SessionConfig cfg{};
+  cfg.release_ticks = 0;
+  const auto res = firmware::run_session(r.loop, r.clock, moves, 1, 0, cfg, [&](std::uint64_t, bool) {
+    r.hub.set_time_us(r.clock.now_us());
+    r.drive.process(r.clock.now_us());
+  });
+  EXPECT_EQ(res.outcome, firmware::SessionOutcome::completed);
+  EXPECT_FALSE(res.released);
+  EXPECT_EQ(r.drive.node().state(), hal::canopen::Cia402State::operation_enabled);
+  const Aftermath after = silence_after(r);
+  EXPECT_EQ(after.emcy, 1u);
+  EXPECT_NE(after.state, hal::canopen::Cia402State::operation_enabled);
+}
+
+// A drive that is not enabled at the end (its heartbeat lost) is not released: nothing is sent to it.
+TEST(Session, ALostDriveIsNotReleased) {
+  Rig r(0);
+  const core::Move<double> moves[] = {move(0.1, 0.5)};
+  std::uint64_t streaming_ticks = 0;
+  const auto res = firmware::run_session(r.loop, r.clock, moves, 1, 0, firmware::SessionConfig{},
+                                         [&](std::uint64_t, bool streaming) {
+                                           r.hub.set_time_us(r.clock.now_us());
+                                           if (streaming) ++streaming_ticks;
+                                           if (streaming_ticks < 200) r.drive.process(r.clock.now_us());
+                                         });
+  EXPECT_EQ(res.outcome, firmware::SessionOutcome::drive_lost);
+  EXPECT_FALSE(res.released);
+  EXPECT_EQ(res.release_ticks, 0u);
 }
 
 TEST(Session, HeartbeatLossMidMoveStopsStreaming) {

@@ -96,7 +96,11 @@ TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
   EXPECT_EQ(r.setpoints.front(), 0);
   EXPECT_EQ(r.setpoints.back(), 10000);  // 0.01 m at 1e6 counts/m
   EXPECT_EQ(r.window_samples, 200U);
-  EXPECT_EQ(r.log.size(), r.session.ticks + 1);  // ticks 0 .. session.ticks
+  // Ticks 0 .. session.ticks, then the drive's release (firmware::release_drive): two ticks.
+  EXPECT_TRUE(r.session.released);
+  EXPECT_EQ(r.session.release_ticks, 2U);
+  EXPECT_EQ(r.drive_state, "released");
+  EXPECT_EQ(r.log.size(), r.session.ticks + r.session.release_ticks + 1);
   // Start-up on the virtual clock: the first tick is one period after the start, the ready one
   // ready_tick periods later; the move is submitted then, so the drive is enabled before it.
   ASSERT_TRUE(r.start_up_us.has_value());
@@ -113,7 +117,7 @@ TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
     if (f.id == 0x080) ++syncs;
     if (f.id == 0x201) targets.push_back(rpdo_target(f.data));
   }
-  EXPECT_EQ(syncs, r.session.ticks + 1);  // one SYNC per tick
+  EXPECT_EQ(syncs, r.session.ticks + r.session.release_ticks + 1);  // one SYNC per tick
   EXPECT_EQ(from_master, r.counters.sent);
   EXPECT_EQ(targets.size(), r.axis.rpdo_sent);
   // Every setpoint once and in order: the RPDOs hold the origin, carry the move, then hold its end.
@@ -122,6 +126,16 @@ TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
   EXPECT_TRUE(std::all_of(targets.begin(), move, [](std::int32_t t) { return t == 0; }));
   EXPECT_TRUE(std::all_of(move + 501, targets.end(), [](std::int32_t t) { return t == 10000; }));
   EXPECT_GT(targets.end() - (move + 501), 200);  // the settling window
+  // The session ends with the drive taken out of operation enabled: the last RPDO is Shutdown
+  // (0x0006) holding the final setpoint, the drive's last statusword says ready to switch on, and
+  // the drive never sent an EMCY.
+  const auto last_rpdo = std::find_if(frames.rbegin(), frames.rend(), [](const Logged& f) { return f.id == 0x201; });
+  ASSERT_NE(last_rpdo, frames.rend());
+  EXPECT_EQ(last_rpdo->data.at(0) | (last_rpdo->data.at(1) << 8U), 0x0006);
+  const auto last_tpdo1 = std::find_if(frames.rbegin(), frames.rend(), [](const Logged& f) { return f.id == 0x181; });
+  ASSERT_NE(last_tpdo1, frames.rend());
+  EXPECT_EQ((last_tpdo1->data.at(0) | (last_tpdo1->data.at(1) << 8U)) & 0x6F, 0x21) << "ready to switch on";
+  EXPECT_TRUE(std::none_of(frames.begin(), frames.end(), [](const Logged& f) { return f.id == 0x081; }));
 
   // The ideal drive and plant on the bus are the replay's: the same loads, to the count.
   EXPECT_EQ(r.agreement, 0.0);

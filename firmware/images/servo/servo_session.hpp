@@ -154,6 +154,7 @@ class Program {
       return p.loop_.submit(axis, m);
     }
     void abort(std::size_t axis) noexcept { p.loop_.abort(axis); }
+    void release(std::size_t axis) noexcept { p.loop_.release(axis); }
     [[nodiscard]] const hal::canopen::RemoteDrive& drive(std::size_t i) const noexcept { return p.loop_.drive(i); }
     [[nodiscard]] bool ready(std::size_t i) const noexcept { return p.loop_.ready(i); }
     [[nodiscard]] const AxisStats& axis_stats(std::size_t i) const noexcept { return p.loop_.axis_stats(i); }

@@ -43,6 +43,8 @@ const char* to_string(RemoteDriveState state) noexcept {
     case RemoteDriveState::lost: return "lost";
     case RemoteDriveState::not_operational: return "not_operational";
     case RemoteDriveState::failed: return "failed";
+    case RemoteDriveState::releasing: return "releasing";
+    case RemoteDriveState::released: return "released";
   }
   return "?";
 }
@@ -328,11 +330,15 @@ void RemoteDrive::begin_enabling(std::uint64_t now_us) noexcept {
 }
 
 void RemoteDrive::recover(std::uint64_t now_us) noexcept {
-  if (state_ == RemoteDriveState::stopped ||
+  if (state_ == RemoteDriveState::stopped || state_ == RemoteDriveState::released ||
       (state_ == RemoteDriveState::failed && failure_.enable_timeout)) {
     failure_ = RemoteDriveFailure{};
     begin_enabling(now_us);
   }
+}
+
+void RemoteDrive::release() noexcept {
+  if (state_ == RemoteDriveState::ready) state_ = RemoteDriveState::releasing;
 }
 
 void RemoteDrive::fail(std::uint64_t /*now_us*/) noexcept {
@@ -381,7 +387,8 @@ RemoteFrame RemoteDrive::on_heartbeat(std::uint8_t state_byte, std::uint64_t now
   // heartbeat saying pre-operational or stopped means someone else commanded it: whatever the
   // master streams is no longer applied, and nothing about the drive can be assumed.
   const bool streaming_state = state_ == RemoteDriveState::enabling || state_ == RemoteDriveState::ready ||
-                               state_ == RemoteDriveState::stopped;
+                               state_ == RemoteDriveState::stopped || state_ == RemoteDriveState::releasing ||
+                               state_ == RemoteDriveState::released;
   if (*state == NmtState::operational) {
     if (streaming_state) operational_seen_ = true;
   } else if ((*state == NmtState::pre_operational || *state == NmtState::stopped) && streaming_state &&
@@ -492,22 +499,39 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
         fail(now_us);
       }
       break;
+    case RemoteDriveState::releasing:
+      // The statusword of the latest TPDO1: still enabled until the drive has taken the Shutdown.
+      switch (drive_state()) {
+        case Cia402State::operation_enabled: break;
+        case Cia402State::ready_to_switch_on:
+        case Cia402State::switched_on: state_ = RemoteDriveState::released; break;
+        default:  // a fault or a quick stop instead of the release asked for
+          state_ = RemoteDriveState::stopped;
+          events_ |= remote_event::left_enabled;
+          break;
+      }
+      break;
     case RemoteDriveState::idle:
     case RemoteDriveState::ready:
     case RemoteDriveState::stopped:
     case RemoteDriveState::lost:
     case RemoteDriveState::not_operational:
     case RemoteDriveState::failed:
+    case RemoteDriveState::released:
       break;
   }
 }
 
-bool RemoteDrive::enabling_rpdo(CanFrame& out) noexcept {
+bool RemoteDrive::enabling_rpdo(std::int32_t target_counts, CanFrame& out) noexcept {
   if (state_ == RemoteDriveState::enabling) {
     encode_rpdo(enable_.next(feedback_.statusword), feedback_.position_actual, out);
     return true;
   }
-  return false;  // idle, configuring, stopped, lost, not_operational, failed: no process data
+  if (state_ == RemoteDriveState::releasing) {
+    encode_rpdo(controlword::shutdown, target_counts, out);
+    return true;
+  }
+  return false;  // idle, configuring, stopped, lost, not_operational, failed, released: no process data
 }
 
 }  // namespace settle::hal::canopen

@@ -319,8 +319,8 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
   // The setpoints the selected evaluation produces (the replay's).
   r.evaluation = changed_setpoints(spec.scalar, spec, r.setpoints);
   // Allocated before the loop starts: no heap use while streaming.
-  r.log.reserve(sc.max_ticks + 1);
-  r.feedback.reserve(sc.max_ticks + 64);
+  r.log.reserve(sc.max_ticks + sc.release_ticks + 1);
+  r.feedback.reserve(sc.max_ticks + sc.release_ticks + 64);
   if (std::string why = bus.open(spec); !why.empty()) {
     r.failure = why;
     return r;

@@ -469,6 +469,16 @@ class ServoLoop {
     abandon(axes_[axis], AxisFault::none);
   }
 
+  // Ends streaming on an axis (as abort) and asks its drive to leave operation enabled before the
+  // master goes quiet (RemoteDrive::release: Shutdown, the last setpoint held); ready() is false
+  // from now on, and a drive enabled again later starts from where it is.
+  void release(std::size_t axis) noexcept {
+    if (axis >= MaxAxes || axis >= count_) return;
+    abandon(axes_[axis], AxisFault::none);
+    axes_[axis].have_target = false;
+    axes_[axis].drive->release();
+  }
+
   [[nodiscard]] std::size_t axis_count() const noexcept { return count_; }
   [[nodiscard]] const hal::canopen::RemoteDrive& drive(std::size_t i) const noexcept { return *axes_[i].drive; }
   [[nodiscard]] const TickRecord& record(std::size_t i) const noexcept { return axes_[i].record; }

@@ -1,8 +1,8 @@
 #pragma once
 // One streaming session, the same on every target: start the drives, tick until every drive is
 // in operation enabled (refusing to stream before), queue the moves, tick until they are done,
-// keep ticking through a settling window (the feedback that proves the machine is at rest), and
-// say how it ended. Generic over the loop, the clock (a Linux periodic timer, a SysTick, a test's
+// keep ticking through a settling window (the feedback that proves the machine is at rest), take
+// the drive out of operation enabled before going quiet (see release_drive), and say how it ended. Generic over the loop, the clock (a Linux periodic timer, a SysTick, a test's
 // virtual clock) and an observer called after every tick.
 #include <cstddef>
 #include <cstdint>
@@ -35,6 +35,9 @@ struct SessionConfig {
   std::uint64_t enable_timeout_ticks{3000};
   std::uint64_t settle_ticks{1000};
   std::uint64_t max_ticks{600'000};
+  // Ticks the drive has, after the session, to confirm it left operation enabled (it takes two:
+  // the Shutdown's SYNC, then its feedback); beyond max_ticks.
+  std::uint64_t release_ticks{1000};
 };
 
 struct SessionResult {
@@ -45,14 +48,18 @@ struct SessionResult {
   std::uint64_t ready_tick{0};      // first tick with every drive ready
   std::uint64_t stream_end_tick{0}; // first tick with every move done
   std::uint64_t missed_periods{0};  // reported by the clock (overruns skipped, not caught up)
+  // The drive was still operation enabled when the session ended and confirmed the release
+  // (RemoteDriveState::released) within release_ticks, after `release_ticks` more ticks.
+  bool released{false};
+  std::uint64_t release_ticks{0};
 };
 
-// Clock: `std::uint64_t wait()` sleeps to the next period and returns periods missed;
-// `std::uint64_t now_us()` the time of the period just begun.
-// Observer: `void operator()(std::uint64_t tick, bool streaming)`.
+namespace detail {
+
+// The session up to its outcome (run_session without the release).
 template <typename Loop, typename Clock, typename Observer>
-SessionResult run_session(Loop& loop, Clock& clock, const core::Move<double>* moves, std::size_t move_count,
-                          std::size_t axis, const SessionConfig& cfg, Observer&& observe) noexcept {
+SessionResult stream_moves(Loop& loop, Clock& clock, const core::Move<double>* moves, std::size_t move_count,
+                           std::size_t axis, const SessionConfig& cfg, Observer& observe) noexcept {
   SessionResult r{};
   loop.start(clock.now_us());
   enum class Phase { enabling, streaming, settling } phase = Phase::enabling;
@@ -108,6 +115,44 @@ SessionResult run_session(Loop& loop, Clock& clock, const core::Move<double>* mo
     }
   }
   r.outcome = SessionOutcome::timeout;
+  return r;
+}
+
+}  // namespace detail
+
+// A drive left operation enabled when the master goes quiet detects the silence (SYNC or RPDO
+// loss), sends an EMCY and quick-stops: a fault report for a session that went well. So whatever
+// the outcome, a drive the loop still streams to (ready: enabled, the axis not halted) is
+// released first (ServoLoop::release: Shutdown with the last setpoint held) and the session ticks,
+// the observer called as before, until its statusword confirms it (ready to switch on) or shows
+// anything else, for at most cfg.release_ticks. The outcome is not changed.
+template <typename Loop, typename Clock, typename Observer>
+void release_drive(Loop& loop, Clock& clock, std::size_t axis, const SessionConfig& cfg, Observer& observe,
+                   SessionResult& r) noexcept {
+  if (!loop.ready(axis)) return;
+  loop.release(axis);
+  for (std::uint64_t k = 1; k <= cfg.release_ticks; ++k) {
+    r.missed_periods += clock.wait();
+    loop.tick(clock.now_us());
+    observe(r.ticks + k, true);
+    r.release_ticks = k;
+    const hal::canopen::RemoteDriveState state = loop.drive(axis).state();
+    if (state == hal::canopen::RemoteDriveState::released) {
+      r.released = true;
+      return;
+    }
+    if (state != hal::canopen::RemoteDriveState::releasing) return;  // stopped, lost, ...: not released
+  }
+}
+
+// Clock: `std::uint64_t wait()` sleeps to the next period and returns periods missed;
+// `std::uint64_t now_us()` the time of the period just begun.
+// Observer: `void operator()(std::uint64_t tick, bool streaming)` (streaming: past enabling).
+template <typename Loop, typename Clock, typename Observer>
+SessionResult run_session(Loop& loop, Clock& clock, const core::Move<double>* moves, std::size_t move_count,
+                          std::size_t axis, const SessionConfig& cfg, Observer&& observe) noexcept {
+  SessionResult r = detail::stream_moves(loop, clock, moves, move_count, axis, cfg, observe);
+  release_drive(loop, clock, axis, cfg, observe, r);
   return r;
 }
 

@@ -186,6 +186,10 @@ enum class RemoteDriveState : std::uint8_t {
   not_operational,  // its heartbeat said pre-operational or stopped after it had been operational
                     // (someone else's NMT command): no process data; start() runs start-up again
   failed,       // configuration refused or timed out, or enabling timed out: see failure()
+  releasing,    // release(): the RPDO carries Shutdown (0x06) with the target held, until the
+                // statusword shows the drive out of operation enabled
+  released,     // the statusword confirmed it (ready to switch on, or switched on): no process
+                // data; recover() enables it again
 };
 
 [[nodiscard]] const char* to_string(RemoteDriveState state) noexcept;
@@ -259,8 +263,15 @@ class RemoteDrive {
 
   // Begins (or restarts) start-up from the configuration step.
   void start(std::uint64_t now_us, FrameSink& out) noexcept;
-  // After stopped/failed: runs the enable sequence again (the configuration is kept).
+  // After stopped/failed/released: runs the enable sequence again (the configuration is kept).
   void recover(std::uint64_t now_us) noexcept;
+  // Ready -> releasing: the master is about to go quiet (no more SYNCs or setpoints), so it takes
+  // the drive out of operation enabled first, rather than leaving it to detect the silence (an
+  // EMCY and a quick stop). rpdo() carries the controlword Shutdown (CiA 402 transition 8, to
+  // ready to switch on) with the target the caller holds; poll() sees the statusword confirm it
+  // (released) or show anything else but operation enabled (stopped, left_enabled: a fault or a
+  // quick stop instead). In any other state: nothing (a drive not enabled needs no release).
+  void release() noexcept;
 
   // Every received frame goes here; frames of other nodes are ignored. The drive's process data
   // (two frames every period) and its heartbeat are recognised inline by exact identifier and
@@ -291,9 +302,9 @@ class RemoteDrive {
   // The RPDO for this tick (RPDO1 under the default layout), written over `out`; false (and `out` untouched) when the drive must
   // not be sent process data. Enabling -> the enable sequence's controlword with the drive's own
   // position as target (so enabling never moves the axis); ready -> enable operation with the
-  // given target.
+  // given target; releasing -> Shutdown with the given target (the caller's last, held).
   [[nodiscard]] bool rpdo(std::int32_t target_counts, CanFrame& out) noexcept {
-    if (state_ != RemoteDriveState::ready) return enabling_rpdo(out);
+    if (state_ != RemoteDriveState::ready) return enabling_rpdo(target_counts, out);
     std::uint16_t cw = controlword::enable_operation;
     if (config_.mode == OperationMode::interpolated_position) cw |= controlword::enable_ip_mode;
     encode_rpdo(cw, target_counts, out);
@@ -346,7 +357,7 @@ class RemoteDrive {
   // read_static, after the last mapping: the layout derived is one streaming can use.
   [[nodiscard]] bool check_derived_layout(std::uint64_t now_us) noexcept;
   // rpdo() in every state but ready.
-  [[nodiscard]] bool enabling_rpdo(CanFrame& out) noexcept;
+  [[nodiscard]] bool enabling_rpdo(std::int32_t target_counts, CanFrame& out) noexcept;
   RemoteFrame on_heartbeat(std::uint8_t state_byte, std::uint64_t now_us, FrameSink& out) noexcept;
   RemoteFrame on_service_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept;
   void next_step(std::uint64_t now_us, FrameSink& out) noexcept;
