@@ -183,7 +183,10 @@ def why_stopped(dump, pj, r=None):
         text += (f"; loop: {r.get('ticks')} ticks, {r.get('overruns')} overruns, {r.get('skipped_periods')} periods "
                  f"skipped, wake-up latency p99 {lat.get('p99', 0) / 1e6:.1f} ms max {lat.get('max', 0) / 1e6:.1f} ms, "
                  f"{r.get('heartbeat_losses')} heartbeat losses, {r.get('drive_restarts')} drive restarts, "
-                 f"{r.get('frames_lost')} frames lost")
+                 f"{r.get('frames_lost')} frames lost; aligned {r.get('aligned')}, {r.get('feedback_samples')} "
+                 f"feedback samples ({r.get('feedback_overflows')} overflowed, {r.get('feedback_late_ticks')} late), "
+                 f"residual CAN {r.get('residual_can')} offline {r.get('residual_offline')} continuous "
+                 f"{r.get('residual_continuous')}")
     return text
 
 
@@ -206,8 +209,8 @@ def scenario(d, tag, key=None, eds=()):
     rc, r, fb, dump = stream(d, tag, plant_args, move_args, vmax, eds)
     pj = plant.stop()
     check(rc == 0 and r["outcome"] == "completed",
-          f"{tag}: session completed ({r['outcome']}; drive {r.get('drive_state')} {r.get('drive_failure', '')}"
-          f"{why_stopped(dump, pj, r)})")
+          f"{tag}: session completed and measured (exit {rc}, {r['outcome']}; drive {r.get('drive_state')} "
+          f"{r.get('drive_failure', '')}{why_stopped(dump, pj, r)})")
     check(r["aligned"], f"{tag}: the CAN feedback matches the offline replay period by period")
     tol = 1e-6 * out_scale
     check(r["agreement"] <= tol, f"{tag}: residual from CAN {r['residual_can']:.6e} agrees with offline "
