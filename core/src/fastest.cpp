@@ -265,17 +265,29 @@ std::size_t shared_rows(const Problem& b, const Pattern& q, const Vec& y, double
   for (std::size_t c = 0; c < b.nc; ++c) {
     const Condition& cd = b.cond[c];
     Cx sum{};
-    std::array<Cx, kMaxSwitches> dk{};
-    for (std::size_t k = 0; k < ns; ++k) {
-      if (q.dj[k] == 0.0) continue;
-      const Cx ex = cexp_neg(cd.p, q.t[k] - t_ref);
-      const double u = -cd.w * (q.t[k] - t_ref);
-      const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
-      sum = sum + (q.dj[k] * uq) * ex;
-      if (jac) {
-        // d/dt [u^q e^{-pt}] = (q u^{q-1} (-w) - p u^q) e^{-pt}
-        const double uq1 = cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
-        dk[k] = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * ex);
+    std::array<Cx, kMaxSwitches> dk{}, ex{};
+    std::array<bool, kMaxSwitches> have_ex{};
+    const auto ex_at = [&](std::size_t k) {  // e^{-p (t_k - t_ref)}, once per switch
+      if (!have_ex[k]) {
+        ex[k] = cexp_neg(cd.p, q.t[k] - t_ref);
+        have_ex[k] = true;
+      }
+      return ex[k];
+    };
+    // The jump form: the sum itself for derivative orders above 0, the Jacobian for all.
+    if (jac || cd.order != 0) {
+      for (std::size_t k = 0; k < ns; ++k) {
+        if (q.dj[k] == 0.0) continue;
+        const Cx x = ex_at(k);
+        const double u = -cd.w * (q.t[k] - t_ref);
+        const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
+        sum = sum + (q.dj[k] * uq) * x;
+        if (jac) {
+          // d/dt [u^q e^{-pt}] = (q u^{q-1} (-w) - p u^q) e^{-pt}
+          const double uq1 =
+              cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
+          dk[k] = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * x);
+        }
       }
     }
     if (cd.order == 0) {
@@ -283,7 +295,7 @@ std::size_t shared_rows(const Problem& b, const Pattern& q, const Vec& y, double
       // accurate to the terms' own size, where the jump form cancels (short segments, low omega).
       sum = Cx{};
       for (std::size_t m = 0; m < q.nseg; ++m) {
-        if (q.j[m] != 0.0) sum = sum + q.j[m] * (cexp_neg(cd.p, q.t[m + 1] - t_ref) * cexpm1(q.d[m] * cd.p));
+        if (q.j[m] != 0.0) sum = sum + q.j[m] * (ex_at(m + 1) * cexpm1(q.d[m] * cd.p));
       }
     }
     f[e] = sum.re;
@@ -455,7 +467,7 @@ constexpr double kBisectTol = 1e-6;
 // Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F. Its stack
 // is the Jacobian and one m x m matrix (J J^T is formed afresh for each damping tried).
 bool lm_solve(const Problem& b, double T, Vec& y, int max_iter) noexcept {
-  const std::size_t n = b.nvar(), m = b.neq();
+  const std::size_t n = b.nvar(), m = b.neq(), nd = 2 * b.h;
   EqVec f{};
   Jac jac{};
   residuals(b, T, y, f, &jac);
@@ -473,12 +485,15 @@ bool lm_solve(const Problem& b, double T, Vec& y, int max_iter) noexcept {
       const double lam = tries == 0 ? 0.0 : lambda;
       std::array<std::array<double, kMaxEqs>, kMaxEqs> aa;
       EqVec w{};
+      // J J^T: the slack columns (from 2h on) hold one entry each, on their own row, so they add
+      // to the diagonal only (the same sums as over every column: the rest are exact zeros).
       for (std::size_t r = 0; r < m; ++r) {
         for (std::size_t c = 0; c <= r; ++c) {
           double s = 0.0;
-          for (std::size_t v = 0; v < n; ++v) s += jac[r][v] * jac[c][v];
+          for (std::size_t v = 0; v < nd; ++v) s += jac[r][v] * jac[c][v];
           aa[r][c] = aa[c][r] = s;
         }
+        for (std::size_t v = nd; v < n; ++v) aa[r][r] += jac[r][v] * jac[r][v];
         w[r] = f[r];
       }
       for (std::size_t r = 0; r < m; ++r) aa[r][r] += lam * (1.0 + aa[r][r]);
@@ -492,16 +507,23 @@ bool lm_solve(const Problem& b, double T, Vec& y, int max_iter) noexcept {
         for (std::size_t r = 0; r < m; ++r) s += jac[r][v] * w[r];
         yn[v] -= s;
       }
+      // The undamped step usually succeeds: take its Jacobian with its residual (and redo the
+      // old one in the rare case it does not).
       EqVec fn{};
-      residuals(b, T, yn, fn, nullptr);
+      residuals(b, T, yn, fn, tries == 0 ? &jac : nullptr);
       const double cn = norm2(fn, m);
       if (std::isfinite(cn) && cn < cost) {
         y = yn;
+        f = fn;
         cost = cn;
-        if (tries > 0) lambda = std::fmax(lambda * 0.1, 1e-15);
+        if (tries > 0) {
+          lambda = std::fmax(lambda * 0.1, 1e-15);
+          residuals(b, T, y, f, &jac);
+        }
         improved = true;
-      } else if (tries > 0) {
-        lambda *= 10.0;
+      } else {
+        if (tries > 0) lambda *= 10.0;
+        if (tries == 0) residuals(b, T, y, f, &jac);
       }
     }
     if (!improved) return norm_inf(f, m) < kSolveTol;
@@ -509,7 +531,6 @@ bool lm_solve(const Problem& b, double T, Vec& y, int max_iter) noexcept {
     // this start does not lead to one; stop rather than grind.
     slow = cost > 0.99 * cost_before ? slow + 1 : 0;
     if (slow >= 3 && cost > 1e-12) return false;
-    residuals(b, T, y, f, &jac);
   }
   return norm_inf(f, m) < kSolveTol;
 }
