@@ -187,7 +187,26 @@ struct Problem {
 
 using Vec = std::array<double, kMaxVars>;
 using EqVec = std::array<double, kMaxEqs>;
-using Jac = std::array<std::array<double, kMaxVars>, kMaxEqs>;
+// The Jacobian, as it is structured: dense over the durations (columns 0 .. 2h), and each slack
+// column (from 2h on) holding one entry, on its own row. Stored so, it takes half the stack of
+// a dense kMaxEqs x kMaxVars matrix.
+struct Jac {
+  static constexpr std::size_t kNone = kMaxVars;
+  std::array<std::array<double, 2 * kMaxFullPairs>, kMaxEqs> d{};  // d[row][duration column]
+  std::array<std::size_t, kMaxEqs> slack_col{};                   // the row's slack column, or kNone
+  std::array<double, kMaxEqs> slack{};                             // and its entry
+  void clear(std::size_t rows, std::size_t durations) noexcept {
+    for (std::size_t r = 0; r < rows; ++r) {
+      std::fill_n(d[r].begin(), durations, 0.0);
+      slack_col[r] = kNone;
+      slack[r] = 0.0;
+    }
+  }
+  void set_slack(std::size_t row, std::size_t col, double v) noexcept {
+    slack_col[row] = col;
+    slack[row] = v;
+  }
+};
 
 // The pattern's segment durations, jerks (units of J) and switch times from the unknowns.
 struct Pattern {
@@ -304,8 +323,8 @@ std::size_t shared_rows(const Problem& b, const Pattern& q, const Vec& y, double
       std::array<Cx, 2 * kMaxFullPairs> grad{};
       chain(q, dk.data(), q.nseg, grad.data());
       for (std::size_t v = 0; v < nv; ++v) {
-        (*jac)[e][v] = grad[v].re;
-        (*jac)[e + 1][v] = grad[v].im;
+        jac->d[e][v] = grad[v].re;
+        jac->d[e + 1][v] = grad[v].im;
       }
     }
     e += 2;
@@ -317,9 +336,9 @@ std::size_t shared_rows(const Problem& b, const Pattern& q, const Vec& y, double
     if (jac) {
       for (std::size_t l = 0; l <= i; ++l) {
         const double sg = (l % 2 == 0) ? 1.0 : -1.0;
-        (*jac)[e][2 * l] = -2.0 * x * (b.J / b.amax) * sg * q.g[2 * l];
+        jac->d[e][2 * l] = -2.0 * x * (b.J / b.amax) * sg * q.g[2 * l];
       }
-      (*jac)[e][sv] = -2.0 * y[sv];
+      jac->set_slack(e, sv, -2.0 * y[sv]);
     }
     ++e;
   }
@@ -342,7 +361,7 @@ void mirrored_residuals(const Problem& b, const Pattern& q, double T, const Vec&
   std::size_t e = 0;
   f[e] = vc * tau / b.D - 1.0;
   if (jac) {
-    for (std::size_t v = 0; v < nv; ++v) (*jac)[e][v] = (dvc[v] * tau - vc * switch_derivative(q, q.nseg, v)) / b.D;
+    for (std::size_t v = 0; v < nv; ++v) jac->d[e][v] = (dvc[v] * tau - vc * switch_derivative(q, q.nseg, v)) / b.D;
   }
   ++e;
   e = shared_rows(b, q, y, b.t_ref, f, jac, e);
@@ -351,8 +370,8 @@ void mirrored_residuals(const Problem& b, const Pattern& q, double T, const Vec&
     const std::size_t sv = 3 * b.h;
     f[e] = 1.0 - vc / b.vmax - y[sv] * y[sv];
     if (jac) {
-      for (std::size_t v = 0; v < nv; ++v) (*jac)[e][v] = -dvc[v] / b.vmax;
-      (*jac)[e][sv] = -2.0 * y[sv];
+      for (std::size_t v = 0; v < nv; ++v) jac->d[e][v] = -dvc[v] / b.vmax;
+      jac->set_slack(e, sv, -2.0 * y[sv]);
     }
     ++e;
   }
@@ -361,8 +380,8 @@ void mirrored_residuals(const Problem& b, const Pattern& q, double T, const Vec&
     const std::size_t sv = 3 * b.h + 1;
     f[e] = (tau - q.end) / b.t0 - y[sv] * y[sv];
     if (jac) {
-      for (std::size_t v = 0; v < nv; ++v) (*jac)[e][v] = -2.0 * switch_derivative(q, q.nseg, v) / b.t0;
-      (*jac)[e][sv] = -2.0 * y[sv];
+      for (std::size_t v = 0; v < nv; ++v) jac->d[e][v] = -2.0 * switch_derivative(q, q.nseg, v) / b.t0;
+      jac->set_slack(e, sv, -2.0 * y[sv]);
     }
   }
 }
@@ -399,9 +418,9 @@ void whole_residuals(const Problem& b, const Pattern& q, double T, const Vec& y,
     chain(q, xv.data(), q.nseg, gv.data());
     chain(q, xp.data(), q.nseg, gp.data());
     for (std::size_t w = 0; w < nv; ++w) {
-      (*jac)[0][w] = gv[w];
-      (*jac)[1][w] = gp[w];
-      (*jac)[2][w] = switch_derivative(q, q.nseg, w) / b.t0;
+      jac->d[0][w] = gv[w];
+      jac->d[1][w] = gp[w];
+      jac->d[2][w] = switch_derivative(q, q.nseg, w) / b.t0;
     }
   }
   std::size_t e = shared_rows(b, q, y, T, f, jac, 3);
@@ -424,8 +443,8 @@ void whole_residuals(const Problem& b, const Pattern& q, double T, const Vec& y,
       xs[ke] = b.J * q.level[i];
       std::array<double, 2 * kMaxFullPairs> dv{};
       chain(q, xs.data(), ke, dv.data());
-      for (std::size_t w = 0; w < nv; ++w) (*jac)[e][w] = -2.0 * x * dv[w] / b.vmax;
-      (*jac)[e][sv] = -2.0 * y[sv];
+      for (std::size_t w = 0; w < nv; ++w) jac->d[e][w] = -2.0 * x * dv[w] / b.vmax;
+      jac->set_slack(e, sv, -2.0 * y[sv]);
     }
     ++e;
   }
@@ -435,7 +454,7 @@ void whole_residuals(const Problem& b, const Pattern& q, double T, const Vec& y,
 void residuals(const Problem& b, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
   const Pattern q = make_pattern(b, y);
   if (jac) {
-    for (std::size_t r = 0; r < b.neq(); ++r) std::fill_n((*jac)[r].begin(), b.nvar(), 0.0);
+    jac->clear(b.neq(), 2 * b.h);
   }
   if (b.mirrored) {
     mirrored_residuals(b, q, T, y, f, jac);
@@ -490,10 +509,10 @@ bool lm_solve(const Problem& b, double T, Vec& y, int max_iter) noexcept {
       for (std::size_t r = 0; r < m; ++r) {
         for (std::size_t c = 0; c <= r; ++c) {
           double s = 0.0;
-          for (std::size_t v = 0; v < nd; ++v) s += jac[r][v] * jac[c][v];
+          for (std::size_t v = 0; v < nd; ++v) s += jac.d[r][v] * jac.d[c][v];
           aa[r][c] = aa[c][r] = s;
         }
-        for (std::size_t v = nd; v < n; ++v) aa[r][r] += jac[r][v] * jac[r][v];
+        aa[r][r] += jac.slack[r] * jac.slack[r];
         w[r] = f[r];
       }
       for (std::size_t r = 0; r < m; ++r) aa[r][r] += lam * (1.0 + aa[r][r]);
@@ -502,10 +521,13 @@ bool lm_solve(const Problem& b, double T, Vec& y, int max_iter) noexcept {
         continue;
       }
       Vec yn = y;
-      for (std::size_t v = 0; v < n; ++v) {
+      for (std::size_t v = 0; v < nd; ++v) {
         double s = 0.0;
-        for (std::size_t r = 0; r < m; ++r) s += jac[r][v] * w[r];
+        for (std::size_t r = 0; r < m; ++r) s += jac.d[r][v] * w[r];
         yn[v] -= s;
+      }
+      for (std::size_t r = 0; r < m; ++r) {
+        if (jac.slack_col[r] < n) yn[jac.slack_col[r]] -= jac.slack[r] * w[r];
       }
       // The undamped step usually succeeds: take its Jacobian with its residual (and redo the
       // old one in the rare case it does not).
