@@ -805,6 +805,20 @@ struct Seed {
   double time{0.0};
 };
 
+// True when an earlier seed is the same move with the same time (the shortest move so far is
+// often the time-optimal move * ZV, which is also a seed of its own).
+bool same_as_earlier_seed(const Seed* seeds, std::size_t k) noexcept {
+  const FastestTable& g = seeds[k].g;
+  for (std::size_t i = 0; i < k; ++i) {
+    const FastestTable& o = seeds[i].g;
+    if (seeds[i].time != seeds[k].time || o.count != g.count || o.distance != g.distance) continue;
+    bool same = true;
+    for (std::size_t s = 0; s < g.count && same; ++s) same = o.durations[s] == g.durations[s] && o.jerk[s] == g.jerk[s];
+    if (same) return true;
+  }
+  return false;
+}
+
 // Shortest bang-coast move of one form for the conditions, no longer than t_cap; false when none
 // was found. From each seed that solves (at its own move time), the move time is lowered with
 // warm starts down to the shortest that still solves and passes the checks (exact peaks within
@@ -860,6 +874,7 @@ bool plan_pattern(const MoveRequest& r, const ModeSet& ms, bool mirrored, const 
   std::size_t last_h = 0;
   for (std::size_t kk = 0; kk < (mirrored ? 1 : 2) * nseeds; ++kk) {
     const std::size_t k = mirrored ? kk : kk / 2;
+    if (same_as_earlier_seed(seeds, k)) continue;  // it would descend exactly as that one did
     Problem bb = b;
     Vec y{};
     if (!seed_pattern(bb, seeds[k].g, !mirrored && kk % 2 == 1, y) || !bb.fits()) continue;
