@@ -99,10 +99,10 @@ class Fastest {
     return p;
   }
   [[nodiscard]] T duration() const noexcept {
-    return std::visit([](const auto& s) { return s.duration(); }, shape_);
+    return visit([](const auto& s) { return s.duration(); });
   }
   [[nodiscard]] T distance() const noexcept {
-    return std::visit([](const auto& s) { return s.distance(); }, shape_);
+    return visit([](const auto& s) { return s.distance(); });
   }
   [[nodiscard]] FastestFamily family() const noexcept { return family_; }
   [[nodiscard]] const RampCycloid<T>* curve() const noexcept { return std::get_if<RampCycloid<T>>(&shape_); }
@@ -114,23 +114,29 @@ class Fastest {
     for (std::size_t k = 1; k < kFastestFamilies; ++k) {
       if (family_time_[k] > 0.0) f(family_param_name(k), 0, family_time_[k]);
     }
-    std::visit([&](const auto& s) { s.for_each_param(f); }, shape_);
+    visit([&](const auto& s) { s.for_each_param(f); });
   }
 
   [[nodiscard]] int piece_count() const noexcept {
-    return std::visit([](const auto& s) { return s.piece_count(); }, shape_);
+    return visit([](const auto& s) { return s.piece_count(); });
   }
   [[nodiscard]] Piece piece(int i) const noexcept {
-    return std::visit([i](const auto& s) { return s.piece(i); }, shape_);
+    return visit([i](const auto& s) { return s.piece(i); });
   }
   [[nodiscard]] Sample<T> at(T t) const noexcept {
-    if (const auto* tb = table()) return tb->at(t);
-    return std::get_if<RampCycloid<T>>(&shape_)->at(t);
+    return visit([t](const auto& s) { return s.at(t); });
   }
 
  private:
   template <typename U>
   friend class Fastest;
+  // f(the table or the curve). Not std::visit: it may throw bad_variant_access, and core is
+  // built without exceptions (as Profile::visit).
+  template <typename F>
+  decltype(auto) visit(F&& f) const noexcept {
+    if (const auto* t = table()) return f(*t);
+    return f(*std::get_if<RampCycloid<T>>(&shape_));
+  }
   [[nodiscard]] static const char* family_param_name(std::size_t k) noexcept {
     constexpr const char* names[kFastestFamilies] = {"",         "time_bang_coast", "time_scurve", "time_scurve_damped",
                                                      "time_zv",  "time_zvd",        "time_zvdd",   "time_ei",
