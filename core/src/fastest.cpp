@@ -45,7 +45,7 @@ struct ModeSet {
 // starts from rest with a = 0, so A(s) = sum_i j_i (e^{-s t_i} - e^{-s t_{i+1}}) / s^2. Referred
 // to the end every exponential has magnitude <= 1 for a stable pole, so long moves on damped
 // modes neither overflow nor cancel.
-Cx accel_transform_at_end(const FastestParams& p, Cx s) noexcept {
+Cx accel_transform_at_end(const FastestTable& p, Cx s) noexcept {
   double total = 0.0;
   for (std::size_t i = 0; i < p.count; ++i) total += p.durations[i];
   // j_i (e^{s (T - t_i)} - e^{s (T - t_{i+1})}) = j_i e^{s (T - t_{i+1})} (e^{s d_i} - 1)
@@ -62,21 +62,22 @@ Cx accel_transform_at_end(const FastestParams& p, Cx s) noexcept {
 }
 
 // Appends a segment (merged with the last when its jerk is the same); false when the table is
-// full (the caller then drops the whole table).
-[[nodiscard]] bool push_segment(FastestParams& p, double d, double j) noexcept {
+// full (the caller then drops the whole table). accel0 follows from the segments before.
+[[nodiscard]] bool push_segment(FastestTable& p, double d, double j) noexcept {
   if (!(d > 0.0)) return true;
   if (p.count > 0 && p.jerk[p.count - 1] == j) {
     p.durations[p.count - 1] += d;
     return true;
   }
   if (p.count >= kFastestSegments) return false;
+  p.accel0[p.count] = p.count == 0 ? 0.0 : p.accel0[p.count - 1] + p.jerk[p.count - 1] * p.durations[p.count - 1];
   p.durations[p.count] = d;
   p.jerk[p.count] = j;
   ++p.count;
   return true;
 }
 
-double table_duration(const FastestParams& p) noexcept {
+double table_duration(const FastestTable& p) noexcept {
   double t = 0.0;
   for (std::size_t i = 0; i < p.count; ++i) t += p.durations[i];
   return t;
@@ -86,7 +87,7 @@ double table_duration(const FastestParams& p) noexcept {
 
 // The time-optimal move shaped by s, flattened into one constant-jerk table. False when the
 // breakpoints do not fit the table.
-bool flatten_shaped(const PiecewiseJerkParams& base, const Shaper<double>& s, FastestParams& out) noexcept {
+bool flatten_shaped(const PiecewiseJerkParams& base, const Shaper<double>& s, FastestTable& out) noexcept {
   std::array<double, kMaxJerkSegments + 1> bt{};
   std::size_t nb = 0;
   double t = 0.0;
@@ -115,18 +116,20 @@ bool flatten_shaped(const PiecewiseJerkParams& base, const Shaper<double>& s, Fa
     }
     return j;
   };
-  FastestParams p{};
+  FastestTable p{};
   p.distance = base.distance;
   const double merge = 1e-13 * total;
-  double last = 0.0;
+  double last = 0.0, a = 0.0;
   for (std::size_t i = 1; i < n; ++i) {
     if (br[i] - last <= merge) continue;
     if (p.count >= kFastestSegments) return false;
     const double d = br[i] - last;
     const double j = jerk_at(last + 0.5 * d);
     p.durations[p.count] = d;
+    p.accel0[p.count] = a;
     p.jerk[p.count] = j;
     ++p.count;
+    a += j * d;
     last = br[i];
   }
   out = p;
@@ -135,65 +138,102 @@ bool flatten_shaped(const PiecewiseJerkParams& base, const Shaper<double>& s, Fa
 
 // ----- family: bang-coast switch times ---------------------------------------------------------
 //
-// The acceleration is a(t) = g(t) - g(t - tau): a pulse g, a cruise, and the pulse mirrored, with
-// D = v_c tau (v_c the pulse's area). Its transform is G(s) (1 - e^{-s tau}), so the move leaves
-// a mode at rest when G vanishes at the mode's pole (and robustly when G's derivatives vanish too).
-// The pulse has h ramp/coast pairs, ramps alternately at +J and -J, and a closing ramp back to 0:
-// jerk stays in {+J, 0, -J} by construction. Its durations are t0 y^2 (never negative); levels,
-// vmax and a non-negative cruise are equalities with squared slacks. For a move time T the
-// equalities are solved by Levenberg-Marquardt (minimum-norm steps); T is bisected down to the
-// shortest that still solves.
+// Both forms describe the move (or its acceleration pulse) as one alternating pattern: h
+// ramp/coast pairs, ramps alternately at +J and -J, and a closing ramp back to a = 0, so the jerk
+// stays in {+J, 0, -J} by construction. The durations are t0 y^2 (never negative); the
+// inequalities are equalities with squared slacks. For a move time T the equalities are solved
+// by Levenberg-Marquardt (minimum-norm steps); T is then lowered to the shortest that still
+// solves (descend()).
+//
+// - mirrored pulse: a(t) = g(t) - g(t - tau), the pattern g, a cruise, and the pattern mirrored,
+//   with D = v_c tau (v_c the pulse's area). Its transform is G(s) (1 - e^{-s tau}), so the move
+//   leaves a mode at rest when G vanishes at the mode's pole (and robustly when G's derivatives
+//   vanish too). Slacks: the coast levels within amax, v_c <= vmax, and a non-negative cruise.
+// - whole move: the pattern is the move. Equalities: v = 0 and p = D at the end, the end at T,
+//   the zero conditions referred to T; slacks: the coast levels within amax and |v| <= vmax at
+//   each coast's end (the velocity may still peak inside a ramp: the result is checked). This
+//   form also holds moves whose acceleration and deceleration overlap (short moves on slow
+//   modes), which the mirrored form cannot.
+//
+// Unknowns: y[0..2h) the ramp and coast durations (ramp i at 2i, coast i at 2i + 1), then the
+// level slacks y[2h..3h), then the form's own slacks.
 
-constexpr std::size_t kMaxPairs = 7;                  // 4h + 3 segments <= kFastestSegments
-constexpr std::size_t kMaxFullPairs = 15;             // 2H + 1 segments <= kFastestSegments
-constexpr std::size_t kMaxConds = 6;                  // complex conditions
-// Sized for the larger of the two formulations (the whole move: y (2H), level slacks (H)).
+constexpr std::size_t kMaxPairs = 7;       // mirrored: 4h + 3 segments <= kFastestSegments
+constexpr std::size_t kMaxFullPairs = 15;  // whole: 2h + 1 segments <= kFastestSegments
+constexpr std::size_t kMaxConds = 6;       // complex conditions
+// Sized for the larger form (the whole move: durations 2h, level and velocity slacks h each).
 constexpr std::size_t kMaxVars = 4 * kMaxFullPairs;
 constexpr std::size_t kMaxEqs = 3 + 2 * kMaxConds + 2 * kMaxFullPairs;
+constexpr std::size_t kMaxSwitches = 2 * kMaxFullPairs + 2;
 
 struct Condition {
-  Cx p;         // the pole
-  double w;     // omega, to scale t
-  int order;    // derivative order q: sum dj (-w t)^q e^{-p t} = 0
+  Cx p;       // the pole
+  double w;   // omega, to scale t
+  int order;  // derivative order q: sum dj (-w t)^q e^{-p t} = 0
 };
 
-struct BangCoast {
+struct Problem {
+  bool mirrored{true};
   double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0}, t0{1.0};
-  double t_ref{0.0};  // conditions are referred to this time (about the pulse's end): e^{-p (t - t_ref)}
+  double t_ref{0.0};  // mirrored: conditions referred to this time (about the pulse's end)
   std::size_t h{2};
   std::array<Condition, kMaxConds> cond{};
   std::size_t nc{0};
-  [[nodiscard]] std::size_t nvar() const noexcept { return 3 * h + 2; }
-  [[nodiscard]] std::size_t neq() const noexcept { return 1 + 2 * nc + h + 2; }
+  [[nodiscard]] std::size_t max_pairs() const noexcept { return mirrored ? kMaxPairs : kMaxFullPairs; }
+  [[nodiscard]] std::size_t nvar() const noexcept { return mirrored ? 3 * h + 2 : 4 * h; }
+  [[nodiscard]] std::size_t neq() const noexcept { return mirrored ? 1 + 2 * nc + h + 2 : 3 + 2 * nc + 2 * h; }
+  [[nodiscard]] bool fits() const noexcept { return h <= max_pairs() && neq() <= kMaxEqs && nvar() <= kMaxVars; }
 };
 
 using Vec = std::array<double, kMaxVars>;
 using EqVec = std::array<double, kMaxEqs>;
-using Jac = std::array<std::array<double, kMaxVars>, kMaxEqs>;
-
-// The pulse's segment durations, jerks (units of J) and switch times from the variables.
-struct Pulse {
-  std::size_t nseg{0};
-  std::array<double, 2 * kMaxPairs + 1> d{}, j{};
-  std::array<double, 2 * kMaxPairs + 2> t{}, dj{};  // switch times and jerk jumps (units of J)
-  std::array<double, kMaxPairs> level{};             // acceleration on each coast (units of J s)
-  double close_sign{0.0};                            // d(closing)/d(sum sigma r) sign
-  double tg{0.0};
+// The Jacobian, as it is structured: dense over the durations (columns 0 .. 2h), and each slack
+// column (from 2h on) holding one entry, on its own row. Stored so, it takes half the stack of
+// a dense kMaxEqs x kMaxVars matrix.
+struct Jac {
+  static constexpr std::size_t kNone = kMaxVars;
+  std::array<std::array<double, 2 * kMaxFullPairs>, kMaxEqs> d{};  // d[row][duration column]
+  std::array<std::size_t, kMaxEqs> slack_col{};                   // the row's slack column, or kNone
+  std::array<double, kMaxEqs> slack{};                             // and its entry
+  void clear(std::size_t rows, std::size_t durations) noexcept {
+    for (std::size_t r = 0; r < rows; ++r) {
+      std::fill_n(d[r].begin(), durations, 0.0);
+      slack_col[r] = kNone;
+      slack[r] = 0.0;
+    }
+  }
+  void set_slack(std::size_t row, std::size_t col, double v) noexcept {
+    slack_col[row] = col;
+    slack[row] = v;
+  }
 };
 
-Pulse make_pulse(const BangCoast& b, const Vec& y) noexcept {
-  Pulse q{};
+// The pattern's segment durations, jerks (units of J) and switch times from the unknowns.
+struct Pattern {
+  std::size_t h{0}, nseg{0};
+  std::array<double, 2 * kMaxFullPairs + 1> d{}, j{};
+  std::array<double, kMaxSwitches> t{}, dj{};  // switch times and jerk jumps (units of J)
+  std::array<double, kMaxFullPairs> level{};   // acceleration on each coast (units of J s)
+  double close_sign{0.0};                      // the closing ramp's duration is close_sign * level[h-1]
+  double end{0.0};                             // the pattern's length
+  std::array<double, 2 * kMaxFullPairs> g{};   // d(duration)/dy = 2 t0 y
+};
+
+Pattern make_pattern(const Problem& b, const Vec& y) noexcept {
+  Pattern q{};
+  q.h = b.h;
   double lv = 0.0;
   for (std::size_t i = 0; i < b.h; ++i) {
     const double sg = (i % 2 == 0) ? 1.0 : -1.0;
     const double r = b.t0 * y[2 * i] * y[2 * i];
-    const double c = b.t0 * y[2 * i + 1] * y[2 * i + 1];
     lv += sg * r;
     q.level[i] = lv;
     q.d[2 * i] = r;
     q.j[2 * i] = sg;
-    q.d[2 * i + 1] = c;
+    q.d[2 * i + 1] = b.t0 * y[2 * i + 1] * y[2 * i + 1];
     q.j[2 * i + 1] = 0.0;
+    q.g[2 * i] = 2.0 * b.t0 * y[2 * i];
+    q.g[2 * i + 1] = 2.0 * b.t0 * y[2 * i + 1];
   }
   q.close_sign = lv >= 0.0 ? 1.0 : -1.0;
   q.d[2 * b.h] = std::fabs(lv);
@@ -208,60 +248,65 @@ Pulse make_pulse(const BangCoast& b, const Vec& y) noexcept {
   }
   q.t[q.nseg] = t;
   q.dj[q.nseg] = -prev;
-  q.tg = t;
+  q.end = t;
   return q;
 }
 
-// F(y) and its Jacobian for move time T.
-void residuals(const BangCoast& b, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
-  const Pulse q = make_pulse(b, y);
-  const std::size_t nv = b.nvar(), ns = q.nseg + 1;  // switch count
-  // d t_k / d y_v: t_k = sum_{m<k} d_m; d_m depends on y_{m} (m < 2h) or on all ramps (closing).
-  // dd[m][v]: derivative of segment m's duration with respect to y_v.
-  std::array<std::array<double, 2 * kMaxPairs>, 2 * kMaxPairs + 1> dd{};
-  for (std::size_t m = 0; m < 2 * b.h; ++m) dd[m][m] = 2.0 * b.t0 * y[m];
-  for (std::size_t i = 0; i < b.h; ++i) {
-    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
-    dd[2 * b.h][2 * i] = q.close_sign * sg * 2.0 * b.t0 * y[2 * i];
+// The chain rule through the switch times: out[v] = sum_{k <= K} x[k] d t_k / d y_v. Switch k
+// follows every earlier segment (d t_k / d y_v = 2 t0 y_v for v < k) and the last switch also
+// the closing ramp (whose duration is +-(sum of signed ramps)), so the sum is a suffix sum: no
+// matrix of derivatives is formed.
+template <typename X>
+void chain(const Pattern& q, const X* x, std::size_t K, X* out) noexcept {
+  const std::size_t nv = 2 * q.h;
+  X s{};
+  for (std::size_t k = nv + 1; k <= K; ++k) s = s + x[k];
+  const bool closing = K == q.nseg;
+  for (std::size_t v = nv; v-- > 0;) {
+    if (v + 1 <= K) s = s + x[v + 1];
+    X o = q.g[v] * s;
+    if (closing && v % 2 == 0) o = o + (q.close_sign * ((v / 2) % 2 == 0 ? 1.0 : -1.0) * q.g[v]) * x[q.nseg];
+    out[v] = o;
   }
-  std::array<std::array<double, 2 * kMaxPairs>, 2 * kMaxPairs + 2> dt{};
-  for (std::size_t k = 1; k < ns; ++k) {
-    for (std::size_t v = 0; v < 2 * b.h; ++v) dt[k][v] = dt[k - 1][v] + dd[k - 1][v];
-  }
-  if (jac) {
-    for (auto& row : *jac) row.fill(0.0);
-  }
-  std::size_t e = 0;
-  // Area (velocity gain) v_c = J/2 sum dj t^2; tau = T - tg; D = v_c tau.
-  double vc = 0.0;
-  std::array<double, 2 * kMaxPairs> dvc{};
-  for (std::size_t k = 0; k < ns; ++k) {
-    vc += 0.5 * b.J * q.dj[k] * q.t[k] * q.t[k];
-    for (std::size_t v = 0; v < 2 * b.h; ++v) dvc[v] += b.J * q.dj[k] * q.t[k] * dt[k][v];
-  }
-  const double tau = T - q.tg;
-  const std::array<double, 2 * kMaxPairs>& dtg = dt[ns - 1];
-  f[e] = vc * tau / b.D - 1.0;
-  if (jac) {
-    for (std::size_t v = 0; v < 2 * b.h; ++v) (*jac)[e][v] = (dvc[v] * tau - vc * dtg[v]) / b.D;
-  }
-  ++e;
-  // Zero-residual conditions.
+}
+// d t_k / d y_v for one switch.
+double switch_derivative(const Pattern& q, std::size_t k, std::size_t v) noexcept {
+  double d = v < k ? q.g[v] : 0.0;
+  if (k == q.nseg && v % 2 == 0) d += q.close_sign * ((v / 2) % 2 == 0 ? 1.0 : -1.0) * q.g[v];
+  return d;
+}
+
+// The rows both forms share, from row e on: the zero-residual conditions referred to t_ref, and
+// the coast levels within amax (1 - (J L / amax)^2 - s^2 = 0). Returns the next row.
+std::size_t shared_rows(const Problem& b, const Pattern& q, const Vec& y, double t_ref, EqVec& f, Jac* jac,
+                        std::size_t e) noexcept {
+  const std::size_t ns = q.nseg + 1, nv = 2 * b.h;
   for (std::size_t c = 0; c < b.nc; ++c) {
     const Condition& cd = b.cond[c];
     Cx sum{};
-    std::array<Cx, 2 * kMaxPairs> grad{};
-    for (std::size_t k = 0; k < ns; ++k) {
-      if (q.dj[k] == 0.0) continue;
-      const Cx ex = cexp_neg(cd.p, q.t[k] - b.t_ref);
-      const double u = -cd.w * (q.t[k] - b.t_ref);
-      const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
-      sum = sum + (q.dj[k] * uq) * ex;
-      if (jac) {
-        // d/dt [u^q e^{-pt}] = (q u^{q-1} (-w) - p u^q) e^{-pt}
-        const double uq1 = cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
-        const Cx dk = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * ex);
-        for (std::size_t v = 0; v < 2 * b.h; ++v) grad[v] = grad[v] + dt[k][v] * dk;
+    std::array<Cx, kMaxSwitches> dk{}, ex{};
+    std::array<bool, kMaxSwitches> have_ex{};
+    const auto ex_at = [&](std::size_t k) {  // e^{-p (t_k - t_ref)}, once per switch
+      if (!have_ex[k]) {
+        ex[k] = cexp_neg(cd.p, q.t[k] - t_ref);
+        have_ex[k] = true;
+      }
+      return ex[k];
+    };
+    // The jump form: the sum itself for derivative orders above 0, the Jacobian for all.
+    if (jac || cd.order != 0) {
+      for (std::size_t k = 0; k < ns; ++k) {
+        if (q.dj[k] == 0.0) continue;
+        const Cx x = ex_at(k);
+        const double u = -cd.w * (q.t[k] - t_ref);
+        const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
+        sum = sum + (q.dj[k] * uq) * x;
+        if (jac) {
+          // d/dt [u^q e^{-pt}] = (q u^{q-1} (-w) - p u^q) e^{-pt}
+          const double uq1 =
+              cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
+          dk[k] = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * x);
+        }
       }
     }
     if (cd.order == 0) {
@@ -269,20 +314,21 @@ void residuals(const BangCoast& b, double T, const Vec& y, EqVec& f, Jac* jac) n
       // accurate to the terms' own size, where the jump form cancels (short segments, low omega).
       sum = Cx{};
       for (std::size_t m = 0; m < q.nseg; ++m) {
-        if (q.j[m] != 0.0) sum = sum + q.j[m] * (cexp_neg(cd.p, q.t[m + 1] - b.t_ref) * cexpm1(q.d[m] * cd.p));
+        if (q.j[m] != 0.0) sum = sum + q.j[m] * (ex_at(m + 1) * cexpm1(q.d[m] * cd.p));
       }
     }
     f[e] = sum.re;
     f[e + 1] = sum.im;
     if (jac) {
-      for (std::size_t v = 0; v < 2 * b.h; ++v) {
-        (*jac)[e][v] = grad[v].re;
-        (*jac)[e + 1][v] = grad[v].im;
+      std::array<Cx, 2 * kMaxFullPairs> grad{};
+      chain(q, dk.data(), q.nseg, grad.data());
+      for (std::size_t v = 0; v < nv; ++v) {
+        jac->d[e][v] = grad[v].re;
+        jac->d[e + 1][v] = grad[v].im;
       }
     }
     e += 2;
   }
-  // Coast levels within amax: 1 - (J L / amax)^2 - s^2 = 0.
   for (std::size_t i = 0; i < b.h; ++i) {
     const double x = b.J * q.level[i] / b.amax;
     const std::size_t sv = 2 * b.h + i;
@@ -290,33 +336,131 @@ void residuals(const BangCoast& b, double T, const Vec& y, EqVec& f, Jac* jac) n
     if (jac) {
       for (std::size_t l = 0; l <= i; ++l) {
         const double sg = (l % 2 == 0) ? 1.0 : -1.0;
-        (*jac)[e][2 * l] = -2.0 * x * (b.J / b.amax) * sg * 2.0 * b.t0 * y[2 * l];
+        jac->d[e][2 * l] = -2.0 * x * (b.J / b.amax) * sg * q.g[2 * l];
       }
-      (*jac)[e][sv] = -2.0 * y[sv];
+      jac->set_slack(e, sv, -2.0 * y[sv]);
     }
     ++e;
   }
+  return e;
+}
+
+// Mirrored pulse: distance, shared rows, v_c <= vmax, cruise >= 0.
+void mirrored_residuals(const Problem& b, const Pattern& q, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
+  const std::size_t ns = q.nseg + 1, nv = 2 * b.h;
+  // Area (velocity gain) v_c = J/2 sum dj t^2; tau = T - tg; D = v_c tau.
+  double vc = 0.0;
+  std::array<double, kMaxSwitches> x{};
+  for (std::size_t k = 0; k < ns; ++k) {
+    vc += 0.5 * b.J * q.dj[k] * q.t[k] * q.t[k];
+    x[k] = b.J * q.dj[k] * q.t[k];
+  }
+  std::array<double, 2 * kMaxFullPairs> dvc{};
+  if (jac) chain(q, x.data(), q.nseg, dvc.data());
+  const double tau = T - q.end;
+  std::size_t e = 0;
+  f[e] = vc * tau / b.D - 1.0;
+  if (jac) {
+    for (std::size_t v = 0; v < nv; ++v) jac->d[e][v] = (dvc[v] * tau - vc * switch_derivative(q, q.nseg, v)) / b.D;
+  }
+  ++e;
+  e = shared_rows(b, q, y, b.t_ref, f, jac, e);
   // vmax: 1 - v_c / vmax - s^2 = 0.
   {
     const std::size_t sv = 3 * b.h;
     f[e] = 1.0 - vc / b.vmax - y[sv] * y[sv];
     if (jac) {
-      for (std::size_t v = 0; v < 2 * b.h; ++v) (*jac)[e][v] = -dvc[v] / b.vmax;
-      (*jac)[e][sv] = -2.0 * y[sv];
+      for (std::size_t v = 0; v < nv; ++v) jac->d[e][v] = -dvc[v] / b.vmax;
+      jac->set_slack(e, sv, -2.0 * y[sv]);
     }
     ++e;
   }
   // Cruise >= 0: (T - 2 tg) / t0 - s^2 = 0.
   {
     const std::size_t sv = 3 * b.h + 1;
-    f[e] = (tau - q.tg) / b.t0 - y[sv] * y[sv];
+    f[e] = (tau - q.end) / b.t0 - y[sv] * y[sv];
     if (jac) {
-      for (std::size_t v = 0; v < 2 * b.h; ++v) (*jac)[e][v] = -2.0 * dtg[v] / b.t0;
-      (*jac)[e][sv] = -2.0 * y[sv];
+      for (std::size_t v = 0; v < nv; ++v) jac->d[e][v] = -2.0 * switch_derivative(q, q.nseg, v) / b.t0;
+      jac->set_slack(e, sv, -2.0 * y[sv]);
+    }
+  }
+}
+
+// Whole move: rest and distance at the end, the end at T, shared rows, |v| <= vmax at each
+// coast's end.
+void whole_residuals(const Problem& b, const Pattern& q, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
+  const std::size_t ns = q.nseg + 1, nv = 2 * b.h;
+  // With sum dj = 0 and sum dj t = 0 (a = 0 at the end): v_end = J/2 sum dj t^2 and, once
+  // v_end = 0, p_end = -J/6 sum dj t^3 (times taken from the end to keep the sums small). Only
+  // their derivatives are used: the values come from integrating segment by segment (the sums
+  // cancel to the last digits of J T^2).
+  const double vs = b.D / T;
+  double pe = 0.0, ve = 0.0, ae = 0.0;
+  for (std::size_t m = 0; m < q.nseg; ++m) {
+    const double d = q.d[m], jm = b.J * q.j[m];
+    pe += d * (ve + d * (ae / 2.0 + jm * d / 6.0));
+    ve += d * (ae + jm * d / 2.0);
+    ae += jm * d;
+  }
+  f[0] = ve / vs;
+  f[1] = pe / b.D - 1.0;
+  f[2] = (q.end - T) / b.t0;
+  if (jac) {
+    std::array<double, kMaxSwitches> xv{}, xp{};
+    for (std::size_t k = 0; k < ns; ++k) {
+      const double u = q.t[k] - q.end;
+      xv[k] = b.J * q.dj[k] * u / vs;
+      xp[k] = -0.5 * b.J * q.dj[k] * u * u / b.D;
+    }
+    // p(t_end) also moves with t_end at the rate v_end.
+    xp[q.nseg] += ve / b.D;
+    std::array<double, 2 * kMaxFullPairs> gv{}, gp{};
+    chain(q, xv.data(), q.nseg, gv.data());
+    chain(q, xp.data(), q.nseg, gp.data());
+    for (std::size_t w = 0; w < nv; ++w) {
+      jac->d[0][w] = gv[w];
+      jac->d[1][w] = gp[w];
+      jac->d[2][w] = switch_derivative(q, q.nseg, w) / b.t0;
+    }
+  }
+  std::size_t e = shared_rows(b, q, y, T, f, jac, 3);
+  // |v| <= vmax at the end of each coast: 1 - (v / vmax)^2 - s^2 = 0, v from the integration,
+  // dv/dt_k = -J dj_k (t_e - t_k) and dv/dt_e = a(t_e) = J level.
+  double vc = 0.0, ac = 0.0;  // velocity and acceleration at each coast's end
+  for (std::size_t i = 0; i < b.h; ++i) {
+    for (std::size_t m = 2 * i; m < 2 * i + 2; ++m) {
+      const double d = q.d[m], jm = b.J * q.j[m];
+      vc += d * (ac + jm * d / 2.0);
+      ac += jm * d;
+    }
+    const std::size_t ke = 2 * i + 2;  // the switch at the coast's end
+    const double x = vc / b.vmax;
+    const std::size_t sv = 3 * b.h + i;
+    f[e] = 1.0 - x * x - y[sv] * y[sv];
+    if (jac) {
+      std::array<double, kMaxSwitches> xs{};
+      for (std::size_t k = 0; k < ke; ++k) xs[k] = -b.J * q.dj[k] * (q.t[ke] - q.t[k]);
+      xs[ke] = b.J * q.level[i];
+      std::array<double, 2 * kMaxFullPairs> dv{};
+      chain(q, xs.data(), ke, dv.data());
+      for (std::size_t w = 0; w < nv; ++w) jac->d[e][w] = -2.0 * x * dv[w] / b.vmax;
+      jac->set_slack(e, sv, -2.0 * y[sv]);
     }
     ++e;
   }
-  (void)nv;
+}
+
+// F(y) and its Jacobian for move time T.
+void residuals(const Problem& b, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
+  const Pattern q = make_pattern(b, y);
+  if (jac) {
+    jac->clear(b.neq(), 2 * b.h);
+  }
+  if (b.mirrored) {
+    mirrored_residuals(b, q, T, y, f, jac);
+  } else {
+    whole_residuals(b, q, T, y, f, jac);
+  }
 }
 
 double norm_inf(const EqVec& f, std::size_t n) noexcept {
@@ -333,65 +477,75 @@ double norm2(const EqVec& f, std::size_t n) noexcept {
 // The equations are dimensionless (relative distance and velocity, residual sums of order 1);
 // the move that comes out is checked on its own (limits, residual), so this only stops the solve.
 constexpr double kSolveTol = 1e-11;
-// Iterations from a seed, and from the previous move time's solution (bisection steps); the
-// bisection stops at this relative width of the bracket.
+// Iterations from a seed, and from the previous move time's solution (descent steps); the
+// descent stops at this relative width of the bracket.
 constexpr int kFirstIterations = 40;
 constexpr int kWarmIterations = 12;
 constexpr double kBisectTol = 1e-6;
 
-// Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F, for
-// fn(y, f, jac) with n unknowns and m equations.
-template <typename Fn>
-bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter) noexcept {
+// Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F. Its stack
+// is the Jacobian and one m x m matrix (J J^T is formed afresh for each damping tried).
+bool lm_solve(const Problem& b, double T, Vec& y, int max_iter) noexcept {
+  const std::size_t n = b.nvar(), m = b.neq(), nd = 2 * b.h;
   EqVec f{};
   Jac jac{};
-  residuals(y, f, &jac);
+  residuals(b, T, y, f, &jac);
   double cost = norm2(f, m);
   double lambda = 1e-6;
   int slow = 0;
   for (int it = 0; it < max_iter; ++it) {
     if (norm_inf(f, m) < kSolveTol) return true;
     const double cost_before = cost;
-    std::array<std::array<double, kMaxEqs>, kMaxEqs> a{};
-    for (std::size_t r = 0; r < m; ++r) {
-      for (std::size_t c = 0; c <= r; ++c) {
-        double s = 0.0;
-        for (std::size_t v = 0; v < n; ++v) s += jac[r][v] * jac[c][v];
-        a[r][c] = a[c][r] = s;
-      }
-    }
     bool improved = false;
     // The undamped (Gauss-Newton, minimum-norm) step first: the rows differ in stiffness by many
     // orders (the end velocity against the residual sums), and damping them evenly spoils the
     // stiff ones near the solution. Then damped steps, more and more like gradient steps.
     for (int tries = 0; tries < 8 && !improved; ++tries) {
       const double lam = tries == 0 ? 0.0 : lambda;
-      auto aa = a;
-      std::array<double, kMaxEqs> w{};
+      std::array<std::array<double, kMaxEqs>, kMaxEqs> aa;
+      EqVec w{};
+      // J J^T: the slack columns (from 2h on) hold one entry each, on their own row, so they add
+      // to the diagonal only (the same sums as over every column: the rest are exact zeros).
       for (std::size_t r = 0; r < m; ++r) {
-        aa[r][r] += lam * (1.0 + a[r][r]);
+        for (std::size_t c = 0; c <= r; ++c) {
+          double s = 0.0;
+          for (std::size_t v = 0; v < nd; ++v) s += jac.d[r][v] * jac.d[c][v];
+          aa[r][c] = aa[c][r] = s;
+        }
+        aa[r][r] += jac.slack[r] * jac.slack[r];
         w[r] = f[r];
       }
+      for (std::size_t r = 0; r < m; ++r) aa[r][r] += lam * (1.0 + aa[r][r]);
       if (!solve_in_place(aa, w, m, 1e-300)) {
         if (tries > 0) lambda *= 10.0;
         continue;
       }
       Vec yn = y;
-      for (std::size_t v = 0; v < n; ++v) {
+      for (std::size_t v = 0; v < nd; ++v) {
         double s = 0.0;
-        for (std::size_t r = 0; r < m; ++r) s += jac[r][v] * w[r];
+        for (std::size_t r = 0; r < m; ++r) s += jac.d[r][v] * w[r];
         yn[v] -= s;
       }
+      for (std::size_t r = 0; r < m; ++r) {
+        if (jac.slack_col[r] < n) yn[jac.slack_col[r]] -= jac.slack[r] * w[r];
+      }
+      // The undamped step usually succeeds: take its Jacobian with its residual (and redo the
+      // old one in the rare case it does not).
       EqVec fn{};
-      residuals(yn, fn, nullptr);
+      residuals(b, T, yn, fn, tries == 0 ? &jac : nullptr);
       const double cn = norm2(fn, m);
       if (std::isfinite(cn) && cn < cost) {
         y = yn;
+        f = fn;
         cost = cn;
-        if (tries > 0) lambda = std::fmax(lambda * 0.1, 1e-15);
+        if (tries > 0) {
+          lambda = std::fmax(lambda * 0.1, 1e-15);
+          residuals(b, T, y, f, &jac);
+        }
         improved = true;
-      } else if (tries > 0) {
-        lambda *= 10.0;
+      } else {
+        if (tries > 0) lambda *= 10.0;
+        if (tries == 0) residuals(b, T, y, f, &jac);
       }
     }
     if (!improved) return norm_inf(f, m) < kSolveTol;
@@ -399,38 +553,58 @@ bool lm_solve(Fn&& residuals, std::size_t n, std::size_t m, Vec& y, int max_iter
     // this start does not lead to one; stop rather than grind.
     slow = cost > 0.99 * cost_before ? slow + 1 : 0;
     if (slow >= 3 && cost > 1e-12) return false;
-    residuals(y, f, &jac);
   }
   return norm_inf(f, m) < kSolveTol;
 }
 
-bool solve_feasible(const BangCoast& b, double T, Vec& y, int max_iter) noexcept {
-  return lm_solve([&](const Vec& yy, EqVec& f, Jac* jac) { residuals(b, T, yy, f, jac); }, b.nvar(), b.neq(), y,
-                  max_iter);
-}
-
-// The whole move from the pulse: g, cruise, -g (D > 0; the caller flips the sign).
-FastestParams bang_coast_table(const BangCoast& b, double T, const Vec& y, double distance) noexcept {
-  const Pulse q = make_pulse(b, y);
+// The move as a table: mirrored, the pulse, the cruise and the pulse mirrored; whole, the
+// pattern. D > 0 in the pattern; the sign of `distance` is applied here.
+FastestTable pattern_table(const Problem& b, double T, const Vec& y, double distance) noexcept {
+  const Pattern q = make_pattern(b, y);
   const double sg = distance < 0.0 ? -1.0 : 1.0;
-  FastestParams p{};
-  p.family = FastestFamily::bang_coast;
+  FastestTable p{};
   p.distance = distance;
   bool ok = true;
   for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], sg * b.J * q.j[k]) && ok;
-  const double cruise = T - 2.0 * q.tg;
-  if (cruise > 1e-12 * T) ok = push_segment(p, cruise, 0.0) && ok;
-  for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], -sg * b.J * q.j[k]) && ok;
+  if (b.mirrored) {
+    const double cruise = T - 2.0 * q.end;
+    if (cruise > 1e-12 * T) ok = push_segment(p, cruise, 0.0) && ok;
+    for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], -sg * b.J * q.j[k]) && ok;
+  }
   if (!ok) p.count = 0;  // does not fit: refused by the caller
   return p;
 }
 
-// Seeds: the pulse as a staircase up then down, its total length a fraction of T / 2.
-void seed(const BangCoast& b, double T, double frac, int style, Vec& y) noexcept {
+// The slack variables that make the inequalities hold with equality at y's pattern (or nearly).
+void fit_slacks(const Problem& b, double T, Vec& y) noexcept {
+  const Pattern q = make_pattern(b, y);
+  for (std::size_t i = 0; i < b.h; ++i) {
+    const double x = b.J * q.level[i] / b.amax;
+    y[2 * b.h + i] = std::sqrt(std::fmax(1.0 - x * x, 1e-8));
+  }
+  if (b.mirrored) {
+    double vc = 0.0;
+    for (std::size_t k = 0; k <= q.nseg; ++k) vc += 0.5 * b.J * q.dj[k] * q.t[k] * q.t[k];
+    y[3 * b.h] = std::sqrt(std::fmax(1.0 - vc / b.vmax, 1e-8));
+    y[3 * b.h + 1] = std::sqrt(std::fmax((T - 2.0 * q.end) / b.t0, 1e-8));
+    return;
+  }
+  double ve = 0.0, ae = 0.0;
+  for (std::size_t i = 0; i < b.h; ++i) {
+    for (std::size_t m = 2 * i; m < 2 * i + 2; ++m) {
+      ve += q.d[m] * (ae + b.J * q.j[m] * q.d[m] / 2.0);
+      ae += b.J * q.j[m] * q.d[m];
+    }
+    const double xv = ve / b.vmax;
+    y[3 * b.h + i] = std::sqrt(std::fmax(1.0 - xv * xv, 1e-8));
+  }
+}
+
+// Seeds for the mirrored form: the pulse as a staircase up then down, its total length a
+// fraction of T / 2.
+void staircase(const Problem& b, double T, double frac, int style, Vec& y) noexcept {
   y.fill(0.0);
   const double tg = frac * T / 2.0;
-  const double vc = b.D / (T - tg);
-  // level reached by a trapezoid of length tg and area vc with ramps at J
   const double each = tg / static_cast<double>(2 * b.h + 1);
   for (std::size_t i = 0; i < b.h; ++i) {
     double r = each;
@@ -439,13 +613,11 @@ void seed(const BangCoast& b, double T, double frac, int style, Vec& y) noexcept
     y[2 * i] = std::sqrt(r / b.t0);
     y[2 * i + 1] = std::sqrt(each / b.t0);
   }
-  (void)vc;
-  for (std::size_t i = 0; i < b.h + 2; ++i) y[2 * b.h + i] = 0.5;
 }
 
 }  // namespace
 
-Peaks<double> jerk_table_peaks(const FastestParams& p) noexcept {
+Peaks<double> jerk_table_peaks(const FastestTable& p) noexcept {
   Peaks<double> pk{};
   double v = 0.0, a = 0.0;
   for (std::size_t i = 0; i < p.count; ++i) {
@@ -464,11 +636,11 @@ Peaks<double> jerk_table_peaks(const FastestParams& p) noexcept {
   return pk;
 }
 
-double fastest_residual_amplitude(const FastestParams& p, double omega, double zeta) noexcept {
+double fastest_residual_amplitude(const FastestTable& p, double omega, double zeta) noexcept {
   return cabs(accel_transform_at_end(p, pole(omega, zeta))) / (omega * std::sqrt(1.0 - zeta * zeta));
 }
 
-double fastest_residual_ratio(const FastestParams& p, double omega, double zeta) noexcept {
+double fastest_residual_ratio(const FastestTable& p, double omega, double zeta) noexcept {
   // A step of D leaves the amplitude |D| omega / wd right after it.
   const double wd = omega * std::sqrt(1.0 - zeta * zeta);
   return fastest_residual_amplitude(p, omega, zeta) * wd / (std::fabs(p.distance) * omega);
@@ -481,7 +653,7 @@ namespace {
 // the samples too.
 constexpr double kRobustLimit = 0.05;
 
-double worst_over_band(const FastestParams& p, const ModeSet& ms, double band) noexcept {
+double worst_over_band(const FastestTable& p, const ModeSet& ms, double band) noexcept {
   double worst = 0.0;
   constexpr int kSamples = 128;
   for (std::size_t i = 0; i < ms.n; ++i) {
@@ -533,7 +705,7 @@ struct Best {
   double time{INFINITY};
 };
 
-bool design_ok(const FastestParams& p, const ModeSet& ms, double band, double exact_tol) noexcept {
+bool design_ok(const FastestTable& p, const ModeSet& ms, double band, double exact_tol) noexcept {
   if (band > 0.0) return worst_over_band(p, ms, band) <= kRobustLimit;
   for (std::size_t i = 0; i < ms.n; ++i) {
     const double amp = fastest_residual_amplitude(p, ms.m[i].omega, ms.m[i].zeta);
@@ -550,19 +722,6 @@ void consider(Best& best, const FastestParams& p, const Peaks<double>& pk, doubl
   }
 }
 
-// The slack variables that make the inequalities hold with equality at y's pulse (or nearly).
-void fit_slacks(const BangCoast& b, double T, Vec& y) noexcept {
-  const Pulse q = make_pulse(b, y);
-  double vc = 0.0;
-  for (std::size_t k = 0; k <= q.nseg; ++k) vc += 0.5 * b.J * q.dj[k] * q.t[k] * q.t[k];
-  for (std::size_t i = 0; i < b.h; ++i) {
-    const double x = b.J * q.level[i] / b.amax;
-    y[2 * b.h + i] = std::sqrt(std::fmax(1.0 - x * x, 1e-8));
-  }
-  y[3 * b.h] = std::sqrt(std::fmax(1.0 - vc / b.vmax, 1e-8));
-  y[3 * b.h + 1] = std::sqrt(std::fmax((T - 2.0 * q.tg) / b.t0, 1e-8));
-}
-
 // Lays a move whose jerk takes any value in [-J, J] (the time-optimal move or pulse convolved
 // with a shaper) onto the alternating pattern: each maximal run of segments whose jerk has one
 // sign (zero-jerk segments inside it included) becomes one ramp at that sign with the run's
@@ -571,7 +730,7 @@ void fit_slacks(const BangCoast& b, double T, Vec& y) noexcept {
 // `break_at_rest` (two seeds: the other merges it into the run). Where two
 // ramps of one sign follow each other (and before a negative first one) a tiny opposite ramp
 // keeps the pattern alternating. Returns the number of ramps (0 when more than `cap`).
-std::size_t alternate_runs(const FastestParams& g, double J, double tiny, bool break_at_rest, double* ramp,
+std::size_t alternate_runs(const FastestTable& g, double J, double tiny, bool break_at_rest, double* ramp,
                            double* coast, std::size_t cap) noexcept {
   std::size_t n = 0;
   double last_sign = -1.0;  // the pattern starts with a positive ramp
@@ -619,36 +778,56 @@ std::size_t alternate_runs(const FastestParams& g, double J, double tiny, bool b
   return n;
 }
 
-// A seed from a pulse whose jerk may take any value in [-J, J] (alternate_runs); the last ramp
-// is the pattern's closing ramp. False when it needs more pairs than the pattern holds.
-bool seed_from_pulse(BangCoast& b, const FastestParams& g, Vec& y) noexcept {
+// A seed from a move (whole form) or pulse (mirrored) whose jerk may take any value in [-J, J]
+// (alternate_runs); the last ramp is the pattern's closing ramp. Sets b.h; false when the seed
+// needs more pairs than the form holds. The slacks are left to fit_slacks.
+bool seed_pattern(Problem& b, const FastestTable& g, bool break_at_rest, Vec& y) noexcept {
   constexpr double kTiny = 1e-6;
-  std::array<double, 2 * kMaxPairs + 2> ramp{}, coast{};
-  const std::size_t n = alternate_runs(g, b.J, kTiny * b.t0, false, ramp.data(), coast.data(), ramp.size());
-  if (n < 2 || n - 1 > kMaxPairs) return false;
-  const std::size_t pairs = n - 1;  // the last ramp closes the pulse
-  b.h = std::max(pairs, std::min(kMaxPairs, b.nc + 1));
+  const std::size_t cap = b.max_pairs();
+  std::array<double, 2 * kMaxFullPairs + 2> ramp{}, coast{};
+  const std::size_t n = alternate_runs(g, b.J, kTiny * b.t0, break_at_rest, ramp.data(), coast.data(), 2 * cap + 2);
+  if (n < 2 || n - 1 > cap) return false;
+  const std::size_t pairs = n - 1;  // the last ramp closes the pattern
+  b.h = std::max(pairs, std::min(cap, b.nc + (b.mirrored ? 1 : 2)));
   y.fill(0.0);
   for (std::size_t i = 0; i < b.h; ++i) {
-    const double r = i < pairs ? ramp[i] : kTiny * b.t0;
+    const double rr = i < pairs ? ramp[i] : kTiny * b.t0;
     const double c = i < pairs ? coast[i] : kTiny * b.t0;
-    y[2 * i] = std::sqrt(std::fmax(r, kTiny * b.t0) / b.t0);
+    y[2 * i] = std::sqrt(std::fmax(rr, kTiny * b.t0) / b.t0);
     y[2 * i + 1] = std::sqrt(std::fmax(c, kTiny * b.t0) / b.t0);
   }
   return true;
 }
 
-// Shortest bang-coast move for the conditions, no longer than t_cap; false when none was found.
-// `pulses` are seeds (the time-optimal pulse convolved with shapers) with the move time each
-// comes from.
-struct SeedPulse {
-  FastestParams g{};
+// A seed move (or pulse) with the move time it comes from.
+struct Seed {
+  FastestTable g{};
   double time{0.0};
 };
-bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<Condition, kMaxConds>& cond,
-                     std::size_t nc, const SeedPulse* pulses, std::size_t npulses, double t_lo, double t_cap,
-                     double band, FastestParams& out, Peaks<double>& out_pk) noexcept {
-  BangCoast b{};
+
+// True when an earlier seed is the same move with the same time (the shortest move so far is
+// often the time-optimal move * ZV, which is also a seed of its own).
+bool same_as_earlier_seed(const Seed* seeds, std::size_t k) noexcept {
+  const FastestTable& g = seeds[k].g;
+  for (std::size_t i = 0; i < k; ++i) {
+    const FastestTable& o = seeds[i].g;
+    if (seeds[i].time != seeds[k].time || o.count != g.count || o.distance != g.distance) continue;
+    bool same = true;
+    for (std::size_t s = 0; s < g.count && same; ++s) same = o.durations[s] == g.durations[s] && o.jerk[s] == g.jerk[s];
+    if (same) return true;
+  }
+  return false;
+}
+
+// Shortest bang-coast move of one form for the conditions, no longer than t_cap; false when none
+// was found. From each seed that solves (at its own move time), the move time is lowered with
+// warm starts down to the shortest that still solves and passes the checks (exact peaks within
+// the limits, residual); the shortest over the seeds wins.
+bool plan_pattern(const MoveRequest& r, const ModeSet& ms, bool mirrored, const std::array<Condition, kMaxConds>& cond,
+                  std::size_t nc, const Seed* seeds, std::size_t nseeds, double t_lo, double t_cap, double band,
+                  FastestTable& out, Peaks<double>& out_pk) noexcept {
+  Problem b{};
+  b.mirrored = mirrored;
   b.D = std::fabs(r.distance);
   b.J = *r.jmax;
   b.amax = *r.amax;
@@ -656,337 +835,24 @@ bool plan_bang_coast(const MoveRequest& r, const ModeSet& ms, const std::array<C
   b.t0 = t_cap;
   b.cond = cond;
   b.nc = nc;
-  const auto accept = [&](const BangCoast& bb, double T, const Vec& yy, FastestParams& p, Peaks<double>& pk) {
-    p = bang_coast_table(bb, T, yy, r.distance);
+  const auto accept = [&](const Problem& bb, double T, const Vec& yy, FastestTable& p, Peaks<double>& pk) {
+    p = pattern_table(bb, T, yy, r.distance);
     if (p.count == 0) return false;
     pk = jerk_table_peaks(p);
     return limits_ok(pk, bb.vmax, bb.amax, bb.J) && design_ok(p, ms, band, 1e-10);
   };
-  // From each seed that solves (the shaped pulses at their own move time, then generic
-  // staircases at t_cap), bisection on the move time with warm starts; the shortest wins.
   bool have = false;
-  const auto descend = [&](const BangCoast& bb, double T, Vec y) {
-    FastestParams bp{};
+  const auto descend = [&](const Problem& bb, double T, Vec y) {
+    FastestTable bp{};
     Peaks<double> bpk{};
-    if (!solve_feasible(bb, T, y, kFirstIterations) || !accept(bb, T, y, bp, bpk)) return false;
+    if (!lm_solve(bb, T, y, kFirstIterations) || !accept(bb, T, y, bp, bpk)) return false;
     double hi = T, lo = t_lo;
     for (int it = 0; it < 40 && hi - lo > kBisectTol * hi; ++it) {
       const double mid = 0.5 * (lo + hi);
       Vec yt = y;
-      FastestParams p{};
+      FastestTable p{};
       Peaks<double> pk{};
-      if (solve_feasible(bb, mid, yt, kWarmIterations) && accept(bb, mid, yt, p, pk)) {
-        hi = mid;
-        y = yt;
-        bp = p;
-        bpk = pk;
-      } else {
-        lo = mid;
-      }
-    }
-    if (!have || hi < table_duration(out)) {
-      out = bp;
-      out_pk = bpk;
-      have = true;
-    }
-    return true;
-  };
-  for (std::size_t k = 0; k < npulses; ++k) {
-    BangCoast bb = b;
-    Vec y{};
-    if (!seed_from_pulse(bb, pulses[k].g, y) || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
-    const double T = std::fmin(pulses[k].time, t_cap);
-    bb.t_ref = make_pulse(bb, y).tg;
-    fit_slacks(bb, T, y);
-    (void)descend(bb, T, y);
-  }
-  constexpr double kFracs[] = {0.9, 0.6, 0.98, 0.4};
-  BangCoast bg = b;
-  bg.h = std::min(kMaxPairs, nc + 2);
-  if (bg.neq() > kMaxEqs || bg.nvar() > kMaxVars) return have;
-  for (int style = 0; style < 3 && !have; ++style) {
-    for (double fr : kFracs) {
-      Vec y{};
-      seed(bg, t_cap, fr, style, y);
-      bg.t_ref = make_pulse(bg, y).tg;
-      fit_slacks(bg, t_cap, y);
-      if (descend(bg, t_cap, y)) break;
-    }
-  }
-  return have;
-}
-
-// ----- bang-coast over the whole move ---------------------------------------------------------
-//
-// Without the mirror symmetry: the whole move is one alternating sequence, H ramp/coast pairs
-// (ramps at +J, -J, +J, ...) and a closing ramp back to a = 0; its unknowns are the durations
-// (t0 y^2) and squared slacks for |a| <= amax on each coast and |v| <= vmax at each coast's end.
-// The equalities: v = 0 and p = D at the end, the end at T, and the zero-residual conditions
-// referred to T. The velocity may still peak inside a ramp: the result is checked. This form also holds moves
-// whose acceleration and deceleration phases overlap (short moves on slow modes), which the
-// symmetric form cannot.
-
-struct Whole {
-  double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0}, t0{1.0};
-  std::size_t h{3};
-  std::array<Condition, kMaxConds> cond{};
-  std::size_t nc{0};
-  [[nodiscard]] std::size_t nvar() const noexcept { return 4 * h; }
-  [[nodiscard]] std::size_t neq() const noexcept { return 3 + 2 * nc + 2 * h; }
-};
-
-struct Seq {
-  std::size_t nseg{0};
-  std::array<double, 2 * kMaxFullPairs + 1> d{}, j{};
-  std::array<double, 2 * kMaxFullPairs + 2> t{}, dj{};
-  std::array<double, kMaxFullPairs> level{};
-  double close_sign{0.0};
-};
-
-Seq make_seq(const Whole& b, const Vec& y) noexcept {
-  Seq q{};
-  double lv = 0.0;
-  for (std::size_t i = 0; i < b.h; ++i) {
-    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
-    const double r = b.t0 * y[2 * i] * y[2 * i];
-    lv += sg * r;
-    q.level[i] = lv;
-    q.d[2 * i] = r;
-    q.j[2 * i] = sg;
-    q.d[2 * i + 1] = b.t0 * y[2 * i + 1] * y[2 * i + 1];
-    q.j[2 * i + 1] = 0.0;
-  }
-  q.close_sign = lv >= 0.0 ? 1.0 : -1.0;
-  q.d[2 * b.h] = std::fabs(lv);
-  q.j[2 * b.h] = -q.close_sign;
-  q.nseg = 2 * b.h + 1;
-  double t = 0.0, prev = 0.0;
-  for (std::size_t k = 0; k < q.nseg; ++k) {
-    q.t[k] = t;
-    q.dj[k] = q.j[k] - prev;
-    prev = q.j[k];
-    t += q.d[k];
-  }
-  q.t[q.nseg] = t;
-  q.dj[q.nseg] = -prev;
-  return q;
-}
-
-void whole_residuals(const Whole& b, double T, const Vec& y, EqVec& f, Jac* jac) noexcept {
-  const Seq q = make_seq(b, y);
-  const std::size_t ns = q.nseg + 1, nv = 2 * b.h;
-  std::array<std::array<double, 2 * kMaxFullPairs>, 2 * kMaxFullPairs + 1> dd{};
-  for (std::size_t m = 0; m < nv; ++m) dd[m][m] = 2.0 * b.t0 * y[m];
-  for (std::size_t i = 0; i < b.h; ++i) {
-    const double sg = (i % 2 == 0) ? 1.0 : -1.0;
-    dd[2 * b.h][2 * i] = q.close_sign * sg * 2.0 * b.t0 * y[2 * i];
-  }
-  std::array<std::array<double, 2 * kMaxFullPairs>, 2 * kMaxFullPairs + 2> dt{};
-  for (std::size_t k = 1; k < ns; ++k) {
-    for (std::size_t v = 0; v < nv; ++v) dt[k][v] = dt[k - 1][v] + dd[k - 1][v];
-  }
-  if (jac) {
-    for (auto& row : *jac) row.fill(0.0);
-  }
-  // With sum dj = 0 and sum dj t = 0 (a = 0 at the end): v_end = J/2 sum dj t^2 and, once
-  // v_end = 0, p_end = -J/6 sum dj t^3. Times are taken from T (t - T) to keep the sums small.
-  const double vs = b.D / T;
-  const double t_end = q.t[ns - 1];
-  double v = 0.0, p = 0.0;
-  for (std::size_t k = 0; k < ns; ++k) {
-    const double u = q.t[k] - t_end;
-    v += 0.5 * b.J * q.dj[k] * u * u;
-    p -= b.J * q.dj[k] * u * u * u / 6.0;
-  }
-  if (jac) {
-    // p(t_end) also moves with t_end at the rate v_end.
-    for (std::size_t k = 0; k < ns; ++k) {
-      const double u = q.t[k] - t_end;
-      for (std::size_t w = 0; w < nv; ++w) {
-        (*jac)[0][w] += b.J * q.dj[k] * u * dt[k][w] / vs;
-        (*jac)[1][w] -= 0.5 * b.J * q.dj[k] * u * u * dt[k][w] / b.D;
-      }
-    }
-    for (std::size_t w = 0; w < nv; ++w) {
-      (*jac)[1][w] += v * dt[ns - 1][w] / b.D;
-      (*jac)[2][w] = dt[ns - 1][w] / b.t0;
-    }
-  }
-  // The values themselves by integrating segment by segment (the sums above cancel to the last
-  // digits of J T^2; their derivatives are what the Jacobian needs).
-  (void)v;
-  (void)p;
-  double pe = 0.0, ve = 0.0, ae = 0.0;
-  for (std::size_t m = 0; m < q.nseg; ++m) {
-    const double d = q.d[m], jm = b.J * q.j[m];
-    pe += d * (ve + d * (ae / 2.0 + jm * d / 6.0));
-    ve += d * (ae + jm * d / 2.0);
-    ae += jm * d;
-  }
-  f[0] = ve / vs;
-  f[1] = pe / b.D - 1.0;
-  f[2] = (q.t[ns - 1] - T) / b.t0;
-  std::size_t e = 3;
-  for (std::size_t c = 0; c < b.nc; ++c) {
-    const Condition& cd = b.cond[c];
-    Cx sum{};
-    std::array<Cx, 2 * kMaxFullPairs> grad{};
-    for (std::size_t k = 0; k < ns; ++k) {
-      if (q.dj[k] == 0.0) continue;
-      const Cx ex = cexp_neg(cd.p, q.t[k] - T);
-      const double u = -cd.w * (q.t[k] - T);
-      const double uq = cd.order == 0 ? 1.0 : std::pow(u, cd.order);
-      sum = sum + (q.dj[k] * uq) * ex;
-      if (jac) {
-        const double uq1 = cd.order == 0 ? 0.0 : cd.order * (cd.order == 1 ? 1.0 : std::pow(u, cd.order - 1)) * -cd.w;
-        const Cx dk = q.dj[k] * (Cx{uq1 - cd.p.re * uq, -cd.p.im * uq} * ex);
-        for (std::size_t w = 0; w < nv; ++w) grad[w] = grad[w] + dt[k][w] * dk;
-      }
-    }
-    if (cd.order == 0) {
-      sum = Cx{};
-      for (std::size_t m = 0; m < q.nseg; ++m) {
-        if (q.j[m] != 0.0) sum = sum + q.j[m] * (cexp_neg(cd.p, q.t[m + 1] - T) * cexpm1(q.d[m] * cd.p));
-      }
-    }
-    f[e] = sum.re;
-    f[e + 1] = sum.im;
-    if (jac) {
-      for (std::size_t w = 0; w < nv; ++w) {
-        (*jac)[e][w] = grad[w].re;
-        (*jac)[e + 1][w] = grad[w].im;
-      }
-    }
-    e += 2;
-  }
-  for (std::size_t i = 0; i < b.h; ++i) {
-    const double x = b.J * q.level[i] / b.amax;
-    const std::size_t sv = 2 * b.h + i;
-    f[e] = 1.0 - x * x - y[sv] * y[sv];
-    if (jac) {
-      for (std::size_t l = 0; l <= i; ++l) {
-        const double sg = (l % 2 == 0) ? 1.0 : -1.0;
-        (*jac)[e][2 * l] = -2.0 * x * (b.J / b.amax) * sg * 2.0 * b.t0 * y[2 * l];
-      }
-      (*jac)[e][sv] = -2.0 * y[sv];
-    }
-    ++e;
-  }
-  // |v| <= vmax at the end of each coast: 1 - (v / vmax)^2 - s^2 = 0, v from the integration,
-  // dv/dt_k = -J dj_k (t_e - t_k) and dv/dt_e = a(t_e) = J level.
-  {
-    double vc = 0.0, ac = 0.0;  // velocity and acceleration at each coast's end
-    for (std::size_t i = 0; i < b.h; ++i) {
-      for (std::size_t m = 2 * i; m < 2 * i + 2; ++m) {
-        const double d = q.d[m], jm = b.J * q.j[m];
-        vc += d * (ac + jm * d / 2.0);
-        ac += jm * d;
-      }
-      const std::size_t ke = 2 * i + 2;  // the switch at the coast's end
-      const double x = vc / b.vmax;
-      const std::size_t sv = 3 * b.h + i;
-      f[e] = 1.0 - x * x - y[sv] * y[sv];
-      if (jac) {
-        for (std::size_t w = 0; w < nv; ++w) {
-          double dv = b.J * q.level[i] * dt[ke][w];
-          for (std::size_t k = 0; k < ke; ++k) dv -= b.J * q.dj[k] * (q.t[ke] - q.t[k]) * dt[k][w];
-          (*jac)[e][w] = -2.0 * x * dv / b.vmax;
-        }
-        (*jac)[e][sv] = -2.0 * y[sv];
-      }
-      ++e;
-    }
-  }
-}
-
-FastestParams whole_table(const Whole& b, const Vec& y, double distance) noexcept {
-  const Seq q = make_seq(b, y);
-  const double sg = distance < 0.0 ? -1.0 : 1.0;
-  FastestParams p{};
-  p.family = FastestFamily::bang_coast;
-  p.distance = distance;
-  bool ok = true;
-  for (std::size_t k = 0; k < q.nseg; ++k) ok = push_segment(p, q.d[k], sg * b.J * q.j[k]) && ok;
-  if (!ok) p.count = 0;  // does not fit: refused by the caller
-  return p;
-}
-
-// A seed from a whole move whose jerk may take any value in [-J, J] (alternate_runs).
-bool seed_whole(Whole& b, const FastestParams& g, bool break_at_rest, Vec& y) noexcept {
-  constexpr double kTiny = 1e-6;
-  std::array<double, 2 * kMaxFullPairs + 2> ramp{}, coast{};
-  const std::size_t n =
-      alternate_runs(g, b.J, kTiny * b.t0, break_at_rest, ramp.data(), coast.data(), ramp.size());
-  if (n < 2 || n - 1 > kMaxFullPairs) return false;
-  const std::size_t pairs = n - 1;
-  b.h = std::max(pairs, std::min(kMaxFullPairs, b.nc + 2));
-  y.fill(0.0);
-  for (std::size_t i = 0; i < b.h; ++i) {
-    const double r = i < pairs ? ramp[i] : kTiny * b.t0;
-    const double c = i < pairs ? coast[i] : kTiny * b.t0;
-    y[2 * i] = std::sqrt(std::fmax(r, kTiny * b.t0) / b.t0);
-    y[2 * i + 1] = std::sqrt(std::fmax(c, kTiny * b.t0) / b.t0);
-  }
-  const Seq q = make_seq(b, y);
-  double ve = 0.0, ae = 0.0;
-  for (std::size_t i = 0; i < b.h; ++i) {
-    const double x = b.J * q.level[i] / b.amax;
-    y[2 * b.h + i] = std::sqrt(std::fmax(1.0 - x * x, 1e-8));
-    for (std::size_t m = 2 * i; m < 2 * i + 2; ++m) {
-      ve += q.d[m] * (ae + b.J * q.j[m] * q.d[m] / 2.0);
-      ae += b.J * q.j[m] * q.d[m];
-    }
-    const double xv = ve / b.vmax;
-    y[3 * b.h + i] = std::sqrt(std::fmax(1.0 - xv * xv, 1e-8));
-  }
-  return true;
-}
-
-// Shortest whole-move bang-coast from each seed (whole moves, jerk in [-J, J], with their
-// durations), by bisection on T; false when no seed solves.
-bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condition, kMaxConds>& cond,
-                std::size_t nc, const FastestParams* moves, std::size_t nmoves, double t_lo, double t_cap,
-                double band, FastestParams& out, Peaks<double>& out_pk) noexcept {
-  Whole b{};
-  b.D = std::fabs(r.distance);
-  b.J = *r.jmax;
-  b.amax = *r.amax;
-  b.vmax = *r.vmax;
-  b.t0 = t_cap;
-  b.cond = cond;
-  b.nc = nc;
-  bool have = false;
-  Vec last_seed{};
-  std::size_t last_h = 0;
-  for (std::size_t kk = 0; kk < 2 * nmoves; ++kk) {
-    const std::size_t k = kk / 2;
-    Whole bb = b;
-    Vec y{};
-    if (!seed_whole(bb, moves[k], kk % 2 == 1, y) || bb.neq() > kMaxEqs || bb.nvar() > kMaxVars) continue;
-    if (bb.h == last_h && y == last_seed) continue;  // the other run rule gave the same seed
-    last_seed = y;
-    last_h = bb.h;
-    const auto solve = [&](double T, Vec& yy, int iters) {
-      return lm_solve([&](const Vec& z, EqVec& f, Jac* jac) { whole_residuals(bb, T, z, f, jac); }, bb.nvar(),
-                      bb.neq(), yy, iters);
-    };
-    const auto accept = [&](const Vec& yy, FastestParams& p, Peaks<double>& pk) {
-      p = whole_table(bb, yy, r.distance);
-      if (p.count == 0) return false;
-      pk = jerk_table_peaks(p);
-      return limits_ok(pk, bb.vmax, bb.amax, bb.J) && design_ok(p, ms, band, 1e-10);
-    };
-    double hi = std::fmin(table_duration(moves[k]), t_cap);
-    FastestParams bp{};
-    Peaks<double> bpk{};
-    if (!solve(hi, y, kFirstIterations) || !accept(y, bp, bpk)) continue;
-    double lo = t_lo;
-    for (int it = 0; it < 40 && hi - lo > kBisectTol * hi; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      Vec yt = y;
-      FastestParams p{};
-      Peaks<double> pk{};
-      if (solve(mid, yt, kWarmIterations) && accept(yt, p, pk)) {
+      if (lm_solve(bb, mid, yt, kWarmIterations) && accept(bb, mid, yt, p, pk)) {
         hi = mid;
         y = yt;
         bp = p;
@@ -1000,12 +866,46 @@ bool plan_whole(const MoveRequest& r, const ModeSet& ms, const std::array<Condit
       out_pk = bpk;
       have = true;
     }
+    return true;
+  };
+  // Mirrored: each pulse once. Whole: each move with both run rules (alternate_runs), skipping a
+  // rule that gives the same seed.
+  Vec last_seed{};
+  std::size_t last_h = 0;
+  for (std::size_t kk = 0; kk < (mirrored ? 1 : 2) * nseeds; ++kk) {
+    const std::size_t k = mirrored ? kk : kk / 2;
+    if (same_as_earlier_seed(seeds, k)) continue;  // it would descend exactly as that one did
+    Problem bb = b;
+    Vec y{};
+    if (!seed_pattern(bb, seeds[k].g, !mirrored && kk % 2 == 1, y) || !bb.fits()) continue;
+    const double T = std::fmin(seeds[k].time, t_cap);
+    bb.t_ref = make_pattern(bb, y).end;
+    fit_slacks(bb, T, y);
+    if (!mirrored) {
+      if (bb.h == last_h && y == last_seed) continue;
+      last_seed = y;
+      last_h = bb.h;
+    }
+    (void)descend(bb, T, y);
+  }
+  if (!mirrored || have) return have;
+  // Mirrored, when no seed solved: generic staircase pulses at t_cap.
+  constexpr double kFracs[] = {0.9, 0.6, 0.98, 0.4};
+  Problem bg = b;
+  bg.h = std::min(kMaxPairs, nc + 2);
+  if (!bg.fits()) return have;
+  for (int style = 0; style < 3 && !have; ++style) {
+    for (double fr : kFracs) {
+      Vec y{};
+      staircase(bg, t_cap, fr, style, y);
+      bg.t_ref = make_pattern(bg, y).end;
+      fit_slacks(bg, t_cap, y);
+      if (descend(bg, t_cap, y)) break;
+    }
   }
   return have;
 }
 
-// The time-optimal move's acceleration pulse (its segments up to where the acceleration first
-// returns to zero), positive.
 PiecewiseJerkParams accel_pulse(const PiecewiseJerkParams& to) noexcept {
   PiecewiseJerkParams h{};
   double a = 0.0, peak = 0.0;
@@ -1091,7 +991,6 @@ bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexc
 }
 
 }  // namespace
-
 Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
   if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
   if (r.time) return Status::unsupported_request;  // the fastest move has no requested time
@@ -1119,13 +1018,18 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
   constexpr ShaperKind kShapers[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd, ShaperKind::ei};
   constexpr FastestFamily kShaped[] = {FastestFamily::shaped_zv, FastestFamily::shaped_zvd, FastestFamily::shaped_zvdd,
                                        FastestFamily::shaped_ei};
-  const auto try_shaped = [&](const Shaper<double>& s, FastestFamily fam) {
+  const auto record_table = [&](FastestFamily f, const FastestTable& t, const Peaks<double>& pk) {
     FastestParams p{};
-    if (!flatten_shaped(to, s, p)) return;
-    p.family = fam;
-    const Peaks<double> pk = jerk_table_peaks(p);
-    if (!limits_ok(pk, vmax, amax, jmax) || !design_ok(p, ms, band, 1e-10)) return;
-    record(fam, p, pk, table_duration(p));
+    p.family = f;
+    p.table = t;
+    record(f, p, pk, table_duration(t));
+  };
+  const auto try_shaped = [&](const Shaper<double>& s, FastestFamily fam) {
+    FastestTable t{};
+    if (!flatten_shaped(to, s, t)) return;
+    const Peaks<double> pk = jerk_table_peaks(t);
+    if (!limits_ok(pk, vmax, amax, jmax) || !design_ok(t, ms, band, 1e-10)) return;
+    record_table(fam, t, pk);
   };
   for (std::size_t k = 0; k < 4; ++k) {
     Shaper<double> s{};
@@ -1146,7 +1050,6 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     if (plan_fastest_scurve(r.distance, vmax, amax, jmax, ms.m[0].omega, ms.m[0].zeta, damped, p.curve) ==
         Status::ok) {
       p.family = damped ? FastestFamily::scurve_damped : FastestFamily::scurve;
-      p.distance = r.distance;
       const Peaks<double> pk = ramp_cycloid_peaks(p.curve);
       if (limits_ok(pk, vmax, amax, jmax)) record(p.family, p, pk, Fastest<double>{p}.duration());
     }
@@ -1181,8 +1084,8 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     const std::size_t nc = zero_conditions(z, ms, cond);
     if (nc > kMaxConds) continue;
     const double t_cap = std::isfinite(best.time) ? best.time : 4.0 * t_to + 8.0 * 3.14159 / ms.m[0].omega;
-    std::array<SeedPulse, 2> pulses{};
-    std::array<FastestParams, 3> whole{};
+    std::array<Seed, 2> pulses{};
+    std::array<Seed, 3> whole{};
     std::size_t ns = 0, nw = 0;
     for (int extra = 0; extra <= 1; ++extra) {
       ZeroSet zs = z;
@@ -1193,21 +1096,25 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
         pulses[ns].time = t_to + s.duration();
         ++ns;
       }
-      if (flatten_shaped(to, s, whole[nw])) ++nw;
+      if (flatten_shaped(to, s, whole[nw].g)) {
+        whole[nw].time = table_duration(whole[nw].g);
+        ++nw;
+      }
     }
     // and from the shortest jerk-table move so far (its zeros lie near these).
-    if (std::isfinite(best.time) && best.p.family != FastestFamily::scurve &&
-        best.p.family != FastestFamily::scurve_damped) {
-      whole[nw++] = best.p;
+    if (std::isfinite(best.time) && !is_ramp_cycloid(best.p.family)) {
+      whole[nw].g = best.p.table;
+      whole[nw].time = best.time;
+      ++nw;
     }
-    FastestParams p{};
+    FastestTable p{};
     Peaks<double> pk{};
-    if (plan_bang_coast(r, ms, cond, nc, pulses.data(), ns, t_to, t_cap, band, p, pk)) {
-      record(FastestFamily::bang_coast, p, pk, table_duration(p));
+    if (plan_pattern(r, ms, true, cond, nc, pulses.data(), ns, t_to, t_cap, band, p, pk)) {
+      record_table(FastestFamily::bang_coast, p, pk);
     }
-    if (plan_whole(r, ms, cond, nc, whole.data(), nw, t_to, std::isfinite(best.time) ? best.time : t_cap, band, p,
-                   pk)) {
-      record(FastestFamily::bang_coast, p, pk, table_duration(p));
+    if (plan_pattern(r, ms, false, cond, nc, whole.data(), nw, t_to, std::isfinite(best.time) ? best.time : t_cap,
+                     band, p, pk)) {
+      record_table(FastestFamily::bang_coast, p, pk);
     }
   }
 

@@ -5,6 +5,7 @@
 // within the limits.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
@@ -414,4 +415,18 @@ TEST(Fastest, EveryFamilyStreamsInDoubleFloatAndFixedPoint) {
     EXPECT_LE(worst_sd, 1e-12 * std::fabs(m.distance()));
   }
   EXPECT_GE(families.size(), 3u);  // the cases cover several winning families
+}
+
+// The evaluated shape holds a PiecewiseJerk table or a ramp-cycloid, not both and no copy of the
+// planner's parameters: it is the larger of the two plus the family times (docs/fastest.md,
+// "Cost" lists the sizes this prints).
+TEST(Fastest, ShapeIsItsTableOrItsCurvePlusTheFamilyTimes) {
+  const auto bound = [](auto table, auto curve) {
+    return std::max(sizeof(table), sizeof(curve)) + sizeof(double) * (core::kFastestFamilies + 2);
+  };
+  EXPECT_LE(sizeof(core::Fastest<float>), bound(core::Fastest<float>::Table{}, core::RampCycloid<float>{}));
+  EXPECT_LE(sizeof(core::Fastest<double>), bound(core::Fastest<double>::Table{}, core::RampCycloid<double>{}));
+  std::printf("sizeof: Fastest<float> %zu, Fastest<double> %zu, Move<float> %zu, Move<double> %zu\n",
+              sizeof(core::Fastest<float>), sizeof(core::Fastest<double>), sizeof(core::Move<float>),
+              sizeof(core::Move<double>));
 }

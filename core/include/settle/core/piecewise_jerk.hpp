@@ -14,13 +14,17 @@ namespace settle::core {
 
 inline constexpr std::size_t kMaxJerkSegments = 7;
 
-struct PiecewiseJerkParams {
+// Up to N segments of constant jerk from rest. The baselines hold kMaxJerkSegments; profile
+// `fastest` holds longer tables (profiles/fastest.hpp) in the same form.
+template <std::size_t N>
+struct PiecewiseJerkTable {
   double distance{0.0};
   std::size_t count{0};
-  std::array<double, kMaxJerkSegments> durations{};
-  std::array<double, kMaxJerkSegments> accel0{};  // acceleration at the start of each segment
-  std::array<double, kMaxJerkSegments> jerk{};
+  std::array<double, N> durations{};
+  std::array<double, N> accel0{};  // acceleration at the start of each segment
+  std::array<double, N> jerk{};
 };
+using PiecewiseJerkParams = PiecewiseJerkTable<kMaxJerkSegments>;
 
 // Time-optimal trapezoid under vmax/amax (a triangle when vmax is not reached).
 [[nodiscard]] PiecewiseJerkParams trapezoid_time_optimal(double distance, double vmax, double amax) noexcept;
@@ -32,12 +36,12 @@ struct PiecewiseJerkParams {
 [[nodiscard]] double piecewise_duration(const PiecewiseJerkParams& p) noexcept;
 [[nodiscard]] Peaks<double> piecewise_peaks(const PiecewiseJerkParams& p) noexcept;
 
-template <typename T>
+template <typename T, std::size_t N = kMaxJerkSegments>
 class PiecewiseJerk {
  public:
-  using Params = PiecewiseJerkParams;
+  using Params = PiecewiseJerkTable<N>;
   PiecewiseJerk() = default;
-  explicit PiecewiseJerk(const PiecewiseJerkParams& p) noexcept : params_{p}, n_{p.count} {
+  explicit PiecewiseJerk(const Params& p) noexcept : params_{p}, n_{p.count < N ? p.count : N} {
     double t = 0.0, pos = 0.0, v = 0.0;
     for (std::size_t i = 0; i < n_; ++i) {
       const double d = p.durations[i], a = p.accel0[i], j = p.jerk[i];
@@ -54,9 +58,9 @@ class PiecewiseJerk {
     dist_ = static_cast<T>(p.distance);
   }
   template <typename U>
-  explicit PiecewiseJerk(const PiecewiseJerk<U>& o) noexcept : PiecewiseJerk(o.params()) {}
+  explicit PiecewiseJerk(const PiecewiseJerk<U, N>& o) noexcept : PiecewiseJerk(o.params()) {}
 
-  [[nodiscard]] const PiecewiseJerkParams& params() const noexcept { return params_; }
+  [[nodiscard]] const Params& params() const noexcept { return params_; }
   [[nodiscard]] T duration() const noexcept { return dur_; }
   [[nodiscard]] T distance() const noexcept { return dist_; }
 
@@ -64,7 +68,7 @@ class PiecewiseJerk {
   // per number, where a '#' in the name stands for i (a per-segment or per-exponent number).
   template <typename F>
   void for_each_param(F&& f) const {
-    for (std::size_t i = 0; i < params_.count; ++i) {
+    for (std::size_t i = 0; i < n_; ++i) {
       f("segment#_duration", i, params_.durations[i]);
       f("segment#_jerk", i, params_.jerk[i]);
     }
@@ -98,9 +102,9 @@ class PiecewiseJerk {
   }
 
  private:
-  PiecewiseJerkParams params_{};
+  Params params_{};
   std::size_t n_{0};
-  std::array<T, kMaxJerkSegments> start_{}, p0_{}, v0_{}, a0_{}, j_{};
+  std::array<T, N> start_{}, p0_{}, v0_{}, a0_{}, j_{};
   T dur_{}, dist_{};
 };
 

@@ -8,16 +8,18 @@
 //   shaped_zv / _zvd / _zvdd / _ei   the time-optimal jerk-limited move convolved with shapers
 //   shaped_spread   (--robust) convolved with ZV shapers at frequencies spread over the band
 // Every family but the S-curves is a piecewise-constant-jerk move (the shaped ones flattened:
-// the sum of delayed copies is again piecewise constant in jerk), so the shape stores either a
-// ramp-cycloid or a constant-jerk segment table.
+// the sum of delayed copies is again piecewise constant in jerk), so the shape holds either a
+// RampCycloid or a PiecewiseJerk table.
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <variant>
 
 #include "settle/core/kinematics.hpp"
 #include "settle/core/move_request.hpp"
 #include "settle/core/piece.hpp"
+#include "settle/core/piecewise_jerk.hpp"
 #include "settle/core/ramp_cycloid.hpp"
 #include "settle/core/status.hpp"
 
@@ -47,102 +49,93 @@ inline constexpr std::size_t kFastestFamilies = 9;
   return i < kFastestFamilies ? names[i] : "unknown";
 }
 
+// The planner's output: the family that won, its move (a ramp-cycloid, or a constant-jerk table
+// with each segment's starting acceleration), and what every family reached.
+using FastestTable = PiecewiseJerkTable<kFastestSegments>;
 struct FastestParams {
   FastestFamily family{FastestFamily::none};
-  double distance{0.0};
   RampCycloidParams curve{};  // family scurve / scurve_damped
-  std::size_t count{0};       // otherwise: constant-jerk segments
-  std::array<double, kFastestSegments> durations{};
-  std::array<double, kFastestSegments> jerk{};
+  FastestTable table{};       // otherwise: constant-jerk segments (table.distance is the move's)
   // The duration each family reached for this request (0: infeasible or not tried), reported by
   // `settle plan` so that the choice can be checked.
   std::array<double, kFastestFamilies> family_time{};
 };
 
-// A move whose jerk is piecewise constant (durations[i], jerk[i]) from rest: its state at the end
-// of each segment follows by exact cubic integration.
+[[nodiscard]] constexpr bool is_ramp_cycloid(FastestFamily f) noexcept {
+  return f == FastestFamily::scurve || f == FastestFamily::scurve_damped;
+}
+
+// The evaluated move: a ramp-cycloid or a PiecewiseJerk table, whichever the family is (one of
+// them, not both: the shape is as large as the larger), and the family times it reports.
 template <typename T>
 class Fastest {
  public:
   using Params = FastestParams;
+  using Table = PiecewiseJerk<T, kFastestSegments>;
   Fastest() = default;
-  explicit Fastest(const FastestParams& p) noexcept : params_{p}, curve_{p.curve} {
-    if (is_curve()) {
-      dur_ = curve_.duration();
-      dist_ = curve_.distance();
-      return;
+  explicit Fastest(const FastestParams& p) noexcept : family_{p.family}, family_time_{p.family_time} {
+    if (is_ramp_cycloid(p.family)) {
+      shape_.template emplace<RampCycloid<T>>(p.curve);
+    } else {
+      shape_.template emplace<Table>(p.table);
     }
-    n_ = p.count < kFastestSegments ? p.count : kFastestSegments;
-    double t = 0.0, pos = 0.0, v = 0.0, a = 0.0;
-    for (std::size_t i = 0; i < n_; ++i) {
-      const double d = p.durations[i], j = p.jerk[i];
-      start_[i] = static_cast<T>(t);
-      p0_[i] = static_cast<T>(pos);
-      v0_[i] = static_cast<T>(v);
-      a0_[i] = static_cast<T>(a);
-      j_[i] = static_cast<T>(j);
-      pos += d * (v + d * (a / 2.0 + j * d / 6.0));
-      v += d * (a + j * d / 2.0);
-      a += j * d;
-      t += d;
-    }
-    dur_ = static_cast<T>(t);
-    dist_ = static_cast<T>(p.distance);
   }
   template <typename U>
-  explicit Fastest(const Fastest<U>& o) noexcept : Fastest(o.params()) {}
+  explicit Fastest(const Fastest<U>& o) noexcept : family_{o.family_}, family_time_{o.family_time_} {
+    if (const auto* c = std::get_if<RampCycloid<U>>(&o.shape_)) {
+      shape_.template emplace<RampCycloid<T>>(*c);
+    } else if (const auto* t = std::get_if<typename Fastest<U>::Table>(&o.shape_)) {
+      shape_.template emplace<Table>(*t);
+    }
+  }
 
-  [[nodiscard]] const FastestParams& params() const noexcept { return params_; }
-  [[nodiscard]] T duration() const noexcept { return dur_; }
-  [[nodiscard]] T distance() const noexcept { return dist_; }
-  [[nodiscard]] FastestFamily family() const noexcept { return params_.family; }
+  // The planner's parameters, reassembled (the shape keeps only its own).
+  [[nodiscard]] FastestParams params() const noexcept {
+    FastestParams p{};
+    p.family = family_;
+    p.family_time = family_time_;
+    if (const auto* c = curve()) p.curve = c->params();
+    if (const auto* t = table()) p.table = t->params();
+    return p;
+  }
+  [[nodiscard]] T duration() const noexcept {
+    return visit([](const auto& s) { return s.duration(); });
+  }
+  [[nodiscard]] T distance() const noexcept {
+    return visit([](const auto& s) { return s.distance(); });
+  }
+  [[nodiscard]] FastestFamily family() const noexcept { return family_; }
+  [[nodiscard]] const RampCycloid<T>* curve() const noexcept { return std::get_if<RampCycloid<T>>(&shape_); }
+  [[nodiscard]] const Table* table() const noexcept { return std::get_if<Table>(&shape_); }
 
   template <typename F>
   void for_each_param(F&& f) const {
-    f("family_code", 0, static_cast<double>(params_.family));
+    f("family_code", 0, static_cast<double>(family_));
     for (std::size_t k = 1; k < kFastestFamilies; ++k) {
-      if (params_.family_time[k] > 0.0) f(family_param_name(k), 0, params_.family_time[k]);
+      if (family_time_[k] > 0.0) f(family_param_name(k), 0, family_time_[k]);
     }
-    if (is_curve()) {
-      curve_.for_each_param(f);
-      return;
-    }
-    for (std::size_t i = 0; i < params_.count; ++i) {
-      f("segment#_duration", i, params_.durations[i]);
-      f("segment#_jerk", i, params_.jerk[i]);
-    }
+    visit([&](const auto& s) { s.for_each_param(f); });
   }
 
-  [[nodiscard]] int piece_count() const noexcept { return is_curve() ? curve_.piece_count() : static_cast<int>(n_); }
+  [[nodiscard]] int piece_count() const noexcept {
+    return visit([](const auto& s) { return s.piece_count(); });
+  }
   [[nodiscard]] Piece piece(int i) const noexcept {
-    if (is_curve()) return curve_.piece(i);
-    const auto k = static_cast<std::size_t>(i);
-    const double d = params_.durations[k];
-    Piece pc{};
-    pc.start = static_cast<double>(start_[k]);
-    pc.length = d;
-    pc.c = {static_cast<double>(p0_[k]), static_cast<double>(v0_[k]) * d,
-            static_cast<double>(a0_[k]) * d * d / 2.0, params_.jerk[k] * d * d * d / 6.0};
-    return pc;
+    return visit([i](const auto& s) { return s.piece(i); });
   }
-
   [[nodiscard]] Sample<T> at(T t) const noexcept {
-    if (is_curve()) return curve_.at(t);
-    if (!(t > T(0))) return {};
-    if (t >= dur_ || n_ == 0) return {dist_, T(0), T(0), T(0)};
-    std::size_t k = n_ - 1;
-    while (k > 0 && t < start_[k]) --k;
-    const T u = t - start_[k];
-    const T j = j_[k];
-    const T a = a0_[k] + j * u;
-    const T v = v0_[k] + u * (a0_[k] + j * u / T(2));
-    const T p = p0_[k] + u * (v0_[k] + u * (a0_[k] / T(2) + j * u / T(6)));
-    return {p, v, a, j};
+    return visit([t](const auto& s) { return s.at(t); });
   }
 
  private:
-  [[nodiscard]] bool is_curve() const noexcept {
-    return params_.family == FastestFamily::scurve || params_.family == FastestFamily::scurve_damped;
+  template <typename U>
+  friend class Fastest;
+  // f(the table or the curve). Not std::visit: it may throw bad_variant_access, and core is
+  // built without exceptions (as Profile::visit).
+  template <typename F>
+  decltype(auto) visit(F&& f) const noexcept {
+    if (const auto* t = table()) return f(*t);
+    return f(*std::get_if<RampCycloid<T>>(&shape_));
   }
   [[nodiscard]] static const char* family_param_name(std::size_t k) noexcept {
     constexpr const char* names[kFastestFamilies] = {"",         "time_bang_coast", "time_scurve", "time_scurve_damped",
@@ -151,11 +144,9 @@ class Fastest {
     return names[k];
   }
 
-  FastestParams params_{};
-  RampCycloid<T> curve_{};
-  std::size_t n_{0};
-  std::array<T, kFastestSegments> start_{}, p0_{}, v0_{}, a0_{}, j_{};
-  T dur_{}, dist_{};
+  FastestFamily family_{FastestFamily::none};
+  std::array<double, kFastestFamilies> family_time_{};
+  std::variant<RampCycloid<T>, Table> shape_{};
 };
 
 // The planner (core/src/fastest.cpp): every family, the shortest feasible one.
@@ -163,7 +154,7 @@ class Fastest {
 
 // Exact peaks of a piecewise-constant-jerk table (jerk and acceleration at breakpoints, velocity
 // also where the acceleration crosses zero inside a segment).
-[[nodiscard]] Peaks<double> jerk_table_peaks(const FastestParams& p) noexcept;
+[[nodiscard]] Peaks<double> jerk_table_peaks(const FastestTable& p) noexcept;
 
 // The residual vibration a jerk-table move leaves on mode (omega, zeta): its amplitude when the
 // move ends (move units), and that amplitude relative to the one a step of the same distance
@@ -171,8 +162,8 @@ class Fastest {
 // input-shaping literature, |A(p)| / (|D| omega), A the Laplace transform of the acceleration at
 // the pole p). Measured at the move's end, the damping during the move counts, as it does for
 // the machine. Not for the ramp-cycloid families.
-[[nodiscard]] double fastest_residual_amplitude(const FastestParams& p, double omega, double zeta) noexcept;
-[[nodiscard]] double fastest_residual_ratio(const FastestParams& p, double omega, double zeta) noexcept;
+[[nodiscard]] double fastest_residual_amplitude(const FastestTable& p, double omega, double zeta) noexcept;
+[[nodiscard]] double fastest_residual_ratio(const FastestTable& p, double omega, double zeta) noexcept;
 
 struct FastestProfile {
   static constexpr const char* name = "fastest";

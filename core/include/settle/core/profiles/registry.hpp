@@ -34,10 +34,13 @@
   X(jerk_limited, JerkLimitedProfile)      \
   SETTLE_CORE_PROFILE_FASTEST(X)
 
-// `fastest` holds a table of up to 31 constant-jerk segments, and a Profile is as large as its
-// largest shape: with it every Move<double> grows from about 1.1 to 2.9 KiB, more than the
-// Cortex-M images' stacks hold (their RAM is counted in KiB). On M-profile cores it is therefore
-// left out of the registry unless SETTLE_CORE_FASTEST=1 is defined. A drive does not need it to
+// `fastest` holds a table of up to 31 constant-jerk segments (a PiecewiseJerk<T, 31>), and a
+// Profile is as large as its largest shape: with it a Move<double> is 2696 bytes instead of 1088
+// and a Move<float> 1784 instead of 640 (arm-none-eabi, Cortex-M4F). Built with
+// SETTLE_CORE_FASTEST=1 for the Cortex-M4F, every image that holds a move (golden, evaluators,
+// servo, servo_fixed, servo_eval, servo_size) overflows its stack under QEMU (lockup); only hello
+// runs (docs/fastest.md, "Limits"). On M-profile cores it is therefore left out of the registry
+// unless SETTLE_CORE_FASTEST=1 is defined. A drive does not need it to
 // follow such a move: the master (Linux, host or aarch64) plans it and streams its setpoints. It is
 // the last line, so the other kinds keep their values on every target.
 #ifndef SETTLE_CORE_FASTEST
