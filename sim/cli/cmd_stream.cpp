@@ -8,6 +8,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "settle/hal/canopen/bus_load.hpp"
 #include "settle/hal/eds_reader.hpp"
 #include "move_options.hpp"
 #include "online_options.hpp"
@@ -21,6 +22,32 @@
 namespace settle::cli {
 
 namespace {
+
+// The cyclic frames of one SYNC period (the SYNC, and every axis's RPDO and TPDOs as the layout in
+// use makes them: Settle's default, or the one --eds gives) must fit in the period at --bitrate
+// with worst-case bit stuffing (hal/canopen/bus_load.hpp, docs/multi_axis.md). Exit 2 or -1.
+int check_bus_load(const ParsedArgs& args, const sim::StreamSpec& spec, std::uint32_t axes) {
+  hal::canopen::ProcessDataLayout layout{};
+  if (spec.eds) {
+    hal::canopen::RemoteDriveConfig base{};
+    base.node = spec.node;
+    const hal::eds::DriveConfigResult d = hal::eds::drive_config_from_eds(*spec.eds, base, sim::streaming_feedback(*spec.eds));
+    if (d.ok()) layout = d.config.layout;  // otherwise start-up refuses the description, naming it
+  }
+  const auto bitrate = static_cast<std::uint32_t>(args.integer("--bitrate", 1'000'000));
+  const std::uint32_t period_us = spec.drive.scale.period_us;
+  const hal::canopen::CyclicLoad load = hal::canopen::cyclic_load(layout, axes);
+  const std::uint64_t available = hal::canopen::bits_per_period(bitrate, period_us);
+  if (load.bits_worst_case <= available) return -1;
+  return report_bad_request(
+      {"bus_overload", "--bitrate",
+       "--bitrate: " + std::to_string(axes) + (axes == 1 ? " axis needs " : " axes need ") +
+           std::to_string(load.bits_worst_case) + " bits per SYNC period with worst-case bit stuffing (" +
+           std::to_string(load.bits_unstuffed) + " without), " + std::to_string(available) + " available: " +
+           std::to_string(bitrate) + " bit/s x " + std::to_string(period_us) +
+           " us (a higher --bitrate, a longer --period-us or fewer axes)"},
+      args.json());
+}
 
 // The options as a spec, each already in its table range (options.cpp), and the sizes bounded
 // before anything is allocated: the session's records, the offline replay and the continuous
@@ -103,7 +130,7 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
     if (!loaded.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
     spec.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
   }
-  return -1;
+  return check_bus_load(args, spec, 1);
 }
 
 // A CSV file written by one of the report's writers; false when it cannot be.

@@ -220,6 +220,9 @@ const std::vector<OptionSpec> kStream = {
            "hold /dev/cpu_dma_latency at 0 us while the loop runs on a CAN interface (CPUs stay out of deep "
            "idle states: lower wake-up latency, more power)"),
     integer("--heartbeat-ms", "ms", "500", {10.0, 10000.0}, "the drive's heartbeat timeout at the loop"),
+    integer("--bitrate", "bit/s", "1000000", {10000.0, 1000000.0},
+            "the bus's classic CAN bit rate: a SYNC period must hold the SYNC and every axis's PDOs with "
+            "worst-case bit stuffing, else refused (docs/multi_axis.md)"),
     integer("--sdo-timeout-ms", "ms", "1000", {1.0, 60000.0}, "timeout of each start-up SDO"),
     integer("--feedback-timeout-periods", "periods", "10", {0.0, 65535.0},
             "SYNCs in a row without the drive's feedback before the loop halts the axis (0 = off)"),

@@ -51,6 +51,10 @@ TEST(CliOptions, StreamAndPlantIntegersAreCheckedNotCast) {
       {kStream + "--rt-priority 1e10", "--rt-priority", ""},
       {kStream + "--rt-priority 100", "--rt-priority", "out_of_range"},
       {kStream + "--pm-qos maybe", "--pm-qos", ""},
+      {kStream + "--bitrate 9999", "--bitrate", "out_of_range"},
+      {kStream + "--bitrate 1000001", "--bitrate", "out_of_range"},
+      {kStream + "--bitrate NaN", "--bitrate", "non_finite_input"},
+      {kStream + "--bitrate 5e5.5", "--bitrate", ""},
       {kPlant + "--sync-loss-periods 0", "--sync-loss-periods", "out_of_range"},
       {kPlant + "--sync-loss-periods 300", "--sync-loss-periods", "out_of_range"},
       {kPlant + "--duration -1", "--duration", "out_of_range"},
@@ -59,6 +63,28 @@ TEST(CliOptions, StreamAndPlantIntegersAreCheckedNotCast) {
       {kPlant + "--heartbeat-ms 70000", "--heartbeat-ms", "out_of_range"},
   };
   for (const Case& c : cases) expect_refused(c);
+}
+
+// One axis on Settle's default mapping needs 420 bits per SYNC period with worst-case stuffing
+// (SYNC 55, RPDO1 115, TPDO1 115, TPDO2 135; hal/canopen/bus_load.hpp), 348 without: a period that
+// holds fewer is refused before anything is sent, naming the numbers; one that holds 420 runs.
+TEST(CliOptions, StreamRefusesAPeriodTheBusCannotCarry) {
+  const Case cases[] = {
+      {kStream + "--period-us 400", "--bitrate", "bus_overload"},
+      {kStream + "--bitrate 125000", "--bitrate", "bus_overload"},
+      {kStream + "--bitrate 419000", "--bitrate", "bus_overload"},
+  };
+  for (const Case& c : cases) expect_refused(c);
+  const CliResult r = run_cli(kStream + "--bitrate 125000");
+  EXPECT_NE(r.stderr_text.find("--bitrate: 1 axis needs 420 bits per SYNC period with worst-case bit stuffing (348 "
+                               "without), 125 available: 125000 bit/s x 1000 us"),
+            std::string::npos)
+      << r.stderr_text;
+  const CliResult p = run_cli(kStream + "--period-us 400");
+  EXPECT_NE(p.stderr_text.find("400 available: 1000000 bit/s x 400 us"), std::string::npos) << p.stderr_text;
+  // Exactly the bits needed: accepted, and the move streams (loopback).
+  const CliResult ok = run_cli(kStream + "--bitrate 420000 --settle-time 0.1");
+  EXPECT_EQ(ok.status, 0) << ok.out;
 }
 
 TEST(CliOptions, NumbersOutsideTheirRangeNeverPrintInfOrNan) {
@@ -305,7 +331,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
                                      "--noise", "--seed"}})},
       {"stream", join({move, plant, drive,
                        {"--plan-from", "--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--eds", "--pm-qos", "--heartbeat-ms",
-                        "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log",
+                        "--bitrate", "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log",
                         "--halt-at", "--retarget-at"}})},
       {"tune", join({{"--distance", "--time", "--vmax", "--amax", "--jmax", "--modes-from", "--mode", "--residual-max",
                       "--uncertainty", "--zeta-pm", "--png"}})},
