@@ -49,7 +49,8 @@ struct Seen {
   hal::CanFrame frame;
 };
 
-struct Rig {
+template <typename Loop = firmware::ServoLoop<double, 1, 4>>
+struct BasicRig {
   hal::LoopbackHub hub;
   hal::LoopbackBus<256> master{hub};
   hal::testing::FaultInjectingBus faulty{master};  // the loop's bus: passes everything unless told
@@ -58,7 +59,7 @@ struct Rig {
   hal::canopen::DriveNodeConfig drive_config{};
   hal::testing::IdealDrive<> drive{hub, drive_config};
   std::vector<std::int32_t> applied_log = std::vector<std::int32_t>(1 << 18);  // what drive.applied() holds
-  firmware::ServoLoop<double, 1, 4> loop{faulty, kPeriod};
+  Loop loop{faulty, kPeriod};
   std::uint64_t now = 0;
   std::uint64_t ticks = 0;
   std::vector<std::int32_t> sent;
@@ -67,7 +68,7 @@ struct Rig {
   bool drive_alive = true;  // false: the drive's process hangs (it takes and sends nothing)
   std::function<void()> before_drive;  // runs between the loop's tick and the drive's
 
-  explicit Rig(const firmware::AxisConfig& a = axis(1), const hal::canopen::DriveNodeConfig& dc = {})
+  explicit BasicRig(const firmware::AxisConfig& a = axis(1), const hal::canopen::DriveNodeConfig& dc = {})
       : drive_config{dc} {
     EXPECT_EQ(loop.add_axis(a), firmware::LoopStatus::ok);
     drive.record_applied(applied_log);
@@ -103,6 +104,8 @@ struct Rig {
     return k;
   }
 };
+
+using Rig = BasicRig<>;
 
 // What the loop must stream for a move starting at 0, derived from the plan, not from the loop: the
 // profile sampled every period, rounded to counts, to its end (the move's distance) inclusive.
@@ -188,6 +191,26 @@ TEST(ServoLoop, AMoveWhosePathLeavesTheDrivesSoftwareLimitsIsRefused) {
   // From 50 000 again: 0.06 m more leaves them, 0.05 m does not.
   EXPECT_EQ(r.loop.submit(0, scurve(0.06, 0.3)), firmware::LoopStatus::position_limit);
   EXPECT_EQ(r.loop.submit(0, scurve(0.05, 0.3)), firmware::LoopStatus::ok);
+}
+
+// The float loop (a Cortex-M4F's) checks the path on the Move<float> it streams, as the setpoints
+// it sends (rounded to counts): the same refusals as the double loop, and a move to the limit
+// itself is taken although 0.1F m is 100 000.0015 counts before rounding.
+TEST(ServoLoop, TheFloatLoopChecksTheDrivesSoftwareLimitsOnTheMoveItStreams) {
+  hal::canopen::DriveNodeConfig dc{};
+  dc.position_limit_min = -20'000;
+  dc.position_limit_max = 100'000;
+  BasicRig<firmware::ServoLoop<float, 1, 4>> r{axis(1), dc};
+  ASSERT_TRUE(r.run_until_ready());
+  EXPECT_EQ(r.loop.submit(0, scurve(0.2, 0.5)), firmware::LoopStatus::position_limit);
+  EXPECT_EQ(r.loop.submit(0, scurve(-0.03, 0.5)), firmware::LoopStatus::position_limit);
+  EXPECT_TRUE(r.loop.idle()) << "nothing queued";
+  ASSERT_EQ(r.loop.submit(0, scurve(0.1, 0.5)), firmware::LoopStatus::ok) << "to the limit itself";
+  EXPECT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), firmware::LoopStatus::position_limit) << "from where the first ends";
+  for (int i = 0; i < 1000; ++i) r.tick();
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 1u);
+  EXPECT_EQ(r.drive.position(), 100'000);
+  EXPECT_EQ(r.drive.node().counters().steps_refused, 0u);
 }
 
 // The drive's max profile velocity (0x607F, counts/s) against the move's true peak velocity.

@@ -159,6 +159,8 @@ RemoteDrive::RemoteDrive(const RemoteDriveConfig& config) noexcept
   } else {
     plan_too_long_ = true;
   }
+  layout_unusable_ = config_.pdo_setup != PdoSetup::read_static &&
+                     check_layout(config_.layout, config_.pdo_setup == PdoSetup::dynamic) != LayoutError::none;
   apply_layout();
 }
 
@@ -256,12 +258,10 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   operational_seen_ = false;
   limits_ = RemoteDriveLimits{};
   map_sub_ = 0;
-  if (plan_too_long_ || check_layout(config_.layout, config_.pdo_setup == PdoSetup::dynamic) != LayoutError::none) {
-    if (config_.pdo_setup != PdoSetup::read_static || plan_too_long_) {
-      failure_.error = plan_too_long_ ? StartupError::plan_too_long : StartupError::bad_layout;
-      fail(now_us);
-      return;
-    }
+  if (plan_too_long_ || layout_unusable_) {
+    failure_.error = plan_too_long_ ? StartupError::plan_too_long : StartupError::bad_layout;
+    fail(now_us);
+    return;
   }
   if (config_.pdo_setup == PdoSetup::read_static) {
     config_.layout = empty_layout(config_.layout);  // derived afresh from what the drive says

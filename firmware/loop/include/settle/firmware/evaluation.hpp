@@ -49,6 +49,11 @@ struct FloatEvaluation {
     out.stream = core::SetpointStream<Scalar>{out.move, scale, 0};
     return core::Status::ok;
   }
+  // The move submit's checks sample (ServoLoop::path_within): the one prepared here, in Scalar,
+  // whose stream is what is sent; no double evaluation (soft double on a Cortex-M4F) is linked.
+  [[nodiscard]] static const core::Move<Scalar>& sampled_move(const Stored& s, const core::Move<double>&) noexcept {
+    return s.move;
+  }
   // In the tick that starts the move: only where tick 0 is.
   [[nodiscard]] static Stream start(Stored& s, std::int32_t origin) noexcept {
     s.stream.rebase(origin);
@@ -147,6 +152,11 @@ struct BasicFixedEvaluation {
     if (st == core::Status::ok) st = out.plan.build(motion);
     if (st == core::Status::ok) out.stepper = core::fixed::PositionStepper{out.plan};
     return st;
+  }
+  // The move submit's checks sample (ServoLoop::path_within): the plan holds no random access,
+  // so the planned Move<double> (soft double either way on a core without an FPU).
+  [[nodiscard]] static const core::Move<double>& sampled_move(const Stored&, const core::Move<double>& m) noexcept {
+    return m;
   }
   // In the tick that starts the move: only where tick 0 is.
   [[nodiscard]] static Stream start(Stored& s, std::int32_t origin) noexcept {

@@ -295,7 +295,10 @@ class ServoLoop {
       return LoopStatus::exceeds_drive_velocity;
     }
     const std::int32_t origin = move_origin(a);
-    if (limits.has_position_limits() && !path_within(m, origin, cpu, limits)) return LoopStatus::position_limit;
+    if (limits.has_position_limits() &&
+        !path_within(Evaluation::sampled_move(a.queue.back_slot().eval, m), origin, cpu, limits)) {
+      return LoopStatus::position_limit;
+    }
     if constexpr (kOnlineChanges) a.queue.back_slot().plan = m;
     a.queue.commit_back();
     a.queued_end = static_cast<std::int32_t>(static_cast<std::int64_t>(origin) + std::llround(m.distance() * cpu));
@@ -628,13 +631,18 @@ class ServoLoop {
     return a.have_target ? a.target : a.drive->feedback().position_actual;
   }
   // The move's path from `origin` stays within the drive's software position limits: its ends
-  // and 256 samples between them (a shaper with negative impulses overshoots the end).
-  [[nodiscard]] static bool path_within(const core::Move<double>& m, std::int32_t origin, double cpu,
+  // and 256 samples between them (a shaper with negative impulses overshoots the end), each as
+  // the setpoint the stream sends (to_counts: rounded to a count). The move sampled is the one
+  // the evaluation holds (Evaluation::sampled_move): in float on a Cortex-M4F, where evaluating
+  // the Move<double> would link soft-double sin, cos and pow into the image (12 KiB of flash).
+  template <typename S>
+  [[nodiscard]] static bool path_within(const core::Move<S>& m, std::int32_t origin, double cpu,
                                         const hal::canopen::RemoteDriveLimits& limits) noexcept {
     constexpr int samples = 256;
+    const S scale = static_cast<S>(cpu);
     for (int k = 0; k <= samples; ++k) {
-      const double p = k == samples ? m.distance() : m.at(m.duration() * k / samples).p;
-      const double at = static_cast<double>(origin) + p * cpu;
+      const S p = k == samples ? m.distance() : m.at(m.duration() * static_cast<S>(k) / static_cast<S>(samples)).p;
+      const double at = static_cast<double>(origin) + static_cast<double>(std::nearbyint(p * scale));
       if (!(at >= static_cast<double>(limits.position_min) && at <= static_cast<double>(limits.position_max))) {
         return false;
       }

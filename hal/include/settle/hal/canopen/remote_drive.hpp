@@ -398,6 +398,9 @@ class RemoteDrive {
   bool verifying_{false};    // a write step's read-back is running
   bool retried_{false};      // the current request has been sent again after a timeout
   bool plan_too_long_{false};
+  // The configured layout cannot be streamed (check_layout, once at construction: the tick that
+  // takes a boot-up runs start()); never set for PdoSetup::read_static, derived at start-up.
+  bool layout_unusable_{false};
   RemoteDriveLimits limits_{};
   // The drive has been seen operational since start-up sent NMT start (a TPDO or an operational
   // heartbeat): from then on a pre-operational or stopped heartbeat is news, not a late echo.
