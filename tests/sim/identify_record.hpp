@@ -20,6 +20,7 @@ namespace settle::sim::testing {
 struct Record {
   std::vector<std::int32_t> motor;
   std::vector<std::int32_t> load;
+  std::vector<double> deflection;  // the plant's deflection per sample, output units, before noise and quantisation
   double peak_deflection{0.0};  // output units
   double noise_sd{0.0};         // output units
   double counts_per_unit{1e6};
@@ -64,12 +65,14 @@ inline bool make_record(const std::vector<Mode>& modes, double noise_fraction, s
   if (DriveAxis::make(cfg, plant, 0, axis) != SimStatus::ok) return false;
   std::vector<double> load(targets.size());
   out.motor.assign(targets.size(), 0);
+  out.deflection.assign(targets.size(), 0.0);
   double peak = 0.0;
   for (std::size_t k = 0; k < targets.size(); ++k) {
     if (axis.step(targets[k]) != SimStatus::ok) return false;
     out.motor[k] = axis.feedback().position_actual;
     load[k] = axis.load_position();
-    peak = std::max(peak, std::fabs(axis.plant().deflection()));
+    out.deflection[k] = axis.plant().deflection();
+    peak = std::max(peak, std::fabs(out.deflection[k]));
   }
   out.peak_deflection = peak;
   out.noise_sd = noise_fraction * peak;

@@ -7,8 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
+#include <string>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "identify_record.hpp"
 #include "settle/sim/identify.hpp"
@@ -108,6 +112,231 @@ TEST(Identify, TwoAndThreeModes) {
       expect_accurate(cases[c], identify(rec, 3), seed);
     }
   }
+}
+
+// A mode's share of the load deflection the excitation causes: the peak of its own contribution
+// to the load response, |q_j| over the record, made by the simulated drive's physics on a plant
+// with that mode alone (the deflection is linear in the modes, so this is exactly the mode's part
+// of the whole). This is what "gain >= 10 % of the largest" means in the range test below: a
+// mode's plant gain g_j says little on its own, since its deflection scales as g_j / omega_j^2
+// (docs/identification.md).
+double deflection_peak(const Mode& m) {
+  Record rec{};
+  if (!make_record({m}, 0.0, 1, rec, excitation())) return 0.0;
+  return rec.peak_deflection;
+}
+
+// The random plants of the range test: 1..3 modes, omega log-uniform in 2 pi [f_lo, f_hi] rad/s
+// and at least kMinModeRatio apart, zeta uniform in [zeta_lo, zeta_hi], each mode's deflection
+// peak drawn uniformly between 10 % and 100 % of the largest (one mode at 100 %, kLargestPeak).
+// The gain that gives each mode its drawn share is found with deflection_peak (linear in g).
+constexpr double kMinModeRatio = 1.3;
+constexpr double kLargestPeak = 1e-3;  // m: 1000 load counts, so the 1 % noise is about 10 counts
+
+struct PlantRange {
+  double f_lo{1.0}, f_hi{100.0};  // Hz
+  double zeta_lo{0.005}, zeta_hi{0.3};
+};
+
+std::vector<Mode> random_plant(std::uint64_t seed, const PlantRange& range) {
+  std::mt19937_64 rng{seed};
+  std::uniform_real_distribution<double> u{0.0, 1.0};
+  const std::size_t n = 1 + static_cast<std::size_t>(u(rng) * 3.0) % 3;
+  std::vector<Mode> modes;
+  while (modes.size() < n) {
+    const double omega = kTwoPi * range.f_lo * std::pow(range.f_hi / range.f_lo, u(rng));
+    const bool apart = std::all_of(modes.begin(), modes.end(), [&](const Mode& m) {
+      return std::max(m.omega, omega) / std::min(m.omega, omega) >= kMinModeRatio;
+    });
+    const double zeta = range.zeta_lo + (range.zeta_hi - range.zeta_lo) * u(rng);
+    if (apart) modes.push_back({.omega = omega, .zeta = zeta, .gain = 1.0});
+  }
+  const std::size_t largest = static_cast<std::size_t>(u(rng) * static_cast<double>(n)) % n;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double share = j == largest ? 1.0 : 0.1 + 0.9 * u(rng);
+    modes[j].gain = share * kLargestPeak / deflection_peak(modes[j]);
+  }
+  return modes;
+}
+
+// Every true mode found once (identified modes sorted by omega against the truth sorted the
+// same way), omega within 0.5 %, zeta within 0.01, no other mode.
+bool accurate(std::vector<Mode> truth, const IdentifyResult& r) {
+  if (r.status != IdentifyStatus::ok || r.modes.size() != truth.size()) return false;
+  std::sort(truth.begin(), truth.end(), [](const Mode& a, const Mode& b) { return a.omega < b.omega; });
+  for (std::size_t j = 0; j < truth.size(); ++j) {
+    if (!(std::fabs(r.modes[j].omega / truth[j].omega - 1.0) < 0.005)) return false;
+    if (!(std::fabs(r.modes[j].zeta - truth[j].zeta) < 0.01)) return false;
+  }
+  return true;
+}
+
+std::string describe(const std::vector<Mode>& truth, const IdentifyResult& r) {
+  std::string s = "true";
+  char buf[96];
+  for (const Mode& m : truth) {
+    std::snprintf(buf, sizeof buf, " (%.3f Hz, zeta %.4f)", m.omega / kTwoPi, m.zeta);
+    s += buf;
+  }
+  s += std::string{"; "} + to_string(r.status) + ", identified";
+  for (const IdentifiedMode& m : r.modes) {
+    std::snprintf(buf, sizeof buf, " (%.3f Hz sd %.2f %%, zeta %.4f sd %.4f)", m.omega / kTwoPi,
+                  100.0 * m.omega_sd / m.omega, m.zeta, m.zeta_sd);
+    s += buf;
+  }
+  return s;
+}
+
+// What the record can determine at best, whatever the estimator: the Cramer-Rao bound of the
+// model's parameters for white noise of the record's standard deviation, from the Fisher
+// information J^T J / sigma^2, J the sensitivities of the load to every parameter (each mode's
+// omega, zeta, gain, and the rigid gain and offset the estimator fits too). The sensitivities
+// come from the drive's physics (make_record, central differences of each mode's deflection
+// alone: the deflection is linear in the modes), not from the estimator's own model or
+// covariance. Returns, per mode, the bound on omega's relative and zeta's absolute error.
+struct Bound {
+  double omega_rel{0.0};
+  double zeta{0.0};
+};
+
+std::vector<Bound> cramer_rao(const std::vector<Mode>& truth, double noise_sd) {
+  const auto deflection = [](const Mode& m) {
+    Record rec{};
+    (void)make_record({m}, 0.0, 1, rec, excitation());
+    return rec.deflection;
+  };
+  Record base{};
+  (void)make_record(truth, 0.0, 1, base, excitation());
+  const auto n = static_cast<Eigen::Index>(base.motor.size());
+  const auto m = static_cast<Eigen::Index>(truth.size());
+  Eigen::MatrixXd j(n, 3 * m + 2);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    j(k, 3 * m) = base.motor[static_cast<std::size_t>(k)] / base.counts_per_unit;  // rigid gain
+    j(k, 3 * m + 1) = 1.0;                                                          // offset
+  }
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Mode& mode = truth[static_cast<std::size_t>(i)];
+    const double dw = 1e-4 * mode.omega;
+    const double dz = 1e-4;
+    Mode wp = mode, wm = mode, zp = mode, zm = mode, unit = mode;
+    wp.omega += dw;
+    wm.omega -= dw;
+    zp.zeta += dz;
+    zm.zeta = std::max(0.0, mode.zeta - dz);
+    unit.gain = 1.0;
+    const std::vector<double> a = deflection(wp), b = deflection(wm), c = deflection(zp), d = deflection(zm),
+                              u = deflection(unit);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const auto s = static_cast<std::size_t>(k);
+      j(k, 3 * i) = (a[s] - b[s]) / (2.0 * dw);
+      j(k, 3 * i + 1) = (c[s] - d[s]) / (mode.zeta + dz - zm.zeta);
+      j(k, 3 * i + 2) = u[s];
+    }
+  }
+  const Eigen::MatrixXd cov = (j.transpose() * j).ldlt().solve(Eigen::MatrixXd::Identity(3 * m + 2, 3 * m + 2));
+  std::vector<Bound> out;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    out.push_back({.omega_rel = noise_sd * std::sqrt(cov(3 * i, 3 * i)) / truth[static_cast<std::size_t>(i)].omega,
+                   .zeta = noise_sd * std::sqrt(cov(3 * i + 1, 3 * i + 1))});
+  }
+  return out;
+}
+
+// A plant the tolerances can be asked of: every mode's bound at most a third of them (3 sigma).
+bool determinable(const std::vector<Mode>& truth, const Record& rec) {
+  const std::vector<Bound> b = cramer_rao(truth, rec.noise_sd);
+  return std::all_of(b.begin(), b.end(), [](const Bound& x) { return x.omega_rel <= 0.005 / 3.0 && x.zeta <= 0.01 / 3.0; });
+}
+
+struct RangeCount {
+  int determinable{0}, determinable_ok{0};  // plants within the bound, and those identified
+  int beyond{0}, beyond_ok{0};              // plants past it (not asserted), and those identified
+};
+
+// Seeds first..last of random_plant(range), identified and judged; the misses are printed.
+RangeCount identified_plants(const PlantRange& range, std::uint64_t first, std::uint64_t last) {
+  RangeCount c{};
+  for (std::uint64_t seed = first; seed <= last; ++seed) {
+    const std::vector<Mode> truth = random_plant(seed, range);
+    Record rec{};
+    if (!make_record(truth, 0.01, 7919 * seed, rec, excitation())) {
+      ADD_FAILURE() << "seed " << seed << ": no record";
+      continue;
+    }
+    const IdentifyResult r = identify(rec, 3);
+    const bool ok = accurate(truth, r);
+    const bool within = determinable(truth, rec);
+    (within ? c.determinable : c.beyond) += 1;
+    (within ? c.determinable_ok : c.beyond_ok) += ok ? 1 : 0;
+    if (!ok) {
+      std::printf("seed %llu (%s): %s\n", static_cast<unsigned long long>(seed), within ? "determinable" : "beyond",
+                  describe(truth, r).c_str());
+    }
+  }
+  return c;
+}
+
+// Issue 15's accuracy statement over its range, "gain" read as the mode's share of the load
+// deflection (random_plant): 400 seeded plants of 1..3 modes, 1 kHz, 1-count quantisation, noise
+// 1 % of the excitation's peak load deflection. Every plant whose modes the record can determine
+// (determinable: the Cramer-Rao bound within a third of each tolerance) has every mode found, omega within 0.5 %, zeta
+// within 0.01 and no other mode; the plants past the bound are counted, not asserted.
+TEST(Identify, RandomPlantsAcrossTheRange) {
+  const RangeCount c = identified_plants({}, 1, 400);
+  std::printf("random plants identified: %d of %d determinable, %d of %d beyond the bound\n", c.determinable_ok,
+              c.determinable, c.beyond_ok, c.beyond);
+  EXPECT_EQ(c.determinable_ok, c.determinable);
+  EXPECT_GE(c.determinable, 250);  // the bound leaves most of the range in the test
+}
+
+TEST(Identify, RandomPlantSharesAreTheDrawnOnes) {
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    const std::vector<Mode> truth = random_plant(seed, {});
+    double largest = 0.0;
+    for (const Mode& m : truth) largest = std::max(largest, deflection_peak(m));
+    EXPECT_NEAR(largest, kLargestPeak, 1e-9);
+    for (const Mode& m : truth) EXPECT_GE(deflection_peak(m), 0.1 * largest * (1.0 - 1e-9)) << "seed " << seed;
+  }
+}
+
+// The bound against the estimator's own standard errors (its covariance s^2 (J^T J)^-1 from its
+// own mode response at the fitted parameters): two derivations of the same quantity, the bound's
+// from the drive's physics at the true parameters. They agree within a factor of 1.25 on every
+// mode of ten random plants the estimator identified (measured: 0.89 .. 1.02).
+TEST(Identify, CramerRaoBoundAgreesWithTheFitsErrors) {
+  double worst = 1.0;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    std::vector<Mode> truth = random_plant(seed, {});
+    Record rec{};
+    ASSERT_TRUE(make_record(truth, 0.01, 7919 * seed, rec, excitation()));
+    const IdentifyResult r = identify(rec, 3);
+    if (!accurate(truth, r)) continue;
+    std::sort(truth.begin(), truth.end(), [](const Mode& a, const Mode& b) { return a.omega < b.omega; });
+    const std::vector<Bound> b = cramer_rao(truth, rec.noise_sd);
+    for (std::size_t j = 0; j < truth.size(); ++j) {
+      const double rw = r.modes[j].omega_sd / r.modes[j].omega / b[j].omega_rel;
+      const double rz = r.modes[j].zeta_sd / b[j].zeta;
+      std::printf("seed %llu mode %zu: fit/bound omega %.3f zeta %.3f\n", static_cast<unsigned long long>(seed), j, rw, rz);
+      worst = std::max({worst, rw, 1.0 / rw, rz, 1.0 / rz});
+    }
+  }
+  EXPECT_LT(worst, 1.25);
+}
+
+// The measurements behind docs/identification.md's table, per sub-range (not run by default):
+//   R_FLO=1 R_FHI=100 R_ZLO=0.005 R_ZHI=0.3 R_FIRST=1 R_N=200 settle_sim_identify_tests
+//     --gtest_also_run_disabled_tests --gtest_filter='*ExploreRange'
+TEST(Identify, DISABLED_ExploreRange) {
+  PlantRange range{};
+  if (const char* e = std::getenv("R_FLO")) range.f_lo = std::atof(e);
+  if (const char* e = std::getenv("R_FHI")) range.f_hi = std::atof(e);
+  if (const char* e = std::getenv("R_ZLO")) range.zeta_lo = std::atof(e);
+  if (const char* e = std::getenv("R_ZHI")) range.zeta_hi = std::atof(e);
+  const int n = std::getenv("R_N") ? std::atoi(std::getenv("R_N")) : 100;
+  const std::uint64_t first = std::getenv("R_FIRST") ? std::strtoull(std::getenv("R_FIRST"), nullptr, 10) : 1;
+  const RangeCount c = identified_plants(range, first, first + static_cast<std::uint64_t>(n) - 1);
+  std::printf("RANGE f [%g, %g] zeta [%g, %g]: %d of %d determinable, %d of %d beyond\n", range.f_lo, range.f_hi,
+              range.zeta_lo, range.zeta_hi, c.determinable_ok, c.determinable, c.beyond_ok, c.beyond);
 }
 
 // Undamped modes (a beam's with no modal damping): zeta exactly 0 is inside the range the fit

@@ -40,7 +40,10 @@ struct IdentifyInput {
 
 struct IdentifyOptions {
   std::size_t max_modes{3};        // 1..kMaxIdentifyModes
-  double min_relative_gain{0.1};   // a mode with |gain| below this fraction of the largest is dropped
+  // A mode whose peak contribution to the load (|g q| over the record) is below this fraction of
+  // the largest mode's is dropped: the share of the deflection, not the gain g, which for the same
+  // deflection scales as omega^2 (docs/identification.md).
+  double min_relative_deflection{0.0};
   double confidence{0.95};         // of each interval (0.5 .. 0.999)
   // A mode is kept only if its gain is this many standard errors from zero: what keeps noise from
   // being reported as modes.
