@@ -143,6 +143,19 @@ Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, 
 
 }  // namespace
 
+MoveRequest axis_request(const MultiAxisRequest& r, std::size_t i) noexcept {
+  MoveRequest q = r.base;
+  const AxisSpec& a = r.axes[i];
+  q.distance = a.distance;
+  q.vmax = a.vmax;
+  q.amax = a.amax;
+  q.jmax = a.jmax;
+  q.omega = a.omega;
+  q.zeta = a.zeta;
+  q.extra_mode_count = 0;
+  return q;
+}
+
 Status plan_axes(const MultiAxisRequest& r, MultiAxisPlan& out, std::size_t& culprit) noexcept {
   culprit = kMaxAxes;
   if (r.count == 0 || r.count > kMaxAxes) return Status::bad_shape_parameter;
@@ -167,21 +180,9 @@ Status plan_axes(const MultiAxisRequest& r, MultiAxisPlan& out, std::size_t& cul
   }
   // Time sync: every axis's shortest move first, then each stretched to the slowest one's duration.
   // A move time given in the request is every axis's shortest; the shaper delays still differ.
-  auto request_of = [&](std::size_t i) {
-    MoveRequest q = r.base;
-    const AxisSpec& a = r.axes[i];
-    q.distance = a.distance;
-    q.vmax = a.vmax;
-    q.amax = a.amax;
-    q.jmax = a.jmax;
-    q.omega = a.omega;
-    q.zeta = a.zeta;
-    q.extra_mode_count = 0;
-    return q;
-  };
   double t_common = 0.0;
   for (std::size_t i = 0; i < r.count; ++i) {
-    const MoveRequest q = request_of(i);
+    const MoveRequest q = axis_request(r, i);
     Shaper<double> extra{};
     Status st = own_extra_shaper(q, extra);
     if (st == Status::ok) st = plan(q, extra, res.moves_[i]);
@@ -194,7 +195,7 @@ Status plan_axes(const MultiAxisRequest& r, MultiAxisPlan& out, std::size_t& cul
   for (std::size_t i = 0; i < r.count; ++i) {
     Move<double>& m = res.moves_[i];
     if (m.distance() == 0.0 || m.duration() == t_common) continue;
-    MoveRequest q = request_of(i);
+    MoveRequest q = axis_request(r, i);
     q.time = t_common - m.shaper().duration();  // the unshaped profile's time; the shaper is the axis's own
     Shaper<double> extra{};
     Status st = own_extra_shaper(q, extra);

@@ -23,6 +23,18 @@ namespace {
 
 const char* units(sim::PlantKind k) { return k == sim::PlantKind::belt ? "rad" : "m"; }
 
+// The whole-plant figures of a simulation, in the order both outputs (one axis, --axes) print them.
+void put_metrics(Json& j, const sim::SimMetrics& m) {
+  j["residual_amplitude"] = m.residual_amplitude;
+  j["prv_percent"] = m.prv_percent;
+  j["step_residual"] = m.step_residual;
+  j["peak_deflection"] = m.peak_deflection;
+  j["final_energy"] = m.final_energy;
+  j["settling_band"] = m.band;
+  j["settling_time"] = finite_or_null(m.settling_time);
+  j["settling"] = sim::to_string(m.settling);
+}
+
 // Every number simulate reports; the settling time is null when it never comes (an undamped
 // mode), and the text output says "never".
 Json result_json(const sim::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
@@ -46,14 +58,7 @@ Json result_json(const sim::ModalPlant& plant, const core::Move<double>& move, c
                        {"command_duration", change->at + change->blend.duration()},
                        {"end_position", change->blend.end_position()}};
   }
-  j["residual_amplitude"] = m.residual_amplitude;
-  j["prv_percent"] = m.prv_percent;
-  j["step_residual"] = m.step_residual;
-  j["peak_deflection"] = m.peak_deflection;
-  j["final_energy"] = m.final_energy;
-  j["settling_band"] = m.band;
-  j["settling_time"] = finite_or_null(m.settling_time);
-  j["settling"] = sim::to_string(m.settling);
+  put_metrics(j, m);
   if (width != nullptr) {
     j["insensitivity_width"] = Json{{"threshold_percent", 5.0}, {"ratio_lo", width->lo}, {"ratio_hi", width->hi},
                                     {"width", width->width},    {"lo_open", width->lo_open}, {"hi_open", width->hi_open}};
@@ -114,14 +119,7 @@ void print_text(const sim::ModalPlant& plant, const core::Move<double>& move, co
 
 Json metrics_json(const sim::ModalPlant& plant, const sim::SimMetrics& m) {
   Json j;
-  j["residual_amplitude"] = m.residual_amplitude;
-  j["prv_percent"] = m.prv_percent;
-  j["step_residual"] = m.step_residual;
-  j["peak_deflection"] = m.peak_deflection;
-  j["final_energy"] = m.final_energy;
-  j["settling_band"] = m.band;
-  j["settling_time"] = finite_or_null(m.settling_time);
-  j["settling"] = sim::to_string(m.settling);
+  put_metrics(j, m);
   Json modes = Json::array();
   for (std::size_t k = 0; k < plant.modes().size(); ++k) {
     modes.push_back(Json{{"omega", plant.modes()[k].omega},

@@ -197,13 +197,7 @@ bool plan_axes(const core::MultiAxisRequest& req, core::MultiAxisPlan& out, Requ
     core::MoveRequest q = req.base;
     std::string axis;
     if (culprit < req.count) {
-      const core::AxisSpec& x = req.axes[culprit];
-      q.distance = x.distance;
-      q.vmax = x.vmax;
-      q.amax = x.amax;
-      q.jmax = x.jmax;
-      q.omega = x.omega;
-      q.zeta = x.zeta;
+      q = core::axis_request(req, culprit);
       axis = "axis " + std::to_string(culprit + 1) + ": ";
     }
     if (st == core::Status::unsupported_request && req.sync == core::SyncMode::time) {

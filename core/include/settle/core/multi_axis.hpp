@@ -81,6 +81,10 @@ class MultiAxisPlan {
   std::size_t path_mode_count_{0};
 };
 
+// Axis i's own request: the shared one with that axis's distance, limits and mode (and no extra
+// modes), as time sync plans it and as an error about that axis is reported.
+[[nodiscard]] MoveRequest axis_request(const MultiAxisRequest& req, std::size_t i) noexcept;
+
 // Plans a coordinated move. On failure `out` is untouched and `culprit` is the axis whose limits or
 // mode the status is about (time sync: the axis whose own plan failed), or kMaxAxes when it is about
 // the shared path or request.
