@@ -59,6 +59,21 @@ void print_axes_text(const core::MultiAxisPlan& p, const Json& j) {
   }
 }
 
+// A plan's output: refused (exit 2) unless every number in it is finite, then JSON or text.
+template <typename PrintText>
+int emit(const ParsedArgs& args, const Json& j, PrintText&& print_text_output) {
+  if (!all_finite(j)) {
+    return report_bad_request({"non_finite_result", "--distance", "--distance: the plan has a non-finite number"},
+                              args.json());
+  }
+  if (args.json()) {
+    print_json(j);
+  } else {
+    print_text_output();
+  }
+  return kExitOk;
+}
+
 // settle plan --axes N: the coordinated move (docs/multi_axis.md).
 int plan_axes_command(const ParsedArgs& args) {
   core::MultiAxisRequest req{};
@@ -67,16 +82,7 @@ int plan_axes_command(const ParsedArgs& args) {
   core::MultiAxisPlan plan{};
   if (!plan_axes(req, plan, err)) return report_bad_request(err, args.json());
   const Json j = axes_json(plan, req);
-  if (!all_finite(j)) {
-    return report_bad_request({"non_finite_result", "--distance", "--distance: the plan has a non-finite number"},
-                              args.json());
-  }
-  if (args.json()) {
-    print_json(j);
-  } else {
-    print_axes_text(plan, j);
-  }
-  return kExitOk;
+  return emit(args, j, [&] { print_axes_text(plan, j); });
 }
 
 }  // namespace
@@ -90,17 +96,7 @@ int cmd_plan(int argc, char** argv) {
   if (!parse_move_request(args, req, err)) return report_bad_request(err, args.json());
   core::Move<double> move{};
   if (!plan_move(req, move, err)) return report_bad_request(err, args.json());
-  const Json j = plan_json(move);
-  if (!all_finite(j)) {
-    return report_bad_request({"non_finite_result", "--distance", "--distance: the plan has a non-finite number"},
-                              args.json());
-  }
-  if (args.json()) {
-    print_json(j);
-  } else {
-    print_text(move);
-  }
-  return kExitOk;
+  return emit(args, plan_json(move), [&] { print_text(move); });
 }
 
 }  // namespace settle::cli
