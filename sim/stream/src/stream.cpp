@@ -118,20 +118,18 @@ std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& a
   const auto drain = [&] {
     for (firmware::FeedbackSample fs{}; loop->feedback_log(0).pop(fs);) r.feedback.push_back(fs);
   };
-  // A change: halt()/retarget() posted and service() run between two ticks, kOnlineLeadTicks
-  // setpoints before the switch, as an application would.
+  // A change: halt()/retarget() posted and service() run between two ticks, the configuration's
+  // lead_ticks setpoints before the switch, as an application would.
   std::int64_t ask_at = -1;
   if (spec.change) {
-    {
-      firmware::OnlineConfig oc{};
-      oc.mode_count = std::min(spec.change->modes.size(), oc.modes.size());
-      for (std::size_t i = 0; i < oc.mode_count; ++i) oc.modes[i] = spec.change->modes[i];
-      oc.limits = spec.change->limits;
-      if (const firmware::LoopStatus st = loop->configure_online(0, oc); st != firmware::LoopStatus::ok) {
-        return std::string{"the loop refused the online configuration: "} + firmware::to_string(st);
-      }
-      ask_at = std::llround(spec.change->at / ac.scale.period_s()) - firmware::kOnlineLeadTicks;
+    firmware::OnlineConfig oc{};
+    oc.mode_count = std::min(spec.change->modes.size(), oc.modes.size());
+    for (std::size_t i = 0; i < oc.mode_count; ++i) oc.modes[i] = spec.change->modes[i];
+    oc.limits = spec.change->limits;
+    if (const firmware::LoopStatus st = loop->configure_online(0, oc); st != firmware::LoopStatus::ok) {
+      return std::string{"the loop refused the online configuration: "} + firmware::to_string(st);
     }
+    ask_at = std::llround(spec.change->at / ac.scale.period_s()) - static_cast<std::int64_t>(oc.lead_ticks);
   }
   std::int64_t moving_ticks = 0;
   bool asked_ok = true;
