@@ -94,7 +94,11 @@ class ProfileResidual {
     // skipped: on a long, damped move most nodes decay into subnormal numbers, whose arithmetic costs
     // ~100 times a normal one (a 3000 s move took 40 s of CPU for a 3 s budget of work).
     double largest = 0.0;
-    for (double w : wa_) largest = std::max(largest, std::fabs(w));
+    log_wa_.reserve(wa_.size());
+    for (double w : wa_) {
+      largest = std::max(largest, std::fabs(w));
+      log_wa_.push_back(std::log(std::fabs(w)));  // -inf for a zero weight: always skipped
+    }
     log_negligible_ = largest > 0.0 ? std::log(largest) + std::log(1e-24) : 0.0;
   }
 
@@ -109,7 +113,7 @@ class ProfileResidual {
       const double u = s_[q] - duration_;
       // |term| = |w| e^{zeta omega u}, u <= 0: it only shrinks along the row (omega grows), so the
       // row stops where it falls under the negligible level.
-      const double log_start = std::log(std::fabs(wa_[q])) + zeta * omega0 * u;
+      const double log_start = log_wa_[q] + zeta * omega0 * u;
       if (!(log_start > log_negligible_)) continue;
       const double log_decay = zeta * domega * u;  // per point, <= 0
       const std::size_t live =
@@ -157,7 +161,7 @@ class ProfileResidual {
     std::complex<double> acc{0.0, 0.0};
     for (std::size_t q = 0; q < s_.size(); ++q) {
       const double u = s_[q] - duration_;
-      if (!(std::log(std::fabs(wa_[q])) + zeta * omega * u > log_negligible_)) continue;  // see row()
+      if (!(log_wa_[q] + zeta * omega * u > log_negligible_)) continue;  // see row()
       acc += wa_[q] * std::exp(k * u);
     }
     acc += v0_ * std::exp(k * (-duration_));
@@ -189,7 +193,7 @@ class ProfileResidual {
     return r;
   }
 
-  std::vector<double> s_, wa_;
+  std::vector<double> s_, wa_, log_wa_;  // nodes, weighted accelerations, log |weight| (once)
   double duration_{0.0}, distance_{0.0}, v0_{0.0}, v1_{0.0};
   double log_negligible_{0.0};  // log of the term size below which a node is skipped
 };
