@@ -87,7 +87,7 @@ int settle::firmware::image_main() {
   clock.start();
   fw::SessionConfig session{};
   session.settle_ticks = 200;
-  const fw::SessionResult r = fw::run_session(loop, clock, &move, 1, 0, session, [&](std::uint64_t, bool) {
+  const fw::SessionResult r = fw::run_session(loop, clock, &move, 1, session, [&](std::uint64_t, bool) {
     wire();
     drive.process(clock.now_us());
     wire();

@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
   session.settle_ticks = 200;
   // After each tick: here only the drive's feedback log is emptied (a real master would log it).
   const fw::SessionResult r =
-      fw::run_session(loop, clock, &move, 1, 0, session, [](std::uint64_t, bool) { loop.feedback_log(0).clear(); });
+      fw::run_session(loop, clock, &move, 1, session, [](std::uint64_t, bool) { loop.feedback_log(0).clear(); });
   std::printf("session %s after %llu ticks; drive at %d counts (target %d)\n", fw::to_string(r.outcome),
               static_cast<unsigned long long>(r.ticks), loop.record(0).position_actual, loop.record(0).target);
   return r.outcome == fw::SessionOutcome::completed ? 0 : 1;

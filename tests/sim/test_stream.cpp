@@ -96,7 +96,7 @@ TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
   EXPECT_EQ(r.setpoints.front(), 0);
   EXPECT_EQ(r.setpoints.back(), 10000);  // 0.01 m at 1e6 counts/m
   EXPECT_EQ(r.window_samples, 200U);
-  // Ticks 0 .. session.ticks, then the drive's release (firmware::release_drive): two ticks.
+  // Ticks 0 .. session.ticks, then the drive's release (firmware::release_drives): two ticks.
   EXPECT_TRUE(r.session.released);
   EXPECT_EQ(r.session.release_ticks, 2U);
   EXPECT_EQ(r.drive_state, "released");

@@ -111,7 +111,7 @@ class Program {
     cfg.settle_ticks = kSettleTicks;
     cfg.max_ticks = 10'000;
     Timed timed{*this};
-    r.session = run_session(timed, clock, &move, 1, 0, cfg, [this, &clock](std::uint64_t, bool) {
+    r.session = run_session(timed, clock, &move, 1, cfg, [this, &clock](std::uint64_t, bool) {
       drive_.process(clock.now_us());
     });
     r.final_position = drive_.position();
@@ -129,6 +129,7 @@ class Program {
   // The loop as run_session sees it, with the clock handed to the hub and the log, and each
   // tick bracketed by the timer.
   struct Timed {
+    static constexpr std::size_t kMaxAxes = LoopOf<Evaluation>::kMaxAxes;
     Program& p;
     void start(std::uint64_t now_us) noexcept {
       p.at(now_us);
@@ -149,6 +150,7 @@ class Program {
       p.transmit();
       p.tap_.flush();
     }
+    [[nodiscard]] std::size_t axis_count() const noexcept { return p.loop_.axis_count(); }
     [[nodiscard]] bool all_ready() const noexcept { return p.loop_.all_ready(); }
     [[nodiscard]] LoopStatus submit(std::size_t axis, const core::Move<double>& m) noexcept {
       return p.loop_.submit(axis, m);

@@ -137,7 +137,7 @@ std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& a
   bus.begin();
   const std::uint64_t started_us = clock.now_us();
   // Everything the observer appends to was reserved by the caller: no heap use while streaming.
-  r.session = firmware::run_session(*loop, clock, &spec.move, 1, 0, sc, [&](std::uint64_t, bool) {
+  r.session = firmware::run_session(*loop, clock, &spec.move, 1, sc, [&](std::uint64_t, bool) {
     if (!r.start_up_us && loop->all_ready()) r.start_up_us = clock.now_us() - started_us;
     r.log.push_back(loop->record(0));
     if (loop->record(0).moving && loop->record(0).sent) {

@@ -80,7 +80,7 @@ std::string stream_json(const StreamReport& r) {
       {"fault", firmware::to_string(r.session.fault)},
       {"drive_state", r.drive_state},
       {"drive_failure", r.drive_failure},
-      // The session ended with the drive taken out of operation enabled (firmware::release_drive).
+      // The session ended with the drive taken out of operation enabled (firmware::release_drives).
       {"drive_released", r.session.released},
       {"bus", r.bus},
       {"profile", core::to_string(r.profile)},

@@ -209,6 +209,7 @@ class ServoLoop {
  public:
   // Without online changes halt()/retarget() return false and nothing is stored for them.
   static constexpr bool kOnlineChanges = Online;
+  static constexpr std::size_t kMaxAxes = MaxAxes;
   using EvaluationType = Evaluation;
 
   ServoLoop(Bus& bus, std::uint32_t period_us, const LoopConfig& config = {}) noexcept
