@@ -63,8 +63,10 @@ Status own_extra_shaper(const MoveRequest& q, Shaper<double>& out) noexcept {
   return extra_shaper(q, &m, 1, out);
 }
 
+// The path s(t) from 0 to `scale` (1: the path itself; D_i: axis i's command D_i s(t), the same
+// move scaled, planned under the path limits times |scale|).
 Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, kMaxAxes>& modes, std::size_t& nm,
-                 std::size_t& culprit) noexcept {
+                 std::size_t& culprit, double scale = 1.0) noexcept {
   MoveRequest p = r.base;
   p.extra_mode_count = 0;
   p.omega.reset();
@@ -97,11 +99,12 @@ Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, 
     for (std::size_t k = 0; k < nm; ++k) known = known || (modes[k].omega == *a.omega && modes[k].zeta == a.zeta);
     if (!known) modes[nm++] = {*a.omega, a.zeta};
   }
-  p.distance = moving ? 1.0 : 0.0;
+  p.distance = moving ? scale : 0.0;
   std::size_t who_v = kMaxAxes, who_a = kMaxAxes, who_j = kMaxAxes;
-  p.vmax = path_limit(r, &AxisSpec::vmax, who_v);
-  p.amax = path_limit(r, &AxisSpec::amax, who_a);
-  p.jmax = path_limit(r, &AxisSpec::jmax, who_j);
+  const auto scaled = [&](std::optional<double> l) { return l ? std::optional<double>{*l * std::fabs(scale)} : l; };
+  p.vmax = scaled(path_limit(r, &AxisSpec::vmax, who_v));
+  p.amax = scaled(path_limit(r, &AxisSpec::amax, who_a));
+  p.jmax = scaled(path_limit(r, &AxisSpec::jmax, who_j));
   // The first mode is the request's own: its shaper's and, when the profile designs for a mode,
   // the profile's; `fastest` takes further ones as extra modes.
   std::size_t covered = 0;
@@ -212,6 +215,23 @@ Status plan_axes(const MultiAxisRequest& r, MultiAxisPlan& out, std::size_t& cul
   }
   out = res;
   return Status::ok;
+}
+
+Status axis_command(const MultiAxisRequest& r, const MultiAxisPlan& plan, std::size_t axis,
+                    Move<double>& out) noexcept {
+  if (axis >= plan.count() || axis >= r.count) return Status::bad_shape_parameter;
+  if (plan.sync() == SyncMode::time) {
+    out = plan.axis_move(axis);
+    return Status::ok;
+  }
+  const double d = r.axes[axis].distance;
+  if (d == 0.0) {
+    out = Move<double>{};
+    return Status::ok;
+  }
+  std::array<Mode, kMaxAxes> modes{};
+  std::size_t nm = 0, culprit = kMaxAxes;
+  return plan_path(r, out, modes, nm, culprit, d);
 }
 
 double line_deviation(const MultiAxisPlan& plan, std::array<double, kMaxAxes>& per_axis) noexcept {

@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
+#include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/bus_load.hpp"
 #include "settle/hal/eds_reader.hpp"
 #include "move_options.hpp"
@@ -49,6 +51,68 @@ int check_bus_load(const ParsedArgs& args, const sim::StreamSpec& spec, std::uin
       args.json());
 }
 
+// --axes N (docs/multi_axis.md): the coordinated plan's command on every axis (core::axis_command):
+// axis 1 in spec.move on spec.node, the others in spec.more_axes, on nodes 1..N or --nodes (N
+// distinct whole numbers, each 1..127: the table's range). Exit status or -1.
+int parse_axes(const ParsedArgs& args, sim::StreamSpec& spec) {
+  const bool json = args.json();
+  for (const char* o : {"--plan-from", "--halt-at", "--retarget-at", "--node"}) {
+    if (args.has(o)) {
+      return report_bad_request({"conflicting_options", o,
+                                 std::string{o} + ": one axis at a time; not with --axes" +
+                                     (std::string{o} == "--node" ? " (give --nodes)" : "")},
+                                json);
+    }
+  }
+  RequestError err;
+  core::MultiAxisRequest req{};
+  if (!parse_axes_request(args, req, err)) return report_bad_request(err, json);
+  core::MultiAxisPlan plan{};
+  if (!plan_axes(req, plan, err)) return report_bad_request(err, json);
+  std::vector<long long> nodes;
+  if (args.has("--nodes")) {
+    const std::vector<double> given = args.list("--nodes");
+    if (given.size() != req.count) {
+      return report_bad_request({"bad_list", "--nodes",
+                                 "--nodes: --axes " + std::to_string(req.count) + " needs " +
+                                     std::to_string(req.count) + " node ids, got " + std::to_string(given.size())},
+                                json);
+    }
+    for (const double v : given) {
+      const auto id = static_cast<long long>(v);
+      if (static_cast<double>(id) != v) {
+        return report_bad_request({"out_of_range", "--nodes", "--nodes: node ids are whole numbers in [1, 127]"}, json);
+      }
+      for (const long long other : nodes) {
+        if (other == id) {
+          return report_bad_request(
+              {"bad_list", "--nodes", "--nodes: node " + std::to_string(id) + " given twice; one drive per node"}, json);
+        }
+      }
+      nodes.push_back(id);
+    }
+  } else {
+    for (std::size_t i = 0; i < req.count; ++i) nodes.push_back(static_cast<long long>(i + 1));
+  }
+  spec.more_axes.clear();
+  for (std::size_t i = 0; i < req.count; ++i) {
+    core::Move<double> m{};
+    if (const core::Status st = core::axis_command(req, plan, i, m); st != core::Status::ok) {
+      return report_bad_request({core::to_string(st), "--distance",
+                                 "--distance: axis " + std::to_string(i + 1) + ": " + core::describe(st)},
+                                json);
+    }
+    const auto node = static_cast<hal::canopen::NodeId>(nodes[i]);
+    if (i == 0) {
+      spec.move = m;
+      spec.node = node;
+    } else {
+      spec.more_axes.push_back({m, node});
+    }
+  }
+  return -1;
+}
+
 // The options as a spec, each already in its table range (options.cpp), and the sizes bounded
 // before anything is allocated: the session's records, the offline replay and the continuous
 // simulation (1e-4 s grid) all grow with the move and the settle time. Exit status or -1.
@@ -57,11 +121,18 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
   RequestError err;
   if (!parse_plant(args, spec.plant, err)) return report_bad_request(err, json);
   if (!parse_drive(args, spec.plant, spec.drive, err)) return report_bad_request(err, json);
-  if (!move_from_args(args, spec.move, err)) return report_bad_request(err, json);
+  const bool axes = wants_axes(args);
+  if (axes) {
+    if (const int rc = parse_axes(args, spec); rc >= 0) return rc;
+  } else if (args.has("--nodes")) {
+    return report_bad_request({"bad_option", "--nodes", "--nodes: the nodes of --axes N; give --axes too"}, json);
+  } else if (!move_from_args(args, spec.move, err)) {
+    return report_bad_request(err, json);
+  }
   const core::Move<double>& move = spec.move;
   // Node 1..127, heartbeat 10..10000 ms, SDO timeout 1..60000 ms, settle time (0, 600) s, axis
   // vmax (0, 1e9], feedback timeout 0..65535 periods.
-  spec.node = static_cast<hal::canopen::NodeId>(args.integer("--node", 1));
+  if (!axes) spec.node = static_cast<hal::canopen::NodeId>(args.integer("--node", 1));
   spec.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms", 500));
   spec.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms", 1000) * 1000);
   static_assert(firmware::kDefaultFeedbackTimeoutPeriods == 10, "the option table documents the loop's default");
@@ -77,7 +148,9 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
   // A halt or retarget blends with the design modes and limits of the move options; a plan file
   // carries its own, which the blend does not read yet: the two are refused together.
   core::MoveRequest req{};
-  if (args.has("--plan-from")) {
+  if (axes) {
+    // parse_axes refused --halt-at and --retarget-at.
+  } else if (args.has("--plan-from")) {
     for (const char* o : {"--halt-at", "--retarget-at"}) {
       if (args.has(o)) {
         return report_bad_request(
@@ -88,24 +161,29 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
     return report_bad_request(err, json);  // not reached: move_from_args parsed the same options
   }
   std::optional<OnlineChange> change;
-  if (!parse_online_change(args, req, move, &spec.plant, spec.drive.scale.period_s(), change, err)) {
+  if (!axes && !parse_online_change(args, req, move, &spec.plant, spec.drive.scale.period_s(), change, err)) {
     return report_bad_request(err, json);
   }
   double reach_distance = std::fabs(move.distance());
+  double move_s = move.duration();
+  for (const sim::StreamAxis& a : spec.more_axes) {
+    reach_distance = std::fmax(reach_distance, std::fabs(a.move.distance()));
+    move_s = std::fmax(move_s, a.move.duration());
+  }
   if (change) {
     spec.change = sim::StreamChange{change->at, change->target, change->modes, change->limits, change->blend};
     reach_distance = std::fmax(reach_distance, std::fabs(change->blend.end_position()));
   }
-  const double command_s = change ? change->at + change->blend.duration() : move.duration();
+  const double command_s = change ? change->at + change->blend.duration() : move_s;
   if (command_s + spec.settle_time_s > kMaxSeconds) {
     return report_bad_request({"too_long", "--time",
-                               "--time: the move lasts " + format_number(move.duration()) +
+                               "--time: the move lasts " + format_number(move_s) +
                                    " s; at most 3600 s of move + settle time"},
                               json);
   }
   const double periods = (5.0 + command_s + spec.settle_time_s) * 1e6 / spec.drive.scale.period_us;
   if (periods > kMaxStreamPeriods) {
-    const char* who = move.duration() >= spec.settle_time_s ? "--time" : "--settle-time";
+    const char* who = move_s >= spec.settle_time_s ? "--time" : "--settle-time";
     return report_bad_request({"too_many_samples", who,
                                std::string{who} + ": " + format_number(periods) +
                                    " periods of start-up (5 s) + move + settle time; at most 1e6 (or a longer "
@@ -130,7 +208,7 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
     if (!loaded.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
     spec.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
   }
-  return check_bus_load(args, spec, 1);
+  return check_bus_load(args, spec, static_cast<std::uint32_t>(1 + spec.more_axes.size()));
 }
 
 // A CSV file written by one of the report's writers; false when it cannot be.

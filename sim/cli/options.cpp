@@ -210,6 +210,9 @@ const std::vector<OptionSpec> kStream = {
     choice("--scalar", "double", {"double", "float", "fixed"},
            "the loop's evaluation: the move in double or float, or the integer-only fixed-point plan"),
     integer("--node", "", "1", {1.0, 127.0}, "the drive's CANopen node id"),
+    {.name = "--nodes", .kind = Kind::list, .unit = "", .def = "1,2,...,N",
+     .help = "with --axes N: the drives' CANopen node ids, one per axis in axis order, distinct whole numbers",
+     .range = {1.0, 127.0}, .min_items = 1, .max_items = core::kMaxAxes, .value_name = "N1,N2,..."},
     real("--axis-vmax", "unit/s", "1.5 x the move's peak velocity", {0.0, 1e9, true},
          "the loop's step guard: largest velocity one setpoint step may imply"),
     real("--settle-time", "s", "1", {0.0, 600.0, true, true}, "time streamed after the move"),
@@ -351,10 +354,12 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "stream",
      .summary = "stream a move to a drive over CAN and measure the residual vibration",
      .usage = "",
-     .groups = {kStream, kPlanFrom, kMove, kPlant, kDrive, kOnline, kOutput},
+     .groups = {kStream, kPlanFrom, kMoveAxes, kAxes, kPlant, kDrive, kOnline, kOutput},
      .notes = "Bounds: move + settle time at most 3600 s and at most 1e6 periods (5 s start-up included); "
-              "setpoints must fit in 32-bit counts. Exit 1 when the bus cannot be opened or the move did not "
-              "complete."},
+              "setpoints must fit in 32-bit counts. With --axes N: nodes 1..N (or --nodes), every axis on its own "
+              "copy of the plant options' plant, all started on the same SYNC; not with --node, --plan-from, "
+              "--halt-at or --retarget-at; --log and --feedback-log are axis 1's. Exit 1 when the bus cannot be "
+              "opened or the move did not complete."},
     {.name = "tune",
      .summary = "the fastest plan whose residual stays within --residual-max over the modes' uncertainty band",
      .usage = "",

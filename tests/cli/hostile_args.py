@@ -74,8 +74,8 @@ BASE = {
     "drive config": ["--bus", "loopback", "--eds", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                                                 "hal", "eds", "split_rpdo_drive.eds")],
 }
-# A coordinated move (--axes N, docs/multi_axis.md): count / 5 further runs of plan, sample and
-# simulate start from these, so that the per-axis lists and --sync are mutated too.
+# A coordinated move (--axes N, docs/multi_axis.md): count / 5 further runs of plan, sample,
+# simulate and stream start from these, so that the per-axis lists and --sync are mutated too.
 AXES_BASE = {
     "plan": ["--axes", "3", "--profile", "jerk-limited", "--distance", "0.1,0.05,-0.2", "--omega", "22,30,15",
              "--vmax", "1", "--amax", "20,10,40", "--jmax", "800"],
@@ -83,6 +83,9 @@ AXES_BASE = {
                "--dt", "0.05"],
     "simulate": ["--axes", "2", "--plant", "sdof", "--profile", "scurve", "--distance", "0.1,0.05", "--vmax", "1",
                  "--amax", "20", "--jmax", "800", "--omega", "28,20"],
+    # Two simulated drives on the loopback bus (two axes fit 1 Mbit/s at 1 kHz), on nodes of its own.
+    "stream": ["--bus", "loopback", "--axes", "2", "--profile", "poly345", "--distance", "0.01,-0.02", "--time", "0.1",
+               "--nodes", "3,7", "--settle-time", "0.1"],
 }
 WEIGHT = {"plan": 20, "sample": 14, "simulate": 26, "reproduce": 6, "plant": 12, "stream": 22, "tune": 12, "identify": 8,
           "drive info": 4, "drive read": 6, "drive write": 8, "drive scan": 3, "drive config": 5}
@@ -100,7 +103,9 @@ ABSURD = {
     "plant": [["--duration", "1e300"], ["--sync-loss-periods", "1e9"], ["--period-us", "1e12"]],
     "stream": [["--time", "1e5"], ["--time", "3000"], ["--time", "900", "--period-us", "100"], ["--settle-time", "1e9"],
                ["--distance", "1e6"], ["--counts-per-unit", "1e9", "--distance", "10"], ["--time", "1e300"],
-               ["--bitrate", "10000"], ["--bitrate", "1e300"], ["--period-us", "100", "--bitrate", "1000000"]],
+               ["--bitrate", "10000"], ["--bitrate", "1e300"], ["--period-us", "100", "--bitrate", "1000000"],
+               ["--axes", "3", "--distance", "0.01,0.01,0.01"], ["--axes", "8", "--distance", "1,1,1,1,1,1,1,1"],
+               ["--nodes", "1,2,3,4,5,6,7,8,9"]],
     "tune": [["--mode", "1e6,0.01", "--time", "3600"], ["--time", "3600"], ["--uncertainty", "1e300"],
              ["--uncertainty", "90", "--time", "3000"], ["--modes-from", "@TMP@/absent.json"], ["--png", "@TMP@/t.svg"]],
     "identify": [["--hold", "1e9"], ["--distance", "1e300"], ["--max-modes", "1e9"], ["--hold", "600", "--period-us", "100"],

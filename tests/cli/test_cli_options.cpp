@@ -330,7 +330,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"plant", join({plant, drive, {"--bus", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--log", "--duration",
                                      "--noise", "--seed"}})},
       {"stream", join({move, plant, drive,
-                       {"--plan-from", "--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--eds", "--pm-qos", "--heartbeat-ms",
+                       {"--axes", "--sync", "--nodes", "--plan-from", "--bus", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--eds", "--pm-qos", "--heartbeat-ms",
                         "--bitrate", "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log",
                         "--halt-at", "--retarget-at"}})},
       {"tune", join({{"--distance", "--time", "--vmax", "--amax", "--jmax", "--modes-from", "--mode", "--residual-max",

@@ -131,6 +131,47 @@ TEST(MultiAxis, PathSyncIsAStraightLineWithEveryModeAtRestOnEveryAxis) {
   }
 }
 
+// What a loop streams to each axis (settle stream --axes): a move of its own that is the plan's
+// command on that axis, of the plan's duration (path: to the last bit, so every axis ends on the
+// same tick), and within the axis's limits.
+TEST(MultiAxis, EachAxisCommandIsThePlansCommandOnThatAxis) {
+  for (const SyncMode sync : {SyncMode::path, SyncMode::time}) {
+    for (const ProfileKind k : {ProfileKind::jerk_limited, ProfileKind::scurve}) {
+      SCOPED_TRACE(core::to_string(k));
+      SCOPED_TRACE(core::to_string(sync));
+      const MultiAxisRequest r = three_axes(k, sync);
+      MultiAxisPlan p{};
+      std::size_t culprit = 0;
+      ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+      for (std::size_t i = 0; i < r.count; ++i) {
+        SCOPED_TRACE(i);
+        core::Move<double> m{};
+        ASSERT_EQ(core::axis_command(r, p, i, m), Status::ok);
+        const double d = std::fabs(r.axes[i].distance);
+        // Path: the path's duration exactly. Time: each axis's own plan to the common time, equal to
+        // rounding (the loop ends it on the same tick unless the duration falls within that
+        // rounding of a tick boundary).
+        if (sync == SyncMode::path) {
+          EXPECT_EQ(m.duration(), p.duration());
+        } else {
+          EXPECT_NEAR(m.duration(), p.duration(), 1e-12 * p.duration());
+        }
+        EXPECT_EQ(m.distance(), r.axes[i].distance);
+        double worst = 0.0;
+        for (int n = 0; n <= 20000; ++n) {
+          const double t = p.duration() * n / 20000.0;
+          worst = std::max(worst, std::fabs(m.at(t).p - p.at(i, t).p));
+        }
+        EXPECT_LE(worst, 1e-12 * d);
+        EXPECT_LE(m.peaks().v, *r.axes[i].vmax * (1.0 + 1e-9));
+        EXPECT_LE(m.peaks().a, *r.axes[i].amax * (1.0 + 1e-9));
+      }
+      core::Move<double> m{};
+      EXPECT_EQ(core::axis_command(r, p, 3, m), Status::bad_shape_parameter);
+    }
+  }
+}
+
 TEST(MultiAxis, PathLimitsAreTheTightestAxisLimitOverItsDistance) {
   // Axis 1 (vmax 0.05 over 0.05: 1 path unit/s) binds the velocity of the jerk-limited path, whose
   // shapers keep its cruise: axis 1 reaches its vmax, the others stay below theirs.

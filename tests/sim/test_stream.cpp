@@ -1,7 +1,8 @@
 // run_stream on the in-process loopback bus, held to what is known without it: the frames a
 // sniffer saw on the bus (one SYNC per tick, one RPDO per streamed tick carrying every setpoint
 // once, in order), the setpoint count from the move's duration, the settling window from the
-// settle time, the refusals a loop makes at submit; and no heap use while the loop streams.
+// settle time, the refusals a loop makes at submit; and no heap use while the loop streams. With
+// several axes (issue 17) each node's RPDOs carry its own setpoints, and all begin after the same SYNC.
 // Allocations are counted by heap_counter.hpp.
 #include <gtest/gtest.h>
 
@@ -238,6 +239,67 @@ TEST(RunStream, AMoveOverTheAxisVelocityIsRejected) {
   EXPECT_FALSE(r.measured());
 }
 
+// Three axes on nodes 1, 4 and 2 of one loopback bus, each its own drive and copy of the plant:
+// from the bus alone (a sniffer's log), every node's RPDO carries its own axis's setpoints once and
+// in order, and every move's first setpoint goes out in the same SYNC period.
+TEST(RunStream, ThreeAxesStartOnTheSameSyncEachWithItsOwnSetpoints) {
+  const std::string dump = temp_path("axes.log");
+  StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.2);
+  spec.drive.scale.period_us = 1200;  // three axes at 1 Mbit/s
+  spec.more_axes = {{poly345(-0.02, 0.5), 4}, {poly345(0.005, 0.5), 2}};
+  LoopbackStreamBus bus{dump};
+  const StreamReport r = run_stream(spec, bus);
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_EQ(r.session.outcome, firmware::SessionOutcome::completed);
+  EXPECT_TRUE(r.measured());
+  EXPECT_TRUE(r.session.released);
+  ASSERT_EQ(r.more_axes.size(), 2U);
+  const StreamReport* axes[3] = {&r, &r.more_axes[0], &r.more_axes[1]};
+  const std::uint8_t nodes[3] = {1, 4, 2};
+  // Per SYNC period (the frames after one SYNC up to the next), each node's RPDO target.
+  const std::vector<Logged> frames = read_candump(dump);
+  std::vector<std::vector<std::int32_t>> per_node(3);
+  std::vector<std::vector<std::size_t>> period_of(3);
+  std::size_t period = 0;
+  for (const Logged& f : frames) {
+    if (f.id == 0x080) ++period;
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (f.id == 0x200U + nodes[i]) {
+        per_node[i].push_back(rpdo_target(f.data));
+        period_of[i].push_back(period);
+      }
+    }
+  }
+  std::size_t first_period[3]{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    SCOPED_TRACE(i);
+    const StreamReport& a = *axes[i];
+    EXPECT_EQ(a.node, nodes[i]);
+    EXPECT_TRUE(a.aligned());
+    EXPECT_EQ(a.drive_state, "released");
+    EXPECT_EQ(a.setpoints.size(), 418U);  // 0.5 s at 1.2 ms: ticks 0..417
+    const auto move = std::search(per_node[i].begin(), per_node[i].end(), a.setpoints.begin() + 1, a.setpoints.end());
+    ASSERT_NE(move, per_node[i].end()) << "node " << int{nodes[i]} << "'s RPDOs do not carry its setpoints in order";
+    first_period[i] = period_of[i][static_cast<std::size_t>(move - per_node[i].begin())];
+  }
+  EXPECT_EQ(first_period[1], first_period[0]);
+  EXPECT_EQ(first_period[2], first_period[0]);
+  ASSERT_TRUE(r.end_tick_spread.has_value());
+  EXPECT_EQ(*r.end_tick_spread, 0U);
+  EXPECT_EQ(*r.start_tick_spread, 0U);
+  EXPECT_LE(r.line_deviation_setpoints_counts, 1.0);
+  EXPECT_LE(r.line_deviation_feedback_counts, 1.0);
+  std::filesystem::remove(dump);
+
+  // Two axes on one node: refused before anything streams.
+  StreamSpec twice = spec;
+  twice.more_axes[1].node = 1;
+  LoopbackStreamBus other;
+  const StreamReport refused = run_stream(twice, other);
+  EXPECT_EQ(refused.failure, "axes 1 and 3 are both on node 1: one drive per node");
+  EXPECT_TRUE(refused.log.empty());
+}
+
 TEST(RunStream, WhatCannotRunIsAFailureBeforeAnythingStreams) {
   LoopbackStreamBus unwritable{"/nonexistent-settle-dir/run.log"};
   const StreamReport a = run_stream(spec_for(poly345(0.01, 0.5)), unwritable);
@@ -287,12 +349,17 @@ TEST(RunStream, NothingIsAllocatedWhileStreaming) {
        {StreamScalar::double_precision, StreamScalar::single_precision, StreamScalar::fixed_point}) {
     StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.5);
     spec.scalar = scalar;
+    if (scalar == StreamScalar::fixed_point) {  // and with three axes
+      spec.drive.scale.period_us = 1200;
+      spec.more_axes = {{poly345(-0.02, 0.5), 2}, {poly345(0.005, 0.5), 3}};
+    }
     CountingBus bus;
     const StreamReport r = run_stream(spec, bus);
     ASSERT_TRUE(r.failure.empty()) << r.failure;
     EXPECT_TRUE(r.measured()) << to_string(scalar);
-    EXPECT_GT(bus.ticks(), 1000U);
+    EXPECT_GT(bus.ticks() * spec.drive.scale.period_us, 1'000'000U);  // the move and the window: 1 s
     EXPECT_EQ(bus.allocations(), 0U) << to_string(scalar);
+    EXPECT_TRUE(spec.more_axes.empty() || r.more_axes.size() == 2U);
   }
 }
 

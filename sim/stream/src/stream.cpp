@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "settle/core/multi_axis.hpp"
 #include "settle/firmware/evaluation.hpp"
 #include "settle/sim/command.hpp"
 #include "settle/sim/limits.hpp"
@@ -24,15 +25,30 @@ const char* to_string(StreamScalar s) noexcept {
 }
 
 bool StreamReport::measured() const noexcept {
+  const bool axes_measured =
+      more_axes.empty() || (start_tick_spread && end_tick_spread && std::isfinite(line_deviation_setpoints_counts) &&
+                            std::isfinite(line_deviation_feedback_counts));
   return completed() && std::isfinite(residual_can.amplitude) && std::isfinite(residual_offline.amplitude) &&
-         std::isfinite(agreement) && std::isfinite(residual_continuous);
+         std::isfinite(agreement) && std::isfinite(residual_continuous) && axes_measured &&
+         std::all_of(more_axes.begin(), more_axes.end(), [](const StreamReport& a) { return a.measured(); });
+}
+
+StreamSpec axis_spec(const StreamSpec& spec, std::size_t i) {
+  StreamSpec one = spec;
+  one.more_axes.clear();
+  if (i > 0) {
+    one.move = spec.more_axes[i - 1].move;
+    one.node = spec.more_axes[i - 1].node;
+  }
+  return one;
 }
 
 namespace {
 
-// The loop for each evaluation (--scalar): its scalar, one axis, four queued moves, online changes.
+// The loop for each evaluation (--scalar): its scalar, up to core::kMaxAxes axes (--axes), four
+// queued moves, online changes.
 template <typename Scalar, typename Evaluation>
-using LoopOf = firmware::ServoLoop<Scalar, 1, 4, Evaluation, hal::CanBus, true>;
+using LoopOf = firmware::ServoLoop<Scalar, core::kMaxAxes, 4, Evaluation, hal::CanBus, true>;
 
 // The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end,
 // and with a change the move's up to the switch, then the blend's to its end: the prepare/start/
@@ -105,21 +121,31 @@ struct BusClock {
   [[nodiscard]] std::uint64_t now_us() const { return bus.now_us(); }
 };
 
-// The session on `bus` with the loop of one evaluation; fills the report's run fields. "" or
-// why it could not run.
+// The session on `bus` with the loop of one evaluation, one axis per spec (specs[i] is axis i's,
+// acs[i] its loop configuration, rs[i] its report); fills the reports' run fields. "" or why it
+// could not run.
 template <typename Scalar, typename Evaluation>
-std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& ac, const firmware::SessionConfig& sc,
-                           StreamBus& bus, StreamReport& r) {
+std::string stream_session(const std::vector<StreamSpec>& specs, const std::vector<firmware::AxisConfig>& acs,
+                           const firmware::SessionConfig& sc, StreamBus& bus, const std::vector<StreamReport*>& rs) {
   using Loop = LoopOf<Scalar, Evaluation>;
-  auto loop = std::make_unique<Loop>(bus.link(), ac.scale.period_us);
-  if (const firmware::LoopStatus st = loop->add_axis(ac); st != firmware::LoopStatus::ok) {
-    return std::string{"the loop refused the axis: "} + firmware::to_string(st);
+  const StreamSpec& spec = specs.front();
+  StreamReport& r = *rs.front();
+  const std::size_t n = specs.size();
+  auto loop = std::make_unique<Loop>(bus.link(), acs.front().scale.period_us);
+  std::vector<core::Move<double>> moves;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (const firmware::LoopStatus st = loop->add_axis(acs[i]); st != firmware::LoopStatus::ok) {
+      return "the loop refused axis " + std::to_string(i + 1) + ": " + firmware::to_string(st);
+    }
+    moves.push_back(specs[i].move);
   }
   const auto drain = [&] {
-    for (firmware::FeedbackSample fs{}; loop->feedback_log(0).pop(fs);) r.feedback.push_back(fs);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (firmware::FeedbackSample fs{}; loop->feedback_log(i).pop(fs);) rs[i]->feedback.push_back(fs);
+    }
   };
   // A change: halt()/retarget() posted and service() run between two ticks, the configuration's
-  // lead_ticks setpoints before the switch, as an application would.
+  // lead_ticks setpoints before the switch, as an application would (one axis only).
   std::int64_t ask_at = -1;
   if (spec.change) {
     firmware::OnlineConfig oc{};
@@ -129,7 +155,7 @@ std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& a
     if (const firmware::LoopStatus st = loop->configure_online(0, oc); st != firmware::LoopStatus::ok) {
       return std::string{"the loop refused the online configuration: "} + firmware::to_string(st);
     }
-    ask_at = std::llround(spec.change->at / ac.scale.period_s()) - static_cast<std::int64_t>(oc.lead_ticks);
+    ask_at = std::llround(spec.change->at / acs.front().scale.period_s()) - static_cast<std::int64_t>(oc.lead_ticks);
   }
   std::int64_t moving_ticks = 0;
   bool asked_ok = true;
@@ -137,9 +163,10 @@ std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& a
   bus.begin();
   const std::uint64_t started_us = clock.now_us();
   // Everything the observer appends to was reserved by the caller: no heap use while streaming.
-  r.session = firmware::run_session(*loop, clock, &spec.move, 1, sc, [&](std::uint64_t, bool) {
+  // Move i goes to axis i (firmware::run_session), all in the same tick.
+  r.session = firmware::run_session(*loop, clock, moves.data(), n, sc, [&](std::uint64_t, bool) {
     if (!r.start_up_us && loop->all_ready()) r.start_up_us = clock.now_us() - started_us;
-    r.log.push_back(loop->record(0));
+    for (std::size_t i = 0; i < n; ++i) rs[i]->log.push_back(loop->record(i));
     if (loop->record(0).moving && loop->record(0).sent) {
       if (++moving_ticks == ask_at) {
         asked_ok = (spec.change->target ? loop->retarget(0, *spec.change->target) : loop->halt(0)) &&
@@ -160,13 +187,20 @@ std::string stream_session(const StreamSpec& spec, const firmware::AxisConfig& a
       !why.empty()) {
     return why;
   }
-  r.counters = bus.counters();
-  r.axis = loop->axis_stats(0);
-  r.units_held = loop->stats().units_held;
-  const auto& d = loop->drive(0);
-  r.drive_state = hal::canopen::to_string(d.state());
-  if (d.state() == hal::canopen::RemoteDriveState::failed) r.drive_failure = start_up_failure_text(d.failure());
-  r.timing = bus.timing();
+  for (std::size_t i = 0; i < n; ++i) {
+    StreamReport& a = *rs[i];
+    if (i > 0) {
+      a.session = r.session;
+      a.start_up_us = r.start_up_us;
+    }
+    a.counters = bus.counters();
+    a.axis = loop->axis_stats(i);
+    a.units_held = loop->stats().units_held;
+    const auto& d = loop->drive(i);
+    a.drive_state = hal::canopen::to_string(d.state());
+    if (d.state() == hal::canopen::RemoteDriveState::failed) a.drive_failure = start_up_failure_text(d.failure());
+    a.timing = bus.timing();
+  }
   return {};
 }
 
@@ -252,9 +286,80 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
       ++r.feedback_late_ticks;
     }
   }
+  for (std::size_t i = 0; i < r.log.size(); ++i) {
+    if (!r.move_start_tick && r.log[i].moving && r.log[i].sent) r.move_start_tick = i;
+    if (r.log[i].move_end) r.move_end_tick = i;
+  }
   // Frames the bus dropped on our side (a full receive queue); the drive's side reports its own.
   // A setpoint or feedback lost within the move would also have broken the alignment above.
   r.frames_lost = r.counters.rx_overflow_drops + r.counters.tx_errors;
+}
+
+// How the axes moved together (StreamReport's multi-axis fields), from every axis's tick log and
+// its feedback aligned with its replay.
+void measure_axes(const std::vector<StreamSpec>& specs, const std::vector<StreamReport*>& rs, StreamReport& r) {
+  const std::size_t n = specs.size();
+  // The line from the start to every axis's target, in counts.
+  std::vector<double> dir(n);
+  double dd = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    dir[i] = specs[i].move.distance() * specs[i].drive.scale.counts_per_unit;
+    dd += dir[i] * dir[i];
+  }
+  std::vector<double> p(n);
+  const auto off_line = [&] {
+    if (!(dd > 0.0)) return 0.0;
+    double pd = 0.0;
+    for (std::size_t i = 0; i < n; ++i) pd += p[i] * dir[i];
+    double e2 = 0.0;
+    for (std::size_t i = 0; i < n; ++i) e2 += (p[i] - dir[i] * pd / dd) * (p[i] - dir[i] * pd / dd);
+    return std::sqrt(e2);
+  };
+  // Start and end ticks of every moving axis.
+  std::uint64_t s_lo = ~std::uint64_t{0}, s_hi = 0, e_lo = ~std::uint64_t{0}, e_hi = 0;
+  bool all = true, any = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (specs[i].move.distance() == 0.0) continue;
+    const StreamReport& a = *rs[i];
+    if (!a.move_start_tick || !a.move_end_tick || *a.move_start_tick == 0) {
+      all = false;
+      continue;
+    }
+    any = true;
+    s_lo = std::min(s_lo, *a.move_start_tick);
+    s_hi = std::max(s_hi, *a.move_start_tick);
+    e_lo = std::min(e_lo, *a.move_end_tick);
+    e_hi = std::max(e_hi, *a.move_end_tick);
+  }
+  r.line_deviation_setpoints_counts = r.line_deviation_feedback_counts = NAN;
+  if (!all || !any) return;
+  r.start_tick_spread = s_hi - s_lo;
+  r.end_tick_spread = e_hi - e_lo;
+  // The setpoints sent, tick by tick from the first start to the last end, each axis from where
+  // it held before its move.
+  double worst = 0.0;
+  for (std::uint64_t t = s_lo; t <= e_hi; ++t) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::vector<firmware::TickRecord>& log = rs[i]->log;
+      const std::uint64_t held = rs[i]->move_start_tick.value_or(s_lo) - 1;
+      p[i] = t < log.size() && held < log.size() ? static_cast<double>(log[t].target) - log[held].target : 0.0;
+    }
+    worst = std::max(worst, off_line());
+  }
+  r.line_deviation_setpoints_counts = worst;
+  // The positions the drives reported, SYNC by SYNC from the first setpoint (each axis's replay
+  // starts at 0 and its alignment says where that SYNC's feedback is).
+  std::size_t periods = ~std::size_t{0};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!rs[i]->aligned()) return;
+    periods = std::min(periods, rs[i]->replay.feedback.size());
+  }
+  worst = 0.0;
+  for (std::size_t k = 0; k < periods; ++k) {
+    for (std::size_t i = 0; i < n; ++i) p[i] = rs[i]->feedback[*rs[i]->alignment + k].position_actual;
+    worst = std::max(worst, off_line());
+  }
+  r.line_deviation_feedback_counts = worst;
 }
 
 }  // namespace
@@ -272,53 +377,85 @@ hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds) {
 StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
   StreamReport r{};
   const std::uint32_t period_us = spec.drive.scale.period_us;
-  r.bus = bus.name();
-  r.realtime = bus.realtime();
-  r.profile = spec.move.profile().kind();
-  r.scalar = spec.scalar;
-  r.distance = spec.move.distance();
-  r.move_time = spec.move.duration();
-  r.scale = spec.drive.scale;
+  const std::size_t n = 1 + spec.more_axes.size();
+  std::vector<StreamSpec> specs;
+  for (std::size_t i = 0; i < n; ++i) specs.push_back(axis_spec(spec, i));
+  r.more_axes.resize(n - 1);
+  std::vector<StreamReport*> rs{&r};
+  for (StreamReport& a : r.more_axes) rs.push_back(&a);
+  for (std::size_t i = 0; i < n; ++i) {
+    StreamReport& a = *rs[i];
+    a.bus = bus.name();
+    a.realtime = bus.realtime();
+    a.node = specs[i].node;
+    a.profile = specs[i].move.profile().kind();
+    a.scalar = spec.scalar;
+    a.distance = specs[i].move.distance();
+    a.move_time = specs[i].move.duration();
+    a.scale = spec.drive.scale;
+  }
   if (!spec.drive.scale.valid()) {
     r.failure = "the axis scale needs a positive period and a positive, finite counts per unit";
     return r;
   }
+  if (n > core::kMaxAxes || (n > 1 && spec.change)) {
+    r.failure = "at most 8 axes, and a halt or retarget only with one";
+    return r;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (specs[i].node == specs[k].node) {
+        r.failure = "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) + " are both on node " +
+                    std::to_string(specs[i].node) + ": one drive per node";
+        return r;
+      }
+    }
+  }
 
-  firmware::AxisConfig ac{};
-  ac.drive.node = spec.node;
-  ac.drive.sync_period_us = period_us;
-  ac.drive.heartbeat_timeout_ms = spec.heartbeat_ms;
-  ac.drive.sdo_timeout_us = spec.sdo_timeout_us;
-  ac.scale = spec.drive.scale;
-  ac.vmax = spec.axis_vmax.value_or(std::fmax(spec.move.peaks().v, 1e-12) * 1.5);
-  ac.feedback_timeout_periods = spec.feedback_timeout_periods;
+  std::vector<firmware::AxisConfig> acs(n);
   firmware::SessionConfig sc{};
   sc.settle_ticks = static_cast<std::uint64_t>(spec.settle_time_s * 1e6 / period_us);
   sc.enable_timeout_ticks = 5'000'000 / period_us;
-  // The drive's own enabling deadline is the session's 5 s window, not RemoteDrive's 1 s default:
-  // a host that stalls the process for a second must not fail a drive that enables in time.
-  ac.drive.enable_timeout_us = static_cast<std::uint32_t>(sc.enable_timeout_ticks * period_us);
-  if (spec.eds) {
-    const hal::eds::DriveConfigResult d = hal::eds::drive_config_from_eds(*spec.eds, ac.drive, streaming_feedback(*spec.eds));
-    if (!d.ok()) {
-      r.failure = "--eds: " + d.error;
-      return r;
+  double longest = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    firmware::AxisConfig& ac = acs[i];
+    ac.drive.node = specs[i].node;
+    ac.drive.sync_period_us = period_us;
+    ac.drive.heartbeat_timeout_ms = spec.heartbeat_ms;
+    ac.drive.sdo_timeout_us = spec.sdo_timeout_us;
+    ac.scale = spec.drive.scale;
+    ac.vmax = spec.axis_vmax.value_or(std::fmax(specs[i].move.peaks().v, 1e-12) * 1.5);
+    ac.feedback_timeout_periods = spec.feedback_timeout_periods;
+    // The drive's own enabling deadline is the session's 5 s window, not RemoteDrive's 1 s default:
+    // a host that stalls the process for a second must not fail a drive that enables in time.
+    ac.drive.enable_timeout_us = static_cast<std::uint32_t>(sc.enable_timeout_ticks * period_us);
+    if (spec.eds) {
+      const hal::eds::DriveConfigResult d =
+          hal::eds::drive_config_from_eds(*spec.eds, ac.drive, streaming_feedback(*spec.eds));
+      if (!d.ok()) {
+        r.failure = "--eds: " + d.error;
+        return r;
+      }
+      ac.drive = d.config;
     }
-    ac.drive = d.config;
+    longest = std::fmax(longest, command_duration(specs[i]));
   }
-  const std::uint64_t move_ticks = static_cast<std::uint64_t>(command_duration(spec) * 1e6 / period_us) + 2;
+  const std::uint64_t move_ticks = static_cast<std::uint64_t>(longest * 1e6 / period_us) + 2;
   // Completion waits for the feedback to show the target (at most in_position_timeout_periods).
-  sc.max_ticks = sc.enable_timeout_ticks + move_ticks + sc.settle_ticks + ac.in_position_timeout_periods + 10;
+  sc.max_ticks = sc.enable_timeout_ticks + move_ticks + sc.settle_ticks + acs.front().in_position_timeout_periods + 10;
   if (sc.max_ticks > kMaxSamples) {
     r.failure = "the session would last more than 1e7 periods";
     return r;
   }
 
-  // The setpoints the selected evaluation produces (the replay's).
-  r.evaluation = changed_setpoints(spec.scalar, spec, r.setpoints);
-  // Allocated before the loop starts: no heap use while streaming.
-  r.log.reserve(sc.max_ticks + sc.release_ticks + 1);
-  r.feedback.reserve(sc.max_ticks + sc.release_ticks + 64);
+  for (std::size_t i = 0; i < n; ++i) {
+    StreamReport& a = *rs[i];
+    // The setpoints the selected evaluation produces (the replay's).
+    a.evaluation = changed_setpoints(spec.scalar, specs[i], a.setpoints);
+    // Allocated before the loop starts: no heap use while streaming.
+    a.log.reserve(sc.max_ticks + sc.release_ticks + 1);
+    a.feedback.reserve(sc.max_ticks + sc.release_ticks + 64);
+  }
   if (std::string why = bus.open(spec); !why.empty()) {
     r.failure = why;
     return r;
@@ -326,20 +463,21 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
   std::string why;
   switch (spec.scalar) {
     case StreamScalar::single_precision:
-      why = stream_session<float, firmware::FloatEvaluation<float>>(spec, ac, sc, bus, r);
+      why = stream_session<float, firmware::FloatEvaluation<float>>(specs, acs, sc, bus, rs);
       break;
     case StreamScalar::fixed_point:
-      why = stream_session<double, firmware::PolyFixedEvaluation>(spec, ac, sc, bus, r);
+      why = stream_session<double, firmware::PolyFixedEvaluation>(specs, acs, sc, bus, rs);
       break;
     case StreamScalar::double_precision:
-      why = stream_session<double, firmware::FloatEvaluation<double>>(spec, ac, sc, bus, r);
+      why = stream_session<double, firmware::FloatEvaluation<double>>(specs, acs, sc, bus, rs);
       break;
   }
   if (!why.empty()) {
     r.failure = why;
     return r;
   }
-  measure(spec, sc.settle_ticks, r);
+  for (std::size_t i = 0; i < n; ++i) measure(specs[i], sc.settle_ticks, *rs[i]);
+  if (n > 1) measure_axes(specs, rs, r);
   return r;
 }
 

@@ -16,20 +16,26 @@ std::string LoopbackStreamBus::open(const StreamSpec& spec) {
   if (!candump_path_.empty() && !dump_.open(candump_path_.c_str(), "loopback")) {
     return "cannot write " + candump_path_;
   }
-  hal::canopen::DriveNodeConfig dc{};
-  if (spec.eds) {
-    simulated_ = simulated_drive_from_eds(*spec.eds, spec.node);
-    if (!simulated_.config) return "--eds: " + simulated_.error;
-    dc = *simulated_.config;
+  drives_.clear();
+  for (std::size_t i = 0; i <= spec.more_axes.size(); ++i) {
+    const hal::canopen::NodeId node = i == 0 ? spec.node : spec.more_axes[i - 1].node;
+    Drive d{std::make_unique<hal::LoopbackBus<256>>(hub_), std::make_unique<DriveFromEds>(), nullptr};
+    hal::canopen::DriveNodeConfig dc{};
+    if (spec.eds) {
+      *d.simulated = simulated_drive_from_eds(*spec.eds, node);
+      if (!d.simulated->config) return "--eds: " + d.simulated->error;
+      dc = *d.simulated->config;
+    }
+    dc.node = node;
+    dc.sync_period_us = period_us_;
+    DriveAxis axis{};
+    if (const SimStatus st = DriveAxis::make(spec.drive, spec.plant, 0, axis); st != SimStatus::ok) {
+      return std::string{"the simulated drive refused its configuration: "} + to_string(st);
+    }
+    d.node = std::make_unique<PlantNode>(dc, std::move(axis));
+    d.node->start(0, *d.port);
+    drives_.push_back(std::move(d));
   }
-  dc.node = spec.node;
-  dc.sync_period_us = period_us_;
-  DriveAxis axis{};
-  if (const SimStatus st = DriveAxis::make(spec.drive, spec.plant, 0, axis); st != SimStatus::ok) {
-    return std::string{"the simulated drive refused its configuration: "} + to_string(st);
-  }
-  node_ = std::make_unique<PlantNode>(dc, std::move(axis));
-  node_->start(0, drive_port_);
   return {};
 }
 
@@ -39,8 +45,10 @@ void LoopbackStreamBus::between_ticks() {
   const std::uint64_t now = clock_.now_us();
   hub_.set_time_us(now);  // the drive answers within this period
   hal::CanFrame f{};
-  while (drive_port_.receive(f, 0) == hal::ReceiveStatus::received) (void)node_->on_frame(f, now, drive_port_);
-  node_->poll(now, drive_port_);
+  for (Drive& d : drives_) {
+    while (d.port->receive(f, 0) == hal::ReceiveStatus::received) (void)d.node->on_frame(f, now, *d.port);
+    d.node->poll(now, *d.port);
+  }
   // A listening port sees every frame on the in-process bus: the run's candump log.
   while (sniffer_.receive(f, 0) == hal::ReceiveStatus::received) {
     if (dump_.is_open()) (void)dump_.write(f);

@@ -1,5 +1,6 @@
 #include "settle/sim/stream_report.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,43 @@ std::string shown(double v, const char* format) {
   std::array<char, 32> b{};
   std::snprintf(b.data(), b.size(), format, v);
   return b.data();
+}
+
+// Every axis of the run, axis 1 first.
+std::vector<const StreamReport*> axes_of(const StreamReport& r) {
+  std::vector<const StreamReport*> v{&r};
+  for (const StreamReport& a : r.more_axes) v.push_back(&a);
+  return v;
+}
+
+Json optional_tick(const std::optional<std::uint64_t>& t) { return t ? Json(count(*t)) : Json(nullptr); }
+
+// One axis of --axes N in the "axes" array: what identifies it and what was measured on it.
+Json axis_json(std::size_t i, const StreamReport& a) {
+  return Json{
+      {"axis", static_cast<long long>(i + 1)},
+      {"node", static_cast<long long>(a.node)},
+      {"distance", a.distance},
+      {"move_time", a.move_time},
+      {"drive_state", a.drive_state},
+      {"drive_failure", a.drive_failure},
+      {"evaluation", core::to_string(a.evaluation)},
+      {"setpoints", static_cast<long long>(a.setpoints.size())},
+      {"move_start_tick", optional_tick(a.move_start_tick)},
+      {"move_end_tick", optional_tick(a.move_end_tick)},
+      {"feedback_samples", static_cast<long long>(a.feedback.size())},
+      {"aligned", a.aligned()},
+      {"rpdo_sent", count(a.axis.rpdo_sent)},
+      {"moves_aborted", count(a.axis.moves_aborted)},
+      {"max_following_error", count(a.axis.max_following_error)},
+      {"residual_can", number_or_null(a.residual_can.amplitude)},
+      {"prv_can_percent", number_or_null(a.residual_can.prv_percent)},
+      {"residual_offline", number_or_null(a.residual_offline.amplitude)},
+      {"agreement", number_or_null(a.agreement)},
+      {"fit_rms_can", number_or_null(a.residual_can.fit_rms)},
+      {"residual_continuous", number_or_null(a.residual_continuous)},
+      {"window_samples", static_cast<long long>(a.window_samples)},
+  };
 }
 
 }  // namespace
@@ -59,6 +97,27 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
     std::fprintf(out, "continuous profile %s (PRV %s %%)\n", shown(r.residual_continuous, "%.9g").c_str(),
                  shown(r.prv_continuous_percent, "%.4f").c_str());
   }
+  if (!r.more_axes.empty()) {
+    const std::vector<const StreamReport*> axes = axes_of(r);
+    if (r.session.outcome != firmware::SessionOutcome::completed) {
+      std::fprintf(out, "axes               the outcome is axis %zu's (node %u)\n", r.session.axis + 1,
+                   static_cast<unsigned>(axes[std::min(r.session.axis, axes.size() - 1)]->node));
+    }
+    for (std::size_t i = 0; i < axes.size(); ++i) {
+      const StreamReport& a = *axes[i];
+      const std::string end = a.move_end_tick ? std::to_string(*a.move_end_tick) : std::string{"n/a"};
+      std::fprintf(out, "axis %zu (node %3u)  distance %.9g, residual (CAN) %s, (offline) %s, move ends tick %s%s\n",
+                   i + 1, static_cast<unsigned>(a.node), a.distance, shown(a.residual_can.amplitude, "%.9g").c_str(),
+                   shown(a.residual_offline.amplitude, "%.9g").c_str(), end.c_str(),
+                   a.aligned() ? "" : ", FEEDBACK DOES NOT MATCH THE SETPOINTS");
+    }
+    const std::string spread = r.end_tick_spread ? std::to_string(*r.end_tick_spread) : std::string{"n/a"};
+    const std::string start = r.start_tick_spread ? std::to_string(*r.start_tick_spread) : std::string{"n/a"};
+    std::fprintf(out, "axes together      start spread %s ticks, end spread %s ticks; off the line %s counts "
+                      "(setpoints), %s counts (feedback)\n",
+                 start.c_str(), spread.c_str(), shown(r.line_deviation_setpoints_counts, "%.3g").c_str(),
+                 shown(r.line_deviation_feedback_counts, "%.3g").c_str());
+  }
   if (r.realtime) {
     const firmware::linux_rt::LatencyHistogram& l = r.timing.latency;
     const firmware::linux_rt::RealtimeSetup& rt = r.timing.realtime;
@@ -74,7 +133,7 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
 std::string stream_json(const StreamReport& r) {
   const bool have_diff = r.setpoints_vs_double_max_counts.has_value();
   const firmware::linux_rt::LatencyHistogram& l = r.timing.latency;
-  const Json j{
+  Json j{
       {"status", r.measured() ? "ok" : "error"},
       {"outcome", firmware::to_string(r.session.outcome)},
       {"fault", firmware::to_string(r.session.fault)},
@@ -148,6 +207,19 @@ std::string stream_json(const StreamReport& r) {
                         {"pm_qos", r.timing.realtime.pm_qos},
                         {"pm_qos_error", r.timing.realtime.pm_qos_error}}},
   };
+  // --axes N: the fields above are axis 1's (and the run's); every axis, axis 1 included, is in
+  // "axes", with how they moved together.
+  if (!r.more_axes.empty()) {
+    const std::vector<const StreamReport*> axes = axes_of(r);
+    Json list = Json::array();
+    for (std::size_t i = 0; i < axes.size(); ++i) list.push_back(axis_json(i, *axes[i]));
+    j["outcome_axis"] = static_cast<long long>(r.session.axis + 1);
+    j["axes"] = list;
+    j["start_tick_spread"] = optional_tick(r.start_tick_spread);
+    j["end_tick_spread"] = optional_tick(r.end_tick_spread);
+    j["line_deviation_setpoints_counts"] = number_or_null(r.line_deviation_setpoints_counts);
+    j["line_deviation_feedback_counts"] = number_or_null(r.line_deviation_feedback_counts);
+  }
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

@@ -90,6 +90,14 @@ class MultiAxisPlan {
 // the shared path or request.
 [[nodiscard]] Status plan_axes(const MultiAxisRequest& req, MultiAxisPlan& out, std::size_t& culprit) noexcept;
 
+// Axis `axis`'s command as a move of its own, for a loop that streams each axis to its drive
+// (`settle stream --axes`). Time sync: plan.axis_move(axis). Path sync: D_i s(t) planned as the path
+// is, at distance D_i under the path limits times |D_i| with the same modes and shapers: equal to
+// plan.at(axis, t) to rounding, of the path's duration (every axis ends on the same tick). An axis
+// that does not move gets the empty move. `req` is the request `plan` was planned from.
+[[nodiscard]] Status axis_command(const MultiAxisRequest& req, const MultiAxisPlan& plan, std::size_t axis,
+                                  Move<double>& out) noexcept;
+
 // How far the coordinated move leaves the straight line from the start to (D_1, ..., D_N): the
 // largest Euclidean distance of the point (p_1(t), ..., p_N(t)) from the line over the move, and in
 // `per_axis` each axis's largest |p_i(t) - D_i sigma(t)|, sigma(t) the point's projection on the

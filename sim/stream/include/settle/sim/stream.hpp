@@ -44,6 +44,12 @@ struct StreamChange {
   core::Blend blend{};
 };
 
+// --axes N (issue 17, docs/multi_axis.md): one more axis of the same bus, its own move and node.
+struct StreamAxis {
+  core::Move<double> move{};
+  hal::canopen::NodeId node{2};
+};
+
 struct StreamSpec {
   core::Move<double> move{};
   std::optional<StreamChange> change;  // every scalar: the blend is evaluated in it
@@ -60,7 +66,14 @@ struct StreamSpec {
   // (hal::eds::drive_config_from_eds with streaming_feedback), and on loopback the simulated drive
   // is the one it describes (sim::simulated_drive_from_eds). Null: Settle's own drive, as assumed.
   std::shared_ptr<const hal::eds::Description> eds;
+  // --axes N: axes 2..N (axis 1 is `move` on `node`), every one started on the same SYNC and
+  // streamed, supervised and measured as axis 1, with the same plant, drive and loop options (each
+  // its own copy of the plant: one PlantNode per node on loopback). Empty: one axis. Not with `change`.
+  std::vector<StreamAxis> more_axes;
 };
+
+// Axis i of the spec (0: axis 1) as a one-axis spec: its move and node, everything else shared.
+[[nodiscard]] StreamSpec axis_spec(const StreamSpec& spec, std::size_t i);
 
 // The feedback a stream maps besides statusword and position: the velocity actual 0x606C and
 // the load-side position 0x2000 (the simulated drive's load encoder), each when the description
@@ -117,6 +130,7 @@ struct StreamReport {
 
   std::string bus;
   bool realtime{false};
+  hal::canopen::NodeId node{1};
   core::ProfileKind profile{};
   StreamScalar scalar{StreamScalar::double_precision};
   core::Status evaluation{core::Status::ok};  // why the selected evaluation refused the move
@@ -156,16 +170,30 @@ struct StreamReport {
   double residual_continuous{0.0};     // the continuous profile, unsampled
   double prv_continuous_percent{0.0};
   std::size_t window_samples{0};
+  // The ticks (log indices) of the move's first setpoint sent and of its last (absent: never).
+  std::optional<std::uint64_t> move_start_tick, move_end_tick;
+
+  // --axes N: axes 2..N, each reported as this one reports axis 1 (its own log, feedback, replay
+  // and residuals; the session is the run's, shared), and what only several axes have: how far
+  // apart their moves started and ended (ticks; 0 = the same SYNC, as the session promises; axes
+  // that do not move are left out), and the largest distance from the straight line from the
+  // start to (D_1, ..., D_N), in counts, of the points the axes were sent (setpoints) and of the
+  // positions the drives reported for the same SYNCs (feedback, aligned with each axis's replay).
+  // With --sync path the line is the path: issue 17 bounds it by one count.
+  std::vector<StreamReport> more_axes;
+  std::optional<std::uint64_t> start_tick_spread, end_tick_spread;
+  double line_deviation_setpoints_counts{0.0};
+  double line_deviation_feedback_counts{0.0};
 
   [[nodiscard]] bool aligned() const noexcept { return alignment.has_value(); }
   [[nodiscard]] bool completed() const noexcept {
     return session.outcome == firmware::SessionOutcome::completed && aligned();
   }
-  // Success: completed, with every measurement present and finite.
+  // Success: completed, with every measurement present and finite, on every axis.
   [[nodiscard]] bool measured() const noexcept;
 };
 
-// Streams spec.move over `bus` and measures it. A report with `failure` set says why it could not
+// Streams spec.move (and spec.more_axes' moves) over `bus` and measures it. A report with `failure` set says why it could not
 // run; otherwise the report is complete whatever the outcome (measured() says whether it succeeded).
 [[nodiscard]] StreamReport run_stream(const StreamSpec& spec, StreamBus& bus);
 

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "settle/firmware/linux/periodic.hpp"
 #include "settle/firmware/session.hpp"
@@ -20,6 +21,7 @@
 
 namespace settle::sim {
 
+// On loopback every axis of the spec (spec.more_axes too) has its drive in this process.
 class LoopbackStreamBus final : public StreamBus {
  public:
   // candump_path: where to log every frame on the bus (a listening port sees them all); "" none.
@@ -42,10 +44,15 @@ class LoopbackStreamBus final : public StreamBus {
   std::string candump_path_;
   hal::LoopbackHub hub_;
   hal::LoopbackBus<256> master_{hub_};
-  hal::LoopbackBus<256> drive_port_{hub_};
   hal::LoopbackBus<256> sniffer_{hub_};
-  DriveFromEds simulated_;  // with --eds: the drive's strings point into it
-  std::unique_ptr<PlantNode> node_;
+  // One simulated drive per axis (--axes N: one per node), each on its own port of the hub and
+  // with its own copy of the plant.
+  struct Drive {
+    std::unique_ptr<hal::LoopbackBus<256>> port;
+    std::unique_ptr<DriveFromEds> simulated;  // with --eds: the drive's strings point into it
+    std::unique_ptr<PlantNode> node;
+  };
+  std::vector<Drive> drives_;
   hal::CandumpFile dump_;
   std::uint32_t period_us_{1000};
   firmware::VirtualClock clock_{1000};

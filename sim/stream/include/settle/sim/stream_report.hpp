@@ -10,7 +10,7 @@
 
 namespace settle::sim {
 
-// The text summary, five to seven lines.
+// The text summary, five to seven lines (--axes N: one more per axis, and how they moved together).
 void write_stream_text(const StreamReport& r, std::FILE* out);
 // The JSON document, one line without its newline. "status" is "ok" only when r.measured();
 // measurements that are absent (not aligned, not finite) are null; strings that are not UTF-8
@@ -18,7 +18,7 @@ void write_stream_text(const StreamReport& r, std::FILE* out);
 [[nodiscard]] std::string stream_json(const StreamReport& r);
 
 // tick,t,target,sent,moving,move_end,position_actual,load_position,velocity_actual,feedback_count
-// one row per tick. False when writing failed.
+// one row per tick (axis 1's; and the feedback CSV below too). False when writing failed.
 [[nodiscard]] bool write_tick_csv(const StreamReport& r, std::FILE* out);
 // period,t,commanded,position_can,load_can,load_offline: from up to 50 periods before the first
 // setpoint to the end of the settling window, period 0 being the first setpoint. Only for an
