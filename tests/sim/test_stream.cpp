@@ -344,6 +344,47 @@ class CountingBus final : public StreamBus {
   std::uint64_t ticks_{0};
 };
 
+// A drive that stalls for 40 periods in the settling window and then answers every SYNC at once
+// (a host process held off the CPU): the loop keeps every sample (a microcontroller's 16-sample log
+// would drop 24), so the run is aligned and measures the residual of the run without the stall.
+class StallingBus final : public StreamBus {
+ public:
+  explicit StallingBus(bool stall) : stall_{stall} {}
+  [[nodiscard]] std::string name() const override { return inner_.name(); }
+  [[nodiscard]] bool realtime() const override { return false; }
+  [[nodiscard]] std::string open(const StreamSpec& spec) override { return inner_.open(spec); }
+  [[nodiscard]] hal::CanBus& link() override { return inner_.link(); }
+  void begin() override { inner_.begin(); }
+  std::uint64_t wait() override { return inner_.wait(); }
+  [[nodiscard]] std::uint64_t now_us() const override { return inner_.now_us(); }
+  void between_ticks() override {
+    if (!stall_ || ++ticks_ < 700 || ticks_ >= 740) inner_.between_ticks();
+  }
+  [[nodiscard]] std::string finish(const FrameTaker& take) override { return inner_.finish(take); }
+  [[nodiscard]] hal::BusCounters counters() const override { return inner_.counters(); }
+  [[nodiscard]] StreamTiming timing() const override { return inner_.timing(); }
+
+ private:
+  LoopbackStreamBus inner_;
+  bool stall_;
+  std::uint64_t ticks_{0};
+};
+
+TEST(RunStream, ADriveThatFallsBehindLosesNoFeedback) {
+  StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.5);
+  spec.feedback_timeout_periods = 0;  // the stall is not a lost drive here
+  StallingBus steady{false}, stalling{true};
+  const StreamReport plain = run_stream(spec, steady);
+  const StreamReport r = run_stream(spec, stalling);
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  ASSERT_TRUE(plain.measured());
+  EXPECT_GT(r.feedback_late_ticks, 0U);
+  EXPECT_EQ(r.axis.feedback_overflows, 0U);
+  EXPECT_TRUE(r.measured());
+  EXPECT_EQ(r.residual_can.amplitude, plain.residual_can.amplitude);
+  EXPECT_EQ(r.window_samples, plain.window_samples);
+}
+
 TEST(RunStream, NothingIsAllocatedWhileStreaming) {
   for (const StreamScalar scalar :
        {StreamScalar::double_precision, StreamScalar::single_precision, StreamScalar::fixed_point}) {

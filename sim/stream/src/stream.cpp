@@ -46,9 +46,14 @@ StreamSpec axis_spec(const StreamSpec& spec, std::size_t i) {
 namespace {
 
 // The loop for each evaluation (--scalar): its scalar, up to core::kMaxAxes axes (--axes), four
-// queued moves, online changes.
+// queued moves, online changes, and a second of feedback per axis at 1 kHz (a host process held
+// off the CPU for longer than a microcontroller's 16 periods still loses no sample).
 template <typename Scalar, typename Evaluation>
-using LoopOf = firmware::ServoLoop<Scalar, core::kMaxAxes, 4, Evaluation, hal::CanBus, true>;
+using LoopOf = firmware::ServoLoop<Scalar, core::kMaxAxes, 4, Evaluation, hal::CanBus, true, 1024>;
+// Drained every tick, the log cannot overflow then: a tick takes at most kMaxFramesPerTick frames,
+// two of them a sample. (A dropped sample would break the period-by-period correspondence the
+// measurement relies on, unseen where the positions are at rest.)
+static_assert(1024 >= LoopOf<double, firmware::FloatEvaluation<double>>::kMaxFramesPerTick);
 
 // The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end,
 // and with a change the move's up to the switch, then the blend's to its end: the prepare/start/

@@ -48,6 +48,8 @@ Json axis_json(std::size_t i, const StreamReport& a) {
       {"move_end_tick", optional_tick(a.move_end_tick)},
       {"feedback_samples", static_cast<long long>(a.feedback.size())},
       {"aligned", a.aligned()},
+      {"feedback_overflows", count(a.axis.feedback_overflows)},
+      {"feedback_late_ticks", count(a.feedback_late_ticks)},
       {"rpdo_sent", count(a.axis.rpdo_sent)},
       {"moves_aborted", count(a.axis.moves_aborted)},
       {"max_following_error", count(a.axis.max_following_error)},

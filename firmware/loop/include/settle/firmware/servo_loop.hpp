@@ -175,7 +175,8 @@ struct AxisStats {
 };
 
 // Feedback samples kept per axis until the owner drains them (every tick): one arrives per
-// period, so this is 16 periods of slack; 12 bytes each, per axis, on a microcontroller.
+// period, so this is 16 periods of slack; 12 bytes each, per axis, on a microcontroller. The
+// loop's FeedbackCapacity parameter; a master on a host that can stall asks for more.
 inline constexpr std::size_t kFeedbackLogCapacity = 16;
 
 struct LoopStats {
@@ -199,9 +200,12 @@ struct LoopStats {
 // 2.9 KiB (float) or 5.3 KiB (fixed) per axis, and service() builds a fixed-point blend's 4.2 KiB
 // Motion on its stack. On by default for the double evaluation (a master on Linux), asked for by the
 // others; never where SETTLE_ONLINE_CHANGES is 0 (the Cortex-M0).
+//
+// FeedbackCapacity: feedback samples kept per axis between two drains (kFeedbackLogCapacity).
 template <typename Scalar = double, std::size_t MaxAxes = 1, std::size_t QueueDepth = 4,
           typename Evaluation = FloatEvaluation<Scalar>, typename Bus = hal::CanBus,
-          bool Online = kOnlineChangesAvailable && std::is_same_v<Evaluation, FloatEvaluation<double>>>
+          bool Online = kOnlineChangesAvailable && std::is_same_v<Evaluation, FloatEvaluation<double>>,
+          std::size_t FeedbackCapacity = kFeedbackLogCapacity>
 class ServoLoop {
   static_assert(std::is_base_of_v<hal::CanBus, Bus>, "Bus is hal::CanBus or one of its backends");
   static_assert(!Online || kOnlineChangesAvailable, "online changes are switched off (SETTLE_ONLINE_CHANGES=0)");
@@ -488,7 +492,7 @@ class ServoLoop {
   [[nodiscard]] const TickRecord& record(std::size_t i) const noexcept { return axes_[i].record; }
   [[nodiscard]] const AxisStats& axis_stats(std::size_t i) const noexcept { return axes_[i].stats; }
   // Feedback samples in arrival order (one per SYNC the drive processed); drain every tick.
-  [[nodiscard]] FixedQueue<FeedbackSample, kFeedbackLogCapacity>& feedback_log(std::size_t i) noexcept {
+  [[nodiscard]] FixedQueue<FeedbackSample, FeedbackCapacity>& feedback_log(std::size_t i) noexcept {
     return axes_[i].feedback_log;
   }
   [[nodiscard]] const LoopStats& stats() const noexcept { return stats_; }
@@ -546,7 +550,7 @@ class ServoLoop {
     typename Evaluation::Stream setpoints{};
     TickRecord record{};
     AxisStats stats{};
-    FixedQueue<FeedbackSample, kFeedbackLogCapacity> feedback_log{};
+    FixedQueue<FeedbackSample, FeedbackCapacity> feedback_log{};
     std::optional<hal::canopen::RemoteDrive> drive{};
     std::int32_t queued_end{0};   // where the last move queued (or running) ends, counts
     AxisLoopConfig cfg{};
