@@ -253,6 +253,7 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   enable_timer_.disarm();
   step_ = 0;
   step_sent_ = false;
+  answered_ = false;
   verifying_ = false;
   retried_ = false;
   operational_seen_ = false;
@@ -462,7 +463,8 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
   }
   retried_ = false;
   step_sent_ = false;
-  next_step(now_us, out);
+  answered_ = true;  // the next request: from poll(), in a later tick
+  answered_us_ = now_us;
   return RemoteFrame::sdo;
 }
 
@@ -487,8 +489,9 @@ void RemoteDrive::poll(std::uint64_t now_us, FrameSink& out) noexcept {
         } else {
           fail_step(sdo_.result(), StartupError::sdo_timed_out, now_us);
         }
-      } else if (!step_sent_ && !sdo_.busy()) {
-        next_step(now_us, out);  // the request did not fit in the sink last time
+      } else if (!step_sent_ && !sdo_.busy() && !(answered_ && now_us == answered_us_)) {
+        answered_ = false;
+        next_step(now_us, out);  // the step after an answer, or a request that did not fit last time
       }
       break;
     case RemoteDriveState::enabling:

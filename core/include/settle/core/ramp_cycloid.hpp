@@ -9,6 +9,7 @@
 #include "settle/core/kinematics.hpp"
 #include "settle/core/piece.hpp"
 #include "settle/core/status.hpp"
+#include "settle/core/trig.hpp"
 
 namespace settle::core {
 
@@ -201,8 +202,8 @@ class RampCycloid {
     const int k = segment_at(t);
     const T u = t - seg_[k].start;
     if (seg_[k].cruise) return in_segment(k, u, T(0), T(1));
-    const T th = two_pi_v<T>() * u * inv_tau_;
-    return in_segment(k, u, std::sin(th), std::cos(th));
+    const SinCos<T> sc = sin_cos(two_pi_v<T>() * u * inv_tau_);
+    return in_segment(k, u, sc.sin, sc.cos);
   }
 
  private:

@@ -6,6 +6,7 @@
 
 #include "settle/core/kinematics.hpp"
 #include "settle/core/piece.hpp"
+#include "settle/core/trig.hpp"
 
 namespace settle::core {
 
@@ -52,7 +53,8 @@ class RampVersine {
     if (!(t >= T(0))) return {};
     if (t >= tau_) return {l_, T(0), T(0), T(0)};
     const T th = r_ * t;
-    return at_angle(th, std::sin(th), std::cos(th));
+    const SinCos<T> sc = sin_cos(th);
+    return at_angle(th, sc.sin, sc.cos);
   }
   [[nodiscard]] Sample<T> at_angle(T th, T sn, T cs) const noexcept {
     return {l2pi_ * th - y2_ * sn + y3_ * (T(1) - cs), r_ * (l2pi_ - y2_ * cs + y3_ * sn),

@@ -10,6 +10,7 @@
 #include <variant>
 
 #include "settle/core/move.hpp"
+#include "settle/core/trig.hpp"
 
 namespace settle::core {
 
@@ -29,8 +30,11 @@ class RampCycloidStepper {
   // Tick n is at time t0 + n dt of the profile's own clock (t0 < 0 delays it, as a shaper does).
   // The profile must outlive the stepper.
   RampCycloidStepper(const RampCycloid<T>& rc, T dt, T t0) noexcept
-      : rc_{&rc}, dt_{dt}, t0_{t0}, rot_c_{std::cos(two_pi_v<T>() * dt / rc.tau())},
-        rot_s_{std::sin(two_pi_v<T>() * dt / rc.tau())} {}
+      : rc_{&rc}, dt_{dt}, t0_{t0} {
+    const SinCos<T> rot = sin_cos(two_pi_v<T>() * dt / rc.tau());
+    rot_c_ = rot.cos;
+    rot_s_ = rot.sin;
+  }
 
   [[nodiscard]] Sample<T> step() noexcept {
     const T t = t0_ + static_cast<T>(n_) * dt_;
@@ -46,9 +50,9 @@ class RampCycloidStepper {
       return rc_->in_segment(k, u, T(0), T(1));
     }
     if (k != seg_ || since_anchor_ >= kReanchor) {
-      const T th = two_pi_v<T>() * u / rc_->tau();
-      sn_ = std::sin(th);
-      cs_ = std::cos(th);
+      const SinCos<T> a = sin_cos(two_pi_v<T>() * u / rc_->tau());
+      sn_ = a.sin;
+      cs_ = a.cos;
       seg_ = k;
       since_anchor_ = 0;
     } else {

@@ -296,7 +296,8 @@ class RemoteDrive {
     }
     return on_service_frame(frame, now_us, out);
   }
-  // Timeouts (SDO, heartbeat, enabling) and the next configuration step.
+  // Timeouts (SDO, heartbeat, enabling) and the next configuration step (sent from here, in a
+  // later tick than the response to the step before).
   void poll(std::uint64_t now_us, FrameSink& out) noexcept;
 
   // The RPDO for this tick (RPDO1 under the default layout), written over `out`; false (and `out` untouched) when the drive must
@@ -395,6 +396,11 @@ class RemoteDrive {
   std::uint8_t step_count_{0};
   std::uint8_t step_{0};
   bool step_sent_{false};
+  // The time of the tick whose received frame answered the last request: the next request goes out
+  // from poll() in a later tick, so one tick never both decodes a response and encodes a request
+  // (the Cortex-M0's tick budget, firmware/README.md); start-up takes one more period per step.
+  std::uint64_t answered_us_{0};
+  bool answered_{false};
   bool verifying_{false};    // a write step's read-back is running
   bool retried_{false};      // the current request has been sent again after a timeout
   bool plan_too_long_{false};
