@@ -312,10 +312,9 @@ TEST(RunStream, WhatCannotRunIsAFailureBeforeAnythingStreams) {
   EXPECT_FALSE(run_stream(no_period, bus).failure.empty());
 }
 
-// A bus that counts the heap allocations made between its between-ticks calls: everything the
-// loop, the session and run_stream's observer do in ticks 1..N, but not the in-process drive's
-// own work (its plant integrates with Eigen, which allocates: it stands for the hardware).
-class CountingBus final : public StreamBus {
+// The in-process loopback bus with one call replaced: the test buses below change only what
+// happens between ticks.
+class LoopbackWrapper : public StreamBus {
  public:
   [[nodiscard]] std::string name() const override { return inner_.name(); }
   [[nodiscard]] bool realtime() const override { return false; }
@@ -324,21 +323,30 @@ class CountingBus final : public StreamBus {
   void begin() override { inner_.begin(); }
   std::uint64_t wait() override { return inner_.wait(); }
   [[nodiscard]] std::uint64_t now_us() const override { return inner_.now_us(); }
-  void between_ticks() override {
-    if (ticks_ > 0) outside_ += g_allocations.load() - after_;
-    inner_.between_ticks();
-    after_ = g_allocations.load();
-    ++ticks_;
-  }
+  void between_ticks() override { inner_.between_ticks(); }
   [[nodiscard]] std::string finish(const FrameTaker& take) override { return inner_.finish(take); }
   [[nodiscard]] hal::BusCounters counters() const override { return inner_.counters(); }
   [[nodiscard]] StreamTiming timing() const override { return inner_.timing(); }
 
+ private:
+  LoopbackStreamBus inner_;
+};
+
+// A bus that counts the heap allocations made between its between-ticks calls: everything the
+// loop, the session and run_stream's observer do in ticks 1..N, but not the in-process drive's
+// own work (its plant integrates with Eigen, which allocates: it stands for the hardware).
+class CountingBus final : public LoopbackWrapper {
+ public:
+  void between_ticks() override {
+    if (ticks_ > 0) outside_ += g_allocations.load() - after_;
+    LoopbackWrapper::between_ticks();
+    after_ = g_allocations.load();
+    ++ticks_;
+  }
   [[nodiscard]] std::uint64_t allocations() const { return outside_; }
   [[nodiscard]] std::uint64_t ticks() const { return ticks_; }
 
  private:
-  LoopbackStreamBus inner_;
   std::uint64_t after_{0};
   std::uint64_t outside_{0};
   std::uint64_t ticks_{0};
@@ -347,25 +355,14 @@ class CountingBus final : public StreamBus {
 // A drive that stalls for 40 periods in the settling window and then answers every SYNC at once
 // (a host process held off the CPU): the loop keeps every sample (a microcontroller's 16-sample log
 // would drop 24), so the run is aligned and measures the residual of the run without the stall.
-class StallingBus final : public StreamBus {
+class StallingBus final : public LoopbackWrapper {
  public:
   explicit StallingBus(bool stall) : stall_{stall} {}
-  [[nodiscard]] std::string name() const override { return inner_.name(); }
-  [[nodiscard]] bool realtime() const override { return false; }
-  [[nodiscard]] std::string open(const StreamSpec& spec) override { return inner_.open(spec); }
-  [[nodiscard]] hal::CanBus& link() override { return inner_.link(); }
-  void begin() override { inner_.begin(); }
-  std::uint64_t wait() override { return inner_.wait(); }
-  [[nodiscard]] std::uint64_t now_us() const override { return inner_.now_us(); }
   void between_ticks() override {
-    if (!stall_ || ++ticks_ < 700 || ticks_ >= 740) inner_.between_ticks();
+    if (!stall_ || ++ticks_ < 700 || ticks_ >= 740) LoopbackWrapper::between_ticks();
   }
-  [[nodiscard]] std::string finish(const FrameTaker& take) override { return inner_.finish(take); }
-  [[nodiscard]] hal::BusCounters counters() const override { return inner_.counters(); }
-  [[nodiscard]] StreamTiming timing() const override { return inner_.timing(); }
 
  private:
-  LoopbackStreamBus inner_;
   bool stall_;
   std::uint64_t ticks_{0};
 };
