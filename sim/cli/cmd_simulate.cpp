@@ -144,15 +144,8 @@ int simulate_axes(const ParsedArgs& args, const sim::ModalPlant& plant) {
   }
   RequestError err;
   core::MultiAxisRequest req{};
-  if (!parse_axes_request(args, req, err)) return report_bad_request(err, json);
-  core::MoveRequest probe = req.base;
-  probe.omega = plant.fundamental().omega;
-  if (!args.has("--omega") && needs_mode(probe)) {
-    for (std::size_t i = 0; i < req.count; ++i) {
-      req.axes[i].omega = plant.fundamental().omega;
-      if (!args.has("--zeta")) req.axes[i].zeta = plant.fundamental().zeta;
-    }
-  }
+  const DesignFallback fundamental{plant.fundamental().omega, plant.fundamental().zeta};
+  if (!parse_axes_request(args, req, err, &fundamental)) return report_bad_request(err, json);
   core::MultiAxisPlan plan{};
   if (!plan_axes(req, plan, err)) return report_bad_request(err, json);
   sim::SimOptions opt;
@@ -235,12 +228,9 @@ int cmd_simulate(int argc, char** argv) {
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
   if (wants_axes(args)) return simulate_axes(args, plant);
   core::MoveRequest req{};
-  if (!parse_move_request(args, req, err)) return report_bad_request(err, json);
-  if (needs_mode(req) && !args.has("--omega")) {
-    // No belief given: design for the plant's own fundamental mode.
-    req.omega = plant.fundamental().omega;
-    if (!args.has("--zeta")) req.zeta = plant.fundamental().zeta;
-  }
+  // No belief given: design for the plant's own fundamental mode.
+  const DesignFallback fundamental{plant.fundamental().omega, plant.fundamental().zeta};
+  if (!parse_move_request(args, req, err, &fundamental)) return report_bad_request(err, json);
   sim::SimOptions opt;
   opt.record = args.has("--csv");
   opt.dt = args.real("--dt", opt.dt);

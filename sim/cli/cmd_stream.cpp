@@ -66,7 +66,8 @@ int parse_axes(const ParsedArgs& args, sim::StreamSpec& spec) {
   }
   RequestError err;
   core::MultiAxisRequest req{};
-  if (!parse_axes_request(args, req, err)) return report_bad_request(err, json);
+  const DesignFallback fundamental{spec.plant.fundamental().omega, spec.plant.fundamental().zeta};
+  if (!parse_axes_request(args, req, err, &fundamental)) return report_bad_request(err, json);
   core::MultiAxisPlan plan{};
   if (!plan_axes(req, plan, err)) return report_bad_request(err, json);
   std::vector<long long> nodes;
@@ -121,12 +122,15 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
   RequestError err;
   if (!parse_plant(args, spec.plant, err)) return report_bad_request(err, json);
   if (!parse_drive(args, spec.plant, spec.drive, err)) return report_bad_request(err, json);
+  // Without --omega a move that designs for a mode is designed for the plant's fundamental, as
+  // simulate does.
+  const DesignFallback fundamental{spec.plant.fundamental().omega, spec.plant.fundamental().zeta};
   const bool axes = wants_axes(args);
   if (axes) {
     if (const int rc = parse_axes(args, spec); rc >= 0) return rc;
   } else if (args.has("--nodes")) {
     return report_bad_request({"bad_option", "--nodes", "--nodes: the nodes of --axes N; give --axes too"}, json);
-  } else if (!move_from_args(args, spec.move, err)) {
+  } else if (!move_from_args(args, spec.move, err, &fundamental)) {
     return report_bad_request(err, json);
   }
   const core::Move<double>& move = spec.move;
@@ -157,7 +161,7 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
             {"conflicting_options", o, std::string{o} + ": not with --plan-from (give the move options instead)"}, json);
       }
     }
-  } else if (!parse_move_request(args, req, err)) {
+  } else if (!parse_move_request(args, req, err, &fundamental)) {
     return report_bad_request(err, json);  // not reached: move_from_args parsed the same options
   }
   std::optional<OnlineChange> change;

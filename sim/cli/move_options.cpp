@@ -97,7 +97,8 @@ bool axis_values(const ParsedArgs& a, const char* o, std::size_t n, bool one_for
 
 }  // namespace
 
-bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestError& err) {
+bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestError& err,
+                        const DesignFallback* fallback) {
   if (!check_single_axis(a, err)) return false;
   core::MoveRequest r{};
   if (!parse_profile(a, r, err)) return false;
@@ -127,13 +128,18 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
     r.extra_mode_count = i;
   }
   if (!parse_shape(a, r, err)) return false;
+  if (fallback != nullptr && !a.has("--omega") && core::needs_mode(r)) {
+    r.omega = fallback->omega;
+    if (!a.has("--zeta")) r.zeta = fallback->zeta;
+  }
   req = r;
   return true;
 }
 
 bool wants_axes(const ParsedArgs& a) { return a.has("--axes"); }
 
-bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, RequestError& err) {
+bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, RequestError& err,
+                        const DesignFallback* fallback) {
   core::MultiAxisRequest r{};
   if (!parse_profile(a, r.base, err)) return false;
   r.count = static_cast<std::size_t>(a.integer("--axes", 1));  // 1..kMaxAxes: the table's range
@@ -161,6 +167,14 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
   }
   r.base.time = a.real("--time");
   if (!parse_shape(a, r.base, err)) return false;
+  core::MoveRequest probe = r.base;
+  probe.omega = fallback != nullptr ? std::optional<double>{fallback->omega} : std::nullopt;
+  if (fallback != nullptr && !omega && core::needs_mode(probe)) {
+    for (std::size_t i = 0; i < r.count && i < r.axes.size(); ++i) {
+      r.axes[i].omega = fallback->omega;
+      if (!zeta) r.axes[i].zeta = fallback->zeta;
+    }
+  }
   req = r;
   return true;
 }
@@ -223,7 +237,8 @@ bool plan_axes(const core::MultiAxisRequest& req, core::MultiAxisPlan& out, Requ
   return true;
 }
 
-bool move_from_args(const ParsedArgs& args, core::Move<double>& out, RequestError& err) {
+bool move_from_args(const ParsedArgs& args, core::Move<double>& out, RequestError& err,
+                    const DesignFallback* fallback) {
   if (const auto file = args.text("--plan-from")) {
     for (const char* o : {"--profile", "--distance", "--time", "--vmax", "--amax", "--jmax", "--omega", "--zeta",
                           "--gammas", "--y", "--shaper", "--vtol", "--sync"}) {
@@ -242,7 +257,7 @@ bool move_from_args(const ParsedArgs& args, core::Move<double>& out, RequestErro
     return true;
   }
   core::MoveRequest req{};
-  if (!parse_move_request(args, req, err)) return false;
+  if (!parse_move_request(args, req, err, fallback)) return false;
   return plan_move(req, out, err);
 }
 

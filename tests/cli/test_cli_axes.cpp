@@ -173,6 +173,40 @@ std::string stream_three(const std::string& profile = "scurve") {
 }
 const std::string kStreamThree = stream_three();
 
+// Without --omega, stream designs for the plant's fundamental (mode and zeta) as simulate does, for
+// one axis and for every axis: the same setpoints, so the same residual, as with the mode given.
+TEST(CliAxes, StreamWithoutOmegaDesignsForThePlantsFundamentalAsSimulateDoes) {
+  const auto sim = run_json("simulate --plant sdof --profile scurve --distance 0.05 --time 0.5");
+  const double omega = sim.at("designed_omega").get<double>(), zeta = sim.at("designed_zeta").get<double>();
+  EXPECT_NEAR(omega, 28.2842712474619, 1e-9);
+  EXPECT_GT(zeta, 0.1);
+  char mode[96];
+  std::snprintf(mode, sizeof mode, " --omega %.17g --zeta %.17g", omega, zeta);
+  const std::string one = "stream --bus loopback --plant sdof --profile scurve --distance 0.05 --time 0.5 --settle-time 0.3";
+  const auto implicit = run_json(one), given = run_json(one + mode);
+  ASSERT_EQ(implicit.at("status"), "ok") << implicit.dump();
+  ASSERT_EQ(given.at("status"), "ok") << given.dump();
+  EXPECT_EQ(implicit.at("residual_can").get<double>(), given.at("residual_can").get<double>());
+  // A move designed for another mode leaves another residual: the comparison can tell them apart.
+  const auto other = run_json(one + " --omega 20");
+  ASSERT_EQ(other.at("status"), "ok") << other.dump();
+  EXPECT_NE(implicit.at("residual_can").get<double>(), other.at("residual_can").get<double>());
+
+  const std::string three = "stream --bus loopback --axes 3 --profile scurve --distance 0.1,0.05,-0.2 --time 0.5 "
+                            "--plant sdof --period-us 1200 --settle-time 0.3";
+  std::snprintf(mode, sizeof mode, " --omega %.17g,%.17g,%.17g", omega, omega, omega);
+  char zetas[96];
+  std::snprintf(zetas, sizeof zetas, " --zeta %.17g,%.17g,%.17g", zeta, zeta, zeta);
+  const auto all_implicit = run_json(three), all_given = run_json(three + mode + zetas);
+  ASSERT_EQ(all_implicit.at("status"), "ok") << all_implicit.dump();
+  ASSERT_EQ(all_given.at("status"), "ok") << all_given.dump();
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(all_implicit.at("axes")[i].at("residual_can").get<double>(),
+              all_given.at("axes")[i].at("residual_can").get<double>())
+        << "axis " << i + 1;
+  }
+}
+
 TEST(CliAxes, StreamStartsAndEndsEveryAxisOnTheSameTickOnTheLine) {
   const auto j = run_json(kStreamThree + " --nodes 5,3,9");
   EXPECT_EQ(j.at("status"), "ok");
