@@ -1,5 +1,7 @@
 #include "settle/hal/canopen/drive_node.hpp"
 
+#include <algorithm>
+
 namespace settle::hal::canopen {
 
 namespace {
@@ -532,9 +534,13 @@ void DriveNode::apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept {
   if (following()) {
     const bool ip = a.mode_display == static_cast<std::int8_t>(OperationMode::interpolated_position);
     const std::int32_t target = ip ? a.ip_data : a.target_position;
-    const std::int32_t clamped = target < a.position_limit_min
-                                     ? a.position_limit_min
-                                     : (target > a.position_limit_max ? a.position_limit_max : target);
+    // The software position limits (0x607D) clamp the target, but never pull the axis: an axis
+    // already outside them (the limits were written while it stood there) holds, and may move back
+    // towards them, never further out. Clamping to the limit itself would move it at the SYNC that
+    // enables the drive, by however far outside it stands.
+    const std::int32_t lo = std::min(a.position_limit_min, accepted_target_);
+    const std::int32_t hi = std::max(a.position_limit_max, accepted_target_);
+    const std::int32_t clamped = target < lo ? lo : (target > hi ? hi : target);
     // The step limit: a setpoint the axis cannot reach within 0x607F is never applied, whoever
     // wrote it (RPDO or SDO). The step is the short way round the counter's wrap (a move across
     // it is a small step, a jump of 2^31 is the largest there is), its magnitude in 64 bits.
