@@ -402,6 +402,20 @@ Status online_request(const Blend& b, const OnlineRequest& planned, double u, st
   return Status::ok;
 }
 
+Status online_limits(std::optional<double> vmax, std::optional<double> amax, std::optional<double> jmax,
+                     const Peaks<double>& pk, const Mode* modes, std::size_t mode_count, OnlineLimits& out) noexcept {
+  OnlineLimits l{vmax ? *vmax : pk.v, amax ? *amax : pk.a, jmax ? *jmax : pk.j};
+  if (!std::isfinite(l.vmax) || !std::isfinite(l.amax)) return Status::unsupported_request;
+  if (!std::isfinite(l.jmax)) {
+    double w = 0.0;
+    for (std::size_t i = 0; i < mode_count; ++i) w = std::fmax(w, modes[i].omega);
+    l.jmax = l.amax * (w > 0.0 ? w : 1.0);
+  }
+  if (!(l.vmax > 0.0 && l.amax > 0.0 && l.jmax > 0.0)) return Status::non_positive_limit;
+  out = l;
+  return Status::ok;
+}
+
 Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
                       const OnlineLimits& limits, std::optional<double> target, OnlineRequest& out) noexcept {
   if (!std::isfinite(t) || (target && !std::isfinite(*target))) return Status::non_finite_input;
@@ -476,13 +490,17 @@ Status plan_online(const OnlineRequest& r, Blend& out) noexcept {
   }
   if (!(guess > lower)) guess = lower > 0.0 ? 1.25 * lower : 1e-3;
   Solved sol{};
-  // Four blends per duration, the first within the limits wins (docs/online.md):
+  // Five blends per duration, the first within the limits wins (docs/online.md):
   //  0. the time-optimal velocity stop at 99.5 % of the limits, corrected where it leaves jerk headroom
   //     (weights (1 - |j_ref| / jmax)^2): the fastest when vmax or amax is tight;
   //  1. the same stop at 85 % of amax and jmax, corrected by the least uniform jerk;
   //  2. the smoothest blend (least uniform jerk, no reference), good for retargets;
-  //  3. the least front-loaded jerk (weights falling as (1 - u/T)^3).
+  //  3. the least front-loaded jerk (weights falling as (1 - u/T)^3);
+  //  4. the velocity stop at the full jerk limit and 90 % of amax, corrected where it leaves jerk
+  //     headroom: from a state whose acceleration must be taken out at the full jerk limit not to
+  //     pass vmax (near the peak of an S-curve planned at exactly these limits), the one that can.
   const Brake soft = velocity_stop(r.start.v, r.start.a, 0.85 * l.amax, 0.85 * l.jmax);
+  const Brake sharp = velocity_stop(r.start.v, r.start.a, 0.6 * l.amax, l.jmax);
   const std::array<double, kBlendSegments> none{};
   std::array<double, kBlendSegments> uniform{}, front{};  // square roots of the weights
   for (std::size_t k = 0; k < kBlendSegments; ++k) {
@@ -490,7 +508,8 @@ Status plan_online(const OnlineRequest& r, Blend& out) noexcept {
     const double x = 1.0 - (static_cast<double>(k) + 0.5) / static_cast<double>(kBlendSegments);
     front[k] = x * std::sqrt(x);
   }
-  int last = 0, tries = 4;
+  constexpr int kBlendKinds = 5;
+  int last = 0, tries = kBlendKinds;
   auto feasible = [&](double t) {
     const double h = t / static_cast<double>(kBlendSegments);
     System sys{};
@@ -498,16 +517,17 @@ Status plan_online(const OnlineRequest& r, Blend& out) noexcept {
     std::array<double, kBlendSegments> ref{}, w{};
     // The blend that worked last is tried first: neighbouring durations usually agree.
     for (int i = 0; i < tries; ++i) {
-      const int c = (i + last) % 4;
-      if (c == 0 || c == 1) ref = {};
-      if (c == 0) {
-        sample_brake(full, h, ref);
+      const int c = (i + last) % kBlendKinds;
+      const bool braking = c == 0 || c == 1 || c == 4;
+      if (braking) ref = {};
+      if (c == 0 || c == 4) {
+        sample_brake(c == 0 ? full : sharp, h, ref);
         for (std::size_t k = 0; k < kBlendSegments; ++k) w[k] = 1.0 - std::fabs(ref[k]) / l.jmax;
       } else if (c == 1) {
         sample_brake(soft, h, ref);
       }
       Solved s{};
-      if (!solve_for(sys, c < 2 ? ref : none, c == 0 ? w : c == 3 ? front : uniform, s)) continue;
+      if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, s)) continue;
       const Blend b{r.start, t / static_cast<double>(kBlendSegments), s.jerk};
       if (!within(b.peaks(), l)) continue;
       sol = s;

@@ -242,6 +242,38 @@ TEST(OnlineHalt, HundredRandomHaltsAfterARetargetEndAtRestWithZeroResidualWithin
   EXPECT_LE(refused, 1);
 }
 
+// Halting an S-curve just before its velocity peak with its own peaks as the limits (what
+// `--halt-at` does without --vmax/--amax/--jmax): v0 + a0^2 / (2 jmax) is a hair under vmax, so only
+// a blend that takes a0 out at the full jerk limit stays within vmax (blend 4, docs/online.md).
+// Before it, every switch time from 0.24 s to the middle failed with no_solution. Every one of them
+// now stops within the limits with the mode at rest, in about the time a halt at the middle takes.
+TEST(OnlineHalt, NearTheVelocityPeakOfAnSCurveAtItsOwnLimits) {
+  core::MoveRequest q{};
+  q.profile = ProfileKind::scurve;
+  q.distance = 0.1;
+  q.time = 0.5;
+  q.omega = std::sqrt(800.0);
+  core::Move<double> m{};
+  ASSERT_EQ(core::plan(q, m), Status::ok);
+  Case c{};
+  c.move = m;
+  c.req = q;
+  c.modes[0] = {*q.omega, 9.0 / (2.0 * std::sqrt(800.0))};
+  c.limits = {m.peaks().v, m.peaks().a, m.peaks().j};
+  core::Blend at_middle{};
+  for (int n = 0; n <= 50; ++n) {
+    c.t_switch = 0.24 + 0.01 * n / 50.0;
+    core::OnlineRequest r{};
+    ASSERT_EQ(core::online_request(m, c.t_switch, c.modes.data(), 1, c.limits, std::nullopt, r), Status::ok);
+    core::Blend b{};
+    ASSERT_EQ(core::plan_online(r, b), Status::ok) << "halted at " << c.t_switch;
+    expect_blend(c, b, std::nullopt, n);
+    if (n == 50) at_middle = b;
+    EXPECT_LT(b.duration(), 0.3) << "halted at " << c.t_switch;
+  }
+  EXPECT_LT(at_middle.duration(), 0.3);
+}
+
 // The blend's own memory is the mode's state along the blend: (e' - conj(lambda) e + x') / lambda
 // from RK4 over the move and then the blend, at random times inside it.
 TEST(ModeMemory, OfABlendMatchesTheModeStateIntegratedAlongIt) {
