@@ -234,6 +234,35 @@ Status axis_command(const MultiAxisRequest& r, const MultiAxisPlan& plan, std::s
   return plan_path(r, out, modes, nm, culprit, d);
 }
 
+Status axis_online(const MultiAxisRequest& r, const MultiAxisPlan& plan, std::size_t axis, AxisOnline& out,
+                   const Mode* fallback) noexcept {
+  if (axis >= plan.count() || axis >= r.count) return Status::bad_shape_parameter;
+  AxisOnline o{};
+  std::optional<double> vmax, amax, jmax;
+  if (plan.sync() == SyncMode::path) {
+    if (plan.path_mode_count() > kMaxOnlineModes) return Status::unsupported_request;
+    for (; o.mode_count < plan.path_mode_count(); ++o.mode_count) o.modes[o.mode_count] = plan.path_mode(o.mode_count);
+    const double d = std::fabs(r.axes[axis].distance);
+    std::size_t who = kMaxAxes;
+    const auto scaled = [&](std::optional<double> l) { return l ? std::optional<double>{*l * d} : l; };
+    vmax = scaled(path_limit(r, &AxisSpec::vmax, who));
+    amax = scaled(path_limit(r, &AxisSpec::amax, who));
+    jmax = scaled(path_limit(r, &AxisSpec::jmax, who));
+  } else {
+    const AxisSpec& a = r.axes[axis];
+    if (a.omega) o.modes[o.mode_count++] = {*a.omega, a.zeta};
+    vmax = a.vmax;
+    amax = a.amax;
+    jmax = a.jmax;
+  }
+  if (o.mode_count == 0 && fallback != nullptr) o.modes[o.mode_count++] = *fallback;
+  if (r.axes[axis].distance == 0.0) return Status::non_positive_limit;
+  const Status st = online_limits(vmax, amax, jmax, plan.peaks(axis), o.modes.data(), o.mode_count, o.limits);
+  if (st != Status::ok) return st;
+  out = o;
+  return Status::ok;
+}
+
 double line_deviation(const MultiAxisPlan& plan, std::array<double, kMaxAxes>& per_axis) noexcept {
   per_axis = {};
   const std::size_t n = plan.count();

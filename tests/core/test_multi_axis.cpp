@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "mode_sim.hpp"
 #include "settle/core/multi_axis.hpp"
+#include "settle/core/online.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/core/profiles/registry.hpp"
 
@@ -116,9 +118,15 @@ TEST(MultiAxis, PathSyncIsAStraightLineWithEveryModeAtRestOnEveryAxis) {
     std::size_t culprit = 0;
     ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
     EXPECT_EQ(p.path_mode_count(), r.count);
-    if (k == ProfileKind::fastest) EXPECT_TRUE(p.path().shaper().is_identity());
-    if (k == ProfileKind::jerk_limited) EXPECT_EQ(p.path().shaper().count, 8u);
-    if (k == ProfileKind::scurve) EXPECT_EQ(p.path().shaper().count, 4u);
+    if (k == ProfileKind::fastest) {
+      EXPECT_TRUE(p.path().shaper().is_identity());
+    }
+    if (k == ProfileKind::jerk_limited) {
+      EXPECT_EQ(p.path().shaper().count, 8u);
+    }
+    if (k == ProfileKind::scurve) {
+      EXPECT_EQ(p.path().shaper().count, 4u);
+    }
     expect_coordinated(r, p, true);
     // Straight by construction: every axis is D_i s(t).
     std::array<double, core::kMaxAxes> per_axis{};
@@ -308,6 +316,190 @@ TEST(MultiAxis, OneAxisIsTheSingleAxisPlan) {
     const double t = m.duration() * n / 100.0;
     EXPECT_NEAR(p.at(0, t).p, m.at(t).p, 1e-12);
   }
+}
+
+// Halt and retarget of a coordinated move (docs/multi_axis.md, "Halt and retarget"): each axis's
+// blend is planned from its own command (axis_command) with what axis_online gives it, as the loop
+// does on every axis it streams to. Checked against the axes' own limits (sampled) and an RK4
+// integration of each mode driven by each axis's whole command, not against the planner.
+struct AxisBlends {
+  std::array<core::Move<double>, 3> move{};
+  std::array<core::Blend, 3> blend{};
+  std::array<core::AxisOnline, 3> online{};
+};
+
+MultiAxisPlan planned(const MultiAxisRequest& r) {
+  MultiAxisPlan p{};
+  std::size_t culprit = 0;
+  EXPECT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  return p;
+}
+
+AxisBlends change_axes(const MultiAxisRequest& r, const MultiAxisPlan& p, double t,
+                       const std::array<std::optional<double>, 3>& targets) {
+  AxisBlends out{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(core::axis_command(r, p, i, out.move[i]), Status::ok);
+    EXPECT_EQ(core::axis_online(r, p, i, out.online[i]), Status::ok);
+    const core::AxisOnline& o = out.online[i];
+    core::OnlineRequest q{};
+    EXPECT_EQ(core::online_request(out.move[i], t, o.modes.data(), o.mode_count, o.limits, targets[i], q), Status::ok);
+    EXPECT_EQ(core::plan_online(q, out.blend[i]), Status::ok) << "axis " << i << " t " << t;
+  }
+  return out;
+}
+
+// Within the axis's own limits, at rest at the end, every listed mode at rest once the whole
+// command (the move to t, then the blend) is over.
+void expect_axis_blend(const MultiAxisRequest& r, const AxisBlends& ab, std::size_t i, double t,
+                       std::optional<double> target, int n) {
+  const core::Blend& b = ab.blend[i];
+  const double d = std::max(std::fabs(r.axes[i].distance), target ? std::fabs(*target) : 0.0);
+  double v = 0.0, a = 0.0;
+  for (int k = 0; k <= 4000; ++k) {
+    const core::Sample<double> s = b.at(b.duration() * k / 4000.0);
+    v = std::max(v, std::fabs(s.v));
+    a = std::max(a, std::fabs(s.a));
+  }
+  EXPECT_LE(v, *r.axes[i].vmax * (1.0 + 1e-9)) << "case " << n << " axis " << i;
+  EXPECT_LE(a, *r.axes[i].amax * (1.0 + 1e-9)) << "case " << n << " axis " << i;
+  EXPECT_LE(b.peaks().j, *r.axes[i].jmax * (1.0 + 1e-9)) << "case " << n << " axis " << i;
+  const core::Sample<double> e = b.at(std::nextafter(b.duration(), 0.0));
+  EXPECT_LE(std::fabs(e.v), 1e-9 * *r.axes[i].vmax) << "case " << n << " axis " << i;
+  if (target) {
+    EXPECT_NEAR(b.end_position(), *target, 1e-9 * d) << "case " << n << " axis " << i;
+  }
+  const core::AxisOnline& o = ab.online[i];
+  for (std::size_t k = 0; k < o.mode_count; ++k) {
+    EXPECT_LE(test::residual_after_blend(ab.move[i], t, b, o.modes[k].omega, o.modes[k].zeta), 1e-9 * d)
+        << "case " << n << " axis " << i << " mode " << k;
+  }
+}
+
+// Path sync: every axis's blend is D_i times the path parameter's (to rounding), so a halt from
+// any of a hundred random times keeps the straight line, stops every axis on the same tick, and
+// leaves every axis's modes at rest within its own limits.
+TEST(MultiAxisOnline, PathSyncHaltsKeepTheLineAndEndTogetherAtRest) {
+  std::mt19937_64 rng{20261203};
+  for (const ProfileKind k : {ProfileKind::jerk_limited, ProfileKind::scurve}) {
+    SCOPED_TRACE(core::to_string(k));
+    const MultiAxisRequest r = three_axes(k, SyncMode::path);
+    const MultiAxisPlan p = planned(r);
+    for (int n = 0; n < 50; ++n) {
+      const double t = std::uniform_real_distribution<double>{0.0, 1.0}(rng) * p.duration();
+      const AxisBlends ab = change_axes(r, p, t, {});
+      const core::Blend& b0 = ab.blend[0];
+      for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(ab.online[i].mode_count, 3u);
+        expect_axis_blend(r, ab, i, t, std::nullopt, n);
+        const core::Blend& b = ab.blend[i];
+        EXPECT_NEAR(b.duration(), b0.duration(), 1e-12 * b0.duration()) << "case " << n << " axis " << i;
+        const double ratio = r.axes[i].distance / r.axes[0].distance;
+        double off = 0.0;
+        for (int m = 0; m <= 400; ++m) {
+          const double u = b0.duration() * m / 400.0;
+          off = std::max(off, std::fabs(b.at(u).p - ratio * b0.at(u).p));
+        }
+        EXPECT_LE(off, 1e-12 * std::fabs(r.axes[i].distance)) << "case " << n << " axis " << i;
+      }
+    }
+  }
+}
+
+// A retarget to a point on the line (lambda D) keeps it too; one off the line blends each axis on
+// its own, still at rest on its modes and within its limits.
+TEST(MultiAxisOnline, PathSyncRetargetsReachTheNewTargetsAtRest) {
+  std::mt19937_64 rng{17};
+  const MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::path);
+  const MultiAxisPlan p = planned(r);
+  std::uniform_real_distribution<double> uni{0.0, 1.0};
+  for (int n = 0; n < 30; ++n) {
+    const double t = uni(rng) * p.duration();
+    const double lambda = 0.3 + 1.2 * uni(rng);
+    std::array<std::optional<double>, 3> on{}, off{};
+    for (std::size_t i = 0; i < 3; ++i) {
+      on[i] = lambda * r.axes[i].distance;
+      off[i] = (0.3 + 1.2 * uni(rng)) * r.axes[i].distance;
+    }
+    const AxisBlends a = change_axes(r, p, t, on);
+    for (std::size_t i = 0; i < 3; ++i) {
+      expect_axis_blend(r, a, i, t, on[i], n);
+      EXPECT_NEAR(a.blend[i].duration(), a.blend[0].duration(), 1e-12 * a.blend[0].duration()) << "case " << n;
+    }
+    const AxisBlends b = change_axes(r, p, t, off);
+    for (std::size_t i = 0; i < 3; ++i) expect_axis_blend(r, b, i, t, off[i], n);
+  }
+}
+
+// Time sync: each axis halts on its own mode and limits.
+TEST(MultiAxisOnline, TimeSyncHaltsEachAxisOnItsOwnModeAndLimits) {
+  std::mt19937_64 rng{4};
+  const MultiAxisRequest r = three_axes(ProfileKind::scurve, SyncMode::time);
+  const MultiAxisPlan p = planned(r);
+  for (int n = 0; n < 30; ++n) {
+    const double t = std::uniform_real_distribution<double>{0.0, 1.0}(rng) * p.duration();
+    const AxisBlends ab = change_axes(r, p, t, {});
+    for (std::size_t i = 0; i < 3; ++i) {
+      ASSERT_EQ(ab.online[i].mode_count, 1u);
+      EXPECT_EQ(ab.online[i].modes[0].omega, *r.axes[i].omega);
+      EXPECT_EQ(ab.online[i].limits.vmax, *r.axes[i].vmax);
+      expect_axis_blend(r, ab, i, t, std::nullopt, n);
+    }
+  }
+}
+
+TEST(MultiAxisOnline, LimitsAreThePathsTimesTheDistanceOrTheMovesOwnPeaks) {
+  MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::path);
+  MultiAxisPlan p{};
+  std::size_t culprit = 0;
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  core::AxisOnline o{};
+  // vmax: the second axis binds (0.05 over 0.05: 1 per unit of path); amax is 200 on every axis.
+  ASSERT_EQ(core::axis_online(r, p, 2, o), Status::ok);
+  EXPECT_DOUBLE_EQ(o.limits.vmax, 1.0 * 0.2);
+  EXPECT_DOUBLE_EQ(o.limits.amax, 200.0 * 0.2);
+  // No axis gives a limit (a move of a given time): the path's own peaks times |D_i|, the axis
+  // move's own peaks.
+  r = three_axes(ProfileKind::poly345, SyncMode::path);
+  r.base.time = 0.5;
+  for (std::size_t i = 0; i < 3; ++i) r.axes[i].vmax = r.axes[i].amax = r.axes[i].jmax = std::nullopt;
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  ASSERT_EQ(core::axis_online(r, p, 2, o), Status::ok);
+  EXPECT_EQ(o.limits.vmax, p.peaks(2).v);
+  EXPECT_EQ(o.limits.amax, p.peaks(2).a);
+  EXPECT_EQ(o.limits.jmax, p.peaks(2).j);
+  // A trapezoid has no jerk peak to keep: amax times the fastest mode's omega.
+  r.base.profile = ProfileKind::trapezoid;
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  ASSERT_EQ(core::axis_online(r, p, 2, o), Status::ok);
+  EXPECT_EQ(o.limits.jmax, o.limits.amax * 30.0);
+  // Time sync without a mode on the axis: the fallback mode (the plant's fundamental) is kept.
+  r = three_axes(ProfileKind::jerk_limited, SyncMode::time);
+  r.axes[0].omega.reset();
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  ASSERT_EQ(core::axis_online(r, p, 0, o), Status::ok);
+  EXPECT_EQ(o.mode_count, 0u);
+  const core::Mode fundamental{12.0, 0.02};
+  ASSERT_EQ(core::axis_online(r, p, 0, o, &fundamental), Status::ok);
+  ASSERT_EQ(o.mode_count, 1u);
+  EXPECT_EQ(o.modes[0].omega, 12.0);
+  ASSERT_EQ(core::axis_online(r, p, 1, o, &fundamental), Status::ok);
+  EXPECT_EQ(o.modes[0].omega, 30.0);
+  // Refused: an axis that does not move, one that is not there, more path modes than a blend holds.
+  r = three_axes(ProfileKind::jerk_limited, SyncMode::path);
+  r.axes[1].distance = 0.0;
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  EXPECT_EQ(core::axis_online(r, p, 1, o), Status::non_positive_limit);
+  EXPECT_EQ(core::axis_online(r, p, 3, o), Status::bad_shape_parameter);
+  r = three_axes(ProfileKind::scurve, SyncMode::path);
+  r.count = 5;
+  for (std::size_t i = 0; i < 5; ++i) {
+    r.axes[i] = r.axes[0];
+    r.axes[i].distance = 0.1 * static_cast<double>(i + 1);
+    r.axes[i].omega = 20.0 + 3.0 * static_cast<double>(i);
+  }
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  EXPECT_EQ(core::axis_online(r, p, 0, o), Status::unsupported_request);
 }
 
 }  // namespace

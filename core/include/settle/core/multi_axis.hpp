@@ -15,6 +15,7 @@
 #include "settle/core/kinematics.hpp"
 #include "settle/core/move.hpp"
 #include "settle/core/move_request.hpp"
+#include "settle/core/online.hpp"
 #include "settle/core/status.hpp"
 
 namespace settle::core {
@@ -97,6 +98,26 @@ class MultiAxisPlan {
 // that does not move gets the empty move. `req` is the request `plan` was planned from.
 [[nodiscard]] Status axis_command(const MultiAxisRequest& req, const MultiAxisPlan& plan, std::size_t axis,
                                   Move<double>& out) noexcept;
+
+// What a halt or retarget of axis `axis` of a coordinated move keeps at rest and within
+// (docs/multi_axis.md, "Halt and retarget"), for the blend planned from axis_command's move:
+//   path  the path's modes on every axis, and the path limits times |D_i| (a limit no axis gives:
+//         the path's own peak times |D_i|). The blend planner is linear in the state, the mode
+//         memory and the limits, so every axis's blend is D_i times the path parameter's own (to
+//         rounding): a halt keeps the straight line and every axis stops on the same tick, and so
+//         does a retarget to targets on the line (lambda D).
+//   time  the axis's own mode and limits (absent: its move's own peaks); each axis blends on its own.
+// `fallback` (the plant's fundamental, say): the mode kept at rest when the axis would have none.
+// The limits follow online_limits (a trapezoid's jerk: amax x the fastest mode's omega).
+// unsupported_request with more than kMaxOnlineModes path modes or a move that steps in velocity;
+// non_positive_limit for an axis that does not move (it has nothing to change).
+struct AxisOnline {
+  std::array<Mode, kMaxOnlineModes> modes{};
+  std::size_t mode_count{0};
+  OnlineLimits limits{};
+};
+[[nodiscard]] Status axis_online(const MultiAxisRequest& req, const MultiAxisPlan& plan, std::size_t axis,
+                                 AxisOnline& out, const Mode* fallback = nullptr) noexcept;
 
 // How far the coordinated move leaves the straight line from the start to (D_1, ..., D_N): the
 // largest Euclidean distance of the point (p_1(t), ..., p_N(t)) from the line over the move, and in

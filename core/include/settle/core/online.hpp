@@ -148,6 +148,15 @@ using Blend = BasicBlend<double>;
 // limits. A failed plan leaves `out` untouched.
 [[nodiscard]] Status plan_online(const OnlineRequest& req, Blend& out) noexcept;
 
+// The limits a change of a move keeps: vmax, amax, jmax where given, else the move's own peaks
+// `pk`. A move that steps in acceleration (a trapezoid) has no jerk peak to keep: the blend's jerk
+// is held to amax times the fastest of `modes` (1 rad/s without one), the jerk of an acceleration
+// change over 1/omega. unsupported_request when the move steps in velocity (no blend can start from
+// it with continuous acceleration); non_positive_limit when a limit is zero (a move that does not move).
+[[nodiscard]] Status online_limits(std::optional<double> vmax, std::optional<double> amax, std::optional<double> jmax,
+                                   const Peaks<double>& pk, const Mode* modes, std::size_t mode_count,
+                                   OnlineLimits& out) noexcept;
+
 // Convenience: the request of a halt (target none) or a retarget (target = new distance from the
 // move's start) of the running move `m` at time t on its clock, for the given modes.
 [[nodiscard]] Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
