@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,41 @@ void put_metrics(Json& j, const sim::SimMetrics& m) {
   j["settling"] = sim::to_string(m.settling);
 }
 
+// A halt or retarget as both outputs (one axis, --axes) report it.
+Json online_json(const OnlineChange& c) {
+  return Json{{"kind", c.target ? "retarget" : "halt"},
+              {"at", c.at},
+              {"blend_duration", c.blend.duration()},
+              {"command_duration", c.at + c.blend.duration()},
+              {"end_position", c.blend.end_position()}};
+}
+
+// The largest Euclidean distance of the commands' point (p_1(t), ..., p_N(t)) from the straight
+// line from the start to (D_1, ..., D_N), sampled at 20001 instants over [0, end]: after a halt or
+// retarget, where core::line_deviation (the plan's) no longer applies.
+double sampled_line_deviation(const std::vector<const sim::Command*>& cmds, const core::MultiAxisPlan& plan,
+                              double end) {
+  double dd = 0.0;
+  for (std::size_t i = 0; i < cmds.size(); ++i) dd += plan.distance(i) * plan.distance(i);
+  if (!(dd > 0.0)) return 0.0;
+  double worst = 0.0;
+  std::vector<double> p(cmds.size());
+  for (int k = 0; k <= 20000; ++k) {
+    const double t = end * k / 20000.0;
+    double pd = 0.0, e2 = 0.0;
+    for (std::size_t i = 0; i < cmds.size(); ++i) {
+      p[i] = cmds[i]->at(t).p;
+      pd += p[i] * plan.distance(i);
+    }
+    for (std::size_t i = 0; i < cmds.size(); ++i) {
+      const double e = p[i] - plan.distance(i) * pd / dd;
+      e2 += e * e;
+    }
+    worst = std::fmax(worst, std::sqrt(e2));
+  }
+  return worst;
+}
+
 // Every number simulate reports; the settling time is null when it never comes (an undamped
 // mode), and the text output says "never".
 Json result_json(const sim::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
@@ -50,14 +86,8 @@ Json result_json(const sim::ModalPlant& plant, const core::Move<double>& move, c
     j["designed_omega"] = *req.omega;
     j["designed_zeta"] = req.zeta;
   }
-  if (change != nullptr) {
-    // The residual below is the one after the change: the command is the move to `at`, then the blend.
-    j["online"] = Json{{"kind", change->target ? "retarget" : "halt"},
-                       {"at", change->at},
-                       {"blend_duration", change->blend.duration()},
-                       {"command_duration", change->at + change->blend.duration()},
-                       {"end_position", change->blend.end_position()}};
-  }
+  // The residual below is the one after the change: the command is the move to `at`, then the blend.
+  if (change != nullptr) j["online"] = online_json(*change);
   put_metrics(j, m);
   if (width != nullptr) {
     j["insensitivity_width"] = Json{{"threshold_percent", 5.0}, {"ratio_lo", width->lo}, {"ratio_hi", width->hi},
@@ -136,7 +166,7 @@ Json metrics_json(const sim::ModalPlant& plant, const sim::SimMetrics& m) {
 // the profile or shaper designs for a mode, as with one axis.
 int simulate_axes(const ParsedArgs& args, const sim::ModalPlant& plant) {
   const bool json = args.json();
-  for (const char* o : {"--halt-at", "--retarget-at", "--sensitivity", "--csv"}) {
+  for (const char* o : {"--sensitivity", "--csv"}) {
     if (args.has(o)) {
       return report_bad_request({"conflicting_options", o, std::string{o} + ": one axis at a time; not with --axes"},
                                 json);
@@ -148,12 +178,29 @@ int simulate_axes(const ParsedArgs& args, const sim::ModalPlant& plant) {
   if (!parse_axes_request(args, req, err, &fundamental)) return report_bad_request(err, json);
   core::MultiAxisPlan plan{};
   if (!plan_axes(req, plan, err)) return report_bad_request(err, json);
+  std::vector<std::optional<OnlineChange>> changes;
+  if (!parse_axes_online_change(args, req, plan, &plant, 0.0, changes, err)) return report_bad_request(err, json);
+  // With a change, every changed axis runs its own command (core::axis_command) to the switch and
+  // then its blend; the others (and every axis without one) the plan's own.
+  std::vector<core::Move<double>> moves(plan.count());
+  double end = plan.duration();
+  bool changed = false;
+  for (std::size_t i = 0; i < plan.count(); ++i) {
+    if (!changes[i]) continue;
+    changed = true;
+    if (const core::Status st = core::axis_command(req, plan, i, moves[i]); st != core::Status::ok) {
+      return report_bad_request({core::to_string(st), "--distance", "--distance: axis " + std::to_string(i + 1) + ": " +
+                                                                       core::describe(st)},
+                                json);
+    }
+    end = std::fmax(end, changes[i]->at + changes[i]->blend.duration());
+  }
   sim::SimOptions opt;
   opt.record = false;
   opt.dt = args.real("--dt", opt.dt);
   opt.band = args.real("--band", opt.band);
   opt.tail = args.real("--tail", opt.tail);
-  const double work = plan.duration() / opt.dt * static_cast<double>(plant.modes().size() * plan.count());
+  const double work = end / opt.dt * static_cast<double>(plant.modes().size() * plan.count());
   if (!(work <= kMaxSimWork)) {
     return report_bad_request({"too_many_samples", "--dt",
                                "--dt: " + format_number(work) + " grid steps x modes x axes; at most 2e6"},
@@ -167,15 +214,35 @@ int simulate_axes(const ParsedArgs& args, const sim::ModalPlant& plant) {
   j["axes"] = plan.count();
   j["sync"] = core::to_string(plan.sync());
   j["move_duration"] = plan.duration();
-  std::array<double, core::kMaxAxes> per_axis{};
-  j["line_deviation"] = core::line_deviation(plan, per_axis);
   const sim::MoveCommand path{plan.path()};
   Json axes = Json::array();
   std::vector<sim::SimMetrics> metrics;
+  std::vector<std::unique_ptr<sim::Command>> cmds;
+  std::vector<const sim::Command*> cmd_of;
   for (std::size_t i = 0; i < plan.count(); ++i) {
-    const sim::MoveCommand own{plan.axis_move(i)};
-    const sim::ScaledCommand scaled{path, plan.distance(i)};
-    const sim::Command& cmd = plan.sync() == core::SyncMode::path ? static_cast<const sim::Command&>(scaled) : own;
+    if (changes[i]) {
+      cmds.push_back(std::make_unique<sim::OnlineChangeCommand>(moves[i], changes[i]->at, changes[i]->blend));
+    } else if (plan.sync() == core::SyncMode::path) {
+      cmds.push_back(std::make_unique<sim::ScaledCommand>(path, plan.distance(i)));
+    } else {
+      cmds.push_back(std::make_unique<sim::MoveCommand>(plan.axis_move(i)));
+    }
+    cmd_of.push_back(cmds.back().get());
+  }
+  std::array<double, core::kMaxAxes> per_axis{};
+  // After a change, from the changed commands; the spread of their ends (s) says whether they stop together.
+  j["line_deviation"] = changed ? sampled_line_deviation(cmd_of, plan, end) : core::line_deviation(plan, per_axis);
+  if (changed) {
+    double lo = end, hi = 0.0;
+    for (std::size_t i = 0; i < plan.count(); ++i) {
+      if (!changes[i]) continue;
+      lo = std::fmin(lo, cmd_of[i]->duration());
+      hi = std::fmax(hi, cmd_of[i]->duration());
+    }
+    j["online_end_spread"] = hi - lo;
+  }
+  for (std::size_t i = 0; i < plan.count(); ++i) {
+    const sim::Command& cmd = *cmd_of[i];
     sim::SimResult res;
     const sim::SimStatus st = sim::simulate(plant, cmd, opt, res);
     if (st != sim::SimStatus::ok) {
@@ -184,6 +251,7 @@ int simulate_axes(const ParsedArgs& args, const sim::ModalPlant& plant) {
     }
     Json a = metrics_json(plant, res.metrics);
     a["distance"] = plan.distance(i);
+    if (changes[i]) a["online"] = online_json(*changes[i]);
     if (req.axes[i].omega) {
       a["designed_omega"] = *req.axes[i].omega;
       a["designed_zeta"] = req.axes[i].zeta;
@@ -204,14 +272,19 @@ int simulate_axes(const ParsedArgs& args, const sim::ModalPlant& plant) {
   const char* u = units(plant.kind());
   std::printf("plant              %s (%zu mode%s), one per axis\n", sim::to_string(plant.kind()), plant.modes().size(),
               plant.modes().size() == 1 ? "" : "s");
-  std::printf("move               %s, %zu axes (sync %s), duration %.9g s, line deviation %.3e %s\n",
+  std::printf("move               %s, %zu axes (sync %s), duration %.9g s, line deviation %.3e %s%s\n",
               core::to_string(req.base.profile), plan.count(), core::to_string(plan.sync()), plan.duration(),
-              j["line_deviation"].get<double>(), u);
+              j["line_deviation"].get<double>(), u, j.contains("online_end_spread") ? " (after the change)" : "");
   for (std::size_t i = 0; i < plan.count(); ++i) {
     const sim::SimMetrics& m = metrics[i];
     std::printf("axis %zu             distance %.9g %s: residual amplitude %.6e %s, PRV %.6g %%", i + 1, plan.distance(i),
                 u, m.residual_amplitude, u, m.prv_percent);
     if (req.axes[i].omega) std::printf(" (designed for omega %.7g, zeta %.5g)", *req.axes[i].omega, req.axes[i].zeta);
+    if (const std::optional<OnlineChange>& c = changes[i]) {
+      std::printf("\n                   %s at %.9g s: blend %.9g s, at rest on %.9g %s at %.9g s",
+                  c->target ? "retarget" : "halt", c->at, c->blend.duration(), c->blend.end_position(), u,
+                  c->at + c->blend.duration());
+    }
     std::printf("\n");
   }
   return kExitOk;

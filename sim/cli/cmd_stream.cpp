@@ -51,12 +51,16 @@ int check_bus_load(const ParsedArgs& args, const sim::StreamSpec& spec, std::uin
       args.json());
 }
 
+// StreamSpec's form of a change the options asked for.
+sim::StreamChange stream_change(const OnlineChange& c) { return {c.at, c.target, c.modes, c.limits, c.blend}; }
+
 // --axes N (docs/multi_axis.md): the coordinated plan's command on every axis (core::axis_command):
 // axis 1 in spec.move on spec.node, the others in spec.more_axes, on nodes 1..N or --nodes (N
-// distinct whole numbers, each 1..127: the table's range). Exit status or -1.
-int parse_axes(const ParsedArgs& args, sim::StreamSpec& spec) {
+// distinct whole numbers, each 1..127: the table's range); with --halt-at or --retarget-at every
+// moving axis's change (parse_axes_online_change). Exit status or -1.
+int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, sim::StreamSpec& spec) {
   const bool json = args.json();
-  for (const char* o : {"--plan-from", "--halt-at", "--retarget-at", "--node"}) {
+  for (const char* o : {"--plan-from", "--node"}) {
     if (args.has(o)) {
       return report_bad_request({"conflicting_options", o,
                                  std::string{o} + ": one axis at a time; not with --axes" +
@@ -66,10 +70,13 @@ int parse_axes(const ParsedArgs& args, sim::StreamSpec& spec) {
   }
   RequestError err;
   core::MultiAxisRequest req{};
-  const DesignFallback fundamental{spec.plant.fundamental().omega, spec.plant.fundamental().zeta};
   if (!parse_axes_request(args, req, err, &fundamental)) return report_bad_request(err, json);
   core::MultiAxisPlan plan{};
   if (!plan_axes(req, plan, err)) return report_bad_request(err, json);
+  std::vector<std::optional<OnlineChange>> changes;
+  if (!parse_axes_online_change(args, req, plan, &spec.plant, spec.drive.scale.period_s(), changes, err)) {
+    return report_bad_request(err, json);
+  }
   std::vector<long long> nodes;
   if (args.has("--nodes")) {
     const std::vector<double> given = args.list("--nodes");
@@ -104,11 +111,14 @@ int parse_axes(const ParsedArgs& args, sim::StreamSpec& spec) {
                                 json);
     }
     const auto node = static_cast<hal::canopen::NodeId>(nodes[i]);
+    std::optional<sim::StreamChange> change;
+    if (changes[i]) change = stream_change(*changes[i]);
     if (i == 0) {
       spec.move = m;
       spec.node = node;
+      spec.change = change;
     } else {
-      spec.more_axes.push_back({m, node});
+      spec.more_axes.push_back({m, node, change});
     }
   }
   return -1;
@@ -127,7 +137,7 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
   const DesignFallback fundamental{spec.plant.fundamental().omega, spec.plant.fundamental().zeta};
   const bool axes = wants_axes(args);
   if (axes) {
-    if (const int rc = parse_axes(args, spec); rc >= 0) return rc;
+    if (const int rc = parse_axes(args, fundamental, spec); rc >= 0) return rc;
   } else if (args.has("--nodes")) {
     return report_bad_request({"bad_option", "--nodes", "--nodes: the nodes of --axes N; give --axes too"}, json);
   } else if (!move_from_args(args, spec.move, err, &fundamental)) {
@@ -153,7 +163,7 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
   // carries its own, which the blend does not read yet: the two are refused together.
   core::MoveRequest req{};
   if (axes) {
-    // parse_axes refused --halt-at and --retarget-at.
+    // parse_axes planned every axis's change.
   } else if (args.has("--plan-from")) {
     for (const char* o : {"--halt-at", "--retarget-at"}) {
       if (args.has(o)) {
@@ -168,17 +178,19 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
   if (!axes && !parse_online_change(args, req, move, &spec.plant, spec.drive.scale.period_s(), change, err)) {
     return report_bad_request(err, json);
   }
-  double reach_distance = std::fabs(move.distance());
-  double move_s = move.duration();
-  for (const sim::StreamAxis& a : spec.more_axes) {
-    reach_distance = std::fmax(reach_distance, std::fabs(a.move.distance()));
-    move_s = std::fmax(move_s, a.move.duration());
-  }
-  if (change) {
-    spec.change = sim::StreamChange{change->at, change->target, change->modes, change->limits, change->blend};
-    reach_distance = std::fmax(reach_distance, std::fabs(change->blend.end_position()));
-  }
-  const double command_s = change ? change->at + change->blend.duration() : move_s;
+  if (change) spec.change = stream_change(*change);
+  double reach_distance = 0.0, move_s = 0.0, command_s = 0.0;
+  const auto extend = [&](const core::Move<double>& m, const std::optional<sim::StreamChange>& c) {
+    reach_distance = std::fmax(reach_distance, std::fabs(m.distance()));
+    move_s = std::fmax(move_s, m.duration());
+    command_s = std::fmax(command_s, m.duration());
+    if (c) {
+      reach_distance = std::fmax(reach_distance, std::fabs(c->blend.end_position()));
+      command_s = std::fmax(command_s, c->at + c->blend.duration());
+    }
+  };
+  extend(move, spec.change);
+  for (const sim::StreamAxis& a : spec.more_axes) extend(a.move, a.change);
   if (command_s + spec.settle_time_s > kMaxSeconds) {
     return report_bad_request({"too_long", "--time",
                                "--time: the move lasts " + format_number(move_s) +

@@ -1,11 +1,12 @@
 #pragma once
-// --halt-at T and --retarget-at T:NEW_DISTANCE (issue 17, docs/online.md): the change of a planned
+// --halt-at T and --retarget-at T:NEW_DISTANCE[,...] (issue 17, docs/online.md): the change of a planned
 // move at time T on its clock, planned by core, with every refusal blamed on the option.
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "options.hpp"
+#include "settle/core/multi_axis.hpp"
 #include "settle/core/online.hpp"
 #include "settle/sim/modal_plant.hpp"
 
@@ -27,5 +28,15 @@ struct OnlineChange {
 [[nodiscard]] bool parse_online_change(const ParsedArgs& args, const core::MoveRequest& req,
                                        const core::Move<double>& move, const sim::ModalPlant* plant, double period,
                                        std::optional<OnlineChange>& out, RequestError& err);
+
+// The same for a coordinated move (--axes N, docs/multi_axis.md "Halt and retarget"): one T for
+// every axis, --retarget-at T:D1,...,DN one new distance per axis. Each moving axis's change is
+// planned from its own command (core::axis_command) with the modes and limits core::axis_online
+// gives it (the plant's fundamental when it has no mode); an axis that does not move has none (a
+// retarget must give it 0). `out` gets one entry per axis, all empty when neither option is given.
+[[nodiscard]] bool parse_axes_online_change(const ParsedArgs& args, const core::MultiAxisRequest& req,
+                                            const core::MultiAxisPlan& plan, const sim::ModalPlant* plant,
+                                            double period, std::vector<std::optional<OnlineChange>>& out,
+                                            RequestError& err);
 
 }  // namespace settle::cli

@@ -199,10 +199,11 @@ const std::vector<OptionSpec> kOnline = {
     real("--halt-at", "s", "", {0.0, kMaxSeconds},
          "halt the move at T s from its start (T within the move): blend to rest within --vmax/--amax/--jmax "
          "(else the move's own peaks; a trapezoid's jerk: amax x omega), its design mode left at rest "
-         "(docs/online.md)"),
+         "(docs/online.md); with --axes N every moving axis at the same T, with --sync path on the line "
+         "(docs/multi_axis.md)"),
     text("--retarget-at", "", "at T s from the move's start (T within the move), blend to NEW_DISTANCE "
-         "(m or rad, -1e6..1e6) instead, likewise; stream: T rounds to whole periods, at least 3, and needs "
-         "--scalar double", "T:NEW_DISTANCE"),
+         "(m or rad, -1e6..1e6) instead, likewise; with --axes N one NEW_DISTANCE per axis, comma-separated; "
+         "stream: T rounds to whole periods, at least 3", "T:NEW_DISTANCE[,...]"),
 };
 
 const std::vector<OptionSpec> kStream = {
@@ -357,8 +358,8 @@ const std::vector<CommandSpec> kCommands = {
      .groups = {kStream, kPlanFrom, kMoveAxes, kAxes, kPlant, kDrive, kOnline, kOutput},
      .notes = "Bounds: move + settle time at most 3600 s and at most 1e6 periods (5 s start-up included); "
               "setpoints must fit in 32-bit counts. With --axes N: nodes 1..N (or --nodes), every axis on its own "
-              "copy of the plant options' plant, all started on the same SYNC; not with --node, --plan-from, "
-              "--halt-at or --retarget-at; --log and --feedback-log are axis 1's. Exit 1 when the bus cannot be "
+              "copy of the plant options' plant, all started on the same SYNC; not with --node or --plan-from; "
+              "--halt-at and --retarget-at change every axis in the same period; --log and --feedback-log are axis 1's. Exit 1 when the bus cannot be "
               "opened or the move did not complete."},
     {.name = "tune",
      .summary = "the fastest plan whose residual stays within --residual-max over the modes' uncertainty band",

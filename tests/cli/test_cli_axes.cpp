@@ -128,6 +128,44 @@ TEST(CliAxes, SimulateShowsThePathSyncCancelsEveryModeAndTimeSyncOnlyEachAxisOwn
   EXPECT_GT(path.at("move_duration").get<double>(), time.at("move_duration").get<double>());
 }
 
+// Halt and retarget of a coordinated move offline (docs/multi_axis.md, "Halt and retarget"): every
+// axis's residual after its blend, by the simulator's own stepping of its whole command, is nil
+// where the uninterrupted S-curve (designed for the mode undamped, the plant damped) leaves one;
+// with --sync path the halted axes stay on the line and stop together, and a retarget off the line
+// leaves it (measured, not assumed).
+TEST(CliAxes, SimulateHaltsAndRetargetsEveryAxisAtRest) {
+  const std::string w = num(std::sqrt(800.0)), z = num(9.0 / (2.0 * std::sqrt(800.0)));
+  const std::string args = "simulate --plant sdof --axes 3 --profile scurve --distance 0.1,0.05,-0.2 --time 0.5 "
+                           "--omega " + w + "," + w + "," + w + " --zeta " + z + "," + z + "," + z;
+  const auto plain = run_json(args);
+  for (const std::string sync : {"path", "time"}) {
+    SCOPED_TRACE(sync);
+    const auto h = run_json(args + " --sync " + sync + " --halt-at 0.2");
+    ASSERT_EQ(h.at("axis").size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) {
+      const auto& a = h.at("axis")[i];
+      EXPECT_EQ(a.at("online").at("kind"), "halt");
+      EXPECT_LE(a.at("residual_amplitude").get<double>(), 1e-9 * std::fabs(kD[i])) << a.dump();
+      EXPECT_GT(plain.at("axis")[i].at("residual_amplitude").get<double>(), 1e-3 * std::fabs(kD[i]));
+      const double end = a.at("online").at("end_position").get<double>();
+      EXPECT_GT(end / kD[i], 0.5);
+      EXPECT_LT(end / kD[i], 0.95);
+    }
+    if (sync == "path") {
+      EXPECT_LE(h.at("line_deviation").get<double>(), 1e-12);
+      EXPECT_LE(h.at("online_end_spread").get<double>(), 1e-12);
+    }
+  }
+  const auto off = run_json(args + " --retarget-at 0.2:0.05,0.05,0.05");
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto& a = off.at("axis")[i];
+    EXPECT_NEAR(a.at("online").at("end_position").get<double>(), 0.05, 1e-12);
+    EXPECT_LE(a.at("residual_amplitude").get<double>(), 1e-9 * 0.2) << a.dump();
+  }
+  EXPECT_GT(off.at("line_deviation").get<double>(), 0.01);
+  EXPECT_GT(off.at("online_end_spread").get<double>(), 0.1);
+}
+
 TEST(CliAxes, BadPerAxisRequestsExitTwoNamingTheOption) {
   const std::string p = "plan --axes 3 --profile jerk-limited ";
   const std::string lim = " --vmax 1 --amax 20 --jmax 800";
@@ -155,8 +193,20 @@ TEST(CliAxes, BadPerAxisRequestsExitTwoNamingTheOption) {
        "unsupported_request"},
       {"sample --axes 2 --profile poly345 --distance 0.1,0.2 --time 1", "--dt", "missing_option"},
       {"sample --axes 2 --profile poly345 --distance 0.1,0.2 --time 1 --dt 1e-7", "--dt", "too_many_samples"},
-      {"simulate --axes 2 --plant sdof --profile poly345 --distance 0.1,0.2 --time 0.5 --halt-at 0.1", "--halt-at",
-       "conflicting_options"},
+      // A retarget gives every axis its new distance; an axis that does not move can only stay.
+      {"simulate --axes 2 --plant sdof --profile poly345 --distance 0.1,0.2 --time 0.5 --retarget-at 0.1:0.05",
+       "--retarget-at", "bad_list"},
+      {"simulate --axes 2 --plant sdof --profile poly345 --distance 0.1,0.2 --time 0.5 --retarget-at 0.1:0.05,",
+       "--retarget-at", "bad_number"},
+      {"simulate --axes 2 --plant sdof --profile poly345 --distance 0.1,0 --time 0.5 --retarget-at 0.1:0.05,0.01",
+       "--retarget-at", "unsupported_request"},
+      {"simulate --axes 2 --plant sdof --profile poly345 --distance 0.1,0.2 --time 0.5 --halt-at 0.6", "--halt-at",
+       "out_of_range"},
+      {"stream --bus loopback --axes 2 --plant sdof --profile poly345 --distance 0.1,0.2 --time 0.5 "
+       "--retarget-at 0.1:0.05,nan", "--retarget-at", "non_finite_input"},
+      // Five axes with five modes: a path a blend cannot keep every mode of at rest.
+      {"simulate --axes 5 --plant sdof --profile scurve --distance 0.1,0.2,0.3,0.4,0.5 --time 0.5 "
+       "--omega 20,25,30,35,40 --halt-at 0.2", "--halt-at", "unsupported_request"},
   };
   for (const Case& c : cases) expect_refused(c);
   const CliResult r = run_cli("plan --axes 2 --profile poly345 --distance 0.1,0.1 --time 0.1 --vmax 10,0.01");
@@ -238,6 +288,37 @@ TEST(CliAxes, StreamStartsAndEndsEveryAxisOnTheSameTickOnTheLine) {
   EXPECT_EQ(j.at("residual_can"), j.at("axes")[0].at("residual_can"));
 }
 
+// --halt-at with --axes: every axis's halt is asked for in the same period; each ends at rest
+// (its drive's load feedback shows no residual, where the uninterrupted move leaves one), short of
+// its target, on the line within a count, all on the same tick.
+TEST(CliAxes, StreamHaltsEveryAxisInTheSamePeriodOnTheLine) {
+  const std::string z = num(9.0 / (2.0 * std::sqrt(800.0)));
+  const std::string args = kStreamThree + " --zeta " + z + "," + z + "," + z;
+  const auto plain = run_json(args);
+  const auto j = run_json(args + " --halt-at 0.2");
+  EXPECT_EQ(j.at("outcome"), "completed");
+  ASSERT_EQ(j.at("axes").size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    SCOPED_TRACE(i);
+    const auto& a = j.at("axes")[i];
+    EXPECT_TRUE(a.at("aligned").get<bool>());
+    EXPECT_LE(a.at("residual_can").get<double>(), 2e-6);
+    EXPECT_GT(plain.at("axes")[i].at("residual_can").get<double>(), 1e-4);
+    // 0.2 s into a 0.5 s move, stopped within 0.27 s: about 350 setpoints, not the move's 418.
+    const long long ticks = a.at("move_end_tick").get<long long>() - a.at("move_start_tick").get<long long>();
+    EXPECT_LT(ticks, 400);
+    EXPECT_GT(ticks, 300);
+  }
+  EXPECT_EQ(j.at("start_tick_spread"), 0);
+  EXPECT_EQ(j.at("end_tick_spread"), 0);
+  EXPECT_LE(j.at("line_deviation_setpoints_counts").get<double>(), 1.0);
+  EXPECT_LE(j.at("line_deviation_feedback_counts").get<double>(), 1.0);
+  // Two axes retargeted to the line's 40 %, the third off it: the line is left, by design.
+  const auto r = run_json(args + " --retarget-at 0.2:0.04,0.02,0.05");
+  EXPECT_EQ(r.at("outcome"), "completed");
+  EXPECT_GT(r.at("line_deviation_setpoints_counts").get<double>(), 1000.0);
+}
+
 // Each axis is measured as one axis alone would be: its residual over CAN equals the one-axis
 // stream of the same move (path sync with one mode plans every axis's scurve as one axis would),
 // and is far from zero here (the design ignores the plant's damping), so the comparison means
@@ -293,7 +374,7 @@ TEST(CliAxes, StreamRefusesBadNodesAndABusTooSlowForItsAxes) {
       {s + "--period-us 1200 --nodes 0,1,2", "--nodes", "out_of_range"},
       {s + "--period-us 1200 --nodes 1,2.5,3", "--nodes", "out_of_range"},
       {s + "--period-us 1200 --node 2", "--node", "conflicting_options"},
-      {s + "--period-us 1200 --halt-at 0.05", "--halt-at", "conflicting_options"},
+      {s + "--period-us 1200 --retarget-at 0.05:0.01", "--retarget-at", "bad_list"},
       {"stream --bus loopback --profile poly345 --distance 0.01 --time 0.1 --nodes 1", "--nodes", "bad_option"},
       // 55 + 3 x 365 = 1150 bits a period with worst-case stuffing: not in 1000 us at 1 Mbit/s.
       {s, "--bitrate", "bus_overload"},

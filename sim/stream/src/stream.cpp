@@ -39,6 +39,7 @@ StreamSpec axis_spec(const StreamSpec& spec, std::size_t i) {
   if (i > 0) {
     one.move = spec.more_axes[i - 1].move;
     one.node = spec.more_axes[i - 1].node;
+    one.change = spec.more_axes[i - 1].change;
   }
   return one;
 }
@@ -133,7 +134,6 @@ template <typename Scalar, typename Evaluation>
 std::string stream_session(const std::vector<StreamSpec>& specs, const std::vector<firmware::AxisConfig>& acs,
                            const firmware::SessionConfig& sc, StreamBus& bus, const std::vector<StreamReport*>& rs) {
   using Loop = LoopOf<Scalar, Evaluation>;
-  const StreamSpec& spec = specs.front();
   StreamReport& r = *rs.front();
   const std::size_t n = specs.size();
   auto loop = std::make_unique<Loop>(bus.link(), acs.front().scale.period_us);
@@ -149,19 +149,34 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
       for (firmware::FeedbackSample fs{}; loop->feedback_log(i).pop(fs);) rs[i]->feedback.push_back(fs);
     }
   };
-  // A change: halt()/retarget() posted and service() run between two ticks, the configuration's
-  // lead_ticks setpoints before the switch, as an application would (one axis only).
+  // A change: halt()/retarget() posted on every axis that has one and service() run between two
+  // ticks, the configuration's lead_ticks setpoints before the switch, as an application would.
+  // The ticks are counted on the first axis with a change (every change has the same `at`).
   std::int64_t ask_at = -1;
-  if (spec.change) {
+  std::size_t lead = n;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::optional<StreamChange>& ch = specs[i].change;
+    if (!ch) continue;
     firmware::OnlineConfig oc{};
-    oc.mode_count = std::min(spec.change->modes.size(), oc.modes.size());
-    for (std::size_t i = 0; i < oc.mode_count; ++i) oc.modes[i] = spec.change->modes[i];
-    oc.limits = spec.change->limits;
-    if (const firmware::LoopStatus st = loop->configure_online(0, oc); st != firmware::LoopStatus::ok) {
-      return std::string{"the loop refused the online configuration: "} + firmware::to_string(st);
+    oc.mode_count = std::min(ch->modes.size(), oc.modes.size());
+    for (std::size_t k = 0; k < oc.mode_count; ++k) oc.modes[k] = ch->modes[k];
+    oc.limits = ch->limits;
+    if (const firmware::LoopStatus st = loop->configure_online(i, oc); st != firmware::LoopStatus::ok) {
+      return "the loop refused axis " + std::to_string(i + 1) + "'s online configuration: " + firmware::to_string(st);
     }
-    ask_at = std::llround(spec.change->at / acs.front().scale.period_s()) - static_cast<std::int64_t>(oc.lead_ticks);
+    if (lead == n) {
+      lead = i;
+      ask_at = std::llround(ch->at / acs.front().scale.period_s()) - static_cast<std::int64_t>(oc.lead_ticks);
+    }
   }
+  const auto ask = [&] {
+    bool ok = true;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::optional<StreamChange>& ch = specs[i].change;
+      if (ch) ok = (ch->target ? loop->retarget(i, *ch->target) : loop->halt(i)) && ok;
+    }
+    return loop->service() == firmware::LoopStatus::ok && ok;
+  };
   std::int64_t moving_ticks = 0;
   bool asked_ok = true;
   BusClock clock{bus};
@@ -172,17 +187,17 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
   r.session = firmware::run_session(*loop, clock, moves.data(), n, sc, [&](std::uint64_t, bool) {
     if (!r.start_up_us && loop->all_ready()) r.start_up_us = clock.now_us() - started_us;
     for (std::size_t i = 0; i < n; ++i) rs[i]->log.push_back(loop->record(i));
-    if (loop->record(0).moving && loop->record(0).sent) {
-      if (++moving_ticks == ask_at) {
-        asked_ok = (spec.change->target ? loop->retarget(0, *spec.change->target) : loop->halt(0)) &&
-                   loop->service() == firmware::LoopStatus::ok;
-      }
+    if (lead < n && loop->record(lead).moving && loop->record(lead).sent && ++moving_ticks == ask_at) {
+      asked_ok = ask();
     }
     drain();
     bus.between_ticks();
   });
-  if (spec.change && (!asked_ok || loop->online_switches(0) != 1)) {
-    return "the loop did not switch to the blend at " + std::to_string(spec.change->at) + " s";
+  for (std::size_t i = 0; i < n; ++i) {
+    if (specs[i].change && (!asked_ok || loop->online_switches(i) != 1)) {
+      return "the loop did not switch axis " + std::to_string(i + 1) + " to its blend at " +
+             std::to_string(specs[i].change->at) + " s";
+    }
   }
   // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
   if (std::string why = bus.finish([&](const hal::CanFrame& f, std::uint64_t now_us) {
@@ -403,9 +418,18 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
     r.failure = "the axis scale needs a positive period and a positive, finite counts per unit";
     return r;
   }
-  if (n > core::kMaxAxes || (n > 1 && spec.change)) {
-    r.failure = "at most 8 axes, and a halt or retarget only with one";
+  if (n > core::kMaxAxes) {
+    r.failure = "at most 8 axes";
     return r;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (specs[i].change && specs[k].change && specs[i].change->at != specs[k].change->at) {
+        r.failure = "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) +
+                    " change at different times: every axis's halt or retarget is asked for in the same period";
+        return r;
+      }
+    }
   }
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t k = 0; k < i; ++k) {

@@ -44,10 +44,13 @@ struct StreamChange {
   core::Blend blend{};
 };
 
-// --axes N (issue 17, docs/multi_axis.md): one more axis of the same bus, its own move and node.
+// --axes N (issue 17, docs/multi_axis.md): one more axis of the same bus, its own move and node,
+// and with a halt or retarget its own change (the same `at` as axis 1's; core::axis_online gives
+// its modes and limits).
 struct StreamAxis {
   core::Move<double> move{};
   hal::canopen::NodeId node{2};
+  std::optional<StreamChange> change;
 };
 
 struct StreamSpec {
@@ -68,11 +71,13 @@ struct StreamSpec {
   std::shared_ptr<const hal::eds::Description> eds;
   // --axes N: axes 2..N (axis 1 is `move` on `node`), every one started on the same SYNC and
   // streamed, supervised and measured as axis 1, with the same plant, drive and loop options (each
-  // its own copy of the plant: one PlantNode per node on loopback). Empty: one axis. Not with `change`.
+  // its own copy of the plant: one PlantNode per node on loopback). Empty: one axis. With a change,
+  // every axis that has one is asked in the same period between the same two ticks, as an
+  // application halting the machine would.
   std::vector<StreamAxis> more_axes;
 };
 
-// Axis i of the spec (0: axis 1) as a one-axis spec: its move and node, everything else shared.
+// Axis i of the spec (0: axis 1) as a one-axis spec: its move, node and change, everything else shared.
 [[nodiscard]] StreamSpec axis_spec(const StreamSpec& spec, std::size_t i);
 
 // The feedback a stream maps besides statusword and position: the velocity actual 0x606C and
