@@ -422,6 +422,116 @@ def online_halt(d):
               f"{tag}: the changed command's continuous residual {r['residual_continuous']:.3e} <= 1e-9 D")
 
 
+def rpdo_runs(log, nodes):
+    """Per node: (SYNC periods so far, target) of every RPDO in a bus log, in order."""
+    runs, period = {n: [] for n in nodes}, 0
+    for _, cid, data in log:
+        if cid == 0x080:
+            period += 1
+        elif cid - 0x200 in nodes and len(data) == 12:
+            runs[cid - 0x200].append((period, rpdo_target(bytes.fromhex(data))))
+    return runs
+
+
+def stream_axes(d, tag, nodes, plant_args, args, what):
+    """`settle stream --bus vcan0` with `args` against one `settle plant` process per node (its
+    log plant-<tag>-node<K>.csv); checks the session completed and returns (report, each drive's
+    report, the stream's bus log)."""
+    plants = [Plant(d, f"{tag}-node{n}", plant_args, PLANT_TOLERANT, node=n) for n in nodes]
+    dump = os.path.join(d, f"stream-{tag}.log")
+    r = subprocess.run([SETTLE, "stream", "--bus", "vcan0", *plant_args, *args, *STREAM_TOLERANT, "--candump", dump,
+                        "--json"], capture_output=True, text=True, timeout=300)
+    with open(os.path.join(d, f"stream-{tag}.json"), "w") as f:
+        f.write(r.stdout)
+    pjs = [p.stop() for p in plants]
+    try:
+        j = json.loads(r.stdout)
+    except json.JSONDecodeError:
+        fail(f"stream printed no JSON (exit {r.returncode}): {r.stdout} {r.stderr}")
+    drives = "; ".join(f"node {n}: {pj['state']}, {pj['sync_gaps']} SYNC gaps, {pj['rpdos_missing']} RPDOs missing, "
+                       f"{pj['rx_overflow_drops']} dropped" for n, pj in zip(nodes, pjs))
+    check(r.returncode == 0 and j["status"] == "ok" and j["outcome"] == "completed",
+          f"{what}: session completed and measured (exit {r.returncode}, {j.get('outcome')} on axis "
+          f"{j.get('outcome_axis')}, fault {j.get('fault')}; {drives}; spreads {j.get('start_tick_spread')} "
+          f"{j.get('end_tick_spread')}, off the line {j.get('line_deviation_setpoints_counts')} "
+          f"{j.get('line_deviation_feedback_counts')}; loop: units held {j.get('units_held')}, tx busy "
+          f"{j.get('tx_busy')}, overruns {j.get('overruns')}, skipped {j.get('skipped_periods')}, frames lost "
+          f"{j.get('frames_lost')}, late feedback ticks {j.get('feedback_late_ticks')}; axes {j.get('axes')}; "
+          f"{j.get('message', '')})")
+    return j, pjs, read_log(dump)
+
+
+def axes_halt(d):
+    """Issue 17 over CAN: `settle stream --axes 3 --halt-at T` against three `settle plant`
+    processes. The loop halts every axis in the same period, each from its own state with the
+    path's modes and the path limits times its distance (core::axis_online), so the three blends
+    are one halt of the path scaled per axis: from the bus, every node's setpoints are the same
+    halt's on loopback (once, in order, applied once by its drive), the three ends are on one line
+    through the start and the target within a count and short of the targets; from the report,
+    every axis's drive ends at rest with no residual measured from its own load feedback (the
+    plant is damped and the S-curve designs for it undamped: the uninterrupted move leaves one),
+    and all three start and end on the same tick."""
+    nodes = [2, 4, 6]
+    w, z = "28.284271247461902", "0.15909902576697318"
+    plant_args = ["--plant", "sdof", "--period-us", "1200"]
+    distances = [0.1, 0.05, -0.2]
+    move_args = ["--axes", "3", "--profile", "scurve", "--distance", ",".join(map(str, distances)), "--time", "0.5",
+                 "--omega", ",".join([w] * 3), "--zeta", ",".join([z] * 3), "--nodes", ",".join(map(str, nodes)),
+                 "--settle-time", "0.5"]
+    halt = ["--halt-at", "0.2137"]
+    plain_dump = os.path.join(d, "axes-plain-loopback.log")
+    r = subprocess.run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--candump", plain_dump,
+                        "--json"], capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0, f"the uninterrupted three axes on loopback: exit {r.returncode} {r.stderr}")
+    plain = json.loads(r.stdout)
+    full = {n: run[-1][1] for n, run in rpdo_runs(read_log(plain_dump), nodes).items()}  # the targets, in counts
+    loop_dump = os.path.join(d, "axes-halt-loopback.log")
+    r = subprocess.run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, *halt, "--candump", loop_dump,
+                        "--json"], capture_output=True, text=True, timeout=300)
+    check(r.returncode == 0, f"the same halt on loopback: exit {r.returncode} {r.stderr}")
+    loop = json.loads(r.stdout)
+    loop_runs = rpdo_runs(read_log(loop_dump), nodes)
+    # Each node's setpoints from the first period any axis leaves the origin to its last.
+    first = min(next(p for p, t in run if t != 0) for run in loop_runs.values())
+    moves = {n: [t for p, t in run if p >= first] for n, run in loop_runs.items()}
+    for n in nodes:
+        last = moves[n][-1]
+        moves[n] = moves[n][: moves[n].index(last) + 1]
+
+    j, pjs, log = stream_axes(d, "halt", nodes, plant_args, [*move_args, *halt], "three axes halted")
+    runs = rpdo_runs(log, nodes)
+    ends = {}
+    for n, pj, a, la, pa, dist in zip(nodes, pjs, j["axes"], loop["axes"], plain["axes"], distances):
+        targets = [t for _, t in runs[n]]
+        hits = [i for i in range(len(targets) - len(moves[n]) + 1) if targets[i:i + len(moves[n])] == moves[n]]
+        check(a["node"] == n and len(hits) == 1,
+              f"node {n}: its RPDOs carry the loopback halt's {len(moves[n])} setpoints once, in order")
+        applied = [int(row["target"]) for row in read_csv(os.path.join(d, f"plant-halt-node{n}.csv"))
+                   if row["following"] == 1]
+        hits = [i for i in range(len(applied) - len(moves[n]) + 1) if applied[i:i + len(moves[n])] == moves[n]]
+        check(len(hits) == 1, f"node {n}: the drive applied them once, in order")
+        ends[n] = moves[n][-1]
+        check(a["aligned"] and a["agreement"] <= 1e-6 * abs(dist),
+              f"node {n}: the CAN feedback matches the replay of the halted setpoints")
+        check(a["residual_can"] <= 2e-6 and pa["residual_can"] > 100 * 2e-6 and
+              abs(a["residual_can"] - la["residual_can"]) <= 1e-12 * max(la["residual_can"], 1e-9),
+              f"node {n}: at rest after the halt: residual from the drive's feedback {a['residual_can']:.3e} m "
+              f"(<= 2 counts; loopback {la['residual_can']:.3e} m), the uninterrupted move's {pa['residual_can']:.3e} m")
+        check(pj["emcy_sent"] == 0 and pj["state"] == "ready to switch on",
+              f"node {n}: released at the end, no EMCY ({pj['state']}, EMCY {pj['emcy_sent']})")
+    # Short of the targets, on the line through the start and the targets: end_i F_1 = end_1 F_i (F
+    # the targets in counts) within a count of the first axis.
+    n1 = nodes[0]
+    for n in nodes:
+        check(0.05 < ends[n] / full[n] < 0.95 and abs(ends[n] * full[n1] - ends[n1] * full[n]) / abs(full[n1]) <= 1.0,
+              f"node {n}: halted at {ends[n]} of {full[n]} counts, on the line ({ends[n1]} of {full[n1]} on node {n1})")
+    check(j["start_tick_spread"] == 0 and j["end_tick_spread"] == 0,
+          f"every axis started and ended on the same tick (spread {j['start_tick_spread']}, {j['end_tick_spread']})")
+    check(j["line_deviation_setpoints_counts"] <= 1.0 and j["line_deviation_feedback_counts"] <= 1.0,
+          f"on the line within a count: {j['line_deviation_setpoints_counts']:.3f} (sent), "
+          f"{j['line_deviation_feedback_counts']:.3f} (reported by the drives)")
+
+
 def axes_stream(d):
     """Issue 17 over CAN: `settle stream --axes 3 --nodes 1,5,9` against three `settle plant`
     processes, one per node, each with the sdof plant behind it. From the bus (the stream's own
@@ -440,16 +550,6 @@ def axes_stream(d):
     move_args = ["--axes", "3", "--profile", "scurve", "--distance", "0.1,0.05,-0.2", "--time", "0.5",
                  "--omega", ",".join([w] * 3), "--nodes", ",".join(map(str, nodes)), "--settle-time", "0.5"]
 
-    def rpdo_runs(log):
-        """Per node: (SYNC periods so far, target) of every RPDO in the log, in order."""
-        runs, period = {n: [] for n in nodes}, 0
-        for _, cid, data in log:
-            if cid == 0x080:
-                period += 1
-            elif cid - 0x200 in nodes and len(data) == 12:
-                runs[cid - 0x200].append((period, rpdo_target(bytes.fromhex(data))))
-        return runs
-
     loop_dump = os.path.join(d, "axes-loopback.log")
     rl = subprocess.run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--candump", loop_dump,
                          "--json"], capture_output=True, text=True, timeout=300)
@@ -458,36 +558,16 @@ def axes_stream(d):
     # Each node's move on loopback, every node over the same periods: from the one in which the
     # first axis leaves the origin to the one in which the last reaches its end (an axis with a
     # shorter distance may round its first setpoint to 0, or reach its last, a period apart).
-    loop_runs = rpdo_runs(read_log(loop_dump))
+    loop_runs = rpdo_runs(read_log(loop_dump), nodes)
     first = min(next(p for p, t in run if t != 0) for run in loop_runs.values())
     last = max(next(p for p, t in run if p >= first and t == run[-1][1]) for run in loop_runs.values())
     moves = {n: [t for p, t in run if first <= p <= last] for n, run in loop_runs.items()}
 
-    plants = [Plant(d, f"axes-node{n}", plant_args, PLANT_TOLERANT, node=n) for n in nodes]
-    dump = os.path.join(d, "stream-axes.log")
-    r = subprocess.run([SETTLE, "stream", "--bus", "vcan0", *plant_args, *move_args, *STREAM_TOLERANT, "--candump",
-                        dump, "--json"], capture_output=True, text=True, timeout=300)
-    with open(os.path.join(d, "stream-axes.json"), "w") as f:
-        f.write(r.stdout)
-    pjs = [p.stop() for p in plants]
-    try:
-        j = json.loads(r.stdout)
-    except json.JSONDecodeError:
-        fail(f"stream printed no JSON (exit {r.returncode}): {r.stdout} {r.stderr}")
-    drives = "; ".join(f"node {n}: {pj['state']}, {pj['sync_gaps']} SYNC gaps, {pj['rpdos_missing']} RPDOs missing, "
-                       f"{pj['rx_overflow_drops']} dropped" for n, pj in zip(nodes, pjs))
-    check(r.returncode == 0 and j["status"] == "ok" and j["outcome"] == "completed",
-          f"three axes: session completed and measured (exit {r.returncode}, {j['outcome']} on axis "
-          f"{j.get('outcome_axis')}, fault {j['fault']}; {drives}; spreads {j.get('start_tick_spread')} "
-          f"{j.get('end_tick_spread')}, off the line {j.get('line_deviation_setpoints_counts')} "
-          f"{j.get('line_deviation_feedback_counts')}; loop: units held {j.get('units_held')}, tx busy "
-          f"{j.get('tx_busy')}, overruns {j.get('overruns')}, skipped {j.get('skipped_periods')}, frames lost "
-          f"{j.get('frames_lost')}, late feedback ticks {j.get('feedback_late_ticks')}; axes {j.get('axes')})")
-    log = read_log(dump)
+    j, pjs, log = stream_axes(d, "axes", nodes, plant_args, move_args, "three axes")
     check(len(log) == j["frames_sent"] + j["frames_received"] and j["rx_overflow_drops"] == 0,
           f"the stream's log holds every frame it sent and received ({len(log)} lines = {j['frames_sent']} + "
           f"{j['frames_received']})")
-    runs = rpdo_runs(log)
+    runs = rpdo_runs(log, nodes)
     starts = {}
     for n, pj, a in zip(nodes, pjs, j["axes"]):
         targets = [t for _, t in runs[n]]
@@ -723,6 +803,8 @@ def main():
             online_halt(d)
         elif TEST == "axes-stream":
             axes_stream(d)
+        elif TEST == "axes-halt":
+            axes_halt(d)
         elif TEST == "commissioning":
             commissioning(d)
         elif TEST == "identify-no-drive":
