@@ -422,6 +422,16 @@ def online_halt(d):
               f"{tag}: the changed command's continuous residual {r['residual_continuous']:.3e} <= 1e-9 D")
 
 
+def check_together_on_the_line(j):
+    """A multi-axis stream's report: every axis started and ended on the same tick, and the points
+    sent and reported stayed within a count of the straight line."""
+    check(j["start_tick_spread"] == 0 and j["end_tick_spread"] == 0,
+          f"every axis started and ended on the same tick (spread {j['start_tick_spread']}, {j['end_tick_spread']})")
+    check(j["line_deviation_setpoints_counts"] <= 1.0 and j["line_deviation_feedback_counts"] <= 1.0,
+          f"on the line within a count: {j['line_deviation_setpoints_counts']:.3f} (sent), "
+          f"{j['line_deviation_feedback_counts']:.3f} (reported by the drives)")
+
+
 def rpdo_runs(log, nodes):
     """Per node: (SYNC periods so far, target) of every RPDO in a bus log, in order."""
     runs, period = {n: [] for n in nodes}, 0
@@ -576,11 +586,7 @@ def axes_halt(d):
     for n in nodes:
         check(0.05 < ends[n] / full[n] < 0.95 and abs(ends[n] * full[n1] - ends[n1] * full[n]) / abs(full[n1]) <= 1.0,
               f"node {n}: halted at {ends[n]} of {full[n]} counts, on the line ({ends[n1]} of {full[n1]} on node {n1})")
-    check(j["start_tick_spread"] == 0 and j["end_tick_spread"] == 0,
-          f"every axis started and ended on the same tick (spread {j['start_tick_spread']}, {j['end_tick_spread']})")
-    check(j["line_deviation_setpoints_counts"] <= 1.0 and j["line_deviation_feedback_counts"] <= 1.0,
-          f"on the line within a count: {j['line_deviation_setpoints_counts']:.3f} (sent), "
-          f"{j['line_deviation_feedback_counts']:.3f} (reported by the drives)")
+    check_together_on_the_line(j)
 
 
 def axes_stream(d):
@@ -639,11 +645,7 @@ def axes_stream(d):
               f"node {n}: released at the end, no EMCY, nothing dropped ({pj['state']}, EMCY {pj['emcy_sent']})")
     check(len(set(starts.values())) == 1,
           f"every move's first and last setpoints in the same SYNC periods (from the bus log: {starts})")
-    check(j["start_tick_spread"] == 0 and j["end_tick_spread"] == 0,
-          f"every axis started and ended on the same tick (spread {j['start_tick_spread']}, {j['end_tick_spread']})")
-    check(j["line_deviation_setpoints_counts"] <= 1.0 and j["line_deviation_feedback_counts"] <= 1.0,
-          f"on the line within a count: {j['line_deviation_setpoints_counts']:.3f} (sent), "
-          f"{j['line_deviation_feedback_counts']:.3f} (reported by the drives)")
+    check_together_on_the_line(j)
 
 
 def main():
