@@ -47,7 +47,8 @@ PiecewiseJerkParams trapezoid_timed(double distance, double duration, double v) 
   return trapezoid_segments(distance, ta, std::max(duration - 2.0 * ta, 0.0), a);
 }
 
-PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, double amax, double jmax) noexcept {
+PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, double amax, double jmax,
+                                              Peaks<double>* peaks) noexcept {
   // Classic construction (e.g. Biagiotti & Melchiorri, ch. 3): accelerate with phases tj, ta-2tj, tj,
   // cruise tv, then the mirror image. Each case is the largest of: vmax reached or not, amax
   // reached or not.
@@ -75,7 +76,11 @@ PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, doub
   const double alim = jmax * tj;
   PiecewiseJerkParams p{};
   p.distance = distance;
+  if (peaks != nullptr) *peaks = Peaks<double>{};
   if (d == 0.0) return p;
+  // The acceleration pulse (ramp, plateau, ramp) reaches alim and ends at the cruise velocity
+  // alim (ta - tj), the move's peak; the deceleration mirrors it.
+  if (peaks != nullptr) *peaks = Peaks<double>{alim * (ta - tj), alim, jmax};
   push(p, tj, 0.0, sg * jmax);
   push(p, ta - 2.0 * tj, sg * alim, 0.0);
   push(p, tj, sg * alim, -sg * jmax);

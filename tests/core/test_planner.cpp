@@ -2,8 +2,11 @@
 // respected, and the fastest vibration-free move compared with its alternatives.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <variant>
 
 #include "residual.hpp"
 #include "test_helpers.hpp"
@@ -131,6 +134,54 @@ TEST(Planner, JerkLimitedIsTimeOptimalAndStretchesToAGivenTime) {
   r.time = 1.6;
   core::Move<double> out{};
   EXPECT_EQ(core::plan(r, out), Status::jerk_limit_exceeded);
+}
+
+// plan() takes the jerk-limited peaks from the phases (cruise velocity, plateau acceleration,
+// jmax) instead of walking the table. Both walks must agree with them in every regime (vmax and
+// amax reached or not, stretched to a time, negative distance): the table's own peaks, and the
+// move sampled densely (the velocity peak lies on a flat cruise or at a = 0, where sampling is
+// accurate to second order).
+TEST(Planner, JerkLimitedPeaksFromThePhasesAreTheTablesAndTheSampledOnes) {
+  struct Case {
+    double d, v, a, j;
+    std::optional<double> time;
+  };
+  const Case cases[] = {
+      {1.0, 1.0, 2.0, 10.0, {}},   // vmax and amax reached
+      {0.05, 1.0, 2.0, 10.0, {}},  // neither: d = 2 j tj^3
+      {0.3, 1.0, 2.0, 10.0, {}},   // amax reached, vmax not
+      {1.0, 0.3, 2.0, 10.0, {}},   // vmax reached before amax: v j < a^2
+      {-0.7, 0.8, 3.0, 40.0, {}},  // negative distance
+      {1.0, 1.0, 2.0, 10.0, 2.5},  // stretched to a time
+      {-0.2, 0.5, 1.0, 5.0, 1.9},
+  };
+  for (const Case& c : cases) {
+    core::MoveRequest r{};
+    r.profile = ProfileKind::jerk_limited;
+    r.distance = c.d;
+    r.vmax = c.v;
+    r.amax = c.a;
+    r.jmax = c.j;
+    r.time = c.time;
+    const auto m = test::must_plan(r);
+    const auto& table = std::get<core::PiecewiseJerk<double>>(m.profile().variant()).params();
+    const core::Peaks<double> walked = core::piecewise_peaks(table);
+    EXPECT_NEAR(m.peaks().v, walked.v, 1e-12 * c.v) << c.d;
+    EXPECT_NEAR(m.peaks().a, walked.a, 1e-12 * c.a) << c.d;
+    EXPECT_EQ(m.peaks().j, walked.j) << c.d;
+    EXPECT_FALSE(m.peaks().acceleration_step);
+    double vs = 0.0, as = 0.0, js = 0.0;
+    const int n = 200000;
+    for (int i = 0; i <= n; ++i) {
+      const auto s = m.at(m.duration() * i / n);
+      vs = std::max(vs, std::fabs(s.v));
+      as = std::max(as, std::fabs(s.a));
+      js = std::max(js, std::fabs(s.j));
+    }
+    EXPECT_NEAR(m.peaks().v, vs, 1e-8 * c.v) << c.d;
+    EXPECT_NEAR(m.peaks().a, as, c.j * m.duration() / n) << c.d;  // a peak between two samples
+    EXPECT_EQ(m.peaks().j, js) << c.d;
+  }
 }
 
 TEST(Planner, FastestScurveRespectsEveryLimitAndLeavesTheModeAtRest) {

@@ -30,9 +30,11 @@ using PiecewiseJerkParams = PiecewiseJerkTable<kMaxJerkSegments>;
 [[nodiscard]] PiecewiseJerkParams trapezoid_time_optimal(double distance, double vmax, double amax) noexcept;
 // Trapezoid of duration T whose cruise is at v (D/T < |v| <= 2D/T): ta = T - D/v.
 [[nodiscard]] PiecewiseJerkParams trapezoid_timed(double distance, double duration, double v) noexcept;
-// Time-optimal rest-to-rest 7-phase S-curve under vmax/amax/jmax.
-[[nodiscard]] PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, double amax,
-                                                           double jmax) noexcept;
+// Time-optimal rest-to-rest 7-phase S-curve under vmax/amax/jmax. With `peaks`, also its true
+// peaks, from the phases (the cruise velocity, the plateau acceleration, jmax): what
+// piecewise_peaks finds in the table, without walking it (plan() is timed in ns).
+[[nodiscard]] PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, double amax, double jmax,
+                                                           Peaks<double>* peaks = nullptr) noexcept;
 [[nodiscard]] double piecewise_duration(const PiecewiseJerkParams& p) noexcept;
 [[nodiscard]] Peaks<double> piecewise_peaks(const PiecewiseJerkParams& p) noexcept;
 

@@ -19,29 +19,29 @@ struct JerkLimitedProfile {
   [[nodiscard]] static Status plan(const MoveRequest& r, PiecewiseJerkParams& out, Peaks<double>& pk) noexcept {
     if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
     const double d = std::fabs(r.distance);
-    PiecewiseJerkParams p = jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax);
-    if (r.time) {
-      const double t = *r.time;
-      if (d / *r.vmax >= t) return Status::time_too_short_for_vmax;
-      if (t < piecewise_duration(p)) {
-        const double t_acc = piecewise_duration(trapezoid_time_optimal(r.distance, *r.vmax, *r.amax));
-        return t < t_acc ? Status::acceleration_limit_exceeded : Status::jerk_limit_exceeded;
-      }
-      // Stretch to the requested time by lowering the cruise velocity: duration falls
-      // monotonically as v rises, so bisection on v finds the profile of exactly duration t.
-      double lo = d / t, hi = *r.vmax;
-      for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        if (piecewise_duration(jerk_limited_time_optimal(r.distance, mid, *r.amax, *r.jmax)) > t) {
-          lo = mid;
-        } else {
-          hi = mid;
-        }
-      }
-      p = jerk_limited_time_optimal(r.distance, hi, *r.amax, *r.jmax);
+    if (!r.time) {
+      out = jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax, &pk);
+      return Status::ok;
     }
-    pk = piecewise_peaks(p);
-    out = p;
+    const PiecewiseJerkParams p = jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax);
+    const double t = *r.time;
+    if (d / *r.vmax >= t) return Status::time_too_short_for_vmax;
+    if (t < piecewise_duration(p)) {
+      const double t_acc = piecewise_duration(trapezoid_time_optimal(r.distance, *r.vmax, *r.amax));
+      return t < t_acc ? Status::acceleration_limit_exceeded : Status::jerk_limit_exceeded;
+    }
+    // Stretch to the requested time by lowering the cruise velocity: duration falls
+    // monotonically as v rises, so bisection on v finds the profile of exactly duration t.
+    double lo = d / t, hi = *r.vmax;
+    for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      if (piecewise_duration(jerk_limited_time_optimal(r.distance, mid, *r.amax, *r.jmax)) > t) {
+        lo = mid;
+      } else {
+        hi = mid;
+      }
+    }
+    out = jerk_limited_time_optimal(r.distance, hi, *r.amax, *r.jmax, &pk);
     return Status::ok;
   }
   [[nodiscard]] static MoveRequest example() noexcept {
