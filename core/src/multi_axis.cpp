@@ -263,26 +263,39 @@ Status axis_online(const MultiAxisRequest& r, const MultiAxisPlan& plan, std::si
   return Status::ok;
 }
 
+double offset_from_line(const double* p, const double* dir, std::size_t n, double* off) noexcept {
+  double dd = 0.0, pd = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    dd += dir[i] * dir[i];
+    pd += p[i] * dir[i];
+  }
+  const double sigma = dd > 0.0 ? pd / dd : 0.0;
+  double e2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double e = dd > 0.0 ? p[i] - dir[i] * sigma : 0.0;
+    if (off != nullptr) off[i] = e;
+    e2 += e * e;
+  }
+  return std::sqrt(e2);
+}
+
 double line_deviation(const MultiAxisPlan& plan, std::array<double, kMaxAxes>& per_axis) noexcept {
   per_axis = {};
   const std::size_t n = plan.count();
+  std::array<double, kMaxAxes> dir{};
   double dd = 0.0;
-  for (std::size_t i = 0; i < n; ++i) dd += plan.distance(i) * plan.distance(i);
+  for (std::size_t i = 0; i < n; ++i) {
+    dir[i] = plan.distance(i);
+    dd += dir[i] * dir[i];
+  }
   const double t1 = plan.duration();
   if (!(dd > 0.0) || !(t1 > 0.0)) return 0.0;
   // The component of axis i off the line at t (axis == n: the Euclidean distance).
   auto off = [&](std::size_t axis, double t) {
-    std::array<double, kMaxAxes> p{};
-    double pd = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      p[i] = plan.at(i, t).p;
-      pd += p[i] * plan.distance(i);
-    }
-    const double sigma = pd / dd;
-    if (axis < n) return p[axis] - plan.distance(axis) * sigma;
-    double e2 = 0.0;
-    for (std::size_t i = 0; i < n; ++i) e2 += (p[i] - plan.distance(i) * sigma) * (p[i] - plan.distance(i) * sigma);
-    return std::sqrt(e2);
+    std::array<double, kMaxAxes> p{}, e{};
+    for (std::size_t i = 0; i < n; ++i) p[i] = plan.at(i, t).p;
+    const double len = offset_from_line(p.data(), dir.data(), n, e.data());
+    return axis < n ? e[axis] : len;
   };
   for (std::size_t i = 0; i < n; ++i) {
     per_axis[i] = detail::max_abs([&](double t) { return off(i, t); }, 0.0, t1, 2048);

@@ -12,6 +12,7 @@
 #include "move_options.hpp"
 #include "online_options.hpp"
 #include "plant_options.hpp"
+#include "settle/core/multi_axis.hpp"
 #include "settle/sim/figures.hpp"
 #include "settle/sim/limits.hpp"
 #include "settle/sim/online_command.hpp"
@@ -50,23 +51,13 @@ Json online_json(const OnlineChange& c) {
 // retarget, where core::line_deviation (the plan's) no longer applies.
 double sampled_line_deviation(const std::vector<const sim::Command*>& cmds, const core::MultiAxisPlan& plan,
                               double end) {
-  double dd = 0.0;
-  for (std::size_t i = 0; i < cmds.size(); ++i) dd += plan.distance(i) * plan.distance(i);
-  if (!(dd > 0.0)) return 0.0;
+  std::vector<double> p(cmds.size()), dir(cmds.size());
+  for (std::size_t i = 0; i < cmds.size(); ++i) dir[i] = plan.distance(i);
   double worst = 0.0;
-  std::vector<double> p(cmds.size());
   for (int k = 0; k <= 20000; ++k) {
     const double t = end * k / 20000.0;
-    double pd = 0.0, e2 = 0.0;
-    for (std::size_t i = 0; i < cmds.size(); ++i) {
-      p[i] = cmds[i]->at(t).p;
-      pd += p[i] * plan.distance(i);
-    }
-    for (std::size_t i = 0; i < cmds.size(); ++i) {
-      const double e = p[i] - plan.distance(i) * pd / dd;
-      e2 += e * e;
-    }
-    worst = std::fmax(worst, std::sqrt(e2));
+    for (std::size_t i = 0; i < cmds.size(); ++i) p[i] = cmds[i]->at(t).p;
+    worst = std::fmax(worst, core::offset_from_line(p.data(), dir.data(), p.size()));
   }
   return worst;
 }

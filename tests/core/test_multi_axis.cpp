@@ -503,3 +503,29 @@ TEST(MultiAxisOnline, LimitsAreThePathsTimesTheDistanceOrTheMovesOwnPeaks) {
 }
 
 }  // namespace
+
+// The one line geometry every line deviation uses, against the cross product: in three axes the
+// distance of p from the line along d is |p x d| / |d|, and the offset is perpendicular to d.
+TEST(MultiAxis, OffsetFromTheLineIsTheCrossProductsDistance) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-5.0, 5.0);
+  for (int k = 0; k < 1000; ++k) {
+    const double p[3] = {u(rng), u(rng), u(rng)}, d[3] = {u(rng), u(rng), u(rng)};
+    double off[3] = {NAN, NAN, NAN};
+    const double len = core::offset_from_line(p, d, 3, off);
+    const double cx = p[1] * d[2] - p[2] * d[1], cy = p[2] * d[0] - p[0] * d[2], cz = p[0] * d[1] - p[1] * d[0];
+    const double dn = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    EXPECT_NEAR(len, std::sqrt(cx * cx + cy * cy + cz * cz) / dn, 1e-12 * 25.0);
+    EXPECT_NEAR(off[0] * d[0] + off[1] * d[1] + off[2] * d[2], 0.0, 1e-12 * 25.0 * dn);
+    EXPECT_NEAR(std::sqrt(off[0] * off[0] + off[1] * off[1] + off[2] * off[2]), len, 1e-12 * 25.0);
+  }
+  // A point on the line, a line of zero length, and one axis.
+  const double on[2] = {2.0, -4.0}, dir[2] = {-1.0, 2.0}, zero[2] = {0.0, 0.0};
+  double off[2] = {NAN, NAN};
+  EXPECT_NEAR(core::offset_from_line(on, dir, 2, off), 0.0, 1e-15);
+  EXPECT_EQ(core::offset_from_line(on, zero, 2, off), 0.0);
+  EXPECT_EQ(off[0], 0.0);
+  EXPECT_EQ(off[1], 0.0);
+  const double one = 3.0, d1 = 7.0;
+  EXPECT_EQ(core::offset_from_line(&one, &d1, 1), 0.0);
+}

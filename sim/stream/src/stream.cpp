@@ -321,20 +321,9 @@ void measure_axes(const std::vector<StreamSpec>& specs, const std::vector<Stream
   const std::size_t n = specs.size();
   // The line from the start to every axis's target, in counts.
   std::vector<double> dir(n);
-  double dd = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    dir[i] = specs[i].move.distance() * specs[i].drive.scale.counts_per_unit;
-    dd += dir[i] * dir[i];
-  }
+  for (std::size_t i = 0; i < n; ++i) dir[i] = specs[i].move.distance() * specs[i].drive.scale.counts_per_unit;
   std::vector<double> p(n);
-  const auto off_line = [&] {
-    if (!(dd > 0.0)) return 0.0;
-    double pd = 0.0;
-    for (std::size_t i = 0; i < n; ++i) pd += p[i] * dir[i];
-    double e2 = 0.0;
-    for (std::size_t i = 0; i < n; ++i) e2 += (p[i] - dir[i] * pd / dd) * (p[i] - dir[i] * pd / dd);
-    return std::sqrt(e2);
-  };
+  const auto off_line = [&] { return core::offset_from_line(p.data(), dir.data(), n); };
   // Start and end ticks of every moving axis.
   std::uint64_t s_lo = ~std::uint64_t{0}, s_hi = 0, e_lo = ~std::uint64_t{0}, e_hi = 0;
   bool all = true, any = false;

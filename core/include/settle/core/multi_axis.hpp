@@ -119,6 +119,14 @@ struct AxisOnline {
 [[nodiscard]] Status axis_online(const MultiAxisRequest& req, const MultiAxisPlan& plan, std::size_t axis,
                                  AxisOnline& out, const Mode* fallback = nullptr) noexcept;
 
+// A point p's offset from the straight line through the origin along dir (n axes, any one unit):
+// each axis's component p_i - dir_i sigma, sigma = p.dir / dir.dir, written to `off` unless it is
+// null, and the offset's Euclidean length returned; 0 (and `off` zero) when dir is 0. The one
+// geometry of every "line deviation" Settle reports: the plan's (below), the changed commands
+// `simulate` samples after a halt or retarget, and the counts `stream` sends and reads back.
+[[nodiscard]] double offset_from_line(const double* p, const double* dir, std::size_t n,
+                                      double* off = nullptr) noexcept;
+
 // How far the coordinated move leaves the straight line from the start to (D_1, ..., D_N): the
 // largest Euclidean distance of the point (p_1(t), ..., p_N(t)) from the line over the move, and in
 // `per_axis` each axis's largest |p_i(t) - D_i sigma(t)|, sigma(t) the point's projection on the
