@@ -242,6 +242,24 @@ TEST(RunStream, AMoveOverTheAxisVelocityIsRejected) {
   EXPECT_FALSE(r.measured());
 }
 
+// A session that ends before its halt (here: the move is refused) reports why it ended, not that
+// the halt did not happen.
+TEST(RunStream, ASessionThatEndsBeforeItsHaltReportsItsOwnOutcome) {
+  StreamSpec spec = spec_for(poly345(0.01, 0.5));
+  spec.axis_vmax = 0.001;  // the move peaks at 0.0375 m/s
+  StreamChange c{};
+  c.at = 0.2;
+  c.modes = {core::Mode{spec.plant.fundamental().omega, spec.plant.fundamental().zeta}};
+  c.limits = {0.05, 1.0, 100.0};
+  spec.change = c;
+  LoopbackStreamBus bus;
+  const StreamReport r = run_stream(spec, bus);
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_EQ(r.session.outcome, firmware::SessionOutcome::rejected);
+  EXPECT_EQ(r.session.rejection, firmware::LoopStatus::exceeds_axis_velocity);
+  EXPECT_FALSE(r.measured());
+}
+
 // Three axes on nodes 1, 4 and 2 of one loopback bus, each its own drive and copy of the plant:
 // from the bus alone (a sniffer's log), every node's RPDO carries its own axis's setpoints once and
 // in order, and every move's first setpoint goes out in the same SYNC period.
