@@ -443,24 +443,41 @@ def rpdo_runs(log, nodes):
     return runs
 
 
+# A loop that skipped this many periods was held off the CPU for as long as the watchdogs
+# tolerate (STREAM_TOLERANT's --feedback-timeout-periods): its guest stalled.
+STARVED_PERIODS = 250
+
+
 def stream_axes(d, tag, nodes, plant_args, args, what):
     """`settle stream --bus vcan0` with `args` against one `settle plant` process per node (its
     log plant-<tag>-node<K>.csv); checks the session completed and returns (report, each drive's
-    report, the stream's bus log)."""
-    plants = [Plant(d, f"{tag}-node{n}", plant_args, PLANT_TOLERANT, node=n) for n in nodes]
-    dump = os.path.join(d, f"stream-{tag}.log")
-    r = subprocess.run([SETTLE, "stream", "--bus", "vcan0", *plant_args, *args, *STREAM_TOLERANT, "--candump", dump,
-                        "--json"], capture_output=True, text=True, timeout=300)
-    with open(os.path.join(d, f"stream-{tag}.json"), "w") as f:
-        f.write(r.stdout)
-    pjs = [p.stop() for p in plants]
-    try:
-        j = json.loads(r.stdout)
-    except json.JSONDecodeError:
-        fail(f"stream printed no JSON (exit {r.returncode}): {r.stdout} {r.stderr}")
+    report, the stream's bus log). Four processes share the guest's one CPU here. A session that
+    failed while the loop itself reports it was held off the CPU past what the watchdogs tolerate
+    (STARVED_PERIODS) lost its drives to the host's load, not to a fault: that attempt is reported
+    (its report kept as stream-<tag>-starved-<K>.json) and made again, at most three times. A
+    failure without that starvation fails at once."""
+    for attempt in range(1, 4):
+        plants = [Plant(d, f"{tag}-node{n}", plant_args, PLANT_TOLERANT, node=n) for n in nodes]
+        dump = os.path.join(d, f"stream-{tag}.log")
+        r = subprocess.run([SETTLE, "stream", "--bus", "vcan0", *plant_args, *args, *STREAM_TOLERANT, "--candump",
+                            dump, "--json"], capture_output=True, text=True, timeout=300)
+        with open(os.path.join(d, f"stream-{tag}.json"), "w") as f:
+            f.write(r.stdout)
+        pjs = [p.stop() for p in plants]
+        try:
+            j = json.loads(r.stdout)
+        except json.JSONDecodeError:
+            fail(f"stream printed no JSON (exit {r.returncode}): {r.stdout} {r.stderr}")
+        completed = r.returncode == 0 and j["status"] == "ok" and j["outcome"] == "completed"
+        skipped = j.get("skipped_periods") or 0
+        if completed or skipped < STARVED_PERIODS or attempt == 3:
+            break
+        os.replace(os.path.join(d, f"stream-{tag}.json"), os.path.join(d, f"stream-{tag}-starved-{attempt}.json"))
+        print(f"attempt {attempt}: {what}: the loop was held off the CPU for {skipped} periods and ended "
+              f"{j.get('outcome')} on axis {j.get('outcome_axis')}; made again")
     drives = "; ".join(f"node {n}: {pj['state']}, {pj['sync_gaps']} SYNC gaps, {pj['rpdos_missing']} RPDOs missing, "
                        f"{pj['rx_overflow_drops']} dropped" for n, pj in zip(nodes, pjs))
-    check(r.returncode == 0 and j["status"] == "ok" and j["outcome"] == "completed",
+    check(completed,
           f"{what}: session completed and measured (exit {r.returncode}, {j.get('outcome')} on axis "
           f"{j.get('outcome_axis')}, fault {j.get('fault')}; {drives}; spreads {j.get('start_tick_spread')} "
           f"{j.get('end_tick_spread')}, off the line {j.get('line_deviation_setpoints_counts')} "
