@@ -1,5 +1,7 @@
 #pragma once
 // Small builders shared by the core suites.
+#include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "settle/core/planner.hpp"
@@ -21,6 +23,19 @@ inline core::Move<double> must_plan(const core::MoveRequest& r) {
   const core::Status st = core::plan(r, m);
   if (st != core::Status::ok) ADD_FAILURE() << "plan failed: " << core::to_string(st);
   return m;
+}
+
+// The largest |v|, |a| and |j| of a planned move sampled at n + 1 evenly spread instants from 0
+// to its end: an independent look at its peaks, not the planner's.
+inline core::Peaks<double> sampled_peaks(const core::Move<double>& m, int n) {
+  core::Peaks<double> pk{};
+  for (int i = 0; i <= n; ++i) {
+    const auto s = m.at(m.duration() * i / n);
+    pk.v = std::max(pk.v, std::fabs(s.v));
+    pk.a = std::max(pk.a, std::fabs(s.a));
+    pk.j = std::max(pk.j, std::fabs(s.j));
+  }
+  return pk;
 }
 
 }  // namespace settle::test

@@ -170,17 +170,11 @@ TEST(Planner, JerkLimitedPeaksFromThePhasesAreTheTablesAndTheSampledOnes) {
     EXPECT_NEAR(m.peaks().a, walked.a, 1e-12 * c.a) << c.d;
     EXPECT_EQ(m.peaks().j, walked.j) << c.d;
     EXPECT_FALSE(m.peaks().acceleration_step);
-    double vs = 0.0, as = 0.0, js = 0.0;
     const int n = 200000;
-    for (int i = 0; i <= n; ++i) {
-      const auto s = m.at(m.duration() * i / n);
-      vs = std::max(vs, std::fabs(s.v));
-      as = std::max(as, std::fabs(s.a));
-      js = std::max(js, std::fabs(s.j));
-    }
-    EXPECT_NEAR(m.peaks().v, vs, 1e-8 * c.v) << c.d;
-    EXPECT_NEAR(m.peaks().a, as, c.j * m.duration() / n) << c.d;  // a peak between two samples
-    EXPECT_EQ(m.peaks().j, js) << c.d;
+    const core::Peaks<double> sampled = test::sampled_peaks(m, n);
+    EXPECT_NEAR(m.peaks().v, sampled.v, 1e-8 * c.v) << c.d;
+    EXPECT_NEAR(m.peaks().a, sampled.a, c.j * m.duration() / n) << c.d;  // a peak between two samples
+    EXPECT_EQ(m.peaks().j, sampled.j) << c.d;
   }
 }
 

@@ -133,14 +133,8 @@ TEST_P(EveryProfile, ContinuousInTheDerivativesItIsDesignedFor) {
 
 TEST_P(EveryProfile, ReportedPeaksAreTheTruePeaks) {
   const auto m = test::must_plan(GetParam().req);
-  double v = 0, a = 0, j = 0;
-  const int n = 200000;
-  for (int i = 0; i <= n; ++i) {
-    const auto s = m.at(m.duration() * i / n);
-    v = std::max(v, std::fabs(s.v));
-    a = std::max(a, std::fabs(s.a));
-    j = std::max(j, std::fabs(s.j));
-  }
+  const core::Peaks<double> sampled = test::sampled_peaks(m, 200000);
+  const double v = sampled.v, a = sampled.a, j = sampled.j;
   const auto& pk = m.peaks();
   EXPECT_LE(v, pk.v * (1 + 1e-9));
   EXPECT_GE(v, pk.v * (1 - 1e-4));  // a dense sample gets close to the true maximum
