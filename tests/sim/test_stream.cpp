@@ -16,14 +16,17 @@
 #include <memory>
 #include <new>
 #include <random>
+#include <span>
 #include <string>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 #include "heap_counter.hpp"
 #include "planned_moves.hpp"
 #include "settle/core/multi_axis.hpp"
 #include "settle/core/online.hpp"
+#include "settle/hal/canopen/heartbeat.hpp"
 #include "settle/sim/stream.hpp"
 #include "settle/sim/stream_bus.hpp"
 
@@ -258,6 +261,69 @@ TEST(RunStream, ASessionThatEndsBeforeItsHaltReportsItsOwnOutcome) {
   EXPECT_EQ(r.session.outcome, firmware::SessionOutcome::rejected);
   EXPECT_EQ(r.session.rejection, firmware::LoopStatus::exceeds_axis_velocity);
   EXPECT_FALSE(r.measured());
+}
+
+// A bus that plays back a schedule of frames on a clock of its own: receive() waits (moves the
+// clock) until the next frame is due, or for its whole timeout when none is due within it.
+class ScheduledBus final : public hal::CanBus {
+ public:
+  struct Due {
+    std::uint64_t at_us;
+    hal::CanFrame frame;
+  };
+  explicit ScheduledBus(std::vector<Due> due) : due_{std::move(due)} {}
+  std::uint64_t now_us{0};
+
+ private:
+  hal::SendStatus do_send(const hal::CanFrame&) noexcept override { return hal::SendStatus::sent; }
+  hal::ReceiveStatus do_receive(hal::CanFrame& f, std::uint32_t timeout_us) noexcept override {
+    if (next_ == due_.size() || due_[next_].at_us > now_us + timeout_us) {
+      now_us += timeout_us;
+      return hal::ReceiveStatus::empty;
+    }
+    now_us = std::max(now_us, due_[next_].at_us);
+    f = due_[next_++].frame;
+    return hal::ReceiveStatus::received;
+  }
+  hal::BusStatus do_set_filters(std::span<const hal::CanFilter>) noexcept override { return hal::BusStatus::ok; }
+  std::vector<Due> due_;
+  std::size_t next_{0};
+};
+
+// The end of a session waits for the last TPDOs, not for the drives to fall silent: three drives'
+// heartbeats every 100 ms, 33 ms apart, never leave 50 ms of quiet (the master hung here, once in
+// a CI run). A TPDO late by 30 ms is still taken; a peer that never falls silent is cut off at the
+// window's limit.
+TEST(RunStream, TheLateFramesAreTakenWithinABoundedWindow) {
+  namespace co = hal::canopen;
+  const auto heartbeat = [](co::NodeId node) { return co::encode_heartbeat(node, co::NmtState::operational); };
+  hal::CanFrame tpdo{};
+  tpdo.id = co::cob_id(co::cob::tpdo1, 5);
+  tpdo.len = 8;
+  std::vector<ScheduledBus::Due> due{{30'000, tpdo}};
+  for (std::uint64_t t = 0; t < 10'000'000; t += 100'000) {
+    due.push_back({t + 10'000, heartbeat(1)});
+    due.push_back({t + 43'000, heartbeat(5)});
+    due.push_back({t + 76'000, heartbeat(9)});
+  }
+  std::sort(due.begin(), due.end(), [](const auto& a, const auto& b) { return a.at_us < b.at_us; });
+  ScheduledBus bus{due};
+  std::vector<std::uint32_t> ids;
+  const std::size_t taken = take_late_frames(
+      bus, [&] { return bus.now_us; }, [&](const hal::CanFrame& f, std::uint64_t) { ids.push_back(f.id); });
+  // Quiet from 30 ms (the TPDO) to 80 ms: the heartbeats at 10, 43 and 76 ms do not count.
+  EXPECT_EQ(bus.now_us, 80'000U);
+  EXPECT_EQ(taken, 4U);
+  EXPECT_EQ(ids, (std::vector<std::uint32_t>{0x701, 0x185, 0x705, 0x709}));
+
+  // A node that sends a PDO every 20 ms for ever: cut off at the limit.
+  std::vector<ScheduledBus::Due> chatter;
+  for (std::uint64_t t = 20'000; t < 10'000'000; t += 20'000) chatter.push_back({t, tpdo});
+  ScheduledBus busy{chatter};
+  const std::size_t cut = take_late_frames(
+      busy, [&] { return busy.now_us; }, [](const hal::CanFrame&, std::uint64_t) {}, LateFrameWindow{50'000, 500'000});
+  EXPECT_LE(busy.now_us, 500'000U);
+  EXPECT_GE(cut, 24U);
 }
 
 // Three axes on nodes 1, 4 and 2 of one loopback bus, each its own drive and copy of the plant:

@@ -1,8 +1,31 @@
 #include "settle/sim/stream_bus.hpp"
 
+#include <algorithm>
 #include <utility>
 
+#include "settle/hal/canopen/heartbeat.hpp"
+
 namespace settle::sim {
+
+std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t()>& now_us,
+                             const StreamBus::FrameTaker& take, LateFrameWindow window) {
+  const std::uint64_t start = now_us();
+  std::uint64_t last = start;  // the last frame that was not a heartbeat (or the start)
+  std::size_t taken = 0;
+  for (;;) {
+    const std::uint64_t now = now_us();
+    const std::uint64_t quiet_left = now - last >= window.quiet_us ? 0 : window.quiet_us - (now - last);
+    const std::uint64_t limit_left = now - start >= window.limit_us ? 0 : window.limit_us - (now - start);
+    const std::uint64_t wait = std::min(quiet_left, limit_left);
+    if (wait == 0) return taken;
+    hal::CanFrame f{};
+    if (bus.receive(f, static_cast<std::uint32_t>(wait)) != hal::ReceiveStatus::received) return taken;
+    const std::uint64_t at = now_us();
+    take(f, at);
+    ++taken;
+    if (!hal::canopen::decode_heartbeat(f)) last = at;
+  }
+}
 
 // ---- the in-process bus, in virtual time ----
 
@@ -103,11 +126,10 @@ void SocketCanStreamBus::between_ticks() {
 }
 
 std::string SocketCanStreamBus::finish(const FrameTaker& take) {
-  hal::CanFrame f{};
-  while (link().receive(f, 50000) == hal::ReceiveStatus::received) {
-    take(f, timer_->now_us());
+  (void)take_late_frames(link(), [this] { return timer_->now_us(); }, [&](const hal::CanFrame& f, std::uint64_t now_us) {
+    take(f, now_us);
     between_ticks();
-  }
+  });
   if (dump_.is_open() && !(dump_.write_records(*recorder_) && dump_.close())) {
     return "the candump log " + candump_path_ + " is incomplete (" + std::to_string(dump_.records_lost()) +
            " records lost or unwritten)";

@@ -3,7 +3,9 @@
 // hal's drive node) on the in-process bus, in virtual time, deterministic. SocketCanStreamBus: a
 // SocketCAN interface (vcan0, can0) in real time, against a `settle plant` process or a drive.
 // Either can write a candump log of the run (`candump -l` format, replayable with canplayer).
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,6 +22,20 @@
 #include "settle/sim/stream.hpp"
 
 namespace settle::sim {
+
+// How long a session's end waits for frames still on their way (the last TPDOs answer the last
+// SYNC within a period). Waiting stops after `quiet_us` without a frame that is not a heartbeat
+// (the drives' heartbeats go on for ever: several drives' together can leave no gap at all) and in
+// every case after `limit_us` (a peer that never falls silent cannot hold the master).
+struct LateFrameWindow {
+  std::uint32_t quiet_us{50'000};
+  std::uint32_t limit_us{500'000};
+};
+
+// Takes the late frames from `bus` into `take` within `window`, on the clock `now_us`; returns
+// how many it took.
+std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t()>& now_us,
+                             const StreamBus::FrameTaker& take, LateFrameWindow window = {});
 
 // On loopback every axis of the spec (spec.more_axes too) has its drive in this process.
 class LoopbackStreamBus final : public StreamBus {
