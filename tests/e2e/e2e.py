@@ -121,14 +121,22 @@ class Plant:
 
 
 def what_it_was_doing(pid):
-    """A hung process's state, kernel wait channel and every thread's backtrace (gdb, installed by
-    tools/setup), taken before it is killed: what a hang report needs."""
+    """A hung process's state, kernel wait channel, open files and every thread's backtrace (gdb,
+    installed by tools/setup), taken before it is killed: what a hang report needs."""
     said = []
+    for what, path in (("status", "status"), ("wchan", "wchan"), ("stack", "stack")):
+        try:
+            text = open(f"/proc/{pid}/{path}").read()
+            if what == "status":
+                text = " ".join(ln.strip() for ln in text.splitlines() if ln.startswith(("State", "voluntary", "nonv")))
+            said.append(f"{what}: {text.strip()}".replace("\n", " | "))
+        except OSError as e:
+            said.append(f"{what}: {e.strerror}")
     try:
-        state = [ln for ln in open(f"/proc/{pid}/status") if ln.startswith(("State", "voluntary", "nonvoluntary"))]
-        said.append(" ".join(x.strip() for x in state) + f"; wchan {open(f'/proc/{pid}/wchan').read()}")
+        said.append("fds: " + ", ".join(f"{fd} {os.readlink(f'/proc/{pid}/fd/{fd}')}"
+                                        for fd in sorted(os.listdir(f"/proc/{pid}/fd"), key=int)))
     except OSError as e:
-        said.append(f"/proc/{pid}: {e}")
+        said.append(f"fds: {e.strerror}")
     if shutil.which("gdb"):
         bt = subprocess.run(["gdb", "-batch", "-p", str(pid), "-ex", "thread apply all bt 25"], capture_output=True,
                             text=True, timeout=60)
@@ -139,6 +147,20 @@ def what_it_was_doing(pid):
     return "\n".join(said)
 
 
+def holders(pipe):
+    """The processes that hold `pipe` (a file object) open: who keeps a pipe from its end of file."""
+    target = os.readlink(f"/proc/self/fd/{pipe.fileno()}")
+    found = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            fds = os.listdir(f"/proc/{pid}/fd")
+            if any(os.readlink(f"/proc/{pid}/fd/{fd}") == target for fd in fds) and int(pid) != os.getpid():
+                found.append(f"{pid} {open(f'/proc/{pid}/cmdline').read().replace(chr(0), ' ')[:120]}")
+        except OSError:
+            pass
+    return f"{target} held by: {'; '.join(found) or 'nobody else'}"
+
+
 def run(cmd, timeout=RUN_TIMEOUT_S):
     """subprocess.run(cmd, capture_output=True, text=True) that fails the test when the process
     outlives `timeout`, with what it was doing and what it had printed."""
@@ -146,7 +168,8 @@ def run(cmd, timeout=RUN_TIMEOUT_S):
     try:
         out, err = p.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
-        doing = what_it_was_doing(p.pid)
+        doing = what_it_was_doing(p.pid) + f"\nstdout {holders(p.stdout)}\nstderr {holders(p.stderr)}"
+        doing += f"\nexit status then: {p.poll()}"
         p.kill()
         out, err = p.communicate()
         fail(f"{' '.join(cmd[:3])} did not end within {timeout:.0f} s (killed). It was: {doing}\n"

@@ -291,9 +291,9 @@ class ScheduledBus final : public hal::CanBus {
 };
 
 // The end of a session waits for the last TPDOs, not for the drives to fall silent: three drives'
-// heartbeats every 100 ms, 33 ms apart, never leave 50 ms of quiet (the master hung here, once in
-// a CI run). A TPDO late by 30 ms is still taken; a peer that never falls silent is cut off at the
-// window's limit.
+// heartbeats every 100 ms, 33 ms apart, never leave 50 ms of quiet. A TPDO late by 30 ms is still
+// taken; a peer that never falls silent is cut off at the window's limit, and on a clock that does
+// not move, at its frame count.
 TEST(RunStream, TheLateFramesAreTakenWithinABoundedWindow) {
   namespace co = hal::canopen;
   const auto heartbeat = [](co::NodeId node) { return co::encode_heartbeat(node, co::NmtState::operational); };
@@ -324,6 +324,15 @@ TEST(RunStream, TheLateFramesAreTakenWithinABoundedWindow) {
       busy, [&] { return busy.now_us; }, [](const hal::CanFrame&, std::uint64_t) {}, LateFrameWindow{50'000, 500'000});
   EXPECT_LE(busy.now_us, 500'000U);
   EXPECT_GE(cut, 24U);
+
+  // On a clock that stands still (the periodic timer's period start, once the session stopped
+  // waiting on it: what hung the master) the frame count still ends it.
+  std::vector<ScheduledBus::Due> endless;
+  for (std::uint64_t t = 10'000; endless.size() < 20'000; t += 10'000) endless.push_back({t, heartbeat(1)});
+  ScheduledBus frozen{endless};
+  const std::size_t counted = take_late_frames(
+      frozen, [] { return std::uint64_t{1'000'000}; }, [](const hal::CanFrame&, std::uint64_t) {}, LateFrameWindow{});
+  EXPECT_EQ(counted, LateFrameWindow{}.max_frames);
 }
 
 // Three axes on nodes 1, 4 and 2 of one loopback bus, each its own drive and copy of the plant:

@@ -12,7 +12,7 @@ std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t
   const std::uint64_t start = now_us();
   std::uint64_t last = start;  // the last frame that was not a heartbeat (or the start)
   std::size_t taken = 0;
-  for (;;) {
+  while (taken < window.max_frames) {
     const std::uint64_t now = now_us();
     const std::uint64_t quiet_left = now - last >= window.quiet_us ? 0 : window.quiet_us - (now - last);
     const std::uint64_t limit_left = now - start >= window.limit_us ? 0 : window.limit_us - (now - start);
@@ -25,6 +25,7 @@ std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t
     ++taken;
     if (!hal::canopen::decode_heartbeat(f)) last = at;
   }
+  return taken;
 }
 
 // ---- the in-process bus, in virtual time ----
@@ -126,8 +127,13 @@ void SocketCanStreamBus::between_ticks() {
 }
 
 std::string SocketCanStreamBus::finish(const FrameTaker& take) {
-  (void)take_late_frames(link(), [this] { return timer_->now_us(); }, [&](const hal::CanFrame& f, std::uint64_t now_us) {
-    take(f, now_us);
+  // The time now, not the timer's period start: that stopped with the session's last wait (and a
+  // wait on it here would stretch every frame to a period). On a clock that stood still, three
+  // drives' heartbeats kept this waiting for ever, once in a CI run and in five of six runs of
+  // the e2e axes tests in one guest.
+  const auto now_us = [] { return firmware::linux_rt::monotonic_ns() / 1000; };
+  (void)take_late_frames(link(), now_us, [&](const hal::CanFrame& f, std::uint64_t at_us) {
+    take(f, at_us);
     between_ticks();
   });
   if (dump_.is_open() && !(dump_.write_records(*recorder_) && dump_.close())) {

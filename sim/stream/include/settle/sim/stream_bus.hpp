@@ -25,15 +25,19 @@ namespace settle::sim {
 
 // How long a session's end waits for frames still on their way (the last TPDOs answer the last
 // SYNC within a period). Waiting stops after `quiet_us` without a frame that is not a heartbeat
-// (the drives' heartbeats go on for ever: several drives' together can leave no gap at all) and in
-// every case after `limit_us` (a peer that never falls silent cannot hold the master).
+// (the drives' heartbeats go on for ever: several drives' together can leave no gap at all), in
+// every case after `limit_us` (a peer that never falls silent cannot hold the master), and after
+// `max_frames` (more than a 1 Mbit/s bus carries in the limit: the bound holds even on a clock
+// that does not move).
 struct LateFrameWindow {
   std::uint32_t quiet_us{50'000};
   std::uint32_t limit_us{500'000};
+  std::size_t max_frames{8192};
 };
 
-// Takes the late frames from `bus` into `take` within `window`, on the clock `now_us`; returns
-// how many it took.
+// Takes the late frames from `bus` into `take` within `window`; returns how many it took. now_us:
+// the time now, a clock that runs on its own (not one that moves by periods, such as
+// PeriodicTimer::now_us, which stands still once the session stops waiting on it).
 std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t()>& now_us,
                              const StreamBus::FrameTaker& take, LateFrameWindow window = {});
 
