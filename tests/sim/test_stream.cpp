@@ -321,7 +321,8 @@ TEST(RunStream, TheLateFramesAreTakenWithinABoundedWindow) {
   for (std::uint64_t t = 20'000; t < 10'000'000; t += 20'000) chatter.push_back({t, tpdo});
   ScheduledBus busy{chatter};
   const std::size_t cut = take_late_frames(
-      busy, [&] { return busy.now_us; }, [](const hal::CanFrame&, std::uint64_t) {}, LateFrameWindow{50'000, 500'000});
+      busy, [&] { return busy.now_us; }, [](const hal::CanFrame&, std::uint64_t) {},
+      LateFrameWindow{50'000, 500'000, 8192});
   EXPECT_LE(busy.now_us, 500'000U);
   EXPECT_GE(cut, 24U);
 
@@ -330,9 +331,23 @@ TEST(RunStream, TheLateFramesAreTakenWithinABoundedWindow) {
   std::vector<ScheduledBus::Due> endless;
   for (std::uint64_t t = 10'000; endless.size() < 20'000; t += 10'000) endless.push_back({t, heartbeat(1)});
   ScheduledBus frozen{endless};
-  const std::size_t counted = take_late_frames(
-      frozen, [] { return std::uint64_t{1'000'000}; }, [](const hal::CanFrame&, std::uint64_t) {}, LateFrameWindow{});
-  EXPECT_EQ(counted, LateFrameWindow{}.max_frames);
+  const std::size_t counted =
+      take_late_frames(frozen, [] { return std::uint64_t{1'000'000}; }, [](const hal::CanFrame&, std::uint64_t) {},
+                       LateFrameWindow{50'000, 500'000, 8192});
+  EXPECT_EQ(counted, 8192U);
+
+  // Held off the CPU past the whole window between the start and the first look (a loaded host):
+  // the 100 TPDOs that arrived meanwhile are queued and every one is taken (the stress test's
+  // ten-thousand-ticks run lost its alignment when they were not).
+  std::vector<ScheduledBus::Due> backlog;
+  for (std::uint64_t t = 1'000; t <= 100'000; t += 1'000) backlog.push_back({t, tpdo});
+  ScheduledBus stalled{backlog};
+  stalled.now_us = 200'000;  // every one has arrived
+  int looks = 0;
+  const std::size_t late = take_late_frames(
+      stalled, [&] { return looks++ == 0 ? std::uint64_t{0} : stalled.now_us + 10'000'000; },
+      [](const hal::CanFrame&, std::uint64_t) {}, LateFrameWindow{50'000, 500'000, 8192});
+  EXPECT_EQ(late, 100U);
 }
 
 // Three axes on nodes 1, 4 and 2 of one loopback bus, each its own drive and copy of the plant:

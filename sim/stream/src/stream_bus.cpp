@@ -16,8 +16,9 @@ std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t
     const std::uint64_t now = now_us();
     const std::uint64_t quiet_left = now - last >= window.quiet_us ? 0 : window.quiet_us - (now - last);
     const std::uint64_t limit_left = now - start >= window.limit_us ? 0 : window.limit_us - (now - start);
+    // 0 once the window has closed: then only what is already queued is taken. A process held off
+    // the CPU past the window (a loaded host) finds its late TPDOs waiting and must read them.
     const std::uint64_t wait = std::min(quiet_left, limit_left);
-    if (wait == 0) return taken;
     hal::CanFrame f{};
     if (bus.receive(f, static_cast<std::uint32_t>(wait)) != hal::ReceiveStatus::received) return taken;
     const std::uint64_t at = now_us();

@@ -24,15 +24,17 @@
 namespace settle::sim {
 
 // How long a session's end waits for frames still on their way (the last TPDOs answer the last
-// SYNC within a period). Waiting stops after `quiet_us` without a frame that is not a heartbeat
-// (the drives' heartbeats go on for ever: several drives' together can leave no gap at all), in
-// every case after `limit_us` (a peer that never falls silent cannot hold the master), and after
-// `max_frames` (more than a 1 Mbit/s bus carries in the limit: the bound holds even on a clock
-// that does not move).
+// SYNC within a period; a drive on a loaded host can be seconds behind). Waiting stops after
+// `quiet_us` without a frame that is not a heartbeat (the drives' heartbeats go on for ever:
+// several drives' together can leave no gap at all), in every case after `limit_us` (a peer that
+// never falls silent cannot hold the master), and after `max_frames` (more than a 1 Mbit/s bus
+// carries in the limit: the bound holds even on a clock that does not move). Frames already
+// queued when the window closes are still taken (up to max_frames): a process held off the CPU
+// past the window finds its late feedback waiting.
 struct LateFrameWindow {
   std::uint32_t quiet_us{50'000};
-  std::uint32_t limit_us{500'000};
-  std::size_t max_frames{8192};
+  std::uint32_t limit_us{5'000'000};
+  std::size_t max_frames{65'536};
 };
 
 // Takes the late frames from `bus` into `take` within `window`; returns how many it took. now_us:
