@@ -161,19 +161,27 @@ def holders(pipe):
     return f"{target} held by: {'; '.join(found) or 'nobody else'}"
 
 
-def run(cmd, timeout=RUN_TIMEOUT_S):
-    """subprocess.run(cmd, capture_output=True, text=True) that fails the test when the process
-    outlives `timeout`, with what it was doing and what it had printed."""
-    p = spawn(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+def wait_out(p, timeout=RUN_TIMEOUT_S):
+    """p.communicate(timeout=timeout) for a process the harness started (spawn); one that outlives
+    `timeout` fails the test with what it was doing and what it had printed."""
     try:
-        out, err = p.communicate(timeout=timeout)
+        return p.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
-        doing = what_it_was_doing(p.pid) + f"\nstdout {holders(p.stdout)}\nstderr {holders(p.stderr)}"
+        doing = what_it_was_doing(p.pid)
+        for name, pipe in (("stdout", p.stdout), ("stderr", p.stderr)):
+            if pipe is not None:
+                doing += f"\n{name} {holders(pipe)}"
         doing += f"\nexit status then: {p.poll()}"
         p.kill()
         out, err = p.communicate()
-        fail(f"{' '.join(cmd[:3])} did not end within {timeout:.0f} s (killed). It was: {doing}\n"
-             f"It printed: {out[-2000:]} {err[-1000:]}")
+        fail(f"{' '.join(p.args[:3])} did not end within {timeout:.0f} s (killed). It was: {doing}\n"
+             f"It printed: {(out or '')[-2000:]} {(err or '')[-1000:]}")
+
+
+def run(cmd, timeout=RUN_TIMEOUT_S):
+    """subprocess.run(cmd, capture_output=True, text=True), through wait_out."""
+    p = spawn(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    out, err = wait_out(p, timeout)
     return subprocess.CompletedProcess(cmd, p.returncode, out, err)
 
 
@@ -379,7 +387,7 @@ def commissioning(d):
     c = TABLE["commissioning"]
     plant = Plant(d, "commissioning-identify", c["plant"], [*PLANT_TOLERANT, *c["noise"]])
     r = run([SETTLE, "identify", "--bus", "vcan0", "--node", str(NODE), *STREAM_TOLERANT, *c["identify"],
-                        "--json"], timeout=RUN_TIMEOUT_S)
+            "--json"], timeout=RUN_TIMEOUT_S)
     pj = plant.stop()
     check(r.returncode == 0, f"identify exited {r.returncode}: {r.stdout} {r.stderr}")
     identified = os.path.join(d, "identify.json")
@@ -443,7 +451,7 @@ def online_halt(d):
     k = round(at / period)
     fb_plain = os.path.join(d, "feedback-plain.csv")
     r = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--axis-vmax", "1",
-                        "--feedback-log", fb_plain, "--json"], timeout=RUN_TIMEOUT_S)
+            "--feedback-log", fb_plain, "--json"], timeout=RUN_TIMEOUT_S)
     check(r.returncode == 0, f"the uninterrupted move on loopback: exit {r.returncode} {r.stderr}")
     plain = json.loads(r.stdout)
     plain_cmd = [int(row["commanded"]) for row in read_csv(fb_plain) if row["period"] >= 0]
@@ -463,7 +471,7 @@ def online_halt(d):
         # switch at T the unit suite checks setpoint by setpoint (tests/firmware/test_online_loop.cpp).
         fb_loop = os.path.join(d, f"feedback-{tag}-loopback.csv")
         rl = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--axis-vmax", "1",
-                  "--halt-at", str(at), "--scalar", scalar, "--feedback-log", fb_loop, "--json"])
+                 "--halt-at", str(at), "--scalar", scalar, "--feedback-log", fb_loop, "--json"])
         check(rl.returncode == 0, f"{tag}: the same halt on loopback: exit {rl.returncode} {rl.stderr}")
         loop_cmd = [int(row["commanded"]) for row in read_csv(fb_loop) if row["period"] >= 0]
         cmd = [int(row["commanded"]) for row in read_csv(fb) if row["period"] >= 0]
@@ -520,7 +528,7 @@ def stream_axes(d, tag, nodes, plant_args, args, what):
         plants = [Plant(d, f"{tag}-node{n}", plant_args, PLANT_TOLERANT, node=n) for n in nodes]
         dump = os.path.join(d, f"stream-{tag}.log")
         r = run([SETTLE, "stream", "--bus", "vcan0", *plant_args, *args, *STREAM_TOLERANT, "--candump",
-                            dump, "--json"], timeout=RUN_TIMEOUT_S)
+                dump, "--json"], timeout=RUN_TIMEOUT_S)
         with open(os.path.join(d, f"stream-{tag}.json"), "w") as f:
             f.write(r.stdout)
         pjs = [p.stop() for p in plants]
@@ -583,7 +591,7 @@ def plant_stalls_mid_move(d):
             counted = False
         sync_bus.close()
         plant.p.send_signal(signal.SIGCONT)
-        out, _ = s.communicate(timeout=RUN_TIMEOUT_S)
+        out, _ = wait_out(s)
         pj = plant.stop()
         try:
             r = json.loads(out)
@@ -676,19 +684,19 @@ def axes_halt(d):
     halt = ["--halt-at", "0.2137"]
     plain_dump = os.path.join(d, "axes-plain-loopback.log")
     r = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--candump", plain_dump,
-                        "--json"], timeout=RUN_TIMEOUT_S)
+            "--json"], timeout=RUN_TIMEOUT_S)
     check(r.returncode == 0, f"the uninterrupted three axes on loopback: exit {r.returncode} {r.stderr}")
     plain = json.loads(r.stdout)
-    full = {n: run[-1][1] for n, run in rpdo_runs(read_log(plain_dump), nodes).items()}  # the targets, in counts
+    full = {n: seq[-1][1] for n, seq in rpdo_runs(read_log(plain_dump), nodes).items()}  # the targets, in counts
     loop_dump = os.path.join(d, "axes-halt-loopback.log")
     r = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, *halt, "--candump", loop_dump,
-                        "--json"], timeout=RUN_TIMEOUT_S)
+            "--json"], timeout=RUN_TIMEOUT_S)
     check(r.returncode == 0, f"the same halt on loopback: exit {r.returncode} {r.stderr}")
     loop = json.loads(r.stdout)
     loop_runs = rpdo_runs(read_log(loop_dump), nodes)
     # Each node's setpoints from the first period any axis leaves the origin to its last.
     first = min(next(p for p, t in run if t != 0) for run in loop_runs.values())
-    moves = {n: [t for p, t in run if p >= first] for n, run in loop_runs.items()}
+    moves = {n: [t for p, t in seq if p >= first] for n, seq in loop_runs.items()}
     for n in nodes:
         last = moves[n][-1]
         moves[n] = moves[n][: moves[n].index(last) + 1]
@@ -743,7 +751,7 @@ def axes_stream(d):
 
     loop_dump = os.path.join(d, "axes-loopback.log")
     rl = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--candump", loop_dump,
-                         "--json"], timeout=RUN_TIMEOUT_S)
+             "--json"], timeout=RUN_TIMEOUT_S)
     check(rl.returncode == 0, f"the same three axes on loopback: exit {rl.returncode} {rl.stderr}")
     loop = json.loads(rl.stdout)
     # Each node's move on loopback, every node over the same periods: from the one in which the
@@ -752,7 +760,7 @@ def axes_stream(d):
     loop_runs = rpdo_runs(read_log(loop_dump), nodes)
     first = min(next(p for p, t in run if t != 0) for run in loop_runs.values())
     last = max(next(p for p, t in run if p >= first and t == run[-1][1]) for run in loop_runs.values())
-    moves = {n: [t for p, t in run if first <= p <= last] for n, run in loop_runs.items()}
+    moves = {n: [t for p, t in seq if first <= p <= last] for n, seq in loop_runs.items()}
 
     j, pjs, log = stream_axes(d, "axes", nodes, plant_args, move_args, "three axes")
     check(len(log) == j["frames_sent"] + j["frames_received"] and j["rx_overflow_drops"] == 0,
@@ -848,7 +856,7 @@ def main():
             s = spawn(cmd, stdout=subprocess.PIPE, text=True)
             wait_mid_move(rpdos, 500000, lambda: s.poll() is None)
             plant.kill()
-            out, _ = s.communicate(timeout=120)
+            out, _ = wait_out(s, 120)
             r = json.loads(out)
             check(r["outcome"] == "drive_lost" and s.returncode != 0, f"the loop reports the lost drive ({r['outcome']})")
             check(r["heartbeat_losses"] == 1 and r["moves_aborted"] == 1, "heartbeat loss detected, move abandoned")
@@ -878,7 +886,7 @@ def main():
             s = spawn(cmd, stdout=subprocess.PIPE, text=True)
             wait_mid_move(rpdos, 500000, lambda: s.poll() is None)
             plant.kill()
-            out, _ = s.communicate(timeout=120)
+            out, _ = wait_out(s, 120)
             r = json.loads(out)
             check(r["outcome"] == "feedback_timeout" and s.returncode != 0,
                   f"the loop reports the silent drive ({r['outcome']}, fault {r['fault']})")
@@ -894,7 +902,7 @@ def main():
         elif TEST == "refused-before-any-frame":
             sniffer = canbus.Sniffer()
             r = run([SETTLE, "stream", "--bus", "vcan0", "--plant", "beam", "--profile", "scurve",
-                     "--distance", "0.05", "--time", "0.2", "--omega", f"{W000}", "--amax", "1", "--json"], timeout=120)
+                    "--distance", "0.05", "--time", "0.2", "--omega", f"{W000}", "--amax", "1", "--json"], timeout=120)
             frames = guarded(sniffer.stop)
             j = json.loads(r.stdout)
             check(r.returncode == 2 and j["error"] == "acceleration_limit_exceeded", f"refused: {j['error']}")
@@ -902,8 +910,8 @@ def main():
         elif TEST == "no-drive-says-why":
             sniffer = canbus.Sniffer()
             r = run([SETTLE, "stream", "--bus", "vcan0", "--plant", "beam", "--profile", "scurve",
-                                "--distance", "0.05", "--time", "0.2", "--omega", f"{W000}", "--sdo-timeout-ms",
-                                "300", "--json"], timeout=120)
+                    "--distance", "0.05", "--time", "0.2", "--omega", f"{W000}", "--sdo-timeout-ms",
+                     "300", "--json"], timeout=120)
             frames = guarded(sniffer.stop)
             j = json.loads(r.stdout)
             check(r.returncode != 0 and j["outcome"] == "enable_failed", f"nobody answers: {j['outcome']}")
@@ -922,8 +930,8 @@ def main():
             sniffer = canbus.Sniffer()
             plant = Plant(d, "identify", plant_args, [*PLANT_TOLERANT, "--noise", "30", "--seed", "3"])
             r = run([SETTLE, "identify", "--bus", "vcan0", "--node", str(NODE), *STREAM_TOLERANT,
-                                "--plant", "sdof", "--max-modes", "3", "--json",
-                                "--png", os.path.join(d, "identify.png")], timeout=RUN_TIMEOUT_S)
+                    "--plant", "sdof", "--max-modes", "3", "--json",
+                     "--png", os.path.join(d, "identify.png")], timeout=RUN_TIMEOUT_S)
             pj = plant.stop()
             frames = guarded(sniffer.stop)
             check(r.returncode == 0, f"identify exited {r.returncode}: {r.stdout} {r.stderr}")

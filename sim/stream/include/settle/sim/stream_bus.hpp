@@ -27,8 +27,9 @@ namespace settle::sim {
 // SYNC within a period; a drive on a loaded host can be seconds behind). Waiting stops after
 // `quiet_us` without a frame that is not a heartbeat (the drives' heartbeats go on for ever:
 // several drives' together can leave no gap at all), in every case after `limit_us` (a peer that
-// never falls silent cannot hold the master), and after `max_frames` (more than a 1 Mbit/s bus
-// carries in the limit: the bound holds even on a clock that does not move). Frames already
+// never falls silent cannot hold the master), and after `max_frames` (a bound that holds even on
+// a clock that does not move: 8-byte frames at 1 Mbit/s, about 8000 a second, fill it in about
+// 8 s, longer than the limit). Frames already
 // queued when the window closes are still taken (up to max_frames): a process held off the CPU
 // past the window finds its late feedback waiting.
 struct LateFrameWindow {
