@@ -694,6 +694,45 @@ double worst_over_band(const FastestTable& p, const ModeSet& ms, double band) no
   return worst;
 }
 
+// A point-to-point move never runs backwards: v has the sign of D throughout (so the position
+// stays between start and target). Without this rule the shortest moves on slow modes swing the
+// axis back by more than it moves forward (docs/fastest.md, "Never backwards").
+constexpr double kBackwardsTol = 1e-9;  // of the peak |v|: rounding, not motion
+bool runs_backwards(const FastestTable& p) noexcept {
+  const double sg = p.distance < 0.0 ? -1.0 : 1.0;
+  double v = 0.0, a = 0.0, lowest = 0.0, peak = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const double d = p.durations[i], j = p.jerk[i];
+    if (j != 0.0) {
+      const double u = -a / j;
+      if (u > 0.0 && u < d) lowest = std::fmin(lowest, sg * (v + a * u + j * u * u / 2.0));
+    }
+    v += d * (a + j * d / 2.0);
+    a += j * d;
+    lowest = std::fmin(lowest, sg * v);
+    peak = std::fmax(peak, std::fabs(v));
+  }
+  return lowest < -kBackwardsTol * peak;
+}
+// The ramp-cycloid's velocity is a polynomial plus one period of a sinusoid on each piece:
+// sampled, 32 points a piece (the S-curves run backwards only where a damped transition's
+// acceleration overshoots far, e.g. D 0.03 on a 2 rad/s mode).
+bool runs_backwards(const RampCycloidParams& c) noexcept {
+  const RampCycloid<double> m{c};
+  const double sg = m.distance() < 0.0 ? -1.0 : 1.0;
+  constexpr int kSamples = 32;
+  double lowest = 0.0, peak = 0.0;
+  for (int i = 0; i < m.piece_count(); ++i) {
+    const Piece pc = m.piece(i);
+    for (int k = 0; k <= kSamples; ++k) {
+      const double v = piece_at(pc, pc.start + pc.length * k / kSamples).v;
+      lowest = std::fmin(lowest, sg * v);
+      peak = std::fmax(peak, std::fabs(v));
+    }
+  }
+  return lowest < -kBackwardsTol * peak;
+}
+
 bool limits_ok(const Peaks<double>& pk, double vmax, double amax, double jmax) noexcept {
   constexpr double slack = 1e-9;
   return pk.v <= vmax * (1.0 + slack) && pk.a <= amax * (1.0 + slack) && pk.j <= jmax * (1.0 + slack);
@@ -839,7 +878,7 @@ bool plan_pattern(const MoveRequest& r, const ModeSet& ms, bool mirrored, const 
     p = pattern_table(bb, T, yy, r.distance);
     if (p.count == 0) return false;
     pk = jerk_table_peaks(p);
-    return limits_ok(pk, bb.vmax, bb.amax, bb.J) && design_ok(p, ms, band, 1e-10);
+    return limits_ok(pk, bb.vmax, bb.amax, bb.J) && !runs_backwards(p) && design_ok(p, ms, band, 1e-10);
   };
   bool have = false;
   const auto descend = [&](const Problem& bb, double T, Vec y) {
@@ -937,6 +976,359 @@ Status read_modes(const MoveRequest& r, ModeSet& ms) noexcept {
   return Status::ok;
 }
 
+// ----- family: bang-bang with limit arcs ------------------------------------------------------
+
+// In the shortest move the jerk is +-J everywhere except on arcs where a limit holds: for the
+// rigid body plus linear modes, Pontryagin's switching function is a quadratic plus damped
+// sinusoids, which cannot vanish on an interval, so there is no singular arc (no coast off a
+// limit). The move is then a chain of nodes joined by ramps at +-J:
+//   limit  a hold at a = +-amax                         unknown: its length
+//   peak   a turn of a below the limit, no hold          unknown: its level
+//   cruise a hold at a = 0 with v = +vmax                unknown: its length; equation v = vmax
+//   dwell  a hold at a = 0 with v = 0                    unknown: its length; equation v = 0
+// The axis never moves backwards (v >= 0 for D > 0): without that rule the shortest move on a
+// slow mode can swing far beyond both ends (a 1 mm move on a 2 rad/s mode swings +-28 mm); with
+// it, v = 0 inside the move is a dwell node. With 2 + 2m nodes of kind limit or peak (m modes),
+// the equations (v = 0 and p = D at the end, the transform's real and imaginary part at each
+// mode's pole, one per cruise or dwell node) are as many as the unknowns: Newton's method on a
+// square system of at most kMaxArcNodes unknowns. An active-set loop changes the chain where a
+// solution breaks a condition it does not hold as an equation: a negative limit hold makes the
+// node a peak, a peak beyond amax a limit, a velocity above vmax where a ramp crosses a = 0 a
+// cruise there, one below zero a dwell.
+
+enum class ArcKind : std::uint8_t { limit, peak, cruise, dwell };
+struct ArcNode {
+  ArcKind kind{ArcKind::limit};
+  double sign{1.0};  // limit / peak: the side of a; cruise and dwell: +1 (D > 0)
+};
+constexpr std::size_t kMaxArcNodes = 14;  // 2 n + 1 segments <= kFastestSegments
+using ArcVec = std::array<double, kMaxArcNodes>;
+using ArcMat = std::array<ArcVec, kMaxArcNodes>;
+
+struct ArcChain {
+  std::array<ArcNode, kMaxArcNodes> node{};
+  ArcVec x{};  // limit, cruise, dwell: the hold (s); peak: the level
+  std::size_t n{0};
+};
+
+// Sign of the ramp into a node and out of it.
+double ramp_in(const ArcNode& k) noexcept { return k.kind == ArcKind::cruise ? -1.0 : k.sign; }
+double ramp_out(const ArcNode& k) noexcept {
+  return k.kind == ArcKind::limit || k.kind == ArcKind::peak ? -k.sign : ramp_in(k);
+}
+
+struct ArcProblem {
+  double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0};
+  const ModeSet* ms{nullptr};
+};
+
+// The chain laid out: ramp r (r < n into node r, r = n the closing ramp) runs from b[r] to e[r]
+// with jerk j[r]; node r holds from e[r] to b[r + 1].
+struct ArcLayout {
+  std::array<double, kMaxArcNodes + 1> b{}, e{}, j{}, level{};  // level: of node r (0 after the last)
+  std::size_t n{0};
+  double T{0.0};
+  bool ordered{true};  // every ramp and hold has a non-negative length
+};
+
+ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
+  ArcLayout L{};
+  L.n = c.n;
+  double t = 0.0, a = 0.0;
+  for (std::size_t r = 0; r <= c.n; ++r) {
+    const bool closing = r == c.n;
+    const double s = closing ? ramp_out(c.node[c.n - 1]) : ramp_in(c.node[r]);
+    double lev = 0.0, hold = 0.0;
+    if (!closing) {
+      const ArcNode& k = c.node[r];
+      lev = k.kind == ArcKind::limit ? k.sign * pb.amax : k.kind == ArcKind::peak ? c.x[r] : 0.0;
+      hold = k.kind == ArcKind::peak ? 0.0 : c.x[r];
+    }
+    const double d = (lev - a) / (s * pb.J);
+    if (d < 0.0 || hold < 0.0) L.ordered = false;
+    L.b[r] = t;
+    L.e[r] = t + d;
+    L.j[r] = s * pb.J;
+    L.level[r] = lev;
+    t = L.e[r] + hold;
+    a = lev;
+  }
+  L.T = L.e[c.n];
+  return L;
+}
+
+// The square system F(x) (dimensionless) and, with `jac`, its Jacobian. Each quantity is a sum
+// over the ramps of a function of the times u = T - t before the end; its derivative with
+// respect to each switch time, summed from the back (every switch time is the sum of the
+// lengths before it), gives the derivative with respect to each unknown.
+std::size_t arc_residuals(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcMat* jac) noexcept {
+  const ArcLayout L = lay_out(pb, c);
+  const std::size_t n = c.n, ns = 2 * n + 2;  // switch times s_k: s_2r = b[r], s_2r+1 = e[r]
+  std::array<double, 2 * kMaxArcNodes + 2> g{};
+  std::size_t row = 0;
+  // d F_row / d x from g (d F_row / d s_k), as suffix sums.
+  const auto finish_row = [&](std::size_t rw) {
+    if (jac == nullptr) return;
+    std::array<double, 2 * kMaxArcNodes + 3> suf{};
+    for (std::size_t k = ns; k-- > 0;) suf[k] = suf[k + 1] + g[k];
+    for (std::size_t i = 0; i < n; ++i) {
+      const ArcNode& k = c.node[i];
+      // hold i is the length between s_{2i+1} and s_{2i+2}; a peak's level sets ramp i (before
+      // s_{2i+1}) and ramp i+1 (before s_{2i+3}).
+      (*jac)[rw][i] = k.kind == ArcKind::peak
+                          ? (suf[2 * i + 1] + suf[std::min(2 * i + 3, ns)]) / (ramp_in(k) * pb.J)
+                          : suf[2 * i + 2];
+    }
+    g.fill(0.0);
+  };
+  const double T = L.T;
+  // v and p at the end.
+  double v = 0.0, p = 0.0;
+  for (std::size_t r = 0; r <= n; ++r) {
+    const double ub = T - L.b[r], ue = T - L.e[r], jr = L.j[r];
+    v += jr * (ub * ub - ue * ue) / 2.0;
+    p += jr * (ub * ub * ub - ue * ue * ue) / 6.0;
+    g[2 * r] -= jr * ub;
+    g[2 * r + 1] += jr * ue;
+    g[ns - 1] += jr * (ub - ue);
+  }
+  f[row] = v / pb.vmax;
+  for (double& x : g) x /= pb.vmax;
+  finish_row(row++);
+  for (std::size_t r = 0; r <= n; ++r) {
+    const double ub = T - L.b[r], ue = T - L.e[r], jr = L.j[r];
+    g[2 * r] -= jr * ub * ub / 2.0 / pb.D;
+    g[2 * r + 1] += jr * ue * ue / 2.0 / pb.D;
+  }
+  g[ns - 1] += v / pb.D;
+  f[row] = (p - pb.D) / pb.D;
+  finish_row(row++);
+  // The transform at each pole, referred to the end and divided by D omega (the step's): sum_r
+  // j_r (E(u_b) - E(u_e)) / s^2 with E(u) = e^{s u}; d/d b_r = -j_r E(u_b) / s, d/d e_r = j_r E(u_e) / s.
+  for (std::size_t m = 0; m < pb.ms->n; ++m) {
+    const Cx s = pole(pb.ms->m[m].omega, pb.ms->m[m].zeta);
+    const double s_n2 = s.re * s.re + s.im * s.im;
+    const Cx inv_s{s.re / s_n2, -s.im / s_n2};
+    const Cx inv_s2 = inv_s * inv_s;
+    const double scale = 1.0 / (pb.D * pb.ms->m[m].omega);
+    Cx acc{}, d_T{};
+    std::array<Cx, 2 * kMaxArcNodes + 2> dg{};
+    for (std::size_t r = 0; r <= n; ++r) {
+      const double jr = L.j[r] * scale;
+      const Cx Ee = cexp_neg(s, -(T - L.e[r]));
+      // E(u_b) - E(u_e) = E(u_e) (e^{s d} - 1): no cancellation on short ramps.
+      const Cx diff = Ee * cexpm1((L.e[r] - L.b[r]) * s);
+      const Cx Eb = Ee + diff;
+      acc = acc + jr * diff;
+      dg[2 * r] = dg[2 * r] + (-jr) * (Eb * inv_s);
+      dg[2 * r + 1] = dg[2 * r + 1] + jr * (Ee * inv_s);
+    }
+    const Cx val = acc * inv_s2;
+    d_T = s * val;  // d/dT of sum E(u): s times the sum
+    for (int part = 0; part < 2; ++part) {
+      for (std::size_t k = 0; k < ns; ++k) g[k] = part == 0 ? dg[k].re : dg[k].im;
+      g[ns - 1] += part == 0 ? d_T.re : d_T.im;
+      f[row] = part == 0 ? val.re : val.im;
+      finish_row(row++);
+    }
+  }
+  // v = vmax on each cruise, v = 0 on each dwell (at the hold's start e[i]).
+  for (std::size_t i = 0; i < n; ++i) {
+    const ArcKind kd = c.node[i].kind;
+    if (kd != ArcKind::cruise && kd != ArcKind::dwell) continue;
+    const double tc = L.e[i];
+    double vc = 0.0;
+    for (std::size_t r = 0; r <= i; ++r) {
+      const double ub = tc - L.b[r], ue = tc - L.e[r], jr = L.j[r];
+      vc += jr * (ub * ub - ue * ue) / 2.0;
+      g[2 * r] -= jr * ub / pb.vmax;
+      g[2 * r + 1] += jr * ue / pb.vmax;
+    }
+    // d/d tc (= s_{2i+1}): the acceleration there, 0 by construction.
+    f[row] = (vc - (kd == ArcKind::cruise ? pb.vmax : 0.0)) / pb.vmax;
+    finish_row(row++);
+  }
+  return row;
+}
+
+double arc_norm(const ArcVec& f, std::size_t n) noexcept {
+  double s = 0.0;
+  for (std::size_t i = 0; i < n; ++i) s += f[i] * f[i];
+  return std::sqrt(s);
+}
+
+// Newton's method with a backtracking line search on |F| (each point's F and Jacobian taken
+// together: the full step is nearly always taken). False unless it converged.
+bool arc_newton(const ArcProblem& pb, ArcChain& c) noexcept {
+  constexpr double kTol = 1e-13, kAccept = 1e-10;
+  ArcVec f{};
+  ArcMat jm{};
+  std::size_t rows = arc_residuals(pb, c, f, &jm);
+  if (rows != c.n) return false;  // not square: a chain the loop should not have made
+  double n0 = arc_norm(f, rows);
+  for (int it = 0; it < 40; ++it) {
+    if (!std::isfinite(n0)) return false;
+    if (n0 < kTol) return true;
+    ArcVec dx{};
+    for (std::size_t i = 0; i < rows; ++i) dx[i] = -f[i];
+    if (!solve_in_place(jm, dx, rows)) return false;
+    double lam = 1.0, n1 = INFINITY;
+    ArcChain trial = c;
+    for (; lam > 1e-4; lam *= 0.5) {
+      for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dx[i];
+      (void)arc_residuals(pb, trial, f, &jm);
+      n1 = arc_norm(f, rows);
+      if (std::isfinite(n1) && n1 < n0) break;
+    }
+    // No decrease: converged when already at rounding level (the move is checked afterwards).
+    if (!(lam > 1e-4)) return n0 < kAccept;
+    c = trial;
+    n0 = n1;
+  }
+  return false;
+}
+
+// What a solved chain breaks, first in the chain: the node to change and how. kind none: feasible.
+struct ArcFix {
+  enum Kind : std::uint8_t { none, to_peak, to_limit, drop, add_cruise, add_dwell, give_up } kind{none};
+  std::size_t at{0};
+};
+
+ArcFix arc_violation(const ArcProblem& pb, const ArcChain& c) noexcept {
+  constexpr double kEps = 1e-12;
+  for (std::size_t i = 0; i < c.n; ++i) {
+    const ArcNode& k = c.node[i];
+    if (k.kind == ArcKind::peak) {
+      if (k.sign * c.x[i] > pb.amax) return {ArcFix::to_limit, i};
+      if (k.sign * c.x[i] < 0.0) return {ArcFix::give_up, i};
+    } else if (c.x[i] < -kEps) {
+      return {k.kind == ArcKind::limit ? ArcFix::to_peak : ArcFix::drop, i};
+    }
+  }
+  const ArcLayout L = lay_out(pb, c);
+  double a = 0.0, v = 0.0;
+  for (std::size_t r = 0; r <= c.n; ++r) {
+    const double d = L.e[r] - L.b[r], j = L.j[r];
+    if (d < -kEps) return {ArcFix::give_up, r};
+    const double a1 = a + j * d;
+    if (a * a1 < 0.0) {  // a crosses zero inside the ramp: v has its extreme there
+      const double tc = -a / j;
+      const double vc = v + a * tc + 0.5 * j * tc * tc;
+      if (vc > pb.vmax * (1.0 + 1e-9)) return {ArcFix::add_cruise, r};
+      if (vc < -1e-9 * pb.vmax) return {ArcFix::add_dwell, r};
+    }
+    v += a * d + 0.5 * j * d * d;
+    a = a1;
+    if (r < c.n) v += a * (L.b[r + 1] - L.e[r]);  // the hold
+  }
+  return {};
+}
+
+bool apply_fix(const ArcProblem& pb, const ArcFix& fx, ArcChain& c) noexcept {
+  switch (fx.kind) {
+    case ArcFix::to_peak:
+      c.node[fx.at].kind = ArcKind::peak;
+      c.x[fx.at] = 0.9 * c.node[fx.at].sign * pb.amax;
+      return true;
+    case ArcFix::to_limit:
+      c.node[fx.at].kind = ArcKind::limit;
+      c.x[fx.at] = 0.0;
+      return true;
+    case ArcFix::drop:
+      for (std::size_t i = fx.at; i + 1 < c.n; ++i) {
+        c.node[i] = c.node[i + 1];
+        c.x[i] = c.x[i + 1];
+      }
+      --c.n;
+      return c.n > 0;
+    case ArcFix::add_cruise:
+    case ArcFix::add_dwell:
+      if (c.n >= kMaxArcNodes) return false;
+      for (std::size_t i = c.n; i > fx.at; --i) {
+        c.node[i] = c.node[i - 1];
+        c.x[i] = c.x[i - 1];
+      }
+      c.node[fx.at] = {fx.kind == ArcFix::add_cruise ? ArcKind::cruise : ArcKind::dwell, 1.0};
+      c.x[fx.at] = 0.0;
+      ++c.n;
+      return true;
+    default:
+      return false;
+  }
+}
+
+// The chain as a table (the sign of `distance` applied).
+FastestTable arc_table(const ArcProblem& pb, const ArcChain& c, double distance) noexcept {
+  const ArcLayout L = lay_out(pb, c);
+  const double sg = distance < 0.0 ? -1.0 : 1.0;
+  FastestTable t{};
+  t.distance = distance;
+  for (std::size_t r = 0; r <= c.n; ++r) {
+    const double hold = r < c.n ? L.b[r + 1] - L.e[r] : 0.0;
+    if (!push_segment(t, L.e[r] - L.b[r], sg * L.j[r]) || (r < c.n && !push_segment(t, hold, 0.0))) {
+      return FastestTable{};
+    }
+  }
+  return t;
+}
+
+// The shortest bang-bang move found from three seeds: the alternating limit chain with holds a
+// tenth and the whole of the slowest mode's half period over the nodes (a seed between them found
+// nothing shorter on the tests' grids), and the alternating peak chain at half of amax (short
+// moves on fast modes, where no hold reaches amax). False when none is feasible.
+bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk) noexcept {
+  ArcProblem pb{};
+  pb.D = std::fabs(r.distance);
+  pb.J = *r.jmax;
+  pb.amax = *r.amax;
+  pb.vmax = *r.vmax;
+  pb.ms = &ms;
+  double w_min = ms.m[0].omega;
+  for (std::size_t i = 1; i < ms.n; ++i) w_min = std::fmin(w_min, ms.m[i].omega);
+  const std::size_t n0 = 2 + 2 * ms.n;
+  if (n0 > kMaxArcNodes) return false;
+  bool have = false, best_holds_amax = false;
+  double best = INFINITY;
+  for (int seed = 0; seed < 3; ++seed) {
+    // The peak chain is for moves whose acceleration stays below amax: not tried when the
+    // shortest move so far holds amax (on the tests' grids it then found nothing shorter).
+    if (seed == 2 && best_holds_amax) break;
+    ArcChain c{};
+    c.n = n0;
+    for (std::size_t i = 0; i < n0; ++i) {
+      const double sign = i % 2 == 0 ? 1.0 : -1.0;
+      if (seed < 2) {
+        c.node[i] = {ArcKind::limit, sign};
+        c.x[i] = (seed == 0 ? 0.1 : 1.0) * 3.141592653589793 / (w_min * static_cast<double>(n0));
+      } else {
+        c.node[i] = {ArcKind::peak, sign};
+        c.x[i] = 0.5 * sign * pb.amax;
+      }
+    }
+    for (int round = 0; round < 8; ++round) {
+      if (!arc_newton(pb, c)) break;
+      const ArcFix fx = arc_violation(pb, c);
+      if (fx.kind == ArcFix::none) {
+        const FastestTable t = arc_table(pb, c, r.distance);
+        if (t.count == 0) break;
+        const double T = table_duration(t);
+        const Peaks<double> pk = jerk_table_peaks(t);
+        if (T < best && limits_ok(pk, pb.vmax, pb.amax, pb.J) && !runs_backwards(t) && design_ok(t, ms, 0.0, 1e-10)) {
+          best = T;
+          out = t;
+          out_pk = pk;
+          have = true;
+          best_holds_amax = false;
+          for (std::size_t i = 0; i < c.n; ++i) best_holds_amax |= c.node[i].kind == ArcKind::limit;
+        }
+        break;
+      }
+      if (!apply_fix(pb, fx, c)) break;
+    }
+  }
+  return have;
+}
+
 }  // namespace
 
 namespace {
@@ -1028,10 +1420,13 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     FastestTable t{};
     if (!flatten_shaped(to, s, t)) return;
     const Peaks<double> pk = jerk_table_peaks(t);
-    if (!limits_ok(pk, vmax, amax, jmax) || !design_ok(t, ms, band, 1e-10)) return;
+    if (!limits_ok(pk, vmax, amax, jmax) || runs_backwards(t) || !design_ok(t, ms, band, 1e-10)) return;
     record_table(fam, t, pk);
   };
   for (std::size_t k = 0; k < 4; ++k) {
+    // EI leaves its tolerance (5 %) at the design frequency: never an exact design, and its
+    // damped design is iterative (about 25 us), so it is only tried for --robust.
+    if (kShapers[k] == ShaperKind::ei && band == 0.0) continue;
     Shaper<double> s{};
     bool ok = true;
     for (std::size_t i = 0; i < ms.n && ok; ++i) {
@@ -1051,7 +1446,9 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
         Status::ok) {
       p.family = damped ? FastestFamily::scurve_damped : FastestFamily::scurve;
       const Peaks<double> pk = ramp_cycloid_peaks(p.curve);
-      if (limits_ok(pk, vmax, amax, jmax)) record(p.family, p, pk, Fastest<double>{p}.duration());
+      if (limits_ok(pk, vmax, amax, jmax) && !runs_backwards(p.curve)) {
+        record(p.family, p, pk, Fastest<double>{p}.duration());
+      }
     }
   }
 
@@ -1074,11 +1471,23 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     }
   }
 
-  // (a) bang-coast switch times under the zero conditions, in both forms (mirrored pulse, whole
+  // (a) bang-bang with limit arcs (exact designs): when it beats the families above, the
+  // bang-coast search below is not made (it is a local search from seeds, and slow).
+  bool arcs_won = false;
+  if (band == 0.0) {
+    FastestTable t{};
+    Peaks<double> pk{};
+    if (plan_arcs(r, ms, t, pk) && table_duration(t) < best.time) {
+      record_table(FastestFamily::bang_bang, t, pk);
+      arcs_won = true;
+    }
+  }
+
+  // (a') bang-coast switch times under the zero conditions, in both forms (mirrored pulse, whole
   // move), seeded from the time-optimal move (or its pulse) convolved with the shaper of the
   // same zeros and the next order.
   const PiecewiseJerkParams h = accel_pulse(to);
-  for (std::size_t k = 0; k < nsets; ++k) {
+  for (std::size_t k = 0; k < nsets && !arcs_won; ++k) {
     const ZeroSet& z = sets[k];
     std::array<Condition, kMaxConds> cond{};
     const std::size_t nc = zero_conditions(z, ms, cond);

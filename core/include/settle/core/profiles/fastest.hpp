@@ -3,7 +3,10 @@
 // design mode (omega, zeta and the request's extra modes) exactly at rest, or, with `robust`,
 // keeps their residual within 5 % of a step's over omega (1 +- robust/100). It plans several
 // families and keeps the shortest feasible one (docs/fastest.md):
+//   bang_bang   jerk +-J except on limit arcs (Pontryagin's structure), Newton on the switch
+//               times of a chain of limit / peak / cruise / dwell nodes (exact designs)
 //   bang_coast  jerk in {+J, 0, -J}, switch times solved under the zero-residual conditions
+//               (only where bang_bang does not win)
 //   scurve / scurve_damped   the ramp-cycloid S-curves (single mode)
 //   shaped_zv / _zvd / _zvdd / _ei   the time-optimal jerk-limited move convolved with shapers
 //   shaped_spread   (--robust) convolved with ZV shapers at frequencies spread over the band
@@ -39,12 +42,13 @@ enum class FastestFamily : std::uint8_t {
   shaped_zvdd,
   shaped_ei,
   shaped_spread,  // ZV at omega (1 +- spread) for --robust, composed
+  bang_bang,      // jerk +-J except on limit arcs, Newton on the switch times (exact designs)
 };
-inline constexpr std::size_t kFastestFamilies = 9;
+inline constexpr std::size_t kFastestFamilies = 10;
 [[nodiscard]] constexpr const char* to_string(FastestFamily f) noexcept {
   constexpr const char* names[kFastestFamilies] = {"none",          "bang-coast", "scurve",         "scurve-damped",
                                                    "time-optimal*ZV", "time-optimal*ZVD", "time-optimal*ZVDD",
-                                                   "time-optimal*EI", "time-optimal*spread-ZV"};
+                                                   "time-optimal*EI", "time-optimal*spread-ZV", "bang-bang"};
   const auto i = static_cast<std::size_t>(f);
   return i < kFastestFamilies ? names[i] : "unknown";
 }
@@ -140,7 +144,7 @@ class Fastest {
   [[nodiscard]] static const char* family_param_name(std::size_t k) noexcept {
     constexpr const char* names[kFastestFamilies] = {"",         "time_bang_coast", "time_scurve", "time_scurve_damped",
                                                      "time_zv",  "time_zvd",        "time_zvdd",   "time_ei",
-                                                     "time_spread_zv"};
+                                                     "time_spread_zv", "time_bang_bang"};
     return names[k];
   }
 
@@ -149,7 +153,8 @@ class Fastest {
   std::variant<RampCycloid<T>, Table> shape_{};
 };
 
-// The planner (core/src/fastest.cpp): every family, the shortest feasible one.
+// The planner (core/src/fastest.cpp): every family, the shortest feasible one that never runs
+// backwards (v keeps the sign of the distance).
 [[nodiscard]] Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& pk) noexcept;
 
 // Exact peaks of a piecewise-constant-jerk table (jerk and acceleration at breakpoints, velocity
