@@ -744,11 +744,23 @@ struct Best {
   double time{INFINITY};
 };
 
+// Exact: every mode's residual amplitude within exact_tol |D|, or within what the table's
+// double-precision switch times allow: each is off by about eps T, which moves the velocity by
+// about |j| eps T per switch and leaves about that over omega. Only tiny moves on slow modes
+// (1 um on 2 rad/s) reach that floor; without it nothing, not even the time-optimal move * ZV,
+// passes for them.
 bool design_ok(const FastestTable& p, const ModeSet& ms, double band, double exact_tol) noexcept {
   if (band > 0.0) return worst_over_band(p, ms, band) <= kRobustLimit;
+  double T = 0.0, jpk = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    T += p.durations[i];
+    jpk = std::fmax(jpk, std::fabs(p.jerk[i]));
+  }
+  constexpr double kEps = 2.220446049250313e-16;
+  const double time_floor = 16.0 * static_cast<double>(p.count) * jpk * kEps * T;
   for (std::size_t i = 0; i < ms.n; ++i) {
     const double amp = fastest_residual_amplitude(p, ms.m[i].omega, ms.m[i].zeta);
-    if (!(amp <= exact_tol * std::fabs(p.distance))) return false;
+    if (!(amp <= exact_tol * std::fabs(p.distance) + time_floor / ms.m[i].omega)) return false;
   }
   return true;
 }

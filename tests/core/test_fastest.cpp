@@ -310,6 +310,30 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
   }
 }
 
+// Tiny moves on slow modes: the exact conditions meet the floor of the table's double-precision
+// switch times (design_ok). They still plan, no slower than time-optimal * ZV, and never
+// backwards. Before, they failed (no_solution) or came back as ramp-cycloid moves of days
+// (1 um on 2 rad/s: 308 425 s).
+TEST(Fastest, TinyMovesOnSlowModesStillPlan) {
+  for (double d : {1e-5, 1e-6, 1e-8}) {
+    for (double w : {2.0, 22.0}) {
+      SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w);
+      const core::MoveRequest r = request(d, 1.0, 20.0, 800.0, w, 0.0);
+      core::Move<double> m{};
+      ASSERT_EQ(core::plan(r, m), Status::ok);
+      EXPECT_LE(m.duration(), shaped_baseline(r, core::ShaperKind::zv) * (1 + 1e-12));
+      EXPECT_LE(test::residual_amplitude(m, w, 0.0), 1e-6 * d);
+      EXPECT_NEAR(m.at(m.duration()).p, d, 1e-12 * d);
+      double last = 0.0;
+      for (int i = 0; i <= 20000; ++i) {
+        const double p = m.at(m.duration() * i / 20000).p;
+        EXPECT_GE(p - last, -1e-12 * d);
+        last = p;
+      }
+    }
+  }
+}
+
 // --robust PCT: wherever time-optimal * ZVD or * EI holds the band (by the independent check),
 // `fastest` plans, is no slower, and holds the band too; its sampled peaks respect the limits.
 TEST(Fastest, RobustNeverSlowerThanTimeOptimalZvdOrEiAtTheirRobustness) {
