@@ -1040,7 +1040,6 @@ struct ArcLayout {
   std::array<double, kMaxArcNodes + 1> b{}, e{}, j{}, level{};  // level: of node r (0 after the last)
   std::size_t n{0};
   double T{0.0};
-  bool ordered{true};  // every ramp and hold has a non-negative length
 };
 
 ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
@@ -1057,7 +1056,6 @@ ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
       hold = k.kind == ArcKind::peak ? 0.0 : c.x[r];
     }
     const double d = (lev - a) / (s * pb.J);
-    if (d < 0.0 || hold < 0.0) L.ordered = false;
     L.b[r] = t;
     L.e[r] = t + d;
     L.j[r] = s * pb.J;
