@@ -3,7 +3,8 @@
 //   settle.sample(dt=..., **move)     numpy arrays t, position, velocity, acceleration, jerk
 //   settle.simulate(plant=..., **move) the residual-vibration metrics of the move on a plant
 // The move's keywords are the CLI's options without their dashes (profile, distance, time, vmax,
-// amax, jmax, omega, zeta, gammas, y, shaper, vtol). A bad value raises ValueError naming the
+// amax, jmax, omega, zeta, gammas, y, shaper, vtol, robust); for profile 'fastest', omega and zeta
+// may be lists, one per mode, as --omega and --zeta repeat. A bad value raises ValueError naming the
 // keyword; an unknown keyword raises TypeError, as for any Python function.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -38,7 +39,9 @@ double number(const py::handle& v, const char* keyword) {
                                         py::hasattr(v, "__float__"))) {
     bad(keyword, "expected a number, got " + std::string{py::str(py::type::of(v).attr("__name__"))});
   }
-  return v.cast<double>();
+  const double x = v.cast<double>();
+  if (!std::isfinite(x)) bad(keyword, "must be finite");
+  return x;
 }
 
 std::vector<double> numbers(const py::handle& v, const char* keyword) {
@@ -53,8 +56,15 @@ std::string text(const py::handle& v, const char* keyword) {
   return v.cast<std::string>();
 }
 
-constexpr const char* kMoveKeywords[] = {"profile", "distance", "time",   "vmax",   "amax", "jmax",
-                                         "omega",   "zeta",     "gammas", "y",      "shaper", "vtol"};
+constexpr const char* kMoveKeywords[] = {"profile", "distance", "time", "vmax",   "amax",   "jmax", "omega",
+                                         "zeta",    "gammas",   "y",    "shaper", "vtol",   "robust"};
+
+// A number, or a sequence of at most `most` numbers (its length checked before any is read).
+std::vector<double> number_or_numbers(const py::handle& v, const char* keyword, std::size_t most) {
+  if (!py::isinstance<py::sequence>(v) || py::isinstance<py::str>(v)) return {number(v, keyword)};
+  if (py::len(v) > most) bad(keyword, "at most " + std::to_string(most) + " values");
+  return numbers(v, keyword);
+}
 
 bool is_move_keyword(const std::string& k) {
   for (const char* m : kMoveKeywords) {
@@ -81,11 +91,19 @@ core::MoveRequest move_request(const py::kwargs& kw) {
   if (!kw.contains("distance")) bad("distance", "required");
   r.distance = number(kw["distance"], "distance");
   const std::pair<const char*, std::optional<double>*> optional_numbers[] = {
-      {"time", &r.time}, {"vmax", &r.vmax}, {"amax", &r.amax}, {"jmax", &r.jmax}, {"omega", &r.omega}};
+      {"time", &r.time}, {"vmax", &r.vmax}, {"amax", &r.amax}, {"jmax", &r.jmax}, {"robust", &r.robust}};
   for (const auto& [name, field] : optional_numbers) {
     if (kw.contains(name) && !kw[name].is_none()) *field = number(kw[name], name);
   }
-  if (kw.contains("zeta")) r.zeta = number(kw["zeta"], "zeta");
+  if (r.robust && r.profile != core::ProfileKind::fastest) bad("robust", "only profile 'fastest' takes it");
+  // omega and zeta: a number, or (profile 'fastest') one per mode, as --omega and --zeta repeat.
+  constexpr std::size_t kModes = 1 + core::kMaxExtraModes;
+  const std::vector<double> omegas =
+      kw.contains("omega") && !kw["omega"].is_none() ? number_or_numbers(kw["omega"], "omega", kModes) : std::vector<double>{};
+  const std::vector<double> zetas = kw.contains("zeta") ? number_or_numbers(kw["zeta"], "zeta", kModes) : std::vector<double>{};
+  const char* option = nullptr;
+  std::string message;
+  if (!sim::set_design_modes(omegas, zetas, r, option, message)) bad(option + 2, message);
   if (kw.contains("vtol")) r.vtol = number(kw["vtol"], "vtol");
   if (kw.contains("gammas") && !kw["gammas"].is_none()) {
     const std::vector<double> g = numbers(kw["gammas"], "gammas");
@@ -132,13 +150,15 @@ py::dict plan(const py::kwargs& kw) {
   for (std::size_t i = 0; i < m.shaper().count; ++i) {
     impulses.append(py::dict("amplitude"_a = m.shaper().amp[i], "time"_a = m.shaper().time[i]));
   }
-  return py::dict("status"_a = "ok", "profile"_a = core::to_string(m.profile().kind()), "distance"_a = m.distance(),
-                  "duration"_a = m.duration(), "profile_duration"_a = m.profile().duration(),
-                  "params"_a = profile_params(m.profile()),
-                  "peaks"_a = py::dict("velocity"_a = pk.v, "acceleration"_a = pk.a, "jerk"_a = pk.j,
-                                       "velocity_step"_a = pk.velocity_step,
-                                       "acceleration_step"_a = pk.acceleration_step),
-                  "shaper"_a = py::dict("impulses"_a = impulses));
+  py::dict out("status"_a = "ok", "profile"_a = core::to_string(m.profile().kind()), "distance"_a = m.distance(),
+               "duration"_a = m.duration(), "profile_duration"_a = m.profile().duration(),
+               "params"_a = profile_params(m.profile()),
+               "peaks"_a = py::dict("velocity"_a = pk.v, "acceleration"_a = pk.a, "jerk"_a = pk.j,
+                                    "velocity_step"_a = pk.velocity_step, "acceleration_step"_a = pk.acceleration_step),
+               "shaper"_a = py::dict("impulses"_a = impulses));
+  // The family that won, for a profile that plans several (fastest), as `settle plan` reports it.
+  if (const std::string family = sim::profile_family(m.profile()); !family.empty()) out["family"] = family;
+  return out;
 }
 
 py::dict sample(const py::kwargs& kw) {
@@ -234,7 +254,8 @@ PYBIND11_MODULE(settle, m) {
       "Settle: vibration-free point-to-point moves (planning, sampling, simulation).\n"
       "Every function takes the move as keywords, the `settle` CLI's options without their dashes:\n"
       "  profile (" + profiles + "),\n"
-      "  distance, time (s) or vmax/amax/jmax, omega (rad/s) and zeta of the mode the move is for,\n"
+      "  distance, time (s) or vmax/amax/jmax, omega (rad/s) and zeta of the mode the move is for (profile\n"
+      "  'fastest': lists, one per mode, and robust in %),\n"
       "  gammas (pseudopoly exponents), y (ramp-versine Y/L fractions), shaper (" + settle::sim::shaper_list() +
       "), vtol.\n"
       "A bad value raises ValueError('<keyword>: <reason>'). settle.PROFILES lists the profiles.";

@@ -114,18 +114,11 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
   r.jmax = a.real("--jmax");
   r.omega = a.real("--omega");
   r.zeta = a.real("--zeta", 0.0);
-  const std::vector<double> omegas = a.reals("--omega"), zetas = a.reals("--zeta");
-  if (omegas.size() > 1 && r.profile != core::ProfileKind::fastest) {
-    err = {"bad_option", "--omega", "--omega: given more than once; only --profile fastest designs for several modes"};
+  const char* option = nullptr;
+  std::string message;
+  if (!sim::set_design_modes(a.reals("--omega"), a.reals("--zeta"), r, option, message)) {
+    err = {"bad_option", option, std::string{option} + ": " + message};
     return false;
-  }
-  if (zetas.size() > 1 && zetas.size() != omegas.size()) {
-    err = {"bad_option", "--zeta", "--zeta: give one per --omega, in the same order (or one for a single mode)"};
-    return false;
-  }
-  for (std::size_t i = 1; i < omegas.size(); ++i) {
-    r.extra_modes[i - 1] = {omegas[i], i < zetas.size() ? zetas[i] : 0.0};
-    r.extra_mode_count = i;
   }
   if (!parse_shape(a, r, err)) return false;
   if (fallback != nullptr && !a.has("--omega") && core::needs_mode(r)) {

@@ -65,6 +65,33 @@ std::string profile_family(const core::Profile<double>& prof) {
   return out;
 }
 
+bool set_design_modes(const std::vector<double>& omegas, const std::vector<double>& zetas, core::MoveRequest& r,
+                      const char*& option, std::string& message) {
+  if (omegas.size() > 1 && r.profile != core::ProfileKind::fastest) {
+    option = "--omega";
+    message = "several modes: only profile fastest designs for several modes";
+    return false;
+  }
+  if (omegas.size() > 1 + core::kMaxExtraModes) {
+    option = "--omega";
+    message = "at most " + std::to_string(1 + core::kMaxExtraModes) + " modes";
+    return false;
+  }
+  if (zetas.size() > 1 && zetas.size() != omegas.size()) {
+    option = "--zeta";
+    message = "one per omega, in the same order (or one for a single mode)";
+    return false;
+  }
+  if (!omegas.empty()) r.omega = omegas[0];
+  if (!zetas.empty()) r.zeta = zetas[0];
+  r.extra_mode_count = 0;
+  for (std::size_t i = 1; i < omegas.size(); ++i) {
+    r.extra_modes[i - 1] = {omegas[i], i < zetas.size() ? zetas[i] : 0.0};
+    r.extra_mode_count = i;
+  }
+  return true;
+}
+
 const char* option_of(core::Status s, const core::MoveRequest& r) {
   using core::Status;
   switch (s) {

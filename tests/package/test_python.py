@@ -72,6 +72,21 @@ class Plan(unittest.TestCase):
             self.assertEqual(out.returncode, 2)
             self.assertIn("--profile: required (" + ", ".join(settle.PROFILES) + ")", out.stderr)
 
+    @unittest.skipUnless(SETTLE_CLI or "--settle" in sys.argv, "needs the settle CLI (--settle)")
+    def test_fastest_for_several_modes_and_robust_is_what_the_cli_prints(self):
+        # omega and zeta as lists are --omega and --zeta repeated, one per mode, in order.
+        base = dict(profile="fastest", distance=0.1, vmax=1.0, amax=20.0, jmax=800.0)
+        two = dict(base, omega=[22.0, 60.0], zeta=[0.02, 0.01])
+        robust = dict(base, omega=22.0, robust=10.0)
+        for move, args in [(two, ["--omega", "22", "--zeta", "0.02", "--omega", "60", "--zeta", "0.01"]),
+                           (robust, ["--omega", "22", "--robust", "10"])]:
+            with self.subTest(move=move):
+                rest = [a for k, v in base.items() for a in ("--" + k, str(v))]
+                out = subprocess.run([SETTLE_CLI, "plan", *rest, *args, "--json"], capture_output=True, text=True,
+                                     check=True).stdout
+                self.assertEqual(json_like(settle.plan(**move)), json.loads(out))
+        self.assertEqual(settle.plan(**two)["profile"], "fastest")
+
     def test_shaped_duration_is_profile_plus_last_impulse(self):
         p = settle.plan(profile="scurve", distance=0.1, time=0.5, omega=10.0, shaper="zvd")
         impulses = p["shaper"]["impulses"]
@@ -177,6 +192,14 @@ class BadArguments(unittest.TestCase):
         self.assertNames("plant", lambda: settle.simulate(plant="moon", **good))
         self.assertNames("plant", lambda: settle.simulate(plant=[(22.0, 2.0)], **good))
         self.assertNames("unexpected keyword argument 'speed'", lambda: settle.plan(**good, speed=1.0), TypeError)
+        # Several modes: profile fastest only, one zeta per omega, at most four; robust: fastest only.
+        fastest = dict(profile="fastest", distance=0.1, vmax=1.0, amax=20.0, jmax=800.0)
+        self.assertNames("omega", lambda: settle.plan(**dict(good, omega=[22.0, 60.0])))
+        self.assertNames("zeta", lambda: settle.plan(**fastest, omega=[22.0, 60.0], zeta=[0.0, 0.1, 0.2]))
+        self.assertNames("omega", lambda: settle.plan(**fastest, omega=[10.0] * 6))
+        self.assertNames("omega", lambda: settle.plan(**fastest, omega=[22.0, float("nan")]))
+        self.assertNames("robust", lambda: settle.plan(**good, robust=10.0))
+        self.assertNames("robust", lambda: settle.plan(**fastest, omega=22.0, robust=-1.0))
 
 
 if __name__ == "__main__":

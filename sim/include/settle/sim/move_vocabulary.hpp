@@ -30,6 +30,14 @@ struct ShaperName {
 // The family that won, for a profile that plans several (`fastest`); "" for the others.
 [[nodiscard]] std::string profile_family(const core::Profile<double>& prof);
 
+// The modes a move is designed for, as --omega and --zeta give them (repeated, in order): the
+// first is the request's own mode, the rest its extra modes. Several only for profile `fastest`
+// (and at most 1 + core::kMaxExtraModes); one zeta per omega, or a single zeta (or none) for a
+// single mode. False with the option to blame ("--omega" or "--zeta") and what is wrong (without
+// the option's name) otherwise; r is then unchanged.
+[[nodiscard]] bool set_design_modes(const std::vector<double>& omegas, const std::vector<double>& zetas,
+                                    core::MoveRequest& r, const char*& option, std::string& message);
+
 // The option a planner status is about ("--time", "--vmax", ...), so that the user is told what
 // to change.
 [[nodiscard]] const char* option_of(core::Status s, const core::MoveRequest& r);
