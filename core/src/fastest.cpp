@@ -1029,9 +1029,15 @@ double ramp_out(const ArcNode& k) noexcept {
   return k.kind == ArcKind::limit || k.kind == ArcKind::peak ? -k.sign : ramp_in(k);
 }
 
+// pulse: the chain is the acceleration pulse g of a mirrored move a(t) = g(t) - g(t - D / vmax)
+// (g, a cruise at vmax, g mirrored): its transform is G(s) (1 - e^{-s D / vmax}), so G = 0 at each
+// pole leaves every mode at rest; g ends at v = vmax and has no distance condition. With 1 + 2m
+// nodes the system is square again. It holds long moves on damped or several modes, where the
+// whole chain (one cruise between 2 + 2m nodes) has too few nodes on each side.
 struct ArcProblem {
   double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0};
   const ModeSet* ms{nullptr};
+  bool pulse{false};
 };
 
 // The chain laid out: ramp r (r < n into node r, r = n the closing ramp) runs from b[r] to e[r]
@@ -1102,17 +1108,19 @@ std::size_t arc_residuals(const ArcProblem& pb, const ArcChain& c, ArcVec& f, Ar
     g[2 * r + 1] += jr * ue;
     g[ns - 1] += jr * (ub - ue);
   }
-  f[row] = v / pb.vmax;
+  f[row] = (v - (pb.pulse ? pb.vmax : 0.0)) / pb.vmax;
   for (double& x : g) x /= pb.vmax;
   finish_row(row++);
-  for (std::size_t r = 0; r <= n; ++r) {
-    const double ub = T - L.b[r], ue = T - L.e[r], jr = L.j[r];
-    g[2 * r] -= jr * ub * ub / 2.0 / pb.D;
-    g[2 * r + 1] += jr * ue * ue / 2.0 / pb.D;
+  if (!pb.pulse) {
+    for (std::size_t r = 0; r <= n; ++r) {
+      const double ub = T - L.b[r], ue = T - L.e[r], jr = L.j[r];
+      g[2 * r] -= jr * ub * ub / 2.0 / pb.D;
+      g[2 * r + 1] += jr * ue * ue / 2.0 / pb.D;
+    }
+    g[ns - 1] += v / pb.D;
+    f[row] = (p - pb.D) / pb.D;
+    finish_row(row++);
   }
-  g[ns - 1] += v / pb.D;
-  f[row] = (p - pb.D) / pb.D;
-  finish_row(row++);
   // The transform at each pole, referred to the end and divided by D omega (the step's): sum_r
   // j_r (E(u_b) - E(u_e)) / s^2 with E(u) = e^{s u}; d/d b_r = -j_r E(u_b) / s, d/d e_r = j_r E(u_e) / s.
   for (std::size_t m = 0; m < pb.ms->n; ++m) {
@@ -1235,6 +1243,9 @@ ArcFix arc_violation(const ArcProblem& pb, const ArcChain& c) noexcept {
 }
 
 bool apply_fix(const ArcProblem& pb, const ArcFix& fx, ArcChain& c) noexcept {
+  // A pulse that overshoots vmax or dips below 0 is not one of the mirrored moves: no cruise or
+  // dwell inside it.
+  if (pb.pulse && (fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell)) return false;
   switch (fx.kind) {
     case ArcFix::to_peak:
       c.node[fx.at].kind = ArcKind::peak;
@@ -1268,16 +1279,24 @@ bool apply_fix(const ArcProblem& pb, const ArcFix& fx, ArcChain& c) noexcept {
 }
 
 // The chain as a table (the sign of `distance` applied).
+// The chain as a table (the sign of `distance` applied); a pulse as g, the cruise, g mirrored.
+// Empty when it does not fit, or a pulse is longer than the move leaves it (D / vmax).
 FastestTable arc_table(const ArcProblem& pb, const ArcChain& c, double distance) noexcept {
   const ArcLayout L = lay_out(pb, c);
   const double sg = distance < 0.0 ? -1.0 : 1.0;
+  const double cruise = pb.D / pb.vmax - L.T;
+  if (pb.pulse && !(cruise >= 0.0)) return FastestTable{};
   FastestTable t{};
   t.distance = distance;
-  for (std::size_t r = 0; r <= c.n; ++r) {
-    const double hold = r < c.n ? L.b[r + 1] - L.e[r] : 0.0;
-    if (!push_segment(t, L.e[r] - L.b[r], sg * L.j[r]) || (r < c.n && !push_segment(t, hold, 0.0))) {
-      return FastestTable{};
+  for (const double side : {1.0, -1.0}) {
+    for (std::size_t r = 0; r <= c.n; ++r) {
+      const double hold = r < c.n ? L.b[r + 1] - L.e[r] : 0.0;
+      if (!push_segment(t, L.e[r] - L.b[r], side * sg * L.j[r]) || (r < c.n && !push_segment(t, hold, 0.0))) {
+        return FastestTable{};
+      }
     }
+    if (!pb.pulse) break;
+    if (side > 0.0 && !push_segment(t, cruise, 0.0)) return FastestTable{};
   }
   return t;
 }
@@ -1295,45 +1314,58 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   pb.ms = &ms;
   double w_min = ms.m[0].omega;
   for (std::size_t i = 1; i < ms.n; ++i) w_min = std::fmin(w_min, ms.m[i].omega);
-  const std::size_t n0 = 2 + 2 * ms.n;
-  if (n0 > kMaxArcNodes) return false;
-  bool have = false, best_holds_amax = false;
+  bool have = false, best_cruises = false;
   double best = INFINITY;
-  for (int seed = 0; seed < 3; ++seed) {
-    // The peak chain is for moves whose acceleration stays below amax: not tried when the
-    // shortest move so far holds amax (on the tests' grids it then found nothing shorter).
-    if (seed == 2 && best_holds_amax) break;
-    ArcChain c{};
-    c.n = n0;
-    for (std::size_t i = 0; i < n0; ++i) {
-      const double sign = i % 2 == 0 ? 1.0 : -1.0;
-      if (seed < 2) {
-        c.node[i] = {ArcKind::limit, sign};
-        c.x[i] = (seed == 0 ? 0.1 : 1.0) * 3.141592653589793 / (w_min * static_cast<double>(n0));
-      } else {
-        c.node[i] = {ArcKind::peak, sign};
-        c.x[i] = 0.5 * sign * pb.amax;
-      }
-    }
-    for (int round = 0; round < 8; ++round) {
-      if (!arc_newton(pb, c)) break;
-      const ArcFix fx = arc_violation(pb, c);
-      if (fx.kind == ArcFix::none) {
-        const FastestTable t = arc_table(pb, c, r.distance);
-        if (t.count == 0) break;
-        const double T = table_duration(t);
-        const Peaks<double> pk = jerk_table_peaks(t);
-        if (T < best && limits_ok(pk, pb.vmax, pb.amax, pb.J) && !runs_backwards(t) && design_ok(t, ms, 0.0, 1e-10)) {
-          best = T;
-          out = t;
-          out_pk = pk;
-          have = true;
-          best_holds_amax = false;
-          for (std::size_t i = 0; i < c.n; ++i) best_holds_amax |= c.node[i].kind == ArcKind::limit;
+  for (const bool pulse : {false, true}) {
+    // The mirrored pulse is for moves that cruise: tried when the whole chain found none, or its
+    // shortest cruises at vmax (on the tests' grids it found nothing shorter otherwise). A pulse
+    // reaching vmax lasts at least the time-optimal one, vmax/amax + amax/jmax: when the move
+    // leaves less (D / vmax), no mirrored move fits.
+    if (pulse && ((have && !best_cruises) || pb.D / pb.vmax < pb.vmax / pb.amax + pb.amax / pb.J)) break;
+    pb.pulse = pulse;
+    const std::size_t n0 = (pulse ? 1 : 2) + 2 * ms.n;
+    if (n0 > kMaxArcNodes) continue;
+    bool best_holds_amax = false;  // of this form's shortest
+    for (int seed = 0; seed < 3; ++seed) {
+      // The peak chain is for moves whose acceleration stays below amax: not tried when the
+      // shortest move of the form holds amax (on the tests' grids it then found nothing shorter).
+      if (seed == 2 && best_holds_amax) break;
+      ArcChain c{};
+      c.n = n0;
+      for (std::size_t i = 0; i < n0; ++i) {
+        const double sign = i % 2 == 0 ? 1.0 : -1.0;
+        if (seed < 2) {
+          c.node[i] = {ArcKind::limit, sign};
+          c.x[i] = (seed == 0 ? 0.1 : 1.0) * 3.141592653589793 / (w_min * static_cast<double>(n0));
+        } else {
+          c.node[i] = {ArcKind::peak, sign};
+          c.x[i] = 0.5 * sign * pb.amax;
         }
-        break;
       }
-      if (!apply_fix(pb, fx, c)) break;
+      for (int round = 0; round < 8; ++round) {
+        if (!arc_newton(pb, c)) break;
+        const ArcFix fx = arc_violation(pb, c);
+        if (fx.kind == ArcFix::none) {
+          const FastestTable t = arc_table(pb, c, r.distance);
+          if (t.count == 0) break;
+          const double T = table_duration(t);
+          const Peaks<double> pk = jerk_table_peaks(t);
+          if (T < best && limits_ok(pk, pb.vmax, pb.amax, pb.J) && !runs_backwards(t) &&
+              design_ok(t, ms, 0.0, 1e-10)) {
+            best = T;
+            out = t;
+            out_pk = pk;
+            have = true;
+            best_holds_amax = best_cruises = false;
+            for (std::size_t i = 0; i < c.n; ++i) {
+              best_holds_amax |= c.node[i].kind == ArcKind::limit;
+              best_cruises |= c.node[i].kind == ArcKind::cruise;
+            }
+          }
+          break;
+        }
+        if (!apply_fix(pb, fx, c)) break;
+      }
     }
   }
   return have;
