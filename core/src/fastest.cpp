@@ -617,24 +617,47 @@ void staircase(const Problem& b, double T, double frac, int style, Vec& y) noexc
 
 }  // namespace
 
-Peaks<double> jerk_table_peaks(const FastestTable& p) noexcept {
+namespace {
+
+// One walk over a table's segments: its exact peaks (jerk and acceleration at breakpoints,
+// velocity also where the acceleration crosses zero inside a segment), and what the
+// never-backwards rule reads: the lowest velocity in the move's direction and the peak |v| at the
+// breakpoints.
+struct TableWalk {
   Peaks<double> pk{};
+  double lowest{0.0};    // min of sign(D) v
+  double end_peak{0.0};  // max |v| at the breakpoints
+};
+
+TableWalk walk_table(const FastestTable& p) noexcept {
+  TableWalk w{};
+  const double sg = p.distance < 0.0 ? -1.0 : 1.0;
   double v = 0.0, a = 0.0;
   for (std::size_t i = 0; i < p.count; ++i) {
     const double d = p.durations[i], j = p.jerk[i];
-    pk.j = std::fmax(pk.j, std::fabs(j));
+    w.pk.j = std::fmax(w.pk.j, std::fabs(j));
     // v(u) = v + a u + j u^2 / 2 is extremal where a + j u = 0 inside the segment.
     if (j != 0.0) {
       const double u = -a / j;
-      if (u > 0.0 && u < d) pk.v = std::fmax(pk.v, std::fabs(v + a * u + j * u * u / 2.0));
+      if (u > 0.0 && u < d) {
+        const double ve = v + a * u + j * u * u / 2.0;
+        w.pk.v = std::fmax(w.pk.v, std::fabs(ve));
+        w.lowest = std::fmin(w.lowest, sg * ve);
+      }
     }
     v += d * (a + j * d / 2.0);
     a += j * d;
-    pk.v = std::fmax(pk.v, std::fabs(v));
-    pk.a = std::fmax(pk.a, std::fabs(a));
+    w.pk.v = std::fmax(w.pk.v, std::fabs(v));
+    w.pk.a = std::fmax(w.pk.a, std::fabs(a));
+    w.lowest = std::fmin(w.lowest, sg * v);
+    w.end_peak = std::fmax(w.end_peak, std::fabs(v));
   }
-  return pk;
+  return w;
 }
+
+}  // namespace
+
+Peaks<double> jerk_table_peaks(const FastestTable& p) noexcept { return walk_table(p).pk; }
 
 double fastest_residual_amplitude(const FastestTable& p, double omega, double zeta) noexcept {
   return cabs(accel_transform_at_end(p, pole(omega, zeta))) / (omega * std::sqrt(1.0 - zeta * zeta));
@@ -696,24 +719,9 @@ double worst_over_band(const FastestTable& p, const ModeSet& ms, double band) no
 
 // A point-to-point move never runs backwards: v has the sign of D throughout (so the position
 // stays between start and target). Without this rule the shortest moves on slow modes swing the
-// axis back by more than it moves forward (docs/fastest.md, "Never backwards").
+// axis back by more than it moves forward (docs/fastest.md, "Never backwards"). For a jerk table
+// walk_table finds the lowest velocity exactly (table_ok below reads it).
 constexpr double kBackwardsTol = 1e-9;  // of the peak |v|: rounding, not motion
-bool runs_backwards(const FastestTable& p) noexcept {
-  const double sg = p.distance < 0.0 ? -1.0 : 1.0;
-  double v = 0.0, a = 0.0, lowest = 0.0, peak = 0.0;
-  for (std::size_t i = 0; i < p.count; ++i) {
-    const double d = p.durations[i], j = p.jerk[i];
-    if (j != 0.0) {
-      const double u = -a / j;
-      if (u > 0.0 && u < d) lowest = std::fmin(lowest, sg * (v + a * u + j * u * u / 2.0));
-    }
-    v += d * (a + j * d / 2.0);
-    a += j * d;
-    lowest = std::fmin(lowest, sg * v);
-    peak = std::fmax(peak, std::fabs(v));
-  }
-  return lowest < -kBackwardsTol * peak;
-}
 // The ramp-cycloid's velocity is a polynomial plus one period of a sinusoid on each piece:
 // sampled, 32 points a piece (the S-curves run backwards only where a damped transition's
 // acceleration overshoots far, e.g. D 0.03 on a 2 rad/s mode).
@@ -763,6 +771,16 @@ bool design_ok(const FastestTable& p, const ModeSet& ms, double band, double exa
     if (!(amp <= exact_tol * std::fabs(p.distance) + time_floor / ms.m[i].omega)) return false;
   }
   return true;
+}
+
+// A jerk-table candidate of any family: its exact peaks within the limits, never backwards, and
+// its design held (exact zeros, or the band). pk gets its peaks.
+bool table_ok(const FastestTable& t, double vmax, double amax, double jmax, const ModeSet& ms, double band,
+              Peaks<double>& pk) noexcept {
+  const TableWalk w = walk_table(t);
+  pk = w.pk;
+  return limits_ok(pk, vmax, amax, jmax) && !(w.lowest < -kBackwardsTol * w.end_peak) &&
+         design_ok(t, ms, band, 1e-10);
 }
 
 void consider(Best& best, const FastestParams& p, const Peaks<double>& pk, double time) noexcept {
@@ -888,9 +906,7 @@ bool plan_pattern(const MoveRequest& r, const ModeSet& ms, bool mirrored, const 
   b.nc = nc;
   const auto accept = [&](const Problem& bb, double T, const Vec& yy, FastestTable& p, Peaks<double>& pk) {
     p = pattern_table(bb, T, yy, r.distance);
-    if (p.count == 0) return false;
-    pk = jerk_table_peaks(p);
-    return limits_ok(pk, bb.vmax, bb.amax, bb.J) && !runs_backwards(p) && design_ok(p, ms, band, 1e-10);
+    return p.count != 0 && table_ok(p, bb.vmax, bb.amax, bb.J, ms, band, pk);
   };
   bool have = false;
   const auto descend = [&](const Problem& bb, double T, Vec y) {
@@ -1043,14 +1059,12 @@ struct ArcProblem {
 // The chain laid out: ramp r (r < n into node r, r = n the closing ramp) runs from b[r] to e[r]
 // with jerk j[r]; node r holds from e[r] to b[r + 1].
 struct ArcLayout {
-  std::array<double, kMaxArcNodes + 1> b{}, e{}, j{}, level{};  // level: of node r (0 after the last)
-  std::size_t n{0};
+  std::array<double, kMaxArcNodes + 1> b{}, e{}, j{};
   double T{0.0};
 };
 
 ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
   ArcLayout L{};
-  L.n = c.n;
   double t = 0.0, a = 0.0;
   for (std::size_t r = 0; r <= c.n; ++r) {
     const bool closing = r == c.n;
@@ -1065,7 +1079,6 @@ ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
     L.b[r] = t;
     L.e[r] = t + d;
     L.j[r] = s * pb.J;
-    L.level[r] = lev;
     t = L.e[r] + hold;
     a = lev;
   }
@@ -1073,27 +1086,26 @@ ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
   return L;
 }
 
-// The square system F(x) (dimensionless) and, with `jac`, its Jacobian. Each quantity is a sum
+// The square system F(x) (dimensionless) and its Jacobian. Each quantity is a sum
 // over the ramps of a function of the times u = T - t before the end; its derivative with
 // respect to each switch time, summed from the back (every switch time is the sum of the
 // lengths before it), gives the derivative with respect to each unknown.
-std::size_t arc_residuals(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcMat* jac) noexcept {
+std::size_t arc_residuals(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcMat& jac) noexcept {
   const ArcLayout L = lay_out(pb, c);
   const std::size_t n = c.n, ns = 2 * n + 2;  // switch times s_k: s_2r = b[r], s_2r+1 = e[r]
   std::array<double, 2 * kMaxArcNodes + 2> g{};
   std::size_t row = 0;
   // d F_row / d x from g (d F_row / d s_k), as suffix sums.
   const auto finish_row = [&](std::size_t rw) {
-    if (jac == nullptr) return;
     std::array<double, 2 * kMaxArcNodes + 3> suf{};
     for (std::size_t k = ns; k-- > 0;) suf[k] = suf[k + 1] + g[k];
     for (std::size_t i = 0; i < n; ++i) {
       const ArcNode& k = c.node[i];
       // hold i is the length between s_{2i+1} and s_{2i+2}; a peak's level sets ramp i (before
       // s_{2i+1}) and ramp i+1 (before s_{2i+3}).
-      (*jac)[rw][i] = k.kind == ArcKind::peak
-                          ? (suf[2 * i + 1] + suf[std::min(2 * i + 3, ns)]) / (ramp_in(k) * pb.J)
-                          : suf[2 * i + 2];
+      jac[rw][i] = k.kind == ArcKind::peak
+                       ? (suf[2 * i + 1] + suf[std::min(2 * i + 3, ns)]) / (ramp_in(k) * pb.J)
+                       : suf[2 * i + 2];
     }
     g.fill(0.0);
   };
@@ -1181,7 +1193,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c) noexcept {
   constexpr double kTol = 1e-13, kAccept = 1e-10;
   ArcVec f{};
   ArcMat jm{};
-  std::size_t rows = arc_residuals(pb, c, f, &jm);
+  std::size_t rows = arc_residuals(pb, c, f, jm);
   if (rows != c.n) return false;  // not square: a chain the loop should not have made
   double n0 = arc_norm(f, rows);
   for (int it = 0; it < 40; ++it) {
@@ -1194,7 +1206,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c) noexcept {
     ArcChain trial = c;
     for (; lam > 1e-4; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dx[i];
-      (void)arc_residuals(pb, trial, f, &jm);
+      (void)arc_residuals(pb, trial, f, jm);
       n1 = arc_norm(f, rows);
       if (std::isfinite(n1) && n1 < n0) break;
     }
@@ -1278,7 +1290,6 @@ bool apply_fix(const ArcProblem& pb, const ArcFix& fx, ArcChain& c) noexcept {
   }
 }
 
-// The chain as a table (the sign of `distance` applied).
 // The chain as a table (the sign of `distance` applied); a pulse as g, the cruise, g mirrored.
 // Empty when it does not fit, or a pulse is longer than the move leaves it (D / vmax).
 FastestTable arc_table(const ArcProblem& pb, const ArcChain& c, double distance) noexcept {
@@ -1349,9 +1360,8 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
           const FastestTable t = arc_table(pb, c, r.distance);
           if (t.count == 0) break;
           const double T = table_duration(t);
-          const Peaks<double> pk = jerk_table_peaks(t);
-          if (T < best && limits_ok(pk, pb.vmax, pb.amax, pb.J) && !runs_backwards(t) &&
-              design_ok(t, ms, 0.0, 1e-10)) {
+          Peaks<double> pk{};
+          if (T < best && table_ok(t, pb.vmax, pb.amax, pb.J, ms, 0.0, pk)) {
             best = T;
             out = t;
             out_pk = pk;
@@ -1461,8 +1471,8 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
   const auto try_shaped = [&](const Shaper<double>& s, FastestFamily fam) {
     FastestTable t{};
     if (!flatten_shaped(to, s, t)) return;
-    const Peaks<double> pk = jerk_table_peaks(t);
-    if (!limits_ok(pk, vmax, amax, jmax) || runs_backwards(t) || !design_ok(t, ms, band, 1e-10)) return;
+    Peaks<double> pk{};
+    if (!table_ok(t, vmax, amax, jmax, ms, band, pk)) return;
     record_table(fam, t, pk);
   };
   for (std::size_t k = 0; k < 4; ++k) {
