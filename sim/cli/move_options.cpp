@@ -112,8 +112,6 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
   r.vmax = a.real("--vmax");
   r.amax = a.real("--amax");
   r.jmax = a.real("--jmax");
-  r.omega = a.real("--omega");
-  r.zeta = a.real("--zeta", 0.0);
   const char* option = nullptr;
   std::string message;
   if (!sim::set_design_modes(a.reals("--omega"), a.reals("--zeta"), r, option, message)) {

@@ -69,7 +69,7 @@ bool set_design_modes(const std::vector<double>& omegas, const std::vector<doubl
                       const char*& option, std::string& message) {
   if (omegas.size() > 1 && r.profile != core::ProfileKind::fastest) {
     option = "--omega";
-    message = "several modes: only profile fastest designs for several modes";
+    message = "only profile fastest designs for several modes";
     return false;
   }
   if (omegas.size() > 1 + core::kMaxExtraModes) {
