@@ -70,6 +70,21 @@ core::Sample<double> sampled_peaks(const core::Move<double>& m, int n = 20000) {
   return pk;
 }
 
+// Never backwards: sampled, the position never moves against the move's direction (so it stays
+// between start and target) and the velocity keeps the move's sign (to 1e-9 of peak_v).
+void expect_never_backwards(const core::Move<double>& m, double distance, double peak_v) {
+  const double sg = distance < 0.0 ? -1.0 : 1.0, d = std::fabs(distance);
+  double last = 0.0, worst_v = 0.0;
+  constexpr int n = 20000;
+  for (int i = 0; i <= n; ++i) {
+    const core::Sample<double> s = m.at(m.duration() * i / n);
+    EXPECT_GE(sg * (s.p - last), -1e-12 * d) << "runs backwards at t = " << m.duration() * i / n;
+    last = s.p;
+    worst_v = std::min(worst_v, sg * s.v);
+  }
+  EXPECT_GE(worst_v, -1e-9 * peak_v);
+}
+
 void check_move(const core::MoveRequest& r, const core::Move<double>& m) {
   const double d = std::fabs(r.distance);
   std::vector<core::Mode> modes{{*r.omega, r.zeta}};
@@ -82,18 +97,7 @@ void check_move(const core::MoveRequest& r, const core::Move<double>& m) {
   EXPECT_LE(pk.a, *r.amax * (1 + 1e-9));
   EXPECT_LE(pk.j, *r.jmax * (1 + 1e-9));
   EXPECT_NEAR(m.at(m.duration()).p, r.distance, 1e-12 * d);
-  // Never backwards: sampled, the position never moves against the move's direction (so it
-  // stays between start and target) and the velocity keeps the move's sign.
-  const double sg = r.distance < 0.0 ? -1.0 : 1.0;
-  double last = 0.0, worst_v = 0.0;
-  constexpr int n = 20000;
-  for (int i = 0; i <= n; ++i) {
-    const core::Sample<double> s = m.at(m.duration() * i / n);
-    EXPECT_GE(sg * (s.p - last), -1e-12 * d) << "runs backwards at t = " << m.duration() * i / n;
-    last = s.p;
-    worst_v = std::min(worst_v, sg * s.v);
-  }
-  EXPECT_GE(worst_v, -1e-9 * pk.v);
+  expect_never_backwards(m, r.distance, pk.v);
 }
 
 core::FastestFamily family_of(const core::Move<double>& m) {
@@ -324,12 +328,7 @@ TEST(Fastest, TinyMovesOnSlowModesStillPlan) {
       EXPECT_LE(m.duration(), shaped_baseline(r, core::ShaperKind::zv) * (1 + 1e-12));
       EXPECT_LE(test::residual_amplitude(m, w, 0.0), 1e-6 * d);
       EXPECT_NEAR(m.at(m.duration()).p, d, 1e-12 * d);
-      double last = 0.0;
-      for (int i = 0; i <= 20000; ++i) {
-        const double p = m.at(m.duration() * i / 20000).p;
-        EXPECT_GE(p - last, -1e-12 * d);
-        last = p;
-      }
+      expect_never_backwards(m, d, sampled_peaks(m).v);
     }
   }
 }
