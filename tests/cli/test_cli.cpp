@@ -210,7 +210,7 @@ TEST(Cli, FastestPlansSeveralModesAndSaysWhichFamilyWon) {
 
 TEST(Cli, PlantSimulatesTheDriveItsEdsDescribes) {
   // Each bundled drive and the test drive load; the bus is what fails (exit 1), not the EDS.
-  for (const std::string eds : {std::string{SETTLE_EDS_DIR} + "/split_rpdo_drive.eds",
+  for (const std::string& eds : {std::string{SETTLE_EDS_DIR} + "/split_rpdo_drive.eds",
                                 std::string{SETTLE_EDS_DIR} + "/velocity_feedback_drive.eds",
                                 std::string{SETTLE_EDS_DIR} + "/static_mapping_drive.eds",
                                 std::string{SETTLE_TEST_EDS_DIR} + "/no_interpolation_period_drive.eds"}) {

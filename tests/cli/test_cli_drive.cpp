@@ -4,6 +4,7 @@
 // meaning and exit 1; values checked against --type before anything is sent (exit 2).
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -70,8 +71,8 @@ TEST(CliDrive, InfoShowsIdentityStringsAndPdoConfiguration) {
                                                                {"index":24676,"sub":0,"bits":32}])"));
   EXPECT_EQ(tpdos[1].at("cob_id"), 0x283);
   // What the drive does not have is absent, not an error.
-  for (const int i : {1, 2, 3}) EXPECT_EQ(rpdos[i].at("present"), false) << i;
-  for (const int i : {2, 3}) EXPECT_EQ(tpdos[i].at("present"), false) << i;
+  for (const std::size_t i : {1U, 2U, 3U}) EXPECT_EQ(rpdos[i].at("present"), false) << i;
+  for (const std::size_t i : {2U, 3U}) EXPECT_EQ(tpdos[i].at("present"), false) << i;
   EXPECT_TRUE(j.at("errors").empty()) << j.dump();
 }
 

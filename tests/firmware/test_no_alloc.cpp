@@ -18,6 +18,7 @@ std::atomic<long> g_allocations{0};
 }  // namespace
 
 extern "C" void* __libc_malloc(std::size_t);  // glibc's own allocator, beneath our hook
+extern "C" void __libc_free(void*);
 extern "C" void* malloc(std::size_t n) {
   if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
   return __libc_malloc(n);
@@ -28,8 +29,9 @@ void* operator new(std::size_t n) {
   if (p == nullptr) throw std::bad_alloc{};
   return p;
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+// glibc's own free, the pair of __libc_malloc (std::free here is what GCC flags as a mismatch).
+void operator delete(void* p) noexcept { __libc_free(p); }
+void operator delete(void* p, std::size_t) noexcept { __libc_free(p); }
 
 using namespace settle;
 

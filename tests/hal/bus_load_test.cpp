@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <initializer_list>
 #include <random>
 #include <vector>
 
@@ -84,7 +85,8 @@ TEST(BusLoad, NoFrameStuffsMoreThanTheWorstCase) {
     for (auto& b : data) b = static_cast<std::uint8_t>(rng());
     check(rng() & 0x7FFU, data);
   }
-  for (const std::uint8_t fill : {0x00, 0xFF, 0x0F, 0xF0, 0x3C, 0xC3, 0x78, 0x87, 0x1E, 0xE1}) {
+  const std::initializer_list<std::uint8_t> fills{0x00, 0xFF, 0x0F, 0xF0, 0x3C, 0xC3, 0x78, 0x87, 0x1E, 0xE1};
+  for (const std::uint8_t fill : fills) {
     for (std::uint32_t id = 0; id < 0x800; ++id) {
       for (std::size_t n = 0; n <= 8; ++n) check(id, std::vector<std::uint8_t>(n, fill));
     }

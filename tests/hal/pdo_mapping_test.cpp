@@ -4,6 +4,7 @@
 // the drive's optional objects and identity as its configuration says.
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <vector>
 
 #include "frame_helpers.hpp"
@@ -145,7 +146,7 @@ TEST_F(DrivePdos, RpdoLossIsAMissingTargetWhicheverPdoCarriesIt) {
   map(0x1400, 0x203, {0x6040'0010U});
   map(0x1401, 0x303, {0x607A'0020U});
   operational();
-  for (const std::uint8_t cw : {0x06, 0x07, 0x0F}) {
+  for (const std::uint8_t cw : std::initializer_list<std::uint8_t>{0x06, 0x07, 0x0F}) {
     receive(test::frame(0x203, {cw, 0x00}));
     receive(test::frame(0x303, {0, 0, 0, 0}));
     (void)sync_and_publish({});
