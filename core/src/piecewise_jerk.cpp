@@ -49,6 +49,13 @@ PiecewiseJerkParams trapezoid_timed(double distance, double duration, double v) 
 
 PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, double amax, double jmax,
                                               Peaks<double>* peaks) noexcept {
+  PiecewiseJerkParams p;
+  jerk_limited_time_optimal(distance, vmax, amax, jmax, p, peaks);
+  return p;
+}
+
+void jerk_limited_time_optimal(double distance, double vmax, double amax, double jmax, PiecewiseJerkParams& p,
+                               Peaks<double>* peaks) noexcept {
   // Classic construction (e.g. Biagiotti & Melchiorri, ch. 3): accelerate with phases tj, ta-2tj, tj,
   // cruise tv, then the mirror image. Each case is the largest of: vmax reached or not, amax
   // reached or not.
@@ -74,10 +81,10 @@ PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, doub
   }
   const double sg = distance < 0.0 ? -1.0 : 1.0;
   const double alim = jmax * tj;
-  PiecewiseJerkParams p{};
   p.distance = distance;
+  p.count = 0;
   if (peaks != nullptr) *peaks = Peaks<double>{};
-  if (d == 0.0) return p;
+  if (d == 0.0) return;
   // The acceleration pulse (ramp, plateau, ramp) reaches alim and ends at the cruise velocity
   // alim (ta - tj), the move's peak; the deceleration mirrors it.
   if (peaks != nullptr) *peaks = Peaks<double>{alim * (ta - tj), alim, jmax};
@@ -88,7 +95,6 @@ PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, doub
   push(p, tj, 0.0, -sg * jmax);
   push(p, ta - 2.0 * tj, -sg * alim, 0.0);
   push(p, tj, -sg * alim, sg * jmax);
-  return p;
 }
 
 double piecewise_duration(const PiecewiseJerkParams& p) noexcept {

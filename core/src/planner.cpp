@@ -58,8 +58,10 @@ Status plan_shaped(const MoveRequest& r, const Shaper<double>* shaper, Move<doub
       st = Status::ok;
       return;
     }
-    // The registered profile's hook: its shape's parameters, then the profile itself.
-    typename Shape::Params p{};
+    // The registered profile's hook: its shape's parameters, then the profile itself. Default-
+    // initialised: every Params member has its initialiser, except a jerk table's entries, which
+    // the hook writes up to their count (PiecewiseJerkTable).
+    typename Shape::Params p;
     Peaks<double> pk{};
     st = P::plan(r, p, pk);
     if (st != Status::ok) return;

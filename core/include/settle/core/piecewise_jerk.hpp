@@ -16,13 +16,16 @@ inline constexpr std::size_t kMaxJerkSegments = 7;
 
 // Up to N segments of constant jerk from rest. The baselines hold kMaxJerkSegments; profile
 // `fastest` holds longer tables (profiles/fastest.hpp) in the same form.
+// Only the first `count` entries are the table's. `PiecewiseJerkTable t{}` zeroes the rest;
+// `PiecewiseJerkTable t;` leaves them unwritten, which the planner's hot path relies on: plan()
+// is timed in ns, and zeroing and copying entries nobody reads cost it a third of its time.
 template <std::size_t N>
 struct PiecewiseJerkTable {
   double distance{0.0};
   std::size_t count{0};
-  std::array<double, N> durations{};
-  std::array<double, N> accel0{};  // acceleration at the start of each segment
-  std::array<double, N> jerk{};
+  std::array<double, N> durations;
+  std::array<double, N> accel0;  // acceleration at the start of each segment
+  std::array<double, N> jerk;
 };
 using PiecewiseJerkParams = PiecewiseJerkTable<kMaxJerkSegments>;
 
@@ -35,6 +38,9 @@ using PiecewiseJerkParams = PiecewiseJerkTable<kMaxJerkSegments>;
 // piecewise_peaks finds in the table, without walking it (plan() is timed in ns).
 [[nodiscard]] PiecewiseJerkParams jerk_limited_time_optimal(double distance, double vmax, double amax, double jmax,
                                                            Peaks<double>* peaks = nullptr) noexcept;
+// The same, written into `out` in place: the planner's hot path, which copies no table.
+void jerk_limited_time_optimal(double distance, double vmax, double amax, double jmax, PiecewiseJerkParams& out,
+                               Peaks<double>* peaks = nullptr) noexcept;
 [[nodiscard]] double piecewise_duration(const PiecewiseJerkParams& p) noexcept;
 [[nodiscard]] Peaks<double> piecewise_peaks(const PiecewiseJerkParams& p) noexcept;
 
@@ -43,10 +49,20 @@ class PiecewiseJerk {
  public:
   using Params = PiecewiseJerkTable<N>;
   PiecewiseJerk() = default;
-  explicit PiecewiseJerk(const Params& p) noexcept : params_{p}, n_{p.count < N ? p.count : N} {
+  // The table is taken entry by entry, its `count` entries only (PiecewiseJerkTable). A
+  // whole-table copy right after the planner wrote the table entry by entry stalls on store
+  // forwarding, and a loop bounded by the count alone is compiled into three memmove calls; the
+  // second exit keeps it one loop of scalar copies (plan() is timed in ns: bench_core BM_Plan).
+  explicit PiecewiseJerk(const Params& p) noexcept : n_{p.count < N ? p.count : N} {
+    params_.distance = p.distance;
+    params_.count = n_;
     double t = 0.0, pos = 0.0, v = 0.0;
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < N; ++i) {
+      if (i == n_) break;
       const double d = p.durations[i], a = p.accel0[i], j = p.jerk[i];
+      params_.durations[i] = d;
+      params_.accel0[i] = a;
+      params_.jerk[i] = j;
       start_[i] = static_cast<T>(t);
       p0_[i] = static_cast<T>(pos);
       v0_[i] = static_cast<T>(v);
@@ -104,9 +120,10 @@ class PiecewiseJerk {
   }
 
  private:
-  Params params_{};
+  // Entries from n_ on are left unwritten by the table constructor, and never read.
+  Params params_;
   std::size_t n_{0};
-  std::array<T, N> start_{}, p0_{}, v0_{}, a0_{}, j_{};
+  std::array<T, N> start_, p0_, v0_, a0_, j_;
   T dur_{}, dist_{};
 };
 

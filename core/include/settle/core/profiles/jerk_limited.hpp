@@ -20,7 +20,7 @@ struct JerkLimitedProfile {
     if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
     const double d = std::fabs(r.distance);
     if (!r.time) {
-      out = jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax, &pk);
+      jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax, out, &pk);
       return Status::ok;
     }
     const PiecewiseJerkParams p = jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax);
@@ -41,7 +41,7 @@ struct JerkLimitedProfile {
         hi = mid;
       }
     }
-    out = jerk_limited_time_optimal(r.distance, hi, *r.amax, *r.jmax, &pk);
+    jerk_limited_time_optimal(r.distance, hi, *r.amax, *r.jmax, out, &pk);
     return Status::ok;
   }
   [[nodiscard]] static MoveRequest example() noexcept {
