@@ -11,6 +11,7 @@
 
 #include "settle/core/profiles/registry.hpp"
 #include "settle/sim/command.hpp"
+#include "settle/sim/move_vocabulary.hpp"
 
 namespace settle::sim {
 
@@ -523,8 +524,16 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
         r.vmax = mv.vmax;
         r.amax = mv.amax;
         r.jmax = mv.jmax;
-        r.omega = c.design_omega[0];  // a profile that designs for a mode takes the fundamental
-        r.zeta = c.design_zeta[0];
+        // A profile that designs for a mode takes the fundamental; `fastest` takes every mode (up
+        // to its 1 + kMaxExtraModes), as `settle plan --profile fastest` does, by the same rules.
+        const bool every_mode =
+            kind.value == core::ProfileKind::fastest && c.design_omega.size() <= 1 + core::kMaxExtraModes;
+        const std::size_t designed = every_mode ? c.design_omega.size() : 1;
+        const char* option = nullptr;
+        std::string why;
+        (void)set_design_modes({c.design_omega.begin(), c.design_omega.begin() + static_cast<std::ptrdiff_t>(designed)},
+                               {c.design_zeta.begin(), c.design_zeta.begin() + static_cast<std::ptrdiff_t>(designed)}, r,
+                               option, why);
         // A design that changes nothing (no shaper, a profile that ignores the mode) is one family.
         if (c.retuned && sk == core::ShaperKind::none && !core::needs_mode(r)) continue;
         c.name = std::string{core::to_string(kind.value)} + (sk == core::ShaperKind::none ? "" : "+") +
