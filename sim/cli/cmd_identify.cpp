@@ -1,5 +1,6 @@
 // settle identify: the composition root of sim's run_identify (settle/sim/identify_run.hpp). The
-// options become an excitation (a planned jerk-limited move and a hold) streamed to the drive on
+// options become an excitation (a planned jerk-limited move, a train of it back and forth before
+// it, and a hold: settle/sim/identify_excitation.hpp) streamed to the drive on
 // --bus, the drive's feedback becomes the modes, and the report goes out as text or --json, with
 // the --png figure (measured against fitted, in time and frequency).
 #include <cmath>
@@ -15,6 +16,7 @@
 #include "settle/core/planner.hpp"
 #include "settle/hal/eds_reader.hpp"
 #include "settle/sim/figures.hpp"
+#include "settle/sim/identify_excitation.hpp"
 #include "settle/sim/identify_run.hpp"
 #include "settle/sim/stream_bus.hpp"
 #include "stream_bus_open.hpp"
@@ -43,13 +45,13 @@ int parse_spec(const ParsedArgs& args, sim::IdentifyRunSpec& spec) {
   s.drive.noise_seed = static_cast<std::uint64_t>(args.integer("--seed", 1));
   spec.options.max_modes = static_cast<std::size_t>(args.integer("--max-modes", 3));
 
-  core::MoveRequest req{};
-  (void)core::parse_profile_kind("jerk-limited", req.profile);
-  req.distance = args.real("--distance", 0.01);
-  req.vmax = args.real("--vmax", 0.1);
-  req.amax = args.real("--amax", 5.0);
-  req.jmax = args.real("--jmax", 5000.0);
-  if (const core::Status st = core::plan(req, s.move); st != core::Status::ok) {
+  sim::IdentifyExcitation ex{};
+  ex.distance = args.real("--distance", 0.01);
+  ex.vmax = args.real("--vmax", 0.1);
+  ex.amax = args.real("--amax", 5.0);
+  ex.jmax = args.real("--jmax", 5000.0);
+  ex.round_trips = static_cast<std::size_t>(args.integer("--train", 8));
+  if (const core::Status st = sim::plan_identify_excitation(ex, s.move); st != core::Status::ok) {
     return report_bad_request({core::to_string(st), "--distance",
                                std::string{"--distance: the excitation cannot be planned within the limits: "} +
                                    core::describe(st)},
@@ -60,7 +62,7 @@ int parse_spec(const ParsedArgs& args, sim::IdentifyRunSpec& spec) {
   // that a planner change cannot silently excite harder than the user allowed).
   const auto over = [](double peak, double limit) { return std::fabs(peak) > limit * (1.0 + 1e-9); };
   const core::Peaks<double> pk = s.move.peaks();
-  const char* exceeded = over(pk.v, *req.vmax) ? "--vmax" : over(pk.a, *req.amax) ? "--amax" : over(pk.j, *req.jmax) ? "--jmax" : nullptr;
+  const char* exceeded = over(pk.v, ex.vmax) ? "--vmax" : over(pk.a, ex.amax) ? "--amax" : over(pk.j, ex.jmax) ? "--jmax" : nullptr;
   if (exceeded != nullptr) {
     return report_bad_request({"excitation_exceeds_limits", exceeded,
                                std::string{exceeded} + ": the planned excitation would exceed this limit"},

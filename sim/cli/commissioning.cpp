@@ -6,6 +6,7 @@
 
 #include "settle/core/planner.hpp"
 #include "settle/sim/drive_axis.hpp"
+#include "settle/sim/identify_excitation.hpp"
 #include "settle/sim/simulate.hpp"
 
 namespace settle::cli {
@@ -14,8 +15,9 @@ namespace {
 
 // The excitation, settle identify's defaults spelled out (so that the noise level computed from
 // it is the excitation's whatever the defaults become): 10 mm within 0.1 m/s, 5 m/s^2, 5000 m/s^3,
-// then 4 s at rest.
+// after 8 round trips of it, then 4 s at rest.
 constexpr double kExDistance = 0.01, kExVmax = 0.1, kExAmax = 5.0, kExJmax = 5000.0, kExHold = 4.0;
+constexpr std::size_t kExTrain = 8;
 constexpr double kNoiseFraction = 0.01;  // of the excitation's peak load deflection (the issue's)
 constexpr std::uint64_t kSeed = 7;
 
@@ -64,14 +66,10 @@ sim::SimStatus commissioning_scenario(CommissioningScenario& out) {
       st != sim::SimStatus::ok) {
     return st;
   }
-  core::MoveRequest req{};
-  (void)core::parse_profile_kind("jerk-limited", req.profile);
-  req.distance = kExDistance;
-  req.vmax = kExVmax;
-  req.amax = kExAmax;
-  req.jmax = kExJmax;
+  const sim::IdentifyExcitation ex{
+      .distance = kExDistance, .vmax = kExVmax, .amax = kExAmax, .jmax = kExJmax, .round_trips = kExTrain};
   core::Move<double> move{};
-  if (core::plan(req, move) != core::Status::ok) return sim::SimStatus::plan_failed;
+  if (sim::plan_identify_excitation(ex, move) != core::Status::ok) return sim::SimStatus::plan_failed;
   sim::SimOptions so{};
   so.tail = kExHold;
   sim::SimResult sr{};
@@ -87,7 +85,8 @@ sim::SimStatus commissioning_scenario(CommissioningScenario& out) {
   }
   s.noise = {"--noise", fmt("%.6g", s.noise_counts), "--seed", std::to_string(s.seed)};
   s.identify = {"--max-modes", "3",  "--distance", fmt("%g", kExDistance), "--vmax", fmt("%g", kExVmax),
-                "--amax", fmt("%g", kExAmax), "--jmax", fmt("%g", kExJmax), "--hold", fmt("%g", kExHold)};
+                "--amax", fmt("%g", kExAmax), "--jmax", fmt("%g", kExJmax), "--train", std::to_string(kExTrain),
+                "--hold", fmt("%g", kExHold)};
   // The move: 0.1 m within 0.5 m/s, 5 m/s^2, 200 m/s^3, each mode's residual at most 1 % of an
   // unshaped step's over the whole identified band (so the plant's PRV is at most 1 % too).
   s.tune = {"--distance", "0.1", "--vmax", "0.5", "--amax", "5", "--jmax", "200", "--residual-max", "0.01"};

@@ -17,6 +17,7 @@
 #include "settle/core/profile.hpp"
 #include "settle/sim/beam.hpp"
 #include "settle/sim/identify.hpp"
+#include "settle/sim/identify_excitation.hpp"
 #include "settle/sim/move_vocabulary.hpp"
 
 namespace settle::cli {
@@ -264,6 +265,9 @@ const std::vector<OptionSpec> kIdentify = {
     real("--amax", "unit/s^2", "5", {0.0, 1e9, true}, "excitation: acceleration limit"),
     real("--jmax", "unit/s^3", "5000", {0.0, 1e12, true},
          "excitation: jerk limit (amax / jmax is its jerk phase: shorter excites higher modes)"),
+    integer("--train", "", "8", {0.0, static_cast<double>(sim::kMaxTrainRoundTrips)},
+            "excitation: round trips of the move before the last one, with varied gaps (more acceleration steps: "
+            "heavily damped modes are measured better; 0: the move alone)"),
     real("--hold", "s", "4", {0.5, 600.0}, "excitation: time recorded at rest after the move (the free response)"),
     text("--png", "", "draw the measured response and the fitted model (time and frequency) to FILE (gnuplot)",
          "FILE"),

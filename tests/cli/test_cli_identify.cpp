@@ -37,13 +37,15 @@ std::vector<std::string> two_modes(std::vector<std::string> extra = {}) {
 
 // The known plant (25 rad/s at 0.02, 60 rad/s at 0.05, equal gains), its load-side feedback
 // noisy at 1 % of the excitation's peak deflection (measured by a noiseless run first): both
-// modes within 0.5 % and 0.01, inside their intervals, over five seeds.
+// modes within 0.5 % and 0.01 over five seeds, and the 95 % intervals containing the truth in at
+// least 17 of their 20 (with exact 95 % intervals, 19 on average; each misses 1 in 20).
 TEST(CliIdentify, FindsAKnownTwoModePlantThroughTheLoopbackBus) {
   const CliResult clean = run_cli_argv(two_modes({"--json"}));
   ASSERT_EQ(clean.status, 0) << clean.out;
   const double peak_counts = json_of(clean)["excitation"]["peak_deflection"].get<double>() * 1e6;
   ASSERT_GT(peak_counts, 1000.0);
   const double truth[2][2] = {{25.0, 0.02}, {60.0, 0.05}};
+  int covered = 0;
   for (int seed = 1; seed <= 5; ++seed) {
     SCOPED_TRACE(seed);
     const CliResult r = run_cli_argv(
@@ -59,12 +61,11 @@ TEST(CliIdentify, FindsAKnownTwoModePlantThroughTheLoopbackBus) {
       EXPECT_LT(std::fabs(w / truth[m][0] - 1.0), 0.005) << mode;
       EXPECT_LT(std::fabs(z - truth[m][1]), 0.01) << mode;
       EXPECT_LT(std::fabs(mode["gain"].get<double>() - 1.0), 0.1) << mode;
-      EXPECT_LE(mode["omega_ci"][0].get<double>(), truth[m][0]) << mode;
-      EXPECT_GE(mode["omega_ci"][1].get<double>(), truth[m][0]) << mode;
-      EXPECT_LE(mode["zeta_ci"][0].get<double>(), truth[m][1]) << mode;
-      EXPECT_GE(mode["zeta_ci"][1].get<double>(), truth[m][1]) << mode;
+      covered += mode["omega_ci"][0].get<double>() <= truth[m][0] && truth[m][0] <= mode["omega_ci"][1].get<double>();
+      covered += mode["zeta_ci"][0].get<double>() <= truth[m][1] && truth[m][1] <= mode["zeta_ci"][1].get<double>();
     }
   }
+  EXPECT_GE(covered, 17);
 }
 
 // A drive with its own position loop (--drive servo): the motor's path between samples is not the
@@ -103,6 +104,7 @@ TEST(CliIdentify, JsonHasTheDocumentedShape) {
   EXPECT_LE(j["excitation"]["peak_acceleration"].get<double>(), 5.0 * (1 + 1e-9));
   EXPECT_LE(j["excitation"]["peak_jerk"].get<double>(), 5000.0 * (1 + 1e-9));
   EXPECT_EQ(j["excitation"]["hold"], 4.0);
+  EXPECT_EQ(j["excitation"]["round_trips"], 8);
   EXPECT_EQ(j["fit"]["order"], 4);
   EXPECT_TRUE(j["fit"]["rms_residual"].is_number());
   // One mode asked for: one given, the stronger (25 rad/s).
@@ -118,7 +120,7 @@ TEST(CliIdentify, TextReportAndFigure) {
   const std::string png = (dir / "modes.png").string();
   const CliResult r = run_cli_argv(two_modes({"--png", png}));
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_TRUE(has(r.stdout_text, "excitation   jerk-limited, 0.01 over")) << r.stdout_text;
+  EXPECT_TRUE(has(r.stdout_text, "excitation   jerk-limited, 0.01 after 8 round trips, over")) << r.stdout_text;
   EXPECT_TRUE(has(r.stdout_text, "mode 1       omega 25")) << r.stdout_text;
   const std::size_t at = r.stdout_text.find("mode 2       omega ");
   ASSERT_NE(at, std::string::npos) << r.stdout_text;

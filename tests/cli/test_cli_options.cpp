@@ -338,7 +338,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"identify", join({plant, drive,
                          {"--bus", "--node", "--eds", "--heartbeat-ms", "--sdo-timeout-ms", "--feedback-timeout-periods",
                           "--rt-priority", "--pm-qos",
-                          "--candump", "--max-modes", "--distance", "--vmax", "--amax", "--jmax", "--hold", "--noise",
+                          "--candump", "--max-modes", "--distance", "--vmax", "--amax", "--jmax", "--train", "--hold", "--noise",
                           "--seed", "--png"}})},
       {"demo", join({{"--bus", "--out", "--list"}})},
       {"drive info", join({{"--bus", "--timeout-ms", "--eds", "--node"}})},

@@ -1,6 +1,6 @@
 #pragma once
-// Synthetic records for the estimator's tests and benchmark: a planned jerk-limited move streamed
-// as integer setpoints through sim's DriveAxis (the simulated drive's physics, exact stepping of
+// Synthetic records for the estimator's tests and benchmark: the excitation `settle identify`
+// streams (plan_identify_excitation: a jerk-limited move, optionally after a train) as integer setpoints through sim's DriveAxis (the simulated drive's physics, exact stepping of
 // the plant: a different code path from the estimator's own mode response), then a hold. The load
 // gets white noise of a given fraction of the excitation's peak deflection, then 1-count
 // quantisation.
@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "settle/core/planner.hpp"
 #include "settle/sim/drive_axis.hpp"
+#include "settle/sim/identify_excitation.hpp"
 #include "settle/sim/modal_plant.hpp"
 #include "settle/sim/stream_check.hpp"
 
@@ -29,10 +29,7 @@ struct Record {
 };
 
 struct Excitation {
-  double distance{0.05};  // m
-  double vmax{0.5};
-  double amax{20.0};
-  double jmax{4000.0};
+  IdentifyExcitation move{.distance = 0.05, .vmax = 0.5, .amax = 20.0, .jmax = 4000.0};  // m
   double rest_before_s{0.1};
   double hold_s{5.0};
 };
@@ -42,14 +39,8 @@ inline bool make_record(const std::vector<Mode>& modes, double noise_fraction, s
                         const Excitation& ex = {}) {
   ModalPlant plant{};
   if (ModalPlant::make_modes(modes, 1.0, PlantKind::modes, plant) != SimStatus::ok) return false;
-  core::MoveRequest req{};
-  (void)core::parse_profile_kind("jerk-limited", req.profile);
-  req.distance = ex.distance;
-  req.vmax = ex.vmax;
-  req.amax = ex.amax;
-  req.jmax = ex.jmax;
   core::Move<double> move{};
-  if (core::plan(req, move) != core::Status::ok) return false;
+  if (plan_identify_excitation(ex.move, move) != core::Status::ok) return false;
   DriveAxisConfig cfg{};
   cfg.scale.counts_per_unit = out.counts_per_unit;
   cfg.scale.period_us = static_cast<std::uint32_t>(std::lround(out.period_s * 1e6));

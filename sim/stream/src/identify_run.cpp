@@ -5,6 +5,8 @@
 #include <complex>
 #include <nlohmann/json.hpp>
 
+#include "settle/sim/identify_excitation.hpp"
+
 namespace settle::sim {
 
 namespace {
@@ -116,6 +118,7 @@ std::string identify_json(const IdentifyRunSpec& spec, const IdentifyRunReport& 
   const core::Move<double>& mv = spec.stream.move;
   j["excitation"] = {{"profile", core::to_string(mv.profile().kind())},
                      {"distance", mv.distance()},
+                     {"round_trips", train_round_trips(mv)},
                      {"move_time", mv.duration()},
                      {"peak_velocity", mv.peaks().v},
                      {"peak_acceleration", mv.peaks().a},
@@ -139,9 +142,9 @@ std::string identify_json(const IdentifyRunSpec& spec, const IdentifyRunReport& 
 void write_identify_text(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out) {
   const IdentifyResult& f = r.result;
   const core::Move<double>& mv = spec.stream.move;
-  std::fprintf(out, "excitation   %s, %g over %.4g s, then %.4g s held; %zu samples at %g s (%s)\n",
-               core::to_string(mv.profile().kind()), mv.distance(), mv.duration(), spec.stream.settle_time_s,
-               r.motor.size(), r.period_s, r.stream.bus.c_str());
+  std::fprintf(out, "excitation   %s, %g after %zu round trips, over %.4g s, then %.4g s held; %zu samples at %g s (%s)\n",
+               core::to_string(mv.profile().kind()), mv.distance(), train_round_trips(mv), mv.duration(),
+               spec.stream.settle_time_s, r.motor.size(), r.period_s, r.stream.bus.c_str());
   const int pct = static_cast<int>(std::lround(spec.options.confidence * 100.0));
   for (std::size_t i = 0; i < f.modes.size(); ++i) {
     const IdentifiedMode& m = f.modes[i];
