@@ -357,8 +357,10 @@ TEST(IdentifyExcitation, TheTrainIsTheMoveBackAndForthWithinItsLimits) {
     const double t_move = alone.duration();
     for (std::size_t k = 0; k < m.shaper().count; ++k) {
       EXPECT_EQ(m.shaper().amp[k], k % 2 == 0 ? 1.0 : -1.0);
-      if (k > 0) EXPECT_GE(m.shaper().time[k] - m.shaper().time[k - 1], 1.25 * t_move * (1.0 - 1e-12));
-      if (k > 0) EXPECT_LE(m.shaper().time[k] - m.shaper().time[k - 1], 1.75 * t_move * (1.0 + 1e-12));
+      if (k > 0) {
+        EXPECT_GE(m.shaper().time[k] - m.shaper().time[k - 1], 1.25 * t_move * (1.0 - 1e-12));
+        EXPECT_LE(m.shaper().time[k] - m.shaper().time[k - 1], 1.75 * t_move * (1.0 + 1e-12));
+      }
     }
     EXPECT_NEAR(m.peaks().v, alone.peaks().v, 1e-12 * alone.peaks().v);
     EXPECT_NEAR(m.peaks().a, alone.peaks().a, 1e-12 * alone.peaks().a);
