@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include "settle/core/planner.hpp"
 #include "settle/sim/drive_axis.hpp"
 #include "settle/sim/identify_excitation.hpp"
 #include "settle/sim/simulate.hpp"
