@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdint>
 #include <cstdlib>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -137,7 +138,7 @@ constexpr double kDistances[] = {1e-3, 0.03, 1.0, 10.0};
 TEST(Fastest, OneModeGridNeverSlowerThanTimeOptimalZv) {
   int wins[core::kFastestFamilies] = {};
   int cases = 0;
-  double best_gain = 0.0;
+  double best_gain = 0.0, sum = 0.0;
   for (const Limits& l : kLimitSets) {
     for (double w : kOmegas) {
       for (double z : kZetas) {
@@ -152,12 +153,13 @@ TEST(Fastest, OneModeGridNeverSlowerThanTimeOptimalZv) {
           check_move(r, m);
           ++wins[static_cast<int>(family_of(m))];
           best_gain = std::max(best_gain, 1.0 - m.duration() / zv);
+          sum += m.duration();
           ++cases;
         }
       }
     }
   }
-  std::printf("one mode, %d cases; winners:", cases);
+  std::printf("one mode, %d cases, sum of durations %.4f s; winners:", cases, sum);
   for (std::size_t k = 0; k < core::kFastestFamilies; ++k) {
     if (wins[k]) std::printf(" %s %d", core::to_string(static_cast<core::FastestFamily>(k)), wins[k]);
   }
@@ -168,6 +170,7 @@ TEST(Fastest, OneModeGridNeverSlowerThanTimeOptimalZv) {
 TEST(Fastest, TwoModeGridNeverSlowerThanTimeOptimalZv) {
   int wins[core::kFastestFamilies] = {};
   int cases = 0;
+  double sum = 0.0;
   for (const Limits& l : kLimitSets) {
     for (double w : kOmegas) {
       for (double z : kZetas) {
@@ -183,12 +186,46 @@ TEST(Fastest, TwoModeGridNeverSlowerThanTimeOptimalZv) {
           EXPECT_LE(m.duration(), zv * (1 + 1e-12));
           check_move(r, m);
           ++wins[static_cast<int>(family_of(m))];
+          sum += m.duration();
           ++cases;
         }
       }
     }
   }
-  std::printf("two modes, %d cases; winners:", cases);
+  std::printf("two modes, %d cases, sum of durations %.4f s; winners:", cases, sum);
+  for (std::size_t k = 0; k < core::kFastestFamilies; ++k) {
+    if (wins[k]) std::printf(" %s %d", core::to_string(static_cast<core::FastestFamily>(k)), wins[k]);
+  }
+  std::printf("\n");
+}
+
+// 60 random two-mode cases (the set docs/fastest.md's "Seeds" measures the seeds on): the same
+// checks as the grids, and the sum of the durations it reports.
+TEST(Fastest, RandomTwoModeCasesNeverSlowerThanTimeOptimalZv) {
+  std::mt19937 gen(1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int wins[core::kFastestFamilies] = {};
+  double sum = 0.0;
+  for (int k = 0; k < 60; ++k) {
+    const Limits& l = kLimitSets[k % 3];
+    const double d = std::pow(10.0, -2.0 + 3.0 * u(gen)) * l.v;
+    const double w1 = std::pow(10.0, std::log10(3.0) + 1.5 * u(gen));
+    const double w2 = w1 * (1.3 + 3.0 * u(gen));
+    const double z1 = 0.1 * u(gen) * u(gen);
+    const double z2 = 0.1 * u(gen) * u(gen);
+    SCOPED_TRACE(::testing::Message() << "case " << k << ": D " << d << " w " << w1 << ", " << w2 << " z " << z1
+                                      << ", " << z2 << " limits " << l.v << "/" << l.a << "/" << l.j);
+    core::MoveRequest r = request(d, l.v, l.a, l.j, w1, z1);
+    r.extra_modes[0] = {w2, z2};
+    r.extra_mode_count = 1;
+    core::Move<double> m{};
+    ASSERT_EQ(core::plan(r, m), Status::ok);
+    EXPECT_LE(m.duration(), shaped_baseline(r, core::ShaperKind::zv) * (1 + 1e-12));
+    check_move(r, m);
+    ++wins[static_cast<int>(family_of(m))];
+    sum += m.duration();
+  }
+  std::printf("random two modes, 60 cases, sum of durations %.4f s; winners:", sum);
   for (std::size_t k = 0; k < core::kFastestFamilies; ++k) {
     if (wins[k]) std::printf(" %s %d", core::to_string(static_cast<core::FastestFamily>(k)), wins[k]);
   }
@@ -286,18 +323,27 @@ TEST(Fastest, BangBangJerkIsFullExceptOnLimitArcs) {
 // a linear program over jerks piecewise constant on 400 equal steps (tools/fastest-lp, scipy's
 // HiGHS). A grid move is one the planner could return, so its time bounds the optimum from
 // above: the planner, a local method, must not be longer (1e-4: the LP's bisection and the
-// velocity checked only at grid points and midpoints). The two-mode case D 1 on 7 and 19 rad/s,
-// where the planner is longer (1.5361 s against 1.3816 s), is in docs/fastest.md's limits.
+// velocity checked only at grid points and midpoints), except where docs/fastest.md's limits
+// say how much longer it is.
 TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
   struct Case {
     double d, v, a, j;
     core::Mode m0, m1;  // m1.omega 0: one mode
     double lp;          // s, tools/fastest-lp
+    double over;        // how much longer than the LP the move may be (docs/fastest.md)
   };
   const Case cases[] = {
-      {0.1, 1, 20, 800, {22, 0.0}, {0, 0}, 0.27088},   {0.1, 1, 20, 800, {22, 0.05}, {0, 0}, 0.27106},
-      {0.1, 1, 20, 800, {22, 0.2}, {0, 0}, 0.27376},   {1, 1, 20, 800, {7, 0.1}, {0, 0}, 1.32219},
-      {0.03, 3, 100, 1e4, {200, 0.0}, {0, 0}, 0.05075}, {0.1, 1, 20, 800, {22, 0.02}, {60, 0.01}, 0.27587},
+      {0.1, 1, 20, 800, {22, 0.0}, {0, 0}, 0.27088, 1e-4},
+      {0.1, 1, 20, 800, {22, 0.05}, {0, 0}, 0.27106, 1e-4},
+      {0.1, 1, 20, 800, {22, 0.2}, {0, 0}, 0.27376, 1e-4},
+      {1, 1, 20, 800, {7, 0.1}, {0, 0}, 1.32219, 1e-4},
+      {0.03, 3, 100, 1e4, {200, 0.0}, {0, 0}, 0.05075, 1e-4},
+      {0.1, 1, 20, 800, {22, 0.02}, {60, 0.01}, 0.27587, 1e-4},
+      // The commissioning demo's plant and move: 0.4903 s (bang-coast) before the seeds with
+      // inner peaks and the continuation; the chain limit, four peaks, limit.
+      {0.1, 0.5, 5, 200, {25, 0.02}, {70, 0.05}, 0.35181, 1e-4},
+      // 1.5361 s (bang-coast, 11 % over) before; 1.1 % over now.
+      {1, 1, 20, 800, {7, 0.05}, {19, 0.02}, 1.38160, 0.012},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "D " << c.d << " w " << c.m0.omega << " z " << c.m0.zeta << " w2 " << c.m1.omega);
@@ -308,7 +354,7 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
     }
     core::Move<double> m{};
     ASSERT_EQ(core::plan(r, m), Status::ok);
-    EXPECT_LE(m.duration(), c.lp * (1 + 1e-4)) << core::to_string(family_of(m));
+    EXPECT_LE(m.duration(), c.lp * (1 + c.over)) << core::to_string(family_of(m));
     EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
     check_move(r, m);
   }
