@@ -69,10 +69,20 @@ int parse_spec(const ParsedArgs& args, sim::IdentifyRunSpec& spec) {
                               json);
   }
   if (s.move.duration() > 600.0) {
-    return report_bad_request({"too_long", "--vmax",
-                               "--vmax: the excitation's move lasts " + format_number(s.move.duration()) +
-                                   " s; at most 600 s (raise --vmax, --amax or --jmax, or shorten --distance)"},
-                              json);
+    // The move alone too long: its limits are to blame; otherwise the train of its copies.
+    const double once = s.move.profile().duration();
+    if (once > 600.0 || ex.round_trips == 0) {
+      return report_bad_request({"too_long", "--vmax",
+                                 "--vmax: the excitation's move lasts " + format_number(once) +
+                                     " s; at most 600 s (raise --vmax, --amax or --jmax, or shorten --distance)"},
+                                json);
+    }
+    return report_bad_request(
+        {"too_long", "--train",
+         "--train: the move and " + std::to_string(ex.round_trips) + " round trips of it last " +
+             format_number(s.move.duration()) + " s (the move alone " + format_number(once) +
+             " s); at most 600 s (fewer round trips, or raise --vmax, --amax or --jmax, or shorten --distance)"},
+        json);
   }
   const double periods = (5.0 + s.move.duration() + s.settle_time_s) * 1e6 / s.drive.scale.period_us;
   if (periods > kMaxStreamPeriods) {

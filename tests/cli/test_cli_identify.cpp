@@ -161,6 +161,9 @@ TEST(CliIdentify, BadOptionsExitTwoNamingTheOption) {
       {{"--seed", "-1"}, "--seed"},
       {{"--png", "figure.jpg"}, "--png: the figure's file name must end in .png"},
       {{"--distance", "1000", "--vmax", "1"}, "--vmax: the excitation's move lasts"},
+      {{"--distance", "1000", "--vmax", "1", "--train", "0"}, "--vmax: the excitation's move lasts"},
+      // The move alone (40 s) fits; its train of 8 round trips (17 copies and their gaps) does not.
+      {{"--distance", "40", "--vmax", "1"}, "--train: the move and 8 round trips of it last"},
       {{"--hold", "600", "--period-us", "100"}, "--hold: "},
       {{"--distance", "1000", "--vmax", "1000", "--amax", "1000", "--jmax", "1e6"},
        "--distance: the excitation exceeds 32-bit counts"},
