@@ -1228,8 +1228,9 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
 // Solves the chain's equations from c. Newton's method first; when it fails (the start is too
 // far from a solution), continuation from the start x0: F(x) = (1 - lam) F(x0) holds at x0 for
 // lam = 0, and lam is raised to 1 in steps that grow after each solve and shrink after a
-// failure (to 1e-3 at least), solving loosely on the way and exactly at the end. On the tests'
-// grids this finds about three times as many chains as Newton alone (docs/fastest.md).
+// failure (to 1e-3 at least), solving loosely on the way and exactly at the end. From every
+// limit/peak pattern and four starts on the commissioning case (docs/fastest.md, "Seeds"), 70 of
+// 256 paths end in a feasible chain with it, 24 with Newton's method alone.
 bool arc_solve(const ArcProblem& pb, ArcChain& c) noexcept {
   constexpr double kTol = 1e-13, kLooseTol = 1e-6;
   const ArcChain start = c;
