@@ -344,6 +344,18 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       {0.1, 0.5, 5, 200, {25, 0.02}, {70, 0.05}, 0.35181, 1e-4},
       // 1.5361 s (bang-coast, 11 % over) before; 1.1 % over now.
       {1, 1, 20, 800, {7, 0.05}, {19, 0.02}, 1.38160, 0.012},
+      // Two random two-mode cases: 0.4007 s and 0.8193 s (time-optimal * ZV) while a chain's
+      // turns had to lie on their own side of a = 0; now 0.3230 s (the LP's) and 3.5 % over.
+      {0.1, 1, 20, 800, {16.48, 0.02}, {90.08, 0.1}, 0.32300, 1e-4},
+      {0.3, 0.5, 5, 200, {62.71, 0.0}, {71.1, 0.02}, 0.72717, 0.04},
+      // The other seven of the nine random cases the LP was run on.
+      {1, 1, 20, 800, {29.23, 0.05}, {85.51, 0.0}, 1.11483, 0.04},
+      {0.3, 0.5, 5, 200, {13.92, 0.0}, {66.9, 0.01}, 0.86255, 0.06},
+      {0.03, 3, 100, 1e4, {61.16, 0.0}, {90.64, 0.0}, 0.11292, 1e-4},
+      {0.01, 1, 20, 800, {66.71, 0.0}, {94.22, 0.05}, 0.12773, 1e-4},
+      {0.03, 3, 100, 1e4, {55.12, 0.05}, {97.06, 0.0}, 0.11355, 1e-4},
+      {1, 0.5, 5, 200, {27.14, 0.01}, {69.3, 0.05}, 2.15859, 0.02},
+      {0.01, 0.5, 5, 200, {44.54, 0.1}, {92.61, 0.0}, 0.17287, 1e-4},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "D " << c.d << " w " << c.m0.omega << " z " << c.m0.zeta << " w2 " << c.m1.omega);
@@ -355,7 +367,9 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
     core::Move<double> m{};
     ASSERT_EQ(core::plan(r, m), Status::ok);
     EXPECT_LE(m.duration(), c.lp * (1 + c.over)) << core::to_string(family_of(m));
-    EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
+    if (c.over <= 1e-4) {  // at the optimum: a bang-bang chain (the others may be bang-coast)
+      EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
+    }
     check_move(r, m);
   }
 }
