@@ -130,7 +130,7 @@ core::Move<double> planned(const py::kwargs& kw) {
   const core::MoveRequest req = move_request(kw);
   core::Move<double> move{};
   if (const core::Status st = core::plan(req, move); st != core::Status::ok) {
-    bad(keyword_of(st, req), std::string{core::describe(st)} + " [" + core::to_string(st) + "]");
+    bad(keyword_of(st, req), sim::reason_of(st, req) + " [" + core::to_string(st) + "]");
   }
   return move;
 }

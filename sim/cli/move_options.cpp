@@ -174,7 +174,7 @@ bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestErr
   const core::Status st = core::plan(req, out);
   if (st != core::Status::ok) {
     const char* p = sim::option_of(st, req);
-    err = {core::to_string(st), p, std::string{p} + ": " + core::describe(st)};
+    err = {core::to_string(st), p, std::string{p} + ": " + sim::reason_of(st, req)};
     return false;
   }
   // What the options allow can still plan into a move too long or too extreme to report:
@@ -212,7 +212,7 @@ bool plan_axes(const core::MultiAxisRequest& req, core::MultiAxisPlan& out, Requ
       return false;
     }
     const char* p = sim::option_of(st, q);
-    err = {core::to_string(st), p, std::string{p} + ": " + axis + core::describe(st)};
+    err = {core::to_string(st), p, std::string{p} + ": " + axis + sim::reason_of(st, q)};
     return false;
   }
   if (!std::isfinite(out.duration())) {

@@ -122,6 +122,7 @@ const char* option_of(core::Status s, const core::MoveRequest& r) {
       // the limits: name what the user gave for it.
       if (r.shaper != core::ShaperKind::none) return "--shaper";
       if (r.robust) return "--robust";
+      if (r.profile == core::ProfileKind::fastest) return "--omega";  // no move for these modes
       if (r.time) return "--time";
       if (r.vmax) return "--vmax";
       return "--profile";
@@ -138,6 +139,23 @@ const char* option_of(core::Status s, const core::MoveRequest& r) {
     }
     default: return "--profile";
   }
+}
+
+std::string reason_of(core::Status s, const core::MoveRequest& r) {
+  if (s == core::Status::no_solution && r.profile == core::ProfileKind::fastest && !r.robust &&
+      r.shaper == core::ShaperKind::none) {
+    const std::size_t modes = 1 + r.extra_mode_count;
+    std::string why = "no family found a move that leaves ";
+    why += modes == 1 ? "the mode" : "all " + std::to_string(modes) + " modes";
+    why += " at rest within the limits";
+    if (modes >= 3) {
+      // ZV for each of three modes is 8 impulses: 8 copies of the time-optimal move's 7 segments.
+      why += " (time-optimal * ZV for every mode needs more than the 31 segments a fastest move holds, and "
+             "the bang-bang and bang-coast searches found none: fewer modes may plan)";
+    }
+    return why;
+  }
+  return core::describe(s);
 }
 
 }  // namespace settle::sim

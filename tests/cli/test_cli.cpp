@@ -208,6 +208,27 @@ TEST(Cli, FastestPlansSeveralModesAndSaysWhichFamilyWon) {
   }
 }
 
+// Four modes where no family finds a move (time-optimal * ZV for every mode does not fit the 31
+// segments a fastest move holds, and the searches find no chain): exit 2 naming --omega and saying
+// why, not that an "iterative design did not converge".
+TEST(Cli, FastestSaysWhenNoFamilyFindsAMove) {
+  const std::string args =
+      "plan --profile fastest --distance 1 --vmax 1 --amax 20 --jmax 800 --omega 2 --zeta 0 --omega 3 --zeta 0 "
+      "--omega 4 --zeta 0 --omega 5 --zeta 0";
+  const CliResult text = run(args);
+  EXPECT_EQ(text.status, 2) << text.out;
+  EXPECT_NE(text.out.find("--omega: no family found a move that leaves all 4 modes at rest within the limits"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("31 segments"), std::string::npos) << text.out;
+  const CliResult json = run(args + " --json");
+  EXPECT_EQ(json.status, 2);
+  const Json j{json.out};
+  ASSERT_TRUE(j.ok) << json.out;
+  EXPECT_EQ(j.flat.at("error"), "no_solution");
+  EXPECT_EQ(j.flat.at("parameter"), "--omega");
+}
+
 TEST(Cli, PlantSimulatesTheDriveItsEdsDescribes) {
   // Each bundled drive and the test drive load; the bus is what fails (exit 1), not the EDS.
   for (const std::string& eds : {std::string{SETTLE_EDS_DIR} + "/split_rpdo_drive.eds",

@@ -214,6 +214,11 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
   settle::core::MoveRequest shaped{};
   shaped.shaper = settle::core::ShaperKind::ei;
   EXPECT_STREQ(settle::sim::option_of(settle::core::Status::no_solution, shaped), "--shaper");
+  // fastest: no move for the modes given.
+  settle::core::MoveRequest fastest{};
+  fastest.profile = settle::core::ProfileKind::fastest;
+  fastest.vmax = 1.0;
+  EXPECT_STREQ(settle::sim::option_of(settle::core::Status::no_solution, fastest), "--omega");
 }
 
 // Issue 12 item 3: sizes are refused before anything is allocated or printed, naming the option.

@@ -41,5 +41,8 @@ struct ShaperName {
 // The option a planner status is about ("--time", "--vmax", ...), so that the user is told what
 // to change.
 [[nodiscard]] const char* option_of(core::Status s, const core::MoveRequest& r);
+// What went wrong, in one sentence: core::describe(s), or what is known of this request beyond
+// it (profile `fastest` with no move found for its modes).
+[[nodiscard]] std::string reason_of(core::Status s, const core::MoveRequest& r);
 
 }  // namespace settle::sim
