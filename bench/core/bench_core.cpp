@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "bench_request.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/core/stepper.hpp"
 
@@ -11,30 +12,11 @@ using namespace settle::core;
 
 namespace {
 
-MoveRequest request(ProfileKind k, ShaperKind s = ShaperKind::none) {
-  MoveRequest r{};
-  r.profile = k;
-  r.distance = 0.1;
-  r.omega = 22.04871;
-  r.zeta = k == ProfileKind::scurve ? 0.0 : 0.05;
-  r.shaper = s;
-  if (k == ProfileKind::jerk_limited) {
-    r.vmax = 0.5;
-    r.amax = 5.0;
-    r.jmax = 100.0;
-  } else {
-    r.time = 0.5;
-  }
-  if (k == ProfileKind::pseudopoly) {
-    r.gammas = {3.024, 4.565, 5.874};
-    r.gamma_count = 3;
-  }
-  return r;
-}
+using settle::bench::benchmark_request;
 
 Move<double> planned(ProfileKind k, ShaperKind s) {
   Move<double> m{};
-  if (plan(request(k, s), m) != Status::ok) std::abort();
+  if (plan(benchmark_request(k, s), m) != Status::ok) std::abort();
   return m;
 }
 
@@ -72,7 +54,7 @@ void BM_StepDouble(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Step<
 void BM_StepFloat(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Step<float>(st, k, s); }
 
 void BM_Plan(benchmark::State& state, ProfileKind k, ShaperKind s) {
-  const MoveRequest r = request(k, s);
+  const MoveRequest r = benchmark_request(k, s);
   Move<double> m{};
   for (auto _ : state) benchmark::DoNotOptimize(plan(r, m));
 }
@@ -80,7 +62,7 @@ void BM_Plan(benchmark::State& state, ProfileKind k, ShaperKind s) {
 // The jerk-limited planner's phase solver alone: what BM_Plan/jerk_limited costs beyond it is
 // plan()'s own (validation, peaks, building the Move).
 void BM_JerkLimitedPhases(benchmark::State& state) {
-  const MoveRequest r = request(ProfileKind::jerk_limited);
+  const MoveRequest r = benchmark_request(ProfileKind::jerk_limited);
   for (auto _ : state) benchmark::DoNotOptimize(jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax));
 }
 

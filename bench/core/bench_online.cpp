@@ -6,6 +6,7 @@
 #include <array>
 #include <optional>
 
+#include "bench_request.hpp"
 #include "settle/core/online.hpp"
 #include "settle/core/planner.hpp"
 
@@ -22,19 +23,8 @@ struct Setup {
 // The seed-000 beam's move (scurve designed for 22.05 rad/s) or a jerk-limited move with a ZVD
 // shaper, limits a little above the move's own peaks.
 Setup setup(ProfileKind k) {
-  MoveRequest r{};
-  r.profile = k;
-  r.distance = 0.1;
-  r.omega = 22.04871;
-  r.zeta = k == ProfileKind::scurve ? 0.0 : 0.05;
-  if (k == ProfileKind::jerk_limited) {
-    r.vmax = 0.5;
-    r.amax = 5.0;
-    r.jmax = 100.0;
-    r.shaper = ShaperKind::zvd;
-  } else {
-    r.time = 0.5;
-  }
+  const MoveRequest r =
+      settle::bench::benchmark_request(k, k == ProfileKind::jerk_limited ? ShaperKind::zvd : ShaperKind::none);
   Setup s{};
   if (plan(r, s.move) != Status::ok) return s;
   s.modes = {Mode{*r.omega, r.zeta}, Mode{3.0 * *r.omega, 0.02}};

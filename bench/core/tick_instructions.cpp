@@ -1,8 +1,8 @@
 // Instructions per tick, for callgrind: the S-curve stepped (MoveStepper) against the
 // jerk-limited profile at random access (Move::at), the pair issue 16 compares. Timings of that
 // pair (settle_core_bench, BM_Step / BM_Evaluate) differ by about 1 ns and scatter by about
-// 1.5 ns on a shared machine; instruction counts do not scatter. Same requests and tick pattern
-// as bench_core.cpp. Usage, from the build directory (one line):
+// 1.5 ns on a shared machine; instruction counts do not scatter. Same requests (bench_request.hpp)
+// and tick patterns as bench_core.cpp. Usage, from the build directory (one line):
 //   valgrind --tool=callgrind --callgrind-out-file=/dev/null --collect-atstart=no
 //   '--toggle-collect=void run_step*' bench/core/settle_tick_instructions double step 100000
 // (and `at` with '--toggle-collect=void run_at*'; `float` likewise); the instructions per tick are
@@ -12,28 +12,13 @@
 #include <cstring>
 #include <vector>
 
+#include "bench_request.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/core/stepper.hpp"
 
 using namespace settle::core;
 
 namespace {
-
-MoveRequest request(ProfileKind k) {
-  MoveRequest r{};
-  r.profile = k;
-  r.distance = 0.1;
-  r.omega = 22.04871;
-  r.zeta = k == ProfileKind::scurve ? 0.0 : 0.05;
-  if (k == ProfileKind::jerk_limited) {
-    r.vmax = 0.5;
-    r.amax = 5.0;
-    r.jmax = 100.0;
-  } else {
-    r.time = 0.5;
-  }
-  return r;
-}
 
 volatile double g_sink;
 
@@ -66,8 +51,8 @@ __attribute__((noinline)) void run_at(const Move<T>& m, const std::vector<T>& ts
 template <typename T>
 int run(const char* mode, long n) {
   Move<double> scurve{}, jerk{};
-  if (plan(request(ProfileKind::scurve), scurve) != Status::ok ||
-      plan(request(ProfileKind::jerk_limited), jerk) != Status::ok) {
+  if (plan(settle::bench::benchmark_request(ProfileKind::scurve), scurve) != Status::ok ||
+      plan(settle::bench::benchmark_request(ProfileKind::jerk_limited), jerk) != Status::ok) {
     std::fputs("settle_tick_instructions: planning failed\n", stderr);
     return 1;
   }
