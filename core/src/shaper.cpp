@@ -133,7 +133,173 @@ Status ei_shaper(double omega, double zeta, double vtol, Shaper<double>& out) no
   return Status::ok;
 }
 
+// The joint ZV shaper's conditions in dimensionless time u = w0 t: x = (u_1..u_n, A_1..A_n),
+// u_0 = 0 and A_0 = 1 - sum A. Mode k (pole -sigma_k + i wd_k, in units of w0) contributes
+// C_k = sum_i A_i e^{sigma_k u_i} cos(wd_k u_i) and S_k, its sine twin; all must vanish. The
+// Jacobian is analytic; f and jac are written for rows and columns [0, 2n).
+struct JointModes {
+  std::array<double, kMaxJointModes> sigma{}, wd{};
+  std::size_t n{0};
+};
+constexpr std::size_t kJointUnknowns = 2 * kMaxJointModes;
+using JointVec = std::array<double, kJointUnknowns>;
+using JointMat = std::array<JointVec, kJointUnknowns>;
+
+// Returns the largest condition relative to its mode's sum of |A_i| e^{sigma_k u_i}: on a damped
+// mode the terms grow with u, and an absolute tolerance would ask for more digits than doubles
+// hold.
+double joint_residuals(const JointModes& m, const JointVec& x, JointVec& f, JointMat* jac) noexcept {
+  const std::size_t n = m.n;
+  double a0 = 1.0, worst = 0.0;
+  for (std::size_t i = 0; i < n; ++i) a0 -= x[n + i];
+  for (std::size_t k = 0; k < n; ++k) {
+    double c = a0, s = 0.0, scale = std::fabs(a0);  // impulse 0 at u = 0
+    for (std::size_t i = 0; i < n; ++i) {
+      const double u = x[i], a = x[n + i];
+      const double e = std::exp(m.sigma[k] * u);
+      const double co = std::cos(m.wd[k] * u), si = std::sin(m.wd[k] * u);
+      c += a * e * co;
+      s += a * e * si;
+      scale += std::fabs(a) * e;
+      if (jac != nullptr) {
+        (*jac)[2 * k][i] = a * e * (m.sigma[k] * co - m.wd[k] * si);
+        (*jac)[2 * k + 1][i] = a * e * (m.sigma[k] * si + m.wd[k] * co);
+        (*jac)[2 * k][n + i] = e * co - 1.0;
+        (*jac)[2 * k + 1][n + i] = e * si;
+      }
+    }
+    f[2 * k] = c;
+    f[2 * k + 1] = s;
+    worst = std::fmax(worst, std::fmax(std::fabs(c), std::fabs(s)) / scale);
+  }
+  return std::isfinite(worst) ? worst : HUGE_VAL;
+}
+
+// Newton's method with a halving line search on the largest relative condition; true below 1e-14.
+// The caps bound the cost of starts that do not converge (on 200 random sets of three modes,
+// 40 steps and 10 halvings found 3 designs more at 1.25 times the cost; 15 and 6 found 7 fewer,
+// and longer ones), and so does giving up on an iterate that leaves |u| < u_max or amplitudes in
+// (-1, 2), far from any design worth having.
+constexpr int kJointIterations = 25, kJointHalvings = 8;
+bool joint_newton(const JointModes& m, JointVec& x, double u_max) noexcept {
+  const std::size_t n = m.n, dim = 2 * n;
+  JointVec f{}, ft{};
+  double norm = joint_residuals(m, x, f, nullptr);
+  for (int it = 0; it < kJointIterations; ++it) {
+    if (norm < 1e-14) return true;
+    JointMat jac{};
+    (void)joint_residuals(m, x, f, &jac);
+    JointVec step = f;
+    if (!solve_in_place(jac, step, dim, 1e-14)) return false;
+    double lambda = 1.0;
+    bool moved = false;
+    for (int h = 0; h < kJointHalvings && !moved; ++h, lambda *= 0.5) {
+      JointVec xt = x;
+      for (std::size_t c = 0; c < dim; ++c) xt[c] -= lambda * step[c];
+      const double nt = joint_residuals(m, xt, ft, nullptr);
+      if (nt < norm) {
+        x = xt;
+        norm = nt;
+        moved = true;
+      }
+    }
+    if (!moved) return false;
+    for (std::size_t i = 0; i < m.n; ++i) {
+      if (!(x[i] > -u_max && x[i] < u_max && x[m.n + i] > -1.0 && x[m.n + i] < 2.0)) return false;
+    }
+  }
+  return norm < 1e-14;
+}
+
 }  // namespace
+
+Status joint_zv_shaper(const double* omega, const double* zeta, std::size_t n, Shaper<double>& out) noexcept {
+  if (n == 0 || n > kMaxJointModes) return Status::unsupported_request;
+  Status st = Status::ok;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!valid_mode(omega[k], zeta[k], st)) return st;
+  }
+  if (n == 1) {
+    out = binomial_shaper(1, omega[0], zeta[0]);
+    return Status::ok;
+  }
+  // Units of the slowest mode; half damped periods tau_k bound the starts.
+  double w0 = omega[0];
+  for (std::size_t k = 1; k < n; ++k) w0 = std::fmin(w0, omega[k]);
+  JointModes m{};
+  m.n = n;
+  double tau_max = 0.0, tau_sum = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double beta = std::sqrt(1.0 - zeta[k] * zeta[k]);
+    m.sigma[k] = zeta[k] * omega[k] / w0;
+    m.wd[k] = omega[k] * beta / w0;
+    tau_max = std::fmax(tau_max, pi / m.wd[k]);
+    tau_sum += pi / m.wd[k];
+  }
+  // Starts: n equal steps up to a total from half the slowest mode's half period to four times
+  // the sum of all of them (the convolved ZVs' length), equal amplitudes. The shortest design
+  // with positive impulses wins.
+  constexpr int kStarts = 8;
+  const std::size_t nsub = std::size_t{1} << n;  // impulses of one ZV per mode convolved
+  std::array<double, std::size_t{1} << kMaxJointModes> conv{};
+  for (std::size_t b = 0; b < nsub; ++b) {
+    for (std::size_t k = 0; k < n; ++k) conv[b] += (b >> k & 1U) != 0 ? pi / m.wd[k] : 0.0;
+  }
+  std::sort(conv.begin(), conv.begin() + static_cast<std::ptrdiff_t>(nsub));
+  double best_len = INFINITY;
+  JointVec best{};
+  const auto try_start = [&](JointVec x) {
+    if (!joint_newton(m, x, 6.0 * tau_sum)) return;
+    double a0 = 1.0, prev = 0.0;
+    bool ok = true;
+    for (std::size_t i = 0; i < n; ++i) {
+      a0 -= x[n + i];
+      ok = ok && x[n + i] > 0.0 && x[i] > prev * (1.0 + 1e-9) + 1e-12;
+      prev = x[i];
+    }
+    ok = ok && a0 > 0.0;
+    if (ok && x[n - 1] < best_len) {
+      best_len = x[n - 1];
+      best = x;
+    }
+  };
+  for (int s = 0; s < kStarts; ++s) {
+    const double total = 0.5 * tau_max * std::pow(4.0 * tau_sum / tau_max, static_cast<double>(s) / (kStarts - 1));
+    JointVec x{};
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] = total * static_cast<double>(i + 1) / static_cast<double>(n);
+      x[n + i] = 1.0 / static_cast<double>(n + 1);
+    }
+    try_start(x);
+  }
+  // and, up to three modes, every n + 1 of the convolved shaper's impulse times that include 0
+  // (35 for three modes), equal amplitudes: where the modes lie far apart the joint design is
+  // near such a subset, and the equal steps above miss it.
+  for (std::size_t mask = 1; n <= 3 && mask < (std::size_t{1} << nsub); mask += 2) {
+    JointVec x{};
+    std::size_t i = 0;
+    for (std::size_t b = 1; b < nsub; ++b) {
+      if ((mask >> b & 1U) == 0) continue;
+      if (i == n) {
+        i = n + 1;  // more than n + 1 impulses
+        break;
+      }
+      x[i] = conv[b];
+      x[n + i] = 1.0 / static_cast<double>(n + 1);
+      ++i;
+    }
+    if (i == n) try_start(x);
+  }
+  if (!std::isfinite(best_len)) return Status::no_solution;
+  std::array<double, kMaxJointModes + 1> amp{}, time{};
+  amp[0] = 1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    amp[i + 1] = best[n + i];
+    time[i + 1] = best[i] / w0;
+    amp[0] -= best[n + i];
+  }
+  return custom_shaper(amp.data(), time.data(), n + 1, out);
+}
 
 Status design_shaper(ShaperKind kind, double omega, double zeta, double vtol, Shaper<double>& out) noexcept {
   if (kind == ShaperKind::none) {

@@ -34,6 +34,15 @@ struct Shaper {
 // Designs a shaper for the mode (omega, zeta). vtol is EI's vibration tolerance (0.05 is usual).
 [[nodiscard]] Status design_shaper(ShaperKind kind, double omega, double zeta, double vtol,
                                    Shaper<double>& out) noexcept;
+// The joint ZV shaper of n modes (1 <= n <= kMaxJointModes): n + 1 positive impulses whose
+// residual is zero on every mode, designed for all modes at once (a simultaneous design, Hyde &
+// Seering 1991; Singhose, Crain & Seering 1997 for two modes) rather than one ZV per mode
+// convolved (2^n impulses). The shortest one Newton's method finds from a fixed set of starts;
+// no_solution where it finds none with positive amplitudes (about 1 in 13 random sets of three
+// modes; docs/fastest.md "Several modes"). With n = 1 it is ZV.
+inline constexpr std::size_t kMaxJointModes = 4;
+[[nodiscard]] Status joint_zv_shaper(const double* omega, const double* zeta, std::size_t n,
+                                     Shaper<double>& out) noexcept;
 // A user's own impulses: times >= 0, amplitudes summing to 1. Sorted by time on output.
 [[nodiscard]] Status custom_shaper(const double* amp, const double* time, std::size_t n,
                                    Shaper<double>& out) noexcept;
