@@ -66,6 +66,17 @@ void BM_JerkLimitedPhases(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax));
 }
 
+// The joint ZV shaper (one design for n modes, n + 1 impulses): Newton's method from a fixed set
+// of starts; the modes of BM_PlanFastest/two_modes and /three_modes.
+void BM_JointZvShaper(benchmark::State& state, std::size_t n) {
+  const double w2[] = {22.0, 60.0}, z2[] = {0.0, 0.01};
+  const double w3[] = {5.0, 23.0, 71.0}, z3[] = {0.02, 0.05, 0.01};
+  Shaper<double> s{};
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(n == 2 ? joint_zv_shaper(w2, z2, 2, s) : joint_zv_shaper(w3, z3, 3, s));
+  }
+}
+
 void BM_PlanFastestScurve(benchmark::State& state, bool damped) {
   RampCycloidParams p{};
   for (auto _ : state) {
@@ -99,11 +110,14 @@ BENCHMARK_CAPTURE(BM_Plan, poly345, ProfileKind::poly345, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_Plan, jerk_limited, ProfileKind::jerk_limited, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_Plan, jerk_limited_zvd, ProfileKind::jerk_limited, ShaperKind::zvd);
 BENCHMARK(BM_JerkLimitedPhases);
+BENCHMARK_CAPTURE(BM_JointZvShaper, two_modes, 2)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_JointZvShaper, three_modes, 3)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastestScurve, undamped, false);
 BENCHMARK_CAPTURE(BM_PlanFastestScurve, damped, true);
 
 // Profile `fastest` (docs/fastest.md): planning the reference case (one mode, undamped
-// and damped), two modes, and --robust 10; and its per-tick cost once planned.
+// and damped), two modes, --robust 10, the commissioning plant and three modes; and its per-tick
+// cost once planned.
 namespace {
 
 MoveRequest fastest_request(int which) {
@@ -128,6 +142,14 @@ MoveRequest fastest_request(int which) {
     r.zeta = 0.02;
     r.extra_modes[0] = {70.0, 0.05};
     r.extra_mode_count = 1;
+  }
+  if (which == 5) {  // three modes: one ZV each would not fit; the joint ZV move seeds bang-coast
+    r.distance = 1.0;
+    r.omega = 5.0;
+    r.zeta = 0.02;
+    r.extra_modes[0] = {23.0, 0.05};
+    r.extra_modes[1] = {71.0, 0.01};
+    r.extra_mode_count = 2;
   }
   return r;
 }
@@ -157,4 +179,5 @@ BENCHMARK_CAPTURE(BM_PlanFastest, one_damped_mode, 1)->Unit(benchmark::kMicrosec
 BENCHMARK_CAPTURE(BM_PlanFastest, two_modes, 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastest, robust_10, 3)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastest, commissioning, 4)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_PlanFastest, three_modes, 5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EvaluateFastest);

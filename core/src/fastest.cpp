@@ -1588,6 +1588,20 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     }
     if (ok) try_shaped(s, kShaped[k]);
   }
+  // (c') two or more modes: one ZV designed for all of them at once. Its n + 1 impulses (one ZV
+  // per mode takes 2^n) are often shorter, and for three modes the only shaped move that fits
+  // the table; it also seeds bang-coast below as the best move so far.
+  Shaper<double> joint{};
+  bool has_joint = false;
+  if (ms.n >= 2 && ms.n <= kMaxJointModes && band == 0.0) {
+    std::array<double, kMaxJointModes> w{}, z{};
+    for (std::size_t i = 0; i < ms.n; ++i) {
+      w[i] = ms.m[i].omega;
+      z[i] = ms.m[i].zeta;
+    }
+    has_joint = joint_zv_shaper(w.data(), z.data(), ms.n, joint) == Status::ok;
+    if (has_joint) try_shaped(joint, FastestFamily::shaped_joint_zv);
+  }
 
   // (b) the ramp-cycloid S-curves: one mode, exact at its design (not robust designs).
   if (ms.n == 1 && band == 0.0) {
@@ -1650,7 +1664,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     const std::size_t nc = zero_conditions(z, ms, cond);
     if (nc > kMaxConds) continue;
     const double t_cap = std::isfinite(best.time) ? best.time : 4.0 * t_to + 8.0 * 3.14159 / ms.m[0].omega;
-    std::array<Seed, 2> pulses{};
+    std::array<Seed, 3> pulses{};
     std::array<Seed, 3> whole{};
     std::size_t ns = 0, nw = 0;
     for (int extra = 0; extra <= 1; ++extra) {
@@ -1666,6 +1680,13 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
         whole[nw].time = table_duration(whole[nw].g);
         ++nw;
       }
+    }
+    // for three modes or more, the pulse convolved with the joint ZV shaper (exact designs),
+    // where the convolved shapers above do not fit (on two modes it lengthened a case: bang-coast
+    // ended elsewhere from the shorter bound it set, docs/fastest.md "Several modes"),
+    if (has_joint && ms.n >= 3 && z.points == 1 && z.order == 0 && flatten_shaped(h, joint, pulses[ns].g)) {
+      pulses[ns].time = t_to + joint.duration();
+      ++ns;
     }
     // and from the shortest jerk-table move so far (its zeros lie near these).
     if (std::isfinite(best.time) && !is_ramp_cycloid(best.p.family)) {

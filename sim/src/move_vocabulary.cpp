@@ -149,9 +149,11 @@ std::string reason_of(core::Status s, const core::MoveRequest& r) {
     why += modes == 1 ? "the mode" : "all " + std::to_string(modes) + " modes";
     why += " at rest within the limits";
     if (modes >= 3) {
-      // ZV for each of three modes is 8 impulses: 8 copies of the time-optimal move's 7 segments.
-      why += " (time-optimal * ZV for every mode needs more than the 31 segments a fastest move holds, and "
-             "the bang-bang and bang-coast searches found none: fewer modes may plan)";
+      // ZV for each of three modes is 8 impulses: 8 copies of the time-optimal move's 7 segments;
+      // the joint ZV shaper's n + 1 copies fit for three modes, where it exists.
+      why += " (time-optimal * ZV for every mode needs more than the 31 segments a fastest move holds, the "
+             "joint ZV shaper for these modes has no design with positive impulses that fits them, and the "
+             "bang-bang and bang-coast searches found none: fewer modes may plan)";
     }
     return why;
   }

@@ -209,8 +209,8 @@ TEST(Cli, FastestPlansSeveralModesAndSaysWhichFamilyWon) {
 }
 
 // Four modes where no family finds a move (time-optimal * ZV for every mode does not fit the 31
-// segments a fastest move holds, and the searches find no chain): exit 2 naming --omega and saying
-// why, not that an "iterative design did not converge".
+// segments a fastest move holds, nor does the joint ZV shaper's, and the searches find no chain):
+// exit 2 naming --omega and saying why, not that an "iterative design did not converge".
 TEST(Cli, FastestSaysWhenNoFamilyFindsAMove) {
   const std::string args =
       "plan --profile fastest --distance 1 --vmax 1 --amax 20 --jmax 800 --omega 2 --zeta 0 --omega 3 --zeta 0 "
@@ -221,6 +221,7 @@ TEST(Cli, FastestSaysWhenNoFamilyFindsAMove) {
             std::string::npos)
       << text.out;
   EXPECT_NE(text.out.find("31 segments"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("joint ZV shaper"), std::string::npos) << text.out;
   const CliResult json = run(args + " --json");
   EXPECT_EQ(json.status, 2);
   const Json j{json.out};

@@ -10,6 +10,8 @@
 //   scurve / scurve_damped   the ramp-cycloid S-curves (single mode)
 //   shaped_zv / _zvd / _zvdd / _ei   the time-optimal jerk-limited move convolved with shapers
 //   shaped_spread   (--robust) convolved with ZV shapers at frequencies spread over the band
+//   shaped_joint_zv   (two or more modes) convolved with one ZV shaper designed for all modes
+//               at once: n + 1 impulses, where one ZV per mode takes 2^n (three modes fit)
 // Every family but the S-curves is a piecewise-constant-jerk move (the shaped ones flattened:
 // the sum of delayed copies is again piecewise constant in jerk), so the shape holds either a
 // RampCycloid or a PiecewiseJerk table.
@@ -43,12 +45,14 @@ enum class FastestFamily : std::uint8_t {
   shaped_ei,
   shaped_spread,  // ZV at omega (1 +- spread) for --robust, composed
   bang_bang,      // jerk +-J except on limit arcs, Newton on the switch times (exact designs)
+  shaped_joint_zv,  // one ZV designed for all modes at once: n + 1 impulses (shaper.hpp)
 };
-inline constexpr std::size_t kFastestFamilies = 10;
+inline constexpr std::size_t kFastestFamilies = 11;
 [[nodiscard]] constexpr const char* to_string(FastestFamily f) noexcept {
   constexpr const char* names[kFastestFamilies] = {"none",          "bang-coast", "scurve",         "scurve-damped",
                                                    "time-optimal*ZV", "time-optimal*ZVD", "time-optimal*ZVDD",
-                                                   "time-optimal*EI", "time-optimal*spread-ZV", "bang-bang"};
+                                                   "time-optimal*EI", "time-optimal*spread-ZV", "bang-bang",
+                                                   "time-optimal*joint-ZV"};
   const auto i = static_cast<std::size_t>(f);
   return i < kFastestFamilies ? names[i] : "unknown";
 }
@@ -144,7 +148,7 @@ class Fastest {
   [[nodiscard]] static const char* family_param_name(std::size_t k) noexcept {
     constexpr const char* names[kFastestFamilies] = {"",         "time_bang_coast", "time_scurve", "time_scurve_damped",
                                                      "time_zv",  "time_zvd",        "time_zvdd",   "time_ei",
-                                                     "time_spread_zv", "time_bang_bang"};
+                                                     "time_spread_zv", "time_bang_bang", "time_joint_zv"};
     return names[k];
   }
 
