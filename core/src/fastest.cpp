@@ -1066,6 +1066,12 @@ struct ArcLayout {
   double T{0.0};
 };
 
+// The level of a node: +-amax on a limit, its own on a peak, 0 on a cruise or a dwell.
+double node_level(const ArcProblem& pb, const ArcChain& c, std::size_t i) noexcept {
+  const ArcNode& k = c.node[i];
+  return k.kind == ArcKind::limit ? k.sign * pb.amax : k.kind == ArcKind::peak ? c.x[i] : 0.0;
+}
+
 ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
   ArcLayout L{};
   double t = 0.0, a = 0.0;
@@ -1074,9 +1080,8 @@ ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
     const double s = closing ? ramp_out(c.node[c.n - 1]) : ramp_in(c.node[r]);
     double lev = 0.0, hold = 0.0;
     if (!closing) {
-      const ArcNode& k = c.node[r];
-      lev = k.kind == ArcKind::limit ? k.sign * pb.amax : k.kind == ArcKind::peak ? c.x[r] : 0.0;
-      hold = k.kind == ArcKind::peak ? 0.0 : c.x[r];
+      lev = node_level(pb, c, r);
+      hold = c.node[r].kind == ArcKind::peak ? 0.0 : c.x[r];
     }
     const double d = (lev - a) / (s * pb.J);
     L.b[r] = t;
@@ -1414,12 +1419,6 @@ class ChainMemo {
   std::array<ArcChain, 24> chains_{};
   std::size_t count_{0};
 };
-
-// The level of a node: +-amax on a limit, its own on a peak, 0 on a cruise or a dwell.
-double node_level(const ArcProblem& pb, const ArcChain& c, std::size_t i) noexcept {
-  const ArcNode& k = c.node[i];
-  return k.kind == ArcKind::limit ? k.sign * pb.amax : k.kind == ArcKind::peak ? c.x[i] : 0.0;
-}
 
 // c with a pair of peaks inserted into its ramp into node k (k == c.n: the closing ramp): the
 // ramp doubles back over 2 frac of its rise about its middle, a turn of the ramp's sign then one
