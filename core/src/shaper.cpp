@@ -183,22 +183,26 @@ double joint_residuals(const JointModes& m, const JointVec& x, JointVec& f, Join
 constexpr int kJointIterations = 25, kJointHalvings = 8;
 bool joint_newton(const JointModes& m, JointVec& x, double u_max) noexcept {
   const std::size_t n = m.n, dim = 2 * n;
+  // Each trial is evaluated with its Jacobian (the transcendentals dominate, the Jacobian is a
+  // few products more), so an accepted trial brings the next step's system with it.
   JointVec f{}, ft{};
-  double norm = joint_residuals(m, x, f, nullptr);
+  JointMat jac{}, jt{};
+  double norm = joint_residuals(m, x, f, &jac);
   for (int it = 0; it < kJointIterations; ++it) {
     if (norm < 1e-14) return true;
-    JointMat jac{};
-    (void)joint_residuals(m, x, f, &jac);
+    JointMat lu = jac;
     JointVec step = f;
-    if (!solve_in_place(jac, step, dim, 1e-14)) return false;
+    if (!solve_in_place(lu, step, dim, 1e-14)) return false;
     double lambda = 1.0;
     bool moved = false;
     for (int h = 0; h < kJointHalvings && !moved; ++h, lambda *= 0.5) {
       JointVec xt = x;
       for (std::size_t c = 0; c < dim; ++c) xt[c] -= lambda * step[c];
-      const double nt = joint_residuals(m, xt, ft, nullptr);
+      const double nt = joint_residuals(m, xt, ft, &jt);
       if (nt < norm) {
         x = xt;
+        f = ft;
+        jac = jt;
         norm = nt;
         moved = true;
       }
