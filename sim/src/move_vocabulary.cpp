@@ -151,9 +151,9 @@ std::string reason_of(core::Status s, const core::MoveRequest& r) {
     if (modes >= 3) {
       // ZV for each of three modes is 8 impulses: 8 copies of the time-optimal move's 7 segments;
       // the joint ZV shaper's n + 1 copies fit for three modes, where it exists.
-      why += " (time-optimal * ZV for every mode needs more than the 31 segments a fastest move holds, the "
-             "joint ZV shaper for these modes has no design with positive impulses that fits them, and the "
-             "bang-bang and bang-coast searches found none: fewer modes may plan)";
+      why += " (time-optimal * ZV for every mode needs more than the " + std::to_string(core::kFastestSegments) +
+             " segments a fastest move holds, the joint ZV shaper for these modes has no design with positive "
+             "impulses that fits them, and the bang-bang and bang-coast searches found none: fewer modes may plan)";
     }
     return why;
   }
