@@ -143,7 +143,8 @@ struct PlantRange {
   double zeta_lo{0.005}, zeta_hi{0.3};
 };
 
-std::vector<Mode> random_plant(std::uint64_t seed, const PlantRange& range) {
+std::vector<Mode> random_plant(std::uint64_t seed, const PlantRange& range,
+                               const testing::Excitation& ex = excitation()) {
   std::mt19937_64 rng{seed};
   std::uniform_real_distribution<double> u{0.0, 1.0};
   const std::size_t n = 1 + static_cast<std::size_t>(u(rng) * 3.0) % 3;
@@ -159,7 +160,7 @@ std::vector<Mode> random_plant(std::uint64_t seed, const PlantRange& range) {
   const std::size_t largest = static_cast<std::size_t>(u(rng) * static_cast<double>(n)) % n;
   for (std::size_t j = 0; j < n; ++j) {
     const double share = j == largest ? 1.0 : 0.1 + 0.9 * u(rng);
-    modes[j].gain = share * kLargestPeak / deflection_peak(modes[j]);
+    modes[j].gain = share * kLargestPeak / deflection_peak(modes[j], ex);
   }
   return modes;
 }
@@ -249,8 +250,8 @@ std::vector<Bound> cramer_rao(const std::vector<Mode>& truth, double noise_sd,
 }
 
 // A plant the tolerances can be asked of: every mode's bound at most a third of them (3 sigma).
-bool determinable(const std::vector<Mode>& truth, const Record& rec) {
-  const std::vector<Bound> b = cramer_rao(truth, rec.noise_sd);
+bool determinable(const std::vector<Mode>& truth, const Record& rec, const testing::Excitation& ex = excitation()) {
+  const std::vector<Bound> b = cramer_rao(truth, rec.noise_sd, ex);
   return std::all_of(b.begin(), b.end(), [](const Bound& x) { return x.omega_rel <= 0.005 / 3.0 && x.zeta <= 0.01 / 3.0; });
 }
 
@@ -419,6 +420,37 @@ TEST(Identify, CramerRaoBoundAgreesWithTheFitsErrors) {
     }
   }
   EXPECT_LT(worst, 1.25);
+}
+
+// Heavily damped modes that the fit had merged into one broad mode (zeta 0.86-0.99), at times
+// beside a spurious lightly damped one: determinable plants of the sub-range rows of
+// docs/identification.md's table that the estimator missed before step 6 replaced a broad mode by
+// the two the scan picks without it. With the default train (the two determinable plants the
+// train had lost against the move alone) and with --train 15 (three more, among them 1.15, 2.84
+// and 5.96 Hz seen as 1.70 Hz at zeta 0.99 beside an invented 8.9 Hz mode). The last, with the
+// move alone, was missed by a first version that kept the first replacement that helped, not the
+// best of all: it replaced the lightly damped 7.4 Hz mode, and the broad one's split found no room.
+TEST(Identify, BroadModesAreReplacedByTheModesTheyHide) {
+  struct Case {
+    PlantRange range;
+    std::uint64_t seed;
+    std::size_t round_trips;
+  };
+  const PlantRange damped{.zeta_lo = 0.2, .zeta_hi = 0.3};
+  const PlantRange slow{.f_lo = 1.0, .f_hi = 10.0};
+  const Case cases[] = {{damped, 37, 8},    {slow, 85, 8}, {damped, 37, 15}, {damped, 124, 15},
+                        {damped, 191, 15}, {slow, 4, 15}, {slow, 85, 15},  {{}, 298, 0}};
+  for (const Case& c : cases) {
+    testing::Excitation ex = excitation();
+    ex.move.round_trips = c.round_trips;
+    const std::vector<Mode> truth = random_plant(c.seed, c.range, ex);
+    Record rec{};
+    ASSERT_TRUE(make_record(truth, 0.01, 7919 * c.seed, rec, ex));
+    const std::string what = "seed " + std::to_string(c.seed) + ", --train " + std::to_string(c.round_trips);
+    EXPECT_TRUE(determinable(truth, rec, ex)) << what;
+    const IdentifyResult r = identify(rec, 3);
+    EXPECT_TRUE(accurate(truth, r)) << what << ": " << describe(truth, r);
+  }
 }
 
 // The measurements behind docs/identification.md's table, per sub-range (not run by default):
