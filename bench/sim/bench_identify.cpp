@@ -45,11 +45,11 @@ void BM_IdentifyThreeModes5s(benchmark::State& state) {
 }
 BENCHMARK(BM_IdentifyThreeModes5s)->Unit(benchmark::kMillisecond);
 
-// As settle identify records by default: the move after a train of 8 round trips (--train 8),
-// then a 5 s hold: about 8.3 s of data.
+// As settle identify records by default: the move after a train of 15 round trips (--train 15),
+// then a 5 s hold: about 11 s of data.
 void BM_IdentifyThreeModesTrain(benchmark::State& state) {
   sim::testing::Excitation ex{};
-  ex.move.round_trips = 8;
+  ex.move.round_trips = sim::kDefaultTrainRoundTrips;
   ex.rest_before_s = 0.0;
   identify_three_modes(state, ex);
 }

@@ -14,9 +14,9 @@ namespace {
 
 // The excitation, settle identify's defaults spelled out (so that the noise level computed from
 // it is the excitation's whatever the defaults become): 10 mm within 0.1 m/s, 5 m/s^2, 5000 m/s^3,
-// after 8 round trips of it, then 4 s at rest.
+// after a train of its default length, then 4 s at rest.
 constexpr double kExDistance = 0.01, kExVmax = 0.1, kExAmax = 5.0, kExJmax = 5000.0, kExHold = 4.0;
-constexpr std::size_t kExTrain = 8;
+constexpr std::size_t kExTrain = sim::kDefaultTrainRoundTrips;
 constexpr double kNoiseFraction = 0.01;  // of the excitation's peak load deflection (the issue's)
 constexpr std::uint64_t kSeed = 7;
 

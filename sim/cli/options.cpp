@@ -265,7 +265,7 @@ const std::vector<OptionSpec> kIdentify = {
     real("--amax", "unit/s^2", "5", {0.0, 1e9, true}, "excitation: acceleration limit"),
     real("--jmax", "unit/s^3", "5000", {0.0, 1e12, true},
          "excitation: jerk limit (amax / jmax is its jerk phase: shorter excites higher modes)"),
-    integer("--train", "", "8", {0.0, static_cast<double>(sim::kMaxTrainRoundTrips)},
+    integer("--train", "", std::to_string(sim::kDefaultTrainRoundTrips), {0.0, static_cast<double>(sim::kMaxTrainRoundTrips)},
             "excitation: round trips of the move before the last one, with varied gaps (more acceleration steps: "
             "heavily damped modes are measured better; 0: the move alone)"),
     real("--hold", "s", "4", {0.5, 600.0}, "excitation: time recorded at rest after the move (the free response)"),

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "run_cli.hpp"
+#include "settle/sim/identify_excitation.hpp"
 
 namespace {
 
@@ -104,7 +105,7 @@ TEST(CliIdentify, JsonHasTheDocumentedShape) {
   EXPECT_LE(j["excitation"]["peak_acceleration"].get<double>(), 5.0 * (1 + 1e-9));
   EXPECT_LE(j["excitation"]["peak_jerk"].get<double>(), 5000.0 * (1 + 1e-9));
   EXPECT_EQ(j["excitation"]["hold"], 4.0);
-  EXPECT_EQ(j["excitation"]["round_trips"], 8);
+  EXPECT_EQ(j["excitation"]["round_trips"], settle::sim::kDefaultTrainRoundTrips);
   EXPECT_EQ(j["fit"]["order"], 4);
   EXPECT_TRUE(j["fit"]["rms_residual"].is_number());
   // One mode asked for: one given, the stronger (25 rad/s).
@@ -120,7 +121,7 @@ TEST(CliIdentify, TextReportAndFigure) {
   const std::string png = (dir / "modes.png").string();
   const CliResult r = run_cli_argv(two_modes({"--png", png}));
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_TRUE(has(r.stdout_text, "excitation   jerk-limited, 0.01 after 8 round trips, over")) << r.stdout_text;
+  EXPECT_TRUE(has(r.stdout_text, "excitation   jerk-limited, 0.01 after 15 round trips, over")) << r.stdout_text;
   EXPECT_TRUE(has(r.stdout_text, "mode 1       omega 25")) << r.stdout_text;
   const std::size_t at = r.stdout_text.find("mode 2       omega ");
   ASSERT_NE(at, std::string::npos) << r.stdout_text;
@@ -162,8 +163,8 @@ TEST(CliIdentify, BadOptionsExitTwoNamingTheOption) {
       {{"--png", "figure.jpg"}, "--png: the figure's file name must end in .png"},
       {{"--distance", "1000", "--vmax", "1"}, "--vmax: the excitation's move lasts"},
       {{"--distance", "1000", "--vmax", "1", "--train", "0"}, "--vmax: the excitation's move lasts"},
-      // The move alone (40 s) fits; its train of 8 round trips (17 copies and their gaps) does not.
-      {{"--distance", "40", "--vmax", "1"}, "--train: the move and 8 round trips of it last"},
+      // The move alone (40 s) fits; its train of 15 round trips (31 copies and their gaps) does not.
+      {{"--distance", "40", "--vmax", "1"}, "--train: the move and 15 round trips of it last"},
       {{"--hold", "600", "--period-us", "100"}, "--hold: "},
       {{"--distance", "1000", "--vmax", "1000", "--amax", "1000", "--jmax", "1e6"},
        "--distance: the excitation exceeds 32-bit counts"},
