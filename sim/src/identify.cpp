@@ -518,21 +518,33 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
   // (the broad mode already explains most of them): the fit then sits in a local minimum with one
   // mode of large zeta, up to the 0.99 bound (1.01 and 4.36 Hz at zeta 0.23 and 0.27 were fitted
   // as one mode at 0.98 Hz, zeta 0.86). Adding a mode to it does not help: the fit pulls the new
-  // one onto the broad one. So, while there is room, each mode that is broad, or any mode when
-  // the fit leaves more than kPoorFit times the noise, is replaced by two:
+  // one onto the broad one. So each mode that is broad, or any mode when the fit leaves more than
+  // kPoorFit times the noise, is replaced. While there is room, by two:
   //  - on either side of it, 0.4 zeta and 0.8 zeta apart (broad modes only; the pair need not
   //    straddle it evenly: 1.15 and 1.9 Hz were fitted as one mode at 1.19 Hz, zeta 0.39);
   //  - the two modes the scan of step 5 picks for the residual without it, the second at least
   //    1.2 times away from the first (0.98 Hz at zeta 0.86 became 1.09 and 4.34 Hz, from which
   //    the fit reaches the truth).
+  // With max_modes already fitted, it and each other mode in turn are replaced by the scan's two
+  // (1.41, 2.11 and 2.83 Hz at zeta 0.21-0.29 had been fitted as 1.99 Hz at zeta 0.63, 2.85 Hz
+  // and 3.54 Hz at zeta 0.59).
   // Of all these replacements (every mode's), the one whose fit's residual is the lowest stays if,
   // after the pruning, it has more modes (any drop in the residual) or as many (a drop of at least
   // 20 %: a broad mode and a spurious one traded for two real ones, on the way to the third).
   // Taking the best of all rather than the first that helps matters: a lightly damped mode's
   // replacement can lower the residual a little and fill the last place a broad mode's split
   // needed. Then all are tried again, at most kMaxReplacements rounds.
-  for (int round = 0; round < kMaxReplacements && theta.size() / 2 < static_cast<Index>(opt.max_modes); ++round) {
+  const auto scan_pair = [&](const VectorXd& rest) {
+    const Eigen::Vector2d pick = best_addition(model, rest, model.omega_min);
+    VectorXd one(rest.size() + 2);
+    one << rest, pick;
+    VectorXd pair(rest.size() + 4);
+    pair << one, best_addition(model, one, model.omega_min, pick(0));
+    return pair;
+  };
+  for (int round = 0; round < kMaxReplacements && theta.size() > 0; ++round) {
     const bool poor = std::sqrt(u.rss / static_cast<double>(n)) > kPoorFit * res.noise_rms;
+    const bool room = theta.size() / 2 < static_cast<Index>(opt.max_modes);
     VectorXd best = theta;
     Uncertainty best_u = u;
     const auto consider = [&](VectorXd trial) {
@@ -552,6 +564,11 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
       const bool broad = zj >= kSplitZeta;
       if (!broad && !poor) continue;
       const VectorXd rest = without_mode(theta, j);
+      if (!room) {
+        // No room for one more: the mode and each other one are replaced by the scan's two.
+        for (Index k = 0; k < rest.size() / 2; ++k) consider(scan_pair(without_mode(rest, k)));
+        continue;
+      }
       for (const double width : {0.4, 0.8}) {
         if (!broad) break;
         const double spread = std::min(width * zj, 0.9);
@@ -559,12 +576,7 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
         trial << rest, w * (1.0 - spread), 0.5 * zj, w * (1.0 + spread), 0.5 * zj;
         consider(trial);
       }
-      const Eigen::Vector2d pick = best_addition(model, rest, model.omega_min);
-      VectorXd one(rest.size() + 2);
-      one << rest, pick;
-      VectorXd pair(rest.size() + 4);
-      pair << one, best_addition(model, one, model.omega_min, pick(0));
-      consider(pair);
+      consider(scan_pair(rest));
     }
     if (!(best_u.rss < u.rss)) break;
     theta = best;

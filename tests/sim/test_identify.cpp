@@ -434,16 +434,22 @@ TEST(Identify, CramerRaoBoundAgreesWithTheFitsErrors) {
 // and 5.96 Hz seen as 1.70 Hz at zeta 0.99 beside an invented 8.9 Hz mode). The last, with the
 // move alone, was missed by a first version that kept the first replacement that helped, not the
 // best of all: it replaced the lightly damped 7.4 Hz mode, and the broad one's split found no room.
+// And one plant beyond the bound (so held to the tolerances on its seed only), three heavily
+// damped modes at 1.41, 2.11 and 2.83 Hz, that was fitted as 1.99 Hz at zeta 0.63, 2.85 Hz and
+// 3.54 Hz at zeta 0.59: with three modes fitted there is no room for two, and two of them are
+// replaced by the scan's two.
 TEST(Identify, BroadModesAreReplacedByTheModesTheyHide) {
   struct Case {
     PlantRange range;
     std::uint64_t seed;
     std::size_t round_trips;
+    bool determinable{true};
   };
   const PlantRange damped{.zeta_lo = 0.2, .zeta_hi = 0.3};
   const PlantRange slow{.f_lo = 1.0, .f_hi = 10.0};
   const Case cases[] = {{damped, 37, 8},    {slow, 85, 8}, {damped, 37, 15}, {damped, 124, 15},
-                        {damped, 191, 15}, {slow, 4, 15}, {slow, 85, 15},  {{}, 298, 0}};
+                        {damped, 191, 15}, {slow, 4, 15}, {slow, 85, 15},  {{}, 298, 0},
+                        {slow, 81, 15, false}};
   for (const Case& c : cases) {
     testing::Excitation ex = excitation();
     ex.move.round_trips = c.round_trips;
@@ -451,7 +457,7 @@ TEST(Identify, BroadModesAreReplacedByTheModesTheyHide) {
     Record rec{};
     ASSERT_TRUE(make_record(truth, 0.01, 7919 * c.seed, rec, ex));
     const std::string what = "seed " + std::to_string(c.seed) + ", --train " + std::to_string(c.round_trips);
-    EXPECT_TRUE(determinable(truth, rec, ex)) << what;
+    EXPECT_EQ(determinable(truth, rec, ex), c.determinable) << what;
     const IdentifyResult r = identify(rec, 3);
     EXPECT_TRUE(accurate(truth, r)) << what << ": " << describe(truth, r);
   }

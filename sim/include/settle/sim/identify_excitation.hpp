@@ -20,7 +20,7 @@ namespace settle::sim {
 inline constexpr std::size_t kMaxTrainRoundTrips = 15;
 // settle identify's default: the longest train a Move holds. Every acceleration step lowers the
 // bound on a heavily damped mode, and a few more seconds of commissioning cost nothing against a
-// mode measured wrong (docs/identification.md: 1 391 of 1 400 random plants identified against
+// mode measured wrong (docs/identification.md: 1 392 of 1 400 random plants identified against
 // 1 375 with 8 round trips).
 inline constexpr std::size_t kDefaultTrainRoundTrips = kMaxTrainRoundTrips;
 
