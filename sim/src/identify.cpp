@@ -307,7 +307,7 @@ constexpr double kSplitZeta = 0.2;
 // A fit whose rms residual is more than this many times the noise the pencil measured has not
 // explained the record (one that does leaves 1.33-1.38 times it: the pencil's estimate is low).
 constexpr double kPoorFit = 2.0;
-// How many rounds of replacing a mode by two the estimate tries at most.
+// How many rounds of replacing modes (step 6) the estimate tries at most.
 constexpr int kMaxReplacements = 8;
 
 VectorXd without_mode(const VectorXd& theta, Index j) {
@@ -558,15 +558,21 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
         best_u = ut;
       }
     };
-    for (Index j = 0; j < theta.size() / 2; ++j) {
+    const Index m = theta.size() / 2;
+    const auto tried = [&](Index j) { return poor || theta(2 * j + 1) >= kSplitZeta; };
+    for (Index j = 0; j < m; ++j) {
       const double w = theta(2 * j);
       const double zj = theta(2 * j + 1);
       const bool broad = zj >= kSplitZeta;
-      if (!broad && !poor) continue;
+      if (!tried(j)) continue;
       const VectorXd rest = without_mode(theta, j);
       if (!room) {
-        // No room for one more: the mode and each other one are replaced by the scan's two.
-        for (Index k = 0; k < rest.size() / 2; ++k) consider(scan_pair(without_mode(rest, k)));
+        // No room for one more: the mode and each other one are replaced by the scan's two (a
+        // pair once: an earlier mode that is tried itself has been paired with this one).
+        for (Index k = 0; k < m; ++k) {
+          if (k == j || (k < j && tried(k))) continue;
+          consider(scan_pair(without_mode(rest, k < j ? k : k - 1)));
+        }
         continue;
       }
       for (const double width : {0.4, 0.8}) {
