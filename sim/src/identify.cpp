@@ -493,6 +493,10 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
       uu = ut;
     }
   };
+  // A fit that has not explained the record (kPoorFit): steps 2 and 6 look further.
+  const auto poor_fit = [&](const Uncertainty& fitted) {
+    return std::sqrt(fitted.rss / static_cast<double>(n)) > kPoorFit * res.noise_rms;
+  };
   Uncertainty u{};
   prune(model, opt, res.noise_rms, theta, u, res.iterations);
   grow(theta, u);
@@ -503,7 +507,7 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
   // last move added, and for a lightly damped mode the two can nearly cancel, leaving the pencil
   // a noise-dominated record (1.1 and 4.4 Hz at zeta 0.01 were seen as 3.0 and 5.4 Hz at zeta
   // 0.3, and the fit never recovered). The start whose fit explains more of the record is kept.
-  if (theta.size() == 0 || std::sqrt(u.rss / static_cast<double>(n)) > kPoorFit * res.noise_rms) {
+  if (theta.size() == 0 || poor_fit(u)) {
     VectorXd scanned(0);
     Uncertainty us{};
     us.rss = std::numeric_limits<double>::infinity();
@@ -543,7 +547,7 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
     return pair;
   };
   for (int round = 0; round < kMaxReplacements && theta.size() > 0; ++round) {
-    const bool poor = std::sqrt(u.rss / static_cast<double>(n)) > kPoorFit * res.noise_rms;
+    const bool poor = poor_fit(u);
     const bool room = theta.size() / 2 < static_cast<Index>(opt.max_modes);
     VectorXd best = theta;
     Uncertainty best_u = u;
@@ -561,10 +565,9 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
     const Index m = theta.size() / 2;
     const auto tried = [&](Index j) { return poor || theta(2 * j + 1) >= kSplitZeta; };
     for (Index j = 0; j < m; ++j) {
+      if (!tried(j)) continue;
       const double w = theta(2 * j);
       const double zj = theta(2 * j + 1);
-      const bool broad = zj >= kSplitZeta;
-      if (!tried(j)) continue;
       const VectorXd rest = without_mode(theta, j);
       if (!room) {
         // No room for one more: the mode and each other one are replaced by the scan's two (a
@@ -575,12 +578,13 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
         }
         continue;
       }
-      for (const double width : {0.4, 0.8}) {
-        if (!broad) break;
-        const double spread = std::min(width * zj, 0.9);
-        VectorXd trial(theta.size() + 2);
-        trial << rest, w * (1.0 - spread), 0.5 * zj, w * (1.0 + spread), 0.5 * zj;
-        consider(trial);
+      if (zj >= kSplitZeta) {  // broad: also the symmetric splits
+        for (const double width : {0.4, 0.8}) {
+          const double spread = std::min(width * zj, 0.9);
+          VectorXd trial(theta.size() + 2);
+          trial << rest, w * (1.0 - spread), 0.5 * zj, w * (1.0 + spread), 0.5 * zj;
+          consider(trial);
+        }
       }
       consider(scan_pair(rest));
     }
