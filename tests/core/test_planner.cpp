@@ -92,6 +92,52 @@ TEST(Planner, RejectsEachBadRequestWithItsOwnCode) {
   expect_rejected(v, Status::acceleration_limit_exceeded);
 }
 
+// validate() tests every number of a request at once (the sum of x * 0 is NaN when any x is not
+// finite): each field, with NaN and with either infinity, and whether or not the profile reads it,
+// is refused as non-finite before any other check; numbers past gamma_count are not the request's.
+TEST(Planner, EveryNonFiniteNumberIsRefusedBeforeAnythingElse) {
+  using Edit = void (*)(core::MoveRequest&, double);
+  const std::pair<const char*, Edit> fields[] = {
+      {"distance", [](core::MoveRequest& r, double x) { r.distance = x; }},
+      {"time", [](core::MoveRequest& r, double x) { r.time = x; }},
+      {"vmax", [](core::MoveRequest& r, double x) { r.vmax = x; }},
+      {"amax", [](core::MoveRequest& r, double x) { r.amax = x; }},
+      {"jmax", [](core::MoveRequest& r, double x) { r.jmax = x; }},
+      {"omega", [](core::MoveRequest& r, double x) { r.omega = x; }},
+      {"zeta", [](core::MoveRequest& r, double x) { r.zeta = x; }},
+      {"vtol", [](core::MoveRequest& r, double x) { r.vtol = x; }},
+      {"y_fractions[2]", [](core::MoveRequest& r, double x) { r.y_fractions = std::array<double, 3>{0.5, 0.25, x}; }},
+      {"gammas[2]", [](core::MoveRequest& r, double x) {
+         r.gammas = {3.0, 4.0, x};
+         r.gamma_count = 3;
+       }},
+  };
+  core::MoveRequest limited{};  // the benchmarks' jerk-limited move (bench_request.hpp)
+  limited.profile = ProfileKind::jerk_limited;
+  limited.distance = 0.1;
+  limited.vmax = 0.5;
+  limited.amax = 5.0;
+  limited.jmax = 100.0;
+  for (const core::MoveRequest& base : {limited, good_scurve()}) {
+    for (const auto& [name, edit] : fields) {
+      for (const double bad : {NAN, INFINITY, -INFINITY}) {
+        core::MoveRequest r = base;
+        edit(r, bad);
+        SCOPED_TRACE(std::string(core::to_string(base.profile)) + ", " + name + " = " + std::to_string(bad));
+        expect_rejected(r, Status::non_finite_input);
+        r.vmax = -1.0;  // not positive either: non-finite still comes first
+        if (std::string(name) != "vmax") expect_rejected(r, Status::non_finite_input);
+      }
+    }
+  }
+  // A gamma past the count is not read.
+  auto p = test::timed(ProfileKind::pseudopoly, 1.0, 1.0);
+  p.gammas = {3.0, 4.0, 5.0, NAN};
+  p.gamma_count = 3;
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(p, m), Status::ok);
+}
+
 TEST(Planner, ZeroDistanceIsATrivialMove) {
   for (auto k : {ProfileKind::scurve, ProfileKind::poly345, ProfileKind::trapezoid}) {
     auto r = test::timed(k, 0.0, 1.0, 10.0);
