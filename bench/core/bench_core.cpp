@@ -66,6 +66,28 @@ void BM_JerkLimitedPhases(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax));
 }
 
+// The floor of any plan() that hands back the phase solver's table: the solver, then one copy of
+// its table into the result, entry by entry as PiecewiseJerk takes it. Nothing else: no
+// validation, no limit check, no evaluation knots, no Move (docs/planning.md compares the three).
+void BM_JerkLimitedPhasesCopied(benchmark::State& state) {
+  const MoveRequest r = benchmark_request(ProfileKind::jerk_limited);
+  PiecewiseJerkParams out;
+  for (auto _ : state) {
+    PiecewiseJerkParams p;
+    jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax, p);
+    out.distance = p.distance;
+    out.count = p.count;
+    for (std::size_t i = 0; i < kMaxJerkSegments; ++i) {
+      if (i == p.count) break;
+      out.durations[i] = p.durations[i];
+      out.accel0[i] = p.accel0[i];
+      out.jerk[i] = p.jerk[i];
+    }
+    benchmark::DoNotOptimize(&out);
+    benchmark::ClobberMemory();
+  }
+}
+
 // The joint ZV shaper (one design for n modes, n + 1 impulses): Newton's method from a fixed set
 // of starts; the modes of BM_PlanFastest/two_modes and /three_modes.
 void BM_JointZvShaper(benchmark::State& state, std::size_t n) {
@@ -110,6 +132,7 @@ BENCHMARK_CAPTURE(BM_Plan, poly345, ProfileKind::poly345, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_Plan, jerk_limited, ProfileKind::jerk_limited, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_Plan, jerk_limited_zvd, ProfileKind::jerk_limited, ShaperKind::zvd);
 BENCHMARK(BM_JerkLimitedPhases);
+BENCHMARK(BM_JerkLimitedPhasesCopied);
 BENCHMARK_CAPTURE(BM_JointZvShaper, two_modes, 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_JointZvShaper, three_modes, 3)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastestScurve, undamped, false);

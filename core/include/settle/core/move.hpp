@@ -30,7 +30,7 @@ class Move {
   // the shape and the impulses in use are written (entries past count are not the shaper's).
   template <typename Shape, typename Arg>
   void assign(ProfileKind kind, const Arg& arg, const Shaper<T>* s, const Peaks<T>& peaks) noexcept {
-    profile_.template emplace<Shape>(kind, arg);
+    const Shape& shape = profile_.template emplace<Shape>(kind, arg);
     if (s != nullptr) {
       shaper_.count = s->count;
       for (std::size_t i = 0; i < s->count; ++i) {
@@ -43,8 +43,8 @@ class Move {
       shaper_.time[0] = T(0);
     }
     peaks_ = peaks;
-    duration_ = profile_.duration() + shaper_.duration();
-    distance_ = profile_.distance();
+    duration_ = shape.duration() + shaper_.duration();
+    distance_ = shape.distance();
   }
 
   [[nodiscard]] const Profile<T>& profile() const noexcept { return profile_; }

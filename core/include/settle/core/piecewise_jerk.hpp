@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 #include "settle/core/kinematics.hpp"
 #include "settle/core/piece.hpp"
@@ -66,8 +67,10 @@ class PiecewiseJerk {
       start_[i] = static_cast<T>(t);
       p0_[i] = static_cast<T>(pos);
       v0_[i] = static_cast<T>(v);
-      a0_[i] = static_cast<T>(a);
-      j_[i] = static_cast<T>(j);
+      if constexpr (!kEvaluatesTable) {
+        a0_[i] = static_cast<T>(a);
+        j_[i] = static_cast<T>(j);
+      }
       pos += v * d + a * d * d / 2.0 + j * d * d * d / 6.0;
       v += a * d + j * d * d / 2.0;
       t += d;
@@ -112,18 +115,38 @@ class PiecewiseJerk {
     std::size_t k = n_ - 1;
     while (k > 0 && t < start_[k]) --k;
     const T u = t - start_[k];
-    const T j = j_[k];
-    const T a = a0_[k] + j * u;
-    const T v = v0_[k] + u * (a0_[k] + j * u / T(2));
-    const T p = p0_[k] + u * (v0_[k] + u * (a0_[k] / T(2) + j * u / T(6)));
+    const T j = jerk(k), a0 = accel0(k);
+    const T a = a0 + j * u;
+    const T v = v0_[k] + u * (a0 + j * u / T(2));
+    const T p = p0_[k] + u * (v0_[k] + u * (a0 / T(2) + j * u / T(6)));
     return {p, v, a, j};
   }
 
  private:
+  // In double the table's own accelerations and jerks are the evaluation's: not stored twice
+  // (seven stores fewer per plan).
+  static constexpr bool kEvaluatesTable = std::is_same_v<T, double>;
+  static constexpr std::size_t kOwnCopies = kEvaluatesTable ? 0 : N;
+  [[nodiscard]] T accel0(std::size_t k) const noexcept {
+    if constexpr (kEvaluatesTable) {
+      return params_.accel0[k];
+    } else {
+      return a0_[k];
+    }
+  }
+  [[nodiscard]] T jerk(std::size_t k) const noexcept {
+    if constexpr (kEvaluatesTable) {
+      return params_.jerk[k];
+    } else {
+      return j_[k];
+    }
+  }
+
   // Entries from n_ on are left unwritten by the table constructor, and never read.
   Params params_;
   std::size_t n_{0};
-  std::array<T, N> start_, p0_, v0_, a0_, j_;
+  std::array<T, N> start_, p0_, v0_;
+  std::array<T, kOwnCopies> a0_, j_;
   T dur_{}, dist_{};
 };
 

@@ -56,9 +56,9 @@ class Profile {
   // constructing only that alternative in place: no temporary variant, no copy of the largest
   // shape's bytes (the planner's hot path).
   template <typename Shape, typename Arg>
-  void emplace(ProfileKind kind, const Arg& arg) noexcept {
+  const Shape& emplace(ProfileKind kind, const Arg& arg) noexcept {
     kind_ = kind;
-    v_.template emplace<Shape>(arg);
+    return v_.template emplace<Shape>(arg);
   }
 
   [[nodiscard]] ProfileKind kind() const noexcept { return kind_; }
