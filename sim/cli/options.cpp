@@ -91,7 +91,7 @@ const std::vector<OptionSpec> kMove = [] {
       {.name = "--y", .kind = Kind::list, .unit = "", .def = "computed", .help = "ramp-versine fractions "
        "Y1/L,Y2/L,Y3/L", .range = {-100.0, 100.0}, .min_items = 3, .max_items = 3, .value_name = "Y1,Y2,Y3"},
       choice("--shaper", "none", shaper_names(), "input shaper convolved with the profile"),
-      real("--vtol", "", "0.05", {0.0, 0.5, true, true}, "EI shaper vibration tolerance"),
+      real("--vtol", "", "0.05", {0.0, 0.5, true, true}, "vibration tolerance of the EI shapers (ei, ei2, ei3)"),
   };
   return v;
 }();

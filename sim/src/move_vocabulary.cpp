@@ -11,7 +11,9 @@ constexpr ShaperName kShapers[] = {{"none", core::ShaperKind::none},
                                    {"zv", core::ShaperKind::zv},
                                    {"zvd", core::ShaperKind::zvd},
                                    {"zvdd", core::ShaperKind::zvdd},
-                                   {"ei", core::ShaperKind::ei}};
+                                   {"ei", core::ShaperKind::ei},
+                                   {"ei2", core::ShaperKind::ei2},
+                                   {"ei3", core::ShaperKind::ei3}};
 
 template <typename Range, typename Name>
 std::string join(const Range& items, Name&& name) {

@@ -98,6 +98,97 @@ TEST(Shapers, EiWithDampingMeetsItsDefinition) {
   }
 }
 
+// Two- and three-hump EI (Singhose, Seering & Singer). Undamped: the closed forms, impulses half a
+// period apart, found again by the design's Newton solve on the defining conditions.
+TEST(Shapers, MultiHumpEiUndampedIsTheClosedForm) {
+  const double v = 0.05, w = 7.0, half = M_PI / w;
+  const double x = std::cbrt(v * v * (std::sqrt(1 - v * v) + 1));
+  const double a2 = (3 * x * x + 2 * x + 3 * v * v) / (16 * x);
+  const double e2[] = {a2, 0.5 - a2, 0.5 - a2, a2};
+  const double a3 = (1 + 3 * v + 2 * std::sqrt(2 * v * (v + 1))) / 16, b3 = (1 - v) / 4;
+  const double e3[] = {a3, b3, 1 - 2 * (a3 + b3), b3, a3};
+  const auto s2 = design(ShaperKind::ei2, w, 0.0, v), s3 = design(ShaperKind::ei3, w, 0.0, v);
+  ASSERT_EQ(s2.count, 4u);
+  ASSERT_EQ(s3.count, 5u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_NEAR(s2.amp[i], e2[i], 1e-10) << i;
+    EXPECT_NEAR(s2.time[i], static_cast<double>(i) * half, 1e-10) << i;
+  }
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_NEAR(s3.amp[i], e3[i], 1e-10) << i;
+    EXPECT_NEAR(s3.time[i], static_cast<double>(i) * half, 1e-10) << i;
+  }
+  // The published amplitudes at 5 % (0.16 / 0.34; 0.11 / 0.24 / 0.30, two decimals).
+  EXPECT_NEAR(s2.amp[0], 0.16, 0.005);
+  EXPECT_NEAR(s3.amp[2], 0.30, 0.005);
+}
+
+// With damping: V <= vtol from the lowest zero to the highest, V = vtol at each hump (the local
+// maxima between zeros), V = 0 at each zero the design reports; the band (V <= vtol around the
+// design frequency) widens with the humps: EI < two humps < three at the same damping. The
+// classic structure ends with heavy damping, and the design says so.
+TEST(Shapers, MultiHumpEiWithDampingMeetsItsDefinition) {
+  const double w = 12.0, vtol = 0.05;
+  const auto band = [&](const core::Shaper<double>& s, double z) {
+    double lo = 1.0, hi = 1.0;
+    while (v_of(s, (lo - 1e-4) * w, z) <= vtol * (1 + 1e-9)) lo -= 1e-4;
+    while (v_of(s, (hi + 1e-4) * w, z) <= vtol * (1 + 1e-9)) hi += 1e-4;
+    return hi - lo;
+  };
+  for (double z : {0.0, 0.05, 0.1, 0.2}) {
+    double last_band = band(design(ShaperKind::ei, w, z, vtol), z);
+    for (std::size_t humps : {2u, 3u}) {
+      SCOPED_TRACE("humps " + std::to_string(humps) + ", zeta " + std::to_string(z));
+      core::Shaper<double> s{};
+      std::array<double, 4> zeros{};
+      ASSERT_EQ(core::multi_hump_ei_shaper(humps, w, z, vtol, s, zeros.data()), core::Status::ok);
+      ASSERT_EQ(s.count, humps + 2);
+      double sum = 0;
+      for (std::size_t i = 0; i < s.count; ++i) {
+        EXPECT_GT(s.amp[i], 0.0);
+        if (i > 0) {
+          EXPECT_GT(s.time[i], s.time[i - 1]);
+        }
+        sum += s.amp[i];
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-12);
+      for (std::size_t i = 0; i <= humps; ++i) {
+        EXPECT_LT(v_of(s, zeros[i] * w, z), 1e-10) << "zero " << i;
+        if (i > 0) {
+          EXPECT_GT(zeros[i], zeros[i - 1]);
+        }
+      }
+      // Sampled between the outer zeros: never above vtol, and reaching it once per hump.
+      int humps_seen = 0;
+      double prev2 = v_of(s, zeros[0] * w, z), prev = v_of(s, (zeros[0] + 1e-5) * w, z), top = 0.0;
+      for (double r = zeros[0] + 2e-5; r <= zeros[humps]; r += 1e-5) {
+        const double cur = v_of(s, r * w, z);
+        EXPECT_LE(cur, vtol * (1 + 1e-8)) << r;
+        if (prev > prev2 && prev >= cur) {
+          ++humps_seen;
+          EXPECT_NEAR(prev, vtol, 1e-7) << "hump at " << r;
+        }
+        top = std::max(top, cur);
+        prev2 = prev;
+        prev = cur;
+      }
+      EXPECT_EQ(humps_seen, static_cast<int>(humps));
+      const double b = band(s, z);
+      EXPECT_GT(b, last_band);
+      last_band = b;
+      // The same design through design_shaper.
+      const auto d = design(humps == 2 ? ShaperKind::ei2 : ShaperKind::ei3, w, z, vtol);
+      EXPECT_EQ(d.count, s.count);
+      for (std::size_t i = 0; i < s.count; ++i) EXPECT_EQ(d.amp[i], s.amp[i]);
+    }
+  }
+  core::Shaper<double> s{};
+  EXPECT_EQ(core::design_shaper(ShaperKind::ei2, w, 0.3, vtol, s), core::Status::ok);
+  EXPECT_EQ(core::design_shaper(ShaperKind::ei3, w, 0.3, vtol, s), core::Status::no_solution);
+  EXPECT_EQ(core::design_shaper(ShaperKind::ei3, w, 0.0, 0.6, s), core::Status::vtol_out_of_range);
+  EXPECT_EQ(core::multi_hump_ei_shaper(4, w, 0.0, vtol, s), core::Status::unsupported_request);
+}
+
 TEST(Shapers, CompositionCancelsBothModes) {
   const auto a = design(ShaperKind::zv, 10.0, 0.05);
   const auto b = design(ShaperKind::zvd, 37.0, 0.02);

@@ -94,4 +94,36 @@ TEST(ZeroResidual, ShapersCancelTheRestOfAnyProfile) {
   }
 }
 
+TEST(ZeroResidual, MultiHumpEiHoldsItsBandOnAMove) {
+  // Through a two- or three-hump EI shaper, the jerk-limited move's residual on a mode anywhere
+  // between the shaper's outer zeros is at most 5 % of the unshaped move's (by quadrature, not
+  // the shaper's own V); the two-hump shaper has a zero at the design frequency.
+  const double omega = 30.0, zeta = 0.05;
+  for (std::size_t humps : {2u, 3u}) {
+    core::Shaper<double> s{};
+    std::array<double, 4> zeros{};
+    ASSERT_EQ(core::multi_hump_ei_shaper(humps, omega, zeta, 0.05, s, zeros.data()), core::Status::ok);
+    core::MoveRequest r{};
+    r.profile = ProfileKind::jerk_limited;
+    r.distance = 0.2;
+    r.vmax = 0.4;
+    r.amax = 4.0;
+    r.jmax = 100.0;
+    r.omega = omega;
+    r.zeta = zeta;
+    r.shaper = humps == 2 ? core::ShaperKind::ei2 : core::ShaperKind::ei3;
+    const auto shaped = test::must_plan(r);
+    r.shaper = core::ShaperKind::none;
+    const auto plain = test::must_plan(r);
+    for (int k = 0; k <= 40; ++k) {
+      const double w = omega * (zeros[0] + (zeros[humps] - zeros[0]) * k / 40.0);
+      const double ratio = test::residual_amplitude(shaped, w, zeta) / test::residual_amplitude(plain, w, zeta);
+      EXPECT_LE(ratio, 0.05 * (1 + 1e-6)) << humps << " humps, w/omega " << w / omega;
+    }
+    if (humps == 2) {
+      EXPECT_LE(test::residual_amplitude(shaped, omega, zeta), 1e-9 * 0.2);
+    }
+  }
+}
+
 }  // namespace

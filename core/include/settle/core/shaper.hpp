@@ -11,7 +11,8 @@ namespace settle::core {
 
 inline constexpr std::size_t kMaxImpulses = 32;
 
-enum class ShaperKind : unsigned char { none, zv, zvd, zvdd, ei, custom };
+// ei2, ei3: two- and three-hump EI (after custom, so that the older values keep their numbers).
+enum class ShaperKind : unsigned char { none, zv, zvd, zvdd, ei, custom, ei2, ei3 };
 
 template <typename T>
 struct Shaper {
@@ -34,6 +35,13 @@ struct Shaper {
 // Designs a shaper for the mode (omega, zeta). vtol is EI's vibration tolerance (0.05 is usual).
 [[nodiscard]] Status design_shaper(ShaperKind kind, double omega, double zeta, double vtol,
                                    Shaper<double>& out) noexcept;
+// The two- or three-hump EI shaper (humps 2 or 3: ShaperKind::ei2, ei3; Singhose, Seering &
+// Singer): humps + 2 impulses, the residual at most vtol from its lowest zero to its highest, and
+// exactly vtol at each hump. With `zeros` (room for humps + 1), also the frequencies where the
+// residual vanishes, relative to omega, ascending. no_solution where the design's structure ends
+// with heavy damping (vtol 0.05: two humps to about zeta 0.38, three to about 0.26).
+[[nodiscard]] Status multi_hump_ei_shaper(std::size_t humps, double omega, double zeta, double vtol,
+                                          Shaper<double>& out, double* zeros = nullptr) noexcept;
 // The joint ZV shaper of n modes (1 <= n <= kMaxJointModes): n + 1 positive impulses whose
 // residual is zero on every mode, designed for all modes at once (a simultaneous design, Hyde &
 // Seering 1991; Singhose, Crain & Seering 1997 for two modes) rather than one ZV per mode
