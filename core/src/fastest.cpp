@@ -1572,9 +1572,14 @@ struct ZeroSet {
   int points{1};
   double spread{0.0};
   int order{0};
+  // humps > 0: the zeros of the two- or three-hump EI shaper designed for each mode (points =
+  // humps + 1), relative to the mode's omega.
+  int humps{0};
+  std::array<std::array<double, 4>, kMaxModes> rel{};
 };
 
-double zero_frequency(const ZeroSet& z, double omega, int i) noexcept {
+double zero_frequency(const ZeroSet& z, std::size_t m, double omega, int i) noexcept {
+  if (z.humps > 0) return omega * z.rel[m][static_cast<std::size_t>(i)];
   if (z.points == 1) return omega;
   return omega * (1.0 + z.spread * (-1.0 + 2.0 * i / (z.points - 1)));
 }
@@ -1583,7 +1588,7 @@ std::size_t zero_conditions(const ZeroSet& z, const ModeSet& ms, std::array<Cond
   std::size_t nc = 0;
   for (std::size_t m = 0; m < ms.n; ++m) {
     for (int i = 0; i < z.points; ++i) {
-      const double w = zero_frequency(z, ms.m[m].omega, i);
+      const double w = zero_frequency(z, m, ms.m[m].omega, i);
       for (int q = 0; q <= z.order; ++q) {
         if (nc >= kMaxConds) return kMaxConds + 1;
         cond[nc++] = {pole(w, ms.m[m].zeta), w, q};
@@ -1593,23 +1598,45 @@ std::size_t zero_conditions(const ZeroSet& z, const ModeSet& ms, std::array<Cond
   return nc;
 }
 
-// The shaper with the same zeros: ZV / ZVD / ZVDD at each point, composed over points and modes.
+// The shaper with the same zeros: ZV / ZVD / ZVDD at each point, or the multi-hump EI shaper
+// of each mode, composed over points and modes.
 bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexcept {
   constexpr ShaperKind kByOrder[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd};
-  if (z.order < 0 || z.order > 2) return false;
+  if (z.order < 0 || z.order > 2 || (z.humps > 0 && z.order > 0)) return false;
   Shaper<double> s{};
   for (std::size_t m = 0; m < ms.n; ++m) {
-    for (int i = 0; i < z.points; ++i) {
+    for (int i = 0; i < (z.humps > 0 ? 1 : z.points); ++i) {
       Shaper<double> one{}, both{};
-      if (design_shaper(kByOrder[z.order], zero_frequency(z, ms.m[m].omega, i), ms.m[m].zeta, 0.05, one) !=
-              Status::ok ||
-          compose(s, one, both) != Status::ok) {
-        return false;
-      }
+      const Status st =
+          z.humps > 0
+              ? multi_hump_ei_shaper(static_cast<std::size_t>(z.humps), ms.m[m].omega, ms.m[m].zeta, 0.05, one)
+              : design_shaper(kByOrder[z.order], zero_frequency(z, m, ms.m[m].omega, i), ms.m[m].zeta, 0.05, one);
+      if (st != Status::ok || compose(s, one, both) != Status::ok) return false;
       s = both;
     }
   }
   out = s;
+  return true;
+}
+
+// The zero set of the two- or three-hump EI shaper of every mode, and that shaper composed over
+// the modes. False where a mode has no such design.
+bool hump_zero_set(int humps, const ModeSet& ms, ZeroSet& z, Shaper<double>& shaper) noexcept {
+  ZeroSet set{};
+  set.humps = humps;
+  set.points = humps + 1;
+  Shaper<double> s{};
+  for (std::size_t m = 0; m < ms.n; ++m) {
+    Shaper<double> one{}, both{};
+    if (multi_hump_ei_shaper(static_cast<std::size_t>(humps), ms.m[m].omega, ms.m[m].zeta, 0.05, one,
+                             set.rel[m].data()) != Status::ok ||
+        compose(s, one, both) != Status::ok) {
+      return false;
+    }
+    s = both;
+  }
+  z = set;
+  shaper = s;
   return true;
 }
 
@@ -1699,7 +1726,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
 
   // Robust: the zero sets to try, and (c) once more with the shapers of the spread zero sets
   // (ZV at omega (1 +- spread)).
-  std::array<ZeroSet, 9> sets{};
+  std::array<ZeroSet, 11> sets{};
   std::size_t nsets = 0;
   if (band == 0.0) {
     sets[nsets++] = {1, 0.0, 0};
@@ -1713,6 +1740,15 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     for (std::size_t k = 0; k < nsets; ++k) {
       Shaper<double> s{};
       if (sets[k].points > 1 && zero_shaper(sets[k], ms, s)) try_shaped(s, FastestFamily::shaped_spread);
+    }
+    // The two- and three-hump EI shapers hold the widest bands (about +-36 % and +-48 % of an
+    // undamped mode at 5 %): shaped moves, and zero sets whose pulse seeds fit the table where
+    // the spread sets' do not (docs/fastest.md, "--robust PCT").
+    for (const int humps : {2, 3}) {
+      Shaper<double> s{};
+      if (!hump_zero_set(humps, ms, sets[nsets], s)) continue;
+      try_shaped(s, humps == 2 ? FastestFamily::shaped_ei2 : FastestFamily::shaped_ei3);
+      ++nsets;
     }
   }
 

@@ -1,6 +1,7 @@
 #include "settle/sim/move_vocabulary.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <optional>
 
 namespace settle::sim {
@@ -158,6 +159,17 @@ std::string reason_of(core::Status s, const core::MoveRequest& r) {
              "impulses that fits them, and the bang-bang and bang-coast searches found none: fewer modes may plan)";
     }
     return why;
+  }
+  if (s == core::Status::no_solution && r.profile == core::ProfileKind::fastest && r.robust &&
+      r.shaper == core::ShaperKind::none) {
+    char pct[32];
+    std::snprintf(pct, sizeof pct, "%g", *r.robust);
+    return std::string("no family found a move within the limits that keeps every mode's residual within 5 % over +-") +
+           pct + " % of its frequency (the shaped moves with the widest bands, time-optimal * two- or three-hump EI, " +
+           "need more than the " + std::to_string(core::kFastestSegments) +
+           " segments a fastest move holds or have no design for this damping, and the bang-coast search found "
+           "none): a smaller --robust may plan, and --profile jerk-limited --shaper ei2 or ei3 (about +-36 % or "
+           "+-48 % of an undamped mode) shapes the time-optimal move without that limit";
   }
   return core::describe(s);
 }

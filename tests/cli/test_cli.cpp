@@ -230,6 +230,31 @@ TEST(Cli, FastestSaysWhenNoFamilyFindsAMove) {
   EXPECT_EQ(j.flat.at("parameter"), "--omega");
 }
 
+// --robust within its range (0, 50] but wider than any move the table holds: the reason says so
+// and names what holds it; the band the two-hump EI holds plans.
+TEST(Cli, FastestSaysWhenNoMoveHoldsTheRobustBand) {
+  const std::string base = "plan --profile fastest --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 22 --robust ";
+  const CliResult wide = run(base + "45");
+  EXPECT_EQ(wide.status, 2) << wide.out;
+  EXPECT_NE(wide.out.find("--robust: no family found a move within the limits that keeps every mode's residual "
+                          "within 5 % over +-45 % of its frequency"),
+            std::string::npos)
+      << wide.out;
+  EXPECT_NE(wide.out.find("--profile jerk-limited --shaper ei2 or ei3"), std::string::npos) << wide.out;
+  const CliResult json = run(base + "45 --json");
+  EXPECT_EQ(json.status, 2);
+  const Json j{json.out};
+  ASSERT_TRUE(j.ok) << json.out;
+  EXPECT_EQ(j.flat.at("error"), "no_solution");
+  EXPECT_EQ(j.flat.at("parameter"), "--robust");
+  const CliResult held = run(base + "35");
+  EXPECT_EQ(held.status, 0) << held.out;
+  EXPECT_NE(held.out.find("time-optimal*EI2"), std::string::npos) << held.out;
+  const CliResult shaped = run("plan --profile jerk-limited --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 22 "
+                               "--shaper ei3");
+  EXPECT_EQ(shaped.status, 0) << shaped.out;
+}
+
 TEST(Cli, PlantSimulatesTheDriveItsEdsDescribes) {
   // Each bundled drive and the test drive load; the bus is what fails (exit 1), not the EDS.
   for (const std::string& eds : {std::string{SETTLE_EDS_DIR} + "/split_rpdo_drive.eds",

@@ -515,6 +515,56 @@ TEST(Fastest, RobustNeverSlowerThanTimeOptimalZvdOrEiAtTheirRobustness) {
   std::printf("robust: %d cases compared with ZVD/EI; bang-coast won %d\n", compared, wins_bang);
 }
 
+// Bands wider than EI's: the two- and three-hump EI shapers hold about +-36 % and +-48 % of an
+// undamped mode. Wherever time-optimal * EI2 or EI3 holds the band and surely fits the table
+// ((segments + 1) * impulses - 1 <= 31 breakpoint intervals), `fastest --robust PCT` plans, is no
+// slower, and holds the band; wherever it plans at all, it holds the band and the limits.
+TEST(Fastest, RobustWideBandsNeverSlowerThanTimeOptimalMultiHumpEi) {
+  int compared = 0, planned = 0;
+  for (const Limits& l : {kLimitSets[0], kLimitSets[2]}) {
+    for (double w : {2.0, 22.0, 200.0}) {
+      for (double z : {0.0, 0.1}) {
+        for (double d : {1e-3, 1.0}) {
+          for (double pct : {25.0, 30.0, 35.0, 40.0, 45.0}) {
+            SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w << " z " << z << " pct " << pct << " limits "
+                                              << l.v << "/" << l.a << "/" << l.j);
+            core::MoveRequest r = request(d, l.v, l.a, l.j, w, z);
+            r.robust = pct;
+            const std::vector<core::Mode> modes{{w, z}};
+            double baseline = INFINITY;
+            for (auto kind : {core::ShaperKind::ei2, core::ShaperKind::ei3}) {
+              const core::Move<double> sm = shaped_move(r, kind);
+              const auto* table = std::get_if<core::PiecewiseJerk<double>>(&sm.profile().variant());
+              ASSERT_NE(table, nullptr);
+              const std::size_t intervals = (table->params().count + 1) * sm.shaper().count - 1;
+              if (intervals <= core::kFastestSegments && worst_band_ratio(sm, modes, pct) <= 0.05) {
+                baseline = std::min(baseline, sm.duration());
+              }
+            }
+            core::Move<double> m{};
+            const Status st = core::plan(r, m);
+            if (std::isfinite(baseline)) {
+              ASSERT_EQ(st, Status::ok);
+              EXPECT_LE(m.duration(), baseline * (1 + 1e-12));
+              ++compared;
+            }
+            if (st != Status::ok) continue;
+            ++planned;
+            EXPECT_LE(worst_band_ratio(m, modes, pct), 0.05);
+            const core::Sample<double> pk = sampled_peaks(m);
+            EXPECT_LE(pk.v, l.v * (1 + 1e-9));
+            EXPECT_LE(pk.a, l.a * (1 + 1e-9));
+            EXPECT_LE(pk.j, l.j * (1 + 1e-9));
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 20);  // the comparison is not vacuous
+  std::printf("wide robust bands: %d of 120 cases planned, %d compared with time-optimal * EI2/EI3\n", planned,
+              compared);
+}
+
 // docs/fastest.md's table, regenerated from the planners: the test fails when the table in the
 // document is not what the code plans today. SETTLE_UPDATE_DOCS=1 rewrites it.
 namespace {
@@ -637,6 +687,11 @@ TEST(Fastest, EveryFamilyStreamsInDoubleFloatAndFixedPoint) {
   core::MoveRequest rob = request(-0.1, 1, 20, 800, 22, 0.0);
   rob.robust = 15.0;
   reqs.push_back(rob);
+  rob.robust = 35.0;  // time-optimal * EI2
+  reqs.push_back(rob);
+  core::MoveRequest short_rob = request(1e-3, 3, 100, 1e4, 22, 0.1);
+  short_rob.robust = 45.0;  // time-optimal * EI3
+  reqs.push_back(short_rob);
   std::set<int> families;
   for (const core::MoveRequest& r : reqs) {
     core::Move<double> m{};
@@ -671,6 +726,8 @@ TEST(Fastest, EveryFamilyStreamsInDoubleFloatAndFixedPoint) {
     EXPECT_LE(worst_sd, 1e-12 * std::fabs(m.distance()));
   }
   EXPECT_GE(families.size(), 3u);  // the cases cover several winning families
+  EXPECT_TRUE(families.count(static_cast<int>(core::FastestFamily::shaped_ei2)));
+  EXPECT_TRUE(families.count(static_cast<int>(core::FastestFamily::shaped_ei3)));
 }
 
 // The evaluated shape holds a PiecewiseJerk table or a ramp-cycloid, not both and no copy of the

@@ -46,13 +46,15 @@ enum class FastestFamily : std::uint8_t {
   shaped_spread,  // ZV at omega (1 +- spread) for --robust, composed
   bang_bang,      // jerk +-J except on limit arcs, Newton on the switch times (exact designs)
   shaped_joint_zv,  // one ZV designed for all modes at once: n + 1 impulses (shaper.hpp)
+  shaped_ei2,       // two-hump EI per mode (--robust only)
+  shaped_ei3,       // three-hump EI per mode (--robust only)
 };
-inline constexpr std::size_t kFastestFamilies = 11;
+inline constexpr std::size_t kFastestFamilies = 13;
 [[nodiscard]] constexpr const char* to_string(FastestFamily f) noexcept {
   constexpr const char* names[kFastestFamilies] = {"none",          "bang-coast", "scurve",         "scurve-damped",
                                                    "time-optimal*ZV", "time-optimal*ZVD", "time-optimal*ZVDD",
                                                    "time-optimal*EI", "time-optimal*spread-ZV", "bang-bang",
-                                                   "time-optimal*joint-ZV"};
+                                                   "time-optimal*joint-ZV", "time-optimal*EI2", "time-optimal*EI3"};
   const auto i = static_cast<std::size_t>(f);
   return i < kFastestFamilies ? names[i] : "unknown";
 }
@@ -148,7 +150,8 @@ class Fastest {
   [[nodiscard]] static const char* family_param_name(std::size_t k) noexcept {
     constexpr const char* names[kFastestFamilies] = {"",         "time_bang_coast", "time_scurve", "time_scurve_damped",
                                                      "time_zv",  "time_zvd",        "time_zvdd",   "time_ei",
-                                                     "time_spread_zv", "time_bang_bang", "time_joint_zv"};
+                                                     "time_spread_zv", "time_bang_bang", "time_joint_zv", "time_ei2",
+                                                     "time_ei3"};
     return names[k];
   }
 
