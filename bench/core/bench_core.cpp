@@ -99,6 +99,13 @@ void BM_JointZvShaper(benchmark::State& state, std::size_t n) {
   }
 }
 
+// The two- and three-hump EI designs (shaper.cpp): closed forms undamped; with damping Newton's
+// method continued in zeta, what `fastest --robust` pays per mode for each (docs/fastest.md).
+void BM_MultiHumpEi(benchmark::State& state, std::size_t humps, double zeta) {
+  Shaper<double> s{};
+  for (auto _ : state) benchmark::DoNotOptimize(multi_hump_ei_shaper(humps, 22.0, zeta, 0.05, s));
+}
+
 void BM_PlanFastestScurve(benchmark::State& state, bool damped) {
   RampCycloidParams p{};
   for (auto _ : state) {
@@ -135,6 +142,9 @@ BENCHMARK(BM_JerkLimitedPhases);
 BENCHMARK(BM_JerkLimitedPhasesCopied);
 BENCHMARK_CAPTURE(BM_JointZvShaper, two_modes, 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_JointZvShaper, three_modes, 3)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_MultiHumpEi, two_humps, 2, 0.0);
+BENCHMARK_CAPTURE(BM_MultiHumpEi, two_humps_damped, 2, 0.1)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_MultiHumpEi, three_humps_damped, 3, 0.1)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastestScurve, undamped, false);
 BENCHMARK_CAPTURE(BM_PlanFastestScurve, damped, true);
 
@@ -157,6 +167,7 @@ MoveRequest fastest_request(int which) {
     r.extra_mode_count = 1;
   }
   if (which == 3) r.robust = 10.0;
+  if (which == 6) r.robust = 35.0;  // held by the time-optimal move * two-hump EI
   if (which == 4) {  // the commissioning demo's plant and move (docs/fastest.md)
     r.vmax = 0.5;
     r.amax = 5.0;
@@ -201,6 +212,7 @@ BENCHMARK_CAPTURE(BM_PlanFastest, one_mode, 0)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastest, one_damped_mode, 1)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastest, two_modes, 2)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastest, robust_10, 3)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_PlanFastest, robust_35, 6)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastest, commissioning, 4)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_PlanFastest, three_modes, 5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EvaluateFastest);
