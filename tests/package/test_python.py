@@ -26,6 +26,7 @@ MOVES = [
     dict(profile="poly345", distance=1.5, time=2.0),
     dict(profile="trapezoid", distance=1.0, vmax=1.0, amax=2.0),
     dict(profile="jerk-limited", distance=0.3, vmax=0.5, amax=2.0, jmax=40.0, shaper="ei", omega=30.0),
+    dict(profile="trapezoid", distance=0.2, vmax=0.5, amax=2.0, shaper="ei3", omega=30.0, zeta=0.05),
 ]
 
 
