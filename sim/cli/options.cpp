@@ -370,7 +370,7 @@ const std::vector<CommandSpec> kCommands = {
      .usage = "",
      .groups = {kTuneMove, kTune, kOutput},
      .notes = "Give --modes-from or --mode, and --time or limits (--vmax, --amax, --jmax). Every registered profile "
-              "is tried alone and with ZV, ZVD and EI composed over the modes, designed at the nominal modes and "
+              "is tried alone and with ZV, ZVD, EI and the two- and three-hump EI composed over the modes, designed at the nominal modes and "
               "retuned within the band (docs/tuning.md). Bounds: at most 4 modes; a search too fine to bound "
               "(omega_hi x move duration too large) is refused (too_much_work). No plan within the bound: exit 2, "
               "no_feasible_plan."},

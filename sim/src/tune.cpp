@@ -501,8 +501,8 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
   const double vtol = std::min(opt.residual_max, 0.49);
 
   // Every family: each registry profile, unshaped or shaped, at the nominal modes or retuned.
-  std::vector<core::ShaperKind> shapers = {core::ShaperKind::none, core::ShaperKind::zv, core::ShaperKind::zvd,
-                                           core::ShaperKind::ei};
+  std::vector<core::ShaperKind> shapers = {core::ShaperKind::none, core::ShaperKind::zv,  core::ShaperKind::zvd,
+                                           core::ShaperKind::ei,   core::ShaperKind::ei2, core::ShaperKind::ei3};
   std::vector<TuneCandidate> planned;  // every (family, design) that could be planned
   std::vector<TuneCandidate> refused;
   core::for_each_profile([&](auto kind) {

@@ -305,6 +305,20 @@ TEST(Tune, AProfileWhosePlannerRefusesTheLimitsGetsTheShortestTimeWithinThem) {
   EXPECT_GT(searched, 0u);
 }
 
+// +-40 % on a lightly damped mode: beyond what ZV, ZVD or EI hold (EI about +-20 %), within what
+// the three-hump EI holds (about +-48 %). The tuner picks a multi-hump EI plan, and every faster
+// candidate breaks the bound (check_result: by RK4 too). Before ei2/ei3 were candidates this
+// request had no feasible plan (docs/tuning.md).
+TEST(Tune, WideBandsAreHeldByTheMultiHumpEi) {
+  TuneResult r;
+  TuneMove mv{.distance = 0.1, .time = {}, .vmax = 1.0, .amax = 20.0, .jmax = 800.0};
+  ASSERT_EQ(tune({pct(22.0, 0.02, 0.4, 0.01, 0.03)}, mv, {}, r), TuneStatus::ok);
+  check_result(r, 0.05);
+  const TuneCandidate& best = r.candidates[r.chosen];
+  EXPECT_TRUE(best.shaper == core::ShaperKind::ei2 || best.shaper == core::ShaperKind::ei3) << best.name;
+  std::printf("tune (+-40 %%): chosen %s %.4f s\n", best.name.c_str(), best.duration);
+}
+
 TEST(Tune, NoFeasiblePlanIsReportedWithWhatWasTried) {
   TuneResult r;
   TuneMove mv{.distance = 0.1, .time = 0.2, .vmax = {}, .amax = {}, .jmax = {}};
