@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "refusal.hpp"
 #include "run_cli.hpp"
 
 namespace {
@@ -241,12 +242,7 @@ TEST(Cli, FastestSaysWhenNoMoveHoldsTheRobustBand) {
             std::string::npos)
       << wide.out;
   EXPECT_NE(wide.out.find("--profile jerk-limited --shaper ei2 or ei3"), std::string::npos) << wide.out;
-  const CliResult json = run(base + "45 --json");
-  EXPECT_EQ(json.status, 2);
-  const Json j{json.out};
-  ASSERT_TRUE(j.ok) << json.out;
-  EXPECT_EQ(j.flat.at("error"), "no_solution");
-  EXPECT_EQ(j.flat.at("parameter"), "--robust");
+  settle::test::expect_refused({base + "45", "--robust", "no_solution"});
   const CliResult held = run(base + "35");
   EXPECT_EQ(held.status, 0) << held.out;
   EXPECT_NE(held.out.find("time-optimal*EI2"), std::string::npos) << held.out;

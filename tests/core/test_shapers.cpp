@@ -27,6 +27,19 @@ double v_of(const core::Shaper<double>& s, double w, double z) {
   return std::abs(acc);
 }
 
+// Every impulse positive, the times increasing, the gain 1 (to tol).
+void expect_positive_increasing_unit_gain(const core::Shaper<double>& s, double tol) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < s.count; ++i) {
+    EXPECT_GT(s.amp[i], 0.0) << i;
+    if (i > 0) {
+      EXPECT_GT(s.time[i], s.time[i - 1]) << i;
+    }
+    sum += s.amp[i];
+  }
+  EXPECT_NEAR(sum, 1.0, tol);
+}
+
 core::Shaper<double> design(ShaperKind k, double w, double z, double vtol = 0.05) {
   core::Shaper<double> s{};
   EXPECT_EQ(core::design_shaper(k, w, z, vtol, s), core::Status::ok);
@@ -143,15 +156,7 @@ TEST(Shapers, MultiHumpEiWithDampingMeetsItsDefinition) {
       std::array<double, 4> zeros{};
       ASSERT_EQ(core::multi_hump_ei_shaper(humps, w, z, vtol, s, zeros.data()), core::Status::ok);
       ASSERT_EQ(s.count, humps + 2);
-      double sum = 0;
-      for (std::size_t i = 0; i < s.count; ++i) {
-        EXPECT_GT(s.amp[i], 0.0);
-        if (i > 0) {
-          EXPECT_GT(s.time[i], s.time[i - 1]);
-        }
-        sum += s.amp[i];
-      }
-      EXPECT_NEAR(sum, 1.0, 1e-12);
+      expect_positive_increasing_unit_gain(s, 1e-12);
       for (std::size_t i = 0; i <= humps; ++i) {
         EXPECT_LT(v_of(s, zeros[i] * w, z), 1e-10) << "zero " << i;
         if (i > 0) {
@@ -263,15 +268,7 @@ TEST(Shapers, JointZvCancelsEveryModeWithOneImpulseMoreThanModes) {
       joint_sum += s.duration();
       conv_sum += conv.duration();
       ASSERT_EQ(s.count, n + 1);
-      double sum = 0.0;
-      for (std::size_t i = 0; i < s.count; ++i) {
-        EXPECT_GT(s.amp[i], 0.0);
-        if (i > 0) {
-          EXPECT_GT(s.time[i], s.time[i - 1]);
-        }
-        sum += s.amp[i];
-      }
-      EXPECT_NEAR(sum, 1.0, 1e-14);
+      expect_positive_increasing_unit_gain(s, 1e-14);
       EXPECT_EQ(s.time[0], 0.0);
       for (const auto& [mw, mz] : modes) {
         EXPECT_LT(v_of(s, mw, mz), 1e-12) << "omega " << mw << " zeta " << mz;

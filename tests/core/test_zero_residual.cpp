@@ -73,22 +73,26 @@ TEST(ZeroResidual, RampVersineAtEveryMoveTimeAndDamping) {
   }
 }
 
+// A jerk-limited move (0.2 under 0.4 / 4 / 100) through shaper k designed for (omega, zeta).
+core::MoveRequest shaped_jerk_limited(double omega, double zeta, core::ShaperKind k) {
+  core::MoveRequest r{};
+  r.profile = ProfileKind::jerk_limited;
+  r.distance = 0.2;
+  r.vmax = 0.4;
+  r.amax = 4.0;
+  r.jmax = 100.0;
+  r.omega = omega;
+  r.zeta = zeta;
+  r.shaper = k;
+  return r;
+}
+
 TEST(ZeroResidual, ShapersCancelTheRestOfAnyProfile) {
   // A shaper makes any profile vibration-free: the jerk-limited S-curve through ZV/ZVD/ZVDD/EI.
   const double omega = 30.0, zeta = 0.1;
   for (auto k : {core::ShaperKind::zv, core::ShaperKind::zvd, core::ShaperKind::zvdd}) {
-    core::MoveRequest r{};
-    r.profile = ProfileKind::jerk_limited;
-    r.distance = 0.2;
-    r.vmax = 0.4;
-    r.amax = 4.0;
-    r.jmax = 100.0;
-    r.omega = omega;
-    r.zeta = zeta;
-    r.shaper = k;
-    const auto shaped = test::must_plan(r);
-    r.shaper = core::ShaperKind::none;
-    const auto plain = test::must_plan(r);
+    const auto shaped = test::must_plan(shaped_jerk_limited(omega, zeta, k));
+    const auto plain = test::must_plan(shaped_jerk_limited(omega, zeta, core::ShaperKind::none));
     EXPECT_LE(test::residual_amplitude(shaped, omega, zeta), 1e-9 * 0.2) << core::to_string(k);
     EXPECT_GT(test::residual_amplitude(plain, omega, zeta), 1e-4 * 0.2);
   }
@@ -103,18 +107,9 @@ TEST(ZeroResidual, MultiHumpEiHoldsItsBandOnAMove) {
     core::Shaper<double> s{};
     std::array<double, 4> zeros{};
     ASSERT_EQ(core::multi_hump_ei_shaper(humps, omega, zeta, 0.05, s, zeros.data()), core::Status::ok);
-    core::MoveRequest r{};
-    r.profile = ProfileKind::jerk_limited;
-    r.distance = 0.2;
-    r.vmax = 0.4;
-    r.amax = 4.0;
-    r.jmax = 100.0;
-    r.omega = omega;
-    r.zeta = zeta;
-    r.shaper = humps == 2 ? core::ShaperKind::ei2 : core::ShaperKind::ei3;
-    const auto shaped = test::must_plan(r);
-    r.shaper = core::ShaperKind::none;
-    const auto plain = test::must_plan(r);
+    const auto shaped =
+        test::must_plan(shaped_jerk_limited(omega, zeta, humps == 2 ? core::ShaperKind::ei2 : core::ShaperKind::ei3));
+    const auto plain = test::must_plan(shaped_jerk_limited(omega, zeta, core::ShaperKind::none));
     for (int k = 0; k <= 40; ++k) {
       const double w = omega * (zeros[0] + (zeros[humps] - zeros[0]) * k / 40.0);
       const double ratio = test::residual_amplitude(shaped, w, zeta) / test::residual_amplitude(plain, w, zeta);
