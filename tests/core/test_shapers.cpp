@@ -194,6 +194,31 @@ TEST(Shapers, MultiHumpEiWithDampingMeetsItsDefinition) {
   EXPECT_EQ(core::multi_hump_ei_shaper(4, w, 0.0, vtol, s), core::Status::unsupported_request);
 }
 
+// Any mode and tolerance in range: a design is either refused or a valid shaper (positive
+// impulses, increasing times, unit gain, the residual at the design frequency within vtol).
+TEST(Shapers, MultiHumpEiIsValidOrRefusedAcrossTheRange) {
+  std::mt19937 g(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int designed = 0;
+  for (int i = 0; i < 300; ++i) {
+    const double w = std::pow(10.0, -3.0 + 9.0 * u(g)), z = u(g) < 0.2 ? 0.0 : 0.99 * u(g) * u(g);
+    const double vtol = std::min(0.49, std::pow(10.0, -12.0 + 11.7 * u(g)));
+    for (auto k : {ShaperKind::ei2, ShaperKind::ei3}) {
+      SCOPED_TRACE(::testing::Message() << core::to_string(k) << " w " << w << " z " << z << " vtol " << vtol);
+      core::Shaper<double> s{};
+      const core::Status st = core::design_shaper(k, w, z, vtol, s);
+      if (st != core::Status::ok) {
+        EXPECT_EQ(st, core::Status::no_solution);
+        continue;
+      }
+      ++designed;
+      expect_positive_increasing_unit_gain(s, 1e-9);
+      EXPECT_LE(v_of(s, w, z), vtol * (1 + 1e-6) + 1e-12);
+    }
+  }
+  EXPECT_GT(designed, 200);
+}
+
 TEST(Shapers, CompositionCancelsBothModes) {
   const auto a = design(ShaperKind::zv, 10.0, 0.05);
   const auto b = design(ShaperKind::zvd, 37.0, 0.02);
