@@ -33,6 +33,23 @@ void BM_Evaluate(benchmark::State& state, ProfileKind k, ShaperKind s) {
   }
 }
 
+// Random access as a loop makes it: each tick's time waits for the tick before (t + 0 * p cannot
+// be folded: p may be NaN), as a stepper's state does. BM_Evaluate's independent calls overlap in
+// the out-of-order core; a servo loop's one call per period does not (docs/planning.md).
+template <typename T>
+void BM_EvaluateChained(benchmark::State& state, ProfileKind k, ShaperKind s) {
+  const Move<T> m{planned(k, s)};
+  std::vector<T> ts;
+  for (T t = 0; t < m.duration(); t += T(1e-3)) ts.push_back(t);
+  std::size_t i = 0;
+  T last{};
+  for (auto _ : state) {
+    last = m.at(ts[i] + T(0) * last).p;
+    benchmark::DoNotOptimize(last);
+    if (++i == ts.size()) i = 0;
+  }
+}
+
 template <typename T>
 void BM_Step(benchmark::State& state, ProfileKind k, ShaperKind s) {
   const Move<T> m{planned(k, s)};
@@ -50,6 +67,8 @@ void BM_Step(benchmark::State& state, ProfileKind k, ShaperKind s) {
 
 void BM_EvaluateDouble(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Evaluate<double>(st, k, s); }
 void BM_EvaluateFloat(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Evaluate<float>(st, k, s); }
+void BM_EvaluateChainedDouble(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_EvaluateChained<double>(st, k, s); }
+void BM_EvaluateChainedFloat(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_EvaluateChained<float>(st, k, s); }
 void BM_StepDouble(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Step<double>(st, k, s); }
 void BM_StepFloat(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Step<float>(st, k, s); }
 
@@ -128,6 +147,8 @@ SETTLE_EVAL(trapezoid, none);
 SETTLE_EVAL(jerk_limited, none);
 SETTLE_EVAL(scurve, zv);
 SETTLE_EVAL(jerk_limited, zvd);
+BENCHMARK_CAPTURE(BM_EvaluateChainedDouble, jerk_limited_none_double, ProfileKind::jerk_limited, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_EvaluateChainedFloat, jerk_limited_none_float, ProfileKind::jerk_limited, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_StepDouble, scurve_none_double, ProfileKind::scurve, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_StepFloat, scurve_none_float, ProfileKind::scurve, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_StepDouble, scurve_damped_none_double, ProfileKind::scurve_damped, ShaperKind::none);
