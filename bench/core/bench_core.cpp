@@ -20,12 +20,18 @@ Move<double> planned(ProfileKind k, ShaperKind s) {
   return m;
 }
 
+// 1 kHz ticks across the move, so every segment is visited as in a servo loop.
+template <typename T>
+std::vector<T> tick_times(const Move<T>& m) {
+  std::vector<T> ts;
+  for (T t = 0; t < m.duration(); t += T(1e-3)) ts.push_back(t);
+  return ts;
+}
+
 template <typename T>
 void BM_Evaluate(benchmark::State& state, ProfileKind k, ShaperKind s) {
   const Move<T> m{planned(k, s)};
-  // 1 kHz ticks across the move, so every segment is visited as in a servo loop.
-  std::vector<T> ts;
-  for (T t = 0; t < m.duration(); t += T(1e-3)) ts.push_back(t);
+  const std::vector<T> ts = tick_times(m);
   std::size_t i = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(m.at(ts[i]));
@@ -39,8 +45,7 @@ void BM_Evaluate(benchmark::State& state, ProfileKind k, ShaperKind s) {
 template <typename T>
 void BM_EvaluateChained(benchmark::State& state, ProfileKind k, ShaperKind s) {
   const Move<T> m{planned(k, s)};
-  std::vector<T> ts;
-  for (T t = 0; t < m.duration(); t += T(1e-3)) ts.push_back(t);
+  const std::vector<T> ts = tick_times(m);
   std::size_t i = 0;
   T last{};
   for (auto _ : state) {

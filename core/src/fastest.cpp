@@ -1598,27 +1598,6 @@ std::size_t zero_conditions(const ZeroSet& z, const ModeSet& ms, std::array<Cond
   return nc;
 }
 
-// The shaper with the same zeros: ZV / ZVD / ZVDD at each point, or the multi-hump EI shaper
-// of each mode, composed over points and modes.
-bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexcept {
-  constexpr ShaperKind kByOrder[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd};
-  if (z.order < 0 || z.order > 2 || (z.humps > 0 && z.order > 0)) return false;
-  Shaper<double> s{};
-  for (std::size_t m = 0; m < ms.n; ++m) {
-    for (int i = 0; i < (z.humps > 0 ? 1 : z.points); ++i) {
-      Shaper<double> one{}, both{};
-      const Status st =
-          z.humps > 0
-              ? multi_hump_ei_shaper(static_cast<std::size_t>(z.humps), ms.m[m].omega, ms.m[m].zeta, 0.05, one)
-              : design_shaper(kByOrder[z.order], zero_frequency(z, m, ms.m[m].omega, i), ms.m[m].zeta, 0.05, one);
-      if (st != Status::ok || compose(s, one, both) != Status::ok) return false;
-      s = both;
-    }
-  }
-  out = s;
-  return true;
-}
-
 // The zero set of the two- or three-hump EI shaper of every mode, and that shaper composed over
 // the modes. False where a mode has no such design.
 bool hump_zero_set(int humps, const ModeSet& ms, ZeroSet& z, Shaper<double>& shaper) noexcept {
@@ -1637,6 +1616,31 @@ bool hump_zero_set(int humps, const ModeSet& ms, ZeroSet& z, Shaper<double>& sha
   }
   z = set;
   shaper = s;
+  return true;
+}
+
+// The shaper with the same zeros: ZV / ZVD / ZVDD at each point, composed over points and modes,
+// or for a hump set the multi-hump EI shaper of each mode (hump_zero_set designs it).
+bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexcept {
+  constexpr ShaperKind kByOrder[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd};
+  if (z.order < 0 || z.order > 2) return false;
+  if (z.humps > 0) {
+    ZeroSet same{};
+    return z.order == 0 && hump_zero_set(z.humps, ms, same, out);
+  }
+  Shaper<double> s{};
+  for (std::size_t m = 0; m < ms.n; ++m) {
+    for (int i = 0; i < z.points; ++i) {
+      Shaper<double> one{}, both{};
+      if (design_shaper(kByOrder[z.order], zero_frequency(z, m, ms.m[m].omega, i), ms.m[m].zeta, 0.05, one) !=
+              Status::ok ||
+          compose(s, one, both) != Status::ok) {
+        return false;
+      }
+      s = both;
+    }
+  }
+  out = s;
   return true;
 }
 

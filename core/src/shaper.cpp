@@ -503,12 +503,11 @@ Status design_shaper(ShaperKind kind, double omega, double zeta, double vtol, Sh
     case ShaperKind::zvd: out = binomial_shaper(2, omega, zeta); return Status::ok;
     case ShaperKind::zvdd: out = binomial_shaper(3, omega, zeta); return Status::ok;
     case ShaperKind::ei:
-    case ShaperKind::ei2:
-    case ShaperKind::ei3:
       if (!std::isfinite(vtol)) return Status::non_finite_input;
       if (!(vtol > 0.0 && vtol < 0.5)) return Status::vtol_out_of_range;
-      if (kind == ShaperKind::ei) return ei_shaper(omega, zeta, vtol, out);
-      return multi_hump_ei_shaper(kind == ShaperKind::ei2 ? 2 : 3, omega, zeta, vtol, out);
+      return ei_shaper(omega, zeta, vtol, out);
+    case ShaperKind::ei2: return multi_hump_ei_shaper(2, omega, zeta, vtol, out);  // checks vtol itself
+    case ShaperKind::ei3: return multi_hump_ei_shaper(3, omega, zeta, vtol, out);
     default: return Status::unsupported_request;
   }
 }
