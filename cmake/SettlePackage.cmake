@@ -1,7 +1,7 @@
 # The installed package: `cmake --install <build>` puts the headers, the static libraries, the
 # CMake package (find_package(settle CONFIG COMPONENTS ...), imported targets settle::<name>) and
 # settle-core.pc under the prefix. Each component is one export set, installed only when this
-# build has its targets (a cross build has no hal_socketcan or sim; only a bare-metal build has a
+# build has its targets (a cross build has no hal_socketcan, plant or testbed; only a bare-metal build has a
 # board). Included last by the top-level CMakeLists.txt, when SETTLE_INSTALL is on.
 include(CMakePackageConfigHelpers)
 
@@ -11,9 +11,10 @@ set(SETTLE_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/settle CACHE STRING
 # component -> targets (build name:exported name); a component's dependencies are in the config.
 set(_settle_component_core settle_core:core)
 set(_settle_component_hal settle_hal:hal settle_hal_testing:hal_testing)
-set(_settle_component_servo settle_servo:servo settle_firmware_linux:servo_linux)
+set(_settle_component_runtime settle_runtime:runtime settle_runtime_linux:runtime_linux)
 set(_settle_component_hal_socketcan settle_hal_socketcan:hal_socketcan)
-set(_settle_component_sim settle_sim:sim settle_sim_node:sim_node)
+set(_settle_component_plant settle_plant:plant)
+set(_settle_component_testbed settle_testbed_node:testbed_node)
 set(_settle_component_board settle_semihosting:semihosting)
 get_property(_settle_boards GLOBAL PROPERTY SETTLE_BOARD_TARGETS)  # firmware/CMakeLists.txt
 foreach(target IN LISTS _settle_boards)
@@ -22,7 +23,7 @@ foreach(target IN LISTS _settle_boards)
 endforeach()
 
 set(SETTLE_INSTALLED_COMPONENTS)
-foreach(component core hal servo hal_socketcan sim board)
+foreach(component core hal runtime hal_socketcan plant testbed board)
   set(targets)
   foreach(pair IN LISTS _settle_component_${component})
     string(REPLACE ":" ";" pair "${pair}")
@@ -50,10 +51,9 @@ set(_settle_header_dirs
   core:core/include
   hal:hal/include
   hal:hal/testing/include
-  servo:firmware/loop/include
-  servo:firmware/linux/include
-  sim:sim/include
-  sim:sim/node/include
+  runtime:runtime/include
+  runtime:runtime/linux/include
+  plant:plant/include
   board:firmware/include)
 foreach(pair IN LISTS _settle_header_dirs)
   string(REPLACE ":" ";" pair "${pair}")
@@ -63,6 +63,11 @@ foreach(pair IN LISTS _settle_header_dirs)
     install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT ${component})
   endif()
 endforeach()
+# The testbed's installed part is the simulated drive node (settle::testbed_node); the stream runner
+# and its buses stay in the build tree.
+if("testbed" IN_LIST SETTLE_INSTALLED_COMPONENTS)
+  install(FILES ${SETTLE_TESTBED_NODE_HEADERS} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/settle/testbed COMPONENT testbed)
+endif()
 if("board" IN_LIST SETTLE_INSTALLED_COMPONENTS)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/firmware/boards/ DESTINATION ${CMAKE_INSTALL_DATADIR}/settle/boards
           COMPONENT board FILES_MATCHING PATTERN "*.ld")

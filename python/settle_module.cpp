@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "settle/core/planner.hpp"
-#include "settle/sim/command.hpp"
-#include "settle/sim/modal_plant.hpp"
-#include "settle/sim/move_vocabulary.hpp"
-#include "settle/sim/simulate.hpp"
+#include "settle/plant/command.hpp"
+#include "settle/plant/modal_plant.hpp"
+#include "settle/plant/move_vocabulary.hpp"
+#include "settle/plant/simulate.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -86,7 +86,7 @@ void check_keywords(const py::kwargs& kw, std::initializer_list<const char*> ext
 core::MoveRequest move_request(const py::kwargs& kw) {
   core::MoveRequest r{};
   const std::string profile = kw.contains("profile") ? text(kw["profile"], "profile") : "";
-  if (profile.empty()) bad("profile", "required (" + sim::profile_list() + ")");
+  if (profile.empty()) bad("profile", "required (" + plant::profile_list() + ")");
   if (!core::parse_profile_kind(profile.c_str(), r.profile)) bad("profile", "unknown profile '" + profile + "'");
   if (!kw.contains("distance")) bad("distance", "required");
   r.distance = number(kw["distance"], "distance");
@@ -103,7 +103,7 @@ core::MoveRequest move_request(const py::kwargs& kw) {
   const std::vector<double> zetas = kw.contains("zeta") ? number_or_numbers(kw["zeta"], "zeta", kModes) : std::vector<double>{};
   const char* option = nullptr;
   std::string message;
-  if (!sim::set_design_modes(omegas, zetas, r, option, message)) bad(option + 2, message);
+  if (!plant::set_design_modes(omegas, zetas, r, option, message)) bad(option + 2, message);
   if (kw.contains("vtol")) r.vtol = number(kw["vtol"], "vtol");
   if (kw.contains("gammas") && !kw["gammas"].is_none()) {
     const std::vector<double> g = numbers(kw["gammas"], "gammas");
@@ -118,19 +118,19 @@ core::MoveRequest move_request(const py::kwargs& kw) {
   }
   if (kw.contains("shaper") && !kw["shaper"].is_none()) {
     const std::string s = text(kw["shaper"], "shaper");
-    if (!sim::parse_shaper(s, r.shaper)) bad("shaper", "unknown shaper '" + s + "' (" + sim::shaper_list() + ")");
+    if (!plant::parse_shaper(s, r.shaper)) bad("shaper", "unknown shaper '" + s + "' (" + plant::shaper_list() + ")");
   }
   return r;
 }
 
 // The keyword a planner status is about: the CLI's option without its dashes.
-const char* keyword_of(core::Status s, const core::MoveRequest& r) { return sim::option_of(s, r) + 2; }
+const char* keyword_of(core::Status s, const core::MoveRequest& r) { return plant::option_of(s, r) + 2; }
 
 core::Move<double> planned(const py::kwargs& kw) {
   const core::MoveRequest req = move_request(kw);
   core::Move<double> move{};
   if (const core::Status st = core::plan(req, move); st != core::Status::ok) {
-    bad(keyword_of(st, req), sim::reason_of(st, req) + " [" + core::to_string(st) + "]");
+    bad(keyword_of(st, req), plant::reason_of(st, req) + " [" + core::to_string(st) + "]");
   }
   return move;
 }
@@ -138,7 +138,7 @@ core::Move<double> planned(const py::kwargs& kw) {
 // The numbers that define the profile, named as `settle plan --json` names them.
 py::dict profile_params(const core::Profile<double>& prof) {
   py::dict f;
-  for (const auto& [name, value] : sim::profile_params(prof)) f[py::str(name)] = value;
+  for (const auto& [name, value] : plant::profile_params(prof)) f[py::str(name)] = value;
   return f;
 }
 
@@ -157,7 +157,7 @@ py::dict plan(const py::kwargs& kw) {
                                     "velocity_step"_a = pk.velocity_step, "acceleration_step"_a = pk.acceleration_step),
                "shaper"_a = py::dict("impulses"_a = impulses));
   // The family that won, for a profile that plans several (fastest), as `settle plan` reports it.
-  if (const std::string family = sim::profile_family(m.profile()); !family.empty()) out["family"] = family;
+  if (const std::string family = plant::profile_family(m.profile()); !family.empty()) out["family"] = family;
   return out;
 }
 
@@ -185,25 +185,25 @@ py::dict sample(const py::kwargs& kw) {
   return py::dict("t"_a = t, "position"_a = p, "velocity"_a = v, "acceleration"_a = a, "jerk"_a = j);
 }
 
-sim::ModalPlant make_plant(const py::handle& spec) {
-  sim::PlantSpec ps{};
+plant::ModalPlant make_plant(const py::handle& spec) {
+  plant::PlantSpec ps{};
   if (py::isinstance<py::str>(spec)) {
     const std::string kind = spec.cast<std::string>();
     if (kind == "sdof") {
-      ps.kind = sim::PlantKind::sdof;
+      ps.kind = plant::PlantKind::sdof;
     } else if (kind == "beam") {
-      ps.kind = sim::PlantKind::beam;
+      ps.kind = plant::PlantKind::beam;
     } else if (kind == "belt") {
-      ps.kind = sim::PlantKind::belt;
+      ps.kind = plant::PlantKind::belt;
     } else {
       bad("plant", "unknown plant '" + kind + "' (sdof, beam, belt, or a list of (omega, zeta[, gain]) modes)");
     }
   } else if (py::isinstance<py::iterable>(spec)) {
-    ps.kind = sim::PlantKind::modes;
+    ps.kind = plant::PlantKind::modes;
     for (const py::handle m : spec) {
       const std::vector<double> v = numbers(m, "plant");
       if (v.size() < 2 || v.size() > 3) bad("plant", "each mode is (omega, zeta) or (omega, zeta, gain)");
-      sim::Mode mode{};
+      plant::Mode mode{};
       mode.omega = v[0];
       mode.zeta = v[1];
       if (v.size() == 3) mode.gain = v[2];
@@ -212,9 +212,9 @@ sim::ModalPlant make_plant(const py::handle& spec) {
   } else {
     bad("plant", "expected 'sdof', 'beam', 'belt' or a list of (omega, zeta[, gain]) modes");
   }
-  sim::ModalPlant plant{};
-  if (const sim::SimStatus st = sim::make_plant(ps, plant); st != sim::SimStatus::ok) {
-    bad("plant", std::string{sim::describe(st)} + " [" + sim::to_string(st) + "]");
+  plant::ModalPlant plant{};
+  if (const plant::SimStatus st = plant::make_plant(ps, plant); st != plant::SimStatus::ok) {
+    bad("plant", std::string{describe(st)} + " [" + to_string(st) + "]");
   }
   return plant;
 }
@@ -222,21 +222,21 @@ sim::ModalPlant make_plant(const py::handle& spec) {
 py::dict simulate(const py::kwargs& kw) {
   check_keywords(kw, {"plant", "dt"});
   if (!kw.contains("plant")) bad("plant", "required ('sdof', 'beam', 'belt' or a list of (omega, zeta[, gain]) modes)");
-  const sim::ModalPlant plant = make_plant(kw["plant"]);
-  sim::SimOptions opt{};
+  const plant::ModalPlant plant = make_plant(kw["plant"]);
+  plant::SimOptions opt{};
   opt.record = false;
   if (kw.contains("dt")) {
     opt.dt = number(kw["dt"], "dt");
     if (!std::isfinite(opt.dt) || !(opt.dt > 0.0)) bad("dt", "must be a positive, finite number of seconds");
   }
   const core::Move<double> move = planned(kw);
-  const sim::MoveCommand cmd{move};
-  sim::SimResult result{};
-  if (const sim::SimStatus st = sim::simulate(plant, cmd, opt, result); st != sim::SimStatus::ok) {
-    bad("plant", std::string{sim::describe(st)} + " [" + sim::to_string(st) + "]");
+  const plant::MoveCommand cmd{move};
+  plant::SimResult result{};
+  if (const plant::SimStatus st = plant::simulate(plant, cmd, opt, result); st != plant::SimStatus::ok) {
+    bad("plant", std::string{describe(st)} + " [" + to_string(st) + "]");
   }
-  const sim::SimMetrics& m = result.metrics;
-  return py::dict("plant"_a = sim::to_string(plant.kind()), "move_end"_a = m.move_end, "distance"_a = m.distance,
+  const plant::SimMetrics& m = result.metrics;
+  return py::dict("plant"_a = to_string(plant.kind()), "move_end"_a = m.move_end, "distance"_a = m.distance,
                   "residual_amplitude"_a = m.residual_amplitude, "step_residual"_a = m.step_residual,
                   "prv_percent"_a = m.prv_percent, "peak_deflection"_a = m.peak_deflection,
                   "final_energy"_a = m.final_energy, "settling_band"_a = m.band, "settling_time"_a = m.settling_time,
@@ -249,14 +249,14 @@ py::dict simulate(const py::kwargs& kw) {
 }  // namespace settle::python
 
 PYBIND11_MODULE(settle, m) {
-  const std::string profiles = settle::sim::profile_list();
+  const std::string profiles = settle::plant::profile_list();
   const std::string doc =
       "Settle: vibration-free point-to-point moves (planning, sampling, simulation).\n"
       "Every function takes the move as keywords, the `settle` CLI's options without their dashes:\n"
       "  profile (" + profiles + "),\n"
       "  distance, time (s) or vmax/amax/jmax, omega (rad/s) and zeta of the mode the move is for (profile\n"
       "  'fastest': lists, one per mode, and robust in %),\n"
-      "  gammas (pseudopoly exponents), y (ramp-versine Y/L fractions), shaper (" + settle::sim::shaper_list() +
+      "  gammas (pseudopoly exponents), y (ramp-versine Y/L fractions), shaper (" + settle::plant::shaper_list() +
       "), vtol.\n"
       "A bad value raises ValueError('<keyword>: <reason>'). settle.PROFILES lists the profiles.";
   m.doc() = doc;

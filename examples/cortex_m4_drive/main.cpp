@@ -8,7 +8,7 @@
 #include "settle/core/planner.hpp"
 #include "settle/firmware/runtime.hpp"
 #include "settle/firmware/semihosting.hpp"
-#include "settle/firmware/session.hpp"
+#include "settle/runtime/session.hpp"
 #include "settle/firmware/text.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/mailbox_bus.hpp"

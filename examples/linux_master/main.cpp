@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "settle/core/planner.hpp"
-#include "settle/firmware/linux/periodic.hpp"
-#include "settle/firmware/session.hpp"
+#include "settle/runtime/linux/periodic.hpp"
+#include "settle/runtime/session.hpp"
 #include "settle/hal/socketcan_bus.hpp"
 
 namespace fw = settle::firmware;

@@ -23,7 +23,7 @@ TABLE = json.loads(subprocess.run([SETTLE, "demo", "--list", "--json"], capture_
 W000 = TABLE["beam_omega1"]
 NODE = 1
 
-# The drive and the loop tolerate a stalled user-mode-linux guest (as in sim/cli/demo.cpp); the fault
+# The drive and the loop tolerate a stalled user-mode-linux guest (as in app/demo.cpp); the fault
 # tests set the one timeout they are about to what they test.
 PLANT_TOLERANT = ["--sync-loss-periods", "250"]
 # The loop's feedback watchdog tolerates what the drive's SYNC watchdog tolerates (a guest's stall).
@@ -468,7 +468,7 @@ def online_halt(d):
         check(r["aligned"], f"{tag}: the CAN feedback matches the offline replay of the changed setpoints")
         # The switch at T: the setpoints are the move's up to T (the blend continues its p, v, a, so
         # they part a few periods later) and then exactly those of the same halt on loopback, whose
-        # switch at T the unit suite checks setpoint by setpoint (tests/firmware/test_online_loop.cpp).
+        # switch at T the unit suite checks setpoint by setpoint (tests/runtime/test_online_loop.cpp).
         fb_loop = os.path.join(d, f"feedback-{tag}-loopback.csv")
         rl = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--axis-vmax", "1",
                  "--halt-at", str(at), "--scalar", scalar, "--feedback-log", fb_loop, "--json"])

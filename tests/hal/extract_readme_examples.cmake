@@ -1,9 +1,9 @@
 # cmake -DREADME=hal/README.md -DOUT=<file> -P extract_readme_examples.cmake
-# Writes the README's code blocks marked "compiled and run by tests/hal/readme_example_test.cpp"
+# Writes the README's code blocks marked "compiled and run by tests/hal/test_readme_example.cpp"
 # into OUT, which that test includes: the README's example is the code the test compiles and runs.
 cmake_minimum_required(VERSION 3.25)
 file(READ "${README}" text)
-set(marker "<!-- compiled and run by tests/hal/readme_example_test.cpp -->\n```cpp\n")
+set(marker "<!-- compiled and run by tests/hal/test_readme_example.cpp -->\n```cpp\n")
 string(LENGTH "${marker}" marker_length)
 set(out "// Generated from hal/README.md by tests/hal/extract_readme_examples.cmake: edit the README.\n")
 set(count 0)

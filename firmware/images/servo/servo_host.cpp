@@ -94,16 +94,16 @@ int main(int argc, char** argv) {
   }
   FileSink sink{f};
   const si::RunResult r = fixed ? run_program<si::FixedImageEvaluation>(sink)
-                                : run_program<settle::firmware::FloatEvaluation<float>>(sink);
+                                : run_program<settle::runtime::FloatEvaluation<float>>(sink);
   const bool written = sink.ok() && std::fclose(f) == 0;
   std::printf("outcome %s ticks %llu ready %llu stream_end %llu frames %llu final_target %d final_position %d "
               "rx_overflows %llu\n",
-              settle::firmware::to_string(r.session.outcome), static_cast<unsigned long long>(r.session.ticks),
+              settle::runtime::to_string(r.session.outcome), static_cast<unsigned long long>(r.session.ticks),
               static_cast<unsigned long long>(r.session.ready_tick),
               static_cast<unsigned long long>(r.session.stream_end_tick),
               static_cast<unsigned long long>(r.frames_logged), r.final_target, r.final_position,
               static_cast<unsigned long long>(r.rx_overflows));
-  const bool ok = written && r.session.outcome == settle::firmware::SessionOutcome::completed &&
+  const bool ok = written && r.session.outcome == settle::runtime::SessionOutcome::completed &&
                   r.format_errors == 0 && r.final_position == r.final_target && r.rx_overflows == 0;
   return ok ? 0 : 1;
 }

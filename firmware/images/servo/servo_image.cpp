@@ -240,7 +240,7 @@ int settle::firmware::image_main() {
   rep.append("stack_high_water ").append_unsigned(stack_high_water()).append(" of ");
   rep.append_unsigned(stack_size()).append("\n");
   write_report(rep, kStem);
-  const bool ok = log_written && r.session.outcome == SessionOutcome::completed && r.format_errors == 0 &&
+  const bool ok = log_written && r.session.outcome == runtime::SessionOutcome::completed && r.format_errors == 0 &&
                   r.final_position == r.final_target && r.rx_overflows == 0;
   return ok ? 0 : 1;
 #endif

@@ -15,8 +15,8 @@
 #include "settle/core/move.hpp"
 #include "settle/core/ramp_cycloid.hpp"
 #include "settle/firmware/candump_tap.hpp"
-#include "settle/firmware/servo_loop.hpp"
-#include "settle/firmware/session.hpp"
+#include "settle/runtime/servo_loop.hpp"
+#include "settle/runtime/session.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/hal/mailbox_bus.hpp"
@@ -53,13 +53,13 @@ using Controller = hal::MailboxBus<3, 8>;
 // One axis, a queue of two moves, on the controller's own type (its driver calls are direct).
 // Evaluation: FloatEvaluation<float> (the Cortex-M4F's FPU) or FixedImageEvaluation (integer only
 // per tick: the servo_fixed images, the Cortex-M0's).
-template <typename Evaluation = FloatEvaluation<float>>
-using LoopOf = ServoLoop<float, 1, 2, Evaluation, Controller>;
+template <typename Evaluation = runtime::FloatEvaluation<float>>
+using LoopOf = runtime::ServoLoop<float, 1, 2, Evaluation, Controller>;
 using Loop = LoopOf<>;
 // Position plans of up to 8 intervals (every closed form unshaped; ~0.6 KiB a queue slot instead
 // of the default 24 intervals' 1.6 KiB): what fits the micro:bit's 16 KiB next to the in-image
 // drive and log. A move that needs more is refused at submit (table_too_small).
-using FixedImageEvaluation = BasicFixedEvaluation<8>;
+using FixedImageEvaluation = runtime::BasicFixedEvaluation<8>;
 
 // The far end of the bus: hal/testing's ideal drive (a DriveNode whose axis reaches each target
 // one period after the SYNC that applies it), on its own 8-frame loopback port. It only counts
@@ -74,7 +74,7 @@ using Drive = hal::testing::IdealDrive<hal::LoopbackBus<8>>;
 
 // What a run did, for the image's report and the host's summary.
 struct RunResult {
-  SessionResult session{};
+  runtime::SessionResult session{};
   std::int32_t final_position{0};
   std::int32_t final_target{0};
   std::uint64_t frames_logged{0};
@@ -86,7 +86,7 @@ struct RunResult {
 
 // Timer: `void begin()`, `void end(bool streaming)` around every tick (the image counts
 // instructions there; the host does nothing).
-template <typename LineSink, typename Timer, typename Evaluation = FloatEvaluation<float>>
+template <typename LineSink, typename Timer, typename Evaluation = runtime::FloatEvaluation<float>>
 class Program {
  public:
   Program(LineSink& sink, Timer& timer) noexcept
@@ -96,22 +96,22 @@ class Program {
   Program& operator=(const Program&) = delete;
 
   [[nodiscard]] RunResult run(const core::Move<double>& move) noexcept {
-    AxisConfig ac{};
+    runtime::AxisConfig ac{};
     ac.drive.node = kNode;
     ac.scale = kScale;
     ac.vmax = 1.0;
     RunResult r{};
-    if (loop_.add_axis(ac) != LoopStatus::ok) {
-      r.session.outcome = SessionOutcome::rejected;
-      r.session.rejection = LoopStatus::bad_axis_config;
+    if (loop_.add_axis(ac) != runtime::LoopStatus::ok) {
+      r.session.outcome = runtime::SessionOutcome::rejected;
+      r.session.rejection = runtime::LoopStatus::bad_axis_config;
       return r;
     }
-    VirtualClock clock{kScale.period_us};
-    SessionConfig cfg{};
+    runtime::VirtualClock clock{kScale.period_us};
+    runtime::SessionConfig cfg{};
     cfg.settle_ticks = kSettleTicks;
     cfg.max_ticks = 10'000;
     Timed timed{*this};
-    r.session = run_session(timed, clock, &move, 1, cfg, [this, &clock](std::uint64_t, bool) {
+    r.session = runtime::run_session(timed, clock, &move, 1, cfg, [this, &clock](std::uint64_t, bool) {
       drive_.process(clock.now_us());
     });
     r.final_position = drive_.position();
@@ -152,17 +152,17 @@ class Program {
     }
     [[nodiscard]] std::size_t axis_count() const noexcept { return p.loop_.axis_count(); }
     [[nodiscard]] bool all_ready() const noexcept { return p.loop_.all_ready(); }
-    [[nodiscard]] LoopStatus submit(std::size_t axis, const core::Move<double>& m) noexcept {
+    [[nodiscard]] runtime::LoopStatus submit(std::size_t axis, const core::Move<double>& m) noexcept {
       return p.loop_.submit(axis, m);
     }
     void abort(std::size_t axis) noexcept { p.loop_.abort(axis); }
     void release(std::size_t axis) noexcept { p.loop_.release(axis); }
     [[nodiscard]] const hal::canopen::RemoteDrive& drive(std::size_t i) const noexcept { return p.loop_.drive(i); }
     [[nodiscard]] bool ready(std::size_t i) const noexcept { return p.loop_.ready(i); }
-    [[nodiscard]] const AxisStats& axis_stats(std::size_t i) const noexcept { return p.loop_.axis_stats(i); }
+    [[nodiscard]] const runtime::AxisStats& axis_stats(std::size_t i) const noexcept { return p.loop_.axis_stats(i); }
     [[nodiscard]] bool idle() const noexcept { return p.loop_.idle(); }
     [[nodiscard]] bool halted(std::size_t i) const noexcept { return p.loop_.halted(i); }
-    [[nodiscard]] AxisFault fault(std::size_t i) const noexcept { return p.loop_.fault(i); }
+    [[nodiscard]] runtime::AxisFault fault(std::size_t i) const noexcept { return p.loop_.fault(i); }
   };
 
   void at(std::uint64_t now_us) noexcept {

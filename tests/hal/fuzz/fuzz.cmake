@@ -39,16 +39,16 @@ set_tests_properties(hal_fuzz_long PROPERTIES LABELS fuzz-long TIMEOUT 1200)
 
 # ---- The master-vs-drive harness (fuzz_servo.cpp): ServoLoop + RemoteDrive against DriveNode and
 # an ideal plant through the fault-injecting bus, with invariants on every tick. It needs core and
-# firmware/loop too, so its sources are compiled one object each (ccache-able, rebuilt only when
+# runtime too, so its sources are compiled one object each (ccache-able, rebuilt only when
 # they change), instrumented for the fuzzer, and linked with libFuzzer's main.
 set(servo_fuzz_dir ${fuzz_dir}/servo)
 set(servo_fuzz_exe ${servo_fuzz_dir}/hal_fuzz_servo)
 set(servo_fuzz_flags -std=c++20 -O1 -g -fno-exceptions -fno-rtti -ffp-contract=off
     -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined)
 set(servo_fuzz_includes -I${PROJECT_SOURCE_DIR}/core/include -I${PROJECT_SOURCE_DIR}/hal/include
-    -I${PROJECT_SOURCE_DIR}/hal/testing/include -I${PROJECT_SOURCE_DIR}/firmware/loop/include)
+    -I${PROJECT_SOURCE_DIR}/hal/testing/include -I${PROJECT_SOURCE_DIR}/runtime/include)
 set(servo_fuzz_sources)
-foreach(lib_dir IN ITEMS "settle_core;core" "settle_hal;hal" "settle_hal_testing;hal" "settle_servo;firmware/loop")
+foreach(lib_dir IN ITEMS "settle_core;core" "settle_hal;hal" "settle_hal_testing;hal" "settle_runtime;runtime")
   list(GET lib_dir 0 lib)
   list(GET lib_dir 1 dir)
   get_target_property(lib_sources ${lib} SOURCES)

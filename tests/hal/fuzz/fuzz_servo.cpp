@@ -50,7 +50,7 @@
 #include <optional>
 
 #include "settle/core/planner.hpp"
-#include "settle/firmware/servo_loop.hpp"
+#include "settle/runtime/servo_loop.hpp"
 #include "settle/hal/can_bus.hpp"
 #include "settle/hal/canopen/cia402.hpp"
 #include "settle/hal/canopen/default_mapping.hpp"
@@ -330,8 +330,8 @@ DriveNodeConfig drive_config(const Scenario& s) {
   return c;
 }
 
-firmware::AxisConfig axis_config(const Scenario& s) {
-  firmware::AxisConfig a{};
+runtime::AxisConfig axis_config(const Scenario& s) {
+  runtime::AxisConfig a{};
   a.drive.node = kDrive;
   a.drive.mode = (s.flags & 0x04U) != 0 ? OperationMode::interpolated_position : OperationMode::cyclic_synchronous_position;
   a.drive.heartbeat_timeout_ms = (s.flags & 0x10U) != 0 ? 350 : 0;
@@ -499,7 +499,7 @@ struct Rig {
   testing::FaultInjectingBus d_fault{d_port};
   HarnessBus m_bus{m_fault};
   HarnessBus d_bus{d_fault};
-  firmware::ServoLoop<double, 1, 2> loop{m_bus, kPeriodUs};
+  runtime::ServoLoop<double, 1, 2> loop{m_bus, kPeriodUs};
   DriveNode drive;
   Plant plant{};
 };
@@ -511,7 +511,7 @@ class Run {
   void go() {
     Rig& r = *rig_;
     r.plant.position = s_.start_position;
-    if (r.loop.add_axis(axis_config(s_)) != firmware::LoopStatus::ok) {
+    if (r.loop.add_axis(axis_config(s_)) != runtime::LoopStatus::ok) {
       violated("setup", "add_axis refused the harness's axis", 0, 0);
     }
     r.m_bus.observe(&r.loop.drive(0));
@@ -660,9 +660,9 @@ class Run {
   // The loop's side of (c): where the move started, and that its final setpoint is its target.
   void watch_loop() {
     Rig& r = *rig_;
-    for (firmware::FeedbackSample fs{}; r.loop.feedback_log(0).pop(fs);) {
+    for (runtime::FeedbackSample fs{}; r.loop.feedback_log(0).pop(fs);) {
     }
-    const firmware::AxisStats& st = r.loop.axis_stats(0);
+    const runtime::AxisStats& st = r.loop.axis_stats(0);
     const RemoteDriveState view = r.loop.drive(0).state();
     if (view != view_) {
       TRACE("master: drive %s -> %s (drive position as the master knows it: %d)", to_string(view_), to_string(view),

@@ -24,7 +24,7 @@ struct Piece {
 
 // The piece at time t of the profile's clock (start <= t <= start + length), in double: position,
 // velocity, acceleration and jerk of exactly the curve the fixed-point builder quantises. The
-// simulator's one-sided evaluation at breakpoints uses it (sim/src/command.cpp).
+// simulator's one-sided evaluation at breakpoints uses it (plant/src/command.cpp).
 [[nodiscard]] inline Sample<double> piece_at(const Piece& pc, double t) noexcept {
   constexpr double w = 6.283185307179586476925286766559;
   const double s = (t - pc.start) / pc.length;

@@ -5,7 +5,7 @@
 // cannot work is refused here, before any frame is sent, with an error naming the object.
 //
 // The `settle drive config` and `settle stream --eds` commands call drive_config_from_eds and hand
-// the result to RemoteDrive (directly, or through firmware::AxisConfig::drive).
+// the result to RemoteDrive (directly, or through runtime::AxisConfig::drive).
 #pragma once
 
 #include <cstdint>

@@ -1,0 +1,191 @@
+// settle identify: the composition root of sim's run_identify (settle/commission/identify_run.hpp). The
+// options become an excitation (a planned jerk-limited move, a train of it back and forth before
+// it, and a hold: settle/commission/identify_excitation.hpp) streamed to the drive on
+// --bus, the drive's feedback becomes the modes, and the report goes out as text or --json, with
+// the --png figure (measured against fitted, in time and frequency).
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "commands.hpp"
+#include "io/json.hpp"
+#include "options.hpp"
+#include "plant_options.hpp"
+#include "settle/core/planner.hpp"
+#include "settle/hal/eds_reader.hpp"
+#include "settle/papers/figures.hpp"
+#include "settle/commission/identify_excitation.hpp"
+#include "settle/commission/identify_run.hpp"
+#include "settle/testbed/stream_bus.hpp"
+#include "stream_bus_open.hpp"
+
+namespace settle::app {
+
+namespace {
+
+// The excitation's limits, each in its table range; planned into the move, or refused naming
+// the option to change. The move respects every limit by construction (the planner's jerk-limited
+// profile); what can still be out of reach is its length and its size in counts.
+int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
+  const bool json = args.json();
+  RequestError err;
+  testbed::StreamSpec& s = spec.stream;
+  if (!parse_plant(args, s.plant, err)) return report_bad_request(err, json);
+  if (!parse_drive(args, s.plant, s.drive, err)) return report_bad_request(err, json);
+  const std::string bus = args.text("--bus", "vcan0");
+  if (args.has("--noise") && bus != "loopback") {
+    return report_bad_request({"option_not_for_bus", "--noise",
+                               "--noise: adds noise in the in-process drive (--bus loopback); on " + bus +
+                                   " the drive is another process"},
+                              json);
+  }
+  s.drive.load_noise_counts = args.real("--noise", 0.0);
+  s.drive.noise_seed = static_cast<std::uint64_t>(args.integer("--seed", 1));
+  spec.options.max_modes = static_cast<std::size_t>(args.integer("--max-modes", 3));
+
+  commission::IdentifyExcitation ex{};
+  ex.distance = args.real("--distance", 0.01);
+  ex.vmax = args.real("--vmax", 0.1);
+  ex.amax = args.real("--amax", 5.0);
+  ex.jmax = args.real("--jmax", 5000.0);
+  ex.round_trips = static_cast<std::size_t>(args.integer("--train", static_cast<long long>(commission::kDefaultTrainRoundTrips)));
+  if (const core::Status st = commission::plan_identify_excitation(ex, s.move); st != core::Status::ok) {
+    return report_bad_request({core::to_string(st), "--distance",
+                               std::string{"--distance: the excitation cannot be planned within the limits: "} +
+                                   core::describe(st)},
+                              json);
+  }
+  s.settle_time_s = args.real("--hold", 4.0);
+  // Refused for its length first: an excitation of hours is not what was meant, and its peaks,
+  // summed over copies hours apart, carry rounding of a few 1e-9 that the check below would
+  // misreport as a limit exceeded (--distance 1000 --vmax 1: 46 202 s with 15 round trips).
+  if (s.move.duration() > 600.0) {
+    // The move alone too long: its limits are to blame; otherwise the train of its copies.
+    const double once = s.move.profile().duration();
+    if (once > 600.0 || ex.round_trips == 0) {
+      return report_bad_request({"too_long", "--vmax",
+                                 "--vmax: the excitation's move lasts " + format_number(once) +
+                                     " s; at most 600 s (raise --vmax, --amax or --jmax, or shorten --distance)"},
+                                json);
+    }
+    return report_bad_request(
+        {"too_long", "--train",
+         "--train: the move and " + std::to_string(ex.round_trips) + " round trips of it last " +
+             format_number(s.move.duration()) + " s (the move alone " + format_number(once) +
+             " s); at most 600 s (fewer round trips, or raise --vmax, --amax or --jmax, or shorten --distance)"},
+        json);
+  }
+  // The excitation as planned must respect what was asked (the planner guarantees it; checked so
+  // that a planner change cannot silently excite harder than the user allowed).
+  const auto over = [](double peak, double limit) { return std::fabs(peak) > limit * (1.0 + 1e-9); };
+  const core::Peaks<double> pk = s.move.peaks();
+  const char* exceeded = over(pk.v, ex.vmax) ? "--vmax" : over(pk.a, ex.amax) ? "--amax" : over(pk.j, ex.jmax) ? "--jmax" : nullptr;
+  if (exceeded != nullptr) {
+    return report_bad_request({"excitation_exceeds_limits", exceeded,
+                               std::string{exceeded} + ": the planned excitation would exceed this limit"},
+                              json);
+  }
+  const double periods = (5.0 + s.move.duration() + s.settle_time_s) * 1e6 / s.drive.scale.period_us;
+  if (periods > kMaxStreamPeriods) {
+    return report_bad_request({"too_many_samples", "--hold",
+                               "--hold: " + format_number(periods) +
+                                   " periods of start-up (5 s) + excitation + hold; at most 1e6 (or a longer "
+                                   "--period-us)"},
+                              json);
+  }
+  const double reach = s.move.distance() * 2.0 + 1.0;
+  if (reach * s.drive.scale.counts_per_unit > 2e9 || reach * s.drive.load_counts_per_unit > 2e9) {
+    const char* who = reach * s.drive.scale.counts_per_unit > 2e9 ? "--counts-per-unit" : "--load-counts-per-unit";
+    return report_bad_request({"out_of_range", "--distance",
+                               std::string{"--distance: the excitation exceeds 32-bit counts with "} + who},
+                              json);
+  }
+  if (const auto png = args.text("--png"); png && (png->size() < 5 || png->substr(png->size() - 4) != ".png")) {
+    return report_bad_request({"bad_path", "--png", "--png: the figure's file name must end in .png"}, json);
+  }
+  s.node = static_cast<hal::canopen::NodeId>(args.integer("--node", 1));
+  s.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms", 500));
+  s.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms", 1000) * 1000);
+  s.feedback_timeout_periods = static_cast<std::uint16_t>(
+      args.integer("--feedback-timeout-periods", runtime::kDefaultFeedbackTimeoutPeriods));
+  if (const auto path = args.text("--eds")) {
+    hal::eds::LoadResult loaded = hal::eds::load(*path);
+    if (!loaded.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
+    s.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
+  }
+  return -1;
+}
+
+std::string error_doc(const std::string& code, const std::string& why) {
+  return Json{{"status", "error"}, {"error", code}, {"message", why}}.dump(-1, ' ', false,
+                                                                          nlohmann::json::error_handler_t::replace);
+}
+
+int failed(const std::string& code, const std::string& why, bool json, const std::string& doc) {
+  if (json) {
+    std::printf("%s\n", doc.c_str());
+  } else {
+    std::fprintf(stderr, "settle identify: %s [%s]\n", why.c_str(), code.c_str());
+  }
+  return kExitFailure;
+}
+
+template <typename Writer>
+bool write_file(const std::string& path, Writer&& write) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) return false;
+  const bool written = write(f);
+  return std::fclose(f) == 0 && written;
+}
+
+// The --png figure: the two CSVs beside it (<stem>_time.csv, <stem>_spectrum.csv) and gnuplot.
+std::string write_png(const commission::IdentifyRunSpec& spec, const commission::IdentifyRunReport& r, const std::string& png) {
+  namespace fs = std::filesystem;
+  const fs::path target{png};
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path{"."};
+  const std::string stem = target.stem().string();
+  const std::string time_csv = stem + "_time.csv";
+  const std::string spectrum_csv = stem + "_spectrum.csv";
+  if (!write_file((dir / time_csv).string(), [&](std::FILE* f) { return commission::write_identify_time_csv(spec, r, f); }) ||
+      !write_file((dir / spectrum_csv).string(),
+                  [&](std::FILE* f) { return commission::write_identify_spectrum_csv(spec, r, f); })) {
+    return "cannot write the figure's data beside " + png;
+  }
+  papers::FigureFiles files{};
+  const plant::SimStatus st = papers::write_identify_figure(dir.string(), stem, time_csv, spectrum_csv, files);
+  if (st != plant::SimStatus::ok) return "cannot write " + png + ": " + describe(st);
+  if (!files.gnuplot) return "gnuplot was not found: wrote " + (dir / (stem + ".gp")).string() + " and the CSVs only";
+  return {};
+}
+
+}  // namespace
+
+int cmd_identify(int argc, char** argv) {
+  ParsedArgs args;
+  if (const int rc = parse_or_exit("identify", argc, argv, args); rc >= 0) return rc;
+  commission::IdentifyRunSpec spec{};
+  if (const int rc = parse_spec(args, spec); rc >= 0) return rc;
+
+  hal::SocketCanBus socketcan;
+  std::string bus_error;
+  const std::unique_ptr<testbed::StreamBus> bus = open_stream_bus(args, socketcan, bus_error);
+  if (!bus) return failed("bus_unavailable", bus_error, args.json(), error_doc("bus_unavailable", bus_error));
+
+  const commission::IdentifyRunReport report = commission::run_identify(spec, *bus);
+  if (!report.ok()) return failed(report.failure_code, report.failure, args.json(), commission::identify_json(spec, report));
+  if (const auto png = args.text("--png")) {
+    if (const std::string why = write_png(spec, report, *png); !why.empty()) {
+      return failed("figure_failed", why, args.json(), error_doc("figure_failed", why));
+    }
+  }
+  if (args.json()) {
+    std::printf("%s\n", commission::identify_json(spec, report).c_str());
+  } else {
+    commission::write_identify_text(spec, report, stdout);
+  }
+  return kExitOk;
+}
+
+}  // namespace settle::app

@@ -1,0 +1,140 @@
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "move_options.hpp"
+
+namespace settle::app {
+
+namespace {
+
+// The number of samples of a move of `duration` every `dt`, bounded (false with err when over kMaxRows).
+bool sample_count(double duration, double dt, long& n, RequestError& err) {
+  const double n_real = std::ceil(duration / dt);
+  if (!(n_real + 1.0 <= kMaxRows)) {
+    err = {"too_many_samples", "--dt", "--dt: " + format_number(n_real + 1.0) +
+                                           " samples; at most 2e6 (move duration / --dt)"};
+    return false;
+  }
+  n = static_cast<long>(n_real);
+  return true;
+}
+
+// settle sample --axes N: t, then position, velocity, acceleration and jerk of every axis
+// (columns suffixed _1.._N).
+int sample_axes(const ParsedArgs& args, double dt) {
+  RequestError err;
+  if (args.has("--plan-from")) {
+    return report_bad_request({"conflicting_options", "--plan-from",
+                               "--plan-from: holds one axis's plan; give no --axes with it"},
+                              args.json());
+  }
+  core::MultiAxisRequest req{};
+  core::MultiAxisPlan plan{};
+  if (!parse_axes_request(args, req, err) || !plan_axes(req, plan, err)) {
+    return report_bad_request(err, args.json());
+  }
+  long n = 0;
+  if (!sample_count(plan.duration(), dt, n, err)) return report_bad_request(err, args.json());
+  const std::size_t axes = plan.count();
+  auto row = [&](long i, std::vector<double>& r) {
+    const double t = std::min(static_cast<double>(i) * dt, plan.duration());
+    r.assign(1, t);
+    for (std::size_t k = 0; k < axes; ++k) {
+      const auto s = plan.at(k, t);
+      r.insert(r.end(), {s.p, s.v, s.a, s.j});
+    }
+  };
+  std::vector<double> r;
+  for (long i = 0; i <= n; ++i) {
+    row(i, r);
+    if (!std::all_of(r.begin(), r.end(), [](double x) { return std::isfinite(x); })) {
+      return report_bad_request({"non_finite_result", "--profile", "--profile: a sample of this move is not finite"},
+                                args.json());
+    }
+  }
+  std::vector<std::string> columns{"t"};
+  for (std::size_t k = 1; k <= axes; ++k) {
+    for (const char* c : {"position_", "velocity_", "acceleration_", "jerk_"}) columns.push_back(c + std::to_string(k));
+  }
+  const bool json = args.json();
+  if (json) {
+    std::printf("{\"status\":\"ok\",\"columns\":[");
+    for (std::size_t c = 0; c < columns.size(); ++c) std::printf("%s\"%s\"", c ? "," : "", columns[c].c_str());
+    std::printf("],\"rows\":[");
+  } else {
+    for (std::size_t c = 0; c < columns.size(); ++c) std::printf("%s%s", c ? "," : "", columns[c].c_str());
+    std::printf("\n");
+  }
+  for (long i = 0; i <= n; ++i) {
+    row(i, r);
+    if (json) {
+      std::printf("%s[", i == 0 ? "" : ",");
+      for (std::size_t c = 0; c < r.size(); ++c) std::printf("%s%.17g", c ? "," : "", r[c]);
+      std::printf("]");
+    } else {
+      std::printf("%.9g", r[0]);
+      for (std::size_t c = 1; c < r.size(); ++c) std::printf(",%.12g", r[c]);
+      std::printf("\n");
+    }
+  }
+  if (json) std::printf("]}\n");
+  return kExitOk;
+}
+
+}  // namespace
+
+int cmd_sample(int argc, char** argv) {
+  ParsedArgs args;
+  if (const int rc = parse_or_exit("sample", argc, argv, args); rc >= 0) return rc;
+  RequestError err;
+  const auto dt = args.real("--dt");
+  if (wants_axes(args)) {
+    if (!dt) return report_bad_request({"missing_option", "--dt", "--dt: required (sample period, s)"}, args.json());
+    return sample_axes(args, *dt);
+  }
+  core::Move<double> move{};
+  if (!move_from_args(args, move, err)) return report_bad_request(err, args.json());
+  if (!dt) return report_bad_request({"missing_option", "--dt", "--dt: required (sample period, s)"}, args.json());
+  long n = 0;
+  if (!sample_count(move.duration(), *dt, n, err)) return report_bad_request(err, args.json());
+  // Every sample is computed and checked before the first line is printed (two passes, so that
+  // 2e6 samples need no memory).
+  auto sample = [&](long i) {
+    const double t = std::min(static_cast<double>(i) * *dt, move.duration());
+    const auto s = move.at(t);
+    return std::array<double, 5>{t, s.p, s.v, s.a, s.j};
+  };
+  for (long i = 0; i <= n; ++i) {
+    for (double x : sample(i)) {
+      if (!std::isfinite(x)) {
+        return report_bad_request({"non_finite_result", "--profile",
+                                   "--profile: a sample of this move is not finite"},
+                                  args.json());
+      }
+    }
+  }
+  if (args.json()) {
+    // Streamed, not built as a document; every number is finite.
+    std::printf("{\"status\":\"ok\",\"columns\":[\"t\",\"position\",\"velocity\",\"acceleration\",\"jerk\"],"
+                "\"rows\":[");
+    for (long i = 0; i <= n; ++i) {
+      const auto r = sample(i);
+      std::printf("%s[%.17g,%.17g,%.17g,%.17g,%.17g]", i == 0 ? "" : ",", r[0], r[1], r[2], r[3], r[4]);
+    }
+    std::printf("]}\n");
+    return kExitOk;
+  }
+  std::printf("t,position,velocity,acceleration,jerk\n");
+  for (long i = 0; i <= n; ++i) {
+    const auto r = sample(i);
+    std::printf("%.9g,%.12g,%.12g,%.12g,%.12g\n", r[0], r[1], r[2], r[3], r[4]);
+  }
+  return kExitOk;
+}
+
+}  // namespace settle::app

@@ -1,0 +1,35 @@
+#pragma once
+// The CLI's JSON output (nlohmann-json, keys in insertion order). A document is printed only when
+// every number in it is finite: JSON has no infinity, and the CLI never reports success with a
+// non-finite result. A value that may legitimately be absent (a peak that is a Dirac impulse, a
+// settling time that never comes) is put in as null by the caller, on purpose.
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace settle::app {
+
+using Json = nlohmann::ordered_json;
+
+// True when no number in `j` is NaN or infinite.
+[[nodiscard]] inline bool all_finite(const Json& j) {
+  if (j.is_number_float()) return std::isfinite(j.get<double>());
+  if (j.is_structured()) {
+    for (const auto& v : j) {
+      if (!all_finite(v)) return false;
+    }
+  }
+  return true;
+}
+
+// A number, or null when it is not finite (for values documented as possibly absent).
+[[nodiscard]] inline Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+// One line on `out`; strings that are not valid UTF-8 (a hostile path) are printed with U+FFFD.
+inline void print_json(const Json& j, std::FILE* out = stdout) {
+  const std::string s = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  std::fprintf(out, "%s\n", s.c_str());
+}
+
+}  // namespace settle::app

@@ -1,0 +1,246 @@
+#include "io/plan_json.hpp"
+
+#include <cmath>
+#include <array>
+#include <cstdio>
+#include <vector>
+
+#include "settle/core/profiles/registry.hpp"
+#include "settle/plant/move_vocabulary.hpp"
+
+namespace settle::app {
+
+Json peaks_json(const core::Peaks<double>& pk) {
+  const bool impulse_a = pk.velocity_step || pk.acceleration_step;
+  Json peaks;
+  peaks["velocity"] = pk.v;
+  peaks["acceleration"] = pk.velocity_step && !std::isfinite(pk.a) ? Json(nullptr) : Json(pk.a);
+  peaks["jerk"] = impulse_a && !std::isfinite(pk.j) ? Json(nullptr) : Json(pk.j);
+  peaks["velocity_step"] = pk.velocity_step;
+  peaks["acceleration_step"] = pk.acceleration_step;
+  return peaks;
+}
+
+Json plan_json(const core::Move<double>& m) {
+  Json j;
+  j["status"] = "ok";
+  j["profile"] = core::to_string(m.profile().kind());
+  if (const std::string f = plant::profile_family(m.profile()); !f.empty()) j["family"] = f;
+  j["distance"] = m.distance();
+  j["duration"] = m.duration();
+  j["profile_duration"] = m.profile().duration();
+  Json params = Json::object();
+  for (const auto& [k, v] : plant::profile_params(m.profile())) params[k] = v;
+  j["params"] = params;
+  j["peaks"] = peaks_json(m.peaks());
+  Json impulses = Json::array();
+  for (std::size_t i = 0; i < m.shaper().count; ++i) {
+    impulses.push_back(Json{{"amplitude", m.shaper().amp[i]}, {"time", m.shaper().time[i]}});
+  }
+  j["shaper"]["impulses"] = impulses;
+  return j;
+}
+
+Json axes_json(const core::MultiAxisPlan& p, const core::MultiAxisRequest& r) {
+  Json j;
+  j["status"] = "ok";
+  j["axes"] = p.count();
+  j["sync"] = core::to_string(p.sync());
+  j["profile"] = core::to_string(r.base.profile);
+  j["duration"] = p.duration();
+  std::array<double, core::kMaxAxes> per_axis{};
+  j["line_deviation"] = core::line_deviation(p, per_axis);
+  if (p.sync() == core::SyncMode::path) {
+    Json path = plan_json(p.path());
+    path.erase("status");
+    j["path"] = path;
+    Json modes = Json::array();
+    for (std::size_t k = 0; k < p.path_mode_count(); ++k) {
+      modes.push_back(Json{{"omega", p.path_mode(k).omega}, {"zeta", p.path_mode(k).zeta}});
+    }
+    j["path_modes"] = modes;
+  }
+  Json axes = Json::array();
+  for (std::size_t i = 0; i < p.count(); ++i) {
+    const core::AxisSpec& x = r.axes[i];
+    Json a;
+    a["distance"] = p.distance(i);
+    if (x.omega) a["omega"] = *x.omega;
+    a["zeta"] = x.zeta;
+    Json limits = Json::object();
+    if (x.vmax) limits["vmax"] = *x.vmax;
+    if (x.amax) limits["amax"] = *x.amax;
+    if (x.jmax) limits["jmax"] = *x.jmax;
+    a["limits"] = limits;
+    a["peaks"] = peaks_json(p.peaks(i));
+    a["line_deviation"] = per_axis[i];
+    if (p.sync() == core::SyncMode::time) {
+      Json own = plan_json(p.axis_move(i));
+      own.erase("status");
+      a["plan"] = own;
+    }
+    axes.push_back(a);
+  }
+  j["axis"] = axes;
+  return j;
+}
+
+Json request_json(const core::MoveRequest& r) {
+  Json j;
+  j["profile"] = core::to_string(r.profile);
+  j["distance"] = r.distance;
+  if (r.time) j["time"] = *r.time;
+  if (r.vmax) j["vmax"] = *r.vmax;
+  if (r.amax) j["amax"] = *r.amax;
+  if (r.jmax) j["jmax"] = *r.jmax;
+  if (r.omega) j["omega"] = *r.omega;
+  j["zeta"] = r.zeta;
+  // The modes after the first, and the robustness, that the fastest profile plans for.
+  if (r.extra_mode_count > 0) {
+    Json extra = Json::array();
+    for (std::size_t i = 0; i < r.extra_mode_count; ++i) {
+      extra.push_back(Json{{"omega", r.extra_modes[i].omega}, {"zeta", r.extra_modes[i].zeta}});
+    }
+    j["extra_modes"] = extra;
+  }
+  if (r.robust) j["robust"] = *r.robust;
+  return j;
+}
+
+bool read_bounded_file(const std::string& path, const std::string& option, std::size_t max_bytes, std::string& out,
+                       RequestError& err) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) {
+    err = {"cannot_read", option, option + ": cannot read '" + path + "'"};
+    return false;
+  }
+  std::string text;
+  char buf[65536];
+  std::size_t n = 0;
+  bool too_large = false;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
+    if (text.size() + n > max_bytes) {
+      too_large = true;
+      break;
+    }
+    text.append(buf, n);
+  }
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (too_large) {
+    err = {"file_too_large", option, option + ": '" + path + "' is larger than " + std::to_string(max_bytes) + " bytes"};
+    return false;
+  }
+  if (failed) {
+    err = {"cannot_read", option, option + ": cannot read '" + path + "' (a directory?)"};
+    return false;
+  }
+  out = std::move(text);
+  return true;
+}
+
+namespace {
+
+bool close_to(double a, double b) { return std::fabs(a - b) <= 1e-9 * std::max({1.0, std::fabs(a), std::fabs(b)}); }
+
+}  // namespace
+
+bool load_plan_file(const std::string& path, const std::string& option, core::Move<double>& out, RequestError& err) {
+  std::string text;
+  if (!read_bounded_file(path, option, kMaxPlanFileBytes, text, err)) return false;
+  auto bad = [&](const std::string& why) {
+    err = {"bad_plan_file", option, option + ": " + why};
+    return false;
+  };
+  const Json j = Json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return bad("not a JSON object (the output of settle tune --json)");
+  if (!j.contains("status") || j["status"] != "ok") return bad("\"status\" is not \"ok\"");
+  if (!j.contains("request") || !j["request"].is_object()) return bad("no \"request\" object");
+  const Json& rq = j["request"];
+  core::MoveRequest r{};
+  if (!rq.contains("profile") || !rq["profile"].is_string() ||
+      !core::parse_profile_kind(rq["profile"].get<std::string>().c_str(), r.profile)) {
+    return bad("request.profile is not a profile's name (" + plant::profile_list() + ")");
+  }
+  auto number = [&](const char* key, std::optional<double>& to, bool required) {
+    if (!rq.contains(key)) return !required;
+    if (!rq[key].is_number() || !std::isfinite(rq[key].get<double>())) return false;
+    to = rq[key].get<double>();
+    return true;
+  };
+  std::optional<double> distance, zeta;
+  for (auto [key, to, required] : {std::tuple{"distance", &distance, true}, std::tuple{"time", &r.time, false},
+                                   std::tuple{"vmax", &r.vmax, false}, std::tuple{"amax", &r.amax, false},
+                                   std::tuple{"jmax", &r.jmax, false}, std::tuple{"omega", &r.omega, false},
+                                   std::tuple{"zeta", &zeta, false}}) {
+    if (!number(key, *to, required)) return bad(std::string{"request."} + key + " is missing or not a finite number");
+  }
+  r.distance = *distance;
+  r.zeta = zeta.value_or(0.0);
+  std::optional<double> robust;
+  if (!number("robust", robust, false)) return bad("request.robust is not a finite number");
+  r.robust = robust;
+  if (rq.contains("extra_modes")) {
+    const Json& extra = rq["extra_modes"];
+    if (!extra.is_array() || extra.size() > core::kMaxExtraModes) {
+      return bad("request.extra_modes must be an array of at most " + std::to_string(core::kMaxExtraModes) + " modes");
+    }
+    for (const Json& e : extra) {
+      if (!e.is_object() || !e.contains("omega") || !e.contains("zeta") || !e["omega"].is_number() ||
+          !e["zeta"].is_number() || !std::isfinite(e["omega"].get<double>()) || !std::isfinite(e["zeta"].get<double>())) {
+        return bad("every request.extra_modes entry needs finite numbers \"omega\" and \"zeta\"");
+      }
+      r.extra_modes[r.extra_mode_count++] = {e["omega"].get<double>(), e["zeta"].get<double>()};
+    }
+  }
+  if (!j.contains("shaper") || !j["shaper"].is_object() || !j["shaper"].contains("impulses") ||
+      !j["shaper"]["impulses"].is_array()) {
+    return bad("no \"shaper\": {\"impulses\": [...]}");
+  }
+  const Json& imp = j["shaper"]["impulses"];
+  if (imp.empty() || imp.size() > core::kMaxImpulses) {
+    return bad("shaper.impulses must hold 1 to " + std::to_string(core::kMaxImpulses) + " impulses");
+  }
+  std::vector<double> amp, time;
+  for (const Json& i : imp) {
+    if (!i.is_object() || !i.contains("amplitude") || !i.contains("time") || !i["amplitude"].is_number() ||
+        !i["time"].is_number()) {
+      return bad("every shaper impulse needs numbers \"amplitude\" and \"time\"");
+    }
+    amp.push_back(i["amplitude"].get<double>());
+    time.push_back(i["time"].get<double>());
+  }
+  core::Move<double> bare{};
+  if (const core::Status st = core::plan(r, bare); st != core::Status::ok) {
+    return bad(std::string{"its request does not plan: "} + core::describe(st));
+  }
+  core::Shaper<double> shaper{};
+  if (const core::Status st = core::custom_shaper(amp.data(), time.data(), amp.size(), shaper); st != core::Status::ok) {
+    return bad(std::string{"its shaper is not valid: "} + core::describe(st));
+  }
+  const core::Move<double> m{bare.profile(), shaper, core::shaped_peaks(bare.profile(), shaper, bare.peaks())};
+  // The file's plan and the one planned again must be the same move.
+  const Json again = plan_json(m);
+  auto mismatch = [&](const std::string& what) {
+    err = {"plan_mismatch", option, option + ": " + what + " differs from what its request plans (edited, or made by another version?)"};
+    return false;
+  };
+  if (!j.contains("profile") || j["profile"] != again["profile"]) return mismatch("profile");
+  for (const char* key : {"distance", "duration", "profile_duration"}) {
+    if (!j.contains(key) || !j[key].is_number() || !close_to(j[key].get<double>(), again[key].get<double>())) {
+      return mismatch(key);
+    }
+  }
+  if (!j.contains("params") || !j["params"].is_object() || j["params"].size() != again["params"].size()) {
+    return mismatch("params");
+  }
+  for (const auto& [k, v] : again["params"].items()) {
+    if (!j["params"].contains(k) || !j["params"][k].is_number() || !close_to(j["params"][k].get<double>(), v.get<double>())) {
+      return mismatch("params." + k);
+    }
+  }
+  out = m;
+  return true;
+}
+
+}  // namespace settle::app

@@ -1,0 +1,255 @@
+#include "move_options.hpp"
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/plan_json.hpp"
+#include "settle/plant/move_vocabulary.hpp"
+
+namespace settle::app {
+
+namespace {
+
+bool parse_profile(const ParsedArgs& a, core::MoveRequest& r, RequestError& err) {
+  const auto prof = a.text("--profile");
+  if (!prof) {
+    err = {"missing_option", "--profile", "--profile: required (" + plant::profile_list() + ")"};
+    return false;
+  }
+  if (!core::parse_profile_kind(prof->c_str(), r.profile)) {  // the table lists only core's names
+    err = {"unknown_profile", "--profile", "--profile: unknown profile '" + *prof + "'"};
+    return false;
+  }
+  return true;
+}
+
+// What shapes the move besides its distance, limits and modes (shared by every axis of --axes).
+bool parse_shape(const ParsedArgs& a, core::MoveRequest& r, RequestError& err) {
+  if (r.profile == core::ProfileKind::fastest && r.time) {
+    err = {"bad_option", "--time", "--time: --profile fastest finds the shortest time itself; give --vmax, --amax, --jmax"};
+    return false;
+  }
+  r.robust = a.real("--robust");
+  if (r.robust && r.profile != core::ProfileKind::fastest) {
+    err = {"bad_option", "--robust", "--robust: only --profile fastest takes it"};
+    return false;
+  }
+  r.vtol = a.real("--vtol", 0.05);
+  if (a.has("--gammas")) {
+    const std::vector<double> v = a.list("--gammas");
+    r.gamma_count = v.size();  // at most kMaxGammas: the table's item limit
+    for (std::size_t i = 0; i < v.size() && i < r.gammas.size(); ++i) r.gammas[i] = v[i];
+  } else if (r.profile == core::ProfileKind::pseudopoly) {
+    err = {"missing_option", "--gammas", "--gammas: required for the pseudopoly profile"};
+    return false;
+  }
+  if (a.has("--y")) {
+    const std::vector<double> v = a.list("--y");
+    r.y_fractions = std::array<double, 3>{v[0], v[1], v[2]};
+  }
+  (void)plant::parse_shaper(a.text("--shaper", "none"), r.shaper);  // the table lists only these names
+  return true;
+}
+
+constexpr const char* kPerAxisOptions[] = {"--distance", "--vmax", "--amax", "--jmax", "--omega", "--zeta"};
+
+// Without --axes the move is one axis: no per-axis list, no --sync.
+bool check_single_axis(const ParsedArgs& a, RequestError& err) {
+  for (const char* o : kPerAxisOptions) {
+    for (const std::vector<double>& l : a.lists(o)) {
+      if (l.size() > 1) {
+        err = {"bad_option", o, std::string{o} + ": a comma list gives one value per axis; it needs --axes N"};
+        return false;
+      }
+    }
+  }
+  if (a.has("--sync")) {
+    err = {"bad_option", "--sync", "--sync: synchronises the axes of --axes N; give --axes too"};
+    return false;
+  }
+  return true;
+}
+
+// The per-axis values of option `o`: N of them, or (`one_for_all`) one for every axis. None when
+// the option is absent.
+bool axis_values(const ParsedArgs& a, const char* o, std::size_t n, bool one_for_all,
+                 std::optional<std::vector<double>>& out, RequestError& err) {
+  const std::vector<std::vector<double>> given = a.lists(o);
+  if (given.empty()) return true;
+  if (given.size() > 1) {
+    err = {"bad_option", o, std::string{o} + ": with --axes give it once, one value per axis (comma-separated)"};
+    return false;
+  }
+  std::vector<double> v = given.front();
+  if (v.size() == 1 && one_for_all) v.assign(n, v.front());
+  if (v.size() != n) {
+    err = {"bad_list", o,
+           std::string{o} + ": --axes " + std::to_string(n) + " needs " + std::to_string(n) +
+               " comma-separated values" + (one_for_all ? " (or one for every axis)" : "") + ", got " +
+               std::to_string(given.front().size())};
+    return false;
+  }
+  out = std::move(v);
+  return true;
+}
+
+}  // namespace
+
+bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestError& err,
+                        const DesignFallback* fallback) {
+  if (!check_single_axis(a, err)) return false;
+  core::MoveRequest r{};
+  if (!parse_profile(a, r, err)) return false;
+  const auto distance = a.real("--distance");
+  if (!distance) {
+    err = {"missing_option", "--distance", "--distance: required"};
+    return false;
+  }
+  r.distance = *distance;
+  r.time = a.real("--time");
+  r.vmax = a.real("--vmax");
+  r.amax = a.real("--amax");
+  r.jmax = a.real("--jmax");
+  const char* option = nullptr;
+  std::string message;
+  if (!plant::set_design_modes(a.reals("--omega"), a.reals("--zeta"), r, option, message)) {
+    err = {"bad_option", option, std::string{option} + ": " + message};
+    return false;
+  }
+  if (!parse_shape(a, r, err)) return false;
+  if (fallback != nullptr && !a.has("--omega") && core::needs_mode(r)) {
+    r.omega = fallback->omega;
+    if (!a.has("--zeta")) r.zeta = fallback->zeta;
+  }
+  req = r;
+  return true;
+}
+
+bool wants_axes(const ParsedArgs& a) { return a.has("--axes"); }
+
+bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, RequestError& err,
+                        const DesignFallback* fallback) {
+  core::MultiAxisRequest r{};
+  if (!parse_profile(a, r.base, err)) return false;
+  r.count = static_cast<std::size_t>(a.integer("--axes", 1));  // 1..kMaxAxes: the table's range
+  r.sync = a.text("--sync", "path") == "time" ? core::SyncMode::time : core::SyncMode::path;
+  std::optional<std::vector<double>> d, vmax, amax, jmax, omega, zeta;
+  if (!axis_values(a, "--distance", r.count, false, d, err)) return false;
+  if (!d) {
+    err = {"missing_option", "--distance", "--distance: required (" + std::to_string(r.count) +
+                                               " comma-separated values, one per axis)"};
+    return false;
+  }
+  if (!axis_values(a, "--vmax", r.count, true, vmax, err) || !axis_values(a, "--amax", r.count, true, amax, err) ||
+      !axis_values(a, "--jmax", r.count, true, jmax, err) || !axis_values(a, "--omega", r.count, false, omega, err) ||
+      !axis_values(a, "--zeta", r.count, false, zeta, err)) {
+    return false;
+  }
+  for (std::size_t i = 0; i < r.count; ++i) {
+    core::AxisSpec& x = r.axes[i];
+    x.distance = (*d)[i];
+    if (vmax) x.vmax = (*vmax)[i];
+    if (amax) x.amax = (*amax)[i];
+    if (jmax) x.jmax = (*jmax)[i];
+    if (omega) x.omega = (*omega)[i];
+    if (zeta) x.zeta = (*zeta)[i];
+  }
+  r.base.time = a.real("--time");
+  if (!parse_shape(a, r.base, err)) return false;
+  core::MoveRequest probe = r.base;
+  probe.omega = fallback != nullptr ? std::optional<double>{fallback->omega} : std::nullopt;
+  if (fallback != nullptr && !omega && core::needs_mode(probe)) {
+    for (std::size_t i = 0; i < r.count && i < r.axes.size(); ++i) {
+      r.axes[i].omega = fallback->omega;
+      if (!zeta) r.axes[i].zeta = fallback->zeta;
+    }
+  }
+  req = r;
+  return true;
+}
+
+bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestError& err) {
+  const core::Status st = core::plan(req, out);
+  if (st != core::Status::ok) {
+    const char* p = plant::option_of(st, req);
+    err = {core::to_string(st), p, std::string{p} + ": " + plant::reason_of(st, req)};
+    return false;
+  }
+  // What the options allow can still plan into a move too long or too extreme to report:
+  // refuse it here, before anything is printed or sized from it.
+  const char* main = req.time ? "--time" : (req.vmax ? "--vmax" : "--distance");
+  if (!std::isfinite(out.duration()) || !std::isfinite(out.distance())) {
+    err = {"non_finite_result", main, std::string{main} + ": the planned move is not finite"};
+    return false;
+  }
+  if (out.duration() > kMaxSeconds) {
+    const char* who = req.time ? (out.profile().duration() > kMaxSeconds ? "--time" : "--omega") : main;
+    err = {"too_long", who,
+           std::string{who} + ": the planned move lasts " + format_number(out.duration()) + " s; at most 3600 s" +
+               (req.time ? "" : " (raise --vmax, --amax or --jmax)")};
+    return false;
+  }
+  return true;
+}
+
+bool plan_axes(const core::MultiAxisRequest& req, core::MultiAxisPlan& out, RequestError& err) {
+  std::size_t culprit = core::kMaxAxes;
+  const core::Status st = core::plan_axes(req, out, culprit);
+  if (st != core::Status::ok) {
+    // The option is named as for one axis with the culprit's values; the message says which axis.
+    core::MoveRequest q = req.base;
+    std::string axis;
+    if (culprit < req.count) {
+      q = core::axis_request(req, culprit);
+      axis = "axis " + std::to_string(culprit + 1) + ": ";
+    }
+    if (st == core::Status::unsupported_request && req.sync == core::SyncMode::time) {
+      err = {core::to_string(st), "--sync",
+             "--sync: time plans every axis to the slowest one's duration; --profile " +
+                 std::string{core::to_string(req.base.profile)} + " cannot be planned to a move time (use --sync path)"};
+      return false;
+    }
+    const char* p = plant::option_of(st, q);
+    err = {core::to_string(st), p, std::string{p} + ": " + axis + plant::reason_of(st, q)};
+    return false;
+  }
+  if (!std::isfinite(out.duration())) {
+    err = {"non_finite_result", "--distance", "--distance: the planned move is not finite"};
+    return false;
+  }
+  if (out.duration() > kMaxSeconds) {
+    const char* who = req.base.time ? "--time" : "--vmax";
+    err = {"too_long", who,
+           std::string{who} + ": the planned move lasts " + format_number(out.duration()) + " s; at most 3600 s"};
+    return false;
+  }
+  return true;
+}
+
+bool move_from_args(const ParsedArgs& args, core::Move<double>& out, RequestError& err,
+                    const DesignFallback* fallback) {
+  if (const auto file = args.text("--plan-from")) {
+    for (const char* o : {"--profile", "--distance", "--time", "--vmax", "--amax", "--jmax", "--omega", "--zeta",
+                          "--gammas", "--y", "--shaper", "--vtol", "--sync"}) {
+      if (args.has(o)) {
+        err = {"conflicting_options", o, std::string{o} + ": the move comes from --plan-from; give no move option with it"};
+        return false;
+      }
+    }
+    core::Move<double> m{};
+    if (!load_plan_file(*file, "--plan-from", m, err)) return false;
+    if (!(m.duration() <= kMaxSeconds)) {
+      err = {"too_long", "--plan-from", "--plan-from: the plan lasts " + format_number(m.duration()) + " s; at most 3600 s"};
+      return false;
+    }
+    out = m;
+    return true;
+  }
+  core::MoveRequest req{};
+  if (!parse_move_request(args, req, err, fallback)) return false;
+  return plan_move(req, out, err);
+}
+
+}  // namespace settle::app

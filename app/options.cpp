@@ -1,0 +1,955 @@
+#include "options.hpp"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <initializer_list>
+#include <iostream>
+#include <sstream>
+#include <string_view>
+
+#include "io/json.hpp"
+#include "settle/core/multi_axis.hpp"
+#include "settle/core/profile.hpp"
+#include "settle/plant/beam.hpp"
+#include "settle/commission/identify.hpp"
+#include "settle/commission/identify_excitation.hpp"
+#include "settle/plant/move_vocabulary.hpp"
+
+namespace settle::app {
+
+namespace {
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::vector<std::string> profile_names() {
+  const auto names = core::profile_names();
+  return {names.begin(), names.end()};
+}
+
+std::vector<std::string> shaper_names() {
+  std::vector<std::string> names;
+  for (const plant::ShaperName& s : plant::shaper_names()) names.emplace_back(s.name);
+  return names;
+}
+
+OptionSpec real(std::string name, std::string unit, std::string def, Range r, std::string help) {
+  return {.name = std::move(name), .kind = Kind::real, .unit = std::move(unit), .def = std::move(def),
+          .help = std::move(help), .range = r};
+}
+OptionSpec integer(std::string name, std::string unit, std::string def, Range r, std::string help) {
+  return {.name = std::move(name), .kind = Kind::integer, .unit = std::move(unit), .def = std::move(def),
+          .help = std::move(help), .range = r};
+}
+OptionSpec text(std::string name, std::string def, std::string help, std::string value_name) {
+  return {.name = std::move(name), .kind = Kind::text, .unit = "", .def = std::move(def), .help = std::move(help),
+          .value_name = std::move(value_name)};
+}
+OptionSpec choice(std::string name, std::string def, std::vector<std::string> choices, std::string help) {
+  return {.name = std::move(name), .kind = Kind::choice, .unit = "", .def = std::move(def), .help = std::move(help),
+          .choices = std::move(choices)};
+}
+OptionSpec flag(std::string name, std::string help) {
+  return {.name = std::move(name), .kind = Kind::flag, .unit = "", .def = "", .help = std::move(help)};
+}
+
+constexpr Range kPositive{0.0, 1e12, true, false};
+
+// ---- the option table ------------------------------------------------------------------------
+
+const std::vector<OptionSpec> kOutput = {
+    flag("--json", "print one JSON object on stdout (errors too)"),
+};
+
+const std::vector<OptionSpec> kMove = [] {
+  std::vector<OptionSpec> v = {
+      choice("--profile", "", profile_names(), "the motion profile (required)"),
+      real("--distance", "m or rad", "", {-1e6, 1e6}, "signed move distance (required)"),
+      real("--time", "s", "", {1e-6, kMaxSeconds}, "move time of the unshaped profile (or give limits)"),
+      real("--vmax", "unit/s", "", {0.0, 1e9, true}, "velocity limit"),
+      real("--amax", "unit/s^2", "", {0.0, 1e12, true}, "acceleration limit"),
+      real("--jmax", "unit/s^3", "", {0.0, 1e15, true}, "jerk limit"),
+      {.name = "--omega", .kind = Kind::real, .unit = "rad/s", .def = "the plant's fundamental (simulate, stream)",
+       .help = "natural frequency the move is designed for (repeat for more modes: --profile fastest)",
+       .range = {1e-3, 1e6}, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
+      {.name = "--zeta", .kind = Kind::real, .unit = "", .def = "0 (simulate, stream: the plant's)",
+       .help = "damping ratio the move is designed for (one per --omega, in order, when several)",
+       .range = {0.0, 1.0, false, true}, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
+      real("--robust", "%", "", {0.0, 50.0, true, false},
+           "fastest: keep every mode's residual <= 5 % of a step's over omega (1 +- PCT/100)"),
+      {.name = "--gammas", .kind = Kind::list, .unit = "", .def = "", .help = "pseudopoly exponents G1,G2,... "
+       "(required for pseudopoly)", .range = {2.0, 100.0, true, false}, .min_items = 1, .max_items = 8,
+       .value_name = "G1,G2,..."},
+      {.name = "--y", .kind = Kind::list, .unit = "", .def = "computed", .help = "ramp-versine fractions "
+       "Y1/L,Y2/L,Y3/L", .range = {-100.0, 100.0}, .min_items = 3, .max_items = 3, .value_name = "Y1,Y2,Y3"},
+      choice("--shaper", "none", shaper_names(), "input shaper convolved with the profile"),
+      real("--vtol", "", "0.05", {0.0, 0.5, true, true}, "vibration tolerance of the EI shapers (ei, ei2, ei3)"),
+  };
+  return v;
+}();
+
+// plan, sample, simulate: the move group whose distance, limits and mode also take one value per
+// axis (--axes N, docs/multi_axis.md), and the coordination's own options.
+const std::vector<OptionSpec> kMoveAxes = [] {
+  std::vector<OptionSpec> v = kMove;
+  for (OptionSpec& o : v) {
+    o.per_axis = o.name == "--distance" || o.name == "--vmax" || o.name == "--amax" || o.name == "--jmax" ||
+                 o.name == "--omega" || o.name == "--zeta";
+  }
+  return v;
+}();
+const std::vector<OptionSpec> kAxes = {
+    integer("--axes", "", "1 (one axis, no coordination)", {1.0, static_cast<double>(core::kMaxAxes)},
+            "coordinate N axes that start and end together: --distance, --omega, --zeta take N comma-separated "
+            "values, --vmax, --amax, --jmax one or N (docs/multi_axis.md)"),
+    choice("--sync", "path", {"path", "time"},
+           "with --axes: 'path' (a straight line; every axis shaped for every axis's mode) or 'time' (each axis "
+           "its own move on its own mode, one common duration; reports the deviation from the line)"),
+};
+
+// settle tune: the move's own options, taken from the move group (one row per option).
+const std::vector<OptionSpec> kTuneMove = [] {
+  std::vector<OptionSpec> v;
+  for (const OptionSpec& o : kMove) {
+    if (o.name == "--distance" || o.name == "--time" || o.name == "--vmax" || o.name == "--amax" || o.name == "--jmax") {
+      v.push_back(o);
+    }
+  }
+  return v;
+}();
+
+const std::vector<OptionSpec> kTune = {
+    text("--modes-from", "", "the modes and their confidence intervals: the JSON `settle identify --json` prints "
+                             "(at most 1 MiB, at most 4 modes)", "FILE"),
+    {.name = "--mode", .kind = Kind::list, .unit = "rad/s, -, -", .def = "", .help = "a mode OMEGA,ZETA[,GAIN] "
+     "instead of --modes-from (repeatable; needs --uncertainty PCT)", .range = {0.0, 0.0}, .min_items = 2,
+     .max_items = 3, .repeatable = true, .max_repeats = 4,
+     .item_ranges = {{1e-2, 1e6}, {0.0, 1.0, false, true}, {-1e6, 1e6}}, .value_name = "OMEGA,ZETA[,GAIN]"},
+    real("--residual-max", "fraction of the unshaped residual", "0.05", {0.0, 1.0, true, true},
+         "largest residual allowed anywhere in the band, relative to what an unshaped step of --distance leaves "
+         "on the same mode"),
+    text("--uncertainty", "ci", "the band searched: 'ci' (the intervals of --modes-from) or PCT, a percentage in "
+                                "(0, 90] (also written +-PCT): omega x (1 +- PCT/100)", "ci|PCT"),
+    real("--zeta-pm", "", "0.01", {0.0, 0.5}, "with --uncertainty PCT: zeta's band is zeta +- this (clipped to [0, 0.99])"),
+    text("--png", "", "draw residual against frequency error for the chosen plan and the faster plans it beat "
+                      "(needs gnuplot)", "FILE"),
+};
+
+const std::vector<OptionSpec> kPlanFrom = {
+    text("--plan-from", "", "the plan `settle tune --json` wrote: exactly that move (no move options with it)", "FILE"),
+};
+
+const std::vector<OptionSpec> kPlant = {
+    choice("--plant", "beam", {"sdof", "beam", "belt", "modes"}, "the plant behind the drive"),
+    real("--mass", "kg", "1", {1e-6, 1e6}, "sdof: mass"),
+    real("--stiffness", "N/m", "800", {1e-6, 1e12}, "sdof: spring stiffness"),
+    real("--damping", "N s/m", "9", {0.0, 1e9}, "sdof: damping coefficient (must leave zeta < 1)"),
+    real("--length", "m", "0.25", {1e-3, 100.0}, "beam: length"),
+    real("--modulus", "Pa", "3e9", {1.0, 1e13}, "beam: Young's modulus"),
+    real("--thickness", "m", "0.002", {1e-6, 10.0}, "beam: thickness (bending direction)"),
+    real("--width", "m", "0.025", {1e-6, 10.0}, "beam: width"),
+    real("--beam-mass", "kg", "0.02", {1e-6, 1e6}, "beam: mass of the beam"),
+    real("--tip-mass", "kg", "0.015", {0.0, 1e6}, "beam: tip mass"),
+    integer("--modes", "", "3", {1.0, static_cast<double>(plant::kMaxBeamModes)}, "beam: number of modes"),
+    real("--modal-damping", "", "0", {0.0, 1.0, false, true}, "beam: damping ratio of every mode"),
+    real("--inertia", "kg m^2", "6", {1e-6, 1e6}, "belt: platform inertia"),
+    real("--belt-stiffness", "N/m", "9e4", {1e-6, 1e12}, "belt: stiffness of each branch"),
+    real("--belt-damping", "N s/m", "150", {0.0, 1e9}, "belt: damping of each branch (must leave zeta < 1)"),
+    real("--pulley-r", "m", "0.06", {1e-4, 100.0}, "belt: motor pulley radius"),
+    real("--pulley-R", "m", "0.18", {1e-4, 100.0}, "belt: platform pulley radius"),
+    real("--ratio", "", "0.1", {1e-4, 1e4}, "belt: gear ratio z"),
+    {.name = "--mode", .kind = Kind::list, .unit = "rad/s, -, -", .def = "", .help = "modes: one mode "
+     "OMEGA,ZETA,GAIN (required for --plant modes; repeatable)", .range = {0.0, 0.0}, .min_items = 3,
+     .max_items = 3, .repeatable = true, .max_repeats = kMaxModes,
+     .item_ranges = {{1e-2, 1e6}, {0.0, 1.0, false, true}, {-1e6, 1e6}}, .value_name = "OMEGA,ZETA,GAIN"},
+};
+
+const std::vector<OptionSpec> kDrive = {
+    integer("--period-us", "us", "1000", {100.0, 100000.0}, "SYNC / drive period"),
+    real("--counts-per-unit", "counts/unit", "1e6 (belt: 65536/2pi)", {1e-3, 1e9}, "motor position scale"),
+    real("--load-counts-per-unit", "counts/unit", "1e6", {1e-3, 1e9}, "load position scale"),
+    choice("--interp", "linear", {"linear", "cubic"}, "the drive's interpolation between setpoints"),
+    choice("--drive", "ideal", {"ideal", "servo"}, "drive model: ideal tracking or a 2nd-order position loop"),
+    real("--bandwidth", "Hz", "30", {1e-2, 1e3}, "servo drive: position loop natural frequency"),
+    real("--servo-damping", "", "0.7", {0.0, 1.0, true, true}, "servo drive: position loop damping ratio"),
+};
+
+const std::vector<OptionSpec> kSample = {
+    real("--dt", "s", "", {0.0, kMaxSeconds, true}, "sample period (required); at most 2e6 samples"),
+};
+
+const std::vector<OptionSpec> kSimulate = {
+    text("--csv", "", "write the time history to FILE (at most 1e6 rows)", "FILE"),
+    real("--dt", "s", "1e-4", {1e-7, 1.0}, "simulation grid step; at most 2e6 steps x modes"),
+    real("--band", "m or rad", "5 % of an unshaped step's residual", {0.0, 1e6, true}, "settling band"),
+    real("--tail", "s", "3 periods of the slowest mode", {0.0, kMaxSeconds},
+         "time simulated after the move; move + tail at most 3600 s"),
+    flag("--sensitivity", "also report the 5 % insensitivity width on the fundamental mode"),
+};
+
+// simulate and stream: a change of the move mid-way (issue 17, docs/online.md).
+const std::vector<OptionSpec> kOnline = {
+    real("--halt-at", "s", "", {0.0, kMaxSeconds},
+         "halt the move at T s from its start (T within the move): blend to rest within --vmax/--amax/--jmax "
+         "(else the move's own peaks; a trapezoid's jerk: amax x omega), its design mode left at rest "
+         "(docs/online.md); with --axes N every moving axis at the same T, with --sync path on the line "
+         "(docs/multi_axis.md)"),
+    text("--retarget-at", "", "at T s from the move's start (T within the move), blend to NEW_DISTANCE "
+         "(m or rad, -1e6..1e6) instead, likewise; with --axes N one NEW_DISTANCE per axis, comma-separated; "
+         "stream: T rounds to whole periods, at least 3", "T:NEW_DISTANCE[,...]"),
+};
+
+const std::vector<OptionSpec> kStream = {
+    text("--bus", "vcan0", "SocketCAN interface, or 'loopback' (in-process drive, virtual time)", "IFACE"),
+    choice("--scalar", "double", {"double", "float", "fixed"},
+           "the loop's evaluation: the move in double or float, or the integer-only fixed-point plan"),
+    integer("--node", "", "1", {1.0, 127.0}, "the drive's CANopen node id"),
+    {.name = "--nodes", .kind = Kind::list, .unit = "", .def = "1,2,...,N",
+     .help = "with --axes N: the drives' CANopen node ids, one per axis in axis order, distinct whole numbers",
+     .range = {1.0, 127.0}, .min_items = 1, .max_items = core::kMaxAxes, .value_name = "N1,N2,..."},
+    real("--axis-vmax", "unit/s", "1.5 x the move's peak velocity", {0.0, 1e9, true},
+         "the loop's step guard: largest velocity one setpoint step may imply"),
+    real("--settle-time", "s", "1", {0.0, 600.0, true, true}, "time streamed after the move"),
+    integer("--rt-priority", "", "0 (no SCHED_FIFO)", {0.0, 99.0}, "SCHED_FIFO priority of the loop"),
+    text("--eds", "", "the drive's EDS/DCF: start-up configures and verifies the drive from it (its PDO mapping, "
+                      "periods, identity); with --bus loopback the simulated drive is the one it describes", "FILE"),
+    choice("--pm-qos", "on", {"on", "off"},
+           "hold /dev/cpu_dma_latency at 0 us while the loop runs on a CAN interface (CPUs stay out of deep "
+           "idle states: lower wake-up latency, more power)"),
+    integer("--heartbeat-ms", "ms", "500", {10.0, 10000.0}, "the drive's heartbeat timeout at the loop"),
+    integer("--bitrate", "bit/s", "1000000", {10000.0, 1000000.0},
+            "the bus's classic CAN bit rate: a SYNC period must hold the SYNC and every axis's PDOs with "
+            "worst-case bit stuffing, else refused (docs/multi_axis.md)"),
+    integer("--sdo-timeout-ms", "ms", "1000", {1.0, 60000.0}, "timeout of each start-up SDO"),
+    integer("--feedback-timeout-periods", "periods", "10", {0.0, 65535.0},
+            "SYNCs in a row without the drive's feedback before the loop halts the axis (0 = off)"),
+    text("--log", "", "write the loop's tick log as CSV to FILE", "FILE"),
+    text("--candump", "", "write every frame the loop sends and receives as a candump log to FILE", "FILE"),
+    text("--feedback-log", "", "write commanded and measured motion per period as CSV to FILE", "FILE"),
+};
+
+// The simulated drive's load encoder noise: settle plant's, and settle identify's in-process drive.
+const std::vector<OptionSpec> kLoadNoise = {
+    real("--noise", "load counts", "0", {0.0, 1e6},
+         "white noise on the simulated drive's load-side feedback, standard deviation (identify: --bus loopback)"),
+    integer("--seed", "", "1", {0.0, 4294967295.0}, "seed of --noise"),
+};
+
+// settle identify: the rows it shares with stream (where and how the loop runs), taken from
+// kStream so that each is declared once, and its own: the excitation and the estimator.
+std::vector<OptionSpec> rows_of(const std::vector<OptionSpec>& from, std::initializer_list<std::string_view> names) {
+  std::vector<OptionSpec> v;
+  for (const std::string_view n : names) {
+    for (const OptionSpec& o : from) {
+      if (o.name == n) v.push_back(o);
+    }
+  }
+  return v;
+}
+const std::vector<OptionSpec> kIdentifyLoop =
+    rows_of(kStream, {"--bus", "--node", "--eds", "--heartbeat-ms", "--sdo-timeout-ms", "--feedback-timeout-periods",
+                      "--rt-priority", "--pm-qos", "--candump"});
+const std::vector<OptionSpec> kIdentify = {
+    integer("--max-modes", "", "3", {1.0, static_cast<double>(commission::kMaxIdentifyModes)},
+            "the most modes to identify (fewer are reported when fewer stand out of the noise)"),
+    real("--distance", "m or rad", "0.01", {0.0, 1e3, true}, "excitation: distance of its jerk-limited move"),
+    real("--vmax", "unit/s", "0.1", {0.0, 1e6, true}, "excitation: velocity limit"),
+    real("--amax", "unit/s^2", "5", {0.0, 1e9, true}, "excitation: acceleration limit"),
+    real("--jmax", "unit/s^3", "5000", {0.0, 1e12, true},
+         "excitation: jerk limit (amax / jmax is its jerk phase: shorter excites higher modes)"),
+    integer("--train", "", std::to_string(commission::kDefaultTrainRoundTrips), {0.0, static_cast<double>(commission::kMaxTrainRoundTrips)},
+            "excitation: round trips of the move before the last one, with varied gaps (more acceleration steps: "
+            "heavily damped modes are measured better; 0: the move alone)"),
+    real("--hold", "s", "4", {0.5, 600.0}, "excitation: time recorded at rest after the move (the free response)"),
+    text("--png", "", "draw the measured response and the fitted model (time and frequency) to FILE (gnuplot)",
+         "FILE"),
+};
+
+const std::vector<OptionSpec> kPlantNode = {
+    text("--bus", "vcan0", "SocketCAN interface", "IFACE"),
+    integer("--node", "", "1", {1.0, 127.0}, "this drive's CANopen node id"),
+    integer("--heartbeat-ms", "ms", "100", {10.0, 10000.0}, "heartbeat producer period"),
+    integer("--sync-loss-periods", "periods", "3", {1.0, 255.0}, "SYNC/RPDO periods tolerated before a fault"),
+    text("--eds", "hal/eds/settle_drive.eds",
+         "the drive to simulate: its objects, identity, defaults and PDO mappings (hal/eds has four); "
+         "--heartbeat-ms and --sync-loss-periods, when given, override its 0x1017 and 0x2001",
+         "FILE"),
+    text("--log", "", "write one CSV row per SYNC to FILE", "FILE"),
+    real("--duration", "s", "0 (until SIGINT/SIGTERM)", {0.0, 604800.0}, "run time"),
+};
+
+// settle drive: the bus and node every subcommand talks to, the object read or written.
+const std::vector<OptionSpec> kDriveBus = {
+    text("--bus", "vcan0", "SocketCAN interface, or 'loopback' (the simulated drive in this process)", "IFACE"),
+    integer("--timeout-ms", "ms", "1000", {1.0, 60000.0}, "timeout of each SDO request (scan: of each batch)"),
+    text("--eds", "", "the drive's EDS/DCF: read/write take --type from it, info names the mapped objects, config "
+                      "applies what streaming needs (required there); with --bus loopback the simulated drive is the "
+                      "one it describes", "FILE"),
+};
+const std::vector<OptionSpec> kDriveNodeId = {
+    integer("--node", "", "1", {1.0, 127.0}, "the drive's CANopen node id"),
+};
+const std::vector<OptionSpec> kDriveObject = [] {
+  OptionSpec index = integer("--index", "", "", {1.0, 65535.0}, "the object's index, e.g. 0x6041 (required)");
+  index.hex = true;
+  index.value_name = "INDEX";
+  OptionSpec sub = integer("--sub", "", "0", {0.0, 255.0}, "the object's sub-index");
+  sub.hex = true;
+  return std::vector<OptionSpec>{
+      index, sub,
+      choice("--type", "", {"u8", "u16", "u32", "i8", "i16", "i32", "string"},
+             "the object's data type (required unless --eds gives it): unsigned/signed 8/16/32-bit integer, or a "
+             "string"),
+  };
+}();
+const std::vector<OptionSpec> kDriveValue = {
+    text("--value", "", "the value to write (required): an integer in the range of --type (or 0x hex), or the "
+                        "string's text", "V"),
+};
+
+const std::vector<OptionSpec> kReproduce = {
+    text("--out", "", "write the experiment's CSV files and PNG figures to DIR", "DIR"),
+};
+
+const std::vector<OptionSpec> kDemo = {
+    text("--bus", "vcan0",
+         "SocketCAN interface for the drive and loop processes, or 'loopback' (one process per run, virtual time)",
+         "IFACE"),
+    text("--out", "demo", "write every run's JSON, logs, CSV and the plots to DIR", "DIR"),
+    flag("--list", "print the paper scenarios and exit (with --json: with the constants they derive from)"),
+};
+
+const std::string kDriveNotes =
+    "With --bus loopback the simulated drive (hal's DriveNode: the --eds drive, or the default configuration) runs in "
+    "this process. "
+    "Exit 1 when the bus cannot be opened, the drive does not answer within --timeout-ms, or it aborts the "
+    "transfer (the CiA 301 abort code and its meaning are printed), or (write) the value reads back different.";
+
+const std::vector<CommandSpec> kCommands = {
+    {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "", .groups = {kMoveAxes, kAxes, kOutput}},
+    {.name = "sample",
+     .summary = "plan a move and print t,position,velocity,acceleration,jerk every --dt (CSV, or --json)",
+     .usage = "",
+     .groups = {kMoveAxes, kAxes, kPlanFrom, kSample, kOutput},
+     .notes = "Bounds: at most 2e6 samples (move duration / --dt); the move at most 3600 s."},
+    {.name = "simulate",
+     .summary = "run a move on a plant (sdof, beam, belt, modes): residual, PRV, energy",
+     .usage = "",
+     .groups = {kMoveAxes, kAxes, kPlant, kSimulate, kOnline, kOutput},
+     .notes = "Bounds: move + tail at most 3600 s; grid steps ((move + tail) / --dt) x modes at most 2e6; with --csv "
+              "at most 1e6 rows; at most 64 --mode."},
+    {.name = "reproduce",
+     .summary = "rerun a paper's experiment (000, 001, 004) as tables, CSV and plots",
+     .usage = "000|001|004",
+     .groups = {kReproduce, kOutput},
+     .positional_choices = {"000", "001", "004"}},
+    {.name = "plant",
+     .summary = "run the simulated CiA 402 drive with a plant behind it on a CAN bus",
+     .usage = "",
+     .groups = {kPlantNode, kPlant, kDrive, kLoadNoise, kOutput},
+     .notes = "Exit 1 when the bus cannot be opened or the drive faulted."},
+    {.name = "stream",
+     .summary = "stream a move to a drive over CAN and measure the residual vibration",
+     .usage = "",
+     .groups = {kStream, kPlanFrom, kMoveAxes, kAxes, kPlant, kDrive, kOnline, kOutput},
+     .notes = "Bounds: move + settle time at most 3600 s and at most 1e6 periods (5 s start-up included); "
+              "setpoints must fit in 32-bit counts. With --axes N: nodes 1..N (or --nodes), every axis on its own "
+              "copy of the plant options' plant, all started on the same SYNC; not with --node or --plan-from; "
+              "--halt-at and --retarget-at change every axis in the same period; --log and --feedback-log are axis 1's. Exit 1 when the bus cannot be "
+              "opened or the move did not complete."},
+    {.name = "tune",
+     .summary = "the fastest plan whose residual stays within --residual-max over the modes' uncertainty band",
+     .usage = "",
+     .groups = {kTuneMove, kTune, kOutput},
+     .notes = "Give --modes-from or --mode, and --time or limits (--vmax, --amax, --jmax). Every registered profile "
+              "is tried alone and with ZV, ZVD, EI and the two- and three-hump EI composed over the modes, designed at the nominal modes and "
+              "retuned within the band (docs/tuning.md). Bounds: at most 4 modes; a search too fine to bound "
+              "(omega_hi x move duration too large) is refused (too_much_work). No plan within the bound: exit 2, "
+              "no_feasible_plan."},
+    {.name = "identify",
+     .summary = "excite the axis through the loop and the bus, and estimate the machine's modes from the drive's feedback",
+     .usage = "",
+     .groups = {kIdentifyLoop, kIdentify, kLoadNoise, kPlant, kDrive, kOutput},
+     .notes = "The excitation is one jerk-limited move of --distance within --vmax/--amax/--jmax, then --hold s at "
+              "rest; it lasts at most 600 s and 1e6 periods, and must fit 32-bit counts. The plant options describe "
+              "the simulated drive's machine (--bus loopback); the estimate uses only the drive's frames. "
+              "Exit 1 when the drive never enables, no load-side feedback is mapped, the feedback is incomplete, or "
+              "the response is too small to fit (noise-dominated)."},
+    {.name = "drive info",
+     .summary = "read a drive's identity, strings and PDO configuration over SDO",
+     .usage = "",
+     .groups = {kDriveBus, kDriveNodeId, kOutput},
+     .notes = kDriveNotes},
+    {.name = "drive read",
+     .summary = "read one object of a drive's dictionary over SDO",
+     .usage = "",
+     .groups = {kDriveBus, kDriveNodeId, kDriveObject, kOutput},
+     .notes = kDriveNotes},
+    {.name = "drive write",
+     .summary = "write one object of a drive's dictionary over SDO, then read it back",
+     .usage = "",
+     .groups = {kDriveBus, kDriveNodeId, kDriveObject, kDriveValue, kOutput},
+     .notes = kDriveNotes},
+    {.name = "drive config",
+     .summary = "configure and verify what streaming needs, from the drive's EDS (--eds), and print what changed",
+     .usage = "",
+     .groups = {kDriveBus, kDriveNodeId, kOutput},
+     .notes = "Runs the master's start-up: device type and identity checked, mode, periods, heartbeat and PDO "
+              "mapping written, each write read back; the drive is left pre-operational. Exit 1 when the drive "
+              "cannot stream (the object is named), does not answer, aborts, or a written value reads back "
+              "different."},
+    {.name = "drive scan",
+     .summary = "list the node ids 1..127 that answer an SDO read of 0x1000, with their device types",
+     .usage = "",
+     .groups = {kDriveBus, kOutput},
+     .notes = "Asks 16 nodes at a time, each batch waiting at most --timeout-ms; with --bus loopback the simulated "
+              "drive is node 1. Exit 1 when the bus cannot be opened."},
+    {.name = "demo",
+     .summary = "stream every paper scenario to the simulated drive and verify the machine ends at rest",
+     .usage = "",
+     .groups = {kDemo, kOutput},
+     .notes = "Runs settle plant and settle stream as processes (tools/demo brings vcan0 up first). Exit 1 when the "
+              "bus cannot be opened or a scenario did not complete."},
+};
+
+const OptionSpec kHelp = flag("--help", "print this help and exit");
+
+std::string value_name(const OptionSpec& o) {
+  if (!o.value_name.empty()) return o.value_name;
+  switch (o.kind) {
+    case Kind::real: return "NUM";
+    case Kind::integer: return "INT";
+    case Kind::text: return "TEXT";
+    case Kind::choice: return "NAME";
+    case Kind::list: return "LIST";
+    case Kind::flag: return "";
+  }
+  return "";
+}
+
+std::string range_text(const OptionSpec& o, const Range& r) {
+  if (o.kind == Kind::integer) return num(r.lo) + ".." + num(r.hi);
+  return r.text();
+}
+
+// What a valid value looks like, for help and for error messages.
+std::string expectation(const OptionSpec& o) {
+  const std::string unit = o.unit.empty() ? "" : " " + o.unit;
+  switch (o.kind) {
+    case Kind::real: return "a number in " + range_text(o, o.range) + unit;
+    case Kind::integer: return "a whole number in " + range_text(o, o.range) + unit + (o.hex ? " (or 0x hex)" : "");
+    case Kind::text: return "a non-empty " + value_name(o);
+    case Kind::choice: {
+      std::string s = "one of ";
+      for (std::size_t i = 0; i < o.choices.size(); ++i) s += (i ? ", " : "") + o.choices[i];
+      return s;
+    }
+    case Kind::list: {
+      std::string s = o.min_items == o.max_items ? std::to_string(o.min_items)
+                                                 : std::to_string(o.min_items) + " to " + std::to_string(o.max_items);
+      s += " comma-separated numbers";
+      if (o.item_ranges.empty()) {
+        s += ", each in " + o.range.text();
+      } else {
+        s += " in ";
+        for (std::size_t i = 0; i < o.item_ranges.size(); ++i) s += (i ? ", " : "") + o.item_ranges[i].text();
+      }
+      if (!o.unit.empty()) s += " (" + o.unit + ")";
+      return s;
+    }
+    case Kind::flag: return "no value";
+  }
+  return "";
+}
+
+// ---- parsing -------------------------------------------------------------------------------
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+bool looks_like_number(const std::string& s) {
+  double v = 0.0;
+  return parse_real(s, v);
+}
+
+bool fail_with(RequestError& err, std::string code, const std::string& param, std::string message) {
+  err = {std::move(code), param, std::move(message)};
+  return false;
+}
+
+// A hexadecimal integer "0x1A2b" (hex options only); false when `v` is not one.
+bool parse_hex(const std::string& v, long long& out) {
+  if (v.size() < 3 || v[0] != '0' || (v[1] != 'x' && v[1] != 'X')) return false;
+  unsigned long long u = 0;
+  const auto [p, ec] = std::from_chars(v.data() + 2, v.data() + v.size(), u, 16);
+  if (ec != std::errc{} || p != v.data() + v.size() || u > 0x7FFF'FFFF'FFFF'FFFFULL) return false;
+  out = static_cast<long long>(u);
+  return true;
+}
+
+// One number of option `o` in `r`: the parser's check, and check_value's.
+bool check_number(const OptionSpec& o, const std::string& v, const Range& r, double& x, const std::string& want,
+                  RequestError& err) {
+  const std::string& n = o.name;
+  if (o.kind == Kind::integer) {
+    long long i = 0;
+    if (!parse_integer(v, i) && !(o.hex && parse_hex(v, i))) {
+      double d = 0.0;
+      if (!parse_real(v, d)) return fail_with(err, "bad_number", n, n + ": '" + v + "' is not a number" + want);
+      if (!std::isfinite(d)) return fail_with(err, "non_finite_input", n, n + ": '" + v + "' is not finite" + want);
+      if (d == std::floor(d) && !r.contains(d)) {
+        return fail_with(err, "out_of_range", n, n + ": " + v + " is out of range" + want);
+      }
+      return fail_with(err, "not_an_integer", n, n + ": '" + v + "' is not a whole number" + want);
+    }
+    x = static_cast<double>(i);
+  } else {
+    if (!parse_real(v, x)) return fail_with(err, "bad_number", n, n + ": '" + v + "' is not a number" + want);
+    if (!std::isfinite(x)) return fail_with(err, "non_finite_input", n, n + ": '" + v + "' is not finite" + want);
+  }
+  if (!r.contains(x)) return fail_with(err, "out_of_range", n, n + ": " + v + " is out of range" + want);
+  return true;
+}
+
+}  // namespace
+
+struct Parser {
+  const CommandSpec& c;
+  std::vector<const OptionSpec*> specs;
+  ParsedArgs& out;
+  RequestError& err;
+
+  const OptionSpec* find(std::string_view name) const {
+    for (const OptionSpec* s : specs) {
+      if (s->name == name) return s;
+    }
+    return nullptr;
+  }
+
+  bool fail(std::string code, std::string param, std::string message) {
+    err = {std::move(code), std::move(param), std::move(message)};
+    return false;
+  }
+
+  void unknown(const std::string& name) {
+    const std::string near = nearest_option(c, name);
+    fail("bad_option", name,
+         name + ": unknown option for settle " + c.name + (near.empty() ? "" : " (did you mean " + near + "?)"));
+  }
+
+  // Checks one value of option `o` and records it.
+  bool validate(const OptionSpec& o, const std::string& v) {
+    const std::string& n = o.name;
+    const std::string want = "; expected " + expectation(o);
+    switch (o.kind) {
+      case Kind::flag: return true;
+      case Kind::text:
+        if (v.empty()) return fail("missing_value", n, n + ": needs a non-empty value" + want);
+        out.raw_[n].push_back(v);
+        return true;
+      case Kind::choice:
+        if (std::find(o.choices.begin(), o.choices.end(), v) == o.choices.end()) {
+          return fail("unknown_" + n.substr(2), n, n + ": unknown " + n.substr(2) + " '" + v + "'" + want);
+        }
+        out.raw_[n].push_back(v);
+        return true;
+      case Kind::real:
+        if (o.per_axis && v.find(',') != std::string::npos) return per_axis(o, v, want);
+        [[fallthrough]];
+      case Kind::integer: {
+        double x = 0.0;
+        if (!number(o, v, o.range, x, want)) return false;
+        out.raw_[n].push_back(v);
+        out.numbers_[n].push_back(x);
+        if (o.per_axis) out.lists_[n].push_back({x});
+        return true;
+      }
+      case Kind::list: {
+        std::vector<double> items;
+        const auto range_of = [&](std::size_t i) -> const Range& {
+          return o.item_ranges.empty() ? o.range : o.item_ranges[i];
+        };
+        if (!comma_numbers(o, v, o.max_items, "too many items", range_of, want, items)) return false;
+        if (items.size() < o.min_items) return fail("bad_list", n, n + ": too few items in '" + v + "'" + want);
+        out.raw_[n].push_back(v);
+        out.lists_[n].push_back(std::move(items));
+        return true;
+      }
+    }
+    return true;
+  }
+
+  // A per-axis real given as a comma list of up to kMaxAxes numbers, each in the option's range:
+  // recorded as a list only (a single number is recorded as a number and as a list of one).
+  bool per_axis(const OptionSpec& o, const std::string& v, const std::string& want) {
+    std::vector<double> items;
+    const std::string too_many = "more than " + std::to_string(core::kMaxAxes) + " values";
+    if (!comma_numbers(o, v, core::kMaxAxes, too_many, [&](std::size_t) -> const Range& { return o.range; }, want,
+                       items)) {
+      return false;
+    }
+    out.raw_[o.name].push_back(v);
+    out.lists_[o.name].push_back(std::move(items));
+    return true;
+  }
+
+  // The comma-separated numbers of `v`: no empty item, at most `max_items` (else "<too_many> in
+  // 'v'"), item i checked in range_of(i).
+  template <typename RangeOf>
+  bool comma_numbers(const OptionSpec& o, const std::string& v, std::size_t max_items, const std::string& too_many,
+                     RangeOf&& range_of, const std::string& want, std::vector<double>& items) {
+    const std::string& n = o.name;
+    std::size_t b = 0;
+    while (true) {
+      const std::size_t e = v.find(',', b);
+      const std::string item = v.substr(b, e == std::string::npos ? std::string::npos : e - b);
+      if (item.empty()) return fail("bad_list", n, n + ": empty item in '" + v + "'" + want);
+      if (items.size() >= max_items) return fail("bad_list", n, n + ": " + too_many + " in '" + v + "'" + want);
+      double x = 0.0;
+      if (!number(o, item, range_of(items.size()), x, want)) return false;
+      items.push_back(x);
+      if (e == std::string::npos) break;
+      b = e + 1;
+    }
+    return true;
+  }
+
+  bool number(const OptionSpec& o, const std::string& v, const Range& r, double& x, const std::string& want) {
+    return check_number(o, v, r, x, want, err);
+  }
+
+  ParseOutcome run(int argc, char** argv) {
+    for (int i = 0; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a == "--json") out.json_ = true;
+    }
+    for (int i = 0; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a == "--help" || a == "-h") {
+        std::fputs(command_help(c).c_str(), stdout);
+        return ParseOutcome::help_printed;
+      }
+    }
+    // 1. Tokens for CLI11, each value joined to its option ("--time=1"), so that a value that
+    //    starts with '-' ("-inf", "-1e3") is never taken for an option; unknown options, a
+    //    missing value and a value given to a flag are found here, in command-line order.
+    std::vector<std::string> tokens;
+    std::vector<std::string> order;  // option names in the order given
+    std::string last_option;
+    bool have_positional = false;
+    for (int i = 0; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a.size() > 2 && a.rfind("--", 0) == 0) {
+        const std::size_t eq = a.find('=');
+        const std::string name = a.substr(0, eq);
+        const OptionSpec* o = find(name);
+        if (o == nullptr) {
+          unknown(name);
+          return ParseOutcome::error;
+        }
+        last_option = name;
+        order.push_back(name);
+        if (o->kind == Kind::flag) {
+          if (eq != std::string::npos) {
+            fail("bad_option", name, name + ": takes no value");
+            return ParseOutcome::error;
+          }
+          tokens.push_back(name);
+          continue;
+        }
+        std::string value;
+        if (eq != std::string::npos) {
+          value = a.substr(eq + 1);
+        } else {
+          const bool next_is_option = i + 1 < argc && std::string_view{argv[i + 1]}.rfind("--", 0) == 0 &&
+                                      find(std::string{argv[i + 1]}.substr(0, std::string{argv[i + 1]}.find('='))) != nullptr;
+          if (i + 1 >= argc || next_is_option) {
+            fail("missing_value", name, name + ": needs a value; expected " + expectation(*o));
+            return ParseOutcome::error;
+          }
+          value = argv[++i];
+        }
+        if (value.empty()) {  // CLI11 would take "--x=" for a missing value: say what is wrong with it
+          validate(*o, value);
+          return ParseOutcome::error;
+        }
+        tokens.push_back(name + "=" + value);
+      } else if (a.size() > 1 && a[0] == '-' && !looks_like_number(a)) {
+        unknown(a);
+        return ParseOutcome::error;
+      } else if (!c.positional_choices.empty() && !have_positional && last_option.empty()) {
+        have_positional = true;
+        tokens.push_back(a);
+      } else {
+        std::string who = last_option.empty() ? "--" + c.name : last_option;  // one word: "--drive-scan"
+        std::replace(who.begin(), who.end(), ' ', '-');
+        fail("bad_option", who, who + ": unexpected argument '" + a + "' after it");
+        return ParseOutcome::error;
+      }
+    }
+    // 2. CLI11 reads the tokens into the options.
+    CLI::App app{c.summary, "settle " + c.name};
+    app.set_help_flag();
+    std::map<std::string, std::vector<std::string>> values;
+    std::map<std::string, int> flags;
+    std::string positional;
+    for (const OptionSpec* o : specs) {
+      if (o->kind == Kind::flag) {
+        if (o->name != "--help") app.add_flag(o->name, flags[o->name])->description(o->help);
+      } else {
+        app.add_option(o->name, values[o->name], o->help)
+            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+            ->allow_extra_args(false);
+      }
+    }
+    if (!c.positional_choices.empty()) app.add_option("experiment", positional, "experiment");
+    std::reverse(tokens.begin(), tokens.end());
+    try {
+      app.parse(tokens);
+    } catch (const CLI::ParseError& e) {
+      const std::string what = e.what();
+      const std::size_t p = what.find("--");
+      const std::string param = p == std::string::npos ? "--" + c.name : what.substr(p, what.find_first_of(": ", p) - p);
+      fail("bad_option", param, what.substr(0, what.find('\n')));
+      return ParseOutcome::error;
+    }
+    // 3. Each option: given at most once unless repeatable, and each value valid.
+    std::map<std::string, std::size_t> seen;
+    for (const std::string& name : order) {
+      const OptionSpec& o = *find(name);
+      const std::size_t k = seen[name]++;
+      if (k == 1 && !o.repeatable) {
+        fail("duplicate_option", name, name + ": given more than once (it takes one value)");
+        return ParseOutcome::error;
+      }
+      if (o.repeatable && k >= o.max_repeats) {
+        fail("too_many_values", name, name + ": at most " + std::to_string(o.max_repeats) + " allowed");
+        return ParseOutcome::error;
+      }
+    }
+    for (const std::string& name : order) {
+      if (seen[name] == 0) continue;  // already validated all its values
+      const OptionSpec& o = *find(name);
+      if (o.kind == Kind::flag) {
+        out.raw_[name].push_back("");
+      } else {
+        for (const std::string& v : values[name]) {
+          if (!validate(o, v)) return ParseOutcome::error;
+        }
+      }
+      seen[name] = 0;
+    }
+    if (!c.positional_choices.empty()) {
+      if (!have_positional) {
+        fail("missing_experiment", "experiment", "experiment: required (settle " + c.name + " " + c.usage + " [options])");
+        return ParseOutcome::error;
+      }
+      if (std::find(c.positional_choices.begin(), c.positional_choices.end(), positional) == c.positional_choices.end()) {
+        fail("unknown_experiment", "experiment", "experiment: unknown experiment '" + positional + "' (" + c.usage + ")");
+        return ParseOutcome::error;
+      }
+      out.positional_ = positional;
+    }
+    return ParseOutcome::ok;
+  }
+};
+
+std::string format_number(double v) { return num(v); }
+
+bool check_value(const OptionSpec& o, const std::string& value, double& number, RequestError& err) {
+  if (o.kind != Kind::real && o.kind != Kind::integer) {
+    if (!value.empty()) return true;
+    return fail_with(err, "missing_value", o.name, o.name + ": needs a non-empty value; expected " + expectation(o));
+  }
+  return check_number(o, value, o.range, number, "; expected " + expectation(o), err);
+}
+
+std::string Range::text() const {
+  return std::string{lo_open ? "(" : "["} + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]");
+}
+
+std::string OptionSpec::describe() const {
+  std::string s = help;
+  std::string meta;
+  if (!unit.empty() && kind == Kind::text) meta += "unit " + unit;
+  if (!def.empty()) meta += (meta.empty() ? "" : "; ") + std::string{"default "} + def;
+  if (kind != Kind::flag && kind != Kind::text) meta += (meta.empty() ? "" : "; ") + expectation(*this);
+  if (repeatable) meta += "; at most " + std::to_string(max_repeats);
+  if (per_axis) meta += "; with --axes N: one per axis, comma-separated";
+  if (!meta.empty()) s += " [" + meta + "]";
+  return s;
+}
+
+std::span<const CommandSpec> commands() { return kCommands; }
+
+const CommandSpec* find_command(std::string_view name) {
+  for (const CommandSpec& c : kCommands) {
+    if (c.name == name) return &c;
+  }
+  return nullptr;
+}
+
+std::vector<const OptionSpec*> options_of(const CommandSpec& c) {
+  std::vector<const OptionSpec*> v;
+  for (const OptionGroup& g : c.groups) {
+    for (const OptionSpec& o : g) v.push_back(&o);
+  }
+  v.push_back(&kHelp);
+  return v;
+}
+
+std::string nearest_option(const CommandSpec& c, std::string_view given) {
+  std::string best;
+  std::size_t best_d = 0;
+  for (const OptionSpec* o : options_of(c)) {
+    const std::size_t d = edit_distance(given, o->name);
+    if (best.empty() || d < best_d) {
+      best = o->name;
+      best_d = d;
+    }
+  }
+  // Close enough to be a typo: at most a third of the name changed.
+  return best_d <= std::max<std::size_t>(2, given.size() / 3) ? best : std::string{};
+}
+
+std::string command_help(const CommandSpec& c) {
+  CLI::App app{c.summary, "settle " + c.name};
+  app.set_help_flag("-h,--help", kHelp.help);
+  std::string dummy;
+  for (const OptionGroup& g : c.groups) {
+    for (const OptionSpec& o : g) {
+      if (o.kind == Kind::flag) {
+        app.add_flag(o.name)->description(o.describe());
+      } else {
+        app.add_option(o.name, dummy, o.describe())->type_name(value_name(o));
+      }
+    }
+  }
+  if (!c.positional_choices.empty()) app.add_option("experiment", dummy, "the experiment: " + c.usage)->required();
+  app.footer(c.notes);
+  app.get_formatter()->column_width(34);
+  return app.help();
+}
+
+std::string program_help() {
+  std::string s = "usage: settle <command> [options]\n\ncommands:\n";
+  for (const CommandSpec& c : kCommands) {
+    char line[256];
+    std::snprintf(line, sizeof line, "  %-12s %s\n", c.name.c_str(), c.summary.c_str());
+    s += line;
+  }
+  s += "\nrun 'settle <command> --help' or 'settle help <command>' for a command's options,\n"
+       "each with its unit, default and valid range. Exit status: 0 success, 1 runtime failure,\n"
+       "2 bad request (one line on stderr naming the option; with --json an error object).\n";
+  return s;
+}
+
+ParseOutcome parse_command(const CommandSpec& c, int argc, char** argv, ParsedArgs& out, RequestError& err) {
+  Parser p{c, options_of(c), out, err};
+  return p.run(argc, argv);
+}
+
+int parse_or_exit(std::string_view command, int argc, char** argv, ParsedArgs& out) {
+  const CommandSpec* c = find_command(command);
+  RequestError err;
+  switch (parse_command(*c, argc, argv, out, err)) {
+    case ParseOutcome::ok: return -1;
+    case ParseOutcome::help_printed: return 0;
+    case ParseOutcome::error: break;
+  }
+  return report_bad_request(err, out.json());
+}
+
+bool parse_real(const std::string& s, double& out) {
+  if (s.empty() || std::isspace(static_cast<unsigned char>(s[0])) != 0) return false;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end == s.c_str() || *end != '\0') return false;
+  out = v;
+  return true;
+}
+
+bool parse_integer(const std::string& s, long long& out) {
+  long long v = 0;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc{} || p != s.data() + s.size() || s.empty()) return false;
+  out = v;
+  return true;
+}
+
+double ParsedArgs::real(const std::string& name, double fallback) const { return real(name).value_or(fallback); }
+
+std::optional<double> ParsedArgs::real(const std::string& name) const {
+  const auto it = numbers_.find(name);
+  if (it == numbers_.end() || it->second.empty()) return std::nullopt;
+  return it->second.front();
+}
+
+std::vector<double> ParsedArgs::reals(const std::string& name) const {
+  const auto it = numbers_.find(name);
+  return it == numbers_.end() ? std::vector<double>{} : it->second;
+}
+
+long long ParsedArgs::integer(const std::string& name, long long fallback) const {
+  const auto v = real(name);
+  return v ? static_cast<long long>(*v) : fallback;
+}
+
+std::string ParsedArgs::text(const std::string& name, const std::string& fallback) const {
+  return text(name).value_or(fallback);
+}
+
+std::optional<std::string> ParsedArgs::text(const std::string& name) const {
+  const auto it = raw_.find(name);
+  if (it == raw_.end() || it->second.empty()) return std::nullopt;
+  return it->second.front();
+}
+
+std::vector<double> ParsedArgs::list(const std::string& name) const {
+  const auto it = lists_.find(name);
+  if (it == lists_.end() || it->second.empty()) return {};
+  return it->second.front();
+}
+
+std::vector<std::vector<double>> ParsedArgs::lists(const std::string& name) const {
+  const auto it = lists_.find(name);
+  if (it == lists_.end()) return {};
+  return it->second;
+}
+
+int report_bad_request(const RequestError& err, bool json) {
+  if (json) {
+    Json j;
+    j["status"] = "error";
+    j["error"] = err.code;
+    j["parameter"] = err.param;
+    j["message"] = err.message;
+    print_json(j);
+  } else {
+    std::string msg = err.message;
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    std::fprintf(stderr, "settle: error: %s [%s]\n", msg.c_str(), err.code.c_str());
+  }
+  return 2;
+}
+
+}  // namespace settle::app

@@ -1,0 +1,49 @@
+#pragma once
+// `settle identify` as a library call: the servo loop streams an excitation (a planned,
+// limit-respecting move, then a hold) to a drive over CAN, the drive's feedback frames (position
+// actual, TPDO1; load-side position, TPDO2) are recorded, and the modes are estimated from them
+// alone (identify_modes): the master never reads the plant's parameters. run_identify(spec, bus)
+// -> IdentifyRunReport; the reporters (text, JSON, the CSV behind --png) are beside it.
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "settle/commission/identify.hpp"
+#include "settle/testbed/stream.hpp"
+
+namespace settle::commission {
+
+struct IdentifyRunSpec {
+  testbed::StreamSpec stream{};  // move: the excitation; settle_time_s: the hold recorded after it
+  IdentifyOptions options{};
+};
+
+struct IdentifyRunReport {
+  std::string failure;       // non-empty: nothing was identified, and why (one line)
+  std::string failure_code;  // drive_not_enabled, no_load_feedback, feedback_incomplete, response_too_small, ...
+  testbed::StreamReport stream{};
+  double period_s{0.0};
+  std::vector<std::int32_t> motor;  // the record the estimate comes from: position actual, counts
+  std::vector<std::int32_t> load;   // load-side position, load counts
+  IdentifyResult result{};
+  [[nodiscard]] bool ok() const noexcept { return failure.empty() && result.status == IdentifyStatus::ok; }
+};
+
+// Streams spec.stream.move over `bus`, then spec.stream.settle_time_s at rest, and identifies.
+[[nodiscard]] IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::StreamBus& bus);
+
+// The JSON document, one line: {"status":"ok","modes":[{omega, zeta, gain, omega_ci, zeta_ci,
+// gain_sd}...] sorted by omega,"excitation":{...},"fit":{order, rms_residual, ...}}; on failure
+// {"status":"error","error":code,"message":...}.
+[[nodiscard]] std::string identify_json(const IdentifyRunSpec& spec, const IdentifyRunReport& r);
+// The text summary: a line per mode with its intervals, the excitation and the fit.
+void write_identify_text(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out);
+// t,load deflection measured,fitted (output units, rigid motion removed) per sample; and
+// f_hz,measured,fitted: the magnitude of their discrete Fourier transforms over the free
+// response. False when writing failed or there is no fit.
+[[nodiscard]] bool write_identify_time_csv(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out);
+[[nodiscard]] bool write_identify_spectrum_csv(const IdentifyRunSpec& spec, const IdentifyRunReport& r,
+                                               std::FILE* out);
+
+}  // namespace settle::commission

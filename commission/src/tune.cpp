@@ -1,0 +1,668 @@
+#include "settle/commission/tune.hpp"
+
+#include <algorithm>
+#include <complex>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <tuple>
+
+#include "settle/core/profiles/registry.hpp"
+#include "settle/plant/command.hpp"
+#include "settle/plant/move_vocabulary.hpp"
+
+namespace settle::commission {
+
+const char* to_string(TuneStatus s) noexcept {
+  switch (s) {
+    case TuneStatus::ok: return "ok";
+    case TuneStatus::no_modes: return "no_modes";
+    case TuneStatus::too_many_modes: return "too_many_modes";
+    case TuneStatus::bad_mode: return "bad_mode";
+    case TuneStatus::bad_band: return "bad_band";
+    case TuneStatus::bad_move: return "bad_move";
+    case TuneStatus::bad_residual_max: return "bad_residual_max";
+    case TuneStatus::bad_grid: return "bad_grid";
+    case TuneStatus::no_feasible_plan: return "no_feasible_plan";
+    case TuneStatus::too_much_work: return "too_much_work";
+  }
+  return "unknown";
+}
+
+const char* describe(TuneStatus s) noexcept {
+  switch (s) {
+    case TuneStatus::ok: return "ok";
+    case TuneStatus::no_modes: return "no modes given";
+    case TuneStatus::too_many_modes: return "more modes than the tuner searches (4)";
+    case TuneStatus::bad_mode: return "a mode's omega is not positive and finite, its zeta is outside [0, 1), or its gain is not finite";
+    case TuneStatus::bad_band: return "a mode's band does not contain it (0 < omega_lo <= omega <= omega_hi, 0 <= zeta_lo <= zeta <= zeta_hi < 1)";
+    case TuneStatus::bad_move: return "the move needs a finite non-zero distance and a positive time or positive limits";
+    case TuneStatus::bad_residual_max: return "residual_max must lie in (0, 1)";
+    case TuneStatus::bad_grid: return "zeta_points must lie in 1..9 and max_work be positive";
+    case TuneStatus::too_much_work:
+      return "the bands and the moves need too fine a search (omega_hi x move duration too large): narrow the band, "
+             "shorten the move or drop the highest mode";
+    case TuneStatus::no_feasible_plan:
+      return "no profile family keeps the residual within residual_max over the whole band (widen the limits or the "
+             "time, narrow the band, or raise residual_max)";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// The residual of the unshaped profile on (omega, zeta), relative to a step of its distance:
+// e^{-zeta w T} |I| / (w |D|), I = int_0^T a(s) e^{(zeta w - i wd) s} ds plus the Dirac terms of a
+// velocity step at either end (the Duhamel integral of the mode's response to the base
+// acceleration). Equal to prv_on_mode / 100 on the same profile (tests check it against that
+// simulation and against RK4); used here because it costs about 1/50 of a simulation: the nodes
+// and the profile's accelerations are computed once per profile, then each (omega, zeta) is a sum.
+class ProfileResidual {
+ public:
+  ProfileResidual(const core::Profile<double>& p, bool velocity_step, double omega_max) {
+    static const std::vector<std::pair<double, double>> gl = gauss_legendre(8);
+    std::vector<double> b;
+    plant::profile_breakpoints(p, b);
+    std::sort(b.begin(), b.end());
+    b.erase(std::unique(b.begin(), b.end()), b.end());
+    duration_ = p.duration();
+    distance_ = std::fabs(p.distance());
+    for (std::size_t i = 0; i + 1 < b.size(); ++i) {
+      const double len = b[i + 1] - b[i];
+      if (!(len > 0.0)) continue;
+      // At most 1.5 rad of the mode's phase per 8-point panel: the rule is then exact to rounding
+      // for the oscillating factor, and the profile's pieces are smooth within their breakpoints.
+      const double panels_real = std::ceil(omega_max * len / 1.5);
+      const std::size_t panels = std::clamp<std::size_t>(static_cast<std::size_t>(std::min(panels_real, 1e6)), 2, 1000000);
+      const double h = len / static_cast<double>(panels);
+      for (std::size_t k = 0; k < panels; ++k) {
+        const double lo = b[i] + static_cast<double>(k) * h;
+        for (const auto& [x, w] : gl) {
+          const double s = lo + 0.5 * h * (x + 1.0);
+          s_.push_back(s);
+          wa_.push_back(0.5 * h * w * plant::profile_sample(p, s, false).a);
+        }
+      }
+    }
+    if (velocity_step) {
+      v0_ = plant::profile_sample(p, 0.0, false).v;
+      v1_ = plant::profile_sample(p, duration_, true).v;
+    }
+    // A node whose term has decayed below this (|weight| x e^{zeta w (s - T)}) adds nothing a double
+    // sum of these terms can hold (1e-24 of the largest weight, far under its rounding), so it is
+    // skipped: on a long, damped move most nodes decay into subnormal numbers, whose arithmetic costs
+    // ~100 times a normal one (a 3000 s move took 40 s of CPU for a 3 s budget of work).
+    double largest = 0.0;
+    log_wa_.reserve(wa_.size());
+    for (double w : wa_) {
+      largest = std::max(largest, std::fabs(w));
+      log_wa_.push_back(std::log(std::fabs(w)));  // -inf for a zero weight: always skipped
+    }
+    log_negligible_ = largest > 0.0 ? std::log(largest) + std::log(1e-24) : 0.0;
+  }
+
+  // relative() at omega0 + k domega, k = 0..n-1, one zeta: with lambda = omega mu linear in omega,
+  // every node's exponential advances by a fixed factor per point (one complex multiply, not an
+  // exp); |factor| <= 1 since s <= T, so the recurrence cannot grow.
+  [[nodiscard]] plant::SimStatus row(double zeta, double omega0, double domega, std::size_t n, double* out) const {
+    if (!(omega0 > 0.0) || !(zeta >= 0.0 && zeta < 1.0)) return plant::SimStatus::bad_range;
+    const std::complex<double> mu{zeta, -std::sqrt(1.0 - zeta * zeta)};
+    std::vector<std::complex<double>> acc(n, {0.0, 0.0});
+    for (std::size_t q = 0; q < s_.size(); ++q) {
+      const double u = s_[q] - duration_;
+      // |term| = |w| e^{zeta omega u}, u <= 0: it only shrinks along the row (omega grows), so the
+      // row stops where it falls under the negligible level.
+      const double log_start = log_wa_[q] + zeta * omega0 * u;
+      if (!(log_start > log_negligible_)) continue;
+      const double log_decay = zeta * domega * u;  // per point, <= 0
+      const std::size_t live =
+          log_decay < 0.0 ? static_cast<std::size_t>(
+                                std::min(static_cast<double>(n), std::ceil((log_negligible_ - log_start) / log_decay)))
+                          : n;
+      std::complex<double> z = wa_[q] * std::exp(omega0 * mu * u);
+      const std::complex<double> step = std::exp(domega * mu * u);
+      for (std::size_t k = 0; k < live; ++k) {
+        acc[k] += z;
+        z *= step;
+      }
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      const double omega = omega0 + domega * static_cast<double>(k);
+      const std::complex<double> a = acc[k] + v0_ * std::exp(omega * mu * (-duration_)) - v1_;
+      out[k] = distance_ > 0.0 ? std::abs(a) / (omega * distance_) : 0.0;
+      if (!std::isfinite(out[k])) return plant::SimStatus::non_finite_result;
+    }
+    return plant::SimStatus::ok;
+  }
+  [[nodiscard]] std::size_t nodes() const noexcept { return s_.size(); }
+  // Nodes a profile of these pieces would get for omega_max (the work bound's estimate).
+  [[nodiscard]] static double node_estimate(const core::Profile<double>& p, double omega_max) {
+    std::vector<double> b;
+    plant::profile_breakpoints(p, b);
+    std::sort(b.begin(), b.end());
+    double n = 0.0;
+    for (std::size_t i = 0; i + 1 < b.size(); ++i) {
+      const double len = b[i + 1] - b[i];
+      if (len > 0.0) n += 8.0 * std::max(2.0, std::ceil(omega_max * len / 1.5));
+    }
+    return n;
+  }
+
+  [[nodiscard]] plant::SimStatus relative(double omega, double zeta, double& out) const {
+    if (!(omega > 0.0) || !(zeta >= 0.0 && zeta < 1.0)) return plant::SimStatus::bad_range;
+    if (!(distance_ > 0.0)) {
+      out = 0.0;
+      return plant::SimStatus::ok;
+    }
+    const double wd = omega * std::sqrt(1.0 - zeta * zeta);
+    // e^{-zeta w T} folded into every term so that heavy damping cannot overflow.
+    const std::complex<double> k{zeta * omega, -wd};
+    std::complex<double> acc{0.0, 0.0};
+    for (std::size_t q = 0; q < s_.size(); ++q) {
+      const double u = s_[q] - duration_;
+      if (!(log_wa_[q] + zeta * omega * u > log_negligible_)) continue;  // see row()
+      acc += wa_[q] * std::exp(k * u);
+    }
+    acc += v0_ * std::exp(k * (-duration_));
+    acc -= v1_;
+    out = std::abs(acc) / (omega * distance_);
+    return std::isfinite(out) ? plant::SimStatus::ok : plant::SimStatus::non_finite_result;
+  }
+
+ private:
+  static std::vector<std::pair<double, double>> gauss_legendre(int n) {
+    std::vector<std::pair<double, double>> r;
+    for (int i = 1; i <= n; ++i) {
+      double z = std::cos(std::numbers::pi * (i - 0.25) / (n + 0.5));
+      double dp = 1.0;
+      for (int it = 0; it < 100; ++it) {
+        double p0 = 1.0, p1 = z;
+        for (int k = 2; k <= n; ++k) {
+          const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
+          p0 = p1;
+          p1 = p2;
+        }
+        dp = n * (z * p1 - p0) / (z * z - 1.0);
+        const double dz = p1 / dp;
+        z -= dz;
+        if (std::fabs(dz) < 1e-16) break;
+      }
+      r.emplace_back(z, 2.0 / ((1.0 - z * z) * dp * dp));
+    }
+    return r;
+  }
+
+  std::vector<double> s_, wa_, log_wa_;  // nodes, weighted accelerations, log |weight| (once)
+  double duration_{0.0}, distance_{0.0}, v0_{0.0}, v1_{0.0};
+  double log_negligible_{0.0};  // log of the term size below which a node is skipped
+};
+
+// Golden-section search for the maximum of f on [a, b]; returns the best point seen.
+template <typename F>
+plant::SimStatus golden_max(F&& f, double a, double b, int iterations, double& best_x, double& best_f) {
+  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
+  double x1 = b - g * (b - a), x2 = a + g * (b - a);
+  double f1 = 0.0, f2 = 0.0;
+  plant::SimStatus st = f(x1, f1);
+  if (st != plant::SimStatus::ok) return st;
+  st = f(x2, f2);
+  if (st != plant::SimStatus::ok) return st;
+  auto keep = [&](double x, double v) {
+    if (v > best_f) {
+      best_f = v;
+      best_x = x;
+    }
+  };
+  keep(x1, f1);
+  keep(x2, f2);
+  for (int i = 0; i < iterations; ++i) {
+    if (f1 > f2) {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - g * (b - a);
+      st = f(x1, f1);
+      keep(x1, f1);
+    } else {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + g * (b - a);
+      st = f(x2, f2);
+      keep(x2, f2);
+    }
+    if (st != plant::SimStatus::ok) return st;
+  }
+  return plant::SimStatus::ok;
+}
+
+double lerp(double lo, double hi, std::size_t i, std::size_t n) {
+  if (n < 2) return lo;
+  return i + 1 == n ? hi : lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(n - 1);
+}
+
+// worst_in_band on a profile's quadrature (shared by every shaper and design that uses it).
+// stop_above: once a grid row exceeds it the search ends there (the move fails either way, and
+// what was found is a lower bound of its worst).
+// work: evaluations x nodes so far, refused (too_many_samples) once it would pass max_work.
+plant::SimStatus worst_impl(const core::Shaper<double>& shaper, const ProfileResidual& pr, const UncertainMode& b,
+                     std::size_t n_omega, std::size_t n_zeta, double stop_above, double& work, double max_work,
+                     BandWorst& out) {
+  const double nodes = static_cast<double>(pr.nodes()) + 1.0;
+  auto spend = [&](double points) {
+    work += points * nodes;
+    return work <= max_work;
+  };
+  if (!(b.omega_hi > b.omega_lo)) n_omega = 1;
+  if (!(b.zeta_hi > b.zeta_lo)) n_zeta = 1;
+  BandWorst w;
+  w.residual = -1.0;
+  auto keep = [&](double omega, double zeta, double r) {
+    ++w.evaluations;
+    if (r > w.residual) {
+      w.residual = r;
+      w.omega = omega;
+      w.zeta = zeta;
+    }
+  };
+  auto eval = [&](double omega, double zeta, double& r) {
+    if (!spend(1.0)) return plant::SimStatus::too_many_samples;
+    double pf = 0.0;
+    const plant::SimStatus st = pr.relative(omega, zeta, pf);
+    if (st != plant::SimStatus::ok) return st;
+    r = pf * core::shaper_residual(shaper, omega, zeta);
+    if (!std::isfinite(r)) return plant::SimStatus::non_finite_result;
+    keep(omega, zeta, r);
+    return plant::SimStatus::ok;
+  };
+  const double domega = n_omega > 1 ? (b.omega_hi - b.omega_lo) / static_cast<double>(n_omega - 1) : 0.0;
+  auto omega_at = [&](std::size_t i) { return i + 1 == n_omega && n_omega > 1 ? b.omega_hi : b.omega_lo + domega * static_cast<double>(i); };
+  std::vector<double> grid(n_omega * n_zeta);
+  for (std::size_t k = 0; k < n_zeta; ++k) {
+    const double zeta = lerp(b.zeta_lo, b.zeta_hi, k, n_zeta);
+    double* row = grid.data() + k * n_omega;
+    if (!spend(static_cast<double>(n_omega))) return plant::SimStatus::too_many_samples;
+    const plant::SimStatus st = pr.row(zeta, b.omega_lo, domega, n_omega, row);
+    if (st != plant::SimStatus::ok) return st;
+    for (std::size_t i = 0; i < n_omega; ++i) {
+      row[i] *= core::shaper_residual(shaper, omega_at(i), zeta);
+      if (!std::isfinite(row[i])) return plant::SimStatus::non_finite_result;
+      keep(omega_at(i), zeta, row[i]);
+    }
+    if (w.residual > stop_above) {
+      out = w;
+      return plant::SimStatus::ok;
+    }
+  }
+  if (n_omega * n_zeta == 1) {
+    out = w;
+    return plant::SimStatus::ok;
+  }
+  // Local maxima along omega in every zeta row (ends count); the three largest are refined, each in
+  // omega between its grid neighbours, then in zeta between the neighbouring rows.
+  struct Peak {
+    double r;
+    std::size_t i, k;
+  };
+  std::vector<Peak> peaks;
+  for (std::size_t k = 0; k < n_zeta; ++k) {
+    for (std::size_t i = 0; i < n_omega; ++i) {
+      const double r = grid[k * n_omega + i];
+      const bool left = i == 0 || r >= grid[k * n_omega + i - 1];
+      const bool right = i + 1 == n_omega || r >= grid[k * n_omega + i + 1];
+      if (left && right) peaks.push_back({r, i, k});
+    }
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const Peak& x, const Peak& y) { return x.r > y.r; });
+  if (peaks.size() > 3) peaks.resize(3);
+  for (const Peak& p : peaks) {
+    double om = omega_at(p.i);
+    double ze = lerp(b.zeta_lo, b.zeta_hi, p.k, n_zeta);
+    double best = p.r;
+    if (n_omega > 1) {
+      const double a = omega_at(p.i == 0 ? 0 : p.i - 1);
+      const double c = omega_at(std::min(p.i + 1, n_omega - 1));
+      const plant::SimStatus st = golden_max([&](double x, double& r) { return eval(x, ze, r); }, a, c, 24, om, best);
+      if (st != plant::SimStatus::ok) return st;
+    }
+    if (n_zeta > 1) {
+      const double a = lerp(b.zeta_lo, b.zeta_hi, p.k == 0 ? 0 : p.k - 1, n_zeta);
+      const double c = lerp(b.zeta_lo, b.zeta_hi, std::min(p.k + 1, n_zeta - 1), n_zeta);
+      const plant::SimStatus st = golden_max([&](double x, double& r) { return eval(om, x, r); }, a, c, 16, ze, best);
+      if (st != plant::SimStatus::ok) return st;
+    }
+  }
+  out = w;
+  return plant::SimStatus::ok;
+}
+
+bool valid_band(const UncertainMode& m) {
+  return m.omega_lo > 0.0 && m.omega_lo <= m.omega && m.omega <= m.omega_hi && std::isfinite(m.omega_hi) &&
+         m.zeta_lo >= 0.0 && m.zeta_lo <= m.zeta && m.zeta <= m.zeta_hi && m.zeta_hi < 1.0;
+}
+
+constexpr double kLimitSlack = 1e-9;
+constexpr double kBuildCost = 64.0;  // as core's planner compares peaks with limits
+
+core::Status limits_status(const TuneMove& mv, const core::Peaks<double>& pk) {
+  if (mv.vmax && !(pk.v <= *mv.vmax * (1.0 + kLimitSlack))) return core::Status::velocity_limit_exceeded;
+  if (mv.amax && !(pk.a <= *mv.amax * (1.0 + kLimitSlack))) return core::Status::acceleration_limit_exceeded;
+  if (mv.jmax && !(pk.j <= *mv.jmax * (1.0 + kLimitSlack))) return core::Status::jerk_limit_exceeded;
+  return core::Status::ok;
+}
+bool within_limits(const TuneMove& mv, const core::Peaks<double>& pk) {
+  return limits_status(mv, pk) == core::Status::ok;
+}
+
+// The unshaped profile of `req` within the move's limits: the profile's own planner, or, when it
+// refuses the combination of limits it was given (ramp-versine takes only vmax, say), the shortest
+// move time whose peaks are within them, found by doubling then bisection (peaks fall as the time
+// grows for every registered family; a family for which they do not is refused, never exceeded).
+core::Status plan_profile(core::MoveRequest& req_io, const TuneMove& mv, core::Move<double>& out, bool& searched) {
+  core::MoveRequest req = req_io;
+  searched = false;
+  core::Status st = core::plan(req, out);
+  if (st == core::Status::ok || mv.time) return st;
+  const core::Status own = st;
+  const double d = std::fabs(mv.distance);
+  double t_lo = 0.0;  // no rest-to-rest move of d is faster than these bounds
+  if (mv.vmax) t_lo = std::max(t_lo, d / *mv.vmax);
+  if (mv.amax) t_lo = std::max(t_lo, 2.0 * std::sqrt(d / *mv.amax));
+  if (mv.jmax) t_lo = std::max(t_lo, std::cbrt(32.0 * d / *mv.jmax));
+  req.vmax.reset();
+  req.amax.reset();
+  req.jmax.reset();
+  core::Move<double> found{};
+  auto ok_at = [&](double t, core::Move<double>& m) {
+    req.time = t;
+    return core::plan(req, m) == core::Status::ok && within_limits(mv, m.peaks());
+  };
+  double t_hi = std::max(t_lo, 1e-6);
+  int doublings = 0;
+  while (!ok_at(t_hi, found)) {
+    if (++doublings > 40 || t_hi > 3600.0) return own;
+    t_lo = t_hi;
+    t_hi *= 2.0;
+  }
+  for (int i = 0; i < 60 && t_hi - t_lo > 1e-12 * t_hi; ++i) {
+    const double mid = 0.5 * (t_lo + t_hi);
+    core::Move<double> m{};
+    if (ok_at(mid, m)) {
+      t_hi = mid;
+      found = m;
+    } else {
+      t_lo = mid;
+    }
+  }
+  out = found;
+  req.time = t_hi;  // the request that plans `found` again
+  req_io = req;
+  searched = true;
+  return core::Status::ok;
+}
+
+struct Design {
+  std::vector<double> omega, zeta;
+};
+
+core::Status compose_shaper(core::ShaperKind kind, const Design& d, double vtol, core::Shaper<double>& out) {
+  core::Shaper<double> acc{};
+  if (kind == core::ShaperKind::none) {
+    out = acc;
+    return core::Status::ok;
+  }
+  for (std::size_t j = 0; j < d.omega.size(); ++j) {
+    core::Shaper<double> s{}, c{};
+    core::Status st = core::design_shaper(kind, d.omega[j], d.zeta[j], vtol, s);
+    if (st != core::Status::ok) return st;
+    st = core::compose(acc, s, c);
+    if (st != core::Status::ok) return st;
+    acc = c;
+  }
+  out = acc;
+  return core::Status::ok;
+}
+
+}  // namespace
+
+plant::SimStatus relative_residual(const core::Move<double>& move, double omega, double zeta, double& out) {
+  double pf = 0.0;
+  const plant::SimStatus st = ProfileResidual{move.profile(), move.peaks().velocity_step, omega}.relative(omega, zeta, pf);
+  if (st != plant::SimStatus::ok) return st;
+  out = pf * core::shaper_residual(move.shaper(), omega, zeta);
+  return plant::SimStatus::ok;
+}
+
+plant::SimStatus residual_curve(const core::Move<double>& move, double omega_lo, double omega_hi, double zeta, std::size_t n,
+                         std::vector<double>& out) {
+  if (!(omega_lo > 0.0) || !(omega_hi > omega_lo) || !std::isfinite(omega_hi) || !(zeta >= 0.0 && zeta < 1.0) ||
+      n < 2) {
+    return plant::SimStatus::bad_range;
+  }
+  if (n > kMaxTuneOmegaPoints) return plant::SimStatus::too_many_samples;
+  const ProfileResidual pr{move.profile(), move.peaks().velocity_step, omega_hi};
+  const double dw = (omega_hi - omega_lo) / static_cast<double>(n - 1);
+  std::vector<double> r(n);
+  const plant::SimStatus st = pr.row(zeta, omega_lo, dw, n, r.data());
+  if (st != plant::SimStatus::ok) return st;
+  for (std::size_t i = 0; i < n; ++i) {
+    r[i] *= core::shaper_residual(move.shaper(), omega_lo + dw * static_cast<double>(i), zeta);
+  }
+  out = std::move(r);
+  return plant::SimStatus::ok;
+}
+
+std::size_t omega_points_for(const UncertainMode& band, double duration) noexcept {
+  const double phase = (band.omega_hi - band.omega_lo) * std::max(duration, 0.0);
+  const double n = std::ceil(phase / (std::numbers::pi / 4.0)) + 1.0;
+  if (!(n >= static_cast<double>(kMinTuneOmegaPoints))) return kMinTuneOmegaPoints;
+  if (n >= static_cast<double>(kMaxTuneOmegaPoints)) return kMaxTuneOmegaPoints;
+  return static_cast<std::size_t>(n);
+}
+
+plant::SimStatus worst_in_band(const core::Move<double>& move, const UncertainMode& band, std::size_t omega_points,
+                        std::size_t zeta_points, BandWorst& out) {
+  if (!valid_band(band)) return plant::SimStatus::bad_range;
+  if (omega_points < 1 || zeta_points < 1 || omega_points > kMaxTuneOmegaPoints || zeta_points > kMaxTuneZetaPoints) {
+    return plant::SimStatus::too_many_samples;
+  }
+  if (ProfileResidual::node_estimate(move.profile(), band.omega_hi) > kMaxTuneNodes) return plant::SimStatus::too_many_samples;
+  const ProfileResidual pr{move.profile(), move.peaks().velocity_step, band.omega_hi};
+  double work = 0.0;
+  return worst_impl(move.shaper(), pr, band, omega_points, zeta_points, std::numeric_limits<double>::infinity(), work,
+                    std::numeric_limits<double>::infinity(), out);
+}
+
+TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, const TuneOptions& opt,
+                TuneResult& out) {
+  if (modes_in.empty()) return TuneStatus::no_modes;
+  if (modes_in.size() > kMaxTuneModes) return TuneStatus::too_many_modes;
+  for (const UncertainMode& m : modes_in) {
+    if (!(m.omega > 0.0) || !std::isfinite(m.omega) || !(m.zeta >= 0.0 && m.zeta < 1.0) || !std::isfinite(m.gain)) {
+      return TuneStatus::bad_mode;
+    }
+    if (!valid_band(m)) return TuneStatus::bad_band;
+  }
+  const auto positive = [](const std::optional<double>& x) { return !x || (*x > 0.0 && std::isfinite(*x)); };
+  if (!(mv.distance != 0.0) || !std::isfinite(mv.distance) || !positive(mv.time) || !positive(mv.vmax) ||
+      !positive(mv.amax) || !positive(mv.jmax) || (!mv.time && !mv.vmax && !mv.amax && !mv.jmax)) {
+    return TuneStatus::bad_move;
+  }
+  if (!(opt.residual_max > 0.0 && opt.residual_max < 1.0)) return TuneStatus::bad_residual_max;
+  if (opt.zeta_points < 1 || opt.zeta_points > kMaxTuneZetaPoints || !(opt.max_work > 0.0)) {
+    return TuneStatus::bad_grid;
+  }
+
+  std::vector<UncertainMode> modes = modes_in;
+  std::stable_sort(modes.begin(), modes.end(), [](const auto& a, const auto& b) { return a.omega < b.omega; });
+  // EI designed for the tolerance asked (its widest band), within the (0, 0.5) EI allows.
+  const double vtol = std::min(opt.residual_max, 0.49);
+
+  // Every family: each registry profile, unshaped or shaped, at the nominal modes or retuned.
+  std::vector<core::ShaperKind> shapers = {core::ShaperKind::none, core::ShaperKind::zv,  core::ShaperKind::zvd,
+                                           core::ShaperKind::ei,   core::ShaperKind::ei2, core::ShaperKind::ei3};
+  std::vector<TuneCandidate> planned;  // every (family, design) that could be planned
+  std::vector<TuneCandidate> refused;
+  core::for_each_profile([&](auto kind) {
+    for (core::ShaperKind sk : shapers) {
+      for (std::size_t v = 0; v <= kTunePlacements; ++v) {  // v == 0: nominal, else placement v-1
+        TuneCandidate c;
+        c.profile = kind.value;
+        c.shaper = sk;
+        c.retuned = v > 0;
+        c.placement = v > 0 ? static_cast<double>(v - 1) / static_cast<double>(kTunePlacements - 1) : -1.0;
+        for (const UncertainMode& m : modes) {
+          c.design_omega.push_back(c.retuned ? m.omega_lo + c.placement * (m.omega_hi - m.omega_lo) : m.omega);
+          c.design_zeta.push_back(m.zeta);
+        }
+        core::MoveRequest r{};
+        r.profile = kind.value;
+        r.distance = mv.distance;
+        r.time = mv.time;
+        r.vmax = mv.vmax;
+        r.amax = mv.amax;
+        r.jmax = mv.jmax;
+        // A profile that designs for a mode takes the fundamental; `fastest` takes every mode (up
+        // to its 1 + kMaxExtraModes), as `settle plan --profile fastest` does, by the same rules.
+        const bool every_mode =
+            kind.value == core::ProfileKind::fastest && c.design_omega.size() <= 1 + core::kMaxExtraModes;
+        const std::size_t designed = every_mode ? c.design_omega.size() : 1;
+        const char* option = nullptr;
+        std::string why;
+        (void)plant::set_design_modes({c.design_omega.begin(), c.design_omega.begin() + static_cast<std::ptrdiff_t>(designed)},
+                               {c.design_zeta.begin(), c.design_zeta.begin() + static_cast<std::ptrdiff_t>(designed)}, r,
+                               option, why);
+        // A design that changes nothing (no shaper, a profile that ignores the mode) is one family.
+        if (c.retuned && sk == core::ShaperKind::none && !core::needs_mode(r)) continue;
+        c.name = std::string{core::to_string(kind.value)} + (sk == core::ShaperKind::none ? "" : "+") +
+                 (sk == core::ShaperKind::none ? "" : core::to_string(sk)) + (c.retuned ? "@retuned" : "");
+        core::Move<double> bare{};
+        core::Status st = plan_profile(r, mv, bare, c.time_searched);
+        c.request = r;
+        if (st != core::Status::ok) {
+          // The profile itself cannot be planned: shown once, under its own name (a retuned design
+          // that cannot be planned is skipped).
+          if (v == 0 && sk == core::ShaperKind::none) {
+            c.refusal = core::to_string(st);
+            refused.push_back(std::move(c));
+          }
+          continue;
+        }
+        core::Shaper<double> shaper{};
+        if (st == core::Status::ok) st = compose_shaper(sk, Design{c.design_omega, c.design_zeta}, vtol, shaper);
+        if (st == core::Status::ok) {
+          const core::Peaks<double> pk = core::shaped_peaks(bare.profile(), shaper, bare.peaks());
+          st = limits_status(mv, pk);
+          c.move = core::Move<double>{bare.profile(), shaper, pk};
+        }
+        const bool too_long = st == core::Status::ok && !(c.move.duration() <= kMaxTuneDuration);
+        if (st != core::Status::ok || too_long) {
+          if (v <= 1) {  // one refusal per family is enough to show
+            c.refusal = st != core::Status::ok ? core::to_string(st) : "too_long";
+            refused.push_back(std::move(c));
+          }
+          continue;
+        }
+        c.planned = true;
+        c.duration = c.move.duration();
+        planned.push_back(std::move(c));
+      }
+    }
+  });
+
+  // Shortest first: each candidate is checked in turn until one meets the bound; the slower ones
+  // are then not evaluated (they could not be chosen). A failing candidate's search stops at the
+  // first grid row that breaks the bound.
+  std::stable_sort(planned.begin(), planned.end(),
+                   [](const TuneCandidate& a, const TuneCandidate& b) { return a.duration < b.duration; });
+  double omega_max = 0.0;
+  for (const UncertainMode& m : modes) omega_max = std::max(omega_max, m.omega_hi);
+  const std::size_t n_zeta = opt.zeta_points;
+  // Memory, before any quadrature is built: every candidate's nodes.
+  for (const TuneCandidate& c : planned) {
+    if (ProfileResidual::node_estimate(c.move.profile(), omega_max) > kMaxTuneNodes) return TuneStatus::too_much_work;
+  }
+  double work = 0.0;  // CPU: counted as the search goes
+
+  // One quadrature per distinct profile (a profile that ignores the mode is the same for every
+  // design), shared by the shapers and designs that use it.
+  std::map<std::tuple<int, double, double>, std::shared_ptr<ProfileResidual>> profiles;
+  std::size_t chosen = planned.size();
+  for (std::size_t ci = 0; ci < planned.size() && chosen == planned.size(); ++ci) {
+    TuneCandidate& c = planned[ci];
+    const bool by_mode = core::needs_mode(c.request);
+    const auto key = std::make_tuple(static_cast<int>(c.profile), by_mode ? c.design_omega[0] : 0.0,
+                                     by_mode ? c.design_zeta[0] : 0.0);
+    auto& pr = profiles[key];
+    if (!pr) {
+      // Building a quadrature evaluates the profile at every node: charged as kBuildCost residual
+      // points per node (measured: a profile evaluation costs about that many recurrence steps).
+      work += kBuildCost * ProfileResidual::node_estimate(c.move.profile(), omega_max);
+      if (work > opt.max_work) return TuneStatus::too_much_work;
+      pr = std::make_shared<ProfileResidual>(c.move.profile(), c.move.peaks().velocity_step, omega_max);
+    }
+    c.evaluated = true;
+    c.meets = true;
+    c.worst.residual = -1.0;
+    for (std::size_t j = 0; j < modes.size() && c.meets; ++j) {
+      BandWorst w;
+      const plant::SimStatus st = worst_impl(c.move.shaper(), *pr, modes[j], omega_points_for(modes[j], c.duration),
+                                      n_zeta, opt.residual_max, work, opt.max_work, w);
+      if (st == plant::SimStatus::too_many_samples) return TuneStatus::too_much_work;
+      if (st != plant::SimStatus::ok) {
+        c.meets = false;
+        c.refusal = to_string(st);
+        break;
+      }
+      c.worst.evaluations += w.evaluations;
+      c.mode_worst.push_back(w);
+      if (w.residual > c.worst.residual) {
+        const std::size_t evals = c.worst.evaluations;
+        c.worst = w;
+        c.worst.evaluations = evals;
+        c.worst_mode = j;
+      }
+      if (w.residual > opt.residual_max) c.meets = false;
+    }
+    if (c.meets) chosen = ci;
+  }
+
+  // Reported: every family (profile, shaper, nominal or retuned) once, by its shortest design that
+  // was evaluated (the chosen one for the chosen family), else its shortest design.
+  std::vector<TuneCandidate> kept;
+  auto family = [](const TuneCandidate& a, const TuneCandidate& b) {
+    return a.profile == b.profile && a.shaper == b.shaper && a.retuned == b.retuned;
+  };
+  if (chosen < planned.size()) kept.push_back(planned[chosen]);
+  for (TuneCandidate& c : planned) {
+    if (std::none_of(kept.begin(), kept.end(), [&](const TuneCandidate& k) { return family(k, c); })) {
+      kept.push_back(std::move(c));
+    }
+  }
+  std::stable_sort(kept.begin(), kept.end(), [](const TuneCandidate& a, const TuneCandidate& b) {
+    if (a.duration != b.duration) return a.duration < b.duration;
+    return a.meets && !b.meets;
+  });
+  TuneResult res;
+  res.modes = modes;
+  res.residual_max = opt.residual_max;
+  res.candidates = std::move(kept);
+  std::size_t pick = res.candidates.size();
+  if (chosen < planned.size()) {
+    for (std::size_t i = 0; i < res.candidates.size(); ++i) {
+      if (res.candidates[i].meets) {
+        pick = i;
+        break;
+      }
+    }
+  }
+  const bool found = pick < res.candidates.size();
+  for (TuneCandidate& c : refused) res.candidates.push_back(std::move(c));
+  res.chosen = found ? pick : res.candidates.size();
+  out = std::move(res);
+  return found ? TuneStatus::ok : TuneStatus::no_feasible_plan;
+}
+
+}  // namespace settle::commission

@@ -1,0 +1,56 @@
+#pragma once
+// CSV of every curve of the reproduced experiments and gnuplot PNGs laid out like the papers'
+// figures (seed 000 Fig. 3, seed 001 Figs. 2-7, seed 004 Fig. 3). PNGs need gnuplot on the PATH;
+// without it the CSV files and the .gp scripts are still written. gnuplot runs without a shell
+// (spawn.hpp), in the output directory, with the script on its standard input: any directory name
+// works, quotes, spaces and semicolons included.
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "settle/papers/reproduce.hpp"
+#include "settle/plant/status.hpp"
+#include "settle/commission/tune.hpp"
+
+namespace settle::papers {
+
+struct FigureFiles {
+  std::vector<std::string> csv;
+  std::vector<std::string> png;
+  bool gnuplot{false};  // false: gnuplot was not found, scripts written but not run
+};
+
+[[nodiscard]] plant::SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out);
+[[nodiscard]] plant::SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFiles& out);
+[[nodiscard]] plant::SimStatus write_figures_004(const Result004& r, const std::string& dir, FigureFiles& out);
+
+// The demo's figure of one streamed move, from its `settle stream --feedback-log` CSV (`csv`, a
+// file in `dir`: period, t, commanded, drive position, load position, load position replayed
+// offline): commanded and measured motion in counts, which coincide when the bus is faithful.
+// Writes <name>.gp and, with gnuplot, <name>.png in `dir`.
+[[nodiscard]] plant::SimStatus write_stream_figure(const std::string& dir, const std::string& name, const std::string& csv,
+                                            const std::string& title, FigureFiles& out);
+
+// `settle tune --png`: residual (fraction of the unshaped residual) against frequency error (%) of
+// each mode, at its nominal damping, for the chosen plan and the (at most six) slowest of the faster
+// plans it beat, with the bound and the band's edges. Writes <name>.csv, <name>.gp and, with
+// gnuplot, <name>.png in `dir`.
+[[nodiscard]] plant::SimStatus write_tune_figure(const commission::TuneResult& r, const std::string& dir, const std::string& name,
+                                          FigureFiles& out);
+// settle identify's figure, like Klipper's resonance graph: above, the load deflection measured
+// and fitted against time (`time_csv`: t,measured,fitted); below, their spectra over the free
+// response against frequency (`spectrum_csv`: f_hz,measured,fitted, log axes). Both files in
+// `dir`; writes <name>.gp and, with gnuplot, <name>.png there.
+[[nodiscard]] plant::SimStatus write_identify_figure(const std::string& dir, const std::string& name,
+                                              const std::string& time_csv, const std::string& spectrum_csv,
+                                              FigureFiles& out);
+
+// `text` as a gnuplot single-quoted string: ' doubled (gnuplot's escape; backslashes are literal
+// there), line breaks as spaces (a gnuplot command is one line).
+[[nodiscard]] std::string gnuplot_string(std::string_view text);
+
+// Writes time histories as CSV: t, command p/v/a, deflection, position, velocity, acceleration,
+// kinetic and potential energy (the `--csv` of settle simulate uses it too).
+[[nodiscard]] plant::SimStatus write_history_csv(const std::vector<plant::HistorySample>& h, const std::string& path);
+
+}  // namespace settle::papers

@@ -1,0 +1,388 @@
+#include "settle/papers/figures.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "settle/testbed/spawn.hpp"
+
+namespace settle::papers {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+bool write_text(const std::string& path, const std::string& text) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) return false;
+  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  return std::fclose(f) == 0 && ok;
+}
+
+// gnuplot is found by posix_spawnp's PATH search: `gnuplot --version` runs, or it is absent.
+bool have_gnuplot() {
+  testbed::SpawnOptions o;
+  o.output = testbed::SpawnOutput::discard;
+  return testbed::run_program({"gnuplot", "--version"}, o).status == testbed::SpawnStatus::ok;
+}
+
+// Writes `script` next to the data and runs gnuplot in that directory with the same script on its
+// standard input, so the script refers to the CSV files by their plain names and can be rerun by
+// hand. No shell and no path in any command: the directory is the child's working directory.
+plant::SimStatus plot(const std::string& dir, const std::string& name, const std::string& script, FigureFiles& out,
+               const char* terminal = "size 1400,1000") {
+  const std::string gp = (fs::path{dir} / (name + ".gp")).string();
+  const std::string text = std::string{"set terminal pngcairo "} + terminal + " font 'Sans,10'\nset output " +
+                           gnuplot_string(name + ".png") + "\nset datafile separator ','\nset grid\n" + script;
+  if (!write_text(gp, text)) return plant::SimStatus::io_error;
+  if (!out.gnuplot) return plant::SimStatus::ok;
+  testbed::SpawnOptions o;
+  o.workdir = dir;
+  o.input = text;
+  o.output = testbed::SpawnOutput::to_stderr;  // gnuplot's messages never mix into our stdout (JSON)
+  const testbed::SpawnResult r = testbed::run_program({"gnuplot"}, o);
+  if (r.status == testbed::SpawnStatus::not_found) {
+    out.gnuplot = false;  // gone since prepare(): the script stays for a rerun by hand
+    return plant::SimStatus::ok;
+  }
+  if (r.status != testbed::SpawnStatus::ok) return plant::SimStatus::io_error;
+  out.png.push_back((fs::path{dir} / (name + ".png")).string());
+  return plant::SimStatus::ok;
+}
+
+plant::SimStatus prepare(const std::string& dir, FigureFiles& out) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return plant::SimStatus::io_error;
+  out = FigureFiles{};
+  out.gnuplot = have_gnuplot();
+  return plant::SimStatus::ok;
+}
+
+}  // namespace
+
+std::string gnuplot_string(std::string_view text) {
+  std::string q = "'";
+  for (const char c : text) {
+    if (c == '\'') {
+      q += "''";
+    } else if (c == '\n' || c == '\r') {
+      q += ' ';
+    } else {
+      q += c;
+    }
+  }
+  q += '\'';
+  return q;
+}
+
+plant::SimStatus write_history_csv(const std::vector<plant::HistorySample>& h, const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) return plant::SimStatus::io_error;
+  std::fprintf(f, "t,command_position,command_velocity,command_acceleration,deflection,position,velocity,"
+                  "acceleration,kinetic_energy,potential_energy\n");
+  for (const plant::HistorySample& s : h) {
+    std::fprintf(f, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n", s.t, s.command.p, s.command.v,
+                 s.command.a, s.deflection, s.position, s.velocity, s.acceleration, s.energy.kinetic,
+                 s.energy.potential);
+  }
+  return std::fclose(f) == 0 ? plant::SimStatus::ok : plant::SimStatus::io_error;
+}
+
+plant::SimStatus write_stream_figure(const std::string& dir, const std::string& name, const std::string& csv,
+                              const std::string& title, FigureFiles& out) {
+  const plant::SimStatus st = prepare(dir, out);
+  if (st != plant::SimStatus::ok) return st;
+  const std::string data = gnuplot_string(csv);
+  const std::string script =
+      "set title " + gnuplot_string(title) +
+      "\nset xlabel 't from the move start (s)'\nset ylabel 'counts'\nset key bottom right\n"
+      "plot " + data + " every ::1 using 2:3 with lines lw 2 title 'commanded setpoint (RPDO1)', \\\n"
+      "     '' every ::1 using 2:4 with lines title 'drive position (TPDO1)', \\\n"
+      "     '' every ::1 using 2:5 with lines lw 2 title 'load position (TPDO2)', \\\n"
+      "     '' every ::1 using 2:6 with lines dt 2 title 'load position, offline replay'\n";
+  return plot(dir, name, script, out, "noenhanced size 900,500");  // ids and paths are plain text
+}
+
+plant::SimStatus write_tune_figure(const commission::TuneResult& r, const std::string& dir, const std::string& name, FigureFiles& out) {
+  if (r.chosen >= r.candidates.size() || r.modes.empty()) return plant::SimStatus::bad_range;
+  // The chosen plan and the closest of the faster ones it beat.
+  std::vector<const commission::TuneCandidate*> shown{&r.candidates[r.chosen]};
+  for (std::size_t i = r.chosen; i-- > 0 && shown.size() < 7;) {
+    if (r.candidates[i].planned && r.candidates[i].evaluated) shown.push_back(&r.candidates[i]);
+  }
+  plant::SimStatus st = prepare(dir, out);
+  if (st != plant::SimStatus::ok) return st;
+  constexpr std::size_t kPoints = 401;
+  // x: frequency error in % around each mode's nominal, over twice its band (at least +-10 %).
+  double lo_pct = -10.0, hi_pct = 10.0;
+  for (const commission::UncertainMode& m : r.modes) {
+    lo_pct = std::min(lo_pct, 2.0 * 100.0 * (m.omega_lo / m.omega - 1.0));
+    hi_pct = std::max(hi_pct, 2.0 * 100.0 * (m.omega_hi / m.omega - 1.0));
+  }
+  lo_pct = std::max(lo_pct, -95.0);
+  std::string csv = "error_pct";
+  std::vector<std::vector<double>> cols;
+  std::string plot_cmd = "plot ";
+  std::size_t col = 2;
+  for (const commission::TuneCandidate* c : shown) {
+    for (std::size_t j = 0; j < r.modes.size(); ++j) {
+      const commission::UncertainMode& m = r.modes[j];
+      std::vector<double> y;
+      st = commission::residual_curve(c->move, m.omega * (1.0 + lo_pct / 100.0), m.omega * (1.0 + hi_pct / 100.0), m.zeta, kPoints,
+                          y);
+      if (st != plant::SimStatus::ok) return st;
+      cols.push_back(std::move(y));
+      const std::string title = c->name + fmt(" (%.4g s)", c->duration) +
+                                (r.modes.size() > 1 ? " mode " + std::to_string(j + 1) : std::string{});
+      csv += "," + c->name + "_mode" + std::to_string(j + 1);
+      plot_cmd += (col > 2 ? ", " : "") + gnuplot_string(name + ".csv") + " skip 1 using 1:" + std::to_string(col) +
+                  " with lines" + (c == shown.front() ? " lw 3" : " lw 1 dt 2") + " title " + gnuplot_string(title);
+      ++col;
+    }
+  }
+  csv += "\n";
+  for (std::size_t i = 0; i < kPoints; ++i) {
+    csv += fmt("%.6g", lo_pct + (hi_pct - lo_pct) * static_cast<double>(i) / static_cast<double>(kPoints - 1));
+    for (const std::vector<double>& y : cols) csv += fmt(",%.9g", y[i]);
+    csv += "\n";
+  }
+  if (!write_text((fs::path{dir} / (name + ".csv")).string(), csv)) return plant::SimStatus::io_error;
+  out.csv.push_back((fs::path{dir} / (name + ".csv")).string());
+  std::string edges;
+  for (const commission::UncertainMode& m : r.modes) {
+    for (double e : {100.0 * (m.omega_lo / m.omega - 1.0), 100.0 * (m.omega_hi / m.omega - 1.0)}) {
+      edges += "set arrow from " + fmt("%.6g", e) + ", graph 0 to " + fmt("%.6g", e) + ", graph 1 nohead dt 3\n";
+    }
+  }
+  const std::string script =
+      "set title " + gnuplot_string("settle tune: residual over the band (bound " + fmt("%.4g", r.residual_max) + ")") +
+      "\nset xlabel 'frequency error (% of the nominal omega)'\nset ylabel 'residual / unshaped residual'\n"
+      "set key top left\n" + edges + plot_cmd + ", " + fmt("%.9g", r.residual_max) +
+      " with lines lc rgb 'red' title 'residual max'\n";
+  return plot(dir, name, script, out, "noenhanced size 1000,600");
+}
+
+plant::SimStatus write_identify_figure(const std::string& dir, const std::string& name, const std::string& time_csv,
+                                const std::string& spectrum_csv, FigureFiles& out) {
+  const plant::SimStatus st = prepare(dir, out);
+  if (st != plant::SimStatus::ok) return st;
+  const std::string script =
+      "set datafile separator ','\nset multiplot layout 2,1\n"
+      "set title 'load deflection: measured and identified model'\nset xlabel 't from the excitation (s)'\n"
+      "set ylabel 'deflection (m or rad)'\nset key top right\n"
+      "plot " + gnuplot_string(time_csv) + " every ::1 using 1:2 with lines title 'measured (TPDO2 - rigid motion)', \\\n"
+      "     '' every ::1 using 1:3 with lines lw 2 title 'identified model'\n"
+      "set title 'spectrum of the free response'\nset xlabel 'frequency (Hz)'\nset ylabel 'amplitude'\n"
+      "set logscale xy\n"
+      "plot " + gnuplot_string(spectrum_csv) + " every ::1 using 1:2 with lines title 'measured', \\\n"
+      "     '' every ::1 using 1:3 with lines lw 2 title 'identified model'\nunset multiplot\n";
+  return plot(dir, name, script, out, "noenhanced size 900,800");
+}
+
+plant::SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out) {
+  plant::SimStatus st = prepare(dir, out);
+  if (st != plant::SimStatus::ok) return st;
+  std::string table = "distance,time_ratio,time,profile,plan_status,cruise,peak_velocity,peak_acceleration,over_vmax,"
+                      "prv_mode1,prv_tip,residual_tip,peak_deflection,width_lo,width_hi\n";
+  for (const Run000& run : r.runs) {
+    const std::string dtag = fmt("%.3f", run.distance);
+    // Fig. 3 of the paper: (a) S-curve input, (b) its tip, (c) 3-4-5 input, (d) its tip.
+    std::string panels[4];
+    for (const Row000& row : run.rows) {
+      table += fmt("%.4g", run.distance) + "," + fmt("%.4g", row.time_ratio) + "," + fmt("%.9g", row.time) + "," +
+               core::to_string(row.profile) + "," + core::to_string(row.plan_status) + "," + fmt("%.9g", row.cruise) +
+               "," + fmt("%.9g", row.peak_velocity) + "," + fmt("%.9g", row.peak_acceleration) + "," +
+               (row.over_vmax ? "1" : "0") + "," + fmt("%.6e", row.prv_mode1) + "," + fmt("%.6e", row.prv_tip) + "," +
+               fmt("%.6e", row.residual_tip) + "," + fmt("%.6e", row.peak_deflection) + "," +
+               fmt("%.6g", row.width.lo) + "," + fmt("%.6g", row.width.hi) + "\n";
+      if (row.history.empty()) continue;
+      const std::string name =
+          "000_D" + dtag + "_" + core::to_string(row.profile) + "_T" + fmt("%.2f", row.time_ratio) + ".csv";
+      st = write_history_csv(row.history, (fs::path{dir} / name).string());
+      if (st != plant::SimStatus::ok) return st;
+      out.csv.push_back((fs::path{dir} / name).string());
+      const int k = row.profile == core::ProfileKind::scurve ? 0 : 2;
+      const std::string title = "title " + gnuplot_string(fmt("T = %.2f Tn", row.time_ratio));
+      for (int p = 0; p < 2; ++p) {
+        std::string& s = panels[k + p];
+        s += (s.empty() ? "plot " : ", ") + gnuplot_string(name) + " skip 1 using 1:" + (p == 0 ? "2" : "5") +
+             " with lines lw 2 " + title;
+      }
+    }
+    if (panels[0].empty()) continue;
+    std::string script = "set multiplot layout 2,2 title " +
+                         gnuplot_string("Seed 000, Table 1 beam (3 modes), D = " + dtag +
+                                        " m: ramp-cycloid S-curve (top) against 3-4-5 polynomial (bottom)") +
+                         "\nset key right bottom\n";
+    const char* titles[4] = {"(a) S-curve: input displacement s(t) (m)", "(b) S-curve: tip deflection y(L,t) (m)",
+                             "(c) 3-4-5: input displacement s(t) (m)", "(d) 3-4-5: tip deflection y(L,t) (m)"};
+    for (int p = 0; p < 4; ++p) {
+      script += "set title " + gnuplot_string(titles[p]) + "\nset xlabel 't (s)'\n" +
+                (p % 2 == 1 ? "set key right top\n" : "set key right bottom\n") + panels[p] + "\n";
+    }
+    script += "unset multiplot\n";
+    st = plot(dir, "000_D" + dtag, script, out);
+    if (st != plant::SimStatus::ok) return st;
+  }
+  const std::string tpath = (fs::path{dir} / "000_table.csv").string();
+  if (!write_text(tpath, table)) return plant::SimStatus::io_error;
+  out.csv.push_back(tpath);
+  if (r.sensitivity.empty()) return plant::SimStatus::ok;
+  // Sensitivity curves: one column per profile or shaper, PRV against the frequency ratio.
+  std::string csv = "ratio";
+  for (const Sensitivity000& s : r.sensitivity) csv += "," + s.name;
+  csv += "\n";
+  for (std::size_t i = 0; i < r.sensitivity[0].curve.size(); ++i) {
+    csv += fmt("%.6g", r.sensitivity[0].curve[i].ratio);
+    for (const Sensitivity000& s : r.sensitivity) csv += "," + fmt("%.9e", s.curve[i].prv_percent);
+    csv += "\n";
+  }
+  const std::string spath = (fs::path{dir} / "000_sensitivity.csv").string();
+  if (!write_text(spath, csv)) return plant::SimStatus::io_error;
+  out.csv.push_back(spath);
+  std::string script = "set title 'Seed 000 beam, mode 1: PRV against true/designed frequency (profiles: D = 0.07 m, "
+                       "T = 2 Tn; shapers: on a step)'\nset xlabel 'omega true / omega designed'\nset ylabel "
+                       "'PRV (%)'\nset logscale y\nset yrange [1e-4:200]\nset key outside right\n"
+                       "f(x) = 5\nplot f(x) with lines dt 2 lc rgb 'black' title '5 %'";
+  // gnuplot cycles eight colours: give each curve its own, and draw the shapers dashed.
+  static const char* colours[] = {"#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02",
+                                  "#a6761d", "#000000", "#e41a1c", "#377eb8", "#4daf4a", "#984ea3"};
+  for (std::size_t k = 0; k < r.sensitivity.size(); ++k) {
+    const bool shaper = r.sensitivity[k].name.rfind("shaper:", 0) == 0;
+    script += ", '000_sensitivity.csv' skip 1 using 1:" + std::to_string(k + 2) + " with lines lw 2 lc rgb '" +
+              colours[k % 12] + "'" + (shaper ? " dt 4" : "") + " title " + gnuplot_string(r.sensitivity[k].name);
+  }
+  return plot(dir, "000_sensitivity", script + "\n", out);
+}
+
+plant::SimStatus write_figures_001(const Result001& r, const std::string& dir, FigureFiles& out) {
+  plant::SimStatus st = prepare(dir, out);
+  if (st != plant::SimStatus::ok) return st;
+  // Figs. 2 and 3: command y(t) and mass x(t), arbitrary against computed Y, for each tau.
+  std::string script = "set multiplot layout 2,2 title 'Seed 001: m = 1 kg, k = 800 N/m, c = 9 N s/m, L = 1'\n"
+                       "set xlabel 't (s)'\nset ylabel 'displacement (m)'\nset key right bottom\n";
+  for (const Case001& c : r.cases) {
+    for (int which = 0; which < 2; ++which) {
+      const auto& h = which == 0 ? c.history_arbitrary : c.history_computed;
+      if (h.empty()) continue;
+      const std::string name =
+          std::string{"001_tau"} + fmt("%.3f", c.tau) + (which == 0 ? "_arbitrary" : "_computed") + ".csv";
+      st = write_history_csv(h, (fs::path{dir} / name).string());
+      if (st != plant::SimStatus::ok) return st;
+      out.csv.push_back((fs::path{dir} / name).string());
+      script += "set title " +
+                gnuplot_string(std::string{which == 0 ? "(a) arbitrary Y = (0.5, 0.25, 0.25)" : "(b) computed Y"} +
+                               fmt(", tau = %.3f s", c.tau)) +
+                "\nplot " + gnuplot_string(name) + " skip 1 using 1:2 with lines lw 2 title 'command y(t)', " +
+                gnuplot_string(name) + " skip 1 using 1:6 with lines lw 2 title 'mass x(t)'\n";
+    }
+  }
+  script += "unset multiplot\n";
+  if (!r.cases.empty() && !r.cases[0].history_arbitrary.empty()) {
+    st = plot(dir, "001_responses", script, out);
+    if (st != plant::SimStatus::ok) return st;
+  }
+  // Figs. 4-7: residual over eps(w_n) and eps(zeta), one surface per method; and the eps(zeta) = 0
+  // slices of all methods on one plot.
+  for (const Grid001& g : r.grids) {
+    const std::string name = "001_grid_" + g.method + ".csv";
+    std::string csv = "eps_omega,eps_zeta,residual\n";
+    const std::size_t n = g.eps.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = 0; j < n; ++j) {
+        csv += fmt("%.6g", g.eps[i]) + "," + fmt("%.6g", g.eps[j]) + "," + fmt("%.9e", g.residual[i * n + j]) + "\n";
+      }
+      csv += "\n";  // gnuplot's grid format: a blank line ends each row
+    }
+    if (!write_text((fs::path{dir} / name).string(), csv)) return plant::SimStatus::io_error;
+    out.csv.push_back((fs::path{dir} / name).string());
+    st = plot(dir, "001_robust_" + g.method,
+              "set title " + gnuplot_string("Seed 001, tau = 0.167 s, " + g.method + fmt(": residual / L at t = %.3f s", r.residual_at)) +
+                  "\nset xlabel 'eps(w_n)'\nset ylabel 'eps(zeta)'\nset zlabel "
+                  "'residual / L' rotate by 90\nset view 60,30\nset xyplane at 0\nset hidden3d\nsplot " +
+                  gnuplot_string(name) + " skip 1 using 1:2:3 with lines title ''\n",
+              out);
+    if (st != plant::SimStatus::ok) return st;
+  }
+  if (!r.grids.empty()) {
+    const std::size_t n = r.grids[0].eps.size();
+    std::string csv = "eps_omega";
+    for (const Grid001& g : r.grids) csv += "," + g.method;
+    csv += "\n";
+    for (std::size_t i = 0; i < n; ++i) {
+      csv += fmt("%.6g", r.grids[0].eps[i]);
+      for (const Grid001& g : r.grids) csv += "," + fmt("%.9e", g.residual[i * n + n / 2]);
+      csv += "\n";
+    }
+    const std::string name = "001_slices.csv";
+    if (!write_text((fs::path{dir} / name).string(), csv)) return plant::SimStatus::io_error;
+    out.csv.push_back((fs::path{dir} / name).string());
+    std::string slices = "set title 'Seed 001, tau = 0.167 s: residual against eps(w_n) at eps(zeta) = 0'\n"
+                         "set xlabel 'eps(w_n) = w_n*/w_n - 1'\nset ylabel 'residual amplitude / L, referred to t = tau'\n"
+                         "set key top center\nplot ";
+    for (std::size_t gi = 0; gi < r.grids.size(); ++gi) {
+      slices += std::string{gi == 0 ? "" : ", "} + gnuplot_string(name) + " skip 1 using 1:" +
+                std::to_string(gi + 2) + " with linespoints lw 2 title " + gnuplot_string(r.grids[gi].method);
+    }
+    st = plot(dir, "001_robust_slices", slices + "\n", out);
+    if (st != plant::SimStatus::ok) return st;
+  }
+  return plant::SimStatus::ok;
+}
+
+plant::SimStatus write_figures_004(const Result004& r, const std::string& dir, FigureFiles& out) {
+  plant::SimStatus st = prepare(dir, out);
+  if (st != plant::SimStatus::ok) return st;
+  if (r.history_initial.empty()) return plant::SimStatus::ok;
+  const char* names[2] = {"004_history_345.csv", "004_history_optimised.csv"};
+  st = write_history_csv(r.history_initial, (fs::path{dir} / names[0]).string());
+  if (st == plant::SimStatus::ok) st = write_history_csv(r.history_optimised, (fs::path{dir} / names[1]).string());
+  if (st != plant::SimStatus::ok) return st;
+  for (const char* n : names) out.csv.push_back((fs::path{dir} / n).string());
+  // Fig. 3: platform velocity and acceleration (command lambda phi_m dashed), kinetic and potential
+  // energy; non-optimised left, optimised right.
+  const double lambda = r.target.lambda;
+  std::string script = "set multiplot layout 4,2 title 'Seed 004, Table III platform: gamma = (3, 4, 5) (left) "
+                       "against optimised (right)'\nset xlabel 't (s)'\nset key right top\n";
+  const char* rows[4][2] = {{"angular velocity (rad/s)", "7"},
+                            {"angular acceleration (rad/s^2)", "8"},
+                            {"kinetic energy (J)", "9"},
+                            {"elastic potential energy (J)", "10"}};
+  const char* cmd_cols[2] = {"3", "4"};
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < 2; ++col) {
+      const std::string f = names[col];
+      script += "set title " + gnuplot_string(std::string{rows[row][0]} + (col == 0 ? ", gamma = (3,4,5)" : ", optimised")) +
+                "\nplot " + gnuplot_string(f) + " skip 1 using 1:" + rows[row][1] + " with lines lw 2 title 'platform'";
+      if (row < 2) {
+        script += ", " + gnuplot_string(f) + " skip 1 using 1:($" + cmd_cols[row] + "*" + fmt("%.17g", lambda) +
+                  ") with lines dt 2 lw 2 title 'command'";
+      }
+      script += "\n";
+    }
+  }
+  script += "unset multiplot\n";
+  st = plot(dir, "004_fig3", script, out);
+  if (st != plant::SimStatus::ok) return st;
+  std::string csv = "count,h_index,slope,width,gammas\n";
+  for (const Exponents004& e : r.exponents) {
+    csv += std::to_string(e.count) + "," + fmt("%.6e", e.h_index) + "," + fmt("%.6e", e.slope) + "," +
+           fmt("%.6g", e.width.width) + ",";
+    for (std::size_t i = 0; i < e.gammas.size(); ++i) csv += (i ? " " : "") + fmt("%.6f", e.gammas[i]);
+    csv += "\n";
+  }
+  const std::string epath = (fs::path{dir} / "004_exponents.csv").string();
+  if (!write_text(epath, csv)) return plant::SimStatus::io_error;
+  out.csv.push_back(epath);
+  return plant::SimStatus::ok;
+}
+
+}  // namespace settle::papers

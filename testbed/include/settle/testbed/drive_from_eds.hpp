@@ -1,0 +1,38 @@
+// The simulated drive's configuration (hal's DriveNodeConfig) from an EDS: which optional
+// objects it has, its identity and device type, the defaults of its parameters, its PDOs'
+// default mappings and whether they are writable (the mapping objects' AccessType). An EDS that
+// describes something the simulated drive cannot be is refused with a line that names the object
+// (an object it does not implement, one it always has that the EDS lacks, a default it cannot
+// take, a default mapping that cannot be bound). Host only (files, strings).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "settle/hal/canopen/drive_node.hpp"
+#include "settle/hal/eds_reader.hpp"
+
+namespace settle::testbed {
+
+// The drive's strings 0x1008..0x100A as the EDS gives them (DefaultValue).
+struct DriveTexts {
+  std::string device_name;
+  std::string hardware_version;
+  std::string software_version;
+};
+
+struct DriveFromEds {
+  // Its device_name, hardware_version and software_version point into `texts`: keep this result
+  // (it moves, it does not copy) for as long as a DriveNode built from the config lives.
+  std::optional<hal::canopen::DriveNodeConfig> config;
+  std::unique_ptr<const DriveTexts> texts;
+  std::string error;  // why not, one line naming the object at fault
+};
+
+// The configuration for node `node` (values with $NODEID resolved for it).
+[[nodiscard]] DriveFromEds simulated_drive_from_eds(const hal::eds::Description& eds, hal::canopen::NodeId node);
+// The same from a file: the reader's error (which names the file), or the path and the above.
+[[nodiscard]] DriveFromEds load_drive_config(const std::string& path, hal::canopen::NodeId node);
+
+}  // namespace settle::testbed

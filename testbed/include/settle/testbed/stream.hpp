@@ -1,0 +1,205 @@
+#pragma once
+// `settle stream` as a library call: the servo loop streams a planned move to a drive over CAN,
+// and the report says whether the machine ended at rest: the residual vibration measured from the
+// drive's CAN feedback, next to the offline replay of the same setpoints (no bus) and the
+// continuous profile (no sampling). run_stream(spec, bus) -> StreamReport; where it runs is the
+// StreamBus (stream_bus.hpp), how it is printed the reporters (stream_report.hpp).
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "settle/core/move.hpp"
+#include "settle/core/online.hpp"
+#include "settle/core/status.hpp"
+#include "settle/runtime/linux/periodic.hpp"
+#include "settle/runtime/servo_loop.hpp"
+#include "settle/runtime/session.hpp"
+#include "settle/hal/can_bus.hpp"
+#include "settle/hal/eds_drive_config.hpp"
+#include "settle/hal/eds_reader.hpp"
+#include "settle/testbed/drive_axis.hpp"
+#include "settle/plant/modal_plant.hpp"
+#include "settle/testbed/stream_check.hpp"
+
+namespace settle::testbed {
+
+// The loop's evaluation: FloatEvaluation<double>, FloatEvaluation<float>, or the firmware's
+// fixed-point one with room for the pseudo-polynomial's pieces (PolyFixedEvaluation).
+enum class StreamScalar : std::uint8_t { double_precision, single_precision, fixed_point };
+[[nodiscard]] const char* to_string(StreamScalar s) noexcept;  // "double", "float", "fixed"
+
+// What to stream, to what machine, and how the loop supervises the drive. The caller bounds the
+// sizes (move + settle time in periods, counts within 32 bits) before asking.
+// --halt-at / --retarget-at (docs/online.md): the loop's halt() or retarget() of the move, asked
+// for kOnlineLeadTicks periods before `at` (a whole number of periods, at least that lead) and
+// switched in at `at`; `blend` is what core plans there, for the offline replay and reference.
+struct StreamChange {
+  double at{0.0};
+  std::optional<double> target;
+  std::vector<core::Mode> modes;
+  core::OnlineLimits limits{};
+  core::Blend blend{};
+};
+
+// --axes N (issue 17, docs/multi_axis.md): one more axis of the same bus, its own move and node,
+// and with a halt or retarget its own change (the same `at` as axis 1's; core::axis_online gives
+// its modes and limits).
+struct StreamAxis {
+  core::Move<double> move{};
+  hal::canopen::NodeId node{2};
+  std::optional<StreamChange> change;
+};
+
+struct StreamSpec {
+  core::Move<double> move{};
+  std::optional<StreamChange> change;  // every scalar: the blend is evaluated in it
+  plant::ModalPlant plant{};       // the machine behind the drive: the in-process drive's and the replay's
+  DriveAxisConfig drive{};  // the simulated drive and the replay; drive.scale is the loop's axis scale too
+  hal::canopen::NodeId node{1};
+  std::uint16_t heartbeat_ms{500};
+  std::uint32_t sdo_timeout_us{1'000'000};
+  std::uint16_t feedback_timeout_periods{runtime::kDefaultFeedbackTimeoutPeriods};
+  std::optional<double> axis_vmax{};  // units/s; default 1.5 x the move's peak velocity
+  double settle_time_s{1.0};          // periods observed after the move, at rest
+  StreamScalar scalar{StreamScalar::double_precision};
+  // --eds: the drive's description. The master configures and verifies the drive from it
+  // (hal::eds::drive_config_from_eds with streaming_feedback), and on loopback the simulated drive
+  // is the one it describes (testbed::simulated_drive_from_eds). Null: Settle's own drive, as assumed.
+  std::shared_ptr<const hal::eds::Description> eds;
+  // --axes N: axes 2..N (axis 1 is `move` on `node`), every one started on the same SYNC and
+  // streamed, supervised and measured as axis 1, with the same plant, drive and loop options (each
+  // its own copy of the plant: one PlantNode per node on loopback). Empty: one axis. With a change,
+  // every axis that has one is asked in the same period between the same two ticks, as an
+  // application halting the machine would.
+  std::vector<StreamAxis> more_axes;
+};
+
+// Axis i of the spec (0: axis 1) as a one-axis spec: its move, node and change, everything else shared.
+[[nodiscard]] StreamSpec axis_spec(const StreamSpec& spec, std::size_t i);
+
+// The feedback a stream maps besides statusword and position: the velocity actual 0x606C and
+// the load-side position 0x2000 (the simulated drive's load encoder), each when the description
+// has it.
+[[nodiscard]] hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds);
+
+// Why a drive's start-up failed, in one line: the object, what was expected and read, or the SDO
+// status and abort code.
+[[nodiscard]] std::string start_up_failure_text(const hal::canopen::RemoteDriveFailure& failure);
+
+// What the real-time clock saw (all zero on a virtual clock).
+struct StreamTiming {
+  runtime::linux_rt::LatencyHistogram latency{};
+  std::uint64_t overruns{0};
+  runtime::linux_rt::RealtimeSetup realtime{};
+};
+
+// Where a stream runs: the link the loop sends and receives on, the clock that paces its ticks,
+// and what happens on the bus between ticks. LoopbackStreamBus and SocketCanStreamBus
+// (stream_bus.hpp) are the two; nothing here allocates between begin() and finish().
+class StreamBus {
+ public:
+  StreamBus() = default;
+  StreamBus(const StreamBus&) = delete;
+  StreamBus& operator=(const StreamBus&) = delete;
+  virtual ~StreamBus() = default;
+
+  // As the report names it.
+  [[nodiscard]] virtual std::string name() const = 0;
+  // A real-time clock (its timing is reported) rather than a virtual one.
+  [[nodiscard]] virtual bool realtime() const = 0;
+  // Everything the run needs, before the loop exists: "" or why not (a one-line message).
+  [[nodiscard]] virtual std::string open(const StreamSpec& spec) = 0;
+  [[nodiscard]] virtual hal::CanBus& link() = 0;
+  // Right before the first tick.
+  virtual void begin() = 0;
+  // The session's clock (runtime::run_session's Clock).
+  virtual std::uint64_t wait() = 0;
+  [[nodiscard]] virtual std::uint64_t now_us() const = 0;
+  // After every tick, within its period.
+  virtual void between_ticks() = 0;
+  // After the session: frames still on their way go to `take`; "" or why the run's records are
+  // incomplete.
+  using FrameTaker = std::function<void(const hal::CanFrame& frame, std::uint64_t now_us)>;
+  [[nodiscard]] virtual std::string finish(const FrameTaker& take) = 0;
+  // This side's bus counters (the controller's, not a recorder's).
+  [[nodiscard]] virtual hal::BusCounters counters() const = 0;
+  [[nodiscard]] virtual StreamTiming timing() const = 0;
+};
+
+// One run, every number the reporters print. A residual that could not be measured is NaN.
+struct StreamReport {
+  std::string failure;  // non-empty: the run could not be made (a bus or file that cannot be opened)
+
+  std::string bus;
+  bool realtime{false};
+  hal::canopen::NodeId node{1};
+  core::ProfileKind profile{};
+  StreamScalar scalar{StreamScalar::double_precision};
+  core::Status evaluation{core::Status::ok};  // why the selected evaluation refused the move
+  double distance{0.0};
+  double move_time{0.0};
+  core::AxisScale scale{};
+
+  runtime::SessionResult session{};
+  // From the session's first tick to the first with the drive operation enabled (NMT, the SDO
+  // configuration, the enable sequence), on the bus's clock; absent when it never got there.
+  std::optional<std::uint64_t> start_up_us;
+  std::string drive_state;
+  std::string drive_failure;  // empty unless the drive's start-up failed
+  hal::BusCounters counters{};
+  runtime::AxisStats axis{};
+  std::uint64_t units_held{0};
+  std::vector<runtime::TickRecord> log;           // one per tick
+  std::vector<runtime::FeedbackSample> feedback;  // every TPDO pair, in arrival order
+  StreamTiming timing{};
+
+  std::vector<std::int32_t> setpoints;  // the selected evaluation's (empty when it refused)
+  // Against the double evaluator's setpoints (absent when either evaluation refused the move).
+  std::optional<std::int64_t> setpoints_vs_double_max_counts;
+  std::int64_t setpoints_differing_from_double{0};
+  Replay replay{};                        // the setpoints through the same drive and plant, no bus
+  std::optional<std::size_t> alignment;   // where the replay's positions start in the feedback
+  std::uint64_t feedback_late_ticks{0};
+  std::uint64_t frames_lost{0};
+
+  SampledResidual residual_can{};      // from the CAN feedback
+  SampledResidual residual_offline{};  // from the replay
+  double residual_double{0.0};         // the double evaluator's replay
+  double agreement{0.0};               // |CAN - offline|
+  double residual_vs_double_percent{0.0};
+  double residual_vs_double_load_counts{0.0};
+  bool continuous_simulated{false};
+  double residual_continuous{0.0};     // the continuous profile, unsampled
+  double prv_continuous_percent{0.0};
+  std::size_t window_samples{0};
+  // The ticks (log indices) of the move's first setpoint sent and of its last (absent: never).
+  std::optional<std::uint64_t> move_start_tick, move_end_tick;
+
+  // --axes N: axes 2..N, each reported as this one reports axis 1 (its own log, feedback, replay
+  // and residuals; the session is the run's, shared), and what only several axes have: how far
+  // apart their moves started and ended (ticks; 0 = the same SYNC, as the session promises; axes
+  // that do not move are left out), and the largest distance from the straight line from the
+  // start to (D_1, ..., D_N), in counts, of the points the axes were sent (setpoints) and of the
+  // positions the drives reported for the same SYNCs (feedback, aligned with each axis's replay).
+  // With --sync path the line is the path: issue 17 bounds it by one count.
+  std::vector<StreamReport> more_axes;
+  std::optional<std::uint64_t> start_tick_spread, end_tick_spread;
+  double line_deviation_setpoints_counts{0.0};
+  double line_deviation_feedback_counts{0.0};
+
+  [[nodiscard]] bool aligned() const noexcept { return alignment.has_value(); }
+  [[nodiscard]] bool completed() const noexcept {
+    return session.outcome == runtime::SessionOutcome::completed && aligned();
+  }
+  // Success: completed, with every measurement present and finite, on every axis.
+  [[nodiscard]] bool measured() const noexcept;
+};
+
+// Streams spec.move (and spec.more_axes' moves) over `bus` and measures it. A report with `failure` set says why it could not
+// run; otherwise the report is complete whatever the outcome (measured() says whether it succeeded).
+[[nodiscard]] StreamReport run_stream(const StreamSpec& spec, StreamBus& bus);
+
+}  // namespace settle::testbed

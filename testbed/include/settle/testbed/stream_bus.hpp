@@ -1,0 +1,120 @@
+#pragma once
+// The two places a stream runs. LoopbackStreamBus: the simulated drive (the spec's plant behind
+// hal's drive node) on the in-process bus, in virtual time, deterministic. SocketCanStreamBus: a
+// SocketCAN interface (vcan0, can0) in real time, against a `settle plant` process or a drive.
+// Either can write a candump log of the run (`candump -l` format, replayable with canplayer).
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "settle/runtime/linux/periodic.hpp"
+#include "settle/runtime/session.hpp"
+#include "settle/testbed/drive_from_eds.hpp"
+#include "settle/hal/candump_file.hpp"
+#include "settle/hal/recording_bus.hpp"
+#include "settle/hal/loopback_bus.hpp"
+#include "settle/hal/socketcan_bus.hpp"
+#include "settle/testbed/plant_node.hpp"
+#include "settle/testbed/stream.hpp"
+
+namespace settle::testbed {
+
+// How long a session's end waits for frames still on their way (the last TPDOs answer the last
+// SYNC within a period; a drive on a loaded host can be seconds behind). Waiting stops after
+// `quiet_us` without a frame that is not a heartbeat (the drives' heartbeats go on for ever:
+// several drives' together can leave no gap at all), in every case after `limit_us` (a peer that
+// never falls silent cannot hold the master), and after `max_frames` (a bound that holds even on
+// a clock that does not move: 8-byte frames at 1 Mbit/s, about 8000 a second, fill it in about
+// 8 s, longer than the limit). Frames already
+// queued when the window closes are still taken (up to max_frames): a process held off the CPU
+// past the window finds its late feedback waiting.
+struct LateFrameWindow {
+  std::uint32_t quiet_us{50'000};
+  std::uint32_t limit_us{5'000'000};
+  std::size_t max_frames{65'536};
+};
+
+// Takes the late frames from `bus` into `take` within `window`; returns how many it took. now_us:
+// the time now, a clock that runs on its own (not one that moves by periods, such as
+// PeriodicTimer::now_us, which stands still once the session stops waiting on it).
+std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t()>& now_us,
+                             const StreamBus::FrameTaker& take, LateFrameWindow window = {});
+
+// On loopback every axis of the spec (spec.more_axes too) has its drive in this process.
+class LoopbackStreamBus final : public StreamBus {
+ public:
+  // candump_path: where to log every frame on the bus (a listening port sees them all); "" none.
+  explicit LoopbackStreamBus(std::string candump_path = {});
+  ~LoopbackStreamBus() override;
+
+  [[nodiscard]] std::string name() const override { return "loopback (in-process, virtual time)"; }
+  [[nodiscard]] bool realtime() const override { return false; }
+  [[nodiscard]] std::string open(const StreamSpec& spec) override;
+  [[nodiscard]] hal::CanBus& link() override { return master_; }
+  void begin() override;
+  std::uint64_t wait() override { return clock_.wait(); }
+  [[nodiscard]] std::uint64_t now_us() const override { return clock_.now_us(); }
+  void between_ticks() override;
+  [[nodiscard]] std::string finish(const FrameTaker& take) override;
+  [[nodiscard]] hal::BusCounters counters() const override { return master_.counters(); }
+  [[nodiscard]] StreamTiming timing() const override { return {}; }
+
+ private:
+  std::string candump_path_;
+  hal::LoopbackHub hub_;
+  hal::LoopbackBus<256> master_{hub_};
+  hal::LoopbackBus<256> sniffer_{hub_};
+  // One simulated drive per axis (--axes N: one per node), each on its own port of the hub and
+  // with its own copy of the plant.
+  struct Drive {
+    std::unique_ptr<hal::LoopbackBus<256>> port;
+    std::unique_ptr<DriveFromEds> simulated;  // with --eds: the drive's strings point into it
+    std::unique_ptr<PlantNode> node;
+  };
+  std::vector<Drive> drives_;
+  hal::CandumpFile dump_;
+  std::uint32_t period_us_{1000};
+  runtime::VirtualClock clock_{1000};
+};
+
+class SocketCanStreamBus final : public StreamBus {
+ public:
+  // `opened`: the interface, already open (it must outlive this). rt_priority 1..99 asks for
+  // SCHED_FIFO (and locked memory) at open; 0 runs as scheduled. candump_path: this process's own
+  // log of every frame it sends and receives (complete, unlike a sniffer's: its line count equals
+  // frames_sent + frames_received); "" none. pm_qos: hold /dev/cpu_dma_latency at 0 µs from open
+  // to destruction (CpuLatencyRequest; reported in timing().realtime, not fatal when refused).
+  SocketCanStreamBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path = {},
+                     int rt_priority = 0, bool pm_qos = true);
+  ~SocketCanStreamBus() override;
+
+  [[nodiscard]] std::string name() const override { return interface_; }
+  [[nodiscard]] bool realtime() const override { return true; }
+  [[nodiscard]] std::string open(const StreamSpec& spec) override;
+  [[nodiscard]] hal::CanBus& link() override;
+  void begin() override;
+  std::uint64_t wait() override { return timer_->wait(); }
+  [[nodiscard]] std::uint64_t now_us() const override { return timer_->now_us(); }
+  void between_ticks() override;
+  [[nodiscard]] std::string finish(const FrameTaker& take) override;
+  [[nodiscard]] hal::BusCounters counters() const override { return bus_.counters(); }
+  [[nodiscard]] StreamTiming timing() const override;
+
+ private:
+  hal::SocketCanBus& bus_;
+  std::string interface_;
+  std::string candump_path_;
+  int rt_priority_;
+  bool pm_qos_;
+  std::unique_ptr<hal::RecordingBus<4096>> recorder_;  // only with a candump log
+  std::optional<runtime::linux_rt::CpuLatencyRequest> cpu_latency_;
+  hal::CandumpFile dump_;
+  std::optional<runtime::linux_rt::PeriodicTimer> timer_;
+  runtime::linux_rt::RealtimeSetup realtime_{};
+};
+
+}  // namespace settle::testbed

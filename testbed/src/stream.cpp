@@ -1,0 +1,505 @@
+#include "settle/testbed/stream.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "settle/core/multi_axis.hpp"
+#include "settle/runtime/evaluation.hpp"
+#include "settle/plant/command.hpp"
+#include "settle/plant/limits.hpp"
+#include "settle/plant/online_command.hpp"
+#include "settle/plant/simulate.hpp"
+
+namespace settle::testbed {
+
+const char* to_string(StreamScalar s) noexcept {
+  switch (s) {
+    case StreamScalar::double_precision: return "double";
+    case StreamScalar::single_precision: return "float";
+    case StreamScalar::fixed_point: return "fixed";
+  }
+  return "?";
+}
+
+bool StreamReport::measured() const noexcept {
+  const bool axes_measured =
+      more_axes.empty() || (start_tick_spread && end_tick_spread && std::isfinite(line_deviation_setpoints_counts) &&
+                            std::isfinite(line_deviation_feedback_counts));
+  return completed() && std::isfinite(residual_can.amplitude) && std::isfinite(residual_offline.amplitude) &&
+         std::isfinite(agreement) && std::isfinite(residual_continuous) && axes_measured &&
+         std::all_of(more_axes.begin(), more_axes.end(), [](const StreamReport& a) { return a.measured(); });
+}
+
+StreamSpec axis_spec(const StreamSpec& spec, std::size_t i) {
+  StreamSpec one = spec;
+  one.more_axes.clear();
+  if (i > 0) {
+    one.move = spec.more_axes[i - 1].move;
+    one.node = spec.more_axes[i - 1].node;
+    one.change = spec.more_axes[i - 1].change;
+  }
+  return one;
+}
+
+namespace {
+
+// The loop for each evaluation (--scalar): its scalar, up to core::kMaxAxes axes (--axes), four
+// queued moves, online changes, and a second of feedback per axis at 1 kHz (a host process held
+// off the CPU for longer than a microcontroller's 16 periods still loses no sample).
+template <typename Scalar, typename Evaluation>
+using LoopOf = runtime::ServoLoop<Scalar, core::kMaxAxes, 4, Evaluation, hal::CanBus, true, 1024>;
+// Drained every tick, the log cannot overflow then: a tick takes at most kMaxFramesPerTick frames,
+// two of them a sample. (A dropped sample would break the period-by-period correspondence the
+// measurement relies on, unseen where the positions are at rest.)
+static_assert(1024 >= LoopOf<double, runtime::FloatEvaluation<double>>::kMaxFramesPerTick);
+
+// The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end,
+// and with a change the move's up to the switch, then the blend's to its end: the prepare/start/
+// next the loop runs in its ticks and service(), offline. The replay's setpoints for every scalar
+// come from here, and so do the double evaluator's they are compared with. Not ok when the
+// evaluation refuses the move or the blend (the loop refuses them too) or it has more than kMaxSamples.
+template <typename Evaluation>
+core::Status evaluated_setpoints(const StreamSpec& spec, std::vector<std::int32_t>& out) {
+  const core::AxisScale& scale = spec.drive.scale;
+  out.clear();
+  auto slot = std::make_unique<typename Evaluation::Stored>();  // not movable: the stream refers into it
+  if (const core::Status st = Evaluation::prepare(spec.move, scale, *slot); st != core::Status::ok) return st;
+  typename Evaluation::Stream s = Evaluation::start(*slot, 0);
+  bool last = false;
+  while (!last && out.size() < plant::kMaxSamples) out.push_back(s.next(last));
+  if (!last) return core::Status::duration_does_not_fit;
+  if (!spec.change) return core::Status::ok;
+  const auto k = static_cast<std::size_t>(std::llround(spec.change->at / scale.period_s()));
+  if (out.size() > k) out.resize(k);
+  while (out.size() < k) out.push_back(out.empty() ? 0 : out.back());
+  auto blend = std::make_unique<typename Evaluation::BlendStored>();
+  if (const core::Status st = Evaluation::prepare(spec.change->blend, scale, *blend); st != core::Status::ok) return st;
+  typename Evaluation::BlendStream b = Evaluation::start(*blend, 0);
+  last = false;
+  while (!last && out.size() < plant::kMaxSamples) out.push_back(b.next(last));
+  return last ? core::Status::ok : core::Status::duration_does_not_fit;
+}
+
+core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, std::vector<std::int32_t>& out) {
+  switch (scalar) {
+    case StreamScalar::single_precision: return evaluated_setpoints<runtime::FloatEvaluation<float>>(spec, out);
+    case StreamScalar::fixed_point: return evaluated_setpoints<runtime::PolyFixedEvaluation>(spec, out);
+    case StreamScalar::double_precision: break;
+  }
+  return evaluated_setpoints<runtime::FloatEvaluation<double>>(spec, out);
+}
+
+// How long the command lasts: the move, or the move to the switch and then the blend.
+double command_duration(const StreamSpec& spec) {
+  return spec.change ? spec.change->at + spec.change->blend.duration() : spec.move.duration();
+}
+
+}  // namespace
+
+std::string start_up_failure_text(const hal::canopen::RemoteDriveFailure& f) {
+  static constexpr std::array<const char*, 5> sdo{"idle", "busy", "done", "aborted", "timed out"};
+  std::array<char, 96> text{};
+  if (f.enable_timeout) {
+    std::snprintf(text.data(), text.size(), "the drive did not reach operation enabled in time");
+  } else if (f.wrong_value) {
+    // wrong_value (a write read back as another value), not_cia402, wrong_identity, mode_not_applied
+    std::snprintf(text.data(), text.size(), "0x%04X:%u %s: expected 0x%X, read 0x%X", f.index,
+                  static_cast<unsigned>(f.sub), hal::canopen::to_string(f.error), static_cast<unsigned>(f.expected),
+                  static_cast<unsigned>(f.actual));
+  } else if (f.error == hal::canopen::StartupError::plan_too_long) {
+    std::snprintf(text.data(), text.size(), "the configuration needs more start-up steps than the master holds");
+  } else {
+    std::snprintf(text.data(), text.size(), "SDO 0x%04X:%u %s (abort 0x%08X)", f.index, static_cast<unsigned>(f.sub),
+                  sdo[static_cast<std::size_t>(f.status) % sdo.size()], static_cast<unsigned>(f.abort));
+  }
+  return text.data();
+}
+
+namespace {
+
+// The session's clock is the bus's.
+struct BusClock {
+  StreamBus& bus;
+  std::uint64_t wait() { return bus.wait(); }
+  [[nodiscard]] std::uint64_t now_us() const { return bus.now_us(); }
+};
+
+// The session on `bus` with the loop of one evaluation, one axis per spec (specs[i] is axis i's,
+// acs[i] its loop configuration, rs[i] its report); fills the reports' run fields. "" or why it
+// could not run.
+template <typename Scalar, typename Evaluation>
+std::string stream_session(const std::vector<StreamSpec>& specs, const std::vector<runtime::AxisConfig>& acs,
+                           const runtime::SessionConfig& sc, StreamBus& bus, const std::vector<StreamReport*>& rs) {
+  using Loop = LoopOf<Scalar, Evaluation>;
+  StreamReport& r = *rs.front();
+  const std::size_t n = specs.size();
+  auto loop = std::make_unique<Loop>(bus.link(), acs.front().scale.period_us);
+  std::vector<core::Move<double>> moves;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (const runtime::LoopStatus st = loop->add_axis(acs[i]); st != runtime::LoopStatus::ok) {
+      return "the loop refused axis " + std::to_string(i + 1) + ": " + runtime::to_string(st);
+    }
+    moves.push_back(specs[i].move);
+  }
+  const auto drain = [&] {
+    for (std::size_t i = 0; i < n; ++i) {
+      for (runtime::FeedbackSample fs{}; loop->feedback_log(i).pop(fs);) rs[i]->feedback.push_back(fs);
+    }
+  };
+  // A change: halt()/retarget() posted on every axis that has one and service() run between two
+  // ticks, the configuration's lead_ticks setpoints before the switch, as an application would.
+  // The ticks are counted on the first axis with a change (every change has the same `at`).
+  std::int64_t ask_at = -1;
+  std::size_t lead = n;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::optional<StreamChange>& ch = specs[i].change;
+    if (!ch) continue;
+    runtime::OnlineConfig oc{};
+    oc.mode_count = std::min(ch->modes.size(), oc.modes.size());
+    for (std::size_t k = 0; k < oc.mode_count; ++k) oc.modes[k] = ch->modes[k];
+    oc.limits = ch->limits;
+    if (const runtime::LoopStatus st = loop->configure_online(i, oc); st != runtime::LoopStatus::ok) {
+      return "the loop refused axis " + std::to_string(i + 1) + "'s online configuration: " + runtime::to_string(st);
+    }
+    if (lead == n) {
+      lead = i;
+      ask_at = std::llround(ch->at / acs.front().scale.period_s()) - static_cast<std::int64_t>(oc.lead_ticks);
+    }
+  }
+  const auto ask = [&] {
+    bool ok = true;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::optional<StreamChange>& ch = specs[i].change;
+      if (ch) ok = (ch->target ? loop->retarget(i, *ch->target) : loop->halt(i)) && ok;
+    }
+    return loop->service() == runtime::LoopStatus::ok && ok;
+  };
+  std::int64_t moving_ticks = 0;
+  bool asked_ok = true;
+  BusClock clock{bus};
+  bus.begin();
+  const std::uint64_t started_us = clock.now_us();
+  // Everything the observer appends to was reserved by the caller: no heap use while streaming.
+  // Move i goes to axis i (runtime::run_session), all in the same tick.
+  r.session = runtime::run_session(*loop, clock, moves.data(), n, sc, [&](std::uint64_t, bool) {
+    if (!r.start_up_us && loop->all_ready()) r.start_up_us = clock.now_us() - started_us;
+    for (std::size_t i = 0; i < n; ++i) rs[i]->log.push_back(loop->record(i));
+    if (lead < n && loop->record(lead).moving && loop->record(lead).sent && ++moving_ticks == ask_at) {
+      asked_ok = ask();
+    }
+    drain();
+    bus.between_ticks();
+  });
+  // A session that ended before the change (a refused move, a drive lost) reports its own
+  // outcome, which says why; only a session that ran to its end must have switched.
+  const bool ran_out = r.session.outcome == runtime::SessionOutcome::completed;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (specs[i].change && (!asked_ok || (ran_out && loop->online_switches(i) != 1))) {
+      return "the loop did not switch axis " + std::to_string(i + 1) + " to its blend at " +
+             std::to_string(specs[i].change->at) + " s";
+    }
+  }
+  // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
+  if (std::string why = bus.finish([&](const hal::CanFrame& f, std::uint64_t now_us) {
+        loop->receive(f, now_us);
+        drain();
+      });
+      !why.empty()) {
+    return why;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    StreamReport& a = *rs[i];
+    if (i > 0) {
+      a.session = r.session;
+      a.start_up_us = r.start_up_us;
+    }
+    a.counters = bus.counters();
+    a.axis = loop->axis_stats(i);
+    a.units_held = loop->stats().units_held;
+    const auto& d = loop->drive(i);
+    a.drive_state = hal::canopen::to_string(d.state());
+    if (d.state() == hal::canopen::RemoteDriveState::failed) a.drive_failure = start_up_failure_text(d.failure());
+    a.timing = bus.timing();
+  }
+  return {};
+}
+
+// The measurements: the replay, the alignment of the CAN feedback with it, the residual fits and
+// the continuous reference.
+void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r) {
+  const core::AxisScale& scale = spec.drive.scale;
+  const double load_cpu = spec.drive.load_counts_per_unit;
+  // Offline: the same integer setpoints through the same drive model and plant, no bus.
+  const bool have_sp = r.evaluation == core::Status::ok;
+  const bool have_replay =
+      have_sp && replay_stream(spec.drive, spec.plant, 0, r.setpoints, settle_ticks, r.replay) == plant::SimStatus::ok;
+  // The double evaluator's setpoints and their replay: what double streams (its run aligns with
+  // exactly this replay), the reference float and fixed are held to.
+  std::vector<std::int32_t> sp_double;
+  Replay replay_double{};
+  const bool have_double =
+      changed_setpoints(StreamScalar::double_precision, spec, sp_double) == core::Status::ok &&
+      replay_stream(spec.drive, spec.plant, 0, sp_double, settle_ticks, replay_double) == plant::SimStatus::ok;
+  // Setpoint by setpoint (the shorter sequence held at its last), the largest difference in counts.
+  if (have_sp && have_double) {
+    const std::vector<std::int32_t>& sp = r.setpoints;
+    std::int64_t max_diff = 0;
+    for (std::size_t i = 0; i < std::max(sp.size(), sp_double.size()); ++i) {
+      const std::int64_t a = i < sp.size() ? sp[i] : sp.back();
+      const std::int64_t b = i < sp_double.size() ? sp_double[i] : sp_double.back();
+      max_diff = std::max(max_diff, a > b ? a - b : b - a);
+      r.setpoints_differing_from_double += a != b ? 1 : 0;
+    }
+    r.setpoints_vs_double_max_counts = max_diff;
+  }
+  // From the CAN feedback: find the replay's period-by-period positions in the received sequence.
+  // An exact match proves every setpoint was applied once, in order, with no feedback lost in
+  // between; the load samples from the final setpoint on then give the measured residual.
+  std::vector<std::int32_t> positions;
+  positions.reserve(r.feedback.size());
+  for (const auto& fs : r.feedback) positions.push_back(fs.position_actual);
+  if (have_replay) r.alignment = align_feedback(positions, r.replay);
+  std::vector<std::int32_t> measured;
+  if (r.aligned()) {
+    for (std::size_t i = r.replay.move_periods - 1; i < r.replay.feedback.size(); ++i) {
+      measured.push_back(r.feedback[*r.alignment + i].load_position);
+    }
+  }
+  r.window_samples = measured.size();
+  const double dt = scale.period_s();
+  SampledResidual& can = r.residual_can;
+  SampledResidual& off = r.residual_offline;
+  if (fitted_residual(measured, load_cpu, r.replay.final_load, dt, spec.plant, r.replay.step_residual, can) !=
+          plant::SimStatus::ok ||
+      fitted_residual(r.replay.load_after, load_cpu, r.replay.final_load, dt, spec.plant, r.replay.step_residual,
+                      off) != plant::SimStatus::ok) {
+    can.amplitude = off.amplitude = can.prv_percent = off.prv_percent = NAN;
+  }
+  SampledResidual off_double{};
+  if (!have_double || fitted_residual(replay_double.load_after, load_cpu, replay_double.final_load, dt, spec.plant,
+                                      replay_double.step_residual, off_double) != plant::SimStatus::ok) {
+    off_double.amplitude = NAN;
+  }
+  r.residual_double = off_double.amplitude;
+  // The residual measured over CAN against the double run's (its aligned replay), in percent, and
+  // the same difference in load counts: what it is next to the measurement's resolution.
+  r.residual_vs_double_percent =
+      r.aligned() ? std::fabs(can.amplitude - off_double.amplitude) / off_double.amplitude * 100.0 : double{NAN};
+  r.residual_vs_double_load_counts = std::fabs(can.amplitude - off_double.amplitude) * load_cpu;
+  r.agreement = r.aligned() ? std::fabs(can.amplitude - off.amplitude) : double{NAN};
+  plant::SimResult cont{};
+  plant::SimOptions so{};
+  so.record = false;
+  // The residual is exact at the move's end whatever the grid; the grid only samples the peak
+  // deflection and the settling time, so a long move takes a coarser one (at most 2e6 steps x modes).
+  so.dt = std::max(so.dt, command_duration(spec) * static_cast<double>(spec.plant.modes().size()) / plant::kMaxSimWork);
+  if (spec.change) {
+    const plant::OnlineChangeCommand changed{spec.move, spec.change->at, spec.change->blend};
+    r.continuous_simulated = plant::simulate(spec.plant, changed, so, cont) == plant::SimStatus::ok;
+  } else {
+    r.continuous_simulated = plant::simulate(spec.plant, plant::MoveCommand{spec.move}, so, cont) == plant::SimStatus::ok;
+  }
+  r.residual_continuous = r.continuous_simulated ? cont.metrics.residual_amplitude : double{NAN};
+  r.prv_continuous_percent = r.continuous_simulated ? cont.metrics.prv_percent : double{NAN};
+  for (std::size_t i = 1; i < r.log.size(); ++i) {
+    if (r.log[i].feedback_count != r.log[i - 1].feedback_count + 1 && r.log[i].feedback_count > 0) {
+      ++r.feedback_late_ticks;
+    }
+  }
+  for (std::size_t i = 0; i < r.log.size(); ++i) {
+    if (!r.move_start_tick && r.log[i].moving && r.log[i].sent) r.move_start_tick = i;
+    if (r.log[i].move_end) r.move_end_tick = i;
+  }
+  // Frames the bus dropped on our side (a full receive queue); the drive's side reports its own.
+  // A setpoint or feedback lost within the move would also have broken the alignment above.
+  r.frames_lost = r.counters.rx_overflow_drops + r.counters.tx_errors;
+}
+
+// How the axes moved together (StreamReport's multi-axis fields), from every axis's tick log and
+// its feedback aligned with its replay.
+void measure_axes(const std::vector<StreamSpec>& specs, const std::vector<StreamReport*>& rs, StreamReport& r) {
+  const std::size_t n = specs.size();
+  // The line from the start to every axis's target, in counts.
+  std::vector<double> dir(n);
+  for (std::size_t i = 0; i < n; ++i) dir[i] = specs[i].move.distance() * specs[i].drive.scale.counts_per_unit;
+  std::vector<double> p(n);
+  const auto off_line = [&] { return core::offset_from_line(p.data(), dir.data(), n); };
+  // Start and end ticks of every moving axis.
+  std::uint64_t s_lo = ~std::uint64_t{0}, s_hi = 0, e_lo = ~std::uint64_t{0}, e_hi = 0;
+  bool all = true, any = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (specs[i].move.distance() == 0.0) continue;
+    const StreamReport& a = *rs[i];
+    if (!a.move_start_tick || !a.move_end_tick || *a.move_start_tick == 0) {
+      all = false;
+      continue;
+    }
+    any = true;
+    s_lo = std::min(s_lo, *a.move_start_tick);
+    s_hi = std::max(s_hi, *a.move_start_tick);
+    e_lo = std::min(e_lo, *a.move_end_tick);
+    e_hi = std::max(e_hi, *a.move_end_tick);
+  }
+  r.line_deviation_setpoints_counts = r.line_deviation_feedback_counts = NAN;
+  if (!all || !any) return;
+  r.start_tick_spread = s_hi - s_lo;
+  r.end_tick_spread = e_hi - e_lo;
+  // The setpoints sent, tick by tick from the first start to the last end, each axis from where
+  // it held before its move.
+  double worst = 0.0;
+  for (std::uint64_t t = s_lo; t <= e_hi; ++t) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::vector<runtime::TickRecord>& log = rs[i]->log;
+      const std::uint64_t held = rs[i]->move_start_tick.value_or(s_lo) - 1;
+      p[i] = t < log.size() && held < log.size() ? static_cast<double>(log[t].target) - log[held].target : 0.0;
+    }
+    worst = std::max(worst, off_line());
+  }
+  r.line_deviation_setpoints_counts = worst;
+  // The positions the drives reported, SYNC by SYNC from the first setpoint (each axis's replay
+  // starts at 0 and its alignment says where that SYNC's feedback is).
+  std::size_t periods = ~std::size_t{0};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!rs[i]->aligned()) return;
+    periods = std::min(periods, rs[i]->replay.feedback.size());
+  }
+  worst = 0.0;
+  for (std::size_t k = 0; k < periods; ++k) {
+    for (std::size_t i = 0; i < n; ++i) p[i] = rs[i]->feedback[*rs[i]->alignment + k].position_actual;
+    worst = std::max(worst, off_line());
+  }
+  r.line_deviation_feedback_counts = worst;
+}
+
+}  // namespace
+
+hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds) {
+  hal::eds::FeedbackRequest f{};
+  f.velocity_actual = eds.find(hal::canopen::obj::velocity_actual, 0) != nullptr;
+  if (eds.find(hal::canopen::obj::load_position_actual, 0) != nullptr) {
+    f.load_position_index = hal::canopen::obj::load_position_actual;
+    f.load_position_sub = 0;
+  }
+  return f;
+}
+
+StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
+  StreamReport r{};
+  const std::uint32_t period_us = spec.drive.scale.period_us;
+  const std::size_t n = 1 + spec.more_axes.size();
+  std::vector<StreamSpec> specs;
+  for (std::size_t i = 0; i < n; ++i) specs.push_back(axis_spec(spec, i));
+  r.more_axes.resize(n - 1);
+  std::vector<StreamReport*> rs{&r};
+  for (StreamReport& a : r.more_axes) rs.push_back(&a);
+  for (std::size_t i = 0; i < n; ++i) {
+    StreamReport& a = *rs[i];
+    a.bus = bus.name();
+    a.realtime = bus.realtime();
+    a.node = specs[i].node;
+    a.profile = specs[i].move.profile().kind();
+    a.scalar = spec.scalar;
+    a.distance = specs[i].move.distance();
+    a.move_time = specs[i].move.duration();
+    a.scale = spec.drive.scale;
+  }
+  if (!spec.drive.scale.valid()) {
+    r.failure = "the axis scale needs a positive period and a positive, finite counts per unit";
+    return r;
+  }
+  if (n > core::kMaxAxes) {
+    r.failure = "at most 8 axes";
+    return r;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (specs[i].change && specs[k].change && specs[i].change->at != specs[k].change->at) {
+        r.failure = "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) +
+                    " change at different times: every axis's halt or retarget is asked for in the same period";
+        return r;
+      }
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (specs[i].node == specs[k].node) {
+        r.failure = "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) + " are both on node " +
+                    std::to_string(specs[i].node) + ": one drive per node";
+        return r;
+      }
+    }
+  }
+
+  std::vector<runtime::AxisConfig> acs(n);
+  runtime::SessionConfig sc{};
+  sc.settle_ticks = static_cast<std::uint64_t>(spec.settle_time_s * 1e6 / period_us);
+  sc.enable_timeout_ticks = 5'000'000 / period_us;
+  double longest = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    runtime::AxisConfig& ac = acs[i];
+    ac.drive.node = specs[i].node;
+    ac.drive.sync_period_us = period_us;
+    ac.drive.heartbeat_timeout_ms = spec.heartbeat_ms;
+    ac.drive.sdo_timeout_us = spec.sdo_timeout_us;
+    ac.scale = spec.drive.scale;
+    ac.vmax = spec.axis_vmax.value_or(std::fmax(specs[i].move.peaks().v, 1e-12) * 1.5);
+    ac.feedback_timeout_periods = spec.feedback_timeout_periods;
+    // The drive's own enabling deadline is the session's 5 s window, not RemoteDrive's 1 s default:
+    // a host that stalls the process for a second must not fail a drive that enables in time.
+    ac.drive.enable_timeout_us = static_cast<std::uint32_t>(sc.enable_timeout_ticks * period_us);
+    if (spec.eds) {
+      const hal::eds::DriveConfigResult d =
+          hal::eds::drive_config_from_eds(*spec.eds, ac.drive, streaming_feedback(*spec.eds));
+      if (!d.ok()) {
+        r.failure = "--eds: " + d.error;
+        return r;
+      }
+      ac.drive = d.config;
+    }
+    longest = std::fmax(longest, command_duration(specs[i]));
+  }
+  const std::uint64_t move_ticks = static_cast<std::uint64_t>(longest * 1e6 / period_us) + 2;
+  // Completion waits for the feedback to show the target (at most in_position_timeout_periods).
+  sc.max_ticks = sc.enable_timeout_ticks + move_ticks + sc.settle_ticks + acs.front().in_position_timeout_periods + 10;
+  if (sc.max_ticks > plant::kMaxSamples) {
+    r.failure = "the session would last more than 1e7 periods";
+    return r;
+  }
+
+  for (std::size_t i = 0; i < n; ++i) {
+    StreamReport& a = *rs[i];
+    // The setpoints the selected evaluation produces (the replay's).
+    a.evaluation = changed_setpoints(spec.scalar, specs[i], a.setpoints);
+    // Allocated before the loop starts: no heap use while streaming.
+    a.log.reserve(sc.max_ticks + sc.release_ticks + 1);
+    a.feedback.reserve(sc.max_ticks + sc.release_ticks + 64);
+  }
+  if (std::string why = bus.open(spec); !why.empty()) {
+    r.failure = why;
+    return r;
+  }
+  std::string why;
+  switch (spec.scalar) {
+    case StreamScalar::single_precision:
+      why = stream_session<float, runtime::FloatEvaluation<float>>(specs, acs, sc, bus, rs);
+      break;
+    case StreamScalar::fixed_point:
+      why = stream_session<double, runtime::PolyFixedEvaluation>(specs, acs, sc, bus, rs);
+      break;
+    case StreamScalar::double_precision:
+      why = stream_session<double, runtime::FloatEvaluation<double>>(specs, acs, sc, bus, rs);
+      break;
+  }
+  if (!why.empty()) {
+    r.failure = why;
+    return r;
+  }
+  for (std::size_t i = 0; i < n; ++i) measure(specs[i], sc.settle_ticks, *rs[i]);
+  if (n > 1) measure_axes(specs, rs, r);
+  return r;
+}
+
+}  // namespace settle::testbed

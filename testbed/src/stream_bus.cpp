@@ -1,0 +1,157 @@
+#include "settle/testbed/stream_bus.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include "settle/hal/canopen/heartbeat.hpp"
+
+namespace settle::testbed {
+
+std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t()>& now_us,
+                             const StreamBus::FrameTaker& take, LateFrameWindow window) {
+  const std::uint64_t start = now_us();
+  std::uint64_t last = start;  // the last frame that was not a heartbeat (or the start)
+  std::size_t taken = 0;
+  while (taken < window.max_frames) {
+    const std::uint64_t now = now_us();
+    const std::uint64_t quiet_left = now - last >= window.quiet_us ? 0 : window.quiet_us - (now - last);
+    const std::uint64_t limit_left = now - start >= window.limit_us ? 0 : window.limit_us - (now - start);
+    // 0 once the window has closed: then only what is already queued is taken. A process held off
+    // the CPU past the window (a loaded host) finds its late TPDOs waiting and must read them.
+    const std::uint64_t wait = std::min(quiet_left, limit_left);
+    hal::CanFrame f{};
+    if (bus.receive(f, static_cast<std::uint32_t>(wait)) != hal::ReceiveStatus::received) return taken;
+    const std::uint64_t at = now_us();
+    take(f, at);
+    ++taken;
+    if (!hal::canopen::decode_heartbeat(f)) last = at;
+  }
+  return taken;
+}
+
+// ---- the in-process bus, in virtual time ----
+
+LoopbackStreamBus::LoopbackStreamBus(std::string candump_path) : candump_path_{std::move(candump_path)} {}
+
+LoopbackStreamBus::~LoopbackStreamBus() = default;
+
+std::string LoopbackStreamBus::open(const StreamSpec& spec) {
+  period_us_ = spec.drive.scale.period_us;
+  clock_ = runtime::VirtualClock{period_us_};
+  if (!candump_path_.empty() && !dump_.open(candump_path_.c_str(), "loopback")) {
+    return "cannot write " + candump_path_;
+  }
+  drives_.clear();
+  for (std::size_t i = 0; i <= spec.more_axes.size(); ++i) {
+    const hal::canopen::NodeId node = i == 0 ? spec.node : spec.more_axes[i - 1].node;
+    Drive d{std::make_unique<hal::LoopbackBus<256>>(hub_), std::make_unique<DriveFromEds>(), nullptr};
+    hal::canopen::DriveNodeConfig dc{};
+    if (spec.eds) {
+      *d.simulated = simulated_drive_from_eds(*spec.eds, node);
+      if (!d.simulated->config) return "--eds: " + d.simulated->error;
+      dc = *d.simulated->config;
+    }
+    dc.node = node;
+    dc.sync_period_us = period_us_;
+    DriveAxis axis{};
+    if (const plant::SimStatus st = DriveAxis::make(spec.drive, spec.plant, 0, axis); st != plant::SimStatus::ok) {
+      return std::string{"the simulated drive refused its configuration: "} + to_string(st);
+    }
+    d.node = std::make_unique<PlantNode>(dc, std::move(axis));
+    d.node->start(0, *d.port);
+    drives_.push_back(std::move(d));
+  }
+  return {};
+}
+
+void LoopbackStreamBus::begin() { hub_.set_time_us(period_us_); }  // the first tick
+
+void LoopbackStreamBus::between_ticks() {
+  const std::uint64_t now = clock_.now_us();
+  hub_.set_time_us(now);  // the drive answers within this period
+  hal::CanFrame f{};
+  for (Drive& d : drives_) {
+    while (d.port->receive(f, 0) == hal::ReceiveStatus::received) (void)d.node->on_frame(f, now, *d.port);
+    d.node->poll(now, *d.port);
+  }
+  // A listening port sees every frame on the in-process bus: the run's candump log.
+  while (sniffer_.receive(f, 0) == hal::ReceiveStatus::received) {
+    if (dump_.is_open()) (void)dump_.write(f);
+  }
+  hub_.set_time_us(now + period_us_);  // the loop's next tick sends at that time
+}
+
+std::string LoopbackStreamBus::finish(const FrameTaker& /*take*/) {
+  // The drive answered within each tick's period: nothing is still on its way.
+  if (dump_.is_open() && !dump_.close()) return "the candump log " + candump_path_ + " is incomplete";
+  return {};
+}
+
+// ---- a SocketCAN interface, in real time ----
+
+SocketCanStreamBus::SocketCanStreamBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path,
+                                       int rt_priority, bool pm_qos)
+    : bus_{opened},
+      interface_{std::move(interface)},
+      candump_path_{std::move(candump_path)},
+      rt_priority_{rt_priority},
+      pm_qos_{pm_qos} {}
+
+SocketCanStreamBus::~SocketCanStreamBus() = default;
+
+hal::CanBus& SocketCanStreamBus::link() {
+  return recorder_ ? static_cast<hal::CanBus&>(*recorder_) : static_cast<hal::CanBus&>(bus_);
+}
+
+std::string SocketCanStreamBus::open(const StreamSpec& spec) {
+  if (!candump_path_.empty()) {
+    if (!dump_.open(candump_path_.c_str(), interface_.c_str())) return "cannot write " + candump_path_;
+    recorder_ = std::make_unique<hal::RecordingBus<4096>>(bus_, hal::realtime_us);
+  }
+  if (rt_priority_ > 0) realtime_ = runtime::linux_rt::request_realtime(rt_priority_);
+  if (pm_qos_) {
+    cpu_latency_.emplace();
+    realtime_.pm_qos = cpu_latency_->held();
+    realtime_.pm_qos_error = cpu_latency_->error();
+  } else {
+    realtime_.pm_qos_error = "off";
+  }
+  timer_.emplace(spec.drive.scale.period_us);
+  return {};
+}
+
+void SocketCanStreamBus::begin() { timer_->start(); }
+
+// Written between ticks: the recorder's ring is bounded.
+void SocketCanStreamBus::between_ticks() {
+  if (dump_.is_open()) (void)dump_.write_records(*recorder_);
+}
+
+std::string SocketCanStreamBus::finish(const FrameTaker& take) {
+  // The time now, not the timer's period start: that stopped with the session's last wait (and a
+  // wait on it here would stretch every frame to a period). On a clock that stood still, three
+  // drives' heartbeats kept this waiting for ever, once in a CI run and in five of six runs of
+  // the e2e axes tests in one guest.
+  const auto now_us = [] { return runtime::linux_rt::monotonic_ns() / 1000; };
+  (void)take_late_frames(link(), now_us, [&](const hal::CanFrame& f, std::uint64_t at_us) {
+    take(f, at_us);
+    between_ticks();
+  });
+  if (dump_.is_open() && !(dump_.write_records(*recorder_) && dump_.close())) {
+    return "the candump log " + candump_path_ + " is incomplete (" + std::to_string(dump_.records_lost()) +
+           " records lost or unwritten)";
+  }
+  return {};
+}
+
+StreamTiming SocketCanStreamBus::timing() const {
+  StreamTiming t{};
+  t.realtime = realtime_;
+  if (timer_) {
+    t.latency = timer_->latency();
+    t.overruns = timer_->overruns();
+  }
+  return t;
+}
+
+}  // namespace settle::testbed

@@ -1,0 +1,311 @@
+// Online changes in the servo loop (issue 17): halt() and retarget() post into a lock-free
+// mailbox, service() plans outside the tick, and the tick switches to the blend at exactly the
+// setpoint it was planned for: the setpoints before it are the move's, those after it the blend's,
+// with no jump in position, velocity or acceleration, and the drive ends on the blend's end.
+// The same in every evaluation: double, float (the Cortex-M4F's) and fixed point, where the blend is
+// converted to the loop's scalar when service() plans it and streamed like a move.
+// That the blend itself leaves the modes at rest is proven in tests/core/test_online.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+#include "settle/runtime/servo_loop.hpp"
+#include "settle/hal/testing/ideal_drive.hpp"
+
+using namespace settle;
+
+namespace {
+
+constexpr std::uint32_t kPeriod = 1000;
+constexpr double kCpu = 1e6;  // counts per metre
+constexpr double kOmega = 22.04871;
+
+core::MoveRequest scurve(double d, double t) {
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::scurve;
+  r.distance = d;
+  r.time = t;
+  r.omega = kOmega;
+  return r;
+}
+
+core::Move<double> planned(const core::MoveRequest& req) {
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(req, m), core::Status::ok);
+  return m;
+}
+
+runtime::OnlineConfig online_config(const core::Move<double>& m) {
+  runtime::OnlineConfig c{};
+  c.modes[0] = {kOmega, 0.0};
+  c.mode_count = 1;
+  c.limits = {1.2 * m.peaks().v, 1.2 * m.peaks().a, 1.2 * m.peaks().j};
+  return c;
+}
+
+using DoubleLoop = runtime::ServoLoop<double, 1, 4>;
+using FloatLoop = runtime::ServoLoop<float, 1, 4, runtime::FloatEvaluation<float>, hal::CanBus, true>;
+using FixedLoop = runtime::ServoLoop<double, 1, 4, runtime::FixedEvaluation, hal::CanBus, true>;
+
+template <typename Loop = DoubleLoop>
+struct Rig {
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<256> master{hub};
+  hal::canopen::DriveNodeConfig drive_config{};
+  hal::testing::IdealDrive<> drive{hub, drive_config};
+  Loop loop{master, kPeriod};
+  std::uint64_t now = 0;
+  std::vector<std::int32_t> moving;  // what the loop sent while a move (or its blend) was active
+
+  Rig() {
+    runtime::AxisConfig a{};
+    a.drive.node = hal::canopen::NodeId{1};
+    a.drive.heartbeat_timeout_ms = 500;
+    a.scale = {kCpu, kPeriod};
+    a.vmax = 2.0;
+    EXPECT_EQ(loop.add_axis(a), runtime::LoopStatus::ok);
+    drive.start(now);
+    loop.start(now);
+    for (int i = 0; i < 2000 && !loop.ready(0); ++i) tick();
+    EXPECT_TRUE(loop.ready(0));
+  }
+  void tick() {
+    now += kPeriod;
+    hub.set_time_us(now);
+    loop.tick(now);
+    if (loop.record(0).sent && loop.record(0).moving) moving.push_back(loop.record(0).target);
+    drive.process(now);
+    for (runtime::LoopEvent e{}; loop.events().pop(e);) {
+    }
+  }
+};
+
+std::int32_t counts(double p) { return static_cast<std::int32_t>(std::nearbyint(p * kCpu)); }
+
+// The setpoints the loop must send: the move's up to the switch index k, then the blend planned
+// by core for the switch at k periods on the move's clock, to its end inclusive. Double: from
+// Move::at and Blend::at directly (an independent evaluation of the same plan).
+std::vector<std::int32_t> expected_with_blend(const core::Move<double>& m, const runtime::OnlineConfig& c,
+                                              std::int32_t k, std::optional<double> target, core::Blend& blend) {
+  std::vector<std::int32_t> e;
+  for (std::int32_t i = 0; i < k; ++i) e.push_back(counts(m.at(i * 1e-3).p));
+  core::OnlineRequest r{};
+  EXPECT_EQ(core::online_request(m, k * 1e-3, c.modes.data(), c.mode_count, c.limits, target, r), core::Status::ok);
+  EXPECT_EQ(core::plan_online(r, blend), core::Status::ok);
+  for (std::int32_t i = 0;; ++i) {
+    const double u = i * 1e-3;
+    e.push_back(counts(blend.at(u).p));
+    if (!(u < blend.duration())) break;
+  }
+  return e;
+}
+
+// The same in an evaluation's scalar: the move's setpoints as the evaluation streams the move alone
+// (to index k), then the blend as the evaluation streams it alone (from 0 at the switch). `whole`
+// receives the move's own setpoints past k, to check continuity at the switch.
+template <typename Evaluation>
+std::vector<std::int32_t> evaluated_with_blend(const core::Move<double>& m, const core::Blend& blend, std::int32_t k,
+                                               std::vector<std::int32_t>& whole) {
+  const core::AxisScale scale{kCpu, kPeriod};
+  auto stored = std::make_unique<typename Evaluation::Stored>();
+  EXPECT_EQ(Evaluation::prepare(m, scale, *stored), core::Status::ok);
+  auto s = Evaluation::start(*stored, 0);
+  whole.clear();
+  for (bool last = false; !last;) whole.push_back(s.next(last));
+  std::vector<std::int32_t> e(whole.begin(), whole.begin() + k);
+  auto b = std::make_unique<typename Evaluation::BlendStored>();
+  EXPECT_EQ(Evaluation::prepare(blend, scale, *b), core::Status::ok);
+  auto bs = Evaluation::start(*b, 0);
+  for (bool last = false; !last;) e.push_back(bs.next(last));
+  return e;
+}
+
+// No jump at the switch: second differences of the setpoints stay within the acceleration limit
+// (plus rounding), the first ones within the velocity limit.
+void expect_smooth(const std::vector<std::int32_t>& s, const runtime::OnlineConfig& c) {
+  const double dv = c.limits.vmax * 1e-3 * kCpu + 1.0, da = c.limits.amax * 1e-6 * kCpu + 2.0;
+  for (std::size_t i = 1; i < s.size(); ++i) ASSERT_LE(std::abs(s[i] - s[i - 1]), dv) << i;
+  for (std::size_t i = 2; i < s.size(); ++i) ASSERT_LE(std::abs(s[i] - 2 * s[i - 1] + s[i - 2]), da) << i;
+}
+
+template <typename Loop = DoubleLoop>
+void run_change(std::optional<double> target) {
+  Rig<Loop> r;
+  const core::MoveRequest req = scurve(0.1, 0.5);
+  const core::Move<double> m = planned(req);
+  const runtime::OnlineConfig c = online_config(m);
+  ASSERT_EQ(r.loop.configure_online(0, c), runtime::LoopStatus::ok);
+  ASSERT_EQ(r.loop.submit(0, req), runtime::LoopStatus::ok);
+  ASSERT_EQ(r.loop.submit(0, scurve(0.05, 0.3)), runtime::LoopStatus::ok);  // voided by the change
+  for (int i = 0; i < 200; ++i) r.tick();
+  ASSERT_EQ(r.moving.size(), 200u);
+  // "Another context" asks; the owner's service() plans between two ticks.
+  ASSERT_TRUE(target ? r.loop.retarget(0, *target) : r.loop.halt(0));
+  ASSERT_EQ(r.loop.service(), runtime::LoopStatus::ok);
+  for (int i = 0; i < 3000 && !r.loop.idle(); ++i) r.tick();
+  EXPECT_TRUE(r.loop.idle());
+  EXPECT_EQ(r.loop.online_switches(0), 1u);
+  EXPECT_EQ(r.loop.online_missed(0), 0u);
+  core::Blend b{};
+  constexpr std::int32_t k = 200 + runtime::kOnlineLeadTicks;
+  const std::vector<std::int32_t> e = expected_with_blend(m, c, k, target, b);
+  ASSERT_EQ(r.moving.size(), e.size());
+  if constexpr (std::is_same_v<Loop, DoubleLoop>) {
+    for (std::size_t i = 0; i < e.size(); ++i) ASSERT_EQ(r.moving[i], e[i]) << "setpoint " << i;
+  } else {
+    // In the loop's scalar: exactly what its evaluation gives for the move and then the blend, one
+    // by one; within one count of the double plan's (the scalar's resolution at 1e5 counts).
+    std::vector<std::int32_t> whole;
+    const auto es = evaluated_with_blend<typename Loop::EvaluationType>(m, b, k, whole);
+    ASSERT_EQ(r.moving.size(), es.size());
+    for (std::size_t i = 0; i < es.size(); ++i) ASSERT_EQ(r.moving[i], es[i]) << "setpoint " << i;
+    for (std::size_t i = 0; i < es.size(); ++i) ASSERT_LE(std::abs(es[i] - e[i]), 1) << "setpoint " << i;
+    // Continuity at the switch: the blend's first setpoint is where the move would have been.
+    EXPECT_LE(std::abs(r.moving[k] - whole[k]), 1);
+  }
+  expect_smooth(r.moving, c);
+  EXPECT_EQ(r.drive.position(), counts(b.end_position()));
+  if (target) {
+    EXPECT_EQ(r.drive.position(), counts(*target));
+  }
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 1u);  // the queued second move was voided
+}
+
+TEST(ServoLoopOnline, HaltSwitchesAtItsSetpointAndStopsWhereTheBlendEnds) { run_change(std::nullopt); }
+
+TEST(ServoLoopOnline, RetargetSwitchesAtItsSetpointAndEndsOnTheNewTarget) { run_change(0.04); }
+
+TEST(ServoLoopOnline, FloatHaltStreamsTheBlendInFloat) { run_change<FloatLoop>(std::nullopt); }
+TEST(ServoLoopOnline, FloatRetargetStreamsTheBlendInFloat) { run_change<FloatLoop>(0.04); }
+TEST(ServoLoopOnline, FixedHaltStreamsTheBlendInFixedPoint) { run_change<FixedLoop>(std::nullopt); }
+TEST(ServoLoopOnline, FixedRetargetStreamsTheBlendInFixedPoint) { run_change<FixedLoop>(0.04); }
+
+// A halt while a retarget's blend runs is honoured: planned from that blend's state and its own
+// mode memory (core::online_request on the blend), streamed from the other slot, switched in at
+// its setpoint. The setpoints are the move's, then the first blend's, then the second's, each as
+// the loop's evaluation gives it; the drive ends on the second blend's end.
+template <typename Loop>
+void halt_after_retarget() {
+  Rig<Loop> r;
+  const core::MoveRequest req = scurve(0.1, 0.5);
+  const core::Move<double> m = planned(req);
+  const runtime::OnlineConfig c = online_config(m);
+  ASSERT_EQ(r.loop.configure_online(0, c), runtime::LoopStatus::ok);
+  ASSERT_EQ(r.loop.submit(0, req), runtime::LoopStatus::ok);
+  for (int i = 0; i < 200; ++i) r.tick();
+  ASSERT_TRUE(r.loop.retarget(0, 0.04));
+  ASSERT_EQ(r.loop.service(), runtime::LoopStatus::ok);
+  for (int i = 0; i < 50; ++i) r.tick();
+  ASSERT_TRUE(r.loop.halt(0));
+  ASSERT_EQ(r.loop.service(), runtime::LoopStatus::ok);
+  for (int i = 0; i < 3000 && !r.loop.idle(); ++i) r.tick();
+  EXPECT_TRUE(r.loop.idle());
+  EXPECT_EQ(r.loop.online_switches(0), 2u);
+  EXPECT_EQ(r.loop.online_missed(0), 0u);
+  // The plans, in double: the retarget at k1 on the move's clock, the halt at k2 on its blend's.
+  constexpr std::int32_t k1 = 200 + runtime::kOnlineLeadTicks;
+  constexpr std::int32_t k2 = 250 - k1 + runtime::kOnlineLeadTicks;
+  core::OnlineRequest r1{}, r2{};
+  ASSERT_EQ(core::online_request(m, k1 * 1e-3, c.modes.data(), c.mode_count, c.limits, 0.04, r1), core::Status::ok);
+  core::Blend b1{}, b2{};
+  ASSERT_EQ(core::plan_online(r1, b1), core::Status::ok);
+  ASSERT_EQ(core::online_request(b1, r1, k2 * 1e-3, std::nullopt, r2), core::Status::ok);
+  ASSERT_EQ(core::plan_online(r2, b2), core::Status::ok);
+  // The setpoints in the loop's scalar: the move's and the first blend's, then the second blend's.
+  std::vector<std::int32_t> whole;
+  std::vector<std::int32_t> e = evaluated_with_blend<typename Loop::EvaluationType>(m, b1, k1, whole);
+  e.resize(static_cast<std::size_t>(k1 + k2));
+  std::vector<std::int32_t> second;
+  const std::vector<std::int32_t> e2 = evaluated_with_blend<typename Loop::EvaluationType>(m, b2, 0, second);
+  e.insert(e.end(), e2.begin(), e2.end());
+  ASSERT_EQ(r.moving.size(), e.size());
+  for (std::size_t i = 0; i < e.size(); ++i) ASSERT_EQ(r.moving[i], e[i]) << "setpoint " << i;
+  expect_smooth(r.moving, c);
+  EXPECT_EQ(r.drive.position(), counts(b2.end_position()));
+}
+
+TEST(ServoLoopOnline, AHaltAfterARetargetIsPlannedFromItsBlendAndSwitchedIn) { halt_after_retarget<DoubleLoop>(); }
+TEST(ServoLoopOnline, AHaltAfterARetargetInFloat) { halt_after_retarget<FloatLoop>(); }
+TEST(ServoLoopOnline, AHaltAfterARetargetInFixedPoint) { halt_after_retarget<FixedLoop>(); }
+
+TEST(ServoLoopOnline, TheTickNeverPlansAHaltWithoutServiceTheMoveRunsOnUnchanged) {
+  Rig<> r;
+  const core::MoveRequest req = scurve(0.1, 0.5);
+  const core::Move<double> m = planned(req);
+  ASSERT_EQ(r.loop.configure_online(0, online_config(m)), runtime::LoopStatus::ok);
+  ASSERT_EQ(r.loop.submit(0, req), runtime::LoopStatus::ok);
+  for (int i = 0; i < 100; ++i) r.tick();
+  ASSERT_TRUE(r.loop.halt(0));
+  for (int i = 0; i < 1000 && !r.loop.idle(); ++i) r.tick();
+  ASSERT_EQ(r.moving.size(), 501u);
+  for (std::size_t i = 0; i < r.moving.size(); ++i) {
+    ASSERT_EQ(r.moving[i], counts(m.at(static_cast<double>(i) * 1e-3).p)) << i;
+  }
+  EXPECT_EQ(r.loop.online_switches(0), 0u);
+  // Serviced after the move is over, the halt has nothing to stop.
+  EXPECT_EQ(r.loop.service(), runtime::LoopStatus::ok);
+  EXPECT_EQ(r.loop.online_missed(0), 1u);
+}
+
+TEST(ServoLoopOnline, RefusedWithoutConfigurationOrWhereTheLoopLeavesThemOut) {
+  Rig<> r;
+  EXPECT_FALSE(r.loop.halt(0));  // not configured
+  runtime::OnlineConfig bad{};
+  bad.limits = {1.0, 0.0, 1.0};
+  EXPECT_EQ(r.loop.configure_online(0, bad), runtime::LoopStatus::bad_axis_config);
+  runtime::OnlineConfig no_lead = online_config(planned(scurve(0.1, 0.5)));
+  no_lead.lead_ticks = 0;
+  EXPECT_EQ(r.loop.configure_online(0, no_lead), runtime::LoopStatus::bad_axis_config);
+  EXPECT_FALSE(r.loop.retarget(0, 0.1));
+  EXPECT_EQ(r.loop.configure_online(3, online_config(planned(scurve(0.1, 0.5)))), runtime::LoopStatus::no_such_axis);
+  hal::LoopbackBus<16> other{r.hub};
+  runtime::ServoLoop<float, 1, 2, runtime::FloatEvaluation<float>> small{other, kPeriod};
+  EXPECT_EQ(small.configure_online(0, online_config(planned(scurve(0.1, 0.5)))), runtime::LoopStatus::evaluation_refused);
+  EXPECT_FALSE(small.halt(0));
+  // On by default for the double evaluation only; the others ask for it (FloatLoop, FixedLoop).
+  static_assert(runtime::ServoLoop<double, 1, 4>::kOnlineChanges);
+  static_assert(!runtime::ServoLoop<double, 1, 4, runtime::FixedEvaluation>::kOnlineChanges);
+  static_assert(!runtime::ServoLoop<float, 1, 4, runtime::FloatEvaluation<float>>::kOnlineChanges);
+  static_assert(FloatLoop::kOnlineChanges && FixedLoop::kOnlineChanges);
+}
+
+TEST(OnlineMailbox, OneProducerThreadOneConsumerEveryCommandOnceInOrder) {
+  runtime::OnlineMailbox<4> box;
+  constexpr int n = 5000;
+  std::thread producer([&] {
+    for (int i = 0; i < n; ++i) {
+      while (!box.post({runtime::OnlineKind::retarget, static_cast<double>(i)})) std::this_thread::yield();
+    }
+  });
+  int next = 0;
+  while (next < n) {
+    runtime::OnlineCommand c{};
+    if (!box.take(c)) {
+      std::this_thread::yield();
+      continue;
+    }
+    ASSERT_EQ(c.target, static_cast<double>(next));
+    ++next;
+  }
+  producer.join();
+  runtime::OnlineCommand c{};
+  EXPECT_FALSE(box.take(c));
+}
+
+TEST(OnlineMailbox, AFullMailboxRefusesAndKeepsWhatItHolds) {
+  runtime::OnlineMailbox<2> box;
+  EXPECT_TRUE(box.post({runtime::OnlineKind::halt, 1.0}));
+  EXPECT_TRUE(box.post({runtime::OnlineKind::halt, 2.0}));
+  EXPECT_FALSE(box.post({runtime::OnlineKind::halt, 3.0}));
+  runtime::OnlineCommand c{};
+  ASSERT_TRUE(box.take(c));
+  EXPECT_EQ(c.target, 1.0);
+  ASSERT_TRUE(box.take(c));
+  EXPECT_EQ(c.target, 2.0);
+}
+
+}  // namespace

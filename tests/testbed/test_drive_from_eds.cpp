@@ -1,0 +1,211 @@
+// The simulated drive configured from an EDS (testbed::simulated_drive_from_eds): the bundled
+// settle_drive.eds is exactly the default drive; the other bundled drives load and answer SDO with
+// their identity and mapping; an EDS the simulated drive cannot be is refused naming the object.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "settle/testbed/drive_from_eds.hpp"
+
+namespace settle::testbed {
+namespace {
+
+namespace co = hal::canopen;
+
+std::string eds_path(const std::string& name) { return std::string{SETTLE_EDS_DIR} + "/" + name; }
+
+std::string file_text(const std::string& path) {
+  std::ifstream in{path};
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A drive built from the file's configuration; the result holds the strings the drive serves.
+struct Loaded {
+  DriveFromEds eds;
+  std::optional<co::DriveNode> drive;
+};
+std::unique_ptr<Loaded> loaded(const std::string& path, co::NodeId node) {
+  auto l = std::make_unique<Loaded>();
+  l->eds = load_drive_config(path, node);
+  EXPECT_TRUE(l->eds.config.has_value()) << l->eds.error;
+  l->drive.emplace(l->eds.config.value_or(co::DriveNodeConfig{}));
+  return l;
+}
+
+std::string text_of(co::DriveNode& drive, std::uint16_t index) {
+  const co::OdEntry* e = drive.dictionary().find(index, 0);
+  if (e == nullptr || e->var.bytes() == nullptr) return "<none>";
+  const auto v = e->var.bytes()->view();
+  return {v.begin(), v.end()};
+}
+
+void expect_same_pdos(const co::PdoMapping& a, const co::PdoMapping& b, const char* what, std::size_t i) {
+  EXPECT_EQ(a.cob_id, b.cob_id) << what << i;
+  EXPECT_EQ(a.transmission_type, b.transmission_type) << what << i;
+  ASSERT_EQ(a.count, b.count) << what << i;
+  for (std::size_t k = 0; k < a.count; ++k) {
+    EXPECT_EQ(a.entries[k].raw(), b.entries[k].raw()) << what << i << " entry " << k;
+  }
+}
+
+std::uint32_t read(co::DriveNode& drive, std::uint16_t index, std::uint8_t sub) {
+  std::uint32_t raw = 0;
+  std::uint8_t size = 0;
+  EXPECT_EQ(drive.dictionary().read(index, sub, raw, size), co::SdoAbort::none) << std::hex << index;
+  return raw;
+}
+
+// The identity and device name the drive answers with.
+void expect_identity(co::DriveNode& drive, std::uint32_t vendor, std::uint32_t product, const std::string& name) {
+  EXPECT_EQ(read(drive, 0x1018, 1), vendor);
+  EXPECT_EQ(read(drive, 0x1018, 2), product);
+  EXPECT_EQ(text_of(drive, 0x1008), name);
+}
+
+TEST(DriveFromEds, TheBundledEdsIsTheDefaultDrive) {
+  for (const co::NodeId node : {co::NodeId{1}, co::NodeId{42}, co::NodeId{127}}) {
+    const auto l = loaded(SETTLE_DRIVE_EDS_PATH, node);
+    const co::DriveNodeConfig& c = *l->eds.config;
+    co::DriveNodeConfig d{};
+    d.node = node;
+    EXPECT_EQ(c.node, d.node);
+    EXPECT_EQ(c.heartbeat_period_ms, d.heartbeat_period_ms);
+    EXPECT_EQ(c.sync_period_us, d.sync_period_us);
+    EXPECT_EQ(c.sync_counter_overflow, d.sync_counter_overflow);
+    EXPECT_EQ(c.communication_loss_periods, d.communication_loss_periods);
+    EXPECT_EQ(c.quick_stop_option, d.quick_stop_option);
+    EXPECT_EQ(c.abort_connection_option, d.abort_connection_option);
+    EXPECT_EQ(c.following_error_window, d.following_error_window);
+    EXPECT_EQ(c.following_error_timeout_ms, d.following_error_timeout_ms);
+    EXPECT_EQ(c.max_profile_velocity, d.max_profile_velocity);
+    EXPECT_EQ(c.position_limit_min, d.position_limit_min);
+    EXPECT_EQ(c.position_limit_max, d.position_limit_max);
+    EXPECT_EQ(c.vendor_id, d.vendor_id);
+    EXPECT_EQ(c.product_code, d.product_code);
+    EXPECT_EQ(c.revision, d.revision);
+    EXPECT_EQ(c.serial, d.serial);
+    EXPECT_EQ(c.device_type, d.device_type);
+    EXPECT_STREQ(c.device_name, d.device_name);
+    EXPECT_STREQ(c.hardware_version, d.hardware_version);
+    EXPECT_STREQ(c.software_version, d.software_version);
+    EXPECT_EQ(c.has_interpolation_period, d.has_interpolation_period);
+    EXPECT_EQ(c.has_following_error_actual, d.has_following_error_actual);
+    EXPECT_EQ(c.pdo_mapping_writable, d.pdo_mapping_writable);
+    EXPECT_EQ(c.rpdo_count, d.rpdo_count);
+    EXPECT_EQ(c.tpdo_count, d.tpdo_count);
+    for (std::size_t i = 0; i < d.rpdo_count; ++i) expect_same_pdos(c.rpdos[i], d.rpdos[i], "RPDO index ", i);
+    for (std::size_t i = 0; i < d.tpdo_count; ++i) expect_same_pdos(c.tpdos[i], d.tpdos[i], "TPDO index ", i);
+  }
+}
+
+TEST(DriveFromEds, SplitRpdoDriveHasControlwordAndTargetInTwoWritablePdos) {
+  const auto l = loaded(eds_path("split_rpdo_drive.eds"), 5);
+  co::DriveNode& drive = *l->drive;
+  expect_identity(drive, 0x5E01, 0xA001, "Split-RPDO servo (simulated)");
+  EXPECT_EQ(text_of(drive, 0x100A), "Settle 0.1.0");
+  EXPECT_EQ(read(drive, 0x1600, 0), 1U);
+  EXPECT_EQ(read(drive, 0x1600, 1), 0x6040'0010U);
+  EXPECT_EQ(read(drive, 0x1601, 1), 0x607A'0020U);
+  EXPECT_EQ(read(drive, 0x1401, 1), 0x305U);
+  EXPECT_EQ(read(drive, 0x1402, 1), 0x8000'0405U);
+  EXPECT_TRUE(drive.rpdo_active(1));
+  EXPECT_EQ(drive.dictionary().write(0x1600, 0, 0, 1), co::SdoAbort::invalid_value) << "writable, by the procedure";
+  EXPECT_EQ(drive.dictionary().write(0x1400, 1, 0x8000'0205U, 4), co::SdoAbort::none);
+  EXPECT_EQ(drive.dictionary().write(0x1600, 0, 0, 1), co::SdoAbort::none);
+}
+
+TEST(DriveFromEds, VelocityFeedbackDriveLeavesTheLoadPositionUnmapped) {
+  const auto l = loaded(eds_path("velocity_feedback_drive.eds"), 5);
+  co::DriveNode& drive = *l->drive;
+  expect_identity(drive, 0x5E02, 0xB002, "Velocity-feedback servo (simulated)");
+  EXPECT_EQ(read(drive, 0x1A01, 0), 2U);
+  EXPECT_EQ(read(drive, 0x1A01, 1), 0x606C'0020U);
+  EXPECT_EQ(read(drive, 0x1A01, 2), 0x60F4'0020U);
+  std::uint32_t raw = 0;
+  std::uint8_t size = 0;
+  EXPECT_EQ(drive.dictionary().read(0x2000, 0, raw, size), co::SdoAbort::none) << "the load position exists";
+  for (std::uint16_t m = 0x1A00; m < 0x1A04; ++m) {
+    for (std::uint8_t s = 1; s <= 8; ++s) EXPECT_NE(read(drive, m, s) >> 16U, 0x2000U) << "not mapped by default";
+  }
+}
+
+TEST(DriveFromEds, StaticMappingDriveIsReadOnlyAndSuitable) {
+  const auto l = loaded(eds_path("static_mapping_drive.eds"), 5);
+  co::DriveNode& drive = *l->drive;
+  expect_identity(drive, 0x5E03, 0xC003, "Static-mapping servo (simulated)");
+  EXPECT_EQ(read(drive, 0x1A01, 1), 0x2000'0020U);
+  EXPECT_EQ(drive.dictionary().write(0x1600, 0, 0, 1), co::SdoAbort::read_only);
+  EXPECT_EQ(drive.dictionary().write(0x1400, 1, 0x8000'0205U, 4), co::SdoAbort::read_only);
+}
+
+TEST(DriveFromEds, TheTestDriveWithout60C2HasNone) {
+  const auto l = loaded(std::string{SETTLE_TEST_DATA_DIR} + "/no_interpolation_period_drive.eds", 5);
+  co::DriveNode& drive = *l->drive;
+  std::uint32_t raw = 0;
+  std::uint8_t size = 0;
+  EXPECT_EQ(drive.dictionary().read(0x60C2, 1, raw, size), co::SdoAbort::no_object);
+  expect_identity(drive, 0x5E04, 0xD004, "Drive without 0x60C2 (simulated)");
+}
+
+DriveFromEds from_text(const std::string& text) {
+  const hal::eds::LoadResult r = hal::eds::parse(text);
+  EXPECT_TRUE(r.description.has_value()) << r.error;
+  if (!r.description) return {};
+  return simulated_drive_from_eds(*r.description, 1);
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+TEST(DriveFromEds, WhatTheSimulatedDriveCannotBeIsRefusedNamingTheObject) {
+  const std::string base = file_text(SETTLE_DRIVE_EDS_PATH);
+  ASSERT_FALSE(base.empty());
+  // An object it does not implement.
+  DriveFromEds r = from_text(replaced(base, "[ManufacturerObjects]\nSupportedObjects=2\n",
+                                      "[ManufacturerObjects]\nSupportedObjects=3\n3=0x2100\n") +
+                             "\n[2100]\nParameterName=Brake\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\n"
+                             "DefaultValue=0\nPDOMapping=0\n");
+  EXPECT_FALSE(r.config);
+  EXPECT_NE(r.error.find("0x2100:0 Brake: an object the simulated drive does not implement"), std::string::npos)
+      << r.error;
+  // A default it cannot take.
+  r = from_text(replaced(base, "ParameterName=Modes of operation\nObjectType=0x7\nDataType=0x0002\nAccessType=rw\nDefaultValue=8",
+                         "ParameterName=Modes of operation\nObjectType=0x7\nDataType=0x0002\nAccessType=rw\nDefaultValue=7"));
+  EXPECT_FALSE(r.config);
+  EXPECT_NE(r.error.find("0x6060:0"), std::string::npos) << r.error;
+  // A default mapping that cannot be bound: the statusword received.
+  r = from_text(replaced(base, "DefaultValue=0x60400010", "DefaultValue=0x60410010"));
+  EXPECT_FALSE(r.config);
+  EXPECT_NE(r.error.find("cannot be bound (SDO abort 0x06040041)"), std::string::npos) << r.error;
+  // The strings are the EDS's.
+  r = from_text(replaced(base, "DefaultValue=Settle simulated CiA 402 drive", "DefaultValue=Other drive"));
+  ASSERT_TRUE(r.config) << r.error;
+  EXPECT_STREQ(r.config->device_name, "Other drive");
+  EXPECT_EQ(r.texts->device_name, "Other drive");
+  // An object the drive always has, missing from the EDS (0x6502 taken off the object list).
+  std::string without = replaced(replaced(base, "SupportedObjects=35\n", "SupportedObjects=34\n"), "35=0x6502\n", "");
+  const auto section = without.find("[6502]");
+  ASSERT_NE(section, std::string::npos);
+  without.erase(section, without.find("\n\n", section) + 2 - section);
+  r = from_text(without);
+  EXPECT_FALSE(r.config);
+  EXPECT_NE(r.error.find("0x6502:0: the simulated drive always has it, the EDS does not"), std::string::npos)
+      << r.error;
+  // A missing file.
+  r = load_drive_config("/nonexistent/drive.eds", 1);
+  EXPECT_FALSE(r.config);
+  EXPECT_NE(r.error.find("/nonexistent/drive.eds"), std::string::npos) << r.error;
+}
+
+}  // namespace
+}  // namespace settle::testbed
