@@ -33,27 +33,65 @@ bool have_gnuplot() {
   return testbed::run_program({"gnuplot", "--version"}, o).status == testbed::SpawnStatus::ok;
 }
 
-// Writes `script` next to the data and runs gnuplot in that directory with the same script on its
-// standard input, so the script refers to the CSV files by their plain names and can be rerun by
-// hand. No shell and no path in any command: the directory is the child's working directory.
+// Reads a file this process wrote (a figure's data) whole.
+bool read_text(const std::string& path, std::string& out) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) return false;
+  out.clear();
+  char buf[65536];
+  std::size_t n = 0;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) out.append(buf, n);
+  const bool ok = std::ferror(f) == 0;
+  return std::fclose(f) == 0 && ok;
+}
+
+// `csv` as the gnuplot datablock $var: the data goes into the script itself. gnuplot runs a data
+// file name that starts with '<' (and an output name that starts with '|') through /bin/sh, so no
+// name a user chose may reach its parser: data comes inline, the PNG leaves on its standard output.
+std::string datablock(const std::string& var, const std::string& csv) {
+  return "$" + var + " << EOD\n" + csv + (csv.empty() || csv.back() != '\n' ? "\n" : "") + "EOD\n";
+}
+
+// The datablock $var holding the file `name` in `dir` (written by this process).
+bool datablock_of(const std::string& dir, const std::string& name, const std::string& var, std::string& out) {
+  std::string csv;
+  if (!read_text((fs::path{dir} / name).string(), csv)) return false;
+  out += datablock(var, csv);
+  return true;
+}
+
+// Writes `script` next to the data (<name>.gp: rerun by hand with `gnuplot <name>.gp > <name>.png`)
+// and runs gnuplot in that directory with the same script on its standard input and its standard
+// output to <name>.png, a file this process opens. No shell, no `set output`, and no user-chosen
+// name in any command or script: scripts name only the fixed data files of the paper figures or
+// carry their data inline (datablock).
 plant::SimStatus plot(const std::string& dir, const std::string& name, const std::string& script, FigureFiles& out,
                const char* terminal = "size 1400,1000") {
   const std::string gp = (fs::path{dir} / (name + ".gp")).string();
-  const std::string text = std::string{"set terminal pngcairo "} + terminal + " font 'Sans,10'\nset output " +
-                           gnuplot_string(name + ".png") + "\nset datafile separator ','\nset grid\n" + script;
+  const std::string png = (fs::path{dir} / (name + ".png")).string();
+  const std::string text = std::string{"# gnuplot writes the PNG on its standard output: gnuplot this.gp > this.png\n"} +
+                           "set terminal pngcairo " + terminal + " font 'Sans,10'\nset datafile separator ','\nset grid\n" +
+                           script;
   if (!write_text(gp, text)) return plant::SimStatus::io_error;
   if (!out.gnuplot) return plant::SimStatus::ok;
   testbed::SpawnOptions o;
   o.workdir = dir;
   o.input = text;
-  o.output = testbed::SpawnOutput::to_stderr;  // gnuplot's messages never mix into our stdout (JSON)
+  o.output = testbed::SpawnOutput::to_file;
+  o.output_file = png;
   const testbed::SpawnResult r = testbed::run_program({"gnuplot"}, o);
   if (r.status == testbed::SpawnStatus::not_found) {
     out.gnuplot = false;  // gone since prepare(): the script stays for a rerun by hand
+    std::error_code ec;
+    fs::remove(png, ec);
     return plant::SimStatus::ok;
   }
-  if (r.status != testbed::SpawnStatus::ok) return plant::SimStatus::io_error;
-  out.png.push_back((fs::path{dir} / (name + ".png")).string());
+  if (r.status != testbed::SpawnStatus::ok) {
+    std::error_code ec;
+    fs::remove(png, ec);  // no half-written figure left behind
+    return plant::SimStatus::io_error;
+  }
+  out.png.push_back(png);
   return plant::SimStatus::ok;
 }
 
@@ -100,14 +138,15 @@ plant::SimStatus write_stream_figure(const std::string& dir, const std::string& 
                               const std::string& title, FigureFiles& out) {
   const plant::SimStatus st = prepare(dir, out);
   if (st != plant::SimStatus::ok) return st;
-  const std::string data = gnuplot_string(csv);
-  const std::string script =
+  std::string script;
+  if (!datablock_of(dir, csv, "stream", script)) return plant::SimStatus::io_error;
+  script +=
       "set title " + gnuplot_string(title) +
       "\nset xlabel 't from the move start (s)'\nset ylabel 'counts'\nset key bottom right\n"
-      "plot " + data + " every ::1 using 2:3 with lines lw 2 title 'commanded setpoint (RPDO1)', \\\n"
-      "     '' every ::1 using 2:4 with lines title 'drive position (TPDO1)', \\\n"
-      "     '' every ::1 using 2:5 with lines lw 2 title 'load position (TPDO2)', \\\n"
-      "     '' every ::1 using 2:6 with lines dt 2 title 'load position, offline replay'\n";
+      "plot $stream every ::1 using 2:3 with lines lw 2 title 'commanded setpoint (RPDO1)', \\\n"
+      "     $stream every ::1 using 2:4 with lines title 'drive position (TPDO1)', \\\n"
+      "     $stream every ::1 using 2:5 with lines lw 2 title 'load position (TPDO2)', \\\n"
+      "     $stream every ::1 using 2:6 with lines dt 2 title 'load position, offline replay'\n";
   return plot(dir, name, script, out, "noenhanced size 900,500");  // ids and paths are plain text
 }
 
@@ -143,7 +182,7 @@ plant::SimStatus write_tune_figure(const commission::TuneResult& r, const std::s
       const std::string title = c->name + fmt(" (%.4g s)", c->duration) +
                                 (r.modes.size() > 1 ? " mode " + std::to_string(j + 1) : std::string{});
       csv += "," + c->name + "_mode" + std::to_string(j + 1);
-      plot_cmd += (col > 2 ? ", " : "") + gnuplot_string(name + ".csv") + " skip 1 using 1:" + std::to_string(col) +
+      plot_cmd += std::string{col > 2 ? ", " : ""} + "$residual skip 1 using 1:" + std::to_string(col) +
                   " with lines" + (c == shown.front() ? " lw 3" : " lw 1 dt 2") + " title " + gnuplot_string(title);
       ++col;
     }
@@ -163,6 +202,7 @@ plant::SimStatus write_tune_figure(const commission::TuneResult& r, const std::s
     }
   }
   const std::string script =
+      datablock("residual", csv) +
       "set title " + gnuplot_string("settle tune: residual over the band (bound " + fmt("%.4g", r.residual_max) + ")") +
       "\nset xlabel 'frequency error (% of the nominal omega)'\nset ylabel 'residual / unshaped residual'\n"
       "set key top left\n" + edges + plot_cmd + ", " + fmt("%.9g", r.residual_max) +
@@ -174,16 +214,20 @@ plant::SimStatus write_identify_figure(const std::string& dir, const std::string
                                 const std::string& spectrum_csv, FigureFiles& out) {
   const plant::SimStatus st = prepare(dir, out);
   if (st != plant::SimStatus::ok) return st;
-  const std::string script =
-      "set datafile separator ','\nset multiplot layout 2,1\n"
+  std::string script;
+  if (!datablock_of(dir, time_csv, "time", script) || !datablock_of(dir, spectrum_csv, "spectrum", script)) {
+    return plant::SimStatus::io_error;
+  }
+  script +=
+      "set multiplot layout 2,1\n"
       "set title 'load deflection: measured and identified model'\nset xlabel 't from the excitation (s)'\n"
       "set ylabel 'deflection (m or rad)'\nset key top right\n"
-      "plot " + gnuplot_string(time_csv) + " every ::1 using 1:2 with lines title 'measured (TPDO2 - rigid motion)', \\\n"
-      "     '' every ::1 using 1:3 with lines lw 2 title 'identified model'\n"
+      "plot $time every ::1 using 1:2 with lines title 'measured (TPDO2 - rigid motion)', \\\n"
+      "     $time every ::1 using 1:3 with lines lw 2 title 'identified model'\n"
       "set title 'spectrum of the free response'\nset xlabel 'frequency (Hz)'\nset ylabel 'amplitude'\n"
       "set logscale xy\n"
-      "plot " + gnuplot_string(spectrum_csv) + " every ::1 using 1:2 with lines title 'measured', \\\n"
-      "     '' every ::1 using 1:3 with lines lw 2 title 'identified model'\nunset multiplot\n";
+      "plot $spectrum every ::1 using 1:2 with lines title 'measured', \\\n"
+      "     $spectrum every ::1 using 1:3 with lines lw 2 title 'identified model'\nunset multiplot\n";
   return plot(dir, name, script, out, "noenhanced size 900,800");
 }
 

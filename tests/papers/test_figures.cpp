@@ -230,6 +230,45 @@ TEST_F(Figures, ReproduceCommandWithAnInjectionDirectory) {
   EXPECT_TRUE(fs::exists(base_ / q / "001_slices.csv"));
   expect_only({d, q});
 }
+
+// gnuplot runs an output name that starts with '|' and a data name that starts with '<' through
+// /bin/sh (`settle tune --png '|id > P.txt; true .png'` wrote root's id into P.txt): every command
+// whose figure the user names writes it under exactly that name, and nothing runs.
+TEST_F(Figures, UserChosenFigureNamesReachNoShell) {
+  testbed::SpawnOptions o;
+  o.output = testbed::SpawnOutput::discard;
+  const bool gnuplot = testbed::run_program({"gnuplot", "--version"}, o).status == testbed::SpawnStatus::ok;
+  const std::vector<std::string> stems = {"|touch PIPED; true ", "<touch PIPED; true ", "it's \"quoted\"",
+                                          "two\nlines", "with spaces"};
+  std::vector<std::string> expected;
+  auto expect_figure = [&](const std::string& stem, const std::vector<std::string>& data) {
+    for (const std::string& ext : data) {
+      EXPECT_TRUE(fs::exists(base_ / (stem + ext))) << stem << ext;
+      expected.push_back(stem + ext);
+    }
+    if (gnuplot) {
+      ASSERT_TRUE(fs::exists(base_ / (stem + ".png"))) << stem;
+      EXPECT_GT(fs::file_size(base_ / (stem + ".png")), 1000u) << stem;
+      expected.push_back(stem + ".png");
+    }
+  };
+  for (const std::string& stem : stems) {
+    const testbed::SpawnResult r =
+        testbed::run_program({SETTLE_CLI, "tune", "--mode", "12.566,0.03", "--uncertainty", "10", "--distance", "0.1",
+                              "--time", "0.5", "--png", stem + ".png"},
+                             o);
+    EXPECT_EQ(r.status, testbed::SpawnStatus::ok) << stem;
+    expect_figure(stem, {".csv", ".gp"});
+  }
+  const std::string stem = "<touch PIPED; true identify";
+  const testbed::SpawnResult r =
+      testbed::run_program({SETTLE_CLI, "identify", "--bus", "loopback", "--plant", "modes", "--mode", "25,0.02,1",
+                            "--png", stem + ".png"},
+                           o);
+  EXPECT_EQ(r.status, testbed::SpawnStatus::ok);
+  expect_figure(stem, {".gp", "_time.csv", "_spectrum.csv"});
+  expect_only(expected);  // no PIPED
+}
 #endif
 
 }  // namespace

@@ -2,8 +2,10 @@
 // CSV of every curve of the reproduced experiments and gnuplot PNGs laid out like the papers'
 // figures (seed 000 Fig. 3, seed 001 Figs. 2-7, seed 004 Fig. 3). PNGs need gnuplot on the PATH;
 // without it the CSV files and the .gp scripts are still written. gnuplot runs without a shell
-// (spawn.hpp), in the output directory, with the script on its standard input: any directory name
-// works, quotes, spaces and semicolons included.
+// (spawn.hpp), in the output directory, with the script on its standard input and the PNG on its
+// standard output (a file this process opens). No name a user chose ever reaches gnuplot's parser
+// (it runs data names starting with '<' and output names starting with '|' through /bin/sh): data
+// named by the user goes into the script as a datablock. Any directory or file name works.
 #include <string>
 #include <string_view>
 #include <vector>
