@@ -73,6 +73,9 @@ bool modes_from_file(const std::string& path, const Band& band, std::vector<comm
     err = {"bad_modes_file", opt, opt + ": " + why};
     return false;
   };
+  if (json_nesting_depth(text) > kMaxJsonDepth) {
+    return bad("nests arrays and objects more than " + std::to_string(kMaxJsonDepth) + " levels deep; a modes file nests 4");
+  }
   const Json j = Json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object()) return bad("not a JSON object (the output of settle identify --json)");
   if (!j.contains("status") || j["status"] != "ok") return bad("\"status\" is not \"ok\" (identification failed?)");

@@ -4,9 +4,11 @@
 // non-finite result. A value that may legitimately be absent (a peak that is a Dirac impulse, a
 // settling time that never comes) is put in as null by the caller, on purpose.
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 namespace settle::app {
 
@@ -21,6 +23,38 @@ using Json = nlohmann::ordered_json;
     }
   }
   return true;
+}
+
+// The deepest nesting of arrays and objects a document Settle reads may have. Its own files nest
+// four levels; a crafted file nested a hundred thousand deep would reach code that recurses once
+// per level (copies, comparisons of the parsed value) and overflow the stack, so it is refused
+// before it is parsed.
+inline constexpr std::size_t kMaxJsonDepth = 32;
+
+// The deepest nesting of `text`'s arrays and objects outside strings, counted up to `stop` (a
+// linear scan, no parse: what kMaxJsonDepth is checked with before nlohmann parses anything).
+[[nodiscard]] inline std::size_t json_nesting_depth(std::string_view text, std::size_t stop = kMaxJsonDepth + 1) noexcept {
+  std::size_t depth = 0, deepest = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > deepest) deepest = depth;
+      if (deepest >= stop) return deepest;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
 }
 
 // A number, or null when it is not finite (for values documented as possibly absent).

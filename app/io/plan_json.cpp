@@ -3,9 +3,11 @@
 #include <cmath>
 #include <array>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "settle/core/profiles/registry.hpp"
+#include "settle/commission/tune.hpp"
 #include "settle/plant/move_vocabulary.hpp"
 
 namespace settle::app {
@@ -143,6 +145,47 @@ namespace {
 
 bool close_to(double a, double b) { return std::fabs(a - b) <= 1e-9 * std::max({1.0, std::fabs(a), std::fabs(b)}); }
 
+bool mismatch_err(RequestError& err, const std::string& option, const std::string& what) {
+  err = {"plan_mismatch", option,
+         option + ": " + what + " differs from what its request plans (edited, or made by another version?)"};
+  return false;
+}
+
+// The shaper settle tune designed for the plan: "candidate": {"shaper", "design_modes"} and
+// "residual_max", designed again by commission::tuned_shaper.
+bool designed_shaper(const Json& j, core::Shaper<double>& out, RequestError& err, const std::string& option) {
+  auto bad = [&](const std::string& why) {
+    err = {"bad_plan_file", option, option + ": " + why};
+    return false;
+  };
+  if (!j.contains("candidate") || !j["candidate"].is_object()) return bad("no \"candidate\" object (the output of settle tune --json)");
+  const Json& c = j["candidate"];
+  core::ShaperKind kind{};
+  if (!c.contains("shaper") || !c["shaper"].is_string() || !plant::parse_shaper(c["shaper"].get<std::string>(), kind)) {
+    return bad("candidate.shaper is not a shaper's name");
+  }
+  if (!c.contains("design_modes") || !c["design_modes"].is_array() || c["design_modes"].size() > commission::kMaxTuneModes) {
+    return bad("candidate.design_modes must be an array of at most " + std::to_string(commission::kMaxTuneModes) + " modes");
+  }
+  std::vector<double> omega, zeta;
+  for (const Json& m : c["design_modes"]) {
+    if (!m.is_object() || !m.contains("omega") || !m.contains("zeta") || !m["omega"].is_number() ||
+        !m["zeta"].is_number() || !std::isfinite(m["omega"].get<double>()) || !std::isfinite(m["zeta"].get<double>())) {
+      return bad("every candidate.design_modes entry needs finite numbers \"omega\" and \"zeta\"");
+    }
+    omega.push_back(m["omega"].get<double>());
+    zeta.push_back(m["zeta"].get<double>());
+  }
+  if (!j.contains("residual_max") || !j["residual_max"].is_number() || !std::isfinite(j["residual_max"].get<double>())) {
+    return bad("residual_max is missing or not a finite number");
+  }
+  if (const core::Status st = commission::tuned_shaper(kind, omega, zeta, j["residual_max"].get<double>(), out);
+      st != core::Status::ok) {
+    return bad(std::string{"its shaper cannot be designed again: "} + core::describe(st));
+  }
+  return true;
+}
+
 }  // namespace
 
 bool load_plan_file(const std::string& path, const std::string& option, core::Move<double>& out, RequestError& err) {
@@ -152,6 +195,9 @@ bool load_plan_file(const std::string& path, const std::string& option, core::Mo
     err = {"bad_plan_file", option, option + ": " + why};
     return false;
   };
+  if (json_nesting_depth(text) > kMaxJsonDepth) {
+    return bad("nests arrays and objects more than " + std::to_string(kMaxJsonDepth) + " levels deep; a plan file nests 4");
+  }
   const Json j = Json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object()) return bad("not a JSON object (the output of settle tune --json)");
   if (!j.contains("status") || j["status"] != "ok") return bad("\"status\" is not \"ok\"");
@@ -214,17 +260,24 @@ bool load_plan_file(const std::string& path, const std::string& option, core::Mo
   if (const core::Status st = core::plan(r, bare); st != core::Status::ok) {
     return bad(std::string{"its request does not plan: "} + core::describe(st));
   }
-  core::Shaper<double> shaper{};
-  if (const core::Status st = core::custom_shaper(amp.data(), time.data(), amp.size(), shaper); st != core::Status::ok) {
+  core::Shaper<double> claimed{};
+  if (const core::Status st = core::custom_shaper(amp.data(), time.data(), amp.size(), claimed); st != core::Status::ok) {
     return bad(std::string{"its shaper is not valid: "} + core::describe(st));
+  }
+  // The shaper is designed again from what the file says it is (its kind, design modes and
+  // residual bound), never taken from the file: an edited impulse could steer the axis anywhere.
+  core::Shaper<double> shaper{};
+  if (!designed_shaper(j, shaper, err, option)) return false;
+  if (shaper.count != claimed.count) return mismatch_err(err, option, "shaper.impulses (count)");
+  for (std::size_t i = 0; i < shaper.count; ++i) {
+    if (!close_to(shaper.amp[i], claimed.amp[i]) || !close_to(shaper.time[i], claimed.time[i])) {
+      return mismatch_err(err, option, "shaper.impulses[" + std::to_string(i) + "]");
+    }
   }
   const core::Move<double> m{bare.profile(), shaper, core::shaped_peaks(bare.profile(), shaper, bare.peaks())};
   // The file's plan and the one planned again must be the same move.
   const Json again = plan_json(m);
-  auto mismatch = [&](const std::string& what) {
-    err = {"plan_mismatch", option, option + ": " + what + " differs from what its request plans (edited, or made by another version?)"};
-    return false;
-  };
+  auto mismatch = [&](const std::string& what) { return mismatch_err(err, option, what); };
   if (!j.contains("profile") || j["profile"] != again["profile"]) return mismatch("profile");
   for (const char* key : {"distance", "duration", "profile_duration"}) {
     if (!j.contains(key) || !j[key].is_number() || !close_to(j[key].get<double>(), again[key].get<double>())) {

@@ -403,29 +403,27 @@ core::Status plan_profile(core::MoveRequest& req_io, const TuneMove& mv, core::M
   return core::Status::ok;
 }
 
-struct Design {
-  std::vector<double> omega, zeta;
-};
+}  // namespace
 
-core::Status compose_shaper(core::ShaperKind kind, const Design& d, double vtol, core::Shaper<double>& out) {
+core::Status tuned_shaper(core::ShaperKind kind, const std::vector<double>& omega, const std::vector<double>& zeta,
+                          double residual_max, core::Shaper<double>& out) {
+  if (omega.size() != zeta.size()) return core::Status::bad_shape_parameter;
+  // EI designed for the tolerance asked (its widest band), within the (0, 0.5) EI allows.
+  const double vtol = std::min(residual_max, 0.49);
   core::Shaper<double> acc{};
-  if (kind == core::ShaperKind::none) {
-    out = acc;
-    return core::Status::ok;
-  }
-  for (std::size_t j = 0; j < d.omega.size(); ++j) {
-    core::Shaper<double> s{}, c{};
-    core::Status st = core::design_shaper(kind, d.omega[j], d.zeta[j], vtol, s);
-    if (st != core::Status::ok) return st;
-    st = core::compose(acc, s, c);
-    if (st != core::Status::ok) return st;
-    acc = c;
+  if (kind != core::ShaperKind::none) {
+    for (std::size_t j = 0; j < omega.size(); ++j) {
+      core::Shaper<double> s{}, c{};
+      core::Status st = core::design_shaper(kind, omega[j], zeta[j], vtol, s);
+      if (st != core::Status::ok) return st;
+      st = core::compose(acc, s, c);
+      if (st != core::Status::ok) return st;
+      acc = c;
+    }
   }
   out = acc;
   return core::Status::ok;
 }
-
-}  // namespace
 
 plant::SimStatus relative_residual(const core::Move<double>& move, double omega, double zeta, double& out) {
   double pf = 0.0;
@@ -497,9 +495,6 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
 
   std::vector<UncertainMode> modes = modes_in;
   std::stable_sort(modes.begin(), modes.end(), [](const auto& a, const auto& b) { return a.omega < b.omega; });
-  // EI designed for the tolerance asked (its widest band), within the (0, 0.5) EI allows.
-  const double vtol = std::min(opt.residual_max, 0.49);
-
   // Every family: each registry profile, unshaped or shaped, at the nominal modes or retuned.
   std::vector<core::ShaperKind> shapers = {core::ShaperKind::none, core::ShaperKind::zv,  core::ShaperKind::zvd,
                                            core::ShaperKind::ei,   core::ShaperKind::ei2, core::ShaperKind::ei3};
@@ -551,7 +546,7 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
           continue;
         }
         core::Shaper<double> shaper{};
-        if (st == core::Status::ok) st = compose_shaper(sk, Design{c.design_omega, c.design_zeta}, vtol, shaper);
+        if (st == core::Status::ok) st = tuned_shaper(sk, c.design_omega, c.design_zeta, opt.residual_max, shaper);
         if (st == core::Status::ok) {
           const core::Peaks<double> pk = core::shaped_peaks(bare.profile(), shaper, bare.peaks());
           st = limits_status(mv, pk);

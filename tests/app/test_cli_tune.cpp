@@ -307,6 +307,9 @@ TEST(CliTune, BadInputsExitTwoNamingTheOption) {
        "--modes-from", "bad_modes_file"},
       {file("gain.json", R"({"status":"ok","modes":[{"omega":10,"zeta":0.1,"gain":1e9,"omega_ci":[9,11],"zeta_ci":[0,0.2]}]})"),
        "--modes-from", "bad_modes_file"},
+      // A value nested 120 000 deep before the modes (a 240 kB file): refused before it is parsed.
+      {file("deep.json", "{\"x\":" + std::string(120000, '[') + std::string(120000, ']') + R"(,"status":"ok","modes":[{"omega":10,"zeta":0.1}]})"),
+       "--modes-from", "bad_modes_file"},
   };
   for (const Case& c : cases) expect_refused(c);
   // A damping interval reaching below 0 is clipped at 0 (a symmetric CI around a small zeta).
@@ -335,6 +338,20 @@ TEST(CliTune, PlanFromRefusesWhatIsNotThePlanItClaims) {
   bad_profile["request"]["profile"] = "warp";
   Json bad_shaper = tuned;
   bad_shaper["shaper"]["impulses"][0]["amplitude"] = 5.0;
+  // Impulses that still sum to 1 but steer the axis past its target (3 and -2: 1.86 times the
+  // distance), and a shaper kind the impulses were not designed as.
+  Json steering = tuned;
+  const double t0 = tuned["shaper"]["impulses"][0]["time"].get<double>();
+  steering["shaper"]["impulses"] = Json::array({Json{{"amplitude", 3.0}, {"time", t0}},
+                                                Json{{"amplitude", -2.0}, {"time", t0 + 0.05}}});
+  Json steering_same_count = tuned;
+  for (auto& i : steering_same_count["shaper"]["impulses"]) i["time"] = i["time"].get<double>() * 1.5 + 0.01;
+  Json other_kind = tuned;
+  other_kind["candidate"]["shaper"] = other_kind["candidate"]["shaper"] == "zv" ? "zvd" : "zv";
+  Json no_candidate = tuned;
+  no_candidate.erase("candidate");
+  // A value nested 120 000 deep before the keys the reader looks for (a 240 kB file).
+  const std::string deep = "{\"x\":" + std::string(120000, '[') + std::string(120000, ']') + "," + t.stdout_text.substr(1);
   const std::string sample = "sample --dt 0.01 --plan-from ";
   const std::string stream = "stream --bus loopback --plan-from ";
   const std::vector<Case> cases = {
@@ -344,6 +361,13 @@ TEST(CliTune, PlanFromRefusesWhatIsNotThePlanItClaims) {
       {stream + write("badprofile.json", bad_profile.dump()), "--plan-from", "bad_plan_file"},
       {stream + write("badshaper.json", bad_shaper.dump()), "--plan-from", "bad_plan_file"},
       {stream + write("garbage.json", "not json"), "--plan-from", "bad_plan_file"},
+      {stream + write("steering.json", steering.dump()), "--plan-from", "plan_mismatch"},
+      {sample + write("steering.json", steering.dump()), "--plan-from", "plan_mismatch"},
+      {sample + write("steering2.json", steering_same_count.dump()), "--plan-from", "plan_mismatch"},
+      {sample + write("otherkind.json", other_kind.dump()), "--plan-from", "plan_mismatch"},
+      {sample + write("nocandidate.json", no_candidate.dump()), "--plan-from", "bad_plan_file"},
+      {stream + write("deep.json", deep), "--plan-from", "bad_plan_file"},
+      {sample + write("deep.json", deep), "--plan-from", "bad_plan_file"},
       {stream + (scratch() / "missing.json").string(), "--plan-from", "cannot_read"},
       {stream + plan + " --distance 0.1", "--distance", "conflicting_options"},
       {stream + plan + " --profile poly345", "--profile", "conflicting_options"},

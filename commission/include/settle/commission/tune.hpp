@@ -133,4 +133,11 @@ struct TuneResult {
 [[nodiscard]] TuneStatus tune(const std::vector<UncertainMode>& modes, const TuneMove& move, const TuneOptions& opt,
                               TuneResult& out);
 
+// The input shaper of a tuned candidate: `kind` designed on each design mode in turn (the EI family
+// with the tolerance tune gives it for residual_max) and composed; ShaperKind::none gives the unit
+// impulse. The one place that design is made: tune's candidates, and a tuned plan read back from its
+// file (settle --plan-from), which is accepted only if its impulses are exactly these.
+[[nodiscard]] core::Status tuned_shaper(core::ShaperKind kind, const std::vector<double>& omega,
+                                        const std::vector<double>& zeta, double residual_max, core::Shaper<double>& out);
+
 }  // namespace settle::commission
