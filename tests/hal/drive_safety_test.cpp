@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <random>
@@ -730,6 +731,133 @@ TEST_F(DriveSafety, AGoodRpdoDoesNotClearAFaultThatFollowedALengthError) {
   (void)period(controlword::enable_operation, axis);
   EXPECT_EQ(drive->objects().app.error_code, emcy_code::velocity) << "only a fault reset clears a fault";
   EXPECT_NE(drive->objects().comm.error_register, 0);
+}
+
+// --- Issue 34, item 1: the position actual is the machine's ------------------------------------
+// A machine standing at 500 000 counts when the drive powers on or its node is reset: enabling
+// by SDO or by RPDO, before or after the first SYNC, latches 500 000, and no SYNC that follows
+// commands the axis anywhere else.
+
+constexpr std::int32_t far_from_zero = 500'000;
+
+class DrivePositionActual : public DriveSafety {
+ protected:
+  void enable_by_sdo(std::initializer_list<std::uint16_t> cws = {controlword::shutdown, controlword::switch_on,
+                                                                   controlword::enable_operation}) {
+    for (const std::uint16_t cw : cws) {
+      ASSERT_EQ(sdo_write(obj::controlword, 0, cw, 2), SdoAbort::none) << cw;
+    }
+  }
+
+  // The drive knows the machine's position (published at a SYNC), then its node is reset.
+  void reset_node_at_far_position() {
+    axis = far_from_zero;
+    (void)deliver(encode_nmt(NmtCommand::start, node));
+    (void)period(controlword::disable_voltage, axis);
+    ASSERT_EQ(drive->objects().app.position_actual, far_from_zero);
+    ASSERT_EQ(deliver(encode_nmt(NmtCommand::reset_node, node)), DriveEvent::reset);
+    sent.clear();
+  }
+
+  // A SYNC without an RPDO (the target the drive latched stands), then a stream from where the
+  // axis is: the axis never steps further than the stream does.
+  void expect_no_jump() {
+    now += period_us;
+    EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+    EXPECT_EQ(axis, far_from_zero) << "the first SYNC after enabling moved the axis";
+    EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+    for (std::int32_t k = 1; k <= 5; ++k) {
+      (void)period(controlword::enable_operation, far_from_zero + 100 * k);
+      ASSERT_EQ(axis, far_from_zero + 100 * k);
+    }
+    EXPECT_LE(largest_step, 100) << "the commanded position jumped";
+    EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+    EXPECT_TRUE(emcys().empty());
+  }
+};
+
+TEST_F(DrivePositionActual, ResetNodeKeepsThePositionActual) {
+  reset_node_at_far_position();
+  EXPECT_EQ(drive->objects().app.position_actual, far_from_zero) << "0x6064 is the machine's, not a default";
+  EXPECT_EQ(drive->setpoint(), far_from_zero);
+}
+
+TEST_F(DrivePositionActual, EnablingBySdoBeforeTheFirstSyncAfterResetNodeLatchesTheMachinesPosition) {
+  reset_node_at_far_position();
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo();
+  ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_EQ(drive->objects().app.target_position, far_from_zero);
+  EXPECT_EQ(drive->setpoint(), far_from_zero);
+  expect_no_jump();
+}
+
+TEST_F(DrivePositionActual, EnablingByRpdoAtTheFirstSyncAfterResetNodeLatchesTheMachinesPosition) {
+  reset_node_at_far_position();
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo({controlword::shutdown, controlword::switch_on});
+  // The enabling RPDO carries a stale target of 0; it is applied at the first SYNC.
+  now += period_us;
+  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 0}));
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  EXPECT_EQ(axis, far_from_zero);
+  expect_no_jump();
+}
+
+TEST_F(DrivePositionActual, EnablingBySdoBeforeTheFirstSyncAfterPowerOnHoldsUntilTheAxisReports) {
+  axis = far_from_zero;  // powered on there; the drive has not been told
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo();
+  ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_FALSE(drive->following()) << "where the axis is is not known yet: hold";
+  expect_no_jump();
+  EXPECT_EQ(drive->objects().app.target_position, far_from_zero + 500);
+}
+
+TEST_F(DrivePositionActual, EnablingByRpdoAtTheFirstSyncAfterPowerOnHoldsUntilTheAxisReports) {
+  axis = far_from_zero;
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo({controlword::shutdown});
+  now += period_us;
+  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 0}));  // switch on + enable
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_EQ(axis, far_from_zero);
+  EXPECT_EQ(drive->setpoint(), far_from_zero) << "latched at the publish of that SYNC";
+  expect_no_jump();
+}
+
+TEST_F(DrivePositionActual, EnablingAfterTheFirstSyncLatchesThePublishedPosition) {
+  for (const bool by_sdo : {true, false}) {
+    SCOPED_TRACE(by_sdo);
+    drive.emplace(config());
+    sent.clear();
+    largest_step = 0;
+    axis = far_from_zero;
+    (void)deliver(encode_nmt(NmtCommand::start, node));
+    now += period_us;
+    (void)deliver(encode_sync());
+    if (by_sdo) {
+      enable_by_sdo();
+    } else {
+      for (const std::uint16_t cw : {controlword::shutdown, controlword::switch_on, controlword::enable_operation}) {
+        (void)period(cw, 0);
+      }
+    }
+    ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+    expect_no_jump();
+  }
+}
+
+TEST_F(DrivePositionActual, SetFeedbackTellsTheDriveWhereTheMachineStandsBeforeAnySync) {
+  axis = far_from_zero;
+  drive->set_feedback(DriveFeedback{axis, 0, axis});
+  EXPECT_EQ(drive->objects().app.position_actual, far_from_zero);
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo();
+  EXPECT_TRUE(drive->following()) << "known: no need to wait for the first SYNC";
+  EXPECT_EQ(drive->setpoint(), far_from_zero);
+  expect_no_jump();
 }
 
 }  // namespace

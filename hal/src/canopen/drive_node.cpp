@@ -276,10 +276,17 @@ void DriveNode::restore(bool application) noexcept {
     objects_.comm.error_register = error_register;
   }
   if (application) {
+    // The feedback is the machine's, not a parameter: a reset of the drive's software leaves the
+    // axis where it is, so the position it holds and latches at enabling stays the axis's.
+    const DriveAppObjects before = objects_.app;
     objects_.app = defaults.app;
+    objects_.app.position_actual = before.position_actual;
+    objects_.app.velocity_actual = before.velocity_actual;
+    objects_.app.load_position = before.load_position;
     power_.reset();
-    setpoint_ = 0;
-    accepted_target_ = 0;
+    latch_pending_ = false;
+    setpoint_ = objects_.app.position_actual;
+    accepted_target_ = objects_.app.position_actual;
     following_error_ = false;
     limit_active_ = false;
     following_error_timer_.disarm();
@@ -589,6 +596,9 @@ void DriveNode::latch_target() noexcept {
   // that came with the enabling controlword (or was written before) moves nothing, and the
   // first setpoint after it is checked against the position actual by the step limit.
   DriveAppObjects& a = objects_.app;
+  // An axis that has not reported its position yet (enabled before the first SYNC after power-on)
+  // may stand anywhere: hold it (following() is false) and latch at the first publish().
+  latch_pending_ = !position_known_;
   a.target_position = a.position_actual;
   a.ip_data = a.position_actual;
   setpoint_ = a.position_actual;
@@ -599,7 +609,7 @@ void DriveNode::latch_target() noexcept {
 }
 
 bool DriveNode::following() const noexcept {
-  if (!power_.enabled()) {
+  if (!power_.enabled() || latch_pending_) {
     return false;
   }
   const auto mode = static_cast<OperationMode>(objects_.app.mode_display);
@@ -624,8 +634,12 @@ void DriveNode::publish(const DriveFeedback& feedback, std::uint64_t now_us, Fra
   a.position_actual = feedback.position_actual;
   a.velocity_actual = feedback.velocity_actual;
   a.load_position = feedback.load_position;
+  position_known_ = true;
   if (!power_.enabled()) {
     setpoint_ = a.position_actual;
+    latch_pending_ = false;
+  } else if (latch_pending_) {
+    latch_target();  // enabled before the axis reported where it is: now it has
   }
   a.following_error_actual = static_cast<std::int32_t>(position_difference(setpoint_, a.position_actual));
 
@@ -658,6 +672,22 @@ void DriveNode::publish(const DriveFeedback& feedback, std::uint64_t now_us, Fra
       }
     }
   }
+}
+
+void DriveNode::set_feedback(const DriveFeedback& feedback) noexcept {
+  DriveAppObjects& a = objects_.app;
+  a.position_actual = feedback.position_actual;
+  a.velocity_actual = feedback.velocity_actual;
+  a.load_position = feedback.load_position;
+  position_known_ = true;
+  if (!power_.enabled()) {
+    setpoint_ = a.position_actual;
+    accepted_target_ = a.position_actual;
+    latch_pending_ = false;
+  } else if (latch_pending_) {
+    latch_target();
+  }
+  update_statusword();
 }
 
 void DriveNode::poll(std::uint64_t now_us, FrameSink& out) noexcept {
