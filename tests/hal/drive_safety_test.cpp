@@ -860,5 +860,82 @@ TEST_F(DrivePositionActual, SetFeedbackTellsTheDriveWhereTheMachineStandsBeforeA
   expect_no_jump();
 }
 
+// --- Issue 34, item 2: the step limit cannot be configured away while enabled -------------------
+
+TEST_F(DriveSafety, TheStepLimitSyncPeriodAndChecksCannotBeChangedWhileEnabled) {
+  enable();
+  const std::int64_t limit = drive->step_limit_counts();
+  struct Write {
+    std::uint16_t index;
+    std::uint8_t sub;
+    std::uint32_t value;
+    std::uint8_t size;
+  };
+  for (const Write w : {Write{obj::communication_cycle_period, 0, 0, 4}, Write{obj::communication_cycle_period, 0, 2000, 4},
+                        Write{obj::interpolation_time_period, 1, 255, 1}, Write{obj::interpolation_time_period, 2, 0, 1},
+                        Write{obj::max_profile_velocity, 0, 0xFFFF'FFFFU, 4},
+                        Write{obj::communication_loss_periods, 0, 255, 1},
+                        Write{obj::following_error_window, 0, following_error_window_off, 4},
+                        Write{obj::following_error_timeout, 0, 60'000, 2},
+                        Write{obj::consumer_heartbeat_time, 1, 0x007F'0064U, 4}}) {
+    SCOPED_TRACE(w.index);
+    EXPECT_EQ(sdo_write(w.index, w.sub, w.value, w.size), SdoAbort::cannot_store_device_state);
+  }
+  EXPECT_EQ(drive->step_limit_counts(), limit);
+  EXPECT_EQ(drive->objects().comm.cycle_period_us, period_us);
+  EXPECT_EQ(drive->objects().app.max_profile_velocity, default_max_profile_velocity);
+  // Writing what an object holds changes nothing: accepted.
+  EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, default_max_profile_velocity, 4), SdoAbort::none);
+  // The issue's attacks: a 2e9 target, then 4e6 counts in one period, are still refused.
+  for (const std::int32_t target : {2'000'000'000, 4'000'000}) {
+    SCOPED_TRACE(target);
+    (void)period(controlword::enable_operation, target);
+    EXPECT_EQ(drive->state(), Cia402State::fault);
+    EXPECT_EQ(axis, 0);
+    EXPECT_EQ(largest_step, 0);
+    // Disabled (fault): the objects may be changed again, and the drive enabled anew.
+    EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, 5'000'000, 4), SdoAbort::none);
+    EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, default_max_profile_velocity, 4), SdoAbort::none);
+    (void)period(controlword::fault_reset, 0);
+    for (const std::uint16_t cw : {controlword::shutdown, controlword::switch_on, controlword::enable_operation}) {
+      (void)period(cw, axis);
+    }
+    ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  }
+}
+
+TEST_F(DriveSafety, ACyclePeriodOfZeroDoesNotSwitchTheSyncChecksOff) {
+  // 0x1006 = 0 before enabling is allowed; the SYNC loss and rate checks then run on 0x60C2.
+  EXPECT_EQ(sdo_write(obj::communication_cycle_period, 0, 0, 4), SdoAbort::none);
+  enable();
+  EXPECT_EQ(drive->step_limit_counts(), 10'000);
+  // Duplicated SYNCs: refused for their rate after the tolerated burst.
+  bool refused = false;
+  for (int k = 1; k <= 10 && !refused; ++k) {
+    now += period_us;
+    (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, k}));
+    (void)deliver(encode_sync());
+    refused = deliver(encode_sync()) == DriveEvent::sync_rejected;
+  }
+  EXPECT_TRUE(refused) << "the rate check runs with 0x1006 = 0";
+
+  // SYNC loss: a fresh drive, 0x1006 = 0, enabled, then silence.
+  drive.emplace(config());
+  sent.clear();
+  EXPECT_EQ(sdo_write(obj::abort_connection_option, 0, 0, 2), SdoAbort::none);
+  EXPECT_EQ(sdo_write(obj::communication_cycle_period, 0, 0, 4), SdoAbort::none);
+  enable();
+  const std::uint64_t last_sync = now;
+  while (now < last_sync + 20'000 && drive->state() == Cia402State::operation_enabled) {
+    now += 100;
+    drive->poll(now, out);
+    collect();
+  }
+  EXPECT_NE(drive->state(), Cia402State::operation_enabled) << "SYNC loss detected";
+  EXPECT_EQ(now, last_sync + 4'500) << "(0x2001 + 1.5) periods of 0x60C2";
+  ASSERT_FALSE(emcys().empty());
+  EXPECT_EQ(emcys().back().data[0], emcy_cause::sync_loss);
+}
+
 }  // namespace
 }  // namespace settle::hal::canopen

@@ -77,6 +77,25 @@ namespace {
   }
 }
 
+// The objects the step limit (0x607F x the shorter of 0x1006 and 0x60C2), the SYNC checks
+// (0x1006, 0x1019, 0x2001) and the following-error and master-heartbeat checks (0x6065, 0x6066,
+// 0x1016) are made of.
+[[nodiscard]] bool limits_safety(std::uint16_t index) noexcept {
+  switch (index) {
+    case obj::communication_cycle_period:
+    case obj::consumer_heartbeat_time:
+    case obj::sync_counter_overflow:
+    case obj::communication_loss_periods:
+    case obj::following_error_window:
+    case obj::following_error_timeout:
+    case obj::max_profile_velocity:
+    case obj::interpolation_time_period:
+      return true;
+    default:
+      return false;
+  }
+}
+
 [[nodiscard]] bool is_supported_mode(std::int64_t mode) noexcept {
   return mode == static_cast<std::int8_t>(OperationMode::interpolated_position) ||
          mode == static_cast<std::int8_t>(OperationMode::cyclic_synchronous_position);
@@ -316,8 +335,12 @@ void DriveNode::apply_configuration(std::uint16_t index) noexcept {
     master_heartbeat_.configure(static_cast<NodeId>((c.consumer_heartbeat >> 16U) & 0xFFU),
                                 static_cast<std::uint16_t>(c.consumer_heartbeat & 0xFFFFU));
   }
-  if (all || index == obj::communication_cycle_period || index == obj::communication_loss_periods) {
-    sync_.configure(c.cycle_period_us, objects_.app.communication_loss_periods);
+  if (all || index == obj::communication_cycle_period || index == obj::communication_loss_periods ||
+      index == obj::interpolation_time_period) {
+    // 0x1006 = 0 (no period given) never switches the SYNC loss and rate checks off: they run on
+    // the period the step limit uses (0x60C2), which the master's SYNCs must keep anyway.
+    sync_.configure(c.cycle_period_us != 0 ? c.cycle_period_us : interpolation_period_us(),
+                    objects_.app.communication_loss_periods);
   }
   if (all || index == obj::sync_counter_overflow) {
     sync_.set_counter_overflow(c.sync_counter_overflow);
@@ -831,6 +854,14 @@ SdoAbort DriveNode::check_write(void* self, const OdEntry& entry, std::int64_t v
   const DriveAppObjects& a = node.objects_.app;
   if (entry.index >= obj::rpdo1_communication && entry.index < obj::tpdo1_mapping + drive_tpdo_capacity) {
     return static_cast<DriveNode*>(self)->check_pdo_write(entry, value);
+  }
+  // While the power stage drives the axis (operation enabled, quick stop, fault reaction), the
+  // objects the step limit, the SYNC period and the drive's checks are made of stay as they were
+  // when it was enabled: a write that changes one (0x607F = 0xFFFFFFFF, 0x1006 = 0 and 0x60C2 =
+  // 255 s, 0x6065 = off) would let the next setpoint through unchecked. Writing the value an
+  // object already holds changes nothing and is accepted.
+  if (node.driving() && limits_safety(entry.index) && value != entry.var.value()) {
+    return SdoAbort::cannot_store_device_state;
   }
   switch (entry.index) {
     case obj::modes_of_operation:

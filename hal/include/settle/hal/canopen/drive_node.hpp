@@ -379,6 +379,8 @@ class DriveNode {
                     std::uint64_t now_us, FrameSink& out) noexcept;
   void clear_errors(std::uint64_t now_us, FrameSink& out) noexcept;
   void update_statusword() noexcept;
+  // The power stage drives the axis: operation enabled, or bringing it to rest.
+  [[nodiscard]] bool driving() const noexcept { return power_.enabled() || power_.stopping(); }
 
   [[nodiscard]] static OdBytes constant_text(const char* text) noexcept;
   static SdoAbort check_write(void* self, const OdEntry& entry, std::int64_t value) noexcept;
