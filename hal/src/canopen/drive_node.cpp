@@ -893,6 +893,12 @@ SdoAbort DriveNode::check_pdo_write(const OdEntry& entry, std::int64_t value) no
   // Only reached for a writable mapping (the static one is read-only in the dictionary). The
   // CiA 301 procedure: disable the PDO (COB-ID bit 31), set mapping sub 0 to 0, write the
   // entries, set sub 0 to their number (which validates and binds them), enable the PDO.
+  // Not under an enabled drive's master: remapping TPDO1 makes it read its own target as the
+  // position, moving an RPDO's COB-ID takes its setpoints away. CiA 301 allows the procedure in
+  // pre-operational (no PDO is exchanged there), and any time the power stage is off.
+  if (driving() && nmt_.state() != NmtState::pre_operational) {
+    return SdoAbort::cannot_store_device_state;
+  }
   const std::uint16_t index = entry.index;
   const bool receive = index < obj::tpdo1_communication;
   const bool mapping = (index & 0x0200U) != 0;
