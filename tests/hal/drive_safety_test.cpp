@@ -98,6 +98,16 @@ class DriveSafety : public ::testing::Test {
     return SdoAbort::general_error;
   }
 
+  // 0x1019 is written while 0x1006 is 0 (CiA 301): 0x1006 = 0, 0x1019, 0x1006 back. The abort of
+  // the 0x1019 write.
+  SdoAbort write_sync_counter_overflow(std::uint32_t value) {
+    const std::uint32_t cycle = drive->objects().comm.cycle_period_us;
+    (void)sdo_write(obj::communication_cycle_period, 0, 0, 4);
+    const SdoAbort abort = sdo_write(obj::sync_counter_overflow, 0, value, 1);
+    (void)sdo_write(obj::communication_cycle_period, 0, cycle, 4);
+    return abort;
+  }
+
   std::vector<EmcyMessage> emcys() const {
     std::vector<EmcyMessage> v;
     for (const CanFrame& f : sent) {
@@ -319,7 +329,7 @@ TEST_F(DriveSafety, TheFollowingErrorCheckIsOnByDefault) {
 // --- Item 8: duplicated SYNC, a second SYNC producer --------------------------------------
 
 TEST_F(DriveSafety, ADuplicatedSyncIsRefusedAtOnceWhenTheCounterIsOn) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 16, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(16), SdoAbort::none);
   enable(16);
   (void)period(controlword::enable_operation, 100, next_counter(16));
   EXPECT_EQ(axis, 100);
@@ -347,7 +357,7 @@ TEST_F(DriveSafety, ADuplicatedSyncIsRefusedAtOnceWhenTheCounterIsOn) {
 }
 
 TEST_F(DriveSafety, ASecondProducersCountersAreOutOfSequence) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 240, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(240), SdoAbort::none);
   enable(240);
   // Another producer's SYNC, with its own counter, between the master's RPDO and SYNC: refused;
   // the latched RPDO waits for the master's SYNC, which the fault reaction then runs.
@@ -360,7 +370,7 @@ TEST_F(DriveSafety, ASecondProducersCountersAreOutOfSequence) {
 }
 
 TEST_F(DriveSafety, ACounterAboveTheConfiguredOverflowDoesNotMatch0x1019) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(8), SdoAbort::none);
   enable(8);
   now += period_us;
   (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10}));
@@ -375,7 +385,7 @@ TEST_F(DriveSafety, ACounterAboveTheConfiguredOverflowDoesNotMatch0x1019) {
 }
 
 TEST_F(DriveSafety, ASyncWithoutTheConfiguredCounterIsAnUnexpectedLength) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(8), SdoAbort::none);
   enable(8);
   EXPECT_EQ(period(controlword::enable_operation, 10, 0), DriveEvent::sync_rejected);
   EXPECT_EQ(axis, 0);
@@ -387,12 +397,12 @@ TEST_F(DriveSafety, ASyncWithoutTheConfiguredCounterIsAnUnexpectedLength) {
 }
 
 TEST_F(DriveSafety, TheSyncCounterOverflowIsSetBeforeEnablingAndOnlyToValidValues) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 1, 1), SdoAbort::invalid_value);
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 241, 1), SdoAbort::value_too_high);
+  EXPECT_EQ(write_sync_counter_overflow(1), SdoAbort::invalid_value);
+  EXPECT_EQ(write_sync_counter_overflow(241), SdoAbort::value_too_high);
   EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 0);
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 2, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(2), SdoAbort::none);
   enable(2);
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 0, 1), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write_sync_counter_overflow(0), SdoAbort::cannot_store_device_state);
   EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 2);
   // The counter wraps 1, 2, 1, 2, ...: in order.
   for (int k = 0; k < 10; ++k) {
@@ -627,7 +637,7 @@ TEST_F(DriveSafety, TheNmtReactionFollowsTheAbortConnectionOption) {
     std::int16_t option;
     Cia402State after;
   };
-  for (const Case c : {Case{0, Cia402State::operation_enabled}, Case{1, Cia402State::fault_reaction_active},
+  for (const Case c : {Case{0, Cia402State::switch_on_disabled}, Case{1, Cia402State::fault_reaction_active},
                        Case{2, Cia402State::switch_on_disabled}, Case{3, Cia402State::quick_stop_active}}) {
     SCOPED_TRACE(c.option);
     drive.emplace(config());
@@ -935,6 +945,110 @@ TEST_F(DriveSafety, ACyclePeriodOfZeroDoesNotSwitchTheSyncChecksOff) {
   EXPECT_EQ(now, last_sync + 4'500) << "(0x2001 + 1.5) periods of 0x60C2";
   ASSERT_FALSE(emcys().empty());
   EXPECT_EQ(emcys().back().data[0], emcy_cause::sync_loss);
+}
+
+// --- Issue 34, item 4: SYNC lengths, 0x1019, fault reset after NMT start, NMT stop with 0x6007 = 0
+
+CanFrame sync_of_length(std::uint8_t len) {
+  CanFrame f = encode_sync();
+  f.len = len;
+  for (std::uint8_t i = 0; i < len; ++i) {
+    f.data[i] = static_cast<std::uint8_t>(i + 1);
+  }
+  return f;
+}
+
+TEST_F(DriveSafety, ASyncOfTwoToEightBytesIsAnUnexpectedLengthWhateverTheCounterSetting) {
+  for (const std::uint8_t overflow : {std::uint8_t{0}, std::uint8_t{8}}) {
+    for (std::uint8_t len = 2; len <= 8; ++len) {
+      SCOPED_TRACE(testing::Message() << "0x1019 = " << int{overflow} << ", DLC " << int{len});
+      drive.emplace(config());
+      sent.clear();
+      last_counter = 0;
+      axis = 0;
+      if (overflow != 0) {
+        ASSERT_EQ(write_sync_counter_overflow(overflow), SdoAbort::none);
+      }
+      enable(overflow);
+      now += period_us;
+      (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10}));
+      EXPECT_EQ(deliver(sync_of_length(len)), DriveEvent::sync_rejected) << "no period is run for it";
+      EXPECT_EQ(axis, 0);
+      const auto e = emcys();
+      ASSERT_EQ(e.size(), 1U);
+      EXPECT_EQ(e[0].error_code, emcy_code::sync_data_length);
+      EXPECT_EQ(e[0].data[0], emcy_cause::sync_length);
+      EXPECT_EQ(e[0].data[1], len);
+      EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active) << "0x6007 = 1";
+    }
+  }
+}
+
+TEST_F(DriveSafety, ASyncOfTheWrongLengthWhileDisabledIsReportedNotIgnored) {
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  EXPECT_EQ(deliver(sync_of_length(2)), DriveEvent::sync_rejected);
+  ASSERT_EQ(emcys().size(), 1U);
+  EXPECT_EQ(emcys()[0].error_code, emcy_code::sync_data_length);
+  EXPECT_EQ(drive->state(), Cia402State::switch_on_disabled);
+  // 0x1019 set and a SYNC without its counter: the period runs (the axis holds) and is reported.
+  drive.emplace(config());
+  sent.clear();
+  ASSERT_EQ(write_sync_counter_overflow(8), SdoAbort::none);
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  now += period_us;
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  ASSERT_EQ(emcys().size(), 1U);
+  EXPECT_EQ(emcys()[0].error_code, emcy_code::sync_data_length);
+  EXPECT_EQ(emcys()[0].data[0], emcy_cause::sync_length);
+}
+
+TEST_F(DriveSafety, TheSyncCounterOverflowIsWrittenOnlyWhileTheCyclePeriodIsZero) {
+  ASSERT_NE(drive->objects().comm.cycle_period_us, 0U);
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 0);
+  EXPECT_EQ(sdo_write(obj::communication_cycle_period, 0, 0, 4), SdoAbort::none);
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::none);
+  EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 8);
+}
+
+TEST_F(DriveSafety, AFaultResetInTheFirstRpdoAfterNmtStartIsARisingEdge) {
+  enable();
+  // A master that sent bit 7 with its enable (no effect while enabled)...
+  (void)period(controlword::enable_operation | controlword::fault_reset, axis);
+  ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  // ...a third party's NMT pre-operational faults the drive (0x6007 = 1), the reaction completes.
+  (void)deliver(encode_nmt(NmtCommand::enter_pre_operational, node));
+  now += period_us;
+  (void)deliver(encode_sync());
+  ASSERT_EQ(drive->state(), Cia402State::fault);
+  // The master starts the node and resets the fault in its first RPDO.
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  (void)period(controlword::fault_reset, axis);
+  EXPECT_EQ(drive->state(), Cia402State::switch_on_disabled);
+}
+
+TEST_F(DriveSafety, AThirdPartysNmtStopNeverLeavesThePowerStageEnabled) {
+  // 0x6007 = 0 (no action): the drive disables itself, with the EMCY.
+  EXPECT_EQ(sdo_write(obj::abort_connection_option, 0, 0, 2), SdoAbort::none);
+  enable();
+  sent.clear();
+  EXPECT_EQ(deliver(encode_nmt(NmtCommand::stop, node)), DriveEvent::handled);
+  EXPECT_EQ(drive->nmt_state(), NmtState::stopped);
+  EXPECT_EQ(drive->state(), Cia402State::switch_on_disabled);
+  ASSERT_EQ(emcys().size(), 1U);
+  EXPECT_EQ(emcys()[0].data[0], emcy_cause::nmt_command);
+  EXPECT_EQ(emcys()[0].data[1], static_cast<std::uint8_t>(NmtCommand::stop));
+
+  // 0x6007 = 3 with 0x605A = 6 (stay in quick stop active): the stop ends switch on disabled.
+  drive.emplace(config());
+  sent.clear();
+  EXPECT_EQ(sdo_write(obj::abort_connection_option, 0, 3, 2), SdoAbort::none);
+  EXPECT_EQ(sdo_write(obj::quick_stop_option, 0, 6, 2), SdoAbort::none);
+  enable();
+  (void)deliver(encode_nmt(NmtCommand::stop, node));
+  EXPECT_EQ(drive->state(), Cia402State::quick_stop_active);
+  drive->stop_complete();  // the application has brought the axis to rest
+  EXPECT_EQ(drive->state(), Cia402State::switch_on_disabled);
 }
 
 }  // namespace

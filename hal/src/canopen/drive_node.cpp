@@ -304,6 +304,7 @@ void DriveNode::restore(bool application) noexcept {
     objects_.app.load_position = before.load_position;
     power_.reset();
     latch_pending_ = false;
+    disable_after_stop_ = false;
     setpoint_ = objects_.app.position_actual;
     accepted_target_ = objects_.app.position_actual;
     following_error_ = false;
@@ -372,8 +373,23 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     if (power_.enabled() && aborts_connection(message->command, nmt_.state())) {
       connection_lost(emcy_code::communication,
                       emcy_detail(emcy_cause::nmt_command, static_cast<std::uint8_t>(message->command)), now_us, out);
+      // Whatever 0x6007 says, the power stage does not stay enabled without setpoints: with
+      // 0x6007 = 0 the drive disables itself (the drive-defined reaction, CiA 402), and a quick
+      // stop (0x6007 = 3) ends in switch on disabled even when 0x605A would stay in quick stop.
+      if (power_.enabled()) {
+        (void)power_.apply(Cia402Command::disable_voltage);
+      }
+      disable_after_stop_ = power_.state() == Cia402State::quick_stop_active;
+      update_statusword();
     }
+    const NmtState nmt_before = nmt_.state();
     const NmtEvent event = nmt_.on_message(*message, out);
+    if (message->command == NmtCommand::start && nmt_before != NmtState::operational &&
+        nmt_.state() == NmtState::operational) {
+      // The first controlword after NMT start is taken as following a 0: a fault reset (bit 7)
+      // in the first RPDO is a rising edge, whatever controlword came before the node stopped.
+      power_.forget_controlword();
+    }
     if (event == NmtEvent::reset_application || event == NmtEvent::reset_communication) {
       sdo_.reset();
       restore(event == NmtEvent::reset_application);
@@ -394,7 +410,9 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
   if (frame.id == objects_.comm.cob_id_sync) {
     const auto sync = decode_sync(frame);
     if (!sync) {
-      return DriveEvent::none;
+      // Two to eight bytes: neither no counter (0x1019 = 0) nor one (0x1019 set). CiA 301's
+      // unexpected SYNC data length, reported as CANopenNode does; no period is run for it.
+      return frame.len >= 2 ? on_sync_length_error(frame.len, now_us, out) : DriveEvent::none;
     }
     // The rate check measures the frame's receive time when the bus gives one (SO_TIMESTAMP, the
     // loopback hub's clock): a receiver that was descheduled reads a burst of SYNCs that were
@@ -497,6 +515,13 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
       update_statusword();
       return DriveEvent::sync_rejected;  // the latched RPDO waits for the next good SYNC
     }
+    if (event == SyncEvent::unexpected_length && !sync_error_reported_) {
+      // Disabled: the period runs (the axis holds), but a length that does not match 0x1019 is
+      // a configuration error the master must hear of (CiA 301, as CANopenNode reports it).
+      sync_error_reported_ = true;
+      signal_error(emcy_code::sync_data_length, error_register::communication,
+                   emcy_detail(emcy_cause::sync_length, sync.counter), now_us, out);
+    }
   }
   if (nmt_.pdo_allowed()) {
     // RPDO loss: no fresh RPDO carrying the target (whichever PDO maps it) for this period.
@@ -557,6 +582,21 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
   apply_setpoint(now_us, out);
   update_statusword();
   return DriveEvent::sync;
+}
+
+DriveEvent DriveNode::on_sync_length_error(std::uint8_t length, std::uint64_t now_us, FrameSink& out) noexcept {
+  ++counters_.sync_errors;
+  if (!sync_error_reported_) {
+    sync_error_reported_ = true;
+    const EmcyDetail detail = emcy_detail(emcy_cause::sync_length, length);
+    if (driving()) {
+      connection_lost(emcy_code::sync_data_length, detail, now_us, out);  // and the 0x6007 reaction
+    } else {
+      signal_error(emcy_code::sync_data_length, error_register::communication, detail, now_us, out);
+    }
+  }
+  update_statusword();
+  return DriveEvent::sync_rejected;
 }
 
 void DriveNode::apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept {
@@ -739,7 +779,10 @@ void DriveNode::fault_with(std::uint16_t error_code, const EmcyDetail& detail, s
 }
 
 void DriveNode::stop_complete() noexcept {
-  (void)power_.stop_complete();
+  if (!power_.stop_complete() && disable_after_stop_ && power_.state() == Cia402State::quick_stop_active) {
+    (void)power_.apply(Cia402Command::disable_voltage);  // transition 12
+  }
+  disable_after_stop_ = false;
   update_statusword();
 }
 
@@ -817,6 +860,7 @@ void DriveNode::apply_written_controlword(std::uint64_t now_us, FrameSink& out) 
       latch_target();
     }
     if (after == Cia402State::operation_enabled) {
+      disable_after_stop_ = false;
       following_error_ = false;
       following_error_timer_.disarm();
       rpdo_missing_run_ = 0;
@@ -878,9 +922,10 @@ SdoAbort DriveNode::check_write(void* self, const OdEntry& entry, std::int64_t v
     case obj::interpolation_time_period:
       return (entry.sub == 1 && value == 0) ? SdoAbort::value_too_low : SdoAbort::none;
     case obj::sync_counter_overflow:
-      // CiA 301: 0 (no counter) or 2..240. Changing it under a running stream would refuse the
+      // CiA 301: 0 (no counter) or 2..240, and written only while 0x1006 is 0 (no SYNC period
+      // running), otherwise 0x08000022. Changing it under a running stream would refuse the
       // next SYNC, so it is set before the drive is enabled.
-      if (node.power_.enabled()) {
+      if (node.power_.enabled() || node.objects_.comm.cycle_period_us != 0) {
         return SdoAbort::cannot_store_device_state;
       }
       return value == 1 ? SdoAbort::invalid_value : SdoAbort::none;

@@ -29,7 +29,12 @@
 //   (0x8240 for a missing counter, 0x8100 otherwise) and the 0x6007 reaction.
 // - An NMT command that takes the node out of operational (stop, enter pre-operational, reset
 //   communication) while operation enabled: EMCY 0x8100, sent before the state changes, and the
-//   0x6007 reaction. The master's heartbeat lost (0x1016): EMCY 0x8130 and the 0x6007 reaction.
+//   0x6007 reaction; the power stage never stays enabled (0x6007 = 0: disable voltage; a quick
+//   stop ends switch on disabled whatever 0x605A).
+// - A SYNC of 2..8 bytes (a length 0x1019 does not ask for): EMCY 0x8240, refused.
+// - While the axis is driven, SDO writes that change the step limit, the SYNC period or the checks
+//   (0x607F, 0x1006, 0x60C2, 0x1019, 0x2001, 0x6065, 0x6066, 0x1016), and, unless
+//   pre-operational, the PDO communication and mapping objects: abort 0x08000022. The master's heartbeat lost (0x1016): EMCY 0x8130 and the 0x6007 reaction.
 // - SYNC loss, RPDO loss beyond 0x2001 periods: quick stop, EMCY 0x8100 / 0x8250.
 #pragma once
 
@@ -367,6 +372,7 @@ class DriveNode {
                                    FrameSink& out) noexcept;
   void on_nmt(const NmtMessage& message, std::uint64_t now_us, FrameSink& out) noexcept;
   void apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept;
+  [[nodiscard]] DriveEvent on_sync_length_error(std::uint8_t length, std::uint64_t now_us, FrameSink& out) noexcept;
   void latch_target() noexcept;
   // step_limit_counts() for a step period already known (one SYNC computes it once).
   [[nodiscard]] std::int64_t step_limit_counts(std::uint32_t period_us) const noexcept;
@@ -416,6 +422,7 @@ class DriveNode {
   bool controlword_written_{false};
   bool position_known_{false};  // the axis has reported its position (set_feedback or publish)
   bool latch_pending_{false};   // enabled before it had: hold, latch at the first publish()
+  bool disable_after_stop_{false};  // a quick stop an NMT command caused ends switch on disabled
   bool sync_error_reported_{false};  // one EMCY per episode: cleared with the errors
   bool pdo_length_error_{false};       // an RPDO had the wrong length: a later right one clears it
   bool length_ok_since_error_{false};  // the RPDO latched since then has the mapped length
