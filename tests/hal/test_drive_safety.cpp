@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <random>
@@ -95,6 +96,16 @@ class DriveSafety : public ::testing::Test {
       }
     }
     return SdoAbort::general_error;
+  }
+
+  // 0x1019 is written while 0x1006 is 0 (CiA 301): 0x1006 = 0, 0x1019, 0x1006 back. The abort of
+  // the 0x1019 write.
+  SdoAbort write_sync_counter_overflow(std::uint32_t value) {
+    const std::uint32_t cycle = drive->objects().comm.cycle_period_us;
+    (void)sdo_write(obj::communication_cycle_period, 0, 0, 4);
+    const SdoAbort abort = sdo_write(obj::sync_counter_overflow, 0, value, 1);
+    (void)sdo_write(obj::communication_cycle_period, 0, cycle, 4);
+    return abort;
   }
 
   std::vector<EmcyMessage> emcys() const {
@@ -318,7 +329,7 @@ TEST_F(DriveSafety, TheFollowingErrorCheckIsOnByDefault) {
 // --- Item 8: duplicated SYNC, a second SYNC producer --------------------------------------
 
 TEST_F(DriveSafety, ADuplicatedSyncIsRefusedAtOnceWhenTheCounterIsOn) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 16, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(16), SdoAbort::none);
   enable(16);
   (void)period(controlword::enable_operation, 100, next_counter(16));
   EXPECT_EQ(axis, 100);
@@ -346,7 +357,7 @@ TEST_F(DriveSafety, ADuplicatedSyncIsRefusedAtOnceWhenTheCounterIsOn) {
 }
 
 TEST_F(DriveSafety, ASecondProducersCountersAreOutOfSequence) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 240, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(240), SdoAbort::none);
   enable(240);
   // Another producer's SYNC, with its own counter, between the master's RPDO and SYNC: refused;
   // the latched RPDO waits for the master's SYNC, which the fault reaction then runs.
@@ -359,7 +370,7 @@ TEST_F(DriveSafety, ASecondProducersCountersAreOutOfSequence) {
 }
 
 TEST_F(DriveSafety, ACounterAboveTheConfiguredOverflowDoesNotMatch0x1019) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(8), SdoAbort::none);
   enable(8);
   now += period_us;
   (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10}));
@@ -374,7 +385,7 @@ TEST_F(DriveSafety, ACounterAboveTheConfiguredOverflowDoesNotMatch0x1019) {
 }
 
 TEST_F(DriveSafety, ASyncWithoutTheConfiguredCounterIsAnUnexpectedLength) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(8), SdoAbort::none);
   enable(8);
   EXPECT_EQ(period(controlword::enable_operation, 10, 0), DriveEvent::sync_rejected);
   EXPECT_EQ(axis, 0);
@@ -386,12 +397,12 @@ TEST_F(DriveSafety, ASyncWithoutTheConfiguredCounterIsAnUnexpectedLength) {
 }
 
 TEST_F(DriveSafety, TheSyncCounterOverflowIsSetBeforeEnablingAndOnlyToValidValues) {
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 1, 1), SdoAbort::invalid_value);
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 241, 1), SdoAbort::value_too_high);
+  EXPECT_EQ(write_sync_counter_overflow(1), SdoAbort::invalid_value);
+  EXPECT_EQ(write_sync_counter_overflow(241), SdoAbort::value_too_high);
   EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 0);
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 2, 1), SdoAbort::none);
+  EXPECT_EQ(write_sync_counter_overflow(2), SdoAbort::none);
   enable(2);
-  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 0, 1), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write_sync_counter_overflow(0), SdoAbort::cannot_store_device_state);
   EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 2);
   // The counter wraps 1, 2, 1, 2, ...: in order.
   for (int k = 0; k < 10; ++k) {
@@ -626,7 +637,7 @@ TEST_F(DriveSafety, TheNmtReactionFollowsTheAbortConnectionOption) {
     std::int16_t option;
     Cia402State after;
   };
-  for (const Case c : {Case{0, Cia402State::operation_enabled}, Case{1, Cia402State::fault_reaction_active},
+  for (const Case c : {Case{0, Cia402State::switch_on_disabled}, Case{1, Cia402State::fault_reaction_active},
                        Case{2, Cia402State::switch_on_disabled}, Case{3, Cia402State::quick_stop_active}}) {
     SCOPED_TRACE(c.option);
     drive.emplace(config());
@@ -730,6 +741,314 @@ TEST_F(DriveSafety, AGoodRpdoDoesNotClearAFaultThatFollowedALengthError) {
   (void)period(controlword::enable_operation, axis);
   EXPECT_EQ(drive->objects().app.error_code, emcy_code::velocity) << "only a fault reset clears a fault";
   EXPECT_NE(drive->objects().comm.error_register, 0);
+}
+
+// --- Issue 34, item 1: the position actual is the machine's ------------------------------------
+// A machine standing at 500 000 counts when the drive powers on or its node is reset: enabling
+// by SDO or by RPDO, before or after the first SYNC, latches 500 000, and no SYNC that follows
+// commands the axis anywhere else.
+
+constexpr std::int32_t far_from_zero = 500'000;
+
+class DrivePositionActual : public DriveSafety {
+ protected:
+  void enable_by_sdo(std::initializer_list<std::uint16_t> cws = {controlword::shutdown, controlword::switch_on,
+                                                                   controlword::enable_operation}) {
+    for (const std::uint16_t cw : cws) {
+      ASSERT_EQ(sdo_write(obj::controlword, 0, cw, 2), SdoAbort::none) << cw;
+    }
+  }
+
+  // The drive knows the machine's position (published at a SYNC), then its node is reset.
+  void reset_node_at_far_position() {
+    axis = far_from_zero;
+    (void)deliver(encode_nmt(NmtCommand::start, node));
+    (void)period(controlword::disable_voltage, axis);
+    ASSERT_EQ(drive->objects().app.position_actual, far_from_zero);
+    ASSERT_EQ(deliver(encode_nmt(NmtCommand::reset_node, node)), DriveEvent::reset);
+    sent.clear();
+  }
+
+  // A SYNC without an RPDO (the target the drive latched stands), then a stream from where the
+  // axis is: the axis never steps further than the stream does.
+  void expect_no_jump() {
+    now += period_us;
+    EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+    EXPECT_EQ(axis, far_from_zero) << "the first SYNC after enabling moved the axis";
+    EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+    for (std::int32_t k = 1; k <= 5; ++k) {
+      (void)period(controlword::enable_operation, far_from_zero + 100 * k);
+      ASSERT_EQ(axis, far_from_zero + 100 * k);
+    }
+    EXPECT_LE(largest_step, 100) << "the commanded position jumped";
+    EXPECT_EQ(drive->state(), Cia402State::operation_enabled);
+    EXPECT_TRUE(emcys().empty());
+  }
+};
+
+TEST_F(DrivePositionActual, ResetNodeKeepsThePositionActual) {
+  reset_node_at_far_position();
+  EXPECT_EQ(drive->objects().app.position_actual, far_from_zero) << "0x6064 is the machine's, not a default";
+  EXPECT_EQ(drive->setpoint(), far_from_zero);
+}
+
+TEST_F(DrivePositionActual, EnablingBySdoBeforeTheFirstSyncAfterResetNodeLatchesTheMachinesPosition) {
+  reset_node_at_far_position();
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo();
+  ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_EQ(drive->objects().app.target_position, far_from_zero);
+  EXPECT_EQ(drive->setpoint(), far_from_zero);
+  expect_no_jump();
+}
+
+TEST_F(DrivePositionActual, EnablingByRpdoAtTheFirstSyncAfterResetNodeLatchesTheMachinesPosition) {
+  reset_node_at_far_position();
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo({controlword::shutdown, controlword::switch_on});
+  // The enabling RPDO carries a stale target of 0; it is applied at the first SYNC.
+  now += period_us;
+  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 0}));
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  EXPECT_EQ(axis, far_from_zero);
+  expect_no_jump();
+}
+
+TEST_F(DrivePositionActual, EnablingBySdoBeforeTheFirstSyncAfterPowerOnHoldsUntilTheAxisReports) {
+  axis = far_from_zero;  // powered on there; the drive has not been told
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo();
+  ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_FALSE(drive->following()) << "where the axis is is not known yet: hold";
+  expect_no_jump();
+  EXPECT_EQ(drive->objects().app.target_position, far_from_zero + 500);
+}
+
+TEST_F(DrivePositionActual, EnablingByRpdoAtTheFirstSyncAfterPowerOnHoldsUntilTheAxisReports) {
+  axis = far_from_zero;
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo({controlword::shutdown});
+  now += period_us;
+  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 0}));  // switch on + enable
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  EXPECT_EQ(axis, far_from_zero);
+  EXPECT_EQ(drive->setpoint(), far_from_zero) << "latched at the publish of that SYNC";
+  expect_no_jump();
+}
+
+TEST_F(DrivePositionActual, EnablingAfterTheFirstSyncLatchesThePublishedPosition) {
+  for (const bool by_sdo : {true, false}) {
+    SCOPED_TRACE(by_sdo);
+    drive.emplace(config());
+    sent.clear();
+    largest_step = 0;
+    axis = far_from_zero;
+    (void)deliver(encode_nmt(NmtCommand::start, node));
+    now += period_us;
+    (void)deliver(encode_sync());
+    if (by_sdo) {
+      enable_by_sdo();
+    } else {
+      for (const std::uint16_t cw : {controlword::shutdown, controlword::switch_on, controlword::enable_operation}) {
+        (void)period(cw, 0);
+      }
+    }
+    ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+    expect_no_jump();
+  }
+}
+
+TEST_F(DrivePositionActual, SetFeedbackTellsTheDriveWhereTheMachineStandsBeforeAnySync) {
+  axis = far_from_zero;
+  drive->set_feedback(DriveFeedback{axis, 0, axis});
+  EXPECT_EQ(drive->objects().app.position_actual, far_from_zero);
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  enable_by_sdo();
+  EXPECT_TRUE(drive->following()) << "known: no need to wait for the first SYNC";
+  EXPECT_EQ(drive->setpoint(), far_from_zero);
+  expect_no_jump();
+}
+
+// --- Issue 34, item 2: the step limit cannot be configured away while enabled -------------------
+
+TEST_F(DriveSafety, TheStepLimitSyncPeriodAndChecksCannotBeChangedWhileEnabled) {
+  enable();
+  const std::int64_t limit = drive->step_limit_counts();
+  struct Write {
+    std::uint16_t index;
+    std::uint8_t sub;
+    std::uint32_t value;
+    std::uint8_t size;
+  };
+  for (const Write w : {Write{obj::communication_cycle_period, 0, 0, 4}, Write{obj::communication_cycle_period, 0, 2000, 4},
+                        Write{obj::interpolation_time_period, 1, 255, 1}, Write{obj::interpolation_time_period, 2, 0, 1},
+                        Write{obj::max_profile_velocity, 0, 0xFFFF'FFFFU, 4},
+                        Write{obj::communication_loss_periods, 0, 255, 1},
+                        Write{obj::following_error_window, 0, following_error_window_off, 4},
+                        Write{obj::following_error_timeout, 0, 60'000, 2},
+                        Write{obj::consumer_heartbeat_time, 1, 0x007F'0064U, 4}}) {
+    SCOPED_TRACE(w.index);
+    EXPECT_EQ(sdo_write(w.index, w.sub, w.value, w.size), SdoAbort::cannot_store_device_state);
+  }
+  EXPECT_EQ(drive->step_limit_counts(), limit);
+  EXPECT_EQ(drive->objects().comm.cycle_period_us, period_us);
+  EXPECT_EQ(drive->objects().app.max_profile_velocity, default_max_profile_velocity);
+  // Writing what an object holds changes nothing: accepted.
+  EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, default_max_profile_velocity, 4), SdoAbort::none);
+  // The issue's attacks: a 2e9 target, then 4e6 counts in one period, are still refused.
+  for (const std::int32_t target : {2'000'000'000, 4'000'000}) {
+    SCOPED_TRACE(target);
+    (void)period(controlword::enable_operation, target);
+    EXPECT_EQ(drive->state(), Cia402State::fault);
+    EXPECT_EQ(axis, 0);
+    EXPECT_EQ(largest_step, 0);
+    // Disabled (fault): the objects may be changed again, and the drive enabled anew.
+    EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, 5'000'000, 4), SdoAbort::none);
+    EXPECT_EQ(sdo_write(obj::max_profile_velocity, 0, default_max_profile_velocity, 4), SdoAbort::none);
+    (void)period(controlword::fault_reset, 0);
+    for (const std::uint16_t cw : {controlword::shutdown, controlword::switch_on, controlword::enable_operation}) {
+      (void)period(cw, axis);
+    }
+    ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  }
+}
+
+TEST_F(DriveSafety, ACyclePeriodOfZeroDoesNotSwitchTheSyncChecksOff) {
+  // 0x1006 = 0 before enabling is allowed; the SYNC loss and rate checks then run on 0x60C2.
+  EXPECT_EQ(sdo_write(obj::communication_cycle_period, 0, 0, 4), SdoAbort::none);
+  enable();
+  EXPECT_EQ(drive->step_limit_counts(), 10'000);
+  // Duplicated SYNCs: refused for their rate after the tolerated burst.
+  bool refused = false;
+  for (int k = 1; k <= 10 && !refused; ++k) {
+    now += period_us;
+    (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, k}));
+    (void)deliver(encode_sync());
+    refused = deliver(encode_sync()) == DriveEvent::sync_rejected;
+  }
+  EXPECT_TRUE(refused) << "the rate check runs with 0x1006 = 0";
+
+  // SYNC loss: a fresh drive, 0x1006 = 0, enabled, then silence.
+  drive.emplace(config());
+  sent.clear();
+  EXPECT_EQ(sdo_write(obj::abort_connection_option, 0, 0, 2), SdoAbort::none);
+  EXPECT_EQ(sdo_write(obj::communication_cycle_period, 0, 0, 4), SdoAbort::none);
+  enable();
+  const std::uint64_t last_sync = now;
+  while (now < last_sync + 20'000 && drive->state() == Cia402State::operation_enabled) {
+    now += 100;
+    drive->poll(now, out);
+    collect();
+  }
+  EXPECT_NE(drive->state(), Cia402State::operation_enabled) << "SYNC loss detected";
+  EXPECT_EQ(now, last_sync + 4'500) << "(0x2001 + 1.5) periods of 0x60C2";
+  ASSERT_FALSE(emcys().empty());
+  EXPECT_EQ(emcys().back().data[0], emcy_cause::sync_loss);
+}
+
+// --- Issue 34, item 4: SYNC lengths, 0x1019, fault reset after NMT start, NMT stop with 0x6007 = 0
+
+CanFrame sync_of_length(std::uint8_t len) {
+  CanFrame f = encode_sync();
+  f.len = len;
+  for (std::uint8_t i = 0; i < len; ++i) {
+    f.data[i] = static_cast<std::uint8_t>(i + 1);
+  }
+  return f;
+}
+
+TEST_F(DriveSafety, ASyncOfTwoToEightBytesIsAnUnexpectedLengthWhateverTheCounterSetting) {
+  for (const std::uint8_t overflow : {std::uint8_t{0}, std::uint8_t{8}}) {
+    for (std::uint8_t len = 2; len <= 8; ++len) {
+      SCOPED_TRACE(testing::Message() << "0x1019 = " << int{overflow} << ", DLC " << int{len});
+      drive.emplace(config());
+      sent.clear();
+      last_counter = 0;
+      axis = 0;
+      if (overflow != 0) {
+        ASSERT_EQ(write_sync_counter_overflow(overflow), SdoAbort::none);
+      }
+      enable(overflow);
+      now += period_us;
+      (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10}));
+      EXPECT_EQ(deliver(sync_of_length(len)), DriveEvent::sync_rejected) << "no period is run for it";
+      EXPECT_EQ(axis, 0);
+      const auto e = emcys();
+      ASSERT_EQ(e.size(), 1U);
+      EXPECT_EQ(e[0].error_code, emcy_code::sync_data_length);
+      EXPECT_EQ(e[0].data[0], emcy_cause::sync_length);
+      EXPECT_EQ(e[0].data[1], len);
+      EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active) << "0x6007 = 1";
+    }
+  }
+}
+
+TEST_F(DriveSafety, ASyncOfTheWrongLengthWhileDisabledIsReportedNotIgnored) {
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  EXPECT_EQ(deliver(sync_of_length(2)), DriveEvent::sync_rejected);
+  ASSERT_EQ(emcys().size(), 1U);
+  EXPECT_EQ(emcys()[0].error_code, emcy_code::sync_data_length);
+  EXPECT_EQ(drive->state(), Cia402State::switch_on_disabled);
+  // 0x1019 set and a SYNC without its counter: the period runs (the axis holds) and is reported.
+  drive.emplace(config());
+  sent.clear();
+  ASSERT_EQ(write_sync_counter_overflow(8), SdoAbort::none);
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  now += period_us;
+  EXPECT_EQ(deliver(encode_sync()), DriveEvent::sync);
+  ASSERT_EQ(emcys().size(), 1U);
+  EXPECT_EQ(emcys()[0].error_code, emcy_code::sync_data_length);
+  EXPECT_EQ(emcys()[0].data[0], emcy_cause::sync_length);
+}
+
+TEST_F(DriveSafety, TheSyncCounterOverflowIsWrittenOnlyWhileTheCyclePeriodIsZero) {
+  ASSERT_NE(drive->objects().comm.cycle_period_us, 0U);
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 0);
+  EXPECT_EQ(sdo_write(obj::communication_cycle_period, 0, 0, 4), SdoAbort::none);
+  EXPECT_EQ(sdo_write(obj::sync_counter_overflow, 0, 8, 1), SdoAbort::none);
+  EXPECT_EQ(drive->objects().comm.sync_counter_overflow, 8);
+}
+
+TEST_F(DriveSafety, AFaultResetInTheFirstRpdoAfterNmtStartIsARisingEdge) {
+  enable();
+  // A master that sent bit 7 with its enable (no effect while enabled)...
+  (void)period(controlword::enable_operation | controlword::fault_reset, axis);
+  ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  // ...a third party's NMT pre-operational faults the drive (0x6007 = 1), the reaction completes.
+  (void)deliver(encode_nmt(NmtCommand::enter_pre_operational, node));
+  now += period_us;
+  (void)deliver(encode_sync());
+  ASSERT_EQ(drive->state(), Cia402State::fault);
+  // The master starts the node and resets the fault in its first RPDO.
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  (void)period(controlword::fault_reset, axis);
+  EXPECT_EQ(drive->state(), Cia402State::switch_on_disabled);
+}
+
+TEST_F(DriveSafety, AThirdPartysNmtStopNeverLeavesThePowerStageEnabled) {
+  // 0x6007 = 0 (no action): the drive disables itself, with the EMCY.
+  EXPECT_EQ(sdo_write(obj::abort_connection_option, 0, 0, 2), SdoAbort::none);
+  enable();
+  sent.clear();
+  EXPECT_EQ(deliver(encode_nmt(NmtCommand::stop, node)), DriveEvent::handled);
+  EXPECT_EQ(drive->nmt_state(), NmtState::stopped);
+  EXPECT_EQ(drive->state(), Cia402State::switch_on_disabled);
+  ASSERT_EQ(emcys().size(), 1U);
+  EXPECT_EQ(emcys()[0].data[0], emcy_cause::nmt_command);
+  EXPECT_EQ(emcys()[0].data[1], static_cast<std::uint8_t>(NmtCommand::stop));
+
+  // 0x6007 = 3 with 0x605A = 6 (stay in quick stop active): the stop ends switch on disabled.
+  drive.emplace(config());
+  sent.clear();
+  EXPECT_EQ(sdo_write(obj::abort_connection_option, 0, 3, 2), SdoAbort::none);
+  EXPECT_EQ(sdo_write(obj::quick_stop_option, 0, 6, 2), SdoAbort::none);
+  enable();
+  (void)deliver(encode_nmt(NmtCommand::stop, node));
+  EXPECT_EQ(drive->state(), Cia402State::quick_stop_active);
+  drive->stop_complete();  // the application has brought the axis to rest
+  EXPECT_EQ(drive->state(), Cia402State::switch_on_disabled);
 }
 
 }  // namespace

@@ -162,6 +162,40 @@ TEST_F(DrivePdos, RpdoLossIsAMissingTargetWhicheverPdoCarriesIt) {
   EXPECT_NE(drive->state(), Cia402State::operation_enabled);
 }
 
+TEST_F(DrivePdos, NoPdoIsRemappedOrMovedUnderAnEnabledDriveWhileOperational) {
+  operational();
+  for (const std::uint16_t cw : {controlword::shutdown, controlword::switch_on, controlword::enable_operation}) {
+    receive(encode_rpdo1(node, Rpdo1{cw, 0}));
+    (void)sync_and_publish({});
+  }
+  ASSERT_EQ(drive->state(), Cia402State::operation_enabled);
+  // The TPDO1 re-map (position actual replaced by the target), every step refused, and
+  // the other communication and mapping objects of both directions too.
+  EXPECT_EQ(write(0x1800, 1, 0x183U | pdo_cob_invalid), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write(0x1A00, 0, 0, 1), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write(0x1A00, 2, 0x607A'0020U), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write(0x1800, 2, 2, 1), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write(0x1400, 1, 0x203U | pdo_cob_invalid), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write(0x1400, 2, 5, 1), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write(0x1600, 0, 0, 1), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write(0x1401, 1, 0x303U, 4), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(write(0x1601, 1, 0x607A'0020U), SdoAbort::cannot_store_device_state);
+  EXPECT_EQ(read(0x1A00, 2), 0x6064'0020U);
+  EXPECT_TRUE(drive->tpdo_active(0));
+  EXPECT_TRUE(drive->rpdo_active(0));
+  // The TPDO still carries the position actual.
+  const auto sent = sync_and_publish({1234, 0, 0});
+  ASSERT_FALSE(sent.empty());
+  EXPECT_EQ(sent[0].id, 0x183U);
+  EXPECT_EQ(decode_tpdo1(sent[0], node)->position_actual, 1234);
+
+  // Disabled (operational): the procedure is allowed again.
+  receive(encode_rpdo1(node, Rpdo1{controlword::switch_on, 0}));
+  (void)sync_and_publish({});
+  ASSERT_EQ(drive->state(), Cia402State::switched_on);
+  EXPECT_EQ(write(0x1800, 2, 2, 1), SdoAbort::none);
+}
+
 TEST_F(DrivePdos, EachWrongStepIsRefusedWithItsAbortCode) {
   // RPDO1 is valid: its mapping cannot change, nor its id.
   EXPECT_EQ(write(0x1600, 0, 0, 1), SdoAbort::invalid_value);

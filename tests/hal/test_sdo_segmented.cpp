@@ -165,6 +165,60 @@ TEST_F(SdoSegmented, IntegerObjectsGoSegmentedToo) {
   EXPECT_EQ(word, 0x1234'5678U);
 }
 
+TEST_F(SdoSegmented, ASegmentWithNoDataThatIsNotTheLastIsAborted) {
+  // Issue 34: 100 000 empty segments were each answered; the first is now refused and the
+  // transfer ends, the object as it was.
+  label.assign("kept");
+  for (const bool size_indicated : {true, false}) {
+    SCOPED_TRACE(size_indicated);
+    const CanFrame initiate = size_indicated ? encode_sdo_download_segmented_request(node, label_index, 0, 10)
+                                             : raw({0x20, 0x02, 0x21, 0x00, 0, 0, 0, 0});
+    ASSERT_EQ(ask(initiate)[0], 0x60);
+    // cs 0, t 0, n 7 (no data), c 0
+    EXPECT_EQ(ask(raw({0x0E, 0, 0, 0, 0, 0, 0, 0})), (Bytes{0x80, 0x02, 0x21, 0x00, 0x01, 0x00, 0x04, 0x05}));
+    EXPECT_FALSE(server.busy());
+    EXPECT_EQ(view_of(label.view()), text("kept"));
+  }
+  // An empty last segment is a transfer of zero bytes, as before.
+  ASSERT_EQ(ask(encode_sdo_download_segmented_request(node, label_index, 0, 0))[0], 0x60);
+  EXPECT_EQ(ask(raw({0x0F, 0, 0, 0, 0, 0, 0, 0}))[0], 0x20);
+  EXPECT_TRUE(label.view().empty());
+}
+
+TEST_F(SdoSegmented, MoreSegmentsThanTheIndicatedSizeAllowsAreAborted06070012) {
+  // Four bytes announced, one per segment: four segments carry them, a fifth is too many.
+  const std::uint8_t one[] = {0xAB};
+  ASSERT_EQ(ask(encode_sdo_download_segmented_request(node, label_index, 0, 4))[0], 0x60);
+  bool toggle = false;
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_EQ(ask(encode_sdo_download_segment(node, toggle, one, false))[0] & 0xE0, 0x20) << i;
+    toggle = !toggle;
+  }
+  EXPECT_EQ(ask(encode_sdo_download_segment(node, toggle, one, false)),
+            (Bytes{0x80, 0x02, 0x21, 0x00, 0x12, 0x00, 0x07, 0x06}));
+  EXPECT_FALSE(server.busy());
+}
+
+TEST_F(SdoSegmented, AStringWrittenIntoAnIntegerObjectIsRefusedByItsLength) {
+  // `drive write --type string` into a UNSIGNED32: the data's size is not the object's.
+  EXPECT_EQ(ask(encode_sdo_download_request(node, word_index, 0, 0x0063'6261U, 3)),
+            (Bytes{0x80, 0x03, 0x21, 0x00, 0x13, 0x00, 0x07, 0x06})) << "\"abc\", expedited: too low";
+  EXPECT_EQ(ask(encode_sdo_download_request(node, word_index, 0, 0x6261U, 2))[4], 0x13);
+  EXPECT_EQ(ask(encode_sdo_download_segmented_request(node, word_index, 0, 11)),
+            (Bytes{0x80, 0x03, 0x21, 0x00, 0x12, 0x00, 0x07, 0x06})) << "\"hello world\": too high";
+  // Segmented without a size: refused at the segment that overflows the object, or at the last
+  // when it falls short.
+  const Bytes hello = text("hello w");
+  ASSERT_EQ(ask(raw({0x20, 0x03, 0x21, 0x00, 0, 0, 0, 0}))[0], 0x60);
+  EXPECT_EQ(ask(encode_sdo_download_segment(node, false, hello, false)),
+            (Bytes{0x80, 0x03, 0x21, 0x00, 0x12, 0x00, 0x07, 0x06}));
+  const Bytes ab = text("ab");
+  ASSERT_EQ(ask(raw({0x20, 0x03, 0x21, 0x00, 0, 0, 0, 0}))[0], 0x60);
+  EXPECT_EQ(ask(encode_sdo_download_segment(node, false, ab, true)),
+            (Bytes{0x80, 0x03, 0x21, 0x00, 0x13, 0x00, 0x07, 0x06}));
+  EXPECT_EQ(word, 0x1122'3344U) << "the object is as it was";
+}
+
 // ---- Golden frames, written from the CiA 301 layout ----
 
 TEST_F(SdoSegmented, GoldenSegmentedDownloadOfTenBytes) {

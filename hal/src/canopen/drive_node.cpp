@@ -77,6 +77,25 @@ namespace {
   }
 }
 
+// The objects the step limit (0x607F x the shorter of 0x1006 and 0x60C2), the SYNC checks
+// (0x1006, 0x1019, 0x2001) and the following-error and master-heartbeat checks (0x6065, 0x6066,
+// 0x1016) are made of.
+[[nodiscard]] bool limits_safety(std::uint16_t index) noexcept {
+  switch (index) {
+    case obj::communication_cycle_period:
+    case obj::consumer_heartbeat_time:
+    case obj::sync_counter_overflow:
+    case obj::communication_loss_periods:
+    case obj::following_error_window:
+    case obj::following_error_timeout:
+    case obj::max_profile_velocity:
+    case obj::interpolation_time_period:
+      return true;
+    default:
+      return false;
+  }
+}
+
 [[nodiscard]] bool is_supported_mode(std::int64_t mode) noexcept {
   return mode == static_cast<std::int8_t>(OperationMode::interpolated_position) ||
          mode == static_cast<std::int8_t>(OperationMode::cyclic_synchronous_position);
@@ -276,10 +295,18 @@ void DriveNode::restore(bool application) noexcept {
     objects_.comm.error_register = error_register;
   }
   if (application) {
+    // The feedback is the machine's, not a parameter: a reset of the drive's software leaves the
+    // axis where it is, so the position it holds and latches at enabling stays the axis's.
+    const DriveAppObjects before = objects_.app;
     objects_.app = defaults.app;
+    objects_.app.position_actual = before.position_actual;
+    objects_.app.velocity_actual = before.velocity_actual;
+    objects_.app.load_position = before.load_position;
     power_.reset();
-    setpoint_ = 0;
-    accepted_target_ = 0;
+    latch_pending_ = false;
+    disable_after_stop_ = false;
+    setpoint_ = objects_.app.position_actual;
+    accepted_target_ = objects_.app.position_actual;
     following_error_ = false;
     limit_active_ = false;
     following_error_timer_.disarm();
@@ -309,8 +336,12 @@ void DriveNode::apply_configuration(std::uint16_t index) noexcept {
     master_heartbeat_.configure(static_cast<NodeId>((c.consumer_heartbeat >> 16U) & 0xFFU),
                                 static_cast<std::uint16_t>(c.consumer_heartbeat & 0xFFFFU));
   }
-  if (all || index == obj::communication_cycle_period || index == obj::communication_loss_periods) {
-    sync_.configure(c.cycle_period_us, objects_.app.communication_loss_periods);
+  if (all || index == obj::communication_cycle_period || index == obj::communication_loss_periods ||
+      index == obj::interpolation_time_period) {
+    // 0x1006 = 0 (no period given) never switches the SYNC loss and rate checks off: they run on
+    // the period the step limit uses (0x60C2), which the master's SYNCs must keep anyway.
+    sync_.configure(c.cycle_period_us != 0 ? c.cycle_period_us : interpolation_period_us(),
+                    objects_.app.communication_loss_periods);
   }
   if (all || index == obj::sync_counter_overflow) {
     sync_.set_counter_overflow(c.sync_counter_overflow);
@@ -342,8 +373,23 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
     if (power_.enabled() && aborts_connection(message->command, nmt_.state())) {
       connection_lost(emcy_code::communication,
                       emcy_detail(emcy_cause::nmt_command, static_cast<std::uint8_t>(message->command)), now_us, out);
+      // Whatever 0x6007 says, the power stage does not stay enabled without setpoints: with
+      // 0x6007 = 0 the drive disables itself (the drive-defined reaction, CiA 402), and a quick
+      // stop (0x6007 = 3) ends in switch on disabled even when 0x605A would stay in quick stop.
+      if (power_.enabled()) {
+        (void)power_.apply(Cia402Command::disable_voltage);
+      }
+      disable_after_stop_ = power_.state() == Cia402State::quick_stop_active;
+      update_statusword();
     }
+    const NmtState nmt_before = nmt_.state();
     const NmtEvent event = nmt_.on_message(*message, out);
+    if (message->command == NmtCommand::start && nmt_before != NmtState::operational &&
+        nmt_.state() == NmtState::operational) {
+      // The first controlword after NMT start is taken as following a 0: a fault reset (bit 7)
+      // in the first RPDO is a rising edge, whatever controlword came before the node stopped.
+      power_.forget_controlword();
+    }
     if (event == NmtEvent::reset_application || event == NmtEvent::reset_communication) {
       sdo_.reset();
       restore(event == NmtEvent::reset_application);
@@ -364,7 +410,9 @@ DriveEvent DriveNode::on_frame(const CanFrame& frame, std::uint64_t now_us, Fram
   if (frame.id == objects_.comm.cob_id_sync) {
     const auto sync = decode_sync(frame);
     if (!sync) {
-      return DriveEvent::none;
+      // Two to eight bytes: neither no counter (0x1019 = 0) nor one (0x1019 set). CiA 301's
+      // unexpected SYNC data length, reported as CANopenNode does; no period is run for it.
+      return frame.len >= 2 ? on_sync_length_error(frame.len, now_us, out) : DriveEvent::none;
     }
     // The rate check measures the frame's receive time when the bus gives one (SO_TIMESTAMP, the
     // loopback hub's clock): a receiver that was descheduled reads a burst of SYNCs that were
@@ -467,6 +515,13 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
       update_statusword();
       return DriveEvent::sync_rejected;  // the latched RPDO waits for the next good SYNC
     }
+    if (event == SyncEvent::unexpected_length && !sync_error_reported_) {
+      // Disabled: the period runs (the axis holds), but a length that does not match 0x1019 is
+      // a configuration error the master must hear of (CiA 301, as CANopenNode reports it).
+      sync_error_reported_ = true;
+      signal_error(emcy_code::sync_data_length, error_register::communication,
+                   emcy_detail(emcy_cause::sync_length, sync.counter), now_us, out);
+    }
   }
   if (nmt_.pdo_allowed()) {
     // RPDO loss: no fresh RPDO carrying the target (whichever PDO maps it) for this period.
@@ -529,6 +584,21 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
   return DriveEvent::sync;
 }
 
+DriveEvent DriveNode::on_sync_length_error(std::uint8_t length, std::uint64_t now_us, FrameSink& out) noexcept {
+  ++counters_.sync_errors;
+  if (!sync_error_reported_) {
+    sync_error_reported_ = true;
+    const EmcyDetail detail = emcy_detail(emcy_cause::sync_length, length);
+    if (driving()) {
+      connection_lost(emcy_code::sync_data_length, detail, now_us, out);  // and the 0x6007 reaction
+    } else {
+      signal_error(emcy_code::sync_data_length, error_register::communication, detail, now_us, out);
+    }
+  }
+  update_statusword();
+  return DriveEvent::sync_rejected;
+}
+
 void DriveNode::apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept {
   DriveAppObjects& a = objects_.app;
   if (following()) {
@@ -589,6 +659,9 @@ void DriveNode::latch_target() noexcept {
   // that came with the enabling controlword (or was written before) moves nothing, and the
   // first setpoint after it is checked against the position actual by the step limit.
   DriveAppObjects& a = objects_.app;
+  // An axis that has not reported its position yet (enabled before the first SYNC after power-on)
+  // may stand anywhere: hold it (following() is false) and latch at the first publish().
+  latch_pending_ = !position_known_;
   a.target_position = a.position_actual;
   a.ip_data = a.position_actual;
   setpoint_ = a.position_actual;
@@ -599,7 +672,7 @@ void DriveNode::latch_target() noexcept {
 }
 
 bool DriveNode::following() const noexcept {
-  if (!power_.enabled()) {
+  if (!power_.enabled() || latch_pending_) {
     return false;
   }
   const auto mode = static_cast<OperationMode>(objects_.app.mode_display);
@@ -624,8 +697,12 @@ void DriveNode::publish(const DriveFeedback& feedback, std::uint64_t now_us, Fra
   a.position_actual = feedback.position_actual;
   a.velocity_actual = feedback.velocity_actual;
   a.load_position = feedback.load_position;
+  position_known_ = true;
   if (!power_.enabled()) {
     setpoint_ = a.position_actual;
+    latch_pending_ = false;
+  } else if (latch_pending_) {
+    latch_target();  // enabled before the axis reported where it is: now it has
   }
   a.following_error_actual = static_cast<std::int32_t>(position_difference(setpoint_, a.position_actual));
 
@@ -660,6 +737,22 @@ void DriveNode::publish(const DriveFeedback& feedback, std::uint64_t now_us, Fra
   }
 }
 
+void DriveNode::set_feedback(const DriveFeedback& feedback) noexcept {
+  DriveAppObjects& a = objects_.app;
+  a.position_actual = feedback.position_actual;
+  a.velocity_actual = feedback.velocity_actual;
+  a.load_position = feedback.load_position;
+  position_known_ = true;
+  if (!power_.enabled()) {
+    setpoint_ = a.position_actual;
+    accepted_target_ = a.position_actual;
+    latch_pending_ = false;
+  } else if (latch_pending_) {
+    latch_target();
+  }
+  update_statusword();
+}
+
 void DriveNode::poll(std::uint64_t now_us, FrameSink& out) noexcept {
   (void)heartbeat_.poll(now_us, nmt_.state(), out);
   if (master_heartbeat_.poll(now_us) == HeartbeatEvent::lost) {
@@ -686,7 +779,10 @@ void DriveNode::fault_with(std::uint16_t error_code, const EmcyDetail& detail, s
 }
 
 void DriveNode::stop_complete() noexcept {
-  (void)power_.stop_complete();
+  if (!power_.stop_complete() && disable_after_stop_ && power_.state() == Cia402State::quick_stop_active) {
+    (void)power_.apply(Cia402Command::disable_voltage);  // transition 12
+  }
+  disable_after_stop_ = false;
   update_statusword();
 }
 
@@ -764,6 +860,7 @@ void DriveNode::apply_written_controlword(std::uint64_t now_us, FrameSink& out) 
       latch_target();
     }
     if (after == Cia402State::operation_enabled) {
+      disable_after_stop_ = false;
       following_error_ = false;
       following_error_timer_.disarm();
       rpdo_missing_run_ = 0;
@@ -802,6 +899,14 @@ SdoAbort DriveNode::check_write(void* self, const OdEntry& entry, std::int64_t v
   if (entry.index >= obj::rpdo1_communication && entry.index < obj::tpdo1_mapping + drive_tpdo_capacity) {
     return static_cast<DriveNode*>(self)->check_pdo_write(entry, value);
   }
+  // While the power stage drives the axis (operation enabled, quick stop, fault reaction), the
+  // objects the step limit, the SYNC period and the drive's checks are made of stay as they were
+  // when it was enabled: a write that changes one (0x607F = 0xFFFFFFFF, 0x1006 = 0 and 0x60C2 =
+  // 255 s, 0x6065 = off) would let the next setpoint through unchecked. Writing the value an
+  // object already holds changes nothing and is accepted.
+  if (node.driving() && limits_safety(entry.index) && value != entry.var.value()) {
+    return SdoAbort::cannot_store_device_state;
+  }
   switch (entry.index) {
     case obj::modes_of_operation:
       return is_supported_mode(value) ? SdoAbort::none : SdoAbort::invalid_value;
@@ -817,9 +922,10 @@ SdoAbort DriveNode::check_write(void* self, const OdEntry& entry, std::int64_t v
     case obj::interpolation_time_period:
       return (entry.sub == 1 && value == 0) ? SdoAbort::value_too_low : SdoAbort::none;
     case obj::sync_counter_overflow:
-      // CiA 301: 0 (no counter) or 2..240. Changing it under a running stream would refuse the
+      // CiA 301: 0 (no counter) or 2..240, and written only while 0x1006 is 0 (no SYNC period
+      // running), otherwise 0x08000022. Changing it under a running stream would refuse the
       // next SYNC, so it is set before the drive is enabled.
-      if (node.power_.enabled()) {
+      if (node.power_.enabled() || node.objects_.comm.cycle_period_us != 0) {
         return SdoAbort::cannot_store_device_state;
       }
       return value == 1 ? SdoAbort::invalid_value : SdoAbort::none;
@@ -832,6 +938,12 @@ SdoAbort DriveNode::check_pdo_write(const OdEntry& entry, std::int64_t value) no
   // Only reached for a writable mapping (the static one is read-only in the dictionary). The
   // CiA 301 procedure: disable the PDO (COB-ID bit 31), set mapping sub 0 to 0, write the
   // entries, set sub 0 to their number (which validates and binds them), enable the PDO.
+  // Not under an enabled drive's master: remapping TPDO1 makes it read its own target as the
+  // position, moving an RPDO's COB-ID takes its setpoints away. CiA 301 allows the procedure in
+  // pre-operational (no PDO is exchanged there), and any time the power stage is off.
+  if (driving() && nmt_.state() != NmtState::pre_operational) {
+    return SdoAbort::cannot_store_device_state;
+  }
   const std::uint16_t index = entry.index;
   const bool receive = index < obj::tpdo1_communication;
   const bool mapping = (index & 0x0200U) != 0;

@@ -367,6 +367,13 @@ SdoAbort SdoServer::take_download_segment(const SdoMessage& request, std::uint64
   if (request.toggle != toggle_) {
     return SdoAbort::toggle_bit;
   }
+  if (request.size == 0 && !request.last) {
+    // A segment that carries nothing and announces more: not a download at all (it would keep
+    // the server busy for ever, 100 000 of them answered one by one). Each segment but the last
+    // carries a byte at least, so a transfer has at most its size + 1 segments: more are refused
+    // by the length checks below (0x06070012).
+    return SdoAbort::unknown_command;
+  }
   const std::uint32_t end = offset_ + request.size;
   const OdBytes* bytes = entry_->var.bytes();
   const std::uint32_t object = bytes != nullptr ? bytes->capacity : od_type_size(entry_->var.type());

@@ -147,6 +147,9 @@ class PowerStateMachine {
   [[nodiscard]] bool stop_complete() noexcept;
 
   void set_quick_stop_option(std::int16_t option) noexcept { quick_stop_option_ = option; }
+  // The next controlword is taken as following a 0 (its bit 7, if set, is a rising edge): NMT
+  // start, when the controlwords before the node stopped say nothing of the master's intent.
+  void forget_controlword() noexcept { previous_cw_ = 0; }
   [[nodiscard]] Cia402State state() const noexcept { return state_; }
   // Operation enabled: the drive follows setpoints.
   [[nodiscard]] bool enabled() const noexcept { return state_ == Cia402State::operation_enabled; }

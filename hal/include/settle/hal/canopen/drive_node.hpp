@@ -11,6 +11,9 @@
 // Drive-side safety rules (hal/README.md, "The drive"), each ending in a CiA 402 state and an EMCY:
 // - Enabling never moves the axis: entering operation enabled latches 0x607A (and 0x60C1:1) to
 //   the position actual; the target that came with the enabling controlword is not applied.
+//   The position actual is the machine's: NMT reset node keeps it (the axis did not move), and
+//   before the axis has reported one (set_feedback() or publish()) an enabled drive holds without
+//   following until the first publish() tells it where the axis is, then latches that.
 // - Step limit: a setpoint further than 0x607F x period from the previous one (the latched
 //   position after enabling) is never applied: fault, EMCY 0x8400, the axis stays where it was.
 //   Whatever wrote 0x607A (RPDO or SDO) is checked the same way, at the SYNC that would apply it.
@@ -26,7 +29,12 @@
 //   (0x8240 for a missing counter, 0x8100 otherwise) and the 0x6007 reaction.
 // - An NMT command that takes the node out of operational (stop, enter pre-operational, reset
 //   communication) while operation enabled: EMCY 0x8100, sent before the state changes, and the
-//   0x6007 reaction. The master's heartbeat lost (0x1016): EMCY 0x8130 and the 0x6007 reaction.
+//   0x6007 reaction; the power stage never stays enabled (0x6007 = 0: disable voltage; a quick
+//   stop ends switch on disabled whatever 0x605A).
+// - A SYNC of 2..8 bytes (a length 0x1019 does not ask for): EMCY 0x8240, refused.
+// - While the axis is driven, SDO writes that change the step limit, the SYNC period or the checks
+//   (0x607F, 0x1006, 0x60C2, 0x1019, 0x2001, 0x6065, 0x6066, 0x1016), and, unless
+//   pre-operational, the PDO communication and mapping objects: abort 0x08000022. The master's heartbeat lost (0x1016): EMCY 0x8130 and the 0x6007 reaction.
 // - SYNC loss, RPDO loss beyond 0x2001 periods: quick stop, EMCY 0x8100 / 0x8250.
 #pragma once
 
@@ -272,7 +280,8 @@ enum class DriveEvent : std::uint8_t {
   handled,  // taken (NMT, SDO, RPDO latched, heartbeat of the master)
   sync,     // a SYNC was processed: run the axis for one period, then publish()
   sync_rejected,  // a SYNC failed the counter or rate check: run NO period (see counters().sync_errors)
-  reset,    // NMT reset node: objects are back to their defaults, so is the axis state
+  reset,    // NMT reset node: objects are back to their defaults (0x6064, 0x606C, 0x2000 excepted:
+            // they are the machine's, which stays where it is), the power state is switch on disabled
 };
 
 struct DriveFeedback {
@@ -309,6 +318,10 @@ class DriveNode {
   // After a sync event: the axis state at the end of the period. Checks the following error
   // and sends TPDO1 and TPDO2 when operational.
   void publish(const DriveFeedback& feedback, std::uint64_t now_us, FrameSink& out) noexcept;
+  // The axis state outside a SYNC: where the machine stands at power-on, or after it was moved
+  // by hand while disabled. Updates 0x6064/0x606C/0x2000 (and, while not enabled, the position
+  // the drive holds), so that enabling before the first SYNC latches the machine's position.
+  void set_feedback(const DriveFeedback& feedback) noexcept;
   // A fault the application detected (an error code from CiA 402 / 301): fault reaction.
   void raise_fault(std::uint16_t error_code, std::uint64_t now_us, FrameSink& out) noexcept;
   // The axis has come to rest after a quick stop or a fault reaction.
@@ -359,6 +372,7 @@ class DriveNode {
                                    FrameSink& out) noexcept;
   void on_nmt(const NmtMessage& message, std::uint64_t now_us, FrameSink& out) noexcept;
   void apply_setpoint(std::uint64_t now_us, FrameSink& out) noexcept;
+  [[nodiscard]] DriveEvent on_sync_length_error(std::uint8_t length, std::uint64_t now_us, FrameSink& out) noexcept;
   void latch_target() noexcept;
   // step_limit_counts() for a step period already known (one SYNC computes it once).
   [[nodiscard]] std::int64_t step_limit_counts(std::uint32_t period_us) const noexcept;
@@ -371,6 +385,8 @@ class DriveNode {
                     std::uint64_t now_us, FrameSink& out) noexcept;
   void clear_errors(std::uint64_t now_us, FrameSink& out) noexcept;
   void update_statusword() noexcept;
+  // The power stage drives the axis: operation enabled, or bringing it to rest.
+  [[nodiscard]] bool driving() const noexcept { return power_.enabled() || power_.stopping(); }
 
   [[nodiscard]] static OdBytes constant_text(const char* text) noexcept;
   static SdoAbort check_write(void* self, const OdEntry& entry, std::int64_t value) noexcept;
@@ -404,6 +420,9 @@ class DriveNode {
   bool following_error_{false};
   bool limit_active_{false};
   bool controlword_written_{false};
+  bool position_known_{false};  // the axis has reported its position (set_feedback or publish)
+  bool latch_pending_{false};   // enabled before it had: hold, latch at the first publish()
+  bool disable_after_stop_{false};  // a quick stop an NMT command caused ends switch on disabled
   bool sync_error_reported_{false};  // one EMCY per episode: cleared with the errors
   bool pdo_length_error_{false};       // an RPDO had the wrong length: a later right one clears it
   bool length_ok_since_error_{false};  // the RPDO latched since then has the mapped length

@@ -44,7 +44,11 @@ class IdealAxis {
   void poll(std::uint64_t now_us, FrameSink& out) noexcept { node_.poll(now_us, out); }
 
   // Where the axis stands (a drive powered on away from zero, or moved by hand between tests).
-  void set_position(std::int32_t counts) noexcept { position_ = counts; }
+  // The node is told at once (DriveNode::set_feedback), so enabling before the first SYNC latches it.
+  void set_position(std::int32_t counts) noexcept {
+    position_ = counts;
+    node_.set_feedback({counts, 0, counts});
+  }
   // Reports its position this many counts short of where the axis is (a constant following error).
   void set_lag(std::uint32_t counts) noexcept { lag_ = counts; }
 
