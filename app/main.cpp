@@ -1,5 +1,6 @@
 // settle: the command-line front end. Commands and their options are declared in options.cpp;
 // each cmd_*.cpp turns validated options into a library call and prints the result.
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -30,15 +31,27 @@ int unknown_command(const char* name) {
   return settle::app::kExitBadRequest;
 }
 
-}  // namespace
+// Every command's output ends here: a write that failed (a full disk, a closed pipe, /dev/full) is
+// a runtime failure, never exit 0 with the output lost.
+int finish(int status) {
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) != 0) {
+    std::fprintf(stderr, "settle: error: cannot write standard output: %s [write_failed]\n", std::strerror(errno));
+    return settle::app::kExitFailure;
+  }
+  return status;
+}
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   using namespace settle::app;
   if (argc < 2) {
     std::fputs(program_help().c_str(), stderr);
     return kExitBadRequest;
   }
   const std::string_view first = argv[1];
+  if (first == "--version") {
+    std::printf("settle %s\n", SETTLE_VERSION);
+    return kExitOk;
+  }
   if (first == "--help" || first == "-h") {
     std::fputs(program_help().c_str(), stdout);
     return kExitOk;
@@ -69,3 +82,6 @@ int main(int argc, char** argv) {
   }
   return unknown_command(argv[1]);
 }
+}  // namespace
+
+int main(int argc, char** argv) { return finish(run(argc, argv)); }

@@ -850,7 +850,7 @@ std::string command_help(const CommandSpec& c) {
 }
 
 std::string program_help() {
-  std::string s = "usage: settle <command> [options]\n\ncommands:\n";
+  std::string s = "usage: settle <command> [options]\n       settle --version\n\ncommands:\n";
   for (const CommandSpec& c : kCommands) {
     char line[256];
     std::snprintf(line, sizeof line, "  %-12s %s\n", c.name.c_str(), c.summary.c_str());

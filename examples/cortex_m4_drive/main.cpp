@@ -17,6 +17,7 @@
 namespace {
 
 namespace fw = settle::firmware;
+namespace rt = settle::runtime;
 namespace hal = settle::hal;
 
 constexpr std::uint32_t kPeriodUs = 1000;
@@ -49,7 +50,7 @@ struct SysTickClock {
 };
 
 using Controller = hal::MailboxBus<3, 8>;  // 3 transmit mailboxes, 8-frame receive FIFO
-using Loop = fw::ServoLoop<float, 1, 2, fw::FloatEvaluation<float>, Controller>;
+using Loop = rt::ServoLoop<float, 1, 2, rt::FloatEvaluation<float>, Controller>;
 
 // The drive: follows each setpoint exactly, one period after the SYNC that applies it, on its own
 // controller (8 transmit mailboxes, a 16-frame receive FIFO).
@@ -77,17 +78,17 @@ int settle::firmware::image_main() {
   settle::core::Move<double> move{};
   if (settle::core::plan(request, move) != settle::core::Status::ok) return 1;
 
-  fw::AxisConfig axis{};
+  rt::AxisConfig axis{};
   axis.drive.node = 1;
   axis.scale = {1e6, kPeriodUs};  // 1 count = 1 µm, at the loop's period
   axis.vmax = 1.0;
-  if (loop.add_axis(axis) != fw::LoopStatus::ok) return 1;
+  if (loop.add_axis(axis) != rt::LoopStatus::ok) return 1;
   drive.start(0);
   SysTickClock clock{};
   clock.start();
-  fw::SessionConfig session{};
+  rt::SessionConfig session{};
   session.settle_ticks = 200;
-  const fw::SessionResult r = fw::run_session(loop, clock, &move, 1, session, [&](std::uint64_t, bool) {
+  const rt::SessionResult r = rt::run_session(loop, clock, &move, 1, session, [&](std::uint64_t, bool) {
     wire();
     drive.process(clock.now_us());
     wire();
@@ -95,9 +96,9 @@ int settle::firmware::image_main() {
   });
 
   fw::Text<128> line{};
-  line.append("cortex_m4_drive: session ").append(fw::to_string(r.outcome)).append(" after ")
+  line.append("cortex_m4_drive: session ").append(rt::to_string(r.outcome)).append(" after ")
       .append_unsigned(r.ticks).append(" ticks; drive at ").append_signed(drive.position())
       .append(" counts (target ").append_signed(loop.record(0).target).append(")\n");
   (void)fw::semihosting::write_console(line.view());
-  return r.outcome == fw::SessionOutcome::completed ? 0 : 1;
+  return r.outcome == rt::SessionOutcome::completed ? 0 : 1;
 }

@@ -7,11 +7,11 @@
 #include "settle/runtime/session.hpp"
 #include "settle/hal/socketcan_bus.hpp"
 
-namespace fw = settle::firmware;
+namespace rt = settle::runtime;
 
 // run_session's clock: wait() sleeps to the next period and returns the periods missed.
 struct TimerClock {
-  fw::linux_rt::PeriodicTimer timer;
+  rt::linux_rt::PeriodicTimer timer;
   std::uint64_t wait() { return timer.wait(); }
   [[nodiscard]] std::uint64_t now_us() const { return timer.now_us(); }
 };
@@ -35,23 +35,23 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "linux_master: cannot open %s: %s\n", interface, settle::hal::to_string(status));
     return 1;
   }
-  static fw::ServoLoop<double> loop{bus, period_us};  // static: the loop's queues stay off the stack
-  fw::AxisConfig axis{};
+  static rt::ServoLoop<double> loop{bus, period_us};  // static: the loop's queues stay off the stack
+  rt::AxisConfig axis{};
   axis.drive.node = 1;
   axis.drive.sdo_timeout_us = 1'000'000;  // patient configuration: a busy host may stall for a while
   axis.feedback_timeout_periods = 250;     // a drive process on the same busy host, not a real drive (default 10)
   axis.scale = {1e6, period_us};  // 1 count = 1 µm, at the loop's period
   axis.vmax = 1.0;             // m/s
-  if (loop.add_axis(axis) != fw::LoopStatus::ok) return 1;
+  if (loop.add_axis(axis) != rt::LoopStatus::ok) return 1;
 
-  TimerClock clock{fw::linux_rt::PeriodicTimer{period_us}};
+  TimerClock clock{rt::linux_rt::PeriodicTimer{period_us}};
   clock.timer.start();
-  fw::SessionConfig session{};
+  rt::SessionConfig session{};
   session.settle_ticks = 200;
   // After each tick: here only the drive's feedback log is emptied (a real master would log it).
-  const fw::SessionResult r =
-      fw::run_session(loop, clock, &move, 1, session, [](std::uint64_t, bool) { loop.feedback_log(0).clear(); });
-  std::printf("session %s after %llu ticks; drive at %d counts (target %d)\n", fw::to_string(r.outcome),
+  const rt::SessionResult r =
+      rt::run_session(loop, clock, &move, 1, session, [](std::uint64_t, bool) { loop.feedback_log(0).clear(); });
+  std::printf("session %s after %llu ticks; drive at %d counts (target %d)\n", rt::to_string(r.outcome),
               static_cast<unsigned long long>(r.ticks), loop.record(0).position_actual, loop.record(0).target);
-  return r.outcome == fw::SessionOutcome::completed ? 0 : 1;
+  return r.outcome == rt::SessionOutcome::completed ? 0 : 1;
 }

@@ -3,6 +3,10 @@
 // parser here, so a malformed document fails the test.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
 #include <cctype>
 #include <cstdio>
 #include <map>
@@ -100,6 +104,47 @@ struct Json {
     }
   }
 };
+
+// The exit status of settle with its standard output on /dev/full (every write fails: ENOSPC).
+int status_onto_dev_full(std::vector<std::string> args) {
+  args.insert(args.begin(), SETTLE_CLI);
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/full", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  int status = 0;
+  if (rc != 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
+  return WEXITSTATUS(status);
+}
+
+// Output that cannot be written is a runtime failure (exit 1), never success with the output lost:
+// `settle plan ... --json > /dev/full` exited 0.
+TEST(Cli, AnUnwritableStandardOutputIsAFailure) {
+  EXPECT_EQ(status_onto_dev_full({"plan", "--profile", "scurve", "--distance", "0.1", "--time", "0.5", "--omega",
+                                  "22.05", "--json"}),
+            1);
+  EXPECT_EQ(status_onto_dev_full({"plan", "--profile", "scurve", "--distance", "0.1", "--time", "0.5", "--omega",
+                                  "22.05"}),
+            1);
+  EXPECT_EQ(status_onto_dev_full({"--version"}), 1);
+  EXPECT_EQ(status_onto_dev_full({"sample", "--profile", "poly345", "--distance", "0.1", "--time", "0.5", "--dt",
+                                  "0.01"}),
+            1);
+}
+
+// settle --version: the project's version (CMakeLists.txt), one line, exit 0.
+TEST(Cli, VersionIsTheProjects) {
+  const CliResult r = run("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.stdout_text, std::string{"settle "} + SETTLE_PROJECT_VERSION + "\n");
+  EXPECT_NE(run("--help").stdout_text.find("settle --version"), std::string::npos);
+}
 
 TEST(Cli, PlanPrintsTheSeed000Plan) {
   const CliResult r = run("plan --profile scurve --distance 0.1 --time 0.228 --omega 22.04871");

@@ -33,6 +33,7 @@
 namespace {
 
 namespace fw = settle::firmware;
+namespace rt = settle::runtime;
 namespace core = settle::core;
 namespace si = settle::firmware::servo_image;
 
@@ -144,7 +145,7 @@ core::Status shape_zvd(core::Move<double>& m) {
 using Evaluation = si::FixedImageEvaluation;
 constexpr std::string_view kStem{"servo_fixed-"};
 #else
-using Evaluation = fw::FloatEvaluation<float>;
+using Evaluation = rt::FloatEvaluation<float>;
 constexpr std::string_view kStem{"servo-"};
 #endif
 // Static: the program holds the loop, two loopback ports and the log buffer (RAM, not stack).

@@ -14,6 +14,7 @@
 namespace {
 
 namespace fw = settle::firmware;
+namespace rt = settle::runtime;
 namespace hal = settle::hal;
 namespace si = settle::firmware::servo_image;
 
@@ -23,12 +24,12 @@ si::Loop g_loop{g_bus, si::kScale.period_us};
 }  // namespace
 
 int settle::firmware::image_main() {
-  fw::AxisConfig ac{};
+  rt::AxisConfig ac{};
   ac.drive.node = si::kNode;
   ac.scale = si::kScale;
-  if (g_loop.add_axis(ac) != fw::LoopStatus::ok) return 1;
+  if (g_loop.add_axis(ac) != rt::LoopStatus::ok) return 1;
   g_loop.start(0);
-  if (g_loop.submit(0, si::pinned_move()) != fw::LoopStatus::ok) return 1;
+  if (g_loop.submit(0, si::pinned_move()) != rt::LoopStatus::ok) return 1;
   hal::CanFrame wire{};
   for (std::uint64_t n = 1; n <= 100; ++n) {
     g_loop.tick(n * si::kScale.period_us);
