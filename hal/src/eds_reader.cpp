@@ -1,9 +1,7 @@
-// EDS/DCF reading: inih splits the file into sections and keys; this file gives them CiA 306's
-// meaning (object sections [IIII] and [IIIIsubS], the object lists, DeviceInfo, a DCF's
+// EDS/DCF reading: the file split into sections and keys (tokenize, below: lines of any length
+// read whole), then CiA 306's meaning (object sections [IIII] and [IIIIsubS], the object lists, DeviceInfo, a DCF's
 // ParameterValue and NodeID) and checks what a master relies on.
 #include "settle/hal/eds_reader.hpp"
-
-#include <ini.h>
 
 #include <algorithm>
 #include <cctype>
@@ -71,38 +69,89 @@ std::optional<std::uint64_t> parse_unsigned(std::string_view text) {
   return v;
 }
 
-// One section of the file: its keys in lower case, and the line it started on.
+// One section of the file: its keys in lower case (each with the spelling and line it was
+// written with, for messages), and the line it started on.
+struct Value {
+  std::string key;  // as written
+  std::string text;
+  int line{0};
+};
 struct Section {
-  std::map<std::string, std::string> keys;
+  std::string name;  // as written, without the brackets
+  std::map<std::string, Value> keys;
   int line{0};
   [[nodiscard]] const std::string* get(const char* key) const {
     const auto it = keys.find(key);
-    return it == keys.end() ? nullptr : &it->second;
+    return it == keys.end() ? nullptr : &it->second.text;
   }
 };
 
 struct Raw {
   std::map<std::string, Section> sections;  // upper-case section name
-  std::size_t values{0};
   std::string error;
 };
 
-int on_value(void* user, const char* section, const char* name, const char* value) {
-  auto& raw = *static_cast<Raw*>(user);
-  if (++raw.values > 16 * max_entries) {
-    if (raw.error.empty()) raw.error = "more than " + std::to_string(16 * max_entries) + " keys";
-    return 0;
+// The INI layer, CiA 306's dialect: [section] headers, key=value lines (':' also separates, as
+// in the INI readers tools use), comment lines starting with ';' or '#', a ';' after white space
+// starting a comment at the end of a value, CRLF or LF line ends, an optional UTF-8 byte order
+// mark, white space trimmed around names and values. Section and key names are
+// case-insensitive. A line is read whole whatever its length (the file's size is bounded); a
+// line that is none of these, a section given twice and a key given twice in one section are
+// refused, naming the line.
+bool tokenize(std::string_view text, Raw& raw) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  Section* current = nullptr;
+  int line = 0;
+  const auto refuse = [&](std::string why) {
+    raw.error = "line " + std::to_string(line) + ": " + std::move(why);
+    return false;
+  };
+  while (!text.empty()) {
+    ++line;
+    const std::size_t eol = text.find('\n');
+    std::string_view l = text.substr(0, eol);
+    text.remove_prefix(eol == std::string_view::npos ? text.size() : eol + 1);
+    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+    const std::string t = trim(l);
+    if (t.empty() || t[0] == ';' || t[0] == '#') continue;
+    if (t[0] == '[') {
+      const std::size_t close = t.find(']');
+      if (close == std::string::npos) return refuse("a section header without ']'");
+      const std::string after = trim(std::string_view{t}.substr(close + 1));
+      if (!after.empty() && after[0] != ';' && after[0] != '#') return refuse("text after the section header");
+      std::string name = trim(std::string_view{t}.substr(1, close - 1));
+      if (name.empty()) return refuse("a section without a name");
+      std::string upper = name;
+      for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      const auto [it, fresh] = raw.sections.try_emplace(std::move(upper));
+      if (!fresh) {
+        return refuse("[" + name + "] is given twice (first on line " + std::to_string(it->second.line) + ")");
+      }
+      it->second.name = std::move(name);
+      it->second.line = line;
+      current = &it->second;
+      continue;
+    }
+    const std::size_t eq = t.find_first_of("=:");
+    if (eq == std::string::npos) return refuse("not an INI line (a [section], key=value or a comment)");
+    std::string key = trim(std::string_view{t}.substr(0, eq));
+    if (key.empty()) return refuse("a value without a key");
+    if (current == nullptr) return refuse(key + " is given before any [section]");
+    std::string_view value = std::string_view{t}.substr(eq + 1);
+    for (std::size_t i = 1; i < value.size(); ++i) {
+      if (value[i] == ';' && std::isspace(static_cast<unsigned char>(value[i - 1]))) {
+        value = value.substr(0, i);
+        break;
+      }
+    }
+    const auto [it, fresh] = current->keys.try_emplace(lower(key));
+    if (!fresh) {
+      return refuse("[" + current->name + "] gives " + key + " twice (first on line " +
+                    std::to_string(it->second.line) + ")");
+    }
+    it->second = Value{std::move(key), trim(value), line};
   }
-  std::string s{section};
-  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  const std::string key = lower(trim(name));
-  auto& sec = raw.sections[s];
-  if (sec.keys.count(key) != 0) {
-    if (raw.error.empty()) raw.error = "[" + std::string{section} + "] gives " + std::string{name} + " twice";
-    return 0;
-  }
-  sec.keys.emplace(key, trim(value));
-  return 1;
+  return true;
 }
 
 // "1018" or "1018SUB2" (upper case) -> (index, sub, has_sub); anything else -> nullopt.
@@ -321,10 +370,10 @@ LoadResult Builder::build(const Raw& raw) {
     }
     if (const std::string* v = sec.get("defaultvalue")) e.default_value = *v;
     if (const std::string* v = sec.get("parametervalue")) e.parameter_value = *v;
-    for (const auto& [key, value] : sec.keys) {
+    for (const auto& [key, v] : sec.keys) {
       if (key == "lowlimit" || key == "highlimit") {
-        if (value.empty()) continue;
-        const auto limit = parse_integer(value, 0);
+        if (v.text.empty()) continue;
+        const auto limit = parse_integer(v.text, 0);
         if (!limit) return fail(where + ": " + key + " is not a number");
         (key == "lowlimit" ? e.low_limit : e.high_limit) = *limit;
       }
@@ -396,14 +445,7 @@ LoadResult parse(std::string_view text) {
     return LoadResult{std::nullopt, "larger than " + std::to_string(max_file_bytes) + " bytes"};
   }
   Raw raw{};
-  const std::string copy{text};  // inih wants a terminated string
-  const int status = ini_parse_string(copy.c_str(), on_value, &raw);
-  if (status < 0) return LoadResult{std::nullopt, "out of memory while reading"};
-  if (status != 0 || !raw.error.empty()) {
-    std::string why = "line " + std::to_string(status) + ": ";
-    why += raw.error.empty() ? "not an INI line" : raw.error;
-    return LoadResult{std::nullopt, why};
-  }
+  if (!tokenize(text, raw)) return LoadResult{std::nullopt, raw.error};
   return Builder::build(raw);
 }
 

@@ -1,4 +1,4 @@
-// A drive's description from its EDS or DCF file (CiA 306, INI format, read with inih): every
+// A drive's description from its EDS or DCF file (CiA 306, INI format, read here): every
 // object's index, sub-index, name, data type, access, PDO mappability, limits and default (or,
 // in a DCF, configured) value, the device's identity, and its PDO communication and mapping
 // objects. Host only (files, strings, the heap): the master configures a drive from it and the
