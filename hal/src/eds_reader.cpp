@@ -321,40 +321,69 @@ LoadResult Builder::build(const Raw& raw) {
     r.error = std::move(message);
     return r;
   };
-  // Object sections: a VAR at [IIII] is sub 0; an ARRAY or RECORD [IIII] has its subs in
-  // [IIIIsubS] and defines no value itself. Data type definitions (0x0001..0x025F) are skipped.
+  // Object sections, indexed once: each object's [IIII] and its [IIIIsubS] by sub-index (the
+  // file's sections are visited once; every look-up after is by index).
+  struct Sections {
+    const Section* object{nullptr};  // [IIII], when the file has it
+    std::vector<std::pair<std::uint8_t, const Section*>> subs;
+  };
+  std::map<std::uint16_t, Sections> objects;
   for (const auto& [name, sec] : raw.sections) {
     const auto obj = object_section(name);
-    if (!obj || obj->index < 0x1000) continue;
-    const bool has_subs = raw.sections.count(name.substr(0, 4) + "SUB0") != 0;
-    if (!obj->has_sub && has_subs) {
-      const std::string* ot = sec.get("objecttype");
-      const auto type = ot ? parse_integer(*ot, 0) : std::nullopt;
-      if (!type || (*type != 0x8 && *type != 0x9)) {
-        return fail("[" + name + "] has sub-index sections but is not an ARRAY or RECORD (ObjectType 0x8 or 0x9)");
+    if (!obj || obj->index < 0x1000) continue;  // data type definitions (0x0001..0x025F)
+    Sections& o = objects[obj->index];
+    if (obj->has_sub) {
+      o.subs.emplace_back(obj->sub, &sec);
+    } else {
+      o.object = &sec;
+    }
+  }
+  // A VAR at [IIII] is sub 0; an ARRAY or RECORD [IIII] has its subs in [IIIIsubS] and defines
+  // no value itself.
+  struct Item {
+    std::uint16_t index;
+    std::uint8_t sub;
+    const Section* section;
+  };
+  std::vector<Item> items;
+  for (auto& [index, o] : objects) {
+    std::sort(o.subs.begin(), o.subs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t i = 1; i < o.subs.size(); ++i) {
+      if (o.subs[i].first == o.subs[i - 1].first) {
+        return fail("[" + o.subs[i].second->name + "] and [" + o.subs[i - 1].second->name +
+                    "] describe the same sub-index " + object_name(index, o.subs[i].first));
       }
-      const std::string* sn = sec.get("subnumber");
-      const auto stated = sn ? parse_integer(*sn, 0) : std::nullopt;
-      const auto described = std::count_if(raw.sections.begin(), raw.sections.end(), [&](const auto& s) {
-        const auto o = object_section(s.first);
-        return o && o->has_sub && o->index == obj->index;
-      });
-      if (!stated || *stated != described) {
-        return fail("[" + name + "] SubNumber " + (sn ? *sn : std::string{"(missing)"}) + " but " +
-                    std::to_string(described) + " sub-index sections");
-      }
+    }
+    if (o.object == nullptr) {
+      const std::string& sub_name = o.subs.front().second->name;
+      return fail("[" + sub_name + "] has no object section [" + sub_name.substr(0, 4) + "]");
+    }
+    if (o.subs.empty()) {
+      items.push_back(Item{index, 0, o.object});
       continue;
     }
-    if (obj->has_sub && raw.sections.count(name.substr(0, 4)) == 0) {
-      return fail("[" + name + "] has no object section [" + name.substr(0, 4) + "]");
+    const Section& sec = *o.object;
+    const std::string* ot = sec.get("objecttype");
+    const auto type = ot ? parse_integer(*ot, 0) : std::nullopt;
+    if (!type || (*type != 0x8 && *type != 0x9)) {
+      return fail("[" + sec.name + "] has sub-index sections but is not an ARRAY or RECORD (ObjectType 0x8 or 0x9)");
     }
-    if (d.entries_.size() >= max_entries) {
-      return fail("more than " + std::to_string(max_entries) + " objects");
+    const std::string* sn = sec.get("subnumber");
+    const auto stated = sn ? parse_integer(*sn, 0) : std::nullopt;
+    const auto described = static_cast<std::int64_t>(o.subs.size());
+    if (!stated || *stated != described) {
+      return fail("[" + sec.name + "] SubNumber " + (sn ? *sn : std::string{"(missing)"}) + " but " +
+                  std::to_string(described) + " sub-index sections");
     }
+    for (const auto& [sub, sub_section] : o.subs) items.push_back(Item{index, sub, sub_section});
+  }
+  d.entries_.reserve(items.size());
+  for (const Item& item : items) {
+    const Section& sec = *item.section;
     Entry e{};
-    e.index = obj->index;
-    e.sub = obj->sub;
-    const std::string where = "[" + name + "] (" + object_name(e.index, e.sub) + ")";
+    e.index = item.index;
+    e.sub = item.sub;
+    const std::string where = "[" + sec.name + "] (" + object_name(e.index, e.sub) + ")";
     if (const std::string* v = sec.get("parametername")) e.name = *v;
     const std::string* dt = sec.get("datatype");
     const auto type = dt ? parse_integer(*dt, 0) : std::nullopt;
@@ -396,7 +425,7 @@ LoadResult Builder::build(const Raw& raw) {
     if (it == raw.sections.end()) continue;
     const std::string* count_text = it->second.get("supportedobjects");
     const auto count = count_text ? parse_integer(*count_text, 0) : std::nullopt;
-    if (!count || *count < 0 || *count > static_cast<std::int64_t>(max_entries)) {
+    if (!count || *count < 0 || *count > static_cast<std::int64_t>(max_objects)) {
       return fail(std::string{"["} + list + "]: no valid SupportedObjects");
     }
     for (std::int64_t i = 1; i <= *count; ++i) {
@@ -440,10 +469,48 @@ LoadResult Builder::build(const Raw& raw) {
   return r;
 }
 
+namespace {
+
+// The first pass: the lines of each kind counted against the bounds, nothing stored. "" or the
+// bound the text exceeds.
+std::string exceeded_bound(std::string_view text) {
+  std::size_t sections = 0;
+  std::size_t objects = 0;
+  std::size_t keys = 0;
+  while (!text.empty()) {
+    const std::size_t eol = text.find('\n');
+    std::string_view l = text.substr(0, eol);
+    text.remove_prefix(eol == std::string_view::npos ? text.size() : eol + 1);
+    while (!l.empty() && std::isspace(static_cast<unsigned char>(l.front()))) l.remove_prefix(1);
+    if (l.empty() || l.front() == ';' || l.front() == '#') continue;
+    if (l.front() == '[') {
+      ++sections;
+      const std::size_t close = l.find(']');
+      if (close == 5 && std::all_of(l.begin() + 1, l.begin() + 5, [](char c) {
+            return std::isxdigit(static_cast<unsigned char>(c)) != 0;
+          }) && l[1] != '0') {
+        ++objects;  // [IIII] with IIII >= 0x1000
+      }
+    } else if (l.find_first_of("=:") != std::string_view::npos) {
+      ++keys;
+    }
+  }
+  const auto over = [](const char* bound, std::size_t value, const char* what) {
+    return "more than " + std::string{bound} + " (" + std::to_string(value) + ") " + what;
+  };
+  if (sections > max_sections) return over("max_sections", max_sections, "sections");
+  if (objects > max_objects) return over("max_objects", max_objects, "object sections [IIII]");
+  if (keys > max_keys) return over("max_keys", max_keys, "key=value lines");
+  return {};
+}
+
+}  // namespace
+
 LoadResult parse(std::string_view text) {
   if (text.size() > max_file_bytes) {
-    return LoadResult{std::nullopt, "larger than " + std::to_string(max_file_bytes) + " bytes"};
+    return LoadResult{std::nullopt, "larger than max_file_bytes (" + std::to_string(max_file_bytes) + " bytes)"};
   }
+  if (std::string why = exceeded_bound(text); !why.empty()) return LoadResult{std::nullopt, std::move(why)};
   Raw raw{};
   if (!tokenize(text, raw)) return LoadResult{std::nullopt, raw.error};
   return Builder::build(raw);
@@ -456,7 +523,8 @@ LoadResult load(const std::string& path) {
   const std::streamoff size = in.tellg();
   if (size < 0) return LoadResult{std::nullopt, path + ": cannot be read"};
   if (static_cast<std::uint64_t>(size) > max_file_bytes) {
-    return LoadResult{std::nullopt, path + ": larger than " + std::to_string(max_file_bytes) + " bytes"};
+    return LoadResult{std::nullopt,
+                      path + ": larger than max_file_bytes (" + std::to_string(max_file_bytes) + " bytes)"};
   }
   in.seekg(0);
   std::string text(static_cast<std::size_t>(size), '\0');

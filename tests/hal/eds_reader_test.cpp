@@ -273,9 +273,9 @@ TEST(EdsReader, SizesAreBoundedBeforeAnythingGrows) {
   const LoadResult missing = load("/nonexistent/drive.eds");
   EXPECT_FALSE(missing.description);
   EXPECT_NE(missing.error.find("cannot be opened"), std::string::npos);
-  // More objects than max_entries: refused by count, long before the file limit.
+  // More objects than max_objects: refused by count, long before the file limit.
   std::string many = "[1000]\nDataType=7\nAccessType=ro\n";
-  for (unsigned i = 0; i < max_entries + 1; ++i) {
+  for (unsigned i = 0; i < max_objects + 1; ++i) {
     char section[40];
     std::snprintf(section, sizeof section, "[%04X]\nDataType=5\nAccessType=rw\n", 0x2000 + i);
     many += section;

@@ -14,9 +14,13 @@
 
 namespace settle::hal::eds {
 
-// Bounds checked before anything grows: a description larger than these is refused.
-inline constexpr std::size_t max_file_bytes = 4u << 20;
-inline constexpr std::size_t max_entries = 16384;
+// Bounds checked before anything is read or grows (a first pass over the text counts the lines
+// of each kind): a description beyond one of them is refused, the refusal naming the bound.
+// Reading is linear in the file's size within them (sections are indexed by object once).
+inline constexpr std::size_t max_file_bytes = 4u << 20;  // the whole file, bytes
+inline constexpr std::size_t max_objects = 16384;        // object sections [IIII], index >= 0x1000
+inline constexpr std::size_t max_sections = 65536;       // all [sections], sub-index ones included
+inline constexpr std::size_t max_keys = 524288;          // all key=value lines
 
 enum class Access : std::uint8_t { ro, wo, rw, rwr, rww, constant };
 [[nodiscard]] const char* to_string(Access access) noexcept;
@@ -128,7 +132,7 @@ struct LoadResult {
   std::string error;  // why not: names the file's line or the object at fault
 };
 
-// Reads an EDS or DCF file (at most max_file_bytes).
+// Reads an EDS or DCF file (within the bounds above).
 [[nodiscard]] LoadResult load(const std::string& path);
 // The same from text held in memory (tests, descriptions received over SDO 0x1021).
 [[nodiscard]] LoadResult parse(std::string_view text);
