@@ -83,16 +83,20 @@ TEST(EdsLines, WhatIsNotIniIsRefusedNamingTheLine) {
     EXPECT_FALSE(r.description) << inserted;
     return r.error;
   };
-  EXPECT_NE(refusal("[Comments]\nLines=1\nthis is not ini\n").find("line 3: not an INI line"), std::string::npos);
+  EXPECT_NE(refusal("[Comments]\nLines=1\nthis is not ini\n").find("line 3: [Comments] not an INI line"),
+            std::string::npos);
   EXPECT_NE(refusal("[Comments\n").find("line 1: a section header without ']'"), std::string::npos);
   EXPECT_NE(refusal("[Comments] x\n").find("line 1: text after the section header"), std::string::npos);
   EXPECT_NE(refusal("[]\n").find("line 1: a section without a name"), std::string::npos);
-  EXPECT_NE(refusal("[Comments]\n=1\n").find("line 2: a value without a key"), std::string::npos);
-  EXPECT_NE(refusal("Lines=1\n").find("line 1: Lines is given before any [section]"), std::string::npos);
-  EXPECT_NE(refusal("[FILEINFO]\nFileVersion=1\n").find("[FileInfo] is given twice (first on line 1)"),
+  EXPECT_NE(refusal("[Comments]\n=1\n").find("line 2: [Comments] a value without a key"), std::string::npos);
+  EXPECT_NE(refusal("Lines=1\n").find("line 1: Lines: a key before any [section]"), std::string::npos);
+  EXPECT_NE(refusal("[FILEINFO]\nFileVersion=1\n").find("line 3: [FileInfo] the section is given twice (first on line 1)"),
             std::string::npos);
-  EXPECT_NE(refusal("[Comments]\nLines=1\nLINES=2\n").find("line 3: [Comments] gives LINES twice (first on line 2)"),
-            std::string::npos);
+  const LoadResult twice = parse("[Comments]\nLines=1\nLINES=2\n" + good);
+  EXPECT_EQ(twice.error, "line 3: [Comments] LINES: given twice in the section (first on line 2)");
+  EXPECT_EQ(twice.refusal.section, "Comments");
+  EXPECT_EQ(twice.refusal.key, "LINES");
+  EXPECT_EQ(twice.refusal.line, 3);
 }
 
 }  // namespace

@@ -39,6 +39,7 @@ inline constexpr std::uint16_t visible_string = 0x0009;
 inline constexpr std::uint16_t octet_string = 0x000A;
 inline constexpr std::uint16_t unicode_string = 0x000B;
 inline constexpr std::uint16_t domain = 0x000F;
+inline constexpr std::uint16_t real64 = 0x0011;
 inline constexpr std::uint16_t i64 = 0x0015;
 inline constexpr std::uint16_t u64 = 0x001B;
 }  // namespace data_type
@@ -47,6 +48,18 @@ inline constexpr std::uint16_t u64 = 0x001B;
 [[nodiscard]] unsigned data_type_bits(std::uint16_t type) noexcept;
 [[nodiscard]] bool data_type_is_integer(std::uint16_t type) noexcept;
 [[nodiscard]] bool data_type_is_signed(std::uint16_t type) noexcept;
+[[nodiscard]] bool data_type_is_real(std::uint16_t type) noexcept;  // REAL32, REAL64
+
+// Where in the file, and what: a warning about what the reader tolerated, or the reason it
+// refused the file (naming the section, the key and the rule).
+struct Problem {
+  std::string section;  // as written, without the brackets; empty when about the whole file
+  std::string key;      // as written; empty when about the section as a whole
+  std::string message;  // the rule, or what was read instead
+  int line{0};          // the key's (else the section's) line; 0 when about the whole file
+};
+// "line 12: [607Fsub0] LowLimit: message", leaving out what is empty.
+[[nodiscard]] std::string to_string(const Problem& problem);
 
 struct Entry {
   std::uint16_t index{0};
@@ -57,8 +70,12 @@ struct Entry {
   bool pdo_mappable{false};
   std::string default_value;    // as written (integers may use $NODEID); empty when absent
   std::string parameter_value;  // a DCF's configured value; empty when absent
+  // LowLimit/HighLimit of an integer type (UNSIGNED64: the value's bits, as value() gives them).
   std::optional<std::int64_t> low_limit;
   std::optional<std::int64_t> high_limit;
+  // LowLimit/HighLimit of a REAL32 or REAL64.
+  std::optional<double> low_limit_real;
+  std::optional<double> high_limit_real;
 
   [[nodiscard]] bool readable() const noexcept { return access != Access::wo; }
   [[nodiscard]] bool writable() const noexcept {
@@ -66,7 +83,11 @@ struct Entry {
   }
   // The value the object holds after start-up: the DCF's ParameterValue, else DefaultValue, as
   // an integer with $NODEID resolved; nullopt for non-integer types or when neither is given.
+  // A hex value of a signed type is its two's complement (0xFFFFFFFFFFFFFFFF is an INTEGER64's
+  // -1); an UNSIGNED64 above 2^63 - 1 comes as its bits (cast to std::uint64_t).
   [[nodiscard]] std::optional<std::int64_t> value(std::uint8_t node) const;
+  // The same for REAL32/REAL64 (decimal text such as 4.5 or 1e-3); nullopt for other types.
+  [[nodiscard]] std::optional<double> real_value() const;
 };
 
 struct DeviceInfo {
@@ -129,7 +150,12 @@ class Description {
 
 struct LoadResult {
   std::optional<Description> description;
-  std::string error;  // why not: names the file's line or the object at fault
+  std::string error;  // why not: to_string(refusal), after the file's path when load() read it
+  Problem refusal;    // the same, by part
+  // What was read otherwise than written (a SubNumber that does not match the sub-index
+  // sections, a limit dropped from an object the master does not write, ...), in file order;
+  // also when the file is refused. Callers print them: the file is read, but should be fixed.
+  std::vector<Problem> warnings;
 };
 
 // Reads an EDS or DCF file (within the bounds above).
