@@ -12,8 +12,9 @@
 namespace {
 
 std::string arrays(unsigned n) {
-  std::string text = "[1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\n"
-                     "DefaultValue=0x00020192\n";
+  std::string text =
+      "[1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\n"
+      "DefaultValue=0x00020192\n";
   for (unsigned i = 0; i < n; ++i) {
     char object[256];
     const unsigned index = 0x2000 + i;
@@ -36,8 +37,8 @@ void BM_EdsParseArrays(benchmark::State& state) {
     benchmark::DoNotOptimize(r);
   }
   state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(text.size()));
-  state.counters["per_object"] =
-      benchmark::Counter(static_cast<double>(state.iterations()) * n, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["per_object"] = benchmark::Counter(static_cast<double>(state.iterations()) * n,
+                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_EdsParseArrays)->Arg(1000)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond);
 

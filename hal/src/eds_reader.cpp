@@ -1,6 +1,8 @@
-// EDS/DCF reading: the file split into sections and keys (tokenize, below: lines of any length
-// read whole), then CiA 306's meaning (object sections [IIII] and [IIIIsubS], the object lists, DeviceInfo, a DCF's
-// ParameterValue and NodeID) and checks what a master relies on.
+// EDS/DCF reading in three passes, each linear in the file: the lines counted against the
+// bounds (exceeded_bound), the file split into sections and keys (tokenize: lines of any length
+// read whole), then CiA 306's meaning (Builder: object sections [IIII] and [IIIIsubS] indexed by
+// object once, the object lists, DeviceInfo, a DCF's ParameterValue and NodeID), tolerant of
+// what tools write and strict about what a master configures the drive from.
 #include "settle/hal/eds_reader.hpp"
 
 #include <algorithm>
@@ -133,8 +135,8 @@ bool tokenize(std::string_view text, Raw& raw) {
       for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
       const auto [it, fresh] = raw.sections.try_emplace(std::move(upper));
       if (!fresh) {
-        raw.error = Problem{name, {}, "the section is given twice (first on line " + std::to_string(it->second.line) + ")",
-                            line};
+        raw.error = Problem{
+            name, {}, "the section is given twice (first on line " + std::to_string(it->second.line) + ")", line};
         return false;
       }
       it->second.name = std::move(name);
@@ -155,7 +157,8 @@ bool tokenize(std::string_view text, Raw& raw) {
       }
     }
     const auto [it, fresh] = current->keys.try_emplace(lower(key));
-    if (!fresh) return refuse("given twice in the section (first on line " + std::to_string(it->second.line) + ")", key);
+    if (!fresh)
+      return refuse("given twice in the section (first on line " + std::to_string(it->second.line) + ")", key);
     it->second = Value{std::move(key), trim(value), line};
   }
   return true;
@@ -457,8 +460,8 @@ bool is_mapping(std::uint16_t index) {
   return (index >= 0x1600 && index <= 0x17FF) || (index >= 0x1A00 && index <= 0x1BFF);
 }
 bool is_string(std::uint16_t type) {
-  return type == data_type::visible_string || type == data_type::octet_string ||
-         type == data_type::unicode_string || type == data_type::domain;
+  return type == data_type::visible_string || type == data_type::octet_string || type == data_type::unicode_string ||
+         type == data_type::domain;
 }
 
 // Where a key is, as a problem's place: the key's spelling and line when the section has it,
@@ -487,8 +490,8 @@ LoadResult Builder::build(const Raw& raw) {
     const Section* object{nullptr};  // [IIII], when the file has it
     std::vector<std::pair<std::uint8_t, const Section*>> subs;
     [[nodiscard]] const Section* sub(std::uint8_t s) const {
-      const auto it = std::lower_bound(subs.begin(), subs.end(), s,
-                                       [](const auto& p, std::uint8_t v) { return p.first < v; });
+      const auto it =
+          std::lower_bound(subs.begin(), subs.end(), s, [](const auto& p, std::uint8_t v) { return p.first < v; });
       return it != subs.end() && it->first == s ? it->second : nullptr;
     }
   };
@@ -516,10 +519,11 @@ LoadResult Builder::build(const Raw& raw) {
     std::sort(o.subs.begin(), o.subs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (std::size_t i = 1; i < o.subs.size(); ++i) {
       if (o.subs[i].first == o.subs[i - 1].first) {
-        return fail(Problem{o.subs[i].second->name, {},
-                            "describes " + object_name(index, o.subs[i].first) + " as [" + o.subs[i - 1].second->name +
-                                "] does",
-                            o.subs[i].second->line});
+        return fail(Problem{
+            o.subs[i].second->name,
+            {},
+            "describes " + object_name(index, o.subs[i].first) + " as [" + o.subs[i - 1].second->name + "] does",
+            o.subs[i].second->line});
       }
     }
     if (o.object == nullptr) {
@@ -543,15 +547,17 @@ LoadResult Builder::build(const Raw& raw) {
     }
     const bool aggregate = type == 0x8 || type == 0x9;
     if (!aggregate && !o.subs.empty()) {
-      return fail(at(sec, "ObjectType", "has sub-index sections but is not an ARRAY or RECORD (ObjectType 0x8 or 0x9)"));
+      return fail(
+          at(sec, "ObjectType", "has sub-index sections but is not an ARRAY or RECORD (ObjectType 0x8 or 0x9)"));
     }
     if (!aggregate) {
       items.push_back(Item{index, 0, o.object});
       continue;
     }
     if (o.subs.empty()) {
-      warn(at(sec, "ObjectType", "an ARRAY or RECORD without [" + sec.name.substr(0, 4) + "subS] sections: " +
-                                     hex4(index) + " has no entries"));
+      warn(at(sec, "ObjectType",
+              "an ARRAY or RECORD without [" + sec.name.substr(0, 4) + "subS] sections: " + hex4(index) +
+                  " has no entries"));
       continue;
     }
     const std::string present = std::to_string(o.subs.size()) + " sub-index sections";
@@ -641,7 +647,8 @@ LoadResult Builder::build(const Raw& raw) {
       } else if (const auto n = parse_integer(v->text, 0)) {
         (low ? e.low_limit : e.high_limit) = *n;  // a type this reader does not know: as written
       } else {
-        warn(at(sec, key, obj + ": '" + v->text + "' is not read (" + hex4(e.data_type) + " is not a type this reader knows)"));
+        warn(at(sec, key,
+                obj + ": '" + v->text + "' is not read (" + hex4(e.data_type) + " is not a type this reader knows)"));
       }
     }
     const bool inverted = (e.low_limit && e.high_limit && less(*e.high_limit, *e.low_limit, e.data_type)) ||
@@ -690,17 +697,20 @@ LoadResult Builder::build(const Raw& raw) {
     const Entry* key_entry = d.find(index, key_sub);
     const Section* key_sec = o.sub(key_sub);
     if (key_entry == nullptr || key_sec == nullptr) {
-      return fail(Problem{sec.name, {},
-                          hex4(index) + (key_sub == 1 ? " (PDO communication) has no sub-index 1, the COB-ID"
-                                                      : " (PDO mapping) has no sub-index 0, the number of mapped objects"),
-                          sec.line});
+      return fail(
+          Problem{sec.name,
+                  {},
+                  hex4(index) + (key_sub == 1 ? " (PDO communication) has no sub-index 1, the COB-ID"
+                                              : " (PDO mapping) has no sub-index 0, the number of mapped objects"),
+                  sec.line});
     }
     const auto value_key = [](const Entry& e) { return e.parameter_value.empty() ? "DefaultValue" : "ParameterValue"; };
     if (key_sub == 1) {
       if (key_entry->data_type != data_type::u32) {
         return fail(at(*key_sec, "DataType", object_name(index, 1) + ": a COB-ID is UNSIGNED32 (0x0007)"));
       }
-      if (!key_entry->value(1)) return fail(at(*key_sec, "DefaultValue", object_name(index, 1) + ": the COB-ID has no value"));
+      if (!key_entry->value(1))
+        return fail(at(*key_sec, "DefaultValue", object_name(index, 1) + ": the COB-ID has no value"));
       for (const std::uint8_t node : {std::uint8_t{1}, std::uint8_t{127}}) {
         const auto cob = static_cast<std::uint32_t>(*key_entry->value(node));
         if ((cob & (1U << 29)) == 0 && (cob & 0x1FFFF800U) != 0) {
@@ -714,10 +724,12 @@ LoadResult Builder::build(const Raw& raw) {
       continue;
     }
     if (key_entry->data_type != data_type::u8) {
-      return fail(at(*key_sec, "DataType", object_name(index, 0) + ": the number of mapped objects is UNSIGNED8 (0x0005)"));
+      return fail(
+          at(*key_sec, "DataType", object_name(index, 0) + ": the number of mapped objects is UNSIGNED8 (0x0005)"));
     }
     const auto count = key_entry->value(1);
-    if (!count) return fail(at(*key_sec, "DefaultValue", object_name(index, 0) + ": the number of mapped objects has no value"));
+    if (!count)
+      return fail(at(*key_sec, "DefaultValue", object_name(index, 0) + ": the number of mapped objects has no value"));
     if (*count > 64) {
       return fail(at(*key_sec, value_key(*key_entry), object_name(index, 0) + ": more than 64 mapped objects"));
     }
@@ -731,16 +743,19 @@ LoadResult Builder::build(const Raw& raw) {
                            object_name(index, sub) + " is not described"));
       }
       const std::string name = object_name(index, sub);
-      if (m->data_type != data_type::u32) return fail(at(*msec, "DataType", name + ": a mapping entry is UNSIGNED32 (0x0007)"));
+      if (m->data_type != data_type::u32)
+        return fail(at(*msec, "DataType", name + ": a mapping entry is UNSIGNED32 (0x0007)"));
       const auto raw1 = m->value(1);
       if (!raw1) return fail(at(*msec, "DefaultValue", name + ": the mapping entry has no value"));
-      if (m->value(127) != raw1) return fail(at(*msec, value_key(*m), name + ": a mapping entry cannot depend on $NODEID"));
+      if (m->value(127) != raw1)
+        return fail(at(*msec, value_key(*m), name + ": a mapping entry cannot depend on $NODEID"));
       const auto entry = static_cast<std::uint32_t>(*raw1);
       const unsigned bits = entry & 0xFFU;
       const auto mapped_index = static_cast<std::uint16_t>(entry >> 16U);
       const auto mapped_sub = static_cast<std::uint8_t>(entry >> 8U);
       if (bits == 0 || bits > 64) {
-        return fail(at(*msec, value_key(*m), name + ": maps " + std::to_string(bits) + " bits (a mapped object has 1..64)"));
+        return fail(
+            at(*msec, value_key(*m), name + ": maps " + std::to_string(bits) + " bits (a mapped object has 1..64)"));
       }
       if (const Entry* mapped = d.find(mapped_index, mapped_sub); mapped != nullptr) {
         if (const unsigned size = data_type_bits(mapped->data_type); size != 0 && size != bits) {
@@ -760,22 +775,26 @@ LoadResult Builder::build(const Raw& raw) {
     const std::string* count_text = sec.get("supportedobjects");
     const auto count = count_text ? parse_integer(*count_text, 0) : std::nullopt;
     if (!count || *count < 0 || *count > static_cast<std::int64_t>(max_objects)) {
-      return fail(at(sec, "SupportedObjects", "missing or not a number of objects (0.." + std::to_string(max_objects) + ")"));
+      return fail(
+          at(sec, "SupportedObjects", "missing or not a number of objects (0.." + std::to_string(max_objects) + ")"));
     }
     for (std::int64_t i = 1; i <= *count; ++i) {
       const std::string key = std::to_string(i);
       const std::string* item = sec.get(key.c_str());
       const auto index = item ? parse_integer(*item, 0) : std::nullopt;
       if (!index || *index < 0 || *index > 0xFFFF) {
-        return fail(at(sec, key, "entry " + key + " of SupportedObjects=" + *count_text + " is missing or not an index"));
+        return fail(
+            at(sec, key, "entry " + key + " of SupportedObjects=" + *count_text + " is missing or not an index"));
       }
       if (*index >= 0x1000 && !d.has(static_cast<std::uint16_t>(*index))) {
-        return fail(at(sec, key, hex4(static_cast<std::uint16_t>(*index)) + " is listed in [" + sec.name + "] but not described"));
+        return fail(at(
+            sec, key, hex4(static_cast<std::uint16_t>(*index)) + " is listed in [" + sec.name + "] but not described"));
       }
       d.listed_.push_back(static_cast<std::uint16_t>(*index));
     }
   }
-  if (!d.has(0x1000)) return fail(Problem{{}, {}, "0x1000 (device type) is not described: not a CANopen device description", 0});
+  if (!d.has(0x1000))
+    return fail(Problem{{}, {}, "0x1000 (device type) is not described: not a CANopen device description", 0});
 
   if (const auto it = raw.sections.find("DEVICEINFO"); it != raw.sections.end()) {
     const Section& s = it->second;
@@ -835,9 +854,10 @@ std::string exceeded_bound(std::string_view text) {
     if (l.front() == '[') {
       ++sections;
       const std::size_t close = l.find(']');
-      if (close == 5 && std::all_of(l.begin() + 1, l.begin() + 5, [](char c) {
-            return std::isxdigit(static_cast<unsigned char>(c)) != 0;
-          }) && l[1] != '0') {
+      if (close == 5 &&
+          std::all_of(l.begin() + 1, l.begin() + 5,
+                      [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) != 0; }) &&
+          l[1] != '0') {
         ++objects;  // [IIII] with IIII >= 0x1000
       }
     } else if (l.find_first_of("=:") != std::string_view::npos) {

@@ -14,8 +14,9 @@ namespace {
 
 // Device type and `n` ARRAY objects 0x2000.. of one UNSIGNED32 element each.
 std::string arrays(unsigned n) {
-  std::string text = "[1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\n"
-                     "DefaultValue=0x00020192\n";
+  std::string text =
+      "[1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\n"
+      "DefaultValue=0x00020192\n";
   text.reserve(n * 200u);
   for (unsigned i = 0; i < n; ++i) {
     char object[256];

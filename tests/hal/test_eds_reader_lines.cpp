@@ -90,8 +90,9 @@ TEST(EdsLines, WhatIsNotIniIsRefusedNamingTheLine) {
   EXPECT_NE(refusal("[]\n").find("line 1: a section without a name"), std::string::npos);
   EXPECT_NE(refusal("[Comments]\n=1\n").find("line 2: [Comments] a value without a key"), std::string::npos);
   EXPECT_NE(refusal("Lines=1\n").find("line 1: Lines: a key before any [section]"), std::string::npos);
-  EXPECT_NE(refusal("[FILEINFO]\nFileVersion=1\n").find("line 3: [FileInfo] the section is given twice (first on line 1)"),
-            std::string::npos);
+  EXPECT_NE(
+      refusal("[FILEINFO]\nFileVersion=1\n").find("line 3: [FileInfo] the section is given twice (first on line 1)"),
+      std::string::npos);
   const LoadResult twice = parse("[Comments]\nLines=1\nLINES=2\n" + good);
   EXPECT_EQ(twice.error, "line 3: [Comments] LINES: given twice in the section (first on line 2)");
   EXPECT_EQ(twice.refusal.section, "Comments");

@@ -108,20 +108,22 @@ TEST(EdsTolerance, HexBooleansAndHexOrDecimalNumbersEverywhere) {
   LoadResult r;
   const Description d = must_parse(kBase, &r);
   EXPECT_TRUE(r.warnings.empty()) << to_string(r.warnings.front());
-  EXPECT_FALSE(d.find(0x1000, 0)->pdo_mappable);  // PDOMapping=0x0
-  EXPECT_TRUE(d.find(0x6040, 0)->pdo_mappable);   // PDOMapping=0x1
-  EXPECT_TRUE(d.find(0x607A, 0)->pdo_mappable);   // PDOMapping=1
-  EXPECT_EQ(d.find(0x1000, 0)->data_type, data_type::u32);  // DataType=7
+  EXPECT_FALSE(d.find(0x1000, 0)->pdo_mappable);              // PDOMapping=0x0
+  EXPECT_TRUE(d.find(0x6040, 0)->pdo_mappable);               // PDOMapping=0x1
+  EXPECT_TRUE(d.find(0x607A, 0)->pdo_mappable);               // PDOMapping=1
+  EXPECT_EQ(d.find(0x1000, 0)->data_type, data_type::u32);    // DataType=7
   EXPECT_EQ(d.listed(), std::vector<std::uint16_t>{0x1000});  // SupportedObjects=0x1, 1=4096
   EXPECT_EQ(d.device().vendor_number, 171u);
   EXPECT_EQ(d.rpdos(5).at(0).cob_id, 0x205u);
   for (const char* bad : {"2", "0x2", "-1", "yes", "true"}) {
-    const Problem p = must_refuse(replace(kBase, "PDOMapping=0x1", std::string{"PDOMapping="} + bad), "6040", "PDOMapping");
+    const Problem p =
+        must_refuse(replace(kBase, "PDOMapping=0x1", std::string{"PDOMapping="} + bad), "6040", "PDOMapping");
     EXPECT_TRUE(mentions(p, "0x6040:0: PDOMapping must be 0 or 1")) << p.message;
   }
   // The identity the master checks is read strictly; the PDO counts are not configured from.
-  EXPECT_TRUE(mentions(must_refuse(replace(kBase, "VendorNumber=171", "VendorNumber=ACME"), "DeviceInfo", "VendorNumber"),
-                       "not an UNSIGNED32"));
+  EXPECT_TRUE(
+      mentions(must_refuse(replace(kBase, "VendorNumber=171", "VendorNumber=ACME"), "DeviceInfo", "VendorNumber"),
+               "not an UNSIGNED32"));
   must_parse(replace(kBase, "NrOfRXPDO=1", "NrOfRXPDO=one"), &r);
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_EQ(to_string(r.warnings[0]), "line 5: [DeviceInfo] NrOfRXPDO: 'one' is not an UNSIGNED32: read as 0");
@@ -150,8 +152,8 @@ TEST(EdsTolerance, RealValuesAndLimitsAreFloatingPoint) {
                        "a REAL32 is written in decimal"));
   EXPECT_TRUE(mentions(must_refuse(replace(reals, "DefaultValue=1.25", "DefaultValue=1.2.5"), "2100", "DefaultValue"),
                        "'1.2.5' is not a decimal number"));
-  EXPECT_TRUE(mentions(must_refuse(replace(reals, "HighLimit=4.5", "HighLimit=1e39"), "2100", "HighLimit"),
-                       "outside REAL32"));
+  EXPECT_TRUE(
+      mentions(must_refuse(replace(reals, "HighLimit=4.5", "HighLimit=1e39"), "2100", "HighLimit"), "outside REAL32"));
   EXPECT_TRUE(mentions(must_refuse(replace(reals, "DefaultValue=1.25", "DefaultValue=5"), "2100", "DefaultValue"),
                        "outside LowLimit..HighLimit"));
 }
@@ -176,17 +178,19 @@ TEST(EdsTolerance, SixtyFourBitAndNegativeValuesInTwosComplementHex) {
   EXPECT_EQ(d.find(0x2203, 0)->low_limit, -16);
   EXPECT_EQ(d.find(0x2204, 0)->value(1), std::numeric_limits<std::int64_t>::min());
   // Beyond the type's width, in any notation.
-  EXPECT_TRUE(mentions(must_refuse(replace(wide, "DefaultValue=0xFF\n", "DefaultValue=0x100\n"), "2202", "DefaultValue"),
-                       "'0x100' is outside INTEGER8 (-128..127)"));
+  EXPECT_TRUE(
+      mentions(must_refuse(replace(wide, "DefaultValue=0xFF\n", "DefaultValue=0x100\n"), "2202", "DefaultValue"),
+               "'0x100' is outside INTEGER8 (-128..127)"));
   EXPECT_TRUE(mentions(must_refuse(replace(wide, "DefaultValue=0xFF\n", "DefaultValue=128\n"), "2202", "DefaultValue"),
                        "outside INTEGER8"));
-  EXPECT_TRUE(mentions(must_refuse(replace(wide, "LowLimit=1\n", "LowLimit=-1\n"), "2201", "LowLimit"),
-                       "outside UNSIGNED64"));
-  EXPECT_TRUE(mentions(
-      must_refuse(replace(wide, "0xFFFFFFFFFFFFFFFE", "0x1FFFFFFFFFFFFFFFF"), "2201", "DefaultValue"), "not an integer"));
+  EXPECT_TRUE(
+      mentions(must_refuse(replace(wide, "LowLimit=1\n", "LowLimit=-1\n"), "2201", "LowLimit"), "outside UNSIGNED64"));
+  EXPECT_TRUE(mentions(must_refuse(replace(wide, "0xFFFFFFFFFFFFFFFE", "0x1FFFFFFFFFFFFFFFF"), "2201", "DefaultValue"),
+                       "not an integer"));
   // An UNSIGNED64's limits compare as unsigned: 0xFFFFFFFFFFFFFFFE is within 1..0xFFFFFFFFFFFFFFFF.
-  EXPECT_TRUE(mentions(must_refuse(replace(wide, "LowLimit=1\n", "LowLimit=0xFFFFFFFFFFFFFFFF\n"), "2201", "DefaultValue"),
-                       "18446744073709551614 is outside LowLimit..HighLimit"));
+  EXPECT_TRUE(
+      mentions(must_refuse(replace(wide, "LowLimit=1\n", "LowLimit=0xFFFFFFFFFFFFFFFF\n"), "2201", "DefaultValue"),
+               "18446744073709551614 is outside LowLimit..HighLimit"));
 }
 
 TEST(EdsTolerance, RecordsTypedBySubObjectsOrWithoutSubZero) {
@@ -210,8 +214,15 @@ TEST(EdsTolerance, RecordsTypedBySubObjectsOrWithoutSubZero) {
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_EQ(r.warnings[0].section, "2302");
   EXPECT_EQ(r.warnings[0].key, "ObjectType");
+  // Two sections for one sub-index.
+  const LoadResult twice = parse(kBase +
+                                 "[2304]\nObjectType=0x9\nSubNumber=2\n[2304sub1]\nDataType=5\nAccessType=ro\n"
+                                 "[2304sub01]\nDataType=5\nAccessType=ro\n");
+  EXPECT_FALSE(twice.description);
+  EXPECT_NE(twice.error.find("describes 0x2304:1 as ["), std::string::npos) << twice.error;
   // Compact sub-objects are not read: refused rather than read as a VAR.
-  must_refuse(kBase + "[2303]\nObjectType=0x8\nCompactSubObj=4\nDataType=0x0007\nAccessType=ro\n", "2303", "CompactSubObj");
+  must_refuse(kBase + "[2303]\nObjectType=0x8\nCompactSubObj=4\nDataType=0x0007\nAccessType=ro\n", "2303",
+              "CompactSubObj");
 }
 
 TEST(EdsTolerance, ASubNumberThatDisagreesIsAWarningAndTheSectionsPresentAreRead) {
@@ -229,32 +240,40 @@ TEST(EdsTolerance, ASubNumberThatDisagreesIsAWarningAndTheSectionsPresentAreRead
 }
 
 TEST(EdsTolerance, PdoMappingEntriesAreReadStrictly) {
-  const auto entry = [](const std::string& to) { return replace(kBase, "DefaultValue=0x607A0020", "DefaultValue=" + to); };
+  const auto entry = [](const std::string& to) {
+    return replace(kBase, "DefaultValue=0x607A0020", "DefaultValue=" + to);
+  };
   EXPECT_TRUE(mentions(must_refuse(entry("0x607A0000"), "1600sub2", "DefaultValue"), "maps 0 bits"));
   EXPECT_TRUE(mentions(must_refuse(entry("0x607A0048"), "1600sub2", "DefaultValue"), "maps 72 bits"));
   EXPECT_TRUE(mentions(must_refuse(entry("0x607A0010"), "1600sub2", "DefaultValue"),
                        "maps 0x607A:0 with 16 bits, but it is described with 32"));
-  EXPECT_TRUE(mentions(must_refuse(entry("$NODEID+0x607A0020"), "1600sub2", "DefaultValue"), "cannot depend on $NODEID"));
+  EXPECT_TRUE(
+      mentions(must_refuse(entry("$NODEID+0x607A0020"), "1600sub2", "DefaultValue"), "cannot depend on $NODEID"));
   EXPECT_TRUE(mentions(must_refuse(entry("0x1607A0020"), "1600sub2", "DefaultValue"), "outside UNSIGNED32"));
   EXPECT_TRUE(mentions(must_refuse(entry(""), "1600sub2", "DefaultValue"), "no value"));
   // More entries counted than described.
   EXPECT_TRUE(mentions(must_refuse(replace(kBase, "AccessType=rw\nDefaultValue=2\n", "AccessType=rw\nDefaultValue=3\n"),
                                    "1600sub0", "DefaultValue"),
                        "0x1600:0 maps 3 objects but 0x1600:3 is not described"));
-  EXPECT_TRUE(mentions(must_refuse(replace(kBase, "AccessType=rw\nDefaultValue=2\n", "AccessType=rw\nDefaultValue=65\n"),
-                                   "1600sub0", "DefaultValue"),
-                       "more than 64 mapped objects"));
+  EXPECT_TRUE(
+      mentions(must_refuse(replace(kBase, "AccessType=rw\nDefaultValue=2\n", "AccessType=rw\nDefaultValue=65\n"),
+                           "1600sub0", "DefaultValue"),
+               "more than 64 mapped objects"));
   // A mapping object without its count.
-  const std::string no_count = replace(replace(kBase, "[1600sub0]\nDataType=0x0005\nAccessType=rw\nDefaultValue=2\n", ""),
-                                       "SubNumber=3\n[1600sub1]", "SubNumber=2\n[1600sub1]");
+  const std::string no_count =
+      replace(replace(kBase, "[1600sub0]\nDataType=0x0005\nAccessType=rw\nDefaultValue=2\n", ""),
+              "SubNumber=3\n[1600sub1]", "SubNumber=2\n[1600sub1]");
   EXPECT_TRUE(mentions(must_refuse(no_count, "1600", ""), "has no sub-index 0"));
   // A DCF's configured entry is read as strictly as the default.
-  const std::string dcf = replace(kBase, "DefaultValue=0x607A0020", "DefaultValue=0x607A0020\nParameterValue=0x607A0008");
+  const std::string dcf =
+      replace(kBase, "DefaultValue=0x607A0020", "DefaultValue=0x607A0020\nParameterValue=0x607A0008");
   EXPECT_TRUE(mentions(must_refuse(dcf, "1600sub2", "ParameterValue"), "with 8 bits"));
 }
 
 TEST(EdsTolerance, CobIdsAreReadStrictly) {
-  const auto cob = [](const std::string& to) { return replace(kBase, "DefaultValue=$NODEID+0x200", "DefaultValue=" + to); };
+  const auto cob = [](const std::string& to) {
+    return replace(kBase, "DefaultValue=$NODEID+0x200", "DefaultValue=" + to);
+  };
   EXPECT_EQ(must_parse(cob("0x80000200")).rpdos(1).at(0).cob_id, 0x80000200u);
   EXPECT_EQ(must_parse(cob("0x20000800")).rpdos(1).at(0).cob_id, 0x20000800u);  // 29-bit
   EXPECT_TRUE(mentions(must_refuse(cob("0x1200"), "1400sub1", "DefaultValue"),
@@ -264,9 +283,9 @@ TEST(EdsTolerance, CobIdsAreReadStrictly) {
   must_refuse(cob("$NODEID+0x7FF"), "1400sub1", "DefaultValue");
   EXPECT_TRUE(mentions(must_refuse(cob(""), "1400sub1", "DefaultValue"), "the COB-ID has no value"));
   EXPECT_TRUE(mentions(must_refuse(cob("0x100000000"), "1400sub1", "DefaultValue"), "outside UNSIGNED32"));
-  EXPECT_TRUE(mentions(must_refuse(replace(kBase, "[1400sub1]\nDataType=0x0007", "[1400sub1]\nDataType=0x0006"),
-                                   "1400sub1", "DataType"),
-                       "a COB-ID is UNSIGNED32"));
+  EXPECT_TRUE(mentions(
+      must_refuse(replace(kBase, "[1400sub1]\nDataType=0x0007", "[1400sub1]\nDataType=0x0006"), "1400sub1", "DataType"),
+      "a COB-ID is UNSIGNED32"));
 }
 
 TEST(EdsTolerance, LimitsOfWhatTheMasterWritesAreStrictOthersAreWarnedAndDropped) {
@@ -275,9 +294,9 @@ TEST(EdsTolerance, LimitsOfWhatTheMasterWritesAreStrictOthersAreWarnedAndDropped
                        "LowLimit is above HighLimit"));
   EXPECT_TRUE(mentions(must_refuse(replace(kBase, "LowLimit=-1000000", "LowLimit=-0x80000001"), "607A", "LowLimit"),
                        "outside INTEGER32"));
-  EXPECT_TRUE(mentions(must_refuse(replace(kBase, "DefaultValue=0\nLowLimit", "DefaultValue=1000001\nLowLimit"), "607A",
-                                   "DefaultValue"),
-                       "1000001 is outside LowLimit..HighLimit"));
+  EXPECT_TRUE(mentions(
+      must_refuse(replace(kBase, "DefaultValue=0\nLowLimit", "DefaultValue=1000001\nLowLimit"), "607A", "DefaultValue"),
+      "1000001 is outside LowLimit..HighLimit"));
   EXPECT_TRUE(mentions(must_refuse(replace(kBase, "LowLimit=-1000000", "LowLimit=low"), "607A", "LowLimit"),
                        "'low' is not an integer"));
   // The same on a read-only object: read, without the limits, and warned about.
@@ -298,8 +317,8 @@ TEST(EdsTolerance, LimitsOfWhatTheMasterWritesAreStrictOthersAreWarnedAndDropped
 TEST(EdsTolerance, TheBundledDescriptionsReadWithoutWarnings) {
   const std::string path = SETTLE_DRIVE_EDS_PATH;
   const std::string dir = path.substr(0, path.rfind('/') + 1);
-  for (const char* name : {"settle_drive.eds", "split_rpdo_drive.eds", "static_mapping_drive.eds",
-                           "velocity_feedback_drive.eds"}) {
+  for (const char* name :
+       {"settle_drive.eds", "split_rpdo_drive.eds", "static_mapping_drive.eds", "velocity_feedback_drive.eds"}) {
     const LoadResult r = load(dir + name);
     EXPECT_TRUE(r.description) << r.error;
     for (const Problem& w : r.warnings) ADD_FAILURE() << name << ": " << to_string(w);
