@@ -1,12 +1,14 @@
-// EDS/DCF reading: inih splits the file into sections and keys; this file gives them CiA 306's
-// meaning (object sections [IIII] and [IIIIsubS], the object lists, DeviceInfo, a DCF's
-// ParameterValue and NodeID) and checks what a master relies on.
+// EDS/DCF reading in three passes, each linear in the file: the lines counted against the
+// bounds (exceeded_bound), the file split into sections and keys (tokenize: lines of any length
+// read whole), then CiA 306's meaning (Builder: object sections [IIII] and [IIIIsubS] indexed by
+// object once, the object lists, DeviceInfo, a DCF's ParameterValue and NodeID), tolerant of
+// what tools write and strict about what a master configures the drive from.
 #include "settle/hal/eds_reader.hpp"
-
-#include <ini.h>
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -71,38 +73,95 @@ std::optional<std::uint64_t> parse_unsigned(std::string_view text) {
   return v;
 }
 
-// One section of the file: its keys in lower case, and the line it started on.
+// One section of the file: its keys in lower case (each with the spelling and line it was
+// written with, for messages), and the line it started on.
+struct Value {
+  std::string key;  // as written
+  std::string text;
+  int line{0};
+};
 struct Section {
-  std::map<std::string, std::string> keys;
+  std::string name;  // as written, without the brackets
+  std::map<std::string, Value> keys;
   int line{0};
   [[nodiscard]] const std::string* get(const char* key) const {
     const auto it = keys.find(key);
+    return it == keys.end() ? nullptr : &it->second.text;
+  }
+  // The key as CiA 306 spells it ("DataType"), found in any case.
+  [[nodiscard]] const Value* find(std::string_view key) const {
+    const auto it = keys.find(lower(key));
     return it == keys.end() ? nullptr : &it->second;
   }
 };
 
 struct Raw {
   std::map<std::string, Section> sections;  // upper-case section name
-  std::size_t values{0};
-  std::string error;
+  Problem error;                            // message empty: none
 };
 
-int on_value(void* user, const char* section, const char* name, const char* value) {
-  auto& raw = *static_cast<Raw*>(user);
-  if (++raw.values > 16 * max_entries) {
-    if (raw.error.empty()) raw.error = "more than " + std::to_string(16 * max_entries) + " keys";
-    return 0;
+// The INI layer, CiA 306's dialect: [section] headers, key=value lines (':' also separates, as
+// in the INI readers tools use), comment lines starting with ';' or '#', a ';' after white space
+// starting a comment at the end of a value, CRLF or LF line ends, an optional UTF-8 byte order
+// mark, white space trimmed around names and values. Section and key names are
+// case-insensitive. A line is read whole whatever its length (the file's size is bounded); a
+// line that is none of these, a section given twice and a key given twice in one section are
+// refused, naming the line.
+bool tokenize(std::string_view text, Raw& raw) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  Section* current = nullptr;
+  int line = 0;
+  const auto refuse = [&](std::string why, std::string key = {}) {
+    raw.error = Problem{current != nullptr ? current->name : std::string{}, std::move(key), std::move(why), line};
+    return false;
+  };
+  while (!text.empty()) {
+    ++line;
+    const std::size_t eol = text.find('\n');
+    std::string_view l = text.substr(0, eol);
+    text.remove_prefix(eol == std::string_view::npos ? text.size() : eol + 1);
+    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+    const std::string t = trim(l);
+    if (t.empty() || t[0] == ';' || t[0] == '#') continue;
+    if (t[0] == '[') {
+      const std::size_t close = t.find(']');
+      current = nullptr;
+      if (close == std::string::npos) return refuse("a section header without ']'");
+      const std::string after = trim(std::string_view{t}.substr(close + 1));
+      if (!after.empty() && after[0] != ';' && after[0] != '#') return refuse("text after the section header");
+      std::string name = trim(std::string_view{t}.substr(1, close - 1));
+      if (name.empty()) return refuse("a section without a name");
+      std::string upper = name;
+      for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      const auto [it, fresh] = raw.sections.try_emplace(std::move(upper));
+      if (!fresh) {
+        raw.error = Problem{
+            name, {}, "the section is given twice (first on line " + std::to_string(it->second.line) + ")", line};
+        return false;
+      }
+      it->second.name = std::move(name);
+      it->second.line = line;
+      current = &it->second;
+      continue;
+    }
+    const std::size_t eq = t.find_first_of("=:");
+    if (eq == std::string::npos) return refuse("not an INI line (a [section], key=value or a comment)");
+    std::string key = trim(std::string_view{t}.substr(0, eq));
+    if (key.empty()) return refuse("a value without a key");
+    if (current == nullptr) return refuse("a key before any [section]", key);
+    std::string_view value = std::string_view{t}.substr(eq + 1);
+    for (std::size_t i = 1; i < value.size(); ++i) {
+      if (value[i] == ';' && std::isspace(static_cast<unsigned char>(value[i - 1]))) {
+        value = value.substr(0, i);
+        break;
+      }
+    }
+    const auto [it, fresh] = current->keys.try_emplace(lower(key));
+    if (!fresh)
+      return refuse("given twice in the section (first on line " + std::to_string(it->second.line) + ")", key);
+    it->second = Value{std::move(key), trim(value), line};
   }
-  std::string s{section};
-  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  const std::string key = lower(trim(name));
-  auto& sec = raw.sections[s];
-  if (sec.keys.count(key) != 0) {
-    if (raw.error.empty()) raw.error = "[" + std::string{section} + "] gives " + std::string{name} + " twice";
-    return 0;
-  }
-  sec.keys.emplace(key, trim(value));
-  return 1;
+  return true;
 }
 
 // "1018" or "1018SUB2" (upper case) -> (index, sub, has_sub); anything else -> nullopt.
@@ -161,6 +220,7 @@ unsigned data_type_bits(std::uint16_t type) noexcept {
     case data_type::i32:
     case data_type::u32:
     case data_type::real32: return 32;
+    case data_type::real64:
     case data_type::i64:
     case data_type::u64: return 64;
     default: return 0;
@@ -177,44 +237,170 @@ bool data_type_is_signed(std::uint16_t type) noexcept {
   return type == data_type::i8 || type == data_type::i16 || type == data_type::i32 || type == data_type::i64;
 }
 
-std::optional<std::int64_t> parse_integer(std::string_view text, std::uint8_t node) {
-  std::string t = trim(text);
-  std::int64_t base = 0;
-  const std::string l = lower(t);
+bool data_type_is_real(std::uint16_t type) noexcept { return type == data_type::real32 || type == data_type::real64; }
+
+std::string to_string(const Problem& problem) {
+  std::string s;
+  if (problem.line > 0) s += "line " + std::to_string(problem.line) + ": ";
+  if (!problem.section.empty()) s += "[" + problem.section + "] ";
+  if (!problem.key.empty()) s += problem.key + ": ";
+  return s + problem.message;
+}
+
+namespace {
+
+// "$NODEID+v", "v+$NODEID", "$NODEID" or "v": whether the node id is added, and v's text.
+struct NodeTerm {
+  bool ok{true};
+  bool node{false};
+  std::string number;
+};
+NodeTerm split_node_id(std::string_view text) {
+  NodeTerm t{true, false, trim(text)};
+  const std::string l = lower(t.number);
   const std::string tag = "$nodeid";
-  if (const auto at = l.find(tag); at != std::string::npos) {
-    base = node;
-    std::string rest = t.substr(0, at) + t.substr(at + tag.size());
-    rest = trim(rest);
-    // $NODEID+v or v+$NODEID: strip the one '+' that joined them.
-    if (!rest.empty() && rest.front() == '+') {
-      rest = trim(rest.substr(1));
-    } else if (!rest.empty() && rest.back() == '+') {
-      rest = trim(rest.substr(0, rest.size() - 1));
-    } else if (!rest.empty()) {
-      return std::nullopt;
-    }
-    if (rest.empty()) return base;
-    t = rest;
+  const auto at = l.find(tag);
+  if (at == std::string::npos) return t;
+  t.node = true;
+  std::string rest = trim(t.number.substr(0, at) + t.number.substr(at + tag.size()));
+  // $NODEID+v or v+$NODEID: strip the one '+' that joined them.
+  if (!rest.empty() && rest.front() == '+') {
+    rest = trim(rest.substr(1));
+    t.ok = !rest.empty();
+  } else if (!rest.empty() && rest.back() == '+') {
+    rest = trim(rest.substr(0, rest.size() - 1));
+    t.ok = !rest.empty();
+  } else if (!rest.empty()) {
+    t.ok = false;
   }
+  t.number = rest;
+  return t;
+}
+
+const char* type_name(std::uint16_t type) {
+  switch (type) {
+    case data_type::boolean: return "BOOLEAN";
+    case data_type::i8: return "INTEGER8";
+    case data_type::i16: return "INTEGER16";
+    case data_type::i32: return "INTEGER32";
+    case data_type::i64: return "INTEGER64";
+    case data_type::u8: return "UNSIGNED8";
+    case data_type::u16: return "UNSIGNED16";
+    case data_type::u32: return "UNSIGNED32";
+    case data_type::u64: return "UNSIGNED64";
+    case data_type::real32: return "REAL32";
+    case data_type::real64: return "REAL64";
+    default: return "this data type";
+  }
+}
+
+__extension__ using Wide = __int128;
+
+// A value of integer type `type` from its text, $NODEID resolved for `node`, or why not.
+// Decimal, 0x hex or leading-0 octal, with an optional sign; a hex value of a signed type whose
+// top bit (of the type's width) is set is that type's two's complement, as tools write negative
+// values in hex (0xFFFFFFFFFFFFFFFF: an INTEGER64's -1; 0xFF: an INTEGER8's -1).
+struct Integer {
+  std::optional<std::int64_t> value;  // UNSIGNED64 above 2^63 - 1: its bits
+  std::string why;
+};
+Integer parse_typed(std::string_view text, std::uint16_t type, std::uint8_t node) {
+  const std::string quoted = "'" + trim(text) + "'";
+  const NodeTerm t = split_node_id(text);
+  if (!t.ok) return {std::nullopt, quoted + " is not a number ($NODEID and a number are joined by one '+')"};
+  std::string_view n = t.number;
   bool negative = false;
-  if (!t.empty() && (t[0] == '-' || t[0] == '+')) {
-    negative = t[0] == '-';
-    t.erase(0, 1);
+  if (!n.empty() && (n[0] == '-' || n[0] == '+')) {
+    negative = n[0] == '-';
+    n.remove_prefix(1);
   }
-  const auto v = parse_unsigned(t);
+  const bool hex = n.size() > 2 && n[0] == '0' && (n[1] == 'x' || n[1] == 'X');
+  std::uint64_t magnitude = 0;
+  if (!(t.node && n.empty())) {
+    const auto u = parse_unsigned(n);
+    if (!u) return {std::nullopt, quoted + " is not an integer (decimal, 0x hex or 0 octal)"};
+    magnitude = *u;
+  }
+  const unsigned bits = type == data_type::boolean ? 1 : data_type_bits(type);
+  const bool is_signed = data_type_is_signed(type);
+  Wide v = negative ? -Wide{magnitude} : Wide{magnitude};
+  if (hex && !negative && is_signed && v >= (Wide{1} << (bits - 1)) && v < (Wide{1} << bits)) v -= Wide{1} << bits;
+  if (t.node) v += node;
+  const Wide low = is_signed ? -(Wide{1} << (bits - 1)) : 0;
+  const Wide high = is_signed ? (Wide{1} << (bits - 1)) - 1 : (Wide{1} << bits) - 1;
+  if (v < low || v > high) {
+    return {std::nullopt, quoted + " is outside " + type_name(type) + " (" +
+                              std::to_string(static_cast<std::int64_t>(low)) + ".." +
+                              std::to_string(static_cast<std::uint64_t>(high)) + ")"};
+  }
+  return {static_cast<std::int64_t>(static_cast<std::uint64_t>(v)), {}};
+}
+
+// A REAL32/REAL64 value from its text (decimal, such as 4.5, -0.25 or 1e-3), or why not.
+struct Real {
+  std::optional<double> value;
+  std::string why;
+};
+Real parse_real(std::string_view text, std::uint16_t type) {
+  const std::string t = trim(text);
+  std::string_view v = t;
+  if (!v.empty() && v[0] == '+') v.remove_prefix(1);
+  const std::string_view digits = !v.empty() && v[0] == '-' ? v.substr(1) : v;
+  if (digits.size() > 1 && digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X')) {
+    return {std::nullopt, "'" + t + "': a " + type_name(type) + " is written in decimal (such as 4.5), not hex"};
+  }
+  double d = 0;
+  const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), d);
+  if (v.empty() || ec != std::errc{} || end != v.data() + v.size() || !std::isfinite(d)) {
+    return {std::nullopt, "'" + t + "' is not a decimal number"};
+  }
+  if (type == data_type::real32 && std::fabs(d) > static_cast<double>(std::numeric_limits<float>::max())) {
+    return {std::nullopt, "'" + t + "' is outside REAL32"};
+  }
+  return {d, {}};
+}
+
+// a < b for two values of `type` (UNSIGNED64's come as bits).
+bool less(std::int64_t a, std::int64_t b, std::uint16_t type) {
+  return type == data_type::u64 ? static_cast<std::uint64_t>(a) < static_cast<std::uint64_t>(b) : a < b;
+}
+
+std::string integer_text(std::int64_t v, std::uint16_t type) {
+  return type == data_type::u64 ? std::to_string(static_cast<std::uint64_t>(v)) : std::to_string(v);
+}
+
+}  // namespace
+
+std::optional<std::int64_t> parse_integer(std::string_view text, std::uint8_t node) {
+  const NodeTerm t = split_node_id(text);
+  if (!t.ok) return std::nullopt;
+  if (t.node && t.number.empty()) return std::int64_t{node};
+  std::string_view n = t.number;
+  bool negative = false;
+  if (!n.empty() && (n[0] == '-' || n[0] == '+')) {
+    negative = n[0] == '-';
+    n.remove_prefix(1);
+  }
+  const auto v = parse_unsigned(n);
   if (!v) return std::nullopt;
   // 64-bit objects aside, every value fits an int64 with room for the node id.
   if (*v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) - 0x80) return std::nullopt;
   const auto magnitude = static_cast<std::int64_t>(*v);
-  return base + (negative ? -magnitude : magnitude);
+  return (t.node ? node : 0) + (negative ? -magnitude : magnitude);
 }
 
 std::optional<std::int64_t> Entry::value(std::uint8_t node) const {
   if (!data_type_is_integer(data_type)) return std::nullopt;
   const std::string& text = parameter_value.empty() ? default_value : parameter_value;
   if (text.empty()) return std::nullopt;
-  return parse_integer(text, node);
+  return parse_typed(text, data_type, node).value;
+}
+
+std::optional<double> Entry::real_value() const {
+  if (!data_type_is_real(data_type)) return std::nullopt;
+  const std::string& text = parameter_value.empty() ? default_value : parameter_value;
+  if (text.empty()) return std::nullopt;
+  return parse_real(text, data_type).value;
 }
 
 const Entry* Description::find(std::uint16_t index, std::uint8_t sub) const noexcept {
@@ -265,125 +451,385 @@ std::vector<Pdo> pdos(const Description& d, bool receive, std::uint8_t node) {
 std::vector<Pdo> Description::rpdos(std::uint8_t node) const { return pdos(*this, true, node); }
 std::vector<Pdo> Description::tpdos(std::uint8_t node) const { return pdos(*this, false, node); }
 
+namespace {
+
+bool is_communication(std::uint16_t index) {
+  return (index >= 0x1400 && index <= 0x15FF) || (index >= 0x1800 && index <= 0x19FF);
+}
+bool is_mapping(std::uint16_t index) {
+  return (index >= 0x1600 && index <= 0x17FF) || (index >= 0x1A00 && index <= 0x1BFF);
+}
+bool is_string(std::uint16_t type) {
+  return type == data_type::visible_string || type == data_type::octet_string || type == data_type::unicode_string ||
+         type == data_type::domain;
+}
+
+// Where a key is, as a problem's place: the key's spelling and line when the section has it,
+// else CiA 306's spelling and the section's line.
+Problem at(const Section& section, std::string_view key, std::string message) {
+  const Value* v = key.empty() ? nullptr : section.find(key);
+  return Problem{section.name, v != nullptr ? v->key : std::string{key}, std::move(message),
+                 v != nullptr ? v->line : section.line};
+}
+
+}  // namespace
+
 LoadResult Builder::build(const Raw& raw) {
   LoadResult r{};
   Description d{};
-  auto fail = [&](std::string message) {
-    r.error = std::move(message);
+  const auto fail = [&](Problem why) {
+    r.error = to_string(why);
+    r.refusal = std::move(why);
     return r;
   };
-  // Object sections: a VAR at [IIII] is sub 0; an ARRAY or RECORD [IIII] has its subs in
-  // [IIIIsubS] and defines no value itself. Data type definitions (0x0001..0x025F) are skipped.
+  const auto warn = [&](Problem why) { r.warnings.push_back(std::move(why)); };
+
+  // Object sections, indexed once: each object's [IIII] and its [IIIIsubS] by sub-index (the
+  // file's sections are visited once; every look-up after is by index).
+  struct Sections {
+    const Section* object{nullptr};  // [IIII], when the file has it
+    std::vector<std::pair<std::uint8_t, const Section*>> subs;
+    [[nodiscard]] const Section* sub(std::uint8_t s) const {
+      const auto it =
+          std::lower_bound(subs.begin(), subs.end(), s, [](const auto& p, std::uint8_t v) { return p.first < v; });
+      return it != subs.end() && it->first == s ? it->second : nullptr;
+    }
+  };
+  std::map<std::uint16_t, Sections> objects;
   for (const auto& [name, sec] : raw.sections) {
     const auto obj = object_section(name);
-    if (!obj || obj->index < 0x1000) continue;
-    const bool has_subs = raw.sections.count(name.substr(0, 4) + "SUB0") != 0;
-    if (!obj->has_sub && has_subs) {
-      const std::string* ot = sec.get("objecttype");
-      const auto type = ot ? parse_integer(*ot, 0) : std::nullopt;
-      if (!type || (*type != 0x8 && *type != 0x9)) {
-        return fail("[" + name + "] has sub-index sections but is not an ARRAY or RECORD (ObjectType 0x8 or 0x9)");
+    if (!obj || obj->index < 0x1000) continue;  // data type definitions (0x0001..0x025F)
+    Sections& o = objects[obj->index];
+    if (obj->has_sub) {
+      o.subs.emplace_back(obj->sub, &sec);
+    } else {
+      o.object = &sec;
+    }
+  }
+
+  // A VAR at [IIII] is sub 0; an ARRAY or RECORD [IIII] has its subs in [IIIIsubS] and defines
+  // no value itself (its DataType, if any, names a structure; the subs give theirs).
+  struct Item {
+    std::uint16_t index;
+    std::uint8_t sub;
+    const Section* section;
+  };
+  std::vector<Item> items;
+  for (auto& [index, o] : objects) {
+    std::sort(o.subs.begin(), o.subs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t i = 1; i < o.subs.size(); ++i) {
+      if (o.subs[i].first == o.subs[i - 1].first) {
+        return fail(Problem{
+            o.subs[i].second->name,
+            {},
+            "describes " + object_name(index, o.subs[i].first) + " as [" + o.subs[i - 1].second->name + "] does",
+            o.subs[i].second->line});
       }
-      const std::string* sn = sec.get("subnumber");
-      const auto stated = sn ? parse_integer(*sn, 0) : std::nullopt;
-      const auto described = std::count_if(raw.sections.begin(), raw.sections.end(), [&](const auto& s) {
-        const auto o = object_section(s.first);
-        return o && o->has_sub && o->index == obj->index;
-      });
-      if (!stated || *stated != described) {
-        return fail("[" + name + "] SubNumber " + (sn ? *sn : std::string{"(missing)"}) + " but " +
-                    std::to_string(described) + " sub-index sections");
+    }
+    if (o.object == nullptr) {
+      const Section& first = *o.subs.front().second;
+      return fail(Problem{first.name, {}, "has no object section [" + first.name.substr(0, 4) + "]", first.line});
+    }
+    const Section& sec = *o.object;
+    if (const Value* compact = sec.find("CompactSubObj"); compact != nullptr && !compact->text.empty()) {
+      const auto n = parse_integer(compact->text, 0);
+      if (!n || *n != 0) {
+        return fail(at(sec, "CompactSubObj",
+                       hex4(index) + ": compact sub-objects are not read; describe each sub-index in an [" +
+                           sec.name.substr(0, 4) + "subS] section"));
       }
+    }
+    std::int64_t type = 0x7;  // CiA 306: a VAR when ObjectType is not given
+    if (const Value* ot = sec.find("ObjectType"); ot != nullptr) {
+      const auto t = parse_integer(ot->text, 0);
+      if (!t) return fail(at(sec, "ObjectType", "'" + ot->text + "' is not a number (0x7 VAR, 0x8 ARRAY, 0x9 RECORD)"));
+      type = *t;
+    }
+    const bool aggregate = type == 0x8 || type == 0x9;
+    if (!aggregate && !o.subs.empty()) {
+      return fail(
+          at(sec, "ObjectType", "has sub-index sections but is not an ARRAY or RECORD (ObjectType 0x8 or 0x9)"));
+    }
+    if (!aggregate) {
+      items.push_back(Item{index, 0, o.object});
       continue;
     }
-    if (obj->has_sub && raw.sections.count(name.substr(0, 4)) == 0) {
-      return fail("[" + name + "] has no object section [" + name.substr(0, 4) + "]");
+    if (o.subs.empty()) {
+      warn(at(sec, "ObjectType",
+              "an ARRAY or RECORD without [" + sec.name.substr(0, 4) + "subS] sections: " + hex4(index) +
+                  " has no entries"));
+      continue;
     }
-    if (d.entries_.size() >= max_entries) {
-      return fail("more than " + std::to_string(max_entries) + " objects");
+    const std::string present = std::to_string(o.subs.size()) + " sub-index sections";
+    if (const Value* sn = sec.find("SubNumber"); sn == nullptr) {
+      warn(at(sec, "SubNumber", "missing: the " + present + " present are read"));
+    } else if (const auto stated = parse_integer(sn->text, 0);
+               !stated || *stated != static_cast<std::int64_t>(o.subs.size())) {
+      warn(at(sec, "SubNumber", "SubNumber " + sn->text + " but " + present + ": the sections present are read"));
     }
+    for (const auto& [sub, sub_section] : o.subs) items.push_back(Item{index, sub, sub_section});
+  }
+
+  d.entries_.reserve(items.size());
+  for (const Item& item : items) {
+    const Section& sec = *item.section;
     Entry e{};
-    e.index = obj->index;
-    e.sub = obj->sub;
-    const std::string where = "[" + name + "] (" + object_name(e.index, e.sub) + ")";
+    e.index = item.index;
+    e.sub = item.sub;
+    const std::string obj = object_name(e.index, e.sub);
     if (const std::string* v = sec.get("parametername")) e.name = *v;
-    const std::string* dt = sec.get("datatype");
-    const auto type = dt ? parse_integer(*dt, 0) : std::nullopt;
-    if (!type || *type <= 0 || *type > 0xFFFF) return fail(where + ": no valid DataType");
+    const Value* dt = sec.find("DataType");
+    const auto type = dt ? parse_integer(dt->text, 0) : std::nullopt;
+    if (!type || *type <= 0 || *type > 0xFFFF) {
+      return fail(at(sec, "DataType", obj + " needs a DataType: a CiA 301 data type index such as 0x0007"));
+    }
     e.data_type = static_cast<std::uint16_t>(*type);
     const std::string* acc = sec.get("accesstype");
     const auto access = acc ? parse_access(*acc) : std::nullopt;
-    if (!access) return fail(where + ": AccessType must be ro, wo, rw, rwr, rww or const");
+    if (!access) return fail(at(sec, "AccessType", obj + ": AccessType must be ro, wo, rw, rwr, rww or const"));
     e.access = *access;
-    if (const std::string* m = sec.get("pdomapping")) {
-      if (*m != "0" && *m != "1") return fail(where + ": PDOMapping must be 0 or 1");
-      e.pdo_mappable = *m == "1";
+    if (const Value* m = sec.find("PDOMapping"); m != nullptr && !m->text.empty()) {
+      const auto mappable = parse_integer(m->text, 0);
+      if (!mappable || (*mappable != 0 && *mappable != 1)) {
+        return fail(at(sec, "PDOMapping", obj + ": PDOMapping must be 0 or 1 (decimal or hex), not '" + m->text + "'"));
+      }
+      e.pdo_mappable = *mappable == 1;
     }
     if (const std::string* v = sec.get("defaultvalue")) e.default_value = *v;
     if (const std::string* v = sec.get("parametervalue")) e.parameter_value = *v;
-    for (const auto& [key, value] : sec.keys) {
-      if (key == "lowlimit" || key == "highlimit") {
-        if (value.empty()) continue;
-        const auto limit = parse_integer(value, 0);
-        if (!limit) return fail(where + ": " + key + " is not a number");
-        (key == "lowlimit" ? e.low_limit : e.high_limit) = *limit;
+    const bool integer = data_type_is_integer(e.data_type);
+    const bool real = data_type_is_real(e.data_type);
+
+    // The value: checked for every node a $NODEID may stand for.
+    for (const char* key : {"DefaultValue", "ParameterValue"}) {
+      const std::string& text = key[0] == 'D' ? e.default_value : e.parameter_value;
+      if (text.empty()) continue;
+      std::string why;
+      if (integer) {
+        for (const std::uint8_t node : {std::uint8_t{1}, std::uint8_t{127}}) {
+          if (why.empty()) why = parse_typed(text, e.data_type, node).why;
+        }
+      } else if (real) {
+        why = parse_real(text, e.data_type).why;
+      }
+      if (!why.empty()) return fail(at(sec, key, obj + ": " + why));
+    }
+
+    // Limits: strict for an object the master may write (a wrong limit would let it write what
+    // the drive does not accept, or refuse what it does); dropped with a warning otherwise.
+    const bool strict = e.writable();
+    const std::string dropped = strict ? "" : " (ignored: the object is not writable)";
+    const auto limit_problem = [&](const char* key, const std::string& why) -> bool {
+      if (strict) return true;
+      warn(at(sec, key, obj + ": " + why + dropped));
+      return false;
+    };
+    for (const char* key : {"LowLimit", "HighLimit"}) {
+      const Value* v = sec.find(key);
+      if (v == nullptr || v->text.empty()) continue;
+      const bool low = key[0] == 'L';
+      if (integer) {
+        const Integer p = parse_typed(v->text, e.data_type, 0);
+        if (!p.value) {
+          if (limit_problem(key, p.why)) return fail(at(sec, key, obj + ": " + p.why));
+          continue;
+        }
+        (low ? e.low_limit : e.high_limit) = *p.value;
+      } else if (real) {
+        const Real p = parse_real(v->text, e.data_type);
+        if (!p.value) {
+          if (limit_problem(key, p.why)) return fail(at(sec, key, obj + ": " + p.why));
+          continue;
+        }
+        (low ? e.low_limit_real : e.high_limit_real) = *p.value;
+      } else if (is_string(e.data_type)) {
+        warn(at(sec, key, obj + ": a limit on a string or domain means nothing and is not read"));
+      } else if (const auto n = parse_integer(v->text, 0)) {
+        (low ? e.low_limit : e.high_limit) = *n;  // a type this reader does not know: as written
+      } else {
+        warn(at(sec, key,
+                obj + ": '" + v->text + "' is not read (" + hex4(e.data_type) + " is not a type this reader knows)"));
       }
     }
-    if (data_type_is_integer(e.data_type)) {
-      for (const std::string* text : {&e.default_value, &e.parameter_value}) {
-        if (!text->empty() && !parse_integer(*text, 1)) {
-          return fail(where + ": value '" + *text + "' is not an integer");
+    const bool inverted = (e.low_limit && e.high_limit && less(*e.high_limit, *e.low_limit, e.data_type)) ||
+                          (e.low_limit_real && e.high_limit_real && *e.high_limit_real < *e.low_limit_real);
+    if (inverted) {
+      const std::string why = "LowLimit is above HighLimit";
+      if (limit_problem("LowLimit", why)) return fail(at(sec, "LowLimit", obj + ": " + why));
+      e.low_limit.reset();
+      e.high_limit.reset();
+      e.low_limit_real.reset();
+      e.high_limit_real.reset();
+    }
+    // The values within the limits.
+    for (const char* key : {"DefaultValue", "ParameterValue"}) {
+      const std::string& text = key[0] == 'D' ? e.default_value : e.parameter_value;
+      if (text.empty()) continue;
+      std::string why;
+      if (integer && (e.low_limit || e.high_limit)) {
+        for (const std::uint8_t node : {std::uint8_t{1}, std::uint8_t{127}}) {
+          const std::int64_t v = *parse_typed(text, e.data_type, node).value;
+          if ((e.low_limit && less(v, *e.low_limit, e.data_type)) ||
+              (e.high_limit && less(*e.high_limit, v, e.data_type))) {
+            why = integer_text(v, e.data_type) + " is outside LowLimit..HighLimit";
+          }
+        }
+      } else if (real && (e.low_limit_real || e.high_limit_real)) {
+        const double v = *parse_real(text, e.data_type).value;
+        if ((e.low_limit_real && v < *e.low_limit_real) || (e.high_limit_real && v > *e.high_limit_real)) {
+          why = "'" + text + "' is outside LowLimit..HighLimit";
         }
       }
+      if (why.empty()) continue;
+      if (strict) return fail(at(sec, key, obj + ": " + why));
+      warn(at(sec, key, obj + ": " + why));
     }
     d.entries_.push_back(std::move(e));
   }
   std::sort(d.entries_.begin(), d.entries_.end(),
             [](const Entry& a, const Entry& b) { return a.index != b.index ? a.index < b.index : a.sub < b.sub; });
 
+  // The PDO objects, strictly: what the master configures the drive's process data from.
+  for (const auto& [index, o] : objects) {
+    if ((!is_communication(index) && !is_mapping(index)) || !d.has(index)) continue;
+    const Section& sec = *o.object;
+    const std::uint8_t key_sub = is_communication(index) ? 1 : 0;
+    const Entry* key_entry = d.find(index, key_sub);
+    const Section* key_sec = o.sub(key_sub);
+    if (key_entry == nullptr || key_sec == nullptr) {
+      return fail(
+          Problem{sec.name,
+                  {},
+                  hex4(index) + (key_sub == 1 ? " (PDO communication) has no sub-index 1, the COB-ID"
+                                              : " (PDO mapping) has no sub-index 0, the number of mapped objects"),
+                  sec.line});
+    }
+    const auto value_key = [](const Entry& e) { return e.parameter_value.empty() ? "DefaultValue" : "ParameterValue"; };
+    if (key_sub == 1) {
+      if (key_entry->data_type != data_type::u32) {
+        return fail(at(*key_sec, "DataType", object_name(index, 1) + ": a COB-ID is UNSIGNED32 (0x0007)"));
+      }
+      if (!key_entry->value(1))
+        return fail(at(*key_sec, "DefaultValue", object_name(index, 1) + ": the COB-ID has no value"));
+      for (const std::uint8_t node : {std::uint8_t{1}, std::uint8_t{127}}) {
+        const auto cob = static_cast<std::uint32_t>(*key_entry->value(node));
+        if ((cob & (1U << 29)) == 0 && (cob & 0x1FFFF800U) != 0) {
+          return fail(at(*key_sec, value_key(*key_entry),
+                         object_name(index, 1) + ": an 11-bit COB-ID (bit 29 clear) with bits 11..28 set"));
+        }
+      }
+      if (const Entry* tt = d.find(index, 2); tt != nullptr && tt->data_type != data_type::u8) {
+        return fail(at(*o.sub(2), "DataType", object_name(index, 2) + ": the transmission type is UNSIGNED8 (0x0005)"));
+      }
+      continue;
+    }
+    if (key_entry->data_type != data_type::u8) {
+      return fail(
+          at(*key_sec, "DataType", object_name(index, 0) + ": the number of mapped objects is UNSIGNED8 (0x0005)"));
+    }
+    const auto count = key_entry->value(1);
+    if (!count)
+      return fail(at(*key_sec, "DefaultValue", object_name(index, 0) + ": the number of mapped objects has no value"));
+    if (*count > 64) {
+      return fail(at(*key_sec, value_key(*key_entry), object_name(index, 0) + ": more than 64 mapped objects"));
+    }
+    for (std::int64_t i = 1; i <= *count; ++i) {
+      const auto sub = static_cast<std::uint8_t>(i);
+      const Entry* m = d.find(index, sub);
+      const Section* msec = o.sub(sub);
+      if (m == nullptr || msec == nullptr) {
+        return fail(at(*key_sec, value_key(*key_entry),
+                       object_name(index, 0) + " maps " + std::to_string(*count) + " objects but " +
+                           object_name(index, sub) + " is not described"));
+      }
+      const std::string name = object_name(index, sub);
+      if (m->data_type != data_type::u32)
+        return fail(at(*msec, "DataType", name + ": a mapping entry is UNSIGNED32 (0x0007)"));
+      const auto raw1 = m->value(1);
+      if (!raw1) return fail(at(*msec, "DefaultValue", name + ": the mapping entry has no value"));
+      if (m->value(127) != raw1)
+        return fail(at(*msec, value_key(*m), name + ": a mapping entry cannot depend on $NODEID"));
+      const auto entry = static_cast<std::uint32_t>(*raw1);
+      const unsigned bits = entry & 0xFFU;
+      const auto mapped_index = static_cast<std::uint16_t>(entry >> 16U);
+      const auto mapped_sub = static_cast<std::uint8_t>(entry >> 8U);
+      if (bits == 0 || bits > 64) {
+        return fail(
+            at(*msec, value_key(*m), name + ": maps " + std::to_string(bits) + " bits (a mapped object has 1..64)"));
+      }
+      if (const Entry* mapped = d.find(mapped_index, mapped_sub); mapped != nullptr) {
+        if (const unsigned size = data_type_bits(mapped->data_type); size != 0 && size != bits) {
+          return fail(at(*msec, value_key(*m),
+                         name + ": maps " + object_name(mapped_index, mapped_sub) + " with " + std::to_string(bits) +
+                             " bits, but it is described with " + std::to_string(size)));
+        }
+      }
+    }
+  }
+
   // Every object the lists name is described.
   for (const char* list : {"MANDATORYOBJECTS", "OPTIONALOBJECTS", "MANUFACTUREROBJECTS"}) {
     const auto it = raw.sections.find(list);
     if (it == raw.sections.end()) continue;
-    const std::string* count_text = it->second.get("supportedobjects");
+    const Section& sec = it->second;
+    const std::string* count_text = sec.get("supportedobjects");
     const auto count = count_text ? parse_integer(*count_text, 0) : std::nullopt;
-    if (!count || *count < 0 || *count > static_cast<std::int64_t>(max_entries)) {
-      return fail(std::string{"["} + list + "]: no valid SupportedObjects");
+    if (!count || *count < 0 || *count > static_cast<std::int64_t>(max_objects)) {
+      return fail(
+          at(sec, "SupportedObjects", "missing or not a number of objects (0.." + std::to_string(max_objects) + ")"));
     }
     for (std::int64_t i = 1; i <= *count; ++i) {
-      const std::string* item = it->second.get(std::to_string(i).c_str());
+      const std::string key = std::to_string(i);
+      const std::string* item = sec.get(key.c_str());
       const auto index = item ? parse_integer(*item, 0) : std::nullopt;
       if (!index || *index < 0 || *index > 0xFFFF) {
-        return fail(std::string{"["} + list + "]: entry " + std::to_string(i) + " is missing or not an index");
+        return fail(
+            at(sec, key, "entry " + key + " of SupportedObjects=" + *count_text + " is missing or not an index"));
       }
       if (*index >= 0x1000 && !d.has(static_cast<std::uint16_t>(*index))) {
-        return fail(hex4(static_cast<std::uint16_t>(*index)) + " is listed in [" + list + "] but not described");
+        return fail(at(
+            sec, key, hex4(static_cast<std::uint16_t>(*index)) + " is listed in [" + sec.name + "] but not described"));
       }
       d.listed_.push_back(static_cast<std::uint16_t>(*index));
     }
   }
-  if (!d.has(0x1000)) return fail("0x1000 (device type) is not described: not a CANopen device description");
+  if (!d.has(0x1000))
+    return fail(Problem{{}, {}, "0x1000 (device type) is not described: not a CANopen device description", 0});
 
   if (const auto it = raw.sections.find("DEVICEINFO"); it != raw.sections.end()) {
     const Section& s = it->second;
-    auto number = [&](const char* key) -> std::uint32_t {
-      const std::string* v = s.get(key);
-      const auto n = v ? parse_integer(*v, 0) : std::nullopt;
-      return n && *n >= 0 && *n <= 0xFFFFFFFF ? static_cast<std::uint32_t>(*n) : 0u;
+    // The identity the master checks at start-up is read strictly; the PDO counts and the
+    // granularity, which nothing configures from, are taken as 0 with a warning when malformed.
+    bool bad = false;
+    auto number = [&](const char* key, bool strict) -> std::uint32_t {
+      const Value* v = s.find(key);
+      if (v == nullptr || v->text.empty()) return 0;
+      const auto n = parse_integer(v->text, 0);
+      if (n && *n >= 0 && *n <= 0xFFFFFFFF) return static_cast<std::uint32_t>(*n);
+      Problem p = at(s, key, "'" + v->text + "' is not an UNSIGNED32");
+      if (strict && !bad) {
+        bad = true;
+        fail(std::move(p));
+      } else if (!strict) {
+        p.message += ": read as 0";
+        warn(std::move(p));
+      }
+      return 0;
     };
     if (const std::string* v = s.get("vendorname")) d.device_.vendor_name = *v;
     if (const std::string* v = s.get("productname")) d.device_.product_name = *v;
-    d.device_.vendor_number = number("vendornumber");
-    d.device_.product_number = number("productnumber");
-    d.device_.revision_number = number("revisionnumber");
-    d.device_.nr_rx_pdo = number("nrofrxpdo");
-    d.device_.nr_tx_pdo = number("nroftxpdo");
-    d.device_.granularity = number("granularity");
+    d.device_.vendor_number = number("VendorNumber", true);
+    d.device_.product_number = number("ProductNumber", true);
+    d.device_.revision_number = number("RevisionNumber", true);
+    d.device_.nr_rx_pdo = number("NrOfRXPDO", false);
+    d.device_.nr_tx_pdo = number("NrOfTXPDO", false);
+    d.device_.granularity = number("Granularity", false);
+    if (bad) return r;
   }
   if (const auto it = raw.sections.find("DEVICECOMISSIONING"); it != raw.sections.end()) {
     if (const std::string* v = it->second.get("nodeid")) {
       const auto id = parse_integer(*v, 0);
-      if (!id || *id < 1 || *id > 127) return fail("[DeviceComissioning] NodeID must be 1..127");
+      if (!id || *id < 1 || *id > 127) return fail(at(it->second, "NodeID", "NodeID must be 1..127"));
       d.dcf_node_id_ = static_cast<std::uint8_t>(*id);
     }
   }
@@ -391,34 +837,74 @@ LoadResult Builder::build(const Raw& raw) {
   return r;
 }
 
+namespace {
+
+// The first pass: the lines of each kind counted against the bounds, nothing stored. "" or the
+// bound the text exceeds.
+std::string exceeded_bound(std::string_view text) {
+  std::size_t sections = 0;
+  std::size_t objects = 0;
+  std::size_t keys = 0;
+  while (!text.empty()) {
+    const std::size_t eol = text.find('\n');
+    std::string_view l = text.substr(0, eol);
+    text.remove_prefix(eol == std::string_view::npos ? text.size() : eol + 1);
+    while (!l.empty() && std::isspace(static_cast<unsigned char>(l.front()))) l.remove_prefix(1);
+    if (l.empty() || l.front() == ';' || l.front() == '#') continue;
+    if (l.front() == '[') {
+      ++sections;
+      const std::size_t close = l.find(']');
+      if (close == 5 &&
+          std::all_of(l.begin() + 1, l.begin() + 5,
+                      [](char c) { return std::isxdigit(static_cast<unsigned char>(c)) != 0; }) &&
+          l[1] != '0') {
+        ++objects;  // [IIII] with IIII >= 0x1000
+      }
+    } else if (l.find_first_of("=:") != std::string_view::npos) {
+      ++keys;
+    }
+  }
+  const auto over = [](const char* bound, std::size_t value, const char* what) {
+    return "more than " + std::string{bound} + " (" + std::to_string(value) + ") " + what;
+  };
+  if (sections > max_sections) return over("max_sections", max_sections, "sections");
+  if (objects > max_objects) return over("max_objects", max_objects, "object sections [IIII]");
+  if (keys > max_keys) return over("max_keys", max_keys, "key=value lines");
+  return {};
+}
+
+LoadResult refused(Problem why) {
+  LoadResult r{};
+  r.error = to_string(why);
+  r.refusal = std::move(why);
+  return r;
+}
+
+}  // namespace
+
 LoadResult parse(std::string_view text) {
   if (text.size() > max_file_bytes) {
-    return LoadResult{std::nullopt, "larger than " + std::to_string(max_file_bytes) + " bytes"};
+    return refused(Problem{{}, {}, "larger than max_file_bytes (" + std::to_string(max_file_bytes) + " bytes)", 0});
   }
+  if (std::string why = exceeded_bound(text); !why.empty()) return refused(Problem{{}, {}, std::move(why), 0});
   Raw raw{};
-  const std::string copy{text};  // inih wants a terminated string
-  const int status = ini_parse_string(copy.c_str(), on_value, &raw);
-  if (status < 0) return LoadResult{std::nullopt, "out of memory while reading"};
-  if (status != 0 || !raw.error.empty()) {
-    std::string why = "line " + std::to_string(status) + ": ";
-    why += raw.error.empty() ? "not an INI line" : raw.error;
-    return LoadResult{std::nullopt, why};
-  }
+  if (!tokenize(text, raw)) return refused(std::move(raw.error));
   return Builder::build(raw);
 }
 
 LoadResult load(const std::string& path) {
+  const auto fail = [&](const std::string& why) { return refused(Problem{{}, {}, path + ": " + why, 0}); };
   std::ifstream in{path, std::ios::binary};
-  if (!in) return LoadResult{std::nullopt, path + ": cannot be opened"};
+  if (!in) return fail("cannot be opened");
   in.seekg(0, std::ios::end);
   const std::streamoff size = in.tellg();
-  if (size < 0) return LoadResult{std::nullopt, path + ": cannot be read"};
+  if (size < 0) return fail("cannot be read");
   if (static_cast<std::uint64_t>(size) > max_file_bytes) {
-    return LoadResult{std::nullopt, path + ": larger than " + std::to_string(max_file_bytes) + " bytes"};
+    return fail("larger than max_file_bytes (" + std::to_string(max_file_bytes) + " bytes)");
   }
   in.seekg(0);
   std::string text(static_cast<std::size_t>(size), '\0');
-  if (!in.read(text.data(), size)) return LoadResult{std::nullopt, path + ": cannot be read"};
+  if (!in.read(text.data(), size)) return fail("cannot be read");
   LoadResult r = parse(text);
   if (!r.error.empty()) r.error = path + ": " + r.error;
   return r;

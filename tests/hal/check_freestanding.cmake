@@ -16,7 +16,7 @@ foreach(source IN LISTS sources)
      OR name STREQUAL "eds_drive_config.cpp" OR name STREQUAL "eds_drive_config.hpp")
     # The host-only libraries: the Linux adapters (settle_hal_socketcan), the one place OS headers
     # belong, and the EDS/DCF reader and the start-up configuration built from it (settle_hal_eds:
-    # files, strings, inih).
+    # files, strings).
     continue()
   endif()
   file(STRINGS ${source} includes REGEX "^#include")

@@ -1,4 +1,4 @@
-// A drive's description from its EDS or DCF file (CiA 306, INI format, read with inih): every
+// A drive's description from its EDS or DCF file (CiA 306, INI format, read here): every
 // object's index, sub-index, name, data type, access, PDO mappability, limits and default (or,
 // in a DCF, configured) value, the device's identity, and its PDO communication and mapping
 // objects. Host only (files, strings, the heap): the master configures a drive from it and the
@@ -14,9 +14,13 @@
 
 namespace settle::hal::eds {
 
-// Bounds checked before anything grows: a description larger than these is refused.
-inline constexpr std::size_t max_file_bytes = 4u << 20;
-inline constexpr std::size_t max_entries = 16384;
+// Bounds checked before anything is read or grows (a first pass over the text counts the lines
+// of each kind): a description beyond one of them is refused, the refusal naming the bound.
+// Reading is linear in the file's size within them (sections are indexed by object once).
+inline constexpr std::size_t max_file_bytes = 4u << 20;  // the whole file, bytes
+inline constexpr std::size_t max_objects = 16384;        // object sections [IIII], index >= 0x1000
+inline constexpr std::size_t max_sections = 65536;       // all [sections], sub-index ones included
+inline constexpr std::size_t max_keys = 524288;          // all key=value lines
 
 enum class Access : std::uint8_t { ro, wo, rw, rwr, rww, constant };
 [[nodiscard]] const char* to_string(Access access) noexcept;
@@ -35,6 +39,7 @@ inline constexpr std::uint16_t visible_string = 0x0009;
 inline constexpr std::uint16_t octet_string = 0x000A;
 inline constexpr std::uint16_t unicode_string = 0x000B;
 inline constexpr std::uint16_t domain = 0x000F;
+inline constexpr std::uint16_t real64 = 0x0011;
 inline constexpr std::uint16_t i64 = 0x0015;
 inline constexpr std::uint16_t u64 = 0x001B;
 }  // namespace data_type
@@ -43,6 +48,18 @@ inline constexpr std::uint16_t u64 = 0x001B;
 [[nodiscard]] unsigned data_type_bits(std::uint16_t type) noexcept;
 [[nodiscard]] bool data_type_is_integer(std::uint16_t type) noexcept;
 [[nodiscard]] bool data_type_is_signed(std::uint16_t type) noexcept;
+[[nodiscard]] bool data_type_is_real(std::uint16_t type) noexcept;  // REAL32, REAL64
+
+// Where in the file, and what: a warning about what the reader tolerated, or the reason it
+// refused the file (naming the section, the key and the rule).
+struct Problem {
+  std::string section;  // as written, without the brackets; empty when about the whole file
+  std::string key;      // as written; empty when about the section as a whole
+  std::string message;  // the rule, or what was read instead
+  int line{0};          // the key's (else the section's) line; 0 when about the whole file
+};
+// "line 12: [607Fsub0] LowLimit: message", leaving out what is empty.
+[[nodiscard]] std::string to_string(const Problem& problem);
 
 struct Entry {
   std::uint16_t index{0};
@@ -53,8 +70,12 @@ struct Entry {
   bool pdo_mappable{false};
   std::string default_value;    // as written (integers may use $NODEID); empty when absent
   std::string parameter_value;  // a DCF's configured value; empty when absent
+  // LowLimit/HighLimit of an integer type (UNSIGNED64: the value's bits, as value() gives them).
   std::optional<std::int64_t> low_limit;
   std::optional<std::int64_t> high_limit;
+  // LowLimit/HighLimit of a REAL32 or REAL64.
+  std::optional<double> low_limit_real;
+  std::optional<double> high_limit_real;
 
   [[nodiscard]] bool readable() const noexcept { return access != Access::wo; }
   [[nodiscard]] bool writable() const noexcept {
@@ -62,7 +83,11 @@ struct Entry {
   }
   // The value the object holds after start-up: the DCF's ParameterValue, else DefaultValue, as
   // an integer with $NODEID resolved; nullopt for non-integer types or when neither is given.
+  // A hex value of a signed type is its two's complement (0xFFFFFFFFFFFFFFFF is an INTEGER64's
+  // -1); an UNSIGNED64 above 2^63 - 1 comes as its bits (cast to std::uint64_t).
   [[nodiscard]] std::optional<std::int64_t> value(std::uint8_t node) const;
+  // The same for REAL32/REAL64 (decimal text such as 4.5 or 1e-3); nullopt for other types.
+  [[nodiscard]] std::optional<double> real_value() const;
 };
 
 struct DeviceInfo {
@@ -125,10 +150,15 @@ class Description {
 
 struct LoadResult {
   std::optional<Description> description;
-  std::string error;  // why not: names the file's line or the object at fault
+  std::string error;  // why not: to_string(refusal), after the file's path when load() read it
+  Problem refusal;    // the same, by part
+  // What was read otherwise than written (a SubNumber that does not match the sub-index
+  // sections, a limit dropped from an object the master does not write, ...), in file order;
+  // also when the file is refused. Callers print them: the file is read, but should be fixed.
+  std::vector<Problem> warnings;
 };
 
-// Reads an EDS or DCF file (at most max_file_bytes).
+// Reads an EDS or DCF file (within the bounds above).
 [[nodiscard]] LoadResult load(const std::string& path);
 // The same from text held in memory (tests, descriptions received over SDO 0x1021).
 [[nodiscard]] LoadResult parse(std::string_view text);
