@@ -301,6 +301,13 @@ def check(command, argv, opts, result):
                 return f"exit 0 with --json but stdout is not strict JSON ({e}):\n{text_out[:2000]}"
             if doc.get("status") != "ok":
                 return "exit 0 with status " + str(doc.get("status"))
+            # The JSON writer prints a non-finite number as null: a plan's own numbers must be there.
+            if command == "plan":
+                missing = [k for k in ("duration",) if not isinstance(doc.get(k), (int, float))]
+                params = doc.get("params", {}) if isinstance(doc.get("params"), dict) else {}
+                missing += ["params." + k for k, v in params.items() if not isinstance(v, (int, float))]
+                if missing:
+                    return "exit 0 with --json but no finite " + ", ".join(missing) + ":\n" + text_out[:2000]
         return None
     if code == 2:
         if json_mode:

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
@@ -102,14 +103,24 @@ TEST(CliOptions, NumbersOutsideTheirRangeNeverPrintInfOrNan) {
   for (const Case& c : cases) expect_refused(c);
   // At the edge of every range the result is finite, or refused: never inf or nan with exit 0.
   for (const std::string args :
-       {"plan --profile poly345 --distance 1e6 --time 1e-6 --json", "plan --profile poly345 --distance -1e6 --time 3600",
+       {"plan --profile poly345 --distance 1e6 --time 1e-6 --json", "plan --profile poly345 --distance -1e6 --time 3600 --json",
         "plan --profile trapezoid --distance 1e6 --vmax 1e9 --amax 1e12 --json",
         "plan --profile scurve --distance 1e-300 --time 1e-6 --omega 1e6 --json"}) {
     const CliResult r = run_cli(args);
     EXPECT_TRUE(r.status == 0 || r.status == 2) << args << "\n" << r.out;
     if (r.status == 0) {
-      EXPECT_EQ(r.stdout_text.find("inf"), std::string::npos) << args << "\n" << r.out;
-      EXPECT_EQ(r.stdout_text.find("nan"), std::string::npos) << args << "\n" << r.out;
+      // The JSON writer prints a non-finite number as null, so the values themselves are checked:
+      // the move's duration, distance, every parameter and the velocity peak are finite numbers.
+      const nlohmann::json j = nlohmann::json::parse(r.stdout_text);
+      for (const char* key : {"duration", "distance", "profile_duration"}) {
+        ASSERT_TRUE(j.contains(key) && j[key].is_number()) << args << ": " << key << "\n" << r.out;
+        EXPECT_TRUE(std::isfinite(j[key].get<double>())) << args << ": " << key;
+      }
+      ASSERT_TRUE(j.contains("params") && j["params"].is_object()) << args;
+      for (const auto& [k, v] : j["params"].items()) {
+        EXPECT_TRUE(v.is_number() && std::isfinite(v.get<double>())) << args << ": params." << k << " = " << v;
+      }
+      EXPECT_TRUE(j["peaks"]["velocity"].is_number()) << args << "\n" << r.out;
     }
   }
 }

@@ -60,6 +60,25 @@ class Plan(unittest.TestCase):
                 # %.17g in the CLI's JSON round-trips: the same doubles, compared exactly.
                 self.assertEqual(json_like(settle.plan(**move)), json.loads(out))
 
+    def test_plans_match_closed_forms(self):
+        """Values derived here, not by Settle: the module and the CLI share their code, so comparing
+        them cannot catch a wrong plan; these closed forms can."""
+        d, t = 0.3, 0.6
+        p = settle.plan(profile="poly345", distance=d, time=t)
+        self.assertAlmostEqual(p["duration"], t, places=12)
+        self.assertAlmostEqual(p["peaks"]["velocity"], 15 / 8 * d / t, places=9)  # s = 1/2
+        self.assertAlmostEqual(p["peaks"]["acceleration"], 10 / math.sqrt(3) * d / t ** 2, places=9)
+        self.assertAlmostEqual(p["peaks"]["jerk"], 60 * d / t ** 3, places=6)  # at s = 0
+        # Trapezoid reaching vmax: ramp vmax/amax, cruise, ramp down: T = D/vmax + vmax/amax.
+        d, vmax, amax = 1.0, 0.5, 2.0
+        p = settle.plan(profile="trapezoid", distance=d, vmax=vmax, amax=amax)
+        self.assertAlmostEqual(p["duration"], d / vmax + vmax / amax, places=9)
+        self.assertAlmostEqual(p["peaks"]["velocity"], vmax, places=9)
+        # Triangle (vmax not reached): T = 2 sqrt(D/amax).
+        p = settle.plan(profile="trapezoid", distance=0.1, vmax=5.0, amax=2.0)
+        self.assertAlmostEqual(p["duration"], 2 * math.sqrt(0.1 / 2.0), places=9)
+        self.assertAlmostEqual(p["peaks"]["velocity"], math.sqrt(0.1 * 2.0), places=9)
+
     def test_profile_names_are_the_registrys_as_the_cli_lists_them(self):
         self.assertEqual(settle.PROFILES[0], "scurve")
         with self.assertRaises(ValueError) as caught:
