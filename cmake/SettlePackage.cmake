@@ -73,6 +73,10 @@ if("board" IN_LIST SETTLE_INSTALLED_COMPONENTS)
           COMPONENT board FILES_MATCHING PATTERN "*.ld")
 endif()
 
+# The licence and the notice of what Settle is built with travel with every installation.
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/NOTICE DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/settle
+        COMPONENT core)
+
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/settleConfig.cmake.in
   ${PROJECT_BINARY_DIR}/package/settleConfig.cmake
   INSTALL_DESTINATION ${SETTLE_INSTALL_CMAKEDIR})
