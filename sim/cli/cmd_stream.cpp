@@ -188,7 +188,7 @@ int parse_spec(const ParsedArgs& args, sim::StreamSpec& spec) {
     command_s = std::fmax(command_s, m.duration());
     if (c) {
       reach_distance = std::fmax(reach_distance, std::fabs(c->blend.end_position()));
-      command_s = std::fmax(command_s, c->switch_at + c->blend.duration());
+      if (!c->finish) command_s = std::fmax(command_s, c->at + c->blend.duration());
     }
   };
   extend(move, spec.change);
