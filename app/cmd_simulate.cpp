@@ -37,12 +37,18 @@ void put_metrics(Json& j, const plant::SimMetrics& m) {
   j["settling"] = to_string(m.settling);
 }
 
+// What a halt chose (core::OnlinePlan): the fastest blend, a blend to the target, finishing the move.
+const char* choice_name(core::OnlineChoice c) {
+  return c == core::OnlineChoice::finish ? "finish" : c == core::OnlineChoice::to_target ? "to_target" : "blend";
+}
+
 // A halt or retarget as both outputs (one axis, --axes) report it.
 Json online_json(const OnlineChange& c) {
   return Json{{"kind", c.target ? "retarget" : "halt"},
               {"at", c.at},
+              {"choice", choice_name(c.choice)},
               {"blend_duration", c.blend.duration()},
-              {"command_duration", c.at + c.blend.duration()},
+              {"command_duration", c.switch_at + c.blend.duration()},
               {"end_position", c.blend.end_position()}};
 }
 
@@ -116,9 +122,9 @@ void print_text(const plant::ModalPlant& plant, const core::Move<double>& move, 
               move.distance(), move.duration());
   if (needs_mode(req)) std::printf(" (designed for omega %.7g, zeta %.5g)", *req.omega, req.zeta);
   if (change != nullptr) {
-    std::printf("\n%-18s at %.9g s: blend %.9g s, at rest on %.9g %s at %.9g s", change->target ? "retarget" : "halt",
-                change->at, change->blend.duration(), change->blend.end_position(), u,
-                change->at + change->blend.duration());
+    std::printf("\n%-18s at %.9g s: %s %.9g s, at rest on %.9g %s at %.9g s", change->target ? "retarget" : "halt",
+                change->at, choice_name(change->choice), change->blend.duration(), change->blend.end_position(), u,
+                change->switch_at + change->blend.duration());
   }
   std::printf("\nresidual amplitude %.6e %s\n", m.residual_amplitude, u);
   std::printf("PRV                %.6g %% (of %.6e %s, an unshaped step's)\n", m.prv_percent, m.step_residual, u);
@@ -184,7 +190,7 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
                                                                        core::describe(st)},
                                 json);
     }
-    end = std::fmax(end, changes[i]->at + changes[i]->blend.duration());
+    end = std::fmax(end, changes[i]->switch_at + changes[i]->blend.duration());
   }
   plant::SimOptions opt;
   opt.record = false;
@@ -212,7 +218,7 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
   std::vector<const plant::Command*> cmd_of;
   for (std::size_t i = 0; i < plan.count(); ++i) {
     if (changes[i]) {
-      cmds.push_back(std::make_unique<plant::OnlineChangeCommand>(moves[i], changes[i]->at, changes[i]->blend));
+      cmds.push_back(std::make_unique<plant::OnlineChangeCommand>(moves[i], changes[i]->switch_at, changes[i]->blend));
     } else if (plan.sync() == core::SyncMode::path) {
       cmds.push_back(std::make_unique<plant::ScaledCommand>(path, plan.distance(i)));
     } else {
@@ -272,9 +278,9 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
                 u, m.residual_amplitude, u, m.prv_percent);
     if (req.axes[i].omega) std::printf(" (designed for omega %.7g, zeta %.5g)", *req.axes[i].omega, req.axes[i].zeta);
     if (const std::optional<OnlineChange>& c = changes[i]) {
-      std::printf("\n                   %s at %.9g s: blend %.9g s, at rest on %.9g %s at %.9g s",
-                  c->target ? "retarget" : "halt", c->at, c->blend.duration(), c->blend.end_position(), u,
-                  c->at + c->blend.duration());
+      std::printf("\n                   %s at %.9g s: %s %.9g s, at rest on %.9g %s at %.9g s",
+                  c->target ? "retarget" : "halt", c->at, choice_name(c->choice), c->blend.duration(),
+                  c->blend.end_position(), u, c->switch_at + c->blend.duration());
     }
     std::printf("\n");
   }
@@ -304,7 +310,7 @@ int cmd_simulate(int argc, char** argv) {
   if (!plan_move(req, move, err)) return report_bad_request(err, json);
   std::optional<OnlineChange> change;
   if (!parse_online_change(args, req, move, &plant, 0.0, change, err)) return report_bad_request(err, json);
-  const double cmd_duration = change ? change->at + change->blend.duration() : move.duration();
+  const double cmd_duration = change ? change->switch_at + change->blend.duration() : move.duration();
   // Sizes, before anything is allocated: the grid over the move, and with --csv the rows of the
   // history (move + tail, the tail defaulting to 3 periods of the fundamental as sim does).
   const double tail = opt.record ? (opt.tail >= 0.0 ? opt.tail : 3.0 * 2.0 * M_PI / plant.fundamental().omega) : 0.0;
@@ -326,7 +332,7 @@ int cmd_simulate(int argc, char** argv) {
 
   const plant::MoveCommand plain{move};
   std::optional<plant::OnlineChangeCommand> changed;
-  if (change) changed.emplace(move, change->at, change->blend);
+  if (change) changed.emplace(move, change->switch_at, change->blend);
   const plant::Command& cmd = changed ? static_cast<const plant::Command&>(*changed) : plain;
   plant::SimResult res;
   plant::SimStatus st = plant::simulate(plant, cmd, opt, res);

@@ -52,7 +52,9 @@ int check_bus_load(const ParsedArgs& args, const testbed::StreamSpec& spec, std:
 }
 
 // StreamSpec's form of a change the options asked for.
-testbed::StreamChange stream_change(const OnlineChange& c) { return {c.at, c.target, c.modes, c.limits, c.blend}; }
+testbed::StreamChange stream_change(const OnlineChange& c) {
+  return {c.at, c.target, c.modes, c.limits, c.blend, c.choice == core::OnlineChoice::finish};
+}
 
 // --axes N (docs/multi_axis.md): the coordinated plan's command on every axis (core::axis_command):
 // axis 1 in spec.move on spec.node, the others in spec.more_axes, on nodes 1..N or --nodes (N
@@ -186,7 +188,7 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
     command_s = std::fmax(command_s, m.duration());
     if (c) {
       reach_distance = std::fmax(reach_distance, std::fabs(c->blend.end_position()));
-      command_s = std::fmax(command_s, c->at + c->blend.duration());
+      if (!c->finish) command_s = std::fmax(command_s, c->at + c->blend.duration());
     }
   };
   extend(move, spec.change);

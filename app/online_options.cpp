@@ -97,8 +97,18 @@ void limits_error(core::Status st, const std::string& opt, const std::string& wh
 }
 
 bool plan_blend(const core::Move<double>& move, OnlineChange& c, const std::string& who, RequestError& err) {
-  const core::Status st = plant::OnlineChangeCommand::plan(move, c.at, c.modes, c.limits, c.target, c.blend);
-  if (st == core::Status::ok) return true;
+  core::OnlinePlan plan{};
+  const core::Status st = plant::OnlineChangeCommand::plan(move, c.at, c.modes, c.limits, c.target, plan);
+  if (st == core::Status::ok) {
+    c.choice = plan.choice;
+    c.switch_at = c.at;
+    c.blend = plan.blend;
+    if (plan.choice == core::OnlineChoice::finish) {
+      c.switch_at = move.duration();
+      c.blend = core::Blend{{move.distance(), 0.0, 0.0, 0.0}, 0.0, {}};
+    }
+    return true;
+  }
   const std::string opt = c.option;
   err = {core::to_string(st), opt,
          opt + ": " + who + "no blend within the limits from the move's state at " + format_number(c.at) + " s (" +
@@ -117,11 +127,12 @@ bool parse_online_change(const ParsedArgs& args, const core::MoveRequest& req, c
   if (!parse_when(args, 1, move.duration(), period, c, targets, err)) return false;
   if (std::string{c.option}.empty()) return true;
   if (!targets.empty()) c.target = targets.front();
-  if (req.omega) {
-    c.modes.push_back({*req.omega, req.zeta});
-  } else if (plant != nullptr) {
-    c.modes.push_back({plant->fundamental().omega, plant->fundamental().zeta});
-  }
+  // Every mode the move is designed for (fastest: up to four), else the plant's fundamental.
+  std::array<core::Mode, core::kMaxOnlineModes> modes{};
+  const core::Mode fundamental =
+      plant != nullptr ? core::Mode{plant->fundamental().omega, plant->fundamental().zeta} : core::Mode{};
+  const std::size_t n = core::design_modes(req, modes, plant != nullptr ? &fundamental : nullptr);
+  c.modes.assign(modes.begin(), modes.begin() + static_cast<std::ptrdiff_t>(n));
   if (const core::Status st =
           core::online_limits(req.vmax, req.amax, req.jmax, move.peaks(), c.modes.data(), c.modes.size(), c.limits);
       st != core::Status::ok) {

@@ -16,11 +16,17 @@ struct OnlineChange {
   const char* option{""};         // "--halt-at" or "--retarget-at"
   double at{0.0};                 // s on the move's clock
   std::optional<double> target;   // retarget: new distance from the move's start
-  std::vector<core::Mode> modes;  // left at rest: the move's design mode, else the plant's fundamental
+  std::vector<core::Mode> modes;  // left at rest: the move's design modes (core::design_modes), else the plant's fundamental
   // --vmax/--amax/--jmax where given, else the move's own peaks; an unbounded jerk peak (a
   // trapezoid) becomes amax x the fastest mode's omega.
   core::OnlineLimits limits{};
   core::Blend blend{};
+  // A halt may be better served by another blend or by finishing the move (core::OnlinePlan).
+  core::OnlineChoice choice{core::OnlineChoice::blend};
+  // When the command leaves the move for the blend: `at`, or on finish the move's end (the blend
+  // then at rest on the move's distance, of no duration). The command is at rest at
+  // switch_at + blend.duration().
+  double switch_at{0.0};
 };
 
 // False with `err` on a bad value; true with `out` empty when neither option is given. A positive

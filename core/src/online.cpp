@@ -164,6 +164,14 @@ bool finite(const Sample<double>& s) noexcept {
 constexpr std::size_t kMaxRows = 3 + 2 * kMaxOnlineModes;
 constexpr double kLimitSlack = 1e-9;
 
+// A command's memory this small (relative to its positions) is its rounding: it ends at rest. The
+// residual amplitude of a mode at rest with memory Q is |Q| / sqrt(1 - zeta^2).
+constexpr double kRestMemory = 1e-10;
+
+double position_scale(double origin, double end) noexcept {
+  return std::fmax(std::fabs(end - origin), std::fmax(std::fabs(origin), std::fabs(end)));
+}
+
 struct Solved {
   std::array<double, kBlendSegments> jerk{};
 };
@@ -389,6 +397,21 @@ ModeMemory mode_memory(const Blend& b, const ModeMemory& at_start, double u, con
   return {q.re, q.im};
 }
 
+namespace {
+// The running command's remainder: from `origin` to rest on `end` in `remaining` s; at rest when
+// every mode's memory at its end (`end_memory(i)`) is rounding.
+template <typename EndMemory>
+OnlineRunning running_of(double end, double origin, double remaining, std::size_t modes, EndMemory&& end_memory) noexcept {
+  OnlineRunning run{origin, end, std::fmax(remaining, 0.0), true};
+  const double tol = kRestMemory * position_scale(origin, end);
+  for (std::size_t i = 0; i < modes; ++i) {
+    const ModeMemory q = end_memory(i);
+    run.at_rest = run.at_rest && std::hypot(q.re, q.im) <= tol;
+  }
+  return run;
+}
+}  // namespace
+
 Status online_request(const Blend& b, const OnlineRequest& planned, double u, std::optional<double> target,
                       OnlineRequest& out) noexcept {
   if (!std::isfinite(u) || (target && !std::isfinite(*target))) return Status::non_finite_input;
@@ -398,6 +421,8 @@ Status online_request(const Blend& b, const OnlineRequest& planned, double u, st
   r.start.j = 0.0;
   r.target = target;
   for (std::size_t i = 0; i < r.mode_count; ++i) r.memory[i] = mode_memory(b, planned.memory[i], u, r.modes[i]);
+  r.running = running_of(b.end_position(), b.start().p, b.duration() - std::max(u, 0.0), r.mode_count,
+                         [&](std::size_t i) { return mode_memory(b, planned.memory[i], b.duration(), r.modes[i]); });
   out = r;
   return Status::ok;
 }
@@ -433,11 +458,17 @@ Status online_request(const Move<double>& m, double t, const Mode* modes, std::s
     r.modes[i] = modes[i];
     r.memory[i] = mode_memory(m, t, modes[i]);
   }
+  r.running = running_of(m.distance(), 0.0, m.duration() - std::max(t, 0.0), mode_count, [&](std::size_t i) {
+    return mode_memory(m, m.duration(), modes[i]);
+  });
   out = r;
   return Status::ok;
 }
 
-Status plan_online(const OnlineRequest& r, Blend& out) noexcept {
+namespace {
+
+// The fastest blend of the family that meets the request within the limits (docs/online.md).
+Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
   const OnlineLimits& l = r.limits;
   if (!finite(r.start) || !std::isfinite(l.vmax) || !std::isfinite(l.amax) || !std::isfinite(l.jmax) ||
       (r.target && !std::isfinite(*r.target))) {
@@ -559,6 +590,104 @@ Status plan_online(const OnlineRequest& r, Blend& out) noexcept {
   }
   out = Blend{r.start, hi / static_cast<double>(kBlendSegments), best.jerk};
   return Status::ok;
+}
+
+}  // namespace
+
+Status plan_online(const OnlineRequest& r, OnlinePlan& out) noexcept {
+  Blend fastest{};
+  const Status st = plan_blend(r, fastest);
+  if (r.target || !r.running) {
+    if (st != Status::ok) return st;
+    OnlinePlan p{};
+    p.blend = fastest;
+    p.rest_after = fastest.duration();
+    out = p;
+    return Status::ok;
+  }
+  // A halt of a command that would run on to `end`, at rest there after `remaining` (issue 36).
+  // Refusals of the request itself stand; "no blend of the family fits" leaves the other choices.
+  if (st != Status::ok && st != Status::no_solution) return st;
+  const OnlineRunning& run = *r.running;
+  if (!std::isfinite(run.origin) || !std::isfinite(run.end) || !std::isfinite(run.remaining)) {
+    return Status::non_finite_input;
+  }
+  const double remaining = std::fmax(run.remaining, 0.0);
+  const double dir = run.end > run.origin ? 1.0 : run.end < run.origin ? -1.0 : 0.0;
+  const double tol_p = 1e-12 * position_scale(run.origin, run.end);
+  const auto beyond = [&](const Blend& b) { return dir * (b.end_position() - run.end) > tol_p; };
+  const auto later = [&](double rest) { return rest > remaining * (1.0 + 1e-12) + 1e-15; };
+  OnlinePlan p{};
+  if (st == Status::ok) {
+    p.fastest_passes_target = beyond(fastest);
+    p.fastest_ends_later = later(fastest.duration());
+    if (!p.fastest_passes_target && !p.fastest_ends_later) {
+      p.blend = fastest;
+      p.rest_after = fastest.duration();
+      out = p;
+      return Status::ok;
+    }
+  } else {
+    p.fastest_passes_target = p.fastest_ends_later = true;  // there is none
+  }
+  // A blend that ends on the command's end: it cannot pass it, and may come to rest sooner than
+  // the command would.
+  OnlineRequest rt = r;
+  rt.target = run.end;
+  rt.running.reset();
+  Blend to{};
+  const bool have_to = plan_blend(rt, to) == Status::ok;
+  if (run.at_rest) {
+    // Finishing the command is a zero-residual halt on its end at its end: the better of that and
+    // the blend to the end.
+    if (have_to && to.duration() < remaining) {
+      p.choice = OnlineChoice::to_target;
+      p.blend = to;
+      p.rest_after = to.duration();
+    } else {
+      p.choice = OnlineChoice::finish;
+      p.rest_after = remaining;
+    }
+    out = p;
+    return Status::ok;
+  }
+  // The command itself leaves a mode ringing: no finish. The sooner at rest of the fastest blend
+  // (when it stops short) and the blend to the end.
+  const bool fastest_ok = st == Status::ok && !p.fastest_passes_target;
+  if (!fastest_ok && !have_to) return Status::halt_passes_target;
+  if (fastest_ok && (!have_to || fastest.duration() <= to.duration())) {
+    p.blend = fastest;
+  } else {
+    p.choice = OnlineChoice::to_target;
+    p.blend = to;
+  }
+  p.rest_after = p.blend.duration();
+  p.ends_later = later(p.rest_after);
+  out = p;
+  return Status::ok;
+}
+
+Status plan_online(const OnlineRequest& r, Blend& out) noexcept {
+  OnlinePlan p{};
+  const Status st = plan_online(r, p);
+  if (st != Status::ok) return st;
+  if (p.choice == OnlineChoice::finish) return Status::halt_finishes_command;
+  out = p.blend;
+  return Status::ok;
+}
+
+std::size_t design_modes(const MoveRequest& req, std::array<Mode, kMaxOnlineModes>& out,
+                         const Mode* fallback) noexcept {
+  std::size_t n = 0;
+  if (req.omega) {
+    out[n++] = {*req.omega, req.zeta};
+    for (std::size_t i = 0; i < req.extra_mode_count && i < kMaxExtraModes && n < kMaxOnlineModes; ++i) {
+      out[n++] = req.extra_modes[i];
+    }
+  } else if (fallback != nullptr) {
+    out[n++] = *fallback;
+  }
+  return n;
 }
 
 }  // namespace settle::core

@@ -36,6 +36,8 @@ const char* to_string(Status s) noexcept {
     case Status::precision_insufficient: return "precision_insufficient";
     case Status::table_too_small: return "table_too_small";
     case Status::impulse_does_not_fit: return "impulse_does_not_fit";
+    case Status::halt_passes_target: return "halt_passes_target";
+    case Status::halt_finishes_command: return "halt_finishes_command";
   }
   return "unknown";
 }
@@ -74,6 +76,11 @@ const char* describe(Status s) noexcept {
     case Status::precision_insufficient: return "the fixed-point evaluation cannot keep this move within one count";
     case Status::table_too_small: return "the table or segment capacity is too small to hold the move accurately";
     case Status::impulse_does_not_fit: return "a shaper impulse amplitude lies outside (-2, 2)";
+    case Status::halt_passes_target:
+      return "no halt within the limits stops short of the running command's target, and that command does not leave "
+             "every mode at rest";
+    case Status::halt_finishes_command:
+      return "the halt is the running command itself: no blend stops short of its target and before its end";
   }
   return "unknown status";
 }

@@ -29,6 +29,15 @@ void OnlineChangeCommand::breakpoints(std::vector<double>& out) const {
 
 core::Status OnlineChangeCommand::plan(const core::Move<double>& move, double t_switch,
                                        const std::vector<core::Mode>& modes, const core::OnlineLimits& limits,
+                                       std::optional<double> target, core::OnlinePlan& out) {
+  core::OnlineRequest r{};
+  core::Status st = core::online_request(move, t_switch, modes.data(), modes.size(), limits, target, r);
+  if (st == core::Status::ok) st = core::plan_online(r, out);
+  return st;
+}
+
+core::Status OnlineChangeCommand::plan(const core::Move<double>& move, double t_switch,
+                                       const std::vector<core::Mode>& modes, const core::OnlineLimits& limits,
                                        std::optional<double> target, core::Blend& out) {
   core::OnlineRequest r{};
   core::Status st = core::online_request(move, t_switch, modes.data(), modes.size(), limits, target, r);

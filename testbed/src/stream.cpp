@@ -71,7 +71,7 @@ core::Status evaluated_setpoints(const StreamSpec& spec, std::vector<std::int32_
   bool last = false;
   while (!last && out.size() < plant::kMaxSamples) out.push_back(s.next(last));
   if (!last) return core::Status::duration_does_not_fit;
-  if (!spec.change) return core::Status::ok;
+  if (!spec.change || spec.change->finish) return core::Status::ok;
   const auto k = static_cast<std::size_t>(std::llround(spec.change->at / scale.period_s()));
   if (out.size() > k) out.resize(k);
   while (out.size() < k) out.push_back(out.empty() ? 0 : out.back());
@@ -94,7 +94,8 @@ core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, std:
 
 // How long the command lasts: the move, or the move to the switch and then the blend.
 double command_duration(const StreamSpec& spec) {
-  return spec.change ? spec.change->at + spec.change->blend.duration() : spec.move.duration();
+  return spec.change && !spec.change->finish ? spec.change->at + spec.change->blend.duration()
+                                             : spec.move.duration();
 }
 
 }  // namespace
@@ -197,7 +198,8 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
   // outcome, which says why; only a session that ran to its end must have switched.
   const bool ran_out = r.session.outcome == runtime::SessionOutcome::completed;
   for (std::size_t i = 0; i < n; ++i) {
-    if (specs[i].change && (!asked_ok || (ran_out && loop->online_switches(i) != 1))) {
+    if (specs[i].change &&
+        (!asked_ok || (ran_out && loop->online_switches(i) + loop->online_finishes(i) != 1))) {
       return "the loop did not switch axis " + std::to_string(i + 1) + " to its blend at " +
              std::to_string(specs[i].change->at) + " s";
     }
@@ -296,7 +298,7 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
   // The residual is exact at the move's end whatever the grid; the grid only samples the peak
   // deflection and the settling time, so a long move takes a coarser one (at most 2e6 steps x modes).
   so.dt = std::max(so.dt, command_duration(spec) * static_cast<double>(spec.plant.modes().size()) / plant::kMaxSimWork);
-  if (spec.change) {
+  if (spec.change && !spec.change->finish) {
     const plant::OnlineChangeCommand changed{spec.move, spec.change->at, spec.change->blend};
     r.continuous_simulated = plant::simulate(spec.plant, changed, so, cont) == plant::SimStatus::ok;
   } else {

@@ -344,6 +344,9 @@ AxisBlends change_axes(const MultiAxisRequest& r, const MultiAxisPlan& p, double
     const core::AxisOnline& o = out.online[i];
     core::OnlineRequest q{};
     EXPECT_EQ(core::online_request(out.move[i], t, o.modes.data(), o.mode_count, o.limits, targets[i], q), Status::ok);
+    // The blends themselves (a halt's choice among them and finishing the move, on 1 and 3 path
+    // axes: test_halt.cpp).
+    q.running.reset();
     EXPECT_EQ(core::plan_online(q, out.blend[i]), Status::ok) << "axis " << i << " t " << t;
   }
   return out;

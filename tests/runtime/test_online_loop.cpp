@@ -177,6 +177,47 @@ void run_change(std::optional<double> target) {
 
 TEST(ServoLoopOnline, HaltSwitchesAtItsSetpointAndStopsWhereTheBlendEnds) { run_change(std::nullopt); }
 
+// A halt whose best is to finish the move (core::OnlineChoice::finish, issue 36: no blend stops
+// short of the target before the move's end) is no switch: the loop streams the move unchanged to
+// its end, counts the finish, and voids the move queued behind it, as after a blend.
+TEST(ServoLoopOnline, AHaltThatFinishesTheMoveStreamsItUnchangedAndVoidsTheQueue) {
+  const core::MoveRequest req = scurve(0.1, 0.5);
+  const core::Move<double> m = planned(req);
+  const runtime::OnlineConfig c = online_config(m);
+  // The first setpoint index at which core chooses to finish (the loop plans the same request).
+  std::int32_t k = 0;
+  for (std::int32_t i = 10; i < 500 && k == 0; ++i) {
+    core::OnlineRequest q{};
+    ASSERT_EQ(core::online_request(m, i * 1e-3, c.modes.data(), c.mode_count, c.limits, std::nullopt, q),
+              core::Status::ok);
+    core::OnlinePlan p{};
+    ASSERT_EQ(core::plan_online(q, p), core::Status::ok);
+    if (p.choice == core::OnlineChoice::finish) k = i;
+  }
+  ASSERT_GT(k, 0) << "no halt index of the S-curve chooses to finish";
+  Rig<> r;
+  ASSERT_EQ(r.loop.configure_online(0, c), runtime::LoopStatus::ok);
+  ASSERT_EQ(r.loop.submit(0, req), runtime::LoopStatus::ok);
+  ASSERT_EQ(r.loop.submit(0, scurve(0.05, 0.3)), runtime::LoopStatus::ok);  // voided by the halt
+  for (std::int32_t i = 0; i < k - runtime::kOnlineLeadTicks; ++i) r.tick();
+  ASSERT_TRUE(r.loop.halt(0));
+  ASSERT_EQ(r.loop.service(), runtime::LoopStatus::ok);
+  for (int i = 0; i < 3000 && !r.loop.idle(); ++i) r.tick();
+  EXPECT_TRUE(r.loop.idle());
+  EXPECT_EQ(r.loop.online_finishes(0), 1u);
+  EXPECT_EQ(r.loop.online_switches(0), 0u);
+  EXPECT_EQ(r.loop.online_missed(0), 0u);
+  std::vector<std::int32_t> e;
+  for (std::int32_t i = 0;; ++i) {
+    e.push_back(counts(m.at(i * 1e-3).p));
+    if (!(i * 1e-3 < m.duration())) break;
+  }
+  ASSERT_EQ(r.moving.size(), e.size());
+  for (std::size_t i = 0; i < e.size(); ++i) ASSERT_EQ(r.moving[i], e[i]) << "setpoint " << i;
+  EXPECT_EQ(r.drive.position(), counts(0.1));
+  EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 1u);
+}
+
 TEST(ServoLoopOnline, RetargetSwitchesAtItsSetpointAndEndsOnTheNewTarget) { run_change(0.04); }
 
 TEST(ServoLoopOnline, FloatHaltStreamsTheBlendInFloat) { run_change<FloatLoop>(std::nullopt); }

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 
 #include "settle/core/kinematics.hpp"
@@ -18,6 +19,7 @@ namespace settle::core {
 
 // Up to this many modes (omega, zeta) are brought to rest by one blend.
 inline constexpr std::size_t kMaxOnlineModes = 4;
+static_assert(1 + kMaxExtraModes <= kMaxOnlineModes, "a halt keeps every mode a request designs for");
 // A blend is this many constant-jerk segments of equal length.
 inline constexpr std::size_t kBlendSegments = 24;
 
@@ -40,6 +42,17 @@ struct ModeMemory {
 // one, by Gauss-Legendre quadrature otherwise (the pseudo-polynomial). t is on the move's clock.
 [[nodiscard]] ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept;
 
+// What the running command (the move, or the blend a halt interrupts) does if left alone: it ends
+// at rest on `end` (positions on the move's scale) `remaining` s after the switch, having started at
+// `origin`. `at_rest`: it leaves every mode of the request at rest (its memory at its end is zero to
+// rounding), so finishing it is itself a zero-residual halt. online_request fills it in.
+struct OnlineRunning {
+  double origin{0.0};
+  double end{0.0};
+  double remaining{0.0};
+  bool at_rest{false};
+};
+
 // Where a blend starts and what it must achieve.
 struct OnlineRequest {
   Sample<double> start{};               // p, v, a of the command at the switch (j is not used)
@@ -48,6 +61,9 @@ struct OnlineRequest {
   std::size_t mode_count{0};
   OnlineLimits limits{};
   std::optional<double> target;  // retarget: the final position; none: halt wherever it stops
+  // A halt (target none) of a command that would run on: the halt stops no further than its end
+  // (seen from its origin) and comes to rest no later than it would (plan_online, OnlinePlan).
+  std::optional<OnlineRunning> running;
 };
 
 // A blend: kBlendSegments constant-jerk segments of length h from the switch state to rest.
@@ -144,9 +160,41 @@ class BasicBlend {
 
 using Blend = BasicBlend<double>;
 
+// What a change does. A retarget, or a halt without `running`: always `blend`. A halt of a running
+// command (issue 36) is the first of these that stops no further than the command's end (seen from
+// its origin) and comes to rest no later than the command would:
+//   blend      the fastest blend (the halt as asked);
+//   to_target  a blend to the command's end, when that ends sooner than finishing the command;
+//   finish     no blend: the running command continues to its end, at rest there (it must leave
+//              every mode at rest: running.at_rest).
+enum class OnlineChoice : std::uint8_t { blend, to_target, finish };
+
+struct OnlinePlan {
+  OnlineChoice choice{OnlineChoice::blend};
+  Blend blend{};  // blend, to_target: the blend to switch to; finish: empty
+  // Why it is not the fastest blend: that one would stop beyond the end / come to rest later.
+  bool fastest_passes_target{false};
+  bool fastest_ends_later{false};
+  // The choice comes to rest later than the running command would: only when that command does not
+  // leave every mode at rest (no finish to fall back on) and no blend ends in time.
+  bool ends_later{false};
+  double rest_after{0.0};  // s from the switch to rest: the blend's duration, or running.remaining
+};
+
 // Plans the fastest blend (within its family, docs/online.md) that meets the request within the
-// limits. A failed plan leaves `out` untouched.
+// limits; for a halt with `running`, chooses as OnlinePlan says. halt_passes_target when every
+// blend within the limits stops beyond the end and the command cannot be finished instead. A failed
+// plan leaves `out` untouched.
+[[nodiscard]] Status plan_online(const OnlineRequest& req, OnlinePlan& out) noexcept;
+// The same for a caller that can only switch to a blend: `out` is the chosen blend (blend or
+// to_target); halt_finishes_command when the choice is to finish the running command (out untouched).
 [[nodiscard]] Status plan_online(const OnlineRequest& req, Blend& out) noexcept;
+
+// The modes a move planned from `req` is designed for, which a change of it leaves at rest: its
+// (omega, zeta) and every extra mode, in order (at most 1 + kMaxExtraModes = kMaxOnlineModes), or
+// `fallback` when it names none (the plant's fundamental, say). Returns how many it wrote.
+[[nodiscard]] std::size_t design_modes(const MoveRequest& req, std::array<Mode, kMaxOnlineModes>& out,
+                                       const Mode* fallback = nullptr) noexcept;
 
 // The limits a change of a move keeps: vmax, amax, jmax where given, else the move's own peaks
 // `pk`. A move that steps in acceleration (a trapezoid) has no jerk peak to keep: the blend's jerk
@@ -158,7 +206,8 @@ using Blend = BasicBlend<double>;
                                    OnlineLimits& out) noexcept;
 
 // Convenience: the request of a halt (target none) or a retarget (target = new distance from the
-// move's start) of the running move `m` at time t on its clock, for the given modes.
+// move's start) of the running move `m` at time t on its clock, for the given modes; `running` is
+// the move's remainder (from its start 0 to its distance, at its duration).
 [[nodiscard]] Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
                                     const OnlineLimits& limits, std::optional<double> target,
                                     OnlineRequest& out) noexcept;
@@ -171,6 +220,7 @@ using Blend = BasicBlend<double>;
 // The request of a second change while a blend runs: halt or retarget (target: from the running
 // move's start, as before) at u on the clock of blend `b`, planned from `planned` (its start's
 // memory, its modes and limits are kept). A command changed twice leaves every mode at rest.
+// `running` is the blend's remainder (from its start to its end position, at its end).
 [[nodiscard]] Status online_request(const Blend& b, const OnlineRequest& planned, double u,
                                     std::optional<double> target, OnlineRequest& out) noexcept;
 

@@ -40,6 +40,9 @@ enum class Status : std::uint8_t {
   precision_insufficient,       // the fixed evaluation could not keep the position within its error budget
   table_too_small,              // the cam table or the segment capacity cannot hold the move accurately
   impulse_does_not_fit,         // a shaper amplitude outside (-2, 2): it has no Q2.30 weight
+  // Online changes (online.hpp): a halt with a bound (the running command's target and end).
+  halt_passes_target,           // no blend within the limits stops short of the running command's target
+  halt_finishes_command,        // finishing the running command is the halt (plan_online's OnlinePlan says so)
 };
 
 // Stable snake_case code for logs and JSON ("time_too_short_for_vmax").

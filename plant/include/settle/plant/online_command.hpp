@@ -23,6 +23,11 @@ class OnlineChangeCommand final : public Command {
   [[nodiscard]] double switch_time() const noexcept { return t_switch_; }
 
   // Plans the halt (target none) or the retarget of `move` at t_switch for the modes and limits.
+  // A halt chooses (core::OnlinePlan): the fastest blend, a blend to the move's end, or finishing
+  // the move; the Blend overload refuses the last (halt_finishes_command).
+  [[nodiscard]] static core::Status plan(const core::Move<double>& move, double t_switch,
+                                         const std::vector<core::Mode>& modes, const core::OnlineLimits& limits,
+                                         std::optional<double> target, core::OnlinePlan& out);
   [[nodiscard]] static core::Status plan(const core::Move<double>& move, double t_switch,
                                          const std::vector<core::Mode>& modes, const core::OnlineLimits& limits,
                                          std::optional<double> target, core::Blend& out);

@@ -92,6 +92,10 @@ struct OnlineSlot {
   std::array<core::Blend, 2> blend{};            // as planned, in double (service()'s)
   std::array<typename Evaluation::BlendStored, 2> evaluated{};  // the same in the loop's scalar
   std::uint8_t slot{0};        // the slot of the blend handed over with ready
+  // The halt is the running command itself (core::OnlineChoice::finish: no blend stops short of its
+  // target and before its end): at switch_index the tick keeps streaming it and only marks it
+  // halting; nothing queued behind it runs.
+  bool finish{false};
   bool from_blend{false};      // switch_index counts the running blend's setpoints, not the move's
   std::int32_t switch_index{0};
   std::atomic<std::uint8_t> ready{0};
@@ -101,9 +105,11 @@ struct OnlineSlot {
   // The move_serial (from_blend: the switches count) the blend was planned for (service()'s).
   std::uint32_t blend_serial{0};
   std::atomic<std::uint32_t> switches{0};   // blends the tick switched to (for the application)
+  std::atomic<std::uint32_t> finishes{0};   // halts that finish the running command instead
   std::atomic<std::uint32_t> missed{0};     // blends discarded: the move ended or passed the index
   // The tick's own: the blend being streamed.
   bool running{false};
+  bool halting{false};        // the running move or blend is a halt's finish: void the queue at its end
   std::uint8_t streaming{0};  // its slot
   typename Evaluation::BlendStream stream{};
   std::int32_t origin{0};  // counts at the active move's start

@@ -377,13 +377,17 @@ class ServoLoop {
             on_blend ? core::online_request(o.blend[o.streaming], o.request[o.streaming], at, target, o.request[slot])
                      : core::online_request(a.queue.front().plan, at, o.config.modes.data(), o.config.mode_count,
                                             o.config.limits, target, o.request[slot]);
-        if (st == core::Status::ok) st = core::plan_online(o.request[slot], o.blend[slot]);
+        core::OnlinePlan plan{};
+        if (st == core::Status::ok) st = core::plan_online(o.request[slot], plan);
         if (st != core::Status::ok) {
           if (why != nullptr) *why = st;
           result = LoopStatus::plan_failed;
           continue;
         }
-        st = Evaluation::prepare(o.blend[slot], a.cfg.scale, o.evaluated[slot]);
+        // A halt whose best is to finish what runs (docs/online.md): nothing to prepare.
+        o.finish = plan.choice == core::OnlineChoice::finish;
+        if (!o.finish) o.blend[slot] = plan.blend;
+        if (!o.finish) st = Evaluation::prepare(o.blend[slot], a.cfg.scale, o.evaluated[slot]);
         if (st != core::Status::ok) {
           if (why != nullptr) *why = st;
           result = LoopStatus::evaluation_refused;
@@ -401,6 +405,12 @@ class ServoLoop {
   // Blends the tick switched to, and commands or blends that came too late (see service()).
   [[nodiscard]] std::uint32_t online_switches(std::size_t axis) const noexcept {
     if constexpr (kOnlineChanges) return axes_[axis].online.switches.load(std::memory_order_relaxed);
+    return 0;
+  }
+  // Halts that let the running move (or blend) finish, at rest on its target sooner than any blend
+  // could stop short of it (core::OnlineChoice::finish); the moves queued behind it are voided.
+  [[nodiscard]] std::uint32_t online_finishes(std::size_t axis) const noexcept {
+    if constexpr (kOnlineChanges) return axes_[axis].online.finishes.load(std::memory_order_relaxed);
     return 0;
   }
   [[nodiscard]] std::uint32_t online_missed(std::size_t axis) const noexcept {
@@ -583,6 +593,10 @@ class ServoLoop {
         if (!valid || at > o.switch_index) {
           o.missed.fetch_add(1, std::memory_order_relaxed);  // planned for what has ended or passed
           o.ready.store(0, std::memory_order_release);
+        } else if (at == o.switch_index && o.finish) {
+          o.halting = true;  // what runs is the halt: it goes on, and nothing queued follows it
+          o.finishes.fetch_add(1, std::memory_order_relaxed);
+          o.ready.store(0, std::memory_order_release);
         } else if (at == o.switch_index) {
           o.running = true;
           o.streaming = o.slot;
@@ -611,9 +625,10 @@ class ServoLoop {
         o.ready.store(0, std::memory_order_release);  // planned for a switch the move never reached
         o.missed.fetch_add(1, std::memory_order_relaxed);
       }
-      if (o.running) {
+      if (o.running || o.halting) {
         // Moves queued behind a halted or retargeted one were planned from its old end: void.
         o.running = false;
+        o.halting = false;
         if (a.queue.size() > 1) note(LoopEventKind::move_voided, index_of(a), AxisFault::none);
         a.queue.clear();
         return;
@@ -677,6 +692,7 @@ class ServoLoop {
     a.queue.clear();
     if constexpr (kOnlineChanges) {
       a.online.running = false;
+      a.online.halting = false;
       a.online.ready.store(0, std::memory_order_release);
     }
   }

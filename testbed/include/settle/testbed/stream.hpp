@@ -42,6 +42,9 @@ struct StreamChange {
   std::vector<core::Mode> modes;
   core::OnlineLimits limits{};
   core::Blend blend{};
+  // The halt finishes the move (core::OnlineChoice::finish): the loop keeps streaming it, and the
+  // replay is the move's.
+  bool finish{false};
 };
 
 // --axes N (issue 17, docs/multi_axis.md): one more axis of the same bus, its own move and node,

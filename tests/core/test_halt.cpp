@@ -1,0 +1,402 @@
+// Halts of running moves (issue 36): over a seeded random sweep of halt times of moves designed for
+// 1, 2 and 3 modes, on 1 axis and on 3 path-synchronised axes, every halt
+//   - leaves every design mode of the move at rest (<= 1e-9 D), by an exact propagation of each
+//     mode through the commanded position (the move to the switch, then the blend): on every
+//     interval between breakpoints the commanded acceleration is linear (piecewise-constant jerk:
+//     profiles jerk-limited and fastest, ZV shapers, blends), and the mode's response to a linear
+//     base acceleration is closed form. Nothing of core's mode memory or residual code is used;
+//   - never stops beyond the move's target (seen from its start);
+//   - never comes to rest later than the uninterrupted move;
+//   - stays within the limits (sampled), continuous in p, v, a at the switch.
+// It also measures the halt's duration over the time-optimal jerk-limited stop of the velocity
+// from the same state without vibration constraints (docs/online.md, "Halting a running move").
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "residual.hpp"
+#include "settle/core/multi_axis.hpp"
+#include "settle/core/online.hpp"
+#include "settle/core/planner.hpp"
+#include "settle/core/profiles/registry.hpp"
+#include "settle/core/shaper.hpp"
+
+#ifndef SETTLE_HALT_CASES
+#define SETTLE_HALT_CASES 120
+#endif
+
+using namespace settle;
+using core::OnlineChoice;
+using core::ProfileKind;
+using core::Status;
+
+namespace {
+
+// The mode e'' + 2 zeta w e' + w^2 e = -a(t), a linear on [t0, t1]: exact propagation.
+struct Mode {
+  double w, z;
+  double e{0.0}, de{0.0};
+  void step(double dt, double alpha, double beta) {  // a(t0 + tau) = alpha + beta tau
+    const double c1 = -beta / (w * w);
+    const double c0 = (-alpha - 2.0 * z * w * c1) / (w * w);
+    const double y0 = e - c0, dy0 = de - c1;
+    const double s = z * w, wd = w * std::sqrt(1.0 - z * z);
+    const double ex = std::exp(-s * dt), co = std::cos(wd * dt), si = std::sin(wd * dt);
+    const double y = ex * (y0 * co + (dy0 + s * y0) / wd * si);
+    const double dy = ex * (dy0 * co - (w * w * y0 + s * dy0) / wd * si);
+    e = y + c0 + c1 * dt;
+    de = dy + c1;
+  }
+  [[nodiscard]] double amplitude() const {
+    const double wd = w * std::sqrt(1.0 - z * z);
+    return std::hypot(e, (de + z * w * e) / wd);
+  }
+};
+
+// Propagates over [t0, t1] of a command whose acceleration acc(t) is linear there (sampled inside).
+template <typename Acc>
+void propagate(Mode& m, double t0, double t1, Acc&& acc) {
+  if (!(t1 > t0)) return;
+  const double dt = t1 - t0;
+  const double ta = t0 + dt / 3.0, tb = t0 + 2.0 * dt / 3.0;
+  const double aa = acc(ta), ab = acc(tb);
+  const double beta = (ab - aa) / (tb - ta);
+  m.step(dt, aa - beta * (ta - t0), beta);
+}
+
+// Residual amplitude of mode (w, z) after the move to t_switch and then blend b (none: the move).
+double residual(const core::Move<double>& mv, double t_switch, const core::Blend* b, double w, double z) {
+  Mode m{w, z};
+  std::vector<double> bp = test::move_breakpoints(mv);
+  bp.insert(bp.begin(), 0.0);
+  const double t_end = b != nullptr ? t_switch : mv.duration();
+  bp.push_back(t_end);
+  std::sort(bp.begin(), bp.end());
+  for (std::size_t i = 0; i + 1 < bp.size() && bp[i] < t_end; ++i) {
+    propagate(m, bp[i], std::min(bp[i + 1], t_end), [&](double t) { return mv.at(t).a; });
+  }
+  if (b != nullptr) {
+    const double h = b->segment_length();
+    for (std::size_t k = 0; k < core::kBlendSegments && h > 0.0; ++k) {
+      propagate(m, static_cast<double>(k) * h, static_cast<double>(k + 1) * h, [&](double u) { return b->at(u).a; });
+    }
+  }
+  return m.amplitude();
+}
+
+// The time-optimal jerk-limited stop of the velocity alone from (v0, a0): no vibration constraint,
+// position free (what every halt must at least take), by the bang-bang construction.
+double optimal_stop(double v0, double a0, double amax, double jmax) {
+  const double v_nat = v0 + a0 * std::fabs(a0) / (2.0 * jmax);
+  if (v_nat == 0.0) return std::fabs(a0) / jmax;
+  const double sg = v_nat < 0.0 ? -1.0 : 1.0;
+  const double v = sg * v0, a = sg * a0;
+  double ap = -std::sqrt(0.5 * a * a + jmax * v);
+  double plateau = 0.0;
+  if (ap < -amax) {
+    ap = -amax;
+    plateau = std::max((v + (a * a - amax * amax) / (2.0 * jmax) - amax * amax / (2.0 * jmax)) / amax, 0.0);
+  }
+  return (a - ap) / jmax + plateau + -ap / jmax;
+}
+
+// One axis's halt: the move it runs, its design modes, its limits.
+struct Axis {
+  core::Move<double> move{};
+  std::vector<core::Mode> modes;
+  core::OnlineLimits limits{};
+};
+
+struct Stats {
+  std::vector<double> ratio;        // rest time of the halt / time-optimal stop
+  std::vector<double> ratio_blend;  // the same, the halts that are the fastest blend
+  int by_choice[3]{};
+  int cases{0};
+};
+
+// Checks the four properties of the halt of `ax` at t; returns the plan.
+core::OnlinePlan check_halt(const Axis& ax, double t, const std::string& what, Stats& st) {
+  const core::Move<double>& mv = ax.move;
+  const double d = std::fabs(mv.distance());
+  core::OnlineRequest r{};
+  EXPECT_EQ(core::online_request(mv, t, ax.modes.data(), ax.modes.size(), ax.limits, std::nullopt, r), Status::ok);
+  core::OnlinePlan p{};
+  const Status s = core::plan_online(r, p);
+  EXPECT_EQ(s, Status::ok) << what;
+  if (s != Status::ok) return p;
+  ++st.by_choice[static_cast<int>(p.choice)];
+  const bool fin = p.choice == OnlineChoice::finish;
+  const core::Blend& b = p.blend;
+  // Rest: every design mode, by exact propagation of the commanded position.
+  for (const core::Mode& m : ax.modes) {
+    EXPECT_LE(residual(mv, t, fin ? nullptr : &b, m.omega, m.zeta), 1e-9 * d) << what << " mode " << m.omega;
+  }
+  // Not beyond the target, seen from the start.
+  const double end = fin ? mv.distance() : b.end_position();
+  const double sg = mv.distance() > 0.0 ? 1.0 : -1.0;
+  EXPECT_LE(sg * (end - mv.distance()), 1e-9 * d) << what << " stops at " << end / mv.distance() << " D";
+  // Not later than the move.
+  const double rest = fin ? mv.duration() : t + b.duration();
+  EXPECT_LE(rest, mv.duration() * (1.0 + 1e-12)) << what << " at rest at " << rest << " s";
+  EXPECT_NEAR(p.rest_after, rest - t, 1e-12 * mv.duration()) << what;
+  EXPECT_FALSE(p.ends_later) << what;
+  if (!fin) {
+    // Continuous at the switch, at rest at the end, within the limits (sampled; jerk by differences).
+    const core::Sample<double> s0 = mv.at(t), b0 = b.at(0.0);
+    EXPECT_NEAR(b0.p, s0.p, 1e-12 * d) << what;
+    EXPECT_NEAR(b0.v, s0.v, 1e-12 * ax.limits.vmax) << what;
+    EXPECT_NEAR(b0.a, s0.a, 1e-12 * ax.limits.amax) << what;
+    const core::Sample<double> e = b.at(std::nextafter(b.duration(), 0.0));
+    EXPECT_LE(std::fabs(e.v), 1e-9 * ax.limits.vmax) << what;
+    EXPECT_LE(std::fabs(e.a), 1e-9 * ax.limits.amax) << what;
+    const int n = 2400;
+    const double du = b.duration() / n;
+    double vp = 0.0, ap = 0.0, jp = 0.0, a_prev = b0.a;
+    for (int i = 0; i <= n; ++i) {
+      const core::Sample<double> x = b.at(std::min(i * du, std::nextafter(b.duration(), 0.0)));
+      vp = std::max(vp, std::fabs(x.v));
+      ap = std::max(ap, std::fabs(x.a));
+      if (i > 0) jp = std::max(jp, std::fabs(x.a - a_prev) / du);
+      a_prev = x.a;
+    }
+    EXPECT_LE(vp, ax.limits.vmax * (1.0 + 1e-9)) << what;
+    EXPECT_LE(ap, ax.limits.amax * (1.0 + 1e-9)) << what;
+    EXPECT_LE(jp, ax.limits.jmax * (1.0 + 1e-6)) << what;
+  }
+  // Against the time-optimal stop without vibration constraints, from states with a stop to make
+  // (not the first or last moments of the move, where that stop is next to nothing).
+  const double opt = optimal_stop(r.start.v, r.start.a, ax.limits.amax, ax.limits.jmax);
+  if (opt > 0.01 * mv.duration()) {
+    st.ratio.push_back((rest - t) / opt);
+    if (p.choice == OnlineChoice::blend) st.ratio_blend.push_back((rest - t) / opt);
+  }
+  ++st.cases;
+  return p;
+}
+
+struct Gen {
+  std::mt19937_64 rng;
+  double uni(double a, double b) { return std::uniform_real_distribution<double>{a, b}(rng); }
+  double logu(double a, double b) { return std::exp(uni(std::log(a), std::log(b))); }
+  core::Mode mode() { return {logu(8.0, 40.0), uni(0.0, 0.1)}; }
+};
+
+// One axis designed for k modes: profile fastest when it plans them (its own design), else
+// jerk-limited with a ZV shaper per mode, composed.
+bool one_axis(Gen& g, std::size_t k, Axis& ax) {
+  core::MoveRequest q{};
+  q.distance = g.logu(0.02, 0.5) * (g.uni(0, 1) < 0.5 ? -1 : 1);
+  const double d = std::fabs(q.distance);
+  q.vmax = d * g.logu(1.0, 8.0);
+  q.amax = *q.vmax * g.logu(4.0, 40.0);
+  q.jmax = *q.amax * g.logu(10.0, 80.0);
+  ax.modes.clear();
+  for (std::size_t i = 0; i < k; ++i) ax.modes.push_back(g.mode());
+  q.omega = ax.modes[0].omega;
+  q.zeta = ax.modes[0].zeta;
+  for (std::size_t i = 1; i < k; ++i) q.extra_modes[i - 1] = ax.modes[i];
+  q.extra_mode_count = k - 1;
+  ax.limits = {*q.vmax, *q.amax, *q.jmax};
+  q.profile = g.uni(0, 1) < 0.5 ? ProfileKind::fastest : ProfileKind::jerk_limited;
+  if (q.profile == ProfileKind::fastest && core::plan(q, ax.move) == Status::ok) return true;
+  q.profile = ProfileKind::jerk_limited;
+  q.shaper = core::ShaperKind::zv;
+  core::Shaper<double> extra{};
+  for (std::size_t i = 1; i < k; ++i) {
+    core::Shaper<double> one{}, prev = extra;
+    if (core::design_shaper(core::ShaperKind::zv, ax.modes[i].omega, ax.modes[i].zeta, 0.05, one) != Status::ok ||
+        core::compose(prev, one, extra) != Status::ok) {
+      return false;
+    }
+  }
+  q.extra_mode_count = 0;
+  return core::plan(q, extra, ax.move) == Status::ok;
+}
+
+// Three path-synchronised axes whose modes make k distinct ones.
+bool three_axes(Gen& g, std::size_t k, std::array<Axis, 3>& ax) {
+  core::MultiAxisRequest r{};
+  r.count = 3;
+  r.sync = core::SyncMode::path;
+  r.base.profile = g.uni(0, 1) < 0.5 ? ProfileKind::fastest : ProfileKind::jerk_limited;
+  if (r.base.profile == ProfileKind::jerk_limited) r.base.shaper = core::ShaperKind::zv;
+  std::array<core::Mode, 3> m{g.mode(), g.mode(), g.mode()};
+  if (k < 3) m[2] = m[k - 1];
+  if (k < 2) m[1] = m[0];
+  for (std::size_t i = 0; i < 3; ++i) {
+    core::AxisSpec& a = r.axes[i];
+    a.distance = g.logu(0.02, 0.5) * (g.uni(0, 1) < 0.5 ? -1 : 1);
+    a.vmax = g.logu(0.5, 2.0);
+    a.amax = *a.vmax * g.logu(4.0, 40.0);
+    a.jmax = *a.amax * g.logu(10.0, 80.0);
+    a.omega = m[i].omega;
+    a.zeta = m[i].zeta;
+  }
+  core::MultiAxisPlan p{};
+  std::size_t culprit = 0;
+  if (core::plan_axes(r, p, culprit) != Status::ok) {
+    if (r.base.profile != ProfileKind::fastest) return false;
+    r.base.profile = ProfileKind::jerk_limited;
+    r.base.shaper = core::ShaperKind::zv;
+    if (core::plan_axes(r, p, culprit) != Status::ok) return false;
+  }
+  if (p.path_mode_count() != k) return false;
+  for (std::size_t i = 0; i < 3; ++i) {
+    core::AxisOnline o{};
+    if (core::axis_command(r, p, i, ax[i].move) != Status::ok || core::axis_online(r, p, i, o) != Status::ok) {
+      return false;
+    }
+    ax[i].modes.assign(o.modes.begin(), o.modes.begin() + static_cast<std::ptrdiff_t>(o.mode_count));
+    ax[i].limits = o.limits;
+  }
+  return true;
+}
+
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5)];
+}
+
+}  // namespace
+
+// The issue's first case: a one-axis halt of a move designed for three modes leaves all three at
+// rest (before, only the first was kept: 16 % of D ringing on the others).
+TEST(Halt, OneAxisKeepsEveryDesignModeOfTheMove) {
+  core::MoveRequest q{};
+  q.profile = ProfileKind::fastest;
+  q.distance = 0.1;
+  q.vmax = 1.0;
+  q.amax = 20.0;
+  q.jmax = 800.0;
+  q.omega = 22.0;
+  q.zeta = 0.0;
+  q.extra_modes = {core::Mode{30.0, 0.05}, core::Mode{15.0, 0.1}};
+  q.extra_mode_count = 2;
+  std::array<core::Mode, core::kMaxOnlineModes> modes{};
+  ASSERT_EQ(core::design_modes(q, modes), 3u);
+  EXPECT_EQ(modes[1].omega, 30.0);
+  EXPECT_EQ(modes[2].zeta, 0.1);
+  Axis ax{};
+  ASSERT_EQ(core::plan(q, ax.move), Status::ok);
+  ax.modes.assign(modes.begin(), modes.begin() + 3);
+  ax.limits = {1.0, 20.0, 800.0};
+  Stats st{};
+  check_halt(ax, 0.1, "halt at 0.1 s", st);
+  // Without a mode of its own, the fallback (the plant's fundamental) is kept.
+  core::MoveRequest none{};
+  const core::Mode f{12.0, 0.02};
+  ASSERT_EQ(core::design_modes(none, modes, &f), 1u);
+  EXPECT_EQ(modes[0].omega, 12.0);
+  EXPECT_EQ(core::design_modes(none, modes), 0u);
+}
+
+// The issue's second case: three path axes halted at 0.04 s of a 0.536 s move stopped at 1.148 D at
+// 0.553 s; the halt now stops short of the target no later than the move.
+TEST(Halt, EarlyHaltOfThreePathAxesNeitherOvershootsNorEndsLater) {
+  core::MultiAxisRequest r{};
+  r.count = 3;
+  r.base.profile = ProfileKind::fastest;
+  const double dist[3] = {0.1, 0.05, -0.2}, om[3] = {22, 30, 15}, ze[3] = {0, 0.05, 0.1}, am[3] = {20, 10, 40};
+  for (std::size_t i = 0; i < 3; ++i) r.axes[i] = {dist[i], 1.0, am[i], 800.0, om[i], ze[i]};
+  core::MultiAxisPlan p{};
+  std::size_t culprit = 0;
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  Stats st{};
+  std::array<OnlineChoice, 3> choice{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    Axis ax{};
+    core::AxisOnline o{};
+    ASSERT_EQ(core::axis_command(r, p, i, ax.move), Status::ok);
+    ASSERT_EQ(core::axis_online(r, p, i, o), Status::ok);
+    ax.modes.assign(o.modes.begin(), o.modes.begin() + static_cast<std::ptrdiff_t>(o.mode_count));
+    ax.limits = o.limits;
+    const core::OnlinePlan hp = check_halt(ax, 0.04, "axis " + std::to_string(i), st);
+    EXPECT_TRUE(hp.fastest_passes_target || hp.fastest_ends_later) << "axis " << i;
+    EXPECT_NE(hp.choice, OnlineChoice::blend) << "axis " << i;
+    choice[i] = hp.choice;
+  }
+  EXPECT_EQ(choice[1], choice[0]);
+  EXPECT_EQ(choice[2], choice[0]);
+  // A caller that can only switch to a blend is told so, with its blend untouched.
+  Axis ax{};
+  core::AxisOnline o{};
+  ASSERT_EQ(core::axis_command(r, p, 0, ax.move), Status::ok);
+  ASSERT_EQ(core::axis_online(r, p, 0, o), Status::ok);
+  core::OnlineRequest q{};
+  ASSERT_EQ(core::online_request(ax.move, 0.04, o.modes.data(), o.mode_count, o.limits, std::nullopt, q), Status::ok);
+  if (choice[0] == OnlineChoice::finish) {
+    core::Blend b{};
+    EXPECT_EQ(core::plan_online(q, b), Status::halt_finishes_command);
+    EXPECT_EQ(b.duration(), 0.0);
+  }
+}
+
+// A halt of a move that leaves a mode ringing (no finish to fall back on) whose every blend passes
+// the target is refused with its own status, the output untouched.
+TEST(Halt, NoBlendShortOfTheTargetAndNoFinishIsRefused) {
+  core::OnlineRequest r{};
+  r.start = {0.099, 1.0, 0.0, 0.0};  // 1 mm before the target at 1 m/s
+  r.mode_count = 1;
+  r.modes[0] = {10.0, 0.0};
+  r.memory[0] = {0.0, 0.0};
+  r.limits = {1.0, 1.0, 1.0};  // stopping takes ~1 m
+  r.running = core::OnlineRunning{0.0, 0.1, 0.001, false};
+  core::OnlinePlan p{};
+  p.rest_after = -1.0;
+  // A blend to the target is impossible here too (it would have to reverse far beyond jmax).
+  const Status s = core::plan_online(r, p);
+  if (s == Status::ok) {
+    EXPECT_NE(p.choice, OnlineChoice::finish);
+    EXPECT_TRUE(p.ends_later);
+    EXPECT_LE(p.blend.end_position(), 0.1 + 1e-12);
+  } else {
+    EXPECT_EQ(s, Status::halt_passes_target);
+    EXPECT_EQ(p.rest_after, -1.0);
+  }
+  // With the command at rest at its end, finishing it is the halt.
+  r.running->at_rest = true;
+  ASSERT_EQ(core::plan_online(r, p), Status::ok);
+  EXPECT_EQ(p.choice, OnlineChoice::finish);
+  EXPECT_EQ(p.rest_after, 0.001);
+}
+
+// The sweep: SETTLE_HALT_CASES halt times (120; the soak build 1000), over 1, 2, 3 modes and 1
+// and 3 axes, each checked for all four properties; prints the duration distribution.
+TEST(Halt, RandomSweepRestsShortOfTheTargetNoLaterWithinLimits) {
+  Gen g{std::mt19937_64{36}};
+  Stats st{};
+  int halts = 0, draws = 0;
+  while (halts < SETTLE_HALT_CASES) {
+    ++draws;
+    const std::size_t k = 1 + static_cast<std::size_t>(draws % 3);
+    const bool three = (draws / 3) % 2 == 1;
+    if (three) {
+      std::array<Axis, 3> ax{};
+      if (!three_axes(g, k, ax)) continue;
+      const double t = g.uni(0.0, 1.0) * ax[0].move.duration();
+      std::array<OnlineChoice, 3> ch{};
+      for (std::size_t i = 0; i < 3; ++i) {
+        ch[i] = check_halt(ax[i], t, "draw " + std::to_string(draws) + " axis " + std::to_string(i), st).choice;
+      }
+      EXPECT_TRUE(ch[0] == ch[1] && ch[0] == ch[2]) << "draw " << draws << ": the axes chose differently";
+    } else {
+      Axis ax{};
+      if (!one_axis(g, k, ax)) continue;
+      check_halt(ax, g.uni(0.0, 1.0) * ax.move.duration(), "draw " + std::to_string(draws), st);
+    }
+    ++halts;
+  }
+  ASSERT_FALSE(st.ratio.empty());
+  std::printf("halts %d (axis halts %d): fastest blend %d, blend to the target %d, finish the move %d\n", halts,
+              st.cases, st.by_choice[0], st.by_choice[1], st.by_choice[2]);
+  for (const auto* v : {&st.ratio, &st.ratio_blend}) {
+    ASSERT_FALSE(v->empty());
+    std::printf("rest time / time-optimal stop, %s (%zu): min %.3f p10 %.3f p25 %.3f median %.3f p75 %.3f p90 %.3f max %.3f\n",
+                v == &st.ratio ? "every halt" : "fastest blends", v->size(), quantile(*v, 0.0), quantile(*v, 0.1),
+                quantile(*v, 0.25), quantile(*v, 0.5), quantile(*v, 0.75), quantile(*v, 0.9), quantile(*v, 1.0));
+  }
+}
