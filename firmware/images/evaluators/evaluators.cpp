@@ -71,6 +71,9 @@ volatile std::uint8_t g_halt_status{};
 [[gnu::noinline]] void halt_plan() {
   core::OnlineRequest r{};
   core::Status st = core::online_request(g_move_d, g_halt_at, &g_halt_mode, 1, g_halt_limits, std::nullopt, r);
+  // The blend search itself, as before the halt learnt to finish the move instead: without what the
+  // running move does, a halt always plans its fastest blend (the cost measured here).
+  r.running.reset();
   if (st == core::Status::ok) st = core::plan_online(r, g_blend);
   g_halt_status = static_cast<std::uint8_t>(st);
 }
