@@ -49,7 +49,7 @@ class Profile {
   Profile(ProfileKind kind, const Variant& v) noexcept : kind_{kind}, v_{v} {}
   template <typename U>
   explicit Profile(const Profile<U>& o) noexcept : kind_{o.kind()} {
-    o.visit([this](const auto& p) { assign(p); });
+    o.visit([this](const auto& p) { this->template assign<U>(p); });
   }
 
   // Makes this profile a Shape of kind `kind` built from `arg` (its Params, or a Shape to copy),
@@ -93,9 +93,20 @@ class Profile {
       return visit_from<I + 1>(f);
     }
   }
-  template <typename U, template <typename> class P>
-  void assign(const P<U>& p) noexcept {
-    v_ = P<T>{p};
+  // Stores, converted to T, a shape `p` that Profile<U> holds: the registry's first kind whose
+  // Shape<U> is S names the shape, and its Shape<T> is stored. Looked up in the registry rather
+  // than deduced through a template template parameter: PiecewiseJerk<T, N> has a second
+  // (defaulted) parameter, and matching it to `template <typename> class` needs P0522, which
+  // clang 14 does not do by default (the sanitizer preset's compiler).
+  template <typename U, typename S, std::size_t I = 0>
+  void assign(const S& p) noexcept {
+    static_assert(I < kProfileCount, "not a registered profile's shape");
+    using Descriptor = profile_t<static_cast<ProfileKind>(I)>;
+    if constexpr (std::is_same_v<typename Descriptor::template Shape<U>, S>) {
+      v_ = typename Descriptor::template Shape<T>{p};
+    } else {
+      assign<U, S, I + 1>(p);
+    }
   }
 
   ProfileKind kind_{};
