@@ -72,26 +72,26 @@ const std::vector<OptionSpec> kOutput = {
 const std::vector<OptionSpec> kMove = [] {
   std::vector<OptionSpec> v = {
       choice("--profile", "", profile_names(), "the motion profile (required)"),
-      real("--distance", "m or rad", "", {-1e6, 1e6}, "signed move distance (required)"),
-      real("--time", "s", "", {1e-6, kMaxSeconds}, "move time of the unshaped profile (or give limits)"),
-      real("--vmax", "unit/s", "", {0.0, 1e9, true}, "velocity limit"),
-      real("--amax", "unit/s^2", "", {0.0, 1e12, true}, "acceleration limit"),
-      real("--jmax", "unit/s^3", "", {0.0, 1e15, true}, "jerk limit"),
+      real("--distance", "m or rad", "", plant::move_range::distance, "signed move distance (required)"),
+      real("--time", "s", "", plant::move_range::time, "move time of the unshaped profile (or give limits)"),
+      real("--vmax", "unit/s", "", plant::move_range::vmax, "velocity limit"),
+      real("--amax", "unit/s^2", "", plant::move_range::amax, "acceleration limit"),
+      real("--jmax", "unit/s^3", "", plant::move_range::jmax, "jerk limit"),
       {.name = "--omega", .kind = Kind::real, .unit = "rad/s", .def = "the plant's fundamental (simulate, stream)",
        .help = "natural frequency the move is designed for (repeat for more modes: --profile fastest)",
-       .range = {1e-3, 1e6}, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
+       .range = plant::move_range::omega, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
       {.name = "--zeta", .kind = Kind::real, .unit = "", .def = "0 (simulate, stream: the plant's)",
        .help = "damping ratio the move is designed for (one per --omega, in order, when several)",
-       .range = {0.0, 1.0, false, true}, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
-      real("--robust", "%", "", {0.0, 50.0, true, false},
+       .range = plant::move_range::zeta, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
+      real("--robust", "%", "", plant::move_range::robust,
            "fastest: keep every mode's residual <= 5 % of a step's over omega (1 +- PCT/100)"),
       {.name = "--gammas", .kind = Kind::list, .unit = "", .def = "", .help = "pseudopoly exponents G1,G2,... "
-       "(required for pseudopoly)", .range = {2.0, 100.0, true, false}, .min_items = 1, .max_items = 8,
+       "(required for pseudopoly)", .range = plant::move_range::gamma, .min_items = 1, .max_items = 8,
        .value_name = "G1,G2,..."},
       {.name = "--y", .kind = Kind::list, .unit = "", .def = "computed", .help = "ramp-versine fractions "
-       "Y1/L,Y2/L,Y3/L", .range = {-100.0, 100.0}, .min_items = 3, .max_items = 3, .value_name = "Y1,Y2,Y3"},
+       "Y1/L,Y2/L,Y3/L", .range = plant::move_range::y, .min_items = 3, .max_items = 3, .value_name = "Y1,Y2,Y3"},
       choice("--shaper", "none", shaper_names(), "input shaper convolved with the profile"),
-      real("--vtol", "", "0.05", {0.0, 0.5, true, true}, "vibration tolerance of the EI shapers (ei, ei2, ei3)"),
+      real("--vtol", "", "0.05", plant::move_range::vtol, "vibration tolerance of the EI shapers (ei, ei2, ei3)"),
   };
   return v;
 }();
@@ -780,10 +780,6 @@ bool check_value(const OptionSpec& o, const std::string& value, double& number, 
     return fail_with(err, "missing_value", o.name, o.name + ": needs a non-empty value; expected " + expectation(o));
   }
   return check_number(o, value, o.range, number, "; expected " + expectation(o), err);
-}
-
-std::string Range::text() const {
-  return std::string{lo_open ? "(" : "["} + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]");
 }
 
 std::string OptionSpec::describe() const {

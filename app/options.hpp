@@ -16,22 +16,14 @@
 #include <string_view>
 #include <vector>
 
+#include "settle/plant/move_vocabulary.hpp"
+
 #include "settle/plant/limits.hpp"
 
 namespace settle::app {
 
-// A closed or open interval of valid values.
-struct Range {
-  double lo;
-  double hi;
-  bool lo_open{false};
-  bool hi_open{false};
-
-  [[nodiscard]] bool contains(double v) const {
-    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
-  }
-  [[nodiscard]] std::string text() const;  // "(0, 3600]"
-};
+// A closed or open interval of valid values (the move's own ranges are plant::move_range).
+using Range = plant::Range;
 
 enum class Kind : unsigned char {
   real,     // a finite number in `range`
@@ -149,10 +141,10 @@ int report_bad_request(const RequestError& err, bool json);
 
 // The CLI's documented size bounds, checked before anything is allocated or printed. Each keeps
 // a valid run of a release build within a few seconds (and under ASan within about a minute).
-inline constexpr double kMaxRows = 2e6;          // sample: samples printed
+inline constexpr double kMaxRows = plant::kMaxSampleCount;  // sample: samples printed
 inline constexpr double kMaxSimWork = plant::kMaxSimWork;  // simulate: grid steps x modes
 inline constexpr double kMaxCsvRows = 1e6;       // simulate --csv: rows (the history is kept in memory)
-inline constexpr double kMaxSeconds = 3600.0;    // a move, move + tail, move + settle time
+inline constexpr double kMaxSeconds = plant::kMaxMoveSeconds;    // a move, move + tail, move + settle time
 inline constexpr double kMaxStreamPeriods = 1e6; // stream: start-up (5 s) + move + settle, in periods
 inline constexpr std::size_t kMaxModes = 64;     // --mode
 

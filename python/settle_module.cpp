@@ -19,6 +19,7 @@
 
 #include "settle/core/planner.hpp"
 #include "settle/plant/command.hpp"
+#include "settle/plant/limits.hpp"
 #include "settle/plant/modal_plant.hpp"
 #include "settle/plant/move_vocabulary.hpp"
 #include "settle/plant/simulate.hpp"
@@ -44,11 +45,22 @@ double number(const py::handle& v, const char* keyword) {
   return x;
 }
 
-std::vector<double> numbers(const py::handle& v, const char* keyword) {
+// At most `most` numbers from a sequence or any iterable: an endless generator is refused after
+// `most` + 1 items, before anything grows with it.
+std::vector<double> numbers(const py::handle& v, const char* keyword, std::size_t most) {
   if (py::isinstance<py::str>(v) || !py::isinstance<py::iterable>(v)) bad(keyword, "expected a sequence of numbers");
   std::vector<double> out;
-  for (const py::handle item : v) out.push_back(number(item, keyword));
+  for (const py::handle item : v) {
+    if (out.size() == most) bad(keyword, "at most " + std::to_string(most) + " values");
+    out.push_back(number(item, keyword));
+  }
   return out;
+}
+
+// `x` within the range the CLI's option of the same name has (plant::move_range).
+double in_range(double x, const plant::Range& r, const char* keyword) {
+  if (!r.contains(x)) bad(keyword, "out of range: expected a number in " + r.text());
+  return x;
 }
 
 std::string text(const py::handle& v, const char* keyword) {
@@ -63,7 +75,7 @@ constexpr const char* kMoveKeywords[] = {"profile", "distance", "time", "vmax", 
 std::vector<double> number_or_numbers(const py::handle& v, const char* keyword, std::size_t most) {
   if (!py::isinstance<py::sequence>(v) || py::isinstance<py::str>(v)) return {number(v, keyword)};
   if (py::len(v) > most) bad(keyword, "at most " + std::to_string(most) + " values");
-  return numbers(v, keyword);
+  return numbers(v, keyword, most);
 }
 
 bool is_move_keyword(const std::string& k) {
@@ -89,11 +101,19 @@ core::MoveRequest move_request(const py::kwargs& kw) {
   if (profile.empty()) bad("profile", "required (" + plant::profile_list() + ")");
   if (!core::parse_profile_kind(profile.c_str(), r.profile)) bad("profile", "unknown profile '" + profile + "'");
   if (!kw.contains("distance")) bad("distance", "required");
-  r.distance = number(kw["distance"], "distance");
-  const std::pair<const char*, std::optional<double>*> optional_numbers[] = {
-      {"time", &r.time}, {"vmax", &r.vmax}, {"amax", &r.amax}, {"jmax", &r.jmax}, {"robust", &r.robust}};
-  for (const auto& [name, field] : optional_numbers) {
-    if (kw.contains(name) && !kw[name].is_none()) *field = number(kw[name], name);
+  r.distance = in_range(number(kw["distance"], "distance"), plant::move_range::distance, "distance");
+  struct Optional {
+    const char* name;
+    std::optional<double>* field;
+    plant::Range range;
+  };
+  const Optional optional_numbers[] = {{"time", &r.time, plant::move_range::time},
+                                       {"vmax", &r.vmax, plant::move_range::vmax},
+                                       {"amax", &r.amax, plant::move_range::amax},
+                                       {"jmax", &r.jmax, plant::move_range::jmax},
+                                       {"robust", &r.robust, plant::move_range::robust}};
+  for (const Optional& o : optional_numbers) {
+    if (kw.contains(o.name) && !kw[o.name].is_none()) *o.field = in_range(number(kw[o.name], o.name), o.range, o.name);
   }
   if (r.robust && r.profile != core::ProfileKind::fastest) bad("robust", "only profile 'fastest' takes it");
   // omega and zeta: a number, or (profile 'fastest') one per mode, as --omega and --zeta repeat.
@@ -101,18 +121,20 @@ core::MoveRequest move_request(const py::kwargs& kw) {
   const std::vector<double> omegas =
       kw.contains("omega") && !kw["omega"].is_none() ? number_or_numbers(kw["omega"], "omega", kModes) : std::vector<double>{};
   const std::vector<double> zetas = kw.contains("zeta") ? number_or_numbers(kw["zeta"], "zeta", kModes) : std::vector<double>{};
+  for (const double w : omegas) (void)in_range(w, plant::move_range::omega, "omega");
+  for (const double z : zetas) (void)in_range(z, plant::move_range::zeta, "zeta");
   const char* option = nullptr;
   std::string message;
   if (!plant::set_design_modes(omegas, zetas, r, option, message)) bad(option + 2, message);
-  if (kw.contains("vtol")) r.vtol = number(kw["vtol"], "vtol");
+  if (kw.contains("vtol")) r.vtol = in_range(number(kw["vtol"], "vtol"), plant::move_range::vtol, "vtol");
   if (kw.contains("gammas") && !kw["gammas"].is_none()) {
-    const std::vector<double> g = numbers(kw["gammas"], "gammas");
-    if (g.size() > core::kMaxGammas) bad("gammas", "at most " + std::to_string(core::kMaxGammas) + " exponents");
-    for (std::size_t i = 0; i < g.size(); ++i) r.gammas[i] = g[i];
+    const std::vector<double> g = numbers(kw["gammas"], "gammas", core::kMaxGammas);
+    for (std::size_t i = 0; i < g.size(); ++i) r.gammas[i] = in_range(g[i], plant::move_range::gamma, "gammas");
     r.gamma_count = g.size();
   }
   if (kw.contains("y") && !kw["y"].is_none()) {
-    const std::vector<double> y = numbers(kw["y"], "y");
+    const std::vector<double> y = numbers(kw["y"], "y", 3);
+    for (const double f : y) (void)in_range(f, plant::move_range::y, "y");
     if (y.size() != 3) bad("y", "expected three fractions Y1/L, Y2/L, Y3/L");
     r.y_fractions = std::array<double, 3>{y[0], y[1], y[2]};
   }
@@ -132,6 +154,10 @@ core::Move<double> planned(const py::kwargs& kw) {
   if (const core::Status st = core::plan(req, move); st != core::Status::ok) {
     bad(keyword_of(st, req), plant::reason_of(st, req) + " [" + core::to_string(st) + "]");
   }
+  // Never a non-finite number back: the move's own numbers, every parameter and the velocity peak.
+  bool finite = std::isfinite(move.duration()) && std::isfinite(move.distance()) && std::isfinite(move.peaks().v);
+  for (const auto& [name, value] : plant::profile_params(move.profile())) finite = finite && std::isfinite(value);
+  if (!finite) bad("distance", "the move's numbers overflow (distance, limits and time too far apart)");
   return move;
 }
 
@@ -168,12 +194,16 @@ py::dict sample(const py::kwargs& kw) {
   if (!std::isfinite(dt) || !(dt > 0.0)) bad("dt", "must be a positive, finite number of seconds");
   const core::Move<double> move = planned(kw);
   const double n_real = std::ceil(move.duration() / dt);
-  if (n_real > 1e8) bad("dt", "more than 1e8 samples");
+  if (!(n_real + 1.0 <= plant::kMaxSampleCount)) {
+    bad("dt", "at most " + std::to_string(static_cast<long>(plant::kMaxSampleCount)) +
+                  " samples (move duration / dt + 1), as settle sample");
+  }
   const auto n = static_cast<py::ssize_t>(n_real) + 1;
   py::array_t<double> t(n), p(n), v(n), a(n), j(n);
   auto tt = t.mutable_unchecked<1>(), pp = p.mutable_unchecked<1>(), vv = v.mutable_unchecked<1>(),
        aa = a.mutable_unchecked<1>(), jj = j.mutable_unchecked<1>();
   for (py::ssize_t i = 0; i < n; ++i) {
+    if ((i & 0xFFFF) == 0xFFFF && PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C
     const double ti = std::min(static_cast<double>(i) * dt, move.duration());
     const core::Sample<double> s = move.at(ti);
     tt(i) = ti;
@@ -201,8 +231,9 @@ plant::ModalPlant make_plant(const py::handle& spec) {
   } else if (py::isinstance<py::iterable>(spec)) {
     ps.kind = plant::PlantKind::modes;
     for (const py::handle m : spec) {
-      const std::vector<double> v = numbers(m, "plant");
-      if (v.size() < 2 || v.size() > 3) bad("plant", "each mode is (omega, zeta) or (omega, zeta, gain)");
+      if (ps.modes.size() == plant::kMaxModes) bad("plant", "at most " + std::to_string(plant::kMaxModes) + " modes");
+      const std::vector<double> v = numbers(m, "plant", 3);
+      if (v.size() < 2) bad("plant", "each mode is (omega, zeta) or (omega, zeta, gain)");
       plant::Mode mode{};
       mode.omega = v[0];
       mode.zeta = v[1];

@@ -38,6 +38,13 @@ std::string shaper_list() {
   return join(shaper_names(), [](const ShaperName& s) { return s.name; });
 }
 
+std::string Range::text() const {
+  char lo_s[32], hi_s[32];
+  std::snprintf(lo_s, sizeof lo_s, "%g", lo);
+  std::snprintf(hi_s, sizeof hi_s, "%g", hi);
+  return std::string{lo_open ? "(" : "["} + lo_s + ", " + hi_s + (hi_open ? ")" : "]");
+}
+
 bool parse_shaper(const std::string& name, core::ShaperKind& out) {
   for (const ShaperName& s : kShapers) {
     if (name == s.name) {

@@ -6,6 +6,7 @@ against the distance and its velocity against its own position's differences, si
 residual against a Duhamel integral of sample()'s acceleration, and every refusal naming its
 keyword."""
 import argparse
+import itertools
 import json
 import math
 import subprocess
@@ -220,6 +221,23 @@ class BadArguments(unittest.TestCase):
         self.assertNames("omega", lambda: settle.plan(**fastest, omega=[22.0, float("nan")]))
         self.assertNames("robust", lambda: settle.plan(**good, robust=10.0))
         self.assertNames("robust", lambda: settle.plan(**fastest, omega=22.0, robust=-1.0))
+
+    def test_ranges_and_sizes_are_the_clis(self):
+        """The CLI's option ranges and size bounds hold for the keywords too (one table,
+        plant::move_range): what the CLI refuses, the module refuses before any work."""
+        good = dict(profile="scurve", distance=0.05, time=0.5, omega=22.0)
+        self.assertNames("distance", lambda: settle.plan(**dict(good, distance=1e308)))
+        self.assertNames("omega", lambda: settle.plan(**dict(good, omega=1e-320)))
+        self.assertNames("time", lambda: settle.plan(**dict(good, time=1e9)))
+        self.assertNames("vtol", lambda: settle.plan(**good, shaper="ei", vtol=0.7))
+        # Endless iterators are refused after the most the keyword takes, not read to the end.
+        pseudo = dict(profile="pseudopoly", distance=1.0, time=1.0)
+        self.assertNames("gammas", lambda: settle.plan(**pseudo, gammas=itertools.count(3)))
+        self.assertNames("plant", lambda: settle.simulate(plant=((22.0, 0.01) for _ in itertools.count()), **good))
+        self.assertNames("plant", lambda: settle.simulate(plant=[itertools.count(1)], **good))
+        # settle sample's bound: at most 2e6 samples (2e7 here).
+        self.assertNames("dt", lambda: settle.sample(**good, dt=0.5 / 2e7))
+        self.assertIn(len(settle.sample(**good, dt=0.5 / 1e6)["t"]), (1000001, 1000002))
 
 
 if __name__ == "__main__":

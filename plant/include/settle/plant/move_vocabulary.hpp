@@ -12,6 +12,42 @@
 
 namespace settle::plant {
 
+// A closed or open interval of valid values.
+struct Range {
+  double lo;
+  double hi;
+  bool lo_open{false};
+  bool hi_open{false};
+
+  [[nodiscard]] constexpr bool contains(double v) const {
+    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+  [[nodiscard]] std::string text() const;  // "(0, 3600]"
+};
+
+// The longest move, move + tail or move + settle time a request may ask for (s).
+inline constexpr double kMaxMoveSeconds = 3600.0;
+
+// The valid values of each number a move is asked for: the CLI's option table (--distance, ...) and
+// the Python module's keywords (distance=, ...) both take them from here, so the two refuse the
+// same requests. Units: m or rad, s, and their derivatives; omega rad/s; robust %.
+namespace move_range {
+inline constexpr Range distance{-1e6, 1e6};
+inline constexpr Range time{1e-6, kMaxMoveSeconds};
+inline constexpr Range vmax{0.0, 1e9, true};
+inline constexpr Range amax{0.0, 1e12, true};
+inline constexpr Range jmax{0.0, 1e15, true};
+inline constexpr Range omega{1e-3, 1e6};
+inline constexpr Range zeta{0.0, 1.0, false, true};
+inline constexpr Range robust{0.0, 50.0, true, false};
+inline constexpr Range gamma{2.0, 100.0, true, false};  // each pseudopoly exponent
+inline constexpr Range y{-100.0, 100.0};                // each ramp-versine fraction
+inline constexpr Range vtol{0.0, 0.5, true, true};
+}  // namespace move_range
+
+// Samples one `sample` request may produce (settle sample, settle.sample): move duration / dt + 1.
+inline constexpr double kMaxSampleCount = 2e6;
+
 // "scurve, scurve-damped, ...": every registered profile, in registry order.
 [[nodiscard]] std::string profile_list();
 
