@@ -452,10 +452,10 @@ TEST(RunStream, ThreeAxesHaltedAtRandomTimesEndTogetherOnTheLineAtRest) {
       core::OnlineRequest q{};
       ASSERT_EQ(core::online_request(moves[i], at, o.modes.data(), o.mode_count, o.limits, std::nullopt, q),
                 core::Status::ok);
-      core::OnlinePlan plan{};
-      ASSERT_EQ(core::plan_online(q, plan), core::Status::ok) << "axis " << i << " halted at " << at;
-      c.blend = plan.blend;
-      c.finish = plan.choice == core::OnlineChoice::finish;  // the halt finishes the move
+      core::OnlinePlan halt{};
+      ASSERT_EQ(core::plan_online(q, halt), core::Status::ok) << "axis " << i << " halted at " << at;
+      c.blend = halt.blend;
+      c.finish = halt.choice == core::OnlineChoice::finish;  // the halt finishes the move
     }
     StreamSpec spec{};
     spec.plant = plant;
