@@ -661,6 +661,13 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds) {
                                                                                      : "assumed";
   std::size_t changed = 0;
   for (const Change& c : changes) changed += c.before != c.after ? 1U : 0U;
+  // What the master did not write, and why (CiA 301 asks 0x1006 only of the SYNC producer).
+  std::vector<std::string> skipped;
+  if (!plan.config.write_sync_period) {
+    skipped.emplace_back(object_name(hal::canopen::obj::communication_cycle_period, 0) +
+                         " not written: the drive's EDS has no 0x1006 (communication cycle period; CiA 301 asks it "
+                         "only of the SYNC producer)");
+  }
   if (s.json()) {
     Json list = Json::array();
     for (const Change& c : changes) {
@@ -676,7 +683,8 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds) {
                 {"objects_written", changes.size()},
                 {"objects_changed", changed},
                 {"configured_ms", took_ms},
-                {"writes", list}});
+                {"writes", list},
+                {"skipped", skipped}});
     return kExitOk;
   }
   std::printf("node %u configured and verified in %.1f ms: %zu steps, PDO mapping %s; %zu objects written, %zu "
@@ -687,6 +695,7 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds) {
                 c.before ? hex(*c.before, 8).c_str() : "absent", hex(c.after, 8).c_str(),
                 c.before != c.after ? "changed" : "unchanged");
   }
+  for (const std::string& why : skipped) std::printf("  %s\n", why.c_str());
   return kExitOk;
 }
 

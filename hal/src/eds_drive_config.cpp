@@ -129,6 +129,9 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
     }
   }
 
+  // CiA 301 asks 0x1006 only of the SYNC producer: written only to a drive that has it.
+  result.config.write_sync_period = description.has(obj::communication_cycle_period);
+
   const DeviceInfo& device = description.device();
   if (device.vendor_number != 0) result.config.expected_vendor_id = device.vendor_number;
   if (device.product_number != 0) result.config.expected_product_code = device.product_number;

@@ -112,6 +112,10 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   c.node = node;
   c.has_interpolation_period = d.has(co::obj::interpolation_time_period);
   c.has_following_error_actual = d.has(co::obj::following_error_actual);
+  c.has_load_position = d.has(co::obj::load_position_actual);
+  c.has_communication_cycle_period = d.has(co::obj::communication_cycle_period);
+  // CiA 301 asks 0x1006 only of the SYNC producer: a drive without it measures SYNCs against 0x60C2.
+  if (!c.has_communication_cycle_period) c.sync_period_us = 0;
 
   Defaults take{d, node, r.error};
   if (!(take.take(co::obj::device_type, 0, c.device_type) && take.take(co::obj::identity, 1, c.vendor_id) &&

@@ -28,9 +28,15 @@ bool StreamReport::measured() const noexcept {
   const bool axes_measured =
       more_axes.empty() || (start_tick_spread && end_tick_spread && std::isfinite(line_deviation_setpoints_counts) &&
                             std::isfinite(line_deviation_feedback_counts));
-  return completed() && std::isfinite(residual_can.amplitude) && std::isfinite(residual_offline.amplitude) &&
-         std::isfinite(agreement) && std::isfinite(residual_continuous) && axes_measured &&
+  const bool load_ok = !load_measured || (std::isfinite(residual_can.amplitude) && std::isfinite(agreement));
+  return completed() && load_ok && std::isfinite(residual_offline.amplitude) && std::isfinite(residual_continuous) &&
+         axes_measured &&
          std::all_of(more_axes.begin(), more_axes.end(), [](const StreamReport& a) { return a.measured(); });
+}
+
+bool StreamReport::rest_measured() const noexcept {
+  return measured() && load_measured &&
+         std::all_of(more_axes.begin(), more_axes.end(), [](const StreamReport& a) { return a.load_measured; });
 }
 
 StreamSpec axis_spec(const StreamSpec& spec, std::size_t i) {
@@ -265,7 +271,7 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
   for (const auto& fs : r.feedback) positions.push_back(fs.position_actual);
   if (have_replay) r.alignment = align_feedback(positions, r.replay);
   std::vector<std::int32_t> measured;
-  if (r.aligned()) {
+  if (r.aligned() && r.load_measured) {
     for (std::size_t i = r.replay.move_periods - 1; i < r.replay.feedback.size(); ++i) {
       measured.push_back(r.feedback[*r.alignment + i].load_position);
     }
@@ -279,6 +285,11 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
       fitted_residual(r.replay.load_after, load_cpu, r.replay.final_load, dt, spec.plant, r.replay.step_residual,
                       off) != plant::SimStatus::ok) {
     can.amplitude = off.amplitude = can.prv_percent = off.prv_percent = NAN;
+  }
+  if (!r.load_measured) {
+    // No load position on the bus: nothing to fit (a column of zeros is no measurement).
+    can = SampledResidual{};
+    can.amplitude = can.prv_percent = can.fit_rms = NAN;
   }
   SampledResidual off_double{};
   if (!have_double || fitted_residual(replay_double.load_after, load_cpu, replay_double.final_load, dt, spec.plant,
@@ -461,6 +472,9 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
       }
       ac.drive = d.config;
     }
+    StreamReport& a = *rs[i];
+    a.load_measured = ac.drive.layout.load_position.mapped();
+    if (!a.load_measured) a.load_note = "not measured (the drive reports no load position)";
     longest = std::fmax(longest, command_duration(specs[i]));
   }
   const std::uint64_t move_ticks = static_cast<std::uint64_t>(longest * 1e6 / period_us) + 2;

@@ -14,6 +14,9 @@ using Json = nlohmann::ordered_json;
 // A measurement that is absent (not aligned, not finite) is null, never a NaN.
 Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
+// Why the CAN residual was not measured (null when it was).
+Json note_or_null(const StreamReport& r) { return r.load_measured ? Json(nullptr) : Json(r.load_note); }
+
 long long count(std::uint64_t v) { return static_cast<long long>(v); }
 
 // ... and in text, "n/a".
@@ -53,8 +56,10 @@ Json axis_json(std::size_t i, const StreamReport& a) {
       {"rpdo_sent", count(a.axis.rpdo_sent)},
       {"moves_aborted", count(a.axis.moves_aborted)},
       {"max_following_error", count(a.axis.max_following_error)},
+      {"load_measured", a.load_measured},
       {"residual_can", number_or_null(a.residual_can.amplitude)},
       {"prv_can_percent", number_or_null(a.residual_can.prv_percent)},
+      {"residual_can_note", note_or_null(a)},
       {"residual_offline", number_or_null(a.residual_offline.amplitude)},
       {"agreement", number_or_null(a.agreement)},
       {"fit_rms_can", number_or_null(a.residual_can.fit_rms)},
@@ -80,8 +85,12 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
                static_cast<unsigned long long>(r.counters.tx_busy),
                static_cast<unsigned long long>(r.feedback_late_ticks),
                r.aligned() ? "every setpoint applied once, in order" : "FEEDBACK DOES NOT MATCH THE SETPOINTS");
-  std::fprintf(out, "residual (CAN)     %s (PRV %s %%)\n", shown(r.residual_can.amplitude, "%.9g").c_str(),
-               shown(r.residual_can.prv_percent, "%.4f").c_str());
+  if (r.load_measured) {
+    std::fprintf(out, "residual (CAN)     %s (PRV %s %%)\n", shown(r.residual_can.amplitude, "%.9g").c_str(),
+                 shown(r.residual_can.prv_percent, "%.4f").c_str());
+  } else {
+    std::fprintf(out, "residual (CAN)     %s: the rest is not verified\n", r.load_note.c_str());
+  }
   std::fprintf(out, "residual (offline) %s (PRV %s %%), agreement %s\n",
                shown(r.residual_offline.amplitude, "%.9g").c_str(),
                shown(r.residual_offline.prv_percent, "%.4f").c_str(), shown(r.agreement, "%.3g").c_str());
@@ -109,7 +118,8 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
       const StreamReport& a = *axes[i];
       const std::string end = a.move_end_tick ? std::to_string(*a.move_end_tick) : std::string{"n/a"};
       std::fprintf(out, "axis %zu (node %3u)  distance %.9g, residual (CAN) %s, (offline) %s, move ends tick %s%s\n",
-                   i + 1, static_cast<unsigned>(a.node), a.distance, shown(a.residual_can.amplitude, "%.9g").c_str(),
+                   i + 1, static_cast<unsigned>(a.node), a.distance,
+                   a.load_measured ? shown(a.residual_can.amplitude, "%.9g").c_str() : a.load_note.c_str(),
                    shown(a.residual_offline.amplitude, "%.9g").c_str(), end.c_str(),
                    a.aligned() ? "" : ", FEEDBACK DOES NOT MATCH THE SETPOINTS");
     }
@@ -184,8 +194,13 @@ std::string stream_json(const StreamReport& r) {
       {"units_held", count(r.units_held)},
       // Absent (null) when there is nothing to measure: the move did not complete, or the
       // feedback did not match the setpoints.
+      // The drive reports a load-side position (false: residual_can, prv_can_percent, agreement and
+      // fit_rms_can are null, residual_can_note says why, and rest_measured is false).
+      {"load_measured", r.load_measured},
+      {"rest_measured", r.rest_measured()},
       {"residual_can", number_or_null(r.residual_can.amplitude)},
       {"prv_can_percent", number_or_null(r.residual_can.prv_percent)},
+      {"residual_can_note", note_or_null(r)},
       {"residual_offline", number_or_null(r.residual_offline.amplitude)},
       {"prv_offline_percent", number_or_null(r.residual_offline.prv_percent)},
       {"agreement", number_or_null(r.agreement)},

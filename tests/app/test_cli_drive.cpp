@@ -232,6 +232,53 @@ TEST(CliDrive, ConfigAppliesAndVerifiesWhatStreamingNeedsForEachBundledDrive) {
   EXPECT_TRUE(has(none.stderr_text, "0x60C2 (interpolation time period)")) << none.out;
 }
 
+// Issue 35: CiA 301 asks 0x1006 only of the SYNC producer. A drive whose EDS lacks it (the
+// simulated one then lacks it too: writing it would abort 0x06020000) is configured without the
+// write, and the report says it was skipped and why.
+TEST(CliDrive, ConfigSkips1006WhenTheDrivesEdsHasNone) {
+  const std::string eds = std::string{SETTLE_TEST_EDS_DIR} + "/no_cycle_period_drive.eds";
+  const CliResult r = run_cli("drive config --bus loopback --json --eds " + eds);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const nlohmann::json j = json_of(r);
+  EXPECT_EQ(j["status"], "ok");
+  for (const auto& w : j["writes"]) EXPECT_NE(w["object"], "0x1006:0") << j.dump();
+  ASSERT_EQ(j["skipped"].size(), 1U) << j.dump();
+  EXPECT_TRUE(has(j["skipped"][0].get<std::string>(), "0x1006:0 not written: the drive's EDS has no 0x1006"))
+      << j.dump();
+  const CliResult text = run_cli("drive config --bus loopback --eds " + eds);
+  ASSERT_EQ(text.status, 0) << text.out;
+  EXPECT_TRUE(has(text.stdout_text, "  0x1006:0 not written: the drive's EDS has no 0x1006")) << text.stdout_text;
+  // Settle's own drive has 0x1006: written, nothing skipped.
+  const CliResult own = run_cli(std::string{"drive config --bus loopback --json --eds "} + SETTLE_DRIVE_EDS);
+  ASSERT_EQ(own.status, 0) << own.out;
+  const nlohmann::json o = json_of(own);
+  bool written = false;
+  for (const auto& w : o["writes"]) written = written || w["object"] == "0x1006:0";
+  EXPECT_TRUE(written) << o.dump();
+  EXPECT_TRUE(o["skipped"].empty()) << o.dump();
+}
+
+// Issue 35: settle stream to a drive without a load position (its EDS has no 0x2000) streams and
+// checks every setpoint, but does not claim a residual it did not measure.
+TEST(CliDrive, StreamToADriveWithoutALoadPositionSaysTheResidualIsNotMeasured) {
+  const std::string move = " --bus loopback --plant beam --profile poly345 --distance 0.01 --time 0.5 --settle-time 0.2";
+  const CliResult r = run_cli("stream" + move + " --json --eds " + SETTLE_TEST_EDS_DIR + "/no_load_position_drive.eds");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const nlohmann::json j = json_of(r);
+  EXPECT_EQ(j["aligned"], true) << j.dump();
+  EXPECT_TRUE(j["residual_can"].is_null()) << j.dump();
+  EXPECT_TRUE(j["prv_can_percent"].is_null()) << j.dump();
+  EXPECT_EQ(j["rest_measured"], false) << j.dump();
+  EXPECT_EQ(j["residual_can_note"], "not measured (the drive reports no load position)") << j.dump();
+  const CliResult text = run_cli("stream" + move + " --eds " + SETTLE_TEST_EDS_DIR + "/no_load_position_drive.eds");
+  ASSERT_EQ(text.status, 0) << text.out;
+  EXPECT_TRUE(has(text.stdout_text, "not measured (the drive reports no load position)")) << text.stdout_text;
+  EXPECT_TRUE(has(text.stdout_text, "every setpoint applied once, in order")) << text.stdout_text;
+  const CliResult own = run_cli("stream" + move + " --json --eds " + SETTLE_DRIVE_EDS);
+  ASSERT_EQ(own.status, 0) << own.out;
+  EXPECT_TRUE(json_of(own)["residual_can"].is_number()) << own.out;
+}
+
 // On a bus, --eds gives read and write their --type: with it the request gets as far as the bus
 // (this one does not exist: exit 1); an object the EDS does not describe still needs --type.
 TEST(CliDrive, TheEdsGivesTheType) {

@@ -4,7 +4,9 @@
 // bundled EDS configured against Settle's drive.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -228,19 +230,8 @@ TEST(EdsDriveConfig, AStaticMappingWithoutWhatIsNeededIsRefusedSaying) {
   }
 }
 
-// The bundled description of Settle's drive: static mapping, read at start-up, and the layout it
-// gives is the default one (so the master keeps its inline codecs). Then against the drive itself.
-TEST(EdsDriveConfig, TheBundledEdsConfiguresSettlesDrive) {
-  const LoadResult loaded = load(SETTLE_DRIVE_EDS_PATH);
-  ASSERT_TRUE(loaded.description) << loaded.error;
-  const DriveConfigResult r = drive_config_from_eds(*loaded.description, base(),
-                                                    FeedbackRequest{true, false, canopen::obj::load_position_actual, 0});
-  ASSERT_TRUE(r.ok()) << r.error;
-  EXPECT_EQ(r.config.pdo_setup, PdoSetup::read_static);
-  EXPECT_TRUE(canopen::is_default_layout(r.config.layout));
-
-  canopen::DriveNode drive{canopen::DriveNodeConfig{3}};
-  canopen::RemoteDrive remote{r.config};
+// Start-up of `remote` against `drive`, frame for frame, until it is no longer configuring.
+void start_up(canopen::DriveNode& drive, canopen::RemoteDrive& remote) {
   FrameBuffer<16> to_drive;
   FrameBuffer<16> to_master;
   std::uint64_t now = 0;
@@ -259,7 +250,93 @@ TEST(EdsDriveConfig, TheBundledEdsConfiguresSettlesDrive) {
   }
   ASSERT_EQ(remote.state(), canopen::RemoteDriveState::enabling)
       << canopen::to_string(remote.failure().error) << " at 0x" << std::hex << remote.failure().index;
+}
+
+// The bundled description of Settle's drive: static mapping, read at start-up, and the layout it
+// gives is the default one (so the master keeps its inline codecs). Then against the drive itself.
+TEST(EdsDriveConfig, TheBundledEdsConfiguresSettlesDrive) {
+  const LoadResult loaded = load(SETTLE_DRIVE_EDS_PATH);
+  ASSERT_TRUE(loaded.description) << loaded.error;
+  const DriveConfigResult r = drive_config_from_eds(*loaded.description, base(),
+                                                    FeedbackRequest{true, false, canopen::obj::load_position_actual, 0});
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.config.pdo_setup, PdoSetup::read_static);
+  EXPECT_TRUE(canopen::is_default_layout(r.config.layout));
+
+  canopen::DriveNode drive{canopen::DriveNodeConfig{3}};
+  canopen::RemoteDrive remote{r.config};
+  start_up(drive, remote);
   EXPECT_TRUE(canopen::is_default_layout(remote.config().layout)) << "derived from the drive's own mapping";
+}
+
+
+// Issue 35: CiA 301 asks 0x1006 only of the SYNC producer. The bundled description keeps it and
+// the master writes it; a description without it (a drive that aborts 0x06020000 on it) is
+// configured without the write, and start-up against such a drive succeeds.
+TEST(EdsDriveConfig, The1006WriteIsMadeOnlyWhenTheDescriptionHasIt) {
+  const LoadResult loaded = load(SETTLE_DRIVE_EDS_PATH);
+  ASSERT_TRUE(loaded.description) << loaded.error;
+  const FeedbackRequest feedback{true, false, canopen::obj::load_position_actual, 0};
+  const DriveConfigResult with = drive_config_from_eds(*loaded.description, base(), feedback);
+  ASSERT_TRUE(with.ok()) << with.error;
+  EXPECT_TRUE(with.config.write_sync_period);
+
+  // The same file without [1006] and its line in the object list.
+  std::string text;
+  {
+    std::FILE* f = std::fopen(SETTLE_DRIVE_EDS_PATH, "rb");
+    ASSERT_NE(f, nullptr);
+    for (int c = std::fgetc(f); c != EOF; c = std::fgetc(f)) text.push_back(static_cast<char>(c));
+    std::fclose(f);
+  }
+  const auto section = text.find("[1006]");
+  ASSERT_NE(section, std::string::npos);
+  text.erase(section, text.find("\n\n", section) + 2 - section);
+  const auto listed = text.find("=0x1006\n");
+  ASSERT_NE(listed, std::string::npos);
+  text.replace(listed, 8, "=0x1005\n");  // listed twice is harmless to the reader; keeps the count
+  const LoadResult lacking = parse(text);
+  ASSERT_TRUE(lacking.description) << lacking.error;
+  ASSERT_FALSE(lacking.description->has(canopen::obj::communication_cycle_period));
+  const DriveConfigResult without = drive_config_from_eds(*lacking.description, base(), feedback);
+  ASSERT_TRUE(without.ok()) << without.error;
+  EXPECT_FALSE(without.config.write_sync_period);
+
+  std::array<canopen::StartupStep, canopen::remote_drive_max_steps> steps{};
+  const auto planned = canopen::plan_start_up(without.config, steps);
+  ASSERT_TRUE(planned.has_value());
+  for (std::size_t i = 0; i < *planned; ++i) {
+    EXPECT_NE(steps[i].index(), canopen::obj::communication_cycle_period) << "step " << i;
+  }
+  canopen::DriveNodeConfig dc{3};
+  dc.has_communication_cycle_period = false;
+  dc.sync_period_us = 0;
+  canopen::DriveNode drive{dc};
+  canopen::RemoteDrive remote{without.config};
+  start_up(drive, remote);
+  // And the old way, writing 0x1006 to that drive, is what fails (abort 0x06020000).
+  canopen::DriveNode drive2{dc};
+  canopen::RemoteDriveConfig forced = without.config;
+  forced.write_sync_period = true;
+  canopen::RemoteDrive remote2{forced};
+  FrameBuffer<16> to_drive;
+  FrameBuffer<16> to_master;
+  std::uint64_t now = 0;
+  drive2.start(now, to_master);
+  to_master.clear();
+  remote2.start(now, to_drive);
+  for (int i = 0; i < 200 && remote2.state() == canopen::RemoteDriveState::configuring; ++i) {
+    const std::vector<CanFrame> requests(to_drive.frames().begin(), to_drive.frames().end());
+    to_drive.clear();
+    for (const CanFrame& f : requests) (void)drive2.on_frame(f, now, to_master);
+    const std::vector<CanFrame> answers(to_master.frames().begin(), to_master.frames().end());
+    to_master.clear();
+    for (const CanFrame& f : answers) (void)remote2.on_frame(f, now, to_drive);
+    now += 1000;
+    remote2.poll(now, to_drive);
+  }
+  EXPECT_EQ(remote2.state(), canopen::RemoteDriveState::failed);
+  EXPECT_EQ(remote2.failure().index, canopen::obj::communication_cycle_period);
 }
 
 }  // namespace

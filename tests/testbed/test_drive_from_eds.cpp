@@ -153,6 +153,27 @@ TEST(DriveFromEds, TheTestDriveWithout60C2HasNone) {
   expect_identity(drive, 0x5E04, 0xD004, "Drive without 0x60C2 (simulated)");
 }
 
+// Issue 35: a drive without the load position 0x2000 (its TPDO2 the velocity alone), and one
+// without the communication cycle period 0x1006 (CiA 301 asks it only of the SYNC producer): each
+// simulated without the object, which it then does not serve.
+TEST(DriveFromEds, TheTestDrivesWithoutALoadPositionOrA1006HaveNone) {
+  std::uint32_t raw = 0;
+  std::uint8_t size = 0;
+  const auto no_load = loaded(std::string{SETTLE_TEST_DATA_DIR} + "/no_load_position_drive.eds", 1);
+  ASSERT_TRUE(no_load->eds.config);
+  EXPECT_FALSE(no_load->eds.config->has_load_position);
+  EXPECT_TRUE(no_load->eds.config->has_communication_cycle_period);
+  EXPECT_EQ(no_load->drive->dictionary().read(0x2000, 0, raw, size), co::SdoAbort::no_object);
+  EXPECT_EQ(read(*no_load->drive, 0x1A01, 0), 1U);
+  EXPECT_EQ(read(*no_load->drive, 0x1A01, 1), 0x606C'0020U);
+  const auto no_cycle = loaded(std::string{SETTLE_TEST_DATA_DIR} + "/no_cycle_period_drive.eds", 1);
+  ASSERT_TRUE(no_cycle->eds.config);
+  EXPECT_FALSE(no_cycle->eds.config->has_communication_cycle_period);
+  EXPECT_EQ(no_cycle->eds.config->sync_period_us, 0U);
+  EXPECT_TRUE(no_cycle->eds.config->has_load_position);
+  EXPECT_EQ(no_cycle->drive->dictionary().read(0x1006, 0, raw, size), co::SdoAbort::no_object);
+}
+
 DriveFromEds from_text(const std::string& text) {
   const hal::eds::LoadResult r = hal::eds::parse(text);
   EXPECT_TRUE(r.description.has_value()) << r.error;

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <new>
 #include <random>
 #include <span>
@@ -29,12 +30,26 @@
 #include "settle/hal/canopen/heartbeat.hpp"
 #include "settle/testbed/stream.hpp"
 #include "settle/testbed/stream_bus.hpp"
+#include "settle/testbed/stream_report.hpp"
 
 namespace settle::testbed {
 namespace {
 
 using testing::poly345;
 using testing::scurve;
+
+// What a text writer printed, through a temporary file.
+template <typename Write>
+std::string captured_text(Write write) {
+  std::FILE* f = std::tmpfile();
+  if (f == nullptr) return {};
+  write(f);
+  std::rewind(f);
+  std::string text;
+  for (int c = std::fgetc(f); c != EOF; c = std::fgetc(f)) text.push_back(static_cast<char>(c));
+  std::fclose(f);
+  return text;
+}
 
 std::string temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("settle_stream_" + std::to_string(::getpid()) + "_" + name))
@@ -208,6 +223,55 @@ TEST(RunStream, EachBundledDriveIsConfiguredFromItsEdsAndStreamed) {
   const StreamReport r = run_stream(spec, bus);
   EXPECT_NE(r.failure.find("0x60C2 (interpolation time period)"), std::string::npos) << r.failure;
   EXPECT_TRUE(r.log.empty());  // refused before the loop ran
+}
+
+// Issue 35: a drive whose description has no load-side position (no 0x2000, TPDO2 carrying the
+// velocity alone) streams as any other, every setpoint checked from 0x6064, but its rest is not
+// measured: the CAN residual and PRV are NaN (null in JSON, "not measured" in the text), never
+// fitted to a column of zeros. Settle's own description keeps the numbers.
+TEST(RunStream, ADriveWithoutALoadPositionHasItsResidualNotMeasured) {
+  const StreamSpec plain = spec_for(poly345(0.01, 0.5), 0.2);
+  const auto with_eds = [&plain](const std::string& path) {
+    hal::eds::LoadResult loaded = hal::eds::load(path);
+    EXPECT_TRUE(loaded.description) << loaded.error;
+    StreamSpec spec = plain;
+    if (loaded.description) spec.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
+    LoopbackStreamBus bus{""};
+    return run_stream(spec, bus);
+  };
+  const StreamReport own = with_eds(std::string{SETTLE_EDS_DIR} + "/settle_drive.eds");
+  ASSERT_TRUE(own.failure.empty()) << own.failure;
+  EXPECT_TRUE(own.load_measured);
+  EXPECT_TRUE(own.rest_measured());
+  EXPECT_TRUE(std::isfinite(own.residual_can.amplitude));
+  EXPECT_GT(own.residual_can.amplitude, 0.0);
+  const nlohmann::json own_json = nlohmann::json::parse(stream_json(own));
+  EXPECT_TRUE(own_json["residual_can"].is_number());
+  EXPECT_TRUE(own_json["prv_can_percent"].is_number());
+  EXPECT_TRUE(own_json["residual_can_note"].is_null());
+  EXPECT_EQ(own_json["rest_measured"], true);
+
+  const StreamReport r = with_eds(std::string{SETTLE_TEST_DATA_DIR} + "/no_load_position_drive.eds");
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.drive_failure;
+  EXPECT_TRUE(r.aligned());  // every setpoint applied once, in order, from 0x6064
+  EXPECT_EQ(r.setpoints, own.setpoints);
+  EXPECT_FALSE(r.load_measured);
+  EXPECT_TRUE(r.measured());
+  EXPECT_FALSE(r.rest_measured());
+  EXPECT_TRUE(std::isnan(r.residual_can.amplitude));
+  EXPECT_TRUE(std::isnan(r.residual_can.prv_percent));
+  EXPECT_EQ(r.residual_offline.amplitude, own.residual_offline.amplitude);
+  const nlohmann::json j = nlohmann::json::parse(stream_json(r));
+  EXPECT_TRUE(j["residual_can"].is_null());
+  EXPECT_TRUE(j["prv_can_percent"].is_null());
+  EXPECT_TRUE(j["agreement"].is_null());
+  EXPECT_EQ(j["load_measured"], false);
+  EXPECT_EQ(j["rest_measured"], false);
+  EXPECT_EQ(j["residual_can_note"], "not measured (the drive reports no load position)");
+  const std::string text = captured_text([&r](std::FILE* f) { write_stream_text(r, f); });
+  EXPECT_NE(text.find("residual (CAN)     not measured (the drive reports no load position)"), std::string::npos)
+      << text;
 }
 
 TEST(RunStream, ARefusedMoveIsReportedAndNotStreamed) {

@@ -136,8 +136,8 @@ TEST(StreamReportJson, FieldNamesInOrder) {
       "period_us", "ticks", "start_up_ms", "ready_tick", "frames_sent", "frames_received", "tx_busy", "rx_overflow_drops", "feedback_samples",
       "feedback_late_ticks", "aligned", "frames_lost", "overruns", "skipped_periods", "rpdo_sent",
       "step_guard_trips", "heartbeat_losses", "emcy_received", "drive_restarts", "moves_aborted",
-      "max_following_error", "feedback_overflows", "feedback_timeouts", "units_held", "residual_can",
-      "prv_can_percent", "residual_offline", "prv_offline_percent", "agreement", "residual_double",
+      "max_following_error", "feedback_overflows", "feedback_timeouts", "units_held", "load_measured",
+      "rest_measured", "residual_can", "prv_can_percent", "residual_can_note", "residual_offline", "prv_offline_percent", "agreement", "residual_double",
       "residual_vs_double_percent", "residual_vs_double_load_counts", "fit_rms_can", "residual_continuous",
       "prv_continuous_percent", "window_samples", "latency_ns", "realtime"};
   EXPECT_EQ(names, want);

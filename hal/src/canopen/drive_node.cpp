@@ -161,7 +161,9 @@ std::span<const OdEntry> DriveNode::make_entries() noexcept {
   add(od_entry(obj::device_type, 0, c.device_type, A::ro));
   add(od_entry(obj::error_register, 0, c.error_register, A::ro, map));
   add(od_entry(obj::cob_id_sync, 0, c.cob_id_sync, A::ro));
-  add(od_entry(obj::communication_cycle_period, 0, c.cycle_period_us, A::rw));
+  if (config_.has_communication_cycle_period) {
+    add(od_entry(obj::communication_cycle_period, 0, c.cycle_period_us, A::rw));
+  }
   add(od_bytes_entry(obj::device_name, 0, device_name_, OdType::visible_string, A::constant));
   add(od_bytes_entry(obj::hardware_version, 0, hardware_version_, OdType::visible_string, A::constant));
   add(od_bytes_entry(obj::software_version, 0, software_version_, OdType::visible_string, A::constant));
@@ -210,7 +212,9 @@ std::span<const OdEntry> DriveNode::make_entries() noexcept {
     add_map(static_cast<std::uint16_t>(obj::tpdo1_mapping + i), c.tpdo_map[i]);
   }
 
-  add(od_entry(obj::load_position_actual, 0, a.load_position, A::ro, map));
+  if (config_.has_load_position) {
+    add(od_entry(obj::load_position_actual, 0, a.load_position, A::ro, map));
+  }
   add(od_entry(obj::communication_loss_periods, 0, a.communication_loss_periods, A::rw, false, 1, 255));
   add(od_entry(obj::abort_connection_option, 0, a.abort_connection_option, A::rw, false, 0, 3));
   add(od_entry(obj::error_code, 0, a.error_code, A::ro, map));

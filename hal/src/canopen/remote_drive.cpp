@@ -91,7 +91,7 @@ std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config, std::s
     add(S::write(obj::interpolation_time_period, 1, ip->value, 1));
     add(S::write(obj::interpolation_time_period, 2, static_cast<std::uint8_t>(ip->index), 1));
   }
-  add(S::write(obj::communication_cycle_period, 0, config.sync_period_us, 4));
+  if (config.write_sync_period) add(S::write(obj::communication_cycle_period, 0, config.sync_period_us, 4));
   if (config.communication_loss_periods != 0) {
     add(S::write(obj::communication_loss_periods, 0, config.communication_loss_periods, 1));
   }

@@ -168,7 +168,14 @@ struct StreamReport {
   std::uint64_t feedback_late_ticks{0};
   std::uint64_t frames_lost{0};
 
-  SampledResidual residual_can{};      // from the CAN feedback
+  // Whether the drive reports a load-side position at all: decided before streaming from what the
+  // master maps (the layout's load slot: Settle's own drive maps 0x2000 in TPDO2; an --eds drive
+  // only when its description has a load-position object in a TPDO). Without it the CAN residual,
+  // its PRV and the at-rest verdict are not measured (NaN, null in JSON), never fitted to zeros;
+  // load_note says why.
+  bool load_measured{true};
+  std::string load_note;
+  SampledResidual residual_can{};      // from the CAN feedback (NaN: not measured)
   SampledResidual residual_offline{};  // from the replay
   double residual_double{0.0};         // the double evaluator's replay
   double agreement{0.0};               // |CAN - offline|
@@ -197,8 +204,11 @@ struct StreamReport {
   [[nodiscard]] bool completed() const noexcept {
     return session.outcome == runtime::SessionOutcome::completed && aligned();
   }
-  // Success: completed, with every measurement present and finite, on every axis.
+  // Success: completed, with every measurement the drive allows present and finite, on every axis
+  // (a drive without a load position: every setpoint applied once and in order, the offline replay).
   [[nodiscard]] bool measured() const noexcept;
+  // measured(), and the machine's rest verified from the CAN load feedback on every axis.
+  [[nodiscard]] bool rest_measured() const noexcept;
 };
 
 // Streams spec.move (and spec.more_axes' moves) over `bus` and measures it. A report with `failure` set says why it could not

@@ -186,6 +186,8 @@ struct DriveNodeConfig {
   // Optional objects: absent ones are not in the dictionary (SDO abort 0x06020000).
   bool has_interpolation_period{true};       // 0x60C2 (absent: the step limit uses 0x1006 alone)
   bool has_following_error_actual{true};     // 0x60F4
+  bool has_load_position{true};              // 0x2000, the load encoder (absent: the drive reports no load)
+  bool has_communication_cycle_period{true};  // 0x1006 (absent: the SYNC checks run as with 0x1006 = 0)
   // Dynamic PDO mapping (CiA 301): the PDOs' COB-IDs, transmission types and mapping objects are
   // writable, in the order CiA 301 prescribes. Otherwise they are read-only (abort 0x06010002)
   // and the mapping below is static.

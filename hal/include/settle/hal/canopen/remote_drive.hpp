@@ -58,6 +58,10 @@ struct RemoteDriveConfig {
   NodeId node{1};
   OperationMode mode{OperationMode::cyclic_synchronous_position};
   std::uint32_t sync_period_us{default_sync_period_us};
+  // Write sync_period_us to the drive's 0x1006. CiA 301 asks 0x1006 only of the SYNC producer: a
+  // drive whose description lacks it is not written (eds::drive_config_from_eds clears this; the
+  // drive then takes its period from 0x60C2). Settle's own drive has it.
+  bool write_sync_period{true};
   std::uint32_t sdo_timeout_us{100'000};        // per SDO request; a request that times out is sent once more
   std::uint32_t enable_timeout_us{1'000'000};   // from NMT start to operation enabled
   std::uint16_t heartbeat_timeout_ms{0};        // watch the drive's heartbeat; 0 = do not
@@ -167,7 +171,7 @@ inline constexpr std::size_t remote_drive_max_steps = SETTLE_REMOTE_DRIVE_MAX_ST
 
 // The steps for a configuration, in the order start-up runs them:
 //   0x1000 low 16 bits = 402 (not_cia402); 0x1018:1..4 when expected (wrong_identity);
-//   0x6060 mode; 0x60C2:1/2 interpolation period; 0x1006 SYNC period; 0x2001 when set;
+//   0x6060 mode; 0x60C2:1/2 interpolation period; 0x1006 SYNC period unless told not to; 0x2001 when set;
 //   0x1016:1 master heartbeat when set; 0x1017 when set; 0x6065/0x6066 when the window is set;
 //   the PDOs (dynamic: per PDO used: COB-ID bit 31 set, mapping sub 0 = 0, the entries, sub 0 = n,
 //   transmission type 1, COB-ID enabled; every other PDO disabled, when the drive has it;
