@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle demo: the README's main job (tools/demo runs it). Lists the paper scenarios, or streams
 // each of them through `settle plant` and `settle stream` processes (demo.hpp) and prints the
 // tables: whether each machine ended at rest, measured over CAN against the offline replay.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle drive info|read|write|scan: a CANopen drive's dictionary over SDO (hal's SdoClient,
 // expedited and segmented), on a SocketCAN interface or on the simulated drive in this process
 // (--bus loopback, drive_link.hpp). `settle drive config` (configure and verify what streaming

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle identify: the composition root of sim's run_identify (settle/commission/identify_run.hpp). The
 // options become an excitation (a planned jerk-limited move, a train of it back and forth before
 // it, and a hold: settle/commission/identify_excitation.hpp) streamed to the drive on

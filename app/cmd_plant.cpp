@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle plant: the simulated CiA 402 drive with a plant behind it, as a node on a SocketCAN bus.
 // SYNC-driven: it advances the plant by exactly one period per SYNC. Runs until SIGINT/SIGTERM
 // (or --duration), then writes its log and prints a summary.

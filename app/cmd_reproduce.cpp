@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle reproduce 000|001|004: rerun a paper's experiment on Settle's profiles and plants, print
 // its table (or one JSON object), and with --out write the CSV and PNG figures.
 #include <cmath>

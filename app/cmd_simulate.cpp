@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle simulate: plan a move with what the user believes (--omega/--zeta, or the plant's own
 // fundamental mode when not given) and run it on the plant's true parameters.
 #include <array>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle stream: the composition root of sim's run_stream (settle/testbed/stream.hpp). The options
 // become a StreamSpec, --bus picks where it runs (loopback: the simulated drive in this process,
 // in virtual time; any SocketCAN interface: real time, against a `settle plant` process or a

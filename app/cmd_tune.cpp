@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle tune: the composition root of commission::tune (settle/commission/tune.hpp). The modes come from
 // `settle identify --json` (--modes-from) or from --mode; the band from their intervals or from
 // --uncertainty PCT. The chosen plan is printed as `settle plan --json` prints it, plus the band,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The settle subcommands. Each takes the arguments after its own name and returns the process
 // exit status: 0 success (finite output only), 2 bad request (a one-line error on stderr naming

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The demo's commissioning scenario (issue 15), defined once: a machine with two modes that only
 // the drive process knows (`settle plant --plant modes --mode ...`, its load encoder noisy); the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // settle demo: every paper scenario (paper_scenarios.hpp) streamed to the simulated drive, and the
 // table that says whether each machine ended at rest; then the commissioning scenario

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What `settle drive` talks to: a CAN bus with a clock, on which SDO transfers run to their end.
 // Two kinds: a SocketCAN interface in real time (a `settle plant` process, a real drive), and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle: the command-line front end. Commands and their options are declared in options.cpp;
 // each cmd_*.cpp turns validated options into a library call and prints the result.
 #include <cerrno>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The move every move-taking command plans: a core::MoveRequest from the validated options of
 // the move group (options.cpp), and planning it with each refusal blamed on the option to change.

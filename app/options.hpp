@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The settle CLI's options, declared once. Every option of every command is one OptionSpec row
 // (name, unit, default, valid range, help); commands that share options share the rows (the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "paper_scenarios.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The three papers' streaming scenarios, defined once: `settle demo` streams each of them (and
 // lists them with --list --json), and the end-to-end tests (tests/e2e) read that list. Each is the

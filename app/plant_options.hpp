@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The plant (what is true about the machine) and the simulated drive, from the validated options
 // of the plant and drive groups (options.cpp): --plant sdof|beam|belt|modes and each kind's

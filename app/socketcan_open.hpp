@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // How both ends of a settle run (settle plant, settle stream) open their SocketCAN interface.
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The bus a streaming master command (settle stream, settle identify) runs on, from its options:
 // --bus loopback (the simulated drive in this process, virtual time) or a SocketCAN interface with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # The installed package: `cmake --install <build>` puts the headers, the static libraries, the
 # CMake package (find_package(settle CONFIG COMPONENTS ...), imported targets settle::<name>) and
 # settle-core.pc under the prefix. Each component is one export set, installed only when this

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # One place for the warning set, so every target of the project is held to the same bar.
 # -Wconversion is on: fixed-point and count conversions are where silent narrowing bites.
 set(SETTLE_CXX_WARNINGS

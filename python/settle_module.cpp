@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `settle` Python module: core's planner and sim's simulator for analysis in notebooks.
 //   settle.plan(**move)               the plan as a dict, as `settle plan --json` prints it
 //   settle.sample(dt=..., **move)     numpy arrays t, position, velocity, acceleration, jerk

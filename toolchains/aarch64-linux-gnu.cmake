@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # 64-bit Arm Linux (embedded Linux drives), Debian's cross g++ and multiarch sysroot. Test
 # executables run through qemu-aarch64 user mode, so ctest works on an x86-64 host as is.
 set(CMAKE_SYSTEM_NAME Linux)

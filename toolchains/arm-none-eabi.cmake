@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Base toolchain for bare-metal Arm (GNU Arm Embedded + newlib). Per-core files set
 # SETTLE_ARM_CORE and SETTLE_ARM_CPU_FLAGS and then include this one; it is not meant to be used
 # on its own (it would build for the compiler's default architecture, which matches no board).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Cortex-M0 (ARMv6-M, nRF51 on the micro:bit): no FPU and no hardware divide, so float maths is
 # all libgcc soft-float; this is the target the fixed-point evaluators exist for.
 set(SETTLE_ARM_CORE cortex-m0)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Cortex-M4 with its single-precision FPU (mps2-an386 and most motor-control parts): floats run
 # in hardware with the hard-float ABI, doubles fall back to libgcc's soft-float routines.
 set(SETTLE_ARM_CORE cortex-m4f)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """The test harness's own CAN node, for readiness and ordering by frames instead of sleeps
 (tests/e2e, tests/cross/servo-replay; inside tools/with-vcan's guest; `settle demo` does the same in C++).
 

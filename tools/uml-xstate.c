@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /*
  * LD_PRELOAD shim for Debian's user-mode-linux 6.1 kernel on hosts with a large XSAVE area.
  *

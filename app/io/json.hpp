@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The CLI's JSON output (nlohmann-json, keys in insertion order). A document is printed only when
 // every number in it is finite: JSON has no infinity, and the CLI never reports success with a

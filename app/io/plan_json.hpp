@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A planned move as `settle plan --json` prints it, the request that plans its profile again, and
 // the way back: a plan file (`settle tune --json` output) read into the very same Move, for

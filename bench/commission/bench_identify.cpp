@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What identifying a machine costs: the estimator (settle/commission/identify.hpp) on 5 s of a seeded
 // synthetic three-mode record (1 kHz, 1-count quantisation, 1 % noise), looking for up to three
 // modes. Target (issue 15): <= 50 ms, in Release. Also the default record and the hardest case.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Per-tick evaluation cost of every profile (double and float, shaped and not, random access
 // and stepping) and the cost of planning. Measured, never asserted: see the issue notes.
 #include <benchmark/benchmark.h>

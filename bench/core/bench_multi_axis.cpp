@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A coordinated three-axis plan (issue 17, docs/multi_axis.md) against planning the same three axes
 // alone, one after the other: what coordination costs. Path sync plans one path shaped for all
 // three modes (one ZV per mode, or scurve's own design and two ZVs); time sync plans every axis

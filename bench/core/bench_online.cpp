@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The cost of planning an online change (issue 17): a halt or a retarget of a running move, from
 // its state at a tick: the mode memory of the running move plus the blend's search. The target is
 // <= 20 us on the host, so that a halt asked for in one 1 kHz tick is ready for the next.

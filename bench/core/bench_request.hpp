@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The request the core benchmarks plan (and settle_tick_instructions counts): the seed-000
 // beam's move, 0.1 m designed for 22.05 rad/s, in 0.5 s, or under vmax 0.5, amax 5, jmax 100

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Instructions per tick, for callgrind: the S-curve stepped (MoveStepper) against the
 // jerk-limited profile at random access (Move::at), the pair issue 16 compares. Timings of that
 // pair (settle_core_bench, BM_Step / BM_Evaluate) differ by about 1 ns and scatter by about

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Per-tick cost of the fixed-point evaluators: random access (at_tick, ticks in order), stepping
 // (next) and position-only stepping (the position plan), for every kind of move, shaped and not,
 // and the cam tables; the double evaluator on the same moves for reference; the two fixed-point

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Per-frame cost of what the servo loop and the drive do every SYNC: encode and decode the
 // RPDO/TPDO pair, and carry frames through the loopback bus. The budget is 50 ns per
 // frame in Release for "encode + decode of an RPDO/TPDO pair and a send through loopback".

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The EDS reader's cost against the description's size: n ARRAY objects of two sub-objects each
 // (about 230 bytes per object), parsed from memory. Linear reading shows as a per-object time
 // that stays flat from 1000 to 16 000 objects (the quadratic reader it replaced took 25 s for

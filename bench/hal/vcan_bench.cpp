@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Frames per second through vcan0 between two sockets of one process (send, then receive):
 // the kernel's cost per frame, without a second process to schedule. Run it through the
 // harness when the host kernel has no vcan:  tools/with-vcan <build>/bench/hal/hal_vcan_bench

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What sim costs: one second of the 3-mode Table 1 beam at 10 kHz (the drive node's per-SYNC
 // stepping, and an offline run of a planned move), and the seed-004 optimiser from (3, 4, 5).
 // Targets (issue 3): the beam second <= 1 ms, the optimiser <= 50 ms, in Release.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cost of one full servo tick per axis (drain feedback, supervise, evaluate the move, encode and
 // send the RPDO, send SYNC), for 1..64 axes. The drives' side is kept out of the timing: between
 // timed ticks a feeder injects each axis's TPDO1/TPDO2 and discards what the loop sent. Two buses:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Wake-up latency of the Linux servo loop: the loop and an ideal drive on the in-process bus,
 // paced by the real periodic timer (clock_nanosleep, TIMER_ABSTIME, CLOCK_MONOTONIC) for a given
 // time, SCHED_FIFO and mlockall when permitted, and the PM QoS request (/dev/cpu_dma_latency = 0

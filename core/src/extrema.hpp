@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Private numerical helpers of the planners: extrema of one-dimensional functions, exactly for
 // piecewise polynomial-plus-phasor motions (max_abs_derivative) and by a dense scan for anything

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Profile `fastest` (profiles/fastest.hpp): plans every family and keeps the shortest feasible
 // move. docs/fastest.md describes the method.
 #include "settle/core/profiles/fastest.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/core/piecewise_jerk.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // True peaks of a shaped move, sum_i A_i p(t - t_i), found exactly: between consecutive breakpoints
 // (the profile's piece boundaries shifted by every impulse time, merged on the fly) every delayed
 // copy sits inside one piece (piece.hpp), so the shaped motion there is one polynomial plus one

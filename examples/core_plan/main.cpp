@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A 50 mm S-curve move designed for a 3.5 Hz mode, sampled at 10 points from start to rest.
 #include <cstdio>
 

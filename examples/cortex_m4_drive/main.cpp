@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Drive master firmware for a Cortex-M4F: plan a move on the target, then stream it at 1 kHz with
 // ServoLoop<float> (the FPU evaluates it) on the CAN controller's mailboxes, one tick per SysTick.
 // The "wire" here is software: Settle's ideal CiA 402 drive (settle::hal_testing) in the same

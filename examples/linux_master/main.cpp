@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The drive master on Linux: plan a move, open a SocketCAN interface, start the drive (node 1)
 // and stream the move at 1 kHz from a periodic timer, then report how the session ended.
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SysTick as an instruction clock. Under `-icount shift=N` QEMU advances its virtual clock by
 // exactly 2^N ns per guest instruction and makes device reads exact at instruction granularity,
 // so SysTick (on the core clock) advances 2^N * f_core / 1e9 counts per instruction.

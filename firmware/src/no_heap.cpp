@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The images link no heap, and this file makes that a link error rather than a convention.
 // Every allocation entry point of newlib and of C++ is defined here, each in a section of its
 // own named .settle_no_heap.<function>. With --gc-sections a section survives only if something

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The little C and C++ runtime support a freestanding image needs, written so that none of it
 // reaches newlib's stdio, signals or allocator: abort and assert report through semihosting,
 // static destructors are never registered (an image never returns to anything that runs them).

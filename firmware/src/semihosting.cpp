@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ARM semihosting calls (the "Semihosting for AArch32 and AArch64" interface): operation number
 // in r0, pointer to an argument block in r1, BKPT 0xAB on M-profile; the host answers in r0.
 #include "settle/firmware/semihosting.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Deliberately allocating image: the link of each variant must fail (firmware/CMakeLists.txt
 // registers the failed link as the passing test). Each variant reaches the heap another way.
 #include <cstdlib>

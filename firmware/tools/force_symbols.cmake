@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Writes a compiler response file with `-Wl,-u,<symbol>` for every external definition in an
 # archive, so an image can be linked with all of a library kept despite --gc-sections.
 #   cmake -DNM=<nm> -DARCHIVE=<lib.a> -DOUTPUT=<file.rsp> -P force_symbols.cmake

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/candump_log.hpp"
 
 namespace settle::hal {

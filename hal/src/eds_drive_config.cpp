@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/eds_drive_config.hpp"
 
 #include <array>

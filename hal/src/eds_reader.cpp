@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // EDS/DCF reading in three passes, each linear in the file: the lines counted against the
 // bounds (exceeded_bound), the file split into sections and keys (tokenize: lines of any length
 // read whole), then CiA 306's meaning (Builder: object sections [IIII] and [IIIIsubS] indexed by

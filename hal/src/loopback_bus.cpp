@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/loopback_bus.hpp"
 
 namespace settle::hal {

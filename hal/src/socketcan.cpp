@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The only file of Settle that includes the Linux CAN headers: everything kernel-shaped is
 // converted to and from settle::hal types here.
 #include <fcntl.h>

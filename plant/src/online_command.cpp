@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/plant/online_command.hpp"
 
 namespace settle::plant {

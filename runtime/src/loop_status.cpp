@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/runtime/servo_loop.hpp"
 #include "settle/runtime/session.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/testbed/drive_from_eds.hpp"
 
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/testbed/stream_bus.hpp"
 
 #include <algorithm>

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Hostile arguments for every settle command (issue 12, "a test suite for hostile arguments").
 
 A seeded generator builds argument vectors from a fast, valid base per command and one to three

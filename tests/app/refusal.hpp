@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A refused command line as the CLI contract wants it: exit 2, nothing on stdout, one stderr line
 // naming the option; with --json only the error object naming the same option (and code). Shared

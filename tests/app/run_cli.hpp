@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Runs the settle executable (path in SETTLE_CLI) with an argument vector, without a shell
 // (posix_spawn), and returns its exit status, standard output and standard error. Shared by the

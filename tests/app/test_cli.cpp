@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The settle CLI as a user meets it: exit codes, the one-line error naming the parameter, the
 // JSON shapes of success and error, and CSV sampling. JSON is checked structurally with a small
 // parser here, so a malformed document fails the test.

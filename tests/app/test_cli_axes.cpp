@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle plan|sample|simulate|stream --axes N (issue 17, docs/multi_axis.md): the coordinated move's
 // JSON, its samples (one common end, a straight line with --sync path), its simulation on the plant
 // (the trade-off between path and time sync, measured by the simulator's own stepping), its stream

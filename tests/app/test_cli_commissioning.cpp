@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The demo's commissioning scenario (app/commissioning.hpp): its noise is 1 % of the
 // excitation's peak load deflection (the scenario simulates the excitation on the true plant;
 // checked against the deflection settle identify measures through the loopback drive without

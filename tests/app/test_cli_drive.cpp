@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle drive info|read|write|scan against the simulated drive in the settle process
 // (--bus loopback): what each prints, in text and JSON, checked against hal's drive (its default
 // configuration, its strings, its default PDO mapping); SDO aborts with their CiA 301 code and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle identify against the simulated drive in the settle process (--bus loopback): a known
 // two-mode plant identified through the loop, the bus and the drive's frames at 1 % noise; the
 // JSON contract settle tune reads; the text report; every bad option (exit 2, the option named)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle simulate --halt-at / --retarget-at (issue 17): the change's residual measured offline by
 // the simulator's own exact stepping (not core's formulas), the blend's end where it should be,
 // and every bad value refused with exit 2 naming the option and its range.

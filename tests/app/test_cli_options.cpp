@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The CLI's option layer as a user meets it (issue 12 item 4, issue 13 "A CLI that explains
 // itself"): every bad value exits 2 with one line naming the right option and nothing on stdout
 // (or, with --json, only the JSON error object); sizes are refused before any work; every

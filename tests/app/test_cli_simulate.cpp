@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle simulate and settle reproduce as a user meets them: the JSON keys the issue names, exit
 // status 2 with the offending option for bad plant parameters, CSV output.
 #include <gtest/gtest.h>

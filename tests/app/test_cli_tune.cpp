@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // settle tune and --plan-from as a user meets them (issue 15): the tuned plan is printed as
 // `settle plan --json` prints a plan, with its band and worst residual; it streams over the
 // loopback bus with exactly the setpoints the plan evaluates to; and every bad input is refused

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the identify tests share: the excitation settle identify uses by default, the estimator
 // call, the accuracy judgement, the random plants of the range tests and the Cramer-Rao bound that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The estimator (settle/commission/identify.hpp) on seeded synthetic records made by the simulated
 // drive's physics (identify_record.hpp): 1 kHz, 1-count quantisation, white noise of 1 % of the
 // excitation's peak load deflection, a jerk-limited move (1 ms jerk phases) after a train of 15

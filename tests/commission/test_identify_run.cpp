@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // run_identify (settle/commission/identify_run.hpp) on the in-process bus: a known plant identified from
 // the drive's frames, and a bus with no drive on it: the drive never enables, which is said as
 // such, with no modes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The identify range test in full (label soak): test_identify.cpp runs its first 40 plants.
 #include <gtest/gtest.h>
 

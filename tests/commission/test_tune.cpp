@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The tuner: the plan it picks keeps every mode's residual within residual_max over the whole
 // band, checked independently by integrating the mode's equation with RK4 (no exponentials, no
 // factorisation into profile and shaper) on a denser grid than the tuner's; every faster planned

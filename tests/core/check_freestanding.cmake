@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 cmake_minimum_required(VERSION 3.25)
 # Fails if the built core library references the heap or the exception runtime. Run by ctest
 # with -DLIB=<libsettle_core.a> -DNM=<nm>.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 cmake_minimum_required(VERSION 3.25)
 # Fails if any core source includes a header outside the freestanding-friendly allow list (no
 # OS, stream, string, container or thread headers). Run by ctest with -DDIR=<core dir>.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Test-side reference for online changes: the mode  e'' + 2 zeta w e' + w^2 e = -x''(t)  driven by a
 // whole command (the running move up to the switch, then the blend), integrated by classic RK4 on

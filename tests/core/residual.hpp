@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Test-side reference for "does this move leave a mode at rest": the Duhamel integral of the
 // move's acceleration against the mode's impulse response, by composite Gauss-Legendre

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The axis scale's one conversion of its period, and what it accepts.
 #include <gtest/gtest.h>
 

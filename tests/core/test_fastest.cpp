@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Profile `fastest` (profiles/fastest.hpp, docs/fastest.md): never slower than the time-optimal
 // jerk-limited move convolved with ZV (and, with --robust, with ZVD/EI at the robustness they
 // reach), its residual on every design mode below 1e-9 D by an independent computation (the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Halts of running moves (issue 36): over a seeded random sweep of halt times of moves designed for
 // 1, 2 and 3 modes, on 1 axis and on 3 path-synchronised axes, every halt
 //   - leaves every design mode of the move at rest (<= 1e-9 D), by an exact propagation of each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Coordinated multi-axis moves (issue 17, docs/multi_axis.md): every axis starts and ends together,
 // stays within its own limits, and leaves every mode at rest. The residuals are checked by an RK4
 // integration of each mode driven by the axis's own command (mode_sim.hpp), not by the planner's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Online halt and retarget (issue 17): from random states of random moves, the blend starts on
 // the command's p, v, a, ends at rest (on the new target for a retarget), stays within the limits,
 // and leaves every mode at rest; checked against an RK4 integration of the mode driven by the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The planner's exact peaks of shaped moves (core/src/shaped_peaks.cpp, per-interval roots of the
 // derivatives) and of pseudo-polynomials (core/src/pseudo_poly.cpp, Rolle's ladder), against an
 // independent method: the move sampled densely (1e5 points) through Move::at, every local maximum

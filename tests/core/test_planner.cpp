@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Planner contract: specific codes for bad requests, output untouched on failure, limits
 // respected, and the fastest vibration-free move compared with its alternatives.
 #include <gtest/gtest.h>

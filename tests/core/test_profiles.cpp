@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Boundary conditions, continuity and internal consistency of every profile: the closed-form
 // velocity and position must be the integrals of the closed-form acceleration (checked by
 // quadrature here), and each profile must be continuous in the derivatives it is designed for.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Seeded randomized property suite in Ruckig's manner: many random valid requests, each
 // checked for reaching its target, respecting its limits and never producing NaN; and many
 // random invalid requests, each rejected with the right code and without touching the output.

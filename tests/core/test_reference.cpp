@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The reference numbers of SEEDS.md, each derived here independently of the code under test:
 // Cramer's rule for the pseudo-polynomial coefficients, the residual condition solved
 // numerically for Y1..Y3, and the Duhamel integral for the residuals of the arbitrary input.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every profile in the registry (settle/core/profiles/registry.hpp), so that a new registry line is
 // covered without a new test: its name round-trips, its example request plans into its own kind
 // and shape, and the double, float and fixed-point evaluators (random access and stepping) agree

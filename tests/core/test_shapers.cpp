@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Input shapers: the defining residual conditions of each design, checked through an
 // independent evaluation of V(omega, zeta) written here from its definition.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The stepping evaluator must give the same setpoints as random access (to rounding), for
 // plain and shaped moves, in double and float, across many segment boundaries and re-anchors.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // core::sin_cos in float (core/trig.hpp) against std::sin/std::cos in double, independently: over
 // the phases the profiles evaluate, over its whole documented domain, and outside it.
 #include <gtest/gtest.h>

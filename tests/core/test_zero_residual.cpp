@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The central claim of the three methods: the move leaves the designed mode at rest, for any
 // move time. Checked against the test's own Duhamel integral over T/Tn in [0.5, 5] and, for the
 // damped designs, zeta in [0, 0.3], to 1e-9 of the distance.

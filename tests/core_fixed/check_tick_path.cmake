@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 cmake_minimum_required(VERSION 3.25)
 # The fixed-point tick path compiled for a Cortex-M0 (no FPU, no divide instruction) may call
 # nothing but integer helpers: 64-bit multiply and shifts, memcpy/memset, and itself. Any float

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Seeded random moves for the fixed-point suites: every profile kind, shaped or not, distances
 // up to 2^24 counts, 16 to 2^17 ticks (periods in whole microseconds), move times between half and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cam tables: a quintic table reproduces a quintic move exactly, every accepted table of random
 // moves meets its tolerance at every tick, the stepper equals random access, and orders rank as
 // their interpolation error says.

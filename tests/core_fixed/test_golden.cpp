@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The golden checksum is what a target image compares with the host: it must be reproducible and
 // its host values are pinned here, so that any change to the integers the evaluators produce is a
 // deliberate one (update the constants, and the cross test's expectation, in the same commit).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Properties of the fixed-point motion on chosen moves: the seed-000 beam move at every tick, rest
 // exactly on target, nothing before the start, shaper impulses between ticks, wrap-around of
 // absolute positions, and the stepper re-anchoring exactly wherever it is restarted.

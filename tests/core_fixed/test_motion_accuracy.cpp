@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The fixed-point evaluator against the double one over seeded random moves (fixed_cases.hpp):
 // position within one count everywhere, velocity and acceleration within half an output LSB plus
 // a tiny fraction of their peak, and the stepping form equal to random access within one count

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The position plan and its stepper (the servo loop's per-tick fixed-point path) on chosen moves:
 // the beam move at every tick, rest before the start and on target after the end, shaped tracks
 // merged on their own boundaries, refusal without side effects, restart, and the two fallbacks

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The integer helpers are exact by definition: the 32x32-piece product (what a Cortex-M0 runs)
 // must equal the true floor of the 96-bit product, and so must the 128-bit path the host uses.
 #include <gtest/gtest.h>

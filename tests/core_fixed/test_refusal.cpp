@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bad input: a move whose distance, speed or duration does not fit the fixed-point formats is
 // refused by the builder with a specific code, and the object it would have replaced is unchanged.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The fixed-point sine and cosine against std::sin/cos over their input codes: every code in the
 // soak build (2^32), every 256th code (with a random low byte) in the unit build. Both
 // implementations are measured; the table one is what the evaluators use.

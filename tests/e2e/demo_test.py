@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """`settle demo` against its own scenario list (`settle demo --list --json`): its first table has one
 row per scenario, in order, with the scenario's label and profile, each run completed and aligned
 with its offline replay, and the residuals it prints are the ones its runs reported (their JSON

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """End-to-end checks on a real SocketCAN bus (vcan0): `settle plant` and `settle stream` as two
 processes, and the harness's own CAN sockets (tools/canbus.py) to wait for frames and to capture
 the bus. Nothing here sleeps for readiness: the drive is up when its boot-up frame is on the bus,

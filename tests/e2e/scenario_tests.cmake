@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Included by ctest (TEST_INCLUDE_FILES, through the generated e2e_scenarios.cmake, which sets
 # SETTLE, PYTHON and E2E): one e2e test per paper scenario, from the built settle's own table. When
 # settle cannot list them, one failing test says so instead of the scenarios silently vanishing.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # cmake -DSOURCE_DIR=<hal> -DLIBS=<a;b> -DNM=<nm> -P check_freestanding.cmake
 # settle_hal and settle_hal_testing must cross-compile for bare metal unchanged: no OS or
 # hosted-library headers in their sources, and no heap, exception or RTTI symbols in their

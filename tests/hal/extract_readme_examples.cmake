@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # cmake -DREADME=hal/README.md -DOUT=<file> -P extract_readme_examples.cmake
 # Writes the README's code blocks marked "compiled and run by tests/hal/test_readme_example.cpp"
 # into OUT, which that test includes: the README's example is the code the test compiles and runs.

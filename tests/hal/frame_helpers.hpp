@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Helpers for hal tests: build frames from byte lists and print them readably on failure.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A test double for the master's start-up: an SDO server over a small object dictionary with the
 // objects RemoteDrive configures (and, for the PDO tests, four RPDO and four TPDO communication and
 // mapping objects, all writable), scripted to misbehave: to acknowledge a write and ignore it, or

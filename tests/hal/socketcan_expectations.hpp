@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Checks shared by the SocketCAN suites with and without vcan: what an interface without a
 // CAN controller (lo, vcan) must answer for every controller setting.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bus load of cyclic streaming: the frame-length formula against a hand count of the fields and
 // against frames built bit by bit (identifier, control, data, CRC-15) and stuffed as a CAN
 // controller stuffs them; the cyclic load of Settle's default mapping for one to three axes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The CiA 402 power state machine as tables: every transition by controlword, the statusword
 // each state reports (decoded with the standard masks), and the master's enable sequence.
 #include <gtest/gtest.h>

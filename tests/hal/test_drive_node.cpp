@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Master (RemoteDrive) and drive (DriveNode) talking over the loopback bus on a virtual 1 kHz
 // clock: start-up, enable sequence, CSP streaming, and the drive-side safety rules, with the
 // exact period at which each timeout must fire.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The drive's safety rules against the faults a hostile or broken peer produces (issue 12,
 // items 6-9), frame by frame on a virtual clock: enabling with a far target, steps beyond
 // 0x607F, SDO writes of 0x607A, duplicated and foreign SYNCs, a third party's NMT commands.

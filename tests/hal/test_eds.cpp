@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The shipped EDS (hal/eds/settle_drive.eds) and the drive's object dictionary describe the
 // same device: every object, type, access right, PDO mappability, limit and default value.
 // The EDS is read by the project's reader (settle::hal::eds), which eds_reader_test checks on

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // drive_config_from_eds: the objects streaming needs, checked in a drive's description with a
 // specific error for each way they can be wrong; dynamic mapping when the description's mapping
 // is writable, the drive's static mapping when it is not and carries what is needed; and the

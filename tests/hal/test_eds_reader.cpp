@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The EDS/DCF reader against hand-written descriptions: what CiA 306 says each key means, the
 // PDO objects decoded, $NODEID resolved, and a specific error for every kind of bad file.
 #include <gtest/gtest.h>

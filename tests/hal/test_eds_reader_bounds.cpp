@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The EDS reader's size bounds: a description as large as they allow is read (16 000 ARRAY
 // objects, each with two sub-objects: the case that took the quadratic reader 25 s of CPU before
 // refusing it), and one beyond a bound is refused by a first count, the refusal naming the bound.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The EDS reader's INI layer: every line read whole whatever its length (no split tail read as a
 // key of its own), CRLF, byte order mark, comments, white space and case as CiA 306 files and
 // the tools that write them have them, and a refusal naming the line for what is not INI.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The EDS reader reads what real tools write (CiA 306, and the Python canopen library's export):
 // hex booleans and hex or decimal numbers in every numeric field, REAL limits and defaults as
 // decimal fractions, 64-bit values in two's-complement hex, RECORDs typed by their sub-objects

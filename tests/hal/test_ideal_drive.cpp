@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // hal::testing's ideal drive (the far end of the bus for the firmware tests, the benchmarks and
 // the Cortex-M images), driven by hal's own master (RemoteDrive + SyncProducer) over loopback:
 // what it applies and records, what it reports, and its velocity arithmetic at the extremes of

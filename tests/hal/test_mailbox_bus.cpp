@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // MailboxBus: the controller-buffer backend the servo loop runs on in firmware.
 #include <gtest/gtest.h>
 

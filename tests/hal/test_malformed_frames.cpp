@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Frames that are not what a decoder expects (wrong length, unknown command specifier, wrong
 // node, RTR, extended or FD format) are rejected, and rejecting them changes nothing: the
 // drive's whole dictionary and state are compared before and after.

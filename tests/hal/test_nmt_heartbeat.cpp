@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // NMT commands and states, and heartbeat production and consumption on a virtual clock.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Static PDO mapping: the default CSP mapping's bytes, the typed codecs against the generic
 // mapping through the drive's dictionary, and whole-or-nothing application of an RPDO.
 #include <gtest/gtest.h>

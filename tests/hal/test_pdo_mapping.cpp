@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The drive's PDOs over SDO (DriveNode): dynamic mapping by the CiA 301 procedure (disable via
 // COB-ID bit 31, mapping sub 0 = 0, entries, sub 0 = n, enable), each wrong order refused with
 // its abort code, the mapped PDOs then carrying the right bytes; the static mapping read-only;

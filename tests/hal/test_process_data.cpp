@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ProcessDataLayout: the default is Settle's mapping, what check_layout refuses, the mapping a
 // layout gives each PDO, a static mapping read entry by entry, and the generic codecs.
 #include <gtest/gtest.h>

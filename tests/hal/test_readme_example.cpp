@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // hal/README.md's examples of the two ends of the bus (DriveNode, RemoteDrive) are the code this
 // test compiles (extracted from the README at build time) and runs: the master's tick and the
 // drive's period on the loopback bus bring the drive up, enable it and stream a move to it.

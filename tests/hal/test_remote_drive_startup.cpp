@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // RemoteDrive's start-up against a scripted SDO server (scripted_drive.hpp): every write read back,
 // the checks of device type, identity and mode, the limits it reads, and what it does when the
 // drive ignores a write, is not what was expected, or stays silent in the middle of configuration.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The SDO client against the drive's server through a loopback bus, on a virtual clock.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SDO frames byte for byte, against CiA 301: what a master sends and what Settle's drive
 // answers, including the standard abort codes.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Segmented SDO (CiA 301 7.2.4.3): SdoClient against SdoServer frame by frame over an object
 // dictionary with byte-string entries, on a virtual clock. Sizes, toggle bits, size
 // indications, timeouts on both sides, buffers, aborts, and the frames byte for byte.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SocketCAN backend behaviour that needs no CAN interface: clear statuses instead of crashes
 // on hosts without CAN (this machine's kernel has none; the vcan suites cover the rest).
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // StepWindow: within one window of receive time the setpoints applied stay within the limit of
 // each other and of the one held a window before, whatever the arrival pattern; the brute-force
 // check below recomputes that bound from the whole history, independently of the ring.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SYNC with and without its counter, loss detection, and EMCY with its inhibit time.
 #include <gtest/gtest.h>
 

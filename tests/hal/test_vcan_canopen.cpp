@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Two processes exchange CANopen traffic through vcan0: this test is the master (RemoteDrive
 // on a SocketCanBus), tests/hal/vcan_peer is the drive (DriveNode). candump logs the same
 // frames in its own format and a test reads that log back. Throughput both ways is printed.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The SocketCAN backend on a real (virtual) CAN interface: frames, filters, FD, timestamps,
 // back-pressure reported as busy, kernel drops counted, and link control through libsocketcan
 // saying "not supported" for what a vcan has not got.

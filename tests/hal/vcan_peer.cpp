@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The other process of the vcan suites. Modes:
 //   vcan_peer drive <node>        a Settle drive (DriveNode, ideal axis) until SIGTERM, then
 //                                 prints its counters as key=value lines

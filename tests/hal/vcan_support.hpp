@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Support for the vcan suites: a monotonic clock, child processes (the peer node, candump)
 // and the skip message when no vcan0 exists (run them through tools/with-vcan).
 #pragma once

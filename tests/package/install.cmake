@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Installs the build tree (already built: nothing is rebuilt) into a fresh prefix.
 #   cmake -DBUILD=<build tree> -DPREFIX=<prefix> -P install.cmake
 file(REMOVE_RECURSE ${PREFIX})

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """examples/linux_master (built against the installed package) streams its move over vcan0 to a
 `settle plant` process. Readiness by frames: the plant is ready once its heartbeat (0x701, every
 100 ms) shows on the bus. Run through tools/with-vcan (ctest -L vcan does).

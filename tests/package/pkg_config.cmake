@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Builds examples/core_plan without CMake: the compiler and `pkg-config settle-core` from the prefix.
 #   cmake -DPREFIX=<prefix> -DLIBDIR=<lib dir name> -DCXX=<compiler> [-DFLAGS=<the build's flags>]
 #         -DSOURCE=<main.cpp> -DOUT=<exe> -P pkg_config.cmake

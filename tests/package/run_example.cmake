@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Configures and builds one example (or consumer) project against an installed settle, and runs
 # what it built. Fails on the first step that fails, with that step's output.
 #   cmake -DSOURCE=<project> -DBINARY=<build dir> -DPREFIX=<settle prefix> -DGENERATOR=<gen>

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """The `settle` Python module (python/), from the build tree or an install (PYTHONPATH picks it).
   test_python.py [--settle <settle CLI>]
 Each check stands on its own: plan() against what `settle plan --json` prints, sample()'s end

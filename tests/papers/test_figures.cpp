@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // gnuplot and every other helper program run without a shell (spawn.hpp): an argument vector,
 // the script on standard input, the exit status checked. A directory named like a shell
 // injection, or with spaces and double quotes, gets its plots and nothing else happens.

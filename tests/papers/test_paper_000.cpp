@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Seed 000 reproduced: the Table 1 beam's modes against SEEDS.md and against an independent
 // finite-element model; the S-curve family leaving every mode it is designed for at rest to 1e-8
 // of the distance; the experiment's PRVs against a Duhamel quadrature written independently

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Seeds 001/002 reproduced: the Y values by solving the zero-residual condition numerically with
 // an independent RK4 integration of the mass-spring-damper, the residuals of the arbitrary Y, and
 // the textbook shaper insensitivity widths by independent formulas.

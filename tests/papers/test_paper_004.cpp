@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Seed 004 reproduced: H(3,4,5) in closed form (the command is a polynomial, so F and G are exact
 // integrals of polynomials times exponentials), H at the paper's exponents and at the optimiser's
 // result by an independent composite Gauss-Legendre quadrature in the original time variable, the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Long runs (ctest -L soak): the three experiments in full (sensitivity widths, robustness grids,
 // the exponent study) with their invariants, and randomised modal plants against RK4.
 #include <gtest/gtest.h>

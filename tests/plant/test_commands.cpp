@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Commands as the simulator samples them: exact one-sided values where the motion is not smooth
 // (seed 001's velocity steps, a trapezoid's acceleration steps), breakpoints that include every
 // shaper delay, and the inverse-dynamics command satisfying its own differential equation.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every size sim computes with is checked against limits.hpp before anything is allocated, and
 // every search ends: the settling time of a mode whose decay time overflows (a denormal damping
 // ratio), an undamped mode, tails and grids beyond the bounds, too many modes or sweep points.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The exact integrator against closed-form solutions: a polynomial base motion must be followed to
 // rounding, over thousands of steps of mixed sizes, so integration error can never pass for
 // residual vibration. Also the jump rule (impulses from base discontinuities) and bad input.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The plants as users configure them: derived parameters against SEEDS.md, the beam's roots for
 // the classical clamped-free case by an independent Newton iteration, and every bad parameter
 // rejected with its own code.

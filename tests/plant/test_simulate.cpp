@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Metrics as the literature defines them, checked on cases with closed forms: an unshaped step
 // leaves 100 % PRV, a ZV-shaped step leaves |cos(pi r / 2)| on an undamped mode, the settling time
 // of a damped step response, and the shape of the recorded history.

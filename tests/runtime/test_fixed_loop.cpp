@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The servo loop with fixed-point evaluation (integer-only per tick, for cores without an FPU):
 // against the double loop on the same moves it streams the same targets to within one count, ends
 // exactly on target, and refuses at submit what its formats cannot hold, changing nothing.

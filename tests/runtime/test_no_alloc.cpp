@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The servo loop never touches the heap once started: global operator new and malloc are
 // replaced in this test binary and counted while the loop and a drive run 1 000 000 ticks on the
 // loopback bus, streaming moves back and forth, and while every fault reaction runs.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Online changes in the servo loop (issue 17): halt() and retarget() post into a lock-free
 // mailbox, service() plans outside the tick, and the tick switches to the blend at exactly the
 // setpoint it was planned for: the setpoints before it are the move's, those after it the blend's,

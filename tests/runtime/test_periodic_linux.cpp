@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The Linux loop's PM QoS request: what it writes, and that it holds the file exactly as long as
 // it lives (the kernel withdraws the request when the file is closed).
 #include <dirent.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The servo loop against a real CiA 402 drive node on the in-process bus: start-up before
 // streaming, setpoints applied exactly once and in order, the move's end reached exactly, and
 // the safety rules (queue bound, velocity refusal, step guard, tx busy and send errors without

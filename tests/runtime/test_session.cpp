@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A whole streaming session on the virtual clock: it refuses to stream before the drive is
 // enabled, completes with the settling window, and ends (without streaming further) with the
 // outcome that names why: the drive's heartbeat lost, its feedback stopped, a second SYNC

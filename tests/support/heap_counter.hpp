@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Counts every heap allocation of a test binary: replaces malloc and the global operator new.
 // Include it in exactly one source file of the binary (it defines those functions) and read

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Synthetic records for the estimator's tests and benchmark: the excitation `settle identify`
 // streams (plan_identify_excitation: a jerk-limited move, optionally after a train) as integer setpoints through sim's DriveAxis (the simulated drive's physics, exact stepping of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Moves the sim tests plan by name, planned by core and checked to plan (one place for both the
 // limits and the node tests).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Test-side reference integrator: classical RK4 for one second-order equation x'' = f(t, x, x')
 // from rest. Deliberately unlike the simulator (no exponentials, no polynomial pieces), so that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The simulated drive configured from an EDS (testbed::simulated_drive_from_eds): the bundled
 // settle_drive.eds is exactly the default drive; the other bundled drives load and answer SDO with
 // their identity and mapping; an EDS the simulated drive cannot be is refused naming the object.

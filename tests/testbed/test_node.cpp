@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The simulated drive's log is bounded and streamed (`settle plant` runs for hours at one record
 // per SYNC), and the offline replica of a streamed move refuses sizes beyond limits.hpp before
 // allocating. Allocations are counted by heap_counter.hpp.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // run_stream on the in-process loopback bus, held to what is known without it: the frames a
 // sniffer saw on the bus (one SYNC per tick, one RPDO per streamed tick carrying every setpoint
 // once, in order), the setpoint count from the move's duration, the settling window from the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The stream reporters on hand-made reports: the text summary line by line, the JSON document's
 // field names (an interface: settle demo, tests/e2e and the examples parse them) and its
 // nulls, and both CSV files row by row.

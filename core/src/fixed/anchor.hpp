@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Internal to core/fixed: the exact random-access state of one track at one tick, shared by the
 // evaluator (motion_eval.cpp) and the position-plan builder (position_build.cpp), so that a plan's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Planning-time helpers shared by the fixed-point builders. They run in double but only with
 // + - * / and exact functions (frexp, ldexp, nearbyint), never libm approximations, so the host and

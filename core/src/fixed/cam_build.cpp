@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cam tables at planning time: sampling the double evaluator, choosing the formats, and checking
 // the integer table against the double evaluator (deterministic double arithmetic, build.hpp).
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The cam table's tick path: integer only. Knots sit every 2^L ticks, so an interval's phase j/2^L
 // is exact and dividing by the spacing is a shift; the forward differences of the interval
 // polynomial, at scales 32 + iL, start from its Taylor coefficients without any rounding.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The golden list: every evaluator kind once (both S-curve variants, ramp-versine, 3-4-5, a
 // piecewise pseudo-polynomial with whole exponents, a trapezoid, ZV and ZVD shapers whose impulses
 // fall between ticks, and cam tables of three orders), each motion also as a position plan. Planning stays libm-free: timed requests,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Quintic and cubic Hermite coefficients on the unit interval from the end values p, p', p''
 // (derivatives already in units of the interval). One template for the planning-time fit (double)

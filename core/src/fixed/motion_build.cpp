@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Planning time: a Move<double> becomes segments and tracks (motion.hpp). Every profile is first
 // described as pieces in double (a polynomial in the piece's phase plus a phasor), then each
 // piece is quantised with its bounds checked; only when every check passes is the output written.

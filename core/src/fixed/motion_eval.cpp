@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The tick path of BasicMotion: integer arithmetic only (no float, no division), so every target
 // produces the same integers. Random access and stepping share locate(), the anchor evaluation
 // and finish(); stepping differs only inside a segment, where it adds differences and rotates.

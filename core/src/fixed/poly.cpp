@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/core/fixed/poly.hpp"
 
 #include "settle/core/fixed/qmath.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Planning time: a built motion becomes a position plan (position.hpp). The tracks' segment
 // boundaries are merged into one timeline; at the first tick of each interval the weighted sum of
 // the tracks is taken from the exact random-access integers (anchor.hpp) and turned into the

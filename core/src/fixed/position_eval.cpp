@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The tick path of PositionStepper: integer arithmetic only (no float, no division), so every
 // target produces the same integers. A tick adds the forward differences, runs the sinusoid's
 // recurrence (one product), and at the last tick of an interval copies the next interval's state

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reset, vector table and exception handlers shared by the Cortex-M boards (ARMv6-M and ARMv7E-M):
 // set up .data/.bss, paint the stack, run static constructors, call the image, exit through
 // semihosting. Any unexpected exception ends the emulation with a message instead of hanging.

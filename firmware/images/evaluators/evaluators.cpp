@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // evaluators-<board>: instructions per tick of every evaluator on every kind of move, on the target.
 // The moves are the golden list's (core/fixed/golden.hpp: both S-curves, ramp-versine, 3-4-5, a
 // pseudo-polynomial, a trapezoid, an S-curve through ZV and a damped one through ZVD), planned here

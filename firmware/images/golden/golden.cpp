@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // golden-<board>: core::fixed::golden_checksum() on the target (every fixed-point build, position
 // plan and tick of a fixed list of moves, folded into four 64-bit checksums), written to golden-<board>.txt
 // as one line. tests/cross/golden-check compares it with the same line from the host

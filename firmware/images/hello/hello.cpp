@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The smallest image worth running on a board: proves startup, semihosting file output and the
 // exit status end to end, and is the harness of the instruction-count method: it checks the
 // counter on a body of known length, then measures one single-precision sine.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The servo-loop image's program built for the host (settle_servo_image_host): the same source as
 // the Cortex-M images (servo_session.hpp), writing the candump log with stdio instead of
 // semihosting, so that the cross test can compare the two logs frame for frame.

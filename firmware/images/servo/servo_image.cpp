@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The servo-loop images (mps2-an386 / microbit), three builds of this file:
 // - servo-<board>: runs servo_session.hpp's program, writes every frame the master sends to
 //   servo-<board>.log (candump format) through semihosting, and measures with the exact

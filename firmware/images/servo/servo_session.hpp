@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The servo-loop image's program, shared by the Cortex-M images and the host build
 // (settle_servo_image_host) so that both send the same frames: one axis of ServoLoop<float> on a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What one axis of the servo loop costs in flash and RAM, without the test harness around it:
 // ServoLoop<float, 1 axis> with the pinned move queued, ticking on a CAN controller's buffers
 // (hal::MailboxBus: three transmit mailboxes, an 8-frame receive FIFO), whose sent frames leave

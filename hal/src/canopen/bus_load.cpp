@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/canopen/bus_load.hpp"
 
 namespace settle::hal::canopen {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/canopen/cia402.hpp"
 
 namespace settle::hal::canopen {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/canopen/default_mapping.hpp"
 
 #include "settle/hal/canopen/byte_order.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/canopen/emcy.hpp"
 
 #include "settle/hal/canopen/byte_order.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/canopen/process_data.hpp"
 
 #include <type_traits>

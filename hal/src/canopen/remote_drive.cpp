@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/canopen/remote_drive.hpp"
 
 #include "settle/hal/canopen/nmt.hpp"

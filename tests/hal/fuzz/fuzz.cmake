@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # The libFuzzer harnesses need clang (the main build uses g++), so they are compiled by custom
 # commands with clang++ and the sanitizers; the brief runs are default tests (label fuzz), the
 # long runs have the fuzz-long label:  ctest -L fuzz-long  (or SETTLE_TEST_LABELS=fuzz-long tools/test).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer harness over every CANopen decoder, the SDO server, the drive node and the master
 // side, fed one byte stream as a sequence of frames with time steps in between:
 //   byte 0: node id (bit 7: the drive's PDO mapping is writable); then records of

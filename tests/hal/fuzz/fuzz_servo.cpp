@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer harness: the master (firmware ServoLoop + hal RemoteDrive) against the drive (hal
 // DriveNode + an ideal plant behind it) over the in-process bus, each side behind hal's
 // FaultInjectingBus, in virtual time. The input chooses the move and, tick by tick, what goes

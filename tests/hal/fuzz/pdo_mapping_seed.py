@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Writes seeds/pdo_mapping.bin, the seed that walks fuzz_canopen.cpp's drive with dynamic PDO
 mapping (byte 0 bit 7) through the CiA 301 procedure: RPDO2 and TPDO3 mapped over SDO and
 enabled, a wrong step (a valid PDO's mapping written), NMT start, then RPDOs and SYNCs.

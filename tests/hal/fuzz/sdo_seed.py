@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Writes seeds/sdo_segmented.bin, the seed that walks fuzz_canopen.cpp's segmented-SDO rig
 (SdoRig) through whole transfers: segmented upload and download, a toggle error, block
 transfer, a new initiate during a transfer, a server timeout, and a client upload answered

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Writes the inputs of the master-vs-drive fuzz harness (fuzz_servo.cpp) from a readable
 description, and writes the committed seed corpus (servo_seeds/). The byte layout is the one
 fuzz_servo.cpp's header comment documents; to read what an input does, run the harness on it

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Seed 004: the residual energy a pseudo-polynomial motor command leaves in a damped mode driven
 // through -lambda phi_m'' (the belt platform), E(T) = h H with H = G^2 + w^2 F^2, computed by

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Identification of a machine's modes from what its drive reports, sampled once per period: the
 // motor position (position actual) and the load-side position. The modes are those of ModalPlant

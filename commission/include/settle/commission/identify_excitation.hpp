@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The excitation `settle identify` streams: one planned jerk-limited move, and before it a train
 // of the same move back and forth. Each acceleration step of a move rings every mode once; a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `settle identify` as a library call: the servo loop streams an excitation (a planned,
 // limit-respecting move, then a hold) to a drive over CAN, the drive's feedback frames (position

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The fastest move that stays at rest over what is known about the machine: given modes with
 // uncertainty bands (identified confidence intervals, or +-PCT on omega) and a move (distance, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // How one axis maps SI to the drive: position counts per unit (m, or rad for a rotary axis) and the
 // servo period. One value shared by the servo loop, the fixed-point builder and the simulated drive,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The values every profile evaluates to and the peaks it reports. Templated on the scalar so that
 // double (planning, host) and float (Cortex-M4F) evaluation share one implementation.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A planned move: a profile, the shaper applied to it, and its true peaks. This is what the
 // servo loop evaluates each tick and what the simulator drives its plants with.

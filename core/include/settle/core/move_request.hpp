@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What a user asks for: the distance, a move time or limits, the mode the move is designed for,
 // and a shaper. Every profile's planner hook reads it (settle/core/profiles/), and plan() turns

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Coordinated moves of up to kMaxAxes axes that start together and end together, each at rest on
 // its own mode (issue 17, docs/multi_axis.md). Two ways to synchronise them:

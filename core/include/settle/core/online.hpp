@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Online changes of a running move: `halt` (come to rest as fast as the limits allow) and
 // `retarget` (go to a new target), from any state mid-move, leaving every design mode at rest.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A profile's exact decomposition into pieces, in double: over a piece's phase s (0 at its start,
 // 1 at its end) the position is  P(s) = sum_k c_k s^k + Im(Z e^{2 pi i s}),  a polynomial of degree

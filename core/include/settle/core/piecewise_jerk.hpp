@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Piecewise constant-jerk profiles: the baselines users compare against. The trapezoidal
 // velocity profile (jerk 0, acceleration steps) and the classic 7-phase jerk-limited S-curve

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // From a user's physical request (distance, a move time or limits, the mode, a shaper) to a ready
 // Move, or a specific Status. Planning runs in double; convert the Move to float for evaluation.

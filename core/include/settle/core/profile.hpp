@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Any core profile behind one value type, so that the servo loop, the simulator and the CLI can
 // hold "a move" without templates leaking into them. A closed set, generated from the registry

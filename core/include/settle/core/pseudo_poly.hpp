@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Pseudo-polynomial motion command of seed 004 (Incerti):
 //   phi(t) = D [1 - sum_i C_i (1 - t/T)^gamma_i],  Z c = e0,  Z[k][i] = gamma_i (gamma_i-1)...(gamma_i-k+1)

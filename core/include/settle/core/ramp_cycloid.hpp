@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Ramp-cycloid S-curve of seed 000 and Settle's damped extension of it (see
 // docs/scurve-damped.md). Five acceleration segments tau, tau, T3, tau, tau; every transition is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Ramp + cycloid + versine position command of seeds 001/002 (Kapucu & Kaplan):
 //   y(t) = L R t / 2pi - (Y2/2pi) sin Rt + (Y3/2pi)(1 - cos Rt),  R = 2pi/tau,  Y1 + Y2 + Y3 = L.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A move as the drive sees it: one integer target in counts per tick, from the move's start
 // (tick 0, the origin) to its end (exactly origin + round(D * counts_per_unit)). The servo loop

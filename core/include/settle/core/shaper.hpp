@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Input shapers as exact operators: a shaped profile is sum_i A_i p(t - t_i), evaluated directly
 // (no delay line, no buffer). ZV, ZVD, ZVDD (closed forms), EI with damping (solved exactly),

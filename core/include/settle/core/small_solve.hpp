@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Fixed-size dense linear solve (Gaussian elimination with partial pivoting) for the small
 // systems of the planners (the pseudo-polynomial's Z system, the EI shaper's Newton steps).

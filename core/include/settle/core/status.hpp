@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Result codes of every planner and designer in core. Core never throws: a failed call returns
 // one of these, leaves its output untouched, and the caller decides what to tell the user.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Stepping evaluation: the servo loop asks for setpoints at evenly spaced ticks, so instead of
 // sin/cos per tick the ramp-cycloid's trigonometric terms advance by a fixed rotation, re-anchored

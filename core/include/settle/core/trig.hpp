@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // sin and cos of a profile's phase, which is always a few turns at most (a ramp-cycloid's
 // 2*pi*u/tau within one segment, a ramp-versine's r*t within its duration, a stepper's rotation per

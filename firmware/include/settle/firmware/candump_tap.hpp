@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A CAN bus that writes every frame it sends as a candump line (`candump -L` / canplayer format)
 // to a line sink, then passes the frame on to the bus behind it. This is how an image with no

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Counts the instructions code costs on QEMU's emulated Cortex-M cores: the per-tick cost
 // measure of the firmware images. Needs QEMU's `-icount shift=7` (128 virtual ns per instruction),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the Cortex-M board runtime (startup, vector table, no-heap C/C++ support) offers an image:
 // the entry point it calls after reset, the fatal-error exit and the stack high-water mark.

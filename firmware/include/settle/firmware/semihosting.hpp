@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // ARM semihosting, freestanding: lets an image running under a debugger or QEMU
 // (`-semihosting-config enable=on,target=native`) write files on the host and exit with a status.

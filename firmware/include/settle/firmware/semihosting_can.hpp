@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The semihosting end of the CAN log: a line sink for CandumpTapBus that buffers candump lines
 // and writes them to a host file through semihosting (one SYS_WRITE per few KiB, not per frame:

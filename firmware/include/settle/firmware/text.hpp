@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Fixed-capacity text building for images: numbers and strings into a stack buffer, without
 // printf (newlib's stdio allocates, and the image links no heap).

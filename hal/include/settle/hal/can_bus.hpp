@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The bus interface the servo loop and the protocol nodes use: non-blocking send with a
 // status, receive with an optional timeout, receive filters and counters. Nothing here
 // allocates; every backend (SocketCAN, loopback, the fault-injecting double) implements it.

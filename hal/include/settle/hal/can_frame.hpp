@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Settle's own CAN frame: 11/29-bit identifier, RTR, classic (8 bytes) and FD (64 bytes).
 // Protocol code and the bus interface speak only this type; it is converted to the kernel's
 // struct can_frame / canfd_frame inside the SocketCAN adapter and nowhere else.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A candump log file (`candump -L` format, replayable with canplayer) written by the process that
 // sends and receives the frames: with a RecordingBus in front of the process's bus, the log holds
 // every frame the process sent and every frame it received, and says so when it could not (a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One line of a can-utils log file (`candump -L`, replayable with `canplayer`):
 //   (1700000000.123456) vcan0 123#DEADBEEF      classic, standard id
 //   (1700000000.123457) vcan0 12345678#01       extended id (eight hex digits)

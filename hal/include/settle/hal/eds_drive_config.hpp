@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // From a drive's EDS or DCF to the master's start-up configuration (host only): checks that the
 // objects streaming needs exist with the right type, access and PDO mappability, and chooses how
 // the PDOs are set up: dynamic mapping of a layout when the description says the mapping is

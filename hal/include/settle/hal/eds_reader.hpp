@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A drive's description from its EDS or DCF file (CiA 306, INI format, read here): every
 // object's index, sub-index, name, data type, access, PDO mappability, limits and default (or,
 // in a DCF, configured) value, the device's identity, and its PDO communication and mapping

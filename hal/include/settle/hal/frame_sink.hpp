@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Where I/O-free protocol code puts the frames it produces. A bus is a sink (frames go to the
 // wire), a FrameBuffer is a sink (tests and callers that batch), so protocol objects never
 // need to know which one they are talking to.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // In-process CAN bus: every port attached to a hub receives what the other ports send, in
 // order, with the hub's virtual time as receive timestamp. Deterministic (no threads, no
 // clock), so unit tests, benchmarks and hosts without any CAN all run the same protocol code.

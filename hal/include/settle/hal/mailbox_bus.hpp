@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A CAN controller's own buffers as the firmware of a drive master sees them: a few transmit
 // mailboxes and a receive FIFO, each entry a 16-byte classic-frame record (identifier, flags,
 // length, eight data bytes), as bxCAN, FlexCAN or an MCP2515 hold them. This is the bus the

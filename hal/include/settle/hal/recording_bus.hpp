@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A CAN bus that records every frame passing through it, both ways: each frame the bus behind it
 // took for sending and each frame it delivered, in the order this process saw them. The records
 // wait in a fixed ring until the owner takes them (to write a candump log, say) outside its timed

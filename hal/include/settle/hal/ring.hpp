@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Fixed-capacity FIFO over storage the owner provides, so queues in the HAL never allocate
 // and a bare-metal target decides where (and how large) each queue lives.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Linux SocketCAN backend: a raw CAN socket behind the CanBus interface (filters, optional FD,
 // non-blocking sends where a full queue is reported busy, kernel drop counting, receive
 // timestamps), and CanInterface, link control through libsocketcan. Host-only; the Linux CAN

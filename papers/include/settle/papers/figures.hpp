@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // CSV of every curve of the reproduced experiments and gnuplot PNGs laid out like the papers'
 // figures (seed 000 Fig. 3, seed 001 Figs. 2-7, seed 004 Fig. 3). PNGs need gnuplot on the PATH;

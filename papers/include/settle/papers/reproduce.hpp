@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The three papers' experiments, rerun on Settle's own profiles and plants: the numbers behind
 // `settle reproduce 000|001|004`. Each returns plain data (tables, time histories, grids); the CLI

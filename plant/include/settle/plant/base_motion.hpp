@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The base motion a plant sees during one integration step: a polynomial in the local time
 // s in [0, dt]. A drive's linear interpolation of setpoints, a cubic, and the quintic Hermite

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Modal analysis of seed 000's plant: an Euler-Bernoulli cantilever with a tip mass, clamped to a
 // translating base. Roots of the characteristic equation by bracketing (any number of modes, any

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What a plant is driven with in an offline simulation: a base motion known at any instant, with
 // both one-sided values where it is not smooth, and the list of those instants. The simulator puts

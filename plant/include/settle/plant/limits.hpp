@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The sizes sim accepts: every function that allocates or loops in proportion to an input checks
 // it against these bounds first, and refuses with a specific SimStatus (too_many_samples,

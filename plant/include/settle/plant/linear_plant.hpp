@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A linear plant in state-space form driven by the commanded base motion, integrated exactly over
 // each step for a polynomial base motion (augmented-matrix exponential), so that integration error

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The plants of the three papers, and a user's own list of modes, as one type: a base moved by
 // the command and a set of second-order modes excited by the base acceleration. Built on

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The words a move is asked for and reported in, shared by the settle CLI (as --options) and the
 // Python module (as keywords, the options without their dashes): the profiles' names (core's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // How a move's residual vibration degrades when the plant is not what the move was designed for:
 // PRV against the ratio of true to designed natural frequency (or damping), and the insensitivity

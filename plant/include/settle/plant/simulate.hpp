@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Runs a command on a plant and measures what the input-shaping literature measures: residual
 // vibration amplitude and PRV, peak deflection during the move, settling time, final energy.

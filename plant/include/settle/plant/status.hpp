@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Result codes of the simulator's constructors and steppers. Bad plant parameters come from users
 // (CLI options, a drive node's configuration), so they are reported with a specific code and the

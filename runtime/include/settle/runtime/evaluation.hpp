@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // How the servo loop turns a queued move into one integer target per tick. FloatEvaluation runs
 // core's Move in float or double (a Cortex-M4F, a Linux drive); FixedEvaluation runs core's

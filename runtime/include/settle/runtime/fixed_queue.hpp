@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A queue that owns its fixed storage: hal's Ring over an array member. The servo loop keeps each
 // axis's prepared moves in one (the next moves are planned and prepared outside the tick while

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Online changes in the servo loop (issue 17): halt() and retarget() post a command into a
 // per-axis single-producer mailbox from any context, lock-free; ServoLoop::service(), outside the

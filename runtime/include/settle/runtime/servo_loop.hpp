@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The periodic servo loop: each tick it takes the drives' feedback, evaluates every axis's active
 // move, converts it to drive counts, sends one RPDO per axis and one SYNC, and keeps statistics.

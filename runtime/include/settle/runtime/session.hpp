@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // One streaming session, the same on every target and for any number of axes: start the drives,
 // tick until every drive is in operation enabled (refusing to stream before), queue the moves,

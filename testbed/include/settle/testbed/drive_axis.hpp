@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What a CSP drive does with the setpoints it is streamed, as physics: the target received
 // before SYNC k is applied at SYNC k and reached one period later, linearly interpolated (or by

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The simulated drive's configuration (hal's DriveNodeConfig) from an EDS: which optional
 // objects it has, its identity and device type, the defaults of its parameters, its PDOs'
 // default mappings and whether they are writable (the mapping objects' AccessType). An EDS that

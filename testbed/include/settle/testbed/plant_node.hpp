@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The simulated drive on the bus (`settle plant`): hal's CiA 402 DriveNode (NMT, heartbeat,
 // SDO server, power state machine, drive-side safety) with a DriveAxis behind it. SYNC-driven,

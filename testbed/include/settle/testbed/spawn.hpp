@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Runs a program without a shell: posix_spawnp with an argument vector (the PATH search is
 // posix_spawnp's own), the input written to its standard input through a pipe, its output to the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `settle stream` as a library call: the servo loop streams a planned move to a drive over CAN,
 // and the report says whether the machine ended at rest: the residual vibration measured from the

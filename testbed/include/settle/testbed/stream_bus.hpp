@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The two places a stream runs. LoopbackStreamBus: the simulated drive (the spec's plant behind
 // hal's drive node) on the in-process bus, in virtual time, deterministic. SocketCanStreamBus: a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What an end-to-end run is compared with: the offline replay of a streamed move (the same
 // integer setpoints through the same DriveAxis, no bus), and the residual vibration estimated

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A stream's report as people and programs read it: the text summary `settle stream` prints, its
 // --json document (one line; the field names are an interface: settle demo, tests/e2e and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The simulated drive's record of every SYNC, bounded: `settle plant` runs for hours at one record
 // per period, so nothing here grows with the run. PlantNode keeps the last records in a ring of

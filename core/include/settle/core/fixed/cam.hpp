@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Electronic cam: any planned Move as a table of (p, v, a) samples at evenly spaced ticks in the
 // controller's memory, interpolated per tick by a linear, cubic (p, v) or quintic (p, v, a) Hermite

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What the fixed-point evaluators take and give: the scale from SI to drive units, the integer
 // sample the servo loop streams, and the formats of its fields. This comment is the reference for

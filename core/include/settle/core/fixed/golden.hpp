@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A deterministic fingerprint of the fixed-point evaluators, for comparing a target with the host:
 // plans a fixed list of moves (chosen so that planning needs no libm approximation), builds them

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Fixed-point evaluation of a planned Move<double>: ramp-cycloid S-curves (both variants),
 // ramp-versine, trapezoid and jerk-limited profiles exactly, pseudo-polynomials as a verified

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Polynomial machinery shared by the fixed-point evaluators (segments and cam tables): Taylor
 // coefficients at a phase by repeated synthetic division (whose first pass is Horner's rule), and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Position-only stepping of a built fixed-point motion, for a servo loop that streams nothing but
 // a position per tick (CiA 402 cyclic synchronous position). Everything a tick could need beyond

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Integer building blocks of the fixed-point evaluators: the one product the tick path needs
 // (a 64-bit value times a 32-bit factor, floor-shifted), rounding, saturation and shifts. Every

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Sine and cosine in fixed point for the evaluators' tick path. The angle is a 32-bit fraction of a
 // turn, so a phase accumulator wraps onto it for free; results are Q2.30 (1.0 = 2^30). Two

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Profile `fastest`: the shortest rest-to-rest move under vmax, amax and jmax that leaves every
 // design mode (omega, zeta and the request's extra modes) exactly at rest, or, with `robust`,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Profile `jerk-limited`: the classic 7-phase jerk-limited S-curve under vmax, amax and jmax,
 // time-optimal or stretched to a move time by lowering its cruise velocity.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Profile `poly345`: the classic 3-4-5 polynomial, a pseudo-polynomial with exponents 3, 4, 5.
 #include "settle/core/profiles/pseudopoly.hpp"

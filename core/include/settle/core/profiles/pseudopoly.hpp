@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Profile `pseudopoly`: Incerti's pseudo-polynomial of seed 004, with the user's exponents
 // (--gammas). Timed, or the shortest within whichever of vmax, amax, jmax are given.

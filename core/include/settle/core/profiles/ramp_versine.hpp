@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Profile `ramp-versine`: the ramp + cycloid + versine position command of seeds 001/002, with
 // Y1..Y3 computed for the mode (omega, zeta) or given as fractions of the distance (--y). Only a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The profile registry: every profile core knows, one include and one line each. Everything that
 // enumerates profiles is generated from SETTLE_CORE_PROFILES: the ProfileKind enum, the shapes

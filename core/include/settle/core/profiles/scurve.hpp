@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Profile `scurve`: the ramp-cycloid S-curve of seed 000, vibration-free for an undamped mode
 // (omega). Timed (D, T, optional vmax) or the fastest under vmax/amax (and jmax).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Profile `scurve-damped`: Settle's ramp-cycloid S-curve with a versine term, exact for a damped
 // mode (omega, zeta); docs/scurve-damped.md derives it. Planned as `scurve` is.

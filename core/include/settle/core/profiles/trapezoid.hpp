@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Profile `trapezoid`: trapezoidal velocity, the baseline users compare against. Timed (it
 // accelerates for a third of the move unless vmax binds) or time-optimal under vmax and amax.

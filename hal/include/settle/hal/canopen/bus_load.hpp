@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bus load of cyclic synchronous streaming on classic CAN: how many bits one SYNC period carries
 // when the master sends one SYNC and every drive one RPDO and its TPDOs, and whether that fits in
 // the period at a bit rate (docs/multi_axis.md, "Bus load").

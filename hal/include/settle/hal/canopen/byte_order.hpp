@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Little-endian field access, the byte order of every CANopen payload. Written with shifts
 // so the same code is right on any host and any microcontroller.
 #pragma once

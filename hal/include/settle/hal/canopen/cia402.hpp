@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CiA 402 drive profile: object indices, controlword commands, statusword states with the
 // standard masks, and the drive-side power state machine that turns one into the other.
 // Both ends use it: the drive runs the machine, the master decodes the statusword.

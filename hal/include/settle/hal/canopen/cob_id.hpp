@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CANopen (CiA 301) node ids and the predefined connection set: which 11-bit identifier
 // carries which service for which node. Every encoder and decoder in hal/canopen uses these.
 #pragma once

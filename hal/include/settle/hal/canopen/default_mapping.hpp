@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Settle's default PDO mapping for a CiA 402 drive streamed in cyclic synchronous position
 // (the one the simulated drive's EDS, hal/eds/settle_drive.eds, declares), all PDOs
 // synchronous (transmission type 1):

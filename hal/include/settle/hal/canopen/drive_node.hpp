@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The drive end of the bus as one I/O-free object: a CiA 402 slave with NMT, heartbeat,
 // SDO server over its object dictionary, the default PDO mapping, the power state machine,
 // EMCY and the drive-side safety rules. The simulated drive (sim) owns the plant behind it

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CiA 301 emergency messages: a node reports an error (or its end, code 0) once, with its
 // error register and five bytes of detail; the producer honours the inhibit time (0x1015).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CiA 301 heartbeat: each node announces its NMT state every producer period (0x1017, ms);
 // a consumer (0x1016) declares the node lost when no heartbeat came within its timeout.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CiA 301 network management: the NMT command frame (id 0) a master sends, and the slave-side
 // state machine that answers it (initialising -> pre-operational <-> operational <-> stopped).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A static object dictionary: a sorted table of (index, sub-index) entries, each bound to a
 // variable its owner declares. The SDO server and the PDO mappings read and write through it
 // with CiA 301 access rules, sizes and value ranges; the owner reads its variables directly.

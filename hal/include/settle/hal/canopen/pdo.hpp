@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CiA 301 static PDO mapping: which objects, in which order, fill a PDO's bytes. A mapping is
 // resolved against the object dictionary once (PdoBinding), so packing a TPDO or applying an
 // RPDO at each SYNC is a copy of a few bytes with no lookups.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Where the master's process data sit in a drive's PDOs: which RPDO carries the controlword and
 // the target position, which TPDOs carry the statusword, the position actual and the optional
 // feedback (load-side position, velocity actual, following error actual), at which byte, in how

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The master's view of one CiA 402 drive, I/O-free: start-up (NMT, SDO configuration of the
 // mode and periods, NMT start), the enable sequence driven by the drive's statusword, the
 // per-tick CSP RPDO, and supervision of its heartbeat, EMCY and feedback. The servo loop owns

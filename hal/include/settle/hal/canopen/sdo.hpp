@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CiA 301 SDO, expedited and segmented transfers: the frame codec, the server that answers
 // from an object dictionary, and the client a master uses, with timeouts and the standard
 // aborts. Freestanding: no heap; a transfer's bytes live in buffers the caller owns.

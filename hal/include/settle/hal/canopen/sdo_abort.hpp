@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The standard SDO abort codes (CiA 301 table 22). Object dictionary accesses return one of
 // these directly, so the SDO server can put the reason on the wire without translating.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The drive's motion bound over time: however its SYNCs arrive, the axis never moves more than
 // the step limit (0x607F x period) within one period.
 //

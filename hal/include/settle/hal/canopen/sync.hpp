@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CiA 301 SYNC: the frame that marks each servo period. The producer (the servo loop) emits it
 // with the optional 1..overflow counter; the consumer (a drive) notices counter gaps and loss.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A deadline on integer time: the one timeout rule behind heartbeat consumers, SYNC and RPDO
 // loss, SDO client timeouts and following-error timeouts. Fires exactly once per loss, at the
 // first check at or after the deadline, so virtual-clock tests can say when it must fire.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A test double for any CanBus: forwards to a real backend (usually a loopback port) and, on
 // request, makes sends report busy or error, loses frames in either direction, or holds them
 // back until the test's virtual time has advanced. Scripted (the next n frames) or random

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The ideal drive: the far end of the bus for tests, benchmarks and the firmware images. A real
 // hal DriveNode (NMT, SDO, CiA 402 power states, the drive-side safety rules) whose axis reaches
 // each target exactly one period after the SYNC that applies it, and reports that position and

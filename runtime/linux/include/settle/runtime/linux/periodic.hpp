@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The servo loop's Linux target: a periodic timer on CLOCK_MONOTONIC with absolute deadlines
 // (clock_nanosleep TIMER_ABSTIME), real-time scheduling and locked memory when permitted, and
