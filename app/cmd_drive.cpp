@@ -119,9 +119,9 @@ class Session {
   Session(const ParsedArgs& args, std::string command, const hal::eds::Description* eds)
       : command_{std::move(command)},
         eds_{eds},
-        bus_name_{args.text("--bus", "vcan0")},
-        node_{static_cast<hal::canopen::NodeId>(args.integer("--node", 1))},  // 1..127
-        timeout_us_{static_cast<std::uint32_t>(args.integer("--timeout-ms", 1000)) * 1000U},  // 1..60000 ms
+        bus_name_{args.text_or_default("--bus")},
+        node_{static_cast<hal::canopen::NodeId>(args.has("--node") ? args.integer("--node") : 1)},  // 1..127; scan has no --node
+        timeout_us_{static_cast<std::uint32_t>(args.integer("--timeout-ms")) * 1000U},  // 1..60000 ms
         json_{args.json()},
         client_{node_, timeout_us_} {}
 
@@ -213,7 +213,7 @@ int load_description(const ParsedArgs& args, std::optional<hal::eds::Description
   if (!path) return -1;
   hal::eds::LoadResult r = hal::eds::load(*path);
   if (!r.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + r.error}, args.json());
-  if (args.text("--bus", "vcan0") == "loopback") {
+  if (args.text_or_default("--bus") == "loopback") {
     // The simulated drive is built from it: one it cannot be is a bad request too.
     const testbed::DriveFromEds d = testbed::simulated_drive_from_eds(*r.description, 1);
     if (!d.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + d.error}, args.json());
