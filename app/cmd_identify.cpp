@@ -10,6 +10,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "drive_advice.hpp"
 #include "io/json.hpp"
 #include "options.hpp"
 #include "plant_options.hpp"
@@ -172,7 +173,10 @@ int cmd_identify(int argc, char** argv) {
   const std::unique_ptr<testbed::StreamBus> bus = open_stream_bus(args, socketcan, bus_error);
   if (!bus) return failed("bus_unavailable", bus_error, args.json(), error_doc("bus_unavailable", bus_error));
 
-  const commission::IdentifyRunReport report = commission::run_identify(spec, *bus);
+  commission::IdentifyRunReport report = commission::run_identify(spec, *bus);
+  if (!report.ok()) {
+    if (const std::string advice = drive_advice(report.stream); !advice.empty()) report.failure += ": " + advice;
+  }
   if (!report.ok()) return failed(report.failure_code, report.failure, args.json(), commission::identify_json(spec, report));
   if (const auto png = args.text("--png")) {
     if (const std::string why = write_png(spec, report, *png); !why.empty()) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "drive_advice.hpp"
 #include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/bus_load.hpp"
 #include "settle/hal/eds_reader.hpp"
@@ -268,6 +269,9 @@ int cmd_stream(int argc, char** argv) {
     std::printf("%s\n", testbed::stream_json(report).c_str());
   } else {
     testbed::write_stream_text(report, stdout);
+  }
+  if (!report.measured()) {
+    if (const std::string advice = drive_advice(report); !advice.empty()) std::fprintf(stderr, "settle stream: %s\n", advice.c_str());
   }
   return report.measured() ? kExitOk : kExitFailure;
 }
