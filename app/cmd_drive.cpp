@@ -22,6 +22,7 @@
 #include "drive_link.hpp"
 #include "io/json.hpp"
 #include "options.hpp"
+#include "progress.hpp"
 #include "settle/hal/canopen/sdo_abort.hpp"
 #include "settle/hal/eds_reader.hpp"
 #include "settle/hal/canopen/nmt.hpp"
@@ -548,7 +549,10 @@ int drive_scan(const ParsedArgs& args, const hal::eds::Description* eds) {
   std::string text;
   std::vector<SdoClient> batch;
   batch.reserve(kScanBatch);
+  const Progress progress;
   for (unsigned first = 1; first <= 127; first += kScanBatch) {
+    progress.say("settle drive scan: nodes %u..%u of 127 on %s, %zu answered so far", first,
+                 std::min(first + kScanBatch - 1U, 127U), s.bus_name().c_str(), nodes.size());
     batch.clear();
     for (unsigned node = first; node < first + kScanBatch && node <= 127; ++node) {
       batch.emplace_back(static_cast<hal::canopen::NodeId>(node), s.timeout_us());
@@ -580,6 +584,7 @@ int drive_scan(const ParsedArgs& args, const hal::eds::Description* eds) {
       nodes.push_back(n);
     }
   }
+  progress.done();
   if (s.json()) {
     print_json({{"status", "ok"}, {"bus", s.bus_name()}, {"nodes", nodes}});
   } else {

@@ -13,6 +13,7 @@
 #include "drive_advice.hpp"
 #include "io/json.hpp"
 #include "options.hpp"
+#include "progress.hpp"
 #include "plant_options.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/hal/eds_reader.hpp"
@@ -173,7 +174,11 @@ int cmd_identify(int argc, char** argv) {
   const std::unique_ptr<testbed::StreamBus> bus = open_stream_bus(args, socketcan, bus_error);
   if (!bus) return failed("bus_unavailable", bus_error, args.json(), error_doc("bus_unavailable", bus_error));
 
+  const Progress progress;
+  progress.say("settle identify: start-up (at most 5 s), then %.1f s of excitation and hold on %s ...",
+               spec.stream.move.duration() + spec.stream.settle_time_s, args.text_or_default("--bus").c_str());
   commission::IdentifyRunReport report = commission::run_identify(spec, *bus);
+  progress.done();
   if (!report.ok()) {
     if (const std::string advice = drive_advice(report.stream); !advice.empty()) report.failure += ": " + advice;
   }
