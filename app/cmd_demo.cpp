@@ -72,7 +72,7 @@ int cmd_demo(int argc, char** argv) {
     std::fprintf(stderr, "settle demo: cannot find its own executable (/proc/self/exe): %s\n", ec.message().c_str());
     return kExitFailure;
   }
-  const DemoSpec spec{self.string(), args.text("--bus", "vcan0"), args.text("--out", "demo")};
+  const DemoSpec spec{self.string(), args.text_or_default("--bus"), args.text_or_default("--out")};
   DemoReport report;
   std::string why;
   if (!run_demo(spec, scenarios, commissioning, report, why)) {

@@ -23,6 +23,7 @@
 #include "drive_link.hpp"
 #include "io/json.hpp"
 #include "options.hpp"
+#include "progress.hpp"
 #include "settle/hal/canopen/sdo_abort.hpp"
 #include "settle/hal/eds_reader.hpp"
 #include "settle/hal/canopen/nmt.hpp"
@@ -120,9 +121,9 @@ class Session {
   Session(const ParsedArgs& args, std::string command, const hal::eds::Description* eds)
       : command_{std::move(command)},
         eds_{eds},
-        bus_name_{args.text("--bus", "vcan0")},
-        node_{static_cast<hal::canopen::NodeId>(args.integer("--node", 1))},  // 1..127
-        timeout_us_{static_cast<std::uint32_t>(args.integer("--timeout-ms", 1000)) * 1000U},  // 1..60000 ms
+        bus_name_{args.text_or_default("--bus")},
+        node_{static_cast<hal::canopen::NodeId>(args.has("--node") ? args.integer("--node") : 1)},  // 1..127; scan has no --node
+        timeout_us_{static_cast<std::uint32_t>(args.integer("--timeout-ms")) * 1000U},  // 1..60000 ms
         json_{args.json()},
         client_{node_, timeout_us_} {}
 
@@ -214,7 +215,7 @@ int load_description(const ParsedArgs& args, std::optional<hal::eds::Description
   if (!path) return -1;
   hal::eds::LoadResult r = hal::eds::load(*path);
   if (!r.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + r.error}, args.json());
-  if (args.text("--bus", "vcan0") == "loopback") {
+  if (args.text_or_default("--bus") == "loopback") {
     // The simulated drive is built from it: one it cannot be is a bad request too.
     const testbed::DriveFromEds d = testbed::simulated_drive_from_eds(*r.description, 1);
     if (!d.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + d.error}, args.json());
@@ -549,7 +550,10 @@ int drive_scan(const ParsedArgs& args, const hal::eds::Description* eds) {
   std::string text;
   std::vector<SdoClient> batch;
   batch.reserve(kScanBatch);
+  const Progress progress;
   for (unsigned first = 1; first <= 127; first += kScanBatch) {
+    progress.say("settle drive scan: nodes %u..%u of 127 on %s, %zu answered so far", first,
+                 std::min(first + kScanBatch - 1U, 127U), s.bus_name().c_str(), nodes.size());
     batch.clear();
     for (unsigned node = first; node < first + kScanBatch && node <= 127; ++node) {
       batch.emplace_back(static_cast<hal::canopen::NodeId>(node), s.timeout_us());
@@ -581,6 +585,7 @@ int drive_scan(const ParsedArgs& args, const hal::eds::Description* eds) {
       nodes.push_back(n);
     }
   }
+  progress.done();
   if (s.json()) {
     print_json({{"status", "ok"}, {"bus", s.bus_name()}, {"nodes", nodes}});
   } else {

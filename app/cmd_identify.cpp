@@ -11,8 +11,10 @@
 #include <string>
 
 #include "commands.hpp"
+#include "drive_advice.hpp"
 #include "io/json.hpp"
 #include "options.hpp"
+#include "progress.hpp"
 #include "plant_options.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/hal/eds_reader.hpp"
@@ -35,30 +37,30 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   testbed::StreamSpec& s = spec.stream;
   if (!parse_plant(args, s.plant, err)) return report_bad_request(err, json);
   if (!parse_drive(args, s.plant, s.drive, err)) return report_bad_request(err, json);
-  const std::string bus = args.text("--bus", "vcan0");
+  const std::string bus = args.text_or_default("--bus");
   if (args.has("--noise") && bus != "loopback") {
     return report_bad_request({"option_not_for_bus", "--noise",
                                "--noise: adds noise in the in-process drive (--bus loopback); on " + bus +
                                    " the drive is another process"},
                               json);
   }
-  s.drive.load_noise_counts = args.real("--noise", 0.0);
-  s.drive.noise_seed = static_cast<std::uint64_t>(args.integer("--seed", 1));
-  spec.options.max_modes = static_cast<std::size_t>(args.integer("--max-modes", 3));
+  s.drive.load_noise_counts = args.real_or_default("--noise");
+  s.drive.noise_seed = static_cast<std::uint64_t>(args.integer("--seed"));
+  spec.options.max_modes = static_cast<std::size_t>(args.integer("--max-modes"));
 
   commission::IdentifyExcitation ex{};
-  ex.distance = args.real("--distance", 0.01);
-  ex.vmax = args.real("--vmax", 0.1);
-  ex.amax = args.real("--amax", 5.0);
-  ex.jmax = args.real("--jmax", 5000.0);
-  ex.round_trips = static_cast<std::size_t>(args.integer("--train", static_cast<long long>(commission::kDefaultTrainRoundTrips)));
+  ex.distance = args.real_or_default("--distance");
+  ex.vmax = args.real_or_default("--vmax");
+  ex.amax = args.real_or_default("--amax");
+  ex.jmax = args.real_or_default("--jmax");
+  ex.round_trips = static_cast<std::size_t>(args.integer("--train"));
   if (const core::Status st = commission::plan_identify_excitation(ex, s.move); st != core::Status::ok) {
     return report_bad_request({core::to_string(st), "--distance",
                                std::string{"--distance: the excitation cannot be planned within the limits: "} +
                                    core::describe(st)},
                               json);
   }
-  s.settle_time_s = args.real("--hold", 4.0);
+  s.settle_time_s = args.real_or_default("--hold");
   // Refused for its length first: an excitation of hours is not what was meant, and its peaks,
   // summed over copies hours apart, carry rounding of a few 1e-9 that the check below would
   // misreport as a limit exceeded (--distance 1000 --vmax 1: 46 202 s with 15 round trips).
@@ -106,11 +108,10 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   if (const auto png = args.text("--png"); png && (png->size() < 5 || png->substr(png->size() - 4) != ".png")) {
     return report_bad_request({"bad_path", "--png", "--png: the figure's file name must end in .png"}, json);
   }
-  s.node = static_cast<hal::canopen::NodeId>(args.integer("--node", 1));
-  s.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms", 500));
-  s.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms", 1000) * 1000);
-  s.feedback_timeout_periods = static_cast<std::uint16_t>(
-      args.integer("--feedback-timeout-periods", runtime::kDefaultFeedbackTimeoutPeriods));
+  s.node = static_cast<hal::canopen::NodeId>(args.integer("--node"));
+  s.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms"));
+  s.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms") * 1000);
+  s.feedback_timeout_periods = static_cast<std::uint16_t>(args.integer("--feedback-timeout-periods"));
   if (const auto path = args.text("--eds")) {
     hal::eds::LoadResult loaded = hal::eds::load(*path);
     if (!loaded.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
@@ -174,7 +175,14 @@ int cmd_identify(int argc, char** argv) {
   const std::unique_ptr<testbed::StreamBus> bus = open_stream_bus(args, socketcan, bus_error);
   if (!bus) return failed("bus_unavailable", bus_error, args.json(), error_doc("bus_unavailable", bus_error));
 
-  const commission::IdentifyRunReport report = commission::run_identify(spec, *bus);
+  const Progress progress;
+  progress.say("settle identify: start-up (at most 5 s), then %.1f s of excitation and hold on %s ...",
+               spec.stream.move.duration() + spec.stream.settle_time_s, args.text_or_default("--bus").c_str());
+  commission::IdentifyRunReport report = commission::run_identify(spec, *bus);
+  progress.done();
+  if (!report.ok()) {
+    if (const std::string advice = drive_advice(report.stream); !advice.empty()) report.failure += ": " + advice;
+  }
   if (!report.ok()) return failed(report.failure_code, report.failure, args.json(), commission::identify_json(spec, report));
   if (const auto png = args.text("--png")) {
     if (const std::string why = write_png(spec, report, *png); !why.empty()) {

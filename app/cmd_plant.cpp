@@ -40,14 +40,15 @@ int cmd_plant(int argc, char** argv) {
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
   testbed::DriveAxisConfig axis_cfg{};
   if (!parse_drive(args, plant, axis_cfg, err)) return report_bad_request(err, json);
-  axis_cfg.load_noise_counts = args.real("--noise", 0.0);  // the load encoder's (settle identify's e2e)
-  axis_cfg.noise_seed = static_cast<std::uint64_t>(args.integer("--seed", 1));
-  // Each in its table range: node 1..127, heartbeat 10..10000 ms, loss 1..255 periods.
-  const long long node = args.integer("--node", 1);
-  const long long heartbeat = args.integer("--heartbeat-ms", 100);
-  const long long loss = args.integer("--sync-loss-periods", 3);
-  const double duration = args.real("--duration", 0.0);
-  const std::string iface = args.text("--bus", "vcan0");
+  axis_cfg.load_noise_counts = args.real_or_default("--noise");  // the load encoder's (settle identify's e2e)
+  axis_cfg.noise_seed = static_cast<std::uint64_t>(args.integer("--seed"));
+  // Each in its table range: node 1..127, heartbeat 10..10000 ms, loss 1..255 periods; the
+  // defaults are the table's, the loss under the --timing preset.
+  const long long node = args.integer("--node");
+  const long long heartbeat = args.integer("--heartbeat-ms");
+  const long long loss = args.integer("--sync-loss-periods");
+  const double duration = args.has("--duration") ? args.real_or_default("--duration") : 0.0;  // table: "0 (until ...)"
+  const std::string iface = args.text_or_default("--bus");
 
   // The drive: the EDS's when one is given (checked before the bus is opened), else the default
   // drive, which hal/eds/settle_drive.eds describes exactly (tests/testbed/test_drive_from_eds.cpp).
@@ -62,7 +63,8 @@ int cmd_plant(int argc, char** argv) {
   dc.node = static_cast<hal::canopen::NodeId>(node);
   if (!eds || args.has("--heartbeat-ms")) dc.heartbeat_period_ms = static_cast<std::uint16_t>(heartbeat);
   dc.sync_period_us = axis_cfg.scale.period_us;
-  if (!eds || args.has("--sync-loss-periods")) dc.communication_loss_periods = static_cast<std::uint8_t>(loss);
+  // An EDS's 0x2001 stands unless the option or a --timing preset is given.
+  if (!eds || args.has("--sync-loss-periods") || args.has("--timing")) dc.communication_loss_periods = static_cast<std::uint8_t>(loss);
   testbed::DriveAxis axis{};
   if (testbed::DriveAxis::make(axis_cfg, plant, 0, axis) != plant::SimStatus::ok) return kExitFailure;
   testbed::PlantNode pn{dc, std::move(axis)};

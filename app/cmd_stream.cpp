@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "drive_advice.hpp"
 #include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/bus_load.hpp"
 #include "settle/hal/eds_reader.hpp"
@@ -37,7 +38,7 @@ int check_bus_load(const ParsedArgs& args, const testbed::StreamSpec& spec, std:
     const hal::eds::DriveConfigResult d = hal::eds::drive_config_from_eds(*spec.eds, base, testbed::streaming_feedback(*spec.eds));
     if (d.ok()) layout = d.config.layout;  // otherwise start-up refuses the description, naming it
   }
-  const auto bitrate = static_cast<std::uint32_t>(args.integer("--bitrate", 1'000'000));
+  const auto bitrate = static_cast<std::uint32_t>(args.integer("--bitrate"));
   const std::uint32_t period_us = spec.drive.scale.period_us;
   const hal::canopen::CyclicLoad load = hal::canopen::cyclic_load(layout, axes);
   const std::uint64_t available = hal::canopen::bits_per_period(bitrate, period_us);
@@ -149,15 +150,14 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
   const core::Move<double>& move = spec.move;
   // Node 1..127, heartbeat 10..10000 ms, SDO timeout 1..60000 ms, settle time (0, 600) s, axis
   // vmax (0, 1e9], feedback timeout 0..65535 periods.
-  if (!axes) spec.node = static_cast<hal::canopen::NodeId>(args.integer("--node", 1));
-  spec.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms", 500));
-  spec.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms", 1000) * 1000);
-  static_assert(runtime::kDefaultFeedbackTimeoutPeriods == 10, "the option table documents the loop's default");
-  spec.feedback_timeout_periods = static_cast<std::uint16_t>(
-      args.integer("--feedback-timeout-periods", runtime::kDefaultFeedbackTimeoutPeriods));
-  spec.settle_time_s = args.real("--settle-time", 1.0);
+  // The timeouts' defaults are the option table's under the --timing preset in force.
+  if (!axes) spec.node = static_cast<hal::canopen::NodeId>(args.integer("--node"));
+  spec.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms"));
+  spec.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms") * 1000);
+  spec.feedback_timeout_periods = static_cast<std::uint16_t>(args.integer("--feedback-timeout-periods"));
+  spec.settle_time_s = args.real_or_default("--settle-time");
   spec.axis_vmax = args.real("--axis-vmax");
-  const std::string scalar = args.text("--scalar", "double");
+  const std::string scalar = args.text_or_default("--scalar");
   spec.scalar = scalar == "float"   ? testbed::StreamScalar::single_precision
                 : scalar == "fixed" ? testbed::StreamScalar::fixed_point
                                     : testbed::StreamScalar::double_precision;
@@ -272,6 +272,9 @@ int cmd_stream(int argc, char** argv) {
     std::printf("%s\n", testbed::stream_json(report).c_str());
   } else {
     testbed::write_stream_text(report, stdout);
+  }
+  if (!report.measured()) {
+    if (const std::string advice = drive_advice(report); !advice.empty()) std::fprintf(stderr, "settle stream: %s\n", advice.c_str());
   }
   return report.measured() ? kExitOk : kExitFailure;
 }

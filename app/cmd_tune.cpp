@@ -283,7 +283,7 @@ int cmd_tune(int argc, char** argv) {
   }
 
   commission::TuneOptions opt;
-  opt.residual_max = args.real("--residual-max", 0.05);
+  opt.residual_max = args.real_or_default("--residual-max");
   commission::TuneResult result;
   const commission::TuneStatus st = commission::tune(modes, mv, opt, result);
   switch (st) {

@@ -187,14 +187,11 @@ void remove_commissioning_outputs(const std::string& dir, const std::string& id)
   }
 }
 
-// The drive and the loop tolerate a stalled user-mode-linux guest: the drive 250 missing SYNC
-// periods, the loop 250 periods without feedback and 2 s of heartbeat silence, whose timer can
-// stall for tens of milliseconds. The plant is SYNC-driven, so a stall delays the physics but
-// never changes it. No SCHED_FIFO for the loop: in the guest both processes share one CPU, and a
-// loop kept late by a loaded host would starve the drive's process (see tests/e2e/e2e.py).
-const std::vector<std::string> kTolerantDrive{"--sync-loss-periods", "250"};
-const std::vector<std::string> kTolerantLoop{"--heartbeat-ms", "2000", "--feedback-timeout-periods", "250",
-                                             "--sdo-timeout-ms", "5000"};
+// The drive and the loop run with their default timeouts: `--timing sim` (options.cpp), which
+// tolerates a stalled user-mode-linux guest on a loaded host. The plant is SYNC-driven, so a stall
+// delays the physics but never changes it. No SCHED_FIFO for the loop: in the guest both processes
+// share one CPU, and a loop kept late by a loaded host would starve the drive's process (see
+// tests/e2e/e2e.py).
 
 struct DriveSession {
   bool ran{false};    // the master's process ran to its end (its JSON says how it went)
@@ -214,7 +211,7 @@ DriveSession drive_session(const DemoSpec& spec, const std::vector<std::string>&
     return d;
   }
   const std::vector<std::string> plant_argv =
-      concat(concat(concat({spec.settle, "plant", "--bus", spec.bus}, plant), kTolerantDrive),
+      concat(concat({spec.settle, "plant", "--bus", spec.bus}, plant),
              {"--log", path_in(spec.out, "plant-" + tag + ".csv"), "--json"});
   testbed::ChildProcess drive;
   testbed::SpawnResult r = testbed::start_program(
@@ -243,7 +240,7 @@ void run_socketcan(const DemoSpec& spec, DemoRun& run) {
   const PaperScenario& s = run.scenario;
   const std::string& id = s.id;
   const std::vector<std::string> loop_argv = concat(
-      concat(stream_argv(spec, s, spec.bus), kTolerantLoop),
+      stream_argv(spec, s, spec.bus),
       {"--log", path_in(spec.out, "stream-" + id + ".csv"), "--feedback-log", path_in(spec.out, "feedback-" + id + ".csv"),
        "--candump", path_in(spec.out, "stream-" + id + ".log"), "--json"});
   const DriveSession d = drive_session(spec, s.plant, id, loop_argv, path_in(spec.out, "stream-" + id));
@@ -317,7 +314,7 @@ void run_commissioning(const DemoSpec& spec, const CommissioningScenario& c, boo
   std::vector<std::string> identify{spec.settle, "identify", "--bus", socketcan ? spec.bus : "loopback"};
   identify = concat(identify, c.identify);
   if (socketcan) {
-    identify = concat(concat(identify, kTolerantLoop), {"--candump", identify_base + ".log", "--json"});
+    identify = concat(identify, {"--candump", identify_base + ".log", "--json"});
     const DriveSession d = drive_session(spec, concat(c.plant, c.noise), id + "-identify", identify, identify_base);
     res.plant_identify = read_json(path_in(spec.out, "plant-" + id + "-identify.json"), why);
     if (!d.ran || !d.error.empty()) {
@@ -347,7 +344,6 @@ void run_commissioning(const DemoSpec& spec, const CommissioningScenario& c, boo
                                             path_in(spec.out, "feedback-" + id + ".csv"), "--candump",
                                             stream_base + ".log", "--json"});
   if (socketcan) {
-    stream = concat(stream, kTolerantLoop);
     const DriveSession d = drive_session(spec, concat(c.plant, c.noise), id + "-stream", stream, stream_base);
     res.plant_stream = read_json(path_in(spec.out, "plant-" + id + "-stream.json"), why);
     if (!d.ran || !d.error.empty()) {

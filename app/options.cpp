@@ -11,6 +11,7 @@
 #include <initializer_list>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
 
 #include "io/json.hpp"
@@ -63,6 +64,31 @@ OptionSpec flag(std::string name, std::string help) {
 }
 
 constexpr Range kPositive{0.0, 1e12, true, false};
+
+// An option whose default depends on the --timing preset: `o.def` under sim, `drive` under drive.
+OptionSpec timed(OptionSpec o, std::string drive) {
+  o.timing_drive = std::move(drive);
+  return o;
+}
+
+// The rows, then --timing (after --bus, where it is read first), whose help lists what each preset
+// sets, taken from the rows themselves: each value is stated once, in its own row.
+std::vector<OptionSpec> with_timing(const std::vector<OptionSpec>& rows, const std::string& who) {
+  std::string sim, drive;
+  for (const OptionSpec& o : rows) {
+    if (o.timing_drive.empty()) continue;
+    sim += (sim.empty() ? "" : ", ") + o.name + " " + o.def;
+    drive += (drive.empty() ? "" : ", ") + o.name + " " + o.timing_drive;
+  }
+  std::vector<OptionSpec> v = rows;
+  const auto at = std::find_if(v.begin(), v.end(), [](const OptionSpec& o) { return o.name == "--bus"; });
+  v.insert(at == v.end() ? v.begin() : at + 1,
+           choice("--timing", "sim", {"sim", "drive"},
+                  "the timeouts of " + who + ": 'sim' for the simulated drive and the master on one non-real-time, "
+                  "loaded host (" + sim + "), 'drive' for a real drive on a real-time bus (" + drive +
+                  "); each of these options given overrides its preset value"));
+  return v;
+}
 
 // ---- the option table ------------------------------------------------------------------------
 
@@ -208,7 +234,7 @@ const std::vector<OptionSpec> kOnline = {
          "stream: T rounds to whole periods, at least 3", "T:NEW_DISTANCE[,...]"),
 };
 
-const std::vector<OptionSpec> kStream = {
+const std::vector<OptionSpec> kStreamRows = {
     text("--bus", "vcan0", "SocketCAN interface, or 'loopback' (in-process drive, virtual time)", "IFACE"),
     choice("--scalar", "double", {"double", "float", "fixed"},
            "the loop's evaluation: the move in double or float, or the integer-only fixed-point plan"),
@@ -225,17 +251,19 @@ const std::vector<OptionSpec> kStream = {
     choice("--pm-qos", "on", {"on", "off"},
            "hold /dev/cpu_dma_latency at 0 us while the loop runs on a CAN interface (CPUs stay out of deep "
            "idle states: lower wake-up latency, more power)"),
-    integer("--heartbeat-ms", "ms", "500", {10.0, 10000.0}, "the drive's heartbeat timeout at the loop"),
+    timed(integer("--heartbeat-ms", "ms", "2000", {10.0, 10000.0}, "the drive's heartbeat timeout at the loop"), "500"),
     integer("--bitrate", "bit/s", "1000000", {10000.0, 1000000.0},
             "the bus's classic CAN bit rate: a SYNC period must hold the SYNC and every axis's PDOs with "
             "worst-case bit stuffing, else refused (docs/multi_axis.md)"),
-    integer("--sdo-timeout-ms", "ms", "1000", {1.0, 60000.0}, "timeout of each start-up SDO"),
-    integer("--feedback-timeout-periods", "periods", "10", {0.0, 65535.0},
-            "SYNCs in a row without the drive's feedback before the loop halts the axis (0 = off)"),
+    timed(integer("--sdo-timeout-ms", "ms", "5000", {1.0, 60000.0}, "timeout of each start-up SDO"), "1000"),
+    timed(integer("--feedback-timeout-periods", "periods", "250", {0.0, 65535.0},
+                  "SYNCs in a row without the drive's feedback before the loop halts the axis (0 = off)"),
+          "10"),
     text("--log", "", "write the loop's tick log as CSV to FILE", "FILE"),
     text("--candump", "", "write every frame the loop sends and receives as a candump log to FILE", "FILE"),
     text("--feedback-log", "", "write commanded and measured motion per period as CSV to FILE", "FILE"),
 };
+const std::vector<OptionSpec> kStream = with_timing(kStreamRows, "the loop");
 
 // The simulated drive's load encoder noise: settle plant's, and settle identify's in-process drive.
 const std::vector<OptionSpec> kLoadNoise = {
@@ -256,8 +284,8 @@ std::vector<OptionSpec> rows_of(const std::vector<OptionSpec>& from, std::initia
   return v;
 }
 const std::vector<OptionSpec> kIdentifyLoop =
-    rows_of(kStream, {"--bus", "--node", "--eds", "--heartbeat-ms", "--sdo-timeout-ms", "--feedback-timeout-periods",
-                      "--rt-priority", "--pm-qos", "--candump"});
+    rows_of(kStream, {"--bus", "--node", "--eds", "--timing", "--heartbeat-ms", "--sdo-timeout-ms",
+                      "--feedback-timeout-periods", "--rt-priority", "--pm-qos", "--candump"});
 const std::vector<OptionSpec> kIdentify = {
     integer("--max-modes", "", "3", {1.0, static_cast<double>(commission::kMaxIdentifyModes)},
             "the most modes to identify (fewer are reported when fewer stand out of the noise)"),
@@ -274,18 +302,20 @@ const std::vector<OptionSpec> kIdentify = {
          "FILE"),
 };
 
-const std::vector<OptionSpec> kPlantNode = {
+const std::vector<OptionSpec> kPlantNodeRows = {
     text("--bus", "vcan0", "SocketCAN interface", "IFACE"),
     integer("--node", "", "1", {1.0, 127.0}, "this drive's CANopen node id"),
     integer("--heartbeat-ms", "ms", "100", {10.0, 10000.0}, "heartbeat producer period"),
-    integer("--sync-loss-periods", "periods", "3", {1.0, 255.0}, "SYNC/RPDO periods tolerated before a fault"),
+    timed(integer("--sync-loss-periods", "periods", "250", {1.0, 255.0}, "SYNC/RPDO periods tolerated before a fault"),
+          "3"),
     text("--eds", "hal/eds/settle_drive.eds",
          "the drive to simulate: its objects, identity, defaults and PDO mappings (hal/eds has four); "
-         "--heartbeat-ms and --sync-loss-periods, when given, override its 0x1017 and 0x2001",
+         "--heartbeat-ms and --sync-loss-periods (or --timing), when given, override its 0x1017 and 0x2001",
          "FILE"),
     text("--log", "", "write one CSV row per SYNC to FILE", "FILE"),
     real("--duration", "s", "0 (until SIGINT/SIGTERM)", {0.0, 604800.0}, "run time"),
 };
+const std::vector<OptionSpec> kPlantNode = with_timing(kPlantNodeRows, "the drive");
 
 // settle drive: the bus and node every subcommand talks to, the object read or written.
 const std::vector<OptionSpec> kDriveBus = {
@@ -769,6 +799,13 @@ struct Parser {
       }
       out.positional_ = positional;
     }
+    // 4. The table's default of every option not given, under the --timing preset in force.
+    const OptionSpec* timing = find("--timing");
+    const std::string preset = out.has("--timing") ? out.raw_["--timing"].front() : timing ? timing->def : "sim";
+    for (const OptionSpec* o : specs) {
+      if (out.has(o->name) || o->kind == Kind::flag) continue;
+      out.defaults_[o->name] = preset == "drive" && !o->timing_drive.empty() ? o->timing_drive : o->def;
+    }
     return ParseOutcome::ok;
   }
 };
@@ -788,6 +825,7 @@ std::string OptionSpec::describe() const {
   std::string meta;
   if (!unit.empty() && kind == Kind::text) meta += "unit " + unit;
   if (!def.empty()) meta += (meta.empty() ? "" : "; ") + std::string{"default "} + def;
+  if (!timing_drive.empty()) meta += " (--timing drive: " + timing_drive + ")";
   if (kind != Kind::flag && kind != Kind::text) meta += (meta.empty() ? "" : "; ") + expectation(*this);
   if (repeatable) meta += "; at most " + std::to_string(max_repeats);
   if (per_axis) meta += "; with --axes N: one per axis, comma-separated";
@@ -909,6 +947,38 @@ std::vector<double> ParsedArgs::reals(const std::string& name) const {
 long long ParsedArgs::integer(const std::string& name, long long fallback) const {
   const auto v = real(name);
   return v ? static_cast<long long>(*v) : fallback;
+}
+
+// The table's default of an option not given, as a number; a default that is not one (required,
+// or prose such as "1.5 x the move's peak velocity") is a call site's mistake.
+namespace {
+double table_number(const std::map<std::string, std::string>& defaults, const std::string& name) {
+  const auto it = defaults.find(name);
+  double v = 0.0;
+  if (it == defaults.end() || !parse_real(it->second, v)) {
+    throw std::logic_error("settle: option " + name + " has no numeric default in the option table");
+  }
+  return v;
+}
+}  // namespace
+
+long long ParsedArgs::integer(const std::string& name) const {
+  if (const auto v = real(name)) return static_cast<long long>(*v);
+  return static_cast<long long>(table_number(defaults_, name));
+}
+
+double ParsedArgs::real_or_default(const std::string& name) const {
+  if (const auto v = real(name)) return *v;
+  return table_number(defaults_, name);
+}
+
+std::string ParsedArgs::text_or_default(const std::string& name) const {
+  if (const auto v = text(name)) return *v;
+  const auto it = defaults_.find(name);
+  if (it == defaults_.end() || it->second.empty()) {
+    throw std::logic_error("settle: option " + name + " has no default in the option table");
+  }
+  return it->second;
 }
 
 std::string ParsedArgs::text(const std::string& name, const std::string& fallback) const {

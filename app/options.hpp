@@ -51,6 +51,10 @@ struct OptionSpec {
   std::string value_name{};           // placeholder in help (defaults by kind)
   bool hex{false};                    // integer: 0x-prefixed hexadecimal is accepted too
   bool per_axis{false};               // real: also a comma list, one value per axis (--axes N)
+  // The default under `--timing drive` when it differs from `def` (the default under `--timing
+  // sim`, the preset in force unless another is given): a drive on a real-time bus, not the
+  // simulated drive on a loaded host. Shown in help next to `def`.
+  std::string timing_drive{};
 
 
   // One line for help: "<help> [unit; default; range]".
@@ -89,6 +93,12 @@ class ParsedArgs {
   [[nodiscard]] std::optional<double> real(const std::string& name) const;
   [[nodiscard]] std::vector<double> reals(const std::string& name) const;  // every value (repeatable)
   [[nodiscard]] long long integer(const std::string& name, long long fallback) const;
+  // The value given, else the option table's default (under the --timing preset in force): the
+  // table states each default once and call sites repeat none. Throws std::logic_error when the
+  // option has neither (no numeric default in the table: a programming error).
+  [[nodiscard]] long long integer(const std::string& name) const;
+  [[nodiscard]] double real_or_default(const std::string& name) const;
+  [[nodiscard]] std::string text_or_default(const std::string& name) const;
   [[nodiscard]] std::string text(const std::string& name, const std::string& fallback) const;
   [[nodiscard]] std::optional<std::string> text(const std::string& name) const;
   [[nodiscard]] std::vector<double> list(const std::string& name) const;                // first value
@@ -102,6 +112,7 @@ class ParsedArgs {
   std::map<std::string, std::vector<std::string>> raw_;
   std::map<std::string, std::vector<double>> numbers_;
   std::map<std::string, std::vector<std::vector<double>>> lists_;
+  std::map<std::string, std::string> defaults_;  // the table's default of each option not given
   std::string positional_;
   bool json_{false};
 };

@@ -68,7 +68,7 @@ constexpr Owned kOwned[] = {{"--mass", "sdof"},          {"--stiffness", "sdof"}
 }  // namespace
 
 bool parse_plant(const ParsedArgs& a, plant::ModalPlant& plant, RequestError& err) {
-  const std::string kind = a.text("--plant", "beam");
+  const std::string kind = a.text_or_default("--plant");
   for (const Owned& o : kOwned) {
     if (kind != o.kind && a.has(o.option)) {
       err = {"option_not_for_plant", o.option, std::string{o.option} + ": does not apply to --plant " + kind};
@@ -137,13 +137,13 @@ bool parse_drive(const ParsedArgs& a, const plant::ModalPlant& plant, testbed::D
   if (plant.kind() == plant::PlantKind::belt) {
     c.scale.counts_per_unit = 65536.0 / (2.0 * 3.14159265358979323846);  // 2^16 counts per motor revolution
   }
-  const long long period = a.integer("--period-us", 1000);  // 100..100000: the table's range
+  const long long period = a.integer("--period-us");  // 100..100000: the table's range
   c.scale.counts_per_unit = a.real("--counts-per-unit", c.scale.counts_per_unit);
   c.load_counts_per_unit = a.real("--load-counts-per-unit", c.load_counts_per_unit);
   c.model.bandwidth_hz = a.real("--bandwidth", c.model.bandwidth_hz);
   c.model.damping = a.real("--servo-damping", c.model.damping);
-  c.interpolation = a.text("--interp", "linear") == "cubic" ? testbed::Interpolation::cubic : testbed::Interpolation::linear;
-  c.model.servo = a.text("--drive", "ideal") == "servo";
+  c.interpolation = a.text_or_default("--interp") == "cubic" ? testbed::Interpolation::cubic : testbed::Interpolation::linear;
+  c.model.servo = a.text_or_default("--drive") == "servo";
   c.scale.period_us = static_cast<std::uint32_t>(period);
   // Validate by building an axis once: the same checks the node will make.
   testbed::DriveAxis probe{};

@@ -17,7 +17,7 @@ namespace settle::app {
 // outlive the returned bus.
 [[nodiscard]] inline std::unique_ptr<testbed::StreamBus> open_stream_bus(const ParsedArgs& args, hal::SocketCanBus& socketcan,
                                                                      std::string& error) {
-  const std::string bus_name = args.text("--bus", "vcan0");
+  const std::string bus_name = args.text_or_default("--bus");
   const std::string candump = args.text("--candump").value_or("");
   if (bus_name == "loopback") return std::make_unique<testbed::LoopbackStreamBus>(candump);
   if (const hal::OpenStatus os = open_socketcan(socketcan, bus_name); os != hal::OpenStatus::ok) {
@@ -25,7 +25,7 @@ namespace settle::app {
     return nullptr;
   }
   const auto priority = static_cast<int>(args.integer("--rt-priority", 0));  // 0..99
-  const bool pm_qos = args.text("--pm-qos", "on") == "on";
+  const bool pm_qos = args.text_or_default("--pm-qos") == "on";
   return std::make_unique<testbed::SocketCanStreamBus>(socketcan, bus_name, candump, priority, pm_qos);
 }
 

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "settle/core/multi_axis.hpp"
+#include "settle/hal/canopen/drive_node.hpp"
 #include "settle/runtime/evaluation.hpp"
 #include "settle/plant/command.hpp"
 #include "settle/plant/limits.hpp"
@@ -107,6 +108,42 @@ double command_duration(const StreamSpec& spec) {
 
 }  // namespace
 
+std::string emcy_text(const hal::canopen::EmcyMessage& m) {
+  namespace code = hal::canopen::emcy_code;
+  namespace cause = hal::canopen::emcy_cause;
+  const char* meaning = "an error the drive defines";
+  switch (m.error_code) {
+    case code::generic: meaning = "generic error"; break;
+    case code::communication: meaning = "communication"; break;
+    case code::can_overrun: meaning = "CAN overrun"; break;
+    case code::life_guard: meaning = "life guard: the master's heartbeat lost"; break;
+    case code::pdo_length: meaning = "a PDO shorter than its mapping"; break;
+    case code::pdo_length_exceeded: meaning = "a PDO longer than its mapping"; break;
+    case code::sync_data_length: meaning = "a SYNC of the wrong length"; break;
+    case code::rpdo_timeout: meaning = "RPDO timeout"; break;
+    case code::velocity: meaning = "a setpoint step beyond the velocity limit 0x607F"; break;
+    case code::following_error: meaning = "following error"; break;
+    case code::reference_limit: meaning = "software position limit"; break;
+    default: break;
+  }
+  const char* rule = nullptr;
+  switch (m.data[0]) {
+    case cause::step_limit: rule = "a setpoint step refused"; break;
+    case cause::following_error: rule = "the following error window exceeded"; break;
+    case cause::sync_counter: rule = "the SYNC counter repeated or skipped"; break;
+    case cause::sync_length: rule = "a SYNC without the counter 0x1019 asks for"; break;
+    case cause::sync_rate: rule = "SYNCs faster than the period 0x1006"; break;
+    case cause::nmt_command: rule = "a third party's NMT command while enabled"; break;
+    case cause::heartbeat: rule = "the master's heartbeat (0x1016) not heard"; break;
+    case cause::sync_loss: rule = "SYNC lost: no SYNC for more periods than 0x2001 allows"; break;
+    case cause::rpdo_loss: rule = "RPDO lost: no setpoint for more periods than 0x2001 allows"; break;
+    default: break;
+  }
+  char hex[8];
+  std::snprintf(hex, sizeof hex, "0x%04X", static_cast<unsigned>(m.error_code));
+  return std::string{"EMCY "} + hex + " (" + meaning + (rule != nullptr ? std::string{": "} + rule : std::string{}) + ")";
+}
+
 std::string start_up_failure_text(const hal::canopen::RemoteDriveFailure& f) {
   static constexpr std::array<const char*, 5> sdo{"idle", "busy", "done", "aborted", "timed out"};
   std::array<char, 96> text{};
@@ -152,9 +189,16 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
     }
     moves.push_back(specs[i].move);
   }
+  // Each drive's first error EMCY, seen when its consumer's count moves (every tick and while the
+  // late frames are taken).
+  std::vector<std::uint32_t> emcys_seen(n, 0);
   const auto drain = [&] {
     for (std::size_t i = 0; i < n; ++i) {
       for (runtime::FeedbackSample fs{}; loop->feedback_log(i).pop(fs);) rs[i]->feedback.push_back(fs);
+      const hal::canopen::EmcyConsumer& e = loop->drive(i).emcy();
+      if (e.count() == emcys_seen[i]) continue;
+      emcys_seen[i] = e.count();
+      if (!rs[i]->drive_emcy && e.in_error()) rs[i]->drive_emcy = e.last();
     }
   };
   // A change: halt()/retarget() posted on every axis that has one and service() run between two
@@ -232,6 +276,9 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
     a.drive_state = hal::canopen::to_string(d.state());
     if (d.state() == hal::canopen::RemoteDriveState::failed) a.drive_failure = start_up_failure_text(d.failure());
     a.timing = bus.timing();
+    a.heartbeat_ms = specs[i].heartbeat_ms;
+    a.sdo_timeout_us = specs[i].sdo_timeout_us;
+    a.feedback_timeout_periods = specs[i].feedback_timeout_periods;
   }
   return {};
 }

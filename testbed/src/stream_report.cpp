@@ -37,6 +37,14 @@ std::vector<const StreamReport*> axes_of(const StreamReport& r) {
 
 Json optional_tick(const std::optional<std::uint64_t>& t) { return t ? Json(count(*t)) : Json(nullptr); }
 
+// The drive's first error EMCY: code (hex), the phrase emcy_text makes, the manufacturer bytes.
+Json emcy_json(const std::optional<hal::canopen::EmcyMessage>& e) {
+  if (!e) return nullptr;
+  char code[8];
+  std::snprintf(code, sizeof code, "0x%04X", static_cast<unsigned>(e->error_code));
+  return Json{{"code", code}, {"text", emcy_text(*e)}, {"cause", static_cast<long long>(e->data[0])}};
+}
+
 // One axis of --axes N in the "axes" array: what identifies it and what was measured on it.
 Json axis_json(std::size_t i, const StreamReport& a) {
   return Json{
@@ -46,6 +54,7 @@ Json axis_json(std::size_t i, const StreamReport& a) {
       {"move_time", a.move_time},
       {"drive_state", a.drive_state},
       {"drive_failure", a.drive_failure},
+      {"drive_emcy", emcy_json(a.drive_emcy)},
       {"evaluation", core::to_string(a.evaluation)},
       {"setpoints", static_cast<long long>(a.setpoints.size())},
       {"move_start_tick", optional_tick(a.move_start_tick)},
@@ -75,6 +84,7 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
   const bool fault = r.session.fault != runtime::AxisFault::none;
   std::fprintf(out, "outcome            %s on %s%s%s\n", runtime::to_string(r.session.outcome), r.bus.c_str(),
                fault ? ", fault: " : "", fault ? runtime::to_string(r.session.fault) : "");
+  if (r.drive_emcy) std::fprintf(out, "drive EMCY         %s\n", emcy_text(*r.drive_emcy).c_str());
   if (r.start_up_us) {
     std::fprintf(out, "start-up           operation enabled after %.1f ms (tick %llu)\n",
                  static_cast<double>(*r.start_up_us) / 1000.0, static_cast<unsigned long long>(r.session.ready_tick));
@@ -152,6 +162,11 @@ std::string stream_json(const StreamReport& r) {
       {"fault", runtime::to_string(r.session.fault)},
       {"drive_state", r.drive_state},
       {"drive_failure", r.drive_failure},
+      {"drive_emcy", emcy_json(r.drive_emcy)},
+      // The loop's timeouts this run used (settle stream --timing and the options it presets).
+      {"heartbeat_ms", static_cast<long long>(r.heartbeat_ms)},
+      {"sdo_timeout_ms", static_cast<long long>(r.sdo_timeout_us / 1000)},
+      {"feedback_timeout_periods", static_cast<long long>(r.feedback_timeout_periods)},
       // The session ended with the drive taken out of operation enabled (runtime::release_drives).
       {"drive_released", r.session.released},
       {"bus", r.bus},

@@ -93,6 +93,11 @@ struct StreamSpec {
 // status and abort code.
 [[nodiscard]] std::string start_up_failure_text(const hal::canopen::RemoteDriveFailure& failure);
 
+// A drive's EMCY in one phrase: its code, what the code means and, for the simulated drive's
+// manufacturer-specific byte (hal's emcy_cause), which rule fired: "EMCY 0x8100 (communication:
+// the drive lost SYNC)".
+[[nodiscard]] std::string emcy_text(const hal::canopen::EmcyMessage& emcy);
+
 // What the real-time clock saw (all zero on a virtual clock).
 struct StreamTiming {
   runtime::linux_rt::LatencyHistogram latency{};
@@ -153,6 +158,13 @@ struct StreamReport {
   std::optional<std::uint64_t> start_up_us;
   std::string drive_state;
   std::string drive_failure;  // empty unless the drive's start-up failed
+  // The first error EMCY (code not 0) the drive sent during the run: what it said went wrong,
+  // whatever the loop concluded (a drive that quick-stops on SYNC loss then looks lost).
+  std::optional<hal::canopen::EmcyMessage> drive_emcy;
+  // The loop's timeouts the run used (the spec's): reported so that a failure can name them.
+  std::uint16_t heartbeat_ms{0};
+  std::uint32_t sdo_timeout_us{0};
+  std::uint16_t feedback_timeout_periods{0};
   hal::BusCounters counters{};
   runtime::AxisStats axis{};
   std::uint64_t units_held{0};
