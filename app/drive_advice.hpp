@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What to tell the user when a stream or an excitation lost its drive: the drive's own EMCY (its
 // code, what it means, which rule fired) and the options that set the timeouts involved. One

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Progress of a long command (identify, drive scan) on stderr, only when stderr is a terminal: a
 // person watching sees it is working; a pipe, a file or a test sees nothing extra.

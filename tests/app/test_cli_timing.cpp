@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Issue 37 item 2 and issue 33 ("defaults stated once"): the timeouts' --timing preset (sim, the
 // default: the simulated drive and the master on one loaded, non-real-time host; drive: a real
 // drive on a real-time bus), each option given overriding its preset value; every default read

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A drive that reports why it stopped: the in-process drive (--bus loopback's) loses the master's
 // SYNCs mid-move, quick-stops with EMCY 0x8100 (SYNC loss), and the failure settle stream and settle
 // identify print names that EMCY, what it means and which option to change (app/drive_advice.hpp).

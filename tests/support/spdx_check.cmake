@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Every source file of Settle's names its licence (LICENSE, Apache-2.0) in an SPDX line within
 # its first three lines. cmake -DROOT=<source tree> -P spdx_check.cmake
 file(GLOB_RECURSE files RELATIVE ${ROOT} ${ROOT}/*.cpp ${ROOT}/*.hpp ${ROOT}/*.h ${ROOT}/*.c
