@@ -426,8 +426,17 @@ void mode_response(double omega, double zeta, double period_s, std::span<const d
   }
 }
 
-IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& opt) {
-  IdentifyResult res{};
+namespace {
+
+// The estimator's steps (docs/identification.md, "The estimate") as named stages. One fit is the
+// modes' (omega, zeta) in theta with the uncertainty of its last refit.
+struct Fit {
+  VectorXd theta;
+  Uncertainty u;
+};
+
+// Step 1: the input checked, and the motion's window in the record (res.motion_start/end).
+IdentifyStatus check_record(const IdentifyInput& in, const IdentifyOptions& opt, IdentifyResult& res) {
   const std::size_t n = in.motor.size();
   const bool scales_ok = std::isfinite(in.period_s) && in.period_s > 0.0 && std::isfinite(in.counts_per_unit) &&
                          in.counts_per_unit > 0.0 && std::isfinite(in.load_counts_per_unit) &&
@@ -435,41 +444,72 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
   if (n != in.load.size() || !scales_ok || opt.max_modes < 1 || opt.max_modes > kMaxIdentifyModes ||
       !(opt.confidence >= 0.5 && opt.confidence <= 0.999) ||
       !(opt.min_relative_deflection >= 0.0 && opt.min_relative_deflection < 1.0) || !(opt.min_significance > 0.0)) {
-    res.status = IdentifyStatus::bad_input;
-    return res;
+    return IdentifyStatus::bad_input;
   }
-  if (n > kMaxIdentifySamples) {
-    res.status = IdentifyStatus::too_many_samples;
-    return res;
-  }
+  if (n > kMaxIdentifySamples) return IdentifyStatus::too_many_samples;
   std::size_t first = 0;
   while (first < n && in.motor[first] == in.motor[0]) ++first;
-  if (first >= n) {
-    res.status = IdentifyStatus::no_motion;
-    return res;
-  }
+  if (first >= n) return IdentifyStatus::no_motion;
   std::size_t end = n;
   while (end > 0 && in.motor[end - 1] == in.motor[n - 1]) --end;
   res.motion_start = first;
   res.motion_end = end;
-  if (n - end < kMinFreeSamples) {
-    res.status = IdentifyStatus::free_response_too_short;
-    return res;
-  }
-  const double h = in.period_s;
-  const auto ni = static_cast<Index>(n);
-  VectorXd x(ni);
-  VectorXd y(ni);
-  for (Index k = 0; k < ni; ++k) {
-    x(k) = in.motor[static_cast<std::size_t>(k)] / in.counts_per_unit;
-    y(k) = in.load[static_cast<std::size_t>(k)] / in.load_counts_per_unit;
-  }
+  if (n - end < kMinFreeSamples) return IdentifyStatus::free_response_too_short;
+  return IdentifyStatus::ok;
+}
 
-  // Candidates from the free response (mean removed: the rest position is a pole at 1).
+// Fits, prunes and grows: every fit of steps 3-6 goes through one Estimator, which holds the
+// record's model, the options, the pencil's noise estimate and the iteration count.
+class Estimator {
+ public:
+  Estimator(const Model& model, const IdentifyOptions& opt, IdentifyResult& res) : model_(model), opt_(opt), res_(res) {}
+
+  // Steps 3 and 4 from theta's start.
+  [[nodiscard]] Fit pruned(VectorXd theta) const {
+    Fit f{std::move(theta), {}};
+    prune(model_, opt_, res_.noise_rms, f.theta, f.u, res_.iterations);
+    return f;
+  }
+  // Step 5: while there is room, the scan's best addition, kept if it survives the pruning.
+  void grow(Fit& f) const {
+    while (f.theta.size() / 2 < static_cast<Index>(opt_.max_modes)) {
+      VectorXd trial(f.theta.size() + 2);
+      trial << f.theta, best_addition(model_, f.theta, model_.omega_min);
+      Fit t = pruned(std::move(trial));
+      if (t.theta.size() <= f.theta.size()) break;
+      f = std::move(t);
+    }
+  }
+  // A fit that has not explained the record (kPoorFit times the pencil's noise).
+  [[nodiscard]] bool poor(const Fit& f) const {
+    return std::sqrt(f.u.rss / static_cast<double>(model_.y.size())) > kPoorFit * res_.noise_rms;
+  }
+  // Step 5's scan twice: the best mode for the residual of `rest`, then the best one at least
+  // 1.2 times away from it.
+  [[nodiscard]] VectorXd scan_pair(const VectorXd& rest) const {
+    const Eigen::Vector2d pick = best_addition(model_, rest, model_.omega_min);
+    VectorXd one(rest.size() + 2);
+    one << rest, pick;
+    VectorXd pair(rest.size() + 4);
+    pair << one, best_addition(model_, one, model_.omega_min, pick(0));
+    return pair;
+  }
+  [[nodiscard]] const Model& model() const noexcept { return model_; }
+  [[nodiscard]] const IdentifyOptions& options() const noexcept { return opt_; }
+
+ private:
+  const Model& model_;
+  const IdentifyOptions& opt_;
+  IdentifyResult& res_;
+};
+
+// Step 2: the pencil's candidates on the free response (mean removed: the rest position is a pole
+// at 1), sorted by frequency and clamped, as theta.
+VectorXd pencil_start(const VectorXd& y, std::size_t end, double h, std::size_t max_modes, IdentifyResult& res) {
+  const auto ni = y.size();
   VectorXd z = y.tail(ni - static_cast<Index>(end));
   z.array() -= z.mean();
-  const std::size_t max_order = 2 * opt.max_modes + 1;
-  std::vector<Candidate> cands = pencil(z, h, max_order, res.pencil_order, res.noise_rms);
+  std::vector<Candidate> cands = pencil(z, h, 2 * max_modes + 1, res.pencil_order, res.noise_rms);
   std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.omega < b.omega; });
   VectorXd theta(2 * static_cast<Index>(cands.size()));
   for (std::size_t j = 0; j < cands.size(); ++j) {
@@ -477,137 +517,78 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
     theta(2 * static_cast<Index>(j) + 1) = cands[j].zeta;
   }
   clamp(theta, h);
+  return theta;
+}
 
-  // The pencil's candidates, pruned to the significant ones; then, while there is room, the mode
-  // that best explains what is left (a scan over frequency and damping), kept only if it too is
-  // significant after the joint fit.
-  const double t_free = static_cast<double>(n - end) * h;
-  const Model model{x, y, h, 1.0 / in.load_counts_per_unit, 2.0 * kPi / t_free};
-  const auto grow = [&](VectorXd& th, Uncertainty& uu) {
-    while (th.size() / 2 < static_cast<Index>(opt.max_modes)) {
-      VectorXd trial(th.size() + 2);
-      trial << th, best_addition(model, th, model.omega_min);
-      Uncertainty ut{};
-      prune(model, opt, res.noise_rms, trial, ut, res.iterations);
-      if (trial.size() <= th.size()) break;
-      th = trial;
-      uu = ut;
-    }
-  };
-  // A fit that has not explained the record (kPoorFit): steps 2 and 6 look further.
-  const auto poor_fit = [&](const Uncertainty& fitted) {
-    return std::sqrt(fitted.rss / static_cast<double>(n)) > kPoorFit * res.noise_rms;
-  };
-  Uncertainty u{};
-  prune(model, opt, res.noise_rms, theta, u, res.iterations);
-  grow(theta, u);
-  // The same from the scan alone, no pencil, when the fit from the pencil's start leaves more than
-  // twice the noise the pencil measured (a fit that explains the record leaves 1.33-1.38 times
-  // it: the pencil's estimate is low by that much; the misses below left 21-30 times). After a
-  // train (--train) the modes' ringing in the free response is what the train left plus what the
-  // last move added, and for a lightly damped mode the two can nearly cancel, leaving the pencil
-  // a noise-dominated record (1.1 and 4.4 Hz at zeta 0.01 were seen as 3.0 and 5.4 Hz at zeta
-  // 0.3, and the fit never recovered). The start whose fit explains more of the record is kept.
-  if (theta.size() == 0 || poor_fit(u)) {
-    VectorXd scanned(0);
-    Uncertainty us{};
-    us.rss = std::numeric_limits<double>::infinity();
-    grow(scanned, us);
-    if (scanned.size() > 0 && (theta.size() == 0 || us.rss < u.rss)) {
-      theta = scanned;
-      u = us;
-    }
+// Steps 2-5: the fit from the pencil's start, grown; when it leaves more than kPoorFit times the
+// noise, the same from the scan alone, and the start whose fit explains more of the record stays.
+Fit first_fit(const Estimator& est, VectorXd pencil_theta) {
+  Fit f = est.pruned(std::move(pencil_theta));
+  est.grow(f);
+  if (f.theta.size() == 0 || est.poor(f)) {
+    Fit scanned{VectorXd(0), {}};
+    scanned.u.rss = std::numeric_limits<double>::infinity();
+    est.grow(scanned);
+    if (scanned.theta.size() > 0 && (f.theta.size() == 0 || scanned.u.rss < f.u.rss)) f = std::move(scanned);
   }
-  // Two heavily damped modes whose bands overlap (1.7 and 2.8 Hz at zeta 0.2, say) can look like
-  // one broad mode to the pencil (its 100 lags span a fraction of their periods) and to the scan
-  // (the broad mode already explains most of them): the fit then sits in a local minimum with one
-  // mode of large zeta, up to the 0.99 bound (1.01 and 4.36 Hz at zeta 0.23 and 0.27 were fitted
-  // as one mode at 0.98 Hz, zeta 0.86). Adding a mode to it does not help: the fit pulls the new
-  // one onto the broad one. So each mode that is broad, or any mode when the fit leaves more than
-  // kPoorFit times the noise, is replaced. While there is room, by two:
-  //  - on either side of it, 0.4 zeta and 0.8 zeta apart (broad modes only; the pair need not
-  //    straddle it evenly: 1.15 and 1.9 Hz were fitted as one mode at 1.19 Hz, zeta 0.39);
-  //  - the two modes the scan of step 5 picks for the residual without it, the second at least
-  //    1.2 times away from the first (0.98 Hz at zeta 0.86 became 1.09 and 4.34 Hz, from which
-  //    the fit reaches the truth).
-  // With max_modes already fitted, it and each other mode in turn are replaced by the scan's two
-  // (1.41, 2.11 and 2.83 Hz at zeta 0.21-0.29 had been fitted as 1.99 Hz at zeta 0.63, 2.85 Hz
-  // and 3.54 Hz at zeta 0.59).
-  // Of all these replacements (every mode's), the one whose fit's residual is the lowest stays if,
-  // after the pruning, it has more modes (any drop in the residual) or as many (a drop of at least
-  // 20 %: a broad mode and a spurious one traded for two real ones, on the way to the third).
-  // Taking the best of all rather than the first that helps matters: a lightly damped mode's
-  // replacement can lower the residual a little and fill the last place a broad mode's split
-  // needed. Then all are tried again, at most kMaxReplacements rounds.
-  const auto scan_pair = [&](const VectorXd& rest) {
-    const Eigen::Vector2d pick = best_addition(model, rest, model.omega_min);
-    VectorXd one(rest.size() + 2);
-    one << rest, pick;
-    VectorXd pair(rest.size() + 4);
-    pair << one, best_addition(model, one, model.omega_min, pick(0));
-    return pair;
-  };
-  for (int round = 0; round < kMaxReplacements && theta.size() > 0; ++round) {
-    const bool poor = poor_fit(u);
-    const bool room = theta.size() / 2 < static_cast<Index>(opt.max_modes);
-    VectorXd best = theta;
-    Uncertainty best_u = u;
-    const auto consider = [&](VectorXd trial) {
-      clamp(trial, h);
-      Uncertainty ut{};
-      prune(model, opt, res.noise_rms, trial, ut, res.iterations);
-      const bool more = trial.size() > theta.size() && ut.rss < best_u.rss;
-      const bool as_many = trial.size() == theta.size() && ut.rss < 0.8 * best_u.rss;
-      if (more || as_many) {
-        best = trial;
-        best_u = ut;
-      }
-    };
-    const Index m = theta.size() / 2;
-    const auto tried = [&](Index j) { return poor || theta(2 * j + 1) >= kSplitZeta; };
-    for (Index j = 0; j < m; ++j) {
-      if (!tried(j)) continue;
-      const double w = theta(2 * j);
-      const double zj = theta(2 * j + 1);
-      const VectorXd rest = without_mode(theta, j);
-      if (!room) {
-        // No room for one more: the mode and each other one are replaced by the scan's two (a
-        // pair once: an earlier mode that is tried itself has been paired with this one).
-        for (Index k = 0; k < m; ++k) {
-          if (k == j || (k < j && tried(k))) continue;
-          consider(scan_pair(without_mode(rest, k < j ? k : k - 1)));
-        }
-        continue;
-      }
-      if (zj >= kSplitZeta) {  // broad: also the symmetric splits
-        for (const double width : {0.4, 0.8}) {
-          const double spread = std::min(width * zj, 0.9);
-          VectorXd trial(theta.size() + 2);
-          trial << rest, w * (1.0 - spread), 0.5 * zj, w * (1.0 + spread), 0.5 * zj;
-          consider(trial);
-        }
-      }
-      consider(scan_pair(rest));
-    }
-    if (!(best_u.rss < u.rss)) break;
-    theta = best;
-    u = best_u;
-  }
-  if (theta.size() == 0) {
-    res.status = IdentifyStatus::response_too_small;
-    return res;
-  }
+  return f;
+}
 
-  const double zq = normal_quantile(opt.confidence);
-  const Index m = theta.size() / 2;
+// One round of step 6: every broad mode (or every mode, when the fit is poor) replaced by two, in
+// each way the step lists; the best replacement of all, or `f` itself when none helps.
+Fit best_replacement(const Estimator& est, const Fit& f) {
+  const double h = est.model().h;
+  const bool poor = est.poor(f);
+  const bool room = f.theta.size() / 2 < static_cast<Index>(est.options().max_modes);
+  Fit best = f;
+  const auto consider = [&](VectorXd trial) {
+    clamp(trial, h);
+    Fit t = est.pruned(std::move(trial));
+    const bool more = t.theta.size() > f.theta.size() && t.u.rss < best.u.rss;
+    const bool as_many = t.theta.size() == f.theta.size() && t.u.rss < 0.8 * best.u.rss;
+    if (more || as_many) best = std::move(t);
+  };
+  const Index m = f.theta.size() / 2;
+  const auto tried = [&](Index j) { return poor || f.theta(2 * j + 1) >= kSplitZeta; };
+  for (Index j = 0; j < m; ++j) {
+    if (!tried(j)) continue;
+    const double w = f.theta(2 * j);
+    const double zj = f.theta(2 * j + 1);
+    const VectorXd rest = without_mode(f.theta, j);
+    if (!room) {
+      // No room for one more: the mode and each other one are replaced by the scan's two (a
+      // pair once: an earlier mode that is tried itself has been paired with this one).
+      for (Index k = 0; k < m; ++k) {
+        if (k == j || (k < j && tried(k))) continue;
+        consider(est.scan_pair(without_mode(rest, k < j ? k : k - 1)));
+      }
+      continue;
+    }
+    if (zj >= kSplitZeta) {  // broad: also the symmetric splits
+      for (const double width : {0.4, 0.8}) {
+        const double spread = std::min(width * zj, 0.9);
+        VectorXd trial(f.theta.size() + 2);
+        trial << rest, w * (1.0 - spread), 0.5 * zj, w * (1.0 + spread), 0.5 * zj;
+        consider(trial);
+      }
+    }
+    consider(est.scan_pair(rest));
+  }
+  return best;
+}
+
+// Step 7 and the result: the modes with their intervals, sorted by frequency, and the fit's record.
+void report(const Model& model, const Fit& f, double confidence, IdentifyResult& res) {
+  const double zq = normal_quantile(confidence);
+  const Index m = f.theta.size() / 2;
   for (Index j = 0; j < m; ++j) {
     IdentifiedMode md{};
-    md.omega = theta(2 * j);
-    md.zeta = theta(2 * j + 1);
-    md.gain = u.beta(2 + j);
-    md.omega_sd = u.theta_sd(2 * j);
-    md.zeta_sd = u.theta_sd(2 * j + 1);
-    md.gain_sd = u.beta_sd(2 + j);
+    md.omega = f.theta(2 * j);
+    md.zeta = f.theta(2 * j + 1);
+    md.gain = f.u.beta(2 + j);
+    md.omega_sd = f.u.theta_sd(2 * j);
+    md.zeta_sd = f.u.theta_sd(2 * j + 1);
+    md.gain_sd = f.u.beta_sd(2 + j);
     md.omega_lo = std::max(md.omega - zq * md.omega_sd, 0.0);
     md.omega_hi = md.omega + zq * md.omega_sd;
     md.zeta_lo = std::max(md.zeta - zq * md.zeta_sd, 0.0);
@@ -616,14 +597,46 @@ IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& op
   }
   std::sort(res.modes.begin(), res.modes.end(),
             [](const IdentifiedMode& a, const IdentifiedMode& b) { return a.omega < b.omega; });
-  const MatrixXd phi = model.regressors(theta);
-  const VectorXd fitted = phi * u.beta;
+  const MatrixXd phi = model.regressors(f.theta);
+  const VectorXd fitted = phi * f.u.beta;
   res.fitted_load.assign(fitted.data(), fitted.data() + fitted.size());
-  res.rms_residual = std::sqrt(u.rss / static_cast<double>(n));
-  res.rigid_gain = u.beta(0);
-  res.offset = u.beta(1);
-  res.peak_deflection = (phi.rightCols(m) * u.beta.tail(m)).cwiseAbs().maxCoeff();
+  res.rms_residual = std::sqrt(f.u.rss / static_cast<double>(model.y.size()));
+  res.rigid_gain = f.u.beta(0);
+  res.offset = f.u.beta(1);
+  res.peak_deflection = (phi.rightCols(m) * f.u.beta.tail(m)).cwiseAbs().maxCoeff();
   res.order = 2 * static_cast<std::size_t>(m);
+}
+
+}  // namespace
+
+IdentifyResult identify_modes(const IdentifyInput& in, const IdentifyOptions& opt) {
+  IdentifyResult res{};
+  res.status = check_record(in, opt, res);
+  if (res.status != IdentifyStatus::ok) return res;
+  const double h = in.period_s;
+  const auto ni = static_cast<Index>(in.motor.size());
+  VectorXd x(ni);
+  VectorXd y(ni);
+  for (Index k = 0; k < ni; ++k) {
+    x(k) = in.motor[static_cast<std::size_t>(k)] / in.counts_per_unit;
+    y(k) = in.load[static_cast<std::size_t>(k)] / in.load_counts_per_unit;
+  }
+  VectorXd start = pencil_start(y, res.motion_end, h, opt.max_modes, res);
+  const double t_free = static_cast<double>(in.motor.size() - res.motion_end) * h;
+  const Model model{x, y, h, 1.0 / in.load_counts_per_unit, 2.0 * kPi / t_free};
+  const Estimator est(model, opt, res);
+  Fit f = first_fit(est, std::move(start));
+  // Step 6: merged modes replaced, at most kMaxReplacements rounds, while a round lowers the residual.
+  for (int round = 0; round < kMaxReplacements && f.theta.size() > 0; ++round) {
+    Fit next = best_replacement(est, f);
+    if (!(next.u.rss < f.u.rss)) break;
+    f = std::move(next);
+  }
+  if (f.theta.size() == 0) {
+    res.status = IdentifyStatus::response_too_small;
+    return res;
+  }
+  report(model, f, opt.confidence, res);
   res.status = IdentifyStatus::ok;
   return res;
 }
