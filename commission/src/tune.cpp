@@ -10,6 +10,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "settle/core/golden_section.hpp"
 #include "settle/core/profiles/registry.hpp"
 #include "settle/plant/command.hpp"
 #include "settle/plant/move_vocabulary.hpp"
@@ -200,43 +201,24 @@ class ProfileResidual {
   double log_negligible_{0.0};  // log of the term size below which a node is skipped
 };
 
-// Golden-section search for the maximum of f on [a, b]; returns the best point seen.
+// The maximum of f on [a, b] by golden-section search, raising best_f (and best_x) to the best
+// value seen; f(x, r) gives r and a status, and the first failure ends the search.
 template <typename F>
 plant::SimStatus golden_max(F&& f, double a, double b, int iterations, double& best_x, double& best_f) {
-  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  double x1 = b - g * (b - a), x2 = a + g * (b - a);
-  double f1 = 0.0, f2 = 0.0;
-  plant::SimStatus st = f(x1, f1);
-  if (st != plant::SimStatus::ok) return st;
-  st = f(x2, f2);
-  if (st != plant::SimStatus::ok) return st;
-  auto keep = [&](double x, double v) {
-    if (v > best_f) {
-      best_f = v;
+  plant::SimStatus st = plant::SimStatus::ok;
+  const auto value = [&](double x) {
+    double r = 0.0;
+    if (st != plant::SimStatus::ok) return r;
+    st = f(x, r);
+    if (r > best_f && st == plant::SimStatus::ok) {
+      best_f = r;
       best_x = x;
     }
+    return r;
   };
-  keep(x1, f1);
-  keep(x2, f2);
-  for (int i = 0; i < iterations; ++i) {
-    if (f1 > f2) {
-      b = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = b - g * (b - a);
-      st = f(x1, f1);
-      keep(x1, f1);
-    } else {
-      a = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = a + g * (b - a);
-      st = f(x2, f2);
-      keep(x2, f2);
-    }
-    if (st != plant::SimStatus::ok) return st;
-  }
-  return plant::SimStatus::ok;
+  (void)core::golden_section_max(value, a, b, iterations,
+                                 [&](double, double) { return st != plant::SimStatus::ok; });
+  return st;
 }
 
 double lerp(double lo, double hi, std::size_t i, std::size_t n) {

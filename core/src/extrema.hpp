@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "settle/core/golden_section.hpp"
+
 namespace settle::core {
 
 namespace detail {
@@ -24,29 +26,11 @@ double max_abs(F&& f, double a, double b, int cells = 256) noexcept {
     best = std::max(best, cur);
     if (prev1 >= prev2 && prev1 >= cur) {
       // local maximum of the scan near x - h: refine on [x - 2h, x]
-      double lo = a + (b - a) * (i - 2) / cells;
-      double hi = x;
-      constexpr double g = 0.6180339887498948482;
-      double c = hi - g * (hi - lo);
-      double d = lo + g * (hi - lo);
-      double fc = std::fabs(f(c));
-      double fd = std::fabs(f(d));
-      for (int it = 0; it < 60 && hi - lo > 1e-14 * (b - a); ++it) {
-        if (fc > fd) {
-          hi = d;
-          d = c;
-          fd = fc;
-          c = hi - g * (hi - lo);
-          fc = std::fabs(f(c));
-        } else {
-          lo = c;
-          c = d;
-          fc = fd;
-          d = lo + g * (hi - lo);
-          fd = std::fabs(f(d));
-        }
-      }
-      best = std::max({best, fc, fd});
+      const double tol = 1e-14 * (b - a);
+      const GoldenProbes p = golden_section_max([&](double t) { return std::fabs(f(t)); },
+                                                a + (b - a) * (i - 2) / cells, x, 60,
+                                                [tol](double lo, double hi) { return !(hi - lo > tol); });
+      best = std::max({best, p.fc, p.fd});
     }
     prev2 = prev1;
     prev1 = cur;

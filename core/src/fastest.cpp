@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "settle/core/golden_section.hpp"
 #include "settle/core/piecewise_jerk.hpp"
 #include "settle/core/shaper.hpp"
 #include "settle/core/small_solve.hpp"
@@ -690,26 +691,10 @@ double worst_over_band(const FastestTable& p, const ModeSet& ms, double band) no
       const double cur = ratio(at(k));
       worst = std::fmax(worst, cur);
       if (k >= 2 && prev >= prev2 && prev >= cur) {  // a local maximum around sample k - 1
-        double a = at(k - 2), b = at(k);
-        constexpr double g = 0.6180339887498949;
-        double x1 = b - g * (b - a), x2 = a + g * (b - a);
-        double f1 = ratio(x1), f2 = ratio(x2);
-        for (int it = 0; it < 40 && b - a > 1e-12 * w0; ++it) {
-          if (f1 > f2) {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = b - g * (b - a);
-            f1 = ratio(x1);
-          } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = a + g * (b - a);
-            f2 = ratio(x2);
-          }
-        }
-        worst = std::fmax(worst, std::fmax(f1, f2));
+        const double tol = 1e-12 * w0;
+        const GoldenProbes g = golden_section_max(ratio, at(k - 2), at(k), 40,
+                                                  [tol](double a, double b) { return !(b - a > tol); });
+        worst = std::fmax(worst, std::fmax(g.fc, g.fd));
       }
       prev2 = prev;
       prev = cur;

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "settle/core/golden_section.hpp"
+
 namespace settle::core {
 
 namespace {
@@ -239,27 +241,12 @@ Status plan_fastest_scurve(double distance, double vmax, double amax, double jma
     }
     double lo = s_lo * std::pow(ratio, std::max(best - 1, 0));
     double hi = s_lo * std::pow(ratio, std::min(best + 1, kScan));
-    constexpr double g = 0.6180339887498948482;
-    double c = hi - g * (hi - lo), e = lo + g * (hi - lo);
-    double fc = total(c), fe = total(e);
-    for (int it = 0; it < 40 && hi - lo > 1e-7 * hi; ++it) {
-      if (fc < fe) {
-        hi = e;
-        e = c;
-        fe = fc;
-        c = hi - g * (hi - lo);
-        fc = total(c);
-      } else {
-        lo = c;
-        c = e;
-        fc = fe;
-        e = lo + g * (hi - lo);
-        fe = total(e);
-      }
-    }
+    // The minimum of total is the maximum of -total (the same probes, negation is exact).
+    const GoldenProbes p = golden_section_max([&](double t) { return -total(t); }, lo, hi, 40,
+                                              [](double l, double h) { return !(h - l > 1e-7 * h); });
     const double grid = s_lo * std::pow(ratio, best);
-    if (best_t < std::min(fc, fe)) return grid;
-    return fc < fe ? c : e;
+    if (best_t < -std::max(p.fc, p.fd)) return grid;
+    return p.fc > p.fd ? p.c : p.d;
   };
   double tau = search();
   {
