@@ -244,23 +244,27 @@ def decoded(path, what):
     return d
 
 
-def check_decoded(tag, d, r, pj=None):
+def check_decoded(tag, d, r, pjs=()):
     """The dissector's count per frame type against what the session's processes counted: the
-    master's frames are the stream's frames_sent, the node's its frames_received, the RPDOs its
-    rpdo_sent, the EMCYs its emcy_received; every SDO request has its answer (the session ended
-    with no transfer open); with the drive's report, the SYNCs are those the drive counted."""
+    master's frames are the stream's frames_sent, the nodes' its frames_received, the RPDOs its
+    rpdo_sent (every axis's), the EMCYs its emcy_received (with several axes: what the drives
+    sent); every SDO request has its answer (the session ended with no transfer open); with the
+    drives' reports (pjs), the SYNCs are those each drive counted."""
+    axes = r.get("axes") or [r]
+    rpdo_sent = sum(a["rpdo_sent"] for a in axes)
+    emcys = r["emcy_received"] if len(axes) == 1 else sum(pj["emcy_sent"] for pj in pjs)
     rpdos = d.count("rpdo1", "rpdo2", "rpdo3", "rpdo4")
     check(d.count(*MASTER_TYPES) == r["frames_sent"] and d.count(*NODE_TYPES) == r["frames_received"] and
           d.count("other") == 0,
           f"{tag}: the dissector finds the {r['frames_sent']} frames the stream sent (NMT, SYNC, RPDO, SDO request) "
           f"and the {r['frames_received']} it received (EMCY, TPDO, SDO answer, heartbeat) ({d.summary()})")
-    check(rpdos == r["rpdo_sent"] and d.count("emcy") == r["emcy_received"] and d.count("sdo_rx") == d.count("sdo_tx"),
-          f"{tag}: {rpdos} RPDOs = rpdo_sent {r['rpdo_sent']}, {d.count('emcy')} EMCYs = emcy_received "
-          f"{r['emcy_received']}, {d.count('sdo_rx')} SDO requests = {d.count('sdo_tx')} answers")
+    check(rpdos == rpdo_sent and d.count("emcy") == emcys and d.count("sdo_rx") == d.count("sdo_tx"),
+          f"{tag}: {rpdos} RPDOs = rpdo_sent {rpdo_sent}, {d.count('emcy')} EMCYs = {emcys} counted, "
+          f"{d.count('sdo_rx')} SDO requests = {d.count('sdo_tx')} answers")
     check(d.count("nmt") >= 1 and d.count("heartbeat") >= 1 and d.count("tpdo1") >= 1,
           f"{tag}: NMT commands {d.count('nmt')}, heartbeats {d.count('heartbeat')}, TPDO1 {d.count('tpdo1')}")
-    if pj is not None:
-        check(d.count("sync") == pj["syncs"], f"{tag}: {d.count('sync')} SYNCs = the {pj['syncs']} the drive counted")
+    for pj in pjs:
+        check(d.count("sync") == pj["syncs"], f"{tag}: {d.count('sync')} SYNCs = the {pj['syncs']} a drive counted")
 
 
 def check_log(tag, r, dump, pj=None):
@@ -279,7 +283,7 @@ def check_log(tag, r, dump, pj=None):
         check(pj["frames_received"] == r["frames_sent"] + 1 and pj["rx_overflow_drops"] == 0,
               f"{tag}: the plant took every frame the stream sent ({pj['frames_received']} = {r['frames_sent']} "
               f"+ the barrier), its socket dropped {pj['rx_overflow_drops']}{why_stopped(dump, pj, r)}")
-    check_decoded(tag, decoded(dump, f"{tag}: the stream's log"), r, pj)
+    check_decoded(tag, decoded(dump, f"{tag}: the stream's log"), r, [pj] if pj is not None else [])
     return log
 
 
@@ -594,6 +598,7 @@ def stream_axes(d, tag, nodes, plant_args, args, what):
           f"{j.get('tx_busy')}, overruns {j.get('overruns')}, skipped {j.get('skipped_periods')}, frames lost "
           f"{j.get('frames_lost')}, late feedback ticks {j.get('feedback_late_ticks')}; axes {j.get('axes')}; "
           f"{j.get('message', '')})")
+    check_decoded(tag, decoded(dump, f"{tag}: the stream's log"), j, pjs)
     return j, pjs, read_log(dump)
 
 
