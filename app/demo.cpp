@@ -379,6 +379,7 @@ bool DemoReport::ok() const {
   for (const DemoRun& r : runs) {
     if (!run_ok(r, socketcan)) return false;
   }
+  if (capture && !(capture->complete() && capture->steps_back == 0)) return false;
   return !runs.empty() && commissioning.ok();
 }
 
@@ -406,7 +407,21 @@ bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, const Commi
   remove_commissioning_outputs(spec.out, commissioning.id);
   fs::remove(path_in(spec.out, "bus.log"), ec);
 
-  std::ofstream bus_log{path_in(spec.out, "bus.log"), std::ios::binary};
+  // bus.log. On SocketCAN: what the bus saw, captured by a socket of this process from before the
+  // first drive process starts to after the last has ended (every process's frames, the barriers
+  // too, in the kernel's order and time; hal/bus_capture.hpp). On loopback: each session's
+  // in-process bus as a listening port saw it, one session after another, each in its own
+  // virtual time from 0.
+  hal::BusCapture capture;
+  std::ofstream bus_log;
+  if (rep.socketcan) {
+    if (const std::string e = capture.start(spec.bus, path_in(spec.out, "bus.log")); !e.empty()) {
+      why = "bus.log: " + e;
+      return false;
+    }
+  } else {
+    bus_log.open(path_in(spec.out, "bus.log"), std::ios::binary);
+  }
   for (const PaperScenario& s : scenarios.scenarios) {
     std::fprintf(stderr, "settle demo: %s on %s\n", s.id.c_str(), rep.socketcan ? spec.bus.c_str() : "loopback");
     DemoRun run{s, std::nullopt, std::nullopt, -1, ""};
@@ -415,9 +430,7 @@ bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, const Commi
     } else {
       run_loopback(spec, run);
     }
-    // bus.log: every frame of every session, from the loops' own logs (on SocketCAN every frame
-    // the loop sent and received; on loopback a listening port's view of the in-process bus).
-    (void)append_file(path_in(spec.out, (rep.socketcan ? "stream-" : "bus-") + s.id + ".log"), bus_log);
+    if (!rep.socketcan) (void)append_file(path_in(spec.out, "bus-" + s.id + ".log"), bus_log);
     rep.runs.push_back(std::move(run));
   }
   bus_log.close();
@@ -425,6 +438,7 @@ bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, const Commi
   rep.commissioning_scenario = commissioning;
   run_commissioning(spec, commissioning, rep.socketcan, rep.commissioning);
   judge(commissioning, rep.commissioning);
+  if (rep.socketcan) rep.capture = capture.stop();
   for (const PaperScenario& s : scenarios.scenarios) {
     DemoScalarRuns runs{s, {}};
     run_scalars(spec, runs);
@@ -596,9 +610,17 @@ void print_demo(const DemoReport& rep, std::FILE* out) {
     }
     std::fputc('\n', out);
   }
-  if (rep.socketcan) {
-    std::fprintf(out, "\nbus.log: %lld frames, the streams' frames sent + received: %lld%s\n", log_total, frames_total,
-                 log_total == frames_total ? " (complete)" : " -- INCOMPLETE");
+  if (rep.socketcan && log_total != frames_total) {
+    std::fprintf(out, "\nthe streams' logs: %lld lines, their frames sent + received: %lld -- INCOMPLETE\n", log_total,
+                 frames_total);
+  }
+  if (rep.capture) {
+    const hal::BusCaptureResult& c = *rep.capture;
+    std::fprintf(out, "\nbus.log: %llu frames captured on %s, %.1f s, %llu dropped by the kernel, %llu out of time order%s%s\n",
+                 static_cast<unsigned long long>(c.frames), rep.bus.c_str(),
+                 c.frames > 0 ? static_cast<double>(c.last_us - c.first_us) / 1e6 : 0.0,
+                 static_cast<unsigned long long>(c.kernel_drops), static_cast<unsigned long long>(c.steps_back),
+                 c.complete() && c.steps_back == 0 ? " (complete)" : " -- INCOMPLETE", c.error.empty() ? "" : (": " + c.error).c_str());
   }
 
   print_commissioning(rep, out);
@@ -634,8 +656,10 @@ void print_demo(const DemoReport& rep, std::FILE* out) {
              out);
   std::fprintf(out, "\nresults, logs and plots: %s\n", rep.out.c_str());
   std::fprintf(out,
-               "  bus.log (candump format, every frame of every session), stream-*.json/csv/log (servo loop), "
+               "  bus.log (candump format: %s), stream-*.json/csv/log (servo loop), "
                "feedback-*.csv (aligned), plant-*.csv (drive), *.png%s\n",
+               rep.socketcan ? "what the bus saw, every process's frames in time order, kernel timestamps"
+                             : "each session's in-process bus, one after another, each in virtual time from 0",
                rep.gnuplot ? "" : " (gnuplot not found: .gp scripts written, PNGs not rendered)");
 }
 
@@ -681,8 +705,16 @@ Json demo_json(const DemoReport& rep) {
                            {"stream", doc(c.stream)},
                            {"plant_identify", doc(c.plant_identify)},
                            {"plant_stream", doc(c.plant_stream)}};
+  Json bus_log(nullptr);  // loopback: no capture
+  if (rep.capture) {
+    const hal::BusCaptureResult& cap = *rep.capture;
+    bus_log = Json{{"frames", cap.frames},     {"kernel_drops", cap.kernel_drops}, {"steps_back", cap.steps_back},
+                   {"first_us", cap.first_us}, {"last_us", cap.last_us},           {"complete", cap.complete()},
+                   {"error", cap.error}};
+  }
   return Json{{"status", rep.ok() ? "ok" : "error"}, {"bus", rep.bus}, {"out", rep.out}, {"gammas", rep.gammas},
-              {"runs", runs}, {"scalars", scalars}, {"commissioning", commissioning}, {"plots", rep.plots}};
+              {"runs", runs}, {"scalars", scalars}, {"commissioning", commissioning}, {"bus_log", bus_log},
+              {"plots", rep.plots}};
 }
 
 }  // namespace settle::app

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "commissioning.hpp"
+#include "settle/hal/bus_capture.hpp"
 #include "io/json.hpp"
 #include "paper_scenarios.hpp"
 
@@ -54,13 +55,16 @@ struct DemoReport {
   std::vector<DemoScalarRuns> scalars;
   CommissioningScenario commissioning_scenario;
   CommissioningResult commissioning;  // identify -> tune -> stream, judged (commissioning.hpp)
+  // SocketCAN: bus.log, the capture of the bus from before the first session to after the last.
+  std::optional<hal::BusCaptureResult> capture;
   std::vector<std::string> plots;  // PNGs written
   bool gnuplot{false};
   std::string out;
 
   // Every scenario completed, with its feedback aligned with the replay, and (SocketCAN) a bus
-  // log holding every frame its counters count; the commissioning identified the modes within
-  // the tolerances and its tuned move's PRV measured over CAN is within its bound.
+  // log holding every frame its counters count, and bus.log complete and in time order; the
+  // commissioning identified the modes within the tolerances and its tuned move's PRV measured
+  // over CAN is within its bound.
   [[nodiscard]] bool ok() const;
 };
 

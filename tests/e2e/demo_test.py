@@ -4,14 +4,20 @@
 row per scenario, in order, with the scenario's label and profile, each run completed and aligned
 with its offline replay, and the residuals it prints are the ones its runs reported (their JSON
 files); on a SocketCAN bus each row's bus log holds every frame its counters count, and bus.log is
-their sum. The second table compares double, float and fixed on every scenario. A plot per
+what the bus saw (check_bus_log). Every bus.log is read by Wireshark's CANopen dissector. The second table compares double, float and fixed on every scenario. A plot per
 scenario when gnuplot is there.
 
   demo_test.py SETTLE loopback|IFACE      (IFACE: run through tools/with-vcan)
 """
 import json, os, re, shutil, subprocess, sys, tempfile
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+import canopen_decode  # noqa: E402
+
 SETTLE, BUS = sys.argv[1], sys.argv[2]
+MASTER_TYPES, NODE_TYPES = canopen_decode.MASTER_TYPES, canopen_decode.NODE_TYPES
+BARRIER = (0x601, "4018100400000000")  # the demo's barrier: an SDO upload of 0x1018:4
 
 
 def fail(msg):
@@ -42,6 +48,49 @@ def table(lines, header_start):
     return rows
 
 
+def check_bus_log(out, lines, sessions):
+    """bus.log, read by Wireshark's CANopen dissector: no frame malformed or in error, every frame
+    CANopen. On SocketCAN (sessions: (name, its drive's JSON) in the order they ran) it is what the
+    bus saw: the capture's line says it is complete (nothing dropped, nothing out of order), its
+    timestamps never step back, and each session (from its drive's boot-up) holds every frame its
+    drive process sent and took as the drive counted them, the SYNCs it counted, its EMCYs and the
+    demo's barrier SDO and its answer."""
+    path = os.path.join(out, "bus.log")
+    d = canopen_decode.decode(path)
+    check(not d.errors and d.count("other") == 0,
+          f"bus.log: tshark's CANopen dissector reads its {d.frames} frames ({d.summary()}), none malformed or in "
+          f"error {d.errors[:5]}, every one CANopen ({d.count('other')} not)")
+    if sessions is None:
+        return
+    said = next((l for l in lines if l.startswith("bus.log: ")), "")
+    m = re.match(r"bus\.log: (\d+) frames captured on \S+, [\d.]+ s, (\d+) dropped by the kernel, (\d+) out of time "
+                 r"order \(complete\)$", said)
+    check(m is not None and int(m.group(1)) == d.frames and m.group(2) == "0" and m.group(3) == "0",
+          f"the demo says bus.log is complete, {d.frames} frames, none dropped or out of order: {said!r}")
+    frames = canopen_decode.read_candump(path)
+    stamps = [sec * 1_000_000 + usec for sec, usec, _, _, _ in frames]
+    back = sum(1 for a, b in zip(stamps, stamps[1:]) if b < a)
+    check(back == 0, f"bus.log: its timestamps never step back ({back} lines do)")
+    boots = [i for i, (_, _, cid, _, data) in enumerate(frames) if cid == 0x701 and data == b"\0"]
+    check(len(boots) == len(sessions), f"bus.log: {len(boots)} drive boot-ups, one per session ({len(sessions)})")
+    for k, ((name, plant_json), start) in enumerate(zip(sessions, boots)):
+        end = boots[k + 1] if k + 1 < len(boots) else len(frames)
+        pj = json.load(open(os.path.join(out, plant_json)))
+        types = d.types[start:end]
+        n = {t: types.count(t) for t in set(types)}
+        master = sum(n.get(t, 0) for t in MASTER_TYPES)
+        node = sum(n.get(t, 0) for t in NODE_TYPES)
+        check(master == pj["frames_received"] and node == pj["frames_sent"] and n.get("sync", 0) == pj["syncs"] and
+              n.get("emcy", 0) == pj["emcy_sent"],
+              f"bus.log, {name}: the drive process's {pj['frames_sent']} frames sent and {pj['frames_received']} "
+              f"taken, {pj['syncs']} SYNCs, {pj['emcy_sent']} EMCYs are all there (the dissector finds {master} "
+              f"to the drive and {node} from it: {', '.join(f'{t} {c}' for t, c in sorted(n.items()))})")
+        sdo = [(cid, data.hex().upper()) for _, _, cid, _, data in frames[start:end] if cid in (0x601, 0x581)]
+        at = max((i for i, f in enumerate(sdo) if f == BARRIER), default=None)
+        check(at is not None and any(cid == 0x581 and data[2:8] == "181004" for cid, data in sdo[at + 1:]),
+              f"bus.log, {name}: the demo's barrier SDO and the drive's answer after it ({sdo[-3:]})")
+
+
 def main():
     listing = subprocess.run([SETTLE, "demo", "--list", "--json"], capture_output=True, text=True, timeout=60)
     check(listing.returncode == 0, "settle demo --list --json")
@@ -58,7 +107,6 @@ def main():
               "the table says which bus was used")
         rows = table(lines, "scenario            profile         T (s)")
         check(len(rows) == len(scenarios), f"one row per scenario ({len(rows)} rows)")
-        logged_total = 0
         for row, s in zip(rows, scenarios):
             cells = row.split()
             label_words = len(s["label"].split())
@@ -77,7 +125,6 @@ def main():
                 lines_in_log = sum(1 for _ in open(os.path.join(out, f"stream-{s['id']}.log")))
                 check(logged == str(lines_in_log) and lines_in_log == j["frames_sent"] + j["frames_received"],
                       f"{s['id']}: its bus log holds every frame it counted ({lines_in_log})")
-                logged_total += lines_in_log
                 plant = json.load(open(os.path.join(out, f"plant-{s['id']}.json")))
                 check(plant["frames_received"] == j["frames_sent"] + 1,
                       f"{s['id']}: the drive process took every frame the loop sent, and the barrier")
@@ -85,10 +132,10 @@ def main():
                 check(logged == "-", f"{s['id']}: no bus log counted on loopback")
             if shutil.which("gnuplot"):
                 check(os.path.getsize(os.path.join(out, f"{s['id']}.png")) > 0, f"{s['id']}: plot written")
-        if socketcan:
-            bus_lines = sum(1 for _ in open(os.path.join(out, "bus.log")))
-            check(bus_lines == logged_total and any(l.startswith(f"bus.log: {bus_lines} frames") and "(complete)" in l
-                                                     for l in lines), f"bus.log: {bus_lines} frames, complete")
+        sessions = [(s["id"], f"plant-{s['id']}.json") for s in scenarios]
+        sessions += [(f"{commissioning['id']} ({step})", f"plant-{commissioning['id']}-{step}.json")
+                     for step in ("identify", "stream")]
+        check_bus_log(out, lines, sessions if socketcan else None)
         scalar_rows = table(lines, "scenario            profile        residual dbl")
         check(len(scalar_rows) == len(scenarios), f"the evaluation table has one row per scenario")
         for row, s in zip(scalar_rows, scenarios):

@@ -18,6 +18,7 @@ TEST = sys.argv[2]
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import canbus  # noqa: E402
+import canopen_decode  # noqa: E402
 
 TABLE = json.loads(subprocess.run([SETTLE, "demo", "--list", "--json"], capture_output=True, text=True, check=True,
                                   timeout=60).stdout)
@@ -224,6 +225,48 @@ def read_log(path):
     return out
 
 
+# The bus logs already read by Wireshark's CANopen dissector (decoded()); main() has it read every
+# other log a test left in its directory.
+_decoded = set()
+MASTER_TYPES, NODE_TYPES = canopen_decode.MASTER_TYPES, canopen_decode.NODE_TYPES
+
+
+def decoded(path, what):
+    """The log as Wireshark's CANopen dissector (tshark, tools/canopen_decode.py) reads it: it must
+    find no frame malformed or in error."""
+    try:
+        d = canopen_decode.decode(path)
+    except (canopen_decode.BadLog, RuntimeError, subprocess.TimeoutExpired) as e:
+        fail(f"{what}: {e}")
+    _decoded.add(os.path.realpath(path))
+    check(not d.errors, f"{what}: tshark's CANopen dissector reads its {d.frames} frames ({d.summary()}), "
+                        f"{len(d.errors)} malformed or in error {d.errors[:5]}")
+    return d
+
+
+def check_decoded(tag, d, r, pjs=()):
+    """The dissector's count per frame type against what the session's processes counted: the
+    master's frames are the stream's frames_sent, the nodes' its frames_received, the RPDOs its
+    rpdo_sent (every axis's), the EMCYs its emcy_received (with several axes: what the drives
+    sent); every SDO request has its answer (the session ended with no transfer open); with the
+    drives' reports (pjs), the SYNCs are those each drive counted."""
+    axes = r.get("axes") or [r]
+    rpdo_sent = sum(a["rpdo_sent"] for a in axes)
+    emcys = r["emcy_received"] if len(axes) == 1 else sum(pj["emcy_sent"] for pj in pjs)
+    rpdos = d.count("rpdo1", "rpdo2", "rpdo3", "rpdo4")
+    check(d.count(*MASTER_TYPES) == r["frames_sent"] and d.count(*NODE_TYPES) == r["frames_received"] and
+          d.count("other") == 0,
+          f"{tag}: the dissector finds the {r['frames_sent']} frames the stream sent (NMT, SYNC, RPDO, SDO request) "
+          f"and the {r['frames_received']} it received (EMCY, TPDO, SDO answer, heartbeat) ({d.summary()})")
+    check(rpdos == rpdo_sent and d.count("emcy") == emcys and d.count("sdo_rx") == d.count("sdo_tx"),
+          f"{tag}: {rpdos} RPDOs = rpdo_sent {rpdo_sent}, {d.count('emcy')} EMCYs = {emcys} counted, "
+          f"{d.count('sdo_rx')} SDO requests = {d.count('sdo_tx')} answers")
+    check(d.count("nmt") >= 1 and d.count("heartbeat") >= 1 and d.count("tpdo1") >= 1,
+          f"{tag}: NMT commands {d.count('nmt')}, heartbeats {d.count('heartbeat')}, TPDO1 {d.count('tpdo1')}")
+    for pj in pjs:
+        check(d.count("sync") == pj["syncs"], f"{tag}: {d.count('sync')} SYNCs = the {pj['syncs']} a drive counted")
+
+
 def check_log(tag, r, dump, pj=None):
     """The stream's own log holds every frame it sent and received: as many lines as its counters
     count, the master's frames as many as it sent, node 1's as many as it received. With the
@@ -240,6 +283,7 @@ def check_log(tag, r, dump, pj=None):
         check(pj["frames_received"] == r["frames_sent"] + 1 and pj["rx_overflow_drops"] == 0,
               f"{tag}: the plant took every frame the stream sent ({pj['frames_received']} = {r['frames_sent']} "
               f"+ the barrier), its socket dropped {pj['rx_overflow_drops']}{why_stopped(dump, pj, r)}")
+    check_decoded(tag, decoded(dump, f"{tag}: the stream's log"), r, [pj] if pj is not None else [])
     return log
 
 
@@ -554,6 +598,7 @@ def stream_axes(d, tag, nodes, plant_args, args, what):
           f"{j.get('tx_busy')}, overruns {j.get('overruns')}, skipped {j.get('skipped_periods')}, frames lost "
           f"{j.get('frames_lost')}, late feedback ticks {j.get('feedback_late_ticks')}; axes {j.get('axes')}; "
           f"{j.get('message', '')})")
+    check_decoded(tag, decoded(dump, f"{tag}: the stream's log"), j, pjs)
     return j, pjs, read_log(dump)
 
 
@@ -970,6 +1015,19 @@ def main():
                   j["message"], f"nobody answers: exit {r.returncode}, {j}")
         else:
             fail("unknown test " + TEST)
+        decode_the_rest(d)
+
+
+def decode_the_rest(d):
+    """Every bus log the test wrote that no check read yet (a loopback run's, a session that did
+    not end normally) is read by the dissector too: no frame malformed or in error, none that is
+    not CANopen."""
+    for root, _, names in os.walk(d):
+        for name in sorted(n for n in names if n.endswith(".log")):
+            path = os.path.join(root, name)
+            if os.path.realpath(path) not in _decoded:
+                dec = decoded(path, name)
+                check(dec.count("other") == 0, f"{name}: every frame is CANopen ({dec.count('other')} not)")
 
 
 main()
