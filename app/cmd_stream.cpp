@@ -225,15 +225,28 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
   };
   extend(move, spec.change);
   for (const testbed::StreamAxis& a : spec.more_axes) extend(a.move, a.change);
+  // What makes the command long: a change that runs past the move, the settle time, or the move
+  // (its --time, or with limits the one that binds, or the plan file).
+  const std::string change_option = args.has("--halt-at") ? "--halt-at" : "--retarget-at";
+  const char* move_option = args.has("--time")        ? "--time"
+                            : args.has("--plan-from") ? "--plan-from"
+                                                      : binding_limit(move.distance(), args.real("--vmax"),
+                                                                      args.real("--amax"), args.real("--jmax"), "--time");
+  const char* longest = command_s - move_s > std::fmax(move_s, spec.settle_time_s) ? change_option.c_str()
+                        : move_s >= spec.settle_time_s                            ? move_option
+                                                                                  : "--settle-time";
   if (command_s + spec.settle_time_s > kMaxSeconds) {
-    return report_bad_request({"too_long", "--time",
-                               "--time: the move lasts " + format_number(move_s) +
-                                   " s; at most 3600 s of move + settle time"},
+    return report_bad_request({"too_long", longest,
+                               std::string{longest} + ": the move lasts " + format_number(move_s) + " s" +
+                                   (command_s > move_s ? ", with the change " + format_number(command_s) + " s"
+                                                       : std::string{}) +
+                                   ", the settle time " + format_number(spec.settle_time_s) +
+                                   " s; at most 3600 s of command + settle time"},
                               json);
   }
   const double periods = (5.0 + command_s + spec.settle_time_s) * 1e6 / spec.drive.scale.period_us;
   if (periods > kMaxStreamPeriods) {
-    const char* who = move_s >= spec.settle_time_s ? "--time" : "--settle-time";
+    const char* who = longest;
     return report_bad_request({"too_many_samples", who,
                                std::string{who} + ": " + format_number(periods) +
                                    " periods of start-up (5 s) + move + settle time; at most 1e6 (or a longer "
