@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "drive_advice.hpp"
 #include "io/json.hpp"
+#include "move_options.hpp"
 #include "options.hpp"
 #include "progress.hpp"
 #include "plant_options.hpp"
@@ -54,6 +55,16 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   ex.amax = args.real_or_default("--amax");
   ex.jmax = args.real_or_default("--jmax");
   ex.round_trips = static_cast<std::size_t>(args.integer("--train"));
+  // A limit so small that the move cannot fit the excitation's 600 s is that limit's fault (the
+  // planner, fed a denormal, fails in ways that would name another option).
+  double bound = 0.0;
+  const char* limit = binding_limit(ex.distance, ex.vmax, ex.amax, ex.jmax, "--vmax", &bound);
+  if (!(bound <= 600.0)) {
+    return report_bad_request({"too_long", limit,
+                               std::string{limit} + ": the excitation's move lasts at least " + format_number(bound) +
+                                   " s within this limit; at most 600 s"},
+                              json);
+  }
   if (const core::Status st = commission::plan_identify_excitation(ex, s.move); st != core::Status::ok) {
     return report_bad_request({core::to_string(st), "--distance",
                                std::string{"--distance: the excitation cannot be planned within the limits: "} +
@@ -68,8 +79,8 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
     // The move alone too long: its limits are to blame; otherwise the train of its copies.
     const double once = s.move.profile().duration();
     if (once > 600.0 || ex.round_trips == 0) {
-      return report_bad_request({"too_long", "--vmax",
-                                 "--vmax: the excitation's move lasts " + format_number(once) +
+      return report_bad_request({"too_long", limit,
+                                 std::string{limit} + ": the excitation's move lasts " + format_number(once) +
                                      " s; at most 600 s (raise --vmax, --amax or --jmax, or shorten --distance)"},
                                 json);
     }

@@ -128,6 +128,37 @@ int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, testbe
   return -1;
 }
 
+// What the loop would refuse once the drives are up (a move or a blend faster than the axis's
+// vmax or, on loopback, than the simulated drive's 0x607F; a move the --scalar evaluation cannot
+// hold), refused before anything is sent. Exit 2 or -1.
+int refuse_unstreamable(const ParsedArgs& args, const testbed::StreamSpec& spec) {
+  const testbed::StreamRefusal r = testbed::check_streamable(spec, args.text_or_default("--bus") == "loopback");
+  if (r.status == runtime::LoopStatus::ok) return -1;
+  const std::string who = spec.more_axes.empty() ? std::string{} : "axis " + std::to_string(r.axis + 1) + ": ";
+  const std::string change = args.has("--halt-at") ? "--halt-at" : "--retarget-at";
+  const std::string what = r.in_change ? "the " + change + " blend may reach " : "the move peaks at ";
+  switch (r.status) {
+    case runtime::LoopStatus::exceeds_axis_velocity:
+      return report_bad_request({"exceeds_axis_velocity", "--axis-vmax",
+                                 "--axis-vmax: " + who + what + format_number(r.peak) +
+                                     " unit/s, over the axis's step guard " + format_number(r.limit) + " unit/s" +
+                                     (r.in_change ? " (a higher --axis-vmax, or a lower --vmax for the blend)" : "")},
+                                args.json());
+    case runtime::LoopStatus::exceeds_drive_velocity:
+      return report_bad_request({"exceeds_drive_velocity", "--counts-per-unit",
+                                 "--counts-per-unit: " + who + what + format_number(r.peak) +
+                                     " counts/s at this scale, over the simulated drive's max profile velocity "
+                                     "(0x607F) " + format_number(r.limit) + " counts/s"},
+                                args.json());
+    default: break;
+  }
+  return report_bad_request({core::to_string(r.why), "--scalar",
+                             "--scalar: " + who + "the " + testbed::to_string(spec.scalar) + " evaluation cannot hold " +
+                                 (r.in_change ? "the " + change + " blend" : std::string{"the move"}) + ": " +
+                                 core::describe(r.why)},
+                            args.json());
+}
+
 // The options as a spec, each already in its table range (options.cpp), and the sizes bounded
 // before anything is allocated: the session's records, the offline replay and the continuous
 // simulation (1e-4 s grid) all grow with the move and the settle time. Exit status or -1.
@@ -194,15 +225,28 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
   };
   extend(move, spec.change);
   for (const testbed::StreamAxis& a : spec.more_axes) extend(a.move, a.change);
+  // What makes the command long: a change that runs past the move, the settle time, or the move
+  // (its --time, or with limits the one that binds, or the plan file).
+  const std::string change_option = args.has("--halt-at") ? "--halt-at" : "--retarget-at";
+  const char* move_option = args.has("--time")        ? "--time"
+                            : args.has("--plan-from") ? "--plan-from"
+                                                      : binding_limit(move.distance(), args.real("--vmax"),
+                                                                      args.real("--amax"), args.real("--jmax"), "--time");
+  const char* longest = command_s - move_s > std::fmax(move_s, spec.settle_time_s) ? change_option.c_str()
+                        : move_s >= spec.settle_time_s                            ? move_option
+                                                                                  : "--settle-time";
   if (command_s + spec.settle_time_s > kMaxSeconds) {
-    return report_bad_request({"too_long", "--time",
-                               "--time: the move lasts " + format_number(move_s) +
-                                   " s; at most 3600 s of move + settle time"},
+    return report_bad_request({"too_long", longest,
+                               std::string{longest} + ": the move lasts " + format_number(move_s) + " s" +
+                                   (command_s > move_s ? ", with the change " + format_number(command_s) + " s"
+                                                       : std::string{}) +
+                                   ", the settle time " + format_number(spec.settle_time_s) +
+                                   " s; at most 3600 s of command + settle time"},
                               json);
   }
   const double periods = (5.0 + command_s + spec.settle_time_s) * 1e6 / spec.drive.scale.period_us;
   if (periods > kMaxStreamPeriods) {
-    const char* who = move_s >= spec.settle_time_s ? "--time" : "--settle-time";
+    const char* who = longest;
     return report_bad_request({"too_many_samples", who,
                                std::string{who} + ": " + format_number(periods) +
                                    " periods of start-up (5 s) + move + settle time; at most 1e6 (or a longer "
@@ -227,6 +271,7 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
     if (!loaded.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
     spec.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
   }
+  if (const int rc = refuse_unstreamable(args, spec); rc >= 0) return rc;
   return check_bus_load(args, spec, static_cast<std::uint32_t>(1 + spec.more_axes.size()));
 }
 

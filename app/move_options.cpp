@@ -171,7 +171,37 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
   return true;
 }
 
+const char* binding_limit(double distance, std::optional<double> vmax, std::optional<double> amax,
+                          std::optional<double> jmax, const char* fallback, double* bound) {
+  const double d = std::fabs(distance);
+  const char* who = fallback;
+  double longest = 0.0;
+  const auto take = [&](const char* name, bool given, double t) {
+    if (given && !(t <= longest)) {  // NaN or inf: that limit is to blame
+      longest = t;
+      who = name;
+    }
+  };
+  take("--vmax", vmax.has_value(), d / vmax.value_or(1.0));
+  take("--amax", amax.has_value(), 2.0 * std::sqrt(d / amax.value_or(1.0)));
+  take("--jmax", jmax.has_value(), std::cbrt(32.0 * d / jmax.value_or(1.0)));
+  if (bound != nullptr) *bound = longest;
+  return who;
+}
+
 bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestError& err) {
+  // Limits so small that no move within them fits the longest one allowed: refused naming the
+  // limit, before the planner (which, fed a denormal, fails in ways that name another option).
+  if (!req.time) {
+    double bound = 0.0;
+    const char* limit = binding_limit(req.distance, req.vmax, req.amax, req.jmax, "--vmax", &bound);
+    if (!(bound <= kMaxSeconds)) {
+      err = {"too_long", limit,
+             std::string{limit} + ": a move of " + format_number(req.distance) + " within this limit lasts at least " +
+                 format_number(bound) + " s; at most 3600 s"};
+      return false;
+    }
+  }
   const core::Status st = core::plan(req, out);
   if (st != core::Status::ok) {
     const char* p = plant::option_of(st, req);
@@ -180,7 +210,7 @@ bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestErr
   }
   // What the options allow can still plan into a move too long or too extreme to report:
   // refuse it here, before anything is printed or sized from it.
-  const char* main = req.time ? "--time" : (req.vmax ? "--vmax" : "--distance");
+  const char* main = req.time ? "--time" : binding_limit(req.distance, req.vmax, req.amax, req.jmax, "--distance");
   if (!std::isfinite(out.duration()) || !std::isfinite(out.distance())) {
     err = {"non_finite_result", main, std::string{main} + ": the planned move is not finite"};
     return false;

@@ -2,6 +2,8 @@
 #pragma once
 // The move every move-taking command plans: a core::MoveRequest from the validated options of
 // the move group (options.cpp), and planning it with each refusal blamed on the option to change.
+#include <optional>
+
 #include "options.hpp"
 #include "settle/core/multi_axis.hpp"
 #include "settle/core/planner.hpp"
@@ -24,6 +26,13 @@ struct DesignFallback {
 // (plant::option_of). A plan whose
 // duration, peaks or shaper are not finite, or that lasts longer than kMaxSeconds, is refused.
 [[nodiscard]] bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestError& err);
+
+// The limit that makes a move of `distance` long: of the ones given, the one whose own lower bound
+// on any rest-to-rest move's duration is the longest (|D| / vmax, 2 sqrt(|D| / amax),
+// cbrt(32 |D| / jmax)): "--vmax", "--amax" or "--jmax" (`fallback` when none is given). `bound`
+// receives that duration (s).
+[[nodiscard]] const char* binding_limit(double distance, std::optional<double> vmax, std::optional<double> amax,
+                                        std::optional<double> jmax, const char* fallback, double* bound = nullptr);
 
 // Whether the command line asks for a coordinated move of several axes (--axes, docs/multi_axis.md).
 [[nodiscard]] bool wants_axes(const ParsedArgs& args);

@@ -242,8 +242,9 @@ const std::vector<OptionSpec> kStreamRows = {
     {.name = "--nodes", .kind = Kind::list, .unit = "", .def = "1,2,...,N",
      .help = "with --axes N: the drives' CANopen node ids, one per axis in axis order, distinct whole numbers",
      .range = {1.0, 127.0}, .min_items = 1, .max_items = core::kMaxAxes, .value_name = "N1,N2,..."},
-    real("--axis-vmax", "unit/s", "1.5 x the move's peak velocity", {0.0, 1e9, true},
-         "the loop's step guard: largest velocity one setpoint step may imply"),
+    real("--axis-vmax", "unit/s", "1.5 x the move's peak velocity, or a change's --vmax if higher", {0.0, 1e9, true},
+         "the loop's step guard: largest velocity one setpoint step may imply (a halt or retarget whose blend may "
+         "go faster is refused)"),
     real("--settle-time", "s", "1", {0.0, 600.0, true, true}, "time streamed after the move"),
     integer("--rt-priority", "", "0 (no SCHED_FIFO)", {0.0, 99.0}, "SCHED_FIFO priority of the loop"),
     text("--eds", "", "the drive's EDS/DCF: start-up configures and verifies the drive from it (its PDO mapping, "

@@ -128,11 +128,15 @@ plant::SimStatus write_history_csv(const std::vector<plant::HistorySample>& h, c
   std::fprintf(f, "t,command_position,command_velocity,command_acceleration,deflection,position,velocity,"
                   "acceleration,kinetic_energy,potential_energy\n");
   for (const plant::HistorySample& s : h) {
+    if (std::ferror(f) != 0) break;  // every row lost from here: stop writing them
     std::fprintf(f, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n", s.t, s.command.p, s.command.v,
                  s.command.a, s.deflection, s.position, s.velocity, s.acceleration, s.energy.kinetic,
                  s.energy.potential);
   }
-  return std::fclose(f) == 0 ? plant::SimStatus::ok : plant::SimStatus::io_error;
+  // Every write checked: a row the stream could not take (a full disk, a file that takes no data)
+  // is an error, not only a close that fails.
+  const bool written = std::fflush(f) == 0 && std::ferror(f) == 0;
+  return std::fclose(f) == 0 && written ? plant::SimStatus::ok : plant::SimStatus::io_error;
 }
 
 plant::SimStatus write_stream_figure(const std::string& dir, const std::string& name, const std::string& csv,

@@ -67,13 +67,13 @@ SessionOutcome session_outcome_for(AxisFault f) noexcept {
     case AxisFault::bus_off: return SessionOutcome::bus_off;
     case AxisFault::send_failed: return SessionOutcome::send_failed;
     case AxisFault::not_in_position: return SessionOutcome::not_in_position;
+    case AxisFault::step_guard: return SessionOutcome::step_guard;
     case AxisFault::none:
     case AxisFault::heartbeat_lost:
     case AxisFault::drive_restarted:
     case AxisFault::drive_left_enabled:
     case AxisFault::start_up_failed:
-    case AxisFault::following_error:
-    case AxisFault::step_guard: break;
+    case AxisFault::following_error: break;
   }
   return SessionOutcome::drive_lost;
 }
@@ -91,6 +91,7 @@ const char* to_string(SessionOutcome o) noexcept {
     case SessionOutcome::bus_off: return "bus_off";
     case SessionOutcome::send_failed: return "send_failed";
     case SessionOutcome::not_in_position: return "not_in_position";
+    case SessionOutcome::step_guard: return "step_guard";
   }
   return "unknown";
 }

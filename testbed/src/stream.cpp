@@ -10,6 +10,7 @@
 #include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/runtime/evaluation.hpp"
+#include "settle/testbed/drive_from_eds.hpp"
 #include "settle/plant/command.hpp"
 #include "settle/plant/limits.hpp"
 #include "settle/plant/online_command.hpp"
@@ -98,6 +99,22 @@ core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, std:
     case StreamScalar::double_precision: break;
   }
   return evaluated_setpoints<runtime::FloatEvaluation<double>>(spec, out);
+}
+
+// Whether the evaluation takes the spec's move and, with a change that blends, the blend (what the
+// loop's submit() and service() prepare), without streaming them.
+template <typename Evaluation>
+StreamRefusal evaluation_takes(const StreamSpec& spec) {
+  StreamRefusal r{};
+  auto slot = std::make_unique<typename Evaluation::Stored>();
+  r.why = Evaluation::prepare(spec.move, spec.drive.scale, *slot);
+  if (r.why == core::Status::ok && spec.change && !spec.change->finish) {
+    auto blend = std::make_unique<typename Evaluation::BlendStored>();
+    r.why = Evaluation::prepare(spec.change->blend, spec.drive.scale, *blend);
+    r.in_change = r.why != core::Status::ok;
+  }
+  if (r.why != core::Status::ok) r.status = runtime::LoopStatus::evaluation_refused;
+  return r;
 }
 
 // How long the command lasts: the move, or the move to the switch and then the blend.
@@ -437,6 +454,58 @@ void measure_axes(const std::vector<StreamSpec>& specs, const std::vector<Stream
 
 }  // namespace
 
+double stream_axis_vmax(const StreamSpec& one) {
+  if (one.axis_vmax) return *one.axis_vmax;
+  double v = std::fmax(one.move.peaks().v, 1e-12) * 1.5;
+  if (one.change) v = std::fmax(v, one.change->limits.vmax);  // what the loop's own halt may plan
+  return v;
+}
+
+StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive) {
+  for (std::size_t i = 0; i < 1 + spec.more_axes.size(); ++i) {
+    const StreamSpec one = axis_spec(spec, i);
+    // The fastest the command goes: the move's peak, or the vmax the loop plans its change within.
+    const double move_v = one.move.peaks().v;
+    const double change_v = one.change ? one.change->limits.vmax : 0.0;
+    double drive_vmax = 0.0;  // counts/s, 0: not known
+    if (simulated_drive) {
+      hal::canopen::DriveNodeConfig dc{};
+      if (one.eds) {
+        const DriveFromEds d = simulated_drive_from_eds(*one.eds, one.node);
+        if (d.config) dc = *d.config;  // otherwise the bus's open() refuses the description, naming it
+      }
+      drive_vmax = static_cast<double>(dc.max_profile_velocity);
+    }
+    const double cpu = one.drive.scale.counts_per_unit;
+    StreamRefusal r{};
+    const auto over = [&](runtime::LoopStatus status, double limit) {
+      const double tolerated = limit * (1.0 + 1e-9);  // the loop's tolerance
+      if (move_v <= tolerated && change_v <= tolerated) return false;
+      r.status = status;
+      r.in_change = move_v <= tolerated;
+      r.limit = limit;
+      r.peak = r.in_change ? change_v : move_v;
+      return true;
+    };
+    if (over(runtime::LoopStatus::exceeds_axis_velocity, stream_axis_vmax(one))) {
+    } else if (drive_vmax > 0.0 && over(runtime::LoopStatus::exceeds_drive_velocity, drive_vmax / cpu)) {
+      r.limit *= cpu;
+      r.peak *= cpu;
+    } else {
+      switch (spec.scalar) {
+        case StreamScalar::single_precision: r = evaluation_takes<runtime::FloatEvaluation<float>>(one); break;
+        case StreamScalar::fixed_point: r = evaluation_takes<runtime::PolyFixedEvaluation>(one); break;
+        case StreamScalar::double_precision: r = evaluation_takes<runtime::FloatEvaluation<double>>(one); break;
+      }
+    }
+    if (r.status != runtime::LoopStatus::ok) {
+      r.axis = i;
+      return r;
+    }
+  }
+  return {};
+}
+
 hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds) {
   hal::eds::FeedbackRequest f{};
   f.velocity_actual = eds.find(hal::canopen::obj::velocity_actual, 0) != nullptr;
@@ -506,7 +575,7 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
     ac.drive.heartbeat_timeout_ms = spec.heartbeat_ms;
     ac.drive.sdo_timeout_us = spec.sdo_timeout_us;
     ac.scale = spec.drive.scale;
-    ac.vmax = spec.axis_vmax.value_or(std::fmax(specs[i].move.peaks().v, 1e-12) * 1.5);
+    ac.vmax = stream_axis_vmax(specs[i]);
     ac.feedback_timeout_periods = spec.feedback_timeout_periods;
     // The drive's own enabling deadline is the session's 5 s window, not RemoteDrive's 1 s default:
     // a host that stalls the process for a second must not fail a drive that enables in time.

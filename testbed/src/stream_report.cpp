@@ -64,6 +64,7 @@ Json axis_json(std::size_t i, const StreamReport& a) {
       {"feedback_overflows", count(a.axis.feedback_overflows)},
       {"feedback_late_ticks", count(a.feedback_late_ticks)},
       {"rpdo_sent", count(a.axis.rpdo_sent)},
+      {"step_guard_trips", count(a.axis.step_guard_trips)},
       {"moves_aborted", count(a.axis.moves_aborted)},
       {"max_following_error", count(a.axis.max_following_error)},
       {"load_measured", a.load_measured},
@@ -82,8 +83,10 @@ Json axis_json(std::size_t i, const StreamReport& a) {
 
 void write_stream_text(const StreamReport& r, std::FILE* out) {
   const bool fault = r.session.fault != runtime::AxisFault::none;
-  std::fprintf(out, "outcome            %s on %s%s%s\n", runtime::to_string(r.session.outcome), r.bus.c_str(),
-               fault ? ", fault: " : "", fault ? runtime::to_string(r.session.fault) : "");
+  const bool refused = r.session.rejection != runtime::LoopStatus::ok;
+  std::fprintf(out, "outcome            %s on %s%s%s%s%s\n", runtime::to_string(r.session.outcome), r.bus.c_str(),
+               fault ? ", fault: " : "", fault ? runtime::to_string(r.session.fault) : "",
+               refused ? ", refused: " : "", refused ? runtime::to_string(r.session.rejection) : "");
   if (r.drive_emcy) std::fprintf(out, "drive EMCY         %s\n", emcy_text(*r.drive_emcy).c_str());
   if (r.start_up_us) {
     std::fprintf(out, "start-up           operation enabled after %.1f ms (tick %llu)\n",
@@ -160,6 +163,8 @@ std::string stream_json(const StreamReport& r) {
       {"status", r.measured() ? "ok" : "error"},
       {"outcome", runtime::to_string(r.session.outcome)},
       {"fault", runtime::to_string(r.session.fault)},
+      // Why the loop refused a move (outcome rejected; "ok" otherwise).
+      {"rejection", runtime::to_string(r.session.rejection)},
       {"drive_state", r.drive_state},
       {"drive_failure", r.drive_failure},
       {"drive_emcy", emcy_json(r.drive_emcy)},

@@ -258,6 +258,34 @@ TEST(CliAxes, StreamWithoutOmegaDesignsForThePlantsFundamentalAsSimulateDoes) {
   }
 }
 
+// A coordinated halt whose blends go faster than the moves (the limits given allow it) passes the
+// loop's step guard: the guard admits what the planner allows (the axis's vmax defaults to the
+// blend's), and the run completes. It used to end drive_lost with fault step_guard, exit 1.
+TEST(CliAxes, ACoordinatedHaltPassesTheLoopsOwnStepGuard) {
+  const auto j = run_json("stream --bus loopback --axes 3 --plant sdof --profile jerk-limited --distance "
+                          "0.01,0.005,-0.02 --omega 22,30,15 --vmax 1 --amax 20 --jmax 800 --settle-time 0.1 "
+                          "--period-us 1200 --halt-at 0.05");
+  EXPECT_EQ(j.at("status"), "ok") << j.dump();
+  EXPECT_EQ(j.at("outcome"), "completed");
+  for (const auto& a : j.at("axes")) EXPECT_EQ(a.at("step_guard_trips").get<int>(), 0);
+}
+
+// What the loop would refuse once the drives are up is refused before anything is sent, exit 2,
+// naming what to change: a move or a blend over --axis-vmax, a move the --scalar evaluation cannot
+// hold, a move faster than the simulated drive's 0x607F at --counts-per-unit.
+TEST(CliAxes, WhatTheLoopWouldRefuseIsRefusedBeforeAnythingIsSent) {
+  const std::string one = "stream --bus loopback --plant sdof --profile scurve --distance 0.1 --time 0.5 ";
+  const Case cases[] = {
+      {one + "--axis-vmax 1e-9", "--axis-vmax", "exceeds_axis_velocity"},
+      {one + "--halt-at 0.2 --vmax 1 --axis-vmax 0.5", "--axis-vmax", "exceeds_axis_velocity"},
+      {kStreamThree + " --halt-at 0.2 --axis-vmax 0.3", "--axis-vmax", "exceeds_axis_velocity"},
+      {one + "--counts-per-unit 1e9 --scalar float", "--counts-per-unit", "exceeds_drive_velocity"},
+      {one + "--counts-per-unit 1e9", "--counts-per-unit", "exceeds_drive_velocity"},
+      {one + "--shaper ei3 --scalar fixed", "--scalar", "too_many_impulses"},
+  };
+  for (const Case& c : cases) expect_refused(c);
+}
+
 TEST(CliAxes, StreamStartsAndEndsEveryAxisOnTheSameTickOnTheLine) {
   const auto j = run_json(kStreamThree + " --nodes 5,3,9");
   EXPECT_EQ(j.at("status"), "ok");

@@ -214,6 +214,18 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
       {kStream + "--drive servo --servo-damping 1", "--servo-damping", "out_of_range"},
       {kStream + "--scalar half", "--scalar", "unknown_scalar"},
       {kStream + "--scalar", "--scalar", ""},
+      // A limit too small for any move to fit is that limit's fault, not another's (a denormal once
+      // made the planner blame --vmax for --amax, identify --distance for --jmax).
+      {"plan --profile jerk-limited --distance 0.1 --vmax 1 --amax 1e-320 --jmax 100", "--amax", "too_long"},
+      {"plan --profile scurve --omega 20 --distance 0.1 --vmax 1 --amax 1e-320", "--amax", "too_long"},
+      {"plan --profile jerk-limited --distance 0.1 --vmax 1 --amax 1 --jmax 1e-300", "--jmax", "too_long"},
+      {"plan --profile jerk-limited --distance 0.1 --vmax 1e-5 --amax 1 --jmax 100", "--vmax", "too_long"},
+      {"identify --bus loopback --jmax 1e-300", "--jmax", "too_long"},
+      {"identify --bus loopback --amax 1e-300", "--amax", "too_long"},
+      // A retarget that makes the command long is the retarget's fault, not the move's --time.
+      {"stream --bus loopback --plant sdof --profile jerk-limited --distance 0.1 --vmax 0.001 --amax 10 --jmax 100 "
+       "--retarget-at 50:1e6",
+       "--retarget-at", "too_long"},
   };
   for (const Case& c : cases) expect_refused(c);
   // A plan without a shaper that does not converge is not blamed on --shaper.

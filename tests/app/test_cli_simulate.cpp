@@ -91,6 +91,16 @@ TEST(SimCli, CsvHistory) {
   EXPECT_EQ(header.rfind("t,command_position", 0), 0u) << header;
 }
 
+// A CSV that cannot take its rows is a failure (exit 1), not exit 0 with every row lost: a file that
+// opens but takes no data (/proc/version) and a full disk (/dev/full).
+TEST(SimCli, ACsvThatLosesItsRowsIsAFailure) {
+  for (const char* path : {"/proc/version", "/dev/full"}) {
+    const Out o = run(std::string{"simulate --plant sdof --profile scurve --distance 0.1 --time 0.5 --csv "} + path);
+    EXPECT_EQ(o.status, 1) << path << ": " << o.text;
+    EXPECT_NE(o.text.find(std::string{"cannot write "} + path), std::string::npos) << o.text;
+  }
+}
+
 TEST(SimCli, Reproduce004Json) {
   const Out o = run("reproduce 004 --json");
   ASSERT_EQ(o.status, 0) << o.text;

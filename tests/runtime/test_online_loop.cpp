@@ -274,6 +274,18 @@ TEST(ServoLoopOnline, AHaltAfterARetargetIsPlannedFromItsBlendAndSwitchedIn) { h
 TEST(ServoLoopOnline, AHaltAfterARetargetInFloat) { halt_after_retarget<FloatLoop>(); }
 TEST(ServoLoopOnline, AHaltAfterARetargetInFixedPoint) { halt_after_retarget<FixedLoop>(); }
 
+// Every blend is planned within the online limits; limits faster than the axis's vmax (what its
+// step guard admits) are refused, so that no blend the loop plans can trip its own guard.
+TEST(ServoLoopOnline, OnlineLimitsOverTheAxisVelocityAreRefused) {
+  Rig r;  // the axis's vmax: 2 m/s
+  runtime::OnlineConfig c = online_config(planned(scurve(0.1, 0.5)));
+  c.limits.vmax = 2.5;
+  EXPECT_EQ(r.loop.configure_online(0, c), runtime::LoopStatus::exceeds_axis_velocity);
+  EXPECT_FALSE(r.loop.halt(0));  // not configured
+  c.limits.vmax = 2.0;
+  EXPECT_EQ(r.loop.configure_online(0, c), runtime::LoopStatus::ok);
+}
+
 TEST(ServoLoopOnline, TheTickNeverPlansAHaltWithoutServiceTheMoveRunsOnUnchanged) {
   Rig<> r;
   const core::MoveRequest req = scurve(0.1, 0.5);

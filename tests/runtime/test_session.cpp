@@ -146,6 +146,29 @@ TEST(Session, ALostDriveIsNotReleased) {
   EXPECT_EQ(res.release_ticks, 0u);
 }
 
+// The loop's own step guard stopping a move is the loop's outcome, not a lost drive: a move whose
+// peaks claim 0.1 m/s but which moves at ~3 m/s (the axis allows 2) ends step_guard, and the drive,
+// which was never lost, is released at the end like any drive still enabled.
+TEST(Session, AStepGuardTripIsTheLoopsOutcomeNotALostDrive) {
+  Rig r;
+  const core::Move<double> fast = move(0.5, 0.3);
+  ASSERT_GT(fast.peaks().v, 2.5);
+  core::Peaks<double> lie = fast.peaks();
+  lie.v = 0.1;
+  const core::Move<double> moves[] = {core::Move<double>{fast.profile(), fast.shaper(), lie}};
+  const auto res = runtime::run_session(r.loop, r.clock, moves, 1, runtime::SessionConfig{},
+                                         [&](std::uint64_t, bool) {
+                                           r.hub.set_time_us(r.clock.now_us());
+                                           r.drive.process(r.clock.now_us());
+                                         });
+  EXPECT_EQ(res.outcome, runtime::SessionOutcome::step_guard) << runtime::to_string(res.outcome);
+  EXPECT_EQ(res.fault, runtime::AxisFault::step_guard);
+  EXPECT_STREQ(runtime::to_string(res.outcome), "step_guard");
+  EXPECT_EQ(r.loop.axis_stats(0).step_guard_trips, 1u);
+  EXPECT_TRUE(res.released);
+  EXPECT_LT(r.drive.position(), 500'000);
+}
+
 TEST(Session, HeartbeatLossMidMoveStopsStreaming) {
   Rig r(0);  // the feedback watchdog off: the heartbeat alone must notice
   const core::Move<double> moves[] = {move(0.1, 0.5)};

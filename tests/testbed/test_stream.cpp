@@ -318,7 +318,7 @@ TEST(RunStream, ASessionThatEndsBeforeItsHaltReportsItsOwnOutcome) {
   StreamChange c{};
   c.at = 0.2;
   c.modes = {core::Mode{spec.plant.fundamental().omega, spec.plant.fundamental().zeta}};
-  c.limits = {0.05, 1.0, 100.0};
+  c.limits = {0.001, 1.0, 100.0};  // within the axis's vmax: the move, not the change, is refused
   spec.change = c;
   LoopbackStreamBus bus;
   const StreamReport r = run_stream(spec, bus);
@@ -561,6 +561,119 @@ TEST(RunStream, ThreeAxesHaltedAtRandomTimesEndTogetherOnTheLineAtRest) {
   LoopbackStreamBus other;
   EXPECT_EQ(run_stream(apart, other).failure,
             "axes 1 and 2 change at different times: every axis's halt or retarget is asked for in the same period");
+}
+
+// The loop's step guard admits every blend the planner makes: halts and retargets of moves on one to
+// three path-synchronised axes, of several profiles, designed for random modes, with limits above
+// the moves' own peaks (--vmax, --amax, --jmax given, as `settle stream --axes N --halt-at` passes
+// them: a blend may go faster than the move it stops), at random times, in double and float,
+// streamed with the default axis vmax (stream_axis_vmax). None trips the guard; every one completes.
+// (The guard used to be 1.5 x the move's peak: the blend of `--profile jerk-limited --distance
+// 0.01,0.005,-0.02 --vmax 1 --amax 20 --jmax 800 --halt-at 0.05` passed it and ended step_guard.)
+TEST(RunStream, NoPlannedHaltOrRetargetTripsTheStepGuard) {
+  plant::ModalPlant plant;
+  ASSERT_EQ(plant::ModalPlant::make_sdof(plant::SdofParams{}, plant), plant::SimStatus::ok);
+  const core::Mode fundamental{plant.fundamental().omega, plant.fundamental().zeta};
+  std::mt19937_64 rng{20261205};
+  const auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>{lo, hi}(rng); };
+  const core::ProfileKind profiles[] = {core::ProfileKind::jerk_limited, core::ProfileKind::scurve,
+                                        core::ProfileKind::scurve_damped};
+  const double period = 1.2e-3;
+  int streamed = 0, blends = 0;
+  for (int n = 0; n < 24; ++n) {
+    core::MultiAxisRequest req{};
+    req.base.profile = profiles[static_cast<std::size_t>(n) % std::size(profiles)];
+    req.count = 1 + static_cast<std::size_t>(n / 3) % 3;
+    const double vmax = uniform(0.3, 2.0), amax = uniform(5.0, 50.0), jmax = uniform(300.0, 3000.0);
+    for (std::size_t i = 0; i < req.count; ++i) {
+      const double d = uniform(0.003, 0.04) * (uniform(0.0, 1.0) < 0.5 ? -1.0 : 1.0);
+      req.axes[i] = {d, vmax, amax, jmax, std::exp(uniform(std::log(10.0), std::log(40.0))), uniform(0.0, 0.1)};
+    }
+    const bool retarget = n % 4 == 3;
+    SCOPED_TRACE("case " + std::to_string(n) + ": " + core::to_string(req.base.profile) + ", " +
+                 std::to_string(req.count) + " axes" + (retarget ? ", retarget" : ", halt"));
+    core::MultiAxisPlan plan{};
+    std::size_t culprit = 0;
+    ASSERT_EQ(core::plan_axes(req, plan, culprit), core::Status::ok);
+    const double at = std::fmax(std::round(uniform(0.05, 0.95) * plan.duration() / period), 3.0) * period;
+    if (!(at < plan.duration())) continue;
+    const double fraction = uniform(-0.5, 1.5);  // of each axis's distance: the new target of a retarget
+    StreamSpec spec{};
+    spec.plant = plant;
+    spec.settle_time_s = 0.05;
+    spec.drive.scale.period_us = 1200;
+    spec.scalar = n % 2 == 0 ? StreamScalar::double_precision : StreamScalar::single_precision;
+    bool planned = true;
+    for (std::size_t i = 0; i < req.count; ++i) {
+      core::Move<double> move{};
+      core::AxisOnline o{};
+      ASSERT_EQ(core::axis_command(req, plan, i, move), core::Status::ok);
+      ASSERT_EQ(core::axis_online(req, plan, i, o, &fundamental), core::Status::ok);
+      StreamChange c{};
+      c.at = at;
+      c.modes.assign(o.modes.begin(), o.modes.begin() + static_cast<std::ptrdiff_t>(o.mode_count));
+      c.limits = o.limits;
+      if (retarget) c.target = fraction * move.distance();
+      core::OnlineRequest q{};
+      ASSERT_EQ(core::online_request(move, at, o.modes.data(), o.mode_count, o.limits, c.target, q), core::Status::ok);
+      core::OnlinePlan blend{};
+      // A change with no blend within the limits (a trapezoid's acceleration step near vmax) is
+      // refused by the CLI before anything streams: not a case for the guard.
+      planned = planned && core::plan_online(q, blend) == core::Status::ok;
+      if (!planned) break;
+      c.blend = blend.blend;
+      c.finish = blend.choice == core::OnlineChoice::finish;
+      blends += c.finish ? 0 : 1;
+      if (i == 0) {
+        spec.move = move;
+        spec.change = c;
+      } else {
+        spec.more_axes.push_back({move, static_cast<hal::canopen::NodeId>(i + 1), c});
+      }
+    }
+    if (!planned) continue;
+    const StreamRefusal refusal = check_streamable(spec, true);
+    ASSERT_EQ(refusal.status, runtime::LoopStatus::ok) << "axis " << refusal.axis << ": " << core::to_string(refusal.why);
+    LoopbackStreamBus bus;
+    const StreamReport r = run_stream(spec, bus);
+    ASSERT_TRUE(r.failure.empty()) << r.failure;
+    EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << runtime::to_string(r.session.outcome);
+    EXPECT_EQ(r.axis.step_guard_trips, 0u);
+    for (const StreamReport& a : r.more_axes) EXPECT_EQ(a.axis.step_guard_trips, 0u);
+    EXPECT_TRUE(r.measured());
+    ++streamed;
+  }
+  EXPECT_GE(streamed, 20);
+  EXPECT_GE(blends, 20);  // blends, not only halts that finish the move
+}
+
+// A halt whose blend may go faster than the axis's vmax cannot be configured: the loop refuses the
+// limits (what the guard would otherwise trip on), and check_streamable says so before any frame.
+TEST(RunStream, AChangeFasterThanTheAxisIsRefusedBeforeStreaming) {
+  StreamSpec spec = spec_for(poly345(0.01, 0.5));
+  StreamChange c{};
+  c.at = 0.2;
+  c.modes = {core::Mode{spec.plant.fundamental().omega, spec.plant.fundamental().zeta}};
+  c.limits = {1.0, 10.0, 1000.0};
+  spec.change = c;
+  spec.axis_vmax = 0.5;  // the move peaks at 0.0375 m/s; its blend may reach 1 m/s
+  const StreamRefusal r = check_streamable(spec, true);
+  EXPECT_EQ(r.status, runtime::LoopStatus::exceeds_axis_velocity);
+  EXPECT_TRUE(r.in_change);
+  EXPECT_EQ(r.peak, 1.0);
+  EXPECT_EQ(r.limit, 0.5);
+  LoopbackStreamBus bus;
+  EXPECT_EQ(run_stream(spec, bus).failure, "the loop refused axis 1's online configuration: exceeds_axis_velocity");
+  spec.axis_vmax.reset();  // by default the axis's vmax is the blend's
+  EXPECT_EQ(stream_axis_vmax(spec), 1.0);
+  EXPECT_EQ(check_streamable(spec, true).status, runtime::LoopStatus::ok);
+  // The simulated drive's 0x607F (1e7 counts/s) at 1e8 counts per metre: 0.1 m/s at most.
+  spec.drive.scale.counts_per_unit = 1e8;
+  const StreamRefusal drive = check_streamable(spec, true);
+  EXPECT_EQ(drive.status, runtime::LoopStatus::exceeds_drive_velocity);
+  EXPECT_TRUE(drive.in_change);
+  EXPECT_EQ(drive.limit, 1e7);
+  EXPECT_EQ(check_streamable(spec, false).status, runtime::LoopStatus::ok);  // another bus: not known before start-up
 }
 
 TEST(RunStream, WhatCannotRunIsAFailureBeforeAnythingStreams) {

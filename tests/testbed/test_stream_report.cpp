@@ -132,7 +132,7 @@ TEST(StreamReportJson, FieldNamesInOrder) {
   std::vector<std::string> names;
   for (const auto& item : j.items()) names.push_back(item.key());
   const std::vector<std::string> want{
-      "status", "outcome", "fault", "drive_state", "drive_failure", "drive_emcy", "heartbeat_ms", "sdo_timeout_ms",
+      "status", "outcome", "fault", "rejection", "drive_state", "drive_failure", "drive_emcy", "heartbeat_ms", "sdo_timeout_ms",
       "feedback_timeout_periods", "drive_released", "bus", "profile", "scalar", "evaluation",
       "setpoints", "setpoints_vs_double_max_counts", "setpoints_differing_from_double", "distance", "move_time",
       "period_us", "ticks", "start_up_ms", "ready_tick", "frames_sent", "frames_received", "tx_busy", "rx_overflow_drops", "feedback_samples",

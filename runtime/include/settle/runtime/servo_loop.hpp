@@ -312,7 +312,9 @@ class ServoLoop {
   }
 
   // The modes and limits an axis's halts and retargets respect (outside the tick). Refused:
-  // evaluation_refused without kOnlineChanges, bad_axis_config for a mode or limit out of range.
+  // evaluation_refused without kOnlineChanges, bad_axis_config for a mode or limit out of range,
+  // exceeds_axis_velocity for a vmax over the axis's (AxisConfig::vmax): every blend is planned
+  // within these limits, so every step it makes is one the step guard admits.
   [[nodiscard]] LoopStatus configure_online(std::size_t axis, const OnlineConfig& c) noexcept {
     if constexpr (!kOnlineChanges) {
       (void)axis;
@@ -327,6 +329,8 @@ class ServoLoop {
         ok = std::isfinite(c.modes[i].omega) && c.modes[i].omega > 0.0 && c.modes[i].zeta >= 0.0 && c.modes[i].zeta < 1.0;
       }
       if (!ok) return LoopStatus::bad_axis_config;
+      // The same tolerance as submit()'s: a blend at exactly the axis's vmax is streamable.
+      if (!(l.vmax <= axes_[axis].cfg.vmax * (1.0 + 1e-9))) return LoopStatus::exceeds_axis_velocity;
       axes_[axis].online.config = c;
       axes_[axis].online.configured = true;
       return LoopStatus::ok;
@@ -349,8 +353,9 @@ class ServoLoop {
   // from the blend's state and its own mode memory, streamed from the other slot. A command with
   // no running move (or while a blend waits for its switch) is dropped and counted in
   // online_missed(). Returns plan_failed if a blend could not be planned,
-  // evaluation_refused if the evaluation cannot hold it (why: the core::Status); the move then
-  // runs on unchanged.
+  // evaluation_refused if the evaluation cannot hold it (why: the core::Status),
+  // exceeds_drive_velocity if it would step faster than the drive's 0x607F; the move then runs on
+  // unchanged.
   [[nodiscard]] LoopStatus service(core::Status* why = nullptr) noexcept {
     LoopStatus result = LoopStatus::ok;
     if constexpr (kOnlineChanges) {
@@ -383,6 +388,14 @@ class ServoLoop {
         if (st != core::Status::ok) {
           if (why != nullptr) *why = st;
           result = LoopStatus::plan_failed;
+          continue;
+        }
+        // The drive's own velocity limit (0x607F, as it said at start-up) holds for a blend as for
+        // a move: a blend over it would fault the drive at its first such step.
+        const std::uint32_t drive_vmax = a.drive->limits().max_profile_velocity;
+        if (plan.choice != core::OnlineChoice::finish && drive_vmax != 0 &&
+            !(plan.blend.peaks().v * a.cfg.scale.counts_per_unit <= static_cast<double>(drive_vmax) * (1.0 + 1e-9))) {
+          result = LoopStatus::exceeds_drive_velocity;
           continue;
         }
         // A halt whose best is to finish what runs (docs/online.md): nothing to prepare.

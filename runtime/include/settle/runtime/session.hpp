@@ -17,7 +17,7 @@ namespace settle::runtime {
 enum class SessionOutcome : std::uint8_t {
   completed,      // every move streamed and the settling window observed
   enable_failed,  // a drive never reached operation enabled (or refused its configuration)
-  drive_lost,     // heartbeat lost, fault, restart, step guard or following error: streaming stopped
+  drive_lost,     // heartbeat lost, fault, restart or following error: streaming stopped
   rejected,       // a move was refused before anything was streamed for it
   timeout,        // the session ran past max_ticks
   // The loop halted the axis (SessionResult::fault says the same):
@@ -27,10 +27,13 @@ enum class SessionOutcome : std::uint8_t {
   bus_off,                // the controller went bus-off (the loop restarts it and the drives' start-up)
   send_failed,            // the RPDO + SYNC unit could not be sent for LoopConfig::send_failure_periods
   not_in_position,        // the feedback never showed the final setpoint within one count
+  // The loop's own step guard refused a setpoint (a step over AxisConfig::vmax x period + margin):
+  // the command was not what the plan promised; the drive is fine and holds where it was.
+  step_guard,
 };
 
 [[nodiscard]] const char* to_string(SessionOutcome o) noexcept;
-// The outcome that names the fault (drive_lost for the drive's own stops).
+// The outcome that names the fault (drive_lost for the drive's own stops and the following error).
 [[nodiscard]] SessionOutcome session_outcome_for(AxisFault f) noexcept;
 
 struct SessionConfig {

@@ -66,7 +66,7 @@ struct StreamSpec {
   std::uint16_t heartbeat_ms{500};
   std::uint32_t sdo_timeout_us{1'000'000};
   std::uint16_t feedback_timeout_periods{runtime::kDefaultFeedbackTimeoutPeriods};
-  std::optional<double> axis_vmax{};  // units/s; default 1.5 x the move's peak velocity
+  std::optional<double> axis_vmax{};  // units/s; default: stream_axis_vmax()
   double settle_time_s{1.0};          // periods observed after the move, at rest
   StreamScalar scalar{StreamScalar::double_precision};
   // --eds: the drive's description. The master configures and verifies the drive from it
@@ -83,6 +83,29 @@ struct StreamSpec {
 
 // Axis i of the spec (0: axis 1) as a one-axis spec: its move, node and change, everything else shared.
 [[nodiscard]] StreamSpec axis_spec(const StreamSpec& spec, std::size_t i);
+
+// The vmax the loop's step guard holds a one-axis spec's setpoints to (runtime::AxisLoopConfig::vmax,
+// units/s): spec.axis_vmax when given; else 1.5 x the move's peak velocity, and with a change at
+// least the vmax the loop plans its blend within (StreamChange::limits), so that every blend the
+// loop plans makes only steps the guard admits (the loop refuses online limits over the axis's vmax).
+[[nodiscard]] double stream_axis_vmax(const StreamSpec& one_axis);
+
+// What the loop would refuse before streaming anything, found without a bus: on `axis` (0: axis 1),
+// the move or its change's vmax over the axis's vmax (exceeds_axis_velocity), the evaluation of
+// the spec's scalar refusing the move or the blend (evaluation_refused, `why` says the core status),
+// and with `simulated_drive` (the loopback bus: the drive is the one this process simulates, the
+// default one or the --eds one) a velocity over its 0x607F (exceeds_drive_velocity). ok when the
+// loop takes every axis's move and change as far as they are known before the drive answers (a
+// drive on a real bus says its limits at start-up; the loop checks them then).
+struct StreamRefusal {
+  runtime::LoopStatus status{runtime::LoopStatus::ok};
+  std::size_t axis{0};
+  core::Status why{core::Status::ok};
+  bool in_change{false};  // the blend of the halt or retarget, not the move
+  double limit{0.0};      // exceeds_axis_velocity: the axis's vmax, units/s; exceeds_drive_velocity: 0x607F, counts/s
+  double peak{0.0};       // and the velocity over it, in the same unit
+};
+[[nodiscard]] StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive);
 
 // The feedback a stream maps besides statusword and position: the velocity actual 0x606C and
 // the load-side position 0x2000 (the simulated drive's load encoder), each when the description
