@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <variant>
 
 #include "settle/core/fixed/motion.hpp"
@@ -130,6 +131,62 @@ TEST(Registry, DoubleAndFloatEvaluatorsAgree) {
     EXPECT_LE(worst_f, tol);
     EXPECT_LE(worst_step, 1e-12 * std::fabs(md.distance()));
   });
+}
+
+// Converting a planned Move<double> to float (what the servo loop does at submit) gives exactly the
+// move whose shape is built in float from the planner's parameters: every value, every tick,
+// bitwise. The conversion rounds the double evaluator's own values instead of recomputing them in
+// double (casts only on a Cortex-M4F); in place (convert_from, into a slot that held another move)
+// it is the same move again. Unshaped, shaped (ZVD on the example's mode) and, for the S-curves,
+// with a cruise.
+TEST(Registry, FloatConversionIsTheFloatMoveOfTheSameParameters) {
+  std::size_t checked = 0;
+  core::for_each_profile([&](auto kind) {
+    using P = core::profile_t<kind.value>;
+    for (const int variant : {0, 1, 2}) {  // unshaped, ZVD, a ramp-cycloid's cruise
+      SCOPED_TRACE(std::string{core::to_string(kind.value)} + (variant == 1 ? " zvd" : variant == 2 ? " cruise" : ""));
+      core::MoveRequest r = P::example();
+      r.profile = kind.value;
+      if (variant == 1) r.shaper = core::ShaperKind::zvd;
+      core::Move<double> md{};
+      if (core::plan(r, md) != Status::ok) continue;  // a kind that refuses a shaper
+      if constexpr (std::is_same_v<typename P::template Shape<double>, core::RampCycloid<double>>) {
+        if (variant == 2) {  // the same transitions around a cruise (a vmax that binds)
+          core::RampCycloidParams c = std::get<core::RampCycloid<double>>(md.profile().variant()).params();
+          c.cruise = 0.05;
+          c.distance += c.amplitude * c.tau * c.cruise;
+          md.assign<core::RampCycloid<double>>(kind.value, c, nullptr, md.peaks());
+        }
+      }
+      const auto& shape_d = *std::get_if<typename P::template Shape<double>>(&md.profile().variant());
+      const typename P::template Shape<float> shape_f{shape_d.params()};
+      const core::Move<float> ref{core::Profile<float>{kind.value, shape_f}, core::Shaper<float>{md.shaper()},
+                                  core::Peaks<float>{static_cast<float>(md.peaks().v), static_cast<float>(md.peaks().a),
+                                                     static_cast<float>(md.peaks().j), md.peaks().velocity_step,
+                                                     md.peaks().acceleration_step}};
+      const core::Move<float> converted{md};
+      core::Move<float> slot{plan_example(std::integral_constant<core::ProfileKind, core::ProfileKind::poly345>{})};
+      slot.convert_from(md);
+      for (const core::Move<float>* m : {&converted, static_cast<const core::Move<float>*>(&slot)}) {
+        EXPECT_EQ(m->profile().kind(), kind.value);
+        EXPECT_EQ(m->duration(), ref.duration());
+        EXPECT_EQ(m->distance(), ref.distance());
+        ASSERT_EQ(m->shaper().count, ref.shaper().count);
+        const int n_end = static_cast<int>(std::ceil(md.duration() / 1e-3)) + 2;
+        int differ = 0;
+        core::MoveStepper<float> st{*m, 1e-3F}, st_ref{ref, 1e-3F};
+        for (int n = -1; n <= n_end; ++n) {
+          const float t = static_cast<float>(n) * 1e-3F;
+          const core::Sample<float> a = m->at(t), b = ref.at(t);
+          differ += a.p != b.p || a.v != b.v || a.a != b.a || a.j != b.j;
+          if (n >= 0) differ += st.step().p != st_ref.step().p;
+        }
+        EXPECT_EQ(differ, 0);
+      }
+      ++checked;
+    }
+  });
+  EXPECT_GE(checked, core::kProfileCount + 2);  // every kind unshaped, and some shaped or cruising
 }
 
 // The fixed-point motion built from every example (its pieces: the shape's own decomposition, or

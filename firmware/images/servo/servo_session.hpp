@@ -42,10 +42,11 @@ inline constexpr core::RampCycloidParams kParams{
 inline constexpr core::Peaks<double> kPeaks{0x1.2e5c2de7a3a83p-1, 0x1.f58fe95a64ee7p+4, 0x1.a5ff638fd82d7p+11,
                                             false, false};
 
+// Built in place (Move::assign): no temporary shape, profile or shaper on the stack.
 [[nodiscard]] inline core::Move<double> pinned_move() noexcept {
-  return core::Move<double>{core::Profile<double>{core::ProfileKind::scurve, core::RampCycloid<double>{kParams}},
-                            core::Shaper<double>{},
-                            kPeaks};
+  core::Move<double> m{};
+  m.assign<core::RampCycloid<double>>(core::ProfileKind::scurve, kParams, nullptr, kPeaks);
+  return m;
 }
 
 // The CAN controller the loop runs on: three transmit mailboxes, an 8-frame receive FIFO.

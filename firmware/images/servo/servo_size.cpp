@@ -37,8 +37,8 @@ int settle::firmware::image_main() {
     while (g_bus.take_sent(wire)) {
     }
   }
-  // The stack this took: submitting converts the Move<double> to the loop's Move<float> on the
-  // stack, which is most of it; the tick's own worst path is far smaller (stack-report).
+  // The stack this took: the Move<double> in this frame, then submitting converts it to the
+  // loop's Move<float> in place (no temporaries); the tick's own worst path is smaller (stack-report).
   fw::Text<96> rep{};
   rep.append("stack_high_water ").append_unsigned(fw::stack_high_water()).append(" of ");
   rep.append_unsigned(fw::stack_size()).append("\n");

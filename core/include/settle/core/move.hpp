@@ -20,10 +20,21 @@ class Move {
     distance_ = profile_.distance();
   }
   template <typename U>
-  explicit Move(const Move<U>& o) noexcept
-      : Move(Profile<T>{o.profile()}, Shaper<T>{o.shaper()},
-             Peaks<T>{static_cast<T>(o.peaks().v), static_cast<T>(o.peaks().a), static_cast<T>(o.peaks().j),
-                      o.peaks().velocity_step, o.peaks().acceleration_step}) {}
+  explicit Move(const Move<U>& o) noexcept {
+    convert_from(o);
+  }
+  // Becomes `o` converted to T, in place: the same move as Move<T>{o} without its temporaries (a
+  // profile, a shaper and a move: over a kilobyte of stack where the servo loop converts a
+  // submitted Move<double> on a Cortex-M).
+  template <typename U>
+  void convert_from(const Move<U>& o) noexcept {
+    profile_.convert_from(o.profile());
+    shaper_.convert_from(o.shaper());
+    peaks_ = Peaks<T>{static_cast<T>(o.peaks().v), static_cast<T>(o.peaks().a), static_cast<T>(o.peaks().j),
+                      o.peaks().velocity_step, o.peaks().acceleration_step};
+    duration_ = profile_.duration() + shaper_.duration();
+    distance_ = profile_.distance();
+  }
 
   // Becomes the move of a Shape (built from `arg`, its Params or a Shape) through `s` (nullptr:
   // no shaper): the same move as Move{Profile{kind, Shape{arg}}, s, peaks}, built in place. A Move

@@ -81,6 +81,29 @@ class PiecewiseJerk {
   }
   template <typename U>
   explicit PiecewiseJerk(const PiecewiseJerk<U, N>& o) noexcept : PiecewiseJerk(o.params()) {}
+  // From double: the double evaluator's segment states rounded to T, which is what the table
+  // constructor computes (in double, rounded once), without integrating the table again in double
+  // (soft double on a Cortex-M4F, where the loop converts each submitted move to float).
+  template <typename U>
+    requires std::is_same_v<U, double>
+  explicit PiecewiseJerk(const PiecewiseJerk<U, N>& o) noexcept
+      : n_{o.n_} {
+    params_.distance = o.params_.distance;
+    params_.count = n_;
+    for (std::size_t i = 0; i < N; ++i) {
+      if (i == n_) break;
+      params_.durations[i] = o.params_.durations[i];
+      params_.accel0[i] = o.params_.accel0[i];
+      params_.jerk[i] = o.params_.jerk[i];
+      start_[i] = static_cast<T>(o.start_[i]);
+      p0_[i] = static_cast<T>(o.p0_[i]);
+      v0_[i] = static_cast<T>(o.v0_[i]);
+      a0_[i] = static_cast<T>(o.params_.accel0[i]);
+      j_[i] = static_cast<T>(o.params_.jerk[i]);
+    }
+    dur_ = static_cast<T>(o.dur_);
+    dist_ = static_cast<T>(o.dist_);
+  }
 
   [[nodiscard]] const Params& params() const noexcept { return params_; }
   [[nodiscard]] T duration() const noexcept { return dur_; }
@@ -124,6 +147,8 @@ class PiecewiseJerk {
   }
 
  private:
+  template <typename, std::size_t>
+  friend class PiecewiseJerk;
   // In double the table's own accelerations and jerks are the evaluation's: not stored twice
   // (seven stores fewer per plan).
   static constexpr bool kEvaluatesTable = std::is_same_v<T, double>;

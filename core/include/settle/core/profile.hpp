@@ -49,7 +49,13 @@ class Profile {
   Profile() = default;  // a zero-length move of zero distance
   Profile(ProfileKind kind, const Variant& v) noexcept : kind_{kind}, v_{v} {}
   template <typename U>
-  explicit Profile(const Profile<U>& o) noexcept : kind_{o.kind()} {
+  explicit Profile(const Profile<U>& o) noexcept {
+    convert_from(o);
+  }
+  // Becomes `o` converted to T, its shape built in place (no temporary shape or variant).
+  template <typename U>
+  void convert_from(const Profile<U>& o) noexcept {
+    kind_ = o.kind();
     o.visit([this](const auto& p) { this->template assign<U>(p); });
   }
 
@@ -104,7 +110,7 @@ class Profile {
     static_assert(I < kProfileCount, "not a registered profile's shape");
     using Descriptor = profile_t<static_cast<ProfileKind>(I)>;
     if constexpr (std::is_same_v<typename Descriptor::template Shape<U>, S>) {
-      v_ = typename Descriptor::template Shape<T>{p};
+      v_.template emplace<typename Descriptor::template Shape<T>>(p);
     } else {
       assign<U, S, I + 1>(p);
     }

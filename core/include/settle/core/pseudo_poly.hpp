@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 #include "settle/core/kinematics.hpp"
 #include "settle/core/status.hpp"
@@ -50,6 +51,21 @@ class PseudoPoly {
   }
   template <typename U>
   explicit PseudoPoly(const PseudoPoly<U>& o) noexcept : PseudoPoly(o.params()) {}
+  // From double: the double evaluator's values rounded to T, which is what the Params constructor
+  // computes (each value in double, rounded once), without double arithmetic.
+  template <typename U>
+    requires std::is_same_v<U, double>
+  explicit PseudoPoly(const PseudoPoly<U>& o) noexcept
+      : params_{o.params_}, d_{static_cast<T>(o.d_)}, dur_{static_cast<T>(o.dur_)}, inv_t_{static_cast<T>(o.inv_t_)},
+        n_{o.n_} {
+    for (std::size_t i = 0; i < n_; ++i) {
+      g_[i] = static_cast<T>(o.g_[i]);
+      c0_[i] = static_cast<T>(o.c0_[i]);
+      c1_[i] = static_cast<T>(o.c1_[i]);
+      c2_[i] = static_cast<T>(o.c2_[i]);
+      c3_[i] = static_cast<T>(o.c3_[i]);
+    }
+  }
 
   [[nodiscard]] const PseudoPolyParams& params() const noexcept { return params_; }
   [[nodiscard]] T duration() const noexcept { return dur_; }
@@ -82,6 +98,8 @@ class PseudoPoly {
   }
 
  private:
+  template <typename>
+  friend class PseudoPoly;
   PseudoPolyParams params_{};
   T d_{}, dur_{}, inv_t_{};
   std::size_t n_{0};

@@ -6,6 +6,7 @@
 // with c3 = 0 for the undamped profile of the paper.
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include "settle/core/kinematics.hpp"
 #include "settle/core/piece.hpp"
@@ -56,6 +57,14 @@ struct CycloidShape {
     rv1 = static_cast<T>(0.5 + c3d / tp);
     rp1 = static_cast<T>(1.0 / 6.0 - c2d / (tp * tp) + c3d / (2.0 * tp));
   }
+  // The double shape rounded to T: each value is what the constructor above rounds, so the two
+  // are the same shape (RampCycloid's conversion from double, below).
+  template <typename U>
+    requires std::is_same_v<U, double>
+  explicit CycloidShape(const CycloidShape<U>& o) noexcept
+      : c2{static_cast<T>(o.c2)}, c3{static_cast<T>(o.c3)}, k2{static_cast<T>(o.k2)}, k3{static_cast<T>(o.k3)},
+        m2{static_cast<T>(o.m2)}, m3{static_cast<T>(o.m3)}, q2{static_cast<T>(o.q2)}, q3{static_cast<T>(o.q3)},
+        rv1{static_cast<T>(o.rv1)}, rp1{static_cast<T>(o.rp1)} {}
   // Normalised jerk, acceleration, velocity, position of a rise.
   [[nodiscard]] T rj(T sn, T cs) const noexcept { return T(1) - c2 * cs + c3 * sn; }
   [[nodiscard]] T ra(T s, T sn, T cs) const noexcept { return s - k2 * sn + k3 * (T(1) - cs); }
@@ -120,8 +129,24 @@ class RampCycloid {
     vpk_ = static_cast<T>(vpk);
     dist_ = static_cast<T>(p.distance);
   }
+  // From another scalar's evaluator. From double it is the double evaluator's values rounded to T:
+  // the Params constructor computes every value in double and rounds it once, so the result is the
+  // same evaluator, without any double arithmetic (soft double on a Cortex-M4F, where the loop
+  // converts each submitted Move<double> to float: casts only, a smaller image).
   template <typename U>
   explicit RampCycloid(const RampCycloid<U>& other) noexcept : RampCycloid(other.params()) {}
+  template <typename U>
+    requires std::is_same_v<U, double>
+  explicit RampCycloid(const RampCycloid<U>& o) noexcept
+      : params_{o.params_}, shape_{o.shape_}, duration_{static_cast<T>(o.duration_)}, tau_{static_cast<T>(o.tau_)},
+        inv_tau_{static_cast<T>(o.inv_tau_)}, amp_{static_cast<T>(o.amp_)}, vpk_{static_cast<T>(o.vpk_)},
+        dist_{static_cast<T>(o.dist_)} {
+    for (int i = 0; i < 5; ++i) {
+      const auto& g = o.seg_[i];
+      seg_[i] = Segment{static_cast<T>(g.start), static_cast<T>(g.p0), static_cast<T>(g.v0), static_cast<T>(g.sign),
+                        g.fall, g.cruise};
+    }
+  }
 
   [[nodiscard]] const RampCycloidParams& params() const noexcept { return params_; }
   [[nodiscard]] T duration() const noexcept { return duration_; }
@@ -208,6 +233,8 @@ class RampCycloid {
   }
 
  private:
+  template <typename>
+  friend class RampCycloid;
   RampCycloidParams params_{};
   CycloidShape<T> shape_{0.0, 0.0};
   Segment seg_[5]{};

@@ -4,6 +4,7 @@
 //   y(t) = L R t / 2pi - (Y2/2pi) sin Rt + (Y3/2pi)(1 - cos Rt),  R = 2pi/tau,  Y1 + Y2 + Y3 = L.
 // It starts and ends with a velocity step; Peaks reports that with velocity_step = true.
 #include <cmath>
+#include <type_traits>
 
 #include "settle/core/kinematics.hpp"
 #include "settle/core/piece.hpp"
@@ -44,6 +45,13 @@ class RampVersine {
         l2pi_{static_cast<T>(p.distance / 6.283185307179586476925286766559)} {}
   template <typename U>
   explicit RampVersine(const RampVersine<U>& o) noexcept : RampVersine(o.params()) {}
+  // From double: the double evaluator's values rounded to T, which is what the Params constructor
+  // computes (each value in double, rounded once), without double arithmetic.
+  template <typename U>
+    requires std::is_same_v<U, double>
+  explicit RampVersine(const RampVersine<U>& o) noexcept
+      : params_{o.params_}, l_{static_cast<T>(o.l_)}, tau_{static_cast<T>(o.tau_)}, r_{static_cast<T>(o.r_)},
+        y2_{static_cast<T>(o.y2_)}, y3_{static_cast<T>(o.y3_)}, l2pi_{static_cast<T>(o.l2pi_)} {}
 
   [[nodiscard]] const RampVersineParams& params() const noexcept { return params_; }
   [[nodiscard]] T duration() const noexcept { return tau_; }
@@ -87,6 +95,8 @@ class RampVersine {
   }
 
  private:
+  template <typename>
+  friend class RampVersine;
   RampVersineParams params_{};
   T l_{}, tau_{}, r_{}, y2_{}, y3_{}, l2pi_{};
 };

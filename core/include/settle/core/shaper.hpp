@@ -23,7 +23,14 @@ struct Shaper {
 
   Shaper() = default;
   template <typename U>
-  explicit Shaper(const Shaper<U>& o) noexcept : count{o.count} {
+  explicit Shaper(const Shaper<U>& o) noexcept {
+    convert_from(o);
+  }
+  // Becomes `o` converted to T in place: its `count` impulses are written, the entries past them
+  // are not the shaper's and keep what they held.
+  template <typename U>
+  void convert_from(const Shaper<U>& o) noexcept {
+    count = o.count;
     for (std::size_t i = 0; i < count; ++i) {
       amp[i] = static_cast<T>(o.amp[i]);
       time[i] = static_cast<T>(o.time[i]);

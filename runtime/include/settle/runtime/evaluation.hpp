@@ -42,11 +42,12 @@ struct FloatEvaluation {
     core::SetpointStream<Scalar>* s_{nullptr};
   };
 
-  [[nodiscard]] static core::Status prepare(const core::Move<double>& m, const core::AxisScale& scale,
-                                            Stored& out) noexcept {
+  // At submit, outside the tick: cold, built for size (a Cortex-M image's flash).
+  [[nodiscard, gnu::cold]] static core::Status prepare(const core::Move<double>& m, const core::AxisScale& scale,
+                                                      Stored& out) noexcept {
     const core::Status st = core::check_streamable(m, scale.period_us);
     if (st != core::Status::ok) return st;
-    out.move = core::Move<Scalar>{m};
+    out.move.convert_from(m);  // in place: no Move<Scalar> temporary on the stack
     out.stream = core::SetpointStream<Scalar>{out.move, scale, 0};
     return core::Status::ok;
   }

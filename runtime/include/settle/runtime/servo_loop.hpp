@@ -222,7 +222,8 @@ class ServoLoop {
   ServoLoop(const ServoLoop&) = delete;
   ServoLoop& operator=(const ServoLoop&) = delete;
 
-  [[nodiscard]] LoopStatus add_axis(const AxisConfig& cfg) noexcept {
+  // add_axis and submit run outside the tick; cold: built for size (a Cortex-M image's flash).
+  [[nodiscard, gnu::cold]] LoopStatus add_axis(const AxisConfig& cfg) noexcept {
     if (count_ == MaxAxes) return LoopStatus::too_many_axes;
     if (!cfg.scale.valid() || cfg.scale.period_us != period_us_ || !(cfg.vmax > 0.0) ||
         !std::isfinite(cfg.vmax) || cfg.step_margin_counts < 0) {
@@ -276,8 +277,8 @@ class ServoLoop {
     return submit(axis, m);
   }
 
-  [[nodiscard]] LoopStatus submit(std::size_t axis, const core::Move<double>& m,
-                                  core::Status* why = nullptr) noexcept {
+  [[nodiscard, gnu::cold]] LoopStatus submit(std::size_t axis, const core::Move<double>& m,
+                                            core::Status* why = nullptr) noexcept {
     if (axis >= MaxAxes || axis >= count_) return LoopStatus::no_such_axis;
     Axis& a = axes_[axis];
     // A velocity step (seed 001's command) is streamable: sampled, it is a jump of at most
