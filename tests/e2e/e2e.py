@@ -5,7 +5,9 @@ processes, and the harness's own CAN sockets (tools/canbus.py) to wait for frame
 the bus. Nothing here sleeps for readiness: the drive is up when its boot-up frame is on the bus,
 has taken every frame once it answered a barrier SDO, is mid-move when an RPDO says so. The
 stream's bus log is its own (--candump: every frame it sent and received), checked against its
-counters. Run through tools/with-vcan (ctest -L vcan does). Each subcommand is one ctest test; it
+counters; every bus log a test writes is read by Wireshark's CANopen dissector (tshark, through
+tools/canopen_decode.py): no frame malformed, the count per frame type what the processes counted.
+Run through tools/with-vcan (ctest -L vcan does). Each subcommand is one ctest test; it
 exits non-zero with a message on the first failed check."""
 import atexit
 import json, os, shutil, signal, subprocess, sys, tempfile
