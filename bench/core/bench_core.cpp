@@ -3,6 +3,7 @@
 // and stepping) and the cost of planning. Measured, never asserted: see the issue notes.
 #include <benchmark/benchmark.h>
 
+#include <variant>
 #include <vector>
 
 #include "bench_request.hpp"
@@ -36,6 +37,22 @@ void BM_Evaluate(benchmark::State& state, ProfileKind k, ShaperKind s) {
   std::size_t i = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(m.at(ts[i]));
+    if (++i == ts.size()) i = 0;
+  }
+}
+
+// The bare piecewise evaluator under a planned move (PiecewiseJerk<T>::at of its jerk-limited
+// or trapezoid shape, no Move, no Profile dispatch), at the same ticks as BM_Evaluate: what
+// Move::at and the stepper cost beyond the maths is their time over this one.
+template <typename T>
+void BM_EvaluateBare(benchmark::State& state, ProfileKind k) {
+  const Move<T> m{planned(k, ShaperKind::none)};
+  const auto* bare = std::get_if<PiecewiseJerk<T>>(&m.profile().variant());
+  if (bare == nullptr) std::abort();
+  const std::vector<T> ts = tick_times(m);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(bare->at(ts[i]));
     if (++i == ts.size()) i = 0;
   }
 }
@@ -75,6 +92,8 @@ void BM_EvaluateDouble(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_E
 void BM_EvaluateFloat(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Evaluate<float>(st, k, s); }
 void BM_EvaluateChainedDouble(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_EvaluateChained<double>(st, k, s); }
 void BM_EvaluateChainedFloat(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_EvaluateChained<float>(st, k, s); }
+void BM_EvaluateBareDouble(benchmark::State& st, ProfileKind k) { BM_EvaluateBare<double>(st, k); }
+void BM_EvaluateBareFloat(benchmark::State& st, ProfileKind k) { BM_EvaluateBare<float>(st, k); }
 void BM_StepDouble(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Step<double>(st, k, s); }
 void BM_StepFloat(benchmark::State& st, ProfileKind k, ShaperKind s) { BM_Step<float>(st, k, s); }
 
@@ -155,6 +174,16 @@ SETTLE_EVAL(scurve, zv);
 SETTLE_EVAL(jerk_limited, zvd);
 BENCHMARK_CAPTURE(BM_EvaluateChainedDouble, jerk_limited_none_double, ProfileKind::jerk_limited, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_EvaluateChainedFloat, jerk_limited_none_float, ProfileKind::jerk_limited, ShaperKind::none);
+// Side by side: the bare piecewise evaluator, Move::at (BM_Evaluate above) and the stepper of the
+// same jerk-limited and trapezoid moves.
+BENCHMARK_CAPTURE(BM_EvaluateBareDouble, jerk_limited_double, ProfileKind::jerk_limited);
+BENCHMARK_CAPTURE(BM_EvaluateBareFloat, jerk_limited_float, ProfileKind::jerk_limited);
+BENCHMARK_CAPTURE(BM_EvaluateBareDouble, trapezoid_double, ProfileKind::trapezoid);
+BENCHMARK_CAPTURE(BM_EvaluateBareFloat, trapezoid_float, ProfileKind::trapezoid);
+BENCHMARK_CAPTURE(BM_StepDouble, jerk_limited_none_double, ProfileKind::jerk_limited, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_StepFloat, jerk_limited_none_float, ProfileKind::jerk_limited, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_StepDouble, trapezoid_none_double, ProfileKind::trapezoid, ShaperKind::none);
+BENCHMARK_CAPTURE(BM_StepFloat, trapezoid_none_float, ProfileKind::trapezoid, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_StepDouble, scurve_none_double, ProfileKind::scurve, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_StepFloat, scurve_none_float, ProfileKind::scurve, ShaperKind::none);
 BENCHMARK_CAPTURE(BM_StepDouble, scurve_damped_none_double, ProfileKind::scurve_damped, ShaperKind::none);

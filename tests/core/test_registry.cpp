@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <random>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -187,6 +188,70 @@ TEST(Registry, FloatConversionIsTheFloatMoveOfTheSameParameters) {
     }
   });
   EXPECT_GE(checked, core::kProfileCount + 2);  // every kind unshaped, and some shaped or cruising
+}
+
+// Move::at is the shape's own evaluator behind a dispatch that changes nothing: for every profile,
+// unshaped and ZVD-shaped, in double and float, at seeded random times (before the start, inside,
+// past the end), it equals bitwise the shape's at() (unshaped: of t; shaped: the impulse sum
+// written out here, in the same order), and past the end the target exactly. The stepper equals
+// Move::at at its own ticks bitwise where it steps by random access (every shape but the
+// ramp-cycloid's, whose phasor stepping differs from sin/cos by rounding).
+template <typename T>
+void expect_dispatch_is_the_shape(const core::Move<double>& md, auto kind) {
+  using P = core::profile_t<decltype(kind)::value>;
+  using Shape = typename P::template Shape<T>;
+  const core::Move<T> m{md};
+  const Shape& shape = *std::get_if<Shape>(&m.profile().variant());
+  const auto& sh = m.shaper();
+  std::mt19937_64 rng{36};
+  std::uniform_real_distribution<double> u{-0.1, 1.2};
+  int differ = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const T t = static_cast<T>(u(rng) * static_cast<double>(m.duration()));
+    core::Sample<T> ref{};
+    if (t >= m.duration()) {
+      ref = {m.distance(), T(0), T(0), T(0)};
+    } else if (sh.count == 1) {
+      ref = shape.at(t - sh.time[0]);
+    } else {
+      for (std::size_t k = 0; k < sh.count; ++k) {
+        const core::Sample<T> s = shape.at(t - sh.time[k]);
+        ref.p += sh.amp[k] * s.p;
+        ref.v += sh.amp[k] * s.v;
+        ref.a += sh.amp[k] * s.a;
+        ref.j += sh.amp[k] * s.j;
+      }
+    }
+    const core::Sample<T> got = m.at(t);
+    differ += got.p != ref.p || got.v != ref.v || got.a != ref.a || got.j != ref.j;
+  }
+  EXPECT_EQ(differ, 0);
+  if constexpr (!std::is_same_v<Shape, core::RampCycloid<T>>) {
+    const T dt = T(1e-3);
+    core::MoveStepper<T> st{m, dt};
+    const int n_end = static_cast<int>(std::ceil(md.duration() / 1e-3)) + 2;
+    int step_differ = 0;
+    for (int n = 0; n <= n_end; ++n) {
+      const core::Sample<T> a = st.step(), b = m.at(static_cast<T>(n) * dt);
+      step_differ += a.p != b.p || a.v != b.v || a.a != b.a || a.j != b.j;
+    }
+    EXPECT_EQ(step_differ, 0);
+  }
+}
+
+TEST(Registry, MoveAtIsTheShapesOwnEvaluationBitwise) {
+  core::for_each_profile([&](auto kind) {
+    for (const bool shaped : {false, true}) {
+      SCOPED_TRACE(std::string{core::to_string(kind.value)} + (shaped ? " zvd" : ""));
+      core::MoveRequest r = core::profile_t<kind.value>::example();
+      r.profile = kind.value;
+      if (shaped) r.shaper = core::ShaperKind::zvd;
+      core::Move<double> md{};
+      if (core::plan(r, md) != Status::ok) continue;
+      expect_dispatch_is_the_shape<double>(md, kind);
+      expect_dispatch_is_the_shape<float>(md, kind);
+    }
+  });
 }
 
 // The fixed-point motion built from every example (its pieces: the shape's own decomposition, or

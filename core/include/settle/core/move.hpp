@@ -67,9 +67,21 @@ class Move {
 
   // Exact shaped evaluation: sum_i A_i p(t - t_i). Past the end the move is at rest on its
   // target exactly (not at sum_i A_i D, which rounding could move by an ulp).
+  // The single-impulse path is inline (the profile's dispatch with it, profile.hpp); where
+  // evaluation is split (kSplitEvaluation) the sum over impulses is out of line.
   [[nodiscard]] Sample<T> at(T t) const noexcept {
     if (t >= duration_) return {distance_, T(0), T(0), T(0)};
     if (shaper_.count == 1) return profile_.at(t - shaper_.time[0]);
+    if constexpr (kSplitEvaluation) {
+      return shaped_at_out_of_line(t);
+    } else {
+      return shaped_at(t);
+    }
+  }
+
+ private:
+  [[gnu::noinline]] Sample<T> shaped_at_out_of_line(T t) const noexcept { return shaped_at(t); }
+  [[nodiscard]] Sample<T> shaped_at(T t) const noexcept {
     Sample<T> acc{};
     for (std::size_t i = 0; i < shaper_.count; ++i) {
       const Sample<T> s = profile_.at(t - shaper_.time[i]);
@@ -82,7 +94,6 @@ class Move {
     return acc;
   }
 
- private:
   Profile<T> profile_{};
   Shaper<T> shaper_{};
   Peaks<T> peaks_{};

@@ -50,6 +50,8 @@ template <typename T, std::size_t N = kMaxJerkSegments>
 class PiecewiseJerk {
  public:
   using Params = PiecewiseJerkTable<N>;
+  // A few multiply-adds and a short search: Profile::at evaluates it inline (profile.hpp).
+  static constexpr bool kInlineEvaluation = true;
   PiecewiseJerk() = default;
   // The table is taken entry by entry, its `count` entries only (PiecewiseJerkTable). A
   // whole-table copy right after the planner wrote the table entry by entry stalls on store

@@ -14,6 +14,17 @@
 
 namespace settle::core {
 
+// Where evaluation is split (profile.hpp's Profile::at, move.hpp's Move::at): the cheap piecewise
+// table inline in the caller, the transcendental shapes and the impulse sum out of line, which
+// makes a tick's evaluation cost the evaluator's own on a host. On M-profile cores, whose images
+// are budgeted in flash, every shape stays in one function (the split copies the table's
+// evaluation into each caller: +0.7 KiB in the Cortex-M4F one-axis image). Same results either way.
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
+inline constexpr bool kSplitEvaluation = false;
+#else
+inline constexpr bool kSplitEvaluation = true;
+#endif
+
 namespace detail {
 template <typename... Ts>
 struct TypeList {};
@@ -80,8 +91,17 @@ class Profile {
     return visit_from<0>(f);
   }
 
+  // Split (kSplitEvaluation): a shape whose evaluation is a few multiply-adds (kInlineEvaluation:
+  // the piecewise-jerk table) is tested first and evaluated here, inline in the caller; the others
+  // (sine, cosine, pow) are called out of line, so that this dispatch stays small enough to inline
+  // into Move::at and the stepper, whose per-tick cost is then the evaluator's own (bench/core:
+  // BM_EvaluateBare* against BM_Evaluate* and BM_Step*).
   [[nodiscard]] Sample<T> at(T t) const noexcept {
-    return visit([t](const auto& p) { return p.at(t); });
+    if constexpr (kSplitEvaluation) {
+      return at_inline_from<0>(t);
+    } else {
+      return visit([t](const auto& p) { return p.at(t); });
+    }
   }
   [[nodiscard]] T duration() const noexcept {
     return visit([](const auto& p) { return p.duration(); });
@@ -91,6 +111,34 @@ class Profile {
   }
 
  private:
+  template <typename S>
+  static constexpr bool inline_evaluation() noexcept {
+    if constexpr (requires { S::kInlineEvaluation; }) {
+      return S::kInlineEvaluation;
+    } else {
+      return false;
+    }
+  }
+  template <typename S>
+  [[gnu::noinline]] static Sample<T> at_out_of_line(const S& p, T t) noexcept {
+    return p.at(t);
+  }
+  template <std::size_t I>
+  [[nodiscard]] Sample<T> at_inline_from(T t) const noexcept {
+    if constexpr (I == std::variant_size_v<Variant>) {
+      return visit([t](const auto& p) {
+        if constexpr (inline_evaluation<std::remove_cvref_t<decltype(p)>>()) {
+          __builtin_unreachable();  // tested above
+        }
+        return at_out_of_line(p, t);
+      });
+    } else {
+      if constexpr (inline_evaluation<std::variant_alternative_t<I, Variant>>()) {
+        if (v_.index() == I) return std::get_if<I>(&v_)->at(t);
+      }
+      return at_inline_from<I + 1>(t);
+    }
+  }
   template <std::size_t I, typename F>
   decltype(auto) visit_from(F& f) const noexcept {
     if constexpr (I + 1 == std::variant_size_v<Variant>) {
