@@ -29,7 +29,7 @@ bool parse_profile(const ParsedArgs& a, core::MoveRequest& r, RequestError& err)
 // What shapes the move besides its distance, limits and modes (shared by every axis of --axes).
 bool parse_shape(const ParsedArgs& a, core::MoveRequest& r, RequestError& err) {
   if (r.profile == core::ProfileKind::fastest && r.time) {
-    err = {"bad_option", "--time", "--time: --profile fastest finds the shortest time itself; give --vmax, --amax, --jmax"};
+    err = {"bad_option", "--time", "--time: --profile fastest chooses its move time itself (the shortest it finds); give --vmax, --amax, --jmax"};
     return false;
   }
   r.robust = a.real("--robust");

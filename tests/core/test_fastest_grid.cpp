@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: Apache-2.0
+// Profile `fastest` against the independent reference (tools/fastest-lp: jerk piecewise constant
+// on 1000 steps, its own exact integration of the axis and of every mode, a linear program per
+// duration) over a seeded random grid of problems: 1 to 3 modes, omega 1-300 rad/s, zeta 0-0.3,
+// D 1e-3-10 m, each limit over two decades. The reference durations were computed once by the
+// committed tool (the command and seed are in the data file's header; the soak test
+// fastest_lp_grid_current re-solves a sample to show the file is current).
+//
+// What is checked: every move `fastest` plans is a move (at rest by the Duhamel quadrature of
+// residual.hpp to 1e-9 D, within the limits, never backwards); and how its duration compares with
+// the reference's: docs/fastest.md ("Against the reference") states the distribution, and the
+// test fails if fewer cases are within 0.1 % of the reference than stated there, or if any is
+// further over it than the worst stated. The default suite runs 30 cases spread evenly over the
+// file; the soak suite (SETTLE_FASTEST_GRID_EVERY=1) all of them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "residual.hpp"
+#include "settle/core/planner.hpp"
+
+#ifndef SETTLE_FASTEST_GRID_EVERY
+#define SETTLE_FASTEST_GRID_EVERY 10
+#endif
+
+namespace {
+// The documented state (docs/fastest.md, "Against the reference"), for the cases this build runs:
+// at least this many within 0.1 % of the reference, none more than this ratio over it, at most
+// this many refused.
+#if SETTLE_FASTEST_GRID_EVERY == 1
+constexpr int kWithin = 32;  // of 53 with a reference (54 cases)
+constexpr double kWorst = 1.4326;
+constexpr int kRefused = 1;
+#else
+constexpr int kWithin = 18;  // of 29 with a reference (30 cases)
+constexpr double kWorst = 1.4326;
+constexpr int kRefused = 1;
+#endif
+}  // namespace
+
+using namespace settle;
+
+namespace {
+
+struct GridCase {
+  int id = 0;
+  double d = 0, v = 0, a = 0, j = 0;
+  std::vector<core::Mode> modes;
+  double lp = 0;  // s; 0: the reference found no move ("infeasible") or failed
+};
+
+std::vector<GridCase> read_grid() {
+  std::ifstream in(SETTLE_FASTEST_GRID_FILE);
+  EXPECT_TRUE(in.good()) << SETTLE_FASTEST_GRID_FILE;
+  std::vector<GridCase> out;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    GridCase c;
+    int m = 0;
+    s >> c.id >> c.d >> c.v >> c.a >> c.j >> m;
+    for (int k = 0; k < 3; ++k) {
+      core::Mode md{};
+      s >> md.omega >> md.zeta;
+      if (k < m) c.modes.push_back(md);
+    }
+    std::string lp;
+    s >> lp;
+    EXPECT_FALSE(s.fail()) << line;
+    c.lp = (lp == "infeasible" || lp == "failed") ? 0.0 : std::stod(lp);
+    out.push_back(c);
+  }
+  return out;
+}
+
+core::MoveRequest grid_request(const GridCase& c) {
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::fastest;
+  r.distance = c.d, r.vmax = c.v, r.amax = c.a, r.jmax = c.j;
+  r.omega = c.modes[0].omega, r.zeta = c.modes[0].zeta;
+  for (std::size_t k = 1; k < c.modes.size(); ++k) r.extra_modes[k - 1] = c.modes[k];
+  r.extra_mode_count = c.modes.size() - 1;
+  return r;
+}
+
+// A planned move is a move: every mode at rest (independent quadrature), the limits held (sampled
+// densely), the target reached, never backwards.
+void expect_is_a_move(const core::MoveRequest& r, const core::Move<double>& m, const std::vector<core::Mode>& modes) {
+  const double d = std::fabs(r.distance);
+  for (const auto& md : modes) {
+    EXPECT_LE(test::residual_amplitude(m, md.omega, md.zeta), 1e-9 * d) << "omega " << md.omega;
+  }
+  double pv = 0, pa = 0, pj = 0, worst_v = 0, last = 0, back = 0;
+  constexpr int n = 20000;
+  for (int i = 0; i <= n; ++i) {
+    const core::Sample<double> s = m.at(m.duration() * i / n);
+    pv = std::max(pv, std::fabs(s.v));
+    pa = std::max(pa, std::fabs(s.a));
+    pj = std::max(pj, std::fabs(s.j));
+    worst_v = std::min(worst_v, s.v);
+    back = std::min(back, s.p - last);
+    last = s.p;
+  }
+  EXPECT_LE(pv, *r.vmax * (1 + 1e-9));
+  EXPECT_LE(pa, *r.amax * (1 + 1e-9));
+  EXPECT_LE(pj, *r.jmax * (1 + 1e-9));
+  EXPECT_GE(worst_v, -1e-9 * pv);
+  // Position samples: never back by more than 1e-8 D. Grid case 50 (a 5.7 s move of 0.8 mm) steps
+  // back 3.4e-12 m = 4.2e-9 D between two samples while the velocity is >= 0 at every sample: the
+  // evaluated table is not continuous to better than that (test_fastest.cpp's 1e-12 D holds on its
+  // own grids); a finding for the table's evaluation, not a backwards motion.
+  EXPECT_GE(back, -1e-8 * d);
+  EXPECT_NEAR(m.at(m.duration()).p, r.distance, 1e-12 * d);
+}
+
+}  // namespace
+
+TEST(FastestGrid, PlannedMovesAreMovesAndTheirDurationsAgainstTheReferenceAreAsDocumented) {
+  const std::vector<GridCase> grid = read_grid();
+  ASSERT_GE(grid.size(), 30u);
+  int checked = 0, with_ref = 0, within = 0, shorter = 0, refused = 0;
+  int by_modes[4][2] = {};  // [modes][0]: with a reference; [1]: within 0.1 % of it
+  double worst = 0.0, worst_plan_ms = 0.0;
+  std::vector<double> ratios;
+  const std::size_t runs = SETTLE_FASTEST_GRID_EVERY == 1 ? grid.size() : std::min<std::size_t>(30, grid.size());
+  for (std::size_t n = 0; n < runs; ++n) {  // 30 cases spread evenly over the file, or all of them
+    const GridCase& c = grid[n * grid.size() / runs];
+    SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
+    const core::MoveRequest r = grid_request(c);
+    core::Move<double> m{};
+    const auto t0 = std::chrono::steady_clock::now();
+    const core::Status st = core::plan(r, m);
+    worst_plan_ms = std::max(worst_plan_ms,
+                             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    ++checked;
+    if (c.lp > 0.0) ++with_ref;
+    if (st != core::Status::ok) {
+      ++refused;
+      std::printf("case %d: refused (%s), reference %.6f s\n", c.id, core::to_string(st), c.lp);
+      continue;
+    }
+    expect_is_a_move(r, m, c.modes);
+    if (c.lp <= 0.0) continue;
+    const double ratio = m.duration() / c.lp;
+    ratios.push_back(ratio);
+    within += ratio <= 1.001;
+    by_modes[c.modes.size()][0] += 1;
+    by_modes[c.modes.size()][1] += ratio <= 1.001;
+    shorter += ratio < 1.0;
+    worst = std::max(worst, ratio);
+    if (ratio > 1.001) {
+      std::printf("case %d (%zu modes): fastest %.6f s, reference %.6f s: %+.2f %%\n", c.id, c.modes.size(),
+                  m.duration(), c.lp, 100.0 * (ratio - 1.0));
+    }
+  }
+  std::sort(ratios.begin(), ratios.end());
+  for (int k = 1; k <= 3; ++k) std::printf("%d modes: %d of %d within 0.1 %%\n", k, by_modes[k][1], by_modes[k][0]);
+  const auto q = [&](double f) { return ratios.empty() ? 0.0 : ratios[static_cast<std::size_t>(f * static_cast<double>(ratios.size() - 1))]; };
+  std::printf("%d cases, %d with a reference; %d refused; within 0.1 %%: %d; shorter: %d; worst %.4f\n", checked,
+              with_ref, refused, within, shorter, worst);
+  std::printf("fastest / reference: min %.5f, 10 %% %.5f, median %.5f, 90 %% %.5f, max %.5f (slowest plan %.1f ms, "
+              "for scale only)\n",
+              q(0), q(0.1), q(0.5), q(0.9), q(1), worst_plan_ms);
+  EXPECT_GE(within, kWithin);
+  EXPECT_LE(worst, kWorst);
+  EXPECT_LE(refused, kRefused);
+}
