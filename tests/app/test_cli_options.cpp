@@ -245,6 +245,30 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
   EXPECT_STREQ(settle::plant::option_of(settle::core::Status::no_solution, fastest), "--omega");
 }
 
+// One error contract for every command with --json: a runtime failure (here a bus that does not
+// exist) is the error object on stdout, exit 1, as drive info --json prints it; without --json one
+// line on stderr naming the command, and nothing on stdout.
+TEST(CliOptions, ARuntimeFailureIsTheJsonErrorObjectWithJson) {
+  for (const std::string& args :
+       {std::string{"stream --bus settle-no-such-can --profile poly345 --distance 0.01 --time 0.1"},
+        std::string{"drive info --bus settle-no-such-can"},
+        std::string{"simulate --plant sdof --profile scurve --distance 0.1 --time 0.5 --csv /dev/full"}}) {
+    SCOPED_TRACE(args);
+    const CliResult json = run_cli(args + " --json");
+    EXPECT_EQ(json.status, 1) << json.out;
+    const auto j = nlohmann::json::parse(json.stdout_text, nullptr, false);
+    ASSERT_FALSE(j.is_discarded()) << json.stdout_text;
+    EXPECT_EQ(j.at("status"), "error");
+    EXPECT_FALSE(j.at("error").get<std::string>().empty());
+    EXPECT_FALSE(j.at("message").get<std::string>().empty());
+    EXPECT_EQ(std::count(json.stdout_text.begin(), json.stdout_text.end(), '\n'), 1) << json.stdout_text;
+    const CliResult text = run_cli(args);
+    EXPECT_EQ(text.status, 1) << text.out;
+    EXPECT_TRUE(text.stdout_text.empty()) << text.stdout_text;
+    EXPECT_EQ(text.stderr_text.rfind("settle " + args.substr(0, args.find(' ')), 0), 0u) << text.stderr_text;
+  }
+}
+
 // Issue 12 item 3: sizes are refused before anything is allocated or printed, naming the option.
 TEST(CliOptions, SizesAreBoundedBeforeAnyWork) {
   const std::string csv = ::testing::TempDir() + "settle_cli_size.csv";
