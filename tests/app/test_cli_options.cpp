@@ -222,6 +222,11 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
       {"plan --profile jerk-limited --distance 0.1 --vmax 1e-5 --amax 1 --jmax 100", "--vmax", "too_long"},
       {"identify --bus loopback --jmax 1e-300", "--jmax", "too_long"},
       {"identify --bus loopback --amax 1e-300", "--amax", "too_long"},
+      // A mode never given is required, not "must be positive"; a profile planned from its limits
+      // given only a time is told which limits it needs (not "give a time or the limits").
+      {"plan --profile scurve --distance 0.1 --time 0.5", "--omega", ""},
+      {"plan --profile jerk-limited --distance 0.1 --time 0.5", "--vmax", ""},
+      {"plan --profile jerk-limited --distance 0.1 --time 0.5 --vmax 1 --amax 10", "--jmax", ""},
       // A retarget that makes the command long is the retarget's fault, not the move's --time.
       {"stream --bus loopback --plant sdof --profile jerk-limited --distance 0.1 --vmax 0.001 --amax 10 --jmax 100 "
        "--retarget-at 50:1e6",
@@ -243,6 +248,15 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
   fastest.profile = settle::core::ProfileKind::fastest;
   fastest.vmax = 1.0;
   EXPECT_STREQ(settle::plant::option_of(settle::core::Status::no_solution, fastest), "--omega");
+}
+
+// The messages of those two say what is wrong: the mode is required; the limits are needed.
+TEST(CliOptions, AMissingModeOrMissingLimitsAreSaidSo) {
+  const CliResult omega = run_cli("plan --profile scurve --distance 0.1 --time 0.5");
+  EXPECT_NE(omega.stderr_text.find("--omega: required"), std::string::npos) << omega.stderr_text;
+  const CliResult limits = run_cli("plan --profile jerk-limited --distance 0.1 --time 0.5");
+  EXPECT_NE(limits.stderr_text.find("give --vmax, --amax, --jmax"), std::string::npos) << limits.stderr_text;
+  EXPECT_EQ(limits.stderr_text.find("give either a move time"), std::string::npos) << limits.stderr_text;
 }
 
 // One error contract for every command with --json: a runtime failure (here a bus that does not
