@@ -58,10 +58,10 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   // A limit so small that the move cannot fit the excitation's 600 s is that limit's fault (the
   // planner, fed a denormal, fails in ways that would name another option).
   double bound = 0.0;
-  const char* limit = binding_limit(ex.distance, ex.vmax, ex.amax, ex.jmax, "--vmax", &bound);
+  const char* binding = binding_limit(ex.distance, ex.vmax, ex.amax, ex.jmax, "--vmax", &bound);
   if (!(bound <= 600.0)) {
-    return report_bad_request({"too_long", limit,
-                               std::string{limit} + ": the excitation's move lasts at least " + format_number(bound) +
+    return report_bad_request({"too_long", binding,
+                               std::string{binding} + ": the excitation's move lasts at least " + format_number(bound) +
                                    " s within this limit; at most 600 s"},
                               json);
   }
@@ -79,8 +79,8 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
     // The move alone too long: its limits are to blame; otherwise the train of its copies.
     const double once = s.move.profile().duration();
     if (once > 600.0 || ex.round_trips == 0) {
-      return report_bad_request({"too_long", limit,
-                                 std::string{limit} + ": the excitation's move lasts " + format_number(once) +
+      return report_bad_request({"too_long", binding,
+                                 std::string{binding} + ": the excitation's move lasts " + format_number(once) +
                                      " s; at most 600 s (raise --vmax, --amax or --jmax, or shorten --distance)"},
                                 json);
     }

@@ -244,8 +244,8 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
     plant::SimResult res;
     const plant::SimStatus st = plant::simulate(plant, cmd, opt, res);
     if (st != plant::SimStatus::ok) {
-      std::fprintf(stderr, "settle: simulation of axis %zu failed: %s\n", i + 1, describe(st));
-      return kExitFailure;
+      return report_failure("simulate", plant::to_string(st),
+                            "simulation of axis " + std::to_string(i + 1) + " failed: " + describe(st), args.json());
     }
     Json a = metrics_json(plant, res.metrics);
     a["distance"] = plan.distance(i);
@@ -338,8 +338,7 @@ int cmd_simulate(int argc, char** argv) {
   plant::SimResult res;
   plant::SimStatus st = plant::simulate(plant, cmd, opt, res);
   if (st != plant::SimStatus::ok) {
-    std::fprintf(stderr, "settle: simulation failed: %s\n", describe(st));
-    return kExitFailure;
+    return report_failure("simulate", plant::to_string(st), std::string{"simulation failed: "} + describe(st), json);
   }
   plant::InsensitivityWidth width;
   const bool want_width = args.flag("--sensitivity");
@@ -348,8 +347,8 @@ int cmd_simulate(int argc, char** argv) {
     const double designed = needs_mode(req) ? *req.omega : f.omega;
     st = plant::insensitivity_width(cmd, designed, f.zeta, 5.0, width);
     if (st != plant::SimStatus::ok) {
-      std::fprintf(stderr, "settle: sensitivity sweep failed: %s\n", describe(st));
-      return kExitFailure;
+      return report_failure("simulate", plant::to_string(st), std::string{"sensitivity sweep failed: "} + describe(st),
+                            json);
     }
   }
   const OnlineChange* ch = change ? &*change : nullptr;
@@ -361,8 +360,7 @@ int cmd_simulate(int argc, char** argv) {
   }
   if (const auto csv = args.text("--csv")) {
     if (papers::write_history_csv(res.history, *csv) != plant::SimStatus::ok) {
-      std::fprintf(stderr, "settle: cannot write %s\n", csv->c_str());
-      return kExitFailure;
+      return report_failure("simulate", "write_failed", "cannot write " + *csv, json);
     }
   }
   if (json) {

@@ -284,9 +284,8 @@ bool write_file(const std::string& path, Writer&& write) {
   return std::fclose(f) == 0 && written;
 }
 
-int failed(const std::string& why) {
-  std::fprintf(stderr, "settle stream: %s\n", why.c_str());
-  return kExitFailure;
+int failed(const ParsedArgs& args, const std::string& code, const std::string& why) {
+  return report_failure("stream", code, why, args.json());
 }
 
 }  // namespace
@@ -300,18 +299,18 @@ int cmd_stream(int argc, char** argv) {
   hal::SocketCanBus socketcan;
   std::string error;
   const std::unique_ptr<testbed::StreamBus> bus = open_stream_bus(args, socketcan, error);
-  if (!bus) return failed(error);
+  if (!bus) return failed(args, "bus", error);
 
   const testbed::StreamReport report = testbed::run_stream(spec, *bus);
-  if (!report.failure.empty()) return failed(report.failure);
+  if (!report.failure.empty()) return failed(args, "run_failed", report.failure);
   if (const auto path = args.text("--log");
       path && !write_file(*path, [&](std::FILE* f) { return testbed::write_tick_csv(report, f); })) {
-    return failed("cannot write " + *path);
+    return failed(args, "write_failed", "cannot write " + *path);
   }
   // Commanded and measured motion per drive period, aligned: what the plots show.
   if (const auto path = args.text("--feedback-log");
       path && report.aligned() && !write_file(*path, [&](std::FILE* f) { return testbed::write_feedback_csv(report, f); })) {
-    return failed("cannot write " + *path);
+    return failed(args, "write_failed", "cannot write " + *path);
   }
   if (args.json()) {
     std::printf("%s\n", testbed::stream_json(report).c_str());

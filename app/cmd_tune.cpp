@@ -325,8 +325,7 @@ int cmd_tune(int argc, char** argv) {
     papers::FigureFiles files;
     const plant::SimStatus fs = papers::write_tune_figure(result, dir, p.stem().string(), files);
     if (fs != plant::SimStatus::ok) {
-      std::fprintf(stderr, "settle tune: cannot write %s: %s\n", png->c_str(), describe(fs));
-      return kExitFailure;
+      return report_failure("tune", "write_failed", "cannot write " + *png + ": " + describe(fs), json);
     }
     if (!files.gnuplot) std::fprintf(stderr, "settle tune: gnuplot not found; wrote the .gp and .csv only\n");
   }

@@ -1007,6 +1007,22 @@ std::vector<std::vector<double>> ParsedArgs::lists(const std::string& name) cons
   return it->second;
 }
 
+int report_failure(std::string_view command, const std::string& code, const std::string& message, bool json) {
+  if (json) {
+    Json j;
+    j["status"] = "error";
+    j["error"] = code;
+    j["message"] = message;
+    print_json(j);
+  } else {
+    std::string msg = message;
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    std::fprintf(stderr, "settle %.*s: %s [%s]\n", static_cast<int>(command.size()), command.data(), msg.c_str(),
+                 code.c_str());
+  }
+  return 1;
+}
+
 int report_bad_request(const RequestError& err, bool json) {
   if (json) {
     Json j;

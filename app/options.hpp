@@ -150,6 +150,11 @@ enum class ParseOutcome : unsigned char { ok, help_printed, error };
 
 // Prints the error (stderr line, or JSON on stdout when json is set) and returns exit status 2.
 int report_bad_request(const RequestError& err, bool json);
+// A runtime failure (a bus that cannot be opened, a file that cannot be written, a run that could
+// not be made), in the one form every command uses: "settle <command>: <message> [<code>]" on
+// stderr, or with --json the object {"status":"error","error":code,"message":...} on stdout (as a
+// bad request's, without "parameter"). Returns exit status 1.
+int report_failure(std::string_view command, const std::string& code, const std::string& message, bool json);
 
 // The CLI's documented size bounds, checked before anything is allocated or printed. Each keeps
 // a valid run of a release build within a few seconds (and under ASan within about a minute).

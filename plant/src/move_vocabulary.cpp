@@ -106,9 +106,12 @@ bool set_design_modes(const std::vector<double>& omegas, const std::vector<doubl
 const char* option_of(core::Status s, const core::MoveRequest& r) {
   using core::Status;
   switch (s) {
+    case Status::missing_time_or_limits:
+      // A move time was given: the profile needs limits; name the first one missing.
+      if (r.time) return !r.vmax ? "--vmax" : !r.amax ? "--amax" : "--jmax";
+      return "--time";
     case Status::non_positive_time:
-    case Status::time_too_short_for_vmax:
-    case Status::missing_time_or_limits: return "--time";
+    case Status::time_too_short_for_vmax: return "--time";
     case Status::non_positive_limit:
       if (r.vmax && !(*r.vmax > 0.0)) return "--vmax";
       if (r.amax && !(*r.amax > 0.0)) return "--amax";
@@ -178,6 +181,19 @@ std::string reason_of(core::Status s, const core::MoveRequest& r) {
            " segments a fastest move holds or have no design for this damping, and the bang-coast search found "
            "none): a smaller --robust may plan, and --profile jerk-limited --shaper ei2 or ei3 (about +-36 % or "
            "+-48 % of an undamped mode) shapes the time-optimal move without that limit";
+  }
+  if (s == core::Status::non_positive_omega && !r.omega) {
+    return std::string{"required: --profile "} + core::to_string(r.profile) +
+           (r.shaper != core::ShaperKind::none ? " with a shaper" : "") + " designs the move for a mode (rad/s)";
+  }
+  if (s == core::Status::missing_time_or_limits && r.time) {
+    std::string missing;
+    for (const auto& [name, given] : {std::pair{"--vmax", r.vmax.has_value()}, std::pair{"--amax", r.amax.has_value()},
+                                      std::pair{"--jmax", r.jmax.has_value()}}) {
+      if (!given) missing += (missing.empty() ? "" : ", ") + std::string{name};
+    }
+    return std::string{"--profile "} + core::to_string(r.profile) + " needs its limits; a move time alone does not " +
+           "define it: give " + missing + " (with --time: the move of that duration within them)";
   }
   return core::describe(s);
 }

@@ -122,6 +122,8 @@ ABSURD = {
 
 # What a drive command's exit 1 may say: the bus, or the drive's answer (text on stderr, or the
 # JSON error object's code).
+# The codes of a runtime failure's JSON error object (app/options.hpp, report_failure).
+RUNTIME_FAILURE_CODES = {"bus", "run_failed", "write_failed"}
 DRIVE_FAILURES = re.compile(r"cannot open|SDO abort 0x[0-9A-F]{8} \(|no answer within|holds \d+ bytes; --type|"
                             r"^settle drive config: node \d+: ")
 DRIVE_FAILURE_CODES = {"bus", "sdo_abort", "sdo_timeout", "type_mismatch", "read_back_differs", "cannot_stream",
@@ -357,6 +359,15 @@ def check(command, argv, opts, result):
             return "exit 1 that is not a documented identify failure:\n" + (text_err + text_out)[:2000]
         if command in ("plant", "stream") and ("cannot open" in text_err or "cannot write" in text_err):
             return None
+        if json_mode and text_out.count("\n") == 1:
+            # A runtime failure with --json: the one error object every command prints (exit 1).
+            try:
+                doc = json.loads(text_out)
+            except ValueError:
+                doc = None
+            if isinstance(doc, dict) and doc.get("status") == "error" and doc.get("error") in RUNTIME_FAILURE_CODES \
+                    and doc.get("message"):
+                return None
         if command == "stream" and ("outcome" in text_out):
             return None  # the move did not complete; the report says how
         if "cannot write" in text_err:

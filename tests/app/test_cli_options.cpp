@@ -222,6 +222,11 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
       {"plan --profile jerk-limited --distance 0.1 --vmax 1e-5 --amax 1 --jmax 100", "--vmax", "too_long"},
       {"identify --bus loopback --jmax 1e-300", "--jmax", "too_long"},
       {"identify --bus loopback --amax 1e-300", "--amax", "too_long"},
+      // A mode never given is required, not "must be positive"; a profile planned from its limits
+      // given only a time is told which limits it needs (not "give a time or the limits").
+      {"plan --profile scurve --distance 0.1 --time 0.5", "--omega", ""},
+      {"plan --profile jerk-limited --distance 0.1 --time 0.5", "--vmax", ""},
+      {"plan --profile jerk-limited --distance 0.1 --time 0.5 --vmax 1 --amax 10", "--jmax", ""},
       // A retarget that makes the command long is the retarget's fault, not the move's --time.
       {"stream --bus loopback --plant sdof --profile jerk-limited --distance 0.1 --vmax 0.001 --amax 10 --jmax 100 "
        "--retarget-at 50:1e6",
@@ -243,6 +248,39 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
   fastest.profile = settle::core::ProfileKind::fastest;
   fastest.vmax = 1.0;
   EXPECT_STREQ(settle::plant::option_of(settle::core::Status::no_solution, fastest), "--omega");
+}
+
+// The messages of those two say what is wrong: the mode is required; the limits are needed.
+TEST(CliOptions, AMissingModeOrMissingLimitsAreSaidSo) {
+  const CliResult omega = run_cli("plan --profile scurve --distance 0.1 --time 0.5");
+  EXPECT_NE(omega.stderr_text.find("--omega: required"), std::string::npos) << omega.stderr_text;
+  const CliResult limits = run_cli("plan --profile jerk-limited --distance 0.1 --time 0.5");
+  EXPECT_NE(limits.stderr_text.find("give --vmax, --amax, --jmax"), std::string::npos) << limits.stderr_text;
+  EXPECT_EQ(limits.stderr_text.find("give either a move time"), std::string::npos) << limits.stderr_text;
+}
+
+// One error contract for every command with --json: a runtime failure (here a bus that does not
+// exist) is the error object on stdout, exit 1, as drive info --json prints it; without --json one
+// line on stderr naming the command, and nothing on stdout.
+TEST(CliOptions, ARuntimeFailureIsTheJsonErrorObjectWithJson) {
+  for (const std::string& args :
+       {std::string{"stream --bus settle-no-such-can --profile poly345 --distance 0.01 --time 0.1"},
+        std::string{"drive info --bus settle-no-such-can"},
+        std::string{"simulate --plant sdof --profile scurve --distance 0.1 --time 0.5 --csv /dev/full"}}) {
+    SCOPED_TRACE(args);
+    const CliResult json = run_cli(args + " --json");
+    EXPECT_EQ(json.status, 1) << json.out;
+    const auto j = nlohmann::json::parse(json.stdout_text, nullptr, false);
+    ASSERT_FALSE(j.is_discarded()) << json.stdout_text;
+    EXPECT_EQ(j.at("status"), "error");
+    EXPECT_FALSE(j.at("error").get<std::string>().empty());
+    EXPECT_FALSE(j.at("message").get<std::string>().empty());
+    EXPECT_EQ(std::count(json.stdout_text.begin(), json.stdout_text.end(), '\n'), 1) << json.stdout_text;
+    const CliResult text = run_cli(args);
+    EXPECT_EQ(text.status, 1) << text.out;
+    EXPECT_TRUE(text.stdout_text.empty()) << text.stdout_text;
+    EXPECT_EQ(text.stderr_text.rfind("settle " + args.substr(0, args.find(' ')), 0), 0u) << text.stderr_text;
+  }
 }
 
 // Issue 12 item 3: sizes are refused before anything is allocated or printed, naming the option.
