@@ -119,9 +119,11 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   if (!c.has_communication_cycle_period) c.sync_period_us = 0;
 
   Defaults take{d, node, r.error};
-  if (!(take.take(co::obj::device_type, 0, c.device_type) && take.take(co::obj::identity, 1, c.vendor_id) &&
-        take.take(co::obj::identity, 2, c.product_code) && take.take(co::obj::identity, 3, c.revision) &&
-        take.take(co::obj::identity, 4, c.serial) && take.take(co::obj::producer_heartbeat_time, 0, c.heartbeat_period_ms) &&
+  // The identity the master expects too: the reader settles 0x1018 against [DeviceInfo] once.
+  if (d.find(co::obj::identity, 1) != nullptr) c.vendor_id = d.device().vendor_number;
+  if (d.find(co::obj::identity, 2) != nullptr) c.product_code = d.device().product_number;
+  if (d.find(co::obj::identity, 3) != nullptr) c.revision = d.device().revision_number;
+  if (!(take.take(co::obj::device_type, 0, c.device_type) && take.take(co::obj::identity, 4, c.serial) && take.take(co::obj::producer_heartbeat_time, 0, c.heartbeat_period_ms) &&
         take.take(co::obj::communication_cycle_period, 0, c.sync_period_us) &&
         take.take(co::obj::sync_counter_overflow, 0, c.sync_counter_overflow) &&
         take.take(co::obj::communication_loss_periods, 0, c.communication_loss_periods) &&
@@ -194,7 +196,7 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
                   std::string(text.begin(), text.end()) + "\"";
         return r;
       }
-    } else {
+    } else if (!(x.index == co::obj::identity && x.sub >= 1 && x.sub <= 3)) {  // the identity: above
       if (const auto v = x.value(node); v && *v != e->var.value()) {
         r.error = name + ": default " + std::to_string(*v) + ", the simulated drive starts with " +
                   std::to_string(e->var.value());

@@ -437,12 +437,16 @@ void measure_axes(const std::vector<StreamSpec>& specs, const std::vector<Stream
 
 }  // namespace
 
-hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds) {
+hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds, const LoadFeedback& load) {
   hal::eds::FeedbackRequest f{};
   f.velocity_actual = eds.find(hal::canopen::obj::velocity_actual, 0) != nullptr;
-  if (eds.find(hal::canopen::obj::load_position_actual, 0) != nullptr) {
-    f.load_position_index = hal::canopen::obj::load_position_actual;
-    f.load_position_sub = 0;
+  if (load.index != 0) {
+    f.load_position_index = load.index;
+    f.load_position_sub = load.sub;
+  } else if (const auto& marked = eds.load_position()) {
+    // The description's own mark (Settle's drive: 0x2000); another vendor's 0x2000 is theirs.
+    f.load_position_index = marked->index;
+    f.load_position_sub = marked->sub;
   }
   return f;
 }
@@ -513,7 +517,7 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
     ac.drive.enable_timeout_us = static_cast<std::uint32_t>(sc.enable_timeout_ticks * period_us);
     if (spec.eds) {
       const hal::eds::DriveConfigResult d =
-          hal::eds::drive_config_from_eds(*spec.eds, ac.drive, streaming_feedback(*spec.eds));
+          hal::eds::drive_config_from_eds(*spec.eds, ac.drive, streaming_feedback(*spec.eds, spec.load_feedback));
       if (!d.ok()) {
         r.failure = "--eds: " + d.error;
         return r;
