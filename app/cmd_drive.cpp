@@ -116,6 +116,35 @@ std::string printable(const std::string& s) {
   return out;
 }
 
+// Whether the bytes are UTF-8 text (JSON holds only text).
+bool valid_utf8(const std::vector<std::uint8_t>& b) {
+  for (std::size_t i = 0; i < b.size();) {
+    const std::uint8_t c = b[i];
+    const std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    if (n == 0 || i + n > b.size()) return false;
+    std::uint32_t cp = n == 1 ? c : c & (0x7FU >> n);
+    for (std::size_t k = 1; k < n; ++k) {
+      if ((b[i + k] & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (b[i + k] & 0x3FU);
+    }
+    // Overlong forms, surrogates and code points beyond U+10FFFF are not UTF-8.
+    const std::uint32_t least[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (cp < least[n] || (cp >= 0xD800 && cp <= 0xDFFF) || cp > 0x10FFFF) return false;
+    i += n;
+  }
+  return true;
+}
+
+std::string hex_bytes(const std::vector<std::uint8_t>& b) {
+  std::string out;
+  for (const std::uint8_t c : b) {
+    char two[3];
+    std::snprintf(two, sizeof two, "%02X", static_cast<unsigned>(c));
+    out += two;
+  }
+  return out;
+}
+
 // The link, the client and the output of one subcommand.
 class Session {
  public:
@@ -287,7 +316,11 @@ class InfoReader {
 };
 
 Json field_json(const Read& r) { return r.ok() ? Json(r.unsigned_value()) : Json(nullptr); }
-Json string_json(const Read& r) { return r.ok() ? Json(r.text()) : Json(nullptr); }
+// A string object in JSON: its text, or {"hex": ...} when its bytes are not UTF-8.
+Json bytes_json(const std::vector<std::uint8_t>& b) {
+  return valid_utf8(b) ? Json(std::string(b.begin(), b.end())) : Json{{"hex", hex_bytes(b)}};
+}
+Json string_json(const Read& r) { return r.ok() ? bytes_json(r.bytes) : Json(nullptr); }
 std::string field_text(const Read& r) {
   if (r.ok()) return hex(r.unsigned_value(), 8);
   return r.absent() ? "absent" : abort_text(r.result);
@@ -461,7 +494,8 @@ long long integer_value(const Read& r, const ValueType& t) {
 // The object's value as read, checked against --type. Exit status or -1 with `value` set.
 int typed_value(Session& s, const Object& o, const Read& r, Json& value, std::string& shown) {
   if (o.type->bytes == 0) {
-    value = r.text();
+    // JSON holds text only: bytes that are not UTF-8 (a domain, an octet string) go as hex.
+    value = bytes_json(r.bytes);
     shown = "\"" + printable(r.text()) + "\"";
     return -1;
   }

@@ -165,6 +165,16 @@ std::string start_up_failure_text(const hal::canopen::RemoteDriveFailure& f) {
 
 namespace {
 
+// Why a drive that was configured never reached operation enabled, from its last TPDO1.
+std::string enable_failure_text(const hal::canopen::RemoteFeedback& f) {
+  if (f.tpdo1_received == 0) return "the drive sent no statusword (no TPDO1 received)";
+  std::array<char, 128> text{};
+  std::snprintf(text.data(), text.size(), "the drive's statusword stayed 0x%04X (%s), not operation enabled",
+                static_cast<unsigned>(f.statusword),
+                hal::canopen::to_string(hal::canopen::state_from_statusword(f.statusword)));
+  return text.data();
+}
+
 // The session's clock is the bus's.
 struct BusClock {
   StreamBus& bus;
@@ -275,6 +285,11 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
     const auto& d = loop->drive(i);
     a.drive_state = hal::canopen::to_string(d.state());
     if (d.state() == hal::canopen::RemoteDriveState::failed) a.drive_failure = start_up_failure_text(d.failure());
+    if (!a.start_up_us && !hal::canopen::is_operation_enabled(d.feedback().statusword) &&
+        (a.drive_failure.empty() || d.failure().enable_timeout)) {
+      // Never enabled: what the drive's statusword showed instead (or that none came).
+      a.drive_failure += (a.drive_failure.empty() ? "" : ": ") + enable_failure_text(d.feedback());
+    }
     a.timing = bus.timing();
     a.heartbeat_ms = specs[i].heartbeat_ms;
     a.sdo_timeout_us = specs[i].sdo_timeout_us;

@@ -169,4 +169,32 @@ TEST(CliEds, LoadFeedbackIsRangeCheckedAndMustBeAMappableObjectOfTheEds) {
   EXPECT_EQ(a.at("residual_can"), b.at("residual_can"));
 }
 
+// String and domain objects whose bytes are not UTF-8 are given as hex in JSON (never U+FFFD);
+// UTF-8 text stays text.
+TEST(CliEds, ReadJsonGivesBytesThatAreNotUtf8AsHex) {
+  std::ifstream in{SETTLE_DRIVE_EDS};
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string eds = text.str();
+  const std::size_t name = eds.find("[1008]");
+  ASSERT_NE(name, std::string::npos);
+  const std::size_t value = eds.find("DefaultValue=", name) + 13;
+  const std::size_t end = eds.find('\n', value);
+  eds.replace(value, end - value, "ab\xFF\xC3\x28" "cd");
+  const auto path = std::filesystem::temp_directory_path() / ("bytes_" + std::to_string(::getpid()) + ".eds");
+  std::ofstream{path, std::ios::binary} << eds;
+  const CliResult r = run_cli_argv(
+      cmd({"drive", "read", "--bus", "loopback", "--index", "0x1008", "--json"}, path.string()));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(r.stdout_text).at("value"), nlohmann::json({{"hex", "6162FFC3286364"}}))
+      << r.stdout_text;
+  const CliResult info = run_cli_argv(cmd({"drive", "info", "--bus", "loopback", "--json"}, path.string()));
+  ASSERT_EQ(info.status, 0) << info.out;
+  EXPECT_EQ(nlohmann::json::parse(info.stdout_text).at("device_name"), nlohmann::json({{"hex", "6162FFC3286364"}}));
+  const CliResult utf8 = run_cli_argv(
+      cmd({"drive", "read", "--bus", "loopback", "--index", "0x1008", "--json"}, SETTLE_DRIVE_EDS));
+  ASSERT_EQ(utf8.status, 0) << utf8.out;
+  EXPECT_TRUE(nlohmann::json::parse(utf8.stdout_text).at("value").is_string()) << utf8.stdout_text;
+}
+
 }  // namespace
