@@ -593,7 +593,7 @@ class LoopbackWrapper : public StreamBus {
   [[nodiscard]] hal::BusCounters counters() const override { return inner_.counters(); }
   [[nodiscard]] StreamTiming timing() const override { return inner_.timing(); }
 
- private:
+ protected:
   LoopbackStreamBus inner_;
 };
 
@@ -674,23 +674,13 @@ namespace {
 
 // The loopback bus with the drive's statusword held at 0x0240 (switch on disabled) in every
 // TPDO1 the master receives: a slave that never leaves it.
-class StuckStatusBus final : public StreamBus, private hal::CanBus {
+class StuckStatusBus final : public LoopbackWrapper, private hal::CanBus {
  public:
-  StuckStatusBus() : inner_{""} {}
-  [[nodiscard]] std::string name() const override { return inner_.name(); }
-  [[nodiscard]] bool realtime() const override { return false; }
   [[nodiscard]] std::string open(const StreamSpec& spec) override {
     node_ = spec.node;
     return inner_.open(spec);
   }
   [[nodiscard]] hal::CanBus& link() override { return *this; }
-  void begin() override { inner_.begin(); }
-  std::uint64_t wait() override { return inner_.wait(); }
-  [[nodiscard]] std::uint64_t now_us() const override { return inner_.now_us(); }
-  void between_ticks() override { inner_.between_ticks(); }
-  [[nodiscard]] std::string finish(const FrameTaker& take) override { return inner_.finish(take); }
-  [[nodiscard]] hal::BusCounters counters() const override { return inner_.counters(); }
-  [[nodiscard]] StreamTiming timing() const override { return inner_.timing(); }
 
  private:
   hal::SendStatus do_send(const hal::CanFrame& frame) noexcept override { return inner_.link().send(frame); }
@@ -705,14 +695,13 @@ class StuckStatusBus final : public StreamBus, private hal::CanBus {
   hal::BusStatus do_set_filters(std::span<const hal::CanFilter> filters) noexcept override {
     return inner_.link().set_filters(filters);
   }
-  LoopbackStreamBus inner_;
   unsigned node_{1};
 };
 
 // A slave that never leaves switch on disabled: the report says what its statusword showed,
 // never an empty drive_failure.
 TEST(RunStream, ADriveThatNeverEnablesIsReportedWithItsStatusword) {
-  StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.2);
+  const StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.2);
   StuckStatusBus bus;
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
