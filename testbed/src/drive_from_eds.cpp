@@ -105,6 +105,28 @@ bool take_pdos(const std::vector<eds::Pdo>& pdos, bool receive, co::NodeId node,
   return true;
 }
 
+// Which PDO and which of its entries the drive cannot bind: ": TPDO2 maps 0x2100:0, ...", or "".
+std::string unbindable_entry(co::DriveNode& drive, const co::DriveNodeConfig& c) {
+  for (const bool receive : {true, false}) {
+    const std::size_t count = receive ? c.rpdo_count : c.tpdo_count;
+    for (std::size_t i = 0; i < count; ++i) {
+      const co::PdoMapping& m = receive ? c.rpdos[i] : c.tpdos[i];
+      for (std::size_t k = 0; k < m.count; ++k) {
+        const co::PdoMappingEntry& e = m.entries[k];
+        const std::string pdo = std::string{receive ? ": RPDO" : ": TPDO"} + std::to_string(i + 1) + " maps " +
+                                object_name(e.index, e.sub);
+        const co::OdEntry* o = drive.dictionary().find(e.index, e.sub);
+        if (o == nullptr) return pdo + ", which the simulated drive does not have";
+        if (!o->pdo_mappable) return pdo + ", which is not mappable";
+        const bool can = receive ? (o->access == co::OdAccess::rw || o->access == co::OdAccess::wo)
+                                 : o->access != co::OdAccess::wo;
+        if (!can) return pdo + (receive ? ", which is read-only (an RPDO writes it)" : ", which is write-only");
+      }
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node) {
@@ -166,7 +188,8 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   if (const co::SdoAbort abort = drive->default_mapping_error(); abort != co::SdoAbort::none) {
     char code[16];
     std::snprintf(code, sizeof code, "0x%08X", static_cast<unsigned>(abort));
-    r.error = std::string{"a default PDO mapping cannot be bound (SDO abort "} + code + ")";
+    r.error = std::string{"a default PDO mapping cannot be bound (SDO abort "} + code + ")" +
+              unbindable_entry(*drive, c);
     return r;
   }
   for (const eds::Entry& x : d.entries()) {
