@@ -135,7 +135,12 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   c.node = node;
   c.has_interpolation_period = d.has(co::obj::interpolation_time_period);
   c.has_following_error_actual = d.has(co::obj::following_error_actual);
-  c.has_load_position = d.has(co::obj::load_position_actual);
+  // Settle's own dictionary ([SettleDrive]) is simulated object for object; another vendor's
+  // manufacturer objects (0x2000..0x5FFF) are theirs: described, not simulated (the master never
+  // uses them), and the simulated drive's own 0x2000/0x2001 stay out of the comparison.
+  const bool own = d.settle_drive();
+  const auto vendors = [own](std::uint16_t index) { return !own && index >= 0x2000 && index <= 0x5FFF; };
+  c.has_load_position = own && d.has(co::obj::load_position_actual);
   c.has_communication_cycle_period = d.has(co::obj::communication_cycle_period);
   // CiA 301 asks 0x1006 only of the SYNC producer: a drive without it measures SYNCs against 0x60C2.
   if (!c.has_communication_cycle_period) c.sync_period_us = 0;
@@ -193,6 +198,7 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
     return r;
   }
   for (const eds::Entry& x : d.entries()) {
+    if (vendors(x.index)) continue;
     const co::OdEntry* e = drive->dictionary().find(x.index, x.sub);
     const std::string name = object_name(x.index, x.sub) + " " + x.name;
     if (e == nullptr) {
@@ -228,7 +234,7 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
     }
   }
   for (const co::OdEntry& e : drive->dictionary().entries()) {
-    if (d.find(e.index, e.sub) == nullptr) {
+    if (d.find(e.index, e.sub) == nullptr && !vendors(e.index)) {
       r.error = object_name(e.index, e.sub) + ": the simulated drive always has it, the EDS does not";
       return r;
     }
