@@ -21,6 +21,7 @@
 
 #include "commands.hpp"
 #include "drive_link.hpp"
+#include "eds_option.hpp"
 #include "io/json.hpp"
 #include "options.hpp"
 #include "progress.hpp"
@@ -111,6 +112,35 @@ std::string printable(const std::string& s) {
       std::snprintf(buf, sizeof buf, "\\x%02X", u);
       out += buf;
     }
+  }
+  return out;
+}
+
+// Whether the bytes are UTF-8 text (JSON holds only text).
+bool valid_utf8(const std::vector<std::uint8_t>& b) {
+  for (std::size_t i = 0; i < b.size();) {
+    const std::uint8_t c = b[i];
+    const std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    if (n == 0 || i + n > b.size()) return false;
+    std::uint32_t cp = n == 1 ? c : c & (0x7FU >> n);
+    for (std::size_t k = 1; k < n; ++k) {
+      if ((b[i + k] & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (b[i + k] & 0x3FU);
+    }
+    // Overlong forms, surrogates and code points beyond U+10FFFF are not UTF-8.
+    const std::uint32_t least[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (cp < least[n] || (cp >= 0xD800 && cp <= 0xDFFF) || cp > 0x10FFFF) return false;
+    i += n;
+  }
+  return true;
+}
+
+std::string hex_bytes(const std::vector<std::uint8_t>& b) {
+  std::string out;
+  for (const std::uint8_t c : b) {
+    char two[3];
+    std::snprintf(two, sizeof two, "%02X", static_cast<unsigned>(c));
+    out += two;
   }
   return out;
 }
@@ -209,19 +239,28 @@ std::string drive_help() {
   return h;
 }
 
-// --eds FILE: the drive's description, read before anything is sent. Exit status or -1.
-int load_description(const ParsedArgs& args, std::optional<hal::eds::Description>& out) {
-  const auto path = args.text("--eds");
-  if (!path) return -1;
-  hal::eds::LoadResult r = hal::eds::load(*path);
-  if (!r.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + r.error}, args.json());
-  if (args.text_or_default("--bus") == "loopback") {
+// --eds FILE: the drive's description, read before anything is sent (eds_option.hpp), for the
+// node the subcommand talks to (scan: any). Exit status or -1.
+int load_description(const std::string& sub, const ParsedArgs& args, EdsOption& out) {
+  std::vector<std::uint8_t> nodes;
+  if (sub != "scan") nodes.push_back(static_cast<std::uint8_t>(args.integer("--node")));  // 1..127
+  if (const int rc = load_eds_option(args, "drive " + sub, nodes, out); rc >= 0) return rc;
+  if (out.description && args.text_or_default("--bus") == "loopback") {
     // The simulated drive is built from it: one it cannot be is a bad request too.
-    const testbed::DriveFromEds d = testbed::simulated_drive_from_eds(*r.description, 1);
+    const testbed::DriveFromEds d = testbed::simulated_drive_from_eds(*out.description, 1);
     if (!d.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + d.error}, args.json());
   }
-  out = std::move(r.description);
   return -1;
+}
+
+// The warnings about the description, as JSON (drive info and config report them).
+Json warnings_json(const std::vector<hal::eds::Problem>& warnings) {
+  Json list = Json::array();
+  for (const hal::eds::Problem& w : warnings) {
+    list.push_back({{"section", w.section}, {"key", w.key}, {"line", w.line}, {"message", w.message},
+                    {"text", hal::eds::to_string(w)}});
+  }
+  return list;
 }
 
 // What --type an object's EDS data type reads as; "" for a type settle drive does not read.
@@ -277,7 +316,11 @@ class InfoReader {
 };
 
 Json field_json(const Read& r) { return r.ok() ? Json(r.unsigned_value()) : Json(nullptr); }
-Json string_json(const Read& r) { return r.ok() ? Json(r.text()) : Json(nullptr); }
+// A string object in JSON: its text, or {"hex": ...} when its bytes are not UTF-8.
+Json bytes_json(const std::vector<std::uint8_t>& b) {
+  return valid_utf8(b) ? Json(std::string(b.begin(), b.end())) : Json{{"hex", hex_bytes(b)}};
+}
+Json string_json(const Read& r) { return r.ok() ? bytes_json(r.bytes) : Json(nullptr); }
 std::string field_text(const Read& r) {
   if (r.ok()) return hex(r.unsigned_value(), 8);
   return r.absent() ? "absent" : abort_text(r.result);
@@ -347,7 +390,8 @@ std::optional<Json> read_pdo(InfoReader& reader, const hal::eds::Description* ed
   return j;
 }
 
-int drive_info(const ParsedArgs& args, const hal::eds::Description* eds) {
+int drive_info(const ParsedArgs& args, const hal::eds::Description* eds,
+               const std::vector<hal::eds::Problem>& eds_warnings) {
   Session s{args, "info", eds};
   if (const int rc = s.open(); rc >= 0) return rc;
   InfoReader reader{s};
@@ -399,6 +443,8 @@ int drive_info(const ParsedArgs& args, const hal::eds::Description* eds) {
     j[receive ? "rpdos" : "tpdos"] = pdos;
   }
   j["errors"] = reader.errors;
+  if (eds != nullptr) j["eds_warnings"] = warnings_json(eds_warnings);
+  if (eds != nullptr) text += std::to_string(eds_warnings.size()) + " EDS warning(s) (on stderr)\n";
   if (s.json()) {
     print_json(j);
   } else {
@@ -448,7 +494,8 @@ long long integer_value(const Read& r, const ValueType& t) {
 // The object's value as read, checked against --type. Exit status or -1 with `value` set.
 int typed_value(Session& s, const Object& o, const Read& r, Json& value, std::string& shown) {
   if (o.type->bytes == 0) {
-    value = r.text();
+    // JSON holds text only: bytes that are not UTF-8 (a domain, an octet string) go as hex.
+    value = bytes_json(r.bytes);
     shown = "\"" + printable(r.text()) + "\"";
     return -1;
   }
@@ -597,7 +644,8 @@ int drive_scan(const ParsedArgs& args, const hal::eds::Description* eds) {
 // settle drive config: the master's start-up (hal's RemoteDrive, configured from the EDS as
 // `settle stream --eds` configures it) run to the end of its configuration. Every object it
 // writes is read first, so the output says what changed; RemoteDrive reads each write back.
-int drive_config(const ParsedArgs& args, const hal::eds::Description* eds) {
+int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
+                 const std::vector<hal::eds::Problem>& eds_warnings) {
   using hal::canopen::RemoteDrive;
   using hal::canopen::RemoteDriveState;
   using hal::canopen::StartupAction;
@@ -609,7 +657,8 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds) {
   hal::canopen::RemoteDriveConfig base{};
   base.node = s.node();
   base.sdo_timeout_us = s.timeout_us();
-  const hal::eds::DriveConfigResult plan = hal::eds::drive_config_from_eds(*eds, base, testbed::streaming_feedback(*eds));
+  const hal::eds::FeedbackRequest feedback = testbed::streaming_feedback(*eds);
+  const hal::eds::DriveConfigResult plan = hal::eds::drive_config_from_eds(*eds, base, feedback);
   if (!plan.ok()) return s.failed("cannot_stream", "node " + std::to_string(s.node()) + ": " + plan.error);
   std::array<StartupStep, hal::canopen::remote_drive_max_steps> steps{};
   const std::optional<std::size_t> count = hal::canopen::plan_start_up(plan.config, steps);
@@ -674,7 +723,20 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds) {
                          " not written: the drive's EDS has no 0x1006 (communication cycle period; CiA 301 asks it "
                          "only of the SYNC producer)");
   }
+  // What the drive offers the master, and what the master does with it.
+  const std::vector<hal::eds::Capability> caps = hal::eds::capabilities(*eds, plan, feedback);
+  // A drive whose description needed tolerating is configured, but not called verified.
+  const bool verified = eds_warnings.empty();
   if (s.json()) {
+    Json objects = Json::array();
+    for (const hal::eds::Capability& c : caps) {
+      objects.push_back({{"object", object_name(c.index, c.sub)},
+                         {"name", c.name},
+                         {"needed", c.needed},
+                         {"found", c.found},
+                         {"use", c.use.empty() ? Json(nullptr) : Json(c.use)},
+                         {"without", c.use.empty() ? Json(c.without) : Json(nullptr)}});
+    }
     Json list = Json::array();
     for (const Change& c : changes) {
       list.push_back({{"object", object_name(c.index, c.sub)},
@@ -690,18 +752,34 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds) {
                 {"objects_changed", changed},
                 {"configured_ms", took_ms},
                 {"writes", list},
-                {"skipped", skipped}});
+                {"skipped", skipped},
+                {"objects", objects},
+                {"verified", verified},
+                {"eds_warnings", warnings_json(eds_warnings)}});
     return kExitOk;
   }
-  std::printf("node %u configured and verified in %.1f ms: %zu steps, PDO mapping %s; %zu objects written, %zu "
+  std::printf("node %u configured%s in %.1f ms: %zu steps, PDO mapping %s; %zu objects written, %zu "
               "changed (each read back)\n",
-              static_cast<unsigned>(s.node()), took_ms, *count, setup, changes.size(), changed);
+              static_cast<unsigned>(s.node()), verified ? " and verified" : "", took_ms, *count, setup,
+              changes.size(), changed);
+  if (!verified) {
+    std::printf("  not verified: its EDS needed %zu deviation(s) tolerated (the warnings on stderr)\n",
+                eds_warnings.size());
+  }
   for (const Change& c : changes) {
     std::printf("  %s  %-12s -> %-12s %s\n", object_name(c.index, c.sub).c_str(),
                 c.before ? hex(*c.before, 8).c_str() : "absent", hex(c.after, 8).c_str(),
                 c.before != c.after ? "changed" : "unchanged");
   }
   for (const std::string& why : skipped) std::printf("  %s\n", why.c_str());
+  std::printf("objects (found in the EDS: how the master uses each, or does without):\n");
+  for (const hal::eds::Capability& c : caps) {
+    const std::string use = !c.use.empty() ? c.use
+                            : c.found      ? "found, not used: " + c.without
+                                           : "absent: " + c.without;
+    std::printf("  %-8s %-44s %s%s\n", object_name(c.index, c.sub).c_str(), c.name.c_str(), use.c_str(),
+                c.needed ? " (needed)" : "");
+  }
   return kExitOk;
 }
 
@@ -724,13 +802,13 @@ int cmd_drive(int argc, char** argv) {
   const std::string name = "drive " + sub;
   ParsedArgs args;
   if (const int rc = parse_or_exit(name, argc - 1, argv + 1, args); rc >= 0) return rc;
-  std::optional<hal::eds::Description> description;
-  if (const int rc = load_description(args, description); rc >= 0) return rc;
-  const hal::eds::Description* eds = description ? &*description : nullptr;
-  if (sub == "info") return drive_info(args, eds);
+  EdsOption loaded;
+  if (const int rc = load_description(sub, args, loaded); rc >= 0) return rc;
+  const hal::eds::Description* eds = loaded.description.get();
+  if (sub == "info") return drive_info(args, eds, loaded.warnings);
   if (sub == "read") return drive_read(args, eds);
   if (sub == "write") return drive_write(args, eds);
-  if (sub == "config") return drive_config(args, eds);
+  if (sub == "config") return drive_config(args, eds, loaded.warnings);
   return drive_scan(args, eds);
 }
 

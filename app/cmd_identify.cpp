@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "drive_advice.hpp"
+#include "eds_option.hpp"
 #include "io/json.hpp"
 #include "move_options.hpp"
 #include "options.hpp"
@@ -123,10 +124,17 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   s.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms"));
   s.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms") * 1000);
   s.feedback_timeout_periods = static_cast<std::uint16_t>(args.integer("--feedback-timeout-periods"));
-  if (const auto path = args.text("--eds")) {
-    hal::eds::LoadResult loaded = hal::eds::load(*path);
-    if (!loaded.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
-    s.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
+  EdsOption eds;
+  const std::uint8_t nodes[] = {s.node};
+  if (const int rc = load_eds_option(args, "identify", nodes, eds); rc >= 0) return rc;
+  s.eds = eds.description;
+  if (const int rc = parse_load_feedback(args, s.eds.get(), s.load_feedback); rc >= 0) return rc;
+  if (s.eds && testbed::streaming_feedback(*s.eds, s.load_feedback).load_position_index == 0) {
+    return report_bad_request({"no_load_feedback", "--load-feedback",
+                               "--load-feedback: the drive's EDS marks no load position (0x2000 is the load "
+                               "position on Settle's own drive only): name the drive's load or vibration "
+                               "measurement with --load-feedback INDEX:SUB"},
+                              json);
   }
   return -1;
 }

@@ -7,6 +7,7 @@
 #include <ctime>
 
 #include "commands.hpp"
+#include "eds_option.hpp"
 #include "io/json.hpp"
 #include "options.hpp"
 #include "plant_options.hpp"
@@ -55,9 +56,12 @@ int cmd_plant(int argc, char** argv) {
   hal::canopen::DriveNodeConfig dc{};
   const auto eds = args.text("--eds");
   testbed::DriveFromEds loaded{};  // holds the strings dc points to, for the node's whole life
-  if (eds) {
-    loaded = testbed::load_drive_config(*eds, static_cast<hal::canopen::NodeId>(node));
-    if (!loaded.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
+  EdsOption description;
+  const std::uint8_t nodes[] = {static_cast<std::uint8_t>(node)};
+  if (const int rc = load_eds_option(args, "plant", nodes, description); rc >= 0) return rc;
+  if (description.description) {
+    loaded = testbed::simulated_drive_from_eds(*description.description, static_cast<hal::canopen::NodeId>(node));
+    if (!loaded.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + *eds + ": " + loaded.error}, json);
     dc = *loaded.config;
   }
   dc.node = static_cast<hal::canopen::NodeId>(node);

@@ -11,6 +11,7 @@
 
 #include "commands.hpp"
 #include "drive_advice.hpp"
+#include "eds_option.hpp"
 #include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/bus_load.hpp"
 #include "settle/hal/eds_reader.hpp"
@@ -35,7 +36,7 @@ int check_bus_load(const ParsedArgs& args, const testbed::StreamSpec& spec, std:
   if (spec.eds) {
     hal::canopen::RemoteDriveConfig base{};
     base.node = spec.node;
-    const hal::eds::DriveConfigResult d = hal::eds::drive_config_from_eds(*spec.eds, base, testbed::streaming_feedback(*spec.eds));
+    const hal::eds::DriveConfigResult d = hal::eds::drive_config_from_eds(*spec.eds, base, testbed::streaming_feedback(*spec.eds, spec.load_feedback));
     if (d.ok()) layout = d.config.layout;  // otherwise start-up refuses the description, naming it
   }
   const auto bitrate = static_cast<std::uint32_t>(args.integer("--bitrate"));
@@ -266,11 +267,12 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
                               json);
   }
   // The drive's description, read before anything is sent (what it says is checked at start-up).
-  if (const auto path = args.text("--eds")) {
-    hal::eds::LoadResult loaded = hal::eds::load(*path);
-    if (!loaded.description) return report_bad_request({"bad_eds", "--eds", "--eds: " + loaded.error}, json);
-    spec.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
-  }
+  std::vector<std::uint8_t> nodes{spec.node};
+  for (const testbed::StreamAxis& a : spec.more_axes) nodes.push_back(a.node);
+  EdsOption eds;
+  if (const int rc = load_eds_option(args, "stream", nodes, eds); rc >= 0) return rc;
+  spec.eds = eds.description;
+  if (const int rc = parse_load_feedback(args, spec.eds.get(), spec.load_feedback); rc >= 0) return rc;
   if (const int rc = refuse_unstreamable(args, spec); rc >= 0) return rc;
   return check_bus_load(args, spec, static_cast<std::uint32_t>(1 + spec.more_axes.size()));
 }

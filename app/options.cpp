@@ -237,6 +237,12 @@ const std::vector<OptionSpec> kOnline = {
          "stream: T rounds to whole periods, at least 3", "T:NEW_DISTANCE[,...]"),
 };
 
+// --strict, beside every --eds.
+OptionSpec strict_eds() {
+  return flag("--strict", "refuse the --eds file at the first deviation the reader tolerates (otherwise each is "
+                          "printed on stderr as a warning naming the section and key)");
+}
+
 const std::vector<OptionSpec> kStreamRows = {
     text("--bus", "vcan0", "SocketCAN interface, or 'loopback' (in-process drive, virtual time)", "IFACE"),
     choice("--scalar", "double", {"double", "float", "fixed"},
@@ -252,6 +258,11 @@ const std::vector<OptionSpec> kStreamRows = {
     integer("--rt-priority", "", "0 (no SCHED_FIFO)", {0.0, 99.0}, "SCHED_FIFO priority of the loop"),
     text("--eds", "", "the drive's EDS/DCF: start-up configures and verifies the drive from it (its PDO mapping, "
                       "periods, identity); with --bus loopback the simulated drive is the one it describes", "FILE"),
+    strict_eds(),
+    text("--load-feedback", "", "with --eds: the drive's object that measures the load (or any vibration), "
+         "INDEX:SUB (INDEX 0x1000..0xFFFF, SUB 0..255; an INTEGER32 the EDS lets be mapped), mapped into a TPDO; "
+         "default: 0x2000:0 on Settle's own drive, else none (residual, PRV and at-rest are then not measured)",
+         "INDEX:SUB"),
     choice("--pm-qos", "on", {"on", "off"},
            "hold /dev/cpu_dma_latency at 0 us while the loop runs on a CAN interface (CPUs stay out of deep "
            "idle states: lower wake-up latency, more power)"),
@@ -288,7 +299,7 @@ std::vector<OptionSpec> rows_of(const std::vector<OptionSpec>& from, std::initia
   return v;
 }
 const std::vector<OptionSpec> kIdentifyLoop =
-    rows_of(kStream, {"--bus", "--node", "--eds", "--timing", "--heartbeat-ms", "--sdo-timeout-ms",
+    rows_of(kStream, {"--bus", "--node", "--eds", "--strict", "--load-feedback", "--timing", "--heartbeat-ms", "--sdo-timeout-ms",
                       "--feedback-timeout-periods", "--rt-priority", "--pm-qos", "--candump"});
 const std::vector<OptionSpec> kIdentify = {
     integer("--max-modes", "", "3", {1.0, static_cast<double>(commission::kMaxIdentifyModes)},
@@ -316,6 +327,7 @@ const std::vector<OptionSpec> kPlantNodeRows = {
          "the drive to simulate: its objects, identity, defaults and PDO mappings (hal/eds has four); "
          "--heartbeat-ms and --sync-loss-periods (or --timing), when given, override its 0x1017 and 0x2001",
          "FILE"),
+    strict_eds(),
     text("--log", "", "write one CSV row per SYNC to FILE", "FILE"),
     real("--duration", "s", "0 (until SIGINT/SIGTERM)", {0.0, 604800.0}, "run time"),
 };
@@ -328,6 +340,7 @@ const std::vector<OptionSpec> kDriveBus = {
     text("--eds", "", "the drive's EDS/DCF: read/write take --type from it, info names the mapped objects, config "
                       "applies what streaming needs (required there); with --bus loopback the simulated drive is the "
                       "one it describes", "FILE"),
+    strict_eds(),
 };
 const std::vector<OptionSpec> kDriveNodeId = {
     integer("--node", "", "1", {1.0, 127.0}, "the drive's CANopen node id"),

@@ -41,10 +41,11 @@ void deflections(const IdentifyRunReport& r, const testbed::StreamSpec& s, std::
 IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::StreamBus& bus) {
   IdentifyRunReport r{};
   r.period_s = spec.stream.drive.scale.period_s();
-  if (spec.stream.eds && testbed::streaming_feedback(*spec.stream.eds).load_position_index == 0) {
+  if (spec.stream.eds &&
+      testbed::streaming_feedback(*spec.stream.eds, spec.stream.load_feedback).load_position_index == 0) {
     fail(r, "no_load_feedback",
-         "the drive's description has no load-side position object (0x2000) to map: no load-side feedback, nothing "
-         "to identify from");
+         "the drive's description marks no load position to map (name one with --load-feedback INDEX:SUB): no "
+         "load-side feedback, nothing to identify from");
     return r;
   }
   r.stream = testbed::run_stream(spec.stream, bus);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "settle/hal/canopen/process_data.hpp"
+#include "settle/hal/canopen/remote_drive.hpp"
 
 namespace settle::hal::eds {
 namespace {
@@ -95,6 +96,10 @@ ProcessDataLayout layout_of(const std::vector<Pdo>& rpdos, const std::vector<Pdo
 
 }  // namespace
 
+bool is_settle_drive(const Description& description) noexcept {
+  return description.settle_drive();
+}
+
 DriveConfigResult drive_config_from_eds(const Description& description, const canopen::RemoteDriveConfig& base,
                                         const FeedbackRequest& feedback) {
   namespace obj = canopen::obj;
@@ -110,11 +115,14 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
       {obj::interpolation_time_period, 1, "interpolation time period value", data_type::u8, Need::write},
       {obj::interpolation_time_period, 2, "interpolation time index", data_type::i8, Need::write},
   };
-  // 0x60C2 as a whole first, so that a drive without it is told so in those words.
-  if (!description.has(obj::interpolation_time_period)) {
-    result.error = "the drive's EDS has no 0x60C2 (interpolation time period)";
+  // The period reaches the drive through 0x60C2 or 0x1006 (each written when the drive has it).
+  const bool has_ip = description.has(obj::interpolation_time_period);
+  if (!has_ip && !description.has(obj::communication_cycle_period)) {
+    result.error = "the drive's EDS has neither 0x60C2 (interpolation time period) nor 0x1006 (communication cycle "
+                   "period): the drive cannot be told the SYNC period";
     return result;
   }
+  if (!has_ip) required.resize(required.size() - 2);  // the two 0x60C2 rows, last in the list
   if (feedback.velocity_actual) required.push_back({obj::velocity_actual, 0, "velocity actual value", data_type::i32, Need::tpdo});
   if (feedback.following_error) {
     required.push_back({obj::following_error_actual, 0, "following error actual value", data_type::i32, Need::tpdo});
@@ -130,8 +138,19 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
     }
   }
 
-  // CiA 301 asks 0x1006 only of the SYNC producer: written only to a drive that has it.
+  // CiA 301 asks 0x1006 only of the SYNC producer: written only to a drive that has it; so are
+  // the other objects the master uses when present.
   result.config.write_sync_period = description.has(obj::communication_cycle_period);
+  result.config.write_interpolation_period = has_ip;
+  if (description.find(obj::producer_heartbeat_time, 0) == nullptr) result.config.heartbeat_period_ms = 0;
+  if (description.find(obj::consumer_heartbeat_time, 1) == nullptr) result.config.master_node = 0;
+  if (description.find(obj::following_error_window, 0) == nullptr ||
+      description.find(obj::following_error_timeout, 0) == nullptr) {
+    result.config.following_error_window = 0;
+  }
+  if (!is_settle_drive(description) || description.find(obj::communication_loss_periods, 0) == nullptr) {
+    result.config.communication_loss_periods = 0;
+  }
 
   const DeviceInfo& device = description.device();
   if (device.vendor_number != 0) result.config.expected_vendor_id = device.vendor_number;
@@ -210,6 +229,94 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
   result.config.pdo_setup = canopen::PdoSetup::read_static;
   result.config.layout = l;
   return result;
+}
+
+}  // namespace settle::hal::eds
+
+namespace settle::hal::eds {
+namespace {
+
+struct Known {
+  std::uint16_t index;
+  std::uint8_t sub;
+  const char* name;
+  bool needed;
+  const char* without;
+};
+constexpr Known kKnown[] = {
+    {0x1006, 0, "communication cycle period", false, "the drive takes the period from 0x60C2 (CiA 301 asks 0x1006 only of the SYNC producer)"},
+    {0x1016, 1, "consumer heartbeat time", false, "the drive does not watch the master's heartbeat"},
+    {0x1017, 0, "producer heartbeat time", false, "the master does not set the drive's heartbeat period"},
+    {0x1018, 1, "vendor id", false, "the vendor is not checked"},
+    {0x1018, 2, "product code", false, "the product is not checked"},
+    {0x1019, 0, "synchronous counter overflow", false, "the master sends SYNCs without a counter"},
+    {0x2001, 0, "communication loss periods (Settle's drive)", false, "the drive keeps its own SYNC-loss reaction"},
+    {0x6040, 0, "controlword", true, ""},
+    {0x6041, 0, "statusword", true, ""},
+    {0x6060, 0, "modes of operation", true, ""},
+    {0x6061, 0, "modes of operation display", true, ""},
+    {0x6064, 0, "position actual value", true, ""},
+    {0x6065, 0, "following error window", false, "the drive keeps its own following error supervision"},
+    {0x6066, 0, "following error time out", false, "the drive keeps its own following error supervision"},
+    {0x606C, 0, "velocity actual value", false, "the drive's velocity is not reported"},
+    {0x607A, 0, "target position", true, ""},
+    {0x607D, 1, "min position limit", false, "the loop knows no software position limit"},
+    {0x607D, 2, "max position limit", false, "the loop knows no software position limit"},
+    {0x607F, 0, "max profile velocity", false, "the loop's step guard uses its own velocity bound alone"},
+    {0x60C2, 1, "interpolation time period value", false, "the drive takes the period from 0x1006"},
+    {0x60C2, 2, "interpolation time index", false, "the drive takes the period from 0x1006"},
+    {0x60F4, 0, "following error actual value", false, "the following error is not reported"},
+};
+
+std::string slot_use(const canopen::ProcessDataLayout& l, std::uint16_t index, std::uint8_t sub) {
+  namespace obj = canopen::obj;
+  const struct {
+    const PdoSlot* slot;
+    std::uint16_t index;
+    std::uint8_t sub;
+    bool receive;
+  } slots[] = {{&l.controlword, obj::controlword, 0, true},
+               {&l.target_position, obj::target_position, 0, true},
+               {&l.statusword, obj::statusword, 0, false},
+               {&l.position_actual, obj::position_actual, 0, false},
+               {&l.velocity_actual, obj::velocity_actual, 0, false},
+               {&l.following_error, obj::following_error_actual, 0, false},
+               {&l.load_position, l.load_position_index, l.load_position_sub, false}};
+  for (const auto& s : slots) {
+    if (s.index == index && s.sub == sub && s.slot->mapped()) {
+      return std::string{s.receive ? "RPDO" : "TPDO"} + std::to_string(s.slot->pdo);
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+std::vector<Capability> capabilities(const Description& description, const DriveConfigResult& plan,
+                                     const FeedbackRequest& feedback) {
+  std::vector<Known> known{std::begin(kKnown), std::end(kKnown)};
+  if (feedback.load_position_index != 0) {
+    known.push_back({feedback.load_position_index, feedback.load_position_sub, "load position (the load feedback)",
+                     false, ""});
+  }
+  std::array<canopen::StartupStep, canopen::remote_drive_max_steps> steps{};
+  const std::size_t count = plan.ok() ? canopen::plan_start_up(plan.config, steps).value_or(0) : 0;
+  std::vector<Capability> out;
+  for (const Known& k : known) {
+    Capability c{k.index, k.sub, k.name, k.needed, description.find(k.index, k.sub) != nullptr, {}, k.without};
+    if (plan.ok()) c.use = slot_use(plan.config.layout, k.index, k.sub);
+    for (std::size_t i = 0; i < count && c.use.empty(); ++i) {
+      if (steps[i].index() != k.index || steps[i].sub() != k.sub) continue;
+      switch (steps[i].action()) {
+        case canopen::StartupAction::write: c.use = "written"; break;
+        case canopen::StartupAction::check: c.use = "checked"; break;
+        case canopen::StartupAction::read: c.use = "read"; break;
+        case canopen::StartupAction::read_mapping: break;
+      }
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
 }
 
 }  // namespace settle::hal::eds

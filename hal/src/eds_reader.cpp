@@ -11,6 +11,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -473,6 +474,49 @@ Problem at(const Section& section, std::string_view key, std::string message) {
                  v != nullptr ? v->line : section.line};
 }
 
+// CiA 306's CompactSubObj=N: an ARRAY whose sub 0 (UNSIGNED8, ro) holds N and whose subs 1..N
+// share the object's DataType, AccessType, PDOMapping, limits and default; their names come from
+// [IIIIName] (key i), their values from [IIIIValue] (key i, a DCF's configured value) when given.
+// Each becomes a section of its own, read like a written [IIIIsubS] (placed at the object's line).
+void expand_compact(const Raw& raw, const Section& object, unsigned n, std::deque<Section>& out,
+                    std::vector<std::pair<std::uint8_t, const Section*>>& subs) {
+  const std::string base = object.name.substr(0, 4);
+  std::string upper = base;
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  const auto list = [&](const char* suffix) -> const Section* {
+    const auto it = raw.sections.find(upper + suffix);
+    return it == raw.sections.end() ? nullptr : &it->second;
+  };
+  const Section* names = list("NAME");
+  const Section* values = list("VALUE");
+  const auto set = [](Section& s, const char* key, std::string text, int line) {
+    s.keys[lower(key)] = Value{key, std::move(text), line};
+  };
+  Section& zero = out.emplace_back();
+  zero.name = object.name;
+  zero.line = object.line;
+  set(zero, "ParameterName", "Number of entries", object.line);
+  set(zero, "DataType", "0x0005", object.line);
+  set(zero, "AccessType", "ro", object.line);
+  set(zero, "DefaultValue", std::to_string(n), object.line);
+  subs.emplace_back(0, &zero);
+  for (unsigned i = 1; i <= n; ++i) {
+    Section& s = out.emplace_back();
+    s.name = object.name;
+    s.line = object.line;
+    for (const char* key : {"DataType", "AccessType", "PDOMapping", "LowLimit", "HighLimit", "DefaultValue"}) {
+      if (const Value* v = object.find(key)) set(s, key, v->text, v->line);
+    }
+    const std::string k = std::to_string(i);
+    const Value* name = names != nullptr ? names->find(k) : nullptr;
+    const Value* own = object.find("ParameterName");
+    set(s, "ParameterName", name != nullptr ? name->text : (own != nullptr ? own->text : base) + " " + k,
+        name != nullptr ? name->line : object.line);
+    if (const Value* v = values != nullptr ? values->find(k) : nullptr) set(s, "ParameterValue", v->text, v->line);
+    subs.emplace_back(static_cast<std::uint8_t>(i), &s);
+  }
+}
+
 }  // namespace
 
 LoadResult Builder::build(const Raw& raw) {
@@ -497,6 +541,8 @@ LoadResult Builder::build(const Raw& raw) {
     }
   };
   std::map<std::uint16_t, Sections> objects;
+  std::deque<Section> synthesized;  // the sub-objects of CompactSubObj arrays (stable addresses)
+  std::size_t compact_subs = 0;
   for (const auto& [name, sec] : raw.sections) {
     const auto obj = object_section(name);
     if (!obj || obj->index < 0x1000) continue;  // data type definitions (0x0001..0x025F)
@@ -532,14 +578,6 @@ LoadResult Builder::build(const Raw& raw) {
       return fail(Problem{first.name, {}, "has no object section [" + first.name.substr(0, 4) + "]", first.line});
     }
     const Section& sec = *o.object;
-    if (const Value* compact = sec.find("CompactSubObj"); compact != nullptr && !compact->text.empty()) {
-      const auto n = parse_integer(compact->text, 0);
-      if (!n || *n != 0) {
-        return fail(at(sec, "CompactSubObj",
-                       hex4(index) + ": compact sub-objects are not read; describe each sub-index in an [" +
-                           sec.name.substr(0, 4) + "subS] section"));
-      }
-    }
     std::int64_t type = 0x7;  // CiA 306: a VAR when ObjectType is not given
     if (const Value* ot = sec.find("ObjectType"); ot != nullptr) {
       const auto t = parse_integer(ot->text, 0);
@@ -547,6 +585,27 @@ LoadResult Builder::build(const Raw& raw) {
       type = *t;
     }
     const bool aggregate = type == 0x8 || type == 0x9;
+    bool compact_object = false;
+    if (const Value* compact = sec.find("CompactSubObj"); compact != nullptr && !compact->text.empty()) {
+      const auto n = parse_integer(compact->text, 0);
+      if (!n || *n < 0 || *n > 254) {
+        return fail(at(sec, "CompactSubObj", hex4(index) + ": '" + compact->text + "' is not a number of sub-objects (0..254)"));
+      }
+      if (*n > 0) {
+        if (!aggregate || !o.subs.empty()) {
+          return fail(at(sec, "CompactSubObj",
+                         hex4(index) + ": compact sub-objects belong to an ARRAY (ObjectType 0x8) without [" +
+                             sec.name.substr(0, 4) + "subS] sections"));
+        }
+        if (compact_subs + static_cast<std::size_t>(*n) > max_sections) {
+          return fail(at(sec, "CompactSubObj", "more than max_sections (" + std::to_string(max_sections) +
+                                                   ") sub-objects, the compact ones included"));
+        }
+        compact_subs += static_cast<std::size_t>(*n) + 1;
+        compact_object = true;
+        expand_compact(raw, sec, static_cast<unsigned>(*n), synthesized, o.subs);
+      }
+    }
     if (!aggregate && !o.subs.empty()) {
       return fail(
           at(sec, "ObjectType", "has sub-index sections but is not an ARRAY or RECORD (ObjectType 0x8 or 0x9)"));
@@ -562,7 +621,9 @@ LoadResult Builder::build(const Raw& raw) {
       continue;
     }
     const std::string present = std::to_string(o.subs.size()) + " sub-index sections";
-    if (const Value* sn = sec.find("SubNumber"); sn == nullptr) {
+    if (compact_object) {
+      // CompactSubObj states the number itself.
+    } else if (const Value* sn = sec.find("SubNumber"); sn == nullptr) {
       warn(at(sec, "SubNumber", "missing: the " + present + " present are read"));
     } else if (const auto stated = parse_integer(sn->text, 0);
                !stated || *stated != static_cast<std::int64_t>(o.subs.size())) {
@@ -598,6 +659,9 @@ LoadResult Builder::build(const Raw& raw) {
     }
     if (const std::string* v = sec.get("defaultvalue")) e.default_value = *v;
     if (const std::string* v = sec.get("parametervalue")) e.parameter_value = *v;
+    e.section = sec.name;
+    e.line = sec.line;
+    if (const Value* v = sec.find(e.parameter_value.empty() ? "DefaultValue" : "ParameterValue")) e.line = v->line;
     const bool integer = data_type_is_integer(e.data_type);
     const bool real = data_type_is_real(e.data_type);
 
@@ -768,30 +832,41 @@ LoadResult Builder::build(const Raw& raw) {
     }
   }
 
-  // Every object the lists name is described.
+  // The object lists: each entry i=index read as present (in the order of i); a SupportedObjects
+  // that disagrees with the entries present, an entry that is not an index, and an object listed
+  // without a section of its own are warnings (nothing is configured from the lists).
   for (const char* list : {"MANDATORYOBJECTS", "OPTIONALOBJECTS", "MANUFACTUREROBJECTS"}) {
     const auto it = raw.sections.find(list);
     if (it == raw.sections.end()) continue;
     const Section& sec = it->second;
-    const std::string* count_text = sec.get("supportedobjects");
-    const auto count = count_text ? parse_integer(*count_text, 0) : std::nullopt;
-    if (!count || *count < 0 || *count > static_cast<std::int64_t>(max_objects)) {
-      return fail(
-          at(sec, "SupportedObjects", "missing or not a number of objects (0.." + std::to_string(max_objects) + ")"));
+    std::vector<std::pair<std::uint64_t, const Value*>> numbered;
+    for (const auto& [key, value] : sec.keys) {
+      if (const auto n = parse_unsigned(key); n && *n >= 1 && key[0] != '0') numbered.emplace_back(*n, &value);
     }
-    for (std::int64_t i = 1; i <= *count; ++i) {
-      const std::string key = std::to_string(i);
-      const std::string* item = sec.get(key.c_str());
-      const auto index = item ? parse_integer(*item, 0) : std::nullopt;
+    std::sort(numbered.begin(), numbered.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const Value* count_value = sec.find("SupportedObjects");
+    const auto count = count_value != nullptr ? parse_integer(count_value->text, 0) : std::nullopt;
+    if (!count || *count != static_cast<std::int64_t>(numbered.size())) {
+      warn(at(sec, "SupportedObjects",
+              (count_value != nullptr ? "SupportedObjects=" + count_value->text : std::string{"missing"}) + " but " +
+                  std::to_string(numbered.size()) + " entries: the entries present are read"));
+    }
+    for (const auto& [n, value] : numbered) {
+      const auto index = parse_integer(value->text, 0);
       if (!index || *index < 0 || *index > 0xFFFF) {
-        return fail(
-            at(sec, key, "entry " + key + " of SupportedObjects=" + *count_text + " is missing or not an index"));
+        warn(Problem{sec.name, value->key, "'" + value->text + "' is not an object index: the entry is not read",
+                     value->line});
+        continue;
       }
-      if (*index >= 0x1000 && !d.has(static_cast<std::uint16_t>(*index))) {
-        return fail(at(
-            sec, key, hex4(static_cast<std::uint16_t>(*index)) + " is listed in [" + sec.name + "] but not described"));
+      const auto i = static_cast<std::uint16_t>(*index);
+      if (i >= 0x1000 && !d.has(i) && objects.find(i) == objects.end()) {
+        warn(Problem{sec.name, value->key,
+                     hex4(i) + " is listed in [" + sec.name + "] but has no section [" + hex4(i).substr(2) +
+                         "]: it is not read",
+                     value->line});
+        continue;
       }
-      d.listed_.push_back(static_cast<std::uint16_t>(*index));
+      d.listed_.push_back(i);
     }
   }
   if (!d.has(0x1000))
@@ -826,6 +901,68 @@ LoadResult Builder::build(const Raw& raw) {
     d.device_.nr_tx_pdo = number("NrOfTXPDO", false);
     d.device_.granularity = number("Granularity", false);
     if (bad) return r;
+    // The PDO counts against the PDOs described (communication and mapping object both present).
+    for (const bool receive : {true, false}) {
+      const char* key = receive ? "NrOfRXPDO" : "NrOfTXPDO";
+      const Value* v = s.find(key);
+      const std::size_t described = (receive ? d.rpdos(1) : d.tpdos(1)).size();
+      if (v != nullptr && (receive ? d.device_.nr_rx_pdo : d.device_.nr_tx_pdo) != described) {
+        warn(at(s, key, v->text + " but " + std::to_string(described) + (receive ? " RPDOs" : " TPDOs") +
+                            " are described: the PDOs described are read"));
+      }
+    }
+  }
+  // One identity for the master (which checks it at start-up) and the simulated drive (which
+  // serves it): 0x1018's value, which is what a drive answers, unless it is absent or 0 (a
+  // placeholder many files carry), then [DeviceInfo]'s. Where the two contradict, a warning says
+  // which is used.
+  {
+    const auto info = raw.sections.find("DEVICEINFO");
+    const struct {
+      const char* key;
+      std::uint8_t sub;
+      std::uint32_t* field;
+    } ids[] = {{"VendorNumber", 1, &d.device_.vendor_number},
+               {"ProductNumber", 2, &d.device_.product_number},
+               {"RevisionNumber", 3, &d.device_.revision_number}};
+    for (const auto& id : ids) {
+      const Entry* e = d.find(0x1018, id.sub);
+      if (e == nullptr) continue;
+      const std::int64_t served = e->value(1).value_or(-1);
+      if (served < 0) continue;
+      const Value* stated = info != raw.sections.end() ? info->second.find(id.key) : nullptr;
+      const bool has_stated = stated != nullptr && !stated->text.empty();
+      const auto value = static_cast<std::uint32_t>(served);
+      if (has_stated && value != *id.field) {
+        char text[160];
+        const std::uint32_t used = value != 0 ? value : *id.field;
+        std::snprintf(text, sizeof text, "0x%08X but 0x1018:%u gives 0x%08X: 0x%08X (%s) is the identity both the "
+                      "master and the simulated drive use",
+                      static_cast<unsigned>(*id.field), static_cast<unsigned>(id.sub), static_cast<unsigned>(value),
+                      static_cast<unsigned>(used), value != 0 ? "0x1018's" : "[DeviceInfo]'s");
+        warn(at(info->second, id.key, text));
+      }
+      if (value != 0) *id.field = value;
+    }
+  }
+  if (const auto it = raw.sections.find("SETTLEDRIVE"); it != raw.sections.end()) {
+    d.settle_drive_ = true;
+    if (const Value* v = it->second.find("LoadPosition"); v != nullptr) {
+      const std::size_t colon = v->text.find(':');
+      const auto index = colon == std::string::npos ? std::nullopt : parse_integer(v->text.substr(0, colon), 0);
+      const auto sub = colon == std::string::npos ? std::nullopt : parse_integer(v->text.substr(colon + 1), 0);
+      if (!index || !sub || *index < 0x1000 || *index > 0xFFFF || *sub < 0 || *sub > 0xFF) {
+        return fail(at(it->second, "LoadPosition", "'" + v->text + "' is not INDEX:SUB (such as 0x2000:0)"));
+      }
+      const auto i = static_cast<std::uint16_t>(*index);
+      const auto s = static_cast<std::uint8_t>(*sub);
+      const Entry* e = d.find(i, s);
+      if (e == nullptr || e->data_type != data_type::i32 || !e->readable() || !e->pdo_mappable) {
+        return fail(at(it->second, "LoadPosition",
+                       object_name(i, s) + " must be described as a readable, mappable INTEGER32"));
+      }
+      d.load_position_ = MappedObject{i, s, 32};
+    }
   }
   if (const auto it = raw.sections.find("DEVICECOMISSIONING"); it != raw.sections.end()) {
     if (const std::string* v = it->second.get("nodeid")) {

@@ -105,6 +105,28 @@ bool take_pdos(const std::vector<eds::Pdo>& pdos, bool receive, co::NodeId node,
   return true;
 }
 
+// Which PDO and which of its entries the drive cannot bind: ": TPDO2 maps 0x2100:0, ...", or "".
+std::string unbindable_entry(co::DriveNode& drive, const co::DriveNodeConfig& c) {
+  for (const bool receive : {true, false}) {
+    const std::size_t count = receive ? c.rpdo_count : c.tpdo_count;
+    for (std::size_t i = 0; i < count; ++i) {
+      const co::PdoMapping& m = receive ? c.rpdos[i] : c.tpdos[i];
+      for (std::size_t k = 0; k < m.count; ++k) {
+        const co::PdoMappingEntry& e = m.entries[k];
+        const std::string pdo = std::string{receive ? ": RPDO" : ": TPDO"} + std::to_string(i + 1) + " maps " +
+                                object_name(e.index, e.sub);
+        const co::OdEntry* o = drive.dictionary().find(e.index, e.sub);
+        if (o == nullptr) return pdo + ", which the simulated drive does not have";
+        if (!o->pdo_mappable) return pdo + ", which is not mappable";
+        const bool can = receive ? (o->access == co::OdAccess::rw || o->access == co::OdAccess::wo)
+                                 : o->access != co::OdAccess::wo;
+        if (!can) return pdo + (receive ? ", which is read-only (an RPDO writes it)" : ", which is write-only");
+      }
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node) {
@@ -113,15 +135,22 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   c.node = node;
   c.has_interpolation_period = d.has(co::obj::interpolation_time_period);
   c.has_following_error_actual = d.has(co::obj::following_error_actual);
-  c.has_load_position = d.has(co::obj::load_position_actual);
+  // Settle's own dictionary ([SettleDrive]) is simulated object for object; another vendor's
+  // manufacturer objects (0x2000..0x5FFF) are theirs: described, not simulated (the master never
+  // uses them), and the simulated drive's own 0x2000/0x2001 stay out of the comparison.
+  const bool own = d.settle_drive();
+  const auto vendors = [own](std::uint16_t index) { return !own && index >= 0x2000 && index <= 0x5FFF; };
+  c.has_load_position = own && d.has(co::obj::load_position_actual);
   c.has_communication_cycle_period = d.has(co::obj::communication_cycle_period);
   // CiA 301 asks 0x1006 only of the SYNC producer: a drive without it measures SYNCs against 0x60C2.
   if (!c.has_communication_cycle_period) c.sync_period_us = 0;
 
   Defaults take{d, node, r.error};
-  if (!(take.take(co::obj::device_type, 0, c.device_type) && take.take(co::obj::identity, 1, c.vendor_id) &&
-        take.take(co::obj::identity, 2, c.product_code) && take.take(co::obj::identity, 3, c.revision) &&
-        take.take(co::obj::identity, 4, c.serial) && take.take(co::obj::producer_heartbeat_time, 0, c.heartbeat_period_ms) &&
+  // The identity the master expects too: the reader settles 0x1018 against [DeviceInfo] once.
+  if (d.find(co::obj::identity, 1) != nullptr) c.vendor_id = d.device().vendor_number;
+  if (d.find(co::obj::identity, 2) != nullptr) c.product_code = d.device().product_number;
+  if (d.find(co::obj::identity, 3) != nullptr) c.revision = d.device().revision_number;
+  if (!(take.take(co::obj::device_type, 0, c.device_type) && take.take(co::obj::identity, 4, c.serial) && take.take(co::obj::producer_heartbeat_time, 0, c.heartbeat_period_ms) &&
         take.take(co::obj::communication_cycle_period, 0, c.sync_period_us) &&
         take.take(co::obj::sync_counter_overflow, 0, c.sync_counter_overflow) &&
         take.take(co::obj::communication_loss_periods, 0, c.communication_loss_periods) &&
@@ -164,10 +193,12 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   if (const co::SdoAbort abort = drive->default_mapping_error(); abort != co::SdoAbort::none) {
     char code[16];
     std::snprintf(code, sizeof code, "0x%08X", static_cast<unsigned>(abort));
-    r.error = std::string{"a default PDO mapping cannot be bound (SDO abort "} + code + ")";
+    r.error = std::string{"a default PDO mapping cannot be bound (SDO abort "} + code + ")" +
+              unbindable_entry(*drive, c);
     return r;
   }
   for (const eds::Entry& x : d.entries()) {
+    if (vendors(x.index)) continue;
     const co::OdEntry* e = drive->dictionary().find(x.index, x.sub);
     const std::string name = object_name(x.index, x.sub) + " " + x.name;
     if (e == nullptr) {
@@ -194,7 +225,7 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
                   std::string(text.begin(), text.end()) + "\"";
         return r;
       }
-    } else {
+    } else if (!(x.index == co::obj::identity && x.sub >= 1 && x.sub <= 3)) {  // the identity: above
       if (const auto v = x.value(node); v && *v != e->var.value()) {
         r.error = name + ": default " + std::to_string(*v) + ", the simulated drive starts with " +
                   std::to_string(e->var.value());
@@ -203,7 +234,7 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
     }
   }
   for (const co::OdEntry& e : drive->dictionary().entries()) {
-    if (d.find(e.index, e.sub) == nullptr) {
+    if (d.find(e.index, e.sub) == nullptr && !vendors(e.index)) {
       r.error = object_name(e.index, e.sub) + ": the simulated drive always has it, the EDS does not";
       return r;
     }

@@ -182,6 +182,16 @@ std::string start_up_failure_text(const hal::canopen::RemoteDriveFailure& f) {
 
 namespace {
 
+// Why a drive that was configured never reached operation enabled, from its last TPDO1.
+std::string enable_failure_text(const hal::canopen::RemoteFeedback& f) {
+  if (f.tpdo1_received == 0) return "the drive sent no statusword (no TPDO1 received)";
+  std::array<char, 128> text{};
+  std::snprintf(text.data(), text.size(), "the drive's statusword stayed 0x%04X (%s), not operation enabled",
+                static_cast<unsigned>(f.statusword),
+                hal::canopen::to_string(hal::canopen::state_from_statusword(f.statusword)));
+  return text.data();
+}
+
 // The session's clock is the bus's.
 struct BusClock {
   StreamBus& bus;
@@ -292,6 +302,11 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
     const auto& d = loop->drive(i);
     a.drive_state = hal::canopen::to_string(d.state());
     if (d.state() == hal::canopen::RemoteDriveState::failed) a.drive_failure = start_up_failure_text(d.failure());
+    if (!a.start_up_us && !hal::canopen::is_operation_enabled(d.feedback().statusword) &&
+        (a.drive_failure.empty() || d.failure().enable_timeout)) {
+      // Never enabled: what the drive's statusword showed instead (or that none came).
+      a.drive_failure += (a.drive_failure.empty() ? "" : ": ") + enable_failure_text(d.feedback());
+    }
     a.timing = bus.timing();
     a.heartbeat_ms = specs[i].heartbeat_ms;
     a.sdo_timeout_us = specs[i].sdo_timeout_us;
@@ -506,12 +521,16 @@ StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive) {
   return {};
 }
 
-hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds) {
+hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds, const LoadFeedback& load) {
   hal::eds::FeedbackRequest f{};
   f.velocity_actual = eds.find(hal::canopen::obj::velocity_actual, 0) != nullptr;
-  if (eds.find(hal::canopen::obj::load_position_actual, 0) != nullptr) {
-    f.load_position_index = hal::canopen::obj::load_position_actual;
-    f.load_position_sub = 0;
+  if (load.index != 0) {
+    f.load_position_index = load.index;
+    f.load_position_sub = load.sub;
+  } else if (const auto& marked = eds.load_position()) {
+    // The description's own mark (Settle's drive: 0x2000); another vendor's 0x2000 is theirs.
+    f.load_position_index = marked->index;
+    f.load_position_sub = marked->sub;
   }
   return f;
 }
@@ -582,7 +601,7 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
     ac.drive.enable_timeout_us = static_cast<std::uint32_t>(sc.enable_timeout_ticks * period_us);
     if (spec.eds) {
       const hal::eds::DriveConfigResult d =
-          hal::eds::drive_config_from_eds(*spec.eds, ac.drive, streaming_feedback(*spec.eds));
+          hal::eds::drive_config_from_eds(*spec.eds, ac.drive, streaming_feedback(*spec.eds, spec.load_feedback));
       if (!d.ok()) {
         r.failure = "--eds: " + d.error;
         return r;

@@ -227,10 +227,22 @@ TEST(CliDrive, ConfigAppliesAndVerifiesWhatStreamingNeedsForEachBundledDrive) {
   EXPECT_TRUE(has(split.stdout_text, "0x1600:0  0x00000001   -> 0x00000002   changed")) << split.stdout_text;
   EXPECT_TRUE(has(split.stdout_text, "0x1600:2  0x00000000   -> 0x607A0020   changed")) << split.stdout_text;
 
+  // A drive without 0x60C2 takes the period from 0x1006: configured without writing 0x60C2, and
+  // the object list says the master does without it.
   const CliResult none = run_cli(std::string{"drive config --bus loopback --eds "} + SETTLE_TEST_EDS_DIR +
-                                 "/no_interpolation_period_drive.eds");
-  EXPECT_EQ(none.status, 1) << none.out;
-  EXPECT_TRUE(has(none.stderr_text, "0x60C2 (interpolation time period)")) << none.out;
+                                 "/no_interpolation_period_drive.eds --json");
+  ASSERT_EQ(none.status, 0) << none.out;
+  const nlohmann::json nj = json_of(none);
+  for (const auto& w : nj.at("writes")) EXPECT_NE(w.at("object"), "0x60C2:1") << nj.dump();
+  bool listed = false;
+  for (const auto& o : nj.at("objects")) {
+    if (o.at("object") != "0x60C2:1") continue;
+    listed = true;
+    EXPECT_EQ(o.at("found"), false);
+    EXPECT_TRUE(o.at("use").is_null());
+    EXPECT_EQ(o.at("without"), "the drive takes the period from 0x1006");
+  }
+  EXPECT_TRUE(listed) << nj.dump();
 }
 
 // Issue 35: CiA 301 asks 0x1006 only of the SYNC producer. A drive whose EDS lacks it (the

@@ -168,11 +168,81 @@ TEST(EdsDriveConfig, AWritableMappingIsMappedDynamicallyWithTheFeedbackAskedFor)
   EXPECT_EQ(canopen::check_layout(r.config.layout, true), canopen::LayoutError::none);
 }
 
-TEST(EdsDriveConfig, ADriveWithout60C2IsRefusedNamingIt) {
+TEST(EdsDriveConfig, ThePeriodGoesTo60C2Or1006WhicheverTheDriveHasAndOneIsNeeded) {
   EdsText e = drive_objects();
-  e.without(0x60C2).pdo(true, 1, true, {}).pdo(false, 1, true, {});
-  const DriveConfigResult r = drive_config_from_eds(parsed(e), base(), {});
-  EXPECT_EQ(r.error, "the drive's EDS has no 0x60C2 (interpolation time period)");
+  e.pdo(true, 1, true, {}).pdo(false, 1, true, {}).pdo(false, 2, true, {});
+  e.add({0x1006, -1, data_type::u32, "rw", false, "0"});
+  const auto writes = [](const DriveConfigResult& r, std::uint16_t index) {
+    std::array<canopen::StartupStep, canopen::remote_drive_max_steps> steps{};
+    const std::size_t n = canopen::plan_start_up(r.config, steps).value_or(0);
+    return std::count_if(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(n), [&](const auto& s) {
+      return s.index() == index && s.action() == canopen::StartupAction::write;
+    });
+  };
+  const DriveConfigResult both = drive_config_from_eds(parsed(e), base(), {});
+  ASSERT_TRUE(both.ok()) << both.error;
+  EXPECT_EQ(writes(both, 0x60C2), 2);
+  EXPECT_EQ(writes(both, 0x1006), 1);
+  EdsText no_ip = e;
+  const DriveConfigResult cycle_only = drive_config_from_eds(parsed(no_ip.without(0x60C2)), base(), {});
+  ASSERT_TRUE(cycle_only.ok()) << cycle_only.error;
+  EXPECT_EQ(writes(cycle_only, 0x60C2), 0);
+  EXPECT_EQ(writes(cycle_only, 0x1006), 1);
+  const DriveConfigResult neither = drive_config_from_eds(parsed(no_ip.without(0x1006)), base(), {});
+  EXPECT_NE(neither.error.find("neither 0x60C2 (interpolation time period) nor 0x1006"), std::string::npos)
+      << neither.error;
+}
+
+// The objects the master uses when present are written only to a drive that has them; the
+// capability list says which it found, how each is used, and what it does without the others.
+TEST(EdsDriveConfig, OptionalObjectsAreWrittenOnlyWhenPresentAndListedWithTheirUse) {
+  canopen::RemoteDriveConfig b = base();
+  b.heartbeat_period_ms = 100;
+  b.master_node = 0x7F;
+  b.following_error_window = 1000;
+  b.communication_loss_periods = 3;
+  // heartbeat period, master node, following error window, communication loss periods
+  const auto kept = [](const canopen::RemoteDriveConfig& c) {
+    return std::array<unsigned, 4>{c.heartbeat_period_ms, c.master_node, c.following_error_window,
+                                   c.communication_loss_periods};
+  };
+  EdsText e = drive_objects();
+  e.pdo(true, 1, true, {}).pdo(false, 1, true, {}).pdo(false, 2, true, {});
+  const DriveConfigResult without = drive_config_from_eds(parsed(e), b, {});
+  ASSERT_TRUE(without.ok()) << without.error;
+  EXPECT_EQ(kept(without.config), (std::array<unsigned, 4>{0, 0, 0, 0}));
+  e.add({0x1017, -1, data_type::u16, "rw", false, "0"})
+      .add({0x1016, 1, data_type::u32, "rw", false, "0"})
+      .add({0x6065, -1, data_type::u32, "rw", false, "0"})
+      .add({0x6066, -1, data_type::u16, "rw", false, "0"})
+      .add({0x2001, -1, data_type::u8, "rw", false, "3"});
+  const DriveConfigResult with = drive_config_from_eds(parsed(e), b, {});
+  ASSERT_TRUE(with.ok()) << with.error;
+  // 0x2001 is Settle's communication loss periods on Settle's drive only (no [SettleDrive] here).
+  EXPECT_EQ(kept(with.config), (std::array<unsigned, 4>{100, 0x7F, 1000, 0}));
+
+  const auto use_of = [](const std::vector<Capability>& caps, std::uint16_t index, std::uint8_t sub) {
+    for (const Capability& c : caps) {
+      if (c.index == index && c.sub == sub) return c;
+    }
+    ADD_FAILURE() << "not listed: " << index;
+    return Capability{};
+  };
+  const std::vector<Capability> none = capabilities(parsed(drive_objects().pdo(true, 1, true, {}).pdo(false, 1, true, {}).pdo(false, 2, true, {})), without, {});
+  EXPECT_FALSE(use_of(none, 0x1017, 0).found);
+  EXPECT_EQ(use_of(none, 0x1017, 0).use, "");
+  EXPECT_FALSE(use_of(none, 0x1017, 0).without.empty());
+  EXPECT_EQ(use_of(none, 0x6040, 0).use, "RPDO1");
+  EXPECT_TRUE(use_of(none, 0x6040, 0).needed);
+  EXPECT_EQ(use_of(none, 0x6064, 0).use, "TPDO1");
+  EXPECT_EQ(use_of(none, 0x6060, 0).use, "written");
+  EXPECT_EQ(use_of(none, 0x6061, 0).use, "checked");
+  const std::vector<Capability> all = capabilities(parsed(e), with, {});
+  EXPECT_TRUE(use_of(all, 0x1017, 0).found);
+  EXPECT_EQ(use_of(all, 0x1017, 0).use, "written");
+  EXPECT_EQ(use_of(all, 0x6065, 0).use, "written");
+  EXPECT_EQ(use_of(all, 0x2001, 0).use, "");
+  EXPECT_EQ(use_of(all, 0x607F, 0).use, "read");
 }
 
 TEST(EdsDriveConfig, EachRequiredObjectIsCheckedForPresenceTypeAccessAndMappability) {

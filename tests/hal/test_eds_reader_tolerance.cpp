@@ -126,8 +126,10 @@ TEST(EdsTolerance, HexBooleansAndHexOrDecimalNumbersEverywhere) {
       mentions(must_refuse(replace(kBase, "VendorNumber=171", "VendorNumber=ACME"), "DeviceInfo", "VendorNumber"),
                "not an UNSIGNED32"));
   must_parse(replace(kBase, "NrOfRXPDO=1", "NrOfRXPDO=one"), &r);
-  ASSERT_EQ(r.warnings.size(), 1u);
+  ASSERT_EQ(r.warnings.size(), 2u);
   EXPECT_EQ(to_string(r.warnings[0]), "line 5: [DeviceInfo] NrOfRXPDO: 'one' is not an UNSIGNED32: read as 0");
+  EXPECT_EQ(to_string(r.warnings[1]), "line 5: [DeviceInfo] NrOfRXPDO: one but 1 RPDOs are described: the PDOs "
+                                      "described are read");
 }
 
 TEST(EdsTolerance, RealValuesAndLimitsAreFloatingPoint) {
@@ -221,9 +223,76 @@ TEST(EdsTolerance, RecordsTypedBySubObjectsOrWithoutSubZero) {
                                  "[2304sub01]\nDataType=5\nAccessType=ro\n");
   EXPECT_FALSE(twice.description);
   EXPECT_NE(twice.error.find("describes 0x2304:1 as ["), std::string::npos) << twice.error;
-  // Compact sub-objects are not read: refused rather than read as a VAR.
-  must_refuse(kBase + "[2303]\nObjectType=0x8\nCompactSubObj=4\nDataType=0x0007\nAccessType=ro\n", "2303",
+  // Compact sub-objects (CiA 306): sub 0 holds their number, subs 1..N share the object's type,
+  // access, mapping and default, with names from [IIIIName] and values from [IIIIValue].
+  const Description compact = must_parse(
+      kBase +
+          "[2303]\nParameterName=Gains\nObjectType=0x8\nCompactSubObj=4\nDataType=0x0007\nAccessType=ro\n"
+          "DefaultValue=5\nPDOMapping=0x1\n[2303Name]\nNrOfEntries=1\n2=Second gain\n"
+          "[2303Value]\nNrOfEntries=1\n3=0x10\n",
+      &r);
+  EXPECT_TRUE(r.warnings.empty());
+  EXPECT_EQ(compact.find(0x2303, 0)->value(1), 4);
+  EXPECT_EQ(compact.find(0x2303, 0)->data_type, data_type::u8);
+  ASSERT_NE(compact.find(0x2303, 4), nullptr);
+  EXPECT_EQ(compact.find(0x2303, 5), nullptr);
+  EXPECT_EQ(compact.find(0x2303, 1)->value(1), 5);
+  EXPECT_EQ(compact.find(0x2303, 3)->value(1), 16);  // [2303Value] 3=0x10
+  EXPECT_TRUE(compact.find(0x2303, 4)->pdo_mappable);
+  EXPECT_EQ(compact.find(0x2303, 2)->name, "Second gain");
+  EXPECT_EQ(compact.find(0x2303, 1)->name, "Gains 1");
+  // Beside written sub-index sections, or on a VAR, or beyond 254: refused, naming the key.
+  must_refuse(kBase + "[2305]\nObjectType=0x7\nCompactSubObj=2\nDataType=0x0007\nAccessType=ro\n", "2305",
               "CompactSubObj");
+  must_refuse(kBase + "[2306]\nObjectType=0x8\nCompactSubObj=255\nDataType=0x0007\nAccessType=ro\n", "2306",
+              "CompactSubObj");
+  must_refuse(kBase +
+                  "[2307]\nObjectType=0x8\nCompactSubObj=1\nDataType=0x0007\nAccessType=ro\n"
+                  "[2307sub1]\nDataType=0x0007\nAccessType=ro\n",
+              "2307", "CompactSubObj");
+}
+
+TEST(EdsTolerance, ObjectListsThatDisagreeWithTheFileAreWarnedAndReadAsPresent) {
+  LoadResult r;
+  // SupportedObjects counts 3, two entries present; one names an object with no section.
+  const Description d = must_parse(
+      replace(kBase, "SupportedObjects=0x1\n1=4096\n", "SupportedObjects=3\n1=4096\n2=0x6041\n"), &r);
+  ASSERT_EQ(r.warnings.size(), 2u);
+  EXPECT_EQ(r.warnings[0].section, "MandatoryObjects");
+  EXPECT_EQ(r.warnings[0].key, "SupportedObjects");
+  EXPECT_TRUE(mentions(r.warnings[0], "SupportedObjects=3 but 2 entries")) << r.warnings[0].message;
+  EXPECT_EQ(r.warnings[1].key, "2");
+  EXPECT_TRUE(mentions(r.warnings[1], "0x6041 is listed in [MandatoryObjects] but has no section [6041]"));
+  EXPECT_EQ(d.listed(), std::vector<std::uint16_t>{0x1000});
+  // [OptionalObjects] without SupportedObjects, entries out of order: read in the order of their numbers.
+  must_parse(kBase + "[OptionalObjects]\n2=0x1600\n1=0x1400\n", &r);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_TRUE(mentions(r.warnings[0], "missing but 2 entries")) << r.warnings[0].message;
+}
+
+TEST(EdsTolerance, DeviceInfoAndIdentityObjectGiveOneIdentityAndAContradictionIsWarned) {
+  const std::string identity = "[1018]\nObjectType=0x9\nSubNumber=3\n"
+                               "[1018sub0]\nDataType=0x0005\nAccessType=ro\nDefaultValue=2\n"
+                               "[1018sub1]\nDataType=0x0007\nAccessType=ro\nDefaultValue=VENDOR\n"
+                               "[1018sub2]\nDataType=0x0007\nAccessType=ro\nDefaultValue=0x1234\n";
+  LoadResult r;
+  // Agreeing: no warning.
+  Description d = must_parse(kBase + replace(identity, "VENDOR", "0xAB"), &r);
+  EXPECT_TRUE(r.warnings.empty());
+  EXPECT_EQ(d.device().vendor_number, 0xABu);
+  // 0x1018:1 contradicts VendorNumber: 0x1018's is the one identity, and the warning says so.
+  d = must_parse(kBase + replace(identity, "VENDOR", "0x00000099"), &r);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.warnings[0].section, "DeviceInfo");
+  EXPECT_EQ(r.warnings[0].key, "VendorNumber");
+  EXPECT_TRUE(mentions(r.warnings[0], "0x000000AB but 0x1018:1 gives 0x00000099: 0x00000099 (0x1018's)"))
+      << r.warnings[0].message;
+  EXPECT_EQ(d.device().vendor_number, 0x99u);
+  // A placeholder 0 in 0x1018:1: [DeviceInfo]'s is used, and the warning says so.
+  d = must_parse(kBase + replace(identity, "VENDOR", "0"), &r);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_TRUE(mentions(r.warnings[0], "0x000000AB ([DeviceInfo]'s)")) << r.warnings[0].message;
+  EXPECT_EQ(d.device().vendor_number, 0xABu);
 }
 
 TEST(EdsTolerance, ASubNumberThatDisagreesIsAWarningAndTheSectionsPresentAreRead) {

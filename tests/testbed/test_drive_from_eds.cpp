@@ -208,7 +208,10 @@ TEST(DriveFromEds, WhatTheSimulatedDriveCannotBeIsRefusedNamingTheObject) {
   // A default mapping that cannot be bound: the statusword received.
   r = from_text(replaced(base, "DefaultValue=0x60400010", "DefaultValue=0x60410010"));
   EXPECT_FALSE(r.config);
-  EXPECT_NE(r.error.find("cannot be bound (SDO abort 0x06040041)"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("cannot be bound (SDO abort 0x06040041): RPDO1 maps 0x6041:0, which is read-only (an "
+                         "RPDO writes it)"),
+            std::string::npos)
+      << r.error;
   // The strings are the EDS's.
   r = from_text(replaced(base, "DefaultValue=Settle simulated CiA 402 drive", "DefaultValue=Other drive"));
   ASSERT_TRUE(r.config) << r.error;

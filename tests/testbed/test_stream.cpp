@@ -194,7 +194,7 @@ TEST(RunStream, EveryScalarStreamsTheDoubleSetpointsWithinOneCount) {
 // it (dynamic mapping where it is writable, the static one read and checked otherwise) and the
 // simulated drive built from it, streams the move to the end, every setpoint once and in order,
 // and leaves the same residual as Settle's own drive (the mapping changes where the bytes go, not
-// what the drive does). A description without 0x60C2 is refused before anything streams.
+// what the drive does). A description without 0x60C2 streams too, its period told through 0x1006.
 TEST(RunStream, EachBundledDriveIsConfiguredFromItsEdsAndStreamed) {
   const StreamSpec plain = spec_for(poly345(0.01, 0.5), 0.2);
   LoopbackStreamBus own_bus{""};
@@ -220,10 +220,12 @@ TEST(RunStream, EachBundledDriveIsConfiguredFromItsEdsAndStreamed) {
   ASSERT_TRUE(lacking.description) << lacking.error;
   StreamSpec spec = plain;
   spec.eds = std::make_shared<const hal::eds::Description>(std::move(*lacking.description));
+  // A drive without 0x60C2 is told the period through 0x1006 alone, and streams the same move.
   LoopbackStreamBus bus{""};
   const StreamReport r = run_stream(spec, bus);
-  EXPECT_NE(r.failure.find("0x60C2 (interpolation time period)"), std::string::npos) << r.failure;
-  EXPECT_TRUE(r.log.empty());  // refused before the loop ran
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.drive_failure;
+  EXPECT_EQ(r.setpoints, own.setpoints);
 }
 
 // Issue 35: a drive whose description has no load-side position (no 0x2000, TPDO2 carrying the
@@ -704,7 +706,7 @@ class LoopbackWrapper : public StreamBus {
   [[nodiscard]] hal::BusCounters counters() const override { return inner_.counters(); }
   [[nodiscard]] StreamTiming timing() const override { return inner_.timing(); }
 
- private:
+ protected:
   LoopbackStreamBus inner_;
 };
 
@@ -775,6 +777,51 @@ TEST(RunStream, NothingIsAllocatedWhileStreaming) {
     EXPECT_EQ(bus.allocations(), 0U) << to_string(scalar);
     EXPECT_TRUE(spec.more_axes.empty() || r.more_axes.size() == 2U);
   }
+}
+
+}  // namespace
+}  // namespace settle::testbed
+
+namespace settle::testbed {
+namespace {
+
+// The loopback bus with the drive's statusword held at 0x0240 (switch on disabled) in every
+// TPDO1 the master receives: a slave that never leaves it.
+class StuckStatusBus final : public LoopbackWrapper, private hal::CanBus {
+ public:
+  [[nodiscard]] std::string open(const StreamSpec& spec) override {
+    node_ = spec.node;
+    return inner_.open(spec);
+  }
+  [[nodiscard]] hal::CanBus& link() override { return *this; }
+
+ private:
+  hal::SendStatus do_send(const hal::CanFrame& frame) noexcept override { return inner_.link().send(frame); }
+  hal::ReceiveStatus do_receive(hal::CanFrame& frame, std::uint32_t timeout_us) noexcept override {
+    const hal::ReceiveStatus s = inner_.link().receive(frame, timeout_us);
+    if (s == hal::ReceiveStatus::received && frame.id == 0x180U + node_ && frame.len >= 2) {
+      frame.data[0] = 0x40;
+      frame.data[1] = 0x02;
+    }
+    return s;
+  }
+  hal::BusStatus do_set_filters(std::span<const hal::CanFilter> filters) noexcept override {
+    return inner_.link().set_filters(filters);
+  }
+  unsigned node_{1};
+};
+
+// A slave that never leaves switch on disabled: the report says what its statusword showed,
+// never an empty drive_failure.
+TEST(RunStream, ADriveThatNeverEnablesIsReportedWithItsStatusword) {
+  const StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.2);
+  StuckStatusBus bus;
+  const StreamReport r = run_stream(spec, bus);
+  ASSERT_TRUE(r.failure.empty()) << r.failure;
+  EXPECT_FALSE(r.start_up_us.has_value());
+  EXPECT_NE(r.drive_failure.find("the drive's statusword stayed 0x0240 (switch on disabled), not operation enabled"),
+            std::string::npos)
+      << "drive_failure: '" << r.drive_failure << "'";
 }
 
 }  // namespace

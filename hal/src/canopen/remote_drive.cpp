@@ -88,7 +88,7 @@ std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config, std::s
     if (identity[i] != 0) add(S::check(obj::identity, static_cast<std::uint8_t>(i + 1), identity[i], 4));
   }
   add(S::write(obj::modes_of_operation, 0, mode, 1));
-  if (const auto ip = interpolation_period_from_us(config.sync_period_us)) {
+  if (const auto ip = interpolation_period_from_us(config.sync_period_us); ip && config.write_interpolation_period) {
     add(S::write(obj::interpolation_time_period, 1, ip->value, 1));
     add(S::write(obj::interpolation_time_period, 2, static_cast<std::uint8_t>(ip->index), 1));
   }

@@ -77,6 +77,10 @@ struct Entry {
   // LowLimit/HighLimit of a REAL32 or REAL64.
   std::optional<double> low_limit_real;
   std::optional<double> high_limit_real;
+  // Where it is written, for messages about its value: the section (as written) and the line of
+  // the value used (ParameterValue, else DefaultValue, else the section's line).
+  std::string section;
+  int line{0};
 
   [[nodiscard]] bool readable() const noexcept { return access != Access::wo; }
   [[nodiscard]] bool writable() const noexcept {
@@ -134,6 +138,12 @@ class Description {
   [[nodiscard]] const DeviceInfo& device() const noexcept { return device_; }
   // The indices the object lists ([Mandatory|Optional|ManufacturerObjects]) name, in file order.
   [[nodiscard]] const std::vector<std::uint16_t>& listed() const noexcept { return listed_; }
+  // Settle's own mark, a section other tools ignore: [SettleDrive] says the dictionary is
+  // Settle's simulated drive (hal's DriveNode), whose manufacturer objects are Settle's (0x2001
+  // communication loss periods); its LoadPosition=INDEX:SUB names the object that measures the
+  // load (0x2000:0 on that drive), read strictly: described, INTEGER32, readable and mappable.
+  [[nodiscard]] bool settle_drive() const noexcept { return settle_drive_; }
+  [[nodiscard]] const std::optional<MappedObject>& load_position() const noexcept { return load_position_; }
   // A DCF's [DeviceComissioning] NodeID, when it has one.
   [[nodiscard]] std::optional<std::uint8_t> dcf_node_id() const noexcept { return dcf_node_id_; }
   // The PDOs whose communication and mapping objects are both described, by number.
@@ -147,6 +157,8 @@ class Description {
   DeviceInfo device_;
   std::vector<std::uint16_t> listed_;
   std::optional<std::uint8_t> dcf_node_id_;
+  bool settle_drive_{false};
+  std::optional<MappedObject> load_position_;  // bits: 32
 };
 
 struct LoadResult {

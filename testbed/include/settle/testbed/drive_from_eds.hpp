@@ -4,7 +4,10 @@
 // default mappings and whether they are writable (the mapping objects' AccessType). An EDS that
 // describes something the simulated drive cannot be is refused with a line that names the object
 // (an object it does not implement, one it always has that the EDS lacks, a default it cannot
-// take, a default mapping that cannot be bound). Host only (files, strings).
+// take, a default mapping that cannot be bound, naming the PDO and the entry). Settle's own
+// descriptions ([SettleDrive]) are matched object for object; in another vendor's, the
+// manufacturer objects 0x2000..0x5FFF are that vendor's: described, not simulated (an SDO to one
+// aborts 0x06020000; the master never uses them). Host only (files, strings).
 #pragma once
 
 #include <memory>

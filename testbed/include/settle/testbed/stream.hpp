@@ -57,6 +57,13 @@ struct StreamAxis {
   std::optional<StreamChange> change;
 };
 
+// --load-feedback INDEX:SUB: the drive's object that measures the load (or any vibration),
+// mapped into a TPDO like the rest. index 0: none named.
+struct LoadFeedback {
+  std::uint16_t index{0};
+  std::uint8_t sub{0};
+};
+
 struct StreamSpec {
   core::Move<double> move{};
   std::optional<StreamChange> change;  // every scalar: the blend is evaluated in it
@@ -73,6 +80,7 @@ struct StreamSpec {
   // (hal::eds::drive_config_from_eds with streaming_feedback), and on loopback the simulated drive
   // is the one it describes (testbed::simulated_drive_from_eds). Null: Settle's own drive, as assumed.
   std::shared_ptr<const hal::eds::Description> eds;
+  LoadFeedback load_feedback{};  // with eds: the load position object the user named
   // --axes N: axes 2..N (axis 1 is `move` on `node`), every one started on the same SYNC and
   // streamed, supervised and measured as axis 1, with the same plant, drive and loop options (each
   // its own copy of the plant: one PlantNode per node on loopback). Empty: one axis. With a change,
@@ -107,10 +115,12 @@ struct StreamRefusal {
 };
 [[nodiscard]] StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive);
 
-// The feedback a stream maps besides statusword and position: the velocity actual 0x606C and
-// the load-side position 0x2000 (the simulated drive's load encoder), each when the description
-// has it.
-[[nodiscard]] hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds);
+// The feedback a stream maps besides statusword and position: the velocity actual 0x606C when
+// the description has it, and the load position: the object `load` names (--load-feedback), else
+// the one the description marks ([SettleDrive] LoadPosition: 0x2000 on Settle's own drive), else
+// none (the residual, PRV and at-rest verdict are then not measured).
+[[nodiscard]] hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds,
+                                                          const LoadFeedback& load = {});
 
 // Why a drive's start-up failed, in one line: the object, what was expected and read, or the SDO
 // status and abort code.

@@ -63,6 +63,9 @@ struct RemoteDriveConfig {
   // drive whose description lacks it is not written (eds::drive_config_from_eds clears this; the
   // drive then takes its period from 0x60C2). Settle's own drive has it.
   bool write_sync_period{true};
+  // Write the period to 0x60C2 (interpolation time period). A drive without it takes the period
+  // from 0x1006 (eds::drive_config_from_eds clears this for such a description).
+  bool write_interpolation_period{true};
   std::uint32_t sdo_timeout_us{100'000};        // per SDO request; a request that times out is sent once more
   std::uint32_t enable_timeout_us{1'000'000};   // from NMT start to operation enabled
   std::uint16_t heartbeat_timeout_ms{0};        // watch the drive's heartbeat; 0 = do not
