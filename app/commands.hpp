@@ -15,6 +15,7 @@ int cmd_stream(int argc, char** argv);
 int cmd_identify(int argc, char** argv);
 int cmd_demo(int argc, char** argv);
 int cmd_tune(int argc, char** argv);
+int cmd_export(int argc, char** argv);
 // settle drive info|read|write|scan: argv[0] is the subcommand.
 int cmd_drive(int argc, char** argv);
 

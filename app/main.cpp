@@ -23,6 +23,7 @@ constexpr Entry kRun[] = {
     {"plant", settle::app::cmd_plant},       {"stream", settle::app::cmd_stream},
     {"demo", settle::app::cmd_demo},         {"drive", settle::app::cmd_drive},
     {"tune", settle::app::cmd_tune},
+    {"export", settle::app::cmd_export},
     {"identify", settle::app::cmd_identify},
 };
 

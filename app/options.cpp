@@ -177,6 +177,14 @@ const std::vector<OptionSpec> kPlanFrom = {
     text("--plan-from", "", "the plan `settle tune --json` wrote: exactly that move (no move options with it)", "FILE"),
 };
 
+const std::vector<OptionSpec> kExport = {
+    choice("--scalar", "float", {"double", "float", "fixed"},
+           "the tables' numbers: the move's pieces in double or float, or core::fixed's integer motion"),
+    text("--name", "settle_plan", "the header's C++ namespace: a C++ identifier, at most 64 characters", "N"),
+    real("--counts-per-unit", "counts/unit", "1e6", {1e-3, 1e9}, "the axis's position scale"),
+    integer("--period-us", "us", "1000", {100.0, 100000.0}, "the servo period the stream ticks at"),
+};
+
 const std::vector<OptionSpec> kPlant = {
     choice("--plant", "beam", {"sdof", "beam", "belt", "modes"}, "the plant behind the drive"),
     real("--mass", "kg", "1", {1e-6, 1e6}, "sdof: mass"),
@@ -422,6 +430,15 @@ const std::vector<CommandSpec> kCommands = {
               "retuned within the band (docs/tuning.md). Bounds: at most 4 modes; a search too fine to bound "
               "(omega_hi x move duration too large) is refused (too_much_work). No plan within the bound: exit 2, "
               "no_feasible_plan."},
+    {.name = "export",
+     .summary = "print a plan file's move as a C++ header of constant tables that firmware streams without the planner",
+     .usage = "",
+     .groups = {kPlanFrom, kExport, kOutput},
+     .notes = "--plan-from is required. The header (docs/export.md) includes settle/core/exported_plan.hpp and "
+              "defines, in namespace --name, kPlan and Stream: Stream{kPlan, origin}.next(last) gives one target "
+              "in counts per tick; with --json the header is the \"header\" string of one JSON object. Bounds: the "
+              "move at most 2^30 periods, its distance within 32-bit counts. Exit 1 when the header cannot be "
+              "written."},
     {.name = "identify",
      .summary = "excite the axis through the loop and the bus, and estimate the machine's modes from the drive's feedback",
      .usage = "",

@@ -17,3 +17,9 @@ endfunction()
 function(settle_freestanding target)
   target_compile_options(${target} PRIVATE "$<$<COMPILE_LANGUAGE:CXX>:-fno-exceptions;-fno-rtti;-fno-threadsafe-statics>")
 endfunction()
+
+# Settle's own build flag for code that uses hal's polymorphic types (hal/CMakeLists.txt): PRIVATE,
+# so it never reaches a consumer of the installed package.
+function(settle_no_rtti target)
+  target_compile_options(${target} PRIVATE "$<$<COMPILE_LANGUAGE:CXX>:-fno-rtti>")
+endfunction()

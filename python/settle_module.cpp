@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// The `settle` Python module: core's planner and sim's simulator for analysis in notebooks.
+// The `settle` Python package's extension (settle._settle, re-exported by settle/__init__.py, typed
+// in settle/__init__.pyi): core's planner and sim's simulator for analysis in notebooks.
 //   settle.plan(**move)               the plan as a dict, as `settle plan --json` prints it
 //   settle.sample(dt=..., **move)     numpy arrays t, position, velocity, acceleration, jerk
 //   settle.simulate(plant=..., **move) the residual-vibration metrics of the move on a plant
@@ -280,7 +281,7 @@ py::dict simulate(const py::kwargs& kw) {
 }  // namespace
 }  // namespace settle::python
 
-PYBIND11_MODULE(settle, m) {
+PYBIND11_MODULE(_settle, m) {
   const std::string profiles = settle::plant::profile_list();
   const std::string doc =
       "Settle: vibration-free point-to-point moves (planning, sampling, simulation).\n"
@@ -295,6 +296,7 @@ PYBIND11_MODULE(settle, m) {
   py::tuple names(settle::core::kProfileCount);
   for (std::size_t i = 0; i < settle::core::kProfileCount; ++i) names[i] = settle::core::profile_names()[i];
   m.attr("PROFILES") = names;
+  m.attr("__version__") = SETTLE_VERSION;  // the project's version, as `settle --version` prints it
   m.def("plan", &settle::python::plan,
         "plan(**move) -> dict: the planned move as `settle plan --json` prints it (status, profile, distance,\n"
         "duration, profile_duration, params, peaks, shaper.impulses); an infinite peak is math.inf.");

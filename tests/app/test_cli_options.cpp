@@ -402,6 +402,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
                         "--halt-at", "--retarget-at"}})},
       {"tune", join({{"--distance", "--time", "--vmax", "--amax", "--jmax", "--modes-from", "--mode", "--residual-max",
                       "--uncertainty", "--zeta-pm", "--png"}})},
+      {"export", join({{"--plan-from", "--scalar", "--name", "--counts-per-unit", "--period-us"}})},
       {"identify", join({plant, drive,
                          {"--bus", "--timing", "--node", "--eds", "--strict", "--load-feedback", "--heartbeat-ms", "--sdo-timeout-ms", "--feedback-timeout-periods",
                           "--rt-priority", "--pm-qos",

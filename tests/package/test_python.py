@@ -7,9 +7,12 @@ against the distance and its velocity against its own position's differences, si
 residual against a Duhamel integral of sample()'s acceleration, and every refusal naming its
 keyword."""
 import argparse
+import ast
+import doctest
 import itertools
 import json
 import math
+import pathlib
 import subprocess
 import sys
 import unittest
@@ -239,6 +242,59 @@ class BadArguments(unittest.TestCase):
         # settle sample's bound: at most 2e6 samples (2e7 here).
         self.assertNames("dt", lambda: settle.sample(**good, dt=0.5 / 2e7))
         self.assertIn(len(settle.sample(**good, dt=0.5 / 1e6)["t"]), (1000001, 1000002))
+
+
+class Package(unittest.TestCase):
+    """The package around the extension: version, documentation, and a stub whose signatures are
+    the keywords each function really accepts (an unknown keyword is a TypeError)."""
+
+    @unittest.skipUnless(SETTLE_CLI or "--settle" in sys.argv, "needs the settle CLI (--settle)")
+    def test_version_is_the_clis(self):
+        out = subprocess.run([SETTLE_CLI, "--version"], capture_output=True, text=True, check=True).stdout
+        self.assertEqual(out, f"settle {settle.__version__}\n")
+
+    def test_every_function_is_documented(self):
+        self.assertIn("vibration-free", settle.__doc__)
+        for name in ("plan", "sample", "simulate"):
+            self.assertIn(name + "(", getattr(settle, name).__doc__)
+        # The package's own example runs and prints what it says.
+        self.assertEqual(doctest.testmod(settle).failed, 0)
+
+    def stub(self):
+        path = pathlib.Path(settle.__file__).with_name("__init__.pyi")
+        self.assertTrue(path.with_name("py.typed").exists(), "py.typed is missing beside the stub")
+        tree = ast.parse(path.read_text())
+        return {f.name: f for f in tree.body if isinstance(f, ast.FunctionDef)}
+
+    def test_stub_signatures_are_the_accepted_keywords(self):
+        stub = self.stub()
+        self.assertEqual(sorted(stub), ["plan", "sample", "simulate"])
+        base = dict(profile="poly345", distance=0.1, time=0.5)
+        for name, fn in stub.items():
+            with self.subTest(function=name):
+                self.assertEqual(fn.args.args, [], "keyword-only: no positional parameters")
+                keywords = [a.arg for a in fn.args.kwonlyargs]
+                required = [a.arg for a, d in zip(fn.args.kwonlyargs, fn.args.kw_defaults) if d is None]
+                self.assertIsNotNone(fn.returns)
+                self.assertTrue(all(a.annotation is not None for a in fn.args.kwonlyargs))
+                func = getattr(settle, name)
+                # Each keyword the stub names is accepted (any refusal is about its value, never a
+                # TypeError for the keyword), and each required one is required.
+                for k in keywords:
+                    try:
+                        func(**{**base, k: object()})
+                    except TypeError as e:
+                        self.fail(f"{name} refuses the stub's keyword {k}: {e}")
+                    except ValueError:
+                        pass
+                for k in required:
+                    args = {**base, "dt": 0.01, "plant": "sdof"}
+                    args = {a: v for a, v in args.items() if a in keywords and a != k}
+                    with self.assertRaisesRegex(ValueError, "^" + k + ": "):
+                        func(**args)
+                # ...and a keyword the stub does not name is refused.
+                with self.assertRaises(TypeError):
+                    func(**base, nosuch=1)
 
 
 if __name__ == "__main__":

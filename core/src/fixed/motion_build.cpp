@@ -449,3 +449,22 @@ Status build_blend_motion(const Blend& blend, const Scale& scale, const MotionSt
 }
 
 }  // namespace settle::core::fixed::detail
+
+namespace settle::core::fixed {
+
+Status move_pieces(const Profile<double>& profile, const Scale& scale, Piece* out, std::size_t capacity,
+                   std::size_t& count) noexcept {
+  count = 0;
+  build::Ctx ctx{};
+  Status st = build::make_ctx(scale, ctx);
+  if (st != Status::ok) return st;
+  detail::Pieces pieces{};
+  st = pieces.init(profile, ctx, capacity);
+  if (st != Status::ok) return st;
+  if (static_cast<std::size_t>(pieces.count()) > capacity) return Status::table_too_small;
+  for (int i = 0; i < pieces.count(); ++i) out[i] = pieces.get(i);
+  count = static_cast<std::size_t>(pieces.count());
+  return Status::ok;
+}
+
+}  // namespace settle::core::fixed

@@ -10,6 +10,7 @@
 #include <cstddef>
 
 #include "settle/core/kinematics.hpp"
+#include "settle/core/trig.hpp"
 
 namespace settle::core {
 
@@ -23,30 +24,35 @@ struct Piece {
   bool trig{false};
 };
 
-// The piece at time t of the profile's clock (start <= t <= start + length), in double: position,
-// velocity, acceleration and jerk of exactly the curve the fixed-point builder quantises. The
-// simulator's one-sided evaluation at breakpoints uses it (plant/src/command.cpp).
-[[nodiscard]] inline Sample<double> piece_at(const Piece& pc, double t) noexcept {
-  constexpr double w = 6.283185307179586476925286766559;
-  const double s = (t - pc.start) / pc.length;
+// The piece `pc` (a Piece, or any piece with the same members in T) at time t of the profile's
+// clock (start <= t <= start + length): position, velocity, acceleration and jerk, in T, with
+// core's sin_cos (std::sin and std::cos in double).
+template <typename T, typename P>
+[[nodiscard]] Sample<T> piece_sample(const P& pc, T t) noexcept {
+  constexpr T w = T(6.283185307179586476925286766559);
+  const T s = (t - pc.start) / pc.length;
   // Horner with the derivatives alongside: p = P(s), d1 = P'(s), d2 = P''(s) / 2, d3 = P^(3)(s) / 6.
-  double p = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0;
+  T p = T(0), d1 = T(0), d2 = T(0), d3 = T(0);
   for (std::size_t k = kMaxPieceDegree + 1; k-- > 0;) {
     d3 = d3 * s + d2;
     d2 = d2 * s + d1;
     d1 = d1 * s + p;
     p = p * s + pc.c[k];
   }
-  double v = d1, a = 2.0 * d2, j = 6.0 * d3;  // per power of the phase
+  T v = d1, a = T(2) * d2, j = T(6) * d3;  // per power of the phase
   if (pc.trig) {
-    const double sn = std::sin(w * s), cs = std::cos(w * s);
-    p += pc.zr * sn + pc.zi * cs;
-    v += w * (pc.zr * cs - pc.zi * sn);
-    a -= w * w * (pc.zr * sn + pc.zi * cs);
-    j -= w * w * w * (pc.zr * cs - pc.zi * sn);
+    const SinCos<T> sc = sin_cos(w * s);
+    p += pc.zr * sc.sin + pc.zi * sc.cos;
+    v += w * (pc.zr * sc.cos - pc.zi * sc.sin);
+    a -= w * w * (pc.zr * sc.sin + pc.zi * sc.cos);
+    j -= w * w * w * (pc.zr * sc.cos - pc.zi * sc.sin);
   }
-  const double il = 1.0 / pc.length;
+  const T il = T(1) / pc.length;
   return {p, v * il, a * il * il, j * il * il * il};
 }
+
+// The piece at time t of the profile's clock, in double: exactly the curve the fixed-point builder
+// quantises. The simulator's one-sided evaluation at breakpoints uses it (plant/src/command.cpp).
+[[nodiscard]] inline Sample<double> piece_at(const Piece& pc, double t) noexcept { return piece_sample(pc, t); }
 
 }  // namespace settle::core

@@ -13,6 +13,7 @@
 #include "settle/core/fixed/qmath.hpp"
 #include "settle/core/move.hpp"
 #include "settle/core/online.hpp"
+#include "settle/core/piece.hpp"
 #include "settle/core/status.hpp"
 
 namespace settle::core::fixed {
@@ -132,6 +133,13 @@ using Motion = BasicMotion<8, 4>;
 using PolyMotion = BasicMotion<32, 4>;
 // A blend: its constant-jerk segments, one track.
 using BlendMotion = BasicMotion<kBlendSegments, 1>;
+
+// The pieces (settle/core/piece.hpp) a motion of `profile` is built from, in double: a closed-form
+// shape's own exact decomposition, or a pseudo-polynomial's quintic fit for this scale (within
+// 1/32 count of the profile at every piece's interior check points). At most `capacity` are written
+// (table_too_small beyond); `count` is how many. `settle export` writes them as a constant table.
+[[nodiscard]] Status move_pieces(const Profile<double>& profile, const Scale& scale, Piece* out, std::size_t capacity,
+                                 std::size_t& count) noexcept;
 
 // Converts `move` into `out`; see BasicMotion::build.
 template <std::size_t S, std::size_t K>
