@@ -532,7 +532,9 @@ void paragraph(std::FILE* out, const std::string& words, const std::string& inde
 
 // A residual with its unit and its PRV: "7.609e-05 m 0.0779 %".
 std::string residual_cell(const DemoRun& run) {
-  if (!run.stream || !has_number(*run.stream, "residual_can")) return "no result";
+  if (!run.stream || !has_number(*run.stream, "residual_can") || text(*run.stream, "status") != "ok") {
+    return "no result";
+  }
   return cell(*run.stream, "residual_can") + " " + run.scenario.unit + " " +
          cell(*run.stream, "prv_can_percent", "%.3g") + " %";
 }
@@ -552,18 +554,17 @@ void print_paper(const DemoReport& rep, std::size_t paper, const std::vector<Pap
     if (m.scenario.paper != paper) continue;
     const DemoRun& b = rep.runs.at(v.baseline);
     const std::string ratio = std::isfinite(v.ratio) ? num(v.ratio >= 10.0 ? "%.0f" : "%.2g", v.ratio) + "×" : "-";
-    std::string row = pad("  " + m.scenario.when, 37) + pad(residual_cell(m), 25) + pad(residual_cell(b), 25) +
-                      pad(ratio, 6, true) + "  " + (v.less ? "yes" : "NO");
-    for (const DemoRun* r : {&m, &b}) {
-      if (!run_ok(*r, rep.socketcan)) {
-        const std::string why = !r->error.empty()                           ? r->error
-                                : !r->stream                                 ? "no result"
-                                : text(*r->stream, "status") != "ok" ? text(*r->stream, "outcome")
-                                                                             : "bus log incomplete";
-        row += "  <- " + r->scenario.label + ": " + why;
-      }
-    }
+    const std::string row = pad("  " + m.scenario.when, 37) + pad(residual_cell(m), 25) +
+                            pad(residual_cell(b), 25) + pad(ratio, 6, true) + "  " + (v.less ? "yes" : "NO");
     std::fprintf(out, "%s\n", row.c_str());
+    for (const DemoRun* r : {&m, &b}) {  // a run that failed: why, on a line of its own
+      if (run_ok(*r, rep.socketcan)) continue;
+      const std::string why = !r->error.empty()                   ? r->error
+                              : !r->stream                         ? "no result"
+                              : text(*r->stream, "status") != "ok" ? text(*r->stream, "outcome")
+                                                                   : "bus log incomplete";
+      paragraph(out, "    <- " + r->scenario.label + ": " + why, "       ");
+    }
   }
 }
 
@@ -575,7 +576,7 @@ void print_transport(const DemoReport& rep, std::FILE* out) {
   long long log_total = 0, frames_total = 0;
   for (const DemoRun& run : rep.runs) {
     if (!run.stream) {
-      std::fprintf(out, "%-28s no result (%s)\n", run.scenario.label.c_str(), run.error.c_str());
+      paragraph(out, pad(run.scenario.label, 28) + " no result (" + run.error + ")", "  ");
       continue;
     }
     const Json& r = *run.stream;
@@ -659,7 +660,8 @@ void print_commissioning(const DemoReport& rep, std::FILE* out) {
                        " % (offline replay " + cell(s, "prv_offline_percent", "%.4f") + " %, bound " +
                        num("%.3g", c.prv_max_percent) + " %): " + (r.prv_ok ? "yes" : "NO"));
   }
-  std::fprintf(out, "commissioning: %s\n", r.ok() ? "ok" : ("FAILED" + (r.error.empty() ? std::string{} : ": " + r.error)).c_str());
+  paragraph(out, "commissioning: " + (r.ok() ? std::string{"ok"} : "FAILED" + (r.error.empty() ? "" : ": " + r.error)),
+            "  ");
 }
 
 // The float/fixed table: per run, double's residual, then for float and for fixed the largest

@@ -11,11 +11,16 @@ double number_or_nan(const Json& j, const char* key) {
   return j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>() : double{NAN};
 }
 
+// The residual a run measured over CAN; NaN when it has none, or its run failed (its figures are
+// then not a measurement).
+double measured_residual(const std::optional<Json>& run) {
+  return run && run->value("status", "") == "ok" ? number_or_nan(*run, "residual_can") : double{NAN};
+}
+
 }  // namespace
 
 ResidualVerdict compare_residuals(const std::optional<Json>& method, const std::optional<Json>& baseline) {
-  const double rm = method ? number_or_nan(*method, "residual_can") : double{NAN};
-  const double rb = baseline ? number_or_nan(*baseline, "residual_can") : double{NAN};
+  const double rm = measured_residual(method), rb = measured_residual(baseline);
   // NaN (a run without a measured residual) compares false: never "less".
   return ResidualVerdict{rb / rm, rm < rb};
 }

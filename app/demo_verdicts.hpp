@@ -11,7 +11,7 @@
 namespace settle::app {
 
 // A paper's method against its baseline at one move time, from their residuals measured over CAN
-// (`residual_can`).
+// (`residual_can` of a run whose `status` is "ok": a failed run's figures are no measurement).
 struct ResidualVerdict {
   double ratio{0.0};  // the baseline's residual over the method's (NaN: one not measured)
   bool less{false};   // the method left less residual than its baseline (false when one is missing)

@@ -75,14 +75,17 @@ TEST(DemoVerdicts, TheMethodPassesOnlyWithLessResidualThanItsBaseline) {
   for (int i = 0; i < 20000; ++i) {
     const double rm = std::pow(10.0, log10(rng));
     const double rb = i % 100 == 0 ? rm : std::pow(10.0, log10(rng));  // ties too
-    const settle::app::ResidualVerdict v =
-        settle::app::compare_residuals(Json{{"residual_can", rm}}, Json{{"residual_can", rb}});
+    const settle::app::ResidualVerdict v = settle::app::compare_residuals(
+        Json{{"status", "ok"}, {"residual_can", rm}}, Json{{"status", "ok"}, {"residual_can", rb}});
     ASSERT_EQ(v.less, rm < rb) << rm << " against " << rb;
     ASSERT_DOUBLE_EQ(v.ratio, rb / rm);
   }
-  // A residual not measured (null, or no run) is never "less", and has no ratio.
-  const Json measured{{"residual_can", 1e-3}}, unmeasured{{"residual_can", nullptr}};
+  // A residual not measured (null, no run, or a run that failed: its zero is no measurement) is
+  // never "less", and has no ratio.
+  const Json measured{{"status", "ok"}, {"residual_can", 1e-3}}, unmeasured{{"status", "ok"}, {"residual_can", nullptr}};
+  const Json failed{{"status", "error"}, {"residual_can", 0.0}};
   for (const auto& [m, b] : {std::pair{std::optional<Json>{unmeasured}, std::optional<Json>{measured}},
+                             std::pair{std::optional<Json>{failed}, std::optional<Json>{measured}},
                              std::pair{std::optional<Json>{measured}, std::optional<Json>{unmeasured}},
                              std::pair{std::optional<Json>{}, std::optional<Json>{measured}}}) {
     const settle::app::ResidualVerdict v = settle::app::compare_residuals(m, b);
