@@ -18,16 +18,16 @@ namespace settle::app {
 namespace {
 
 void print_list(const PaperScenarios& s, const CommissioningScenario& c) {
-  std::printf("beam first mode %.9g rad/s; sdof %.9g rad/s, zeta %.9g; seed 004 exponents optimised from 3,4,5:",
+  std::printf("beam first mode %.9g rad/s; mass-spring-damper %.9g rad/s, zeta %.9g; belt exponents optimised from 3,4,5:",
               s.beam_omega1, s.sdof_omega, s.sdof_zeta);
   for (std::size_t i = 0; i < s.gammas_optimised.size(); ++i) std::printf("%s%.9g", i ? "," : " ", s.gammas_optimised[i]);
-  std::printf("\n\n%-16s %-19s %-9s %s\n", "id", "label", "axis vmax", "options (plant, then move)");
+  std::printf("\n\n%-16s %-28s %-9s %s\n", "id", "label", "axis vmax", "options (plant, then move)");
   for (const PaperScenario& p : s.scenarios) {
     std::string args;
     for (const auto* v : {&p.plant, &p.move}) {
       for (const std::string& a : *v) args += (args.empty() ? "" : " ") + a;
     }
-    std::printf("%-16s %-19s %-9g %s\n", p.id.c_str(), p.label.c_str(), p.axis_vmax, args.c_str());
+    std::printf("%-16s %-28s %-9g %s\n", p.id.c_str(), p.label.c_str(), p.axis_vmax, args.c_str());
   }
   std::string plant;
   for (const auto* v : {&c.plant, &c.noise}) {

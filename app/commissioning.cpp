@@ -18,7 +18,7 @@ namespace {
 // after a train of its default length, then 4 s at rest.
 constexpr double kExDistance = 0.01, kExVmax = 0.1, kExAmax = 5.0, kExJmax = 5000.0, kExHold = 4.0;
 constexpr std::size_t kExTrain = commission::kDefaultTrainRoundTrips;
-constexpr double kNoiseFraction = 0.01;  // of the excitation's peak load deflection (the issue's)
+constexpr double kNoiseFraction = 0.01;  // of the excitation's peak load deflection
 constexpr std::uint64_t kSeed = 7;
 
 std::string fmt(const char* f, double v) {

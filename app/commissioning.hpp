@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The demo's commissioning scenario (issue 15), defined once: a machine with two modes that only
+// The demo's commissioning scenario, defined once: a machine with two modes that only
 // the drive process knows (`settle plant --plant modes --mode ...`, its load encoder noisy); the
 // master measures them (`settle identify`, from the drive's frames alone), plans the move for
 // what it measured (`settle tune --modes-from`) and streams that plan (`settle stream
@@ -35,7 +35,7 @@ struct CommissioningScenario {
   std::vector<std::string> noise;        // --noise N --seed S (settle plant; identify on loopback)
   std::vector<std::string> identify;     // settle identify's own options (the excitation, --max-modes)
   std::vector<std::string> tune;         // settle tune's move and bound (besides --modes-from)
-  // The issue's tolerances: omega within 0.5 %, zeta within 0.01; the streamed PRV at most 1 %.
+  // The tolerances: omega within 0.5 %, zeta within 0.01; the streamed PRV at most 1 %.
   double omega_tolerance{0.005};
   double zeta_tolerance{0.01};
   double prv_max_percent{1.0};

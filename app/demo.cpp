@@ -375,12 +375,40 @@ bool run_ok(const DemoRun& run, bool socketcan) {
   return run.logged == r.value("frames_sent", -1LL) + r.value("frames_received", -1LL);
 }
 
+std::vector<PaperVerdict> paper_verdicts(const DemoReport& rep) {
+  std::vector<PaperVerdict> v;
+  for (std::size_t m = 0; m < rep.runs.size(); ++m) {
+    const PaperScenario& ms = rep.runs[m].scenario;
+    if (ms.baseline) continue;
+    for (std::size_t b = 0; b < rep.runs.size(); ++b) {
+      const PaperScenario& bs = rep.runs[b].scenario;
+      if (!bs.baseline || bs.paper != ms.paper || bs.when != ms.when) continue;
+      const ResidualVerdict r = compare_residuals(rep.runs[m].stream, rep.runs[b].stream);
+      v.push_back(PaperVerdict{m, b, r.ratio, r.less});
+      break;
+    }
+  }
+  return v;
+}
+
 bool DemoReport::ok() const {
   for (const DemoRun& r : runs) {
     if (!run_ok(r, socketcan)) return false;
   }
   if (capture && !(capture->complete() && capture->steps_back == 0)) return false;
-  return !runs.empty() && commissioning.ok();
+  const std::vector<PaperVerdict> verdicts = paper_verdicts(*this);
+  std::size_t methods = 0;
+  for (const DemoRun& r : runs) methods += r.scenario.baseline ? 0 : 1;
+  if (verdicts.size() != methods) return false;  // a method without its baseline
+  for (const PaperVerdict& v : verdicts) {
+    if (!v.less) return false;
+  }
+  for (const DemoScalarRuns& s : scalars) {
+    for (std::size_t k = 1; k < kDemoScalars.size(); ++k) {
+      if (!check_scalar(s.runs[k], s.runs[0]).agrees) return false;
+    }
+  }
+  return !runs.empty() && scalars.size() == runs.size() && commissioning.ok();
 }
 
 bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, const CommissioningScenario& commissioning,
@@ -396,6 +424,7 @@ bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, const Commi
   rep.socketcan = spec.bus != "loopback";
   rep.bus = rep.socketcan ? spec.bus : "loopback (in-process bus, virtual time: no kernel CAN involved)";
   rep.gammas = scenarios.gammas_optimised;
+  rep.papers = scenarios.papers;
   if (rep.socketcan) {  // the bus must be there before any process is started
     DriveWatch probe;
     if (const hal::OpenStatus st = probe.open(spec.bus); st != hal::OpenStatus::ok) {
@@ -423,7 +452,7 @@ bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, const Commi
     bus_log.open(path_in(spec.out, "bus.log"), std::ios::binary);
   }
   for (const PaperScenario& s : scenarios.scenarios) {
-    std::fprintf(stderr, "settle demo: %s on %s\n", s.id.c_str(), rep.socketcan ? spec.bus.c_str() : "loopback");
+    std::fprintf(stderr, "settle demo: %s on %s\n", s.label.c_str(), rep.socketcan ? spec.bus.c_str() : "loopback");
     DemoRun run{s, std::nullopt, std::nullopt, -1, ""};
     if (rep.socketcan) {
       run_socketcan(spec, run);
@@ -450,7 +479,7 @@ bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, const Commi
     const std::string csv = "feedback-" + run.scenario.id + ".csv";
     if (!fs::exists(path_in(spec.out, csv))) continue;
     papers::FigureFiles files;
-    const std::string title = run.scenario.label + ", " + run.scenario.id + ": commanded and measured over CAN";
+    const std::string title = run.scenario.label + ": commanded and measured over CAN";
     if (papers::write_stream_figure(spec.out, run.scenario.id, csv, title, files) == plant::SimStatus::ok) {
       rep.gnuplot = files.gnuplot;
       rep.plots.insert(rep.plots.end(), files.png.begin(), files.png.end());
@@ -464,6 +493,8 @@ bool run_demo(const DemoSpec& spec, const PaperScenarios& scenarios, const Commi
 
 namespace {
 
+constexpr std::size_t kWidth = 100;  // no line of the report is wider
+
 bool has_number(const Json& j, const char* key) { return j.contains(key) && j.at(key).is_number(); }
 
 std::string cell(const Json& j, const char* key, const char* f = "%.3e") {
@@ -476,112 +507,90 @@ std::string text(const Json& j, const char* key) {
   return j.contains(key) && j.at(key).is_string() ? j.at(key).get<std::string>() : "-";
 }
 
-// The scalar table: float or fixed against double, three cells and a note ("" when they agree).
-struct Comparison {
-  std::string sp{"-"}, residual{"-"}, dres{"-"};
-  std::string note;
-  bool agrees{false};
-};
-
-Comparison compare(const char* sc, const std::optional<Json>& r, const std::optional<Json>& d) {
-  Comparison c;
-  const std::string name = sc;
-  if (!r || !d || text(*d, "status") != "ok") {
-    c.note = name + ": no result";
-    return c;
-  }
-  if (text(*r, "evaluation") != "ok") {
-    c.residual = "refused";
-    c.note = name + ": refused (" + text(*r, "evaluation") + ")";
-    return c;
-  }
-  if (text(*r, "status") != "ok" || !has_number(*r, "residual_can") || !has_number(*d, "residual_can")) {
-    c.note = name + ": " + text(*r, "outcome") + ", not aligned";
-    return c;
-  }
-  const long long dsp = integer(*r, "setpoints_vs_double_max_counts");
-  const double rr = r->at("residual_can").get<double>(), rd = d->at("residual_can").get<double>();
-  const double dres = std::abs(rr - rd) / rd * 100.0;
-  c.sp = std::to_string(dsp);
-  c.residual = num("%.4e", rr);
-  c.dres = num("%.3g", dres);
-  std::string bad;
-  if (dsp > 1) bad = std::to_string(dsp) + " counts";
-  if (dres > 1.0) {
-    bad += (bad.empty() ? "" : ", ") + num("%.3g", dres) + " % = " + cell(*r, "residual_vs_double_load_counts", "%.2g") +
-           " load count";
-  }
-  if (bad.empty()) {
-    c.agrees = true;
-  } else {
-    c.note = name + ": NO, " + bad;
-  }
-  return c;
+// Columns a UTF-8 string takes on a terminal (every character one column: no wide characters here).
+std::size_t columns(const std::string& s) {
+  return static_cast<std::size_t>(
+      std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
 }
 
-// The commissioning table: each mode's truth against what was identified, the tuned plan, and
-// the PRV of that plan measured from the drive's CAN feedback.
-void print_commissioning(const DemoReport& rep, std::FILE* out) {
-  const CommissioningScenario& c = rep.commissioning_scenario;
-  const CommissioningResult& r = rep.commissioning;
-  std::string truth;
-  for (const std::string& a : c.plant) truth += (truth.empty() ? "" : " ") + a;
-  std::fprintf(out,
-               "\nCommissioning (issue 15): modes only the drive process knows (%s), its load encoder noisy (%.3g load "
-               "counts = 1 %% of the excitation's peak deflection %.4g mm); settle identify -> settle tune -> settle "
-               "stream --plan-from\n\n",
-               truth.c_str(), c.noise_counts, c.peak_deflection * 1e3);
-  const char* row = "%-5s %10s %34s %8s %8s %26s %8s %s\n";
-  std::fprintf(out, row, "mode", "true w", "identified w [95 % interval]", "err %", "true z", "identified z [interval]",
-               "err", "within (0.5 %, 0.01)");
-  for (std::size_t j = 0; j < r.modes.size(); ++j) {
-    const ModeCheck& m = r.modes[j];
-    std::fprintf(out, row, std::to_string(j + 1).c_str(), num("%.4f", m.truth.omega).c_str(),
-                 (num("%.4f", m.omega) + " [" + num("%.4f", m.omega_lo) + ", " + num("%.4f", m.omega_hi) + "]").c_str(),
-                 num("%+.3f", m.omega_error * 100.0).c_str(), num("%.4f", m.truth.zeta).c_str(),
-                 (num("%.4f", m.zeta) + " [" + num("%.4f", m.zeta_lo) + ", " + num("%.4f", m.zeta_hi) + "]").c_str(),
-                 num("%+.4f", m.zeta_error).c_str(), m.within ? "yes" : "NO");
-  }
-  if (r.identify && r.identify->value("status", "") == "ok" && r.modes.size() != c.modes.size()) {
-    std::fprintf(out, "  <- %zu modes identified, %zu true\n", r.identify->value("modes", Json::array()).size(),
-                 c.modes.size());
-  }
-  if (r.tune && r.tune->value("status", "") == "ok") {
-    const Json& t = *r.tune;
-    const std::string name = t.contains("candidate") ? t["candidate"].value("name", std::string{"-"}) : "-";
-    std::fprintf(out, "\ntuned plan   %s, %s s, worst residual over the identified band %s of a step's (bound %s)\n",
-                 name.c_str(), cell(t, "duration", "%.4f").c_str(), cell(t, "worst_residual", "%.4g").c_str(),
-                 cell(t, "residual_max", "%.4g").c_str());
-  }
-  if (r.stream) {
-    const Json& s = *r.stream;
-    std::fprintf(out, "streamed     %s, %s s; PRV measured from the drive's CAN feedback %s %% (offline replay %s %%, "
-                 "bound %.3g %%): %s\n",
-                 text(s, "profile").c_str(), cell(s, "move_time", "%.4f").c_str(), cell(s, "prv_can_percent", "%.4f").c_str(),
-                 cell(s, "prv_offline_percent", "%.4f").c_str(), c.prv_max_percent, r.prv_ok ? "yes" : "NO");
-  }
-  std::fprintf(out, "commissioning: %s\n", r.ok() ? "ok" : ("FAILED" + (r.error.empty() ? std::string{} : ": " + r.error)).c_str());
-  std::fputs("files: identify-commissioning.json/.log, tune-commissioning.json, stream-commissioning.json/.csv/.log, "
-             "feedback-commissioning.csv\n",
-             out);
+// `s` padded to `w` columns, on the right (left-aligned) or on the left (right-aligned).
+std::string pad(const std::string& s, std::size_t w, bool right = false) {
+  const std::size_t n = columns(s);
+  const std::string fill(n < w ? w - n : 0, ' ');
+  return right ? fill + s : s + fill;
 }
 
-}  // namespace
+// A paragraph, its words wrapped at kWidth columns; its leading spaces start the first line, and
+// `indent` every line after it.
+void paragraph(std::FILE* out, const std::string& words, const std::string& indent = "") {
+  std::size_t at = words.find_first_not_of(' ');
+  if (at == std::string::npos) return;
+  std::string line = words.substr(0, at);
+  bool fresh = true;  // nothing but the indent on the line yet
+  while (at < words.size()) {
+    std::size_t end = words.find(' ', at);
+    if (end == std::string::npos) end = words.size();
+    const std::string word = words.substr(at, end - at);
+    at = end + 1;
+    if (word.empty()) continue;
+    if (!fresh && columns(line) + 1 + columns(word) > kWidth) {
+      std::fprintf(out, "%s\n", line.c_str());
+      line = indent;
+      fresh = true;
+    }
+    line += (fresh ? "" : " ") + word;
+    fresh = false;
+  }
+  std::fprintf(out, "%s\n", line.c_str());
+}
 
-void print_demo(const DemoReport& rep, std::FILE* out) {
-  std::fprintf(out, "\nSettle demo: bus %s\n", rep.bus.c_str());
-  std::string g;
-  for (const double x : rep.gammas) g += (g.empty() ? "" : ",") + num("%.9g", x);
-  std::fprintf(out, "seed 004 exponents: %s (optimised from 3,4,5)\n\n", g.c_str());
-  const char* row = "%-19s %-13s %7s %6s %6s %6s %4s %5s %8s %13s %9s %16s %9s %9s %16s";
-  std::fprintf(out, row, "scenario", "profile", "T (s)", "sent", "recv", "logged", "lost", "late", "overruns",
-               "residual CAN", "PRV CAN %", "residual offline", "PRV off %", "agreement", "continuous PRV %");
+// A residual with its unit and its PRV: "7.609e-05 m 0.0779 %".
+std::string residual_cell(const DemoRun& run) {
+  if (!run.stream || !has_number(*run.stream, "residual_can") || text(*run.stream, "status") != "ok") {
+    return "no result";
+  }
+  return cell(*run.stream, "residual_can") + " " + run.scenario.unit + " " +
+         cell(*run.stream, "prv_can_percent", "%.3g") + " %";
+}
+
+// One paper's table: a row per move time, the method's and the baseline's residual over CAN.
+void print_paper(const DemoReport& rep, std::size_t paper, const std::vector<PaperVerdict>& verdicts,
+                 std::FILE* out) {
+  const Paper& p = rep.papers.at(paper);
   std::fputc('\n', out);
+  paragraph(out, p.title, "  ");
+  paragraph(out, "  " + p.machine, "  ");
+  const std::string head = pad("  move time", 37) + pad(p.method, 25) + pad(p.baseline, 25) +
+                           pad("ratio", 6, true) + "  less?";
+  std::fprintf(out, "%s\n", head.c_str());
+  for (const PaperVerdict& v : verdicts) {
+    const DemoRun& m = rep.runs.at(v.method);
+    if (m.scenario.paper != paper) continue;
+    const DemoRun& b = rep.runs.at(v.baseline);
+    const std::string ratio = std::isfinite(v.ratio) ? num(v.ratio >= 10.0 ? "%.0f" : "%.2g", v.ratio) + "×" : "-";
+    const std::string row = pad("  " + m.scenario.when, 37) + pad(residual_cell(m), 25) +
+                            pad(residual_cell(b), 25) + pad(ratio, 6, true) + "  " + (v.less ? "yes" : "NO");
+    std::fprintf(out, "%s\n", row.c_str());
+    for (const DemoRun* r : {&m, &b}) {  // a run that failed: why, on a line of its own
+      if (run_ok(*r, rep.socketcan)) continue;
+      const std::string why = !r->error.empty()                   ? r->error
+                              : !r->stream                         ? "no result"
+                              : text(*r->stream, "status") != "ok" ? text(*r->stream, "outcome")
+                                                                   : "bus log incomplete";
+      paragraph(out, "    <- " + r->scenario.label + ": " + why, "       ");
+    }
+  }
+}
+
+// The frames and the timing of every run.
+void print_transport(const DemoReport& rep, std::FILE* out) {
+  std::fprintf(out, "\nTransport and timing of each run (%s)\n", rep.socketcan ? rep.bus.c_str() : "loopback bus");
+  const char* row = "%-28s %7s %8s %7s %5s %5s %8s %7s %12s\n";
+  std::fprintf(out, row, "run", "sent", "received", "logged", "lost", "late", "overruns", "skipped", "CAN - replay");
   long long log_total = 0, frames_total = 0;
   for (const DemoRun& run : rep.runs) {
-    const char* name = run.scenario.label.c_str();
     if (!run.stream) {
-      std::fprintf(out, "%-19s %s: no result (%s)\n", name, run.scenario.id.c_str(), run.error.c_str());
+      paragraph(out, pad(run.scenario.label, 28) + " no result (" + run.error + ")", "  ");
       continue;
     }
     const Json& r = *run.stream;
@@ -594,21 +603,10 @@ void print_demo(const DemoReport& rep, std::FILE* out) {
       log_total += run.logged;
       frames_total += counted;
     }
-    const std::string continuous =
-        has_number(r, "residual_continuous") ? cell(r, "prv_continuous_percent", "%.4f") : "-";
-    std::fprintf(out, row, name, text(r, "profile").c_str(), cell(r, "move_time", "%.4f").c_str(),
-                 std::to_string(integer(r, "frames_sent")).c_str(), std::to_string(integer(r, "frames_received")).c_str(),
-                 logged.c_str(), std::to_string(lost).c_str(), std::to_string(integer(r, "feedback_late_ticks")).c_str(),
-                 std::to_string(integer(r, "overruns")).c_str(), cell(r, "residual_can").c_str(),
-                 cell(r, "prv_can_percent", "%.4f").c_str(), cell(r, "residual_offline").c_str(),
-                 cell(r, "prv_offline_percent", "%.4f").c_str(), cell(r, "agreement", "%.1e").c_str(), continuous.c_str());
-    if (!run_ok(run, rep.socketcan)) {
-      const std::string why = !run.error.empty()           ? run.error
-                              : text(r, "status") != "ok" ? text(r, "outcome")
-                                                           : "bus log incomplete";
-      std::fprintf(out, "  <- %s", why.c_str());
-    }
-    std::fputc('\n', out);
+    std::fprintf(out, row, run.scenario.label.c_str(), std::to_string(integer(r, "frames_sent")).c_str(),
+                 std::to_string(integer(r, "frames_received")).c_str(), logged.c_str(), std::to_string(lost).c_str(),
+                 std::to_string(integer(r, "feedback_late_ticks")).c_str(), std::to_string(integer(r, "overruns")).c_str(),
+                 std::to_string(integer(r, "skipped_periods")).c_str(), cell(r, "agreement", "%.1e").c_str());
   }
   if (rep.socketcan && log_total != frames_total) {
     std::fprintf(out, "\nthe streams' logs: %lld lines, their frames sent + received: %lld -- INCOMPLETE\n", log_total,
@@ -616,51 +614,140 @@ void print_demo(const DemoReport& rep, std::FILE* out) {
   }
   if (rep.capture) {
     const hal::BusCaptureResult& c = *rep.capture;
-    std::fprintf(out, "\nbus.log: %llu frames captured on %s, %.1f s, %llu dropped by the kernel, %llu out of time order%s%s\n",
+    std::fprintf(out, "\nbus.log: %llu frames captured on %s, %.1f s, %llu kernel drops, %llu out of time order%s%s\n",
                  static_cast<unsigned long long>(c.frames), rep.bus.c_str(),
                  c.frames > 0 ? static_cast<double>(c.last_us - c.first_us) / 1e6 : 0.0,
                  static_cast<unsigned long long>(c.kernel_drops), static_cast<unsigned long long>(c.steps_back),
                  c.complete() && c.steps_back == 0 ? " (complete)" : " -- INCOMPLETE", c.error.empty() ? "" : (": " + c.error).c_str());
   }
+  std::fputc('\n', out);
+  for (const char* line : {
+           "sent, received: CAN frames the servo loop sent (NMT, SDO, SYNC, setpoint RPDOs) and received",
+           "logged: lines of the loop's own bus log, every frame it sent and received (= sent + received)",
+           "lost: frames dropped by a full receive queue or a failed send, in the loop or the drive",
+           "late: servo ticks whose feedback arrived after the next tick began (matched by its SYNC, not lost)",
+           "overruns: times the Linux timer woke the loop a whole period or more late (the host is not",
+           "  real-time); skipped: the periods those wake-ups missed, skipped and not caught up: the move",
+           "  lasts that much longer, while the drive, stepped by SYNC, moves the machine exactly the same",
+           "CAN - replay: |residual measured over CAN - residual of the offline replay of the same",
+           "  setpoints|, in the residual's unit: 0 when every setpoint was applied once and in order",
+       }) {
+    std::fprintf(out, "%s\n", line);
+  }
+}
 
-  print_commissioning(rep, out);
+// The commissioning table: each mode's truth against what was identified, the tuned plan, and
+// the PRV of that plan measured from the drive's CAN feedback.
+void print_commissioning(const DemoReport& rep, std::FILE* out) {
+  const CommissioningScenario& c = rep.commissioning_scenario;
+  const CommissioningResult& r = rep.commissioning;
+  std::string truth;
+  for (const std::string& a : c.plant) truth += (truth.empty() ? "" : " ") + a;
+  std::fputc('\n', out);
+  paragraph(out, "Commissioning: a machine whose modes only the drive process knows (" + truth +
+                     "), its load encoder noisy (" + num("%.3g", c.noise_counts) +
+                     " load counts, 1 % of the excitation's peak deflection " + num("%.4g", c.peak_deflection * 1e3) +
+                     " mm): settle identify measures the modes from the drive's frames, settle tune plans the "
+                     "fastest move for them, settle stream --plan-from streams it.");
+  const char* row = "%-4s %8s %28s %9s %6s %23s %7s %s\n";
+  const std::string head = pad("mode", 4) + pad("true ω", 9, true) + pad("identified ω [95 % interval]", 29, true) +
+                           pad("error", 10, true) + pad("true ζ", 7, true) + pad("identified ζ [interval]", 24, true) +
+                           pad("error", 8, true) + " within";
+  std::fprintf(out, "%s\n", head.c_str());
+  for (std::size_t j = 0; j < r.modes.size(); ++j) {
+    const ModeCheck& m = r.modes[j];
+    std::fprintf(out, row, std::to_string(j + 1).c_str(), num("%.4f", m.truth.omega).c_str(),
+                 (num("%.4f", m.omega) + " [" + num("%.4f", m.omega_lo) + ", " + num("%.4f", m.omega_hi) + "]").c_str(),
+                 (num("%+.3f", m.omega_error * 100.0) + " %").c_str(), num("%.4f", m.truth.zeta).c_str(),
+                 (num("%.4f", m.zeta) + " [" + num("%.4f", m.zeta_lo) + ", " + num("%.4f", m.zeta_hi) + "]").c_str(),
+                 num("%+.4f", m.zeta_error).c_str(), m.within ? "yes" : "NO");
+  }
+  if (r.identify && r.identify->value("status", "") == "ok" && r.modes.size() != c.modes.size()) {
+    std::fprintf(out, "  <- %zu modes identified, %zu true\n", r.identify->value("modes", Json::array()).size(),
+                 c.modes.size());
+  }
+  std::fprintf(out, "ω in rad/s; within: ω within %.3g %% and ζ within %.3g of the truth\n", c.omega_tolerance * 100.0,
+               c.zeta_tolerance);
+  if (r.tune && r.tune->value("status", "") == "ok") {
+    const Json& t = *r.tune;
+    const std::string name = t.contains("candidate") ? t["candidate"].value("name", std::string{"-"}) : "-";
+    paragraph(out, "tuned plan: " + name + ", " + cell(t, "duration", "%.4f") +
+                       " s; its worst residual over the identified intervals " + cell(t, "worst_residual", "%.4g") +
+                       " of an unshaped step's (bound " + cell(t, "residual_max", "%.4g") + ")");
+  }
+  if (r.stream) {
+    const Json& s = *r.stream;
+    paragraph(out, "streamed: " + text(s, "profile") + ", " + cell(s, "move_time", "%.4f") +
+                       " s; PRV measured from the drive's CAN feedback " + cell(s, "prv_can_percent", "%.4f") +
+                       " % (offline replay " + cell(s, "prv_offline_percent", "%.4f") + " %, bound " +
+                       num("%.3g", c.prv_max_percent) + " %): " + (r.prv_ok ? "yes" : "NO"));
+  }
+  paragraph(out, "commissioning: " + (r.ok() ? std::string{"ok"} : "FAILED" + (r.error.empty() ? "" : ": " + r.error)),
+            "  ");
+}
 
-  // The three evaluations: setpoints against double's (largest difference, counts) and the
-  // residual measured over CAN against the double run's (percent; and in load counts, next to
-  // the resolution).
-  std::fprintf(out, "\nThe loop's evaluation (settle stream --scalar, loopback bus): float and fixed against double\n\n");
-  const char* srow = "%-19s %-13s %13s | %5s %13s %8s | %5s %13s %8s | %s\n";
-  std::fprintf(out, srow, "scenario", "profile", "residual dbl", "d sp", "residual flt", "d res %", "d sp", "residual fix",
-               "d res %", "agree (sp <= 1 count, residual <= 1 %)");
+// The float/fixed table: per run, double's residual, then for float and for fixed the largest
+// setpoint difference (counts) and the residual's difference (percent and load counts).
+void print_scalars(const DemoReport& rep, std::FILE* out) {
+  std::fputc('\n', out);
+  paragraph(out, "The loop's number formats (settle stream --scalar, loopback bus): float and fixed point must leave "
+                 "the move's residual equal to double's within 1 % or within one load count (the measurement's "
+                 "resolution); the demo fails otherwise.");
+  const char* row = "%-28s %10s | %5s %8s %7s %4s | %5s %8s %7s %4s\n";
+  std::fprintf(out, row, "run", "double", "sp", "res %", "counts", "ok", "sp", "res %", "counts", "ok");
   int agree = 0, total = 0;
   for (const DemoScalarRuns& s : rep.scalars) {
     const std::optional<Json>& d = s.runs[0];
-    const Comparison f = compare("float", s.runs[1], d), x = compare("fixed", s.runs[2], d);
+    const ScalarCheck f = check_scalar(s.runs[1], d), x = check_scalar(s.runs[2], d);
     total += 2;
     agree += (f.agrees ? 1 : 0) + (x.agrees ? 1 : 0);
-    std::string notes = f.note;
-    if (!x.note.empty()) notes += (notes.empty() ? "" : "; ") + x.note;
-    std::fprintf(out, srow, s.scenario.label.c_str(), d ? text(*d, "profile").c_str() : "-",
-                 d ? cell(*d, "residual_can", "%.4e").c_str() : "-", f.sp.c_str(), f.residual.c_str(), f.dres.c_str(),
-                 x.sp.c_str(), x.residual.c_str(), x.dres.c_str(), notes.empty() ? "yes" : notes.c_str());
+    const auto cells = [](const ScalarCheck& c, const std::optional<Json>& r) {
+      const bool have = c.why.empty() && r;
+      return std::array<std::string, 4>{have ? std::to_string(integer(*r, "setpoints_vs_double_max_counts")) : "-",
+                                        have ? cell(*r, "residual_vs_double_percent", "%.3g") : "-",
+                                        have ? cell(*r, "residual_vs_double_load_counts", "%.2g") : "-",
+                                        c.agrees ? "yes" : "NO"};
+    };
+    const auto fc = cells(f, s.runs[1]), xc = cells(x, s.runs[2]);
+    std::fprintf(out, row, s.scenario.label.c_str(), d ? cell(*d, "residual_can", "%.4e").c_str() : "-", fc[0].c_str(),
+                 fc[1].c_str(), fc[2].c_str(), fc[3].c_str(), xc[0].c_str(), xc[1].c_str(), xc[2].c_str(), xc[3].c_str());
+    for (const auto& [name, c] : {std::pair{"float", f}, std::pair{"fixed", x}}) {
+      if (!c.why.empty()) std::fprintf(out, "  <- %s: %s\n", name, c.why.c_str());
+    }
   }
   std::fprintf(out, "\nfloat and fixed agree with double on %d of %d runs\n", agree, total);
-  std::fputs("'d sp' = largest |setpoint - double's setpoint| in counts; 'd res %' = |residual - double's| / double's.\n"
-             "A residual under one load count is at the measurement's floor: a one-count setpoint change moves it\n"
-             "by more than 1 % there, so such rows also give the difference in load counts.\n"
-             "\nresiduals in output units (m of tip or mass, rad of platform); PRV = % of an unshaped step's residual;\n"
-             "'logged' = lines of the stream's own bus log (every frame it sent and received; = sent + recv);\n"
-             "'late' = servo ticks whose feedback arrived after the next tick began (aligned by sequence, not lost);\n"
-             "'continuous' = the same move without sampling or quantisation: the difference is what 1 kHz and 1 count "
-             "add.\n",
-             out);
+  for (const char* line : {
+           "left: float; right: fixed point. double: the residual double leaves, in the run's unit",
+           "sp: largest |setpoint - double's setpoint|, in counts (shown, not judged)",
+           "res %: |residual - double's| / double's; counts: the same difference in load counts",
+       }) {
+    std::fprintf(out, "%s\n", line);
+  }
+}
+
+}  // namespace
+
+void print_demo(const DemoReport& rep, std::FILE* out) {
+  std::fprintf(out, "\nSettle demo: each paper's move streamed over CAN to a simulated drive and machine\n");
+  std::fprintf(out, "bus: %s\n\n", rep.bus.c_str());
+  paragraph(out, "Residual vibration left after each move, measured from the drive's CAN feedback, as an "
+                 "amplitude and as PRV (% of what an unshaped step of the same distance leaves); ratio: the "
+                 "baseline's residual over the method's; less?: the method leaves less residual than its "
+                 "baseline (the demo fails otherwise).");
+  const std::vector<PaperVerdict> verdicts = paper_verdicts(rep);
+  for (std::size_t p = 0; p < rep.papers.size(); ++p) print_paper(rep, p, verdicts, out);
+  print_transport(rep, out);
+  print_commissioning(rep, out);
+  print_scalars(rep, out);
   std::fprintf(out, "\nresults, logs and plots: %s\n", rep.out.c_str());
-  std::fprintf(out,
-               "  bus.log (candump format: %s), stream-*.json/csv/log (servo loop), "
-               "feedback-*.csv (aligned), plant-*.csv (drive), *.png%s\n",
-               rep.socketcan ? "what the bus saw, every process's frames in time order, kernel timestamps"
-                             : "each session's in-process bus, one after another, each in virtual time from 0",
-               rep.gnuplot ? "" : " (gnuplot not found: .gp scripts written, PNGs not rendered)");
+  paragraph(out,
+            std::string{"  bus.log (candump format: "} +
+                (rep.socketcan ? "what the bus saw, every process's frames in time order, kernel timestamps"
+                               : "each session's in-process bus, one after another, each in virtual time from 0") +
+                "), stream-*.json/csv/log (servo loop), feedback-*.csv (aligned), plant-*.csv (drive), identify-, "
+                "tune-, stream-commissioning.* (commissioning), *.png" +
+                (rep.gnuplot ? "" : " (gnuplot not found: .gp scripts written, PNGs not rendered)"),
+            "  ");
 }
 
 Json demo_json(const DemoReport& rep) {
@@ -678,8 +765,24 @@ Json demo_json(const DemoReport& rep) {
   for (const DemoScalarRuns& s : rep.scalars) {
     Json j{{"id", s.scenario.id}};
     for (std::size_t k = 0; k < kDemoScalars.size(); ++k) j[kDemoScalars[k]] = s.runs[k] ? *s.runs[k] : Json(nullptr);
+    // Whether float and fixed left double's residual within the bound (check_scalar).
+    for (std::size_t k = 1; k < kDemoScalars.size(); ++k) {
+      j[std::string{kDemoScalars[k]} + "_agrees"] = check_scalar(s.runs[k], s.runs[0]).agrees;
+    }
     scalars.push_back(j);
   }
+  Json verdicts = Json::array();
+  for (const PaperVerdict& v : paper_verdicts(rep)) {
+    const PaperScenario& m = rep.runs.at(v.method).scenario;
+    verdicts.push_back(Json{{"paper", m.paper},
+                            {"when", m.when},
+                            {"method", m.id},
+                            {"baseline", rep.runs.at(v.baseline).scenario.id},
+                            {"ratio", finite_or_null(v.ratio)},
+                            {"less", v.less}});
+  }
+  Json papers = Json::array();
+  for (const Paper& p : rep.papers) papers.push_back(Json{{"title", p.title}, {"machine", p.machine}});
   const CommissioningResult& c = rep.commissioning;
   Json modes = Json::array();
   for (const ModeCheck& m : c.modes) {
@@ -713,8 +816,8 @@ Json demo_json(const DemoReport& rep) {
                    {"error", cap.error}};
   }
   return Json{{"status", rep.ok() ? "ok" : "error"}, {"bus", rep.bus}, {"out", rep.out}, {"gammas", rep.gammas},
-              {"runs", runs}, {"scalars", scalars}, {"commissioning", commissioning}, {"bus_log", bus_log},
-              {"plots", rep.plots}};
+              {"papers", papers}, {"runs", runs}, {"verdicts", verdicts}, {"scalars", scalars},
+              {"commissioning", commissioning}, {"bus_log", bus_log}, {"plots", rep.plots}};
 }
 
 }  // namespace settle::app

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "commissioning.hpp"
+#include "demo_verdicts.hpp"
 #include "settle/hal/bus_capture.hpp"
 #include "io/json.hpp"
 #include "paper_scenarios.hpp"
@@ -51,6 +52,7 @@ struct DemoReport {
   std::string bus;  // what was used: the interface, or the loopback bus
   bool socketcan{false};
   std::vector<double> gammas;  // seed 004's exponents (optimised)
+  std::vector<Paper> papers;   // the papers the runs' scenarios name
   std::vector<DemoRun> runs;
   std::vector<DemoScalarRuns> scalars;
   CommissioningScenario commissioning_scenario;
@@ -62,7 +64,9 @@ struct DemoReport {
   std::string out;
 
   // Every scenario completed, with its feedback aligned with the replay, and (SocketCAN) a bus
-  // log holding every frame its counters count, and bus.log complete and in time order; the
+  // log holding every frame its counters count, and bus.log complete and in time order; every
+  // paper's method left less residual than its baseline at each move time (paper_verdicts); float
+  // and fixed left double's residual within the bound on every scenario (check_scalar); the
   // commissioning identified the modes within the tolerances and its tuned move's PRV measured
   // over CAN is within its bound.
   [[nodiscard]] bool ok() const;
@@ -77,6 +81,16 @@ struct DemoReport {
 void print_demo(const DemoReport& report, std::FILE* out);
 // The same as one JSON object (settle demo --json).
 [[nodiscard]] Json demo_json(const DemoReport& report);
+
+// One paper at one move time: its method's run against its baseline's, both measured over CAN.
+struct PaperVerdict {
+  std::size_t method{0}, baseline{0};  // indices into DemoReport::runs
+  double ratio{0.0};                   // the baseline's residual over the method's (NaN: one not measured)
+  bool less{false};                    // the method left less residual than its baseline
+};
+// A verdict per method run, paired with the baseline run of the same paper and move time.
+[[nodiscard]] std::vector<PaperVerdict> paper_verdicts(const DemoReport& report);
+
 
 // Whether a run's row is good: its outcome, and on SocketCAN its log against its counters.
 [[nodiscard]] bool run_ok(const DemoRun& run, bool socketcan);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// --halt-at T and --retarget-at T:NEW_DISTANCE[,...] (issue 17, docs/online.md): the change of a planned
+// --halt-at T and --retarget-at T:NEW_DISTANCE[,...] (docs/online.md): the change of a planned
 // move at time T on its clock, planned by core, with every refusal blamed on the option.
 #include <optional>
 #include <string>

@@ -233,7 +233,7 @@ const std::vector<OptionSpec> kSimulate = {
     flag("--sensitivity", "also report the 5 % insensitivity width on the fundamental mode"),
 };
 
-// simulate and stream: a change of the move mid-way (issue 17, docs/online.md).
+// simulate and stream: a change of the move mid-way (docs/online.md).
 const std::vector<OptionSpec> kOnline = {
     real("--halt-at", "s", "", {0.0, kMaxSeconds},
          "halt the move at T s from its start (T within the move): blend to rest within --vmax/--amax/--jmax "

@@ -606,7 +606,7 @@ Status plan_online(const OnlineRequest& r, OnlinePlan& out) noexcept {
     out = p;
     return Status::ok;
   }
-  // A halt of a command that would run on to `end`, at rest there after `remaining` (issue 36).
+  // A halt of a command that would run on to `end`, at rest there after `remaining`.
   // Refusals of the request itself stand; "no blend of the family fits" leaves the other choices.
   if (st != Status::ok && st != Status::no_solution) return st;
   const OnlineRunning& run = *r.running;

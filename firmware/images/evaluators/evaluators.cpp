@@ -14,7 +14,7 @@
 //   cost <move> <evaluator> min <n> mean <n.nn> max <n> calls <n>
 // and `built <move> ok|<status>` per move; the image fails if any build fails. Where there is an
 // FPU, also `halt_plan <move> ok|<status>` and `cost <move> halt_plan ...`: the instructions of
-// planning a halt of the unshaped S-curves half-way (core/online.hpp; issue 17), and per tick of
+// planning a halt of the unshaped S-curves half-way (core/online.hpp), and per tick of
 // the planned blend as the servo loop streams it: `blend_float` (core::BasicBlend<float>::at, the
 // FloatEvaluation<float>'s) and `blend_fixed_pos` (its fixed-point position plan, FixedEvaluation's).
 #include <array>
@@ -57,7 +57,7 @@ core::Move<float> g_move_f{};
 core::MoveStepper<float> g_step_f{};
 volatile float g_sink_f{};
 [[gnu::noinline]] void float_step() { g_sink_f = g_step_f.step().p; }
-// A halt planned on the target (issue 17, docs/online.md): the mode memory of the move half-way
+// A halt planned on the target (docs/online.md): the mode memory of the move half-way
 // and the blend's search, as a servo loop's service() runs them. Only where there is an FPU: the
 // plan is in double, and its ~10 KiB of stack is more than the micro:bit's image leaves.
 core::Blend g_blend{};

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Coordinated moves of up to kMaxAxes axes that start together and end together, each at rest on
-// its own mode (issue 17, docs/multi_axis.md). Two ways to synchronise them:
+// its own mode (docs/multi_axis.md). Two ways to synchronise them:
 //   path  one common path parameter s(t) from 0 to 1, planned under the path limits
 //         min_i(limit_i / |D_i|) and shaped so that every moving axis's mode is at rest; axis i is
 //         D_i s(t). The path is a straight line by construction; every axis inherits every mode.

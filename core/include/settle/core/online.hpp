@@ -162,7 +162,7 @@ class BasicBlend {
 using Blend = BasicBlend<double>;
 
 // What a change does. A retarget, or a halt without `running`: always `blend`. A halt of a running
-// command (issue 36) is the first of these that stops no further than the command's end (seen from
+// command is the first of these that stops no further than the command's end (seen from
 // its origin) and comes to rest no later than the command would:
 //   blend      the fastest blend (the halt as asked);
 //   to_target  a blend to the command's end, when that ends sooner than finishing the command;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// A move changed online (issue 17, docs/online.md): the running move up to the switch time, then
+// A move changed online (docs/online.md): the running move up to the switch time, then
 // the halt or retarget blend core planned from its state there. What `settle simulate --halt-at`
 // and `--retarget-at` run on the plant, so that the residual after a change is measured offline.
 #include <optional>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Online changes in the servo loop (issue 17): halt() and retarget() post a command into a
+// Online changes in the servo loop: halt() and retarget() post a command into a
 // per-axis single-producer mailbox from any context, lock-free; ServoLoop::service(), outside the
 // tick, plans the blend (core/online.hpp) for a switch a few ticks ahead and hands it over with one
 // atomic flag; the tick switches to it at exactly that setpoint index, so p, v, a are continuous.

@@ -6,7 +6,7 @@
 // the caller (the runner owns the clock), so the same loop runs under a Linux timer, a Cortex-M
 // SysTick or a test's virtual clock. No heap, no exceptions, bounded work per tick.
 //
-// Fail-safe rules (issue 12):
+// Fail-safe rules:
 // - One period is one unit: every axis's RPDO, then the SYNC that applies them. The SYNC goes out
 //   only if every RPDO of the tick did; if anything of the unit could not be sent (busy or error),
 //   no SYNC goes out and the next tick resends the same setpoints: the moves' clock holds for that
@@ -195,7 +195,7 @@ struct LoopStats {
 // hal::MailboxBus, whose send and receive are then direct calls the compiler inlines: what
 // firmware that knows its controller does (firmware/README.md: what the Cortex-M0 tick costs).
 //
-// Online: whether the loop offers halt()/retarget() (issue 17, docs/online.md). They need the
+// Online: whether the loop offers halt()/retarget() (docs/online.md). They need the
 // planned Move<double> of every queued move (its state and mode memory at the switch) and two blend
 // slots (the plan in double and in the evaluation's scalar): about 1.1 KiB per queued move and
 // 2.9 KiB (float) or 5.3 KiB (fixed) per axis, and service() builds a fixed-point blend's 4.2 KiB

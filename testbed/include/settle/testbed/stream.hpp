@@ -48,7 +48,7 @@ struct StreamChange {
   bool finish{false};
 };
 
-// --axes N (issue 17, docs/multi_axis.md): one more axis of the same bus, its own move and node,
+// --axes N (docs/multi_axis.md): one more axis of the same bus, its own move and node,
 // and with a halt or retarget its own change (the same `at` as axis 1's; core::axis_online gives
 // its modes and limits).
 struct StreamAxis {
@@ -240,7 +240,7 @@ struct StreamReport {
   // that do not move are left out), and the largest distance from the straight line from the
   // start to (D_1, ..., D_N), in counts, of the points the axes were sent (setpoints) and of the
   // positions the drives reported for the same SYNCs (feedback, aligned with each axis's replay).
-  // With --sync path the line is the path: issue 17 bounds it by one count.
+  // With --sync path the line is the path: it is bounded by one count.
   std::vector<StreamReport> more_axes;
   std::optional<std::uint64_t> start_tick_spread, end_tick_spread;
   double line_deviation_setpoints_counts{0.0};
