@@ -13,32 +13,14 @@
 
 namespace settle::commission {
 
-const char* to_string(IdentifyStatus s) noexcept {
-  switch (s) {
-    case IdentifyStatus::ok: return "ok";
-    case IdentifyStatus::bad_input: return "bad_input";
-    case IdentifyStatus::too_many_samples: return "too_many_samples";
-    case IdentifyStatus::no_motion: return "no_motion";
-    case IdentifyStatus::free_response_too_short: return "free_response_too_short";
-    case IdentifyStatus::response_too_small: return "response_too_small";
-  }
-  return "?";
-}
+namespace {
+constexpr const char* kIdentifyStatusCodes[] = {SETTLE_IDENTIFY_STATUSES(SETTLE_ENUM_CODE)};
+constexpr const char* kIdentifyStatusTexts[] = {SETTLE_IDENTIFY_STATUSES(SETTLE_ENUM_TEXT)};
+}  // namespace
 
-const char* describe(IdentifyStatus s) noexcept {
-  switch (s) {
-    case IdentifyStatus::ok: return "identified";
-    case IdentifyStatus::bad_input: return "the record is inconsistent (sizes, scales or mode count)";
-    case IdentifyStatus::too_many_samples: return "the record has more samples than the estimator takes (1e7)";
-    case IdentifyStatus::no_motion: return "the motor never moved: the record excites nothing";
-    case IdentifyStatus::free_response_too_short:
-      return "fewer than 100 samples were recorded after the motor came to rest";
-    case IdentifyStatus::response_too_small:
-      return "the load-side response is noise-dominated: no mode stands out of the noise (excite harder or "
-             "reduce the noise)";
-  }
-  return "?";
-}
+const char* to_string(IdentifyStatus s) noexcept { return core::enum_text(kIdentifyStatusCodes, s, "?"); }
+
+const char* describe(IdentifyStatus s) noexcept { return core::enum_text(kIdentifyStatusTexts, s, "?"); }
 
 namespace {
 

@@ -17,41 +17,14 @@
 
 namespace settle::commission {
 
-const char* to_string(TuneStatus s) noexcept {
-  switch (s) {
-    case TuneStatus::ok: return "ok";
-    case TuneStatus::no_modes: return "no_modes";
-    case TuneStatus::too_many_modes: return "too_many_modes";
-    case TuneStatus::bad_mode: return "bad_mode";
-    case TuneStatus::bad_band: return "bad_band";
-    case TuneStatus::bad_move: return "bad_move";
-    case TuneStatus::bad_residual_max: return "bad_residual_max";
-    case TuneStatus::bad_grid: return "bad_grid";
-    case TuneStatus::no_feasible_plan: return "no_feasible_plan";
-    case TuneStatus::too_much_work: return "too_much_work";
-  }
-  return "unknown";
-}
+namespace {
+constexpr const char* kTuneStatusCodes[] = {SETTLE_TUNE_STATUSES(SETTLE_ENUM_CODE)};
+constexpr const char* kTuneStatusTexts[] = {SETTLE_TUNE_STATUSES(SETTLE_ENUM_TEXT)};
+}  // namespace
 
-const char* describe(TuneStatus s) noexcept {
-  switch (s) {
-    case TuneStatus::ok: return "ok";
-    case TuneStatus::no_modes: return "no modes given";
-    case TuneStatus::too_many_modes: return "more modes than the tuner searches (4)";
-    case TuneStatus::bad_mode: return "a mode's omega is not positive and finite, its zeta is outside [0, 1), or its gain is not finite";
-    case TuneStatus::bad_band: return "a mode's band does not contain it (0 < omega_lo <= omega <= omega_hi, 0 <= zeta_lo <= zeta <= zeta_hi < 1)";
-    case TuneStatus::bad_move: return "the move needs a finite non-zero distance and a positive time or positive limits";
-    case TuneStatus::bad_residual_max: return "residual_max must lie in (0, 1)";
-    case TuneStatus::bad_grid: return "zeta_points must lie in 1..9 and max_work be positive";
-    case TuneStatus::too_much_work:
-      return "the bands and the moves need too fine a search (omega_hi x move duration too large): narrow the band, "
-             "shorten the move or drop the highest mode";
-    case TuneStatus::no_feasible_plan:
-      return "no profile family keeps the residual within residual_max over the whole band (widen the limits or the "
-             "time, narrow the band, or raise residual_max)";
-  }
-  return "unknown";
-}
+const char* to_string(TuneStatus s) noexcept { return core::enum_text(kTuneStatusCodes, s, "unknown"); }
+
+const char* describe(TuneStatus s) noexcept { return core::enum_text(kTuneStatusTexts, s, "unknown"); }
 
 namespace {
 

@@ -11,6 +11,8 @@
 #include <span>
 #include <vector>
 
+#include "settle/core/enum_text.hpp"
+
 namespace settle::commission {
 
 // --max-modes: the estimator looks for 1..kMaxIdentifyModes modes.
@@ -18,14 +20,23 @@ inline constexpr std::size_t kMaxIdentifyModes = 6;
 // At most this many samples are fitted (about 2.8 h at 1 kHz); checked before allocating.
 inline constexpr std::size_t kMaxIdentifySamples = 10'000'000;
 
-enum class IdentifyStatus : unsigned char {
-  ok,
-  bad_input,               // sizes differ, scales not positive and finite, max_modes out of range
-  too_many_samples,        // more than kMaxIdentifySamples
-  no_motion,               // the motor never moved: nothing was excited
-  free_response_too_short, // fewer than kMinFreeSamples after the motor came to rest
-  response_too_small,      // no mode stands out of the noise: the response is noise-dominated
-};
+// Every status in order (ok first, 0): its enumerator, which is also its code (to_string), and
+// the sentence describe() gives. The enum and both tables are made from this list (enum_text.hpp).
+#define SETTLE_IDENTIFY_STATUSES(X) \
+  X(ok, "identified") \
+  /* sizes differ, scales not positive and finite, max_modes out of range */ \
+  X(bad_input, "the record is inconsistent (sizes, scales or mode count)") \
+  /* more than kMaxIdentifySamples */ \
+  X(too_many_samples, "the record has more samples than the estimator takes (1e7)") \
+  /* the motor never moved: nothing was excited */ \
+  X(no_motion, "the motor never moved: the record excites nothing") \
+  /* fewer than kMinFreeSamples after the motor came to rest */ \
+  X(free_response_too_short, "fewer than 100 samples were recorded after the motor came to rest") \
+  /* no mode stands out of the noise: the response is noise-dominated */ \
+  X(response_too_small, \
+    "the load-side response is noise-dominated: no mode stands out of the noise (excite harder " \
+    "or reduce the noise)")
+enum class IdentifyStatus : unsigned char { SETTLE_IDENTIFY_STATUSES(SETTLE_ENUM_ENUMERATOR) };
 [[nodiscard]] const char* to_string(IdentifyStatus s) noexcept;  // "response_too_small"
 [[nodiscard]] const char* describe(IdentifyStatus s) noexcept;   // one sentence
 

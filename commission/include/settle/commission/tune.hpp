@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "settle/core/enum_text.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/plant/status.hpp"
 
@@ -56,18 +57,37 @@ struct TuneOptions {
   double max_work{kMaxTuneWork};  // evaluations x quadrature nodes; more: too_much_work
 };
 
-enum class TuneStatus : unsigned char {
-  ok,
-  no_modes,            // the list of modes is empty
-  too_many_modes,      // more than kMaxTuneModes
-  bad_mode,            // omega not positive and finite, zeta outside [0, 1), a non-finite gain
-  bad_band,            // omega_lo <= omega <= omega_hi, 0 < omega_lo, 0 <= zeta_lo <= zeta <= zeta_hi < 1 violated
-  bad_move,            // distance zero or not finite, neither time nor limits, or a non-positive one
-  bad_residual_max,    // residual_max outside (0, 1)
-  bad_grid,            // zeta_points outside 1..kMaxTuneZetaPoints, or max_work not positive
-  too_much_work,       // a quadrature over kMaxTuneNodes, or the search over max_work (omega_hi x duration too large)
-  no_feasible_plan,    // every candidate either cannot be planned or exceeds residual_max somewhere
-};
+// Every status in order (ok first, 0): its enumerator, which is also its code (to_string), and
+// the sentence describe() gives. The enum and both tables are made from this list (enum_text.hpp).
+#define SETTLE_TUNE_STATUSES(X) \
+  X(ok, "ok") \
+  /* the list of modes is empty */ \
+  X(no_modes, "no modes given") \
+  /* more than kMaxTuneModes */ \
+  X(too_many_modes, "more modes than the tuner searches (4)") \
+  /* omega not positive and finite, zeta outside [0, 1), a non-finite gain */ \
+  X(bad_mode, \
+    "a mode's omega is not positive and finite, its zeta is outside [0, 1), or its gain is not " \
+    "finite") \
+  /* omega_lo <= omega <= omega_hi, 0 < omega_lo, 0 <= zeta_lo <= zeta <= zeta_hi < 1 violated */ \
+  X(bad_band, \
+    "a mode's band does not contain it (0 < omega_lo <= omega <= omega_hi, 0 <= zeta_lo <= zeta" \
+    " <= zeta_hi < 1)") \
+  /* distance zero or not finite, neither time nor limits, or a non-positive one */ \
+  X(bad_move, "the move needs a finite non-zero distance and a positive time or positive limits") \
+  /* residual_max outside (0, 1) */ \
+  X(bad_residual_max, "residual_max must lie in (0, 1)") \
+  /* zeta_points outside 1..kMaxTuneZetaPoints, or max_work not positive */ \
+  X(bad_grid, "zeta_points must lie in 1..9 and max_work be positive") \
+  /* a quadrature over kMaxTuneNodes, or the search over max_work (omega_hi x duration too large) */ \
+  X(too_much_work, \
+    "the bands and the moves need too fine a search (omega_hi x move duration too large): " \
+    "narrow the band, shorten the move or drop the highest mode") \
+  /* every candidate either cannot be planned or exceeds residual_max somewhere */ \
+  X(no_feasible_plan, \
+    "no profile family keeps the residual within residual_max over the whole band (widen the " \
+    "limits or the time, narrow the band, or raise residual_max)")
+enum class TuneStatus : unsigned char { SETTLE_TUNE_STATUSES(SETTLE_ENUM_ENUMERATOR) };
 [[nodiscard]] const char* to_string(TuneStatus s) noexcept;
 [[nodiscard]] const char* describe(TuneStatus s) noexcept;
 
