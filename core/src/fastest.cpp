@@ -735,7 +735,7 @@ bool limits_ok(const Peaks<double>& pk, double vmax, double amax, double jmax) n
 struct Best {
   FastestParams p{};
   Peaks<double> pk{};
-  double time{INFINITY};
+  double time{HUGE_VAL};
 };
 
 // Exact: every mode's residual amplitude within exact_tol |D|, or within what the table's
@@ -1201,7 +1201,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     ArcVec dx{};
     for (std::size_t i = 0; i < rows; ++i) dx[i] = -f[i];
     if (!solve_in_place(jm, dx, rows)) return false;
-    double lam = 1.0, n1 = INFINITY;
+    double lam = 1.0, n1 = HUGE_VAL;
     ArcChain trial = c;
     for (; lam > 1e-4; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dx[i];
@@ -1223,7 +1223,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
 // continuation gives up once a point on its way is a move longer than t_bound. From every
 // limit/peak pattern and four starts on the commissioning case (docs/fastest.md, "Seeds"), 70 of
 // 256 paths end in a feasible chain with it, 24 with Newton's method alone.
-bool arc_solve(const ArcProblem& pb, ArcChain& c, double t_bound = INFINITY) noexcept {
+bool arc_solve(const ArcProblem& pb, ArcChain& c, double t_bound = HUGE_VAL) noexcept {
   constexpr double kTol = 1e-13, kLooseTol = 1e-6;
   const ArcChain start = c;
   const ArcVec none{};
@@ -1476,7 +1476,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     (void)plan_arcs(r, fewer, t, pk, &sub);
   }
   bool have = false, best_cruises = false;
-  double best = INFINITY;
+  double best = HUGE_VAL;
   ChainMemo memo{};
   for (const bool pulse : {false, true}) {
     // The mirrored pulse is for moves that cruise: tried when the whole chain found none, or its

@@ -436,7 +436,7 @@ Status joint_zv_shaper(const double* omega, const double* zeta, std::size_t n, S
     for (std::size_t k = 0; k < n; ++k) conv[b] += (b >> k & 1U) != 0 ? pi / m.wd[k] : 0.0;
   }
   std::sort(conv.begin(), conv.begin() + static_cast<std::ptrdiff_t>(nsub));
-  double best_len = INFINITY;
+  double best_len = HUGE_VAL;
   JointVec best{};
   const auto try_start = [&](JointVec x) {
     if (!joint_newton(m, x, 6.0 * tau_sum)) return;

@@ -15,6 +15,7 @@ foreach(source IN LISTS sources)
   if(name STREQUAL "socketcan.cpp" OR name STREQUAL "socketcan_bus.hpp" OR name STREQUAL "candump_file.cpp"
      OR name STREQUAL "candump_file.hpp" OR name STREQUAL "eds_reader.cpp" OR name STREQUAL "eds_reader.hpp"
      OR name STREQUAL "eds_drive_config.cpp" OR name STREQUAL "eds_drive_config.hpp"
+     OR name STREQUAL "eds_semantics.cpp" OR name STREQUAL "eds_semantics.hpp"
      OR name STREQUAL "bus_capture.cpp" OR name STREQUAL "bus_capture.hpp")
     # The host-only libraries: the Linux adapters (settle_hal_socketcan), the one place OS headers
     # belong, and the EDS/DCF reader and the start-up configuration built from it (settle_hal_eds:
