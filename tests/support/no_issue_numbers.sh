@@ -5,9 +5,9 @@
 #   no_issue_numbers.sh ROOT
 set -u
 cd "$1" || exit 1
-hits=$(grep -rnEi 'issues?[ #]*[0-9]+|issues/[0-9]|\(issue' README.md docs app tools \
+hits=$(grep -rnEi 'issues?[ #-]*[0-9]+|issues/[0-9]|\(issue' README.md docs app tools \
   --include='*.md' --include='*.cpp' --include='*.hpp' --include='*.py' 2>/dev/null;
-  grep -nEi 'issues?[ #]*[0-9]+|issues/[0-9]|\(issue' tools/* */README.md 2>/dev/null)
+  grep -nEi 'issues?[ #-]*[0-9]+|issues/[0-9]|\(issue' tools/* */README.md 2>/dev/null)
 if [ -n "$hits" ]; then
   echo "FAIL: issue numbers where users read them:"
   echo "$hits"
