@@ -26,6 +26,7 @@
 #include "options.hpp"
 #include "progress.hpp"
 #include "settle/hal/canopen/sdo_abort.hpp"
+#include "settle/hal/canopen/standard_objects.hpp"
 #include "settle/hal/eds_reader.hpp"
 #include "settle/hal/canopen/nmt.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
@@ -467,9 +468,25 @@ int object_of(const ParsedArgs& args, const hal::eds::Description* eds, Object& 
   o.index = static_cast<std::uint16_t>(args.integer("--index", 0));  // 1..0xFFFF
   o.sub = static_cast<std::uint8_t>(args.integer("--sub", 0));       // 0..255
   std::string type = args.text("--type", "");
-  if (type.empty() && eds != nullptr) {
-    if (const hal::eds::Entry* e = eds->find(o.index, o.sub)) type = type_name_of(e->data_type);
+  // The type the object has, where the EDS or the standard says: SDO carries bytes only, so a
+  // --type of another size or kind would be written (a 4-character string fits an UNSIGNED32).
+  std::string known;
+  std::string source;
+  if (const hal::eds::Entry* e = eds != nullptr ? eds->find(o.index, o.sub) : nullptr) {
+    known = type_name_of(e->data_type);
+    source = "the EDS gives it the data type " + hex(e->data_type, 4);
+  } else if (const auto* std_object = hal::canopen::find_standard_object(o.index, o.sub)) {
+    known = type_name_of(static_cast<std::uint16_t>(std_object->type));
+    source = std::string{std_object->profile} + " makes it " + hal::canopen::od_type_name(std_object->type) + " (" +
+             std_object->name + ")";
   }
+  if (!type.empty() && !known.empty() && type != known) {
+    return report_bad_request({"type_mismatch", "--type",
+                               "--type: " + type + " is not the type of " + object_name(o.index, o.sub) + ": " +
+                                   source + "; give --type " + known + " (or leave --type out)"},
+                              args.json());
+  }
+  if (type.empty()) type = known;
   if (type.empty()) {
     const std::string why = eds != nullptr ? " (the EDS gives no type settle drive reads for " +
                                                  object_name(o.index, o.sub) + ")"

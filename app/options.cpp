@@ -362,8 +362,8 @@ const std::vector<OptionSpec> kDriveObject = [] {
   return std::vector<OptionSpec>{
       index, sub,
       choice("--type", "", {"u8", "u16", "u32", "i8", "i16", "i32", "string"},
-             "the object's data type (required unless --eds gives it): unsigned/signed 8/16/32-bit integer, or a "
-             "string"),
+             "the object's data type (required unless --eds or CiA 301/402 gives it; refused when they give "
+             "another): unsigned/signed 8/16/32-bit integer, or a string"),
   };
 }();
 const std::vector<OptionSpec> kDriveValue = {

@@ -92,10 +92,11 @@ TEST(CliDrive, ReadsIntegersAndSegmentedStrings) {
   const CliResult ip = run_cli("drive read --bus loopback --index 0x60C2 --sub 2 --type i8");
   ASSERT_EQ(ip.status, 0) << ip.out;
   EXPECT_EQ(ip.stdout_text, "0x60C2:2 = -3 (0xFD)\n");
-  // The type must fit the object: a u32 read of the 16-bit statusword is refused, exit 1.
-  const CliResult wrong = run_cli("drive read --bus loopback --index 0x6041 --type u32");
+  // The type must fit the object: a u16 read of the drive's own 32-bit load position (a
+  // manufacturer object no standard types, so only the answer's size can tell) is refused, exit 1.
+  const CliResult wrong = run_cli("drive read --bus loopback --index 0x2000 --type u16");
   EXPECT_EQ(wrong.status, 1) << wrong.out;
-  EXPECT_TRUE(has(wrong.stderr_text, "0x6041:0 holds 2 bytes; --type u32 reads 4")) << wrong.out;
+  EXPECT_TRUE(has(wrong.stderr_text, "0x2000:0 holds 4 bytes; --type u16 reads 2")) << wrong.out;
 }
 
 TEST(CliDrive, AnAbortPrintsItsCodeAndMeaningAndExitsOne) {
@@ -148,7 +149,8 @@ TEST(CliDrive, WriteChecksTheValueAgainstTheTypeThenReadsBack) {
                      {"u16", "0x", "bad_number"},         {"u16", "abc", "bad_number"}};
   for (const Bad& b : bad) {
     SCOPED_TRACE(std::string{b.type} + " " + b.value);
-    const CliResult r = run_cli_argv({"drive", "write", "--bus", "settle-no-such-can", "--index", "0x6065", "--type",
+    // 0x2100: an index no standard types, so --type is the only type there is.
+    const CliResult r = run_cli_argv({"drive", "write", "--bus", "settle-no-such-can", "--index", "0x2100", "--type",
                                       b.type, "--value", b.value, "--json"});
     EXPECT_EQ(r.status, 2) << r.out;
     const nlohmann::json j = json_of(r);
@@ -290,6 +292,48 @@ TEST(CliDrive, StreamToADriveWithoutALoadPositionSaysTheResidualIsNotMeasured) {
   const CliResult own = run_cli("stream" + move + " --json --eds " + SETTLE_DRIVE_EDS);
   ASSERT_EQ(own.status, 0) << own.out;
   EXPECT_TRUE(json_of(own)["residual_can"].is_number()) << own.out;
+}
+
+// SDO moves bytes, not types: a 4-character string fits an UNSIGNED32 object and would be written
+// and "read back". Where the standard (or the EDS) types the object, a --type of another type is
+// refused before the bus is opened (this interface does not exist: a request that got that far would
+// exit 1), and leaving --type out takes the standard's.
+TEST(CliDrive, ATypeOtherThanTheObjectsIsRefusedBeforeAnythingIsSent) {
+  struct Case {
+    const char* index;
+    const char* sub;
+    const char* type;
+    const char* value;
+    const char* expect;
+  };
+  const Case cases[] = {{"0x607F", "0", "string", "ABCD", "CiA 402 makes it UNSIGNED32 (max profile velocity); give --type u32"},
+                        {"0x1008", "0", "u32", "1", "CiA 301 makes it VISIBLE_STRING"},
+                        {"0x6060", "0", "u8", "8", "CiA 402 makes it INTEGER8 (modes of operation); give --type i8"},
+                        {"0x1400", "2", "u16", "1", "CiA 301 makes it UNSIGNED8 (RPDO transmission type)"},
+                        {"0x1A05", "0", "u32", "1", "CiA 301 makes it UNSIGNED8 (TPDO mapping: number of mapped objects)"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string{c.index} + ":" + c.sub + " " + c.type);
+    for (const char* sub : {"read", "write"}) {
+      std::vector<std::string> argv{"drive", sub, "--bus", "settle-no-such-can", "--index", c.index, "--sub", c.sub,
+                                    "--type", c.type, "--json"};
+      if (std::string{sub} == "write") argv.insert(argv.end(), {"--value", c.value});
+      const CliResult r = run_cli_argv(argv);
+      EXPECT_EQ(r.status, 2) << r.out;
+      const nlohmann::json j = json_of(r);
+      EXPECT_EQ(j.at("error"), "type_mismatch") << j.dump();
+      EXPECT_EQ(j.at("parameter"), "--type");
+      EXPECT_TRUE(has(j.at("message").get<std::string>(), c.expect)) << j.dump();
+    }
+  }
+  // The EDS's type wins over the standard's, and is checked the same way.
+  const CliResult e = run_cli(std::string{"drive read --bus settle-no-such-can --index 0x6041 --type u32 --eds "} +
+                              SETTLE_DRIVE_EDS);
+  EXPECT_EQ(e.status, 2) << e.out;
+  EXPECT_TRUE(has(e.stderr_text, "the EDS gives it the data type 0x0006; give --type u16")) << e.out;
+  // Without --type the standard's type is used: the write of a string-sized value goes through as an integer.
+  const CliResult ok = run_cli("drive write --bus loopback --index 0x607F --value 1234");
+  ASSERT_EQ(ok.status, 0) << ok.out;
+  EXPECT_EQ(ok.stdout_text, "0x607F:0 = 1234 (0x000004D2) (written and read back)\n");
 }
 
 // On a bus, --eds gives read and write their --type: with it the request gets as far as the bus

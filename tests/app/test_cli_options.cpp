@@ -174,7 +174,7 @@ TEST(CliOptions, DriveOptionsAreChecked) {
       {"drive scan --bus settle-no-such-can --timeout-ms -5", "--timeout-ms", "out_of_range"},
       {"drive scan --bus settle-no-such-can --node 1", "--node", "bad_option"},
       {"drive read --bus settle-no-such-can --type u16", "--index", "missing_option"},
-      {"drive read --bus settle-no-such-can --index 0x6041", "--type", "missing_option"},
+      {"drive read --bus settle-no-such-can --index 0x2100", "--type", "missing_option"},
       {"drive write --bus settle-no-such-can --index 0x6041 --type u16", "--value", "missing_option"},
       {read + "--index 0x6042", "--index", "duplicate_option"},
       {"drive read --type u16 --index 0", "--index", "out_of_range"},
