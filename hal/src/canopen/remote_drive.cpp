@@ -388,21 +388,39 @@ RemoteFrame RemoteDrive::on_heartbeat(std::uint8_t state_byte, std::uint64_t now
   // Process data needs NMT operational. Once the drive has been operational after our start, a
   // heartbeat saying pre-operational or stopped means someone else commanded it: whatever the
   // master streams is no longer applied, and nothing about the drive can be assumed.
-  const bool streaming_state = state_ == RemoteDriveState::enabling || state_ == RemoteDriveState::ready ||
-                               state_ == RemoteDriveState::stopped || state_ == RemoteDriveState::releasing ||
-                               state_ == RemoteDriveState::released;
   if (*state == NmtState::operational) {
-    if (streaming_state) operational_seen_ = true;
-  } else if ((*state == NmtState::pre_operational || *state == NmtState::stopped) && streaming_state &&
+    if (streaming_state()) operational_seen_ = true;
+  } else if ((*state == NmtState::pre_operational || *state == NmtState::stopped) && streaming_state() &&
              operational_seen_) {
-    state_ = RemoteDriveState::not_operational;
-    enable_timer_.disarm();
-    events_ |= remote_event::left_operational;
+    leave_operational();
   }
   return RemoteFrame::heartbeat;
 }
 
+bool RemoteDrive::streaming_state() const noexcept {
+  return state_ == RemoteDriveState::enabling || state_ == RemoteDriveState::ready ||
+         state_ == RemoteDriveState::stopped || state_ == RemoteDriveState::releasing ||
+         state_ == RemoteDriveState::released;
+}
+
+void RemoteDrive::leave_operational() noexcept {
+  state_ = RemoteDriveState::not_operational;
+  enable_timer_.disarm();
+  events_ |= remote_event::left_operational;
+}
+
+RemoteFrame RemoteDrive::on_nmt_command(const CanFrame& frame) noexcept {
+  const std::optional<NmtMessage> m = decode_nmt(frame);
+  if (!m || m->command == NmtCommand::start || (m->node != 0 && m->node != config_.node) || !streaming_state() ||
+      !operational_seen_) {
+    return RemoteFrame::ignored;
+  }
+  leave_operational();
+  return RemoteFrame::nmt;
+}
+
 RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
+  if (frame.id == cob::nmt) return on_nmt_command(frame);
   // Every service the master consumes is node-specific: function code + this drive's node id.
   if (!is_canopen_data_frame(frame) || (frame.id & 0x7FU) != config_.node) {
     return RemoteFrame::ignored;

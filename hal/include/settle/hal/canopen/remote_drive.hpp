@@ -247,6 +247,7 @@ inline constexpr std::uint16_t left_operational = 0x0080;  // heartbeat: pre-ope
 // What on_frame found a received frame to be.
 enum class RemoteFrame : std::uint8_t {
   ignored,    // another node's, not CANopen, or a service the master does not consume
+  nmt,        // another node's NMT command that took this drive out of operational
   heartbeat,  // this drive's heartbeat or boot-up
   emcy,
   tpdo1,      // the TPDO with the statusword + position actual: feedback() updated
@@ -369,6 +370,12 @@ class RemoteDrive {
   [[nodiscard]] bool enabling_rpdo(std::int32_t target_counts, CanFrame& out) noexcept;
   RemoteFrame on_heartbeat(std::uint8_t state_byte, std::uint64_t now_us, FrameSink& out) noexcept;
   RemoteFrame on_service_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept;
+  // Someone else's NMT command that takes this drive out of operational (the master sends none
+  // while streaming): acted on when seen, not a heartbeat period or a feedback timeout later.
+  RemoteFrame on_nmt_command(const CanFrame& frame) noexcept;
+  // The states in which the drive must stay NMT operational for what the master streams.
+  [[nodiscard]] bool streaming_state() const noexcept;
+  void leave_operational() noexcept;
   void next_step(std::uint64_t now_us, FrameSink& out) noexcept;
   void fail(std::uint64_t now_us) noexcept;
   void fail_step(const SdoResult& r, StartupError error, std::uint64_t now_us) noexcept;
