@@ -707,6 +707,14 @@ TEST(ServoLoop, ADriveThatStopsAnsweringHaltsTheAxisAfterTheWatchdogsPeriods) {
   EXPECT_EQ(r.events[before].tick, hung_at + 1 + runtime::kDefaultFeedbackTimeoutPeriods);
 }
 
+// A third party's NMT command, 150 ticks into a 0.5 s move.
+void nmt_mid_move(Rig& r, std::uint8_t command, std::uint8_t node) {
+  ASSERT_TRUE(r.run_until_ready());
+  ASSERT_EQ(r.loop.submit(0, scurve(0.1, 0.5)), runtime::LoopStatus::ok);
+  for (int i = 0; i < 150; ++i) r.tick();
+  ASSERT_EQ(r.third.send(nmt(command, node)), hal::SendStatus::sent);
+}
+
 // The defect as reported: a third party stops the drive mid-move (NMT stop: its TPDOs stop). The
 // master sees the command on the bus (it sends no NMT command while streaming) and stops streaming
 // in the tick that reads it, naming why: drive_not_operational, not a feedback timeout later. The
@@ -716,10 +724,7 @@ TEST(ServoLoop, AThirdPartysNmtStopMidMoveIsNeverReportedCompleted) {
     for (const std::uint8_t node : {std::uint8_t{1}, std::uint8_t{0}}) {
       SCOPED_TRACE(std::to_string(command) + " to node " + std::to_string(node));
       Rig r;
-      ASSERT_TRUE(r.run_until_ready());
-      ASSERT_EQ(r.loop.submit(0, scurve(0.1, 0.5)), runtime::LoopStatus::ok);
-      for (int i = 0; i < 150; ++i) r.tick();
-      ASSERT_EQ(r.third.send(nmt(command, node)), hal::SendStatus::sent);
+      ASSERT_NO_FATAL_FAILURE(nmt_mid_move(r, command, node));
       const std::uint64_t stopped_at = r.ticks + 1;
       for (int i = 0; i < 600; ++i) r.tick();
       EXPECT_EQ(r.loop.fault(0), Fault::drive_not_operational) << runtime::to_string(r.loop.fault(0));
@@ -744,10 +749,7 @@ TEST(ServoLoop, AnNmtCommandForAnotherNodeOrAStartLeavesTheMoveRunning) {
                                       {kNmtPreOperational, 127}, {std::uint8_t{0x01}, 1}, {std::uint8_t{0x01}, 0}}) {
     SCOPED_TRACE(std::to_string(command) + " to node " + std::to_string(node));
     Rig r;
-    ASSERT_TRUE(r.run_until_ready());
-    ASSERT_EQ(r.loop.submit(0, scurve(0.1, 0.5)), runtime::LoopStatus::ok);
-    for (int i = 0; i < 150; ++i) r.tick();
-    ASSERT_EQ(r.third.send(nmt(command, node)), hal::SendStatus::sent);
+    ASSERT_NO_FATAL_FAILURE(nmt_mid_move(r, command, node));
     for (int i = 0; i < 600; ++i) r.tick();
     EXPECT_EQ(r.loop.fault(0), Fault::none) << runtime::to_string(r.loop.fault(0));
     EXPECT_EQ(r.loop.axis_stats(0).moves_completed, 1u);
