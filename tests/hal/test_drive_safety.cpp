@@ -985,6 +985,34 @@ TEST_F(DriveSafety, ASyncOfTwoToEightBytesIsAnUnexpectedLengthWhateverTheCounter
   }
 }
 
+// 0x1019 = 0 and a SYNC with a counter byte: the producer counts, the drive was told it does not.
+// CiA 301's unexpected length (EMCY 0x8240, as CANopenNode sends it); while enabled no period runs
+// for it and the drive faults (0x6007 = 1), as for any SYNC that does not match 0x1019.
+TEST_F(DriveSafety, ASyncWithACounterWhile0x1019IsZeroIsAnUnexpectedLength) {
+  ASSERT_EQ(drive->objects().comm.sync_counter_overflow, 0);
+  enable(0);
+  now += period_us;
+  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10}));
+  EXPECT_EQ(deliver(encode_sync(5)), DriveEvent::sync_rejected) << "no period is run for it";
+  EXPECT_EQ(axis, 0);
+  const auto e = emcys();
+  ASSERT_EQ(e.size(), 1U);
+  EXPECT_EQ(e[0].error_code, emcy_code::sync_data_length);
+  EXPECT_EQ(e[0].data[0], emcy_cause::sync_length);
+  EXPECT_EQ(e[0].data[1], 5);
+  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+  // Disabled: the period runs (the axis holds) and the master still hears of it, once.
+  drive.emplace(config());
+  sent.clear();
+  (void)deliver(encode_nmt(NmtCommand::start, node));
+  now += period_us;
+  EXPECT_EQ(deliver(encode_sync(1)), DriveEvent::sync);
+  now += period_us;
+  EXPECT_EQ(deliver(encode_sync(2)), DriveEvent::sync);
+  ASSERT_EQ(emcys().size(), 1U);
+  EXPECT_EQ(emcys()[0].error_code, emcy_code::sync_data_length);
+}
+
 TEST_F(DriveSafety, ASyncOfTheWrongLengthWhileDisabledIsReportedNotIgnored) {
   (void)deliver(encode_nmt(NmtCommand::start, node));
   EXPECT_EQ(deliver(sync_of_length(2)), DriveEvent::sync_rejected);

@@ -51,14 +51,22 @@ TEST(SyncProducer, LateCallSendsOneSyncAndSkipsTheMissedPeriods) {
   EXPECT_EQ(out.size(), 3U);
 }
 
-TEST(SyncConsumer, CountsGapsAndAcceptsTheWrap) {
+// CiA 301: with 0x1019 = 0 a SYNC carries no data. A counter byte means the producer and the
+// consumer disagree on 0x1019: an unexpected length (CANopenNode: EMCY 0x8240), whatever its value.
+TEST(SyncConsumer, ACounterWhileNoneIsConfiguredIsAnUnexpectedLength) {
   SyncConsumer c{1000, 3};
   std::uint64_t t = 0;
-  for (const std::uint8_t counter : {std::uint8_t{1}, std::uint8_t{2}, std::uint8_t{3}, std::uint8_t{4}, std::uint8_t{1}, std::uint8_t{2}}) {
+  EXPECT_EQ(c.on_sync({0}, t += 1000), SyncEvent::in_order);
+  for (const std::uint8_t counter : {std::uint8_t{1}, std::uint8_t{2}, std::uint8_t{240}}) {
+    EXPECT_EQ(c.on_sync({counter}, t += 1000), SyncEvent::unexpected_length) << int{counter};
+  }
+  EXPECT_EQ(c.on_sync({0}, t += 1000), SyncEvent::in_order);
+  // With a counter configured the wrap is in order and a skipped counter is out of sequence.
+  c.set_counter_overflow(3);
+  for (const std::uint8_t counter : {std::uint8_t{1}, std::uint8_t{2}, std::uint8_t{3}, std::uint8_t{1}, std::uint8_t{2}}) {
     EXPECT_EQ(c.on_sync({counter}, t += 1000), SyncEvent::in_order) << int{counter};
   }
-  EXPECT_EQ(c.on_sync({4}, t += 1000), SyncEvent::gap);
-  EXPECT_EQ(c.missed(), 1U);
+  EXPECT_EQ(c.on_sync({1}, t += 1000), SyncEvent::out_of_sequence);
 }
 
 TEST(SyncConsumer, LossIsDeclaredAfterMoreThanTheToleratedPeriods) {
@@ -86,9 +94,9 @@ TEST(SyncConsumer, AConfiguredCounterMustStepByOne) {
   EXPECT_EQ(next(3), SyncEvent::out_of_sequence) << "skipped one";
   EXPECT_EQ(next(4), SyncEvent::out_of_range) << "beyond the overflow value";
   EXPECT_EQ(next(0), SyncEvent::unexpected_length) << "no counter at all";
-  c.set_counter_overflow(1);  // 1 is no valid overflow: counters are optional again
+  c.set_counter_overflow(1);  // 1 is no valid overflow (CiA 301 reserves it): no counter, as for 0
   EXPECT_EQ(next(0), SyncEvent::in_order);
-  EXPECT_EQ(next(7), SyncEvent::in_order);
+  EXPECT_EQ(next(7), SyncEvent::unexpected_length);
 }
 
 TEST(SyncConsumer, TheRateAllowsTheLossPeriodsInExcessThenRefuses) {

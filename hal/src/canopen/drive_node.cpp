@@ -496,7 +496,7 @@ DriveEvent DriveNode::on_sync(const SyncMessage& sync, std::uint64_t now_us, std
     // the step window the steps within a period (two such SYNCs move the axis one step).
     event = SyncEvent::in_order;
   }
-  if (event == SyncEvent::gap) {
+  if (event == SyncEvent::out_of_sequence) {
     ++counters_.sync_gaps;
   }
   if (is_sync_error(event)) {

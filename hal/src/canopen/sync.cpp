@@ -87,7 +87,6 @@ void SyncConsumer::configure(std::uint32_t period_us, std::uint32_t loss_periods
 void SyncConsumer::set_counter_overflow(std::uint8_t overflow) noexcept {
   overflow_ = overflow >= 2 ? (overflow > sync_counter_max ? sync_counter_max : overflow) : 0;
   last_counter_ = 0;
-  max_counter_seen_ = 0;
 }
 
 SyncEvent SyncConsumer::check_counter(std::uint8_t counter) noexcept {
@@ -112,23 +111,9 @@ SyncEvent SyncConsumer::check_counter(std::uint8_t counter) noexcept {
     }
     return SyncEvent::in_order;
   }
-  SyncEvent event = SyncEvent::in_order;
-  if (counter != 0 && last_counter_ != 0) {
-    // The counter restarts at 1 after the producer's overflow value, which the consumer
-    // learns from the largest counter it has seen; any other step means lost SYNCs.
-    const bool wrapped = counter == 1 && last_counter_ >= max_counter_seen_;
-    const unsigned expected = static_cast<unsigned>(last_counter_) + 1U;
-    if (!wrapped && counter != expected) {
-      event = SyncEvent::gap;
-      missed_ += counter > last_counter_ ? static_cast<std::uint64_t>(counter - last_counter_ - 1)
-                                         : static_cast<std::uint64_t>(counter - 1);
-    }
-  }
-  if (counter > max_counter_seen_) {
-    max_counter_seen_ = counter;
-  }
-  last_counter_ = counter;
-  return event;
+  // 0x1019 = 0: a SYNC carries no data (CiA 301). A counter byte is an unexpected length, as
+  // CANopenNode reports it (EMCY 0x8240): the producer and this drive disagree on 0x1019.
+  return counter == 0 ? SyncEvent::in_order : SyncEvent::unexpected_length;
 }
 
 bool SyncConsumer::take_credit(std::uint64_t received_us) noexcept {

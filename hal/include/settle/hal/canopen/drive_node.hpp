@@ -299,7 +299,7 @@ struct DriveCounters {
   std::uint64_t rpdos_overwritten{0};  // a second RPDO before the SYNC replaced the first
   std::uint64_t rpdos_rejected{0};     // wrong length or value out of range
   std::uint64_t rpdos_missing{0};      // SYNCs without a fresh RPDO while enabled
-  std::uint64_t sync_gaps{0};
+  std::uint64_t sync_gaps{0};          // SYNCs whose counter skipped (0x1019 set): SYNCs lost on the way
   std::uint64_t sync_errors{0};        // SYNCs that failed the counter or rate check (refused while driven)
   std::uint64_t steps_refused{0};      // setpoints over the step limit (0x607F x period)
   std::uint64_t steps_bounded{0};      // setpoints held back by the step window (SYNCs bunched in one period)

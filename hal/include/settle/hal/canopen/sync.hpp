@@ -51,9 +51,9 @@ class SyncProducer {
 
 enum class SyncEvent : std::uint8_t {
   in_order,  // first SYNC, or the counter followed on (or there is no counter)
-  gap,       // no counter configured: the counter jumped, SYNCs were lost on the way (see missed())
   // The errors below mean this SYNC must not run a period (a second producer, a duplicated frame):
-  unexpected_length,  // a counter is configured (0x1019) but this SYNC carries none (CiA 301: EMCY 0x8240)
+  unexpected_length,  // the SYNC's length does not match 0x1019: no counter while one is configured, or
+                      // one while none is (CiA 301: EMCY 0x8240)
   out_of_range,       // a counter above 0x1019's overflow value: it does not match 0x1019 (EMCY 0x8240)
   out_of_sequence,    // a counter is configured and this one is not the successor of the previous one
   too_many,           // more SYNCs than one per period, beyond the tolerated burst (see SyncConsumer)
@@ -98,7 +98,6 @@ class SyncConsumer {
   void rearm_rate_check() noexcept { credit_us_ = cap_us_; }
 
   [[nodiscard]] std::uint64_t received() const noexcept { return received_; }
-  [[nodiscard]] std::uint64_t missed() const noexcept { return missed_; }
   [[nodiscard]] std::uint8_t last_counter() const noexcept { return last_counter_; }
 
  private:
@@ -113,9 +112,7 @@ class SyncConsumer {
   std::uint64_t last_received_us_{0};
   bool seen_{false};
   std::uint64_t received_{0};
-  std::uint64_t missed_{0};
   std::uint8_t last_counter_{0};
-  std::uint8_t max_counter_seen_{0};
   std::uint8_t overflow_{0};
 };
 
