@@ -109,6 +109,21 @@ class DriveSafety : public ::testing::Test {
     return abort;
   }
 
+  // An enabled drive with an RPDO latched is sent `sync`, one that does not match 0x1019: no period
+  // runs for it (the axis stays), one EMCY 0x8240 with the cause and detail, and the fault reaction.
+  void expect_sync_refused_while_enabled(const CanFrame& sync, std::uint8_t cause, std::uint8_t detail) {
+    now += period_us;
+    (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10}));
+    EXPECT_EQ(deliver(sync), DriveEvent::sync_rejected) << "no period is run for it";
+    EXPECT_EQ(axis, 0);
+    const auto e = emcys();
+    ASSERT_EQ(e.size(), 1U);
+    EXPECT_EQ(e[0].error_code, emcy_code::sync_data_length);
+    EXPECT_EQ(e[0].data[0], cause);
+    EXPECT_EQ(e[0].data[1], detail);
+    EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+  }
+
   std::vector<EmcyMessage> emcys() const {
     std::vector<EmcyMessage> v;
     for (const CanFrame& f : sent) {
@@ -373,16 +388,7 @@ TEST_F(DriveSafety, ASecondProducersCountersAreOutOfSequence) {
 TEST_F(DriveSafety, ACounterAboveTheConfiguredOverflowDoesNotMatch0x1019) {
   EXPECT_EQ(write_sync_counter_overflow(8), SdoAbort::none);
   enable(8);
-  now += period_us;
-  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10}));
-  EXPECT_EQ(deliver(encode_sync(9)), DriveEvent::sync_rejected);
-  EXPECT_EQ(axis, 0);
-  const auto e = emcys();
-  ASSERT_EQ(e.size(), 1U);
-  EXPECT_EQ(e[0].error_code, emcy_code::sync_data_length);
-  EXPECT_EQ(e[0].data[0], emcy_cause::sync_counter);
-  EXPECT_EQ(e[0].data[1], 9);
-  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+  expect_sync_refused_while_enabled(encode_sync(9), emcy_cause::sync_counter, 9);
 }
 
 TEST_F(DriveSafety, ASyncWithoutTheConfiguredCounterIsAnUnexpectedLength) {
@@ -991,16 +997,7 @@ TEST_F(DriveSafety, ASyncOfTwoToEightBytesIsAnUnexpectedLengthWhateverTheCounter
 TEST_F(DriveSafety, ASyncWithACounterWhile0x1019IsZeroIsAnUnexpectedLength) {
   ASSERT_EQ(drive->objects().comm.sync_counter_overflow, 0);
   enable(0);
-  now += period_us;
-  (void)deliver(encode_rpdo1(node, Rpdo1{controlword::enable_operation, 10}));
-  EXPECT_EQ(deliver(encode_sync(5)), DriveEvent::sync_rejected) << "no period is run for it";
-  EXPECT_EQ(axis, 0);
-  const auto e = emcys();
-  ASSERT_EQ(e.size(), 1U);
-  EXPECT_EQ(e[0].error_code, emcy_code::sync_data_length);
-  EXPECT_EQ(e[0].data[0], emcy_cause::sync_length);
-  EXPECT_EQ(e[0].data[1], 5);
-  EXPECT_EQ(drive->state(), Cia402State::fault_reaction_active);
+  expect_sync_refused_while_enabled(encode_sync(5), emcy_cause::sync_length, 5);
   // Disabled: the period runs (the axis holds) and the master still hears of it, once.
   drive.emplace(config());
   sent.clear();
