@@ -4,7 +4,7 @@
 // (--bus loopback, drive_link.hpp). `settle drive config` (configure and verify what streaming
 // needs) is the master's start-up and is not part of this build. --eds FILE (on a bus) gives read
 // and write their --type and names the mapped objects in info; with --bus loopback the simulated
-// drive is the one it describes (drive_link.cpp, make_loopback_drive).
+// drive is the one it describes (testbed::build_simulated_drive).
 //
 // Exit status (commands.hpp): 0 done; 2 a bad request, before anything is sent; 1 the bus cannot
 // be opened, the drive does not answer within --timeout-ms, or it aborts a transfer (the CiA 301
@@ -30,7 +30,7 @@
 #include "settle/hal/canopen/nmt.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
 #include "settle/hal/eds_drive_config.hpp"
-#include "settle/testbed/drive_from_eds.hpp"
+#include "settle/testbed/simulated_drive.hpp"
 #include "settle/testbed/stream.hpp"
 
 namespace settle::app {
@@ -247,7 +247,9 @@ int load_description(const std::string& sub, const ParsedArgs& args, EdsOption& 
   if (const int rc = load_eds_option(args, "drive " + sub, nodes, out); rc >= 0) return rc;
   if (out.description && args.text_or_default("--bus") == "loopback") {
     // The simulated drive is built from it: one it cannot be is a bad request too.
-    const testbed::DriveFromEds d = testbed::simulated_drive_from_eds(*out.description, 1);
+    testbed::SimulatedDriveSpec spec{};
+    spec.eds = out.description.get();
+    const testbed::DriveFromEds d = testbed::simulated_drive_config(spec);
     if (!d.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + d.error}, args.json());
   }
   return -1;

@@ -4,44 +4,16 @@
 #include <algorithm>
 
 #include "settle/runtime/linux/periodic.hpp"
-#include "settle/hal/canopen/drive_node.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/hal/socketcan_bus.hpp"
-#include "settle/testbed/drive_from_eds.hpp"
+#include "settle/testbed/simulated_drive.hpp"
 #include "socketcan_open.hpp"
 
 namespace settle::app {
 
 namespace {
 
-using hal::canopen::DriveNode;
-using hal::canopen::DriveNodeConfig;
 using hal::canopen::NodeId;
-
-// The simulated drive `--bus loopback` talks to, as `node`: the one the --eds description
-// describes (testbed::simulated_drive_from_eds, as `settle plant --eds` builds it), or hal's DriveNode
-// with its default configuration (hal/eds/settle_drive.eds) without one. The one place the
-// loopback drive is made. Its strings point into `source`, which lives as long as the drive.
-struct SimulatedDrive {
-  testbed::DriveFromEds source;
-  std::unique_ptr<DriveNode> node;
-};
-
-SimulatedDrive make_loopback_drive(NodeId node, const hal::eds::Description* eds, std::string& error) {
-  SimulatedDrive d{};
-  DriveNodeConfig config{};
-  config.node = node;
-  if (eds != nullptr) {
-    d.source = testbed::simulated_drive_from_eds(*eds, node);
-    if (!d.source.config) {
-      error = d.source.error;
-      return d;
-    }
-    config = *d.source.config;
-  }
-  d.node = std::make_unique<DriveNode>(config);
-  return d;
-}
 
 // Real time: a SocketCAN interface, only the SDO answers (0x580 + node) let through.
 class SocketCanDriveLink final : public DriveLink {
@@ -67,19 +39,17 @@ class SocketCanDriveLink final : public DriveLink {
 // to it (and answer at once); time moves only when nothing is left to take.
 class LoopbackDriveLink final : public DriveLink {
  public:
-  explicit LoopbackDriveLink(SimulatedDrive drive) : source_{std::move(drive.source)}, drive_{std::move(drive.node)} {
-    drive_->start(now_, drive_port_);
-  }
+  explicit LoopbackDriveLink(testbed::SimulatedDrive drive) : drive_{std::move(drive)} { drive_.node->start(now_, drive_port_); }
   hal::CanBus& bus() override { return master_; }
   std::uint64_t now_us() override { return now_; }
   bool receive(hal::CanFrame& frame, std::uint32_t wait_us) override {
     hal::CanFrame f{};
-    while (drive_port_.receive(f) == hal::ReceiveStatus::received) (void)drive_->on_frame(f, now_, drive_port_);
-    drive_->poll(now_, drive_port_);
+    while (drive_port_.receive(f) == hal::ReceiveStatus::received) (void)drive_.node->on_frame(f, now_, drive_port_);
+    drive_.node->poll(now_, drive_port_);
     if (master_.receive(frame) == hal::ReceiveStatus::received) return true;
     now_ += std::max<std::uint32_t>(wait_us, 1);
     hub_.set_time_us(now_);
-    drive_->poll(now_, drive_port_);
+    drive_.node->poll(now_, drive_port_);
     return false;
   }
 
@@ -88,8 +58,7 @@ class LoopbackDriveLink final : public DriveLink {
   hal::LoopbackHub hub_;
   hal::LoopbackBus<256> master_{hub_};
   hal::LoopbackBus<256> drive_port_{hub_};
-  testbed::DriveFromEds source_;
-  std::unique_ptr<DriveNode> drive_;
+  testbed::SimulatedDrive drive_;
 };
 
 // How long one wait lasts while transfers run: their timeouts are judged at least this often.
@@ -100,8 +69,17 @@ constexpr std::uint32_t kWaitUs = 10'000;
 std::unique_ptr<DriveLink> open_drive_link(const std::string& bus, NodeId node, const hal::eds::Description* eds,
                                            std::string& error) {
   if (bus == "loopback") {
-    SimulatedDrive drive = make_loopback_drive(node, eds, error);
-    if (!drive.node) return nullptr;
+    // The simulated drive (testbed::build_simulated_drive): the one the --eds description
+    // describes, as `settle plant --eds` builds it, or the default drive, as `node`.
+    testbed::SimulatedDriveSpec spec{};
+    spec.node = node;
+    spec.eds = eds;
+    testbed::SimulatedDriveError why;
+    testbed::SimulatedDrive drive = testbed::build_simulated_drive(spec, why);
+    if (!drive.node) {
+      error = why.message();
+      return nullptr;
+    }
     return std::make_unique<LoopbackDriveLink>(std::move(drive));
   }
   auto link = std::make_unique<SocketCanDriveLink>();

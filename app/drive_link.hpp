@@ -4,9 +4,9 @@
 // Two kinds: a SocketCAN interface in real time (a `settle plant` process, a real drive), and
 // --bus loopback, a simulated drive in this process on hal's loopback bus, in virtual time.
 //
-// The loopback drive is built in one place, make_loopback_drive() (drive_link.cpp): the drive the
-// --eds description describes (as `settle plant --eds` builds it), or hal's DriveNode with its
-// default configuration, at the requested node id.
+// The loopback drive is the simulated drive as testbed::build_simulated_drive builds it for every
+// command: the one the --eds description describes (as `settle plant --eds` builds it), or the
+// default drive, at the requested node id.
 #include <cstdint>
 #include <memory>
 #include <span>

@@ -10,7 +10,7 @@
 #include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/runtime/evaluation.hpp"
-#include "settle/testbed/drive_from_eds.hpp"
+#include "settle/testbed/simulated_drive.hpp"
 #include "settle/plant/command.hpp"
 #include "settle/plant/limits.hpp"
 #include "settle/plant/online_command.hpp"
@@ -484,12 +484,13 @@ StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive) {
     const double change_v = one.change ? one.change->limits.vmax : 0.0;
     double drive_vmax = 0.0;  // counts/s, 0: not known
     if (simulated_drive) {
-      hal::canopen::DriveNodeConfig dc{};
-      if (one.eds) {
-        const DriveFromEds d = simulated_drive_from_eds(*one.eds, one.node);
-        if (d.config) dc = *d.config;  // otherwise the bus's open() refuses the description, naming it
-      }
-      drive_vmax = static_cast<double>(dc.max_profile_velocity);
+      SimulatedDriveSpec ds{};
+      ds.node = one.node;
+      ds.eds = one.eds.get();
+      const DriveFromEds d = simulated_drive_config(ds);
+      // Without a config the bus's open() refuses the description, naming it.
+      drive_vmax = static_cast<double>(d.config ? d.config->max_profile_velocity
+                                                : hal::canopen::DriveNodeConfig{}.max_profile_velocity);
     }
     const double cpu = one.drive.scale.counts_per_unit;
     StreamRefusal r{};

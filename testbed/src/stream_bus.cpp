@@ -44,22 +44,18 @@ std::string LoopbackStreamBus::open(const StreamSpec& spec) {
   }
   drives_.clear();
   for (std::size_t i = 0; i <= spec.more_axes.size(); ++i) {
-    const hal::canopen::NodeId node = i == 0 ? spec.node : spec.more_axes[i - 1].node;
-    Drive d{std::make_unique<hal::LoopbackBus<256>>(hub_), std::make_unique<DriveFromEds>(), nullptr};
-    hal::canopen::DriveNodeConfig dc{};
-    if (spec.eds) {
-      *d.simulated = simulated_drive_from_eds(*spec.eds, node);
-      if (!d.simulated->config) return "--eds: " + d.simulated->error;
-      dc = *d.simulated->config;
-    }
-    dc.node = node;
-    dc.sync_period_us = period_us_;
-    DriveAxis axis{};
-    if (const plant::SimStatus st = DriveAxis::make(spec.drive, spec.plant, 0, axis); st != plant::SimStatus::ok) {
-      return std::string{"the simulated drive refused its configuration: "} + to_string(st);
-    }
-    d.node = std::make_unique<PlantNode>(dc, std::move(axis));
-    d.node->start(0, *d.port);
+    SimulatedDriveSpec ds{};
+    ds.node = i == 0 ? spec.node : spec.more_axes[i - 1].node;
+    ds.eds = spec.eds.get();
+    ds.axis = spec.drive;
+    ds.plant = spec.plant;
+    ds.sync_period_us = period_us_;
+    SimulatedDriveError error;
+    SimulatedDrive built = build_simulated_drive(ds, error);
+    if (!error.eds.empty()) return "--eds: " + error.eds;
+    if (error.any()) return error.message();
+    Drive d{std::make_unique<hal::LoopbackBus<256>>(hub_), std::move(built)};
+    d.drive.node->start(0, *d.port);
     drives_.push_back(std::move(d));
   }
   return {};
@@ -72,8 +68,8 @@ void LoopbackStreamBus::between_ticks() {
   hub_.set_time_us(now);  // the drive answers within this period
   hal::CanFrame f{};
   for (Drive& d : drives_) {
-    while (d.port->receive(f, 0) == hal::ReceiveStatus::received) (void)d.node->on_frame(f, now, *d.port);
-    d.node->poll(now, *d.port);
+    while (d.port->receive(f, 0) == hal::ReceiveStatus::received) (void)d.drive.node->on_frame(f, now, *d.port);
+    d.drive.node->poll(now, *d.port);
   }
   // A listening port sees every frame on the in-process bus: the run's candump log.
   while (sniffer_.receive(f, 0) == hal::ReceiveStatus::received) {

@@ -14,12 +14,11 @@
 
 #include "settle/runtime/linux/periodic.hpp"
 #include "settle/runtime/session.hpp"
-#include "settle/testbed/drive_from_eds.hpp"
 #include "settle/hal/candump_file.hpp"
 #include "settle/hal/recording_bus.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/hal/socketcan_bus.hpp"
-#include "settle/testbed/plant_node.hpp"
+#include "settle/testbed/simulated_drive.hpp"
 #include "settle/testbed/stream.hpp"
 
 namespace settle::testbed {
@@ -73,8 +72,7 @@ class LoopbackStreamBus final : public StreamBus {
   // with its own copy of the plant.
   struct Drive {
     std::unique_ptr<hal::LoopbackBus<256>> port;
-    std::unique_ptr<DriveFromEds> simulated;  // with --eds: the drive's strings point into it
-    std::unique_ptr<PlantNode> node;
+    SimulatedDrive drive;
   };
   std::vector<Drive> drives_;
   hal::CandumpFile dump_;
