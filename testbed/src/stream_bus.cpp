@@ -43,9 +43,9 @@ std::string LoopbackStreamBus::open(const StreamSpec& spec) {
     return "cannot write " + candump_path_;
   }
   drives_.clear();
-  for (std::size_t i = 0; i <= spec.more_axes.size(); ++i) {
+  for (const StreamAxis& axis : spec.axes) {
     SimulatedDriveSpec ds{};
-    ds.node = i == 0 ? spec.node : spec.more_axes[i - 1].node;
+    ds.node = axis.node;
     ds.eds = spec.eds.get();
     ds.axis = spec.drive;
     ds.plant = spec.plant;

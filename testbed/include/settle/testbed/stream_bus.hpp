@@ -44,7 +44,7 @@ struct LateFrameWindow {
 std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t()>& now_us,
                              const StreamBus::FrameTaker& take, LateFrameWindow window = {});
 
-// On loopback every axis of the spec (spec.more_axes too) has its drive in this process.
+// On loopback every axis of the spec has its drive in this process.
 class LoopbackStreamBus final : public StreamBus {
  public:
   // candump_path: where to log every frame on the bus (a listening port sees them all); "" none.
