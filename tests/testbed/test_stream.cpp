@@ -29,6 +29,7 @@
 #include "settle/core/multi_axis.hpp"
 #include "settle/core/online.hpp"
 #include "settle/hal/canopen/heartbeat.hpp"
+#include "settle/hal/canopen/sdo.hpp"
 #include "settle/testbed/stream.hpp"
 #include "settle/testbed/stream_bus.hpp"
 #include "settle/testbed/stream_report.hpp"
@@ -686,6 +687,35 @@ TEST(RunStream, WhatCannotRunIsAFailureBeforeAnythingStreams) {
   const StreamReport none = run_stream(no_axis, empty);
   EXPECT_EQ(none.failure, "no axis to stream");
   EXPECT_FALSE(none.measured());
+}
+
+// The bus with a clock unpaced, as settle drive uses it: the loopback drive (the one builder's, at
+// the node asked for) answers an SDO request at once, in the same virtual instant; with nothing to
+// answer, a receive moves virtual time on by exactly the wait.
+TEST(LoopbackStreamBus, ReceiveAnswersAtOnceAndOtherwiseMovesVirtualTimeByTheWait) {
+  LoopbackStreamBus bus;
+  SimulatedDriveSpec drive{};
+  drive.node = 5;
+  ASSERT_EQ(bus.open(1000, {drive}), "");
+  EXPECT_EQ(bus.now_us(), 0U);
+  hal::CanFrame f{};
+  while (bus.receive(f, 0)) {  // the drive's boot-up and first heartbeat
+  }
+  const std::uint64_t t0 = bus.now_us();
+  hal::canopen::SdoClient client{5, 1'000'000};
+  ASSERT_TRUE(client.upload(0x1000, 0, bus.now_us(), bus.link()));
+  ASSERT_TRUE(bus.receive(f, 7000));
+  EXPECT_EQ(bus.now_us(), t0);
+  (void)client.on_frame(f, bus.now_us(), bus.link());
+  ASSERT_EQ(client.result().status, hal::canopen::SdoClientStatus::done);
+  EXPECT_EQ(client.result().value, hal::canopen::cia402_device_type);
+  EXPECT_FALSE(bus.receive(f, 7000));
+  EXPECT_EQ(bus.now_us(), t0 + 7000);
+  // A node no drive answers to: nothing comes.
+  hal::canopen::SdoClient nobody{6, 1'000'000};
+  ASSERT_TRUE(nobody.upload(0x1000, 0, bus.now_us(), bus.link()));
+  EXPECT_FALSE(bus.receive(f, 3));
+  EXPECT_EQ(bus.now_us(), t0 + 7003);
 }
 
 // The in-process loopback bus with one call replaced: the test buses below change only what

@@ -132,9 +132,10 @@ struct StreamTiming {
   runtime::linux_rt::RealtimeSetup realtime{};
 };
 
-// Where a stream runs: the link the loop sends and receives on, the clock that paces its ticks,
-// and what happens on the bus between ticks. LoopbackStreamBus and SocketCanStreamBus
-// (stream_bus.hpp) are the two; nothing here allocates between begin() and finish().
+// The one bus with a clock: where a stream runs (the link the loop sends and receives on, the clock
+// that paces its ticks, and what happens on the bus between ticks) and where `settle drive`'s SDO
+// transfers run (receive()). LoopbackStreamBus and SocketCanStreamBus (stream_bus.hpp) are the
+// two; nothing here allocates between begin() and finish().
 class StreamBus {
  public:
   StreamBus() = default;
@@ -160,6 +161,12 @@ class StreamBus {
   // incomplete.
   using FrameTaker = std::function<void(const hal::CanFrame& frame, std::uint64_t now_us)>;
   [[nodiscard]] virtual std::string finish(const FrameTaker& take) = 0;
+  // Request and answer, unpaced (settle drive's SDO transfers): the next frame that arrives within
+  // wait_us, the clock running meanwhile (loopback: after the drives have taken what was sent and
+  // answered; when nothing comes, virtual time moves on by wait_us). False when none came.
+  [[nodiscard]] virtual bool receive(hal::CanFrame& frame, std::uint32_t wait_us) {
+    return link().receive(frame, wait_us) == hal::ReceiveStatus::received;
+  }
   // This side's bus counters (the controller's, not a recorder's).
   [[nodiscard]] virtual hal::BusCounters counters() const = 0;
   [[nodiscard]] virtual StreamTiming timing() const = 0;
