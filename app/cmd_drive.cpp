@@ -4,7 +4,7 @@
 // (--bus loopback, drive_link.hpp). `settle drive config` (configure and verify what streaming
 // needs) is the master's start-up and is not part of this build. --eds FILE (on a bus) gives read
 // and write their --type and names the mapped objects in info; with --bus loopback the simulated
-// drive is the one it describes (drive_link.cpp, make_loopback_drive).
+// drive is the one it describes (testbed::build_simulated_drive).
 //
 // Exit status (commands.hpp): 0 done; 2 a bad request, before anything is sent; 1 the bus cannot
 // be opened, the drive does not answer within --timeout-ms, or it aborts a transfer (the CiA 301
@@ -31,7 +31,7 @@
 #include "settle/hal/canopen/nmt.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
 #include "settle/hal/eds_drive_config.hpp"
-#include "settle/testbed/drive_from_eds.hpp"
+#include "settle/testbed/simulated_drive.hpp"
 #include "settle/testbed/stream.hpp"
 
 namespace settle::app {
@@ -161,7 +161,7 @@ class Session {
   // Exit status when the bus cannot be opened, or -1.
   int open() {
     std::string error;
-    link_ = open_drive_link(bus_name_, node_, eds_, error);
+    link_ = open_drive_link(bus_name_, node_, eds_, socketcan_, error);
     if (!link_) return failed("bus", error);
     return -1;
   }
@@ -210,7 +210,7 @@ class Session {
                   {{"abort_code", hex(r.abort_raw, 8)}, {"meaning", hal::canopen::abort_meaning(r.abort_raw)}});
   }
 
-  [[nodiscard]] DriveLink& link() { return *link_; }
+  [[nodiscard]] testbed::StreamBus& link() { return *link_; }
   [[nodiscard]] bool json() const { return json_; }
   [[nodiscard]] hal::canopen::NodeId node() const { return node_; }
   [[nodiscard]] std::uint32_t timeout_us() const { return timeout_us_; }
@@ -223,7 +223,8 @@ class Session {
   hal::canopen::NodeId node_;
   std::uint32_t timeout_us_;
   bool json_;
-  std::unique_ptr<DriveLink> link_;
+  hal::SocketCanBus socketcan_;  // the interface --bus names (outlives link_)
+  std::unique_ptr<testbed::StreamBus> link_;
   SdoClient client_;
 };
 
@@ -248,7 +249,9 @@ int load_description(const std::string& sub, const ParsedArgs& args, EdsOption& 
   if (const int rc = load_eds_option(args, "drive " + sub, nodes, out); rc >= 0) return rc;
   if (out.description && args.text_or_default("--bus") == "loopback") {
     // The simulated drive is built from it: one it cannot be is a bad request too.
-    const testbed::DriveFromEds d = testbed::simulated_drive_from_eds(*out.description, 1);
+    testbed::SimulatedDriveSpec spec{};
+    spec.eds = out.description.get();
+    const testbed::DriveFromEds d = testbed::simulated_drive_config(spec);
     if (!d.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + d.error}, args.json());
   }
   return -1;
@@ -706,20 +709,20 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
                        st.value()});
   }
 
-  DriveLink& link = s.link();
+  testbed::StreamBus& link = s.link();
   RemoteDrive drive{plan.config};
   const std::uint64_t started_us = link.now_us();
-  drive.start(started_us, link.bus());
+  drive.start(started_us, link.link());
   // Bounded: every step may wait two SDO timeouts (one retry), and NMT takes a moment.
   const std::uint64_t deadline_us = started_us + (*count + 2) * 2ULL * s.timeout_us() + 1'000'000ULL;
   while (drive.state() == RemoteDriveState::configuring && link.now_us() < deadline_us) {
     hal::CanFrame f{};
-    if (link.receive(f, 10'000)) (void)drive.on_frame(f, link.now_us(), link.bus());
-    drive.poll(link.now_us(), link.bus());
+    if (link.receive(f, 10'000)) (void)drive.on_frame(f, link.now_us(), link.link());
+    drive.poll(link.now_us(), link.link());
   }
   const double took_ms = static_cast<double>(link.now_us() - started_us) / 1000.0;
   // Start-up ends with NMT start; a configured drive is left pre-operational, not running.
-  (void)link.bus().send(hal::canopen::encode_nmt(hal::canopen::NmtCommand::enter_pre_operational, s.node()));
+  (void)link.link().send(hal::canopen::encode_nmt(hal::canopen::NmtCommand::enter_pre_operational, s.node()));
   if (drive.state() == RemoteDriveState::configuring) {
     return s.failed("timeout", "node " + std::to_string(s.node()) + ": configuration did not finish in time");
   }

@@ -66,7 +66,7 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
                                    " s within this limit; at most 600 s"},
                               json);
   }
-  if (const core::Status st = commission::plan_identify_excitation(ex, s.move); st != core::Status::ok) {
+  if (const core::Status st = commission::plan_identify_excitation(ex, s.axes.front().move); st != core::Status::ok) {
     return report_bad_request({core::to_string(st), "--distance",
                                std::string{"--distance: the excitation cannot be planned within the limits: "} +
                                    core::describe(st)},
@@ -76,9 +76,9 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   // Refused for its length first: an excitation of hours is not what was meant, and its peaks,
   // summed over copies hours apart, carry rounding of a few 1e-9 that the check below would
   // misreport as a limit exceeded (--distance 1000 --vmax 1: 46 202 s with 15 round trips).
-  if (s.move.duration() > 600.0) {
+  if (s.axes.front().move.duration() > 600.0) {
     // The move alone too long: its limits are to blame; otherwise the train of its copies.
-    const double once = s.move.profile().duration();
+    const double once = s.axes.front().move.profile().duration();
     if (once > 600.0 || ex.round_trips == 0) {
       return report_bad_request({"too_long", binding,
                                  std::string{binding} + ": the excitation's move lasts " + format_number(once) +
@@ -88,21 +88,21 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
     return report_bad_request(
         {"too_long", "--train",
          "--train: the move and " + std::to_string(ex.round_trips) + " round trips of it last " +
-             format_number(s.move.duration()) + " s (the move alone " + format_number(once) +
+             format_number(s.axes.front().move.duration()) + " s (the move alone " + format_number(once) +
              " s); at most 600 s (fewer round trips, or raise --vmax, --amax or --jmax, or shorten --distance)"},
         json);
   }
   // The excitation as planned must respect what was asked (the planner guarantees it; checked so
   // that a planner change cannot silently excite harder than the user allowed).
   const auto over = [](double peak, double limit) { return std::fabs(peak) > limit * (1.0 + 1e-9); };
-  const core::Peaks<double> pk = s.move.peaks();
+  const core::Peaks<double> pk = s.axes.front().move.peaks();
   const char* exceeded = over(pk.v, ex.vmax) ? "--vmax" : over(pk.a, ex.amax) ? "--amax" : over(pk.j, ex.jmax) ? "--jmax" : nullptr;
   if (exceeded != nullptr) {
     return report_bad_request({"excitation_exceeds_limits", exceeded,
                                std::string{exceeded} + ": the planned excitation would exceed this limit"},
                               json);
   }
-  const double periods = (5.0 + s.move.duration() + s.settle_time_s) * 1e6 / s.drive.scale.period_us;
+  const double periods = (5.0 + s.axes.front().move.duration() + s.settle_time_s) * 1e6 / s.drive.scale.period_us;
   if (periods > kMaxStreamPeriods) {
     return report_bad_request({"too_many_samples", "--hold",
                                "--hold: " + format_number(periods) +
@@ -110,7 +110,7 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
                                    "--period-us)"},
                               json);
   }
-  const double reach = s.move.distance() * 2.0 + 1.0;
+  const double reach = s.axes.front().move.distance() * 2.0 + 1.0;
   if (reach * s.drive.scale.counts_per_unit > 2e9 || reach * s.drive.load_counts_per_unit > 2e9) {
     const char* who = reach * s.drive.scale.counts_per_unit > 2e9 ? "--counts-per-unit" : "--load-counts-per-unit";
     return report_bad_request({"out_of_range", "--distance",
@@ -120,12 +120,12 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   if (const auto png = args.text("--png"); png && (png->size() < 5 || png->substr(png->size() - 4) != ".png")) {
     return report_bad_request({"bad_path", "--png", "--png: the figure's file name must end in .png"}, json);
   }
-  s.node = static_cast<hal::canopen::NodeId>(args.integer("--node"));
+  s.axes.front().node = static_cast<hal::canopen::NodeId>(args.integer("--node"));
   s.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms"));
   s.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms") * 1000);
   s.feedback_timeout_periods = static_cast<std::uint16_t>(args.integer("--feedback-timeout-periods"));
   EdsOption eds;
-  const std::uint8_t nodes[] = {s.node};
+  const std::uint8_t nodes[] = {s.axes.front().node};
   if (const int rc = load_eds_option(args, "identify", nodes, eds); rc >= 0) return rc;
   s.eds = eds.description;
   if (const int rc = parse_load_feedback(args, s.eds.get(), s.load_feedback); rc >= 0) return rc;
@@ -196,7 +196,7 @@ int cmd_identify(int argc, char** argv) {
 
   const Progress progress;
   progress.say("settle identify: start-up (at most 5 s), then %.1f s of excitation and hold on %s ...",
-               spec.stream.move.duration() + spec.stream.settle_time_s, args.text_or_default("--bus").c_str());
+               spec.stream.axes.front().move.duration() + spec.stream.settle_time_s, args.text_or_default("--bus").c_str());
   commission::IdentifyRunReport report = commission::run_identify(spec, *bus);
   progress.done();
   if (!report.ok()) {

@@ -13,8 +13,7 @@
 #include "plant_options.hpp"
 #include "settle/hal/socketcan_bus.hpp"
 #include "socketcan_open.hpp"
-#include "settle/testbed/drive_from_eds.hpp"
-#include "settle/testbed/plant_node.hpp"
+#include "settle/testbed/simulated_drive.hpp"
 #include "settle/testbed/sync_log.hpp"
 
 namespace settle::app {
@@ -53,25 +52,26 @@ int cmd_plant(int argc, char** argv) {
 
   // The drive: the EDS's when one is given (checked before the bus is opened), else the default
   // drive, which hal/eds/settle_drive.eds describes exactly (tests/testbed/test_drive_from_eds.cpp).
-  hal::canopen::DriveNodeConfig dc{};
   const auto eds = args.text("--eds");
-  testbed::DriveFromEds loaded{};  // holds the strings dc points to, for the node's whole life
   EdsOption description;
   const std::uint8_t nodes[] = {static_cast<std::uint8_t>(node)};
   if (const int rc = load_eds_option(args, "plant", nodes, description); rc >= 0) return rc;
-  if (description.description) {
-    loaded = testbed::simulated_drive_from_eds(*description.description, static_cast<hal::canopen::NodeId>(node));
-    if (!loaded.config) return report_bad_request({"bad_eds", "--eds", "--eds: " + *eds + ": " + loaded.error}, json);
-    dc = *loaded.config;
-  }
-  dc.node = static_cast<hal::canopen::NodeId>(node);
-  if (!eds || args.has("--heartbeat-ms")) dc.heartbeat_period_ms = static_cast<std::uint16_t>(heartbeat);
-  dc.sync_period_us = axis_cfg.scale.period_us;
+  testbed::SimulatedDriveSpec spec{};
+  spec.node = static_cast<hal::canopen::NodeId>(node);
+  spec.eds = description.description.get();
+  spec.axis = axis_cfg;
+  spec.plant = plant;
+  spec.sync_period_us = axis_cfg.scale.period_us;
+  if (!eds || args.has("--heartbeat-ms")) spec.heartbeat_period_ms = static_cast<std::uint16_t>(heartbeat);
   // An EDS's 0x2001 stands unless the option or a --timing preset is given.
-  if (!eds || args.has("--sync-loss-periods") || args.has("--timing")) dc.communication_loss_periods = static_cast<std::uint8_t>(loss);
-  testbed::DriveAxis axis{};
-  if (testbed::DriveAxis::make(axis_cfg, plant, 0, axis) != plant::SimStatus::ok) return kExitFailure;
-  testbed::PlantNode pn{dc, std::move(axis)};
+  if (!eds || args.has("--sync-loss-periods") || args.has("--timing")) {
+    spec.communication_loss_periods = static_cast<std::uint8_t>(loss);
+  }
+  testbed::SimulatedDriveError why;
+  testbed::SimulatedDrive drive = testbed::build_simulated_drive(spec, why);
+  if (!why.eds.empty()) return report_bad_request({"bad_eds", "--eds", "--eds: " + *eds + ": " + why.eds}, json);
+  if (!drive.node) return kExitFailure;
+  testbed::PlantNode& pn = *drive.node;
 
   hal::SocketCanBus bus;
   const hal::OpenStatus os = open_socketcan(bus, iface);

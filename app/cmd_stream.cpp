@@ -35,7 +35,7 @@ int check_bus_load(const ParsedArgs& args, const testbed::StreamSpec& spec, std:
   hal::canopen::ProcessDataLayout layout{};
   if (spec.eds) {
     hal::canopen::RemoteDriveConfig base{};
-    base.node = spec.node;
+    base.node = spec.axes.front().node;
     const hal::eds::DriveConfigResult d = hal::eds::drive_config_from_eds(*spec.eds, base, testbed::streaming_feedback(*spec.eds, spec.load_feedback));
     if (d.ok()) layout = d.config.layout;  // otherwise start-up refuses the description, naming it
   }
@@ -60,7 +60,7 @@ testbed::StreamChange stream_change(const OnlineChange& c) {
 }
 
 // --axes N (docs/multi_axis.md): the coordinated plan's command on every axis (core::axis_command):
-// axis 1 in spec.move on spec.node, the others in spec.more_axes, on nodes 1..N or --nodes (N
+// one per axis in spec.axes, on nodes 1..N or --nodes (N
 // distinct whole numbers, each 1..127: the table's range); with --halt-at or --retarget-at every
 // moving axis's change (parse_axes_online_change). Exit status or -1.
 int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, testbed::StreamSpec& spec) {
@@ -107,7 +107,7 @@ int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, testbe
   } else {
     for (std::size_t i = 0; i < req.count; ++i) nodes.push_back(static_cast<long long>(i + 1));
   }
-  spec.more_axes.clear();
+  spec.axes.clear();
   for (std::size_t i = 0; i < req.count; ++i) {
     core::Move<double> m{};
     if (const core::Status st = core::axis_command(req, plan, i, m); st != core::Status::ok) {
@@ -118,13 +118,7 @@ int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, testbe
     const auto node = static_cast<hal::canopen::NodeId>(nodes[i]);
     std::optional<testbed::StreamChange> change;
     if (changes[i]) change = stream_change(*changes[i]);
-    if (i == 0) {
-      spec.move = m;
-      spec.node = node;
-      spec.change = change;
-    } else {
-      spec.more_axes.push_back({m, node, change});
-    }
+    spec.axes.push_back({m, node, change});
   }
   return -1;
 }
@@ -135,7 +129,7 @@ int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, testbe
 int refuse_unstreamable(const ParsedArgs& args, const testbed::StreamSpec& spec) {
   const testbed::StreamRefusal r = testbed::check_streamable(spec, args.text_or_default("--bus") == "loopback");
   if (r.status == runtime::LoopStatus::ok) return -1;
-  const std::string who = spec.more_axes.empty() ? std::string{} : "axis " + std::to_string(r.axis + 1) + ": ";
+  const std::string who = spec.axes.size() == 1 ? std::string{} : "axis " + std::to_string(r.axis + 1) + ": ";
   const std::string change = args.has("--halt-at") ? "--halt-at" : "--retarget-at";
   const std::string what = r.in_change ? "the " + change + " blend may reach " : "the move peaks at ";
   switch (r.status) {
@@ -176,14 +170,14 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
     if (const int rc = parse_axes(args, fundamental, spec); rc >= 0) return rc;
   } else if (args.has("--nodes")) {
     return report_bad_request({"bad_option", "--nodes", "--nodes: the nodes of --axes N; give --axes too"}, json);
-  } else if (!move_from_args(args, spec.move, err, &fundamental)) {
+  } else if (!move_from_args(args, spec.axes.front().move, err, &fundamental)) {
     return report_bad_request(err, json);
   }
-  const core::Move<double>& move = spec.move;
+  const core::Move<double>& move = spec.axes.front().move;
   // Node 1..127, heartbeat 10..10000 ms, SDO timeout 1..60000 ms, settle time (0, 600) s, axis
   // vmax (0, 1e9], feedback timeout 0..65535 periods.
   // The timeouts' defaults are the option table's under the --timing preset in force.
-  if (!axes) spec.node = static_cast<hal::canopen::NodeId>(args.integer("--node"));
+  if (!axes) spec.axes.front().node = static_cast<hal::canopen::NodeId>(args.integer("--node"));
   spec.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms"));
   spec.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms") * 1000);
   spec.feedback_timeout_periods = static_cast<std::uint16_t>(args.integer("--feedback-timeout-periods"));
@@ -213,7 +207,7 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
   if (!axes && !parse_online_change(args, req, move, &spec.plant, spec.drive.scale.period_s(), change, err)) {
     return report_bad_request(err, json);
   }
-  if (change) spec.change = stream_change(*change);
+  if (change) spec.axes.front().change = stream_change(*change);
   double reach_distance = 0.0, move_s = 0.0, command_s = 0.0;
   const auto extend = [&](const core::Move<double>& m, const std::optional<testbed::StreamChange>& c) {
     reach_distance = std::fmax(reach_distance, std::fabs(m.distance()));
@@ -224,8 +218,7 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
       if (!c->finish) command_s = std::fmax(command_s, c->at + c->blend.duration());
     }
   };
-  extend(move, spec.change);
-  for (const testbed::StreamAxis& a : spec.more_axes) extend(a.move, a.change);
+  for (const testbed::StreamAxis& a : spec.axes) extend(a.move, a.change);
   // What makes the command long: a change that runs past the move, the settle time, or the move
   // (its --time, or with limits the one that binds, or the plan file).
   const std::string change_option = args.has("--halt-at") ? "--halt-at" : "--retarget-at";
@@ -267,14 +260,14 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
                               json);
   }
   // The drive's description, read before anything is sent (what it says is checked at start-up).
-  std::vector<std::uint8_t> nodes{spec.node};
-  for (const testbed::StreamAxis& a : spec.more_axes) nodes.push_back(a.node);
+  std::vector<std::uint8_t> nodes;
+  for (const testbed::StreamAxis& a : spec.axes) nodes.push_back(a.node);
   EdsOption eds;
   if (const int rc = load_eds_option(args, "stream", nodes, eds); rc >= 0) return rc;
   spec.eds = eds.description;
   if (const int rc = parse_load_feedback(args, spec.eds.get(), spec.load_feedback); rc >= 0) return rc;
   if (const int rc = refuse_unstreamable(args, spec); rc >= 0) return rc;
-  return check_bus_load(args, spec, static_cast<std::uint32_t>(1 + spec.more_axes.size()));
+  return check_bus_load(args, spec, static_cast<std::uint32_t>(spec.axes.size()));
 }
 
 // A CSV file written by one of the report's writers; false when it cannot be.
@@ -311,7 +304,7 @@ int cmd_stream(int argc, char** argv) {
   }
   // Commanded and measured motion per drive period, aligned: what the plots show.
   if (const auto path = args.text("--feedback-log");
-      path && report.aligned() && !write_file(*path, [&](std::FILE* f) { return testbed::write_feedback_csv(report, f); })) {
+      path && report.axes.front().aligned() && !write_file(*path, [&](std::FILE* f) { return testbed::write_feedback_csv(report, f); })) {
     return failed(args, "write_failed", "cannot write " + *path);
   }
   if (args.json()) {

@@ -3,6 +3,7 @@
 // What to tell the user when a stream or an excitation lost its drive: the drive's own EMCY (its
 // code, what it means, which rule fired) and the options that set the timeouts involved. One
 // place for settle stream and settle identify.
+#include <optional>
 #include <string>
 
 #include "settle/hal/canopen/drive_node.hpp"
@@ -16,14 +17,16 @@ namespace settle::app {
   namespace co = hal::canopen;
   const runtime::SessionOutcome o = r.session.outcome;
   const bool lost = o == runtime::SessionOutcome::drive_lost || o == runtime::SessionOutcome::feedback_timeout;
-  if (!lost && !r.drive_emcy) return {};
+  // Axis 1's drive (the EMCY the report's single-axis fields show).
+  const std::optional<co::EmcyMessage>& emcy = r.axes.empty() ? std::nullopt : r.axes.front().drive_emcy;
+  if (!lost && !emcy) return {};
   const std::string loop = "the loop's --heartbeat-ms " + std::to_string(r.heartbeat_ms) +
                            ", --feedback-timeout-periods " + std::to_string(r.feedback_timeout_periods);
-  if (!r.drive_emcy) {
+  if (!emcy) {
     return "the drive sent no EMCY; it stopped answering within " + loop +
            " (on a loaded host use --timing sim, or raise these)";
   }
-  const co::EmcyMessage& e = *r.drive_emcy;
+  const co::EmcyMessage& e = *emcy;
   std::string s = "the drive reported " + testbed::emcy_text(e);
   const std::uint8_t cause = e.data[0];
   const bool sync_or_rpdo = (e.error_code == co::emcy_code::communication &&

@@ -2,124 +2,50 @@
 #include "drive_link.hpp"
 
 #include <algorithm>
+#include <vector>
 
-#include "settle/runtime/linux/periodic.hpp"
-#include "settle/hal/canopen/drive_node.hpp"
-#include "settle/hal/loopback_bus.hpp"
-#include "settle/hal/socketcan_bus.hpp"
-#include "settle/testbed/drive_from_eds.hpp"
+#include "settle/testbed/simulated_drive.hpp"
+#include "settle/testbed/stream_bus.hpp"
 #include "socketcan_open.hpp"
 
 namespace settle::app {
 
 namespace {
 
-using hal::canopen::DriveNode;
-using hal::canopen::DriveNodeConfig;
-using hal::canopen::NodeId;
-
-// The simulated drive `--bus loopback` talks to, as `node`: the one the --eds description
-// describes (testbed::simulated_drive_from_eds, as `settle plant --eds` builds it), or hal's DriveNode
-// with its default configuration (hal/eds/settle_drive.eds) without one. The one place the
-// loopback drive is made. Its strings point into `source`, which lives as long as the drive.
-struct SimulatedDrive {
-  testbed::DriveFromEds source;
-  std::unique_ptr<DriveNode> node;
-};
-
-SimulatedDrive make_loopback_drive(NodeId node, const hal::eds::Description* eds, std::string& error) {
-  SimulatedDrive d{};
-  DriveNodeConfig config{};
-  config.node = node;
-  if (eds != nullptr) {
-    d.source = testbed::simulated_drive_from_eds(*eds, node);
-    if (!d.source.config) {
-      error = d.source.error;
-      return d;
-    }
-    config = *d.source.config;
-  }
-  d.node = std::make_unique<DriveNode>(config);
-  return d;
-}
-
-// Real time: a SocketCAN interface, only the SDO answers (0x580 + node) let through.
-class SocketCanDriveLink final : public DriveLink {
- public:
-  hal::OpenStatus open(const std::string& iface) {
-    const hal::OpenStatus os = open_socketcan(bus_, iface);
-    if (os != hal::OpenStatus::ok) return os;
-    const hal::CanFilter sdo_answers{0x580, 0x780, hal::FrameFormat::standard};
-    (void)bus_.set_filters({&sdo_answers, 1});  // without filters every frame comes: still correct
-    return os;
-  }
-  hal::CanBus& bus() override { return bus_; }
-  std::uint64_t now_us() override { return runtime::linux_rt::monotonic_ns() / 1000; }
-  bool receive(hal::CanFrame& frame, std::uint32_t wait_us) override {
-    return bus_.receive(frame, wait_us) == hal::ReceiveStatus::received;
-  }
-
- private:
-  hal::SocketCanBus bus_;
-};
-
-// Virtual time: the drive in this process. Each wait first lets the drive take every frame sent
-// to it (and answer at once); time moves only when nothing is left to take.
-class LoopbackDriveLink final : public DriveLink {
- public:
-  explicit LoopbackDriveLink(SimulatedDrive drive) : source_{std::move(drive.source)}, drive_{std::move(drive.node)} {
-    drive_->start(now_, drive_port_);
-  }
-  hal::CanBus& bus() override { return master_; }
-  std::uint64_t now_us() override { return now_; }
-  bool receive(hal::CanFrame& frame, std::uint32_t wait_us) override {
-    hal::CanFrame f{};
-    while (drive_port_.receive(f) == hal::ReceiveStatus::received) (void)drive_->on_frame(f, now_, drive_port_);
-    drive_->poll(now_, drive_port_);
-    if (master_.receive(frame) == hal::ReceiveStatus::received) return true;
-    now_ += std::max<std::uint32_t>(wait_us, 1);
-    hub_.set_time_us(now_);
-    drive_->poll(now_, drive_port_);
-    return false;
-  }
-
- private:
-  std::uint64_t now_{0};
-  hal::LoopbackHub hub_;
-  hal::LoopbackBus<256> master_{hub_};
-  hal::LoopbackBus<256> drive_port_{hub_};
-  testbed::DriveFromEds source_;
-  std::unique_ptr<DriveNode> drive_;
-};
-
 // How long one wait lasts while transfers run: their timeouts are judged at least this often.
 constexpr std::uint32_t kWaitUs = 10'000;
 
 }  // namespace
 
-std::unique_ptr<DriveLink> open_drive_link(const std::string& bus, NodeId node, const hal::eds::Description* eds,
+std::unique_ptr<testbed::StreamBus> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
+                                           const hal::eds::Description* eds, hal::SocketCanBus& socketcan,
                                            std::string& error) {
   if (bus == "loopback") {
-    SimulatedDrive drive = make_loopback_drive(node, eds, error);
-    if (!drive.node) return nullptr;
-    return std::make_unique<LoopbackDriveLink>(std::move(drive));
+    testbed::SimulatedDriveSpec drive{};
+    drive.node = node;
+    drive.eds = eds;
+    auto link = std::make_unique<testbed::LoopbackStreamBus>();
+    error = link->open(drive.axis.scale.period_us, {drive});
+    if (!error.empty()) return nullptr;
+    return link;
   }
-  auto link = std::make_unique<SocketCanDriveLink>();
-  if (const hal::OpenStatus os = link->open(bus); os != hal::OpenStatus::ok) {
+  if (const hal::OpenStatus os = open_socketcan(socketcan, bus); os != hal::OpenStatus::ok) {
     error = "cannot open " + bus + ": " + hal::to_string(os) + " (try --bus loopback)";
     return nullptr;
   }
-  return link;
+  const hal::CanFilter sdo_answers{0x580, 0x780, hal::FrameFormat::standard};
+  (void)socketcan.set_filters({&sdo_answers, 1});  // without filters every frame comes: still correct
+  return std::make_unique<testbed::SocketCanStreamBus>(socketcan, bus, std::string{}, 0, false);
 }
 
-void serve_clients(DriveLink& link, std::span<hal::canopen::SdoClient> clients, const hal::CanFrame* frame) {
+void serve_clients(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> clients, const hal::CanFrame* frame) {
   for (hal::canopen::SdoClient& c : clients) {
-    if (frame != nullptr && c.busy()) (void)c.on_frame(*frame, link.now_us(), link.bus());
-    c.poll(link.now_us(), link.bus());
+    if (frame != nullptr && c.busy()) (void)c.on_frame(*frame, link.now_us(), link.link());
+    c.poll(link.now_us(), link.link());
   }
 }
 
-void finish_transfers(DriveLink& link, std::span<hal::canopen::SdoClient> clients) {
+void finish_transfers(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> clients) {
   while (std::any_of(clients.begin(), clients.end(), [](const hal::canopen::SdoClient& c) { return c.busy(); })) {
     hal::CanFrame f{};
     const bool got = link.receive(f, kWaitUs);

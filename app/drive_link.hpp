@@ -1,58 +1,44 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// What `settle drive` talks to: a CAN bus with a clock, on which SDO transfers run to their end.
-// Two kinds: a SocketCAN interface in real time (a `settle plant` process, a real drive), and
-// --bus loopback, a simulated drive in this process on hal's loopback bus, in virtual time.
-//
-// The loopback drive is built in one place, make_loopback_drive() (drive_link.cpp): the drive the
-// --eds description describes (as `settle plant --eds` builds it), or hal's DriveNode with its
-// default configuration, at the requested node id.
+// What `settle drive` talks to: the bus with a clock every command uses (testbed::StreamBus), on
+// which SDO transfers run to their end. Two kinds: a SocketCAN interface in real time (a `settle
+// plant` process, a real drive), and --bus loopback, the simulated drive in this process
+// (testbed::build_simulated_drive: the one the --eds description describes, as `settle plant
+// --eds` builds it, or the default drive, at the requested node id), in virtual time.
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
 
-#include "settle/hal/can_bus.hpp"
 #include "settle/hal/canopen/sdo.hpp"
 #include "settle/hal/eds_reader.hpp"
+#include "settle/hal/socketcan_bus.hpp"
+#include "settle/testbed/stream.hpp"
 
 namespace settle::app {
 
-class DriveLink {
- public:
-  DriveLink() = default;
-  DriveLink(const DriveLink&) = delete;
-  DriveLink& operator=(const DriveLink&) = delete;
-  virtual ~DriveLink() = default;
-
-  // Where the clients send their requests.
-  [[nodiscard]] virtual hal::CanBus& bus() = 0;
-  [[nodiscard]] virtual std::uint64_t now_us() = 0;
-  // The next frame that arrives within wait_us (loopback: after the drive has taken what was
-  // sent; when nothing comes, virtual time moves on by wait_us). False when none came.
-  [[nodiscard]] virtual bool receive(hal::CanFrame& frame, std::uint32_t wait_us) = 0;
-};
-
 // The interface named by --bus: "loopback" (the in-process drive as `node`, described by `eds`
-// when there is one), else a SocketCAN interface. nullptr with `error` set when it cannot be
-// opened (or, loopback, when the drive cannot be built from `eds`).
-[[nodiscard]] std::unique_ptr<DriveLink> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
-                                                         const hal::eds::Description* eds, std::string& error);
+// when there is one), else a SocketCAN interface opened on `socketcan` (which must outlive the
+// result) with only the SDO answers let through. nullptr with `error` set when it cannot be opened
+// (or, loopback, when the drive cannot be built from `eds`).
+[[nodiscard]] std::unique_ptr<testbed::StreamBus> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
+                                                         const hal::eds::Description* eds,
+                                                         hal::SocketCanBus& socketcan, std::string& error);
 
 // Runs the transfers already started on `clients` until none is busy: each answer goes to the
 // client it belongs to, and each times out on its own (its own abort on the bus).
-void finish_transfers(DriveLink& link, std::span<hal::canopen::SdoClient> clients);
+void finish_transfers(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> clients);
 
 // Hands a received frame to every busy client, then lets each time out if its time has come.
-void serve_clients(DriveLink& link, std::span<hal::canopen::SdoClient> clients, const hal::CanFrame* frame);
+void serve_clients(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> clients, const hal::CanFrame* frame);
 
 // Starts a transfer: `start(now, bus)` is retried while the bus has no room for the request
 // (a full transmit queue), for at most about a second; meanwhile the transfers already running
 // on `running` go on. False when it never went out.
 template <typename Start>
-[[nodiscard]] bool start_transfer(DriveLink& link, std::span<hal::canopen::SdoClient> running, Start&& start) {
+[[nodiscard]] bool start_transfer(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> running, Start&& start) {
   for (int attempt = 0; attempt < 1000; ++attempt) {
-    if (start(link.now_us(), link.bus())) return true;
+    if (start(link.now_us(), link.link())) return true;
     hal::CanFrame f{};
     const bool got = link.receive(f, 1000);
     serve_clients(link, running, got ? &f : nullptr);
@@ -62,7 +48,7 @@ template <typename Start>
 
 // One transfer on one client, to its end. A request that never went out ends as a timeout.
 template <typename Start>
-[[nodiscard]] hal::canopen::SdoResult transfer(DriveLink& link, hal::canopen::SdoClient& client, Start&& start) {
+[[nodiscard]] hal::canopen::SdoResult transfer(testbed::StreamBus& link, hal::canopen::SdoClient& client, Start&& start) {
   if (!start_transfer(link, {}, start)) {
     hal::canopen::SdoResult r{};
     r.status = hal::canopen::SdoClientStatus::timed_out;

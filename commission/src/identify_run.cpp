@@ -54,10 +54,11 @@ IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::StreamBus& 
     fail(r, "run_failed", s.failure);
     return r;
   }
+  const testbed::AxisReport& a = s.axes.front();  // the excitation's only axis
   if (!s.start_up_us) {
     fail(r, "drive_not_enabled",
-         "the drive never reached operation enabled" + (s.drive_failure.empty() ? std::string{} : ": " + s.drive_failure) +
-             " (state " + s.drive_state + ")");
+         "the drive never reached operation enabled" + (a.drive_failure.empty() ? std::string{} : ": " + a.drive_failure) +
+             " (state " + a.drive_state + ")");
     return r;
   }
   if (s.session.outcome != runtime::SessionOutcome::completed) {
@@ -68,17 +69,17 @@ IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::StreamBus& 
                   : ""));
     return r;
   }
-  if (!s.aligned()) {
+  if (!a.aligned()) {
     fail(r, "feedback_incomplete",
          "the drive's feedback does not show every setpoint applied once and in order (frames lost or late): the "
          "record cannot be trusted");
     return r;
   }
-  const std::size_t from = *s.alignment > kRestBefore ? *s.alignment - kRestBefore : 0;
-  const std::size_t to = *s.alignment + s.replay.feedback.size();
+  const std::size_t from = *a.alignment > kRestBefore ? *a.alignment - kRestBefore : 0;
+  const std::size_t to = *a.alignment + a.replay.feedback.size();
   for (std::size_t i = from; i < to; ++i) {
-    r.motor.push_back(s.feedback[i].position_actual);
-    r.load.push_back(s.feedback[i].load_position);
+    r.motor.push_back(a.feedback[i].position_actual);
+    r.load.push_back(a.feedback[i].load_position);
   }
   if (std::all_of(r.load.begin(), r.load.end(), [&](std::int32_t v) { return v == r.load.front(); })) {
     fail(r, "no_load_feedback",
@@ -117,7 +118,7 @@ std::string identify_json(const IdentifyRunSpec& spec, const IdentifyRunReport& 
                      {"frequency_hz", m.omega / (2.0 * kPi)}});
   }
   j["modes"] = modes;
-  const core::Move<double>& mv = spec.stream.move;
+  const core::Move<double>& mv = spec.stream.axes.front().move;
   j["excitation"] = {{"profile", core::to_string(mv.profile().kind())},
                      {"distance", mv.distance()},
                      {"round_trips", train_round_trips(mv)},
@@ -143,7 +144,7 @@ std::string identify_json(const IdentifyRunSpec& spec, const IdentifyRunReport& 
 
 void write_identify_text(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out) {
   const IdentifyResult& f = r.result;
-  const core::Move<double>& mv = spec.stream.move;
+  const core::Move<double>& mv = spec.stream.axes.front().move;
   std::fprintf(out, "excitation   %s, %g after %zu round trips, over %.4g s, then %.4g s held; %zu samples at %g s (%s)\n",
                core::to_string(mv.profile().kind()), mv.distance(), train_round_trips(mv), mv.duration(),
                spec.stream.settle_time_s, r.motor.size(), r.period_s, r.stream.bus.c_str());

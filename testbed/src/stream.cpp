@@ -10,7 +10,7 @@
 #include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/runtime/evaluation.hpp"
-#include "settle/testbed/drive_from_eds.hpp"
+#include "settle/testbed/simulated_drive.hpp"
 #include "settle/plant/command.hpp"
 #include "settle/plant/limits.hpp"
 #include "settle/plant/online_command.hpp"
@@ -27,30 +27,21 @@ const char* to_string(StreamScalar s) noexcept {
   return "?";
 }
 
-bool StreamReport::measured() const noexcept {
-  const bool axes_measured =
-      more_axes.empty() || (start_tick_spread && end_tick_spread && std::isfinite(line_deviation_setpoints_counts) &&
-                            std::isfinite(line_deviation_feedback_counts));
+bool AxisReport::measured() const noexcept {
   const bool load_ok = !load_measured || (std::isfinite(residual_can.amplitude) && std::isfinite(agreement));
-  return completed() && load_ok && std::isfinite(residual_offline.amplitude) && std::isfinite(residual_continuous) &&
-         axes_measured &&
-         std::all_of(more_axes.begin(), more_axes.end(), [](const StreamReport& a) { return a.measured(); });
+  return aligned() && load_ok && std::isfinite(residual_offline.amplitude) && std::isfinite(residual_continuous);
+}
+
+bool StreamReport::measured() const noexcept {
+  const bool together =
+      axes.size() < 2 || (start_tick_spread && end_tick_spread && std::isfinite(line_deviation_setpoints_counts) &&
+                          std::isfinite(line_deviation_feedback_counts));
+  return !axes.empty() && session.outcome == runtime::SessionOutcome::completed && together &&
+         std::all_of(axes.begin(), axes.end(), [](const AxisReport& a) { return a.measured(); });
 }
 
 bool StreamReport::rest_measured() const noexcept {
-  return measured() && load_measured &&
-         std::all_of(more_axes.begin(), more_axes.end(), [](const StreamReport& a) { return a.load_measured; });
-}
-
-StreamSpec axis_spec(const StreamSpec& spec, std::size_t i) {
-  StreamSpec one = spec;
-  one.more_axes.clear();
-  if (i > 0) {
-    one.move = spec.more_axes[i - 1].move;
-    one.node = spec.more_axes[i - 1].node;
-    one.change = spec.more_axes[i - 1].change;
-  }
-  return one;
+  return measured() && std::all_of(axes.begin(), axes.end(), [](const AxisReport& a) { return a.load_measured; });
 }
 
 namespace {
@@ -71,46 +62,47 @@ static_assert(1024 >= LoopOf<double, runtime::FloatEvaluation<double>>::kMaxFram
 // come from here, and so do the double evaluator's they are compared with. Not ok when the
 // evaluation refuses the move or the blend (the loop refuses them too) or it has more than kMaxSamples.
 template <typename Evaluation>
-core::Status evaluated_setpoints(const StreamSpec& spec, std::vector<std::int32_t>& out) {
+core::Status evaluated_setpoints(const StreamSpec& spec, const StreamAxis& axis, std::vector<std::int32_t>& out) {
   const core::AxisScale& scale = spec.drive.scale;
   out.clear();
   auto slot = std::make_unique<typename Evaluation::Stored>();  // not movable: the stream refers into it
-  if (const core::Status st = Evaluation::prepare(spec.move, scale, *slot); st != core::Status::ok) return st;
+  if (const core::Status st = Evaluation::prepare(axis.move, scale, *slot); st != core::Status::ok) return st;
   typename Evaluation::Stream s = Evaluation::start(*slot, 0);
   bool last = false;
   while (!last && out.size() < plant::kMaxSamples) out.push_back(s.next(last));
   if (!last) return core::Status::duration_does_not_fit;
-  if (!spec.change || spec.change->finish) return core::Status::ok;
-  const auto k = static_cast<std::size_t>(std::llround(spec.change->at / scale.period_s()));
+  if (!axis.change || axis.change->finish) return core::Status::ok;
+  const auto k = static_cast<std::size_t>(std::llround(axis.change->at / scale.period_s()));
   if (out.size() > k) out.resize(k);
   while (out.size() < k) out.push_back(out.empty() ? 0 : out.back());
   auto blend = std::make_unique<typename Evaluation::BlendStored>();
-  if (const core::Status st = Evaluation::prepare(spec.change->blend, scale, *blend); st != core::Status::ok) return st;
+  if (const core::Status st = Evaluation::prepare(axis.change->blend, scale, *blend); st != core::Status::ok) return st;
   typename Evaluation::BlendStream b = Evaluation::start(*blend, 0);
   last = false;
   while (!last && out.size() < plant::kMaxSamples) out.push_back(b.next(last));
   return last ? core::Status::ok : core::Status::duration_does_not_fit;
 }
 
-core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, std::vector<std::int32_t>& out) {
+core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, const StreamAxis& axis,
+                               std::vector<std::int32_t>& out) {
   switch (scalar) {
-    case StreamScalar::single_precision: return evaluated_setpoints<runtime::FloatEvaluation<float>>(spec, out);
-    case StreamScalar::fixed_point: return evaluated_setpoints<runtime::PolyFixedEvaluation>(spec, out);
+    case StreamScalar::single_precision: return evaluated_setpoints<runtime::FloatEvaluation<float>>(spec, axis, out);
+    case StreamScalar::fixed_point: return evaluated_setpoints<runtime::PolyFixedEvaluation>(spec, axis, out);
     case StreamScalar::double_precision: break;
   }
-  return evaluated_setpoints<runtime::FloatEvaluation<double>>(spec, out);
+  return evaluated_setpoints<runtime::FloatEvaluation<double>>(spec, axis, out);
 }
 
 // Whether the evaluation takes the spec's move and, with a change that blends, the blend (what the
 // loop's submit() and service() prepare), without streaming them.
 template <typename Evaluation>
-StreamRefusal evaluation_takes(const StreamSpec& spec) {
+StreamRefusal evaluation_takes(const StreamSpec& spec, const StreamAxis& axis) {
   StreamRefusal r{};
   auto slot = std::make_unique<typename Evaluation::Stored>();
-  r.why = Evaluation::prepare(spec.move, spec.drive.scale, *slot);
-  if (r.why == core::Status::ok && spec.change && !spec.change->finish) {
+  r.why = Evaluation::prepare(axis.move, spec.drive.scale, *slot);
+  if (r.why == core::Status::ok && axis.change && !axis.change->finish) {
     auto blend = std::make_unique<typename Evaluation::BlendStored>();
-    r.why = Evaluation::prepare(spec.change->blend, spec.drive.scale, *blend);
+    r.why = Evaluation::prepare(axis.change->blend, spec.drive.scale, *blend);
     r.in_change = r.why != core::Status::ok;
   }
   if (r.why != core::Status::ok) r.status = runtime::LoopStatus::evaluation_refused;
@@ -118,9 +110,9 @@ StreamRefusal evaluation_takes(const StreamSpec& spec) {
 }
 
 // How long the command lasts: the move, or the move to the switch and then the blend.
-double command_duration(const StreamSpec& spec) {
-  return spec.change && !spec.change->finish ? spec.change->at + spec.change->blend.duration()
-                                             : spec.move.duration();
+double command_duration(const StreamAxis& axis) {
+  return axis.change && !axis.change->finish ? axis.change->at + axis.change->blend.duration()
+                                             : axis.move.duration();
 }
 
 }  // namespace
@@ -199,59 +191,98 @@ struct BusClock {
   [[nodiscard]] std::uint64_t now_us() const { return bus.now_us(); }
 };
 
-// The session on `bus` with the loop of one evaluation, one axis per spec (specs[i] is axis i's,
-// acs[i] its loop configuration, rs[i] its report); fills the reports' run fields. "" or why it
-// could not run.
+// A change on the axes that have one: the loop's online configuration of each, and when to ask
+// (halt()/retarget() on every such axis and service() between two ticks, the configuration's
+// lead_ticks setpoints before the switch, as an application would). The ticks are counted on the
+// first axis with a change (every change has the same `at`): `lead` (axes.size(): none).
+struct ChangeAsk {
+  std::size_t lead{0};
+  std::int64_t at_moving_tick{-1};
+};
+
+template <typename Loop>
+std::string configure_changes(Loop& loop, const StreamSpec& spec, ChangeAsk& ask) {
+  const std::size_t n = spec.axes.size();
+  ask = ChangeAsk{n, -1};
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::optional<StreamChange>& ch = spec.axes[i].change;
+    if (!ch) continue;
+    runtime::OnlineConfig oc{};
+    oc.mode_count = std::min(ch->modes.size(), oc.modes.size());
+    for (std::size_t k = 0; k < oc.mode_count; ++k) oc.modes[k] = ch->modes[k];
+    oc.limits = ch->limits;
+    if (const runtime::LoopStatus st = loop.configure_online(i, oc); st != runtime::LoopStatus::ok) {
+      return "the loop refused axis " + std::to_string(i + 1) + "'s online configuration: " + runtime::to_string(st);
+    }
+    if (ask.lead == n) {
+      ask.lead = i;
+      ask.at_moving_tick =
+          std::llround(ch->at / spec.drive.scale.period_s()) - static_cast<std::int64_t>(oc.lead_ticks);
+    }
+  }
+  return {};
+}
+
+// After the session: what the loop and the bus say about each axis and about the run.
+template <typename Loop>
+void report_run(Loop& loop, const StreamSpec& spec, const StreamBus& bus, StreamReport& r) {
+  r.counters = bus.counters();
+  r.units_held = loop.stats().units_held;
+  r.timing = bus.timing();
+  r.heartbeat_ms = spec.heartbeat_ms;
+  r.sdo_timeout_us = spec.sdo_timeout_us;
+  r.feedback_timeout_periods = spec.feedback_timeout_periods;
+  // Frames the bus dropped on our side (a full receive queue); the drive's side reports its own.
+  // A setpoint or feedback lost within the move would also break every axis's alignment.
+  r.frames_lost = r.counters.rx_overflow_drops + r.counters.tx_errors;
+  for (std::size_t i = 0; i < r.axes.size(); ++i) {
+    AxisReport& a = r.axes[i];
+    a.axis = loop.axis_stats(i);
+    const auto& d = loop.drive(i);
+    a.drive_state = hal::canopen::to_string(d.state());
+    if (d.state() == hal::canopen::RemoteDriveState::failed) a.drive_failure = start_up_failure_text(d.failure());
+    if (!r.start_up_us && !hal::canopen::is_operation_enabled(d.feedback().statusword) &&
+        (a.drive_failure.empty() || d.failure().enable_timeout)) {
+      // Never enabled: what the drive's statusword showed instead (or that none came).
+      a.drive_failure += (a.drive_failure.empty() ? "" : ": ") + enable_failure_text(d.feedback());
+    }
+  }
+}
+
+// The session on `bus` with the loop of one evaluation, one loop axis per spec axis (acs[i] its
+// loop configuration, r.axes[i] its report); fills the report's run fields. "" or why it could not
+// run.
 template <typename Scalar, typename Evaluation>
-std::string stream_session(const std::vector<StreamSpec>& specs, const std::vector<runtime::AxisConfig>& acs,
-                           const runtime::SessionConfig& sc, StreamBus& bus, const std::vector<StreamReport*>& rs) {
+std::string stream_session(const StreamSpec& spec, const std::vector<runtime::AxisConfig>& acs,
+                           const runtime::SessionConfig& sc, StreamBus& bus, StreamReport& r) {
   using Loop = LoopOf<Scalar, Evaluation>;
-  StreamReport& r = *rs.front();
-  const std::size_t n = specs.size();
+  const std::size_t n = spec.axes.size();
   auto loop = std::make_unique<Loop>(bus.link(), acs.front().scale.period_us);
   std::vector<core::Move<double>> moves;
   for (std::size_t i = 0; i < n; ++i) {
     if (const runtime::LoopStatus st = loop->add_axis(acs[i]); st != runtime::LoopStatus::ok) {
       return "the loop refused axis " + std::to_string(i + 1) + ": " + runtime::to_string(st);
     }
-    moves.push_back(specs[i].move);
+    moves.push_back(spec.axes[i].move);
   }
   // Each drive's first error EMCY, seen when its consumer's count moves (every tick and while the
   // late frames are taken).
   std::vector<std::uint32_t> emcys_seen(n, 0);
   const auto drain = [&] {
     for (std::size_t i = 0; i < n; ++i) {
-      for (runtime::FeedbackSample fs{}; loop->feedback_log(i).pop(fs);) rs[i]->feedback.push_back(fs);
+      for (runtime::FeedbackSample fs{}; loop->feedback_log(i).pop(fs);) r.axes[i].feedback.push_back(fs);
       const hal::canopen::EmcyConsumer& e = loop->drive(i).emcy();
       if (e.count() == emcys_seen[i]) continue;
       emcys_seen[i] = e.count();
-      if (!rs[i]->drive_emcy && e.in_error()) rs[i]->drive_emcy = e.last();
+      if (!r.axes[i].drive_emcy && e.in_error()) r.axes[i].drive_emcy = e.last();
     }
   };
-  // A change: halt()/retarget() posted on every axis that has one and service() run between two
-  // ticks, the configuration's lead_ticks setpoints before the switch, as an application would.
-  // The ticks are counted on the first axis with a change (every change has the same `at`).
-  std::int64_t ask_at = -1;
-  std::size_t lead = n;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::optional<StreamChange>& ch = specs[i].change;
-    if (!ch) continue;
-    runtime::OnlineConfig oc{};
-    oc.mode_count = std::min(ch->modes.size(), oc.modes.size());
-    for (std::size_t k = 0; k < oc.mode_count; ++k) oc.modes[k] = ch->modes[k];
-    oc.limits = ch->limits;
-    if (const runtime::LoopStatus st = loop->configure_online(i, oc); st != runtime::LoopStatus::ok) {
-      return "the loop refused axis " + std::to_string(i + 1) + "'s online configuration: " + runtime::to_string(st);
-    }
-    if (lead == n) {
-      lead = i;
-      ask_at = std::llround(ch->at / acs.front().scale.period_s()) - static_cast<std::int64_t>(oc.lead_ticks);
-    }
-  }
+  ChangeAsk change{};
+  if (std::string why = configure_changes(*loop, spec, change); !why.empty()) return why;
   const auto ask = [&] {
     bool ok = true;
     for (std::size_t i = 0; i < n; ++i) {
-      const std::optional<StreamChange>& ch = specs[i].change;
+      const std::optional<StreamChange>& ch = spec.axes[i].change;
       if (ch) ok = (ch->target ? loop->retarget(i, *ch->target) : loop->halt(i)) && ok;
     }
     return loop->service() == runtime::LoopStatus::ok && ok;
@@ -265,8 +296,9 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
   // Move i goes to axis i (runtime::run_session), all in the same tick.
   r.session = runtime::run_session(*loop, clock, moves.data(), n, sc, [&](std::uint64_t, bool) {
     if (!r.start_up_us && loop->all_ready()) r.start_up_us = clock.now_us() - started_us;
-    for (std::size_t i = 0; i < n; ++i) rs[i]->log.push_back(loop->record(i));
-    if (lead < n && loop->record(lead).moving && loop->record(lead).sent && ++moving_ticks == ask_at) {
+    for (std::size_t i = 0; i < n; ++i) r.axes[i].log.push_back(loop->record(i));
+    if (change.lead < n && loop->record(change.lead).moving && loop->record(change.lead).sent &&
+        ++moving_ticks == change.at_moving_tick) {
       asked_ok = ask();
     }
     drain();
@@ -276,10 +308,10 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
   // outcome, which says why; only a session that ran to its end must have switched.
   const bool ran_out = r.session.outcome == runtime::SessionOutcome::completed;
   for (std::size_t i = 0; i < n; ++i) {
-    if (specs[i].change &&
+    if (spec.axes[i].change &&
         (!asked_ok || (ran_out && loop->online_switches(i) + loop->online_finishes(i) != 1))) {
       return "the loop did not switch axis " + std::to_string(i + 1) + " to its blend at " +
-             std::to_string(specs[i].change->at) + " s";
+             std::to_string(spec.axes[i].change->at) + " s";
     }
   }
   // The last TPDOs may still be on their way: take them, the way the loop does, before counting.
@@ -290,34 +322,13 @@ std::string stream_session(const std::vector<StreamSpec>& specs, const std::vect
       !why.empty()) {
     return why;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    StreamReport& a = *rs[i];
-    if (i > 0) {
-      a.session = r.session;
-      a.start_up_us = r.start_up_us;
-    }
-    a.counters = bus.counters();
-    a.axis = loop->axis_stats(i);
-    a.units_held = loop->stats().units_held;
-    const auto& d = loop->drive(i);
-    a.drive_state = hal::canopen::to_string(d.state());
-    if (d.state() == hal::canopen::RemoteDriveState::failed) a.drive_failure = start_up_failure_text(d.failure());
-    if (!a.start_up_us && !hal::canopen::is_operation_enabled(d.feedback().statusword) &&
-        (a.drive_failure.empty() || d.failure().enable_timeout)) {
-      // Never enabled: what the drive's statusword showed instead (or that none came).
-      a.drive_failure += (a.drive_failure.empty() ? "" : ": ") + enable_failure_text(d.feedback());
-    }
-    a.timing = bus.timing();
-    a.heartbeat_ms = specs[i].heartbeat_ms;
-    a.sdo_timeout_us = specs[i].sdo_timeout_us;
-    a.feedback_timeout_periods = specs[i].feedback_timeout_periods;
-  }
+  report_run(*loop, spec, bus, r);
   return {};
 }
 
 // The measurements: the replay, the alignment of the CAN feedback with it, the residual fits and
 // the continuous reference.
-void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r) {
+void measure(const StreamSpec& spec, const StreamAxis& axis, std::uint64_t settle_ticks, AxisReport& r) {
   const core::AxisScale& scale = spec.drive.scale;
   const double load_cpu = spec.drive.load_counts_per_unit;
   // Offline: the same integer setpoints through the same drive model and plant, no bus.
@@ -329,7 +340,7 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
   std::vector<std::int32_t> sp_double;
   Replay replay_double{};
   const bool have_double =
-      changed_setpoints(StreamScalar::double_precision, spec, sp_double) == core::Status::ok &&
+      changed_setpoints(StreamScalar::double_precision, spec, axis, sp_double) == core::Status::ok &&
       replay_stream(spec.drive, spec.plant, 0, sp_double, settle_ticks, replay_double) == plant::SimStatus::ok;
   // Setpoint by setpoint (the shorter sequence held at its last), the largest difference in counts.
   if (have_sp && have_double) {
@@ -388,12 +399,12 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
   so.record = false;
   // The residual is exact at the move's end whatever the grid; the grid only samples the peak
   // deflection and the settling time, so a long move takes a coarser one (at most 2e6 steps x modes).
-  so.dt = std::max(so.dt, command_duration(spec) * static_cast<double>(spec.plant.modes().size()) / plant::kMaxSimWork);
-  if (spec.change && !spec.change->finish) {
-    const plant::OnlineChangeCommand changed{spec.move, spec.change->at, spec.change->blend};
+  so.dt = std::max(so.dt, command_duration(axis) * static_cast<double>(spec.plant.modes().size()) / plant::kMaxSimWork);
+  if (axis.change && !axis.change->finish) {
+    const plant::OnlineChangeCommand changed{axis.move, axis.change->at, axis.change->blend};
     r.continuous_simulated = plant::simulate(spec.plant, changed, so, cont) == plant::SimStatus::ok;
   } else {
-    r.continuous_simulated = plant::simulate(spec.plant, plant::MoveCommand{spec.move}, so, cont) == plant::SimStatus::ok;
+    r.continuous_simulated = plant::simulate(spec.plant, plant::MoveCommand{axis.move}, so, cont) == plant::SimStatus::ok;
   }
   r.residual_continuous = r.continuous_simulated ? cont.metrics.residual_amplitude : double{NAN};
   r.prv_continuous_percent = r.continuous_simulated ? cont.metrics.prv_percent : double{NAN};
@@ -406,26 +417,23 @@ void measure(const StreamSpec& spec, std::uint64_t settle_ticks, StreamReport& r
     if (!r.move_start_tick && r.log[i].moving && r.log[i].sent) r.move_start_tick = i;
     if (r.log[i].move_end) r.move_end_tick = i;
   }
-  // Frames the bus dropped on our side (a full receive queue); the drive's side reports its own.
-  // A setpoint or feedback lost within the move would also have broken the alignment above.
-  r.frames_lost = r.counters.rx_overflow_drops + r.counters.tx_errors;
 }
 
 // How the axes moved together (StreamReport's multi-axis fields), from every axis's tick log and
 // its feedback aligned with its replay.
-void measure_axes(const std::vector<StreamSpec>& specs, const std::vector<StreamReport*>& rs, StreamReport& r) {
-  const std::size_t n = specs.size();
+void measure_axes(const StreamSpec& spec, StreamReport& r) {
+  const std::size_t n = spec.axes.size();
   // The line from the start to every axis's target, in counts.
   std::vector<double> dir(n);
-  for (std::size_t i = 0; i < n; ++i) dir[i] = specs[i].move.distance() * specs[i].drive.scale.counts_per_unit;
+  for (std::size_t i = 0; i < n; ++i) dir[i] = spec.axes[i].move.distance() * spec.drive.scale.counts_per_unit;
   std::vector<double> p(n);
   const auto off_line = [&] { return core::offset_from_line(p.data(), dir.data(), n); };
   // Start and end ticks of every moving axis.
   std::uint64_t s_lo = ~std::uint64_t{0}, s_hi = 0, e_lo = ~std::uint64_t{0}, e_hi = 0;
   bool all = true, any = false;
   for (std::size_t i = 0; i < n; ++i) {
-    if (specs[i].move.distance() == 0.0) continue;
-    const StreamReport& a = *rs[i];
+    if (spec.axes[i].move.distance() == 0.0) continue;
+    const AxisReport& a = r.axes[i];
     if (!a.move_start_tick || !a.move_end_tick || *a.move_start_tick == 0) {
       all = false;
       continue;
@@ -445,8 +453,8 @@ void measure_axes(const std::vector<StreamSpec>& specs, const std::vector<Stream
   double worst = 0.0;
   for (std::uint64_t t = s_lo; t <= e_hi; ++t) {
     for (std::size_t i = 0; i < n; ++i) {
-      const std::vector<runtime::TickRecord>& log = rs[i]->log;
-      const std::uint64_t held = rs[i]->move_start_tick.value_or(s_lo) - 1;
+      const std::vector<runtime::TickRecord>& log = r.axes[i].log;
+      const std::uint64_t held = r.axes[i].move_start_tick.value_or(s_lo) - 1;
       p[i] = t < log.size() && held < log.size() ? static_cast<double>(log[t].target) - log[held].target : 0.0;
     }
     worst = std::max(worst, off_line());
@@ -456,12 +464,12 @@ void measure_axes(const std::vector<StreamSpec>& specs, const std::vector<Stream
   // starts at 0 and its alignment says where that SYNC's feedback is).
   std::size_t periods = ~std::size_t{0};
   for (std::size_t i = 0; i < n; ++i) {
-    if (!rs[i]->aligned()) return;
-    periods = std::min(periods, rs[i]->replay.feedback.size());
+    if (!r.axes[i].aligned()) return;
+    periods = std::min(periods, r.axes[i].replay.feedback.size());
   }
   worst = 0.0;
   for (std::size_t k = 0; k < periods; ++k) {
-    for (std::size_t i = 0; i < n; ++i) p[i] = rs[i]->feedback[*rs[i]->alignment + k].position_actual;
+    for (std::size_t i = 0; i < n; ++i) p[i] = r.axes[i].feedback[*r.axes[i].alignment + k].position_actual;
     worst = std::max(worst, off_line());
   }
   r.line_deviation_feedback_counts = worst;
@@ -469,29 +477,30 @@ void measure_axes(const std::vector<StreamSpec>& specs, const std::vector<Stream
 
 }  // namespace
 
-double stream_axis_vmax(const StreamSpec& one) {
-  if (one.axis_vmax) return *one.axis_vmax;
-  double v = std::fmax(one.move.peaks().v, 1e-12) * 1.5;
-  if (one.change) v = std::fmax(v, one.change->limits.vmax);  // what the loop's own halt may plan
+double stream_axis_vmax(const StreamSpec& spec, const StreamAxis& axis) {
+  if (spec.axis_vmax) return *spec.axis_vmax;
+  double v = std::fmax(axis.move.peaks().v, 1e-12) * 1.5;
+  if (axis.change) v = std::fmax(v, axis.change->limits.vmax);  // what the loop's own halt may plan
   return v;
 }
 
 StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive) {
-  for (std::size_t i = 0; i < 1 + spec.more_axes.size(); ++i) {
-    const StreamSpec one = axis_spec(spec, i);
+  for (std::size_t i = 0; i < spec.axes.size(); ++i) {
+    const StreamAxis& one = spec.axes[i];
     // The fastest the command goes: the move's peak, or the vmax the loop plans its change within.
     const double move_v = one.move.peaks().v;
     const double change_v = one.change ? one.change->limits.vmax : 0.0;
     double drive_vmax = 0.0;  // counts/s, 0: not known
     if (simulated_drive) {
-      hal::canopen::DriveNodeConfig dc{};
-      if (one.eds) {
-        const DriveFromEds d = simulated_drive_from_eds(*one.eds, one.node);
-        if (d.config) dc = *d.config;  // otherwise the bus's open() refuses the description, naming it
-      }
-      drive_vmax = static_cast<double>(dc.max_profile_velocity);
+      SimulatedDriveSpec ds{};
+      ds.node = one.node;
+      ds.eds = spec.eds.get();
+      const DriveFromEds d = simulated_drive_config(ds);
+      // Without a config the bus's open() refuses the description, naming it.
+      drive_vmax = static_cast<double>(d.config ? d.config->max_profile_velocity
+                                                : hal::canopen::DriveNodeConfig{}.max_profile_velocity);
     }
-    const double cpu = one.drive.scale.counts_per_unit;
+    const double cpu = spec.drive.scale.counts_per_unit;
     StreamRefusal r{};
     const auto over = [&](runtime::LoopStatus status, double limit) {
       const double tolerated = limit * (1.0 + 1e-9);  // the loop's tolerance
@@ -502,15 +511,15 @@ StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive) {
       r.peak = r.in_change ? change_v : move_v;
       return true;
     };
-    if (over(runtime::LoopStatus::exceeds_axis_velocity, stream_axis_vmax(one))) {
+    if (over(runtime::LoopStatus::exceeds_axis_velocity, stream_axis_vmax(spec, one))) {
     } else if (drive_vmax > 0.0 && over(runtime::LoopStatus::exceeds_drive_velocity, drive_vmax / cpu)) {
       r.limit *= cpu;
       r.peak *= cpu;
     } else {
       switch (spec.scalar) {
-        case StreamScalar::single_precision: r = evaluation_takes<runtime::FloatEvaluation<float>>(one); break;
-        case StreamScalar::fixed_point: r = evaluation_takes<runtime::PolyFixedEvaluation>(one); break;
-        case StreamScalar::double_precision: r = evaluation_takes<runtime::FloatEvaluation<double>>(one); break;
+        case StreamScalar::single_precision: r = evaluation_takes<runtime::FloatEvaluation<float>>(spec, one); break;
+        case StreamScalar::fixed_point: r = evaluation_takes<runtime::PolyFixedEvaluation>(spec, one); break;
+        case StreamScalar::double_precision: r = evaluation_takes<runtime::FloatEvaluation<double>>(spec, one); break;
       }
     }
     if (r.status != runtime::LoopStatus::ok) {
@@ -535,66 +544,54 @@ hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds, c
   return f;
 }
 
-StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
-  StreamReport r{};
-  const std::uint32_t period_us = spec.drive.scale.period_us;
-  const std::size_t n = 1 + spec.more_axes.size();
-  std::vector<StreamSpec> specs;
-  for (std::size_t i = 0; i < n; ++i) specs.push_back(axis_spec(spec, i));
-  r.more_axes.resize(n - 1);
-  std::vector<StreamReport*> rs{&r};
-  for (StreamReport& a : r.more_axes) rs.push_back(&a);
-  for (std::size_t i = 0; i < n; ++i) {
-    StreamReport& a = *rs[i];
-    a.bus = bus.name();
-    a.realtime = bus.realtime();
-    a.node = specs[i].node;
-    a.profile = specs[i].move.profile().kind();
-    a.scalar = spec.scalar;
-    a.distance = specs[i].move.distance();
-    a.move_time = specs[i].move.duration();
-    a.scale = spec.drive.scale;
-  }
-  if (!spec.drive.scale.valid()) {
-    r.failure = "the axis scale needs a positive period and a positive, finite counts per unit";
-    return r;
-  }
-  if (n > core::kMaxAxes) {
-    r.failure = "at most 8 axes";
-    return r;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t k = 0; k < i; ++k) {
-      if (specs[i].change && specs[k].change && specs[i].change->at != specs[k].change->at) {
-        r.failure = "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) +
-                    " change at different times: every axis's halt or retarget is asked for in the same period";
-        return r;
-      }
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t k = 0; k < i; ++k) {
-      if (specs[i].node == specs[k].node) {
-        r.failure = "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) + " are both on node " +
-                    std::to_string(specs[i].node) + ": one drive per node";
-        return r;
-      }
-    }
-  }
+namespace {
 
-  std::vector<runtime::AxisConfig> acs(n);
-  runtime::SessionConfig sc{};
+// What run_stream refuses before anything is sent: "" or why.
+std::string spec_problem(const StreamSpec& spec) {
+  const std::size_t n = spec.axes.size();
+  if (!spec.drive.scale.valid()) return "the axis scale needs a positive period and a positive, finite counts per unit";
+  if (n == 0) return "no axis to stream";
+  if (n > core::kMaxAxes) return "at most 8 axes";
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      const StreamAxis& a = spec.axes[i];
+      const StreamAxis& b = spec.axes[k];
+      if (a.change && b.change && a.change->at != b.change->at) {
+        return "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) +
+               " change at different times: every axis's halt or retarget is asked for in the same period";
+      }
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (spec.axes[i].node == spec.axes[k].node) {
+        return "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) + " are both on node " +
+               std::to_string(spec.axes[i].node) + ": one drive per node";
+      }
+    }
+  }
+  return {};
+}
+
+// The run's first stage: the loop's configuration of every axis and of the session, every axis's
+// selected setpoints, and the records reserved (no heap use while streaming). "" or why not.
+std::string prepare(const StreamSpec& spec, std::vector<runtime::AxisConfig>& acs, runtime::SessionConfig& sc,
+                    StreamReport& r) {
+  const std::uint32_t period_us = spec.drive.scale.period_us;
+  const std::size_t n = spec.axes.size();
+  acs.assign(n, runtime::AxisConfig{});
+  sc = runtime::SessionConfig{};
   sc.settle_ticks = static_cast<std::uint64_t>(spec.settle_time_s * 1e6 / period_us);
   sc.enable_timeout_ticks = 5'000'000 / period_us;
   double longest = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     runtime::AxisConfig& ac = acs[i];
-    ac.drive.node = specs[i].node;
+    ac.drive.node = spec.axes[i].node;
     ac.drive.sync_period_us = period_us;
     ac.drive.heartbeat_timeout_ms = spec.heartbeat_ms;
     ac.drive.sdo_timeout_us = spec.sdo_timeout_us;
     ac.scale = spec.drive.scale;
-    ac.vmax = stream_axis_vmax(specs[i]);
+    ac.vmax = stream_axis_vmax(spec, spec.axes[i]);
     ac.feedback_timeout_periods = spec.feedback_timeout_periods;
     // The drive's own enabling deadline is the session's 5 s window, not RemoteDrive's 1 s default:
     // a host that stalls the process for a second must not fail a drive that enables in time.
@@ -602,55 +599,67 @@ StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
     if (spec.eds) {
       const hal::eds::DriveConfigResult d =
           hal::eds::drive_config_from_eds(*spec.eds, ac.drive, streaming_feedback(*spec.eds, spec.load_feedback));
-      if (!d.ok()) {
-        r.failure = "--eds: " + d.error;
-        return r;
-      }
+      if (!d.ok()) return "--eds: " + d.error;
       ac.drive = d.config;
     }
-    StreamReport& a = *rs[i];
+    AxisReport& a = r.axes[i];
     a.load_measured = ac.drive.layout.load_position.mapped();
     if (!a.load_measured) a.load_note = "not measured (the drive reports no load position)";
-    longest = std::fmax(longest, command_duration(specs[i]));
+    longest = std::fmax(longest, command_duration(spec.axes[i]));
   }
   const std::uint64_t move_ticks = static_cast<std::uint64_t>(longest * 1e6 / period_us) + 2;
   // Completion waits for the feedback to show the target (at most in_position_timeout_periods).
   sc.max_ticks = sc.enable_timeout_ticks + move_ticks + sc.settle_ticks + acs.front().in_position_timeout_periods + 10;
-  if (sc.max_ticks > plant::kMaxSamples) {
-    r.failure = "the session would last more than 1e7 periods";
-    return r;
-  }
-
+  if (sc.max_ticks > plant::kMaxSamples) return "the session would last more than 1e7 periods";
   for (std::size_t i = 0; i < n; ++i) {
-    StreamReport& a = *rs[i];
+    AxisReport& a = r.axes[i];
     // The setpoints the selected evaluation produces (the replay's).
-    a.evaluation = changed_setpoints(spec.scalar, specs[i], a.setpoints);
+    a.evaluation = changed_setpoints(spec.scalar, spec, spec.axes[i], a.setpoints);
     // Allocated before the loop starts: no heap use while streaming.
     a.log.reserve(sc.max_ticks + sc.release_ticks + 1);
     a.feedback.reserve(sc.max_ticks + sc.release_ticks + 64);
   }
-  if (std::string why = bus.open(spec); !why.empty()) {
-    r.failure = why;
-    return r;
-  }
-  std::string why;
+  return {};
+}
+
+// The run's second stage: the session with the loop of the spec's scalar.
+std::string session(const StreamSpec& spec, const std::vector<runtime::AxisConfig>& acs,
+                    const runtime::SessionConfig& sc, StreamBus& bus, StreamReport& r) {
   switch (spec.scalar) {
     case StreamScalar::single_precision:
-      why = stream_session<float, runtime::FloatEvaluation<float>>(specs, acs, sc, bus, rs);
-      break;
-    case StreamScalar::fixed_point:
-      why = stream_session<double, runtime::PolyFixedEvaluation>(specs, acs, sc, bus, rs);
-      break;
-    case StreamScalar::double_precision:
-      why = stream_session<double, runtime::FloatEvaluation<double>>(specs, acs, sc, bus, rs);
-      break;
+      return stream_session<float, runtime::FloatEvaluation<float>>(spec, acs, sc, bus, r);
+    case StreamScalar::fixed_point: return stream_session<double, runtime::PolyFixedEvaluation>(spec, acs, sc, bus, r);
+    case StreamScalar::double_precision: break;
   }
-  if (!why.empty()) {
-    r.failure = why;
-    return r;
+  return stream_session<double, runtime::FloatEvaluation<double>>(spec, acs, sc, bus, r);
+}
+
+}  // namespace
+
+StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
+  StreamReport r{};
+  r.bus = bus.name();
+  r.realtime = bus.realtime();
+  r.scalar = spec.scalar;
+  r.scale = spec.drive.scale;
+  for (const StreamAxis& axis : spec.axes) {
+    AxisReport a{};
+    a.node = axis.node;
+    a.profile = axis.move.profile().kind();
+    a.distance = axis.move.distance();
+    a.move_time = axis.move.duration();
+    r.axes.push_back(std::move(a));
   }
-  for (std::size_t i = 0; i < n; ++i) measure(specs[i], sc.settle_ticks, *rs[i]);
-  if (n > 1) measure_axes(specs, rs, r);
+  std::vector<runtime::AxisConfig> acs;
+  runtime::SessionConfig sc{};
+  r.failure = spec_problem(spec);
+  if (r.failure.empty()) r.failure = prepare(spec, acs, sc, r);
+  if (r.failure.empty()) r.failure = bus.open(spec);
+  if (r.failure.empty()) r.failure = session(spec, acs, sc, bus, r);
+  if (!r.failure.empty()) return r;
+  // The run's last stage: the measurements, axis by axis and together.
+  for (std::size_t i = 0; i < spec.axes.size(); ++i) measure(spec, spec.axes[i], sc.settle_ticks, r.axes[i]);
+  if (spec.axes.size() > 1) measure_axes(spec, r);
   return r;
 }
 

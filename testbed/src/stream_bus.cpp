@@ -37,29 +37,33 @@ LoopbackStreamBus::LoopbackStreamBus(std::string candump_path) : candump_path_{s
 LoopbackStreamBus::~LoopbackStreamBus() = default;
 
 std::string LoopbackStreamBus::open(const StreamSpec& spec) {
-  period_us_ = spec.drive.scale.period_us;
-  clock_ = runtime::VirtualClock{period_us_};
+  std::vector<SimulatedDriveSpec> drives;
+  for (const StreamAxis& axis : spec.axes) {
+    SimulatedDriveSpec ds{};
+    ds.node = axis.node;
+    ds.eds = spec.eds.get();
+    ds.axis = spec.drive;
+    ds.plant = spec.plant;
+    ds.sync_period_us = spec.drive.scale.period_us;
+    drives.push_back(std::move(ds));
+  }
+  return open(spec.drive.scale.period_us, drives);
+}
+
+std::string LoopbackStreamBus::open(std::uint32_t period_us, const std::vector<SimulatedDriveSpec>& drives) {
+  period_us_ = period_us;
+  now_us_ = 0;
   if (!candump_path_.empty() && !dump_.open(candump_path_.c_str(), "loopback")) {
     return "cannot write " + candump_path_;
   }
   drives_.clear();
-  for (std::size_t i = 0; i <= spec.more_axes.size(); ++i) {
-    const hal::canopen::NodeId node = i == 0 ? spec.node : spec.more_axes[i - 1].node;
-    Drive d{std::make_unique<hal::LoopbackBus<256>>(hub_), std::make_unique<DriveFromEds>(), nullptr};
-    hal::canopen::DriveNodeConfig dc{};
-    if (spec.eds) {
-      *d.simulated = simulated_drive_from_eds(*spec.eds, node);
-      if (!d.simulated->config) return "--eds: " + d.simulated->error;
-      dc = *d.simulated->config;
-    }
-    dc.node = node;
-    dc.sync_period_us = period_us_;
-    DriveAxis axis{};
-    if (const plant::SimStatus st = DriveAxis::make(spec.drive, spec.plant, 0, axis); st != plant::SimStatus::ok) {
-      return std::string{"the simulated drive refused its configuration: "} + to_string(st);
-    }
-    d.node = std::make_unique<PlantNode>(dc, std::move(axis));
-    d.node->start(0, *d.port);
+  for (const SimulatedDriveSpec& ds : drives) {
+    SimulatedDriveError error;
+    SimulatedDrive built = build_simulated_drive(ds, error);
+    if (!error.eds.empty()) return "--eds: " + error.eds;
+    if (error.any()) return error.message();
+    Drive d{std::make_unique<hal::LoopbackBus<256>>(hub_), std::move(built)};
+    d.drive.node->start(0, *d.port);
     drives_.push_back(std::move(d));
   }
   return {};
@@ -67,19 +71,32 @@ std::string LoopbackStreamBus::open(const StreamSpec& spec) {
 
 void LoopbackStreamBus::begin() { hub_.set_time_us(period_us_); }  // the first tick
 
-void LoopbackStreamBus::between_ticks() {
-  const std::uint64_t now = clock_.now_us();
-  hub_.set_time_us(now);  // the drive answers within this period
+void LoopbackStreamBus::serve_drives(std::uint64_t now) {
   hal::CanFrame f{};
   for (Drive& d : drives_) {
-    while (d.port->receive(f, 0) == hal::ReceiveStatus::received) (void)d.node->on_frame(f, now, *d.port);
-    d.node->poll(now, *d.port);
+    while (d.port->receive(f, 0) == hal::ReceiveStatus::received) (void)d.drive.node->on_frame(f, now, *d.port);
+    d.drive.node->poll(now, *d.port);
   }
   // A listening port sees every frame on the in-process bus: the run's candump log.
   while (sniffer_.receive(f, 0) == hal::ReceiveStatus::received) {
     if (dump_.is_open()) (void)dump_.write(f);
   }
-  hub_.set_time_us(now + period_us_);  // the loop's next tick sends at that time
+}
+
+void LoopbackStreamBus::between_ticks() {
+  hub_.set_time_us(now_us_);  // the drive answers within this period
+  serve_drives(now_us_);
+  hub_.set_time_us(now_us_ + period_us_);  // the loop's next tick sends at that time
+}
+
+// Time moves only when nothing is left to take.
+bool LoopbackStreamBus::receive(hal::CanFrame& frame, std::uint32_t wait_us) {
+  serve_drives(now_us_);
+  if (master_.receive(frame, 0) == hal::ReceiveStatus::received) return true;
+  now_us_ += std::max<std::uint32_t>(wait_us, 1);
+  hub_.set_time_us(now_us_);
+  for (Drive& d : drives_) d.drive.node->poll(now_us_, *d.port);
+  return false;
 }
 
 std::string LoopbackStreamBus::finish(const FrameTaker& /*take*/) {
@@ -122,6 +139,10 @@ std::string SocketCanStreamBus::open(const StreamSpec& spec) {
 }
 
 void SocketCanStreamBus::begin() { timer_->start(); }
+
+std::uint64_t SocketCanStreamBus::now_us() const {
+  return timer_ ? timer_->now_us() : runtime::linux_rt::monotonic_ns() / 1000;
+}
 
 // Written between ticks: the recorder's ring is bounded.
 void SocketCanStreamBus::between_ticks() {

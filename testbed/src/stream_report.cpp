@@ -16,7 +16,7 @@ using Json = nlohmann::ordered_json;
 Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
 // Why the CAN residual was not measured (null when it was).
-Json note_or_null(const StreamReport& r) { return r.load_measured ? Json(nullptr) : Json(r.load_note); }
+Json note_or_null(const AxisReport& a) { return a.load_measured ? Json(nullptr) : Json(a.load_note); }
 
 long long count(std::uint64_t v) { return static_cast<long long>(v); }
 
@@ -28,11 +28,10 @@ std::string shown(double v, const char* format) {
   return b.data();
 }
 
-// Every axis of the run, axis 1 first.
-std::vector<const StreamReport*> axes_of(const StreamReport& r) {
-  std::vector<const StreamReport*> v{&r};
-  for (const StreamReport& a : r.more_axes) v.push_back(&a);
-  return v;
+// Axis 1's report: the one the single-axis fields describe (an empty one for a report without axes).
+const AxisReport& first_axis(const StreamReport& r) {
+  static const AxisReport none{};
+  return r.axes.empty() ? none : r.axes.front();
 }
 
 Json optional_tick(const std::optional<std::uint64_t>& t) { return t ? Json(count(*t)) : Json(nullptr); }
@@ -46,7 +45,7 @@ Json emcy_json(const std::optional<hal::canopen::EmcyMessage>& e) {
 }
 
 // One axis of --axes N in the "axes" array: what identifies it and what was measured on it.
-Json axis_json(std::size_t i, const StreamReport& a) {
+Json axis_json(std::size_t i, const AxisReport& a) {
   return Json{
       {"axis", static_cast<long long>(i + 1)},
       {"node", static_cast<long long>(a.node)},
@@ -82,12 +81,13 @@ Json axis_json(std::size_t i, const StreamReport& a) {
 }  // namespace
 
 void write_stream_text(const StreamReport& r, std::FILE* out) {
+  const AxisReport& a1 = first_axis(r);
   const bool fault = r.session.fault != runtime::AxisFault::none;
   const bool refused = r.session.rejection != runtime::LoopStatus::ok;
   std::fprintf(out, "outcome            %s on %s%s%s%s%s\n", runtime::to_string(r.session.outcome), r.bus.c_str(),
                fault ? ", fault: " : "", fault ? runtime::to_string(r.session.fault) : "",
                refused ? ", refused: " : "", refused ? runtime::to_string(r.session.rejection) : "");
-  if (r.drive_emcy) std::fprintf(out, "drive EMCY         %s\n", emcy_text(*r.drive_emcy).c_str());
+  if (a1.drive_emcy) std::fprintf(out, "drive EMCY         %s\n", emcy_text(*a1.drive_emcy).c_str());
   if (r.start_up_us) {
     std::fprintf(out, "start-up           operation enabled after %.1f ms (tick %llu)\n",
                  static_cast<double>(*r.start_up_us) / 1000.0, static_cast<unsigned long long>(r.session.ready_tick));
@@ -97,39 +97,39 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
   std::fprintf(out, "frames             sent %llu, received %llu, tx busy %llu, late feedback ticks %llu, %s\n",
                static_cast<unsigned long long>(r.counters.sent), static_cast<unsigned long long>(r.counters.received),
                static_cast<unsigned long long>(r.counters.tx_busy),
-               static_cast<unsigned long long>(r.feedback_late_ticks),
-               r.aligned() ? "every setpoint applied once, in order" : "FEEDBACK DOES NOT MATCH THE SETPOINTS");
-  if (r.load_measured) {
-    std::fprintf(out, "residual (CAN)     %s (PRV %s %%)\n", shown(r.residual_can.amplitude, "%.9g").c_str(),
-                 shown(r.residual_can.prv_percent, "%.4f").c_str());
+               static_cast<unsigned long long>(a1.feedback_late_ticks),
+               a1.aligned() ? "every setpoint applied once, in order" : "FEEDBACK DOES NOT MATCH THE SETPOINTS");
+  if (a1.load_measured) {
+    std::fprintf(out, "residual (CAN)     %s (PRV %s %%)\n", shown(a1.residual_can.amplitude, "%.9g").c_str(),
+                 shown(a1.residual_can.prv_percent, "%.4f").c_str());
   } else {
-    std::fprintf(out, "residual (CAN)     %s: the rest is not verified\n", r.load_note.c_str());
+    std::fprintf(out, "residual (CAN)     %s: the rest is not verified\n", a1.load_note.c_str());
   }
   std::fprintf(out, "residual (offline) %s (PRV %s %%), agreement %s\n",
-               shown(r.residual_offline.amplitude, "%.9g").c_str(),
-               shown(r.residual_offline.prv_percent, "%.4f").c_str(), shown(r.agreement, "%.3g").c_str());
-  if (r.evaluation != core::Status::ok) {
-    std::fprintf(out, "evaluation         %s refused the move: %s\n", to_string(r.scalar), core::to_string(r.evaluation));
+               shown(a1.residual_offline.amplitude, "%.9g").c_str(),
+               shown(a1.residual_offline.prv_percent, "%.4f").c_str(), shown(a1.agreement, "%.3g").c_str());
+  if (a1.evaluation != core::Status::ok) {
+    std::fprintf(out, "evaluation         %s refused the move: %s\n", to_string(r.scalar), core::to_string(a1.evaluation));
   }
   const std::string within =
-      r.setpoints_vs_double_max_counts ? std::to_string(*r.setpoints_vs_double_max_counts) : std::string{"n/a"};
+      a1.setpoints_vs_double_max_counts ? std::to_string(*a1.setpoints_vs_double_max_counts) : std::string{"n/a"};
   std::fprintf(out,
                "scalar             %s: setpoints within %s counts of double's (%lld differ), residual %s %% "
                "from double's %s\n",
-               to_string(r.scalar), within.c_str(), static_cast<long long>(r.setpoints_differing_from_double),
-               shown(r.residual_vs_double_percent, "%.3g").c_str(), shown(r.residual_double, "%.9g").c_str());
-  if (r.continuous_simulated) {
-    std::fprintf(out, "continuous profile %s (PRV %s %%)\n", shown(r.residual_continuous, "%.9g").c_str(),
-                 shown(r.prv_continuous_percent, "%.4f").c_str());
+               to_string(r.scalar), within.c_str(), static_cast<long long>(a1.setpoints_differing_from_double),
+               shown(a1.residual_vs_double_percent, "%.3g").c_str(), shown(a1.residual_double, "%.9g").c_str());
+  if (a1.continuous_simulated) {
+    std::fprintf(out, "continuous profile %s (PRV %s %%)\n", shown(a1.residual_continuous, "%.9g").c_str(),
+                 shown(a1.prv_continuous_percent, "%.4f").c_str());
   }
-  if (!r.more_axes.empty()) {
-    const std::vector<const StreamReport*> axes = axes_of(r);
+  if (r.axes.size() > 1) {
+    const std::vector<AxisReport>& axes = r.axes;
     if (r.session.outcome != runtime::SessionOutcome::completed) {
       std::fprintf(out, "axes               the outcome is axis %zu's (node %u)\n", r.session.axis + 1,
-                   static_cast<unsigned>(axes[std::min(r.session.axis, axes.size() - 1)]->node));
+                   static_cast<unsigned>(axes[std::min(r.session.axis, axes.size() - 1)].node));
     }
     for (std::size_t i = 0; i < axes.size(); ++i) {
-      const StreamReport& a = *axes[i];
+      const AxisReport& a = axes[i];
       const std::string end = a.move_end_tick ? std::to_string(*a.move_end_tick) : std::string{"n/a"};
       std::fprintf(out, "axis %zu (node %3u)  distance %.9g, residual (CAN) %s, (offline) %s, move ends tick %s%s\n",
                    i + 1, static_cast<unsigned>(a.node), a.distance,
@@ -157,7 +157,8 @@ void write_stream_text(const StreamReport& r, std::FILE* out) {
 }
 
 std::string stream_json(const StreamReport& r) {
-  const bool have_diff = r.setpoints_vs_double_max_counts.has_value();
+  const AxisReport& a1 = first_axis(r);
+  const bool have_diff = a1.setpoints_vs_double_max_counts.has_value();
   const runtime::linux_rt::LatencyHistogram& l = r.timing.latency;
   Json j{
       {"status", r.measured() ? "ok" : "error"},
@@ -165,9 +166,9 @@ std::string stream_json(const StreamReport& r) {
       {"fault", runtime::to_string(r.session.fault)},
       // Why the loop refused a move (outcome rejected; "ok" otherwise).
       {"rejection", runtime::to_string(r.session.rejection)},
-      {"drive_state", r.drive_state},
-      {"drive_failure", r.drive_failure},
-      {"drive_emcy", emcy_json(r.drive_emcy)},
+      {"drive_state", a1.drive_state},
+      {"drive_failure", a1.drive_failure},
+      {"drive_emcy", emcy_json(a1.drive_emcy)},
       // The loop's timeouts this run used (settle stream --timing and the options it presets).
       {"heartbeat_ms", static_cast<long long>(r.heartbeat_ms)},
       {"sdo_timeout_ms", static_cast<long long>(r.sdo_timeout_us / 1000)},
@@ -175,19 +176,19 @@ std::string stream_json(const StreamReport& r) {
       // The session ended with the drive taken out of operation enabled (runtime::release_drives).
       {"drive_released", r.session.released},
       {"bus", r.bus},
-      {"profile", core::to_string(r.profile)},
+      {"profile", core::to_string(a1.profile)},
       {"scalar", to_string(r.scalar)},
       // Why the selected evaluation refused the move ("ok" when it took it), e.g. a profile the
       // fixed-point formats cannot hold.
-      {"evaluation", core::to_string(r.evaluation)},
-      {"setpoints", static_cast<long long>(r.setpoints.size())},
+      {"evaluation", core::to_string(a1.evaluation)},
+      {"setpoints", static_cast<long long>(a1.setpoints.size())},
       // Against the double evaluator's setpoints (null when either evaluation refused the move).
       {"setpoints_vs_double_max_counts",
-       have_diff ? Json(static_cast<long long>(*r.setpoints_vs_double_max_counts)) : Json(nullptr)},
+       have_diff ? Json(static_cast<long long>(*a1.setpoints_vs_double_max_counts)) : Json(nullptr)},
       {"setpoints_differing_from_double",
-       have_diff ? Json(static_cast<long long>(r.setpoints_differing_from_double)) : Json(nullptr)},
-      {"distance", r.distance},
-      {"move_time", r.move_time},
+       have_diff ? Json(static_cast<long long>(a1.setpoints_differing_from_double)) : Json(nullptr)},
+      {"distance", a1.distance},
+      {"move_time", a1.move_time},
       {"period_us", static_cast<long long>(r.scale.period_us)},
       {"ticks", count(r.session.ticks)},
       // Time to operation enabled (null: never), and its tick.
@@ -197,42 +198,42 @@ std::string stream_json(const StreamReport& r) {
       {"frames_received", count(r.counters.received)},
       {"tx_busy", count(r.counters.tx_busy)},
       {"rx_overflow_drops", count(r.counters.rx_overflow_drops)},
-      {"feedback_samples", static_cast<long long>(r.feedback.size())},
-      {"feedback_late_ticks", count(r.feedback_late_ticks)},
-      {"aligned", r.aligned()},
+      {"feedback_samples", static_cast<long long>(a1.feedback.size())},
+      {"feedback_late_ticks", count(a1.feedback_late_ticks)},
+      {"aligned", a1.aligned()},
       {"frames_lost", count(r.frames_lost)},
       {"overruns", count(r.timing.overruns)},
       {"skipped_periods", count(r.session.missed_periods)},
-      {"rpdo_sent", count(r.axis.rpdo_sent)},
-      {"step_guard_trips", count(r.axis.step_guard_trips)},
-      {"heartbeat_losses", count(r.axis.heartbeat_losses)},
-      {"emcy_received", count(r.axis.emcy_received)},
-      {"drive_restarts", count(r.axis.restarts)},
-      {"moves_aborted", count(r.axis.moves_aborted)},
-      {"max_following_error", count(r.axis.max_following_error)},
-      {"feedback_overflows", count(r.axis.feedback_overflows)},
-      {"feedback_timeouts", count(r.axis.feedback_timeouts)},
+      {"rpdo_sent", count(a1.axis.rpdo_sent)},
+      {"step_guard_trips", count(a1.axis.step_guard_trips)},
+      {"heartbeat_losses", count(a1.axis.heartbeat_losses)},
+      {"emcy_received", count(a1.axis.emcy_received)},
+      {"drive_restarts", count(a1.axis.restarts)},
+      {"moves_aborted", count(a1.axis.moves_aborted)},
+      {"max_following_error", count(a1.axis.max_following_error)},
+      {"feedback_overflows", count(a1.axis.feedback_overflows)},
+      {"feedback_timeouts", count(a1.axis.feedback_timeouts)},
       {"units_held", count(r.units_held)},
       // Absent (null) when there is nothing to measure: the move did not complete, or the
       // feedback did not match the setpoints.
       // The drive reports a load-side position (false: residual_can, prv_can_percent, agreement and
       // fit_rms_can are null, residual_can_note says why, and rest_measured is false).
-      {"load_measured", r.load_measured},
+      {"load_measured", a1.load_measured},
       {"rest_measured", r.rest_measured()},
-      {"residual_can", number_or_null(r.residual_can.amplitude)},
-      {"prv_can_percent", number_or_null(r.residual_can.prv_percent)},
-      {"residual_can_note", note_or_null(r)},
-      {"residual_offline", number_or_null(r.residual_offline.amplitude)},
-      {"prv_offline_percent", number_or_null(r.residual_offline.prv_percent)},
-      {"agreement", number_or_null(r.agreement)},
-      {"residual_double", number_or_null(r.residual_double)},
-      {"residual_vs_double_percent", number_or_null(r.residual_vs_double_percent)},
+      {"residual_can", number_or_null(a1.residual_can.amplitude)},
+      {"prv_can_percent", number_or_null(a1.residual_can.prv_percent)},
+      {"residual_can_note", note_or_null(a1)},
+      {"residual_offline", number_or_null(a1.residual_offline.amplitude)},
+      {"prv_offline_percent", number_or_null(a1.residual_offline.prv_percent)},
+      {"agreement", number_or_null(a1.agreement)},
+      {"residual_double", number_or_null(a1.residual_double)},
+      {"residual_vs_double_percent", number_or_null(a1.residual_vs_double_percent)},
       // The same difference in load counts: what it is next to the measurement's resolution.
-      {"residual_vs_double_load_counts", number_or_null(r.residual_vs_double_load_counts)},
-      {"fit_rms_can", number_or_null(r.residual_can.fit_rms)},
-      {"residual_continuous", number_or_null(r.residual_continuous)},
-      {"prv_continuous_percent", number_or_null(r.prv_continuous_percent)},
-      {"window_samples", static_cast<long long>(r.window_samples)},
+      {"residual_vs_double_load_counts", number_or_null(a1.residual_vs_double_load_counts)},
+      {"fit_rms_can", number_or_null(a1.residual_can.fit_rms)},
+      {"residual_continuous", number_or_null(a1.residual_continuous)},
+      {"prv_continuous_percent", number_or_null(a1.prv_continuous_percent)},
+      {"window_samples", static_cast<long long>(a1.window_samples)},
       {"latency_ns", Json{{"count", count(l.count())},
                           {"min", static_cast<long long>(l.min_ns())},
                           {"p50", static_cast<long long>(l.quantile_ns(0.5))},
@@ -247,10 +248,9 @@ std::string stream_json(const StreamReport& r) {
   };
   // --axes N: the fields above are axis 1's (and the run's); every axis, axis 1 included, is in
   // "axes", with how they moved together.
-  if (!r.more_axes.empty()) {
-    const std::vector<const StreamReport*> axes = axes_of(r);
+  if (r.axes.size() > 1) {
     Json list = Json::array();
-    for (std::size_t i = 0; i < axes.size(); ++i) list.push_back(axis_json(i, *axes[i]));
+    for (std::size_t i = 0; i < r.axes.size(); ++i) list.push_back(axis_json(i, r.axes[i]));
     j["outcome_axis"] = static_cast<long long>(r.session.axis + 1);
     j["axes"] = list;
     j["start_tick_spread"] = optional_tick(r.start_tick_spread);
@@ -262,9 +262,10 @@ std::string stream_json(const StreamReport& r) {
 }
 
 bool write_tick_csv(const StreamReport& r, std::FILE* out) {
+  const AxisReport& a1 = first_axis(r);
   bool ok = std::fprintf(out, "tick,t,target,sent,moving,move_end,position_actual,load_position,velocity_actual,"
                               "feedback_count\n") > 0;
-  for (const runtime::TickRecord& t : r.log) {
+  for (const runtime::TickRecord& t : a1.log) {
     ok = ok && std::fprintf(out, "%llu,%.6f,%d,%d,%d,%d,%d,%d,%d,%llu\n", static_cast<unsigned long long>(t.tick),
                             static_cast<double>(t.tick) * r.scale.period_s(), t.target, t.sent ? 1 : 0,
                             t.moving ? 1 : 0, t.move_end ? 1 : 0, t.position_actual, t.load_position,
@@ -274,18 +275,19 @@ bool write_tick_csv(const StreamReport& r, std::FILE* out) {
 }
 
 bool write_feedback_csv(const StreamReport& r, std::FILE* out) {
-  if (!r.aligned() || r.setpoints.empty()) return false;
-  const std::vector<std::int32_t>& sp = r.setpoints;
-  const std::size_t o = *r.alignment;
+  const AxisReport& a1 = first_axis(r);
+  if (!a1.aligned() || a1.setpoints.empty()) return false;
+  const std::vector<std::int32_t>& sp = a1.setpoints;
+  const std::size_t o = *a1.alignment;
   const std::size_t pre = std::min<std::size_t>(o, 50);
   bool ok = std::fprintf(out, "period,t,commanded,position_can,load_can,load_offline\n") > 0;
-  for (std::size_t i = o - pre; i < o + r.replay.feedback.size(); ++i) {
+  for (std::size_t i = o - pre; i < o + a1.replay.feedback.size(); ++i) {
     const long k = static_cast<long>(i) - static_cast<long>(o);
     const auto ku = static_cast<std::size_t>(k);
     const std::int32_t commanded = k < 0 ? sp.front() : (ku < sp.size() ? sp[ku] : sp.back());
-    const std::int32_t load_offline = k < 0 ? r.feedback[i].load_position : r.replay.feedback[ku].load_position;
+    const std::int32_t load_offline = k < 0 ? a1.feedback[i].load_position : a1.replay.feedback[ku].load_position;
     ok = ok && std::fprintf(out, "%ld,%.6f,%d,%d,%d,%d\n", k, static_cast<double>(k + 1) * r.scale.period_s(),
-                            commanded, r.feedback[i].position_actual, r.feedback[i].load_position, load_offline) > 0;
+                            commanded, a1.feedback[i].position_actual, a1.feedback[i].load_position, load_offline) > 0;
   }
   return ok;
 }

@@ -74,7 +74,7 @@ testbed::StreamSpec spec() {
   rq.profile = core::ProfileKind::poly345;
   rq.distance = 0.01;
   rq.time = 0.5;
-  EXPECT_EQ(core::plan(rq, s.move), core::Status::ok);
+  EXPECT_EQ(core::plan(rq, s.axes[0].move), core::Status::ok);
   EXPECT_EQ(plant::ModalPlant::make_beam(plant::BeamOptions{}, s.plant), plant::SimStatus::ok);
   s.settle_time_s = 0.2;
   return s;
@@ -85,8 +85,8 @@ TEST(DriveAdvice, ADriveThatLosesSyncIsNamedByItsEmcyAndTheOptionToChange) {
   const testbed::StreamReport r = testbed::run_stream(spec(), bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_FALSE(r.measured());
-  ASSERT_TRUE(r.drive_emcy.has_value()) << runtime::to_string(r.session.outcome);
-  EXPECT_EQ(r.drive_emcy->error_code, 0x8100);
+  ASSERT_TRUE(r.axes[0].drive_emcy.has_value()) << runtime::to_string(r.session.outcome);
+  EXPECT_EQ(r.axes[0].drive_emcy->error_code, 0x8100);
   const std::string advice = drive_advice(r);
   EXPECT_NE(advice.find("EMCY 0x8100"), std::string::npos) << advice;
   EXPECT_NE(advice.find("SYNC lost"), std::string::npos) << advice;
@@ -99,7 +99,7 @@ TEST(DriveAdvice, ARunThatWentWellHasNothingToSay) {
   SyncLossBus bus{1'000'000};
   const testbed::StreamReport r = testbed::run_stream(spec(), bus);
   ASSERT_TRUE(r.measured()) << runtime::to_string(r.session.outcome);
-  EXPECT_FALSE(r.drive_emcy.has_value());
+  EXPECT_FALSE(r.axes[0].drive_emcy.has_value());
   EXPECT_EQ(drive_advice(r), "");
 }
 

@@ -48,7 +48,7 @@ IdentifyRunSpec spec_for(const std::vector<plant::Mode>& modes) {
   req.vmax = 0.1;
   req.amax = 5.0;
   req.jmax = 5000.0;
-  EXPECT_EQ(core::plan(req, spec.stream.move), core::Status::ok);
+  EXPECT_EQ(core::plan(req, spec.stream.axes[0].move), core::Status::ok);
   spec.stream.settle_time_s = 3.0;
   return spec;
 }
@@ -62,7 +62,7 @@ TEST(IdentifyRun, KnownPlantThroughTheLoopbackBus) {
   EXPECT_NEAR(r.result.modes[0].omega, 30.0, 0.005 * 30.0);
   EXPECT_NEAR(r.result.modes[0].zeta, 0.03, 0.01);
   // The record is the drive's frames: as many samples as the move and the hold, plus the rest.
-  EXPECT_GE(r.motor.size(), static_cast<std::size_t>((spec.stream.move.duration() + 3.0) * 1000.0));
+  EXPECT_GE(r.motor.size(), static_cast<std::size_t>((spec.stream.axes[0].move.duration() + 3.0) * 1000.0));
   EXPECT_EQ(r.motor.size(), r.load.size());
 }
 

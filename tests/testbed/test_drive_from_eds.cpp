@@ -11,6 +11,7 @@
 #include <string>
 
 #include "settle/testbed/drive_from_eds.hpp"
+#include "settle/testbed/simulated_drive.hpp"
 
 namespace settle::testbed {
 namespace {
@@ -230,6 +231,63 @@ TEST(DriveFromEds, WhatTheSimulatedDriveCannotBeIsRefusedNamingTheObject) {
   r = load_drive_config("/nonexistent/drive.eds", 1);
   EXPECT_FALSE(r.config);
   EXPECT_NE(r.error.find("/nonexistent/drive.eds"), std::string::npos) << r.error;
+}
+
+// The one builder of the simulated drive: the description's configuration at the spec's node, with
+// only the settings the spec gives applied over it; without a description the default drive; a
+// description it cannot be, or an axis that refuses its configuration, builds nothing and says why.
+TEST(SimulatedDrive, TheBuilderAppliesTheSpecOverTheDescriptionAndSaysWhyItCannotBuild) {
+  const hal::eds::LoadResult file = hal::eds::parse(file_text(SETTLE_DRIVE_EDS_PATH));
+  ASSERT_TRUE(file.description) << file.error;
+  const DriveFromEds plain = simulated_drive_from_eds(*file.description, 7);
+  ASSERT_TRUE(plain.config) << plain.error;
+  SimulatedDriveSpec spec{};
+  spec.node = 7;
+  spec.eds = &*file.description;
+  SimulatedDriveError error;
+  SimulatedDrive d = build_simulated_drive(spec, error);
+  ASSERT_TRUE(d.node) << error.message();
+  EXPECT_FALSE(error.any());
+  const co::DriveNodeConfig& built = *d.source->config;
+  EXPECT_EQ(built.node, 7);
+  EXPECT_EQ(built.sync_period_us, plain.config->sync_period_us);
+  EXPECT_EQ(built.heartbeat_period_ms, plain.config->heartbeat_period_ms);
+  EXPECT_EQ(built.communication_loss_periods, plain.config->communication_loss_periods);
+  EXPECT_STREQ(built.device_name, plain.config->device_name);
+  EXPECT_EQ(d.node->node().state(), co::Cia402State::switch_on_disabled);
+
+  spec.sync_period_us = plain.config->sync_period_us + 250;
+  spec.heartbeat_period_ms = static_cast<std::uint16_t>(plain.config->heartbeat_period_ms + 10);
+  spec.communication_loss_periods = static_cast<std::uint8_t>(plain.config->communication_loss_periods + 4);
+  const DriveFromEds set = simulated_drive_config(spec);
+  ASSERT_TRUE(set.config);
+  EXPECT_EQ(set.config->sync_period_us, *spec.sync_period_us);
+  EXPECT_EQ(set.config->heartbeat_period_ms, *spec.heartbeat_period_ms);
+  EXPECT_EQ(set.config->communication_loss_periods, *spec.communication_loss_periods);
+
+  SimulatedDriveSpec none{};
+  none.node = 3;
+  const DriveFromEds def = simulated_drive_config(none);
+  ASSERT_TRUE(def.config);
+  EXPECT_EQ(def.config->node, 3);
+  EXPECT_EQ(def.config->max_profile_velocity, co::DriveNodeConfig{}.max_profile_velocity);
+  EXPECT_TRUE(build_simulated_drive(none, error).node) << error.message();  // no plant given: the default one
+
+  const hal::eds::LoadResult bad =
+      hal::eds::parse(replaced(file_text(SETTLE_DRIVE_EDS_PATH), "DefaultValue=0x60400010", "DefaultValue=0x60410010"));
+  ASSERT_TRUE(bad.description) << bad.error;
+  spec.eds = &*bad.description;
+  d = build_simulated_drive(spec, error);
+  EXPECT_FALSE(d.node);
+  EXPECT_NE(error.eds.find("RPDO1 maps 0x6041:0"), std::string::npos) << error.eds;
+  EXPECT_EQ(error.message(), error.eds);
+
+  none.axis.scale.period_us = 0;
+  d = build_simulated_drive(none, error);
+  EXPECT_FALSE(d.node);
+  EXPECT_TRUE(error.eds.empty());
+  EXPECT_EQ(error.axis, plant::SimStatus::non_positive_step);
+  EXPECT_EQ(error.message(), "the simulated drive refused its configuration: " + std::string{to_string(error.axis)});
 }
 
 }  // namespace

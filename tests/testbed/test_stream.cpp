@@ -29,6 +29,7 @@
 #include "settle/core/multi_axis.hpp"
 #include "settle/core/online.hpp"
 #include "settle/hal/canopen/heartbeat.hpp"
+#include "settle/hal/canopen/sdo.hpp"
 #include "settle/testbed/stream.hpp"
 #include "settle/testbed/stream_bus.hpp"
 #include "settle/testbed/stream_report.hpp"
@@ -65,7 +66,7 @@ plant::ModalPlant beam() {
 
 StreamSpec spec_for(const core::Move<double>& move, double settle_time_s = 0.2) {
   StreamSpec s{};
-  s.move = move;
+  s.axes[0].move = move;
   s.plant = beam();
   s.settle_time_s = settle_time_s;
   return s;
@@ -109,21 +110,21 @@ TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed);
-  EXPECT_TRUE(r.aligned());
+  EXPECT_TRUE(r.axes[0].aligned());
   EXPECT_TRUE(r.measured());
   EXPECT_EQ(r.bus, "loopback (in-process, virtual time)");
   EXPECT_FALSE(r.realtime);
 
   // From the move and the spec alone: 0.5 s at 1 ms is ticks 0..500, a 0.2 s window 200 samples.
-  EXPECT_EQ(r.setpoints.size(), 501U);
-  EXPECT_EQ(r.setpoints.front(), 0);
-  EXPECT_EQ(r.setpoints.back(), 10000);  // 0.01 m at 1e6 counts/m
-  EXPECT_EQ(r.window_samples, 200U);
+  EXPECT_EQ(r.axes[0].setpoints.size(), 501U);
+  EXPECT_EQ(r.axes[0].setpoints.front(), 0);
+  EXPECT_EQ(r.axes[0].setpoints.back(), 10000);  // 0.01 m at 1e6 counts/m
+  EXPECT_EQ(r.axes[0].window_samples, 200U);
   // Ticks 0 .. session.ticks, then the drive's release (runtime::release_drives): two ticks.
   EXPECT_TRUE(r.session.released);
   EXPECT_EQ(r.session.release_ticks, 2U);
-  EXPECT_EQ(r.drive_state, "released");
-  EXPECT_EQ(r.log.size(), r.session.ticks + r.session.release_ticks + 1);
+  EXPECT_EQ(r.axes[0].drive_state, "released");
+  EXPECT_EQ(r.axes[0].log.size(), r.session.ticks + r.session.release_ticks + 1);
   // Start-up on the virtual clock: the first tick is one period after the start, the ready one
   // ready_tick periods later; the move is submitted then, so the drive is enabled before it.
   ASSERT_TRUE(r.start_up_us.has_value());
@@ -142,9 +143,9 @@ TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
   }
   EXPECT_EQ(syncs, r.session.ticks + r.session.release_ticks + 1);  // one SYNC per tick
   EXPECT_EQ(from_master, r.counters.sent);
-  EXPECT_EQ(targets.size(), r.axis.rpdo_sent);
+  EXPECT_EQ(targets.size(), r.axes[0].axis.rpdo_sent);
   // Every setpoint once and in order: the RPDOs hold the origin, carry the move, then hold its end.
-  const auto move = std::search(targets.begin(), targets.end(), r.setpoints.begin(), r.setpoints.end());
+  const auto move = std::search(targets.begin(), targets.end(), r.axes[0].setpoints.begin(), r.axes[0].setpoints.end());
   ASSERT_NE(move, targets.end()) << "the setpoints are not in the RPDOs in order";
   EXPECT_TRUE(std::all_of(targets.begin(), move, [](std::int32_t t) { return t == 0; }));
   EXPECT_TRUE(std::all_of(move + 501, targets.end(), [](std::int32_t t) { return t == 10000; }));
@@ -161,11 +162,11 @@ TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
   EXPECT_TRUE(std::none_of(frames.begin(), frames.end(), [](const Logged& f) { return f.id == 0x081; }));
 
   // The ideal drive and plant on the bus are the replay's: the same loads, to the count.
-  EXPECT_EQ(r.agreement, 0.0);
-  EXPECT_EQ(r.residual_can.amplitude, r.residual_offline.amplitude);
-  EXPECT_EQ(r.setpoints_vs_double_max_counts, 0);
+  EXPECT_EQ(r.axes[0].agreement, 0.0);
+  EXPECT_EQ(r.axes[0].residual_can.amplitude, r.axes[0].residual_offline.amplitude);
+  EXPECT_EQ(r.axes[0].setpoints_vs_double_max_counts, 0);
   // Sampled at 1 kHz, the residual is the continuous profile's within a few per cent.
-  EXPECT_NEAR(r.residual_can.amplitude, r.residual_continuous, 0.02 * r.residual_continuous);
+  EXPECT_NEAR(r.axes[0].residual_can.amplitude, r.axes[0].residual_continuous, 0.02 * r.axes[0].residual_continuous);
   EXPECT_EQ(r.frames_lost, 0U);
   std::filesystem::remove(dump);
 }
@@ -181,10 +182,10 @@ TEST(RunStream, EveryScalarStreamsTheDoubleSetpointsWithinOneCount) {
     ASSERT_TRUE(r.failure.empty()) << r.failure;
     EXPECT_TRUE(r.measured()) << to_string(scalar);
     EXPECT_EQ(r.scalar, scalar);
-    ASSERT_TRUE(r.setpoints_vs_double_max_counts.has_value());
-    EXPECT_LE(*r.setpoints_vs_double_max_counts, scalar == StreamScalar::double_precision ? 0 : 1);
-    EXPECT_EQ(r.setpoints.back(), 50000);
-    EXPECT_NEAR(r.residual_can.amplitude, r.residual_double, 0.01 * r.residual_double) << to_string(scalar);
+    ASSERT_TRUE(r.axes[0].setpoints_vs_double_max_counts.has_value());
+    EXPECT_LE(*r.axes[0].setpoints_vs_double_max_counts, scalar == StreamScalar::double_precision ? 0 : 1);
+    EXPECT_EQ(r.axes[0].setpoints.back(), 50000);
+    EXPECT_NEAR(r.axes[0].residual_can.amplitude, r.axes[0].residual_double, 0.01 * r.axes[0].residual_double) << to_string(scalar);
   }
 }
 
@@ -209,11 +210,11 @@ TEST(RunStream, EachBundledDriveIsConfiguredFromItsEdsAndStreamed) {
     LoopbackStreamBus bus{""};
     const StreamReport r = run_stream(spec, bus);
     ASSERT_TRUE(r.failure.empty()) << r.failure;
-    EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.drive_failure;
-    EXPECT_TRUE(r.aligned());
+    EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.axes[0].drive_failure;
+    EXPECT_TRUE(r.axes[0].aligned());
     EXPECT_TRUE(r.measured());
-    EXPECT_EQ(r.setpoints, own.setpoints);
-    EXPECT_EQ(r.residual_can.amplitude, own.residual_can.amplitude);
+    EXPECT_EQ(r.axes[0].setpoints, own.axes[0].setpoints);
+    EXPECT_EQ(r.axes[0].residual_can.amplitude, own.axes[0].residual_can.amplitude);
     ASSERT_TRUE(r.start_up_us.has_value());
   }
   hal::eds::LoadResult lacking = hal::eds::load(std::string{SETTLE_TEST_DATA_DIR} + "/no_interpolation_period_drive.eds");
@@ -224,8 +225,8 @@ TEST(RunStream, EachBundledDriveIsConfiguredFromItsEdsAndStreamed) {
   LoopbackStreamBus bus{""};
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
-  EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.drive_failure;
-  EXPECT_EQ(r.setpoints, own.setpoints);
+  EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.axes[0].drive_failure;
+  EXPECT_EQ(r.axes[0].setpoints, own.axes[0].setpoints);
 }
 
 // Issue 35: a drive whose description has no load-side position (no 0x2000, TPDO2 carrying the
@@ -244,10 +245,10 @@ TEST(RunStream, ADriveWithoutALoadPositionHasItsResidualNotMeasured) {
   };
   const StreamReport own = with_eds(std::string{SETTLE_EDS_DIR} + "/settle_drive.eds");
   ASSERT_TRUE(own.failure.empty()) << own.failure;
-  EXPECT_TRUE(own.load_measured);
+  EXPECT_TRUE(own.axes[0].load_measured);
   EXPECT_TRUE(own.rest_measured());
-  EXPECT_TRUE(std::isfinite(own.residual_can.amplitude));
-  EXPECT_GT(own.residual_can.amplitude, 0.0);
+  EXPECT_TRUE(std::isfinite(own.axes[0].residual_can.amplitude));
+  EXPECT_GT(own.axes[0].residual_can.amplitude, 0.0);
   const nlohmann::json own_json = nlohmann::json::parse(stream_json(own));
   EXPECT_TRUE(own_json["residual_can"].is_number());
   EXPECT_TRUE(own_json["prv_can_percent"].is_number());
@@ -256,15 +257,15 @@ TEST(RunStream, ADriveWithoutALoadPositionHasItsResidualNotMeasured) {
 
   const StreamReport r = with_eds(std::string{SETTLE_TEST_DATA_DIR} + "/no_load_position_drive.eds");
   ASSERT_TRUE(r.failure.empty()) << r.failure;
-  EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.drive_failure;
-  EXPECT_TRUE(r.aligned());  // every setpoint applied once, in order, from 0x6064
-  EXPECT_EQ(r.setpoints, own.setpoints);
-  EXPECT_FALSE(r.load_measured);
+  EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.axes[0].drive_failure;
+  EXPECT_TRUE(r.axes[0].aligned());  // every setpoint applied once, in order, from 0x6064
+  EXPECT_EQ(r.axes[0].setpoints, own.axes[0].setpoints);
+  EXPECT_FALSE(r.axes[0].load_measured);
   EXPECT_TRUE(r.measured());
   EXPECT_FALSE(r.rest_measured());
-  EXPECT_TRUE(std::isnan(r.residual_can.amplitude));
-  EXPECT_TRUE(std::isnan(r.residual_can.prv_percent));
-  EXPECT_EQ(r.residual_offline.amplitude, own.residual_offline.amplitude);
+  EXPECT_TRUE(std::isnan(r.axes[0].residual_can.amplitude));
+  EXPECT_TRUE(std::isnan(r.axes[0].residual_can.prv_percent));
+  EXPECT_EQ(r.axes[0].residual_offline.amplitude, own.axes[0].residual_offline.amplitude);
   const nlohmann::json j = nlohmann::json::parse(stream_json(r));
   EXPECT_TRUE(j["residual_can"].is_null());
   EXPECT_TRUE(j["prv_can_percent"].is_null());
@@ -286,12 +287,12 @@ TEST(RunStream, ARefusedMoveIsReportedAndNotStreamed) {
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::rejected);
   EXPECT_EQ(r.session.rejection, runtime::LoopStatus::evaluation_refused);
-  EXPECT_EQ(r.evaluation, core::Status::transition_shorter_than_tick);
-  EXPECT_TRUE(r.setpoints.empty());
-  EXPECT_FALSE(r.setpoints_vs_double_max_counts.has_value());
-  EXPECT_FALSE(r.aligned());
+  EXPECT_EQ(r.axes[0].evaluation, core::Status::transition_shorter_than_tick);
+  EXPECT_TRUE(r.axes[0].setpoints.empty());
+  EXPECT_FALSE(r.axes[0].setpoints_vs_double_max_counts.has_value());
+  EXPECT_FALSE(r.axes[0].aligned());
   EXPECT_FALSE(r.measured());
-  EXPECT_TRUE(std::isfinite(r.residual_double));  // the double evaluation took it
+  EXPECT_TRUE(std::isfinite(r.axes[0].residual_double));  // the double evaluation took it
   for (const Logged& f : read_candump(dump)) {
     if (f.id == 0x201) {
       EXPECT_EQ(rpdo_target(f.data), 0) << "a target of the refused move was sent";
@@ -308,7 +309,7 @@ TEST(RunStream, AMoveOverTheAxisVelocityIsRejected) {
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::rejected);
   EXPECT_EQ(r.session.rejection, runtime::LoopStatus::exceeds_axis_velocity);
-  EXPECT_EQ(r.evaluation, core::Status::ok);  // the evaluation took it; the loop's limit did not
+  EXPECT_EQ(r.axes[0].evaluation, core::Status::ok);  // the evaluation took it; the loop's limit did not
   EXPECT_FALSE(r.measured());
 }
 
@@ -321,7 +322,7 @@ TEST(RunStream, ASessionThatEndsBeforeItsHaltReportsItsOwnOutcome) {
   c.at = 0.2;
   c.modes = {core::Mode{spec.plant.fundamental().omega, spec.plant.fundamental().zeta}};
   c.limits = {0.001, 1.0, 100.0};  // within the axis's vmax: the move, not the change, is refused
-  spec.change = c;
+  spec.axes[0].change = c;
   LoopbackStreamBus bus;
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
@@ -424,15 +425,15 @@ TEST(RunStream, ThreeAxesStartOnTheSameSyncEachWithItsOwnSetpoints) {
   const std::string dump = temp_path("axes.log");
   StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.2);
   spec.drive.scale.period_us = 1200;  // three axes at 1 Mbit/s
-  spec.more_axes = {{poly345(-0.02, 0.5), 4, std::nullopt}, {poly345(0.005, 0.5), 2, std::nullopt}};
+  spec.axes.push_back({poly345(-0.02, 0.5), 4, std::nullopt});
+  spec.axes.push_back({poly345(0.005, 0.5), 2, std::nullopt});
   LoopbackStreamBus bus{dump};
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed);
   EXPECT_TRUE(r.measured());
   EXPECT_TRUE(r.session.released);
-  ASSERT_EQ(r.more_axes.size(), 2U);
-  const StreamReport* axes[3] = {&r, &r.more_axes[0], &r.more_axes[1]};
+  ASSERT_EQ(r.axes.size(), 3U);
   const std::uint8_t nodes[3] = {1, 4, 2};
   // Per SYNC period (the frames after one SYNC up to the next), each node's RPDO target.
   const std::vector<Logged> frames = read_candump(dump);
@@ -451,7 +452,7 @@ TEST(RunStream, ThreeAxesStartOnTheSameSyncEachWithItsOwnSetpoints) {
   std::size_t first_period[3]{};
   for (std::size_t i = 0; i < 3; ++i) {
     SCOPED_TRACE(i);
-    const StreamReport& a = *axes[i];
+    const AxisReport& a = r.axes[i];
     EXPECT_EQ(a.node, nodes[i]);
     EXPECT_TRUE(a.aligned());
     EXPECT_EQ(a.drive_state, "released");
@@ -471,11 +472,11 @@ TEST(RunStream, ThreeAxesStartOnTheSameSyncEachWithItsOwnSetpoints) {
 
   // Two axes on one node: refused before anything streams.
   StreamSpec twice = spec;
-  twice.more_axes[1].node = 1;
+  twice.axes[2].node = 1;
   LoopbackStreamBus other;
   const StreamReport refused = run_stream(twice, other);
   EXPECT_EQ(refused.failure, "axes 1 and 3 are both on node 1: one drive per node");
-  EXPECT_TRUE(refused.log.empty());
+  EXPECT_TRUE(refused.axes[0].log.empty());
 }
 
 // Issue 17: a coordinated three-axis move (path sync) halted at 100 random times, every axis's halt
@@ -528,17 +529,15 @@ TEST(RunStream, ThreeAxesHaltedAtRandomTimesEndTogetherOnTheLineAtRest) {
     spec.plant = plant;
     spec.settle_time_s = 0.3;
     spec.drive.scale.period_us = 1200;
-    spec.move = moves[0];
-    spec.change = changes[0];
-    spec.more_axes = {{moves[1], 2, changes[1]}, {moves[2], 3, changes[2]}};
+    spec.axes = {{moves[0], 1, changes[0]}, {moves[1], 2, changes[1]}, {moves[2], 3, changes[2]}};
     LoopbackStreamBus bus;
     const StreamReport r = run_stream(spec, bus);
     ASSERT_TRUE(r.failure.empty()) << r.failure;
     EXPECT_TRUE(r.measured()) << runtime::to_string(r.session.outcome);
     EXPECT_TRUE(r.session.released);
-    const StreamReport* axes[3] = {&r, &r.more_axes[0], &r.more_axes[1]};
+    ASSERT_EQ(r.axes.size(), 3U);
     for (std::size_t i = 0; i < 3; ++i) {
-      const StreamReport& a = *axes[i];
+      const AxisReport& a = r.axes[i];
       EXPECT_TRUE(a.aligned()) << "axis " << i;
       EXPECT_LE(a.residual_continuous, 1e-9 * std::fabs(d[i])) << "axis " << i << " halted at " << at;
       EXPECT_LE(a.residual_can.amplitude, 1.0 / spec.drive.load_counts_per_unit) << "axis " << i;
@@ -555,11 +554,9 @@ TEST(RunStream, ThreeAxesHaltedAtRandomTimesEndTogetherOnTheLineAtRest) {
   StreamSpec apart{};
   apart.plant = plant;
   apart.drive.scale.period_us = 1200;
-  apart.move = moves[0];
-  apart.more_axes = {{moves[1], 2, StreamChange{}}};
-  apart.change = StreamChange{};
-  apart.change->at = 0.1;
-  apart.more_axes[0].change->at = 0.2;
+  apart.axes = {{moves[0], 1, StreamChange{}}, {moves[1], 2, StreamChange{}}};
+  apart.axes[0].change->at = 0.1;
+  apart.axes[1].change->at = 0.2;
   LoopbackStreamBus other;
   EXPECT_EQ(run_stream(apart, other).failure,
             "axes 1 and 2 change at different times: every axis's halt or retarget is asked for in the same period");
@@ -626,12 +623,8 @@ TEST(RunStream, NoPlannedHaltOrRetargetTripsTheStepGuard) {
       c.blend = blend.blend;
       c.finish = blend.choice == core::OnlineChoice::finish;
       blends += c.finish ? 0 : 1;
-      if (i == 0) {
-        spec.move = move;
-        spec.change = c;
-      } else {
-        spec.more_axes.push_back({move, static_cast<hal::canopen::NodeId>(i + 1), c});
-      }
+      if (i == 0) spec.axes.clear();
+      spec.axes.push_back({move, static_cast<hal::canopen::NodeId>(i + 1), c});
     }
     if (!planned) continue;
     const StreamRefusal refusal = check_streamable(spec, true);
@@ -640,8 +633,7 @@ TEST(RunStream, NoPlannedHaltOrRetargetTripsTheStepGuard) {
     const StreamReport r = run_stream(spec, bus);
     ASSERT_TRUE(r.failure.empty()) << r.failure;
     EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << runtime::to_string(r.session.outcome);
-    EXPECT_EQ(r.axis.step_guard_trips, 0u);
-    for (const StreamReport& a : r.more_axes) EXPECT_EQ(a.axis.step_guard_trips, 0u);
+    for (const AxisReport& a : r.axes) EXPECT_EQ(a.axis.step_guard_trips, 0u);
     EXPECT_TRUE(r.measured());
     ++streamed;
   }
@@ -657,7 +649,7 @@ TEST(RunStream, AChangeFasterThanTheAxisIsRefusedBeforeStreaming) {
   c.at = 0.2;
   c.modes = {core::Mode{spec.plant.fundamental().omega, spec.plant.fundamental().zeta}};
   c.limits = {1.0, 10.0, 1000.0};
-  spec.change = c;
+  spec.axes[0].change = c;
   spec.axis_vmax = 0.5;  // the move peaks at 0.0375 m/s; its blend may reach 1 m/s
   const StreamRefusal r = check_streamable(spec, true);
   EXPECT_EQ(r.status, runtime::LoopStatus::exceeds_axis_velocity);
@@ -667,7 +659,7 @@ TEST(RunStream, AChangeFasterThanTheAxisIsRefusedBeforeStreaming) {
   LoopbackStreamBus bus;
   EXPECT_EQ(run_stream(spec, bus).failure, "the loop refused axis 1's online configuration: exceeds_axis_velocity");
   spec.axis_vmax.reset();  // by default the axis's vmax is the blend's
-  EXPECT_EQ(stream_axis_vmax(spec), 1.0);
+  EXPECT_EQ(stream_axis_vmax(spec, spec.axes[0]), 1.0);
   EXPECT_EQ(check_streamable(spec, true).status, runtime::LoopStatus::ok);
   // The simulated drive's 0x607F (1e7 counts/s) at 1e8 counts per metre: 0.1 m/s at most.
   spec.drive.scale.counts_per_unit = 1e8;
@@ -682,12 +674,48 @@ TEST(RunStream, WhatCannotRunIsAFailureBeforeAnythingStreams) {
   LoopbackStreamBus unwritable{"/nonexistent-settle-dir/run.log"};
   const StreamReport a = run_stream(spec_for(poly345(0.01, 0.5)), unwritable);
   EXPECT_EQ(a.failure, "cannot write /nonexistent-settle-dir/run.log");
-  EXPECT_TRUE(a.log.empty());
+  EXPECT_TRUE(a.axes[0].log.empty());
 
   StreamSpec no_period = spec_for(poly345(0.01, 0.5));
   no_period.drive.scale.period_us = 0;
   LoopbackStreamBus bus;
   EXPECT_FALSE(run_stream(no_period, bus).failure.empty());
+
+  StreamSpec no_axis = spec_for(poly345(0.01, 0.5));
+  no_axis.axes.clear();
+  LoopbackStreamBus empty;
+  const StreamReport none = run_stream(no_axis, empty);
+  EXPECT_EQ(none.failure, "no axis to stream");
+  EXPECT_FALSE(none.measured());
+}
+
+// The bus with a clock unpaced, as settle drive uses it: the loopback drive (the one builder's, at
+// the node asked for) answers an SDO request at once, in the same virtual instant; with nothing to
+// answer, a receive moves virtual time on by exactly the wait.
+TEST(LoopbackStreamBus, ReceiveAnswersAtOnceAndOtherwiseMovesVirtualTimeByTheWait) {
+  LoopbackStreamBus bus;
+  SimulatedDriveSpec drive{};
+  drive.node = 5;
+  ASSERT_EQ(bus.open(1000, {drive}), "");
+  EXPECT_EQ(bus.now_us(), 0U);
+  hal::CanFrame f{};
+  while (bus.receive(f, 0)) {  // the drive's boot-up and first heartbeat
+  }
+  const std::uint64_t t0 = bus.now_us();
+  hal::canopen::SdoClient client{5, 1'000'000};
+  ASSERT_TRUE(client.upload(0x1000, 0, bus.now_us(), bus.link()));
+  ASSERT_TRUE(bus.receive(f, 7000));
+  EXPECT_EQ(bus.now_us(), t0);
+  (void)client.on_frame(f, bus.now_us(), bus.link());
+  ASSERT_EQ(client.result().status, hal::canopen::SdoClientStatus::done);
+  EXPECT_EQ(client.result().value, hal::canopen::cia402_device_type);
+  EXPECT_FALSE(bus.receive(f, 7000));
+  EXPECT_EQ(bus.now_us(), t0 + 7000);
+  // A node no drive answers to: nothing comes.
+  hal::canopen::SdoClient nobody{6, 1'000'000};
+  ASSERT_TRUE(nobody.upload(0x1000, 0, bus.now_us(), bus.link()));
+  EXPECT_FALSE(bus.receive(f, 3));
+  EXPECT_EQ(bus.now_us(), t0 + 7003);
 }
 
 // The in-process loopback bus with one call replaced: the test buses below change only what
@@ -753,11 +781,11 @@ TEST(RunStream, ADriveThatFallsBehindLosesNoFeedback) {
   const StreamReport r = run_stream(spec, stalling);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   ASSERT_TRUE(plain.measured());
-  EXPECT_GT(r.feedback_late_ticks, 0U);
-  EXPECT_EQ(r.axis.feedback_overflows, 0U);
+  EXPECT_GT(r.axes[0].feedback_late_ticks, 0U);
+  EXPECT_EQ(r.axes[0].axis.feedback_overflows, 0U);
   EXPECT_TRUE(r.measured());
-  EXPECT_EQ(r.residual_can.amplitude, plain.residual_can.amplitude);
-  EXPECT_EQ(r.window_samples, plain.window_samples);
+  EXPECT_EQ(r.axes[0].residual_can.amplitude, plain.axes[0].residual_can.amplitude);
+  EXPECT_EQ(r.axes[0].window_samples, plain.axes[0].window_samples);
 }
 
 TEST(RunStream, NothingIsAllocatedWhileStreaming) {
@@ -767,7 +795,8 @@ TEST(RunStream, NothingIsAllocatedWhileStreaming) {
     spec.scalar = scalar;
     if (scalar == StreamScalar::fixed_point) {  // and with three axes
       spec.drive.scale.period_us = 1200;
-      spec.more_axes = {{poly345(-0.02, 0.5), 2, std::nullopt}, {poly345(0.005, 0.5), 3, std::nullopt}};
+      spec.axes.push_back({poly345(-0.02, 0.5), 2, std::nullopt});
+      spec.axes.push_back({poly345(0.005, 0.5), 3, std::nullopt});
     }
     CountingBus bus;
     const StreamReport r = run_stream(spec, bus);
@@ -775,7 +804,7 @@ TEST(RunStream, NothingIsAllocatedWhileStreaming) {
     EXPECT_TRUE(r.measured()) << to_string(scalar);
     EXPECT_GT(bus.ticks() * spec.drive.scale.period_us, 1'000'000U);  // the move and the window: 1 s
     EXPECT_EQ(bus.allocations(), 0U) << to_string(scalar);
-    EXPECT_TRUE(spec.more_axes.empty() || r.more_axes.size() == 2U);
+    EXPECT_EQ(r.axes.size(), spec.axes.size());
   }
 }
 
@@ -790,7 +819,7 @@ namespace {
 class StuckStatusBus final : public LoopbackWrapper, private hal::CanBus {
  public:
   [[nodiscard]] std::string open(const StreamSpec& spec) override {
-    node_ = spec.node;
+    node_ = spec.axes[0].node;
     return inner_.open(spec);
   }
   [[nodiscard]] hal::CanBus& link() override { return *this; }
@@ -819,9 +848,9 @@ TEST(RunStream, ADriveThatNeverEnablesIsReportedWithItsStatusword) {
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_FALSE(r.start_up_us.has_value());
-  EXPECT_NE(r.drive_failure.find("the drive's statusword stayed 0x0240 (switch on disabled), not operation enabled"),
+  EXPECT_NE(r.axes[0].drive_failure.find("the drive's statusword stayed 0x0240 (switch on disabled), not operation enabled"),
             std::string::npos)
-      << "drive_failure: '" << r.drive_failure << "'";
+      << "drive_failure: '" << r.axes[0].drive_failure << "'";
 }
 
 }  // namespace

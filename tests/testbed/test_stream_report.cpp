@@ -41,33 +41,34 @@ Written captured(Writer&& write) {
 // A real-time run that completed and aligned, every measurement present.
 StreamReport completed_run() {
   StreamReport r{};
+  r.axes.resize(1);
   r.bus = "vcan9";
   r.realtime = true;
-  r.profile = core::ProfileKind::scurve;
+  r.axes[0].profile = core::ProfileKind::scurve;
   r.scalar = StreamScalar::single_precision;
-  r.distance = 0.05;
-  r.move_time = 0.3;
+  r.axes[0].distance = 0.05;
+  r.axes[0].move_time = 0.3;
   r.scale = {1e6, 500};
   r.session.outcome = runtime::SessionOutcome::completed;
   r.session.ticks = 42;
   r.counters.sent = 10;
   r.counters.received = 12;
   r.counters.tx_busy = 1;
-  r.feedback_late_ticks = 2;
-  r.alignment = 0;
-  r.setpoints = {0, 1, 2};
-  r.setpoints_vs_double_max_counts = 1;
-  r.setpoints_differing_from_double = 3;
-  r.residual_can = {0.000123456789, 1.5, 10, 0.25};
-  r.residual_offline = {0.000123456788, 1.49999, 10, 0.25};
-  r.agreement = 1e-12;
-  r.residual_double = 0.0001234;
-  r.residual_vs_double_percent = 0.25;
-  r.residual_vs_double_load_counts = 0.5;
-  r.continuous_simulated = true;
-  r.residual_continuous = 0.00012;
-  r.prv_continuous_percent = 1.45;
-  r.window_samples = 10;
+  r.axes[0].feedback_late_ticks = 2;
+  r.axes[0].alignment = 0;
+  r.axes[0].setpoints = {0, 1, 2};
+  r.axes[0].setpoints_vs_double_max_counts = 1;
+  r.axes[0].setpoints_differing_from_double = 3;
+  r.axes[0].residual_can = {0.000123456789, 1.5, 10, 0.25};
+  r.axes[0].residual_offline = {0.000123456788, 1.49999, 10, 0.25};
+  r.axes[0].agreement = 1e-12;
+  r.axes[0].residual_double = 0.0001234;
+  r.axes[0].residual_vs_double_percent = 0.25;
+  r.axes[0].residual_vs_double_load_counts = 0.5;
+  r.axes[0].continuous_simulated = true;
+  r.axes[0].residual_continuous = 0.00012;
+  r.axes[0].prv_continuous_percent = 1.45;
+  r.axes[0].window_samples = 10;
   r.timing.latency.add(1500);
   r.timing.overruns = 4;
   r.start_up_us = 123'400;
@@ -79,15 +80,16 @@ StreamReport completed_run() {
 // In-process, halted by the feedback watchdog, with an evaluation that refused the move.
 StreamReport refused_run() {
   StreamReport r{};
+  r.axes.resize(1);
   r.bus = "loopback (in-process, virtual time)";
   r.scalar = StreamScalar::fixed_point;
   r.session.outcome = runtime::SessionOutcome::feedback_timeout;
   r.session.fault = runtime::AxisFault::feedback_timeout;
-  r.evaluation = core::Status::transition_shorter_than_tick;
-  r.residual_can.amplitude = r.residual_can.prv_percent = NAN;
-  r.residual_offline.amplitude = r.residual_offline.prv_percent = NAN;
-  r.agreement = r.residual_double = r.residual_vs_double_percent = r.residual_vs_double_load_counts = NAN;
-  r.residual_continuous = r.prv_continuous_percent = NAN;
+  r.axes[0].evaluation = core::Status::transition_shorter_than_tick;
+  r.axes[0].residual_can.amplitude = r.axes[0].residual_can.prv_percent = NAN;
+  r.axes[0].residual_offline.amplitude = r.axes[0].residual_offline.prv_percent = NAN;
+  r.axes[0].agreement = r.axes[0].residual_double = r.axes[0].residual_vs_double_percent = r.axes[0].residual_vs_double_load_counts = NAN;
+  r.axes[0].residual_continuous = r.axes[0].prv_continuous_percent = NAN;
   return r;
 }
 
@@ -183,7 +185,7 @@ TEST(StreamReportJson, AbsentMeasurementsAreNullAndTheStatusAnError) {
   }
   // Completed and aligned, but one measurement missing: still not a success.
   StreamReport r = completed_run();
-  r.residual_continuous = NAN;
+  r.axes[0].residual_continuous = NAN;
   EXPECT_EQ(nlohmann::json::parse(stream_json(r))["status"], "error");
 }
 
@@ -208,7 +210,7 @@ TEST(StreamReportCsv, OneRowPerTick) {
   b.load_position = 6;
   b.velocity_actual = -8;
   b.feedback_count = 2;
-  r.log = {a, b};
+  r.axes[0].log = {a, b};
   const Written w = captured([&](std::FILE* f) { return write_tick_csv(r, f); });
   EXPECT_TRUE(w.ok);
   EXPECT_EQ(w.text,
@@ -219,11 +221,12 @@ TEST(StreamReportCsv, OneRowPerTick) {
 
 TEST(StreamReportCsv, FeedbackAlignedWithTheReplay) {
   StreamReport r{};
+  r.axes.resize(1);
   r.scale = {1e6, 1000};
-  r.setpoints = {0, 5, 10};
-  r.alignment = 2;  // the replay's first period is the third feedback sample
-  for (std::int32_t i = 0; i < 6; ++i) r.feedback.push_back({100 + i, 200 + i, 0});  // position, load, velocity
-  for (std::int32_t i = 0; i < 4; ++i) r.replay.feedback.push_back({0, 0, 300 + i});  // position, velocity, load
+  r.axes[0].setpoints = {0, 5, 10};
+  r.axes[0].alignment = 2;  // the replay's first period is the third feedback sample
+  for (std::int32_t i = 0; i < 6; ++i) r.axes[0].feedback.push_back({100 + i, 200 + i, 0});  // position, load, velocity
+  for (std::int32_t i = 0; i < 4; ++i) r.axes[0].replay.feedback.push_back({0, 0, 300 + i});  // position, velocity, load
   const Written w = captured([&](std::FILE* f) { return write_feedback_csv(r, f); });
   EXPECT_TRUE(w.ok);
   EXPECT_EQ(w.text,
@@ -234,7 +237,7 @@ TEST(StreamReportCsv, FeedbackAlignedWithTheReplay) {
             "1,0.002000,5,103,203,301\n"
             "2,0.003000,10,104,204,302\n"
             "3,0.004000,10,105,205,303\n");
-  r.alignment.reset();
+  r.axes[0].alignment.reset();
   EXPECT_FALSE(write_feedback_csv(r, stdout));  // nothing to align: nothing written
 }
 

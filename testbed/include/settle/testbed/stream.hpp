@@ -48,13 +48,13 @@ struct StreamChange {
   bool finish{false};
 };
 
-// --axes N (docs/multi_axis.md): one more axis of the same bus, its own move and node,
-// and with a halt or retarget its own change (the same `at` as axis 1's; core::axis_online gives
-// its modes and limits).
+// One axis of the run: its move, its drive's node and, with a halt or retarget, its change (every
+// axis that has one changes at the same `at`; with --axes N core::axis_online gives its modes and
+// limits).
 struct StreamAxis {
   core::Move<double> move{};
-  hal::canopen::NodeId node{2};
-  std::optional<StreamChange> change;
+  hal::canopen::NodeId node{1};
+  std::optional<StreamChange> change;  // every scalar: the blend is evaluated in it
 };
 
 // --load-feedback INDEX:SUB: the drive's object that measures the load (or any vibration),
@@ -65,11 +65,14 @@ struct LoadFeedback {
 };
 
 struct StreamSpec {
-  core::Move<double> move{};
-  std::optional<StreamChange> change;  // every scalar: the blend is evaluated in it
+  // Every axis of the run, axis 1 first (--axes N, docs/multi_axis.md: one drive per node, one
+  // bus), every one started on the same SYNC and streamed, supervised and measured alike, with the
+  // same plant, drive and loop options below (each its own copy of the plant: one PlantNode per
+  // node on loopback). With a change, every axis that has one is asked in the same period between
+  // the same two ticks, as an application halting the machine would. One axis on node 1 unless set.
+  std::vector<StreamAxis> axes{StreamAxis{}};
   plant::ModalPlant plant{};       // the machine behind the drive: the in-process drive's and the replay's
   DriveAxisConfig drive{};  // the simulated drive and the replay; drive.scale is the loop's axis scale too
-  hal::canopen::NodeId node{1};
   std::uint16_t heartbeat_ms{500};
   std::uint32_t sdo_timeout_us{1'000'000};
   std::uint16_t feedback_timeout_periods{runtime::kDefaultFeedbackTimeoutPeriods};
@@ -78,27 +81,18 @@ struct StreamSpec {
   StreamScalar scalar{StreamScalar::double_precision};
   // --eds: the drive's description. The master configures and verifies the drive from it
   // (hal::eds::drive_config_from_eds with streaming_feedback), and on loopback the simulated drive
-  // is the one it describes (testbed::simulated_drive_from_eds). Null: Settle's own drive, as assumed.
+  // is the one it describes (testbed::build_simulated_drive). Null: Settle's own drive, as assumed.
   std::shared_ptr<const hal::eds::Description> eds;
   LoadFeedback load_feedback{};  // with eds: the load position object the user named
-  // --axes N: axes 2..N (axis 1 is `move` on `node`), every one started on the same SYNC and
-  // streamed, supervised and measured as axis 1, with the same plant, drive and loop options (each
-  // its own copy of the plant: one PlantNode per node on loopback). Empty: one axis. With a change,
-  // every axis that has one is asked in the same period between the same two ticks, as an
-  // application halting the machine would.
-  std::vector<StreamAxis> more_axes;
 };
 
-// Axis i of the spec (0: axis 1) as a one-axis spec: its move, node and change, everything else shared.
-[[nodiscard]] StreamSpec axis_spec(const StreamSpec& spec, std::size_t i);
-
-// The vmax the loop's step guard holds a one-axis spec's setpoints to (runtime::AxisLoopConfig::vmax,
+// The vmax the loop's step guard holds `axis`'s setpoints to (runtime::AxisLoopConfig::vmax,
 // units/s): spec.axis_vmax when given; else 1.5 x the move's peak velocity, and with a change at
 // least the vmax the loop plans its blend within (StreamChange::limits), so that every blend the
 // loop plans makes only steps the guard admits (the loop refuses online limits over the axis's vmax).
-[[nodiscard]] double stream_axis_vmax(const StreamSpec& one_axis);
+[[nodiscard]] double stream_axis_vmax(const StreamSpec& spec, const StreamAxis& axis);
 
-// What the loop would refuse before streaming anything, found without a bus: on `axis` (0: axis 1),
+// What the loop would refuse before streaming anything, found without a bus: on `axis` (an index into spec.axes),
 // the move or its change's vmax over the axis's vmax (exceeds_axis_velocity), the evaluation of
 // the spec's scalar refusing the move or the blend (evaluation_refused, `why` says the core status),
 // and with `simulated_drive` (the loopback bus: the drive is the one this process simulates, the
@@ -138,9 +132,10 @@ struct StreamTiming {
   runtime::linux_rt::RealtimeSetup realtime{};
 };
 
-// Where a stream runs: the link the loop sends and receives on, the clock that paces its ticks,
-// and what happens on the bus between ticks. LoopbackStreamBus and SocketCanStreamBus
-// (stream_bus.hpp) are the two; nothing here allocates between begin() and finish().
+// The one bus with a clock: where a stream runs (the link the loop sends and receives on, the clock
+// that paces its ticks, and what happens on the bus between ticks) and where `settle drive`'s SDO
+// transfers run (receive()). LoopbackStreamBus and SocketCanStreamBus (stream_bus.hpp) are the
+// two; nothing here allocates between begin() and finish().
 class StreamBus {
  public:
   StreamBus() = default;
@@ -166,44 +161,34 @@ class StreamBus {
   // incomplete.
   using FrameTaker = std::function<void(const hal::CanFrame& frame, std::uint64_t now_us)>;
   [[nodiscard]] virtual std::string finish(const FrameTaker& take) = 0;
+  // Request and answer, unpaced (settle drive's SDO transfers): the next frame that arrives within
+  // wait_us, the clock running meanwhile (loopback: after the drives have taken what was sent and
+  // answered; when nothing comes, virtual time moves on by wait_us). False when none came.
+  [[nodiscard]] virtual bool receive(hal::CanFrame& frame, std::uint32_t wait_us) {
+    return link().receive(frame, wait_us) == hal::ReceiveStatus::received;
+  }
   // This side's bus counters (the controller's, not a recorder's).
   [[nodiscard]] virtual hal::BusCounters counters() const = 0;
   [[nodiscard]] virtual StreamTiming timing() const = 0;
 };
 
-// One run, every number the reporters print. A residual that could not be measured is NaN.
-struct StreamReport {
-  std::string failure;  // non-empty: the run could not be made (a bus or file that cannot be opened)
-
-  std::string bus;
-  bool realtime{false};
+// One axis of a run, every number the reporters print for it. A residual that could not be
+// measured is NaN.
+struct AxisReport {
   hal::canopen::NodeId node{1};
   core::ProfileKind profile{};
-  StreamScalar scalar{StreamScalar::double_precision};
   core::Status evaluation{core::Status::ok};  // why the selected evaluation refused the move
   double distance{0.0};
   double move_time{0.0};
-  core::AxisScale scale{};
 
-  runtime::SessionResult session{};
-  // From the session's first tick to the first with the drive operation enabled (NMT, the SDO
-  // configuration, the enable sequence), on the bus's clock; absent when it never got there.
-  std::optional<std::uint64_t> start_up_us;
   std::string drive_state;
   std::string drive_failure;  // empty unless the drive's start-up failed
   // The first error EMCY (code not 0) the drive sent during the run: what it said went wrong,
   // whatever the loop concluded (a drive that quick-stops on SYNC loss then looks lost).
   std::optional<hal::canopen::EmcyMessage> drive_emcy;
-  // The loop's timeouts the run used (the spec's): reported so that a failure can name them.
-  std::uint16_t heartbeat_ms{0};
-  std::uint32_t sdo_timeout_us{0};
-  std::uint16_t feedback_timeout_periods{0};
-  hal::BusCounters counters{};
   runtime::AxisStats axis{};
-  std::uint64_t units_held{0};
   std::vector<runtime::TickRecord> log;           // one per tick
   std::vector<runtime::FeedbackSample> feedback;  // every TPDO pair, in arrival order
-  StreamTiming timing{};
 
   std::vector<std::int32_t> setpoints;  // the selected evaluation's (empty when it refused)
   // Against the double evaluator's setpoints (absent when either evaluation refused the move).
@@ -212,7 +197,6 @@ struct StreamReport {
   Replay replay{};                        // the setpoints through the same drive and plant, no bus
   std::optional<std::size_t> alignment;   // where the replay's positions start in the feedback
   std::uint64_t feedback_late_ticks{0};
-  std::uint64_t frames_lost{0};
 
   // Whether the drive reports a load-side position at all: decided before streaming from what the
   // master maps (the layout's load slot: Settle's own drive maps 0x2000 in TPDO2; an --eds drive
@@ -234,31 +218,56 @@ struct StreamReport {
   // The ticks (log indices) of the move's first setpoint sent and of its last (absent: never).
   std::optional<std::uint64_t> move_start_tick, move_end_tick;
 
-  // --axes N: axes 2..N, each reported as this one reports axis 1 (its own log, feedback, replay
-  // and residuals; the session is the run's, shared), and what only several axes have: how far
-  // apart their moves started and ended (ticks; 0 = the same SYNC, as the session promises; axes
-  // that do not move are left out), and the largest distance from the straight line from the
-  // start to (D_1, ..., D_N), in counts, of the points the axes were sent (setpoints) and of the
-  // positions the drives reported for the same SYNCs (feedback, aligned with each axis's replay).
-  // With --sync path the line is the path: it is bounded by one count.
-  std::vector<StreamReport> more_axes;
+  [[nodiscard]] bool aligned() const noexcept { return alignment.has_value(); }
+  // Aligned, with every measurement the drive allows present and finite (a drive without a load
+  // position: every setpoint applied once and in order, the offline replay).
+  [[nodiscard]] bool measured() const noexcept;
+};
+
+// One run: what is the run's (the bus, the session, the counters, the timing) and one report per
+// axis, in the spec's order.
+struct StreamReport {
+  std::string failure;  // non-empty: the run could not be made (a bus or file that cannot be opened)
+
+  std::string bus;
+  bool realtime{false};
+  StreamScalar scalar{StreamScalar::double_precision};
+  core::AxisScale scale{};
+
+  runtime::SessionResult session{};
+  // From the session's first tick to the first with every drive operation enabled (NMT, the SDO
+  // configuration, the enable sequence), on the bus's clock; absent when it never got there.
+  std::optional<std::uint64_t> start_up_us;
+  // The loop's timeouts the run used (the spec's): reported so that a failure can name them.
+  std::uint16_t heartbeat_ms{0};
+  std::uint32_t sdo_timeout_us{0};
+  std::uint16_t feedback_timeout_periods{0};
+  hal::BusCounters counters{};
+  std::uint64_t units_held{0};
+  StreamTiming timing{};
+  std::uint64_t frames_lost{0};
+
+  std::vector<AxisReport> axes;
+
+  // With several axes: how far apart their moves started and ended (ticks; 0 = the same SYNC, as
+  // the session promises; axes that do not move are left out), and the largest distance from the
+  // straight line from the start to (D_1, ..., D_N), in counts, of the points the axes were sent
+  // (setpoints) and of the positions the drives reported for the same SYNCs (feedback, aligned
+  // with each axis's replay). With --sync path the line is the path: it is bounded by one count.
   std::optional<std::uint64_t> start_tick_spread, end_tick_spread;
   double line_deviation_setpoints_counts{0.0};
   double line_deviation_feedback_counts{0.0};
 
-  [[nodiscard]] bool aligned() const noexcept { return alignment.has_value(); }
-  [[nodiscard]] bool completed() const noexcept {
-    return session.outcome == runtime::SessionOutcome::completed && aligned();
-  }
-  // Success: completed, with every measurement the drive allows present and finite, on every axis
-  // (a drive without a load position: every setpoint applied once and in order, the offline replay).
+  // Success: the session completed, every axis measured(), and with several axes how they moved
+  // together measured too.
   [[nodiscard]] bool measured() const noexcept;
   // measured(), and the machine's rest verified from the CAN load feedback on every axis.
   [[nodiscard]] bool rest_measured() const noexcept;
 };
 
-// Streams spec.move (and spec.more_axes' moves) over `bus` and measures it. A report with `failure` set says why it could not
-// run; otherwise the report is complete whatever the outcome (measured() says whether it succeeded).
+// Streams every axis's move over `bus` and measures it. A report with `failure` set says why it
+// could not run; otherwise the report is complete whatever the outcome (measured() says whether it
+// succeeded).
 [[nodiscard]] StreamReport run_stream(const StreamSpec& spec, StreamBus& bus);
 
 }  // namespace settle::testbed

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The two places a stream runs. LoopbackStreamBus: the simulated drive (the spec's plant behind
-// hal's drive node) on the in-process bus, in virtual time, deterministic. SocketCanStreamBus: a
-// SocketCAN interface (vcan0, can0) in real time, against a `settle plant` process or a drive.
-// Either can write a candump log of the run (`candump -l` format, replayable with canplayer).
+// The two kinds of the one bus with a clock (StreamBus, stream.hpp): where a stream runs and where
+// `settle drive` talks to a drive. LoopbackStreamBus: simulated drives (build_simulated_drive) on
+// the in-process bus, in virtual time, deterministic. SocketCanStreamBus: a SocketCAN interface
+// (vcan0, can0) in real time, against a `settle plant` process or a drive. Either can write a
+// candump log of a stream (`candump -l` format, replayable with canplayer).
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -14,12 +15,11 @@
 
 #include "settle/runtime/linux/periodic.hpp"
 #include "settle/runtime/session.hpp"
-#include "settle/testbed/drive_from_eds.hpp"
 #include "settle/hal/candump_file.hpp"
 #include "settle/hal/recording_bus.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/hal/socketcan_bus.hpp"
-#include "settle/testbed/plant_node.hpp"
+#include "settle/testbed/simulated_drive.hpp"
 #include "settle/testbed/stream.hpp"
 
 namespace settle::testbed {
@@ -45,7 +45,7 @@ struct LateFrameWindow {
 std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t()>& now_us,
                              const StreamBus::FrameTaker& take, LateFrameWindow window = {});
 
-// On loopback every axis of the spec (spec.more_axes too) has its drive in this process.
+// On loopback every axis of the spec has its drive in this process.
 class LoopbackStreamBus final : public StreamBus {
  public:
   // candump_path: where to log every frame on the bus (a listening port sees them all); "" none.
@@ -54,12 +54,20 @@ class LoopbackStreamBus final : public StreamBus {
 
   [[nodiscard]] std::string name() const override { return "loopback (in-process, virtual time)"; }
   [[nodiscard]] bool realtime() const override { return false; }
+  // One simulated drive per axis of the spec, each with the spec's plant and drive model.
   [[nodiscard]] std::string open(const StreamSpec& spec) override;
+  // The drives given (each on its own port of the hub), the clock pacing `period_us`; "" or why a
+  // drive cannot be built (a description's error prefixed "--eds: ").
+  [[nodiscard]] std::string open(std::uint32_t period_us, const std::vector<SimulatedDriveSpec>& drives);
   [[nodiscard]] hal::CanBus& link() override { return master_; }
   void begin() override;
-  std::uint64_t wait() override { return clock_.wait(); }
-  [[nodiscard]] std::uint64_t now_us() const override { return clock_.now_us(); }
+  std::uint64_t wait() override {
+    now_us_ += period_us_;
+    return 0;
+  }
+  [[nodiscard]] std::uint64_t now_us() const override { return now_us_; }
   void between_ticks() override;
+  [[nodiscard]] bool receive(hal::CanFrame& frame, std::uint32_t wait_us) override;
   [[nodiscard]] std::string finish(const FrameTaker& take) override;
   [[nodiscard]] hal::BusCounters counters() const override { return master_.counters(); }
   [[nodiscard]] StreamTiming timing() const override { return {}; }
@@ -73,18 +81,21 @@ class LoopbackStreamBus final : public StreamBus {
   // with its own copy of the plant.
   struct Drive {
     std::unique_ptr<hal::LoopbackBus<256>> port;
-    std::unique_ptr<DriveFromEds> simulated;  // with --eds: the drive's strings point into it
-    std::unique_ptr<PlantNode> node;
+    SimulatedDrive drive;
   };
   std::vector<Drive> drives_;
   hal::CandumpFile dump_;
   std::uint32_t period_us_{1000};
-  runtime::VirtualClock clock_{1000};
+  std::uint64_t now_us_{0};  // virtual time
+
+  // Every drive takes what was sent to it and answers at `now`; the sniffer's frames go to the log.
+  void serve_drives(std::uint64_t now);
 };
 
 class SocketCanStreamBus final : public StreamBus {
  public:
-  // `opened`: the interface, already open (it must outlive this). rt_priority 1..99 asks for
+  // `opened`: the interface, already open (it must outlive this). Without open() (settle drive's
+  // transfers: receive() and now_us()) nothing else is set up. rt_priority 1..99 asks for
   // SCHED_FIFO (and locked memory) at open; 0 runs as scheduled. candump_path: this process's own
   // log of every frame it sends and receives (complete, unlike a sniffer's: its line count equals
   // frames_sent + frames_received); "" none. pm_qos: hold /dev/cpu_dma_latency at 0 µs from open
@@ -99,7 +110,8 @@ class SocketCanStreamBus final : public StreamBus {
   [[nodiscard]] hal::CanBus& link() override;
   void begin() override;
   std::uint64_t wait() override { return timer_->wait(); }
-  [[nodiscard]] std::uint64_t now_us() const override { return timer_->now_us(); }
+  // The timer's period start once open() made it, else the monotonic clock (settle drive).
+  [[nodiscard]] std::uint64_t now_us() const override;
   void between_ticks() override;
   [[nodiscard]] std::string finish(const FrameTaker& take) override;
   [[nodiscard]] hal::BusCounters counters() const override { return bus_.counters(); }
