@@ -10,30 +10,13 @@
 #include "settle/core/piecewise_jerk.hpp"
 #include "settle/core/shaper.hpp"
 #include "settle/core/small_solve.hpp"
+#include "numeric/complex.hpp"
 
 namespace settle::core {
 
 namespace {
 
-// A complex number (core keeps to <cmath>; four operations are all the solver needs).
-struct Cx {
-  double re{0.0}, im{0.0};
-};
-constexpr Cx operator+(Cx a, Cx b) noexcept { return {a.re + b.re, a.im + b.im}; }
-constexpr Cx operator*(Cx a, Cx b) noexcept { return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
-constexpr Cx operator*(double s, Cx a) noexcept { return {s * a.re, s * a.im}; }
-inline Cx cexp_neg(Cx p, double t) noexcept {  // e^{-p t}
-  const double m = std::exp(-p.re * t);
-  return {m * std::cos(p.im * t), -m * std::sin(p.im * t)};
-}
-inline double cabs(Cx a) noexcept { return std::hypot(a.re, a.im); }
-// e^{z} - 1, accurate for small |z| (a short segment's two exponentials nearly cancel).
-inline Cx cexpm1(Cx z) noexcept {
-  const double sh = std::sin(0.5 * z.im);
-  return {std::expm1(z.re) * std::cos(z.im) - 2.0 * sh * sh, std::exp(z.re) * std::sin(z.im)};
-}
-
-Cx pole(double omega, double zeta) noexcept { return {-zeta * omega, omega * std::sqrt(1.0 - zeta * zeta)}; }
+using namespace numeric;
 
 constexpr std::size_t kMaxModes = 1 + kMaxExtraModes;
 struct ModeSet {

@@ -7,37 +7,19 @@
 
 #include "settle/core/piece.hpp"
 #include "settle/core/small_solve.hpp"
+#include "numeric/complex.hpp"
+#include "numeric/quadrature.hpp"
 
 namespace settle::core {
 
 namespace {
 
-// A complex number, just what the mode algebra needs (core has no <complex>).
-struct Cx {
-  double re{0.0}, im{0.0};
-};
-constexpr Cx operator+(Cx a, Cx b) noexcept { return {a.re + b.re, a.im + b.im}; }
-constexpr Cx operator-(Cx a, Cx b) noexcept { return {a.re - b.re, a.im - b.im}; }
-constexpr Cx operator*(Cx a, Cx b) noexcept { return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
-constexpr Cx operator*(double s, Cx a) noexcept { return {s * a.re, s * a.im}; }
-inline Cx operator/(Cx a, Cx b) noexcept {
-  const double d = b.re * b.re + b.im * b.im;
-  return {(a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d};
-}
-// The larger of |re| and |im|: within a factor sqrt(2) of the modulus, and without hypot's cost.
-inline double abs(Cx a) noexcept { return std::fmax(std::fabs(a.re), std::fabs(a.im)); }
-inline Cx cexp(Cx a) noexcept {
-  const double e = std::exp(a.re);
-  return {e * std::cos(a.im), e * std::sin(a.im)};
-}
-constexpr Cx conj(Cx a) noexcept { return {a.re, -a.im}; }
-
-Cx pole(const Mode& m) noexcept { return {-m.zeta * m.omega, m.omega * std::sqrt(1.0 - m.zeta * m.zeta)}; }
+using namespace numeric;
 
 // phi1(x) = (e^x - 1) / x and phi2(x) = (e^x - 1 - x) / x^2, by their series near 0 where the
 // closed forms cancel.
 Cx phi1(Cx x) noexcept {
-  if (abs(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
+  if (cabs_max(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
   Cx term{1.0, 0.0}, sum{1.0, 0.0};
   for (int n = 1; n < 20; ++n) {
     term = (1.0 / (n + 1)) * (term * x);
@@ -46,7 +28,7 @@ Cx phi1(Cx x) noexcept {
   return sum;
 }
 Cx phi2(Cx x) noexcept {
-  if (abs(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
+  if (cabs_max(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
   Cx term{0.5, 0.0}, sum{0.5, 0.0};
   for (int n = 1; n < 24; ++n) {
     term = (1.0 / (n + 2)) * (term * x);
@@ -59,13 +41,13 @@ Cx phi2(Cx x) noexcept {
 // power series when |z| S is small, by the upward recurrence otherwise (it then loses at most a
 // factor prod m / |z S| <= 4 of accuracy).
 void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept {
-  if (abs(z) * s < 1.5) {
+  if (cabs_max(z) * s < 1.5) {
     // J_m = S^{m+1} sum_n c_n / (n + m + 1), c_n = (-z S)^n / n!: the c_n once for every m.
     const Cx mzs = (-s) * z;
     std::array<Cx, 32> c{};
     c[0] = {1.0, 0.0};
     std::size_t nt = 1;
-    while (nt < c.size() && abs(c[nt - 1]) > 1e-18) {
+    while (nt < c.size() && cabs_max(c[nt - 1]) > 1e-18) {
       c[nt] = (1.0 / static_cast<double>(nt)) * (c[nt - 1] * mzs);
       ++nt;
     }
@@ -121,12 +103,6 @@ Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
   return len * (cexp((te - uc) * lam) * acc);
 }
 
-// Eight-point Gauss-Legendre on [-1, 1].
-constexpr double kGlX[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
-                            0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
-constexpr double kGlW[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
-                            0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
-
 // F(te) = int_0^te e^{lambda (te - u)} p(u) du for an unshaped profile (p = D past its end).
 template <typename Shape>
 Cx profile_integral(const Shape& prof, Cx lam, double te) noexcept {
@@ -143,15 +119,9 @@ Cx profile_integral(const Shape& prof, Cx lam, double te) noexcept {
     // No exact pieces (the pseudo-polynomial): composite Gauss-Legendre on panels short against
     // the mode's time scale, so that the exponential is resolved to rounding.
     if (body > 0.0) {
-      const int panels = std::clamp(static_cast<int>(std::ceil(abs(lam) * body)) * 2, 32, 512);
-      const double hp = body / panels;
-      for (int k = 0; k < panels; ++k) {
-        const double mid = (k + 0.5) * hp;
-        for (int q = 0; q < 8; ++q) {
-          const double u = mid + 0.5 * hp * kGlX[q];
-          acc = acc + (0.5 * hp * kGlW[q] * prof.at(u).p) * cexp((te - u) * lam);
-        }
-      }
+      const int panels = std::clamp(static_cast<int>(std::ceil(cabs_max(lam) * body)) * 2, 32, 512);
+      gauss_legendre_8(0.0, body, panels,
+                       [&](double u, double w) { acc = acc + (w * prof.at(u).p) * cexp((te - u) * lam); });
     }
   }
   if (te > tp) acc = acc + (prof.distance() * (te - tp)) * phi1((te - tp) * lam);
@@ -254,7 +224,7 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
     rhs[rows++] = *r.target - p0 - v0 * t_total - 0.5 * a0 * t_total * t_total;
   }
   for (std::size_t i = 0; i < r.mode_count; ++i) {
-    const Cx lam = pole(r.modes[i]);
+    const Cx lam = pole(r.modes[i].omega, r.modes[i].zeta);
     const Cx x = h * lam;
     const Cx e1 = cexp(x);
     const Cx f1 = h * phi1(x);       // int_0^h e^{lambda w} dw
@@ -355,7 +325,7 @@ bool within(const Peaks<double>& pk, const OnlineLimits& l) noexcept {
 
 ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
   if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
-  const Cx lam = pole(mode);
+  const Cx lam = pole(mode.omega, mode.zeta);
   // Q(t) = -int_0^t e^{lambda (t-s)} x'(s) ds = -x(t) - lambda int_0^t e^{lambda (t-s)} x(s) ds, and the
   // shaped x is sum_i A_i p(s - t_i): each impulse contributes its profile's integral.
   Cx acc{};
@@ -391,7 +361,7 @@ ModeMemory mode_memory(const Blend& b, const ModeMemory& at_start, double u, con
   if (!(u > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return at_start;
   // Q(u) = e^{lambda u} Q(0) - int_0^u e^{lambda (u - w)} b'(w) dw, and with c(w) = b(w) - b(0) the
   // integral is c(u) + lambda int_0^u e^{lambda (u - w)} c(w) dw (by parts; c(0) = 0).
-  const Cx lam = pole(mode);
+  const Cx lam = pole(mode.omega, mode.zeta);
   const BlendShape shape{&b, b.start().p};
   const Cx f = profile_integral(shape, lam, u);
   const Cx q = cexp(u * lam) * Cx{at_start.re, at_start.im} - Cx{b.at(u).p - shape.p0, 0.0} - lam * f;
@@ -511,7 +481,7 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
   // a shaper adds), and for a retarget a rest-to-rest move over the distance.
   double half_period = 0.0;
   for (std::size_t i = 0; i < r.mode_count; ++i) {
-    half_period = std::max(half_period, 3.14159265358979323846 / pole(r.modes[i]).im);
+    half_period = std::max(half_period, 3.14159265358979323846 / pole(r.modes[i].omega, r.modes[i].zeta).im);
   }
   double guess = lower + half_period;
   if (r.target) {
