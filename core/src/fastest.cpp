@@ -11,6 +11,7 @@
 #include "settle/core/shaper.hpp"
 #include "settle/core/small_solve.hpp"
 #include "numeric/complex.hpp"
+#include "numeric/levenberg_marquardt.hpp"
 
 namespace settle::core {
 
@@ -173,25 +174,8 @@ struct Problem {
 using Vec = std::array<double, kMaxVars>;
 using EqVec = std::array<double, kMaxEqs>;
 // The Jacobian, as it is structured: dense over the durations (columns 0 .. 2h), and each slack
-// column (from 2h on) holding one entry, on its own row. Stored so, it takes half the stack of
-// a dense kMaxEqs x kMaxVars matrix.
-struct Jac {
-  static constexpr std::size_t kNone = kMaxVars;
-  std::array<std::array<double, 2 * kMaxFullPairs>, kMaxEqs> d{};  // d[row][duration column]
-  std::array<std::size_t, kMaxEqs> slack_col{};                   // the row's slack column, or kNone
-  std::array<double, kMaxEqs> slack{};                             // and its entry
-  void clear(std::size_t rows, std::size_t durations) noexcept {
-    for (std::size_t r = 0; r < rows; ++r) {
-      std::fill_n(d[r].begin(), durations, 0.0);
-      slack_col[r] = kNone;
-      slack[r] = 0.0;
-    }
-  }
-  void set_slack(std::size_t row, std::size_t col, double v) noexcept {
-    slack_col[row] = col;
-    slack[row] = v;
-  }
-};
+// column (from 2h on) holding one entry, on its own row.
+using Jac = numeric::SlackJacobian<kMaxEqs, 2 * kMaxFullPairs, kMaxVars>;
 
 // The pattern's segment durations, jerks (units of J) and switch times from the unknowns.
 struct Pattern {
@@ -448,17 +432,6 @@ void residuals(const Problem& b, double T, const Vec& y, EqVec& f, Jac* jac) noe
   }
 }
 
-double norm_inf(const EqVec& f, std::size_t n) noexcept {
-  double m = 0.0;
-  for (std::size_t i = 0; i < n; ++i) m = std::fmax(m, std::fabs(f[i]));
-  return m;
-}
-double norm2(const EqVec& f, std::size_t n) noexcept {
-  double m = 0.0;
-  for (std::size_t i = 0; i < n; ++i) m += f[i] * f[i];
-  return m;
-}
-
 // The equations are dimensionless (relative distance and velocity, residual sums of order 1);
 // the move that comes out is checked on its own (limits, residual), so this only stops the solve.
 constexpr double kSolveTol = 1e-11;
@@ -468,78 +441,11 @@ constexpr int kFirstIterations = 40;
 constexpr int kWarmIterations = 12;
 constexpr double kBisectTol = 1e-6;
 
-// Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F. Its stack
-// is the Jacobian and one m x m matrix (J J^T is formed afresh for each damping tried).
+// The switch times for move time T from y (numeric/levenberg_marquardt.hpp).
 bool lm_solve(const Problem& b, double T, Vec& y, int max_iter) noexcept {
-  const std::size_t n = b.nvar(), m = b.neq(), nd = 2 * b.h;
-  EqVec f{};
-  Jac jac{};
-  residuals(b, T, y, f, &jac);
-  double cost = norm2(f, m);
-  double lambda = 1e-6;
-  int slow = 0;
-  for (int it = 0; it < max_iter; ++it) {
-    if (norm_inf(f, m) < kSolveTol) return true;
-    const double cost_before = cost;
-    bool improved = false;
-    // The undamped (Gauss-Newton, minimum-norm) step first: the rows differ in stiffness by many
-    // orders (the end velocity against the residual sums), and damping them evenly spoils the
-    // stiff ones near the solution. Then damped steps, more and more like gradient steps.
-    for (int tries = 0; tries < 8 && !improved; ++tries) {
-      const double lam = tries == 0 ? 0.0 : lambda;
-      std::array<std::array<double, kMaxEqs>, kMaxEqs> aa;
-      EqVec w{};
-      // J J^T: the slack columns (from 2h on) hold one entry each, on their own row, so they add
-      // to the diagonal only (the same sums as over every column: the rest are exact zeros).
-      for (std::size_t r = 0; r < m; ++r) {
-        for (std::size_t c = 0; c <= r; ++c) {
-          double s = 0.0;
-          for (std::size_t v = 0; v < nd; ++v) s += jac.d[r][v] * jac.d[c][v];
-          aa[r][c] = aa[c][r] = s;
-        }
-        aa[r][r] += jac.slack[r] * jac.slack[r];
-        w[r] = f[r];
-      }
-      for (std::size_t r = 0; r < m; ++r) aa[r][r] += lam * (1.0 + aa[r][r]);
-      if (!solve_in_place(aa, w, m, 1e-300)) {
-        if (tries > 0) lambda *= 10.0;
-        continue;
-      }
-      Vec yn = y;
-      for (std::size_t v = 0; v < nd; ++v) {
-        double s = 0.0;
-        for (std::size_t r = 0; r < m; ++r) s += jac.d[r][v] * w[r];
-        yn[v] -= s;
-      }
-      for (std::size_t r = 0; r < m; ++r) {
-        if (jac.slack_col[r] < n) yn[jac.slack_col[r]] -= jac.slack[r] * w[r];
-      }
-      // The undamped step usually succeeds: take its Jacobian with its residual (and redo the
-      // old one in the rare case it does not).
-      EqVec fn{};
-      residuals(b, T, yn, fn, tries == 0 ? &jac : nullptr);
-      const double cn = norm2(fn, m);
-      if (std::isfinite(cn) && cn < cost) {
-        y = yn;
-        f = fn;
-        cost = cn;
-        if (tries > 0) {
-          lambda = std::fmax(lambda * 0.1, 1e-15);
-          residuals(b, T, y, f, &jac);
-        }
-        improved = true;
-      } else {
-        if (tries > 0) lambda *= 10.0;
-        if (tries == 0) residuals(b, T, y, f, &jac);
-      }
-    }
-    if (!improved) return norm_inf(f, m) < kSolveTol;
-    // Stagnating far from a solution (less than 1 % gained per step, three steps running):
-    // this start does not lead to one; stop rather than grind.
-    slow = cost > 0.99 * cost_before ? slow + 1 : 0;
-    if (slow >= 3 && cost > 1e-12) return false;
-  }
-  return norm_inf(f, m) < kSolveTol;
+  const auto f = [&](const Vec& yy, EqVec& out, Jac* jac) { residuals(b, T, yy, out, jac); };
+  return numeric::levenberg_marquardt<kMaxEqs, 2 * kMaxFullPairs, kMaxVars>(
+      f, numeric::LmSize{b.nvar(), b.neq(), 2 * b.h, kSolveTol}, y, max_iter);
 }
 
 // The move as a table: mirrored, the pulse, the cruise and the pulse mirrored; whole, the
