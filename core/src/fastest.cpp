@@ -8,6 +8,7 @@
 
 #include "settle/core/golden_section.hpp"
 #include "settle/core/piecewise_jerk.hpp"
+#include "settle/core/residual.hpp"
 #include "settle/core/shaper.hpp"
 #include "settle/core/small_solve.hpp"
 #include "numeric/complex.hpp"
@@ -26,26 +27,6 @@ struct ModeSet {
 };
 
 // ----- jerk tables ---------------------------------------------------------------------------
-
-// Laplace transform of the table's acceleration at s, times e^{s T} (T its duration): the move
-// starts from rest with a = 0, so A(s) = sum_i j_i (e^{-s t_i} - e^{-s t_{i+1}}) / s^2. Referred
-// to the end every exponential has magnitude <= 1 for a stable pole, so long moves on damped
-// modes neither overflow nor cancel.
-Cx accel_transform_at_end(const FastestTable& p, Cx s) noexcept {
-  double total = 0.0;
-  for (std::size_t i = 0; i < p.count; ++i) total += p.durations[i];
-  // j_i (e^{s (T - t_i)} - e^{s (T - t_{i+1})}) = j_i e^{s (T - t_{i+1})} (e^{s d_i} - 1)
-  Cx acc{};
-  double t = 0.0;
-  for (std::size_t i = 0; i < p.count; ++i) {
-    const double t1 = t + p.durations[i];
-    if (p.jerk[i] != 0.0) acc = acc + p.jerk[i] * (cexp_neg(s, t1 - total) * cexpm1(p.durations[i] * s));
-    t = t1;
-  }
-  const Cx s2 = s * s;
-  const double n2 = s2.re * s2.re + s2.im * s2.im;
-  return (1.0 / n2) * (acc * Cx{s2.re, -s2.im});
-}
 
 // Appends a segment (merged with the last when its jerk is the same); false when the table is
 // full (the caller then drops the whole table). accel0 follows from the segments before.
@@ -550,16 +531,6 @@ TableWalk walk_table(const FastestTable& p) noexcept {
 
 Peaks<double> jerk_table_peaks(const FastestTable& p) noexcept { return walk_table(p).pk; }
 
-double fastest_residual_amplitude(const FastestTable& p, double omega, double zeta) noexcept {
-  return cabs(accel_transform_at_end(p, pole(omega, zeta))) / (omega * std::sqrt(1.0 - zeta * zeta));
-}
-
-double fastest_residual_ratio(const FastestTable& p, double omega, double zeta) noexcept {
-  // A step of D leaves the amplitude |D| omega / wd right after it.
-  const double wd = omega * std::sqrt(1.0 - zeta * zeta);
-  return fastest_residual_amplitude(p, omega, zeta) * wd / (std::fabs(p.distance) * omega);
-}
-
 namespace {
 
 // --robust: the residual ratio must stay <= 5 % over the band. It is sampled at 129 frequencies
@@ -573,7 +544,7 @@ double worst_over_band(const FastestTable& p, const ModeSet& ms, double band) no
   for (std::size_t i = 0; i < ms.n; ++i) {
     const double w0 = ms.m[i].omega, z = ms.m[i].zeta;
     const auto at = [&](int k) { return w0 * (1.0 - band + 2.0 * band * k / kSamples); };
-    const auto ratio = [&](double w) { return fastest_residual_ratio(p, w, z); };
+    const auto ratio = [&](double w) { return residual_ratio(p, Mode{w, z}); };
     double prev2 = -1.0, prev = ratio(at(0));
     worst = std::fmax(worst, prev);
     for (int k = 1; k <= kSamples; ++k) {
@@ -642,7 +613,7 @@ bool design_ok(const FastestTable& p, const ModeSet& ms, double band, double exa
   constexpr double kEps = 2.220446049250313e-16;
   const double time_floor = 16.0 * static_cast<double>(p.count) * jpk * kEps * T;
   for (std::size_t i = 0; i < ms.n; ++i) {
-    const double amp = fastest_residual_amplitude(p, ms.m[i].omega, ms.m[i].zeta);
+    const double amp = residual_amplitude(p, ms.m[i]);
     if (!(amp <= exact_tol * std::fabs(p.distance) + time_floor / ms.m[i].omega)) return false;
   }
   return true;

@@ -7,126 +7,17 @@
 
 #include "settle/core/piece.hpp"
 #include "settle/core/small_solve.hpp"
+#include "mode_integral.hpp"
 #include "numeric/complex.hpp"
-#include "numeric/quadrature.hpp"
 
 namespace settle::core {
 
 namespace {
 
 using namespace numeric;
-
-// phi1(x) = (e^x - 1) / x and phi2(x) = (e^x - 1 - x) / x^2, by their series near 0 where the
-// closed forms cancel.
-Cx phi1(Cx x) noexcept {
-  if (cabs_max(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
-  Cx term{1.0, 0.0}, sum{1.0, 0.0};
-  for (int n = 1; n < 20; ++n) {
-    term = (1.0 / (n + 1)) * (term * x);
-    sum = sum + term;
-  }
-  return sum;
-}
-Cx phi2(Cx x) noexcept {
-  if (cabs_max(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
-  Cx term{0.5, 0.0}, sum{0.5, 0.0};
-  for (int n = 1; n < 24; ++n) {
-    term = (1.0 / (n + 2)) * (term * x);
-    sum = sum + term;
-  }
-  return sum;
-}
-
-// J_m(z, S) = int_0^S s^m e^{-z s} ds for m = 0..kMaxPieceDegree, Re z >= 0, 0 <= S <= 1: by the
-// power series when |z| S is small, by the upward recurrence otherwise (it then loses at most a
-// factor prod m / |z S| <= 4 of accuracy).
-void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept {
-  if (cabs_max(z) * s < 1.5) {
-    // J_m = S^{m+1} sum_n c_n / (n + m + 1), c_n = (-z S)^n / n!: the c_n once for every m.
-    const Cx mzs = (-s) * z;
-    std::array<Cx, 32> c{};
-    c[0] = {1.0, 0.0};
-    std::size_t nt = 1;
-    while (nt < c.size() && cabs_max(c[nt - 1]) > 1e-18) {
-      c[nt] = (1.0 / static_cast<double>(nt)) * (c[nt - 1] * mzs);
-      ++nt;
-    }
-    double sp = s;  // S^{m+1}
-    for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
-      Cx sum{};
-      for (std::size_t k = 0; k < nt; ++k) sum = sum + (1.0 / static_cast<double>(k + m + 1)) * c[k];
-      out[m] = sp * sum;
-      sp *= s;
-    }
-    return;
-  }
-  const Cx e = cexp(-s * z);
-  out[0] = (Cx{1.0, 0.0} - e) / z;
-  double sm = 1.0;
-  for (std::size_t m = 1; m <= kMaxPieceDegree; ++m) {
-    sm *= s;
-    out[m] = (static_cast<double>(m) * out[m - 1] - sm * e) / z;
-  }
-}
-
-// int over one piece, from its start to u_c = min(end, te), of e^{lambda (te - u)} P(u) du, exactly.
-// With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
-// pieces or heavy damping.
-Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
-  constexpr double w = 6.283185307179586476925286766559;
-  constexpr double binom[6][6] = {{1, 0, 0, 0, 0, 0},   {1, 1, 0, 0, 0, 0},    {1, 2, 1, 0, 0, 0},
-                                  {1, 3, 3, 1, 0, 0},   {1, 4, 6, 4, 1, 0},    {1, 5, 10, 10, 5, 1}};
-  const double uc = std::min(pc.start + pc.length, te);
-  const double len = pc.length;
-  const double s = (uc - pc.start) / len;
-  const Cx nu = -len * lam;
-  std::array<Cx, kMaxPieceDegree + 1> jm{};
-  moments(nu, s, jm);
-  // P(S - sigma) = sum_m b_m sigma^m.
-  Cx acc{};
-  for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
-    double b = 0.0, sp = 1.0;
-    for (std::size_t k = m; k <= kMaxPieceDegree; ++k) {
-      b += pc.c[k] * binom[k][m] * sp;
-      sp *= s;
-    }
-    if (m % 2 == 1) b = -b;
-    acc = acc + b * jm[m];
-  }
-  if (pc.trig) {
-    // Im(W e^{-i w sigma}) with W = Z e^{i w S}: (W J0(nu + i w) - conj(W) J0(nu - i w)) / (2i).
-    const Cx wz = Cx{pc.zr, pc.zi} * Cx{std::cos(w * s), std::sin(w * s)};
-    const Cx j_plus = s * phi1(-s * (nu + Cx{0.0, w}));
-    const Cx j_minus = s * phi1(-s * (nu - Cx{0.0, w}));
-    acc = acc + (wz * j_plus - conj(wz) * j_minus) / Cx{0.0, 2.0};
-  }
-  return len * (cexp((te - uc) * lam) * acc);
-}
-
-// F(te) = int_0^te e^{lambda (te - u)} p(u) du for an unshaped profile (p = D past its end).
-template <typename Shape>
-Cx profile_integral(const Shape& prof, Cx lam, double te) noexcept {
-  const double tp = prof.duration();
-  Cx acc{};
-  const double body = std::min(te, tp);
-  if constexpr (requires { prof.piece_count(); }) {
-    for (int i = 0; i < prof.piece_count(); ++i) {
-      const Piece pc = prof.piece(i);
-      if (!(pc.length > 0.0) || pc.start >= body) continue;
-      acc = acc + piece_integral(pc, lam, te);
-    }
-  } else {
-    // No exact pieces (the pseudo-polynomial): composite Gauss-Legendre on panels short against
-    // the mode's time scale, so that the exponential is resolved to rounding.
-    if (body > 0.0) {
-      const int panels = std::clamp(static_cast<int>(std::ceil(cabs_max(lam) * body)) * 2, 32, 512);
-      gauss_legendre_8(0.0, body, panels,
-                       [&](double u, double w) { acc = acc + (w * prof.at(u).p) * cexp((te - u) * lam); });
-    }
-  }
-  if (te > tp) acc = acc + (prof.distance() * (te - tp)) * phi1((te - tp) * lam);
-  return acc;
-}
+using detail::phi1;
+using detail::phi2;
+using detail::profile_integral;
 
 bool finite(const Sample<double>& s) noexcept {
   return std::isfinite(s.p) && std::isfinite(s.v) && std::isfinite(s.a);
@@ -322,23 +213,6 @@ bool within(const Peaks<double>& pk, const OnlineLimits& l) noexcept {
 }
 
 }  // namespace
-
-ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
-  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
-  const Cx lam = pole(mode.omega, mode.zeta);
-  // Q(t) = -int_0^t e^{lambda (t-s)} x'(s) ds = -x(t) - lambda int_0^t e^{lambda (t-s)} x(s) ds, and the
-  // shaped x is sum_i A_i p(s - t_i): each impulse contributes its profile's integral.
-  Cx acc{};
-  const Shaper<double>& sh = m.shaper();
-  for (std::size_t i = 0; i < sh.count; ++i) {
-    const double te = t - sh.time[i];
-    if (!(te > 0.0)) continue;
-    const Cx f = m.profile().visit([&](const auto& p) { return profile_integral(p, lam, te); });
-    acc = acc + sh.amp[i] * f;
-  }
-  const Cx q = Cx{-m.at(t).p, 0.0} - lam * acc;
-  return {q.re, q.im};
-}
 
 namespace {
 // A blend seen from its start: its pieces less the start's position, at rest on end - start past
