@@ -312,8 +312,9 @@ Status online_request(const Move<double>& m, double t, const Mode* modes, std::s
 
 namespace {
 
-// The fastest blend of the family that meets the request within the limits (docs/online.md).
-Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
+// The request's own checks, before any solve: finite, positive limits, modes in range, a switch
+// state within the limits. at_rest: nothing to do (no motion, every memory rounding).
+Status check_request(const OnlineRequest& r, bool& at_rest) noexcept {
   const OnlineLimits& l = r.limits;
   if (!finite(r.start) || !std::isfinite(l.vmax) || !std::isfinite(l.amax) || !std::isfinite(l.jmax) ||
       (r.target && !std::isfinite(*r.target))) {
@@ -321,7 +322,7 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
   }
   if (!(l.vmax > 0.0 && l.amax > 0.0 && l.jmax > 0.0)) return Status::non_positive_limit;
   if (r.mode_count > kMaxOnlineModes) return Status::unsupported_request;
-  bool at_rest = r.start.v == 0.0 && r.start.a == 0.0 && (!r.target || *r.target == r.start.p);
+  at_rest = r.start.v == 0.0 && r.start.a == 0.0 && (!r.target || *r.target == r.start.p);
   for (std::size_t i = 0; i < r.mode_count; ++i) {
     const Mode& m = r.modes[i];
     if (!std::isfinite(m.omega) || !std::isfinite(m.zeta) || !std::isfinite(r.memory[i].re) ||
@@ -342,22 +343,23 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
       std::fabs(r.start.v) + r.start.a * r.start.a / (2.0 * l.jmax) > l.vmax * (1.0 + kLimitSlack)) {
     return Status::velocity_limit_exceeded;
   }
-  if (at_rest) {
-    out = Blend{r.start, 0.0, {}};
-    return Status::ok;
-  }
+  return Status::ok;
+}
+
+// A duration no blend can beat (lower) and a first guess above it.
+void duration_bounds(const OnlineRequest& r, double& lower, double& guess) noexcept {
+  const OnlineLimits& l = r.limits;
   // A duration no blend can beat: the time-optimal stop of the velocity alone (every blend ends
   // with v = a = 0), and for a retarget the distance at vmax.
-  const Brake full = velocity_stop(r.start.v, r.start.a, 0.995 * l.amax, 0.995 * l.jmax);
   const Brake exact = velocity_stop(r.start.v, r.start.a, l.amax, l.jmax);
-  double lower = exact.dur[0] + exact.dur[1] + exact.dur[2];
+  lower = exact.dur[0] + exact.dur[1] + exact.dur[2];
   // A first guess of the right order: that stop plus half the slowest mode's damped period (what
   // a shaper adds), and for a retarget a rest-to-rest move over the distance.
   double half_period = 0.0;
   for (std::size_t i = 0; i < r.mode_count; ++i) {
     half_period = std::max(half_period, 3.14159265358979323846 / pole(r.modes[i].omega, r.modes[i].zeta).im);
   }
-  double guess = lower + half_period;
+  guess = lower + half_period;
   if (r.target) {
     const double d = std::fabs(*r.target - r.start.p);
     lower = std::max(lower, d / l.vmax);
@@ -365,7 +367,23 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
                       2.0 * std::cbrt(d / l.jmax) + half_period});
   }
   if (!(guess > lower)) guess = lower > 0.0 ? 1.25 * lower : 1e-3;
-  Solved sol{};
+}
+
+// The five blends tried at each duration (listed in the constructor), and the one that worked last.
+struct BlendFamily {
+  const OnlineRequest* r{nullptr};
+  Brake full{}, soft{}, sharp{};
+  std::array<double, kBlendSegments> uniform{}, front{};  // square roots of the weights
+  int last{0};
+  int tries{0};
+  explicit BlendFamily(const OnlineRequest& req) noexcept;
+  // Whether a blend of duration t meets the request within the limits; its jerks go to sol.
+  bool feasible(double t, Solved& sol) noexcept;
+};
+
+BlendFamily::BlendFamily(const OnlineRequest& req) noexcept : r{&req} {
+  const OnlineLimits& l = req.limits;
+  full = velocity_stop(req.start.v, req.start.a, 0.995 * l.amax, 0.995 * l.jmax);
   // Five blends per duration, the first within the limits wins (docs/online.md):
   //  0. the time-optimal velocity stop at 99.5 % of the limits, corrected where it leaves jerk headroom
   //     (weights (1 - |j_ref| / jmax)^2): the fastest when vmax or amax is tight;
@@ -375,43 +393,61 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
   //  4. the velocity stop at the full jerk limit and 90 % of amax, corrected where it leaves jerk
   //     headroom: from a state whose acceleration must be taken out at the full jerk limit not to
   //     pass vmax (near the peak of an S-curve planned at exactly these limits), the one that can.
-  const Brake soft = velocity_stop(r.start.v, r.start.a, 0.85 * l.amax, 0.85 * l.jmax);
-  const Brake sharp = velocity_stop(r.start.v, r.start.a, 0.6 * l.amax, l.jmax);
-  const std::array<double, kBlendSegments> none{};
-  std::array<double, kBlendSegments> uniform{}, front{};  // square roots of the weights
+  soft = velocity_stop(req.start.v, req.start.a, 0.85 * l.amax, 0.85 * l.jmax);
+  sharp = velocity_stop(req.start.v, req.start.a, 0.6 * l.amax, l.jmax);
   for (std::size_t k = 0; k < kBlendSegments; ++k) {
     uniform[k] = 1.0;
     const double x = 1.0 - (static_cast<double>(k) + 0.5) / static_cast<double>(kBlendSegments);
     front[k] = x * std::sqrt(x);
   }
-  constexpr int kBlendKinds = 5;
-  int last = 0, tries = kBlendKinds;
-  auto feasible = [&](double t) {
-    const double h = t / static_cast<double>(kBlendSegments);
-    System sys{};
-    build_system(r, t, sys);
-    std::array<double, kBlendSegments> ref{}, w{};
-    // The blend that worked last is tried first: neighbouring durations usually agree.
-    for (int i = 0; i < tries; ++i) {
-      const int c = (i + last) % kBlendKinds;
-      const bool braking = c == 0 || c == 1 || c == 4;
-      if (braking) ref = {};
-      if (c == 0 || c == 4) {
-        sample_brake(c == 0 ? full : sharp, h, ref);
-        for (std::size_t k = 0; k < kBlendSegments; ++k) w[k] = 1.0 - std::fabs(ref[k]) / l.jmax;
-      } else if (c == 1) {
-        sample_brake(soft, h, ref);
-      }
-      Solved s{};
-      if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, s)) continue;
-      const Blend b{r.start, t / static_cast<double>(kBlendSegments), s.jerk};
-      if (!within(b.peaks(), l)) continue;
-      sol = s;
-      last = c;
-      return true;
+}
+
+constexpr int kBlendKinds = 5;
+
+bool BlendFamily::feasible(double t, Solved& sol) noexcept {
+  const OnlineLimits& l = r->limits;
+  const std::array<double, kBlendSegments> none{};
+  const double h = t / static_cast<double>(kBlendSegments);
+  System sys{};
+  build_system(*r, t, sys);
+  std::array<double, kBlendSegments> ref{}, w{};
+  // The blend that worked last is tried first: neighbouring durations usually agree.
+  for (int i = 0; i < tries; ++i) {
+    const int c = (i + last) % kBlendKinds;
+    const bool braking = c == 0 || c == 1 || c == 4;
+    if (braking) ref = {};
+    if (c == 0 || c == 4) {
+      sample_brake(c == 0 ? full : sharp, h, ref);
+      for (std::size_t k = 0; k < kBlendSegments; ++k) w[k] = 1.0 - std::fabs(ref[k]) / l.jmax;
+    } else if (c == 1) {
+      sample_brake(soft, h, ref);
     }
-    return false;
-  };
+    Solved s{};
+    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, s)) continue;
+    const Blend b{r->start, t / static_cast<double>(kBlendSegments), s.jerk};
+    if (!within(b.peaks(), l)) continue;
+    sol = s;
+    last = c;
+    return true;
+  }
+  return false;
+}
+
+// The fastest blend of the family that meets the request within the limits (docs/online.md).
+Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
+  bool at_rest = false;
+  const Status st = check_request(r, at_rest);
+  if (st != Status::ok) return st;
+  if (at_rest) {
+    out = Blend{r.start, 0.0, {}};
+    return Status::ok;
+  }
+  double lower = 0.0, guess = 0.0;
+  duration_bounds(r, lower, guess);
+  Solved sol{};
+  BlendFamily fam{r};
+  fam.tries = kBlendKinds;
+  const auto feasible = [&](double t) { return fam.feasible(t, sol); };
   // Bracket: grow until feasible, then bisect down towards the first feasible duration.
   double lo = lower, hi = guess;
   int grow = 0;
@@ -423,7 +459,7 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
   // Bisection on the blend that made the bracket (`last`) alone: a quarter of the solves, and the
   // duration found is that blend's shortest to within 0.5 %.
   Solved best = sol;
-  tries = 1;
+  fam.tries = 1;
   for (int it = 0; it < 40 && hi - lo > 5e-3 * hi; ++it) {
     const double mid = 0.5 * (lo + hi);
     if (mid > lo && feasible(mid)) {
