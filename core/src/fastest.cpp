@@ -1490,47 +1490,66 @@ bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexc
   return true;
 }
 
-}  // namespace
-Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
-  if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
-  if (r.time) return Status::unsupported_request;  // the fastest move has no requested time
+// The search over the families: the request as read, the time-optimal move, and the shortest
+// candidate so far (with every family's own shortest time). plan_fastest runs its stages in order.
+struct FastestSearch {
+  const MoveRequest& r;
   ModeSet ms{};
-  Status st = read_modes(r, ms);
-  if (st != Status::ok) return st;
-  double band = 0.0;
-  if (r.robust) {
-    if (!std::isfinite(*r.robust)) return Status::non_finite_input;
-    if (!(*r.robust > 0.0 && *r.robust <= 50.0)) return Status::bad_shape_parameter;
-    band = *r.robust / 100.0;
-  }
-  const double vmax = *r.vmax, amax = *r.amax, jmax = *r.jmax;
+  double band{0.0};
+  double vmax{0.0}, amax{0.0}, jmax{0.0};
+  PiecewiseJerkParams to{};  // the time-optimal move
+  double t_to{0.0};
   Best best{};
   std::array<double, kFastestFamilies> times{};
-  const auto record = [&](FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) {
+  Shaper<double> joint{};  // the joint ZV shaper of several modes, when has_joint
+  bool has_joint{false};
+  std::array<ZeroSet, 11> sets{};  // the zero sets bang-coast solves for
+  std::size_t nsets{0};
+
+  void record(FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) noexcept {
     double& slot = times[static_cast<std::size_t>(f)];
     if (slot == 0.0 || t < slot) slot = t;
     consider(best, p, pk, t);
-  };
-
-  // (c) the time-optimal move convolved with ZV / ZVD / ZVDD / EI, one shaper per mode.
-  const PiecewiseJerkParams to = jerk_limited_time_optimal(r.distance, vmax, amax, jmax);
-  const double t_to = piecewise_duration(to);
-  constexpr ShaperKind kShapers[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd, ShaperKind::ei};
-  constexpr FastestFamily kShaped[] = {FastestFamily::shaped_zv, FastestFamily::shaped_zvd, FastestFamily::shaped_zvdd,
-                                       FastestFamily::shaped_ei};
-  const auto record_table = [&](FastestFamily f, const FastestTable& t, const Peaks<double>& pk) {
+  }
+  void record_table(FastestFamily f, const FastestTable& t, const Peaks<double>& pk) noexcept {
     FastestParams p{};
     p.family = f;
     p.table = t;
     record(f, p, pk, table_duration(t));
-  };
-  const auto try_shaped = [&](const Shaper<double>& s, FastestFamily fam) {
+  }
+  void try_shaped(const Shaper<double>& s, FastestFamily fam) noexcept {
     FastestTable t{};
     if (!flatten_shaped(to, s, t)) return;
     Peaks<double> pk{};
     if (!table_ok(t, vmax, amax, jmax, ms, band, pk)) return;
     record_table(fam, t, pk);
-  };
+  }
+};
+
+// The request's checks and what the search reads from it (modes, band, limits).
+Status read_fastest_request(const MoveRequest& r, FastestSearch& fs) noexcept {
+  if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
+  if (r.time) return Status::unsupported_request;  // the fastest move has no requested time
+  const Status st = read_modes(r, fs.ms);
+  if (st != Status::ok) return st;
+  if (r.robust) {
+    if (!std::isfinite(*r.robust)) return Status::non_finite_input;
+    if (!(*r.robust > 0.0 && *r.robust <= 50.0)) return Status::bad_shape_parameter;
+    fs.band = *r.robust / 100.0;
+  }
+  fs.vmax = *r.vmax;
+  fs.amax = *r.amax;
+  fs.jmax = *r.jmax;
+  return Status::ok;
+}
+
+// (c) the time-optimal move convolved with ZV / ZVD / ZVDD / EI, one shaper per mode.
+void shaped_families(FastestSearch& fs) noexcept {
+  const ModeSet& ms = fs.ms;
+  const double band = fs.band;
+  constexpr ShaperKind kShapers[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd, ShaperKind::ei};
+  constexpr FastestFamily kShaped[] = {FastestFamily::shaped_zv, FastestFamily::shaped_zvd, FastestFamily::shaped_zvdd,
+                                       FastestFamily::shaped_ei};
   for (std::size_t k = 0; k < 4; ++k) {
     // EI leaves its tolerance (5 %) at the design frequency: never an exact design, and its
     // damped design is iterative (about 25 us), so it is only tried for --robust.
@@ -1543,41 +1562,48 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
            compose(s, one, both) == Status::ok;
       if (ok) s = both;
     }
-    if (ok) try_shaped(s, kShaped[k]);
+    if (ok) fs.try_shaped(s, kShaped[k]);
   }
   // (c') two or more modes: one ZV designed for all of them at once. Its n + 1 impulses (one ZV
   // per mode takes 2^n) are often shorter, and for three modes the only shaped move that fits
   // the table; it also seeds bang-coast below as the best move so far.
-  Shaper<double> joint{};
-  bool has_joint = false;
   if (ms.n >= 2 && ms.n <= kMaxJointModes && band == 0.0) {
     std::array<double, kMaxJointModes> w{}, z{};
     for (std::size_t i = 0; i < ms.n; ++i) {
       w[i] = ms.m[i].omega;
       z[i] = ms.m[i].zeta;
     }
-    has_joint = joint_zv_shaper(w.data(), z.data(), ms.n, joint) == Status::ok;
-    if (has_joint) try_shaped(joint, FastestFamily::shaped_joint_zv);
+    fs.has_joint = joint_zv_shaper(w.data(), z.data(), ms.n, fs.joint) == Status::ok;
+    if (fs.has_joint) fs.try_shaped(fs.joint, FastestFamily::shaped_joint_zv);
   }
 
-  // (b) the ramp-cycloid S-curves: one mode, exact at its design (not robust designs).
-  if (ms.n == 1 && band == 0.0) {
+}
+
+// (b) the ramp-cycloid S-curves: one mode, exact at its design (not robust designs).
+void scurve_families(FastestSearch& fs) noexcept {
+  const ModeSet& ms = fs.ms;
+  const double vmax = fs.vmax, amax = fs.amax, jmax = fs.jmax;
+  if (ms.n == 1 && fs.band == 0.0) {
     const bool damped = ms.m[0].zeta > 0.0;
     FastestParams p{};
-    if (plan_fastest_scurve(r.distance, vmax, amax, jmax, ms.m[0].omega, ms.m[0].zeta, damped, p.curve) ==
+    if (plan_fastest_scurve(fs.r.distance, vmax, amax, jmax, ms.m[0].omega, ms.m[0].zeta, damped, p.curve) ==
         Status::ok) {
       p.family = damped ? FastestFamily::scurve_damped : FastestFamily::scurve;
       const Peaks<double> pk = ramp_cycloid_peaks(p.curve);
       if (limits_ok(pk, vmax, amax, jmax) && !runs_backwards(p.curve)) {
-        record(p.family, p, pk, Fastest<double>{p}.duration());
+        fs.record(p.family, p, pk, Fastest<double>{p}.duration());
       }
     }
   }
+}
 
-  // Robust: the zero sets to try, and (c) once more with the shapers of the spread zero sets
-  // (ZV at omega (1 +- spread)).
-  std::array<ZeroSet, 11> sets{};
-  std::size_t nsets = 0;
+// Robust: the zero sets to try, and (c) once more with the shapers of the spread zero sets
+// (ZV at omega (1 +- spread)).
+void zero_sets(FastestSearch& fs) noexcept {
+  const ModeSet& ms = fs.ms;
+  const double band = fs.band;
+  std::array<ZeroSet, 11>& sets = fs.sets;
+  std::size_t& nsets = fs.nsets;
   if (band == 0.0) {
     sets[nsets++] = {1, 0.0, 0};
   } else {
@@ -1589,7 +1615,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     sets[nsets++] = {1, 0.0, 0};
     for (std::size_t k = 0; k < nsets; ++k) {
       Shaper<double> s{};
-      if (sets[k].points > 1 && zero_shaper(sets[k], ms, s)) try_shaped(s, FastestFamily::shaped_spread);
+      if (sets[k].points > 1 && zero_shaper(sets[k], ms, s)) fs.try_shaped(s, FastestFamily::shaped_spread);
     }
     // The two- and three-hump EI shapers hold the widest bands (about +-36 % and +-48 % of an
     // undamped mode at 5 %): shaped moves, and zero sets whose pulse seeds fit the table where
@@ -1597,35 +1623,45 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     for (const int humps : {2, 3}) {
       Shaper<double> s{};
       if (!hump_zero_set(humps, ms, sets[nsets], s)) continue;
-      try_shaped(s, humps == 2 ? FastestFamily::shaped_ei2 : FastestFamily::shaped_ei3);
+      fs.try_shaped(s, humps == 2 ? FastestFamily::shaped_ei2 : FastestFamily::shaped_ei3);
       ++nsets;
     }
   }
+}
 
-  // (a) bang-bang with limit arcs (exact designs): when it beats the families above, the
-  // bang-coast search below is not made (it is a local search from seeds, and slow), unless the
-  // fastest mode rings more than three periods over the move. The switching function then has
-  // more zeros than the 2 + 2m nodes of a chain hold, the shortest move may switch more often,
-  // and bang-coast's coasts can follow it (without this rule its shorter moves were lost in 4
-  // cases of docs/fastest.md's grids, by up to 10 %).
+// (a) bang-bang with limit arcs (exact designs): when it beats the families above, the
+// bang-coast search below is not made (it is a local search from seeds, and slow), unless the
+// fastest mode rings more than three periods over the move. The switching function then has
+// more zeros than the 2 + 2m nodes of a chain hold, the shortest move may switch more often,
+// and bang-coast's coasts can follow it (without this rule its shorter moves were lost in 4
+// cases of docs/fastest.md's grids, by up to 10 %).
+bool bang_bang_family(FastestSearch& fs) noexcept {
+  const ModeSet& ms = fs.ms;
   bool arcs_won = false;
-  if (band == 0.0) {
+  if (fs.band == 0.0) {
     FastestTable t{};
     Peaks<double> pk{};
-    if (plan_arcs(r, ms, t, pk) && table_duration(t) < best.time) {
-      record_table(FastestFamily::bang_bang, t, pk);
+    if (plan_arcs(fs.r, ms, t, pk) && table_duration(t) < fs.best.time) {
+      fs.record_table(FastestFamily::bang_bang, t, pk);
       double w_max = 0.0;
       for (std::size_t i = 0; i < ms.n; ++i) w_max = std::fmax(w_max, ms.m[i].omega);
       arcs_won = w_max * table_duration(t) <= 3.0 * two_pi_v<double>();
     }
   }
+  return arcs_won;
+}
 
-  // (a') bang-coast switch times under the zero conditions, in both forms (mirrored pulse, whole
-  // move), seeded from the time-optimal move (or its pulse) convolved with the shaper of the
-  // same zeros and the next order.
-  const PiecewiseJerkParams h = accel_pulse(to);
-  for (std::size_t k = 0; k < nsets && !arcs_won; ++k) {
-    const ZeroSet& z = sets[k];
+// (a') bang-coast switch times under the zero conditions, in both forms (mirrored pulse, whole
+// move), seeded from the time-optimal move (or its pulse) convolved with the shaper of the
+// same zeros and the next order.
+void bang_coast_family(FastestSearch& fs) noexcept {
+  const MoveRequest& r = fs.r;
+  const ModeSet& ms = fs.ms;
+  const double band = fs.band, t_to = fs.t_to;
+  const Best& best = fs.best;
+  const PiecewiseJerkParams h = accel_pulse(fs.to);
+  for (std::size_t k = 0; k < fs.nsets; ++k) {
+    const ZeroSet& z = fs.sets[k];
     std::array<Condition, kMaxConds> cond{};
     const std::size_t nc = zero_conditions(z, ms, cond);
     if (nc > kMaxConds) continue;
@@ -1642,7 +1678,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
         pulses[ns].time = t_to + s.duration();
         ++ns;
       }
-      if (flatten_shaped(to, s, whole[nw].g)) {
+      if (flatten_shaped(fs.to, s, whole[nw].g)) {
         whole[nw].time = table_duration(whole[nw].g);
         ++nw;
       }
@@ -1650,8 +1686,8 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     // for three modes or more, the pulse convolved with the joint ZV shaper (exact designs),
     // where the convolved shapers above do not fit (on two modes it lengthened a case: bang-coast
     // ended elsewhere from the shorter bound it set, docs/fastest.md "Several modes"),
-    if (has_joint && ms.n >= 3 && z.points == 1 && z.order == 0 && flatten_shaped(h, joint, pulses[ns].g)) {
-      pulses[ns].time = t_to + joint.duration();
+    if (fs.has_joint && ms.n >= 3 && z.points == 1 && z.order == 0 && flatten_shaped(h, fs.joint, pulses[ns].g)) {
+      pulses[ns].time = t_to + fs.joint.duration();
       ++ns;
     }
     // and from the shortest jerk-table move so far (its zeros lie near these).
@@ -1663,18 +1699,32 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     FastestTable p{};
     Peaks<double> pk{};
     if (plan_pattern(r, ms, true, cond, nc, pulses.data(), ns, t_to, t_cap, band, p, pk)) {
-      record_table(FastestFamily::bang_coast, p, pk);
+      fs.record_table(FastestFamily::bang_coast, p, pk);
     }
     if (plan_pattern(r, ms, false, cond, nc, whole.data(), nw, t_to, std::isfinite(best.time) ? best.time : t_cap,
                      band, p, pk)) {
-      record_table(FastestFamily::bang_coast, p, pk);
+      fs.record_table(FastestFamily::bang_coast, p, pk);
     }
   }
+}
 
-  if (!std::isfinite(best.time)) return Status::no_solution;
-  best.p.family_time = times;
-  out = best.p;
-  out_pk = best.pk;
+}  // namespace
+
+Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
+  FastestSearch fs{r};
+  const Status st = read_fastest_request(r, fs);
+  if (st != Status::ok) return st;
+  fs.to = jerk_limited_time_optimal(r.distance, fs.vmax, fs.amax, fs.jmax);
+  fs.t_to = piecewise_duration(fs.to);
+  shaped_families(fs);
+  scurve_families(fs);
+  zero_sets(fs);
+  const bool arcs_won = bang_bang_family(fs);
+  if (!arcs_won) bang_coast_family(fs);
+  if (!std::isfinite(fs.best.time)) return Status::no_solution;
+  fs.best.p.family_time = fs.times;
+  out = fs.best.p;
+  out_pk = fs.best.pk;
   return Status::ok;
 }
 
