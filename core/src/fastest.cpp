@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "settle/core/golden_section.hpp"
+#include "settle/core/limits.hpp"
 #include "settle/core/piecewise_jerk.hpp"
 #include "settle/core/residual.hpp"
 #include "settle/core/shaper.hpp"
@@ -587,11 +588,6 @@ bool runs_backwards(const RampCycloidParams& c) noexcept {
   return lowest < -kBackwardsTol * peak;
 }
 
-bool limits_ok(const Peaks<double>& pk, double vmax, double amax, double jmax) noexcept {
-  constexpr double slack = 1e-9;
-  return pk.v <= vmax * (1.0 + slack) && pk.a <= amax * (1.0 + slack) && pk.j <= jmax * (1.0 + slack);
-}
-
 struct Best {
   FastestParams p{};
   Peaks<double> pk{};
@@ -621,11 +617,10 @@ bool design_ok(const FastestTable& p, const ModeSet& ms, double band, double exa
 
 // A jerk-table candidate of any family: its exact peaks within the limits, never backwards, and
 // its design held (exact zeros, or the band). pk gets its peaks.
-bool table_ok(const FastestTable& t, double vmax, double amax, double jmax, const ModeSet& ms, double band,
-              Peaks<double>& pk) noexcept {
+bool table_ok(const FastestTable& t, const Limits& lim, const ModeSet& ms, double band, Peaks<double>& pk) noexcept {
   const TableWalk w = walk_table(t);
   pk = w.pk;
-  return limits_ok(pk, vmax, amax, jmax) && !(w.lowest < -kBackwardsTol * w.end_peak) &&
+  return within_limits(pk, lim) && !(w.lowest < -kBackwardsTol * w.end_peak) &&
          design_ok(t, ms, band, 1e-10);
 }
 
@@ -755,7 +750,7 @@ bool plan_pattern(const MoveRequest& r, const ModeSet& ms, bool mirrored, const 
   b.nc = nc;
   const auto accept = [&](const Problem& bb, double T, const Vec& yy, FastestTable& p, Peaks<double>& pk) {
     p = pattern_table(bb, T, yy, r.distance);
-    return p.count != 0 && table_ok(p, bb.vmax, bb.amax, bb.J, ms, band, pk);
+    return p.count != 0 && table_ok(p, Limits{bb.vmax, bb.amax, bb.J}, ms, band, pk);
   };
   bool have = false;
   const auto descend = [&](const Problem& bb, double T, Vec y) {
@@ -1362,7 +1357,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
           if (t.count == 0) return;
           const double T = table_duration(t);
           Peaks<double> pk{};
-          if (T < best && table_ok(t, pb.vmax, pb.amax, pb.J, ms, 0.0, pk)) {
+          if (T < best && table_ok(t, Limits{pb.vmax, pb.amax, pb.J}, ms, 0.0, pk)) {
             best = T;
             out = t;
             out_pk = pk;
@@ -1496,7 +1491,7 @@ struct FastestSearch {
   const MoveRequest& r;
   ModeSet ms{};
   double band{0.0};
-  double vmax{0.0}, amax{0.0}, jmax{0.0};
+  Limits lim{};
   PiecewiseJerkParams to{};  // the time-optimal move
   double t_to{0.0};
   Best best{};
@@ -1521,7 +1516,7 @@ struct FastestSearch {
     FastestTable t{};
     if (!flatten_shaped(to, s, t)) return;
     Peaks<double> pk{};
-    if (!table_ok(t, vmax, amax, jmax, ms, band, pk)) return;
+    if (!table_ok(t, lim, ms, band, pk)) return;
     record_table(fam, t, pk);
   }
 };
@@ -1537,9 +1532,7 @@ Status read_fastest_request(const MoveRequest& r, FastestSearch& fs) noexcept {
     if (!(*r.robust > 0.0 && *r.robust <= 50.0)) return Status::bad_shape_parameter;
     fs.band = *r.robust / 100.0;
   }
-  fs.vmax = *r.vmax;
-  fs.amax = *r.amax;
-  fs.jmax = *r.jmax;
+  fs.lim = {*r.vmax, *r.amax, *r.jmax};
   return Status::ok;
 }
 
@@ -1582,15 +1575,15 @@ void shaped_families(FastestSearch& fs) noexcept {
 // (b) the ramp-cycloid S-curves: one mode, exact at its design (not robust designs).
 void scurve_families(FastestSearch& fs) noexcept {
   const ModeSet& ms = fs.ms;
-  const double vmax = fs.vmax, amax = fs.amax, jmax = fs.jmax;
+  const Limits& l = fs.lim;
   if (ms.n == 1 && fs.band == 0.0) {
     const bool damped = ms.m[0].zeta > 0.0;
     FastestParams p{};
-    if (plan_fastest_scurve(fs.r.distance, vmax, amax, jmax, ms.m[0].omega, ms.m[0].zeta, damped, p.curve) ==
+    if (plan_fastest_scurve(fs.r.distance, l.vmax, l.amax, l.jmax, ms.m[0].omega, ms.m[0].zeta, damped, p.curve) ==
         Status::ok) {
       p.family = damped ? FastestFamily::scurve_damped : FastestFamily::scurve;
       const Peaks<double> pk = ramp_cycloid_peaks(p.curve);
-      if (limits_ok(pk, vmax, amax, jmax) && !runs_backwards(p.curve)) {
+      if (within_limits(pk, l) && !runs_backwards(p.curve)) {
         fs.record(p.family, p, pk, Fastest<double>{p}.duration());
       }
     }
@@ -1714,7 +1707,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
   FastestSearch fs{r};
   const Status st = read_fastest_request(r, fs);
   if (st != Status::ok) return st;
-  fs.to = jerk_limited_time_optimal(r.distance, fs.vmax, fs.amax, fs.jmax);
+  fs.to = jerk_limited_time_optimal(r.distance, fs.lim.vmax, fs.lim.amax, fs.lim.jmax);
   fs.t_to = piecewise_duration(fs.to);
   shaped_families(fs);
   scurve_families(fs);

@@ -24,7 +24,6 @@ bool finite(const Sample<double>& s) noexcept {
 }
 
 constexpr std::size_t kMaxRows = 3 + 2 * kMaxOnlineModes;
-constexpr double kLimitSlack = 1e-9;
 
 // A command's memory this small (relative to its positions) is its rounding: it ends at rest. The
 // residual amplitude of a mode at rest with memory Q is |Q| / sqrt(1 - zeta^2).
@@ -205,11 +204,6 @@ bool solve_for(System sys, const std::array<double, kBlendSegments>& ref, const 
   }
   out.jerk = jerk;
   return true;
-}
-
-bool within(const Peaks<double>& pk, const OnlineLimits& l) noexcept {
-  return pk.v <= l.vmax * (1.0 + kLimitSlack) && pk.a <= l.amax * (1.0 + kLimitSlack) &&
-         pk.j <= l.jmax * (1.0 + kLimitSlack);
 }
 
 }  // namespace
@@ -425,7 +419,7 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
     Solved s{};
     if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, s)) continue;
     const Blend b{r->start, t / static_cast<double>(kBlendSegments), s.jerk};
-    if (!within(b.peaks(), l)) continue;
+    if (!within_limits(b.peaks(), l)) continue;
     sol = s;
     last = c;
     return true;

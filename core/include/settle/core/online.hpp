@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "settle/core/kinematics.hpp"
+#include "settle/core/limits.hpp"
 #include "settle/core/move.hpp"
 #include "settle/core/move_request.hpp"  // Mode: one (omega, zeta), the same a request designs for
 #include "settle/core/piece.hpp"
@@ -25,11 +26,8 @@ static_assert(1 + kMaxExtraModes <= kMaxOnlineModes, "a halt keeps every mode a 
 // A blend is this many constant-jerk segments of equal length.
 inline constexpr std::size_t kBlendSegments = 24;
 
-struct OnlineLimits {
-  double vmax{0.0};  // units/s, > 0
-  double amax{0.0};  // units/s^2, > 0
-  double jmax{0.0};  // units/s^3, > 0
-};
+// The limits a blend keeps (each > 0): the one limits type (limits.hpp).
+using OnlineLimits = Limits;
 
 // ModeMemory and mode_memory(move, t, mode): residual.hpp.
 
