@@ -7,33 +7,19 @@
 #include <cmath>
 
 #include "settle/core/golden_section.hpp"
+#include "settle/core/limits.hpp"
 #include "settle/core/piecewise_jerk.hpp"
+#include "settle/core/residual.hpp"
 #include "settle/core/shaper.hpp"
 #include "settle/core/small_solve.hpp"
+#include "numeric/complex.hpp"
+#include "numeric/levenberg_marquardt.hpp"
 
 namespace settle::core {
 
 namespace {
 
-// A complex number (core keeps to <cmath>; four operations are all the solver needs).
-struct Cx {
-  double re{0.0}, im{0.0};
-};
-constexpr Cx operator+(Cx a, Cx b) noexcept { return {a.re + b.re, a.im + b.im}; }
-constexpr Cx operator*(Cx a, Cx b) noexcept { return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
-constexpr Cx operator*(double s, Cx a) noexcept { return {s * a.re, s * a.im}; }
-inline Cx cexp_neg(Cx p, double t) noexcept {  // e^{-p t}
-  const double m = std::exp(-p.re * t);
-  return {m * std::cos(p.im * t), -m * std::sin(p.im * t)};
-}
-inline double cabs(Cx a) noexcept { return std::hypot(a.re, a.im); }
-// e^{z} - 1, accurate for small |z| (a short segment's two exponentials nearly cancel).
-inline Cx cexpm1(Cx z) noexcept {
-  const double sh = std::sin(0.5 * z.im);
-  return {std::expm1(z.re) * std::cos(z.im) - 2.0 * sh * sh, std::exp(z.re) * std::sin(z.im)};
-}
-
-Cx pole(double omega, double zeta) noexcept { return {-zeta * omega, omega * std::sqrt(1.0 - zeta * zeta)}; }
+using namespace numeric;
 
 constexpr std::size_t kMaxModes = 1 + kMaxExtraModes;
 struct ModeSet {
@@ -42,26 +28,6 @@ struct ModeSet {
 };
 
 // ----- jerk tables ---------------------------------------------------------------------------
-
-// Laplace transform of the table's acceleration at s, times e^{s T} (T its duration): the move
-// starts from rest with a = 0, so A(s) = sum_i j_i (e^{-s t_i} - e^{-s t_{i+1}}) / s^2. Referred
-// to the end every exponential has magnitude <= 1 for a stable pole, so long moves on damped
-// modes neither overflow nor cancel.
-Cx accel_transform_at_end(const FastestTable& p, Cx s) noexcept {
-  double total = 0.0;
-  for (std::size_t i = 0; i < p.count; ++i) total += p.durations[i];
-  // j_i (e^{s (T - t_i)} - e^{s (T - t_{i+1})}) = j_i e^{s (T - t_{i+1})} (e^{s d_i} - 1)
-  Cx acc{};
-  double t = 0.0;
-  for (std::size_t i = 0; i < p.count; ++i) {
-    const double t1 = t + p.durations[i];
-    if (p.jerk[i] != 0.0) acc = acc + p.jerk[i] * (cexp_neg(s, t1 - total) * cexpm1(p.durations[i] * s));
-    t = t1;
-  }
-  const Cx s2 = s * s;
-  const double n2 = s2.re * s2.re + s2.im * s2.im;
-  return (1.0 / n2) * (acc * Cx{s2.re, -s2.im});
-}
 
 // Appends a segment (merged with the last when its jerk is the same); false when the table is
 // full (the caller then drops the whole table). accel0 follows from the segments before.
@@ -190,25 +156,8 @@ struct Problem {
 using Vec = std::array<double, kMaxVars>;
 using EqVec = std::array<double, kMaxEqs>;
 // The Jacobian, as it is structured: dense over the durations (columns 0 .. 2h), and each slack
-// column (from 2h on) holding one entry, on its own row. Stored so, it takes half the stack of
-// a dense kMaxEqs x kMaxVars matrix.
-struct Jac {
-  static constexpr std::size_t kNone = kMaxVars;
-  std::array<std::array<double, 2 * kMaxFullPairs>, kMaxEqs> d{};  // d[row][duration column]
-  std::array<std::size_t, kMaxEqs> slack_col{};                   // the row's slack column, or kNone
-  std::array<double, kMaxEqs> slack{};                             // and its entry
-  void clear(std::size_t rows, std::size_t durations) noexcept {
-    for (std::size_t r = 0; r < rows; ++r) {
-      std::fill_n(d[r].begin(), durations, 0.0);
-      slack_col[r] = kNone;
-      slack[r] = 0.0;
-    }
-  }
-  void set_slack(std::size_t row, std::size_t col, double v) noexcept {
-    slack_col[row] = col;
-    slack[row] = v;
-  }
-};
+// column (from 2h on) holding one entry, on its own row.
+using Jac = numeric::SlackJacobian<kMaxEqs, 2 * kMaxFullPairs, kMaxVars>;
 
 // The pattern's segment durations, jerks (units of J) and switch times from the unknowns.
 struct Pattern {
@@ -465,17 +414,6 @@ void residuals(const Problem& b, double T, const Vec& y, EqVec& f, Jac* jac) noe
   }
 }
 
-double norm_inf(const EqVec& f, std::size_t n) noexcept {
-  double m = 0.0;
-  for (std::size_t i = 0; i < n; ++i) m = std::fmax(m, std::fabs(f[i]));
-  return m;
-}
-double norm2(const EqVec& f, std::size_t n) noexcept {
-  double m = 0.0;
-  for (std::size_t i = 0; i < n; ++i) m += f[i] * f[i];
-  return m;
-}
-
 // The equations are dimensionless (relative distance and velocity, residual sums of order 1);
 // the move that comes out is checked on its own (limits, residual), so this only stops the solve.
 constexpr double kSolveTol = 1e-11;
@@ -485,78 +423,11 @@ constexpr int kFirstIterations = 40;
 constexpr int kWarmIterations = 12;
 constexpr double kBisectTol = 1e-6;
 
-// Levenberg-Marquardt with minimum-norm steps: y <- y - J^T (J J^T + lambda I)^{-1} F. Its stack
-// is the Jacobian and one m x m matrix (J J^T is formed afresh for each damping tried).
+// The switch times for move time T from y (numeric/levenberg_marquardt.hpp).
 bool lm_solve(const Problem& b, double T, Vec& y, int max_iter) noexcept {
-  const std::size_t n = b.nvar(), m = b.neq(), nd = 2 * b.h;
-  EqVec f{};
-  Jac jac{};
-  residuals(b, T, y, f, &jac);
-  double cost = norm2(f, m);
-  double lambda = 1e-6;
-  int slow = 0;
-  for (int it = 0; it < max_iter; ++it) {
-    if (norm_inf(f, m) < kSolveTol) return true;
-    const double cost_before = cost;
-    bool improved = false;
-    // The undamped (Gauss-Newton, minimum-norm) step first: the rows differ in stiffness by many
-    // orders (the end velocity against the residual sums), and damping them evenly spoils the
-    // stiff ones near the solution. Then damped steps, more and more like gradient steps.
-    for (int tries = 0; tries < 8 && !improved; ++tries) {
-      const double lam = tries == 0 ? 0.0 : lambda;
-      std::array<std::array<double, kMaxEqs>, kMaxEqs> aa;
-      EqVec w{};
-      // J J^T: the slack columns (from 2h on) hold one entry each, on their own row, so they add
-      // to the diagonal only (the same sums as over every column: the rest are exact zeros).
-      for (std::size_t r = 0; r < m; ++r) {
-        for (std::size_t c = 0; c <= r; ++c) {
-          double s = 0.0;
-          for (std::size_t v = 0; v < nd; ++v) s += jac.d[r][v] * jac.d[c][v];
-          aa[r][c] = aa[c][r] = s;
-        }
-        aa[r][r] += jac.slack[r] * jac.slack[r];
-        w[r] = f[r];
-      }
-      for (std::size_t r = 0; r < m; ++r) aa[r][r] += lam * (1.0 + aa[r][r]);
-      if (!solve_in_place(aa, w, m, 1e-300)) {
-        if (tries > 0) lambda *= 10.0;
-        continue;
-      }
-      Vec yn = y;
-      for (std::size_t v = 0; v < nd; ++v) {
-        double s = 0.0;
-        for (std::size_t r = 0; r < m; ++r) s += jac.d[r][v] * w[r];
-        yn[v] -= s;
-      }
-      for (std::size_t r = 0; r < m; ++r) {
-        if (jac.slack_col[r] < n) yn[jac.slack_col[r]] -= jac.slack[r] * w[r];
-      }
-      // The undamped step usually succeeds: take its Jacobian with its residual (and redo the
-      // old one in the rare case it does not).
-      EqVec fn{};
-      residuals(b, T, yn, fn, tries == 0 ? &jac : nullptr);
-      const double cn = norm2(fn, m);
-      if (std::isfinite(cn) && cn < cost) {
-        y = yn;
-        f = fn;
-        cost = cn;
-        if (tries > 0) {
-          lambda = std::fmax(lambda * 0.1, 1e-15);
-          residuals(b, T, y, f, &jac);
-        }
-        improved = true;
-      } else {
-        if (tries > 0) lambda *= 10.0;
-        if (tries == 0) residuals(b, T, y, f, &jac);
-      }
-    }
-    if (!improved) return norm_inf(f, m) < kSolveTol;
-    // Stagnating far from a solution (less than 1 % gained per step, three steps running):
-    // this start does not lead to one; stop rather than grind.
-    slow = cost > 0.99 * cost_before ? slow + 1 : 0;
-    if (slow >= 3 && cost > 1e-12) return false;
-  }
-  return norm_inf(f, m) < kSolveTol;
+  const auto f = [&](const Vec& yy, EqVec& out, Jac* jac) { residuals(b, T, yy, out, jac); };
+  return numeric::levenberg_marquardt<kMaxEqs, 2 * kMaxFullPairs, kMaxVars>(
+      f, numeric::LmSize{b.nvar(), b.neq(), 2 * b.h, kSolveTol}, y, max_iter);
 }
 
 // The move as a table: mirrored, the pulse, the cruise and the pulse mirrored; whole, the
@@ -661,16 +532,6 @@ TableWalk walk_table(const FastestTable& p) noexcept {
 
 Peaks<double> jerk_table_peaks(const FastestTable& p) noexcept { return walk_table(p).pk; }
 
-double fastest_residual_amplitude(const FastestTable& p, double omega, double zeta) noexcept {
-  return cabs(accel_transform_at_end(p, pole(omega, zeta))) / (omega * std::sqrt(1.0 - zeta * zeta));
-}
-
-double fastest_residual_ratio(const FastestTable& p, double omega, double zeta) noexcept {
-  // A step of D leaves the amplitude |D| omega / wd right after it.
-  const double wd = omega * std::sqrt(1.0 - zeta * zeta);
-  return fastest_residual_amplitude(p, omega, zeta) * wd / (std::fabs(p.distance) * omega);
-}
-
 namespace {
 
 // --robust: the residual ratio must stay <= 5 % over the band. It is sampled at 129 frequencies
@@ -684,7 +545,7 @@ double worst_over_band(const FastestTable& p, const ModeSet& ms, double band) no
   for (std::size_t i = 0; i < ms.n; ++i) {
     const double w0 = ms.m[i].omega, z = ms.m[i].zeta;
     const auto at = [&](int k) { return w0 * (1.0 - band + 2.0 * band * k / kSamples); };
-    const auto ratio = [&](double w) { return fastest_residual_ratio(p, w, z); };
+    const auto ratio = [&](double w) { return residual_ratio(p, Mode{w, z}); };
     double prev2 = -1.0, prev = ratio(at(0));
     worst = std::fmax(worst, prev);
     for (int k = 1; k <= kSamples; ++k) {
@@ -727,11 +588,6 @@ bool runs_backwards(const RampCycloidParams& c) noexcept {
   return lowest < -kBackwardsTol * peak;
 }
 
-bool limits_ok(const Peaks<double>& pk, double vmax, double amax, double jmax) noexcept {
-  constexpr double slack = 1e-9;
-  return pk.v <= vmax * (1.0 + slack) && pk.a <= amax * (1.0 + slack) && pk.j <= jmax * (1.0 + slack);
-}
-
 struct Best {
   FastestParams p{};
   Peaks<double> pk{};
@@ -753,7 +609,7 @@ bool design_ok(const FastestTable& p, const ModeSet& ms, double band, double exa
   constexpr double kEps = 2.220446049250313e-16;
   const double time_floor = 16.0 * static_cast<double>(p.count) * jpk * kEps * T;
   for (std::size_t i = 0; i < ms.n; ++i) {
-    const double amp = fastest_residual_amplitude(p, ms.m[i].omega, ms.m[i].zeta);
+    const double amp = residual_amplitude(p, ms.m[i]);
     if (!(amp <= exact_tol * std::fabs(p.distance) + time_floor / ms.m[i].omega)) return false;
   }
   return true;
@@ -761,11 +617,10 @@ bool design_ok(const FastestTable& p, const ModeSet& ms, double band, double exa
 
 // A jerk-table candidate of any family: its exact peaks within the limits, never backwards, and
 // its design held (exact zeros, or the band). pk gets its peaks.
-bool table_ok(const FastestTable& t, double vmax, double amax, double jmax, const ModeSet& ms, double band,
-              Peaks<double>& pk) noexcept {
+bool table_ok(const FastestTable& t, const Limits& lim, const ModeSet& ms, double band, Peaks<double>& pk) noexcept {
   const TableWalk w = walk_table(t);
   pk = w.pk;
-  return limits_ok(pk, vmax, amax, jmax) && !(w.lowest < -kBackwardsTol * w.end_peak) &&
+  return within_limits(pk, lim) && !(w.lowest < -kBackwardsTol * w.end_peak) &&
          design_ok(t, ms, band, 1e-10);
 }
 
@@ -895,7 +750,7 @@ bool plan_pattern(const MoveRequest& r, const ModeSet& ms, bool mirrored, const 
   b.nc = nc;
   const auto accept = [&](const Problem& bb, double T, const Vec& yy, FastestTable& p, Peaks<double>& pk) {
     p = pattern_table(bb, T, yy, r.distance);
-    return p.count != 0 && table_ok(p, bb.vmax, bb.amax, bb.J, ms, band, pk);
+    return p.count != 0 && table_ok(p, Limits{bb.vmax, bb.amax, bb.J}, ms, band, pk);
   };
   bool have = false;
   const auto descend = [&](const Problem& bb, double T, Vec y) {
@@ -1502,7 +1357,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
           if (t.count == 0) return;
           const double T = table_duration(t);
           Peaks<double> pk{};
-          if (T < best && table_ok(t, pb.vmax, pb.amax, pb.J, ms, 0.0, pk)) {
+          if (T < best && table_ok(t, Limits{pb.vmax, pb.amax, pb.J}, ms, 0.0, pk)) {
             best = T;
             out = t;
             out_pk = pk;
@@ -1630,47 +1485,64 @@ bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexc
   return true;
 }
 
-}  // namespace
-Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
-  if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
-  if (r.time) return Status::unsupported_request;  // the fastest move has no requested time
+// The search over the families: the request as read, the time-optimal move, and the shortest
+// candidate so far (with every family's own shortest time). plan_fastest runs its stages in order.
+struct FastestSearch {
+  const MoveRequest& r;
   ModeSet ms{};
-  Status st = read_modes(r, ms);
-  if (st != Status::ok) return st;
-  double band = 0.0;
-  if (r.robust) {
-    if (!std::isfinite(*r.robust)) return Status::non_finite_input;
-    if (!(*r.robust > 0.0 && *r.robust <= 50.0)) return Status::bad_shape_parameter;
-    band = *r.robust / 100.0;
-  }
-  const double vmax = *r.vmax, amax = *r.amax, jmax = *r.jmax;
+  double band{0.0};
+  Limits lim{};
+  PiecewiseJerkParams to{};  // the time-optimal move
+  double t_to{0.0};
   Best best{};
   std::array<double, kFastestFamilies> times{};
-  const auto record = [&](FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) {
+  Shaper<double> joint{};  // the joint ZV shaper of several modes, when has_joint
+  bool has_joint{false};
+  std::array<ZeroSet, 11> sets{};  // the zero sets bang-coast solves for
+  std::size_t nsets{0};
+
+  void record(FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) noexcept {
     double& slot = times[static_cast<std::size_t>(f)];
     if (slot == 0.0 || t < slot) slot = t;
     consider(best, p, pk, t);
-  };
-
-  // (c) the time-optimal move convolved with ZV / ZVD / ZVDD / EI, one shaper per mode.
-  const PiecewiseJerkParams to = jerk_limited_time_optimal(r.distance, vmax, amax, jmax);
-  const double t_to = piecewise_duration(to);
-  constexpr ShaperKind kShapers[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd, ShaperKind::ei};
-  constexpr FastestFamily kShaped[] = {FastestFamily::shaped_zv, FastestFamily::shaped_zvd, FastestFamily::shaped_zvdd,
-                                       FastestFamily::shaped_ei};
-  const auto record_table = [&](FastestFamily f, const FastestTable& t, const Peaks<double>& pk) {
+  }
+  void record_table(FastestFamily f, const FastestTable& t, const Peaks<double>& pk) noexcept {
     FastestParams p{};
     p.family = f;
     p.table = t;
     record(f, p, pk, table_duration(t));
-  };
-  const auto try_shaped = [&](const Shaper<double>& s, FastestFamily fam) {
+  }
+  void try_shaped(const Shaper<double>& s, FastestFamily fam) noexcept {
     FastestTable t{};
     if (!flatten_shaped(to, s, t)) return;
     Peaks<double> pk{};
-    if (!table_ok(t, vmax, amax, jmax, ms, band, pk)) return;
+    if (!table_ok(t, lim, ms, band, pk)) return;
     record_table(fam, t, pk);
-  };
+  }
+};
+
+// The request's checks and what the search reads from it (modes, band, limits).
+Status read_fastest_request(const MoveRequest& r, FastestSearch& fs) noexcept {
+  if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
+  if (r.time) return Status::unsupported_request;  // the fastest move has no requested time
+  const Status st = read_modes(r, fs.ms);
+  if (st != Status::ok) return st;
+  if (r.robust) {
+    if (!std::isfinite(*r.robust)) return Status::non_finite_input;
+    if (!(*r.robust > 0.0 && *r.robust <= 50.0)) return Status::bad_shape_parameter;
+    fs.band = *r.robust / 100.0;
+  }
+  fs.lim = {*r.vmax, *r.amax, *r.jmax};
+  return Status::ok;
+}
+
+// (c) the time-optimal move convolved with ZV / ZVD / ZVDD / EI, one shaper per mode.
+void shaped_families(FastestSearch& fs) noexcept {
+  const ModeSet& ms = fs.ms;
+  const double band = fs.band;
+  constexpr ShaperKind kShapers[] = {ShaperKind::zv, ShaperKind::zvd, ShaperKind::zvdd, ShaperKind::ei};
+  constexpr FastestFamily kShaped[] = {FastestFamily::shaped_zv, FastestFamily::shaped_zvd, FastestFamily::shaped_zvdd,
+                                       FastestFamily::shaped_ei};
   for (std::size_t k = 0; k < 4; ++k) {
     // EI leaves its tolerance (5 %) at the design frequency: never an exact design, and its
     // damped design is iterative (about 25 us), so it is only tried for --robust.
@@ -1683,41 +1555,48 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
            compose(s, one, both) == Status::ok;
       if (ok) s = both;
     }
-    if (ok) try_shaped(s, kShaped[k]);
+    if (ok) fs.try_shaped(s, kShaped[k]);
   }
   // (c') two or more modes: one ZV designed for all of them at once. Its n + 1 impulses (one ZV
   // per mode takes 2^n) are often shorter, and for three modes the only shaped move that fits
   // the table; it also seeds bang-coast below as the best move so far.
-  Shaper<double> joint{};
-  bool has_joint = false;
   if (ms.n >= 2 && ms.n <= kMaxJointModes && band == 0.0) {
     std::array<double, kMaxJointModes> w{}, z{};
     for (std::size_t i = 0; i < ms.n; ++i) {
       w[i] = ms.m[i].omega;
       z[i] = ms.m[i].zeta;
     }
-    has_joint = joint_zv_shaper(w.data(), z.data(), ms.n, joint) == Status::ok;
-    if (has_joint) try_shaped(joint, FastestFamily::shaped_joint_zv);
+    fs.has_joint = joint_zv_shaper(w.data(), z.data(), ms.n, fs.joint) == Status::ok;
+    if (fs.has_joint) fs.try_shaped(fs.joint, FastestFamily::shaped_joint_zv);
   }
 
-  // (b) the ramp-cycloid S-curves: one mode, exact at its design (not robust designs).
-  if (ms.n == 1 && band == 0.0) {
+}
+
+// (b) the ramp-cycloid S-curves: one mode, exact at its design (not robust designs).
+void scurve_families(FastestSearch& fs) noexcept {
+  const ModeSet& ms = fs.ms;
+  const Limits& l = fs.lim;
+  if (ms.n == 1 && fs.band == 0.0) {
     const bool damped = ms.m[0].zeta > 0.0;
     FastestParams p{};
-    if (plan_fastest_scurve(r.distance, vmax, amax, jmax, ms.m[0].omega, ms.m[0].zeta, damped, p.curve) ==
+    if (plan_fastest_scurve(fs.r.distance, l.vmax, l.amax, l.jmax, ms.m[0].omega, ms.m[0].zeta, damped, p.curve) ==
         Status::ok) {
       p.family = damped ? FastestFamily::scurve_damped : FastestFamily::scurve;
       const Peaks<double> pk = ramp_cycloid_peaks(p.curve);
-      if (limits_ok(pk, vmax, amax, jmax) && !runs_backwards(p.curve)) {
-        record(p.family, p, pk, Fastest<double>{p}.duration());
+      if (within_limits(pk, l) && !runs_backwards(p.curve)) {
+        fs.record(p.family, p, pk, Fastest<double>{p}.duration());
       }
     }
   }
+}
 
-  // Robust: the zero sets to try, and (c) once more with the shapers of the spread zero sets
-  // (ZV at omega (1 +- spread)).
-  std::array<ZeroSet, 11> sets{};
-  std::size_t nsets = 0;
+// Robust: the zero sets to try, and (c) once more with the shapers of the spread zero sets
+// (ZV at omega (1 +- spread)).
+void zero_sets(FastestSearch& fs) noexcept {
+  const ModeSet& ms = fs.ms;
+  const double band = fs.band;
+  std::array<ZeroSet, 11>& sets = fs.sets;
+  std::size_t& nsets = fs.nsets;
   if (band == 0.0) {
     sets[nsets++] = {1, 0.0, 0};
   } else {
@@ -1729,7 +1608,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     sets[nsets++] = {1, 0.0, 0};
     for (std::size_t k = 0; k < nsets; ++k) {
       Shaper<double> s{};
-      if (sets[k].points > 1 && zero_shaper(sets[k], ms, s)) try_shaped(s, FastestFamily::shaped_spread);
+      if (sets[k].points > 1 && zero_shaper(sets[k], ms, s)) fs.try_shaped(s, FastestFamily::shaped_spread);
     }
     // The two- and three-hump EI shapers hold the widest bands (about +-36 % and +-48 % of an
     // undamped mode at 5 %): shaped moves, and zero sets whose pulse seeds fit the table where
@@ -1737,35 +1616,45 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     for (const int humps : {2, 3}) {
       Shaper<double> s{};
       if (!hump_zero_set(humps, ms, sets[nsets], s)) continue;
-      try_shaped(s, humps == 2 ? FastestFamily::shaped_ei2 : FastestFamily::shaped_ei3);
+      fs.try_shaped(s, humps == 2 ? FastestFamily::shaped_ei2 : FastestFamily::shaped_ei3);
       ++nsets;
     }
   }
+}
 
-  // (a) bang-bang with limit arcs (exact designs): when it beats the families above, the
-  // bang-coast search below is not made (it is a local search from seeds, and slow), unless the
-  // fastest mode rings more than three periods over the move. The switching function then has
-  // more zeros than the 2 + 2m nodes of a chain hold, the shortest move may switch more often,
-  // and bang-coast's coasts can follow it (without this rule its shorter moves were lost in 4
-  // cases of docs/fastest.md's grids, by up to 10 %).
+// (a) bang-bang with limit arcs (exact designs): when it beats the families above, the
+// bang-coast search below is not made (it is a local search from seeds, and slow), unless the
+// fastest mode rings more than three periods over the move. The switching function then has
+// more zeros than the 2 + 2m nodes of a chain hold, the shortest move may switch more often,
+// and bang-coast's coasts can follow it (without this rule its shorter moves were lost in 4
+// cases of docs/fastest.md's grids, by up to 10 %).
+bool bang_bang_family(FastestSearch& fs) noexcept {
+  const ModeSet& ms = fs.ms;
   bool arcs_won = false;
-  if (band == 0.0) {
+  if (fs.band == 0.0) {
     FastestTable t{};
     Peaks<double> pk{};
-    if (plan_arcs(r, ms, t, pk) && table_duration(t) < best.time) {
-      record_table(FastestFamily::bang_bang, t, pk);
+    if (plan_arcs(fs.r, ms, t, pk) && table_duration(t) < fs.best.time) {
+      fs.record_table(FastestFamily::bang_bang, t, pk);
       double w_max = 0.0;
       for (std::size_t i = 0; i < ms.n; ++i) w_max = std::fmax(w_max, ms.m[i].omega);
       arcs_won = w_max * table_duration(t) <= 3.0 * two_pi_v<double>();
     }
   }
+  return arcs_won;
+}
 
-  // (a') bang-coast switch times under the zero conditions, in both forms (mirrored pulse, whole
-  // move), seeded from the time-optimal move (or its pulse) convolved with the shaper of the
-  // same zeros and the next order.
-  const PiecewiseJerkParams h = accel_pulse(to);
-  for (std::size_t k = 0; k < nsets && !arcs_won; ++k) {
-    const ZeroSet& z = sets[k];
+// (a') bang-coast switch times under the zero conditions, in both forms (mirrored pulse, whole
+// move), seeded from the time-optimal move (or its pulse) convolved with the shaper of the
+// same zeros and the next order.
+void bang_coast_family(FastestSearch& fs) noexcept {
+  const MoveRequest& r = fs.r;
+  const ModeSet& ms = fs.ms;
+  const double band = fs.band, t_to = fs.t_to;
+  const Best& best = fs.best;
+  const PiecewiseJerkParams h = accel_pulse(fs.to);
+  for (std::size_t k = 0; k < fs.nsets; ++k) {
+    const ZeroSet& z = fs.sets[k];
     std::array<Condition, kMaxConds> cond{};
     const std::size_t nc = zero_conditions(z, ms, cond);
     if (nc > kMaxConds) continue;
@@ -1782,7 +1671,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
         pulses[ns].time = t_to + s.duration();
         ++ns;
       }
-      if (flatten_shaped(to, s, whole[nw].g)) {
+      if (flatten_shaped(fs.to, s, whole[nw].g)) {
         whole[nw].time = table_duration(whole[nw].g);
         ++nw;
       }
@@ -1790,8 +1679,8 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     // for three modes or more, the pulse convolved with the joint ZV shaper (exact designs),
     // where the convolved shapers above do not fit (on two modes it lengthened a case: bang-coast
     // ended elsewhere from the shorter bound it set, docs/fastest.md "Several modes"),
-    if (has_joint && ms.n >= 3 && z.points == 1 && z.order == 0 && flatten_shaped(h, joint, pulses[ns].g)) {
-      pulses[ns].time = t_to + joint.duration();
+    if (fs.has_joint && ms.n >= 3 && z.points == 1 && z.order == 0 && flatten_shaped(h, fs.joint, pulses[ns].g)) {
+      pulses[ns].time = t_to + fs.joint.duration();
       ++ns;
     }
     // and from the shortest jerk-table move so far (its zeros lie near these).
@@ -1803,18 +1692,32 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
     FastestTable p{};
     Peaks<double> pk{};
     if (plan_pattern(r, ms, true, cond, nc, pulses.data(), ns, t_to, t_cap, band, p, pk)) {
-      record_table(FastestFamily::bang_coast, p, pk);
+      fs.record_table(FastestFamily::bang_coast, p, pk);
     }
     if (plan_pattern(r, ms, false, cond, nc, whole.data(), nw, t_to, std::isfinite(best.time) ? best.time : t_cap,
                      band, p, pk)) {
-      record_table(FastestFamily::bang_coast, p, pk);
+      fs.record_table(FastestFamily::bang_coast, p, pk);
     }
   }
+}
 
-  if (!std::isfinite(best.time)) return Status::no_solution;
-  best.p.family_time = times;
-  out = best.p;
-  out_pk = best.pk;
+}  // namespace
+
+Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
+  FastestSearch fs{r};
+  const Status st = read_fastest_request(r, fs);
+  if (st != Status::ok) return st;
+  fs.to = jerk_limited_time_optimal(r.distance, fs.lim.vmax, fs.lim.amax, fs.lim.jmax);
+  fs.t_to = piecewise_duration(fs.to);
+  shaped_families(fs);
+  scurve_families(fs);
+  zero_sets(fs);
+  const bool arcs_won = bang_bang_family(fs);
+  if (!arcs_won) bang_coast_family(fs);
+  if (!std::isfinite(fs.best.time)) return Status::no_solution;
+  fs.best.p.family_time = fs.times;
+  out = fs.best.p;
+  out_pk = fs.best.pk;
   return Status::ok;
 }
 

@@ -7,163 +7,23 @@
 
 #include "settle/core/piece.hpp"
 #include "settle/core/small_solve.hpp"
+#include "mode_integral.hpp"
+#include "numeric/complex.hpp"
 
 namespace settle::core {
 
 namespace {
 
-// A complex number, just what the mode algebra needs (core has no <complex>).
-struct Cx {
-  double re{0.0}, im{0.0};
-};
-constexpr Cx operator+(Cx a, Cx b) noexcept { return {a.re + b.re, a.im + b.im}; }
-constexpr Cx operator-(Cx a, Cx b) noexcept { return {a.re - b.re, a.im - b.im}; }
-constexpr Cx operator*(Cx a, Cx b) noexcept { return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
-constexpr Cx operator*(double s, Cx a) noexcept { return {s * a.re, s * a.im}; }
-inline Cx operator/(Cx a, Cx b) noexcept {
-  const double d = b.re * b.re + b.im * b.im;
-  return {(a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d};
-}
-// The larger of |re| and |im|: within a factor sqrt(2) of the modulus, and without hypot's cost.
-inline double abs(Cx a) noexcept { return std::fmax(std::fabs(a.re), std::fabs(a.im)); }
-inline Cx cexp(Cx a) noexcept {
-  const double e = std::exp(a.re);
-  return {e * std::cos(a.im), e * std::sin(a.im)};
-}
-constexpr Cx conj(Cx a) noexcept { return {a.re, -a.im}; }
-
-Cx pole(const Mode& m) noexcept { return {-m.zeta * m.omega, m.omega * std::sqrt(1.0 - m.zeta * m.zeta)}; }
-
-// phi1(x) = (e^x - 1) / x and phi2(x) = (e^x - 1 - x) / x^2, by their series near 0 where the
-// closed forms cancel.
-Cx phi1(Cx x) noexcept {
-  if (abs(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
-  Cx term{1.0, 0.0}, sum{1.0, 0.0};
-  for (int n = 1; n < 20; ++n) {
-    term = (1.0 / (n + 1)) * (term * x);
-    sum = sum + term;
-  }
-  return sum;
-}
-Cx phi2(Cx x) noexcept {
-  if (abs(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
-  Cx term{0.5, 0.0}, sum{0.5, 0.0};
-  for (int n = 1; n < 24; ++n) {
-    term = (1.0 / (n + 2)) * (term * x);
-    sum = sum + term;
-  }
-  return sum;
-}
-
-// J_m(z, S) = int_0^S s^m e^{-z s} ds for m = 0..kMaxPieceDegree, Re z >= 0, 0 <= S <= 1: by the
-// power series when |z| S is small, by the upward recurrence otherwise (it then loses at most a
-// factor prod m / |z S| <= 4 of accuracy).
-void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept {
-  if (abs(z) * s < 1.5) {
-    // J_m = S^{m+1} sum_n c_n / (n + m + 1), c_n = (-z S)^n / n!: the c_n once for every m.
-    const Cx mzs = (-s) * z;
-    std::array<Cx, 32> c{};
-    c[0] = {1.0, 0.0};
-    std::size_t nt = 1;
-    while (nt < c.size() && abs(c[nt - 1]) > 1e-18) {
-      c[nt] = (1.0 / static_cast<double>(nt)) * (c[nt - 1] * mzs);
-      ++nt;
-    }
-    double sp = s;  // S^{m+1}
-    for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
-      Cx sum{};
-      for (std::size_t k = 0; k < nt; ++k) sum = sum + (1.0 / static_cast<double>(k + m + 1)) * c[k];
-      out[m] = sp * sum;
-      sp *= s;
-    }
-    return;
-  }
-  const Cx e = cexp(-s * z);
-  out[0] = (Cx{1.0, 0.0} - e) / z;
-  double sm = 1.0;
-  for (std::size_t m = 1; m <= kMaxPieceDegree; ++m) {
-    sm *= s;
-    out[m] = (static_cast<double>(m) * out[m - 1] - sm * e) / z;
-  }
-}
-
-// int over one piece, from its start to u_c = min(end, te), of e^{lambda (te - u)} P(u) du, exactly.
-// With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
-// pieces or heavy damping.
-Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
-  constexpr double w = 6.283185307179586476925286766559;
-  constexpr double binom[6][6] = {{1, 0, 0, 0, 0, 0},   {1, 1, 0, 0, 0, 0},    {1, 2, 1, 0, 0, 0},
-                                  {1, 3, 3, 1, 0, 0},   {1, 4, 6, 4, 1, 0},    {1, 5, 10, 10, 5, 1}};
-  const double uc = std::min(pc.start + pc.length, te);
-  const double len = pc.length;
-  const double s = (uc - pc.start) / len;
-  const Cx nu = -len * lam;
-  std::array<Cx, kMaxPieceDegree + 1> jm{};
-  moments(nu, s, jm);
-  // P(S - sigma) = sum_m b_m sigma^m.
-  Cx acc{};
-  for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
-    double b = 0.0, sp = 1.0;
-    for (std::size_t k = m; k <= kMaxPieceDegree; ++k) {
-      b += pc.c[k] * binom[k][m] * sp;
-      sp *= s;
-    }
-    if (m % 2 == 1) b = -b;
-    acc = acc + b * jm[m];
-  }
-  if (pc.trig) {
-    // Im(W e^{-i w sigma}) with W = Z e^{i w S}: (W J0(nu + i w) - conj(W) J0(nu - i w)) / (2i).
-    const Cx wz = Cx{pc.zr, pc.zi} * Cx{std::cos(w * s), std::sin(w * s)};
-    const Cx j_plus = s * phi1(-s * (nu + Cx{0.0, w}));
-    const Cx j_minus = s * phi1(-s * (nu - Cx{0.0, w}));
-    acc = acc + (wz * j_plus - conj(wz) * j_minus) / Cx{0.0, 2.0};
-  }
-  return len * (cexp((te - uc) * lam) * acc);
-}
-
-// Eight-point Gauss-Legendre on [-1, 1].
-constexpr double kGlX[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
-                            0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
-constexpr double kGlW[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
-                            0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
-
-// F(te) = int_0^te e^{lambda (te - u)} p(u) du for an unshaped profile (p = D past its end).
-template <typename Shape>
-Cx profile_integral(const Shape& prof, Cx lam, double te) noexcept {
-  const double tp = prof.duration();
-  Cx acc{};
-  const double body = std::min(te, tp);
-  if constexpr (requires { prof.piece_count(); }) {
-    for (int i = 0; i < prof.piece_count(); ++i) {
-      const Piece pc = prof.piece(i);
-      if (!(pc.length > 0.0) || pc.start >= body) continue;
-      acc = acc + piece_integral(pc, lam, te);
-    }
-  } else {
-    // No exact pieces (the pseudo-polynomial): composite Gauss-Legendre on panels short against
-    // the mode's time scale, so that the exponential is resolved to rounding.
-    if (body > 0.0) {
-      const int panels = std::clamp(static_cast<int>(std::ceil(abs(lam) * body)) * 2, 32, 512);
-      const double hp = body / panels;
-      for (int k = 0; k < panels; ++k) {
-        const double mid = (k + 0.5) * hp;
-        for (int q = 0; q < 8; ++q) {
-          const double u = mid + 0.5 * hp * kGlX[q];
-          acc = acc + (0.5 * hp * kGlW[q] * prof.at(u).p) * cexp((te - u) * lam);
-        }
-      }
-    }
-  }
-  if (te > tp) acc = acc + (prof.distance() * (te - tp)) * phi1((te - tp) * lam);
-  return acc;
-}
+using namespace numeric;
+using detail::phi1;
+using detail::phi2;
+using detail::profile_integral;
 
 bool finite(const Sample<double>& s) noexcept {
   return std::isfinite(s.p) && std::isfinite(s.v) && std::isfinite(s.a);
 }
 
 constexpr std::size_t kMaxRows = 3 + 2 * kMaxOnlineModes;
-constexpr double kLimitSlack = 1e-9;
 
 // A command's memory this small (relative to its positions) is its rounding: it ends at rest. The
 // residual amplitude of a mode at rest with memory Q is |Q| / sqrt(1 - zeta^2).
@@ -254,7 +114,7 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
     rhs[rows++] = *r.target - p0 - v0 * t_total - 0.5 * a0 * t_total * t_total;
   }
   for (std::size_t i = 0; i < r.mode_count; ++i) {
-    const Cx lam = pole(r.modes[i]);
+    const Cx lam = pole(r.modes[i].omega, r.modes[i].zeta);
     const Cx x = h * lam;
     const Cx e1 = cexp(x);
     const Cx f1 = h * phi1(x);       // int_0^h e^{lambda w} dw
@@ -346,29 +206,7 @@ bool solve_for(System sys, const std::array<double, kBlendSegments>& ref, const 
   return true;
 }
 
-bool within(const Peaks<double>& pk, const OnlineLimits& l) noexcept {
-  return pk.v <= l.vmax * (1.0 + kLimitSlack) && pk.a <= l.amax * (1.0 + kLimitSlack) &&
-         pk.j <= l.jmax * (1.0 + kLimitSlack);
-}
-
 }  // namespace
-
-ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
-  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
-  const Cx lam = pole(mode);
-  // Q(t) = -int_0^t e^{lambda (t-s)} x'(s) ds = -x(t) - lambda int_0^t e^{lambda (t-s)} x(s) ds, and the
-  // shaped x is sum_i A_i p(s - t_i): each impulse contributes its profile's integral.
-  Cx acc{};
-  const Shaper<double>& sh = m.shaper();
-  for (std::size_t i = 0; i < sh.count; ++i) {
-    const double te = t - sh.time[i];
-    if (!(te > 0.0)) continue;
-    const Cx f = m.profile().visit([&](const auto& p) { return profile_integral(p, lam, te); });
-    acc = acc + sh.amp[i] * f;
-  }
-  const Cx q = Cx{-m.at(t).p, 0.0} - lam * acc;
-  return {q.re, q.im};
-}
 
 namespace {
 // A blend seen from its start: its pieces less the start's position, at rest on end - start past
@@ -391,7 +229,7 @@ ModeMemory mode_memory(const Blend& b, const ModeMemory& at_start, double u, con
   if (!(u > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return at_start;
   // Q(u) = e^{lambda u} Q(0) - int_0^u e^{lambda (u - w)} b'(w) dw, and with c(w) = b(w) - b(0) the
   // integral is c(u) + lambda int_0^u e^{lambda (u - w)} c(w) dw (by parts; c(0) = 0).
-  const Cx lam = pole(mode);
+  const Cx lam = pole(mode.omega, mode.zeta);
   const BlendShape shape{&b, b.start().p};
   const Cx f = profile_integral(shape, lam, u);
   const Cx q = cexp(u * lam) * Cx{at_start.re, at_start.im} - Cx{b.at(u).p - shape.p0, 0.0} - lam * f;
@@ -468,8 +306,9 @@ Status online_request(const Move<double>& m, double t, const Mode* modes, std::s
 
 namespace {
 
-// The fastest blend of the family that meets the request within the limits (docs/online.md).
-Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
+// The request's own checks, before any solve: finite, positive limits, modes in range, a switch
+// state within the limits. at_rest: nothing to do (no motion, every memory rounding).
+Status check_request(const OnlineRequest& r, bool& at_rest) noexcept {
   const OnlineLimits& l = r.limits;
   if (!finite(r.start) || !std::isfinite(l.vmax) || !std::isfinite(l.amax) || !std::isfinite(l.jmax) ||
       (r.target && !std::isfinite(*r.target))) {
@@ -477,7 +316,7 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
   }
   if (!(l.vmax > 0.0 && l.amax > 0.0 && l.jmax > 0.0)) return Status::non_positive_limit;
   if (r.mode_count > kMaxOnlineModes) return Status::unsupported_request;
-  bool at_rest = r.start.v == 0.0 && r.start.a == 0.0 && (!r.target || *r.target == r.start.p);
+  at_rest = r.start.v == 0.0 && r.start.a == 0.0 && (!r.target || *r.target == r.start.p);
   for (std::size_t i = 0; i < r.mode_count; ++i) {
     const Mode& m = r.modes[i];
     if (!std::isfinite(m.omega) || !std::isfinite(m.zeta) || !std::isfinite(r.memory[i].re) ||
@@ -498,22 +337,23 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
       std::fabs(r.start.v) + r.start.a * r.start.a / (2.0 * l.jmax) > l.vmax * (1.0 + kLimitSlack)) {
     return Status::velocity_limit_exceeded;
   }
-  if (at_rest) {
-    out = Blend{r.start, 0.0, {}};
-    return Status::ok;
-  }
+  return Status::ok;
+}
+
+// A duration no blend can beat (lower) and a first guess above it.
+void duration_bounds(const OnlineRequest& r, double& lower, double& guess) noexcept {
+  const OnlineLimits& l = r.limits;
   // A duration no blend can beat: the time-optimal stop of the velocity alone (every blend ends
   // with v = a = 0), and for a retarget the distance at vmax.
-  const Brake full = velocity_stop(r.start.v, r.start.a, 0.995 * l.amax, 0.995 * l.jmax);
   const Brake exact = velocity_stop(r.start.v, r.start.a, l.amax, l.jmax);
-  double lower = exact.dur[0] + exact.dur[1] + exact.dur[2];
+  lower = exact.dur[0] + exact.dur[1] + exact.dur[2];
   // A first guess of the right order: that stop plus half the slowest mode's damped period (what
   // a shaper adds), and for a retarget a rest-to-rest move over the distance.
   double half_period = 0.0;
   for (std::size_t i = 0; i < r.mode_count; ++i) {
-    half_period = std::max(half_period, 3.14159265358979323846 / pole(r.modes[i]).im);
+    half_period = std::max(half_period, 3.14159265358979323846 / pole(r.modes[i].omega, r.modes[i].zeta).im);
   }
-  double guess = lower + half_period;
+  guess = lower + half_period;
   if (r.target) {
     const double d = std::fabs(*r.target - r.start.p);
     lower = std::max(lower, d / l.vmax);
@@ -521,7 +361,23 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
                       2.0 * std::cbrt(d / l.jmax) + half_period});
   }
   if (!(guess > lower)) guess = lower > 0.0 ? 1.25 * lower : 1e-3;
-  Solved sol{};
+}
+
+// The five blends tried at each duration (listed in the constructor), and the one that worked last.
+struct BlendFamily {
+  const OnlineRequest* r{nullptr};
+  Brake full{}, soft{}, sharp{};
+  std::array<double, kBlendSegments> uniform{}, front{};  // square roots of the weights
+  int last{0};
+  int tries{0};
+  explicit BlendFamily(const OnlineRequest& req) noexcept;
+  // Whether a blend of duration t meets the request within the limits; its jerks go to sol.
+  bool feasible(double t, Solved& sol) noexcept;
+};
+
+BlendFamily::BlendFamily(const OnlineRequest& req) noexcept : r{&req} {
+  const OnlineLimits& l = req.limits;
+  full = velocity_stop(req.start.v, req.start.a, 0.995 * l.amax, 0.995 * l.jmax);
   // Five blends per duration, the first within the limits wins (docs/online.md):
   //  0. the time-optimal velocity stop at 99.5 % of the limits, corrected where it leaves jerk headroom
   //     (weights (1 - |j_ref| / jmax)^2): the fastest when vmax or amax is tight;
@@ -531,43 +387,61 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
   //  4. the velocity stop at the full jerk limit and 90 % of amax, corrected where it leaves jerk
   //     headroom: from a state whose acceleration must be taken out at the full jerk limit not to
   //     pass vmax (near the peak of an S-curve planned at exactly these limits), the one that can.
-  const Brake soft = velocity_stop(r.start.v, r.start.a, 0.85 * l.amax, 0.85 * l.jmax);
-  const Brake sharp = velocity_stop(r.start.v, r.start.a, 0.6 * l.amax, l.jmax);
-  const std::array<double, kBlendSegments> none{};
-  std::array<double, kBlendSegments> uniform{}, front{};  // square roots of the weights
+  soft = velocity_stop(req.start.v, req.start.a, 0.85 * l.amax, 0.85 * l.jmax);
+  sharp = velocity_stop(req.start.v, req.start.a, 0.6 * l.amax, l.jmax);
   for (std::size_t k = 0; k < kBlendSegments; ++k) {
     uniform[k] = 1.0;
     const double x = 1.0 - (static_cast<double>(k) + 0.5) / static_cast<double>(kBlendSegments);
     front[k] = x * std::sqrt(x);
   }
-  constexpr int kBlendKinds = 5;
-  int last = 0, tries = kBlendKinds;
-  auto feasible = [&](double t) {
-    const double h = t / static_cast<double>(kBlendSegments);
-    System sys{};
-    build_system(r, t, sys);
-    std::array<double, kBlendSegments> ref{}, w{};
-    // The blend that worked last is tried first: neighbouring durations usually agree.
-    for (int i = 0; i < tries; ++i) {
-      const int c = (i + last) % kBlendKinds;
-      const bool braking = c == 0 || c == 1 || c == 4;
-      if (braking) ref = {};
-      if (c == 0 || c == 4) {
-        sample_brake(c == 0 ? full : sharp, h, ref);
-        for (std::size_t k = 0; k < kBlendSegments; ++k) w[k] = 1.0 - std::fabs(ref[k]) / l.jmax;
-      } else if (c == 1) {
-        sample_brake(soft, h, ref);
-      }
-      Solved s{};
-      if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, s)) continue;
-      const Blend b{r.start, t / static_cast<double>(kBlendSegments), s.jerk};
-      if (!within(b.peaks(), l)) continue;
-      sol = s;
-      last = c;
-      return true;
+}
+
+constexpr int kBlendKinds = 5;
+
+bool BlendFamily::feasible(double t, Solved& sol) noexcept {
+  const OnlineLimits& l = r->limits;
+  const std::array<double, kBlendSegments> none{};
+  const double h = t / static_cast<double>(kBlendSegments);
+  System sys{};
+  build_system(*r, t, sys);
+  std::array<double, kBlendSegments> ref{}, w{};
+  // The blend that worked last is tried first: neighbouring durations usually agree.
+  for (int i = 0; i < tries; ++i) {
+    const int c = (i + last) % kBlendKinds;
+    const bool braking = c == 0 || c == 1 || c == 4;
+    if (braking) ref = {};
+    if (c == 0 || c == 4) {
+      sample_brake(c == 0 ? full : sharp, h, ref);
+      for (std::size_t k = 0; k < kBlendSegments; ++k) w[k] = 1.0 - std::fabs(ref[k]) / l.jmax;
+    } else if (c == 1) {
+      sample_brake(soft, h, ref);
     }
-    return false;
-  };
+    Solved s{};
+    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, s)) continue;
+    const Blend b{r->start, t / static_cast<double>(kBlendSegments), s.jerk};
+    if (!within_limits(b.peaks(), l)) continue;
+    sol = s;
+    last = c;
+    return true;
+  }
+  return false;
+}
+
+// The fastest blend of the family that meets the request within the limits (docs/online.md).
+Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
+  bool at_rest = false;
+  const Status st = check_request(r, at_rest);
+  if (st != Status::ok) return st;
+  if (at_rest) {
+    out = Blend{r.start, 0.0, {}};
+    return Status::ok;
+  }
+  double lower = 0.0, guess = 0.0;
+  duration_bounds(r, lower, guess);
+  Solved sol{};
+  BlendFamily fam{r};
+  fam.tries = kBlendKinds;
+  const auto feasible = [&](double t) { return fam.feasible(t, sol); };
   // Bracket: grow until feasible, then bisect down towards the first feasible duration.
   double lo = lower, hi = guess;
   int grow = 0;
@@ -579,7 +453,7 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
   // Bisection on the blend that made the bracket (`last`) alone: a quarter of the solves, and the
   // duration found is that blend's shortest to within 0.5 %.
   Solved best = sol;
-  tries = 1;
+  fam.tries = 1;
   for (int it = 0; it < 40 && hi - lo > 5e-3 * hi; ++it) {
     const double mid = 0.5 * (lo + hi);
     if (mid > lo && feasible(mid)) {

@@ -4,13 +4,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "settle/core/limits.hpp"
+
 namespace settle::core {
 
 namespace {
-
-// Peaks are compared with limits with this relative slack, so that a plan built to touch a
-// limit exactly is not refused for the last bit of rounding.
-constexpr double kLimitSlack = 1e-9;
 
 // 0 when x is finite (or absent), NaN otherwise: a non-finite number times zero is NaN. Summed,
 // one comparison tests every number of a request (plan() is timed in ns: bench_core BM_Plan).

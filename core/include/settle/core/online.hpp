@@ -11,9 +11,11 @@
 #include <optional>
 
 #include "settle/core/kinematics.hpp"
+#include "settle/core/limits.hpp"
 #include "settle/core/move.hpp"
 #include "settle/core/move_request.hpp"  // Mode: one (omega, zeta), the same a request designs for
 #include "settle/core/piece.hpp"
+#include "settle/core/residual.hpp"
 #include "settle/core/status.hpp"
 
 namespace settle::core {
@@ -24,24 +26,10 @@ static_assert(1 + kMaxExtraModes <= kMaxOnlineModes, "a halt keeps every mode a 
 // A blend is this many constant-jerk segments of equal length.
 inline constexpr std::size_t kBlendSegments = 24;
 
-struct OnlineLimits {
-  double vmax{0.0};  // units/s, > 0
-  double amax{0.0};  // units/s^2, > 0
-  double jmax{0.0};  // units/s^3, > 0
-};
+// The limits a blend keeps (each > 0): the one limits type (limits.hpp).
+using OnlineLimits = Limits;
 
-// The mode memory of a command x(t) that started at rest at t = 0, for the mode with poles
-// lambda = -zeta omega +- i omega_d:  Q(t) = -int_0^t e^{lambda (t - s)} x'(s) ds  (complex).
-// The command leaves the mode at rest at T (x'(T) = x''(T) = 0) exactly when Q(T) = 0, whatever
-// the mode's input coupling (docs/online.md).
-struct ModeMemory {
-  double re{0.0};
-  double im{0.0};
-};
-
-// Q(t) of a planned move, from its exact piecewise closed form (piece.hpp) where the profile has
-// one, by Gauss-Legendre quadrature otherwise (the pseudo-polynomial). t is on the move's clock.
-[[nodiscard]] ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept;
+// ModeMemory and mode_memory(move, t, mode): residual.hpp.
 
 // What the running command (the move, or the blend a halt interrupts) does if left alone: it ends
 // at rest on `end` (positions on the move's scale) `remaining` s after the switch, having started at

@@ -169,14 +169,7 @@ class Fastest {
 // also where the acceleration crosses zero inside a segment).
 [[nodiscard]] Peaks<double> jerk_table_peaks(const FastestTable& p) noexcept;
 
-// The residual vibration a jerk-table move leaves on mode (omega, zeta): its amplitude when the
-// move ends (move units), and that amplitude relative to the one a step of the same distance
-// leaves right after it, |D| omega / wd (a step has 1; undamped this is the V(omega) of the
-// input-shaping literature, |A(p)| / (|D| omega), A the Laplace transform of the acceleration at
-// the pole p). Measured at the move's end, the damping during the move counts, as it does for
-// the machine. Not for the ramp-cycloid families.
-[[nodiscard]] double fastest_residual_amplitude(const FastestTable& p, double omega, double zeta) noexcept;
-[[nodiscard]] double fastest_residual_ratio(const FastestTable& p, double omega, double zeta) noexcept;
+// The residual a table leaves on a mode: residual_amplitude / residual_ratio (residual.hpp).
 
 struct FastestProfile {
   static constexpr const char* name = "fastest";

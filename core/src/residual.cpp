@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: Apache-2.0
+// The residual vibration of a move on a mode (residual.hpp), and the exact integrals of the
+// pieces against a mode's exponential that it and the online blends share (mode_integral.hpp).
+#include "settle/core/residual.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "mode_integral.hpp"
+#include "numeric/complex.hpp"
+
+namespace settle::core {
+
+namespace detail {
+
+using namespace numeric;
+
+Cx phi1(Cx x) noexcept {
+  if (cabs_max(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
+  Cx term{1.0, 0.0}, sum{1.0, 0.0};
+  for (int n = 1; n < 20; ++n) {
+    term = (1.0 / (n + 1)) * (term * x);
+    sum = sum + term;
+  }
+  return sum;
+}
+Cx phi2(Cx x) noexcept {
+  if (cabs_max(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
+  Cx term{0.5, 0.0}, sum{0.5, 0.0};
+  for (int n = 1; n < 24; ++n) {
+    term = (1.0 / (n + 2)) * (term * x);
+    sum = sum + term;
+  }
+  return sum;
+}
+
+namespace {
+
+// J_m(z, S) = int_0^S s^m e^{-z s} ds for m = 0..kMaxPieceDegree, Re z >= 0, 0 <= S <= 1: by the
+// power series when |z| S is small, by the upward recurrence otherwise (it then loses at most a
+// factor prod m / |z S| <= 4 of accuracy).
+void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept {
+  if (cabs_max(z) * s < 1.5) {
+    // J_m = S^{m+1} sum_n c_n / (n + m + 1), c_n = (-z S)^n / n!: the c_n once for every m.
+    const Cx mzs = (-s) * z;
+    std::array<Cx, 32> c{};
+    c[0] = {1.0, 0.0};
+    std::size_t nt = 1;
+    while (nt < c.size() && cabs_max(c[nt - 1]) > 1e-18) {
+      c[nt] = (1.0 / static_cast<double>(nt)) * (c[nt - 1] * mzs);
+      ++nt;
+    }
+    double sp = s;  // S^{m+1}
+    for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
+      Cx sum{};
+      for (std::size_t k = 0; k < nt; ++k) sum = sum + (1.0 / static_cast<double>(k + m + 1)) * c[k];
+      out[m] = sp * sum;
+      sp *= s;
+    }
+    return;
+  }
+  const Cx e = cexp(-s * z);
+  out[0] = (Cx{1.0, 0.0} - e) / z;
+  double sm = 1.0;
+  for (std::size_t m = 1; m <= kMaxPieceDegree; ++m) {
+    sm *= s;
+    out[m] = (static_cast<double>(m) * out[m - 1] - sm * e) / z;
+  }
+}
+
+}  // namespace
+
+// int over one piece, from its start to u_c = min(end, te), of e^{lambda (te - u)} P(u) du, exactly.
+// With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
+// pieces or heavy damping.
+Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
+  constexpr double w = 6.283185307179586476925286766559;
+  constexpr double binom[6][6] = {{1, 0, 0, 0, 0, 0},   {1, 1, 0, 0, 0, 0},    {1, 2, 1, 0, 0, 0},
+                                  {1, 3, 3, 1, 0, 0},   {1, 4, 6, 4, 1, 0},    {1, 5, 10, 10, 5, 1}};
+  const double uc = std::min(pc.start + pc.length, te);
+  const double len = pc.length;
+  const double s = (uc - pc.start) / len;
+  const Cx nu = -len * lam;
+  std::array<Cx, kMaxPieceDegree + 1> jm{};
+  moments(nu, s, jm);
+  // P(S - sigma) = sum_m b_m sigma^m.
+  Cx acc{};
+  for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
+    double b = 0.0, sp = 1.0;
+    for (std::size_t k = m; k <= kMaxPieceDegree; ++k) {
+      b += pc.c[k] * binom[k][m] * sp;
+      sp *= s;
+    }
+    if (m % 2 == 1) b = -b;
+    acc = acc + b * jm[m];
+  }
+  if (pc.trig) {
+    // Im(W e^{-i w sigma}) with W = Z e^{i w S}: (W J0(nu + i w) - conj(W) J0(nu - i w)) / (2i).
+    const Cx wz = Cx{pc.zr, pc.zi} * Cx{std::cos(w * s), std::sin(w * s)};
+    const Cx j_plus = s * phi1(-s * (nu + Cx{0.0, w}));
+    const Cx j_minus = s * phi1(-s * (nu - Cx{0.0, w}));
+    acc = acc + (wz * j_plus - conj(wz) * j_minus) / Cx{0.0, 2.0};
+  }
+  return len * (cexp((te - uc) * lam) * acc);
+}
+
+}  // namespace detail
+
+using namespace numeric;
+
+ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
+  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
+  const Cx lam = pole(mode.omega, mode.zeta);
+  // Q(t) = -int_0^t e^{lambda (t-s)} x'(s) ds = -x(t) - lambda int_0^t e^{lambda (t-s)} x(s) ds, and the
+  // shaped x is sum_i A_i p(s - t_i): each impulse contributes its profile's integral.
+  Cx acc{};
+  const Shaper<double>& sh = m.shaper();
+  for (std::size_t i = 0; i < sh.count; ++i) {
+    const double te = t - sh.time[i];
+    if (!(te > 0.0)) continue;
+    const Cx f = m.profile().visit([&](const auto& p) { return detail::profile_integral(p, lam, te); });
+    acc = acc + sh.amp[i] * f;
+  }
+  const Cx q = Cx{-m.at(t).p, 0.0} - lam * acc;
+  return {q.re, q.im};
+}
+
+
+double residual_amplitude(const Move<double>& m, const Mode& mode) noexcept {
+  if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return std::numeric_limits<double>::quiet_NaN();
+  const ModeMemory q = mode_memory(m, m.duration(), mode);
+  return std::hypot(q.re, q.im) / std::sqrt(1.0 - mode.zeta * mode.zeta);
+}
+
+double residual_ratio(const Move<double>& m, const Mode& mode) noexcept {
+  const double amp = residual_amplitude(m, mode);
+  if (m.distance() == 0.0 && !std::isnan(amp)) return 0.0;
+  return amp * std::sqrt(1.0 - mode.zeta * mode.zeta) / std::fabs(m.distance());
+}
+
+namespace {
+
+// Laplace transform of the table's acceleration at s, times e^{s T} (T its duration): the move
+// starts from rest with a = 0, so A(s) = sum_i j_i (e^{-s t_i} - e^{-s t_{i+1}}) / s^2. Referred
+// to the end every exponential has magnitude <= 1 for a stable pole, so long moves on damped
+// modes neither overflow nor cancel.
+Cx accel_transform_at_end(const double* durations, const double* jerk, std::size_t count, Cx s) noexcept {
+  double total = 0.0;
+  for (std::size_t i = 0; i < count; ++i) total += durations[i];
+  // j_i (e^{s (T - t_i)} - e^{s (T - t_{i+1})}) = j_i e^{s (T - t_{i+1})} (e^{s d_i} - 1)
+  Cx acc{};
+  double t = 0.0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double t1 = t + durations[i];
+    if (jerk[i] != 0.0) acc = acc + jerk[i] * (cexp_neg(s, t1 - total) * cexpm1(durations[i] * s));
+    t = t1;
+  }
+  const Cx s2 = s * s;
+  const double n2 = s2.re * s2.re + s2.im * s2.im;
+  return (1.0 / n2) * (acc * Cx{s2.re, -s2.im});
+}
+
+}  // namespace
+
+double jerk_table_residual_amplitude(const double* durations, const double* jerk, std::size_t count,
+                                     const Mode& mode) noexcept {
+  const double omega = mode.omega, zeta = mode.zeta;
+  if (!(omega > 0.0) || !(zeta >= 0.0 && zeta < 1.0)) return std::numeric_limits<double>::quiet_NaN();
+  return cabs(accel_transform_at_end(durations, jerk, count, pole(omega, zeta))) / (omega * std::sqrt(1.0 - zeta * zeta));
+}
+
+}  // namespace settle::core
