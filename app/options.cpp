@@ -63,8 +63,6 @@ OptionSpec flag(std::string name, std::string help) {
   return {.name = std::move(name), .kind = Kind::flag, .unit = "", .def = "", .help = std::move(help)};
 }
 
-constexpr Range kPositive{0.0, 1e12, true, false};
-
 // An option whose default depends on the --timing preset: `o.def` under sim, `drive` under drive.
 OptionSpec timed(OptionSpec o, std::string drive) {
   o.timing_drive = std::move(drive);
