@@ -465,7 +465,7 @@ struct Object {
 int object_of(const ParsedArgs& args, const hal::eds::Description* eds, Object& o) {
   if (!args.has("--index")) return report_bad_request({"missing_option", "--index", "--index: required"}, args.json());
   o.index = static_cast<std::uint16_t>(args.integer("--index", 0));  // 1..0xFFFF
-  o.sub = static_cast<std::uint8_t>(args.integer("--sub", 0));       // 0..255
+  o.sub = static_cast<std::uint8_t>(args.integer("--sub"));  // 0..255
   std::string type = args.text("--type", "");
   if (type.empty() && eds != nullptr) {
     if (const hal::eds::Entry* e = eds->find(o.index, o.sub)) type = type_name_of(e->data_type);

@@ -195,7 +195,7 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
   }
   plant::SimOptions opt;
   opt.record = false;
-  opt.dt = args.real("--dt", opt.dt);
+  opt.dt = args.real_or_default("--dt");
   opt.band = args.real("--band", opt.band);
   opt.tail = args.real("--tail", opt.tail);
   const double work = end / opt.dt * static_cast<double>(plant.modes().size() * plan.count());
@@ -304,7 +304,7 @@ int cmd_simulate(int argc, char** argv) {
   if (!parse_move_request(args, req, err, &fundamental)) return report_bad_request(err, json);
   plant::SimOptions opt;
   opt.record = args.has("--csv");
-  opt.dt = args.real("--dt", opt.dt);
+  opt.dt = args.real_or_default("--dt");
   opt.band = args.real("--band", opt.band);
   opt.tail = args.real("--tail", opt.tail);
   core::Move<double> move{};

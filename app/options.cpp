@@ -842,6 +842,13 @@ struct Parser {
   }
 };
 
+const char* counts_reach_exceeded(double reach, double counts_per_unit, double load_counts_per_unit) {
+  const double span = std::fabs(reach) * 2.0 + 1.0;
+  if (span * counts_per_unit > 2e9) return "--counts-per-unit";
+  if (span * load_counts_per_unit > 2e9) return "--load-counts-per-unit";
+  return nullptr;
+}
+
 std::string format_number(double v) { return num(v); }
 
 bool check_value(const OptionSpec& o, const std::string& value, double& number, RequestError& err) {

@@ -165,4 +165,10 @@ inline constexpr double kMaxSeconds = plant::kMaxMoveSeconds;    // a move, move
 inline constexpr double kMaxStreamPeriods = 1e6; // stream: start-up (5 s) + move + settle, in periods
 inline constexpr std::size_t kMaxModes = 64;     // --mode
 
+// Every setpoint and every load position must fit the drive's 32-bit counts: a move whose largest
+// |position| is `reach` (m or rad) fits when (2 reach + 1) x counts per unit stays within 2e9 for
+// the motor's and the load's scale. Returns the option of the scale it does not fit
+// ("--counts-per-unit" first, then "--load-counts-per-unit"), or nullptr when it fits both.
+[[nodiscard]] const char* counts_reach_exceeded(double reach, double counts_per_unit, double load_counts_per_unit);
+
 }  // namespace settle::app
