@@ -2,9 +2,10 @@
 #pragma once
 // The settle CLI's options, declared once. Every option of every command is one OptionSpec row
 // (name, unit, default, valid range, help); commands that share options share the rows (the
-// move, plant, drive and bus groups). Parsing (CLI11), validation (number, integer, range, list,
-// choice, duplicates, unknown options with the nearest valid one) and the help text all come
-// from these rows, so an option is checked in one place and its help cannot drift from it.
+// move, plant, drive and bus groups). Parsing (the table's own tokeniser; CLI11 only lays out
+// --help), validation (number, integer, range, list, choice, duplicates, unknown options with the
+// nearest valid one) and the help text all come from these rows, so an option is checked in one
+// place and its help cannot drift from it.
 //
 // Errors keep one form: exit 2 and one line "settle: error: <message> [<code>]" on stderr, or
 // with --json the object {"status":"error","error":code,"parameter":option,"message":...} on
