@@ -469,7 +469,7 @@ struct Object {
 int object_of(const ParsedArgs& args, const hal::eds::Description* eds, Object& o) {
   if (!args.has("--index")) return report_bad_request({"missing_option", "--index", "--index: required"}, args.json());
   o.index = static_cast<std::uint16_t>(args.integer("--index", 0));  // 1..0xFFFF
-  o.sub = static_cast<std::uint8_t>(args.integer("--sub", 0));       // 0..255
+  o.sub = static_cast<std::uint8_t>(args.integer("--sub"));  // 0..255
   std::string type = args.text("--type", "");
   // The type the object has, where the EDS or the standard says: SDO carries bytes only, so a
   // --type of another size or kind would be written (a 4-character string fits an UNSIGNED32).

@@ -110,9 +110,8 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
                                    "--period-us)"},
                               json);
   }
-  const double reach = s.axes.front().move.distance() * 2.0 + 1.0;
-  if (reach * s.drive.scale.counts_per_unit > 2e9 || reach * s.drive.load_counts_per_unit > 2e9) {
-    const char* who = reach * s.drive.scale.counts_per_unit > 2e9 ? "--counts-per-unit" : "--load-counts-per-unit";
+  if (const char* who = counts_reach_exceeded(s.axes.front().move.distance(), s.drive.scale.counts_per_unit,
+                                               s.drive.load_counts_per_unit)) {
     return report_bad_request({"out_of_range", "--distance",
                                std::string{"--distance: the excitation exceeds 32-bit counts with "} + who},
                               json);

@@ -159,10 +159,21 @@ Json metrics_json(const plant::ModalPlant& plant, const plant::SimMetrics& m) {
   return j;
 }
 
-// settle simulate --axes N: every axis of the coordinated move on its own copy of the plant
-// (docs/multi_axis.md). Without --omega, every axis is designed for the plant's fundamental when
-// the profile or shaper designs for a mode, as with one axis.
-int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
+// settle simulate --axes N, in stages: the request and its plan (with any online change per axis),
+// each axis's command, the simulation of each, and the report.
+struct AxesRun {
+  core::MultiAxisRequest req{};
+  core::MultiAxisPlan plan{};
+  std::vector<std::optional<OnlineChange>> changes;
+  std::vector<core::Move<double>> moves;  // a changed axis's own command (core::axis_command)
+  double end{0.0};                        // the last command's end (s)
+  bool changed{false};
+};
+
+// The request, its plan and each axis's change. With a change, every changed axis runs its own
+// command (core::axis_command) to the switch and then its blend; the others (and every axis without
+// one) the plan's own. Exit status, or -1 to go on.
+int plan_simulated_axes(const ParsedArgs& args, const plant::ModalPlant& plant, AxesRun& run) {
   const bool json = args.json();
   for (const char* o : {"--sensitivity", "--csv"}) {
     if (args.has(o)) {
@@ -171,34 +182,99 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
     }
   }
   RequestError err;
-  core::MultiAxisRequest req{};
   const DesignFallback fundamental{plant.fundamental().omega, plant.fundamental().zeta};
-  if (!parse_axes_request(args, req, err, &fundamental)) return report_bad_request(err, json);
-  core::MultiAxisPlan plan{};
-  if (!plan_axes(req, plan, err)) return report_bad_request(err, json);
-  std::vector<std::optional<OnlineChange>> changes;
-  if (!parse_axes_online_change(args, req, plan, &plant, 0.0, changes, err)) return report_bad_request(err, json);
-  // With a change, every changed axis runs its own command (core::axis_command) to the switch and
-  // then its blend; the others (and every axis without one) the plan's own.
-  std::vector<core::Move<double>> moves(plan.count());
-  double end = plan.duration();
-  bool changed = false;
-  for (std::size_t i = 0; i < plan.count(); ++i) {
-    if (!changes[i]) continue;
-    changed = true;
-    if (const core::Status st = core::axis_command(req, plan, i, moves[i]); st != core::Status::ok) {
+  if (!parse_axes_request(args, run.req, err, &fundamental)) return report_bad_request(err, json);
+  if (!plan_axes(run.req, run.plan, err)) return report_bad_request(err, json);
+  if (!parse_axes_online_change(args, run.req, run.plan, &plant, 0.0, run.changes, err)) {
+    return report_bad_request(err, json);
+  }
+  run.moves.resize(run.plan.count());
+  run.end = run.plan.duration();
+  for (std::size_t i = 0; i < run.plan.count(); ++i) {
+    if (!run.changes[i]) continue;
+    run.changed = true;
+    if (const core::Status st = core::axis_command(run.req, run.plan, i, run.moves[i]); st != core::Status::ok) {
       return report_bad_request({core::to_string(st), "--distance", "--distance: axis " + std::to_string(i + 1) + ": " +
                                                                        core::describe(st)},
                                 json);
     }
-    end = std::fmax(end, changes[i]->switch_at + changes[i]->blend.duration());
+    run.end = std::fmax(run.end, run.changes[i]->switch_at + run.changes[i]->blend.duration());
   }
+  return -1;
+}
+
+// Each axis's command: its change's, `path` scaled to the axis (sync path: the commands refer to
+// it, so it outlives them), or its own move.
+std::vector<std::unique_ptr<plant::Command>> axis_commands(const AxesRun& run, const plant::MoveCommand& path) {
+  std::vector<std::unique_ptr<plant::Command>> cmds;
+  for (std::size_t i = 0; i < run.plan.count(); ++i) {
+    if (run.changes[i]) {
+      cmds.push_back(
+          std::make_unique<plant::OnlineChangeCommand>(run.moves[i], run.changes[i]->switch_at, run.changes[i]->blend));
+    } else if (run.plan.sync() == core::SyncMode::path) {
+      cmds.push_back(std::make_unique<plant::ScaledCommand>(path, run.plan.distance(i)));
+    } else {
+      cmds.push_back(std::make_unique<plant::MoveCommand>(run.plan.axis_move(i)));
+    }
+  }
+  return cmds;
+}
+
+// The move's line deviation; after a change, from the changed commands, with the spread of their
+// ends (s), which says whether they stop together.
+void line_deviation_json(const AxesRun& run, const std::vector<const plant::Command*>& cmd_of, Json& j) {
+  std::array<double, core::kMaxAxes> per_axis{};
+  j["line_deviation"] =
+      run.changed ? sampled_line_deviation(cmd_of, run.plan, run.end) : core::line_deviation(run.plan, per_axis);
+  if (run.changed) {
+    double lo = run.end, hi = 0.0;
+    for (std::size_t i = 0; i < run.plan.count(); ++i) {
+      if (!run.changes[i]) continue;
+      lo = std::fmin(lo, cmd_of[i]->duration());
+      hi = std::fmax(hi, cmd_of[i]->duration());
+    }
+    j["online_end_spread"] = hi - lo;
+  }
+}
+
+void print_simulated_axes(const plant::ModalPlant& plant, const AxesRun& run, const Json& j,
+                          const std::vector<plant::SimMetrics>& metrics) {
+  const char* u = units(plant.kind());
+  std::printf("plant              %s (%zu mode%s), one per axis\n", to_string(plant.kind()), plant.modes().size(),
+              plant.modes().size() == 1 ? "" : "s");
+  std::printf("move               %s, %zu axes (sync %s), duration %.9g s, line deviation %.3e %s%s\n",
+              core::to_string(run.req.base.profile), run.plan.count(), core::to_string(run.plan.sync()),
+              run.plan.duration(), j["line_deviation"].get<double>(), u,
+              j.contains("online_end_spread") ? " (after the change)" : "");
+  for (std::size_t i = 0; i < run.plan.count(); ++i) {
+    const plant::SimMetrics& m = metrics[i];
+    std::printf("axis %zu             distance %.9g %s: residual amplitude %.6e %s, PRV %.6g %%", i + 1,
+                run.plan.distance(i), u, m.residual_amplitude, u, m.prv_percent);
+    if (run.req.axes[i].omega) {
+      std::printf(" (designed for omega %.7g, zeta %.5g)", *run.req.axes[i].omega, run.req.axes[i].zeta);
+    }
+    if (const std::optional<OnlineChange>& c = run.changes[i]) {
+      std::printf("\n                   %s at %.9g s: %s %.9g s, at rest on %.9g %s at %.9g s",
+                  c->target ? "retarget" : "halt", c->at, choice_name(c->choice), c->blend.duration(),
+                  c->blend.end_position(), u, c->switch_at + c->blend.duration());
+    }
+    std::printf("\n");
+  }
+}
+
+// settle simulate --axes N: every axis of the coordinated move on its own copy of the plant
+// (docs/multi_axis.md). Without --omega, every axis is designed for the plant's fundamental when
+// the profile or shaper designs for a mode, as with one axis.
+int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
+  const bool json = args.json();
+  AxesRun run;
+  if (const int rc = plan_simulated_axes(args, plant, run); rc >= 0) return rc;
   plant::SimOptions opt;
   opt.record = false;
-  opt.dt = args.real("--dt", opt.dt);
+  opt.dt = args.real_or_default("--dt");
   opt.band = args.real("--band", opt.band);
   opt.tail = args.real("--tail", opt.tail);
-  const double work = end / opt.dt * static_cast<double>(plant.modes().size() * plan.count());
+  const double work = run.end / opt.dt * static_cast<double>(plant.modes().size() * run.plan.count());
   if (!(work <= kMaxSimWork)) {
     return report_bad_request({"too_many_samples", "--dt",
                                "--dt: " + format_number(work) + " grid steps x modes x axes; at most 2e6"},
@@ -208,51 +284,30 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
   j["status"] = "ok";
   j["plant"] = to_string(plant.kind());
   j["units"] = units(plant.kind());
-  j["profile"] = core::to_string(req.base.profile);
-  j["axes"] = plan.count();
-  j["sync"] = core::to_string(plan.sync());
-  j["move_duration"] = plan.duration();
-  const plant::MoveCommand path{plan.path()};
+  j["profile"] = core::to_string(run.req.base.profile);
+  j["axes"] = run.plan.count();
+  j["sync"] = core::to_string(run.plan.sync());
+  j["move_duration"] = run.plan.duration();
+  const plant::MoveCommand path{run.plan.path()};
+  const std::vector<std::unique_ptr<plant::Command>> cmds = axis_commands(run, path);
+  std::vector<const plant::Command*> cmd_of;
+  for (const auto& c : cmds) cmd_of.push_back(c.get());
+  line_deviation_json(run, cmd_of, j);
   Json axes = Json::array();
   std::vector<plant::SimMetrics> metrics;
-  std::vector<std::unique_ptr<plant::Command>> cmds;
-  std::vector<const plant::Command*> cmd_of;
-  for (std::size_t i = 0; i < plan.count(); ++i) {
-    if (changes[i]) {
-      cmds.push_back(std::make_unique<plant::OnlineChangeCommand>(moves[i], changes[i]->switch_at, changes[i]->blend));
-    } else if (plan.sync() == core::SyncMode::path) {
-      cmds.push_back(std::make_unique<plant::ScaledCommand>(path, plan.distance(i)));
-    } else {
-      cmds.push_back(std::make_unique<plant::MoveCommand>(plan.axis_move(i)));
-    }
-    cmd_of.push_back(cmds.back().get());
-  }
-  std::array<double, core::kMaxAxes> per_axis{};
-  // After a change, from the changed commands; the spread of their ends (s) says whether they stop together.
-  j["line_deviation"] = changed ? sampled_line_deviation(cmd_of, plan, end) : core::line_deviation(plan, per_axis);
-  if (changed) {
-    double lo = end, hi = 0.0;
-    for (std::size_t i = 0; i < plan.count(); ++i) {
-      if (!changes[i]) continue;
-      lo = std::fmin(lo, cmd_of[i]->duration());
-      hi = std::fmax(hi, cmd_of[i]->duration());
-    }
-    j["online_end_spread"] = hi - lo;
-  }
-  for (std::size_t i = 0; i < plan.count(); ++i) {
-    const plant::Command& cmd = *cmd_of[i];
+  for (std::size_t i = 0; i < run.plan.count(); ++i) {
     plant::SimResult res;
-    const plant::SimStatus st = plant::simulate(plant, cmd, opt, res);
+    const plant::SimStatus st = plant::simulate(plant, *cmd_of[i], opt, res);
     if (st != plant::SimStatus::ok) {
       return report_failure("simulate", plant::to_string(st),
                             "simulation of axis " + std::to_string(i + 1) + " failed: " + describe(st), args.json());
     }
     Json a = metrics_json(plant, res.metrics);
-    a["distance"] = plan.distance(i);
-    if (changes[i]) a["online"] = online_json(*changes[i]);
-    if (req.axes[i].omega) {
-      a["designed_omega"] = *req.axes[i].omega;
-      a["designed_zeta"] = req.axes[i].zeta;
+    a["distance"] = run.plan.distance(i);
+    if (run.changes[i]) a["online"] = online_json(*run.changes[i]);
+    if (run.req.axes[i].omega) {
+      a["designed_omega"] = *run.req.axes[i].omega;
+      a["designed_zeta"] = run.req.axes[i].zeta;
     }
     axes.push_back(a);
     metrics.push_back(res.metrics);
@@ -265,25 +320,8 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
   }
   if (json) {
     print_json(j);
-    return kExitOk;
-  }
-  const char* u = units(plant.kind());
-  std::printf("plant              %s (%zu mode%s), one per axis\n", to_string(plant.kind()), plant.modes().size(),
-              plant.modes().size() == 1 ? "" : "s");
-  std::printf("move               %s, %zu axes (sync %s), duration %.9g s, line deviation %.3e %s%s\n",
-              core::to_string(req.base.profile), plan.count(), core::to_string(plan.sync()), plan.duration(),
-              j["line_deviation"].get<double>(), u, j.contains("online_end_spread") ? " (after the change)" : "");
-  for (std::size_t i = 0; i < plan.count(); ++i) {
-    const plant::SimMetrics& m = metrics[i];
-    std::printf("axis %zu             distance %.9g %s: residual amplitude %.6e %s, PRV %.6g %%", i + 1, plan.distance(i),
-                u, m.residual_amplitude, u, m.prv_percent);
-    if (req.axes[i].omega) std::printf(" (designed for omega %.7g, zeta %.5g)", *req.axes[i].omega, req.axes[i].zeta);
-    if (const std::optional<OnlineChange>& c = changes[i]) {
-      std::printf("\n                   %s at %.9g s: %s %.9g s, at rest on %.9g %s at %.9g s",
-                  c->target ? "retarget" : "halt", c->at, choice_name(c->choice), c->blend.duration(),
-                  c->blend.end_position(), u, c->switch_at + c->blend.duration());
-    }
-    std::printf("\n");
+  } else {
+    print_simulated_axes(plant, run, j, metrics);
   }
   return kExitOk;
 }
@@ -304,7 +342,7 @@ int cmd_simulate(int argc, char** argv) {
   if (!parse_move_request(args, req, err, &fundamental)) return report_bad_request(err, json);
   plant::SimOptions opt;
   opt.record = args.has("--csv");
-  opt.dt = args.real("--dt", opt.dt);
+  opt.dt = args.real_or_default("--dt");
   opt.band = args.real("--band", opt.band);
   opt.tail = args.real("--tail", opt.tail);
   core::Move<double> move{};

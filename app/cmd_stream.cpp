@@ -247,17 +247,10 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
                                    "--period-us)"},
                               json);
   }
-  // Every setpoint and every load position must fit the drive's 32-bit counts.
-  const double reach = reach_distance * 2.0 + 1.0;
-  if (reach * spec.drive.scale.counts_per_unit > 2e9) {
-    return report_bad_request({"out_of_range", "--counts-per-unit",
-                               "--counts-per-unit: --distance x --counts-per-unit exceeds 32-bit counts (1e9)"},
-                              json);
-  }
-  if (reach * spec.drive.load_counts_per_unit > 2e9) {
-    return report_bad_request({"out_of_range", "--load-counts-per-unit",
-                               "--load-counts-per-unit: --distance x --load-counts-per-unit exceeds 32-bit counts (1e9)"},
-                              json);
+  if (const char* who =
+          counts_reach_exceeded(reach_distance, spec.drive.scale.counts_per_unit, spec.drive.load_counts_per_unit)) {
+    return report_bad_request(
+        {"out_of_range", who, std::string{who} + ": --distance x " + who + " exceeds 32-bit counts (1e9)"}, json);
   }
   // The drive's description, read before anything is sent (what it says is checked at start-up).
   std::vector<std::uint8_t> nodes;

@@ -27,14 +27,14 @@ inline constexpr std::size_t kMaxModesFileBytes = 1 << 20;
 struct Band {
   bool ci{true};
   double pct{0.0};     // PCT when !ci
-  double zeta_pm{0.01};
+  double zeta_pm{0.0};  // --zeta-pm (its default is the option table's)
   std::string text;  // as reported: "ci" or "+-10%"
 };
 
 // "ci", or PCT / +-PCT / ±PCT with PCT in (0, 90].
 bool parse_band(const ParsedArgs& a, Band& b, RequestError& err) {
-  std::string v = a.text("--uncertainty", "ci");
-  b.zeta_pm = a.real("--zeta-pm", 0.01);
+  std::string v = a.text_or_default("--uncertainty");
+  b.zeta_pm = a.real_or_default("--zeta-pm");
   if (v == "ci") {
     b.ci = true;
     b.text = "ci";

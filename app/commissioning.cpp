@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "settle/testbed/drive_axis.hpp"
 #include "settle/commission/identify_excitation.hpp"
@@ -12,6 +13,9 @@
 namespace settle::app {
 
 namespace {
+
+// A double NaN: the NAN macro is a float, and assigning it promotes it.
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The excitation, settle identify's defaults spelled out (so that the noise level computed from
 // it is the excitation's whatever the defaults become): 10 mm within 0.1 m/s, 5 m/s^2, 5000 m/s^3,
@@ -116,7 +120,7 @@ void judge(const CommissioningScenario& s, CommissioningResult& r) {
   r.modes.clear();
   r.modes_ok = false;
   r.prv_ok = false;
-  r.prv_percent = NAN;
+  r.prv_percent = kNaN;
   if (!r.error.empty()) return;
   if (!status_ok(r.identify)) {
     r.error = failure_of("settle identify", r.identify);
@@ -145,7 +149,7 @@ void judge(const CommissioningScenario& s, CommissioningResult& r) {
     r.error = failure_of("settle stream", r.stream);
     return;
   }
-  double prv = NAN;
+  double prv = kNaN;
   if (number(*r.stream, "prv_can_percent", prv)) r.prv_percent = prv;
   r.prv_ok = std::isfinite(r.prv_percent) && r.prv_percent <= s.prv_max_percent;
 }

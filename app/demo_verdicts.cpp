@@ -2,19 +2,23 @@
 #include "demo_verdicts.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace settle::app {
 
 namespace {
 
+// A double NaN: the NAN macro is a float, and assigning it promotes it.
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 double number_or_nan(const Json& j, const char* key) {
-  return j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>() : double{NAN};
+  return j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>() : kNaN;
 }
 
 // The residual a run measured over CAN; NaN when it has none, or its run failed (its figures are
 // then not a measurement).
 double measured_residual(const std::optional<Json>& run) {
-  return run && run->value("status", "") == "ok" ? number_or_nan(*run, "residual_can") : double{NAN};
+  return run && run->value("status", "") == "ok" ? number_or_nan(*run, "residual_can") : kNaN;
 }
 
 }  // namespace

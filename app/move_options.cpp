@@ -37,7 +37,7 @@ bool parse_shape(const ParsedArgs& a, core::MoveRequest& r, RequestError& err) {
     err = {"bad_option", "--robust", "--robust: only --profile fastest takes it"};
     return false;
   }
-  r.vtol = a.real("--vtol", 0.05);
+  r.vtol = a.real_or_default("--vtol");
   if (a.has("--gammas")) {
     const std::vector<double> v = a.list("--gammas");
     r.gamma_count = v.size();  // at most kMaxGammas: the table's item limit

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
+#include <map>
+#include <set>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -62,8 +64,6 @@ OptionSpec choice(std::string name, std::string def, std::vector<std::string> ch
 OptionSpec flag(std::string name, std::string help) {
   return {.name = std::move(name), .kind = Kind::flag, .unit = "", .def = "", .help = std::move(help)};
 }
-
-constexpr Range kPositive{0.0, 1e12, true, false};
 
 // An option whose default depends on the --timing preset: `o.def` under sim, `drive` under drive.
 OptionSpec timed(OptionSpec o, std::string drive) {
@@ -701,25 +701,42 @@ struct Parser {
     return check_number(o, v, r, x, want, err);
   }
 
+  // What the command line says, option by option, in the order given.
+  struct Given {
+    std::vector<std::string> order;                        // option names, once per occurrence
+    std::map<std::string, std::vector<std::string>> values;  // each option's values, in order
+    std::string positional;
+    bool have_positional{false};
+  };
+
+  // The command line, read in stages: --json and --help first (they change how anything else is
+  // reported), then the tokens, how often each option was given, each value, the positional
+  // argument, and the table's defaults for what was not given.
   ParseOutcome run(int argc, char** argv) {
     for (int i = 0; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--json") out.json_ = true;
+      if (std::string_view{argv[i]} == "--json") out.json_ = true;
     }
     for (int i = 0; i < argc; ++i) {
-      const std::string a = argv[i];
+      const std::string_view a = argv[i];
       if (a == "--help" || a == "-h") {
         std::fputs(command_help(c).c_str(), stdout);
         return ParseOutcome::help_printed;
       }
     }
-    // 1. Tokens for CLI11, each value joined to its option ("--time=1"), so that a value that
-    //    starts with '-' ("-inf", "-1e3") is never taken for an option; unknown options, a
-    //    missing value and a value given to a flag are found here, in command-line order.
-    std::vector<std::string> tokens;
-    std::vector<std::string> order;  // option names in the order given
+    Given given;
+    if (!tokenise(argc, argv, given) || !check_repeats(given) || !validate_all(given) || !take_positional(given)) {
+      return ParseOutcome::error;
+    }
+    apply_defaults();
+    return ParseOutcome::ok;
+  }
+
+  // The tokens, in command-line order: "--name value" or "--name=value" (a value that starts with
+  // '-', "-inf" or "-1e3", is a value unless it is one of the command's options), a flag, or the
+  // positional argument. Unknown options, a missing value and a value given to a flag are found
+  // here, in command-line order.
+  bool tokenise(int argc, char** argv, Given& given) {
     std::string last_option;
-    bool have_positional = false;
     for (int i = 0; i < argc; ++i) {
       const std::string a = argv[i];
       if (a.size() > 2 && a.rfind("--", 0) == 0) {
@@ -728,16 +745,12 @@ struct Parser {
         const OptionSpec* o = find(name);
         if (o == nullptr) {
           unknown(name);
-          return ParseOutcome::error;
+          return false;
         }
         last_option = name;
-        order.push_back(name);
+        given.order.push_back(name);
         if (o->kind == Kind::flag) {
-          if (eq != std::string::npos) {
-            fail("bad_option", name, name + ": takes no value");
-            return ParseOutcome::error;
-          }
-          tokens.push_back(name);
+          if (eq != std::string::npos) return fail("bad_option", name, name + ": takes no value");
           continue;
         }
         std::string value;
@@ -747,102 +760,94 @@ struct Parser {
           const bool next_is_option = i + 1 < argc && std::string_view{argv[i + 1]}.rfind("--", 0) == 0 &&
                                       find(std::string{argv[i + 1]}.substr(0, std::string{argv[i + 1]}.find('='))) != nullptr;
           if (i + 1 >= argc || next_is_option) {
-            fail("missing_value", name, name + ": needs a value; expected " + expectation(*o));
-            return ParseOutcome::error;
+            return fail("missing_value", name, name + ": needs a value; expected " + expectation(*o));
           }
           value = argv[++i];
         }
-        if (value.empty()) {  // CLI11 would take "--x=" for a missing value: say what is wrong with it
+        if (value.empty()) {  // "--x=": say what is wrong with the empty value
           validate(*o, value);
-          return ParseOutcome::error;
+          return false;
         }
-        tokens.push_back(name + "=" + value);
+        given.values[name].push_back(value);
       } else if (a.size() > 1 && a[0] == '-' && !looks_like_number(a)) {
         unknown(a);
-        return ParseOutcome::error;
-      } else if (!c.positional_choices.empty() && !have_positional && last_option.empty()) {
-        have_positional = true;
-        tokens.push_back(a);
+        return false;
+      } else if (!c.positional_choices.empty() && !given.have_positional && last_option.empty()) {
+        given.have_positional = true;
+        given.positional = a;
       } else {
         std::string who = last_option.empty() ? "--" + c.name : last_option;  // one word: "--drive-scan"
         std::replace(who.begin(), who.end(), ' ', '-');
-        fail("bad_option", who, who + ": unexpected argument '" + a + "' after it");
-        return ParseOutcome::error;
+        return fail("bad_option", who, who + ": unexpected argument '" + a + "' after it");
       }
     }
-    // 2. CLI11 reads the tokens into the options.
-    CLI::App app{c.summary, "settle " + c.name};
-    app.set_help_flag();
-    std::map<std::string, std::vector<std::string>> values;
-    std::map<std::string, int> flags;
-    std::string positional;
-    for (const OptionSpec* o : specs) {
-      if (o->kind == Kind::flag) {
-        if (o->name != "--help") app.add_flag(o->name, flags[o->name])->description(o->help);
-      } else {
-        app.add_option(o->name, values[o->name], o->help)
-            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
-            ->allow_extra_args(false);
-      }
-    }
-    if (!c.positional_choices.empty()) app.add_option("experiment", positional, "experiment");
-    std::reverse(tokens.begin(), tokens.end());
-    try {
-      app.parse(tokens);
-    } catch (const CLI::ParseError& e) {
-      const std::string what = e.what();
-      const std::size_t p = what.find("--");
-      const std::string param = p == std::string::npos ? "--" + c.name : what.substr(p, what.find_first_of(": ", p) - p);
-      fail("bad_option", param, what.substr(0, what.find('\n')));
-      return ParseOutcome::error;
-    }
-    // 3. Each option: given at most once unless repeatable, and each value valid.
+    return true;
+  }
+
+  // Each option given at most once unless repeatable, and a repeatable one at most max_repeats times.
+  bool check_repeats(const Given& given) {
     std::map<std::string, std::size_t> seen;
-    for (const std::string& name : order) {
+    for (const std::string& name : given.order) {
       const OptionSpec& o = *find(name);
       const std::size_t k = seen[name]++;
       if (k == 1 && !o.repeatable) {
-        fail("duplicate_option", name, name + ": given more than once (it takes one value)");
-        return ParseOutcome::error;
+        return fail("duplicate_option", name, name + ": given more than once (it takes one value)");
       }
       if (o.repeatable && k >= o.max_repeats) {
-        fail("too_many_values", name, name + ": at most " + std::to_string(o.max_repeats) + " allowed");
-        return ParseOutcome::error;
+        return fail("too_many_values", name, name + ": at most " + std::to_string(o.max_repeats) + " allowed");
       }
     }
-    for (const std::string& name : order) {
-      if (seen[name] == 0) continue;  // already validated all its values
+    return true;
+  }
+
+  // Every value of each option, the options in the order first given; a flag is recorded as given.
+  bool validate_all(Given& given) {
+    std::set<std::string> done;
+    for (const std::string& name : given.order) {
+      if (!done.insert(name).second) continue;  // already validated all its values
       const OptionSpec& o = *find(name);
       if (o.kind == Kind::flag) {
         out.raw_[name].push_back("");
-      } else {
-        for (const std::string& v : values[name]) {
-          if (!validate(o, v)) return ParseOutcome::error;
-        }
+        continue;
       }
-      seen[name] = 0;
+      for (const std::string& v : given.values[name]) {
+        if (!validate(o, v)) return false;
+      }
     }
-    if (!c.positional_choices.empty()) {
-      if (!have_positional) {
-        fail("missing_experiment", "experiment", "experiment: required (settle " + c.name + " " + c.usage + " [options])");
-        return ParseOutcome::error;
-      }
-      if (std::find(c.positional_choices.begin(), c.positional_choices.end(), positional) == c.positional_choices.end()) {
-        fail("unknown_experiment", "experiment", "experiment: unknown experiment '" + positional + "' (" + c.usage + ")");
-        return ParseOutcome::error;
-      }
-      out.positional_ = positional;
+    return true;
+  }
+
+  bool take_positional(const Given& given) {
+    if (c.positional_choices.empty()) return true;
+    if (!given.have_positional) {
+      return fail("missing_experiment", "experiment", "experiment: required (settle " + c.name + " " + c.usage + " [options])");
     }
-    // 4. The table's default of every option not given, under the --timing preset in force.
+    if (std::find(c.positional_choices.begin(), c.positional_choices.end(), given.positional) ==
+        c.positional_choices.end()) {
+      return fail("unknown_experiment", "experiment",
+                  "experiment: unknown experiment '" + given.positional + "' (" + c.usage + ")");
+    }
+    out.positional_ = given.positional;
+    return true;
+  }
+
+  // The table's default of every option not given, under the --timing preset in force.
+  void apply_defaults() {
     const OptionSpec* timing = find("--timing");
     const std::string preset = out.has("--timing") ? out.raw_["--timing"].front() : timing ? timing->def : "sim";
     for (const OptionSpec* o : specs) {
       if (out.has(o->name) || o->kind == Kind::flag) continue;
       out.defaults_[o->name] = preset == "drive" && !o->timing_drive.empty() ? o->timing_drive : o->def;
     }
-    return ParseOutcome::ok;
   }
 };
+
+const char* counts_reach_exceeded(double reach, double counts_per_unit, double load_counts_per_unit) {
+  const double span = std::fabs(reach) * 2.0 + 1.0;
+  if (span * counts_per_unit > 2e9) return "--counts-per-unit";
+  if (span * load_counts_per_unit > 2e9) return "--load-counts-per-unit";
+  return nullptr;
+}
 
 std::string format_number(double v) { return num(v); }
 

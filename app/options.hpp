@@ -2,9 +2,10 @@
 #pragma once
 // The settle CLI's options, declared once. Every option of every command is one OptionSpec row
 // (name, unit, default, valid range, help); commands that share options share the rows (the
-// move, plant, drive and bus groups). Parsing (CLI11), validation (number, integer, range, list,
-// choice, duplicates, unknown options with the nearest valid one) and the help text all come
-// from these rows, so an option is checked in one place and its help cannot drift from it.
+// move, plant, drive and bus groups). Parsing (the table's own tokeniser; CLI11 only lays out
+// --help), validation (number, integer, range, list, choice, duplicates, unknown options with the
+// nearest valid one) and the help text all come from these rows, so an option is checked in one
+// place and its help cannot drift from it.
 //
 // Errors keep one form: exit 2 and one line "settle: error: <message> [<code>]" on stderr, or
 // with --json the object {"status":"error","error":code,"parameter":option,"message":...} on
@@ -164,5 +165,11 @@ inline constexpr double kMaxCsvRows = 1e6;       // simulate --csv: rows (the hi
 inline constexpr double kMaxSeconds = plant::kMaxMoveSeconds;    // a move, move + tail, move + settle time
 inline constexpr double kMaxStreamPeriods = 1e6; // stream: start-up (5 s) + move + settle, in periods
 inline constexpr std::size_t kMaxModes = 64;     // --mode
+
+// Every setpoint and every load position must fit the drive's 32-bit counts: a move whose largest
+// |position| is `reach` (m or rad) fits when (2 reach + 1) x counts per unit stays within 2e9 for
+// the motor's and the load's scale. Returns the option of the scale it does not fit
+// ("--counts-per-unit" first, then "--load-counts-per-unit"), or nullptr when it fits both.
+[[nodiscard]] const char* counts_reach_exceeded(double reach, double counts_per_unit, double load_counts_per_unit);
 
 }  // namespace settle::app

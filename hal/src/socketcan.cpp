@@ -60,18 +60,12 @@ void from_kernel_id(canid_t id, CanFrame& f) noexcept {
 
 }  // namespace
 
-const char* to_string(OpenStatus status) noexcept {
-  switch (status) {
-    case OpenStatus::ok: return "ok";
-    case OpenStatus::no_such_interface: return "no such interface";
-    case OpenStatus::not_can_interface: return "not a CAN interface";
-    case OpenStatus::permission_denied: return "permission denied";
-    case OpenStatus::fd_not_supported: return "CAN FD not supported by the interface (MTU 16)";
-    case OpenStatus::already_open: return "already open";
-    case OpenStatus::error: return "error";
-  }
-  return "?";
-}
+namespace {
+constexpr const char* kOpenStatusTexts[] = {SETTLE_HAL_OPEN_STATUSES(SETTLE_ENUM_TEXT)};
+constexpr const char* kControlStatusTexts[] = {SETTLE_HAL_CONTROL_STATUSES(SETTLE_ENUM_TEXT)};
+}  // namespace
+
+const char* to_string(OpenStatus status) noexcept { return enum_text(kOpenStatusTexts, status, "?"); }
 
 SocketCanBus::~SocketCanBus() { close(); }
 
@@ -398,16 +392,7 @@ BusStatus SocketCanBus::do_set_filters(std::span<const CanFilter> filters) noexc
   return BusStatus::ok;
 }
 
-const char* to_string(ControlStatus status) noexcept {
-  switch (status) {
-    case ControlStatus::ok: return "ok";
-    case ControlStatus::not_supported: return "not supported by this interface";
-    case ControlStatus::no_such_interface: return "no such interface";
-    case ControlStatus::permission_denied: return "permission denied";
-    case ControlStatus::error: return "error";
-  }
-  return "?";
-}
+const char* to_string(ControlStatus status) noexcept { return enum_text(kControlStatusTexts, status, "?"); }
 
 CanInterface::CanInterface(const char* name) noexcept {
   if (name != nullptr) {

@@ -142,7 +142,7 @@ void StepsCommand::breakpoints(std::vector<double>& out) const {
 
 InverseDynamicsCommand::InverseDynamicsCommand(double distance, double time, double omega, double zeta, int degree,
                                                double tail_cutoff)
-    : d_{distance}, t_{time}, omega_{omega}, zeta_{zeta}, kappa_{2.0 * zeta / omega}, degree_{degree == 3 ? 3 : 5} {
+    : d_{distance}, t_{time}, omega_{omega}, kappa_{2.0 * zeta / omega}, degree_{degree == 3 ? 3 : 5} {
   end_ = t_;
   if (kappa_ > 0.0) {
     wp0_ = wp_derivative(0, 0.0);

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 
 #include "settle/core/multi_axis.hpp"
@@ -45,6 +46,9 @@ bool StreamReport::rest_measured() const noexcept {
 }
 
 namespace {
+
+// A double NaN: the NAN macro is a float, and assigning it promotes it.
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The loop for each evaluation (--scalar): its scalar, up to core::kMaxAxes axes (--axes), four
 // queued moves, online changes, and a second of feedback per axis at 1 kHz (a host process held
@@ -375,25 +379,25 @@ void measure(const StreamSpec& spec, const StreamAxis& axis, std::uint64_t settl
           plant::SimStatus::ok ||
       fitted_residual(r.replay.load_after, load_cpu, r.replay.final_load, dt, spec.plant, r.replay.step_residual,
                       off) != plant::SimStatus::ok) {
-    can.amplitude = off.amplitude = can.prv_percent = off.prv_percent = NAN;
+    can.amplitude = off.amplitude = can.prv_percent = off.prv_percent = kNaN;
   }
   if (!r.load_measured) {
     // No load position on the bus: nothing to fit (a column of zeros is no measurement).
     can = SampledResidual{};
-    can.amplitude = can.prv_percent = can.fit_rms = NAN;
+    can.amplitude = can.prv_percent = can.fit_rms = kNaN;
   }
   SampledResidual off_double{};
   if (!have_double || fitted_residual(replay_double.load_after, load_cpu, replay_double.final_load, dt, spec.plant,
                                       replay_double.step_residual, off_double) != plant::SimStatus::ok) {
-    off_double.amplitude = NAN;
+    off_double.amplitude = kNaN;
   }
   r.residual_double = off_double.amplitude;
   // The residual measured over CAN against the double run's (its aligned replay), in percent, and
   // the same difference in load counts: what it is next to the measurement's resolution.
   r.residual_vs_double_percent =
-      r.aligned() ? std::fabs(can.amplitude - off_double.amplitude) / off_double.amplitude * 100.0 : double{NAN};
+      r.aligned() ? std::fabs(can.amplitude - off_double.amplitude) / off_double.amplitude * 100.0 : kNaN;
   r.residual_vs_double_load_counts = std::fabs(can.amplitude - off_double.amplitude) * load_cpu;
-  r.agreement = r.aligned() ? std::fabs(can.amplitude - off.amplitude) : double{NAN};
+  r.agreement = r.aligned() ? std::fabs(can.amplitude - off.amplitude) : kNaN;
   plant::SimResult cont{};
   plant::SimOptions so{};
   so.record = false;
@@ -406,8 +410,8 @@ void measure(const StreamSpec& spec, const StreamAxis& axis, std::uint64_t settl
   } else {
     r.continuous_simulated = plant::simulate(spec.plant, plant::MoveCommand{axis.move}, so, cont) == plant::SimStatus::ok;
   }
-  r.residual_continuous = r.continuous_simulated ? cont.metrics.residual_amplitude : double{NAN};
-  r.prv_continuous_percent = r.continuous_simulated ? cont.metrics.prv_percent : double{NAN};
+  r.residual_continuous = r.continuous_simulated ? cont.metrics.residual_amplitude : kNaN;
+  r.prv_continuous_percent = r.continuous_simulated ? cont.metrics.prv_percent : kNaN;
   for (std::size_t i = 1; i < r.log.size(); ++i) {
     if (r.log[i].feedback_count != r.log[i - 1].feedback_count + 1 && r.log[i].feedback_count > 0) {
       ++r.feedback_late_ticks;
@@ -444,7 +448,7 @@ void measure_axes(const StreamSpec& spec, StreamReport& r) {
     e_lo = std::min(e_lo, *a.move_end_tick);
     e_hi = std::max(e_hi, *a.move_end_tick);
   }
-  r.line_deviation_setpoints_counts = r.line_deviation_feedback_counts = NAN;
+  r.line_deviation_setpoints_counts = r.line_deviation_feedback_counts = kNaN;
   if (!all || !any) return;
   r.start_tick_spread = s_hi - s_lo;
   r.end_tick_spread = e_hi - e_lo;

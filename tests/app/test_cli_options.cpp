@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
@@ -537,3 +538,24 @@ TEST(StreamScalar, FixedStreamsThePseudoPolynomial) {
 }
 
 }  // namespace
+
+// The int32 reach check stream and identify share: (2 |reach| + 1) x scale within 2e9, the motor's
+// scale named first. Over a seeded grid against the 32-bit bound itself.
+TEST(CountsReach, NamesTheScaleWhoseCountsTheMoveLeaves) {
+  std::uint64_t seed = 33;
+  const auto uniform = [&seed] {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(seed >> 11) / 9007199254740992.0;
+  };
+  for (int i = 0; i < 2000; ++i) {
+    const double reach = (uniform() - 0.5) * 2e4;
+    const double motor = std::pow(10.0, uniform() * 12.0 - 3.0);
+    const double load = std::pow(10.0, uniform() * 12.0 - 3.0);
+    const auto fits = [&](double scale) { return (2.0 * std::fabs(reach) + 1.0) * scale <= 2e9; };
+    const char* who = settle::app::counts_reach_exceeded(reach, motor, load);
+    const std::string expected = !fits(motor) ? "--counts-per-unit" : !fits(load) ? "--load-counts-per-unit" : "";
+    EXPECT_EQ(who == nullptr ? std::string{} : std::string{who}, expected) << reach << " " << motor << " " << load;
+  }
+  EXPECT_EQ(settle::app::counts_reach_exceeded(999.5, 1e6, 1.0), nullptr);  // exactly 2e9 counts: fits
+  EXPECT_STREQ(settle::app::counts_reach_exceeded(999.5000001, 1e6, 1.0), "--counts-per-unit");
+}

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <set>
+#include <string>
 
 #include "frame_helpers.hpp"
 #include "settle/hal/socketcan_bus.hpp"
@@ -11,6 +13,25 @@
 
 namespace settle::hal {
 namespace {
+
+#define COUNT_ONE(name, text) +1
+
+// One distinct sentence per enumerator of the list, and "?" past it.
+template <typename E> void expect_distinct_sentences(int count) {
+  std::set<std::string> texts;
+  for (int i = 0; i < count; ++i) {
+    EXPECT_TRUE(texts.insert(to_string(static_cast<E>(i))).second) << i;
+  }
+  EXPECT_STREQ(to_string(static_cast<E>(count)), "?");
+}
+
+// Both statuses' sentences come from one list each.
+TEST(SocketCanBus, StatusSentencesComeFromOneList) {
+  expect_distinct_sentences<OpenStatus>(0 SETTLE_HAL_OPEN_STATUSES(COUNT_ONE));
+  expect_distinct_sentences<ControlStatus>(0 SETTLE_HAL_CONTROL_STATUSES(COUNT_ONE));
+  EXPECT_STREQ(to_string(OpenStatus::fd_not_supported), "CAN FD not supported by the interface (MTU 16)");
+  EXPECT_STREQ(to_string(ControlStatus::not_supported), "not supported by this interface");
+}
 
 TEST(SocketCanBus, MissingInterfaceIsReportedAsSuch) {
   SocketCanBus bus;

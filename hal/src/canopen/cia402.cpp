@@ -36,19 +36,11 @@ std::uint16_t statusword_state_bits(Cia402State state) noexcept {
   return 0;
 }
 
-const char* to_string(Cia402State state) noexcept {
-  switch (state) {
-    case Cia402State::not_ready_to_switch_on: return "not ready to switch on";
-    case Cia402State::switch_on_disabled: return "switch on disabled";
-    case Cia402State::ready_to_switch_on: return "ready to switch on";
-    case Cia402State::switched_on: return "switched on";
-    case Cia402State::operation_enabled: return "operation enabled";
-    case Cia402State::quick_stop_active: return "quick stop active";
-    case Cia402State::fault_reaction_active: return "fault reaction active";
-    case Cia402State::fault: return "fault";
-  }
-  return "?";
-}
+namespace {
+constexpr const char* kStateNames[] = {SETTLE_HAL_CIA402_STATES(SETTLE_ENUM_TEXT)};
+}  // namespace
+
+const char* to_string(Cia402State state) noexcept { return enum_text(kStateNames, state, "?"); }
 
 Cia402Command command_from_controlword(std::uint16_t cw, std::uint16_t previous_cw) noexcept {
   if ((cw & 0x0080U) != 0) {

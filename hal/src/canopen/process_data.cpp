@@ -30,20 +30,13 @@ auto placed(Layout& l) noexcept {
                                       {&l.following_error, false, obj::following_error_actual, 0, 4}}};
 }
 
+constexpr const char* kLayoutErrorCodes[] = {SETTLE_HAL_LAYOUT_ERRORS(SETTLE_ENUM_CODE)};
+constexpr const char* kLayoutErrorTexts[] = {SETTLE_HAL_LAYOUT_ERRORS(SETTLE_ENUM_TEXT)};
+
 }  // namespace
 
-const char* to_string(LayoutError error) noexcept {
-  switch (error) {
-    case LayoutError::none: return "none";
-    case LayoutError::missing: return "missing";
-    case LayoutError::split: return "split";
-    case LayoutError::bad_slot: return "bad_slot";
-    case LayoutError::too_long: return "too_long";
-    case LayoutError::overlap: return "overlap";
-    case LayoutError::gap: return "gap";
-  }
-  return "?";
-}
+const char* to_string(LayoutError error) noexcept { return enum_text(kLayoutErrorCodes, error, "?"); }
+const char* describe(LayoutError error) noexcept { return enum_text(kLayoutErrorTexts, error, "?"); }
 
 LayoutError check_layout(const ProcessDataLayout& layout, bool dynamic) noexcept {
   const auto all = placed(layout);

@@ -34,38 +34,18 @@ std::optional<InterpolationPeriod> interpolation_period_from_us(std::uint32_t pe
   return std::nullopt;
 }
 
-const char* to_string(RemoteDriveState state) noexcept {
-  switch (state) {
-    case RemoteDriveState::idle: return "idle";
-    case RemoteDriveState::configuring: return "configuring";
-    case RemoteDriveState::enabling: return "enabling";
-    case RemoteDriveState::ready: return "ready";
-    case RemoteDriveState::stopped: return "stopped";
-    case RemoteDriveState::lost: return "lost";
-    case RemoteDriveState::not_operational: return "not_operational";
-    case RemoteDriveState::failed: return "failed";
-    case RemoteDriveState::releasing: return "releasing";
-    case RemoteDriveState::released: return "released";
-  }
-  return "?";
-}
+namespace {
+constexpr const char* kStateCodes[] = {SETTLE_HAL_REMOTE_DRIVE_STATES(SETTLE_ENUM_CODE)};
+constexpr const char* kStateTexts[] = {SETTLE_HAL_REMOTE_DRIVE_STATES(SETTLE_ENUM_TEXT)};
+constexpr const char* kStartupErrorCodes[] = {SETTLE_HAL_STARTUP_ERRORS(SETTLE_ENUM_CODE)};
+constexpr const char* kStartupErrorTexts[] = {SETTLE_HAL_STARTUP_ERRORS(SETTLE_ENUM_TEXT)};
+}  // namespace
 
-const char* to_string(StartupError error) noexcept {
-  switch (error) {
-    case StartupError::none: return "none";
-    case StartupError::sdo_aborted: return "sdo_aborted";
-    case StartupError::sdo_timed_out: return "sdo_timed_out";
-    case StartupError::wrong_value: return "wrong_value";
-    case StartupError::not_cia402: return "not_cia402";
-    case StartupError::wrong_identity: return "wrong_identity";
-    case StartupError::mode_not_applied: return "mode_not_applied";
-    case StartupError::plan_too_long: return "plan_too_long";
-    case StartupError::bad_layout: return "bad_layout";
-    case StartupError::mapping_unsuitable: return "mapping_unsuitable";
-    case StartupError::enable_timeout: return "enable_timeout";
-  }
-  return "?";
-}
+const char* to_string(RemoteDriveState state) noexcept { return enum_text(kStateCodes, state, "?"); }
+const char* describe(RemoteDriveState state) noexcept { return enum_text(kStateTexts, state, "?"); }
+
+const char* to_string(StartupError error) noexcept { return enum_text(kStartupErrorCodes, error, "?"); }
+const char* describe(StartupError error) noexcept { return enum_text(kStartupErrorTexts, error, "?"); }
 
 std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config, std::span<StartupStep> out) noexcept {
   std::size_t n = 0;

@@ -19,6 +19,7 @@
 #include <span>
 
 #include "settle/hal/can_bus.hpp"
+#include "settle/hal/enum_text.hpp"
 
 namespace settle::hal {
 
@@ -30,15 +31,17 @@ struct SocketCanOptions {
   int send_buffer_bytes{0};     // SO_SNDBUF(FORCE); 0 keeps the kernel default
 };
 
-enum class OpenStatus : std::uint8_t {
-  ok,
-  no_such_interface,
-  not_can_interface,
-  permission_denied,
-  fd_not_supported,  // FD asked for, the interface's MTU is classic (ip link set <if> mtu 72)
-  already_open,
-  error,
-};
+// Made from one list (enum_text.hpp): the enumerator and the sentence to_string() gives.
+#define SETTLE_HAL_OPEN_STATUSES(X) \
+  X(ok, "ok") \
+  X(no_such_interface, "no such interface") \
+  X(not_can_interface, "not a CAN interface") \
+  X(permission_denied, "permission denied") \
+  /* FD asked for, the interface's MTU is classic (ip link set <if> mtu 72) */ \
+  X(fd_not_supported, "CAN FD not supported by the interface (MTU 16)") \
+  X(already_open, "already open") \
+  X(error, "error")
+enum class OpenStatus : std::uint8_t { SETTLE_HAL_OPEN_STATUSES(SETTLE_ENUM_ENUMERATOR) };
 
 [[nodiscard]] const char* to_string(OpenStatus status) noexcept;
 
@@ -50,13 +53,15 @@ enum class OpenStatus : std::uint8_t {
                                                   BusState before) noexcept;
 
 
-enum class ControlStatus : std::uint8_t {
-  ok,
-  not_supported,  // the interface has no CAN controller settings (vcan, vxcan, slcan)
-  no_such_interface,
-  permission_denied,
-  error,
-};
+// Made from one list (enum_text.hpp): the enumerator and the sentence to_string() gives.
+#define SETTLE_HAL_CONTROL_STATUSES(X) \
+  X(ok, "ok") \
+  /* the interface has no CAN controller settings (vcan, vxcan, slcan) */ \
+  X(not_supported, "not supported by this interface") \
+  X(no_such_interface, "no such interface") \
+  X(permission_denied, "permission denied") \
+  X(error, "error")
+enum class ControlStatus : std::uint8_t { SETTLE_HAL_CONTROL_STATUSES(SETTLE_ENUM_ENUMERATOR) };
 
 [[nodiscard]] const char* to_string(ControlStatus status) noexcept;
 

@@ -103,7 +103,7 @@ class InverseDynamicsCommand final : public Command {
   [[nodiscard]] BaseState sample(double t, bool left) const;
   [[nodiscard]] double x_derivative(int k, double t) const;  // of the 3-4-5 output
   [[nodiscard]] double wp_derivative(int k, double t) const; // particular solution for w
-  double d_, t_, omega_, zeta_, kappa_;
+  double d_, t_, omega_, kappa_;  // kappa = 2 zeta / omega: zeta enters only through it
   int degree_;
   double wp0_{0.0}, w_end_{0.0}, end_{0.0};
 };

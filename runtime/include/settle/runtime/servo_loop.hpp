@@ -30,6 +30,7 @@
 #include <type_traits>
 
 #include "settle/core/axis_scale.hpp"
+#include "settle/core/enum_text.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/runtime/evaluation.hpp"
 #include "settle/runtime/fixed_queue.hpp"
@@ -41,59 +42,67 @@
 
 namespace settle::runtime {
 
-enum class LoopStatus : std::uint8_t {
-  ok,
-  plan_failed,            // the planner refused the request (see the core::Status returned with it)
-  queue_full,
-  no_such_axis,
-  too_many_axes,
-  exceeds_axis_velocity,  // the move's true peak velocity is over the axis's vmax
-  does_not_fit_counts,    // the move would leave the int32 count range
-  evaluation_refused,     // the evaluator cannot hold the move (fixed point: see the core::Status)
-  bad_axis_config,
-  position_limit,          // the move's path leaves the drive's software position limits (0x607D)
-  exceeds_drive_velocity,  // the move's peak velocity is over the drive's max profile velocity (0x607F)
-};
+// Each enum below is made from one list, in order: its enumerator, which is also its code
+// (to_string), and the sentence describe() gives (core/enum_text.hpp).
+#define SETTLE_LOOP_STATUSES(X) \
+  X(ok, "accepted") \
+  /* see the core::Status returned with it */ \
+  X(plan_failed, "the planner refused the request") \
+  X(queue_full, "the axis's move queue is full") \
+  X(no_such_axis, "no axis has that index") \
+  X(too_many_axes, "more axes than the loop holds") \
+  X(exceeds_axis_velocity, "the move's true peak velocity is over the axis's vmax") \
+  X(does_not_fit_counts, "the move would leave the int32 count range") \
+  /* fixed point: see the core::Status */ \
+  X(evaluation_refused, "the evaluator cannot hold the move") \
+  X(bad_axis_config, "the axis configuration is invalid") \
+  X(position_limit, "the move's path leaves the drive's software position limits (0x607D)") \
+  X(exceeds_drive_velocity, "the move's peak velocity is over the drive's max profile velocity (0x607F)")
+enum class LoopStatus : std::uint8_t { SETTLE_LOOP_STATUSES(SETTLE_ENUM_ENUMERATOR) };
 
 [[nodiscard]] const char* to_string(LoopStatus s) noexcept;
+[[nodiscard]] const char* describe(LoopStatus s) noexcept;
 
 // Why the loop stopped a move or streaming to an axis.
-enum class AxisFault : std::uint8_t {
-  none,
-  heartbeat_lost,         // the drive's heartbeat timed out
-  drive_restarted,        // boot-up: the drive was power-cycled or reset
-  drive_left_enabled,     // statusword: fault or quick stop
-  drive_not_operational,  // heartbeat: pre-operational or stopped (someone else's NMT command)
-  start_up_failed,        // configuration refused or timed out, or enabling timed out
-  feedback_timeout,       // feedback_timeout_periods SYNCs in a row without a TPDO1 back
-  following_error,
-  step_guard,
-  not_in_position,        // the feedback never showed the move's final setpoint (within one count)
-  foreign_sync,           // a SYNC the loop did not send: a second SYNC producer on the bus
-  bus_off,
-  send_failed,            // send_failure_periods ticks in a row the RPDO + SYNC unit did not go out
-};
+#define SETTLE_AXIS_FAULTS(X) \
+  X(none, "no fault") \
+  X(heartbeat_lost, "the drive's heartbeat timed out") \
+  X(drive_restarted, "boot-up: the drive was power-cycled or reset") \
+  X(drive_left_enabled, "statusword: fault or quick stop") \
+  X(drive_not_operational, "heartbeat: pre-operational or stopped (someone else's NMT command)") \
+  X(start_up_failed, "configuration refused or timed out, or enabling timed out") \
+  X(feedback_timeout, "feedback_timeout_periods SYNCs in a row without a TPDO1 back") \
+  X(following_error, "the following error exceeded its limit") \
+  X(step_guard, "a setpoint step over the axis's vmax x period + margin was refused") \
+  X(not_in_position, "the feedback never showed the move's final setpoint (within one count)") \
+  X(foreign_sync, "a SYNC the loop did not send: a second SYNC producer on the bus") \
+  X(bus_off, "the controller went bus-off") \
+  X(send_failed, "send_failure_periods ticks in a row the RPDO + SYNC unit did not go out")
+enum class AxisFault : std::uint8_t { SETTLE_AXIS_FAULTS(SETTLE_ENUM_ENUMERATOR) };
 
 [[nodiscard]] const char* to_string(AxisFault f) noexcept;
+[[nodiscard]] const char* describe(AxisFault f) noexcept;
 
 // What the loop did or saw, in order (drain events() as the feedback log).
-enum class LoopEventKind : std::uint8_t {
-  drive_ready,            // axis: operation enabled; streaming may begin
-  move_started,           // axis
-  move_completed,         // axis: the feedback showed the final setpoint within one count
-  move_voided,            // axis, fault: the move (active, finishing or queued) will never complete
-  axis_stopped,           // axis, fault: streaming to it stopped
-  start_up_rerun,         // axis: NMT, SDO configuration and enabling run again
-  foreign_sync,           // bus: a SYNC the loop did not send
-  bus_error_warning,      // bus: the controller's state, as the bus reports it
-  bus_error_passive,
-  bus_error_active,
-  bus_off,
-  bus_restart_requested,  // bus: CanBus::restart() accepted
-  bus_restart_refused,    // bus: not supported (vcan) or failed; the loop waits for the bus
-};
+#define SETTLE_LOOP_EVENT_KINDS(X) \
+  X(drive_ready, "axis: operation enabled; streaming may begin") \
+  X(move_started, "axis: a move started") \
+  X(move_completed, "axis: the feedback showed the final setpoint within one count") \
+  X(move_voided, "axis, fault: the move (active, finishing or queued) will never complete") \
+  X(axis_stopped, "axis, fault: streaming to it stopped") \
+  X(start_up_rerun, "axis: NMT, SDO configuration and enabling run again") \
+  X(foreign_sync, "bus: a SYNC the loop did not send") \
+  /* bus: the controller's state, as the bus reports it */ \
+  X(bus_error_warning, "bus: error warning") \
+  X(bus_error_passive, "bus: error passive") \
+  X(bus_error_active, "bus: error active") \
+  X(bus_off, "bus: bus-off") \
+  X(bus_restart_requested, "bus: CanBus::restart() accepted") \
+  X(bus_restart_refused, "bus: restart not supported (vcan) or failed; the loop waits for the bus")
+enum class LoopEventKind : std::uint8_t { SETTLE_LOOP_EVENT_KINDS(SETTLE_ENUM_ENUMERATOR) };
 
 [[nodiscard]] const char* to_string(LoopEventKind k) noexcept;
+[[nodiscard]] const char* describe(LoopEventKind k) noexcept;
 
 inline constexpr std::uint8_t kBusEvent = 0xFF;  // LoopEvent::axis of an event of the bus
 

@@ -14,25 +14,26 @@
 
 namespace settle::runtime {
 
-enum class SessionOutcome : std::uint8_t {
-  completed,      // every move streamed and the settling window observed
-  enable_failed,  // a drive never reached operation enabled (or refused its configuration)
-  drive_lost,     // heartbeat lost, fault, restart or following error: streaming stopped
-  rejected,       // a move was refused before anything was streamed for it
-  timeout,        // the session ran past max_ticks
-  // The loop halted the axis (SessionResult::fault says the same):
-  feedback_timeout,       // the drive stopped answering the SYNC (its TPDOs stopped)
-  drive_not_operational,  // its heartbeat said pre-operational or stopped: someone else's NMT
-  foreign_sync,           // a second SYNC producer on the bus
-  bus_off,                // the controller went bus-off (the loop restarts it and the drives' start-up)
-  send_failed,            // the RPDO + SYNC unit could not be sent for LoopConfig::send_failure_periods
-  not_in_position,        // the feedback never showed the final setpoint within one count
-  // The loop's own step guard refused a setpoint (a step over AxisConfig::vmax x period + margin):
-  // the command was not what the plan promised; the drive is fine and holds where it was.
-  step_guard,
-};
+// How a session ended, made from one list (core/enum_text.hpp): enumerator (= code) and sentence.
+#define SETTLE_SESSION_OUTCOMES(X) \
+  X(completed, "every move streamed and the settling window observed") \
+  X(enable_failed, "a drive never reached operation enabled (or refused its configuration)") \
+  X(drive_lost, "heartbeat lost, fault, restart or following error: streaming stopped") \
+  X(rejected, "a move was refused before anything was streamed for it") \
+  X(timeout, "the session ran past max_ticks") \
+  /* The loop halted the axis (SessionResult::fault says the same): */ \
+  X(feedback_timeout, "the drive stopped answering the SYNC (its TPDOs stopped)") \
+  X(drive_not_operational, "its heartbeat said pre-operational or stopped: someone else's NMT") \
+  X(foreign_sync, "a second SYNC producer on the bus") \
+  X(bus_off, "the controller went bus-off (the loop restarts it and the drives' start-up)") \
+  X(send_failed, "the RPDO + SYNC unit could not be sent for LoopConfig::send_failure_periods") \
+  X(not_in_position, "the feedback never showed the final setpoint within one count") \
+  /* the command was not what the plan promised; the drive is fine and holds where it was */ \
+  X(step_guard, "the loop's own step guard refused a setpoint (a step over AxisConfig::vmax x period + margin)")
+enum class SessionOutcome : std::uint8_t { SETTLE_SESSION_OUTCOMES(SETTLE_ENUM_ENUMERATOR) };
 
 [[nodiscard]] const char* to_string(SessionOutcome o) noexcept;
+[[nodiscard]] const char* describe(SessionOutcome o) noexcept;
 // The outcome that names the fault (drive_lost for the drive's own stops and the following error).
 [[nodiscard]] SessionOutcome session_outcome_for(AxisFault f) noexcept;
 

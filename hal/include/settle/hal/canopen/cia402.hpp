@@ -6,6 +6,8 @@
 
 #include <cstdint>
 
+#include "settle/hal/enum_text.hpp"
+
 namespace settle::hal::canopen {
 
 // Objects of the drive profile (and Settle's manufacturer-specific ones) by index.
@@ -88,16 +90,17 @@ inline constexpr std::uint16_t mode_specific_12 = 0x1000;  // CSP: following the
 inline constexpr std::uint16_t following_error = 0x2000;   // CSP/PP: following error
 }  // namespace statusword
 
-enum class Cia402State : std::uint8_t {
-  not_ready_to_switch_on,
-  switch_on_disabled,
-  ready_to_switch_on,
-  switched_on,
-  operation_enabled,
-  quick_stop_active,
-  fault_reaction_active,
-  fault,
-};
+// Made from one list (enum_text.hpp): the enumerator and the name to_string() gives.
+#define SETTLE_HAL_CIA402_STATES(X) \
+  X(not_ready_to_switch_on, "not ready to switch on") \
+  X(switch_on_disabled, "switch on disabled") \
+  X(ready_to_switch_on, "ready to switch on") \
+  X(switched_on, "switched on") \
+  X(operation_enabled, "operation enabled") \
+  X(quick_stop_active, "quick stop active") \
+  X(fault_reaction_active, "fault reaction active") \
+  X(fault, "fault")
+enum class Cia402State : std::uint8_t { SETTLE_HAL_CIA402_STATES(SETTLE_ENUM_ENUMERATOR) };
 
 // The state a statusword reports, by the standard masks (0x4F / 0x6F).
 [[nodiscard]] Cia402State state_from_statusword(std::uint16_t sw) noexcept;

@@ -16,6 +16,7 @@
 #include "settle/hal/canopen/cia402.hpp"
 #include "settle/hal/canopen/cob_id.hpp"
 #include "settle/hal/canopen/pdo.hpp"
+#include "settle/hal/enum_text.hpp"
 
 namespace settle::hal::canopen {
 
@@ -64,16 +65,18 @@ struct ProcessDataLayout {
   return l;
 }
 
-enum class LayoutError : std::uint8_t {
-  none,
-  missing,   // controlword, target position, statusword or position actual is not mapped
-  split,     // controlword and target position in different RPDOs, or statusword and position actual
-  bad_slot,  // a PDO number over 4, or a size other than the object's
-  too_long,  // a value past a PDO's eight bytes
-  overlap,   // two values share bytes of a PDO
-  gap,       // dynamic mapping: a PDO's values are not back to back from byte 0
-};
+// Made from one list (enum_text.hpp): enumerator (= code, to_string) and sentence (describe).
+#define SETTLE_HAL_LAYOUT_ERRORS(X) \
+  X(none, "the layout is valid") \
+  X(missing, "controlword, target position, statusword or position actual is not mapped") \
+  X(split, "controlword and target position in different RPDOs, or statusword and position actual") \
+  X(bad_slot, "a PDO number over 4, or a size other than the object's") \
+  X(too_long, "a value past a PDO's eight bytes") \
+  X(overlap, "two values share bytes of a PDO") \
+  X(gap, "dynamic mapping: a PDO's values are not back to back from byte 0")
+enum class LayoutError : std::uint8_t { SETTLE_HAL_LAYOUT_ERRORS(SETTLE_ENUM_ENUMERATOR) };
 [[nodiscard]] const char* to_string(LayoutError error) noexcept;
+[[nodiscard]] const char* describe(LayoutError error) noexcept;
 
 // `dynamic`: the layout is to be written into the drive, entry after entry, so no gaps.
 [[nodiscard]] LayoutError check_layout(const ProcessDataLayout& layout, bool dynamic) noexcept;

@@ -21,6 +21,7 @@
 #include "settle/hal/canopen/process_data.hpp"
 #include "settle/hal/canopen/sdo.hpp"
 #include "settle/hal/canopen/watchdog.hpp"
+#include "settle/hal/enum_text.hpp"
 #include "settle/hal/frame_sink.hpp"
 
 namespace settle::hal::canopen {
@@ -184,40 +185,46 @@ inline constexpr std::size_t remote_drive_max_steps = SETTLE_REMOTE_DRIVE_MAX_ST
 [[nodiscard]] std::optional<std::size_t> plan_start_up(const RemoteDriveConfig& config,
                                                        std::span<StartupStep> out) noexcept;
 
-enum class RemoteDriveState : std::uint8_t {
-  idle,         // start() not called
-  configuring,  // NMT pre-operational, SDO configuration, NMT start
-  enabling,     // enable sequence over RPDO1/TPDO1: the loop must tick (RPDO + SYNC)
-  ready,        // operation enabled in the configured mode: setpoints may be streamed
-  stopped,      // the drive left operation enabled (fault, quick stop): call recover()
-  lost,         // its heartbeat timed out
-  not_operational,  // its heartbeat said pre-operational or stopped after it had been operational
-                    // (someone else's NMT command): no process data; start() runs start-up again
-  failed,       // configuration refused or timed out, or enabling timed out: see failure()
-  releasing,    // release(): the RPDO carries Shutdown (0x06) with the target held, until the
-                // statusword shows the drive out of operation enabled
-  released,     // the statusword confirmed it (ready to switch on, or switched on): no process
-                // data; recover() enables it again
-};
+// Made from one list (enum_text.hpp): enumerator (= code, to_string) and sentence (describe).
+#define SETTLE_HAL_REMOTE_DRIVE_STATES(X) \
+  X(idle, "start() not called") \
+  X(configuring, "NMT pre-operational, SDO configuration, NMT start") \
+  X(enabling, "enable sequence over RPDO1/TPDO1: the loop must tick (RPDO + SYNC)") \
+  X(ready, "operation enabled in the configured mode: setpoints may be streamed") \
+  X(stopped, "the drive left operation enabled (fault, quick stop): call recover()") \
+  X(lost, "its heartbeat timed out") \
+  /* no process data; start() runs start-up again */ \
+  X(not_operational, \
+    "its heartbeat said pre-operational or stopped after it had been operational (someone else's NMT command)") \
+  X(failed, "configuration refused or timed out, or enabling timed out: see failure()") \
+  /* until the statusword shows the drive out of operation enabled */ \
+  X(releasing, "release(): the RPDO carries Shutdown (0x06) with the target held") \
+  /* no process data; recover() enables it again */ \
+  X(released, "the statusword confirmed the release (ready to switch on, or switched on)")
+enum class RemoteDriveState : std::uint8_t { SETTLE_HAL_REMOTE_DRIVE_STATES(SETTLE_ENUM_ENUMERATOR) };
 
 [[nodiscard]] const char* to_string(RemoteDriveState state) noexcept;
+[[nodiscard]] const char* describe(RemoteDriveState state) noexcept;
 
 // Why start-up failed, in one word.
-enum class StartupError : std::uint8_t {
-  none,
-  sdo_aborted,      // the drive refused a transfer: see abort
-  sdo_timed_out,    // no answer, twice
-  wrong_value,      // a write read back as another value
-  not_cia402,       // 0x1000's low 16 bits are not 402
-  wrong_identity,   // 0x1018:sub is not the expected one
-  mode_not_applied, // 0x6061 does not show the mode written
-  plan_too_long,    // the configuration needs more steps than remote_drive_max_steps
-  bad_layout,       // the configured ProcessDataLayout is not valid (check_layout): nothing sent
-  mapping_unsuitable,  // read_static: the drive's mapping lacks the object `index` (or maps, in an
-                       // RPDO, the object `index`, which the master cannot fill)
-  enable_timeout,   // operation enabled not reached in time
-};
+#define SETTLE_HAL_STARTUP_ERRORS(X) \
+  X(none, "no error") \
+  X(sdo_aborted, "the drive refused a transfer: see abort") \
+  X(sdo_timed_out, "no answer, twice") \
+  X(wrong_value, "a write read back as another value") \
+  X(not_cia402, "0x1000's low 16 bits are not 402") \
+  X(wrong_identity, "0x1018:sub is not the expected one") \
+  X(mode_not_applied, "0x6061 does not show the mode written") \
+  X(plan_too_long, "the configuration needs more steps than remote_drive_max_steps") \
+  X(bad_layout, "the configured ProcessDataLayout is not valid (check_layout): nothing sent") \
+  /* read_static */ \
+  X(mapping_unsuitable, \
+    "the drive's mapping lacks the object `index` (or maps, in an RPDO, the object `index`, which the " \
+    "master cannot fill)") \
+  X(enable_timeout, "operation enabled not reached in time")
+enum class StartupError : std::uint8_t { SETTLE_HAL_STARTUP_ERRORS(SETTLE_ENUM_ENUMERATOR) };
 [[nodiscard]] const char* to_string(StartupError error) noexcept;
+[[nodiscard]] const char* describe(StartupError error) noexcept;
 
 // Why start-up failed.
 struct RemoteDriveFailure {
