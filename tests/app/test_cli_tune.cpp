@@ -226,6 +226,21 @@ TEST(CliTune, StreamPlanFromStreamsExactlyTheTunedPlan) {
   EXPECT_NE(tuned.at("candidate").at("shaper"), "none");
 }
 
+// A plan file written before the request held one list of modes (`settle tune --json` for three
+// identified modes: the first as "omega"/"zeta", the others as "extra_modes") plans the very same
+// move: it would be refused as plan_mismatch if a mode were lost or reordered.
+TEST(CliTune, APlanFileOfThreeModesFromAnEarlierSettleStillLoads) {
+  const std::string plan = std::string{SETTLE_SOURCE_DIR} + "/tests/app/data/plan_three_modes_first_format.json";
+  std::ifstream in{plan};
+  const Json file = Json::parse(in);
+  ASSERT_EQ(file.at("request").at("extra_modes").size(), 2u);
+  const CliResult s = run_cli("sample --plan-from " + plan + " --dt 0.001 --json");
+  ASSERT_EQ(s.status, 0) << s.out;
+  const Json rows = Json::parse(s.stdout_text).at("rows");
+  EXPECT_DOUBLE_EQ(rows.back()[0].get<double>(), file.at("duration").get<double>());
+  EXPECT_DOUBLE_EQ(rows.back()[1].get<double>(), file.at("distance").get<double>());
+}
+
 TEST(CliTune, PngDrawsTheChosenPlanAndTheOnesItBeat) {
   const fs::path png = scratch() / "tune.png";
   const CliResult r = run_cli("tune --mode 12.566,0.03 --uncertainty 10" + kMove + " --png " + png.string());
