@@ -226,6 +226,20 @@ TEST(CliTune, StreamPlanFromStreamsExactlyTheTunedPlan) {
   EXPECT_NE(tuned.at("candidate").at("shaper"), "none");
 }
 
+// A modes file from an earlier `settle identify --json`, which also gave each mode's frequency in
+// Hz, tunes to the very same plan as one that states omega once.
+TEST(CliTune, AModesFileWithTheEarlierFrequencyInHzTunesTheSame) {
+  const std::string mode = R"("omega":12.566,"zeta":0.03,"gain":1.0,"omega_ci":[11.31,13.82],"zeta_ci":[0.02,0.04])";
+  const std::string now = write("modes_now.json", R"({"status":"ok","modes":[{)" + mode + "}]}");
+  const std::string before =
+      write("modes_before.json", R"({"status":"ok","modes":[{)" + mode + R"(,"gain_sd":0.01,"frequency_hz":2.0}]})");
+  const CliResult a = run_cli("tune --modes-from " + now + kMove + " --json");
+  const CliResult b = run_cli("tune --modes-from " + before + kMove + " --json");
+  ASSERT_EQ(a.status, 0) << a.out;
+  EXPECT_EQ(b.status, 0) << b.out;
+  EXPECT_EQ(a.stdout_text, b.stdout_text);
+}
+
 // A plan file written before the request held one list of modes (`settle tune --json` for three
 // identified modes: the first as "omega"/"zeta", the others as "extra_modes") plans the very same
 // move: it would be refused as plan_mismatch if a mode were lost or reordered.
