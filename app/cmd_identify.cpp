@@ -14,6 +14,7 @@
 #include "drive_advice.hpp"
 #include "eds_option.hpp"
 #include "io/json.hpp"
+#include "io/modes_json.hpp"
 #include "move_options.hpp"
 #include "options.hpp"
 #include "progress.hpp"
@@ -180,6 +181,44 @@ std::string write_png(const commission::IdentifyRunSpec& spec, const commission:
   return {};
 }
 
+// The JSON document, one line: {"status":"ok","modes":[...] (io/modes_json.hpp: what `settle tune
+// --modes-from` reads) sorted by omega,"excitation":{...},"fit":{order, rms_residual, ...}}; on
+// failure {"status":"error","error":code,"message":...}.
+std::string identify_document(const commission::IdentifyRunSpec& spec, const commission::IdentifyRunReport& r) {
+  Json j;
+  if (!r.ok()) {
+    j["status"] = "error";
+    j["error"] = r.failure_code;
+    j["message"] = r.failure;
+    return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+  const commission::IdentifyResult& f = r.result;
+  j["status"] = "ok";
+  j["modes"] = modes_json(f.modes);
+  const core::Move<double>& mv = spec.stream.axes.front().move;
+  j["excitation"] = {{"profile", core::to_string(mv.profile().kind())},
+                     {"distance", mv.distance()},
+                     {"round_trips", commission::train_round_trips(mv)},
+                     {"move_time", mv.duration()},
+                     {"peak_velocity", mv.peaks().v},
+                     {"peak_acceleration", mv.peaks().a},
+                     {"peak_jerk", mv.peaks().j},
+                     {"hold", spec.stream.settle_time_s},
+                     {"period", r.period_s},
+                     {"samples", r.motor.size()},
+                     {"peak_deflection", f.peak_deflection},
+                     {"bus", r.stream.bus}};
+  j["fit"] = {{"order", f.order},
+              {"rms_residual", f.rms_residual},
+              {"noise_rms", f.noise_rms},
+              {"pencil_order", f.pencil_order},
+              {"rigid_gain", f.rigid_gain},
+              {"iterations", f.iterations},
+              {"confidence", spec.options.confidence},
+              {"max_modes", spec.options.max_modes}};
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 }  // namespace
 
 int cmd_identify(int argc, char** argv) {
@@ -201,14 +240,14 @@ int cmd_identify(int argc, char** argv) {
   if (!report.ok()) {
     if (const std::string advice = drive_advice(report.stream); !advice.empty()) report.failure += ": " + advice;
   }
-  if (!report.ok()) return failed(report.failure_code, report.failure, args.json(), commission::identify_json(spec, report));
+  if (!report.ok()) return failed(report.failure_code, report.failure, args.json(), identify_document(spec, report));
   if (const auto png = args.text("--png")) {
     if (const std::string why = write_png(spec, report, *png); !why.empty()) {
       return failed("figure_failed", why, args.json(), error_doc("figure_failed", why));
     }
   }
   if (args.json()) {
-    std::printf("%s\n", commission::identify_json(spec, report).c_str());
+    std::printf("%s\n", identify_document(spec, report).c_str());
   } else {
     commission::write_identify_text(spec, report, stdout);
   }

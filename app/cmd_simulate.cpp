@@ -81,8 +81,8 @@ Json result_json(const plant::ModalPlant& plant, const core::Move<double>& move,
   j["distance"] = move.distance();
   j["move_duration"] = move.duration();
   if (needs_mode(req)) {
-    j["designed_omega"] = *req.omega;
-    j["designed_zeta"] = req.zeta;
+    j["designed_omega"] = req.omega();
+    j["designed_zeta"] = req.zeta();
   }
   // The residual below is the one after the change: the command is the move to `at`, then the blend.
   if (change != nullptr) j["online"] = online_json(*change);
@@ -121,7 +121,7 @@ void print_text(const plant::ModalPlant& plant, const core::Move<double>& move, 
   }
   std::printf("move               %s, distance %.9g, duration %.9g s", core::to_string(move.profile().kind()),
               move.distance(), move.duration());
-  if (needs_mode(req)) std::printf(" (designed for omega %.7g, zeta %.5g)", *req.omega, req.zeta);
+  if (needs_mode(req)) std::printf(" (designed for omega %.7g, zeta %.5g)", req.omega(), req.zeta());
   if (change != nullptr) {
     std::printf("\n%-18s at %.9g s: %s %.9g s, at rest on %.9g %s at %.9g s", change->target ? "retarget" : "halt",
                 change->at, choice_name(change->choice), change->blend.duration(), change->blend.end_position(), u,
@@ -382,7 +382,7 @@ int cmd_simulate(int argc, char** argv) {
   const bool want_width = args.flag("--sensitivity");
   if (want_width) {
     const plant::Mode& f = plant.fundamental();
-    const double designed = needs_mode(req) ? *req.omega : f.omega;
+    const double designed = needs_mode(req) ? req.omega() : f.omega;
     st = plant::insensitivity_width(cmd, designed, f.zeta, 5.0, width);
     if (st != plant::SimStatus::ok) {
       return report_failure("simulate", plant::to_string(st), std::string{"sensitivity sweep failed: "} + describe(st),

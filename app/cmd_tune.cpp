@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "io/json.hpp"
+#include "io/modes_json.hpp"
 #include "options.hpp"
 #include "io/plan_json.hpp"
 #include "settle/core/profiles/registry.hpp"
@@ -21,8 +22,6 @@
 namespace settle::app {
 
 namespace {
-
-inline constexpr std::size_t kMaxModesFileBytes = 1 << 20;
 
 struct Band {
   bool ci{true};
@@ -62,78 +61,6 @@ commission::UncertainMode banded(double omega, double zeta, double gain, const B
                        .zeta_hi = std::min(0.99, zeta + b.zeta_pm)};
   m.zeta_hi = std::max(m.zeta_hi, zeta);
   return m;
-}
-
-// identify's JSON: {"status":"ok","modes":[{"omega","zeta","gain","omega_ci":[lo,hi],"zeta_ci":[lo,hi]},...],...}.
-bool modes_from_file(const std::string& path, const Band& band, std::vector<commission::UncertainMode>& out,
-                     RequestError& err) {
-  const std::string opt = "--modes-from";
-  std::string text;
-  if (!read_bounded_file(path, opt, kMaxModesFileBytes, text, err)) return false;
-  auto bad = [&](const std::string& why) {
-    err = {"bad_modes_file", opt, opt + ": " + why};
-    return false;
-  };
-  if (json_nesting_depth(text) > kMaxJsonDepth) {
-    return bad("nests arrays and objects more than " + std::to_string(kMaxJsonDepth) + " levels deep; a modes file nests 4");
-  }
-  const Json j = Json::parse(text, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) return bad("not a JSON object (the output of settle identify --json)");
-  if (!j.contains("status") || j["status"] != "ok") return bad("\"status\" is not \"ok\" (identification failed?)");
-  if (!j.contains("modes") || !j["modes"].is_array()) return bad("no \"modes\" array");
-  const Json& modes = j["modes"];
-  if (modes.empty()) return bad("\"modes\" is empty: nothing to tune for");
-  if (modes.size() > commission::kMaxTuneModes) {
-    return bad("holds " + std::to_string(modes.size()) + " modes; at most " + std::to_string(commission::kMaxTuneModes));
-  }
-  std::vector<commission::UncertainMode> list;
-  for (std::size_t i = 0; i < modes.size(); ++i) {
-    const Json& m = modes[i];
-    const std::string at = "modes[" + std::to_string(i) + "]";
-    if (!m.is_object()) return bad(at + " is not an object");
-    auto num = [&](const char* key, double& v) {
-      if (!m.contains(key) || !m[key].is_number()) return false;
-      v = m[key].get<double>();
-      return std::isfinite(v);
-    };
-    double omega = 0.0, zeta = 0.0, gain = 1.0;
-    if (!num("omega", omega) || !(omega >= 1e-2 && omega <= 1e6)) {
-      return bad(at + ".omega: a number in [0.01, 1e6] rad/s is required");
-    }
-    if (!num("zeta", zeta) || !(zeta >= 0.0 && zeta < 1.0)) return bad(at + ".zeta: a number in [0, 1) is required");
-    if (m.contains("gain") && (!num("gain", gain) || !(std::fabs(gain) <= 1e6))) {
-      return bad(at + ".gain: a number in [-1e6, 1e6]");
-    }
-    commission::UncertainMode u = banded(omega, zeta, gain, band);
-    if (band.ci) {
-      auto interval = [&](const char* key, double& lo, double& hi) {
-        if (!m.contains(key) || !m[key].is_array() || m[key].size() != 2 || !m[key][0].is_number() ||
-            !m[key][1].is_number()) {
-          return false;
-        }
-        lo = m[key][0].get<double>();
-        hi = m[key][1].get<double>();
-        return std::isfinite(lo) && std::isfinite(hi);
-      };
-      if (!interval("omega_ci", u.omega_lo, u.omega_hi)) {
-        return bad(at + ".omega_ci: [lo, hi] is required with --uncertainty ci (or give --uncertainty PCT)");
-      }
-      if (!(u.omega_lo > 0.0 && u.omega_lo <= omega && omega <= u.omega_hi)) {
-        return bad(at + ".omega_ci: must satisfy 0 < lo <= omega <= hi");
-      }
-      if (!interval("zeta_ci", u.zeta_lo, u.zeta_hi)) {
-        return bad(at + ".zeta_ci: [lo, hi] is required with --uncertainty ci (or give --uncertainty PCT)");
-      }
-      // A symmetric interval around a small damping ratio may reach below 0: no damping is the least.
-      u.zeta_lo = std::max(u.zeta_lo, 0.0);
-      if (!(u.zeta_lo <= zeta && zeta <= u.zeta_hi && u.zeta_hi < 1.0)) {
-        return bad(at + ".zeta_ci: must satisfy lo <= zeta <= hi < 1");
-      }
-    }
-    list.push_back(u);
-  }
-  out = std::move(list);
-  return true;
 }
 
 Json band_json(const commission::TuneResult& r, const commission::TuneCandidate& c, const Band& b) {
@@ -242,7 +169,12 @@ int cmd_tune(int argc, char** argv) {
     return report_bad_request({"conflicting_options", "--mode", "--mode: give --modes-from or --mode, not both"}, json);
   }
   if (file) {
-    if (!modes_from_file(*file, band, modes, err)) return report_bad_request(err, json);
+    if (!read_modes_file(*file, "--modes-from", band.ci, commission::kMaxTuneModes, modes, err)) {
+      return report_bad_request(err, json);
+    }
+    if (!band.ci) {
+      for (commission::UncertainMode& m : modes) m = banded(m.omega, m.zeta, m.gain, band);
+    }
   } else if (args.has("--mode")) {
     if (band.ci) {
       return report_bad_request({"missing_interval", "--uncertainty",

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "io/modes_json.hpp"
+
 #include "settle/testbed/drive_axis.hpp"
 #include "settle/commission/identify_excitation.hpp"
 #include "settle/plant/simulate.hpp"
@@ -35,16 +37,6 @@ bool number(const Json& j, const char* key, double& v) {
   if (!j.contains(key) || !j.at(key).is_number()) return false;
   v = j.at(key).get<double>();
   return std::isfinite(v);
-}
-
-bool interval(const Json& j, const char* key, double& lo, double& hi) {
-  if (!j.contains(key) || !j.at(key).is_array() || j.at(key).size() != 2 || !j.at(key)[0].is_number() ||
-      !j.at(key)[1].is_number()) {
-    return false;
-  }
-  lo = j.at(key)[0].get<double>();
-  hi = j.at(key)[1].get<double>();
-  return true;
 }
 
 bool status_ok(const std::optional<Json>& j) { return j && j->value("status", "") == "ok"; }
@@ -131,11 +123,10 @@ void judge(const CommissioningScenario& s, CommissioningResult& r) {
   for (std::size_t j = 0; found.is_array() && j < found.size() && j < s.modes.size(); ++j) {
     ModeCheck c{};
     c.truth = s.modes[j];
-    const bool read = number(found[j], "omega", c.omega) && number(found[j], "zeta", c.zeta) &&
-                      interval(found[j], "omega_ci", c.omega_lo, c.omega_hi) &&
-                      interval(found[j], "zeta_ci", c.zeta_lo, c.zeta_hi);
-    c.omega_error = c.omega / c.truth.omega - 1.0;
-    c.zeta_error = c.zeta - c.truth.zeta;
+    std::string why;
+    const bool read = mode_from_json(found[j], true, c.found, why);
+    c.omega_error = c.found.omega / c.truth.omega - 1.0;
+    c.zeta_error = c.found.zeta - c.truth.zeta;
     c.within = read && std::fabs(c.omega_error) <= s.omega_tolerance && std::fabs(c.zeta_error) <= s.zeta_tolerance;
     all_within = all_within && c.within;
     r.modes.push_back(c);

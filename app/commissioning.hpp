@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "io/json.hpp"
+#include "settle/commission/uncertain_mode.hpp"
 #include "settle/plant/modal_plant.hpp"
 #include "settle/plant/status.hpp"
 
@@ -50,8 +51,7 @@ struct CommissioningScenario {
 // One identified mode against the true mode it is matched with (the same rank by omega).
 struct ModeCheck {
   plant::Mode truth{};
-  double omega{0.0}, zeta{0.0};
-  double omega_lo{0.0}, omega_hi{0.0}, zeta_lo{0.0}, zeta_hi{0.0};
+  commission::UncertainMode found{};  // as `settle identify --json` reported it (io/modes_json.hpp)
   double omega_error{0.0};  // relative
   double zeta_error{0.0};   // absolute
   bool within{false};

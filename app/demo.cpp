@@ -657,9 +657,9 @@ void print_commissioning(const DemoReport& rep, std::FILE* out) {
   for (std::size_t j = 0; j < r.modes.size(); ++j) {
     const ModeCheck& m = r.modes[j];
     std::fprintf(out, row, std::to_string(j + 1).c_str(), num("%.4f", m.truth.omega).c_str(),
-                 (num("%.4f", m.omega) + " [" + num("%.4f", m.omega_lo) + ", " + num("%.4f", m.omega_hi) + "]").c_str(),
+                 (num("%.4f", m.found.omega) + " [" + num("%.4f", m.found.omega_lo) + ", " + num("%.4f", m.found.omega_hi) + "]").c_str(),
                  (num("%+.3f", m.omega_error * 100.0) + " %").c_str(), num("%.4f", m.truth.zeta).c_str(),
-                 (num("%.4f", m.zeta) + " [" + num("%.4f", m.zeta_lo) + ", " + num("%.4f", m.zeta_hi) + "]").c_str(),
+                 (num("%.4f", m.found.zeta) + " [" + num("%.4f", m.found.zeta_lo) + ", " + num("%.4f", m.found.zeta_hi) + "]").c_str(),
                  num("%+.4f", m.zeta_error).c_str(), m.within ? "yes" : "NO");
   }
   if (r.identify && r.identify->value("status", "") == "ok" && r.modes.size() != c.modes.size()) {
@@ -787,10 +787,10 @@ Json demo_json(const DemoReport& rep) {
   Json modes = Json::array();
   for (const ModeCheck& m : c.modes) {
     modes.push_back(Json{{"true", Json{{"omega", m.truth.omega}, {"zeta", m.truth.zeta}, {"gain", m.truth.gain}}},
-                         {"omega", m.omega},
-                         {"zeta", m.zeta},
-                         {"omega_ci", Json::array({m.omega_lo, m.omega_hi})},
-                         {"zeta_ci", Json::array({m.zeta_lo, m.zeta_hi})},
+                         {"omega", m.found.omega},
+                         {"zeta", m.found.zeta},
+                         {"omega_ci", Json::array({m.found.omega_lo, m.found.omega_hi})},
+                         {"zeta_ci", Json::array({m.found.zeta_lo, m.found.zeta_hi})},
                          {"omega_error", m.omega_error},
                          {"zeta_error", m.zeta_error},
                          {"within", m.within}});

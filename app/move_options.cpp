@@ -121,8 +121,8 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
   }
   if (!parse_shape(a, r, err)) return false;
   if (fallback != nullptr && !a.has("--omega") && core::needs_mode(r)) {
-    r.omega = fallback->omega;
-    if (!a.has("--zeta")) r.zeta = fallback->zeta;
+    const std::vector<double> zetas = a.reals("--zeta");
+    r.set_mode(fallback->omega, zetas.empty() ? fallback->zeta : zetas[0]);
   }
   req = r;
   return true;
@@ -160,7 +160,8 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
   r.base.time = a.real("--time");
   if (!parse_shape(a, r.base, err)) return false;
   core::MoveRequest probe = r.base;
-  probe.omega = fallback != nullptr ? std::optional<double>{fallback->omega} : std::nullopt;
+  probe.mode_count = 0;
+  if (fallback != nullptr) probe.set_mode(fallback->omega);
   if (fallback != nullptr && !omega && core::needs_mode(probe)) {
     for (std::size_t i = 0; i < r.count && i < r.axes.size(); ++i) {
       r.axes[i].omega = fallback->omega;

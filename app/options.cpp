@@ -109,10 +109,10 @@ const std::vector<OptionSpec> kMove = [] {
       real("--jmax", "unit/s^3", "", plant::move_range::jmax, "jerk limit"),
       {.name = "--omega", .kind = Kind::real, .unit = "rad/s", .def = "the plant's fundamental (simulate, stream)",
        .help = "natural frequency the move is designed for (repeat for more modes: --profile fastest)",
-       .range = plant::move_range::omega, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
+       .range = plant::move_range::omega, .repeatable = true, .max_repeats = core::kMaxModes},
       {.name = "--zeta", .kind = Kind::real, .unit = "", .def = "0 (simulate, stream: the plant's)",
        .help = "damping ratio the move is designed for (one per --omega, in order, when several)",
-       .range = plant::move_range::zeta, .repeatable = true, .max_repeats = 1 + core::kMaxExtraModes},
+       .range = plant::move_range::zeta, .repeatable = true, .max_repeats = core::kMaxModes},
       real("--robust", "%", "", plant::move_range::robust,
            "fastest: keep every mode's residual <= 5 % of a step's over omega (1 +- PCT/100)"),
       {.name = "--gammas", .kind = Kind::list, .unit = "", .def = "", .help = "pseudopoly exponents G1,G2,... "

@@ -119,7 +119,7 @@ core::MoveRequest move_request(const py::kwargs& kw) {
   }
   if (r.robust && r.profile != core::ProfileKind::fastest) bad("robust", "only profile 'fastest' takes it");
   // omega and zeta: a number, or (profile 'fastest') one per mode, as --omega and --zeta repeat.
-  constexpr std::size_t kModes = 1 + core::kMaxExtraModes;
+  constexpr std::size_t kModes = core::kMaxModes;
   const std::vector<double> omegas =
       kw.contains("omega") && !kw["omega"].is_none() ? number_or_numbers(kw["omega"], "omega", kModes) : std::vector<double>{};
   const std::vector<double> zetas = kw.contains("zeta") ? number_or_numbers(kw["zeta"], "zeta", kModes) : std::vector<double>{};

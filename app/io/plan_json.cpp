@@ -96,14 +96,13 @@ Json request_json(const core::MoveRequest& r) {
   if (r.vmax) j["vmax"] = *r.vmax;
   if (r.amax) j["amax"] = *r.amax;
   if (r.jmax) j["jmax"] = *r.jmax;
-  if (r.omega) j["omega"] = *r.omega;
-  j["zeta"] = r.zeta;
-  // The modes after the first, and the robustness, that the fastest profile plans for.
-  if (r.extra_mode_count > 0) {
+  // The document spells the first mode "omega", "zeta" and the further ones (profile fastest)
+  // "extra_modes": the format plan files have always had.
+  if (r.has_mode()) j["omega"] = r.omega();
+  j["zeta"] = r.zeta();
+  if (r.mode_count > 1) {
     Json extra = Json::array();
-    for (std::size_t i = 0; i < r.extra_mode_count; ++i) {
-      extra.push_back(Json{{"omega", r.extra_modes[i].omega}, {"zeta", r.extra_modes[i].zeta}});
-    }
+    for (const core::Mode& m : r.mode_list().subspan(1)) extra.push_back(Json{{"omega", m.omega}, {"zeta", m.zeta}});
     j["extra_modes"] = extra;
   }
   if (r.robust) j["robust"] = *r.robust;
@@ -215,29 +214,30 @@ bool load_plan_file(const std::string& path, const std::string& option, core::Mo
     to = rq[key].get<double>();
     return true;
   };
-  std::optional<double> distance, zeta;
+  std::optional<double> distance, omega, zeta;
   for (auto [key, to, required] : {std::tuple{"distance", &distance, true}, std::tuple{"time", &r.time, false},
                                    std::tuple{"vmax", &r.vmax, false}, std::tuple{"amax", &r.amax, false},
-                                   std::tuple{"jmax", &r.jmax, false}, std::tuple{"omega", &r.omega, false},
+                                   std::tuple{"jmax", &r.jmax, false}, std::tuple{"omega", &omega, false},
                                    std::tuple{"zeta", &zeta, false}}) {
     if (!number(key, *to, required)) return bad(std::string{"request."} + key + " is missing or not a finite number");
   }
   r.distance = *distance;
-  r.zeta = zeta.value_or(0.0);
+  if (omega) r.set_mode(*omega, zeta.value_or(0.0));
   std::optional<double> robust;
   if (!number("robust", robust, false)) return bad("request.robust is not a finite number");
   r.robust = robust;
   if (rq.contains("extra_modes")) {
     const Json& extra = rq["extra_modes"];
-    if (!extra.is_array() || extra.size() > core::kMaxExtraModes) {
-      return bad("request.extra_modes must be an array of at most " + std::to_string(core::kMaxExtraModes) + " modes");
+    if (!omega) return bad("request.extra_modes needs request.omega, the first mode");
+    if (!extra.is_array() || extra.size() > core::kMaxModes - 1) {
+      return bad("request.extra_modes must be an array of at most " + std::to_string(core::kMaxModes - 1) + " modes");
     }
     for (const Json& e : extra) {
       if (!e.is_object() || !e.contains("omega") || !e.contains("zeta") || !e["omega"].is_number() ||
           !e["zeta"].is_number() || !std::isfinite(e["omega"].get<double>()) || !std::isfinite(e["zeta"].get<double>())) {
         return bad("every request.extra_modes entry needs finite numbers \"omega\" and \"zeta\"");
       }
-      r.extra_modes[r.extra_mode_count++] = {e["omega"].get<double>(), e["zeta"].get<double>()};
+      (void)r.add_mode({e["omega"].get<double>(), e["zeta"].get<double>()});
     }
   }
   if (!j.contains("shaper") || !j["shaper"].is_object() || !j["shaper"].contains("impulses") ||

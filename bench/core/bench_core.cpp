@@ -216,11 +216,9 @@ MoveRequest fastest_request(int which) {
   r.vmax = 1.0;
   r.amax = 20.0;
   r.jmax = 800.0;
-  r.omega = 22.0;
-  r.zeta = which == 1 ? 0.05 : 0.0;
+  r.set_mode(22.0, which == 1 ? 0.05 : 0.0);
   if (which == 2) {
-    r.extra_modes[0] = {60.0, 0.01};
-    r.extra_mode_count = 1;
+    (void)r.add_mode({60.0, 0.01});
   }
   if (which == 3) r.robust = 10.0;
   if (which == 6) r.robust = 35.0;  // held by the time-optimal move * two-hump EI
@@ -228,18 +226,14 @@ MoveRequest fastest_request(int which) {
     r.vmax = 0.5;
     r.amax = 5.0;
     r.jmax = 200.0;
-    r.omega = 25.0;
-    r.zeta = 0.02;
-    r.extra_modes[0] = {70.0, 0.05};
-    r.extra_mode_count = 1;
+    r.set_mode(25.0, 0.02);
+    (void)r.add_mode({70.0, 0.05});
   }
   if (which == 5) {  // three modes: one ZV each would not fit; the joint ZV move seeds bang-coast
     r.distance = 1.0;
-    r.omega = 5.0;
-    r.zeta = 0.02;
-    r.extra_modes[0] = {23.0, 0.05};
-    r.extra_modes[1] = {71.0, 0.01};
-    r.extra_mode_count = 2;
+    r.set_mode(5.0, 0.02);
+    (void)r.add_mode({23.0, 0.05});
+    (void)r.add_mode({71.0, 0.01});
   }
   return r;
 }

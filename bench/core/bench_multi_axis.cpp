@@ -52,8 +52,8 @@ void BM_PlanThreeSingleAxes(benchmark::State& state, ProfileKind k) {
     q[i].vmax = r.axes[i].vmax;
     q[i].amax = r.axes[i].amax;
     q[i].jmax = r.axes[i].jmax;
-    q[i].omega = r.axes[i].omega;
-    q[i].zeta = r.axes[i].zeta;
+    q[i].mode_count = 0;
+    if (r.axes[i].omega) q[i].set_mode(*r.axes[i].omega, r.axes[i].zeta);
   }
   Move<double> m[3];
   for (auto _ : state) {

@@ -28,7 +28,7 @@ Setup setup(ProfileKind k) {
       settle::bench::benchmark_request(k, k == ProfileKind::jerk_limited ? ShaperKind::zvd : ShaperKind::none);
   Setup s{};
   if (plan(r, s.move) != Status::ok) return s;
-  s.modes = {Mode{*r.omega, r.zeta}, Mode{3.0 * *r.omega, 0.02}};
+  s.modes = {Mode{r.omega(), r.zeta()}, Mode{3.0 * r.omega(), 0.02}};
   const Peaks<double>& pk = s.move.peaks();
   s.limits = {1.2 * pk.v, 1.2 * pk.a, std::isfinite(pk.j) ? 1.2 * pk.j : 100.0};
   return s;

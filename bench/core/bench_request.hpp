@@ -11,8 +11,7 @@ inline core::MoveRequest benchmark_request(core::ProfileKind k, core::ShaperKind
   core::MoveRequest r{};
   r.profile = k;
   r.distance = 0.1;
-  r.omega = 22.04871;
-  r.zeta = k == core::ProfileKind::scurve ? 0.0 : 0.05;
+  r.set_mode(22.04871, k == core::ProfileKind::scurve ? 0.0 : 0.05);
   r.shaper = s;
   if (k == core::ProfileKind::jerk_limited) {
     r.vmax = 0.5;

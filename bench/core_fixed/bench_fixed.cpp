@@ -43,8 +43,7 @@ Move<double> plan_case(const Case& c) {
   r.profile = c.kind;
   r.distance = 0.1;
   r.time = 0.5;
-  r.omega = 22.05;
-  r.zeta = c.kind == ProfileKind::scurve ? 0.0 : 0.1;
+  r.set_mode(22.05, c.kind == ProfileKind::scurve ? 0.0 : 0.1);
   r.shaper = c.shaper;
   if (c.kind == ProfileKind::pseudopoly) {
     r.gamma_count = 3;

@@ -25,7 +25,7 @@ core::Move<double> scurve_08(double w1) {
   r.profile = core::ProfileKind::scurve;
   r.distance = 0.07;
   r.time = 0.8 * 2.0 * M_PI / w1;
-  r.omega = w1;
+  r.set_mode(w1);
   core::Move<double> m;
   (void)core::plan(r, m);
   return m;
@@ -103,8 +103,7 @@ core::Move<double> tune_bench_move() {
   r.profile = core::ProfileKind::poly345;
   r.distance = 0.1;
   r.time = 0.4;
-  r.omega = 12.566;
-  r.zeta = 0.03;
+  r.set_mode(12.566, 0.03);
   r.shaper = core::ShaperKind::zvd;
   core::Move<double> m;
   (void)core::plan(r, m);

@@ -82,7 +82,7 @@ void BM_FullTick(benchmark::State& state, core::ShaperKind shaper) {
   r.profile = core::ProfileKind::scurve;
   r.distance = 0.2;
   r.time = 0.5;
-  r.omega = 22.0;
+  r.set_mode(22.0);
   r.shaper = shaper;
   core::Move<double> m{};
   if (core::plan(r, m) != core::Status::ok) std::abort();

@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   r.profile = core::ProfileKind::scurve;
   r.distance = 0.1;
   r.time = 0.5;
-  r.omega = 22.0;
+  r.set_mode(22.0);
   core::Move<double> there{}, back{};
   if (core::plan(r, there) != core::Status::ok) return 1;
   r.distance = -0.1;

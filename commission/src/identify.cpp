@@ -564,7 +564,7 @@ void report(const Model& model, const Fit& f, double confidence, IdentifyResult&
   const double zq = normal_quantile(confidence);
   const Index m = f.theta.size() / 2;
   for (Index j = 0; j < m; ++j) {
-    IdentifiedMode md{};
+    UncertainMode md{};
     md.omega = f.theta(2 * j);
     md.zeta = f.theta(2 * j + 1);
     md.gain = f.u.beta(2 + j);
@@ -578,7 +578,7 @@ void report(const Model& model, const Fit& f, double confidence, IdentifyResult&
     res.modes.push_back(md);
   }
   std::sort(res.modes.begin(), res.modes.end(),
-            [](const IdentifiedMode& a, const IdentifiedMode& b) { return a.omega < b.omega; });
+            [](const UncertainMode& a, const UncertainMode& b) { return a.omega < b.omega; });
   const MatrixXd phi = model.regressors(f.theta);
   const VectorXd fitted = phi * f.u.beta;
   res.fitted_load.assign(fitted.data(), fitted.data() + fitted.size());

@@ -4,15 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <nlohmann/json.hpp>
 
 #include "settle/commission/identify_excitation.hpp"
 
 namespace settle::commission {
 
 namespace {
-
-using Json = nlohmann::ordered_json;
 
 constexpr double kPi = 3.14159265358979323846;
 // Rest samples kept before the excitation's first setpoint (the start-up before them says nothing).
@@ -97,51 +94,6 @@ IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::StreamBus& 
   return r;
 }
 
-std::string identify_json(const IdentifyRunSpec& spec, const IdentifyRunReport& r) {
-  Json j;
-  if (!r.ok()) {
-    j["status"] = "error";
-    j["error"] = r.failure_code;
-    j["message"] = r.failure;
-    return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  }
-  const IdentifyResult& f = r.result;
-  j["status"] = "ok";
-  Json modes = Json::array();
-  for (const IdentifiedMode& m : f.modes) {
-    modes.push_back({{"omega", m.omega},
-                     {"zeta", m.zeta},
-                     {"gain", m.gain},
-                     {"omega_ci", {m.omega_lo, m.omega_hi}},
-                     {"zeta_ci", {m.zeta_lo, m.zeta_hi}},
-                     {"gain_sd", m.gain_sd},
-                     {"frequency_hz", m.omega / (2.0 * kPi)}});
-  }
-  j["modes"] = modes;
-  const core::Move<double>& mv = spec.stream.axes.front().move;
-  j["excitation"] = {{"profile", core::to_string(mv.profile().kind())},
-                     {"distance", mv.distance()},
-                     {"round_trips", train_round_trips(mv)},
-                     {"move_time", mv.duration()},
-                     {"peak_velocity", mv.peaks().v},
-                     {"peak_acceleration", mv.peaks().a},
-                     {"peak_jerk", mv.peaks().j},
-                     {"hold", spec.stream.settle_time_s},
-                     {"period", r.period_s},
-                     {"samples", r.motor.size()},
-                     {"peak_deflection", f.peak_deflection},
-                     {"bus", r.stream.bus}};
-  j["fit"] = {{"order", f.order},
-              {"rms_residual", f.rms_residual},
-              {"noise_rms", f.noise_rms},
-              {"pencil_order", f.pencil_order},
-              {"rigid_gain", f.rigid_gain},
-              {"iterations", f.iterations},
-              {"confidence", spec.options.confidence},
-              {"max_modes", spec.options.max_modes}};
-  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-
 void write_identify_text(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out) {
   const IdentifyResult& f = r.result;
   const core::Move<double>& mv = spec.stream.axes.front().move;
@@ -150,7 +102,7 @@ void write_identify_text(const IdentifyRunSpec& spec, const IdentifyRunReport& r
                spec.stream.settle_time_s, r.motor.size(), r.period_s, r.stream.bus.c_str());
   const int pct = static_cast<int>(std::lround(spec.options.confidence * 100.0));
   for (std::size_t i = 0; i < f.modes.size(); ++i) {
-    const IdentifiedMode& m = f.modes[i];
+    const UncertainMode& m = f.modes[i];
     std::fprintf(out,
                  "mode %zu       omega %.6g rad/s (%.5g Hz) [%.6g, %.6g]  zeta %.4g [%.4g, %.4g]  gain %.4g +- %.2g  "
                  "(%d %% intervals)\n",

@@ -476,9 +476,9 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
         r.amax = mv.amax;
         r.jmax = mv.jmax;
         // A profile that designs for a mode takes the fundamental; `fastest` takes every mode (up
-        // to its 1 + kMaxExtraModes), as `settle plan --profile fastest` does, by the same rules.
+        // to its kMaxModes), as `settle plan --profile fastest` does, by the same rules.
         const bool every_mode =
-            kind.value == core::ProfileKind::fastest && c.design_omega.size() <= 1 + core::kMaxExtraModes;
+            kind.value == core::ProfileKind::fastest && c.design_omega.size() <= core::kMaxModes;
         const std::size_t designed = every_mode ? c.design_omega.size() : 1;
         const char* option = nullptr;
         std::string why;

@@ -21,7 +21,6 @@ namespace {
 
 using namespace numeric;
 
-constexpr std::size_t kMaxModes = 1 + kMaxExtraModes;
 struct ModeSet {
   std::array<Mode, kMaxModes> m{};
   std::size_t n{0};
@@ -835,11 +834,11 @@ PiecewiseJerkParams accel_pulse(const PiecewiseJerkParams& to) noexcept {
 }
 
 Status read_modes(const MoveRequest& r, ModeSet& ms) noexcept {
-  ms.m[0] = {*r.omega, r.zeta};
+  ms.m[0] = r.modes[0];
   ms.n = 1;
-  if (r.extra_mode_count > kMaxExtraModes) return Status::unsupported_request;
-  for (std::size_t i = 0; i < r.extra_mode_count; ++i) {
-    const Mode md = r.extra_modes[i];
+  if (r.mode_count > kMaxModes) return Status::unsupported_request;
+  for (std::size_t i = 1; i < r.mode_count; ++i) {
+    const Mode md = r.modes[i];
     if (!std::isfinite(md.omega) || !std::isfinite(md.zeta)) return Status::non_finite_input;
     if (!(md.omega > 0.0)) return Status::non_positive_omega;
     if (!(md.zeta >= 0.0 && md.zeta < 1.0)) return Status::zeta_out_of_range;

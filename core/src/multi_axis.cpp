@@ -30,8 +30,8 @@ std::optional<double> path_limit(const MultiAxisRequest& r, std::optional<double
   return out;
 }
 
-// Whether the profile designs for the request's extra modes as well as its first one.
-bool reads_extra_modes(ProfileKind k) noexcept {
+// Whether the profile designs for the request's further modes as well as its first one.
+bool reads_further_modes(ProfileKind k) noexcept {
 #if SETTLE_CORE_FASTEST
   return k == ProfileKind::fastest;
 #else
@@ -59,9 +59,8 @@ Status extra_shaper(const MoveRequest& r, const Mode* modes, std::size_t n, Shap
 // shaper of its own the same way.
 Status own_extra_shaper(const MoveRequest& q, Shaper<double>& out) noexcept {
   out = Shaper<double>{};
-  if (!q.omega || needs_mode(q)) return Status::ok;
-  const Mode m{*q.omega, q.zeta};
-  return extra_shaper(q, &m, 1, out);
+  if (!q.has_mode() || needs_mode(q)) return Status::ok;
+  return extra_shaper(q, q.modes.data(), 1, out);
 }
 
 // The path s(t) from 0 to `scale` (1: the path itself; D_i: axis i's command D_i s(t), the same
@@ -69,9 +68,7 @@ Status own_extra_shaper(const MoveRequest& q, Shaper<double>& out) noexcept {
 Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, kMaxAxes>& modes, std::size_t& nm,
                  std::size_t& culprit, double scale = 1.0) noexcept {
   MoveRequest p = r.base;
-  p.extra_mode_count = 0;
-  p.omega.reset();
-  p.zeta = 0.0;
+  p.mode_count = 0;
   bool moving = false;
   // The distinct modes of the moving axes, in axis order.
   nm = 0;
@@ -107,15 +104,14 @@ Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, 
   p.amax = scaled(path_limit(r, &AxisSpec::amax, who_a));
   p.jmax = scaled(path_limit(r, &AxisSpec::jmax, who_j));
   // The first mode is the request's own: its shaper's and, when the profile designs for a mode,
-  // the profile's; `fastest` takes further ones as extra modes.
+  // the profile's; `fastest` takes the further ones too.
   std::size_t covered = 0;
   if (nm > 0) {
-    p.omega = modes[0].omega;
-    p.zeta = modes[0].zeta;
+    p.set_mode(modes[0].omega, modes[0].zeta);
     if (needs_mode(p)) covered = 1;
-    if (reads_extra_modes(p.profile)) {
-      for (; covered < nm && covered <= kMaxExtraModes; ++covered) p.extra_modes[covered - 1] = modes[covered];
-      p.extra_mode_count = covered - 1;
+    if (reads_further_modes(p.profile)) {
+      for (; covered < nm && p.add_mode(modes[covered]); ++covered) {
+      }
     }
   }
   Shaper<double> extra{};
@@ -154,9 +150,8 @@ MoveRequest axis_request(const MultiAxisRequest& r, std::size_t i) noexcept {
   q.vmax = a.vmax;
   q.amax = a.amax;
   q.jmax = a.jmax;
-  q.omega = a.omega;
-  q.zeta = a.zeta;
-  q.extra_mode_count = 0;
+  q.mode_count = 0;
+  if (a.omega) q.set_mode(*a.omega, a.zeta);
   return q;
 }
 

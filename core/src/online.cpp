@@ -554,11 +554,8 @@ Status plan_online(const OnlineRequest& r, Blend& out) noexcept {
 std::size_t design_modes(const MoveRequest& req, std::array<Mode, kMaxOnlineModes>& out,
                          const Mode* fallback) noexcept {
   std::size_t n = 0;
-  if (req.omega) {
-    out[n++] = {*req.omega, req.zeta};
-    for (std::size_t i = 0; i < req.extra_mode_count && i < kMaxExtraModes && n < kMaxOnlineModes; ++i) {
-      out[n++] = req.extra_modes[i];
-    }
+  if (req.has_mode()) {
+    for (std::size_t i = 0; i < req.mode_count && i < kMaxModes && n < kMaxOnlineModes; ++i) out[n++] = req.modes[i];
   } else if (fallback != nullptr) {
     out[n++] = *fallback;
   }

@@ -17,7 +17,7 @@ double nonfinite_mark(const std::optional<double>& x) noexcept { return x ? *x *
 
 Status validate(const MoveRequest& r) noexcept {
   double mark = nonfinite_mark(r.distance) + nonfinite_mark(r.time) + nonfinite_mark(r.vmax) +
-                nonfinite_mark(r.amax) + nonfinite_mark(r.jmax) + nonfinite_mark(r.omega) + nonfinite_mark(r.zeta) +
+                nonfinite_mark(r.amax) + nonfinite_mark(r.jmax) + nonfinite_mark(r.omega()) + nonfinite_mark(r.zeta()) +
                 nonfinite_mark(r.vtol);
   if (r.y_fractions) {
     for (double y : *r.y_fractions) mark += nonfinite_mark(y);
@@ -29,8 +29,8 @@ Status validate(const MoveRequest& r) noexcept {
     if (*l && !(**l > 0.0)) return Status::non_positive_limit;
   }
   // A positive omega satisfies every profile; only without one is it asked whether one is needed.
-  if (!(r.omega && *r.omega > 0.0) && needs_mode(r)) return Status::non_positive_omega;
-  if (!(r.zeta >= 0.0 && r.zeta < 1.0)) return Status::zeta_out_of_range;
+  if (!(r.has_mode() && r.omega() > 0.0) && needs_mode(r)) return Status::non_positive_omega;
+  if (!(r.zeta() >= 0.0 && r.zeta() < 1.0)) return Status::zeta_out_of_range;
   return Status::ok;
 }
 
@@ -90,7 +90,7 @@ Status plan_with(const MoveRequest& r, const Shaper<double>* extra, Move<double>
   Shaper<double> shaper{};
   Status st = Status::ok;
   if (r.shaper != ShaperKind::none) {
-    st = design_shaper(r.shaper, *r.omega, r.zeta, r.vtol, shaper);
+    st = design_shaper(r.shaper, r.omega(), r.zeta(), r.vtol, shaper);
     if (st != Status::ok) return st;
   }
   if (has_extra) {

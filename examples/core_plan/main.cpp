@@ -9,7 +9,7 @@ int main() {
   request.profile = settle::core::ProfileKind::scurve;
   request.distance = 0.05;  // m
   request.time = 0.6;       // s, the unshaped move
-  request.omega = 22.0;     // rad/s: the mode the move leaves at rest
+  request.set_mode(22.0);     // rad/s: the mode the move leaves at rest
 
   settle::core::Move<double> move{};
   if (const settle::core::Status status = settle::core::plan(request, move); status != settle::core::Status::ok) {

@@ -75,7 +75,7 @@ int settle::firmware::image_main() {
   settle::core::MoveRequest request{};
   request.distance = 0.05;  // m
   request.time = 0.3;       // s
-  request.omega = 22.0;     // rad/s: the mode the move leaves at rest
+  request.set_mode(22.0);     // rad/s: the mode the move leaves at rest
   settle::core::Move<double> move{};
   if (settle::core::plan(request, move) != settle::core::Status::ok) return 1;
 

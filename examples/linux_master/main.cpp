@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   settle::core::MoveRequest request{};
   request.distance = 0.05;  // m
   request.time = 0.3;       // s
-  request.omega = 22.0;     // rad/s, the mode to leave at rest
+  request.set_mode(22.0);     // rad/s, the mode to leave at rest
   settle::core::Move<double> move{};
   if (const auto status = settle::core::plan(request, move); status != settle::core::Status::ok) {
     std::fprintf(stderr, "linux_master: plan: %s\n", settle::core::describe(status));

@@ -23,7 +23,7 @@ plant::SimStatus sensitivity_study(double w1, double tn, std::vector<Sensitivity
     r.profile = kind;
     r.distance = d;
     r.time = t;
-    r.omega = w1;
+    r.set_mode(w1);
     if (kind == core::ProfileKind::pseudopoly) {
       // Seed 004's Table II pseudo-polynomial: not designed for any mode, a shape for comparison.
       r.gammas[0] = 4.5;
@@ -87,7 +87,7 @@ plant::SimStatus reproduce_000(const Options000& o, Result000& out) {
         if (kind == core::ProfileKind::scurve) {
           // Seed 000's planning rule: cruise at the actuator's limit when the time requires it.
           rq.vmax = kVmax000;
-          rq.omega = w1;
+          rq.set_mode(w1);
         }
         core::Move<double> mv;
         row.plan_status = core::plan(rq, mv);

@@ -17,8 +17,7 @@ core::Status plan_ramp_versine(double tau, double omega, double zeta, const std:
   rq.profile = core::ProfileKind::ramp_versine;
   rq.distance = 1.0;
   rq.time = tau;
-  rq.omega = omega;
-  rq.zeta = zeta;
+  rq.set_mode(omega, zeta);
   if (y != nullptr) rq.y_fractions = *y;
   rq.shaper = shaper;
   return core::plan(rq, mv);

@@ -83,9 +83,9 @@ bool set_design_modes(const std::vector<double>& omegas, const std::vector<doubl
     message = "only profile fastest designs for several modes";
     return false;
   }
-  if (omegas.size() > 1 + core::kMaxExtraModes) {
+  if (omegas.size() > core::kMaxModes) {
     option = "--omega";
-    message = "at most " + std::to_string(1 + core::kMaxExtraModes) + " modes";
+    message = "at most " + std::to_string(core::kMaxModes) + " modes";
     return false;
   }
   if (zetas.size() > 1 && zetas.size() != omegas.size()) {
@@ -93,13 +93,9 @@ bool set_design_modes(const std::vector<double>& omegas, const std::vector<doubl
     message = "one per omega, in the same order (or one for a single mode)";
     return false;
   }
-  if (!omegas.empty()) r.omega = omegas[0];
-  if (!zetas.empty()) r.zeta = zetas[0];
-  r.extra_mode_count = 0;
-  for (std::size_t i = 1; i < omegas.size(); ++i) {
-    r.extra_modes[i - 1] = {omegas[i], i < zetas.size() ? zetas[i] : 0.0};
-    r.extra_mode_count = i;
-  }
+  // A zeta without an omega designs for nothing: the caller may pair it with a default omega.
+  r.mode_count = 0;
+  for (std::size_t i = 0; i < omegas.size(); ++i) (void)r.add_mode({omegas[i], i < zetas.size() ? zetas[i] : 0.0});
   return true;
 }
 
@@ -143,7 +139,7 @@ const char* option_of(core::Status s, const core::MoveRequest& r) {
     case Status::non_finite_input: {
       const std::pair<const char*, std::optional<double>> opts[] = {
           {"--distance", r.distance}, {"--time", r.time}, {"--vmax", r.vmax}, {"--amax", r.amax},
-          {"--jmax", r.jmax},         {"--omega", r.omega}, {"--zeta", r.zeta}, {"--vtol", r.vtol}};
+          {"--jmax", r.jmax},         {"--omega", r.omega()}, {"--zeta", r.zeta()}, {"--vtol", r.vtol}};
       for (const auto& [name, v] : opts) {
         if (v && !std::isfinite(*v)) return name;
       }
@@ -158,7 +154,7 @@ const char* option_of(core::Status s, const core::MoveRequest& r) {
 std::string reason_of(core::Status s, const core::MoveRequest& r) {
   if (s == core::Status::no_solution && r.profile == core::ProfileKind::fastest && !r.robust &&
       r.shaper == core::ShaperKind::none) {
-    const std::size_t modes = 1 + r.extra_mode_count;
+    const std::size_t modes = r.mode_count;
     std::string why = "no family found a move that leaves ";
     why += modes == 1 ? "the mode" : "all " + std::to_string(modes) + " modes";
     why += " at rest within the limits";
@@ -182,7 +178,7 @@ std::string reason_of(core::Status s, const core::MoveRequest& r) {
            "none): a smaller --robust may plan, and --profile jerk-limited --shaper ei2 or ei3 (about +-36 % or "
            "+-48 % of an undamped mode) shapes the time-optimal move without that limit";
   }
-  if (s == core::Status::non_positive_omega && !r.omega) {
+  if (s == core::Status::non_positive_omega && !r.has_mode()) {
     return std::string{"required: --profile "} + core::to_string(r.profile) +
            (r.shaper != core::ShaperKind::none ? " with a shaper" : "") + " designs the move for a mode (rad/s)";
   }

@@ -82,7 +82,7 @@ TEST(CliIdentify, ServoDriveGivesNoSpuriousMode) {
 }
 
 // The document settle tune reads: status, modes sorted by omega with omega, zeta, gain and the
-// two intervals, the excitation and the fit.
+// two intervals (omega stated once: no second unit beside it), the excitation and the fit.
 TEST(CliIdentify, JsonHasTheDocumentedShape) {
   const CliResult r = run_cli_argv(two_modes({"--json", "--max-modes", "2"}));
   ASSERT_EQ(r.status, 0) << r.out;
@@ -92,6 +92,9 @@ TEST(CliIdentify, JsonHasTheDocumentedShape) {
   ASSERT_EQ(j["modes"].size(), 2U);
   double last = 0.0;
   for (const auto& m : j["modes"]) {
+    std::vector<std::string> keys;
+    for (const auto& [k, v] : m.items()) keys.push_back(k);
+    EXPECT_EQ(keys, (std::vector<std::string>{"gain", "gain_sd", "omega", "omega_ci", "zeta", "zeta_ci"}));
     for (const char* k : {"omega", "zeta", "gain"}) EXPECT_TRUE(m[k].is_number()) << k;
     for (const char* k : {"omega_ci", "zeta_ci"}) {
       ASSERT_TRUE(m[k].is_array() && m[k].size() == 2) << k;

@@ -226,6 +226,35 @@ TEST(CliTune, StreamPlanFromStreamsExactlyTheTunedPlan) {
   EXPECT_NE(tuned.at("candidate").at("shaper"), "none");
 }
 
+// A modes file from an earlier `settle identify --json`, which also gave each mode's frequency in
+// Hz, tunes to the very same plan as one that states omega once.
+TEST(CliTune, AModesFileWithTheEarlierFrequencyInHzTunesTheSame) {
+  const std::string mode = R"("omega":12.566,"zeta":0.03,"gain":1.0,"omega_ci":[11.31,13.82],"zeta_ci":[0.02,0.04])";
+  const std::string now = write("modes_now.json", R"({"status":"ok","modes":[{)" + mode + "}]}");
+  const std::string before =
+      write("modes_before.json", R"({"status":"ok","modes":[{)" + mode + R"(,"gain_sd":0.01,"frequency_hz":2.0}]})");
+  const CliResult a = run_cli("tune --modes-from " + now + kMove + " --json");
+  const CliResult b = run_cli("tune --modes-from " + before + kMove + " --json");
+  ASSERT_EQ(a.status, 0) << a.out;
+  EXPECT_EQ(b.status, 0) << b.out;
+  EXPECT_EQ(a.stdout_text, b.stdout_text);
+}
+
+// A plan file written before the request held one list of modes (`settle tune --json` for three
+// identified modes: the first as "omega"/"zeta", the others as "extra_modes") plans the very same
+// move: it would be refused as plan_mismatch if a mode were lost or reordered.
+TEST(CliTune, APlanFileOfThreeModesFromAnEarlierSettleStillLoads) {
+  const std::string plan = std::string{SETTLE_SOURCE_DIR} + "/tests/app/data/plan_three_modes_first_format.json";
+  std::ifstream in{plan};
+  const Json file = Json::parse(in);
+  ASSERT_EQ(file.at("request").at("extra_modes").size(), 2u);
+  const CliResult s = run_cli("sample --plan-from " + plan + " --dt 0.001 --json");
+  ASSERT_EQ(s.status, 0) << s.out;
+  const Json rows = Json::parse(s.stdout_text).at("rows");
+  EXPECT_DOUBLE_EQ(rows.back()[0].get<double>(), file.at("duration").get<double>());
+  EXPECT_DOUBLE_EQ(rows.back()[1].get<double>(), file.at("distance").get<double>());
+}
+
 TEST(CliTune, PngDrawsTheChosenPlanAndTheOnesItBeat) {
   const fs::path png = scratch() / "tune.png";
   const CliResult r = run_cli("tune --mode 12.566,0.03 --uncertainty 10" + kMove + " --png " + png.string());

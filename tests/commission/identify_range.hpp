@@ -129,7 +129,7 @@ inline std::string describe(const std::vector<plant::Mode>& truth, const Identif
     s += buf;
   }
   s += std::string{"; "} + to_string(r.status) + ", identified";
-  for (const IdentifiedMode& m : r.modes) {
+  for (const UncertainMode& m : r.modes) {
     std::snprintf(buf, sizeof buf, " (%.3f Hz sd %.2f %%, zeta %.4f sd %.4f)", m.omega / kTwoPi,
                   100.0 * m.omega_sd / m.omega, m.zeta, m.zeta_sd);
     s += buf;

@@ -275,7 +275,7 @@ TEST(Identify, UndampedModes) {
     ASSERT_TRUE(make_record(modes, 0.01, seed, rec, excitation()));
     const IdentifyResult r = identify(rec, 3);
     expect_accurate(modes, r, seed);
-    for (const IdentifiedMode& m : r.modes) covered += m.zeta_lo <= 0.0 ? 1 : 0;
+    for (const UncertainMode& m : r.modes) covered += m.zeta_lo <= 0.0 ? 1 : 0;
   }
   EXPECT_GE(covered, 17);  // of 20 intervals at 95 %
 }

@@ -92,8 +92,7 @@ core::Move<double> planned(core::ProfileKind k, double d, double t, double omega
   r.profile = k;
   r.distance = d;
   r.time = t;
-  r.omega = omega;
-  r.zeta = zeta;
+  r.set_mode(omega, zeta);
   r.shaper = s;
   core::Move<double> m;
   EXPECT_EQ(core::plan(r, m), core::Status::ok);
@@ -259,10 +258,10 @@ TEST(Tune, FastestIsDesignedForEveryMode) {
                                     [](const TuneCandidate& c) { return c.name == "fastest"; });
   ASSERT_NE(fastest, r.candidates.end());
   ASSERT_TRUE(fastest->planned) << fastest->refusal;
-  EXPECT_EQ(fastest->request.omega, 25.0);
-  ASSERT_EQ(fastest->request.extra_mode_count, 1u);
-  EXPECT_EQ(fastest->request.extra_modes[0].omega, 70.0);
-  EXPECT_EQ(fastest->request.extra_modes[0].zeta, 0.05);
+  EXPECT_EQ(fastest->request.omega(), 25.0);
+  ASSERT_EQ(fastest->request.mode_count, 2u);
+  EXPECT_EQ(fastest->request.modes[1].omega, 70.0);
+  EXPECT_EQ(fastest->request.modes[1].zeta, 0.05);
   EXPECT_LE(r.candidates[r.chosen].duration, fastest->duration);
   if (fastest->evaluated) {
     EXPECT_TRUE(fastest->meets) << fastest->worst.residual;

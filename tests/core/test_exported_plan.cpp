@@ -94,9 +94,9 @@ TEST(ExportedPlan, EveryTickWithinOneCountOfThePlannedMoveOverASeededGrid) {
     }
     if (rq.profile == ProfileKind::scurve || rq.profile == ProfileKind::scurve_damped ||
         rq.profile == ProfileKind::ramp_versine) {
-      rq.omega = omega;
+      rq.set_mode(omega);
     }
-    if (rq.profile == ProfileKind::scurve_damped) rq.zeta = uni(0.0, 0.2);
+    if (rq.profile == ProfileKind::scurve_damped) rq.modes[0].zeta = uni(0.0, 0.2);
     if (rq.profile == ProfileKind::pseudopoly) {
       rq.gamma_count = 4;
       const double g0 = uni(3.0, 4.0);
@@ -104,8 +104,7 @@ TEST(ExportedPlan, EveryTickWithinOneCountOfThePlannedMoveOverASeededGrid) {
     }
     rq.shaper = shapers[(i / 7) % 4];
     if (rq.shaper != ShaperKind::none) {
-      rq.omega = omega;
-      rq.zeta = uni(0.0, 0.1);
+      rq.set_mode(omega, uni(0.0, 0.1));
     }
     Move<double> m{};
     if (plan(rq, m) != Status::ok) continue;
@@ -138,7 +137,7 @@ TEST(ExportedPlan, PiecesBeyondTheCapacityAreRefused) {
   ASSERT_TRUE(parse_profile_kind("scurve", rq.profile));
   rq.distance = 0.05;
   rq.time = 0.6;
-  rq.omega = 22.0;
+  rq.set_mode(22.0);
   Move<double> m{};
   ASSERT_EQ(plan(rq, m), Status::ok);
   std::array<Piece, 64> pc{};

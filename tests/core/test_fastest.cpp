@@ -33,8 +33,7 @@ core::MoveRequest request(double d, double v, double a, double j, double w, doub
   r.vmax = v;
   r.amax = a;
   r.jmax = j;
-  r.omega = w;
-  r.zeta = z;
+  r.set_mode(w, z);
   return r;
 }
 
@@ -43,14 +42,13 @@ core::MoveRequest request(double d, double v, double a, double j, double w, doub
 double shaped_baseline(const core::MoveRequest& r, core::ShaperKind kind) {
   core::MoveRequest b = r;
   b.profile = core::ProfileKind::jerk_limited;
-  b.extra_mode_count = 0;
+  b.mode_count = 1;
   b.robust.reset();
   b.shaper = core::ShaperKind::none;
   core::Move<double> m{};
   EXPECT_EQ(core::plan(b, m), Status::ok);
   core::Shaper<double> s{};
-  std::vector<core::Mode> modes{{*r.omega, r.zeta}};
-  for (std::size_t i = 0; i < r.extra_mode_count; ++i) modes.push_back(r.extra_modes[i]);
+  std::vector<core::Mode> modes(r.mode_list().begin(), r.mode_list().end());
   for (const auto& md : modes) {
     core::Shaper<double> one{}, both{};
     EXPECT_EQ(core::design_shaper(kind, md.omega, md.zeta, 0.05, one), Status::ok);
@@ -89,8 +87,7 @@ void expect_never_backwards(const core::Move<double>& m, double distance, double
 
 void check_move(const core::MoveRequest& r, const core::Move<double>& m) {
   const double d = std::fabs(r.distance);
-  std::vector<core::Mode> modes{{*r.omega, r.zeta}};
-  for (std::size_t i = 0; i < r.extra_mode_count; ++i) modes.push_back(r.extra_modes[i]);
+  std::vector<core::Mode> modes(r.mode_list().begin(), r.mode_list().end());
   for (const auto& md : modes) {
     EXPECT_LE(test::residual_amplitude(m, md.omega, md.zeta), 1e-9 * d) << "omega " << md.omega << " zeta " << md.zeta;
   }
@@ -179,8 +176,7 @@ TEST(Fastest, TwoModeGridNeverSlowerThanTimeOptimalZv) {
           SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w << " z " << z << " limits " << l.v << "/"
                                             << l.a << "/" << l.j);
           core::MoveRequest r = request(-d, l.v, l.a, l.j, w, z);
-          r.extra_modes[0] = {2.7 * w, 0.5 * z + 0.01};
-          r.extra_mode_count = 1;
+          (void)r.add_mode({2.7 * w, 0.5 * z + 0.01});
           core::Move<double> m{};
           ASSERT_EQ(core::plan(r, m), Status::ok);
           const double zv = shaped_baseline(r, core::ShaperKind::zv);
@@ -217,8 +213,7 @@ TEST(Fastest, RandomTwoModeCasesNeverSlowerThanTimeOptimalZv) {
     SCOPED_TRACE(::testing::Message() << "case " << k << ": D " << d << " w " << w1 << ", " << w2 << " z " << z1
                                       << ", " << z2 << " limits " << l.v << "/" << l.a << "/" << l.j);
     core::MoveRequest r = request(d, l.v, l.a, l.j, w1, z1);
-    r.extra_modes[0] = {w2, z2};
-    r.extra_mode_count = 1;
+    (void)r.add_mode({w2, z2});
     core::Move<double> m{};
     ASSERT_EQ(core::plan(r, m), Status::ok);
     EXPECT_LE(m.duration(), shaped_baseline(r, core::ShaperKind::zv) * (1 + 1e-12));
@@ -256,15 +251,14 @@ TEST(Fastest, ThreeModeCasesPlanWhereTheJointShaperFits) {
                                       << " z " << z[0] << ", " << z[1] << ", " << z[2] << " limits " << l.v << "/"
                                       << l.a << "/" << l.j);
     core::MoveRequest r = request(d, l.v, l.a, l.j, w[0], z[0]);
-    r.extra_modes[0] = {w[1], z[1]};
-    r.extra_modes[1] = {w[2], z[2]};
-    r.extra_mode_count = 2;
+    (void)r.add_mode({w[1], z[1]});
+    (void)r.add_mode({w[2], z[2]});
     double bound = INFINITY;
     core::Shaper<double> joint{};
     if (core::joint_zv_shaper(w, z, 3, joint) == Status::ok) {
       core::MoveRequest b = r;
       b.profile = core::ProfileKind::jerk_limited;
-      b.extra_mode_count = 0;
+      b.mode_count = 1;
       core::Move<double> base{};
       ASSERT_EQ(core::plan(b, base), Status::ok);
       const core::Move<double> shaped{base.profile(), joint, base.peaks()};
@@ -318,13 +312,12 @@ double worst_band_ratio(const core::Move<double>& m, const std::vector<core::Mod
 core::Move<double> shaped_move(const core::MoveRequest& r, core::ShaperKind kind) {
   core::MoveRequest b = r;
   b.profile = core::ProfileKind::jerk_limited;
-  b.extra_mode_count = 0;
+  b.mode_count = 1;
   b.robust.reset();
   core::Move<double> m{};
   EXPECT_EQ(core::plan(b, m), Status::ok);
   core::Shaper<double> s{};
-  std::vector<core::Mode> modes{{*r.omega, r.zeta}};
-  for (std::size_t i = 0; i < r.extra_mode_count; ++i) modes.push_back(r.extra_modes[i]);
+  std::vector<core::Mode> modes(r.mode_list().begin(), r.mode_list().end());
   for (const auto& md : modes) {
     core::Shaper<double> one{}, both{};
     EXPECT_EQ(core::design_shaper(kind, md.omega, md.zeta, 0.05, one), Status::ok);
@@ -351,8 +344,7 @@ TEST(Fastest, BangBangJerkIsFullExceptOnLimitArcs) {
             SCOPED_TRACE(::testing::Message() << "D " << d << " w " << w << " z " << z << " modes " << modes);
             core::MoveRequest r = request(d, l.v, l.a, l.j, w, z);
             if (modes == 2) {
-              r.extra_modes[0] = {2.7 * w, 0.5 * z + 0.01};
-              r.extra_mode_count = 1;
+              (void)r.add_mode({2.7 * w, 0.5 * z + 0.01});
             }
             core::Move<double> m{};
             ASSERT_EQ(core::plan(r, m), Status::ok);
@@ -438,12 +430,10 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
                                       << " w3 " << c.m2.omega);
     core::MoveRequest r = request(c.d, c.v, c.a, c.j, c.m0.omega, c.m0.zeta);
     if (c.m1.omega > 0.0) {
-      r.extra_modes[0] = c.m1;
-      r.extra_mode_count = 1;
+      (void)r.add_mode(c.m1);
     }
     if (c.m2.omega > 0.0) {
-      r.extra_modes[1] = c.m2;
-      r.extra_mode_count = 2;
+      (void)r.add_mode(c.m2);
     }
     core::Move<double> m{};
     ASSERT_EQ(core::plan(r, m), Status::ok);
@@ -597,8 +587,7 @@ std::string docs_table() {
   for (const Case& c : cases) {
     core::MoveRequest r = request(c.d, c.v, c.a, c.j, c.w, c.z);
     if (c.w2 > 0) {
-      r.extra_modes[0] = {c.w2, c.z2};
-      r.extra_mode_count = 1;
+      (void)r.add_mode({c.w2, c.z2});
     }
     if (c.robust > 0) r.robust = c.robust;
     core::Move<double> m{};
@@ -675,8 +664,7 @@ TEST(Fastest, EveryFamilyStreamsInDoubleFloatAndFixedPoint) {
     }
   }
   core::MoveRequest two = request(1, 1, 20, 800, 7, 0.05);
-  two.extra_modes[0] = {19, 0.02};
-  two.extra_mode_count = 1;
+  (void)two.add_mode({19, 0.02});
   reqs.push_back(two);
   core::MoveRequest rob = request(-0.1, 1, 20, 800, 22, 0.0);
   rob.robust = 15.0;

@@ -85,9 +85,8 @@ core::MoveRequest grid_request(const GridCase& c) {
   core::MoveRequest r{};
   r.profile = core::ProfileKind::fastest;
   r.distance = c.d, r.vmax = c.v, r.amax = c.a, r.jmax = c.j;
-  r.omega = c.modes[0].omega, r.zeta = c.modes[0].zeta;
-  for (std::size_t k = 1; k < c.modes.size(); ++k) r.extra_modes[k - 1] = c.modes[k];
-  r.extra_mode_count = c.modes.size() - 1;
+  r.set_mode(c.modes[0].omega, c.modes[0].zeta);
+  for (std::size_t k = 1; k < c.modes.size(); ++k) (void)r.add_mode(c.modes[k]);
   return r;
 }
 

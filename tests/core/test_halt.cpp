@@ -197,10 +197,8 @@ bool one_axis(Gen& g, std::size_t k, Axis& ax) {
   q.jmax = *q.amax * g.logu(10.0, 80.0);
   ax.modes.clear();
   for (std::size_t i = 0; i < k; ++i) ax.modes.push_back(g.mode());
-  q.omega = ax.modes[0].omega;
-  q.zeta = ax.modes[0].zeta;
-  for (std::size_t i = 1; i < k; ++i) q.extra_modes[i - 1] = ax.modes[i];
-  q.extra_mode_count = k - 1;
+  q.set_mode(ax.modes[0].omega, ax.modes[0].zeta);
+  for (std::size_t i = 1; i < k; ++i) (void)q.add_mode(ax.modes[i]);
   ax.limits = {*q.vmax, *q.amax, *q.jmax};
   q.profile = g.uni(0, 1) < 0.5 ? ProfileKind::fastest : ProfileKind::jerk_limited;
   if (q.profile == ProfileKind::fastest && core::plan(q, ax.move) == Status::ok) return true;
@@ -214,7 +212,7 @@ bool one_axis(Gen& g, std::size_t k, Axis& ax) {
       return false;
     }
   }
-  q.extra_mode_count = 0;
+  q.mode_count = 1;
   return core::plan(q, extra, ax.move) == Status::ok;
 }
 
@@ -273,10 +271,8 @@ TEST(Halt, OneAxisKeepsEveryDesignModeOfTheMove) {
   q.vmax = 1.0;
   q.amax = 20.0;
   q.jmax = 800.0;
-  q.omega = 22.0;
-  q.zeta = 0.0;
-  q.extra_modes = {core::Mode{30.0, 0.05}, core::Mode{15.0, 0.1}};
-  q.extra_mode_count = 2;
+  q.modes = {core::Mode{22.0, 0.0}, core::Mode{30.0, 0.05}, core::Mode{15.0, 0.1}};
+  q.mode_count = 3;
   std::array<core::Mode, core::kMaxOnlineModes> modes{};
   ASSERT_EQ(core::design_modes(q, modes), 3u);
   EXPECT_EQ(modes[1].omega, 30.0);

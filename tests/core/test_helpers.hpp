@@ -14,8 +14,7 @@ inline core::MoveRequest timed(core::ProfileKind k, double d, double t, double o
   r.profile = k;
   r.distance = d;
   r.time = t;
-  if (omega > 0.0) r.omega = omega;
-  r.zeta = zeta;
+  if (omega > 0.0) r.set_mode(omega, zeta);
   return r;
 }
 

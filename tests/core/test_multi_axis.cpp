@@ -221,8 +221,8 @@ TEST(MultiAxis, TimeSyncStretchesEveryAxisToTheSlowestWithItsOwnModeAtRest) {
       q.vmax = r.axes[i].vmax;
       q.amax = r.axes[i].amax;
       q.jmax = r.axes[i].jmax;
-      q.omega = r.axes[i].omega;
-      q.zeta = r.axes[i].zeta;
+      q.mode_count = 0;
+      if (r.axes[i].omega) q.set_mode(*r.axes[i].omega, r.axes[i].zeta);
       core::Move<double> m{};
       ASSERT_EQ(core::plan(q, m), Status::ok);
       slowest = std::max(slowest, m.duration());
@@ -309,7 +309,7 @@ TEST(MultiAxis, OneAxisIsTheSingleAxisPlan) {
   q.vmax = r.axes[0].vmax;
   q.amax = r.axes[0].amax;
   q.jmax = r.axes[0].jmax;
-  q.omega = r.axes[0].omega;
+  if (r.axes[0].omega) q.set_mode(*r.axes[0].omega);
   core::Move<double> m{};
   ASSERT_EQ(core::plan(q, m), Status::ok);
   EXPECT_NEAR(p.duration(), m.duration(), 1e-12 * m.duration());

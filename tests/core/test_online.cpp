@@ -46,8 +46,8 @@ struct Gen {
       r.profile = kinds[rng() % std::size(kinds)];
       r.distance = logu(0.01, 1.0) * (coin() ? 1 : -1);
       const double d = std::fabs(r.distance);
-      r.omega = logu(5.0, 80.0);
-      r.zeta = r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.2);
+      const double omega = logu(5.0, 80.0);  // drawn before zeta: the seeded sequence
+      r.set_mode(omega, r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.2));
       if (r.profile == ProfileKind::jerk_limited) {
         r.vmax = d * logu(1.0, 5.0);
         r.amax = *r.vmax * logu(2.0, 20.0);
@@ -67,9 +67,9 @@ struct Gen {
       }
       if (core::plan(r, c.move) != Status::ok) continue;
       c.t_switch = uni(0.0, 1.0) * c.move.duration();
-      c.modes[0] = {*r.omega, r.zeta};
+      c.modes[0] = {r.omega(), r.zeta()};
       if (coin(0.3)) {
-        c.modes[1] = {*r.omega * uni(1.5, 4.0), uni(0.0, 0.1)};
+        c.modes[1] = {r.omega() * uni(1.5, 4.0), uni(0.0, 0.1)};
         c.mode_count = 2;
       }
       const core::Peaks<double>& pk = c.move.peaks();
@@ -80,7 +80,7 @@ struct Gen {
         // A trapezoid's acceleration steps: a jerk limit at which every state of it can still be
         // stopped without passing vmax (taking a out adds a^2 / (2 jmax) to v).
         const double vmax = pk.v * uni(1.2, 2.0);
-        c.limits = {vmax, amax, std::max(amax * *r.omega, pk.a * pk.a / (2.0 * (vmax - pk.v))) * uni(1.0, 2.0)};
+        c.limits = {vmax, amax, std::max(amax * r.omega(), pk.a * pk.a / (2.0 * (vmax - pk.v))) * uni(1.0, 2.0)};
       }
       return c;
     }
@@ -259,13 +259,13 @@ TEST(OnlineHalt, NearTheVelocityPeakOfAnSCurveAtItsOwnLimits) {
   q.profile = ProfileKind::scurve;
   q.distance = 0.1;
   q.time = 0.5;
-  q.omega = std::sqrt(800.0);
+  q.set_mode(std::sqrt(800.0));
   core::Move<double> m{};
   ASSERT_EQ(core::plan(q, m), Status::ok);
   Case c{};
   c.move = m;
   c.req = q;
-  c.modes[0] = {*q.omega, 9.0 / (2.0 * std::sqrt(800.0))};
+  c.modes[0] = {q.omega(), 9.0 / (2.0 * std::sqrt(800.0))};
   c.limits = {m.peaks().v, m.peaks().a, m.peaks().j};
   core::Blend at_middle{};
   for (int n = 0; n <= 50; ++n) {

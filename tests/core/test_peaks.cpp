@@ -94,8 +94,7 @@ TEST(ExactPeaks, ShapedPeaksEqualDenseSamplingForEveryProfileAndShaper) {
         r.profile = kind.value;
         r.distance *= scale(rng);
         if (r.time) *r.time *= scale(rng);
-        r.omega = omega(rng);
-        r.zeta = std::max(r.zeta, sc.zeta);
+        r.set_mode(omega(rng), std::max(r.zeta(), sc.zeta));
         r.shaper = sc.kind;
         if (rep == 2 && kind.value == ProfileKind::pseudopoly) {
           r.gammas = {3.0, 4.0, 5.0, 6.0};  // integer exponents: the exact polynomial path
@@ -140,7 +139,7 @@ TEST(ExactPeaks, PseudoPolynomialPeaksEqualDenseSampling) {
 TEST(ExactPeaks, FindsAPeakStrictlyInsideAnInterval) {
   core::MoveRequest poly = core::Poly345Profile::example();
   poly.shaper = ShaperKind::zv;
-  poly.omega = 20.0;
+  poly.set_mode(20.0);
   core::MoveRequest cyc = core::ScurveProfile::example();
   cyc.shaper = ShaperKind::zv;
   for (const auto& [r, which] : {std::pair{poly, 0}, std::pair{cyc, 1}}) {

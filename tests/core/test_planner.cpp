@@ -42,16 +42,16 @@ TEST(Planner, RejectsEachBadRequestWithItsOwnCode) {
   r.time = 0.0;
   expect_rejected(r, Status::non_positive_time);
   r = good_scurve();
-  r.omega = 0.0;
+  r.modes[0].omega = 0.0;
   expect_rejected(r, Status::non_positive_omega);
   r = good_scurve();
-  r.omega.reset();
+  r.mode_count = 0;
   expect_rejected(r, Status::non_positive_omega);
   r = good_scurve();
-  r.zeta = 1.0;
+  r.modes[0].zeta = 1.0;
   expect_rejected(r, Status::zeta_out_of_range);
   r = good_scurve();
-  r.zeta = -0.01;
+  r.modes[0].zeta = -0.01;
   expect_rejected(r, Status::zeta_out_of_range);
   r = good_scurve();
   r.vmax = 0.25;  // D/vmax = 0.4 = T
@@ -104,8 +104,8 @@ TEST(Planner, EveryNonFiniteNumberIsRefusedBeforeAnythingElse) {
       {"vmax", [](core::MoveRequest& r, double x) { r.vmax = x; }},
       {"amax", [](core::MoveRequest& r, double x) { r.amax = x; }},
       {"jmax", [](core::MoveRequest& r, double x) { r.jmax = x; }},
-      {"omega", [](core::MoveRequest& r, double x) { r.omega = x; }},
-      {"zeta", [](core::MoveRequest& r, double x) { r.zeta = x; }},
+      {"omega", [](core::MoveRequest& r, double x) { r.set_mode(x, r.zeta()); }},
+      {"zeta", [](core::MoveRequest& r, double x) { r.set_mode(r.omega(), x); }},
       {"vtol", [](core::MoveRequest& r, double x) { r.vtol = x; }},
       {"y_fractions[2]", [](core::MoveRequest& r, double x) { r.y_fractions = std::array<double, 3>{0.5, 0.25, x}; }},
       {"gammas[2]", [](core::MoveRequest& r, double x) {
@@ -260,7 +260,7 @@ TEST(Planner, FastestVibrationFreeMoveAgainstShapedJerkLimited) {
     r.vmax = vmax;
     r.amax = amax;
     r.jmax = jmax;
-    r.omega = omega;
+    r.set_mode(omega);
     const auto fast = test::must_plan(r);
     r.profile = ProfileKind::jerk_limited;
     const auto jl = test::must_plan(r);
@@ -289,7 +289,7 @@ TEST(Planner, InPlaceMoveEqualsTheConstructedOne) {
       core::MoveRequest r = P::example();
       r.profile = kind.value;
       r.shaper = s;
-      if (!r.omega) r.omega = 25.0;
+      if (!r.has_mode()) r.set_mode(25.0);
       core::Move<double> m = test::must_plan(test::timed(ProfileKind::scurve, 0.2, 0.6, 20.0));
       {
         core::MoveRequest ei = core::ScurveProfile::example();

@@ -36,8 +36,8 @@ struct Gen {
     core::MoveRequest r{};
     r.profile = kKinds[rng() % 7];
     r.distance = logu(1e-4, 10.0) * (coin() ? 1 : -1);
-    r.omega = logu(1.0, 500.0);
-    r.zeta = r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.3);
+    const double omega = logu(1.0, 500.0);  // drawn before zeta: the seeded sequence
+    r.set_mode(omega, r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.3));
     const double d = std::fabs(r.distance);
     if (r.profile == ProfileKind::pseudopoly) {
       r.gamma_count = 3 + rng() % 6;  // 3..8 exponents: acceleration continuous, jerk finite
@@ -126,12 +126,12 @@ TEST(RandomRequests, InvalidOnesAreRejectedWithTheRightCode) {
         expected = Status::non_positive_limit;
         break;
       case 3:
-        r.zeta = g.coin() ? 1.0 + g.uni(0, 1) : -g.uni(1e-6, 1);
+        r.set_mode(r.has_mode() ? r.omega() : 20.0, g.coin() ? 1.0 + g.uni(0, 1) : -g.uni(1e-6, 1));
         expected = Status::zeta_out_of_range;
         break;
       case 4:
         r.profile = ProfileKind::scurve;
-        r.omega = -g.uni(0, 100);
+        r.set_mode(-g.uni(0, 100), r.zeta());
         expected = Status::non_positive_omega;
         break;
       case 5:

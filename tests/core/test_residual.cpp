@@ -39,8 +39,8 @@ struct Gen {
       r.profile = kinds[rng() % std::size(kinds)];
       r.distance = logu(0.01, 1.0) * (coin() ? 1 : -1);
       const double d = std::fabs(r.distance);
-      r.omega = logu(5.0, 80.0);
-      r.zeta = r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.2);
+      const double omega = logu(5.0, 80.0);
+      r.set_mode(omega, r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.2));
       r.shaper = shapers[rng() % std::size(shapers)];
       if (r.profile == ProfileKind::jerk_limited || r.profile == ProfileKind::trapezoid) {
         r.vmax = d * logu(1.0, 5.0);
@@ -119,14 +119,14 @@ TEST(Residual, JerkTablesMatchTheOracleOnTheSameMove) {
     r.vmax = std::fabs(r.distance) * g.logu(1.0, 5.0);
     r.amax = *r.vmax * g.logu(2.0, 20.0);
     r.jmax = *r.amax * g.logu(5.0, 50.0);
-    r.omega = g.logu(5.0, 60.0);
-    r.zeta = g.uni(0.0, 0.1);
+    const double omega = g.logu(5.0, 60.0);
+    r.set_mode(omega, g.uni(0.0, 0.1));
     core::FastestParams p{};
     core::Peaks<double> pk{};
     if (core::plan_fastest(r, p, pk) != core::Status::ok || core::is_ramp_cycloid(p.family)) continue;
     core::Move<double> m{};
     ASSERT_EQ(core::plan(r, m), core::Status::ok);
-    for (const core::Mode md : {core::Mode{*r.omega, r.zeta}, g.mode()}) {
+    for (const core::Mode md : {core::Mode{r.omega(), r.zeta()}, g.mode()}) {
       const double got = core::residual_amplitude(p.table, md);
       ASSERT_NEAR(got, test::residual_amplitude(m, md.omega, md.zeta), 1e-9 * std::fabs(r.distance)) << "case " << k;
       ASSERT_NEAR(got, core::residual_amplitude(m, md), 1e-9 * std::fabs(r.distance)) << "case " << k;

@@ -40,7 +40,7 @@ TEST(Stepper, MatchesRandomAccessForTheScurve) {
 TEST(Stepper, MatchesRandomAccessForShapedMoves) {
   auto r = test::timed(ProfileKind::scurve, 0.2, 0.4, 15.0);
   r.shaper = core::ShaperKind::zvd;
-  r.omega = 40.0;
+  r.set_mode(40.0);
   const auto m = test::must_plan(r);
   expect_stepping_matches<double>(m, 2.5e-4, 1e-12);
   r.profile = ProfileKind::poly345;  // random-access fallback

@@ -82,8 +82,7 @@ core::MoveRequest shaped_jerk_limited(double omega, double zeta, core::ShaperKin
   r.vmax = 0.4;
   r.amax = 4.0;
   r.jmax = 100.0;
-  r.omega = omega;
-  r.zeta = zeta;
+  r.set_mode(omega, zeta);
   r.shaper = k;
   return r;
 }

@@ -64,7 +64,7 @@ struct FixedCaseGen {
     r.profile = kind();
     r.distance = logu(1e-4, 10.0) * (coin() ? 1 : -1);
     const double d = std::fabs(r.distance);
-    r.zeta = r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.3);
+    const double zeta = r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.3);
     if (r.profile == ProfileKind::pseudopoly) {
       r.gamma_count = 3 + rng() % 6;
       double g = uni(3.0, 4.0);
@@ -81,10 +81,10 @@ struct FixedCaseGen {
         r.amax = v * logu(1.0, 100.0);
         if (r.profile != ProfileKind::trapezoid) r.jmax = *r.amax * logu(1.0, 200.0);
       }
-      r.omega = 6.283185307179586 / (d / v) * logu(0.5, 10.0);  // a mode near the move's time scale
+      r.set_mode(6.283185307179586 / (d / v) * logu(0.5, 10.0), zeta);  // a mode near the move's time scale
     } else {
       r.time = logu(0.01, 10.0);
-      r.omega = 6.283185307179586 / *r.time * logu(0.5, 10.0);
+      r.set_mode(6.283185307179586 / *r.time * logu(0.5, 10.0), zeta);
     }
     return r;
   }
@@ -100,7 +100,7 @@ struct FixedCaseGen {
       static constexpr core::ShaperKind shapers[] = {core::ShaperKind::zv, core::ShaperKind::zvd, core::ShaperKind::ei};
       c.req.shaper = shapers[rng() % 3];
       core::Shaper<double> s{};
-      if (core::design_shaper(c.req.shaper, *c.req.omega, c.req.zeta, c.req.vtol, s) != core::Status::ok) return false;
+      if (core::design_shaper(c.req.shaper, c.req.omega(), c.req.zeta(), c.req.vtol, s) != core::Status::ok) return false;
       c.move = core::Move<double>{c.move.profile(), s, c.move.peaks()};
     }
     c.scale.axis.counts_per_unit = logu(1.0, 16777216.0) / std::fabs(c.req.distance);

@@ -99,13 +99,13 @@ TEST(Paper000, ScurveFamilyLeavesItsModeAtRest) {
       r.profile = core::ProfileKind::scurve;
       r.distance = d;
       r.time = ratio * tn;
-      r.omega = w;
+      r.set_mode(w);
       core::Move<double> m;
       ASSERT_EQ(core::plan(r, m), core::Status::ok);
       EXPECT_LE(residual_on_mode(m, w, 0.0), 1e-8 * d) << "undamped, T/Tn " << ratio;
       // The damped variant on a damped mode.
       r.profile = core::ProfileKind::scurve_damped;
-      r.zeta = 0.05;
+      r.modes[0].zeta = 0.05;
       ASSERT_EQ(core::plan(r, m), core::Status::ok);
       EXPECT_LE(residual_on_mode(m, w, 0.05), 1e-8 * d) << "damped, T/Tn " << ratio;
     }
@@ -128,7 +128,7 @@ TEST(Paper000, ExperimentTableAgreesWithDuhamelQuadrature) {
       r.time = row.time;
       if (row.profile == core::ProfileKind::scurve) {
         r.vmax = kVmax000;
-        r.omega = res.modes[0].omega;
+        r.set_mode(res.modes[0].omega);
       }
       core::Move<double> m;
       if (row.plan_status != core::Status::ok) {

@@ -128,8 +128,7 @@ TEST_F(Paper001, EveryComparedCommandIsExactOnTheNominalPlant) {
   r.profile = core::ProfileKind::ramp_versine;
   r.distance = 1.0;
   r.time = 0.167;
-  r.omega = kW;
-  r.zeta = kZ;
+  r.set_mode(kW, kZ);
   r.shaper = core::ShaperKind::zv;
   core::Move<double> m;
   ASSERT_EQ(core::plan(r, m), core::Status::ok);

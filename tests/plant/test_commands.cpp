@@ -87,7 +87,7 @@ TEST(Commands, ScurveIsContinuousAtItsSegmentBoundaries) {
   r.distance = 0.07;
   r.time = 0.4;
   r.vmax = 0.3;
-  r.omega = 22.0;
+  r.set_mode(22.0);
   const MoveCommand c{plan(r)};
   std::vector<double> bp;
   c.breakpoints(bp);
@@ -104,7 +104,7 @@ TEST(Commands, ShapedMoveSumsDelayedCopiesAndListsTheirBreakpoints) {
   r.profile = core::ProfileKind::poly345;
   r.distance = 1.0;
   r.time = 0.3;
-  r.omega = 20.0;
+  r.set_mode(20.0);
   r.shaper = core::ShaperKind::zvd;
   const core::Move<double> m = plan(r);
   const MoveCommand c{m};
@@ -138,8 +138,7 @@ TEST(Commands, TwoExponentPseudoPolyStartsWithAnAccelerationStep) {
 // one-sided limits there, though t_i + tau - t_i need not round back to tau.
 TEST(Commands, ShapedRampKeepsEveryVelocityStepOneSided) {
   core::MoveRequest r = ramp_versine({1.0, 0.0, 0.0});
-  r.omega = 33.375;
-  r.zeta = 0.1559;
+  r.set_mode(33.375, 0.1559);
   r.shaper = core::ShaperKind::zvd;
   const MoveCommand c{plan(r)};
   const auto& sh = c.move().shaper();

@@ -50,7 +50,7 @@ core::Move<double> plan(core::ProfileKind k, double d, double t, core::ShaperKin
   r.profile = k;
   r.distance = d;
   r.time = t;
-  r.omega = omega;
+  r.set_mode(omega);
   r.shaper = s;
   core::Move<double> m{};
   EXPECT_EQ(core::plan(r, m), core::Status::ok);
@@ -105,7 +105,7 @@ TEST(FixedLoop, RefusesAMoveBeyondItsPlanAndALargerPlanStreamsIt) {
   r.vmax = 0.5;
   r.amax = 2.0;
   r.jmax = 20.0;
-  r.omega = 22.04871;
+  r.set_mode(22.04871);
   r.shaper = core::ShaperKind::zvdd;
   core::Move<double> m{};
   ASSERT_EQ(core::plan(r, m), core::Status::ok);

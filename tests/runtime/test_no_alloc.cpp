@@ -49,7 +49,7 @@ std::uint64_t million_ticks_without_heap() {
   core::MoveRequest r{};
   r.profile = core::ProfileKind::scurve;
   r.time = 0.4;
-  r.omega = 22.0;
+  r.set_mode(22.0);
   core::Move<double> out{}, back{};
   r.distance = 0.1;
   EXPECT_EQ(core::plan(r, out), core::Status::ok);
@@ -115,7 +115,7 @@ TEST(NoAllocation, TheFaultPathsMakeNoHeapCalls) {
   core::MoveRequest r{};
   r.profile = core::ProfileKind::scurve;
   r.time = 0.2;
-  r.omega = 22.0;
+  r.set_mode(22.0);
   r.distance = 0.01;
   core::Move<double> move{};
   ASSERT_EQ(core::plan(r, move), core::Status::ok);
@@ -174,7 +174,7 @@ void halts_without_heap() {
   core::MoveRequest r{};
   r.profile = core::ProfileKind::scurve;
   r.time = 0.4;
-  r.omega = 22.0;
+  r.set_mode(22.0);
   r.distance = 0.1;
   core::Move<double> move{};
   ASSERT_EQ(core::plan(r, move), core::Status::ok);

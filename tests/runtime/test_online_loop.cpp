@@ -30,7 +30,7 @@ core::MoveRequest scurve(double d, double t) {
   r.profile = core::ProfileKind::scurve;
   r.distance = d;
   r.time = t;
-  r.omega = kOmega;
+  r.set_mode(kOmega);
   return r;
 }
 

@@ -31,7 +31,7 @@ core::MoveRequest scurve(double d, double t) {
   r.profile = core::ProfileKind::scurve;
   r.distance = d;
   r.time = t;
-  r.omega = 22.04871;
+  r.set_mode(22.04871);
   return r;
 }
 
@@ -391,8 +391,7 @@ TEST(ServoLoop, StreamsSeed001sVelocityStepWithinTheGuard) {
   req.profile = core::ProfileKind::ramp_versine;  // starts and ends with a velocity step
   req.distance = 0.1;
   req.time = 0.167;
-  req.omega = 28.28;
-  req.zeta = 0.159;
+  req.set_mode(28.28, 0.159);
   core::Move<double> m{};
   ASSERT_EQ(core::plan(req, m), core::Status::ok);
   ASSERT_TRUE(m.peaks().velocity_step);

@@ -24,7 +24,7 @@ core::Move<double> move(double d, double t) {
   r.profile = core::ProfileKind::scurve;
   r.distance = d;
   r.time = t;
-  r.omega = 22.0;
+  r.set_mode(22.0);
   core::Move<double> m{};
   EXPECT_EQ(core::plan(r, m), core::Status::ok);
   return m;

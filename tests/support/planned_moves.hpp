@@ -23,7 +23,7 @@ inline core::Move<double> scurve(double distance, double time, double omega) {
   rq.profile = core::ProfileKind::scurve;
   rq.distance = distance;
   rq.time = time;
-  rq.omega = omega;
+  rq.set_mode(omega);
   core::Move<double> m;
   EXPECT_EQ(core::plan(rq, m), core::Status::ok);
   return m;

@@ -103,8 +103,7 @@ Status plan_golden(const GoldenMove& g, Move<double>& out) noexcept {
   r.profile = g.kind;
   r.distance = g.distance;
   r.time = g.time;
-  if (g.omega > 0.0) r.omega = g.omega;
-  r.zeta = g.zeta;
+  if (g.omega > 0.0) r.set_mode(g.omega, g.zeta);
   if (g.kind == ProfileKind::pseudopoly) {
     r.gamma_count = 4;
     r.gammas[0] = 3.0;
@@ -113,7 +112,7 @@ Status plan_golden(const GoldenMove& g, Move<double>& out) noexcept {
     r.gammas[3] = 9.0;
   }
   r.shaper = g.shaper;
-  if (g.shaper != ShaperKind::none) r.zeta = 0.0;  // the designed shaper's exp(-zeta pi/...) is then exp(0)
+  if (g.shaper != ShaperKind::none) r.modes[0].zeta = 0.0;  // the designed shaper's exp(-zeta pi/...) is then exp(0)
   return plan(r, out);
 }
 

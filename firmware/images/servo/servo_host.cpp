@@ -44,7 +44,7 @@ int check_plan() {
   req.profile = settle::core::ProfileKind::scurve;
   req.distance = 0.05;
   req.time = 0.8 * 2 * 3.141592653589793 / 22.04871;
-  req.omega = 22.04871;
+  req.set_mode(22.04871);
   settle::core::Move<double> m{};
   if (settle::core::plan(req, m) != settle::core::Status::ok) return 1;
   const auto* rc = std::get_if<settle::core::RampCycloid<double>>(&m.profile().variant());

@@ -352,14 +352,15 @@ bool parse(const std::uint8_t* data, std::size_t size, Scenario& s) {
   s.start_position = static_cast<std::int32_t>(r.u32());
 
   core::MoveRequest& q = s.request;
+  double zeta = 0.0;
   switch (s.flags & 0x03U) {
     case 1: q.profile = core::ProfileKind::poly345; break;
-    case 2: q.profile = core::ProfileKind::ramp_versine; q.zeta = 0.1; break;
+    case 2: q.profile = core::ProfileKind::ramp_versine; zeta = 0.1; break;
     default: q.profile = core::ProfileKind::scurve; break;
   }
   q.distance = raw_distance / 32768.0 * 0.25;
   q.time = 0.03 + time * 0.001;
-  q.omega = 10.0 + omega * 0.25;
+  q.set_mode(10.0 + omega * 0.25, zeta);
   core::Move<double> m{};
   if (core::plan(q, m) == core::Status::ok && std::isfinite(m.peaks().v) && m.peaks().v > 0.0 &&
       m.peaks().v <= kMaxPeakVelocity) {
@@ -518,7 +519,7 @@ class Run {
     r.m_bus.observe(&r.loop.drive(0));
     TRACE("move: profile %d distance %.6f time %.3f omega %.2f -> %s, peak v %.4f; limit %.4f units/s = %u counts/period;"
           " submitted at tick %llu; drive starts at %d; %zu events",
-          static_cast<int>(s_.request.profile), s_.request.distance, *s_.request.time, *s_.request.omega,
+          static_cast<int>(s_.request.profile), s_.request.distance, *s_.request.time, s_.request.omega(),
           s_.move ? "planned" : "refused", s_.move ? s_.move->peaks().v : 0.0, s_.limits.velocity, s_.limits.step_counts,
           static_cast<unsigned long long>(s_.submit_tick), s_.start_position, s_.event_count);
     configure_drive_limit();

@@ -11,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "settle/commission/uncertain_mode.hpp"
 #include "settle/core/enum_text.hpp"
 
 namespace settle::commission {
@@ -62,18 +63,9 @@ struct IdentifyOptions {
   double min_significance{8.0};
 };
 
-struct IdentifiedMode {
-  double omega{0.0};  // rad/s
-  double zeta{0.0};
-  double gain{0.0};   // g: deflection per base acceleration through the mode (signed)
-  double omega_sd{0.0}, zeta_sd{0.0}, gain_sd{0.0};  // standard errors
-  double omega_lo{0.0}, omega_hi{0.0};
-  double zeta_lo{0.0}, zeta_hi{0.0};
-};
-
 struct IdentifyResult {
   IdentifyStatus status{IdentifyStatus::bad_input};
-  std::vector<IdentifiedMode> modes;  // sorted by omega
+  std::vector<UncertainMode> modes;  // sorted by omega; intervals at IdentifyOptions::confidence
   std::size_t pencil_order{0};        // the matrix pencil's order (2 per mode, 1 per real pole)
   std::size_t order{0};               // the fitted model's: 2 per identified mode
   double rms_residual{0.0};           // of the final fit, output units

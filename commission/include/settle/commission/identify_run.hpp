@@ -4,7 +4,8 @@
 // limit-respecting move, then a hold) to a drive over CAN, the drive's feedback frames (position
 // actual, TPDO1; load-side position, TPDO2) are recorded, and the modes are estimated from them
 // alone (identify_modes): the master never reads the plant's parameters. run_identify(spec, bus)
-// -> IdentifyRunReport; the reporters (text, JSON, the CSV behind --png) are beside it.
+// -> IdentifyRunReport; the reporters (text, the CSV behind --png) are beside it (the JSON document
+// is the CLI's: app/io/modes_json.hpp).
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -31,13 +32,9 @@ struct IdentifyRunReport {
   [[nodiscard]] bool ok() const noexcept { return failure.empty() && result.status == IdentifyStatus::ok; }
 };
 
-// Streams spec.stream.move over `bus`, then spec.stream.settle_time_s at rest, and identifies.
+// Streams spec.stream.axes.front().move over `bus`, then spec.stream.settle_time_s at rest, and identifies.
 [[nodiscard]] IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::StreamBus& bus);
 
-// The JSON document, one line: {"status":"ok","modes":[{omega, zeta, gain, omega_ci, zeta_ci,
-// gain_sd}...] sorted by omega,"excitation":{...},"fit":{order, rms_residual, ...}}; on failure
-// {"status":"error","error":code,"message":...}.
-[[nodiscard]] std::string identify_json(const IdentifyRunSpec& spec, const IdentifyRunReport& r);
 // The text summary: a line per mode with its intervals, the excitation and the fit.
 void write_identify_text(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out);
 // t,load deflection measured,fitted (output units, rigid motion removed) per sample; and

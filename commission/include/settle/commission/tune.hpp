@@ -11,21 +11,12 @@
 #include <string>
 #include <vector>
 
+#include "settle/commission/uncertain_mode.hpp"
 #include "settle/core/enum_text.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/plant/status.hpp"
 
 namespace settle::commission {
-
-// One mode and where its true values may lie: omega_lo <= omega <= omega_hi (rad/s, > 0) and
-// zeta_lo <= zeta <= zeta_hi (within [0, 1)).
-struct UncertainMode {
-  double omega{0.0};
-  double zeta{0.0};
-  double gain{1.0};  // reported; the criterion is per mode, so the gain cancels (docs/tuning.md)
-  double omega_lo{0.0}, omega_hi{0.0};
-  double zeta_lo{0.0}, zeta_hi{0.0};
-};
 
 // The move: distance, and either a move time of the unshaped profile or limits.
 struct TuneMove {

@@ -22,7 +22,7 @@ namespace settle::core {
 
 // Up to this many modes (omega, zeta) are brought to rest by one blend.
 inline constexpr std::size_t kMaxOnlineModes = 4;
-static_assert(1 + kMaxExtraModes <= kMaxOnlineModes, "a halt keeps every mode a request designs for");
+static_assert(kMaxModes <= kMaxOnlineModes, "a halt keeps every mode a request designs for");
 // A blend is this many constant-jerk segments of equal length.
 inline constexpr std::size_t kBlendSegments = 24;
 
@@ -180,7 +180,7 @@ struct OnlinePlan {
 [[nodiscard]] Status plan_online(const OnlineRequest& req, Blend& out) noexcept;
 
 // The modes a move planned from `req` is designed for, which a change of it leaves at rest: its
-// (omega, zeta) and every extra mode, in order (at most 1 + kMaxExtraModes = kMaxOnlineModes), or
+// every mode, in order (at most kMaxModes <= kMaxOnlineModes), or
 // `fallback` when it names none (the plant's fundamental, say). Returns how many it wrote.
 [[nodiscard]] std::size_t design_modes(const MoveRequest& req, std::array<Mode, kMaxOnlineModes>& out,
                                        const Mode* fallback = nullptr) noexcept;

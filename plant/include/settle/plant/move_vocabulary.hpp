@@ -67,10 +67,9 @@ struct ShaperName {
 // The family that won, for a profile that plans several (`fastest`); "" for the others.
 [[nodiscard]] std::string profile_family(const core::Profile<double>& prof);
 
-// The modes a move is designed for, as --omega and --zeta give them (repeated, in order): the
-// first is the request's own mode, the rest its extra modes. Several only for profile `fastest`
-// (and at most 1 + core::kMaxExtraModes); one zeta per omega, or a single zeta (or none) for a
-// single mode. False with the option to blame ("--omega" or "--zeta") and what is wrong (without
+// The modes a move is designed for, as --omega and --zeta give them (repeated, in order): they
+// replace the request's modes (none when no omega is given). Several only for profile `fastest`
+// (and at most core::kMaxModes); one zeta per omega, or a single zeta (or none) for a single mode. False with the option to blame ("--omega" or "--zeta") and what is wrong (without
 // the option's name) otherwise; r is then unchanged.
 [[nodiscard]] bool set_design_modes(const std::vector<double>& omegas, const std::vector<double>& zetas,
                                     core::MoveRequest& r, const char*& option, std::string& message);

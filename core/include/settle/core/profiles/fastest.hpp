@@ -187,7 +187,7 @@ struct FastestProfile {
     r.vmax = 1.0;
     r.amax = 20.0;
     r.jmax = 800.0;
-    r.omega = 22.0;
+    r.set_mode(22.0);
     return r;
   }
 };

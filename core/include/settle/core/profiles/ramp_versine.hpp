@@ -21,7 +21,7 @@ struct RampVersineProfile {
     if (fractions != nullptr && !(std::fabs(fractions[0] + fractions[1] + fractions[2] - 1.0) <= 1e-9)) {
       return Status::bad_shape_parameter;
     }
-    const double omega = r.omega.value_or(0.0);
+    const double omega = r.omega();
     double tau = 0.0;
     if (r.time) {
       tau = *r.time;
@@ -29,11 +29,11 @@ struct RampVersineProfile {
       if (!r.vmax) return Status::missing_time_or_limits;
       if (r.amax) return Status::acceleration_limit_exceeded;
       if (r.jmax) return Status::jerk_limit_exceeded;
-      if (!ramp_versine_shortest(r.distance, *r.vmax, fractions, omega, r.zeta, tau)) {
+      if (!ramp_versine_shortest(r.distance, *r.vmax, fractions, omega, r.zeta(), tau)) {
         return Status::velocity_limit_exceeded;
       }
     }
-    out = ramp_versine_make(r.distance, tau, fractions, omega, r.zeta);
+    out = ramp_versine_make(r.distance, tau, fractions, omega, r.zeta());
     pk = ramp_versine_peaks(out);
     return Status::ok;
   }
@@ -41,8 +41,7 @@ struct RampVersineProfile {
     MoveRequest r{};
     r.distance = 1.0;
     r.time = 0.74;
-    r.omega = 28.28;
-    r.zeta = 0.159;
+    r.set_mode(28.28, 0.159);
     return r;
   }
 };

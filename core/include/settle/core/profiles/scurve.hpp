@@ -16,15 +16,15 @@ namespace detail {
 // The ramp-cycloid hook both S-curves share: undamped (c3 = 0, zeta ignored) or damped.
 [[nodiscard]] inline Status plan_scurve(const MoveRequest& r, bool damped, RampCycloidParams& out,
                                         Peaks<double>& pk) noexcept {
-  const double zeta = damped ? r.zeta : 0.0;
+  const double zeta = damped ? r.zeta() : 0.0;
   RampCycloidParams p{};
   Status st = Status::ok;
   if (r.time) {
-    st = scurve_timed(r.distance, *r.time, r.vmax.value_or(0.0), *r.omega, zeta, p);
+    st = scurve_timed(r.distance, *r.time, r.vmax.value_or(0.0), r.omega(), zeta, p);
   } else {
     if (!r.vmax || !r.amax) return Status::missing_time_or_limits;
     st = plan_fastest_scurve(r.distance, *r.vmax, *r.amax, r.jmax.value_or(std::numeric_limits<double>::infinity()),
-                             *r.omega, zeta, damped, p);
+                             r.omega(), zeta, damped, p);
   }
   if (st != Status::ok) return st;
   pk = ramp_cycloid_peaks(p);
@@ -48,7 +48,7 @@ struct ScurveProfile {
     MoveRequest r{};
     r.distance = 0.1;
     r.time = 0.5;
-    r.omega = 22.05;
+    r.set_mode(22.05);
     return r;
   }
 };

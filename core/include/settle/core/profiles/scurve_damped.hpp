@@ -19,8 +19,7 @@ struct ScurveDampedProfile {
     MoveRequest r{};
     r.distance = -0.05;
     r.time = 0.3;
-    r.omega = 30.0;
-    r.zeta = 0.1;
+    r.set_mode(30.0, 0.1);
     return r;
   }
 };
