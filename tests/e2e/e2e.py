@@ -393,12 +393,16 @@ def drive_commands(d):
     check(rc == 0 and "written and read back" in out, f"drive write 0x6065 = 123456: {out} {err}")
     rc, out, err = drive("read", "--bus", "vcan0", *wait, "--index", "0x6065", "--type", "u32", "--json")
     check(rc == 0 and json.loads(out)["value"] == 123456, f"the plant process kept the value: {out} {err}")
-    sniffer = canbus.Sniffer()
-    rc, out, err = drive("write", "--bus", "vcan0", "--index", "0x6065", "--type", "u8", "--value", "256")
-    frames = guarded(sniffer.stop)
-    check(rc == 2 and "--value: 256 is out of range" in err, f"a value out of its type's range is refused: {err}")
-    requests = [(cid, bytes(data).hex()) for cid, data in frames if 0x600 < cid <= 0x67F]  # the plant's heartbeats go on
-    check(not requests and sniffer.sock.drops == 0, f"and no SDO request reached the bus ({requests})")
+    # Refused before anything is sent: a value out of its type's range, and a type that is not the
+    # object's (0x6065 is UNSIGNED32 in CiA 402: four ASCII bytes would fit it).
+    for argv, said in ((("--type", "u32", "--value", "4294967296"), "--value: 4294967296 is out of range"),
+                       (("--type", "string", "--value", "ABCD"), "[type_mismatch]")):
+        sniffer = canbus.Sniffer()
+        rc, out, err = drive("write", "--bus", "vcan0", "--index", "0x6065", *argv)
+        frames = guarded(sniffer.stop)
+        check(rc == 2 and said in err, f"{' '.join(argv)} is refused: {err}")
+        requests = [(cid, bytes(data).hex()) for cid, data in frames if 0x600 < cid <= 0x67F]  # heartbeats go on
+        check(not requests and sniffer.sock.drops == 0, f"and no SDO request reached the bus ({requests})")
     # Strings go segmented when longer than four bytes (initiate 0x21, size indicated), expedited
     # otherwise (0x23 | (4 - n) << 2): the simulated drive's strings are read-only, so each ends in
     # its abort, but the request on the bus shows how it was sent.
