@@ -79,17 +79,15 @@ bool mode_from_json(const Json& m, bool with_intervals, commission::UncertainMod
 
 bool read_modes_file(const std::string& path, const std::string& option, bool with_intervals, std::size_t max_modes,
                      std::vector<commission::UncertainMode>& out, RequestError& err) {
-  std::string text;
-  if (!read_bounded_file(path, option, kMaxModesFileBytes, text, err)) return false;
+  Json j;
+  if (!read_json_object_file(path, option,
+                             {"modes file", "settle identify --json", "bad_modes_file", kMaxModesFileBytes}, j, err)) {
+    return false;
+  }
   auto bad = [&](const std::string& why) {
     err = {"bad_modes_file", option, option + ": " + why};
     return false;
   };
-  if (json_nesting_depth(text) > kMaxJsonDepth) {
-    return bad("nests arrays and objects more than " + std::to_string(kMaxJsonDepth) + " levels deep; a modes file nests 4");
-  }
-  const Json j = Json::parse(text, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) return bad("not a JSON object (the output of settle identify --json)");
   if (!j.contains("status") || j["status"] != "ok") return bad("\"status\" is not \"ok\" (identification failed?)");
   if (!j.contains("modes") || !j["modes"].is_array()) return bad("no \"modes\" array");
   const Json& modes = j["modes"];

@@ -188,18 +188,35 @@ bool designed_shaper(const Json& j, core::Shaper<double>& out, RequestError& err
 
 }  // namespace
 
-bool load_plan_file(const std::string& path, const std::string& option, core::Move<double>& out, RequestError& err) {
+bool read_json_object_file(const std::string& path, const std::string& option, const JsonDocumentKind& kind,
+                           Json& out, RequestError& err) {
   std::string text;
-  if (!read_bounded_file(path, option, kMaxPlanFileBytes, text, err)) return false;
+  if (!read_bounded_file(path, option, kind.max_bytes, text, err)) return false;
+  auto bad = [&](const std::string& why) {
+    err = {kind.code, option, option + ": " + why};
+    return false;
+  };
+  if (json_nesting_depth(text) > kMaxJsonDepth) {
+    return bad("nests arrays and objects more than " + std::to_string(kMaxJsonDepth) + " levels deep; a " + kind.name +
+               " nests 4");
+  }
+  out = Json::parse(text, nullptr, false);
+  if (out.is_discarded() || !out.is_object()) {
+    return bad(std::string{"not a JSON object (the output of "} + kind.producer + ")");
+  }
+  return true;
+}
+
+bool load_plan_file(const std::string& path, const std::string& option, core::Move<double>& out, RequestError& err) {
+  Json j;
+  if (!read_json_object_file(path, option, {"plan file", "settle tune --json", "bad_plan_file", kMaxPlanFileBytes}, j,
+                             err)) {
+    return false;
+  }
   auto bad = [&](const std::string& why) {
     err = {"bad_plan_file", option, option + ": " + why};
     return false;
   };
-  if (json_nesting_depth(text) > kMaxJsonDepth) {
-    return bad("nests arrays and objects more than " + std::to_string(kMaxJsonDepth) + " levels deep; a plan file nests 4");
-  }
-  const Json j = Json::parse(text, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) return bad("not a JSON object (the output of settle tune --json)");
   if (!j.contains("status") || j["status"] != "ok") return bad("\"status\" is not \"ok\"");
   if (!j.contains("request") || !j["request"].is_object()) return bad("no \"request\" object");
   const Json& rq = j["request"];

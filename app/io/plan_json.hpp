@@ -36,6 +36,21 @@ inline constexpr std::size_t kMaxPlanFileBytes = 1 << 20;
 [[nodiscard]] bool read_bounded_file(const std::string& path, const std::string& option, std::size_t max_bytes,
                                      std::string& out, RequestError& err);
 
+// What read_json_object_file reads: a document `name` ("plan file") that `producer` writes
+// ("settle tune --json"), at most `max_bytes` long; its errors carry `code` and name the option.
+struct JsonDocumentKind {
+  const char* name;
+  const char* producer;
+  const char* code;
+  std::size_t max_bytes;
+};
+
+// A file of that kind, read whole (bounded), its nesting checked before anything parses it, parsed
+// as one JSON object (its fields, "status" first, are the caller's to check). false, with err naming
+// `option`, otherwise.
+[[nodiscard]] bool read_json_object_file(const std::string& path, const std::string& option, const JsonDocumentKind& kind,
+                                         Json& out, RequestError& err);
+
 // The move a plan file describes: its "request" is planned again (unshaped), its "shaper.impulses"
 // applied, and the result must reproduce the file's profile, params, distance and duration (else
 // plan_mismatch: the file was edited or made by a different Settle). Errors name `option`.
