@@ -480,7 +480,7 @@ int object_of(const ParsedArgs& args, const hal::eds::Description* eds, Object& 
     source = "the EDS gives it the data type " + hex(e->data_type, 4);
   } else if (const auto* std_object = hal::canopen::find_standard_object(o.index, o.sub)) {
     known = type_name_of(static_cast<std::uint16_t>(std_object->type));
-    source = std::string{std_object->profile} + " makes it " + hal::canopen::od_type_name(std_object->type) + " (" +
+    source = std::string{std_object->profile} + " makes it " + hal::canopen::data_type_name(static_cast<std::uint16_t>(std_object->type), "") + " (" +
              std_object->name + ")";
   }
   if (!type.empty() && !known.empty() && type != known) {

@@ -7,6 +7,7 @@
 
 #include "settle/hal/canopen/process_data.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
+#include "settle/hal/canopen/standard_objects.hpp"
 
 namespace settle::hal::eds {
 namespace {
@@ -36,18 +37,6 @@ std::string object(const Required& r) {
   return s + " (" + r.name + ")";
 }
 
-const char* type_name(std::uint16_t type) {
-  switch (type) {
-    case data_type::i8: return "INTEGER8";
-    case data_type::i16: return "INTEGER16";
-    case data_type::i32: return "INTEGER32";
-    case data_type::u8: return "UNSIGNED8";
-    case data_type::u16: return "UNSIGNED16";
-    case data_type::u32: return "UNSIGNED32";
-    default: return "another type";
-  }
-}
-
 // "" or why the object cannot serve.
 std::string check(const Description& d, const Required& r) {
   const Entry* e = d.find(r.index, r.sub);
@@ -55,7 +44,8 @@ std::string check(const Description& d, const Required& r) {
   if (e->data_type != r.type) {
     std::array<char, 8> t{};
     std::snprintf(t.data(), t.size(), "0x%04X", static_cast<unsigned>(e->data_type));
-    return "the drive's EDS gives " + object(r) + " the data type " + t.data() + ", not " + type_name(r.type);
+    return "the drive's EDS gives " + object(r) + " the data type " + t.data() + ", not " +
+           canopen::data_type_name(r.type, "another type");
   }
   const bool writes = r.need == Need::write || r.need == Need::rpdo;
   if (writes && !e->writable()) {

@@ -5,6 +5,7 @@
 // object once, the object lists, DeviceInfo, a DCF's ParameterValue and NodeID), tolerant of
 // what tools write and strict about what a master configures the drive from.
 #include "settle/hal/eds_reader.hpp"
+#include "settle/hal/canopen/standard_objects.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -279,23 +280,6 @@ NodeTerm split_node_id(std::string_view text) {
   return t;
 }
 
-const char* type_name(std::uint16_t type) {
-  switch (type) {
-    case data_type::boolean: return "BOOLEAN";
-    case data_type::i8: return "INTEGER8";
-    case data_type::i16: return "INTEGER16";
-    case data_type::i32: return "INTEGER32";
-    case data_type::i64: return "INTEGER64";
-    case data_type::u8: return "UNSIGNED8";
-    case data_type::u16: return "UNSIGNED16";
-    case data_type::u32: return "UNSIGNED32";
-    case data_type::u64: return "UNSIGNED64";
-    case data_type::real32: return "REAL32";
-    case data_type::real64: return "REAL64";
-    default: return "this data type";
-  }
-}
-
 __extension__ using Wide = __int128;
 
 // A value of integer type `type` from its text, $NODEID resolved for `node`, or why not.
@@ -331,7 +315,7 @@ Integer parse_typed(std::string_view text, std::uint16_t type, std::uint8_t node
   const Wide low = is_signed ? -(Wide{1} << (bits - 1)) : 0;
   const Wide high = is_signed ? (Wide{1} << (bits - 1)) - 1 : (Wide{1} << bits) - 1;
   if (v < low || v > high) {
-    return {std::nullopt, quoted + " is outside " + type_name(type) + " (" +
+    return {std::nullopt, quoted + " is outside " + canopen::data_type_name(type, "this data type") + " (" +
                               std::to_string(static_cast<std::int64_t>(low)) + ".." +
                               std::to_string(static_cast<std::uint64_t>(high)) + ")"};
   }
@@ -349,7 +333,8 @@ Real parse_real(std::string_view text, std::uint16_t type) {
   if (!v.empty() && v[0] == '+') v.remove_prefix(1);
   const std::string_view digits = !v.empty() && v[0] == '-' ? v.substr(1) : v;
   if (digits.size() > 1 && digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X')) {
-    return {std::nullopt, "'" + t + "': a " + type_name(type) + " is written in decimal (such as 4.5), not hex"};
+    return {std::nullopt, "'" + t + "': a " + canopen::data_type_name(type, "this data type") +
+                              " is written in decimal (such as 4.5), not hex"};
   }
   double d = 0;
   const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), d);

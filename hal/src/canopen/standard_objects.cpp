@@ -96,19 +96,25 @@ const StandardObject* find_standard_object(std::uint16_t index, std::uint8_t sub
   return nullptr;
 }
 
-const char* od_type_name(OdType type) noexcept {
+const char* data_type_name(std::uint16_t type, const char* unknown) noexcept {
   switch (type) {
-    case OdType::i8: return "INTEGER8";
-    case OdType::i16: return "INTEGER16";
-    case OdType::i32: return "INTEGER32";
-    case OdType::u8: return "UNSIGNED8";
-    case OdType::u16: return "UNSIGNED16";
-    case OdType::u32: return "UNSIGNED32";
-    case OdType::visible_string: return "VISIBLE_STRING";
-    case OdType::octet_string: return "OCTET_STRING";
-    case OdType::domain: return "DOMAIN";
+    case 0x0001: return "BOOLEAN";
+    case 0x0002: return "INTEGER8";
+    case 0x0003: return "INTEGER16";
+    case 0x0004: return "INTEGER32";
+    case 0x0005: return "UNSIGNED8";
+    case 0x0006: return "UNSIGNED16";
+    case 0x0007: return "UNSIGNED32";
+    case 0x0008: return "REAL32";
+    case 0x0009: return "VISIBLE_STRING";
+    case 0x000A: return "OCTET_STRING";
+    case 0x000B: return "UNICODE_STRING";
+    case 0x000F: return "DOMAIN";
+    case 0x0011: return "REAL64";
+    case 0x0015: return "INTEGER64";
+    case 0x001B: return "UNSIGNED64";
+    default: return unknown;
   }
-  return "an unknown type";
 }
 
 }  // namespace settle::hal::canopen

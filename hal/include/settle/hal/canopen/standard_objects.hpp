@@ -22,7 +22,8 @@ struct StandardObject {
 // The standard type of (index, sub), or nullptr when this table does not know the object.
 [[nodiscard]] const StandardObject* find_standard_object(std::uint16_t index, std::uint8_t sub) noexcept;
 
-// "UNSIGNED32", "VISIBLE_STRING", ...: the name CiA 301 gives the type.
-[[nodiscard]] const char* od_type_name(OdType type) noexcept;
+// "UNSIGNED32", "VISIBLE_STRING", ...: the name CiA 301 gives a data type index (an EDS's
+// DataType, an OdType's value); `unknown` for an index this list does not name.
+[[nodiscard]] const char* data_type_name(std::uint16_t type, const char* unknown) noexcept;
 
 }  // namespace settle::hal::canopen
