@@ -90,8 +90,8 @@ class SyncConsumer {
   // True once when SYNCs stopped arriving (only after the first SYNC has been seen).
   [[nodiscard]] bool check_loss(std::uint64_t now_us) noexcept { return watchdog_.check(now_us); }
   void configure(std::uint32_t period_us, std::uint32_t loss_periods) noexcept;
-  // 0x1019. 0: counters are optional and only counted (gap); 2..240: every SYNC must carry the
-  // successor of the previous counter (overflow, then 1). 1 is treated as 0.
+  // 0x1019. 0: a SYNC carries no counter (one that does is an unexpected length); 2..240: every SYNC
+  // must carry the successor of the previous counter (overflow, then 1). 1 is treated as 0.
   void set_counter_overflow(std::uint8_t overflow) noexcept;
   // Full credit again, as if the producer had been on time so far (a drive calls it when it
   // starts to follow, so that bursts while it was idle count for nothing).
