@@ -103,13 +103,19 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
                                std::string{exceeded} + ": the planned excitation would exceed this limit"},
                               json);
   }
-  const double periods = (5.0 + s.axes.front().move.duration() + s.settle_time_s) * 1e6 / s.drive.scale.period_us;
-  if (periods > kMaxStreamPeriods) {
-    return report_bad_request({"too_many_samples", "--hold",
-                               "--hold: " + format_number(periods) +
-                                   " periods of start-up (5 s) + excitation + hold; at most 1e6 (or a longer "
-                                   "--period-us)"},
-                              json);
+  // What the estimator will fit: the excitation and the hold, one sample per period (the start-up
+  // is not recorded). Refused here, before the bus is opened, rather than after minutes of streaming.
+  // It also keeps the stream (start-up + record) inside kMaxStreamPeriods at the shortest period.
+  static_assert(static_cast<double>(commission::kMaxIdentifySamples) + 5.0 * 1e6 / 100.0 <= kMaxStreamPeriods);
+  const double recorded = (s.axes.front().move.duration() + s.settle_time_s) * 1e6 / s.drive.scale.period_us;
+  if (recorded > static_cast<double>(commission::kMaxIdentifySamples)) {
+    return report_bad_request(
+        {"too_many_samples", "--hold",
+         "--hold: the record would hold " + format_number(std::ceil(recorded)) + " samples (excitation " +
+             format_number(s.axes.front().move.duration()) + " s + hold " + format_number(s.settle_time_s) +
+             " s, one per --period-us); the estimator fits at most " +
+             std::to_string(commission::kMaxIdentifySamples) + " (a shorter --hold or a longer --period-us)"},
+        json);
   }
   if (const char* who = counts_reach_exceeded(s.axes.front().move.distance(), s.drive.scale.counts_per_unit,
                                                s.drive.load_counts_per_unit)) {

@@ -320,7 +320,7 @@ const std::vector<OptionSpec> kIdentify = {
     integer("--train", "", std::to_string(commission::kDefaultTrainRoundTrips), {0.0, static_cast<double>(commission::kMaxTrainRoundTrips)},
             "excitation: round trips of the move before the last one, with varied gaps (more acceleration steps: "
             "heavily damped modes are measured better; 0: the move alone)"),
-    real("--hold", "s", "4", {0.5, 600.0}, "excitation: time recorded at rest after the move (the free response)"),
+    real("--hold", "s", "4", {0.5, 600.0}, "excitation: time recorded at rest after the move (the free response); with the move at most 120 000 periods"),
     text("--png", "", "draw the measured response and the fitted model (time and frequency) to FILE (gnuplot)",
          "FILE"),
 };
@@ -444,7 +444,8 @@ const std::vector<CommandSpec> kCommands = {
      .usage = "",
      .groups = {kIdentifyLoop, kIdentify, kLoadNoise, kPlant, kDrive, kOutput},
      .notes = "The excitation is one jerk-limited move of --distance within --vmax/--amax/--jmax, then --hold s at "
-              "rest; it lasts at most 600 s and 1e6 periods, and must fit 32-bit counts. The plant options describe "
+              "rest; it lasts at most 600 s, the record (excitation + hold) holds at most 120 000 "
+              "samples (2 min at --period-us 1000), and it must fit 32-bit counts. The plant options describe "
               "the simulated drive's machine (--bus loopback); the estimate uses only the drive's frames. "
               "Exit 1 when the drive never enables, no load-side feedback is mapped, the feedback is incomplete, or "
               "the response is too small to fit (noise-dominated)."},

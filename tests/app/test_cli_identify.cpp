@@ -169,7 +169,9 @@ TEST(CliIdentify, BadOptionsExitTwoNamingTheOption) {
       {{"--distance", "1000", "--vmax", "1", "--train", "0"}, "--vmax: the excitation's move lasts"},
       // The move alone (40 s) fits; its train of 15 round trips (31 copies and their gaps) does not.
       {{"--distance", "40", "--vmax", "1"}, "--train: the move and 15 round trips of it last"},
-      {{"--hold", "600", "--period-us", "100"}, "--hold: "},
+      {{"--hold", "600", "--period-us", "100"}, "--hold: the record would hold "},
+      // The record, not the stream, is the bound: 2.6 min at 1 kHz is more than the estimator fits.
+      {{"--hold", "150"}, "samples (excitation 5.58934 s + hold 150 s, one per --period-us); the estimator fits at most 120000"},
       {{"--distance", "1000", "--vmax", "1000", "--amax", "1000", "--jmax", "1e6"},
        "--distance: the excitation exceeds 32-bit counts"},
   };

@@ -324,6 +324,11 @@ TEST(Identify, RefusesRecordsWithoutExcitationOrFreeResponse) {
   in.motor = still;
   in.load = still;
   EXPECT_EQ(identify_modes(in).status, IdentifyStatus::no_motion);
+  // One sample more than the estimator fits: refused before any work.
+  const std::vector<std::int32_t> longest(kMaxIdentifySamples + 1, 5);
+  in.motor = longest;
+  in.load = longest;
+  EXPECT_EQ(identify_modes(in).status, IdentifyStatus::too_many_samples);
   // Sizes that differ, and a mode count out of range.
   in.motor = rec.motor;
   in.load = std::span<const std::int32_t>{rec.load}.first(10);

@@ -18,8 +18,11 @@ namespace settle::commission {
 
 // --max-modes: the estimator looks for 1..kMaxIdentifyModes modes.
 inline constexpr std::size_t kMaxIdentifyModes = 6;
-// At most this many samples are fitted (about 2.8 h at 1 kHz); checked before allocating.
-inline constexpr std::size_t kMaxIdentifySamples = 10'000'000;
+// At most this many samples are fitted (2 min at 1 kHz); checked before allocating. The bound is
+// the estimator's cost, not its memory: every Levenberg-Marquardt iteration solves a least-squares
+// problem over the whole record, and a broad three-mode plant takes ~200 iterations, so the work
+// grows as samples x iterations (docs/identification.md, "Cost", has the measurements).
+inline constexpr std::size_t kMaxIdentifySamples = 120'000;
 
 // Every status in order (ok first, 0): its enumerator, which is also its code (to_string), and
 // the sentence describe() gives. The enum and both tables are made from this list (enum_text.hpp).
@@ -28,7 +31,7 @@ inline constexpr std::size_t kMaxIdentifySamples = 10'000'000;
   /* sizes differ, scales not positive and finite, max_modes out of range */ \
   X(bad_input, "the record is inconsistent (sizes, scales or mode count)") \
   /* more than kMaxIdentifySamples */ \
-  X(too_many_samples, "the record has more samples than the estimator takes (1e7)") \
+  X(too_many_samples, "the record has more samples than the estimator takes (120 000)") \
   /* the motor never moved: nothing was excited */ \
   X(no_motion, "the motor never moved: the record excites nothing") \
   /* fewer than kMinFreeSamples after the motor came to rest */ \
