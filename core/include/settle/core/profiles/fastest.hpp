@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Profile `fastest`: the shortest rest-to-rest move under vmax, amax and jmax that leaves every
+// Profile `fastest`: a short rest-to-rest move under vmax, amax and jmax that leaves every
 // design mode (omega, zeta and the request's extra modes) exactly at rest, or, with `robust`,
 // keeps their residual within 5 % of a step's over omega (1 +- robust/100). It plans several
-// families and keeps the shortest feasible one (docs/fastest.md):
+// families and keeps the shortest feasible one; each family is a local search from seeds, so the
+// result is not a proven time optimum (docs/fastest.md measures how far from one it lands):
 //   bang_bang   jerk +-J except on limit arcs (Pontryagin's structure), Newton on the switch
 //               times of a chain of limit / peak / cruise / dwell nodes (exact designs)
 //   bang_coast  jerk in {+J, 0, -J}, switch times solved under the zero-residual conditions
@@ -174,7 +175,8 @@ class Fastest {
 struct FastestProfile {
   static constexpr const char* name = "fastest";
   static constexpr const char* summary =
-      "shortest move under vmax/amax/jmax leaving every given mode at rest (several families searched)";
+      "short move under vmax/amax/jmax leaving every given mode at rest (the shortest of several searched "
+      "families; not a proven optimum)";
   template <typename T>
   using Shape = Fastest<T>;
   [[nodiscard]] static bool needs_mode(const MoveRequest&) noexcept { return true; }
