@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "drive_advice.hpp"
 #include "eds_option.hpp"
+#include "figure_option.hpp"
 #include "io/json.hpp"
 #include "io/modes_json.hpp"
 #include "move_options.hpp"
@@ -123,9 +124,6 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
                                std::string{"--distance: the excitation exceeds 32-bit counts with "} + who},
                               json);
   }
-  if (const auto png = args.text("--png"); png && (png->size() < 5 || png->substr(png->size() - 4) != ".png")) {
-    return report_bad_request({"bad_path", "--png", "--png: the figure's file name must end in .png"}, json);
-  }
   s.axes.front().node = static_cast<hal::canopen::NodeId>(args.integer("--node"));
   s.heartbeat_ms = static_cast<std::uint16_t>(args.integer("--heartbeat-ms"));
   s.sdo_timeout_us = static_cast<std::uint32_t>(args.integer("--sdo-timeout-ms") * 1000);
@@ -167,23 +165,23 @@ bool write_file(const std::string& path, Writer&& write) {
   return std::fclose(f) == 0 && written;
 }
 
-// The --png figure: the two CSVs beside it (<stem>_time.csv, <stem>_spectrum.csv) and gnuplot.
-std::string write_png(const commission::IdentifyRunSpec& spec, const commission::IdentifyRunReport& r, const std::string& png) {
-  namespace fs = std::filesystem;
-  const fs::path target{png};
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path{"."};
-  const std::string stem = target.stem().string();
-  const std::string time_csv = stem + "_time.csv";
-  const std::string spectrum_csv = stem + "_spectrum.csv";
+// The --png figure: the two CSVs beside it (<stem>_time.csv, <stem>_spectrum.csv) and gnuplot, the
+// identified modes marked on the spectrum.
+std::string write_png(const commission::IdentifyRunSpec& spec, const commission::IdentifyRunReport& r, const FigurePath& png) {
+  const std::filesystem::path dir{png.dir};
+  const std::string time_csv = png.stem + "_time.csv";
+  const std::string spectrum_csv = png.stem + "_spectrum.csv";
   if (!write_file((dir / time_csv).string(), [&](std::FILE* f) { return commission::write_identify_time_csv(spec, r, f); }) ||
       !write_file((dir / spectrum_csv).string(),
                   [&](std::FILE* f) { return commission::write_identify_spectrum_csv(spec, r, f); })) {
-    return "cannot write the figure's data beside " + png;
+    return "cannot write the figure's data beside " + png.png;
   }
+  std::vector<double> mode_hz;
+  for (const commission::UncertainMode& m : r.result.modes) mode_hz.push_back(m.omega / (2.0 * M_PI));
   papers::FigureFiles files{};
-  const plant::SimStatus st = papers::write_identify_figure(dir.string(), stem, time_csv, spectrum_csv, files);
-  if (st != plant::SimStatus::ok) return "cannot write " + png + ": " + describe(st);
-  if (!files.gnuplot) return "gnuplot was not found: wrote " + (dir / (stem + ".gp")).string() + " and the CSVs only";
+  const plant::SimStatus st = papers::write_identify_figure(png.dir, png.stem, time_csv, spectrum_csv, mode_hz, files);
+  if (st != plant::SimStatus::ok) return "cannot write " + png.png + ": " + describe(st);
+  if (!files.gnuplot) return "gnuplot was not found: wrote " + (dir / (png.stem + ".gp")).string() + " and the CSVs only";
   return {};
 }
 
@@ -230,6 +228,8 @@ std::string identify_document(const commission::IdentifyRunSpec& spec, const com
 int cmd_identify(int argc, char** argv) {
   ParsedArgs args;
   if (const int rc = parse_or_exit("identify", argc, argv, args); rc >= 0) return rc;
+  std::optional<FigurePath> png;
+  if (const int rc = parse_png_option(args, png); rc >= 0) return rc;
   commission::IdentifyRunSpec spec{};
   if (const int rc = parse_spec(args, spec); rc >= 0) return rc;
 
@@ -247,7 +247,7 @@ int cmd_identify(int argc, char** argv) {
     if (const std::string advice = drive_advice(report.stream); !advice.empty()) report.failure += ": " + advice;
   }
   if (!report.ok()) return failed(report.failure_code, report.failure, args.json(), identify_document(spec, report));
-  if (const auto png = args.text("--png")) {
+  if (png) {
     if (const std::string why = write_png(spec, report, *png); !why.empty()) {
       return failed("figure_failed", why, args.json(), error_doc("figure_failed", why));
     }

@@ -4,11 +4,14 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "figure_option.hpp"
 #include "io/json.hpp"
 #include "move_options.hpp"
 #include "online_options.hpp"
@@ -175,7 +178,7 @@ struct AxesRun {
 // one) the plan's own. Exit status, or -1 to go on.
 int plan_simulated_axes(const ParsedArgs& args, const plant::ModalPlant& plant, AxesRun& run) {
   const bool json = args.json();
-  for (const char* o : {"--sensitivity", "--csv"}) {
+  for (const char* o : {"--sensitivity", "--csv", "--png"}) {
     if (args.has(o)) {
       return report_bad_request({"conflicting_options", o, std::string{o} + ": one axis at a time; not with --axes"},
                                 json);
@@ -326,6 +329,34 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
   return kExitOk;
 }
 
+// The --png figure: the history beside it (<stem>.csv) and gnuplot. Empty, or why not.
+std::string write_png(const plant::ModalPlant& plant, const core::Move<double>& move, const plant::SimResult& res,
+                      const FigurePath& png) {
+  const std::string csv = png.stem + ".csv";
+  if (papers::write_history_csv(res.history, (std::filesystem::path{png.dir} / csv).string()) != plant::SimStatus::ok) {
+    return "cannot write the figure's data beside " + png.png;
+  }
+  const plant::SimMetrics& m = res.metrics;
+  papers::SimulateFigure f{};
+  f.end = m.move_end;
+  f.target = m.distance;
+  f.residual = m.residual_amplitude;
+  f.band = m.band;
+  f.unit = units(plant.kind());
+  const std::size_t n = plant.modes().size();
+  f.title = std::string{core::to_string(move.profile().kind())} + " move of " + format_number(move.distance()) + " " +
+            f.unit + " in " + format_number(m.move_end) + " s on a " + to_string(plant.kind()) + " plant (" +
+            std::to_string(n) + (n == 1 ? " mode" : " modes") + "): residual " +
+            format_number(m.residual_amplitude) + " " + f.unit + " (PRV " + format_number(m.prv_percent) + " %)";
+  papers::FigureFiles files{};
+  const plant::SimStatus st = papers::write_simulate_figure(png.dir, png.stem, csv, f, files);
+  if (st != plant::SimStatus::ok) return "cannot write " + png.png + ": " + plant::describe(st);
+  if (!files.gnuplot) {
+    std::fprintf(stderr, "settle simulate: gnuplot not found; wrote %s.gp and %s only\n", png.stem.c_str(), csv.c_str());
+  }
+  return {};
+}
+
 }  // namespace
 
 int cmd_simulate(int argc, char** argv) {
@@ -336,12 +367,14 @@ int cmd_simulate(int argc, char** argv) {
   RequestError err;
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
   if (wants_axes(args)) return simulate_axes(args, plant);
+  std::optional<FigurePath> png;
+  if (const int rc = parse_png_option(args, png); rc >= 0) return rc;
   core::MoveRequest req{};
   // No belief given: design for the plant's own fundamental mode.
   const DesignFallback fundamental{plant.fundamental().omega, plant.fundamental().zeta};
   if (!parse_move_request(args, req, err, &fundamental)) return report_bad_request(err, json);
   plant::SimOptions opt;
-  opt.record = args.has("--csv");
+  opt.record = args.has("--csv") || png.has_value();
   opt.dt = args.real_or_default("--dt");
   opt.band = args.real("--band", opt.band);
   opt.tail = args.real("--tail", opt.tail);
@@ -399,6 +432,11 @@ int cmd_simulate(int argc, char** argv) {
   if (const auto csv = args.text("--csv")) {
     if (papers::write_history_csv(res.history, *csv) != plant::SimStatus::ok) {
       return report_failure("simulate", "write_failed", "cannot write " + *csv, json);
+    }
+  }
+  if (png) {
+    if (const std::string why = write_png(plant, move, res, *png); !why.empty()) {
+      return report_failure("simulate", "figure_failed", why, json);
     }
   }
   if (json) {

@@ -6,11 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "figure_option.hpp"
 #include "io/json.hpp"
 #include "io/modes_json.hpp"
 #include "options.hpp"
@@ -209,10 +210,8 @@ int cmd_tune(int argc, char** argv) {
   if (mv.distance == 0.0) {
     return report_bad_request({"out_of_range", "--distance", "--distance: must not be 0 (nothing to tune)"}, json);
   }
-  const auto png = args.text("--png");
-  if (png && std::filesystem::path{*png}.extension() != ".png") {
-    return report_bad_request({"bad_png", "--png", "--png: the file name must end in .png"}, json);
-  }
+  std::optional<FigurePath> png;
+  if (const int rc = parse_png_option(args, png); rc >= 0) return rc;
 
   commission::TuneOptions opt;
   opt.residual_max = args.real_or_default("--residual-max");
@@ -252,12 +251,10 @@ int cmd_tune(int argc, char** argv) {
                               json);
   }
   if (png) {
-    const std::filesystem::path p{*png};
-    const std::string dir = p.parent_path().empty() ? std::string{"."} : p.parent_path().string();
     papers::FigureFiles files;
-    const plant::SimStatus fs = papers::write_tune_figure(result, dir, p.stem().string(), files);
+    const plant::SimStatus fs = papers::write_tune_figure(result, png->dir, png->stem, files);
     if (fs != plant::SimStatus::ok) {
-      return report_failure("tune", "write_failed", "cannot write " + *png + ": " + describe(fs), json);
+      return report_failure("tune", "write_failed", "cannot write " + png->png + ": " + describe(fs), json);
     }
     if (!files.gnuplot) std::fprintf(stderr, "settle tune: gnuplot not found; wrote the .gp and .csv only\n");
   }

@@ -226,6 +226,9 @@ const std::vector<OptionSpec> kSample = {
 
 const std::vector<OptionSpec> kSimulate = {
     text("--csv", "", "write the time history to FILE (at most 1e6 rows)", "FILE"),
+    text("--png", "", "draw the move and the response to FILE: positions, the deviation from the final position "
+                      "with the settling band, and the tail zoomed to the residual (gnuplot; data in <stem>.csv)",
+         "FILE"),
     real("--dt", "s", "1e-4", {1e-7, 1.0}, "simulation grid step; at most 2e6 steps x modes"),
     real("--band", "m or rad", "5 % of an unshaped step's residual", {0.0, 1e6, true}, "settling band"),
     real("--tail", "s", "3 periods of the slowest mode", {0.0, kMaxSeconds},

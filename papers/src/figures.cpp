@@ -216,7 +216,8 @@ plant::SimStatus write_tune_figure(const commission::TuneResult& r, const std::s
 }
 
 plant::SimStatus write_identify_figure(const std::string& dir, const std::string& name, const std::string& time_csv,
-                                const std::string& spectrum_csv, FigureFiles& out) {
+                                const std::string& spectrum_csv, const std::vector<double>& mode_hz,
+                                FigureFiles& out) {
   const plant::SimStatus st = prepare(dir, out);
   if (st != plant::SimStatus::ok) return st;
   std::string script;
@@ -229,11 +230,58 @@ plant::SimStatus write_identify_figure(const std::string& dir, const std::string
       "set ylabel 'deflection (m or rad)'\nset key top right\n"
       "plot $time every ::1 using 1:2 with lines title 'measured (TPDO2 - rigid motion)', \\\n"
       "     $time every ::1 using 1:3 with lines lw 2 title 'identified model'\n"
-      "set title 'spectrum of the free response'\nset xlabel 'frequency (Hz)'\nset ylabel 'amplitude'\n"
-      "set logscale xy\n"
+      "set title 'spectrum of the free response (dashed: the identified modes)'\nset xlabel 'frequency (Hz)'\n"
+      "set ylabel 'amplitude'\nset logscale xy\n";
+  // Each identified mode a dashed vertical line labelled with its frequency.
+  for (std::size_t k = 0; k < mode_hz.size(); ++k) {
+    const std::string f = fmt("%.6g", mode_hz[k]);
+    const std::string tag = std::to_string(k + 1);
+    // Labels one below the other, so that modes close together stay readable.
+    script += "set arrow " + tag + " from " + f + ", graph 0 to " + f + ", graph 1 nohead dashtype 2 lc rgb 'red'\n" +
+              "set label " + tag + " " + gnuplot_string("mode " + tag + ": " + fmt("%.4g", mode_hz[k]) + " Hz") +
+              " at " + f + ", graph " + fmt("%.2f", 0.95 - 0.07 * static_cast<double>(k)) + " offset 0.5,0 front\n";
+  }
+  script +=
       "plot $spectrum every ::1 using 1:2 with lines title 'measured', \\\n"
       "     $spectrum every ::1 using 1:3 with lines lw 2 title 'identified model'\nunset multiplot\n";
   return plot(dir, name, script, out, "noenhanced size 900,800");
+}
+
+plant::SimStatus write_simulate_figure(const std::string& dir, const std::string& name, const std::string& csv,
+                                       const SimulateFigure& f, FigureFiles& out) {
+  const plant::SimStatus st = prepare(dir, out);
+  if (st != plant::SimStatus::ok) return st;
+  std::string script;
+  if (!datablock_of(dir, csv, "h", script)) return plant::SimStatus::io_error;
+  const std::string u = f.unit;
+  const std::string end = fmt("%.17g", f.end);
+  const std::string target = fmt("%.17g", f.target);
+  const std::string residual = fmt("%.17g", f.residual);
+  const std::string band = fmt("%.17g", f.band);
+  // The deviation from the final position: column 6 (output position) minus the target; after the
+  // command ends it is the deflection (column 5, the command at rest on the target), written to
+  // its own precision rather than as the difference of two numbers near the target.
+  const std::string dev = "($6 - " + target + ")";
+  script += "set multiplot layout 3,1 title " + gnuplot_string(f.title) + "\nset key top right opaque box\nset autoscale xfix\n" +
+            "set xlabel 't (s)'\nset ylabel " + gnuplot_string("position (" + u + ")") + "\n" +
+            "set title 'commanded and output position'\nset arrow 1 from " + end + ", graph 0 to " + end +
+            ", graph 1 nohead dashtype 2\n"
+            "plot $h every ::1 using 1:2 with lines lw 2 title 'commanded', \\\n"
+            "     $h every ::1 using 1:6 with lines title 'output (the machine)'\n" +
+            "set ylabel " + gnuplot_string("output - final (" + u + ")") + "\n" +
+            "set title 'deviation from the final position, with the settling band (dashed line: the command ends)'\n"
+            "plot $h every ::1 using 1:" + dev + " with lines title 'output - final', \\\n"
+            "     " + band + " with lines dashtype 3 lc rgb 'gray40' title 'settling band', \\\n"
+            "     -" + band + " with lines dashtype 3 lc rgb 'gray40' notitle\n" +
+            "unset arrow 1\nset format y '%.2e'\n"
+            "set title 'after the command ends, zoomed: the residual vibration'\n"
+            "set xrange [" + end + ":*]\nset offsets 0, 0, graph 0.15, graph 0.15\n"
+            "plot $h every ::1 using ($1 >= " + end + " ? $1 : NaN):5 with lines title 'output - final', \\\n"
+            "     " + residual + " with lines dashtype 2 lc rgb 'red' title " +
+            gnuplot_string("residual amplitude " + fmt("%.3g", f.residual) + " " + u) + ", \\\n"
+            "     -" + residual + " with lines dashtype 2 lc rgb 'red' notitle\n"
+            "unset multiplot\n";
+  return plot(dir, name, script, out, "noenhanced size 1000,1100");
 }
 
 plant::SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out) {

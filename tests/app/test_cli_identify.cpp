@@ -146,7 +146,15 @@ TEST(CliIdentify, TextReportAndFigure) {
   EXPECT_GT(rows, 4000U);
   EXPECT_LT(worst, 2e-6);  // two load counts
   EXPECT_TRUE(std::filesystem::exists(dir / "modes_spectrum.csv"));
-  EXPECT_TRUE(std::filesystem::exists(dir / "modes.gp"));
+  // Each identified mode is marked on the spectrum at its frequency (omega / 2 pi, from the text).
+  std::ifstream gp{dir / "modes.gp"};
+  const std::string script{std::istreambuf_iterator<char>{gp}, {}};
+  const double omega2 = std::stod(r.stdout_text.substr(at + 19));
+  char mark[96];
+  std::snprintf(mark, sizeof mark, "set arrow 2 from %.6g, graph 0", omega2 / (2.0 * M_PI));
+  EXPECT_NE(script.find(mark), std::string::npos) << mark;
+  EXPECT_NE(script.find("set arrow 1 from 3.9"), std::string::npos);  // 25 rad/s: 3.979 Hz
+  EXPECT_EQ(script.find("set arrow 3 "), std::string::npos);
   EXPECT_GT(std::filesystem::file_size(dir / "modes.png"), 10000U);  // gnuplot: tools/setup installs it
   std::filesystem::remove_all(dir);
 }

@@ -393,7 +393,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
   const std::vector<std::pair<std::string, std::set<std::string>>> expected = {
       {"plan", join({move, {"--axes", "--sync"}})},
       {"sample", join({move, {"--axes", "--sync", "--dt", "--plan-from"}})},
-      {"simulate", join({move, plant, {"--axes", "--sync", "--csv", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
+      {"simulate", join({move, plant, {"--axes", "--sync", "--csv", "--png", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
       {"reproduce", join({{"--out"}})},
       {"plant", join({plant, drive, {"--bus", "--timing", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--strict", "--log", "--duration",
                                      "--noise", "--seed"}})},

@@ -3,9 +3,13 @@
 // status 2 with the offending option for bad plant parameters, CSV output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "run_cli.hpp"
 
@@ -89,6 +93,71 @@ TEST(SimCli, CsvHistory) {
   std::string header;
   std::getline(f, header);
   EXPECT_EQ(header.rfind("t,command_position", 0), 0u) << header;
+}
+
+// number after "key": in a one-line JSON document.
+double json_number(const std::string& doc, const std::string& key) {
+  const std::size_t at = doc.find("\"" + key + "\":");
+  return at == std::string::npos ? NAN : std::stod(doc.substr(at + key.size() + 3));
+}
+
+// --png draws the move and what it leaves: the figure's data beside it is the run's own history, and
+// what its zoomed tail shows is the residual the text reports (the free response after the move
+// stays within the residual amplitude, the sum of the modes' amplitudes, and comes close to it).
+TEST(SimCli, AFigureShowsTheResidualZoomedAfterTheMove) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path{::testing::TempDir()} / "settle sim 'figure'";
+  fs::create_directories(dir);
+  const std::vector<std::string> move = {"simulate", "--plant", "modes", "--mode", "22,0.1,1", "--mode", "50,0.02,0.3",
+                                         "--profile", "scurve", "--distance", "0.1", "--time", "0.5", "--omega", "22"};
+  const auto with = [&](std::vector<std::string> head, const std::vector<std::string>& tail) {
+    head.insert(head.end(), tail.begin(), tail.end());
+    return settle::test::run_cli_argv(head);
+  };
+  const settle::test::CliResult r = with(move, {"--json", "--png", (dir / "scurve.png").string()});
+  ASSERT_EQ(r.status, 0) << r.out;
+  const double residual = json_number(r.stdout_text, "residual_amplitude");
+  const double end = json_number(r.stdout_text, "move_duration");
+  ASSERT_GT(residual, 1e-4);
+  std::ifstream csv{dir / "scurve.csv"};
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  ASSERT_EQ(line.rfind("t,command_position,command_velocity,command_acceleration,deflection,position", 0), 0u);
+  double tail_peak = 0.0;
+  std::size_t tail_rows = 0;
+  while (std::getline(csv, line)) {
+    double t = 0, p = 0, v = 0, a = 0, deflection = 0, position = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf", &t, &p, &v, &a, &deflection, &position), 6) << line;
+    if (t < end) continue;
+    ++tail_rows;
+    tail_peak = std::max(tail_peak, std::fabs(position - 0.1));
+    EXPECT_NEAR(deflection, position - 0.1, 1e-12) << "t " << t;  // the tail panel plots the deflection
+  }
+  EXPECT_GT(tail_rows, 1000u);
+  EXPECT_LE(tail_peak, residual * (1.0 + 1e-6));
+  EXPECT_GE(tail_peak, 0.5 * residual);
+  // The script draws the residual amplitude and starts the zoomed panel where the move ends.
+  std::ifstream gp{dir / "scurve.gp"};
+  const std::string script{std::istreambuf_iterator<char>{gp}, {}};
+  char value[64];
+  std::snprintf(value, sizeof value, "%.17g", residual);
+  EXPECT_NE(script.find(std::string{value} + " with lines dashtype 2 lc rgb 'red'"), std::string::npos);
+  std::snprintf(value, sizeof value, "set xrange [%.17g:*]", end);
+  EXPECT_NE(script.find(value), std::string::npos);
+  EXPECT_GT(fs::file_size(dir / "scurve.png"), 10000u);  // gnuplot: tools/setup installs it
+  // A name that is not a PNG, and a figure of several axes, are refused before anything runs.
+  const settle::test::CliResult jpg = with(move, {"--png", (dir / "scurve.jpg").string()});
+  EXPECT_EQ(jpg.status, 2);
+  EXPECT_NE(jpg.out.find("--png: the figure's file name must end in .png"), std::string::npos) << jpg.out;
+  EXPECT_FALSE(fs::exists(dir / "scurve.jpg"));
+  const settle::test::CliResult axes =
+      with({"simulate", "--axes", "2", "--plant", "sdof", "--profile", "scurve", "--distance", "0.1,0.1", "--time",
+            "0.5"},
+           {"--png", (dir / "axes.png").string()});
+  EXPECT_EQ(axes.status, 2) << axes.out;
+  EXPECT_NE(axes.out.find("--png: one axis at a time"), std::string::npos) << axes.out;
+  EXPECT_FALSE(fs::exists(dir / "axes.png"));
+  fs::remove_all(dir);
 }
 
 // A CSV that cannot take its rows is a failure (exit 1), not exit 0 with every row lost: a file that

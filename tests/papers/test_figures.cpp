@@ -253,21 +253,23 @@ TEST_F(Figures, UserChosenFigureNamesReachNoShell) {
       expected.push_back(stem + ".png");
     }
   };
+  // `command` (settle's arguments before --png) draws its figure as <stem>.png, with `data` beside it.
+  const auto draw = [&](std::vector<std::string> command, const std::string& stem, const std::vector<std::string>& data) {
+    command.insert(command.begin(), SETTLE_CLI);
+    command.insert(command.end(), {"--png", stem + ".png"});
+    EXPECT_EQ(testbed::run_program(command, o).status, testbed::SpawnStatus::ok) << stem;
+    expect_figure(stem, data);
+  };
   for (const std::string& stem : stems) {
-    const testbed::SpawnResult r =
-        testbed::run_program({SETTLE_CLI, "tune", "--mode", "12.566,0.03", "--uncertainty", "10", "--distance", "0.1",
-                              "--time", "0.5", "--png", stem + ".png"},
-                             o);
-    EXPECT_EQ(r.status, testbed::SpawnStatus::ok) << stem;
-    expect_figure(stem, {".csv", ".gp"});
+    draw({"tune", "--mode", "12.566,0.03", "--uncertainty", "10", "--distance", "0.1", "--time", "0.5"}, stem,
+         {".csv", ".gp"});
   }
-  const std::string stem = "<touch PIPED; true identify";
-  const testbed::SpawnResult r =
-      testbed::run_program({SETTLE_CLI, "identify", "--bus", "loopback", "--plant", "modes", "--mode", "25,0.02,1",
-                            "--png", stem + ".png"},
-                           o);
-  EXPECT_EQ(r.status, testbed::SpawnStatus::ok);
-  expect_figure(stem, {".gp", "_time.csv", "_spectrum.csv"});
+  draw({"identify", "--bus", "loopback", "--plant", "modes", "--mode", "25,0.02,1"}, "<touch PIPED; true identify",
+       {".gp", "_time.csv", "_spectrum.csv"});
+  for (const std::string& stem : {std::string{"|touch PIPED; true simulate"}, std::string{"<touch PIPED; true sim"}}) {
+    draw({"simulate", "--plant", "sdof", "--profile", "scurve", "--distance", "0.1", "--time", "0.5"}, stem,
+         {".gp", ".csv"});
+  }
   expect_only(expected);  // no PIPED
 }
 #endif

@@ -42,11 +42,28 @@ struct FigureFiles {
                                           FigureFiles& out);
 // settle identify's figure, like Klipper's resonance graph: above, the load deflection measured
 // and fitted against time (`time_csv`: t,measured,fitted); below, their spectra over the free
-// response against frequency (`spectrum_csv`: f_hz,measured,fitted, log axes). Both files in
-// `dir`; writes <name>.gp and, with gnuplot, <name>.png there.
+// response against frequency (`spectrum_csv`: f_hz,measured,fitted, log axes), each identified
+// mode (`mode_hz`) marked there. Both files in `dir`; writes <name>.gp and, with gnuplot,
+// <name>.png there.
 [[nodiscard]] plant::SimStatus write_identify_figure(const std::string& dir, const std::string& name,
                                               const std::string& time_csv, const std::string& spectrum_csv,
-                                              FigureFiles& out);
+                                              const std::vector<double>& mode_hz, FigureFiles& out);
+
+// `settle simulate --png`: from its history CSV (`csv` in `dir`, write_history_csv's columns), three
+// panels: the commanded and the machine's output position against time; the output's deviation from
+// the final position over the whole run with the settling band; and the tail after the command
+// ends (t >= end), zoomed to what is left there, with the residual amplitude and the band drawn.
+// Writes <name>.gp and, with gnuplot, <name>.png in `dir`.
+struct SimulateFigure {
+  double end{0.0};       // when the command came to rest (s)
+  double target{0.0};    // the command's final position
+  double residual{0.0};  // residual amplitude at `end` (output units)
+  double band{0.0};      // settling band (output units)
+  std::string title;     // what was simulated, in words
+  std::string unit;      // output unit ("m" or "rad")
+};
+[[nodiscard]] plant::SimStatus write_simulate_figure(const std::string& dir, const std::string& name, const std::string& csv,
+                                              const SimulateFigure& f, FigureFiles& out);
 
 // `text` as a gnuplot single-quoted string: ' doubled (gnuplot's escape; backslashes are literal
 // there), line breaks as spaces (a gnuplot command is one line).

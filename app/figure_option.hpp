@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: Apache-2.0
+// --png FILE (simulate, tune, identify): where a command draws its figure. The name must end in
+// .png; the figure's data and script go beside it (<stem>.csv, <stem>.gp, ...). The name never
+// reaches gnuplot's parser (papers/figures.hpp), so any name a file system takes works.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "options.hpp"
+
+namespace settle::app {
+
+struct FigurePath {
+  std::string dir;   // the directory the figure goes to ("." for a bare name)
+  std::string stem;  // its name without .png
+  std::string png;   // the name as given
+};
+
+// Exit status (2: bad_png, naming --png) or -1 with `out` set when --png was given (empty when not).
+[[nodiscard]] int parse_png_option(const ParsedArgs& args, std::optional<FigurePath>& out);
+
+}  // namespace settle::app
