@@ -11,6 +11,7 @@
 #include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/runtime/evaluation.hpp"
+#include "settle/runtime/setpoint_sequence.hpp"
 #include "settle/testbed/simulated_drive.hpp"
 #include "settle/plant/command.hpp"
 #include "settle/plant/limits.hpp"
@@ -61,9 +62,9 @@ using LoopOf = runtime::ServoLoop<Scalar, core::kMaxAxes, 4, Evaluation, hal::Ca
 static_assert(1024 >= LoopOf<double, runtime::FloatEvaluation<double>>::kMaxFramesPerTick);
 
 // The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end,
-// and with a change the move's up to the switch, then the blend's to its end: the prepare/start/
-// next the loop runs in its ticks and service(), offline. The replay's setpoints for every scalar
-// come from here, and so do the double evaluator's they are compared with. Not ok when the
+// and with a change the move's up to the switch, then the blend's to its end: what the loop
+// streams (runtime::stream_setpoints, its switch rule), offline. The replay's setpoints for every
+// scalar come from here, and so do the double evaluator's they are compared with. Not ok when the
 // evaluation refuses the move or the blend (the loop refuses them too) or it has more than kMaxSamples.
 template <typename Evaluation>
 core::Status evaluated_setpoints(const StreamSpec& spec, const StreamAxis& axis, std::vector<std::int32_t>& out) {
@@ -71,20 +72,16 @@ core::Status evaluated_setpoints(const StreamSpec& spec, const StreamAxis& axis,
   out.clear();
   auto slot = std::make_unique<typename Evaluation::Stored>();  // not movable: the stream refers into it
   if (const core::Status st = Evaluation::prepare(axis.move, scale, *slot); st != core::Status::ok) return st;
-  typename Evaluation::Stream s = Evaluation::start(*slot, 0);
-  bool last = false;
-  while (!last && out.size() < plant::kMaxSamples) out.push_back(s.next(last));
-  if (!last) return core::Status::duration_does_not_fit;
-  if (!axis.change || axis.change->finish) return core::Status::ok;
-  const auto k = static_cast<std::size_t>(std::llround(axis.change->at / scale.period_s()));
-  if (out.size() > k) out.resize(k);
-  while (out.size() < k) out.push_back(out.empty() ? 0 : out.back());
   auto blend = std::make_unique<typename Evaluation::BlendStored>();
-  if (const core::Status st = Evaluation::prepare(axis.change->blend, scale, *blend); st != core::Status::ok) return st;
-  typename Evaluation::BlendStream b = Evaluation::start(*blend, 0);
-  last = false;
-  while (!last && out.size() < plant::kMaxSamples) out.push_back(b.next(last));
-  return last ? core::Status::ok : core::Status::duration_does_not_fit;
+  runtime::SetpointSwitch<Evaluation> change{blend.get(), 0};
+  const bool blends = axis.change && !axis.change->finish;
+  if (blends) {
+    if (const core::Status st = Evaluation::prepare(axis.change->blend, scale, *blend); st != core::Status::ok) return st;
+    change.at = static_cast<std::int32_t>(std::llround(axis.change->at / scale.period_s()));
+  }
+  const runtime::SetpointSequence seq = runtime::stream_setpoints<Evaluation>(
+      *slot, 0, &change, blends ? 1 : 0, plant::kMaxSamples, [&](std::int32_t sp) { out.push_back(sp); });
+  return seq.ended ? core::Status::ok : core::Status::duration_does_not_fit;
 }
 
 core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, const StreamAxis& axis,
