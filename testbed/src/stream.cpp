@@ -545,6 +545,15 @@ hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds, c
   return f;
 }
 
+std::optional<NodeClash> shared_node(const std::vector<hal::canopen::NodeId>& nodes) {
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (nodes[i] == nodes[k]) return NodeClash{k, i, nodes[i]};
+    }
+  }
+  return std::nullopt;
+}
+
 namespace {
 
 // What run_stream refuses before anything is sent: "" or why.
@@ -563,13 +572,11 @@ std::string spec_problem(const StreamSpec& spec) {
       }
     }
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t k = 0; k < i; ++k) {
-      if (spec.axes[i].node == spec.axes[k].node) {
-        return "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) + " are both on node " +
-               std::to_string(spec.axes[i].node) + ": one drive per node";
-      }
-    }
+  std::vector<hal::canopen::NodeId> nodes;
+  for (const StreamAxis& a : spec.axes) nodes.push_back(a.node);
+  if (const std::optional<NodeClash> c = shared_node(nodes)) {
+    return "axes " + std::to_string(c->earlier + 1) + " and " + std::to_string(c->later + 1) + " are both on node " +
+           std::to_string(c->node) + ": one drive per node";
   }
   return {};
 }

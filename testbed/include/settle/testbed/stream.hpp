@@ -109,6 +109,16 @@ struct StreamRefusal {
 };
 [[nodiscard]] StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive);
 
+// One drive per node: the first node id in `nodes` (axis order) that an earlier one has, with both
+// axes' indices; none when every node is distinct. run_stream refuses a spec whose axes share a
+// node (naming both axes), `settle stream --nodes` the list (naming the node).
+struct NodeClash {
+  std::size_t earlier{0};
+  std::size_t later{0};
+  hal::canopen::NodeId node{0};
+};
+[[nodiscard]] std::optional<NodeClash> shared_node(const std::vector<hal::canopen::NodeId>& nodes);
+
 // The feedback a stream maps besides statusword and position: the velocity actual 0x606C when
 // the description has it, and the load position: the object `load` names (--load-feedback), else
 // the one the description marks ([SettleDrive] LoadPosition: 0x2000 on Settle's own drive), else
