@@ -210,7 +210,7 @@ class Session {
                   {{"abort_code", hex(r.abort_raw, 8)}, {"meaning", hal::canopen::abort_meaning(r.abort_raw)}});
   }
 
-  [[nodiscard]] testbed::StreamBus& link() { return *link_; }
+  [[nodiscard]] testbed::ClockedBus& link() { return *link_; }
   [[nodiscard]] bool json() const { return json_; }
   [[nodiscard]] hal::canopen::NodeId node() const { return node_; }
   [[nodiscard]] std::uint32_t timeout_us() const { return timeout_us_; }
@@ -224,7 +224,7 @@ class Session {
   std::uint32_t timeout_us_;
   bool json_;
   hal::SocketCanBus socketcan_;  // the interface --bus names (outlives link_)
-  std::unique_ptr<testbed::StreamBus> link_;
+  std::unique_ptr<testbed::ClockedBus> link_;
   SdoClient client_;
 };
 
@@ -709,7 +709,7 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
                        st.value()});
   }
 
-  testbed::StreamBus& link = s.link();
+  testbed::ClockedBus& link = s.link();
   RemoteDrive drive{plan.config};
   const std::uint64_t started_us = link.now_us();
   drive.start(started_us, link.link());

@@ -20,9 +20,9 @@
 #include "options.hpp"
 #include "plant_options.hpp"
 #include "settle/testbed/stream.hpp"
-#include "settle/testbed/stream_bus.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 #include "settle/testbed/stream_report.hpp"
-#include "stream_bus_open.hpp"
+#include "clocked_bus_open.hpp"
 
 namespace settle::app {
 
@@ -286,7 +286,7 @@ int cmd_stream(int argc, char** argv) {
 
   hal::SocketCanBus socketcan;
   std::string error;
-  const std::unique_ptr<testbed::StreamBus> bus = open_stream_bus(args, socketcan, error);
+  const std::unique_ptr<testbed::ClockedBus> bus = open_clocked_bus(args, socketcan, error);
   if (!bus) return failed(args, "bus", error);
 
   const testbed::StreamReport report = testbed::run_stream(spec, *bus);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "settle/testbed/stream.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 
 #include <algorithm>
 #include <array>
@@ -187,7 +188,7 @@ std::string enable_failure_text(const hal::canopen::RemoteFeedback& f) {
 
 // The session's clock is the bus's.
 struct BusClock {
-  StreamBus& bus;
+  ClockedBus& bus;
   std::uint64_t wait() { return bus.wait(); }
   [[nodiscard]] std::uint64_t now_us() const { return bus.now_us(); }
 };
@@ -226,7 +227,7 @@ std::string configure_changes(Loop& loop, const StreamSpec& spec, ChangeAsk& ask
 
 // After the session: what the loop and the bus say about each axis and about the run.
 template <typename Loop>
-void report_run(Loop& loop, const StreamSpec& spec, const StreamBus& bus, StreamReport& r) {
+void report_run(Loop& loop, const StreamSpec& spec, const ClockedBus& bus, StreamReport& r) {
   r.counters = bus.counters();
   r.units_held = loop.stats().units_held;
   r.timing = bus.timing();
@@ -255,7 +256,7 @@ void report_run(Loop& loop, const StreamSpec& spec, const StreamBus& bus, Stream
 // run.
 template <typename Scalar, typename Evaluation>
 std::string stream_session(const StreamSpec& spec, const std::vector<runtime::AxisConfig>& acs,
-                           const runtime::SessionConfig& sc, StreamBus& bus, StreamReport& r) {
+                           const runtime::SessionConfig& sc, ClockedBus& bus, StreamReport& r) {
   using Loop = LoopOf<Scalar, Evaluation>;
   const std::size_t n = spec.axes.size();
   auto loop = std::make_unique<Loop>(bus.link(), acs.front().scale.period_us);
@@ -632,7 +633,7 @@ std::string prepare(const StreamSpec& spec, std::vector<runtime::AxisConfig>& ac
 
 // The run's second stage: the session with the loop of the spec's scalar.
 std::string session(const StreamSpec& spec, const std::vector<runtime::AxisConfig>& acs,
-                    const runtime::SessionConfig& sc, StreamBus& bus, StreamReport& r) {
+                    const runtime::SessionConfig& sc, ClockedBus& bus, StreamReport& r) {
   switch (spec.scalar) {
     case StreamScalar::single_precision:
       return stream_session<float, runtime::FloatEvaluation<float>>(spec, acs, sc, bus, r);
@@ -644,7 +645,7 @@ std::string session(const StreamSpec& spec, const std::vector<runtime::AxisConfi
 
 }  // namespace
 
-StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
+StreamReport run_stream(const StreamSpec& spec, ClockedBus& bus) {
   StreamReport r{};
   r.bus = bus.name();
   r.realtime = bus.realtime();
