@@ -210,7 +210,7 @@ class Session {
                   {{"abort_code", hex(r.abort_raw, 8)}, {"meaning", hal::canopen::abort_meaning(r.abort_raw)}});
   }
 
-  [[nodiscard]] testbed::StreamBus& link() { return *link_; }
+  [[nodiscard]] testbed::ClockedBus& link() { return *link_; }
   [[nodiscard]] bool json() const { return json_; }
   [[nodiscard]] hal::canopen::NodeId node() const { return node_; }
   [[nodiscard]] std::uint32_t timeout_us() const { return timeout_us_; }
@@ -224,7 +224,7 @@ class Session {
   std::uint32_t timeout_us_;
   bool json_;
   hal::SocketCanBus socketcan_;  // the interface --bus names (outlives link_)
-  std::unique_ptr<testbed::StreamBus> link_;
+  std::unique_ptr<testbed::ClockedBus> link_;
   SdoClient client_;
 };
 
@@ -661,44 +661,23 @@ int drive_scan(const ParsedArgs& args, const hal::eds::Description* eds) {
   return kExitOk;
 }
 
-// settle drive config: the master's start-up (hal's RemoteDrive, configured from the EDS as
-// `settle stream --eds` configures it) run to the end of its configuration. Every object it
-// writes is read first, so the output says what changed; RemoteDrive reads each write back.
-int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
-                 const std::vector<hal::eds::Problem>& eds_warnings) {
-  using hal::canopen::RemoteDrive;
-  using hal::canopen::RemoteDriveState;
-  using hal::canopen::StartupAction;
-  using hal::canopen::StartupStep;
-  if (eds == nullptr) {
-    return report_bad_request({"missing_option", "--eds", "--eds: required (drive config applies what the drive's EDS/DCF describes)"}, args.json());
-  }
-  Session s{args, "config", eds};
-  hal::canopen::RemoteDriveConfig base{};
-  base.node = s.node();
-  base.sdo_timeout_us = s.timeout_us();
-  const hal::eds::FeedbackRequest feedback = testbed::streaming_feedback(*eds);
-  const hal::eds::DriveConfigResult plan = hal::eds::drive_config_from_eds(*eds, base, feedback);
-  if (!plan.ok()) return s.failed("cannot_stream", "node " + std::to_string(s.node()) + ": " + plan.error);
-  std::array<StartupStep, hal::canopen::remote_drive_max_steps> steps{};
-  const std::optional<std::size_t> count = hal::canopen::plan_start_up(plan.config, steps);
-  if (!count) return s.failed("plan_too_long", "the configuration needs more start-up steps than the master holds");
-  if (const int rc = s.open(); rc >= 0) return rc;
+// What start-up writes to an object: what it held before (absent: the drive lacks it; start-up
+// decides whether that matters) and the last value start-up writes to it.
+struct ConfigChange {
+  std::uint16_t index;
+  std::uint8_t sub;
+  std::optional<std::uint32_t> before;
+  std::uint32_t after;
+};
 
-  // What each written object holds now (absent: the drive lacks it; start-up decides whether
-  // that matters) and the last value start-up writes to it.
-  struct Change {
-    std::uint16_t index;
-    std::uint8_t sub;
-    std::optional<std::uint32_t> before;
-    std::uint32_t after;
-  };
-  std::vector<Change> changes;
-  for (std::size_t i = 0; i < *count; ++i) {
-    const StartupStep& st = steps[i];
-    if (st.action() != StartupAction::write) continue;
+// Every object the start-up steps write, read before they run. Exit status or -1.
+int read_before_writes(Session& s, const hal::canopen::StartupStep* steps, std::size_t count,
+                       std::vector<ConfigChange>& changes) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const hal::canopen::StartupStep& st = steps[i];
+    if (st.action() != hal::canopen::StartupAction::write) continue;
     const auto known = std::find_if(changes.begin(), changes.end(),
-                                    [&](const Change& c) { return c.index == st.index() && c.sub == st.sub(); });
+                                    [&](const ConfigChange& c) { return c.index == st.index() && c.sub == st.sub(); });
     if (known != changes.end()) {
       known->after = st.value();
       continue;
@@ -708,19 +687,25 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
     changes.push_back({st.index(), st.sub(), r.ok() ? std::optional<std::uint32_t>{r.unsigned_value()} : std::nullopt,
                        st.value()});
   }
+  return -1;
+}
 
-  testbed::StreamBus& link = s.link();
-  RemoteDrive drive{plan.config};
+// RemoteDrive's start-up of `config` (`count` steps) run to the end of its configuration, the drive
+// then left pre-operational; `took_ms` how long it took. Exit status or -1.
+int run_configuration(Session& s, const hal::canopen::RemoteDriveConfig& config, std::size_t count, double& took_ms) {
+  using hal::canopen::RemoteDriveState;
+  testbed::ClockedBus& link = s.link();
+  hal::canopen::RemoteDrive drive{config};
   const std::uint64_t started_us = link.now_us();
   drive.start(started_us, link.link());
   // Bounded: every step may wait two SDO timeouts (one retry), and NMT takes a moment.
-  const std::uint64_t deadline_us = started_us + (*count + 2) * 2ULL * s.timeout_us() + 1'000'000ULL;
+  const std::uint64_t deadline_us = started_us + (count + 2) * 2ULL * s.timeout_us() + 1'000'000ULL;
   while (drive.state() == RemoteDriveState::configuring && link.now_us() < deadline_us) {
     hal::CanFrame f{};
     if (link.receive(f, 10'000)) (void)drive.on_frame(f, link.now_us(), link.link());
     drive.poll(link.now_us(), link.link());
   }
-  const double took_ms = static_cast<double>(link.now_us() - started_us) / 1000.0;
+  took_ms = static_cast<double>(link.now_us() - started_us) / 1000.0;
   // Start-up ends with NMT start; a configured drive is left pre-operational, not running.
   (void)link.link().send(hal::canopen::encode_nmt(hal::canopen::NmtCommand::enter_pre_operational, s.node()));
   if (drive.state() == RemoteDriveState::configuring) {
@@ -731,25 +716,37 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
     return s.failed("start_up_failed", "node " + std::to_string(s.node()) + ": " + testbed::start_up_failure_text(f),
                     {{"index", hex(f.index, 4)}, {"sub", f.sub}, {"reason", hal::canopen::to_string(f.error)}});
   }
-  const char* setup = plan.config.pdo_setup == hal::canopen::PdoSetup::dynamic       ? "dynamic"
-                      : plan.config.pdo_setup == hal::canopen::PdoSetup::read_static ? "static (read and checked)"
-                                                                                     : "assumed";
+  return -1;
+}
+
+// What drive config did, as text or JSON: the objects written and changed, what was not written
+// and why, and how the master uses each object the EDS offers.
+struct ConfigReport {
+  std::size_t steps{0};
+  std::vector<ConfigChange> changes;
+  double took_ms{0.0};
+  std::vector<hal::eds::Capability> caps;
+};
+
+int print_configuration(const Session& s, const hal::canopen::RemoteDriveConfig& config, const ConfigReport& r,
+                        const std::vector<hal::eds::Problem>& eds_warnings) {
+  const char* setup = config.pdo_setup == hal::canopen::PdoSetup::dynamic       ? "dynamic"
+                      : config.pdo_setup == hal::canopen::PdoSetup::read_static ? "static (read and checked)"
+                                                                                : "assumed";
   std::size_t changed = 0;
-  for (const Change& c : changes) changed += c.before != c.after ? 1U : 0U;
+  for (const ConfigChange& c : r.changes) changed += c.before != c.after ? 1U : 0U;
   // What the master did not write, and why (CiA 301 asks 0x1006 only of the SYNC producer).
   std::vector<std::string> skipped;
-  if (!plan.config.write_sync_period) {
+  if (!config.write_sync_period) {
     skipped.emplace_back(object_name(hal::canopen::obj::communication_cycle_period, 0) +
                          " not written: the drive's EDS has no 0x1006 (communication cycle period; CiA 301 asks it "
                          "only of the SYNC producer)");
   }
-  // What the drive offers the master, and what the master does with it.
-  const std::vector<hal::eds::Capability> caps = hal::eds::capabilities(*eds, plan, feedback);
   // A drive whose description needed tolerating is configured, but not called verified.
   const bool verified = eds_warnings.empty();
   if (s.json()) {
     Json objects = Json::array();
-    for (const hal::eds::Capability& c : caps) {
+    for (const hal::eds::Capability& c : r.caps) {
       objects.push_back({{"object", object_name(c.index, c.sub)},
                          {"name", c.name},
                          {"needed", c.needed},
@@ -758,7 +755,7 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
                          {"without", c.use.empty() ? Json(c.without) : Json(nullptr)}});
     }
     Json list = Json::array();
-    for (const Change& c : changes) {
+    for (const ConfigChange& c : r.changes) {
       list.push_back({{"object", object_name(c.index, c.sub)},
                       {"before", c.before ? Json(*c.before) : Json(nullptr)},
                       {"after", c.after},
@@ -767,10 +764,10 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
     print_json({{"status", "ok"},
                 {"node", s.node()},
                 {"pdo_mapping", setup},
-                {"steps", *count},
-                {"objects_written", changes.size()},
+                {"steps", r.steps},
+                {"objects_written", r.changes.size()},
                 {"objects_changed", changed},
-                {"configured_ms", took_ms},
+                {"configured_ms", r.took_ms},
                 {"writes", list},
                 {"skipped", skipped},
                 {"objects", objects},
@@ -780,20 +777,20 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
   }
   std::printf("node %u configured%s in %.1f ms: %zu steps, PDO mapping %s; %zu objects written, %zu "
               "changed (each read back)\n",
-              static_cast<unsigned>(s.node()), verified ? " and verified" : "", took_ms, *count, setup,
-              changes.size(), changed);
+              static_cast<unsigned>(s.node()), verified ? " and verified" : "", r.took_ms, r.steps, setup,
+              r.changes.size(), changed);
   if (!verified) {
     std::printf("  not verified: its EDS needed %zu deviation(s) tolerated (the warnings on stderr)\n",
                 eds_warnings.size());
   }
-  for (const Change& c : changes) {
+  for (const ConfigChange& c : r.changes) {
     std::printf("  %s  %-12s -> %-12s %s\n", object_name(c.index, c.sub).c_str(),
                 c.before ? hex(*c.before, 8).c_str() : "absent", hex(c.after, 8).c_str(),
                 c.before != c.after ? "changed" : "unchanged");
   }
   for (const std::string& why : skipped) std::printf("  %s\n", why.c_str());
   std::printf("objects (found in the EDS: how the master uses each, or does without):\n");
-  for (const hal::eds::Capability& c : caps) {
+  for (const hal::eds::Capability& c : r.caps) {
     const std::string use = !c.use.empty() ? c.use
                             : c.found      ? "found, not used: " + c.without
                                            : "absent: " + c.without;
@@ -801,6 +798,34 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
                 c.needed ? " (needed)" : "");
   }
   return kExitOk;
+}
+
+// settle drive config: the master's start-up (hal's RemoteDrive, configured from the EDS as
+// `settle stream --eds` configures it) run to the end of its configuration. Every object it
+// writes is read first, so the output says what changed; RemoteDrive reads each write back.
+int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
+                 const std::vector<hal::eds::Problem>& eds_warnings) {
+  if (eds == nullptr) {
+    return report_bad_request({"missing_option", "--eds", "--eds: required (drive config applies what the drive's EDS/DCF describes)"}, args.json());
+  }
+  Session s{args, "config", eds};
+  hal::canopen::RemoteDriveConfig base{};
+  base.node = s.node();
+  base.sdo_timeout_us = s.timeout_us();
+  const hal::eds::FeedbackRequest feedback = testbed::streaming_feedback(*eds);
+  const hal::eds::DriveConfigResult plan = hal::eds::drive_config_from_eds(*eds, base, feedback);
+  if (!plan.ok()) return s.failed("cannot_stream", "node " + std::to_string(s.node()) + ": " + plan.error);
+  std::array<hal::canopen::StartupStep, hal::canopen::remote_drive_max_steps> steps{};
+  const std::optional<std::size_t> count = hal::canopen::plan_start_up(plan.config, steps);
+  if (!count) return s.failed("plan_too_long", "the configuration needs more start-up steps than the master holds");
+  if (const int rc = s.open(); rc >= 0) return rc;
+  ConfigReport report{};
+  report.steps = *count;
+  if (const int rc = read_before_writes(s, steps.data(), *count, report.changes); rc >= 0) return rc;
+  if (const int rc = run_configuration(s, plan.config, *count, report.took_ms); rc >= 0) return rc;
+  // What the drive offers the master, and what the master does with it.
+  report.caps = hal::eds::capabilities(*eds, plan, feedback);
+  return print_configuration(s, plan.config, report, eds_warnings);
 }
 
 }  // namespace

@@ -25,8 +25,8 @@
 #include "settle/papers/figures.hpp"
 #include "settle/commission/identify_excitation.hpp"
 #include "settle/commission/identify_run.hpp"
-#include "settle/testbed/stream_bus.hpp"
-#include "stream_bus_open.hpp"
+#include "settle/testbed/clocked_bus.hpp"
+#include "clocked_bus_open.hpp"
 
 namespace settle::app {
 
@@ -235,7 +235,7 @@ int cmd_identify(int argc, char** argv) {
 
   hal::SocketCanBus socketcan;
   std::string bus_error;
-  const std::unique_ptr<testbed::StreamBus> bus = open_stream_bus(args, socketcan, bus_error);
+  const std::unique_ptr<testbed::ClockedBus> bus = open_clocked_bus(args, socketcan, bus_error);
   if (!bus) return failed("bus_unavailable", bus_error, args.json(), error_doc("bus_unavailable", bus_error));
 
   const Progress progress;

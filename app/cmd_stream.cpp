@@ -20,9 +20,9 @@
 #include "options.hpp"
 #include "plant_options.hpp"
 #include "settle/testbed/stream.hpp"
-#include "settle/testbed/stream_bus.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 #include "settle/testbed/stream_report.hpp"
-#include "stream_bus_open.hpp"
+#include "clocked_bus_open.hpp"
 
 namespace settle::app {
 
@@ -82,7 +82,7 @@ int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, testbe
   if (!parse_axes_online_change(args, req, plan, &spec.plant, spec.drive.scale.period_s(), changes, err)) {
     return report_bad_request(err, json);
   }
-  std::vector<long long> nodes;
+  std::vector<hal::canopen::NodeId> nodes;
   if (args.has("--nodes")) {
     const std::vector<double> given = args.list("--nodes");
     if (given.size() != req.count) {
@@ -91,21 +91,22 @@ int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, testbe
                                      std::to_string(req.count) + " node ids, got " + std::to_string(given.size())},
                                 json);
     }
+    // The ids up to the first that is no whole number (each in 1..127: the table's range); a node
+    // given twice among them is named first, as the list reads.
     for (const double v : given) {
-      const auto id = static_cast<long long>(v);
-      if (static_cast<double>(id) != v) {
-        return report_bad_request({"out_of_range", "--nodes", "--nodes: node ids are whole numbers in [1, 127]"}, json);
-      }
-      for (const long long other : nodes) {
-        if (other == id) {
-          return report_bad_request(
-              {"bad_list", "--nodes", "--nodes: node " + std::to_string(id) + " given twice; one drive per node"}, json);
-        }
-      }
-      nodes.push_back(id);
+      if (static_cast<double>(static_cast<long long>(v)) != v) break;
+      nodes.push_back(static_cast<hal::canopen::NodeId>(v));
+    }
+    if (const std::optional<testbed::NodeClash> c = testbed::shared_node(nodes)) {
+      return report_bad_request({"bad_list", "--nodes",
+                                 "--nodes: node " + std::to_string(c->node) + " given twice; one drive per node"},
+                                json);
+    }
+    if (nodes.size() != given.size()) {
+      return report_bad_request({"out_of_range", "--nodes", "--nodes: node ids are whole numbers in [1, 127]"}, json);
     }
   } else {
-    for (std::size_t i = 0; i < req.count; ++i) nodes.push_back(static_cast<long long>(i + 1));
+    for (std::size_t i = 0; i < req.count; ++i) nodes.push_back(static_cast<hal::canopen::NodeId>(i + 1));
   }
   spec.axes.clear();
   for (std::size_t i = 0; i < req.count; ++i) {
@@ -115,10 +116,9 @@ int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, testbe
                                  "--distance: axis " + std::to_string(i + 1) + ": " + core::describe(st)},
                                 json);
     }
-    const auto node = static_cast<hal::canopen::NodeId>(nodes[i]);
     std::optional<testbed::StreamChange> change;
     if (changes[i]) change = stream_change(*changes[i]);
-    spec.axes.push_back({m, node, change});
+    spec.axes.push_back({m, nodes[i], change});
   }
   return -1;
 }
@@ -286,7 +286,7 @@ int cmd_stream(int argc, char** argv) {
 
   hal::SocketCanBus socketcan;
   std::string error;
-  const std::unique_ptr<testbed::StreamBus> bus = open_stream_bus(args, socketcan, error);
+  const std::unique_ptr<testbed::ClockedBus> bus = open_clocked_bus(args, socketcan, error);
   if (!bus) return failed(args, "bus", error);
 
   const testbed::StreamReport report = testbed::run_stream(spec, *bus);

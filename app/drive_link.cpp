@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "settle/testbed/simulated_drive.hpp"
-#include "settle/testbed/stream_bus.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 #include "socketcan_open.hpp"
 
 namespace settle::app {
@@ -17,14 +17,14 @@ constexpr std::uint32_t kWaitUs = 10'000;
 
 }  // namespace
 
-std::unique_ptr<testbed::StreamBus> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
+std::unique_ptr<testbed::ClockedBus> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
                                            const hal::eds::Description* eds, hal::SocketCanBus& socketcan,
                                            std::string& error) {
   if (bus == "loopback") {
     testbed::SimulatedDriveSpec drive{};
     drive.node = node;
     drive.eds = eds;
-    auto link = std::make_unique<testbed::LoopbackStreamBus>();
+    auto link = std::make_unique<testbed::LoopbackClockedBus>();
     error = link->open(drive.axis.scale.period_us, {drive});
     if (!error.empty()) return nullptr;
     return link;
@@ -35,17 +35,17 @@ std::unique_ptr<testbed::StreamBus> open_drive_link(const std::string& bus, hal:
   }
   const hal::CanFilter sdo_answers{0x580, 0x780, hal::FrameFormat::standard};
   (void)socketcan.set_filters({&sdo_answers, 1});  // without filters every frame comes: still correct
-  return std::make_unique<testbed::SocketCanStreamBus>(socketcan, bus, std::string{}, 0, false);
+  return std::make_unique<testbed::SocketCanClockedBus>(socketcan, bus, std::string{}, 0, false);
 }
 
-void serve_clients(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> clients, const hal::CanFrame* frame) {
+void serve_clients(testbed::ClockedBus& link, std::span<hal::canopen::SdoClient> clients, const hal::CanFrame* frame) {
   for (hal::canopen::SdoClient& c : clients) {
     if (frame != nullptr && c.busy()) (void)c.on_frame(*frame, link.now_us(), link.link());
     c.poll(link.now_us(), link.link());
   }
 }
 
-void finish_transfers(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> clients) {
+void finish_transfers(testbed::ClockedBus& link, std::span<hal::canopen::SdoClient> clients) {
   while (std::any_of(clients.begin(), clients.end(), [](const hal::canopen::SdoClient& c) { return c.busy(); })) {
     hal::CanFrame f{};
     const bool got = link.receive(f, kWaitUs);

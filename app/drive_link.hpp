@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// What `settle drive` talks to: the bus with a clock every command uses (testbed::StreamBus), on
+// What `settle drive` talks to: the bus with a clock every command uses (testbed::ClockedBus), on
 // which SDO transfers run to their end. Two kinds: a SocketCAN interface in real time (a `settle
 // plant` process, a real drive), and --bus loopback, the simulated drive in this process
 // (testbed::build_simulated_drive: the one the --eds description describes, as `settle plant
@@ -13,7 +13,7 @@
 #include "settle/hal/canopen/sdo.hpp"
 #include "settle/hal/eds_reader.hpp"
 #include "settle/hal/socketcan_bus.hpp"
-#include "settle/testbed/stream.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 
 namespace settle::app {
 
@@ -21,22 +21,22 @@ namespace settle::app {
 // when there is one), else a SocketCAN interface opened on `socketcan` (which must outlive the
 // result) with only the SDO answers let through. nullptr with `error` set when it cannot be opened
 // (or, loopback, when the drive cannot be built from `eds`).
-[[nodiscard]] std::unique_ptr<testbed::StreamBus> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
+[[nodiscard]] std::unique_ptr<testbed::ClockedBus> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
                                                          const hal::eds::Description* eds,
                                                          hal::SocketCanBus& socketcan, std::string& error);
 
 // Runs the transfers already started on `clients` until none is busy: each answer goes to the
 // client it belongs to, and each times out on its own (its own abort on the bus).
-void finish_transfers(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> clients);
+void finish_transfers(testbed::ClockedBus& link, std::span<hal::canopen::SdoClient> clients);
 
 // Hands a received frame to every busy client, then lets each time out if its time has come.
-void serve_clients(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> clients, const hal::CanFrame* frame);
+void serve_clients(testbed::ClockedBus& link, std::span<hal::canopen::SdoClient> clients, const hal::CanFrame* frame);
 
 // Starts a transfer: `start(now, bus)` is retried while the bus has no room for the request
 // (a full transmit queue), for at most about a second; meanwhile the transfers already running
 // on `running` go on. False when it never went out.
 template <typename Start>
-[[nodiscard]] bool start_transfer(testbed::StreamBus& link, std::span<hal::canopen::SdoClient> running, Start&& start) {
+[[nodiscard]] bool start_transfer(testbed::ClockedBus& link, std::span<hal::canopen::SdoClient> running, Start&& start) {
   for (int attempt = 0; attempt < 1000; ++attempt) {
     if (start(link.now_us(), link.link())) return true;
     hal::CanFrame f{};
@@ -48,7 +48,7 @@ template <typename Start>
 
 // One transfer on one client, to its end. A request that never went out ends as a timeout.
 template <typename Start>
-[[nodiscard]] hal::canopen::SdoResult transfer(testbed::StreamBus& link, hal::canopen::SdoClient& client, Start&& start) {
+[[nodiscard]] hal::canopen::SdoResult transfer(testbed::ClockedBus& link, hal::canopen::SdoClient& client, Start&& start) {
   if (!start_transfer(link, {}, start)) {
     hal::canopen::SdoResult r{};
     r.status = hal::canopen::SdoClientStatus::timed_out;

@@ -35,7 +35,7 @@ void deflections(const IdentifyRunReport& r, const testbed::StreamSpec& s, std::
 
 }  // namespace
 
-IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::StreamBus& bus) {
+IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::ClockedBus& bus) {
   IdentifyRunReport r{};
   r.period_s = spec.stream.drive.scale.period_s();
   if (spec.stream.eds &&

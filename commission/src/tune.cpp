@@ -429,8 +429,10 @@ plant::SimStatus worst_in_band(const core::Move<double>& move, const UncertainMo
                     std::numeric_limits<double>::infinity(), out);
 }
 
-TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, const TuneOptions& opt,
-                TuneResult& out) {
+namespace {
+
+// The request's own faults, before anything is planned.
+TuneStatus tune_input_status(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, const TuneOptions& opt) {
   if (modes_in.empty()) return TuneStatus::no_modes;
   if (modes_in.size() > kMaxTuneModes) return TuneStatus::too_many_modes;
   for (const UncertainMode& m : modes_in) {
@@ -448,84 +450,101 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
   if (opt.zeta_points < 1 || opt.zeta_points > kMaxTuneZetaPoints || !(opt.max_work > 0.0)) {
     return TuneStatus::bad_grid;
   }
+  return TuneStatus::ok;
+}
 
-  std::vector<UncertainMode> modes = modes_in;
-  std::stable_sort(modes.begin(), modes.end(), [](const auto& a, const auto& b) { return a.omega < b.omega; });
-  // Every family: each registry profile, unshaped or shaped, at the nominal modes or retuned.
-  std::vector<core::ShaperKind> shapers = {core::ShaperKind::none, core::ShaperKind::zv,  core::ShaperKind::zvd,
-                                           core::ShaperKind::ei,   core::ShaperKind::ei2, core::ShaperKind::ei3};
+// The candidates found so far: those that could be planned, and the refusals shown.
+struct TuneFamilies {
   std::vector<TuneCandidate> planned;  // every (family, design) that could be planned
   std::vector<TuneCandidate> refused;
+};
+
+// One design of one family: profile `kind` shaped by `sk` at the nominal modes (v == 0) or
+// retuned at placement v-1 within the band; planned within the move's limits, or refused (shown
+// once per family), or skipped (a retuned design that changes nothing, or cannot be planned).
+void plan_design(core::ProfileKind kind, core::ShaperKind sk, std::size_t v, const std::vector<UncertainMode>& modes,
+                 const TuneMove& mv, const TuneOptions& opt, TuneFamilies& out) {
+  TuneCandidate c;
+  c.profile = kind;
+  c.shaper = sk;
+  c.retuned = v > 0;
+  c.placement = v > 0 ? static_cast<double>(v - 1) / static_cast<double>(kTunePlacements - 1) : -1.0;
+  for (const UncertainMode& m : modes) {
+    c.design_omega.push_back(c.retuned ? m.omega_lo + c.placement * (m.omega_hi - m.omega_lo) : m.omega);
+    c.design_zeta.push_back(m.zeta);
+  }
+  core::MoveRequest r{};
+  r.profile = kind;
+  r.distance = mv.distance;
+  r.time = mv.time;
+  r.vmax = mv.vmax;
+  r.amax = mv.amax;
+  r.jmax = mv.jmax;
+  // A profile that designs for a mode takes the fundamental; `fastest` takes every mode (up
+  // to its kMaxModes), as `settle plan --profile fastest` does, by the same rules.
+  const bool every_mode = kind == core::ProfileKind::fastest && c.design_omega.size() <= core::kMaxModes;
+  const std::size_t designed = every_mode ? c.design_omega.size() : 1;
+  const char* option = nullptr;
+  std::string why;
+  (void)plant::set_design_modes({c.design_omega.begin(), c.design_omega.begin() + static_cast<std::ptrdiff_t>(designed)},
+                                {c.design_zeta.begin(), c.design_zeta.begin() + static_cast<std::ptrdiff_t>(designed)}, r,
+                                option, why);
+  // A design that changes nothing (no shaper, a profile that ignores the mode) is one family.
+  if (c.retuned && sk == core::ShaperKind::none && !core::needs_mode(r)) return;
+  c.name = std::string{core::to_string(kind)} + (sk == core::ShaperKind::none ? "" : "+") +
+           (sk == core::ShaperKind::none ? "" : core::to_string(sk)) + (c.retuned ? "@retuned" : "");
+  core::Move<double> bare{};
+  core::Status st = plan_profile(r, mv, bare, c.time_searched);
+  c.request = r;
+  if (st != core::Status::ok) {
+    // The profile itself cannot be planned: shown once, under its own name (a retuned design
+    // that cannot be planned is skipped).
+    if (v == 0 && sk == core::ShaperKind::none) {
+      c.refusal = core::to_string(st);
+      out.refused.push_back(std::move(c));
+    }
+    return;
+  }
+  core::Shaper<double> shaper{};
+  if (st == core::Status::ok) st = tuned_shaper(sk, c.design_omega, c.design_zeta, opt.residual_max, shaper);
+  if (st == core::Status::ok) {
+    const core::Peaks<double> pk = core::shaped_peaks(bare.profile(), shaper, bare.peaks());
+    st = limits_status(mv, pk);
+    c.move = core::Move<double>{bare.profile(), shaper, pk};
+  }
+  const bool too_long = st == core::Status::ok && !(c.move.duration() <= kMaxTuneDuration);
+  if (st != core::Status::ok || too_long) {
+    if (v <= 1) {  // one refusal per family is enough to show
+      c.refusal = st != core::Status::ok ? core::to_string(st) : "too_long";
+      out.refused.push_back(std::move(c));
+    }
+    return;
+  }
+  c.planned = true;
+  c.duration = c.move.duration();
+  out.planned.push_back(std::move(c));
+}
+
+// Enumerate: every family, each registry profile unshaped or shaped, at the nominal modes or
+// retuned, planned.
+TuneFamilies enumerate_families(const std::vector<UncertainMode>& modes, const TuneMove& mv, const TuneOptions& opt) {
+  const std::vector<core::ShaperKind> shapers = {core::ShaperKind::none, core::ShaperKind::zv,  core::ShaperKind::zvd,
+                                                 core::ShaperKind::ei,   core::ShaperKind::ei2, core::ShaperKind::ei3};
+  TuneFamilies out;
   core::for_each_profile([&](auto kind) {
     for (core::ShaperKind sk : shapers) {
-      for (std::size_t v = 0; v <= kTunePlacements; ++v) {  // v == 0: nominal, else placement v-1
-        TuneCandidate c;
-        c.profile = kind.value;
-        c.shaper = sk;
-        c.retuned = v > 0;
-        c.placement = v > 0 ? static_cast<double>(v - 1) / static_cast<double>(kTunePlacements - 1) : -1.0;
-        for (const UncertainMode& m : modes) {
-          c.design_omega.push_back(c.retuned ? m.omega_lo + c.placement * (m.omega_hi - m.omega_lo) : m.omega);
-          c.design_zeta.push_back(m.zeta);
-        }
-        core::MoveRequest r{};
-        r.profile = kind.value;
-        r.distance = mv.distance;
-        r.time = mv.time;
-        r.vmax = mv.vmax;
-        r.amax = mv.amax;
-        r.jmax = mv.jmax;
-        // A profile that designs for a mode takes the fundamental; `fastest` takes every mode (up
-        // to its kMaxModes), as `settle plan --profile fastest` does, by the same rules.
-        const bool every_mode =
-            kind.value == core::ProfileKind::fastest && c.design_omega.size() <= core::kMaxModes;
-        const std::size_t designed = every_mode ? c.design_omega.size() : 1;
-        const char* option = nullptr;
-        std::string why;
-        (void)plant::set_design_modes({c.design_omega.begin(), c.design_omega.begin() + static_cast<std::ptrdiff_t>(designed)},
-                               {c.design_zeta.begin(), c.design_zeta.begin() + static_cast<std::ptrdiff_t>(designed)}, r,
-                               option, why);
-        // A design that changes nothing (no shaper, a profile that ignores the mode) is one family.
-        if (c.retuned && sk == core::ShaperKind::none && !core::needs_mode(r)) continue;
-        c.name = std::string{core::to_string(kind.value)} + (sk == core::ShaperKind::none ? "" : "+") +
-                 (sk == core::ShaperKind::none ? "" : core::to_string(sk)) + (c.retuned ? "@retuned" : "");
-        core::Move<double> bare{};
-        core::Status st = plan_profile(r, mv, bare, c.time_searched);
-        c.request = r;
-        if (st != core::Status::ok) {
-          // The profile itself cannot be planned: shown once, under its own name (a retuned design
-          // that cannot be planned is skipped).
-          if (v == 0 && sk == core::ShaperKind::none) {
-            c.refusal = core::to_string(st);
-            refused.push_back(std::move(c));
-          }
-          continue;
-        }
-        core::Shaper<double> shaper{};
-        if (st == core::Status::ok) st = tuned_shaper(sk, c.design_omega, c.design_zeta, opt.residual_max, shaper);
-        if (st == core::Status::ok) {
-          const core::Peaks<double> pk = core::shaped_peaks(bare.profile(), shaper, bare.peaks());
-          st = limits_status(mv, pk);
-          c.move = core::Move<double>{bare.profile(), shaper, pk};
-        }
-        const bool too_long = st == core::Status::ok && !(c.move.duration() <= kMaxTuneDuration);
-        if (st != core::Status::ok || too_long) {
-          if (v <= 1) {  // one refusal per family is enough to show
-            c.refusal = st != core::Status::ok ? core::to_string(st) : "too_long";
-            refused.push_back(std::move(c));
-          }
-          continue;
-        }
-        c.planned = true;
-        c.duration = c.move.duration();
-        planned.push_back(std::move(c));
-      }
+      for (std::size_t v = 0; v <= kTunePlacements; ++v) plan_design(kind.value, sk, v, modes, mv, opt, out);  // v == 0: nominal
     }
   });
+  return out;
+}
 
-  // Shortest first: each candidate is checked in turn until one meets the bound; the slower ones
-  // are then not evaluated (they could not be chosen). A failing candidate's search stops at the
-  // first grid row that breaks the bound.
+// Evaluate, shortest first: each candidate is checked in turn until one meets the bound; the
+// slower ones are then not evaluated (they could not be chosen). A failing candidate's search stops
+// at the first grid row that breaks the bound. `chosen`: the index in `planned` (sorted here) of the
+// one that meets it, planned.size() when none does; too_much_work past opt.max_work.
+TuneStatus evaluate_shortest_first(std::vector<TuneCandidate>& planned, const std::vector<UncertainMode>& modes,
+                                   const TuneOptions& opt, std::size_t& chosen) {
   std::stable_sort(planned.begin(), planned.end(),
                    [](const TuneCandidate& a, const TuneCandidate& b) { return a.duration < b.duration; });
   double omega_max = 0.0;
@@ -540,7 +559,7 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
   // One quadrature per distinct profile (a profile that ignores the mode is the same for every
   // design), shared by the shapers and designs that use it.
   std::map<std::tuple<int, double, double>, std::shared_ptr<ProfileResidual>> profiles;
-  std::size_t chosen = planned.size();
+  chosen = planned.size();
   for (std::size_t ci = 0; ci < planned.size() && chosen == planned.size(); ++ci) {
     TuneCandidate& c = planned[ci];
     const bool by_mode = core::needs_mode(c.request);
@@ -560,7 +579,7 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
     for (std::size_t j = 0; j < modes.size() && c.meets; ++j) {
       BandWorst w;
       const plant::SimStatus st = worst_impl(c.move.shaper(), *pr, modes[j], omega_points_for(modes[j], c.duration),
-                                      n_zeta, opt.residual_max, work, opt.max_work, w);
+                                             n_zeta, opt.residual_max, work, opt.max_work, w);
       if (st == plant::SimStatus::too_many_samples) return TuneStatus::too_much_work;
       if (st != plant::SimStatus::ok) {
         c.meets = false;
@@ -579,9 +598,14 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
     }
     if (c.meets) chosen = ci;
   }
+  return TuneStatus::ok;
+}
 
-  // Reported: every family (profile, shaper, nominal or retuned) once, by its shortest design that
-  // was evaluated (the chosen one for the chosen family), else its shortest design.
+// Report: every family (profile, shaper, nominal or retuned) once, by its shortest design that
+// was evaluated (the chosen one for the chosen family), else its shortest design; then the refusals.
+TuneStatus report_families(std::vector<UncertainMode> modes, const TuneOptions& opt, TuneFamilies families,
+                           std::size_t chosen, TuneResult& out) {
+  std::vector<TuneCandidate>& planned = families.planned;
   std::vector<TuneCandidate> kept;
   auto family = [](const TuneCandidate& a, const TuneCandidate& b) {
     return a.profile == b.profile && a.shaper == b.shaper && a.retuned == b.retuned;
@@ -597,7 +621,7 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
     return a.meets && !b.meets;
   });
   TuneResult res;
-  res.modes = modes;
+  res.modes = std::move(modes);
   res.residual_max = opt.residual_max;
   res.candidates = std::move(kept);
   std::size_t pick = res.candidates.size();
@@ -610,10 +634,25 @@ TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, 
     }
   }
   const bool found = pick < res.candidates.size();
-  for (TuneCandidate& c : refused) res.candidates.push_back(std::move(c));
+  for (TuneCandidate& c : families.refused) res.candidates.push_back(std::move(c));
   res.chosen = found ? pick : res.candidates.size();
   out = std::move(res);
   return found ? TuneStatus::ok : TuneStatus::no_feasible_plan;
+}
+
+}  // namespace
+
+TuneStatus tune(const std::vector<UncertainMode>& modes_in, const TuneMove& mv, const TuneOptions& opt,
+                TuneResult& out) {
+  if (const TuneStatus st = tune_input_status(modes_in, mv, opt); st != TuneStatus::ok) return st;
+  std::vector<UncertainMode> modes = modes_in;
+  std::stable_sort(modes.begin(), modes.end(), [](const auto& a, const auto& b) { return a.omega < b.omega; });
+  TuneFamilies families = enumerate_families(modes, mv, opt);
+  std::size_t chosen = 0;
+  if (const TuneStatus st = evaluate_shortest_first(families.planned, modes, opt, chosen); st != TuneStatus::ok) {
+    return st;
+  }
+  return report_families(std::move(modes), opt, std::move(families), chosen, out);
 }
 
 }  // namespace settle::commission

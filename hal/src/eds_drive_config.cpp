@@ -90,11 +90,14 @@ bool is_settle_drive(const Description& description) noexcept {
   return description.settle_drive();
 }
 
-DriveConfigResult drive_config_from_eds(const Description& description, const canopen::RemoteDriveConfig& base,
-                                        const FeedbackRequest& feedback) {
-  namespace obj = canopen::obj;
-  DriveConfigResult result{};
-  result.config = base;
+namespace {
+
+namespace obj = canopen::obj;
+
+// "" or why the description lacks what streaming needs: a way to tell the drive the SYNC period
+// (0x60C2 or 0x1006), and every object the master reads, writes or maps (the feedback asked for
+// included) with its data type, access and mappability.
+std::string required_objects_problem(const Description& description, const FeedbackRequest& feedback) {
   std::vector<Required> required{
       {obj::controlword, 0, "controlword", data_type::u16, Need::rpdo},
       {obj::statusword, 0, "statusword", data_type::u16, Need::tpdo},
@@ -108,9 +111,8 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
   // The period reaches the drive through 0x60C2 or 0x1006 (each written when the drive has it).
   const bool has_ip = description.has(obj::interpolation_time_period);
   if (!has_ip && !description.has(obj::communication_cycle_period)) {
-    result.error = "the drive's EDS has neither 0x60C2 (interpolation time period) nor 0x1006 (communication cycle "
-                   "period): the drive cannot be told the SYNC period";
-    return result;
+    return "the drive's EDS has neither 0x60C2 (interpolation time period) nor 0x1006 (communication cycle "
+           "period): the drive cannot be told the SYNC period";
   }
   if (!has_ip) required.resize(required.size() - 2);  // the two 0x60C2 rows, last in the list
   if (feedback.velocity_actual) required.push_back({obj::velocity_actual, 0, "velocity actual value", data_type::i32, Need::tpdo});
@@ -122,39 +124,34 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
                         Need::tpdo});
   }
   for (const Required& r : required) {
-    if (std::string why = check(description, r); !why.empty()) {
-      result.error = std::move(why);
-      return result;
-    }
+    if (std::string why = check(description, r); !why.empty()) return why;
   }
+  return {};
+}
 
-  // CiA 301 asks 0x1006 only of the SYNC producer: written only to a drive that has it; so are
-  // the other objects the master uses when present.
-  result.config.write_sync_period = description.has(obj::communication_cycle_period);
-  result.config.write_interpolation_period = has_ip;
-  if (description.find(obj::producer_heartbeat_time, 0) == nullptr) result.config.heartbeat_period_ms = 0;
-  if (description.find(obj::consumer_heartbeat_time, 1) == nullptr) result.config.master_node = 0;
+// CiA 301 asks 0x1006 only of the SYNC producer: written only to a drive that has it; so are
+// the other objects the master uses when present. The identity expected is the description's.
+void use_what_is_present(const Description& description, canopen::RemoteDriveConfig& config) {
+  config.write_sync_period = description.has(obj::communication_cycle_period);
+  config.write_interpolation_period = description.has(obj::interpolation_time_period);
+  if (description.find(obj::producer_heartbeat_time, 0) == nullptr) config.heartbeat_period_ms = 0;
+  if (description.find(obj::consumer_heartbeat_time, 1) == nullptr) config.master_node = 0;
   if (description.find(obj::following_error_window, 0) == nullptr ||
       description.find(obj::following_error_timeout, 0) == nullptr) {
-    result.config.following_error_window = 0;
+    config.following_error_window = 0;
   }
   if (!is_settle_drive(description) || description.find(obj::communication_loss_periods, 0) == nullptr) {
-    result.config.communication_loss_periods = 0;
+    config.communication_loss_periods = 0;
   }
-
   const DeviceInfo& device = description.device();
-  if (device.vendor_number != 0) result.config.expected_vendor_id = device.vendor_number;
-  if (device.product_number != 0) result.config.expected_product_code = device.product_number;
+  if (device.vendor_number != 0) config.expected_vendor_id = device.vendor_number;
+  if (device.product_number != 0) config.expected_product_code = device.product_number;
+}
 
-  ProcessDataLayout objects{};
-  if (feedback.load_position_index != 0) {
-    objects.load_position_index = feedback.load_position_index;
-    objects.load_position_sub = feedback.load_position_sub;
-  }
-  const std::vector<Pdo> rpdos = description.rpdos(base.node);
-  const std::vector<Pdo> tpdos = description.tpdos(base.node);
-
-  // The layout the master would write: RPDO1 and TPDO1 as Settle's, the feedback asked for after.
+// The layout the master would write: RPDO1 and TPDO1 as Settle's, the feedback asked for after;
+// `tpdos_needed` how many TPDOs it uses.
+ProcessDataLayout wanted_layout(const ProcessDataLayout& objects, const FeedbackRequest& feedback,
+                                std::uint8_t& tpdos_needed) {
   ProcessDataLayout wanted = canopen::empty_layout(objects);
   wanted.controlword = PdoSlot{1, 0, 2};
   wanted.target_position = PdoSlot{1, 2, 4};
@@ -173,7 +170,53 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
   if (feedback.load_position_index != 0) place(wanted.load_position);
   if (feedback.velocity_actual) place(wanted.velocity_actual);
   if (feedback.following_error) place(wanted.following_error);
-  const std::uint8_t tpdos_needed = at == 0 ? static_cast<std::uint8_t>(pdo - 1) : pdo;
+  tpdos_needed = at == 0 ? static_cast<std::uint8_t>(pdo - 1) : pdo;
+  return wanted;
+}
+
+// "" or why the description's own (static) mapping `l` cannot carry what is needed; `unfillable`
+// the first object in PDO `unfillable_pdo` the master cannot fill (0: none).
+std::string static_layout_problem(const ProcessDataLayout& l, std::uint16_t unfillable, unsigned unfillable_pdo,
+                                  const FeedbackRequest& feedback) {
+  std::string what;
+  if (!l.controlword.mapped() || !l.target_position.mapped() || l.controlword.pdo != l.target_position.pdo) {
+    what = "no RPDO carries both 0x6040 (controlword) and 0x607A (target position)";
+  } else if (unfillable != 0 && unfillable_pdo == l.controlword.pdo) {
+    what = "its RPDO" + std::to_string(unfillable_pdo) + " also maps " + hex4(unfillable) +
+           ", which the master cannot fill";
+  } else if (!l.statusword.mapped() || !l.position_actual.mapped() || l.statusword.pdo != l.position_actual.pdo) {
+    what = "no TPDO carries both 0x6041 (statusword) and 0x6064 (position actual value)";
+  } else if (feedback.velocity_actual && !l.velocity_actual.mapped()) {
+    what = "no TPDO carries 0x606C (velocity actual value)";
+  } else if (feedback.following_error && !l.following_error.mapped()) {
+    what = "no TPDO carries 0x60F4 (following error actual value)";
+  } else if (feedback.load_position_index != 0 && !l.load_position.mapped()) {
+    what = "no TPDO carries " + hex4(feedback.load_position_index) + " (load-side position)";
+  } else if (const canopen::LayoutError e = canopen::check_layout(l, false); e != canopen::LayoutError::none) {
+    what = std::string{"its layout is not one the master can stream through ("} + canopen::to_string(e) + ")";
+  }
+  return what.empty() ? std::string{} : "the drive's PDO mapping is static (not writable) and " + what;
+}
+
+}  // namespace
+
+DriveConfigResult drive_config_from_eds(const Description& description, const canopen::RemoteDriveConfig& base,
+                                        const FeedbackRequest& feedback) {
+  DriveConfigResult result{};
+  result.config = base;
+  result.error = required_objects_problem(description, feedback);
+  if (!result.error.empty()) return result;
+  use_what_is_present(description, result.config);
+
+  ProcessDataLayout objects{};
+  if (feedback.load_position_index != 0) {
+    objects.load_position_index = feedback.load_position_index;
+    objects.load_position_sub = feedback.load_position_sub;
+  }
+  const std::vector<Pdo> rpdos = description.rpdos(base.node);
+  const std::vector<Pdo> tpdos = description.tpdos(base.node);
+  std::uint8_t tpdos_needed = 0;
+  const ProcessDataLayout wanted = wanted_layout(objects, feedback, tpdos_needed);
 
   // Dynamic when every PDO the layout uses is described with a writable mapping.
   const auto writable = [](const std::vector<Pdo>& list, std::uint8_t number) {
@@ -196,25 +239,7 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
   std::uint16_t unfillable = 0;
   unsigned unfillable_pdo = 0;
   const ProcessDataLayout l = layout_of(rpdos, tpdos, objects, unfillable, unfillable_pdo);
-  const auto missing = [&](const char* what) {
-    result.error = std::string{"the drive's PDO mapping is static (not writable) and "} + what;
-  };
-  if (!l.controlword.mapped() || !l.target_position.mapped() || l.controlword.pdo != l.target_position.pdo) {
-    missing("no RPDO carries both 0x6040 (controlword) and 0x607A (target position)");
-  } else if (unfillable != 0 && unfillable_pdo == l.controlword.pdo) {
-    missing(("its RPDO" + std::to_string(unfillable_pdo) + " also maps " + hex4(unfillable) +
-             ", which the master cannot fill").c_str());
-  } else if (!l.statusword.mapped() || !l.position_actual.mapped() || l.statusword.pdo != l.position_actual.pdo) {
-    missing("no TPDO carries both 0x6041 (statusword) and 0x6064 (position actual value)");
-  } else if (feedback.velocity_actual && !l.velocity_actual.mapped()) {
-    missing("no TPDO carries 0x606C (velocity actual value)");
-  } else if (feedback.following_error && !l.following_error.mapped()) {
-    missing("no TPDO carries 0x60F4 (following error actual value)");
-  } else if (feedback.load_position_index != 0 && !l.load_position.mapped()) {
-    missing(("no TPDO carries " + hex4(feedback.load_position_index) + " (load-side position)").c_str());
-  } else if (const canopen::LayoutError e = canopen::check_layout(l, false); e != canopen::LayoutError::none) {
-    missing((std::string{"its layout is not one the master can stream through ("} + canopen::to_string(e) + ")").c_str());
-  }
+  result.error = static_layout_problem(l, unfillable, unfillable_pdo, feedback);
   if (!result.error.empty()) return result;
   result.config.pdo_setup = canopen::PdoSetup::read_static;
   result.config.layout = l;

@@ -197,8 +197,39 @@ std::optional<Access> parse_access(const std::string& text) {
 
 }  // namespace
 
+// CiA 306's meaning of a read file, in stages; each stage that can refuse the file returns false
+// with the refusal in the result (warnings go there too).
 struct Builder {
+  // Object sections, indexed once: each object's [IIII] and its [IIIIsubS] by sub-index (the
+  // file's sections are visited once; every look-up after is by index).
+  struct Sections {
+    const Section* object{nullptr};  // [IIII], when the file has it
+    std::vector<std::pair<std::uint8_t, const Section*>> subs;
+    [[nodiscard]] const Section* sub(std::uint8_t s) const {
+      const auto it =
+          std::lower_bound(subs.begin(), subs.end(), s, [](const auto& p, std::uint8_t v) { return p.first < v; });
+      return it != subs.end() && it->first == s ? it->second : nullptr;
+    }
+  };
+  using Objects = std::map<std::uint16_t, Sections>;
+  // One entry to read: a VAR's [IIII] (sub 0), or one [IIIIsubS] of an ARRAY or RECORD.
+  struct Item {
+    std::uint16_t index;
+    std::uint8_t sub;
+    const Section* section;
+  };
+
   static LoadResult build(const Raw& raw);
+  static Objects index_objects(const Raw& raw);
+  static bool list_items(const Raw& raw, Objects& objects, std::deque<Section>& synthesized, std::vector<Item>& items,
+                         LoadResult& r);
+  static bool read_entry(const Item& item, Entry& e, LoadResult& r);
+  static bool read_limits(const Section& sec, Entry& e, LoadResult& r);
+  static bool check_pdo_objects(const Objects& objects, const Description& d, LoadResult& r);
+  static void read_object_lists(const Raw& raw, const Objects& objects, Description& d, LoadResult& r);
+  static bool read_device_info(const Raw& raw, Description& d, LoadResult& r);
+  static void reconcile_identity(const Raw& raw, Description& d, LoadResult& r);
+  static bool read_settle_sections(const Raw& raw, Description& d, LoadResult& r);
 };
 
 const char* to_string(Access access) noexcept {
@@ -504,30 +535,19 @@ void expand_compact(const Raw& raw, const Section& object, unsigned n, std::dequ
 
 }  // namespace
 
-LoadResult Builder::build(const Raw& raw) {
-  LoadResult r{};
-  Description d{};
-  const auto fail = [&](Problem why) {
-    r.error = to_string(why);
-    r.refusal = std::move(why);
-    return r;
-  };
-  const auto warn = [&](Problem why) { r.warnings.push_back(std::move(why)); };
+namespace {
 
-  // Object sections, indexed once: each object's [IIII] and its [IIIIsubS] by sub-index (the
-  // file's sections are visited once; every look-up after is by index).
-  struct Sections {
-    const Section* object{nullptr};  // [IIII], when the file has it
-    std::vector<std::pair<std::uint8_t, const Section*>> subs;
-    [[nodiscard]] const Section* sub(std::uint8_t s) const {
-      const auto it =
-          std::lower_bound(subs.begin(), subs.end(), s, [](const auto& p, std::uint8_t v) { return p.first < v; });
-      return it != subs.end() && it->first == s ? it->second : nullptr;
-    }
-  };
-  std::map<std::uint16_t, Sections> objects;
-  std::deque<Section> synthesized;  // the sub-objects of CompactSubObj arrays (stable addresses)
-  std::size_t compact_subs = 0;
+// The file refused: `why` in the result, as its error too. Always false (a stage's failure).
+bool refuse(LoadResult& r, Problem why) {
+  r.error = to_string(why);
+  r.refusal = std::move(why);
+  return false;
+}
+
+}  // namespace
+
+Builder::Objects Builder::index_objects(const Raw& raw) {
+  Objects objects;
   for (const auto& [name, sec] : raw.sections) {
     const auto obj = object_section(name);
     if (!obj || obj->index < 0x1000) continue;  // data type definitions (0x0001..0x025F)
@@ -538,15 +558,17 @@ LoadResult Builder::build(const Raw& raw) {
       o.object = &sec;
     }
   }
+  return objects;
+}
 
-  // A VAR at [IIII] is sub 0; an ARRAY or RECORD [IIII] has its subs in [IIIIsubS] and defines
-  // no value itself (its DataType, if any, names a structure; the subs give theirs).
-  struct Item {
-    std::uint16_t index;
-    std::uint8_t sub;
-    const Section* section;
-  };
-  std::vector<Item> items;
+// A VAR at [IIII] is sub 0; an ARRAY or RECORD [IIII] has its subs in [IIIIsubS] (or CompactSubObj,
+// expanded into `synthesized`) and defines no value itself (its DataType, if any, names a
+// structure; the subs give theirs).
+bool Builder::list_items(const Raw& raw, Objects& objects, std::deque<Section>& synthesized, std::vector<Item>& items,
+                         LoadResult& r) {
+  const auto fail = [&](Problem why) { return refuse(r, std::move(why)); };
+  const auto warn = [&](Problem why) { r.warnings.push_back(std::move(why)); };
+  std::size_t compact_subs = 0;
   for (auto& [index, o] : objects) {
     std::sort(o.subs.begin(), o.subs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (std::size_t i = 1; i < o.subs.size(); ++i) {
@@ -616,130 +638,142 @@ LoadResult Builder::build(const Raw& raw) {
     }
     for (const auto& [sub, sub_section] : o.subs) items.push_back(Item{index, sub, sub_section});
   }
+  return true;
+}
 
-  d.entries_.reserve(items.size());
-  for (const Item& item : items) {
-    const Section& sec = *item.section;
-    Entry e{};
-    e.index = item.index;
-    e.sub = item.sub;
-    const std::string obj = object_name(e.index, e.sub);
-    if (const std::string* v = sec.get("parametername")) e.name = *v;
-    const Value* dt = sec.find("DataType");
-    const auto type = dt ? parse_integer(dt->text, 0) : std::nullopt;
-    if (!type || *type <= 0 || *type > 0xFFFF) {
-      return fail(at(sec, "DataType", obj + " needs a DataType: a CiA 301 data type index such as 0x0007"));
-    }
-    e.data_type = static_cast<std::uint16_t>(*type);
-    const std::string* acc = sec.get("accesstype");
-    const auto access = acc ? parse_access(*acc) : std::nullopt;
-    if (!access) return fail(at(sec, "AccessType", obj + ": AccessType must be ro, wo, rw, rwr, rww or const"));
-    e.access = *access;
-    if (const Value* m = sec.find("PDOMapping"); m != nullptr && !m->text.empty()) {
-      const auto mappable = parse_integer(m->text, 0);
-      if (!mappable || (*mappable != 0 && *mappable != 1)) {
-        return fail(at(sec, "PDOMapping", obj + ": PDOMapping must be 0 or 1 (decimal or hex), not '" + m->text + "'"));
-      }
-      e.pdo_mappable = *mappable == 1;
-    }
-    if (const std::string* v = sec.get("defaultvalue")) e.default_value = *v;
-    if (const std::string* v = sec.get("parametervalue")) e.parameter_value = *v;
-    e.section = sec.name;
-    e.line = sec.line;
-    if (const Value* v = sec.find(e.parameter_value.empty() ? "DefaultValue" : "ParameterValue")) e.line = v->line;
-    const bool integer = data_type_is_integer(e.data_type);
-    const bool real = data_type_is_real(e.data_type);
-
-    // The value: checked for every node a $NODEID may stand for.
-    for (const char* key : {"DefaultValue", "ParameterValue"}) {
-      const std::string& text = key[0] == 'D' ? e.default_value : e.parameter_value;
-      if (text.empty()) continue;
-      std::string why;
-      if (integer) {
-        for (const std::uint8_t node : {std::uint8_t{1}, std::uint8_t{127}}) {
-          if (why.empty()) why = parse_typed(text, e.data_type, node).why;
-        }
-      } else if (real) {
-        why = parse_real(text, e.data_type).why;
-      }
-      if (!why.empty()) return fail(at(sec, key, obj + ": " + why));
-    }
-
-    // Limits: strict for an object the master may write (a wrong limit would let it write what
-    // the drive does not accept, or refuse what it does); dropped with a warning otherwise.
-    const bool strict = e.writable();
-    const std::string dropped = strict ? "" : " (ignored: the object is not writable)";
-    const auto limit_problem = [&](const char* key, const std::string& why) -> bool {
-      if (strict) return true;
-      warn(at(sec, key, obj + ": " + why + dropped));
-      return false;
-    };
-    for (const char* key : {"LowLimit", "HighLimit"}) {
-      const Value* v = sec.find(key);
-      if (v == nullptr || v->text.empty()) continue;
-      const bool low = key[0] == 'L';
-      if (integer) {
-        const Integer p = parse_typed(v->text, e.data_type, 0);
-        if (!p.value) {
-          if (limit_problem(key, p.why)) return fail(at(sec, key, obj + ": " + p.why));
-          continue;
-        }
-        (low ? e.low_limit : e.high_limit) = *p.value;
-      } else if (real) {
-        const Real p = parse_real(v->text, e.data_type);
-        if (!p.value) {
-          if (limit_problem(key, p.why)) return fail(at(sec, key, obj + ": " + p.why));
-          continue;
-        }
-        (low ? e.low_limit_real : e.high_limit_real) = *p.value;
-      } else if (is_string(e.data_type)) {
-        warn(at(sec, key, obj + ": a limit on a string or domain means nothing and is not read"));
-      } else if (const auto n = parse_integer(v->text, 0)) {
-        (low ? e.low_limit : e.high_limit) = *n;  // a type this reader does not know: as written
-      } else {
-        warn(at(sec, key,
-                obj + ": '" + v->text + "' is not read (" + hex4(e.data_type) + " is not a type this reader knows)"));
-      }
-    }
-    const bool inverted = (e.low_limit && e.high_limit && less(*e.high_limit, *e.low_limit, e.data_type)) ||
-                          (e.low_limit_real && e.high_limit_real && *e.high_limit_real < *e.low_limit_real);
-    if (inverted) {
-      const std::string why = "LowLimit is above HighLimit";
-      if (limit_problem("LowLimit", why)) return fail(at(sec, "LowLimit", obj + ": " + why));
-      e.low_limit.reset();
-      e.high_limit.reset();
-      e.low_limit_real.reset();
-      e.high_limit_real.reset();
-    }
-    // The values within the limits.
-    for (const char* key : {"DefaultValue", "ParameterValue"}) {
-      const std::string& text = key[0] == 'D' ? e.default_value : e.parameter_value;
-      if (text.empty()) continue;
-      std::string why;
-      if (integer && (e.low_limit || e.high_limit)) {
-        for (const std::uint8_t node : {std::uint8_t{1}, std::uint8_t{127}}) {
-          const std::int64_t v = *parse_typed(text, e.data_type, node).value;
-          if ((e.low_limit && less(v, *e.low_limit, e.data_type)) ||
-              (e.high_limit && less(*e.high_limit, v, e.data_type))) {
-            why = integer_text(v, e.data_type) + " is outside LowLimit..HighLimit";
-          }
-        }
-      } else if (real && (e.low_limit_real || e.high_limit_real)) {
-        const double v = *parse_real(text, e.data_type).value;
-        if ((e.low_limit_real && v < *e.low_limit_real) || (e.high_limit_real && v > *e.high_limit_real)) {
-          why = "'" + text + "' is outside LowLimit..HighLimit";
-        }
-      }
-      if (why.empty()) continue;
-      if (strict) return fail(at(sec, key, obj + ": " + why));
-      warn(at(sec, key, obj + ": " + why));
-    }
-    d.entries_.push_back(std::move(e));
+bool Builder::read_entry(const Item& item, Entry& e, LoadResult& r) {
+  const auto fail = [&](Problem why) { return refuse(r, std::move(why)); };
+  const auto warn = [&](Problem why) { r.warnings.push_back(std::move(why)); };
+  const Section& sec = *item.section;
+  e.index = item.index;
+  e.sub = item.sub;
+  const std::string obj = object_name(e.index, e.sub);
+  if (const std::string* v = sec.get("parametername")) e.name = *v;
+  const Value* dt = sec.find("DataType");
+  const auto type = dt ? parse_integer(dt->text, 0) : std::nullopt;
+  if (!type || *type <= 0 || *type > 0xFFFF) {
+    return fail(at(sec, "DataType", obj + " needs a DataType: a CiA 301 data type index such as 0x0007"));
   }
-  std::sort(d.entries_.begin(), d.entries_.end(),
-            [](const Entry& a, const Entry& b) { return a.index != b.index ? a.index < b.index : a.sub < b.sub; });
+  e.data_type = static_cast<std::uint16_t>(*type);
+  const std::string* acc = sec.get("accesstype");
+  const auto access = acc ? parse_access(*acc) : std::nullopt;
+  if (!access) return fail(at(sec, "AccessType", obj + ": AccessType must be ro, wo, rw, rwr, rww or const"));
+  e.access = *access;
+  if (const Value* m = sec.find("PDOMapping"); m != nullptr && !m->text.empty()) {
+    const auto mappable = parse_integer(m->text, 0);
+    if (!mappable || (*mappable != 0 && *mappable != 1)) {
+      return fail(at(sec, "PDOMapping", obj + ": PDOMapping must be 0 or 1 (decimal or hex), not '" + m->text + "'"));
+    }
+    e.pdo_mappable = *mappable == 1;
+  }
+  if (const std::string* v = sec.get("defaultvalue")) e.default_value = *v;
+  if (const std::string* v = sec.get("parametervalue")) e.parameter_value = *v;
+  e.section = sec.name;
+  e.line = sec.line;
+  if (const Value* v = sec.find(e.parameter_value.empty() ? "DefaultValue" : "ParameterValue")) e.line = v->line;
+  const bool integer = data_type_is_integer(e.data_type);
+  const bool real = data_type_is_real(e.data_type);
 
-  // The PDO objects, strictly: what the master configures the drive's process data from.
+  // The value: checked for every node a $NODEID may stand for.
+  for (const char* key : {"DefaultValue", "ParameterValue"}) {
+    const std::string& text = key[0] == 'D' ? e.default_value : e.parameter_value;
+    if (text.empty()) continue;
+    std::string why;
+    if (integer) {
+      for (const std::uint8_t node : {std::uint8_t{1}, std::uint8_t{127}}) {
+        if (why.empty()) why = parse_typed(text, e.data_type, node).why;
+      }
+    } else if (real) {
+      why = parse_real(text, e.data_type).why;
+    }
+    if (!why.empty()) return fail(at(sec, key, obj + ": " + why));
+  }
+  if (!read_limits(sec, e, r)) return false;
+  // The values within the limits (strict as the limits are).
+  const bool strict = e.writable();
+  for (const char* key : {"DefaultValue", "ParameterValue"}) {
+    const std::string& text = key[0] == 'D' ? e.default_value : e.parameter_value;
+    if (text.empty()) continue;
+    std::string why;
+    if (integer && (e.low_limit || e.high_limit)) {
+      for (const std::uint8_t node : {std::uint8_t{1}, std::uint8_t{127}}) {
+        const std::int64_t v = *parse_typed(text, e.data_type, node).value;
+        if ((e.low_limit && less(v, *e.low_limit, e.data_type)) ||
+            (e.high_limit && less(*e.high_limit, v, e.data_type))) {
+          why = integer_text(v, e.data_type) + " is outside LowLimit..HighLimit";
+        }
+      }
+    } else if (real && (e.low_limit_real || e.high_limit_real)) {
+      const double v = *parse_real(text, e.data_type).value;
+      if ((e.low_limit_real && v < *e.low_limit_real) || (e.high_limit_real && v > *e.high_limit_real)) {
+        why = "'" + text + "' is outside LowLimit..HighLimit";
+      }
+    }
+    if (why.empty()) continue;
+    if (strict) return fail(at(sec, key, obj + ": " + why));
+    warn(at(sec, key, obj + ": " + why));
+  }
+  return true;
+}
+
+// Limits: strict for an object the master may write (a wrong limit would let it write what
+// the drive does not accept, or refuse what it does); dropped with a warning otherwise.
+bool Builder::read_limits(const Section& sec, Entry& e, LoadResult& r) {
+  const auto fail = [&](Problem why) { return refuse(r, std::move(why)); };
+  const auto warn = [&](Problem why) { r.warnings.push_back(std::move(why)); };
+  const std::string obj = object_name(e.index, e.sub);
+  const bool integer = data_type_is_integer(e.data_type);
+  const bool real = data_type_is_real(e.data_type);
+  const bool strict = e.writable();
+  const std::string dropped = strict ? "" : " (ignored: the object is not writable)";
+  const auto limit_problem = [&](const char* key, const std::string& why) -> bool {
+    if (strict) return true;
+    warn(at(sec, key, obj + ": " + why + dropped));
+    return false;
+  };
+  for (const char* key : {"LowLimit", "HighLimit"}) {
+    const Value* v = sec.find(key);
+    if (v == nullptr || v->text.empty()) continue;
+    const bool low = key[0] == 'L';
+    if (integer) {
+      const Integer p = parse_typed(v->text, e.data_type, 0);
+      if (!p.value) {
+        if (limit_problem(key, p.why)) return fail(at(sec, key, obj + ": " + p.why));
+        continue;
+      }
+      (low ? e.low_limit : e.high_limit) = *p.value;
+    } else if (real) {
+      const Real p = parse_real(v->text, e.data_type);
+      if (!p.value) {
+        if (limit_problem(key, p.why)) return fail(at(sec, key, obj + ": " + p.why));
+        continue;
+      }
+      (low ? e.low_limit_real : e.high_limit_real) = *p.value;
+    } else if (is_string(e.data_type)) {
+      warn(at(sec, key, obj + ": a limit on a string or domain means nothing and is not read"));
+    } else if (const auto n = parse_integer(v->text, 0)) {
+      (low ? e.low_limit : e.high_limit) = *n;  // a type this reader does not know: as written
+    } else {
+      warn(at(sec, key,
+              obj + ": '" + v->text + "' is not read (" + hex4(e.data_type) + " is not a type this reader knows)"));
+    }
+  }
+  const bool inverted = (e.low_limit && e.high_limit && less(*e.high_limit, *e.low_limit, e.data_type)) ||
+                        (e.low_limit_real && e.high_limit_real && *e.high_limit_real < *e.low_limit_real);
+  if (inverted) {
+    const std::string why = "LowLimit is above HighLimit";
+    if (limit_problem("LowLimit", why)) return fail(at(sec, "LowLimit", obj + ": " + why));
+    e.low_limit.reset();
+    e.high_limit.reset();
+    e.low_limit_real.reset();
+    e.high_limit_real.reset();
+  }
+  return true;
+}
+
+// The PDO objects, strictly: what the master configures the drive's process data from.
+bool Builder::check_pdo_objects(const Objects& objects, const Description& d, LoadResult& r) {
+  const auto fail = [&](Problem why) { return refuse(r, std::move(why)); };
   for (const auto& [index, o] : objects) {
     if ((!is_communication(index) && !is_mapping(index)) || !d.has(index)) continue;
     const Section& sec = *o.object;
@@ -816,10 +850,14 @@ LoadResult Builder::build(const Raw& raw) {
       }
     }
   }
+  return true;
+}
 
-  // The object lists: each entry i=index read as present (in the order of i); a SupportedObjects
-  // that disagrees with the entries present, an entry that is not an index, and an object listed
-  // without a section of its own are warnings (nothing is configured from the lists).
+// The object lists: each entry i=index read as present (in the order of i); a SupportedObjects
+// that disagrees with the entries present, an entry that is not an index, and an object listed
+// without a section of its own are warnings (nothing is configured from the lists).
+void Builder::read_object_lists(const Raw& raw, const Objects& objects, Description& d, LoadResult& r) {
+  const auto warn = [&](Problem why) { r.warnings.push_back(std::move(why)); };
   for (const char* list : {"MANDATORYOBJECTS", "OPTIONALOBJECTS", "MANUFACTUREROBJECTS"}) {
     const auto it = raw.sections.find(list);
     if (it == raw.sections.end()) continue;
@@ -854,9 +892,11 @@ LoadResult Builder::build(const Raw& raw) {
       d.listed_.push_back(i);
     }
   }
-  if (!d.has(0x1000))
-    return fail(Problem{{}, {}, "0x1000 (device type) is not described: not a CANopen device description", 0});
+}
 
+bool Builder::read_device_info(const Raw& raw, Description& d, LoadResult& r) {
+  const auto fail = [&](Problem why) { return refuse(r, std::move(why)); };
+  const auto warn = [&](Problem why) { r.warnings.push_back(std::move(why)); };
   if (const auto it = raw.sections.find("DEVICEINFO"); it != raw.sections.end()) {
     const Section& s = it->second;
     // The identity the master checks at start-up is read strictly; the PDO counts and the
@@ -885,7 +925,7 @@ LoadResult Builder::build(const Raw& raw) {
     d.device_.nr_rx_pdo = number("NrOfRXPDO", false);
     d.device_.nr_tx_pdo = number("NrOfTXPDO", false);
     d.device_.granularity = number("Granularity", false);
-    if (bad) return r;
+    if (bad) return false;
     // The PDO counts against the PDOs described (communication and mapping object both present).
     for (const bool receive : {true, false}) {
       const char* key = receive ? "NrOfRXPDO" : "NrOfTXPDO";
@@ -897,10 +937,15 @@ LoadResult Builder::build(const Raw& raw) {
       }
     }
   }
-  // One identity for the master (which checks it at start-up) and the simulated drive (which
-  // serves it): 0x1018's value, which is what a drive answers, unless it is absent or 0 (a
-  // placeholder many files carry), then [DeviceInfo]'s. Where the two contradict, a warning says
-  // which is used.
+  return true;
+}
+
+// One identity for the master (which checks it at start-up) and the simulated drive (which
+// serves it): 0x1018's value, which is what a drive answers, unless it is absent or 0 (a
+// placeholder many files carry), then [DeviceInfo]'s. Where the two contradict, a warning says
+// which is used.
+void Builder::reconcile_identity(const Raw& raw, Description& d, LoadResult& r) {
+  const auto warn = [&](Problem why) { r.warnings.push_back(std::move(why)); };
   {
     const auto info = raw.sections.find("DEVICEINFO");
     const struct {
@@ -930,6 +975,11 @@ LoadResult Builder::build(const Raw& raw) {
       if (value != 0) *id.field = value;
     }
   }
+}
+
+// Settle's own section ([SettleDrive] LoadPosition) and a DCF's node id ([DeviceComissioning]).
+bool Builder::read_settle_sections(const Raw& raw, Description& d, LoadResult& r) {
+  const auto fail = [&](Problem why) { return refuse(r, std::move(why)); };
   if (const auto it = raw.sections.find("SETTLEDRIVE"); it != raw.sections.end()) {
     d.settle_drive_ = true;
     if (const Value* v = it->second.find("LoadPosition"); v != nullptr) {
@@ -956,6 +1006,33 @@ LoadResult Builder::build(const Raw& raw) {
       d.dcf_node_id_ = static_cast<std::uint8_t>(*id);
     }
   }
+  return true;
+}
+
+LoadResult Builder::build(const Raw& raw) {
+  LoadResult r{};
+  Description d{};
+  Objects objects = index_objects(raw);
+  std::deque<Section> synthesized;  // the sub-objects of CompactSubObj arrays (stable addresses)
+  std::vector<Item> items;
+  if (!list_items(raw, objects, synthesized, items, r)) return r;
+  d.entries_.reserve(items.size());
+  for (const Item& item : items) {
+    Entry e{};
+    if (!read_entry(item, e, r)) return r;
+    d.entries_.push_back(std::move(e));
+  }
+  std::sort(d.entries_.begin(), d.entries_.end(),
+            [](const Entry& a, const Entry& b) { return a.index != b.index ? a.index < b.index : a.sub < b.sub; });
+  if (!check_pdo_objects(objects, d, r)) return r;
+  read_object_lists(raw, objects, d, r);
+  if (!d.has(0x1000)) {
+    refuse(r, Problem{{}, {}, "0x1000 (device type) is not described: not a CANopen device description", 0});
+    return r;
+  }
+  if (!read_device_info(raw, d, r)) return r;
+  reconcile_identity(raw, d, r);
+  if (!read_settle_sections(raw, d, r)) return r;
   r.description = std::move(d);
   return r;
 }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "settle/testbed/stream.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 
 #include <algorithm>
 #include <array>
@@ -11,6 +12,7 @@
 #include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/runtime/evaluation.hpp"
+#include "settle/runtime/setpoint_sequence.hpp"
 #include "settle/testbed/simulated_drive.hpp"
 #include "settle/plant/command.hpp"
 #include "settle/plant/limits.hpp"
@@ -61,9 +63,9 @@ using LoopOf = runtime::ServoLoop<Scalar, core::kMaxAxes, 4, Evaluation, hal::Ca
 static_assert(1024 >= LoopOf<double, runtime::FloatEvaluation<double>>::kMaxFramesPerTick);
 
 // The integer targets an evaluation produces for a move, tick by tick from 0 to the move's end,
-// and with a change the move's up to the switch, then the blend's to its end: the prepare/start/
-// next the loop runs in its ticks and service(), offline. The replay's setpoints for every scalar
-// come from here, and so do the double evaluator's they are compared with. Not ok when the
+// and with a change the move's up to the switch, then the blend's to its end: what the loop
+// streams (runtime::stream_setpoints, its switch rule), offline. The replay's setpoints for every
+// scalar come from here, and so do the double evaluator's they are compared with. Not ok when the
 // evaluation refuses the move or the blend (the loop refuses them too) or it has more than kMaxSamples.
 template <typename Evaluation>
 core::Status evaluated_setpoints(const StreamSpec& spec, const StreamAxis& axis, std::vector<std::int32_t>& out) {
@@ -71,20 +73,16 @@ core::Status evaluated_setpoints(const StreamSpec& spec, const StreamAxis& axis,
   out.clear();
   auto slot = std::make_unique<typename Evaluation::Stored>();  // not movable: the stream refers into it
   if (const core::Status st = Evaluation::prepare(axis.move, scale, *slot); st != core::Status::ok) return st;
-  typename Evaluation::Stream s = Evaluation::start(*slot, 0);
-  bool last = false;
-  while (!last && out.size() < plant::kMaxSamples) out.push_back(s.next(last));
-  if (!last) return core::Status::duration_does_not_fit;
-  if (!axis.change || axis.change->finish) return core::Status::ok;
-  const auto k = static_cast<std::size_t>(std::llround(axis.change->at / scale.period_s()));
-  if (out.size() > k) out.resize(k);
-  while (out.size() < k) out.push_back(out.empty() ? 0 : out.back());
   auto blend = std::make_unique<typename Evaluation::BlendStored>();
-  if (const core::Status st = Evaluation::prepare(axis.change->blend, scale, *blend); st != core::Status::ok) return st;
-  typename Evaluation::BlendStream b = Evaluation::start(*blend, 0);
-  last = false;
-  while (!last && out.size() < plant::kMaxSamples) out.push_back(b.next(last));
-  return last ? core::Status::ok : core::Status::duration_does_not_fit;
+  runtime::SetpointSwitch<Evaluation> change{blend.get(), 0};
+  const bool blends = axis.change && !axis.change->finish;
+  if (blends) {
+    if (const core::Status st = Evaluation::prepare(axis.change->blend, scale, *blend); st != core::Status::ok) return st;
+    change.at = static_cast<std::int32_t>(std::llround(axis.change->at / scale.period_s()));
+  }
+  const runtime::SetpointSequence seq = runtime::stream_setpoints<Evaluation>(
+      *slot, 0, &change, blends ? 1 : 0, plant::kMaxSamples, [&](std::int32_t sp) { out.push_back(sp); });
+  return seq.ended ? core::Status::ok : core::Status::duration_does_not_fit;
 }
 
 core::Status changed_setpoints(StreamScalar scalar, const StreamSpec& spec, const StreamAxis& axis,
@@ -190,7 +188,7 @@ std::string enable_failure_text(const hal::canopen::RemoteFeedback& f) {
 
 // The session's clock is the bus's.
 struct BusClock {
-  StreamBus& bus;
+  ClockedBus& bus;
   std::uint64_t wait() { return bus.wait(); }
   [[nodiscard]] std::uint64_t now_us() const { return bus.now_us(); }
 };
@@ -229,7 +227,7 @@ std::string configure_changes(Loop& loop, const StreamSpec& spec, ChangeAsk& ask
 
 // After the session: what the loop and the bus say about each axis and about the run.
 template <typename Loop>
-void report_run(Loop& loop, const StreamSpec& spec, const StreamBus& bus, StreamReport& r) {
+void report_run(Loop& loop, const StreamSpec& spec, const ClockedBus& bus, StreamReport& r) {
   r.counters = bus.counters();
   r.units_held = loop.stats().units_held;
   r.timing = bus.timing();
@@ -258,7 +256,7 @@ void report_run(Loop& loop, const StreamSpec& spec, const StreamBus& bus, Stream
 // run.
 template <typename Scalar, typename Evaluation>
 std::string stream_session(const StreamSpec& spec, const std::vector<runtime::AxisConfig>& acs,
-                           const runtime::SessionConfig& sc, StreamBus& bus, StreamReport& r) {
+                           const runtime::SessionConfig& sc, ClockedBus& bus, StreamReport& r) {
   using Loop = LoopOf<Scalar, Evaluation>;
   const std::size_t n = spec.axes.size();
   auto loop = std::make_unique<Loop>(bus.link(), acs.front().scale.period_us);
@@ -548,6 +546,15 @@ hal::eds::FeedbackRequest streaming_feedback(const hal::eds::Description& eds, c
   return f;
 }
 
+std::optional<NodeClash> shared_node(const std::vector<hal::canopen::NodeId>& nodes) {
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (nodes[i] == nodes[k]) return NodeClash{k, i, nodes[i]};
+    }
+  }
+  return std::nullopt;
+}
+
 namespace {
 
 // What run_stream refuses before anything is sent: "" or why.
@@ -566,13 +573,11 @@ std::string spec_problem(const StreamSpec& spec) {
       }
     }
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t k = 0; k < i; ++k) {
-      if (spec.axes[i].node == spec.axes[k].node) {
-        return "axes " + std::to_string(k + 1) + " and " + std::to_string(i + 1) + " are both on node " +
-               std::to_string(spec.axes[i].node) + ": one drive per node";
-      }
-    }
+  std::vector<hal::canopen::NodeId> nodes;
+  for (const StreamAxis& a : spec.axes) nodes.push_back(a.node);
+  if (const std::optional<NodeClash> c = shared_node(nodes)) {
+    return "axes " + std::to_string(c->earlier + 1) + " and " + std::to_string(c->later + 1) + " are both on node " +
+           std::to_string(c->node) + ": one drive per node";
   }
   return {};
 }
@@ -628,7 +633,7 @@ std::string prepare(const StreamSpec& spec, std::vector<runtime::AxisConfig>& ac
 
 // The run's second stage: the session with the loop of the spec's scalar.
 std::string session(const StreamSpec& spec, const std::vector<runtime::AxisConfig>& acs,
-                    const runtime::SessionConfig& sc, StreamBus& bus, StreamReport& r) {
+                    const runtime::SessionConfig& sc, ClockedBus& bus, StreamReport& r) {
   switch (spec.scalar) {
     case StreamScalar::single_precision:
       return stream_session<float, runtime::FloatEvaluation<float>>(spec, acs, sc, bus, r);
@@ -640,7 +645,7 @@ std::string session(const StreamSpec& spec, const std::vector<runtime::AxisConfi
 
 }  // namespace
 
-StreamReport run_stream(const StreamSpec& spec, StreamBus& bus) {
+StreamReport run_stream(const StreamSpec& spec, ClockedBus& bus) {
   StreamReport r{};
   r.bus = bus.name();
   r.realtime = bus.realtime();

@@ -402,6 +402,9 @@ TEST(CliAxes, StreamRefusesBadNodesAndABusTooSlowForItsAxes) {
       {s + "--period-us 1200 --nodes 1,2,128", "--nodes", "out_of_range"},
       {s + "--period-us 1200 --nodes 0,1,2", "--nodes", "out_of_range"},
       {s + "--period-us 1200 --nodes 1,2.5,3", "--nodes", "out_of_range"},
+      // The first fault as the list reads: a node given twice before a fraction, or after it.
+      {s + "--period-us 1200 --nodes 3,3,2.5", "--nodes", "bad_list"},
+      {s + "--period-us 1200 --nodes 2.5,3,3", "--nodes", "out_of_range"},
       {s + "--period-us 1200 --node 2", "--node", "conflicting_options"},
       {s + "--period-us 1200 --retarget-at 0.05:0.01", "--retarget-at", "bad_list"},
       {"stream --bus loopback --profile poly345 --distance 0.01 --time 0.1 --nodes 1", "--nodes", "bad_option"},
@@ -411,6 +414,9 @@ TEST(CliAxes, StreamRefusesBadNodesAndABusTooSlowForItsAxes) {
       {s + "--period-us 1200 --bitrate 958000", "--bitrate", "bus_overload"},
   };
   for (const Case& c : cases) expect_refused(c);
+  const CliResult twice = run_cli(s + "--period-us 1200 --nodes 4,2,2");
+  EXPECT_NE(twice.stderr_text.find("--nodes: node 2 given twice; one drive per node"), std::string::npos)
+      << twice.stderr_text;
   const CliResult r = run_cli(s);
   EXPECT_NE(r.stderr_text.find("--bitrate: 3 axes need 1150 bits per SYNC period with worst-case bit stuffing (950 "
                                "without), 1000 available: 1000000 bit/s x 1000 us"),

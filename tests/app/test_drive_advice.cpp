@@ -13,7 +13,7 @@
 #include "settle/hal/canopen/cob_id.hpp"
 #include "settle/plant/beam.hpp"
 #include "settle/testbed/stream.hpp"
-#include "settle/testbed/stream_bus.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 #include "settle/testbed/stream_report.hpp"
 
 namespace settle::app {
@@ -43,7 +43,7 @@ class SyncDroppingLink final : public hal::CanBus {
 };
 
 // The loopback bus whose master loses its SYNCs from tick `from` on.
-class SyncLossBus final : public testbed::StreamBus {
+class SyncLossBus final : public testbed::ClockedBus {
  public:
   explicit SyncLossBus(std::uint64_t from) : from_{from} {}
   [[nodiscard]] std::string name() const override { return inner_.name(); }
@@ -62,7 +62,7 @@ class SyncLossBus final : public testbed::StreamBus {
   [[nodiscard]] testbed::StreamTiming timing() const override { return inner_.timing(); }
 
  private:
-  testbed::LoopbackStreamBus inner_;
+  testbed::LoopbackClockedBus inner_;
   SyncDroppingLink link_{inner_.link()};
   std::uint64_t from_;
   std::uint64_t ticks_{0};

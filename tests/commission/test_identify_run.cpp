@@ -10,13 +10,13 @@
 #include "settle/core/planner.hpp"
 #include "settle/hal/loopback_bus.hpp"
 #include "settle/commission/identify_run.hpp"
-#include "settle/testbed/stream_bus.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 
 namespace settle::commission {
 namespace {
 
 // The in-process bus with nobody else on it: the loop's NMT, SDOs and SYNCs go unanswered.
-class EmptyBus final : public testbed::StreamBus {
+class EmptyBus final : public testbed::ClockedBus {
  public:
   [[nodiscard]] std::string name() const override { return "empty loopback"; }
   [[nodiscard]] bool realtime() const override { return false; }
@@ -55,7 +55,7 @@ IdentifyRunSpec spec_for(const std::vector<plant::Mode>& modes) {
 
 TEST(IdentifyRun, KnownPlantThroughTheLoopbackBus) {
   const IdentifyRunSpec spec = spec_for({{.omega = 30.0, .zeta = 0.03, .gain = 1.0}});
-  testbed::LoopbackStreamBus bus{};
+  testbed::LoopbackClockedBus bus{};
   const IdentifyRunReport r = run_identify(spec, bus);
   ASSERT_TRUE(r.ok()) << r.failure;
   ASSERT_EQ(r.result.modes.size(), 1U);

@@ -10,11 +10,15 @@
 
 #include <cmath>
 #include <memory>
+#include <optional>
+#include <random>
+#include <utility>
 #include <thread>
 #include <type_traits>
 #include <vector>
 
 #include "settle/runtime/servo_loop.hpp"
+#include "settle/runtime/setpoint_sequence.hpp"
 #include "settle/hal/testing/ideal_drive.hpp"
 
 using namespace settle;
@@ -105,23 +109,33 @@ std::vector<std::int32_t> expected_with_blend(const core::Move<double>& m, const
   return e;
 }
 
-// The same in an evaluation's scalar: the move's setpoints as the evaluation streams the move alone
-// (to index k), then the blend as the evaluation streams it alone (from 0 at the switch). `whole`
-// receives the move's own setpoints past k, to check continuity at the switch.
+// The same in an evaluation's scalar: what runtime::stream_setpoints gives for the move with the
+// blends switched in at their indices (each on the clock of the command it changes). With no blend,
+// the move's own setpoints (to check continuity at the switch). `switched`: how many it switched
+// in (without it, every one must be).
 template <typename Evaluation>
-std::vector<std::int32_t> evaluated_with_blend(const core::Move<double>& m, const core::Blend& blend, std::int32_t k,
-                                               std::vector<std::int32_t>& whole) {
+std::vector<std::int32_t> evaluated_with_blends(const core::Move<double>& m,
+                                                const std::vector<std::pair<core::Blend, std::int32_t>>& changes,
+                                                std::size_t* switched = nullptr) {
   const core::AxisScale scale{kCpu, kPeriod};
   auto stored = std::make_unique<typename Evaluation::Stored>();
   EXPECT_EQ(Evaluation::prepare(m, scale, *stored), core::Status::ok);
-  auto s = Evaluation::start(*stored, 0);
-  whole.clear();
-  for (bool last = false; !last;) whole.push_back(s.next(last));
-  std::vector<std::int32_t> e(whole.begin(), whole.begin() + k);
-  auto b = std::make_unique<typename Evaluation::BlendStored>();
-  EXPECT_EQ(Evaluation::prepare(blend, scale, *b), core::Status::ok);
-  auto bs = Evaluation::start(*b, 0);
-  for (bool last = false; !last;) e.push_back(bs.next(last));
+  std::vector<std::unique_ptr<typename Evaluation::BlendStored>> blends;
+  std::vector<runtime::SetpointSwitch<Evaluation>> switches;
+  for (const auto& [blend, at] : changes) {
+    blends.push_back(std::make_unique<typename Evaluation::BlendStored>());
+    EXPECT_EQ(Evaluation::prepare(blend, scale, *blends.back()), core::Status::ok);
+    switches.push_back({blends.back().get(), at});
+  }
+  std::vector<std::int32_t> e;
+  const runtime::SetpointSequence seq = runtime::stream_setpoints<Evaluation>(
+      *stored, 0, switches.data(), switches.size(), 1'000'000, [&](std::int32_t sp) { e.push_back(sp); });
+  EXPECT_TRUE(seq.ended);
+  if (switched != nullptr) {
+    *switched = seq.switches;
+  } else {
+    EXPECT_EQ(seq.switches, switches.size());
+  }
   return e;
 }
 
@@ -160,8 +174,8 @@ void run_change(std::optional<double> target) {
   } else {
     // In the loop's scalar: exactly what its evaluation gives for the move and then the blend, one
     // by one; within one count of the double plan's (the scalar's resolution at 1e5 counts).
-    std::vector<std::int32_t> whole;
-    const auto es = evaluated_with_blend<typename Loop::EvaluationType>(m, b, k, whole);
+    const auto es = evaluated_with_blends<typename Loop::EvaluationType>(m, {{b, k}});
+    const auto whole = evaluated_with_blends<typename Loop::EvaluationType>(m, {});
     ASSERT_EQ(r.moving.size(), es.size());
     for (std::size_t i = 0; i < es.size(); ++i) ASSERT_EQ(r.moving[i], es[i]) << "setpoint " << i;
     for (std::size_t i = 0; i < es.size(); ++i) ASSERT_LE(std::abs(es[i] - e[i]), 1) << "setpoint " << i;
@@ -258,12 +272,7 @@ void halt_after_retarget() {
   ASSERT_EQ(core::online_request(b1, r1, k2 * 1e-3, std::nullopt, r2), core::Status::ok);
   ASSERT_EQ(core::plan_online(r2, b2), core::Status::ok);
   // The setpoints in the loop's scalar: the move's and the first blend's, then the second blend's.
-  std::vector<std::int32_t> whole;
-  std::vector<std::int32_t> e = evaluated_with_blend<typename Loop::EvaluationType>(m, b1, k1, whole);
-  e.resize(static_cast<std::size_t>(k1 + k2));
-  std::vector<std::int32_t> second;
-  const std::vector<std::int32_t> e2 = evaluated_with_blend<typename Loop::EvaluationType>(m, b2, 0, second);
-  e.insert(e.end(), e2.begin(), e2.end());
+  const std::vector<std::int32_t> e = evaluated_with_blends<typename Loop::EvaluationType>(m, {{b1, k1}, {b2, k2}});
   ASSERT_EQ(r.moving.size(), e.size());
   for (std::size_t i = 0; i < e.size(); ++i) ASSERT_EQ(r.moving[i], e[i]) << "setpoint " << i;
   expect_smooth(r.moving, c);
@@ -273,6 +282,89 @@ void halt_after_retarget() {
 TEST(ServoLoopOnline, AHaltAfterARetargetIsPlannedFromItsBlendAndSwitchedIn) { halt_after_retarget<DoubleLoop>(); }
 TEST(ServoLoopOnline, AHaltAfterARetargetInFloat) { halt_after_retarget<FloatLoop>(); }
 TEST(ServoLoopOnline, AHaltAfterARetargetInFixedPoint) { halt_after_retarget<FixedLoop>(); }
+
+// runtime::stream_setpoints is what the loop streams: over a seeded grid of halts and retargets at
+// random setpoints of the move (up to and past its last), and for some a halt on the running blend
+// a random number of setpoints later, every setpoint the loop sent equals the exported sequence's
+// for the same plans (made here in double as service() makes them), and the switches agree. A
+// halt that finishes the move is no switch; a change whose index the command never reaches is
+// missed by both.
+template <typename Loop>
+void loop_streams_the_exported_sequence(std::uint32_t seed) {
+  using Evaluation = typename Loop::EvaluationType;
+  const core::MoveRequest req = scurve(0.1, 0.5);
+  const core::Move<double> m = planned(req);
+  const runtime::OnlineConfig c = online_config(m);
+  constexpr std::int32_t lead = runtime::kOnlineLeadTicks;
+  std::mt19937 rng{seed};
+  int compared = 0, switched = 0, chained = 0;
+  for (int n = 0; n < 24; ++n) {
+    const auto t1 = std::uniform_int_distribution<std::int32_t>{1, 505}(rng);
+    const bool retarget = std::bernoulli_distribution{0.5}(rng);
+    const double target = std::uniform_real_distribution<double>{-0.02, 0.12}(rng);
+    const bool second = std::bernoulli_distribution{0.5}(rng);
+    const double second_at = std::uniform_real_distribution<double>{0.0, 1.0}(rng);
+    // service()'s plan of the first change, at its switch index on the move's clock.
+    const std::int32_t k1 = t1 + lead;
+    const std::optional<double> tgt = retarget ? std::optional<double>{target} : std::nullopt;
+    core::OnlineRequest r1{};
+    core::OnlinePlan p1{};
+    if (core::online_request(m, k1 * 1e-3, c.modes.data(), c.mode_count, c.limits, tgt, r1) != core::Status::ok ||
+        core::plan_online(r1, p1) != core::Status::ok) {
+      continue;  // the loop refuses it too (plan_failed): nothing to switch to
+    }
+    const bool blends = p1.choice != core::OnlineChoice::finish;
+    std::vector<std::pair<core::Blend, std::int32_t>> changes;
+    if (blends) changes.emplace_back(p1.blend, k1);
+    // A halt on the running blend, asked t2 setpoints after the first ask (its blend running).
+    const auto blend_ticks = static_cast<std::int32_t>(std::ceil(p1.blend.duration() / 1e-3));
+    const bool ask_second = second && blends && k1 <= 500 && blend_ticks > 2 * lead + 2;
+    const std::int32_t t2 = ask_second ? k1 - t1 + 1 + static_cast<std::int32_t>(second_at * (blend_ticks - 2 * lead - 2)) : 0;
+    if (ask_second) {
+      const std::int32_t k2 = t1 + t2 - k1 + lead;  // on the blend's clock
+      core::OnlineRequest r2{};
+      core::OnlinePlan p2{};
+      ASSERT_EQ(core::online_request(p1.blend, r1, k2 * 1e-3, std::nullopt, r2), core::Status::ok);
+      ASSERT_EQ(core::plan_online(r2, p2), core::Status::ok);
+      if (p2.choice != core::OnlineChoice::finish) changes.emplace_back(p2.blend, k2);
+    }
+    Rig<Loop> r;
+    ASSERT_EQ(r.loop.configure_online(0, c), runtime::LoopStatus::ok);
+    ASSERT_EQ(r.loop.submit(0, req), runtime::LoopStatus::ok);
+    for (std::int32_t i = 0; i < t1; ++i) r.tick();
+    ASSERT_TRUE(retarget ? r.loop.retarget(0, target) : r.loop.halt(0));
+    ASSERT_EQ(r.loop.service(), runtime::LoopStatus::ok) << "t1 " << t1;
+    for (std::int32_t i = 0; i < t2; ++i) r.tick();
+    if (ask_second) {
+      ASSERT_TRUE(r.loop.halt(0));
+      ASSERT_EQ(r.loop.service(), runtime::LoopStatus::ok);
+    }
+    for (int i = 0; i < 3000 && !r.loop.idle(); ++i) r.tick();
+    ASSERT_TRUE(r.loop.idle());
+    std::size_t switches = 0;
+    const std::vector<std::int32_t> e = evaluated_with_blends<Evaluation>(m, changes, &switches);
+    EXPECT_EQ(r.loop.online_switches(0), switches) << "t1 " << t1 << " t2 " << t2;
+    ASSERT_EQ(r.moving.size(), e.size()) << "t1 " << t1 << " t2 " << t2;
+    for (std::size_t i = 0; i < e.size(); ++i) ASSERT_EQ(r.moving[i], e[i]) << "setpoint " << i << " t1 " << t1;
+    ++compared;
+    switched += switches > 0 ? 1 : 0;
+    chained += switches > 1 ? 1 : 0;
+  }
+  // The grid exercises what it claims: most cases run, most switch, some twice.
+  EXPECT_GE(compared, 16);
+  EXPECT_GE(switched, 8);
+  EXPECT_GE(chained, 2);
+}
+
+TEST(ServoLoopOnline, TheLoopStreamsTheExportedSetpointSequenceInDouble) {
+  loop_streams_the_exported_sequence<DoubleLoop>(0x5e771e01);
+}
+TEST(ServoLoopOnline, TheLoopStreamsTheExportedSetpointSequenceInFloat) {
+  loop_streams_the_exported_sequence<FloatLoop>(0x5e771e02);
+}
+TEST(ServoLoopOnline, TheLoopStreamsTheExportedSetpointSequenceInFixedPoint) {
+  loop_streams_the_exported_sequence<FixedLoop>(0x5e771e03);
+}
 
 // Every blend is planned within the online limits; limits faster than the axis's vmax (what its
 // step guard admits) are refused, so that no blend the loop plans can trip its own guard.

@@ -31,7 +31,7 @@
 #include "settle/hal/canopen/heartbeat.hpp"
 #include "settle/hal/canopen/sdo.hpp"
 #include "settle/testbed/stream.hpp"
-#include "settle/testbed/stream_bus.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 #include "settle/testbed/stream_report.hpp"
 
 namespace settle::testbed {
@@ -106,7 +106,7 @@ std::int32_t rpdo_target(const std::vector<std::uint8_t>& d) {
 TEST(RunStream, LoopbackRunMatchesTheFramesOnTheBus) {
   const std::string dump = temp_path("run.log");
   const StreamSpec spec = spec_for(poly345(0.01, 0.5), 0.2);
-  LoopbackStreamBus bus{dump};
+  LoopbackClockedBus bus{dump};
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed);
@@ -177,7 +177,7 @@ TEST(RunStream, EveryScalarStreamsTheDoubleSetpointsWithinOneCount) {
        {StreamScalar::double_precision, StreamScalar::single_precision, StreamScalar::fixed_point}) {
     StreamSpec spec = spec_for(move);
     spec.scalar = scalar;
-    LoopbackStreamBus bus;
+    LoopbackClockedBus bus;
     const StreamReport r = run_stream(spec, bus);
     ASSERT_TRUE(r.failure.empty()) << r.failure;
     EXPECT_TRUE(r.measured()) << to_string(scalar);
@@ -198,7 +198,7 @@ TEST(RunStream, EveryScalarStreamsTheDoubleSetpointsWithinOneCount) {
 // what the drive does). A description without 0x60C2 streams too, its period told through 0x1006.
 TEST(RunStream, EachBundledDriveIsConfiguredFromItsEdsAndStreamed) {
   const StreamSpec plain = spec_for(poly345(0.01, 0.5), 0.2);
-  LoopbackStreamBus own_bus{""};
+  LoopbackClockedBus own_bus{""};
   const StreamReport own = run_stream(plain, own_bus);
   ASSERT_TRUE(own.measured()) << own.failure;
   for (const char* name : {"settle_drive", "split_rpdo_drive", "velocity_feedback_drive", "static_mapping_drive"}) {
@@ -207,7 +207,7 @@ TEST(RunStream, EachBundledDriveIsConfiguredFromItsEdsAndStreamed) {
     ASSERT_TRUE(loaded.description) << loaded.error;
     StreamSpec spec = plain;
     spec.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
-    LoopbackStreamBus bus{""};
+    LoopbackClockedBus bus{""};
     const StreamReport r = run_stream(spec, bus);
     ASSERT_TRUE(r.failure.empty()) << r.failure;
     EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.axes[0].drive_failure;
@@ -222,7 +222,7 @@ TEST(RunStream, EachBundledDriveIsConfiguredFromItsEdsAndStreamed) {
   StreamSpec spec = plain;
   spec.eds = std::make_shared<const hal::eds::Description>(std::move(*lacking.description));
   // A drive without 0x60C2 is told the period through 0x1006 alone, and streams the same move.
-  LoopbackStreamBus bus{""};
+  LoopbackClockedBus bus{""};
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << r.axes[0].drive_failure;
@@ -240,7 +240,7 @@ TEST(RunStream, ADriveWithoutALoadPositionHasItsResidualNotMeasured) {
     EXPECT_TRUE(loaded.description) << loaded.error;
     StreamSpec spec = plain;
     if (loaded.description) spec.eds = std::make_shared<const hal::eds::Description>(std::move(*loaded.description));
-    LoopbackStreamBus bus{""};
+    LoopbackClockedBus bus{""};
     return run_stream(spec, bus);
   };
   const StreamReport own = with_eds(std::string{SETTLE_EDS_DIR} + "/settle_drive.eds");
@@ -282,7 +282,7 @@ TEST(RunStream, ARefusedMoveIsReportedAndNotStreamed) {
   StreamSpec spec = spec_for(scurve(1e-4, 0.002, 22.0));
   spec.scalar = StreamScalar::fixed_point;
   const std::string dump = temp_path("refused.log");
-  LoopbackStreamBus bus{dump};
+  LoopbackClockedBus bus{dump};
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::rejected);
@@ -304,7 +304,7 @@ TEST(RunStream, ARefusedMoveIsReportedAndNotStreamed) {
 TEST(RunStream, AMoveOverTheAxisVelocityIsRejected) {
   StreamSpec spec = spec_for(poly345(0.01, 0.5));
   spec.axis_vmax = 0.001;  // the move peaks at 0.0375 m/s
-  LoopbackStreamBus bus;
+  LoopbackClockedBus bus;
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::rejected);
@@ -323,7 +323,7 @@ TEST(RunStream, ASessionThatEndsBeforeItsHaltReportsItsOwnOutcome) {
   c.modes = {core::Mode{spec.plant.fundamental().omega, spec.plant.fundamental().zeta}};
   c.limits = {0.001, 1.0, 100.0};  // within the axis's vmax: the move, not the change, is refused
   spec.axes[0].change = c;
-  LoopbackStreamBus bus;
+  LoopbackClockedBus bus;
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::rejected);
@@ -427,7 +427,7 @@ TEST(RunStream, ThreeAxesStartOnTheSameSyncEachWithItsOwnSetpoints) {
   spec.drive.scale.period_us = 1200;  // three axes at 1 Mbit/s
   spec.axes.push_back({poly345(-0.02, 0.5), 4, std::nullopt});
   spec.axes.push_back({poly345(0.005, 0.5), 2, std::nullopt});
-  LoopbackStreamBus bus{dump};
+  LoopbackClockedBus bus{dump};
   const StreamReport r = run_stream(spec, bus);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
   EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed);
@@ -473,7 +473,7 @@ TEST(RunStream, ThreeAxesStartOnTheSameSyncEachWithItsOwnSetpoints) {
   // Two axes on one node: refused before anything streams.
   StreamSpec twice = spec;
   twice.axes[2].node = 1;
-  LoopbackStreamBus other;
+  LoopbackClockedBus other;
   const StreamReport refused = run_stream(twice, other);
   EXPECT_EQ(refused.failure, "axes 1 and 3 are both on node 1: one drive per node");
   EXPECT_TRUE(refused.axes[0].log.empty());
@@ -530,7 +530,7 @@ TEST(RunStream, ThreeAxesHaltedAtRandomTimesEndTogetherOnTheLineAtRest) {
     spec.settle_time_s = 0.3;
     spec.drive.scale.period_us = 1200;
     spec.axes = {{moves[0], 1, changes[0]}, {moves[1], 2, changes[1]}, {moves[2], 3, changes[2]}};
-    LoopbackStreamBus bus;
+    LoopbackClockedBus bus;
     const StreamReport r = run_stream(spec, bus);
     ASSERT_TRUE(r.failure.empty()) << r.failure;
     EXPECT_TRUE(r.measured()) << runtime::to_string(r.session.outcome);
@@ -557,7 +557,7 @@ TEST(RunStream, ThreeAxesHaltedAtRandomTimesEndTogetherOnTheLineAtRest) {
   apart.axes = {{moves[0], 1, StreamChange{}}, {moves[1], 2, StreamChange{}}};
   apart.axes[0].change->at = 0.1;
   apart.axes[1].change->at = 0.2;
-  LoopbackStreamBus other;
+  LoopbackClockedBus other;
   EXPECT_EQ(run_stream(apart, other).failure,
             "axes 1 and 2 change at different times: every axis's halt or retarget is asked for in the same period");
 }
@@ -629,7 +629,7 @@ TEST(RunStream, NoPlannedHaltOrRetargetTripsTheStepGuard) {
     if (!planned) continue;
     const StreamRefusal refusal = check_streamable(spec, true);
     ASSERT_EQ(refusal.status, runtime::LoopStatus::ok) << "axis " << refusal.axis << ": " << core::to_string(refusal.why);
-    LoopbackStreamBus bus;
+    LoopbackClockedBus bus;
     const StreamReport r = run_stream(spec, bus);
     ASSERT_TRUE(r.failure.empty()) << r.failure;
     EXPECT_EQ(r.session.outcome, runtime::SessionOutcome::completed) << runtime::to_string(r.session.outcome);
@@ -656,7 +656,7 @@ TEST(RunStream, AChangeFasterThanTheAxisIsRefusedBeforeStreaming) {
   EXPECT_TRUE(r.in_change);
   EXPECT_EQ(r.peak, 1.0);
   EXPECT_EQ(r.limit, 0.5);
-  LoopbackStreamBus bus;
+  LoopbackClockedBus bus;
   EXPECT_EQ(run_stream(spec, bus).failure, "the loop refused axis 1's online configuration: exceeds_axis_velocity");
   spec.axis_vmax.reset();  // by default the axis's vmax is the blend's
   EXPECT_EQ(stream_axis_vmax(spec, spec.axes[0]), 1.0);
@@ -671,19 +671,19 @@ TEST(RunStream, AChangeFasterThanTheAxisIsRefusedBeforeStreaming) {
 }
 
 TEST(RunStream, WhatCannotRunIsAFailureBeforeAnythingStreams) {
-  LoopbackStreamBus unwritable{"/nonexistent-settle-dir/run.log"};
+  LoopbackClockedBus unwritable{"/nonexistent-settle-dir/run.log"};
   const StreamReport a = run_stream(spec_for(poly345(0.01, 0.5)), unwritable);
   EXPECT_EQ(a.failure, "cannot write /nonexistent-settle-dir/run.log");
   EXPECT_TRUE(a.axes[0].log.empty());
 
   StreamSpec no_period = spec_for(poly345(0.01, 0.5));
   no_period.drive.scale.period_us = 0;
-  LoopbackStreamBus bus;
+  LoopbackClockedBus bus;
   EXPECT_FALSE(run_stream(no_period, bus).failure.empty());
 
   StreamSpec no_axis = spec_for(poly345(0.01, 0.5));
   no_axis.axes.clear();
-  LoopbackStreamBus empty;
+  LoopbackClockedBus empty;
   const StreamReport none = run_stream(no_axis, empty);
   EXPECT_EQ(none.failure, "no axis to stream");
   EXPECT_FALSE(none.measured());
@@ -692,8 +692,8 @@ TEST(RunStream, WhatCannotRunIsAFailureBeforeAnythingStreams) {
 // The bus with a clock unpaced, as settle drive uses it: the loopback drive (the one builder's, at
 // the node asked for) answers an SDO request at once, in the same virtual instant; with nothing to
 // answer, a receive moves virtual time on by exactly the wait.
-TEST(LoopbackStreamBus, ReceiveAnswersAtOnceAndOtherwiseMovesVirtualTimeByTheWait) {
-  LoopbackStreamBus bus;
+TEST(LoopbackClockedBus, ReceiveAnswersAtOnceAndOtherwiseMovesVirtualTimeByTheWait) {
+  LoopbackClockedBus bus;
   SimulatedDriveSpec drive{};
   drive.node = 5;
   ASSERT_EQ(bus.open(1000, {drive}), "");
@@ -720,7 +720,7 @@ TEST(LoopbackStreamBus, ReceiveAnswersAtOnceAndOtherwiseMovesVirtualTimeByTheWai
 
 // The in-process loopback bus with one call replaced: the test buses below change only what
 // happens between ticks.
-class LoopbackWrapper : public StreamBus {
+class LoopbackWrapper : public ClockedBus {
  public:
   [[nodiscard]] std::string name() const override { return inner_.name(); }
   [[nodiscard]] bool realtime() const override { return false; }
@@ -735,7 +735,7 @@ class LoopbackWrapper : public StreamBus {
   [[nodiscard]] StreamTiming timing() const override { return inner_.timing(); }
 
  protected:
-  LoopbackStreamBus inner_;
+  LoopbackClockedBus inner_;
 };
 
 // A bus that counts the heap allocations made between its between-ticks calls: everything the

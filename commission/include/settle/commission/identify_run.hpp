@@ -33,7 +33,7 @@ struct IdentifyRunReport {
 };
 
 // Streams spec.stream.axes.front().move over `bus`, then spec.stream.settle_time_s at rest, and identifies.
-[[nodiscard]] IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::StreamBus& bus);
+[[nodiscard]] IdentifyRunReport run_identify(const IdentifyRunSpec& spec, testbed::ClockedBus& bus);
 
 // The text summary: a line per mode with its intervals, the excitation and the fit.
 void write_identify_text(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out);

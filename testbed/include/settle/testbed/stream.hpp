@@ -4,7 +4,7 @@
 // and the report says whether the machine ended at rest: the residual vibration measured from the
 // drive's CAN feedback, next to the offline replay of the same setpoints (no bus) and the
 // continuous profile (no sampling). run_stream(spec, bus) -> StreamReport; where it runs is the
-// StreamBus (stream_bus.hpp), how it is printed the reporters (stream_report.hpp).
+// ClockedBus (clocked_bus.hpp), how it is printed the reporters (stream_report.hpp).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -109,6 +109,16 @@ struct StreamRefusal {
 };
 [[nodiscard]] StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive);
 
+// One drive per node: the first node id in `nodes` (axis order) that an earlier one has, with both
+// axes' indices; none when every node is distinct. run_stream refuses a spec whose axes share a
+// node (naming both axes), `settle stream --nodes` the list (naming the node).
+struct NodeClash {
+  std::size_t earlier{0};
+  std::size_t later{0};
+  hal::canopen::NodeId node{0};
+};
+[[nodiscard]] std::optional<NodeClash> shared_node(const std::vector<hal::canopen::NodeId>& nodes);
+
 // The feedback a stream maps besides statusword and position: the velocity actual 0x606C when
 // the description has it, and the load position: the object `load` names (--load-feedback), else
 // the one the description marks ([SettleDrive] LoadPosition: 0x2000 on Settle's own drive), else
@@ -132,45 +142,8 @@ struct StreamTiming {
   runtime::linux_rt::RealtimeSetup realtime{};
 };
 
-// The one bus with a clock: where a stream runs (the link the loop sends and receives on, the clock
-// that paces its ticks, and what happens on the bus between ticks) and where `settle drive`'s SDO
-// transfers run (receive()). LoopbackStreamBus and SocketCanStreamBus (stream_bus.hpp) are the
-// two; nothing here allocates between begin() and finish().
-class StreamBus {
- public:
-  StreamBus() = default;
-  StreamBus(const StreamBus&) = delete;
-  StreamBus& operator=(const StreamBus&) = delete;
-  virtual ~StreamBus() = default;
-
-  // As the report names it.
-  [[nodiscard]] virtual std::string name() const = 0;
-  // A real-time clock (its timing is reported) rather than a virtual one.
-  [[nodiscard]] virtual bool realtime() const = 0;
-  // Everything the run needs, before the loop exists: "" or why not (a one-line message).
-  [[nodiscard]] virtual std::string open(const StreamSpec& spec) = 0;
-  [[nodiscard]] virtual hal::CanBus& link() = 0;
-  // Right before the first tick.
-  virtual void begin() = 0;
-  // The session's clock (runtime::run_session's Clock).
-  virtual std::uint64_t wait() = 0;
-  [[nodiscard]] virtual std::uint64_t now_us() const = 0;
-  // After every tick, within its period.
-  virtual void between_ticks() = 0;
-  // After the session: frames still on their way go to `take`; "" or why the run's records are
-  // incomplete.
-  using FrameTaker = std::function<void(const hal::CanFrame& frame, std::uint64_t now_us)>;
-  [[nodiscard]] virtual std::string finish(const FrameTaker& take) = 0;
-  // Request and answer, unpaced (settle drive's SDO transfers): the next frame that arrives within
-  // wait_us, the clock running meanwhile (loopback: after the drives have taken what was sent and
-  // answered; when nothing comes, virtual time moves on by wait_us). False when none came.
-  [[nodiscard]] virtual bool receive(hal::CanFrame& frame, std::uint32_t wait_us) {
-    return link().receive(frame, wait_us) == hal::ReceiveStatus::received;
-  }
-  // This side's bus counters (the controller's, not a recorder's).
-  [[nodiscard]] virtual hal::BusCounters counters() const = 0;
-  [[nodiscard]] virtual StreamTiming timing() const = 0;
-};
+// Where a run happens: the one bus with a clock (clocked_bus.hpp).
+class ClockedBus;
 
 // One axis of a run, every number the reporters print for it. A residual that could not be
 // measured is NaN.
@@ -268,6 +241,6 @@ struct StreamReport {
 // Streams every axis's move over `bus` and measures it. A report with `failure` set says why it
 // could not run; otherwise the report is complete whatever the outcome (measured() says whether it
 // succeeded).
-[[nodiscard]] StreamReport run_stream(const StreamSpec& spec, StreamBus& bus);
+[[nodiscard]] StreamReport run_stream(const StreamSpec& spec, ClockedBus& bus);
 
 }  // namespace settle::testbed

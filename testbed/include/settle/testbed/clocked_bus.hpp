@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The two kinds of the one bus with a clock (StreamBus, stream.hpp): where a stream runs and where
-// `settle drive` talks to a drive. LoopbackStreamBus: simulated drives (build_simulated_drive) on
-// the in-process bus, in virtual time, deterministic. SocketCanStreamBus: a SocketCAN interface
+// The one bus with a clock (ClockedBus) and its two kinds: where a stream runs and where
+// `settle drive` talks to a drive. LoopbackClockedBus: simulated drives (build_simulated_drive) on
+// the in-process bus, in virtual time, deterministic. SocketCanClockedBus: a SocketCAN interface
 // (vcan0, can0) in real time, against a `settle plant` process or a drive. Either can write a
 // candump log of a stream (`candump -l` format, replayable with canplayer).
 #include <cstddef>
@@ -24,6 +24,46 @@
 
 namespace settle::testbed {
 
+// The one bus with a clock: where a stream runs (the link the loop sends and receives on, the clock
+// that paces its ticks, and what happens on the bus between ticks) and where `settle drive`'s SDO
+// transfers run (receive()). LoopbackClockedBus and SocketCanClockedBus (below) are the
+// two; nothing here allocates between begin() and finish().
+class ClockedBus {
+ public:
+  ClockedBus() = default;
+  ClockedBus(const ClockedBus&) = delete;
+  ClockedBus& operator=(const ClockedBus&) = delete;
+  virtual ~ClockedBus() = default;
+
+  // As the report names it.
+  [[nodiscard]] virtual std::string name() const = 0;
+  // A real-time clock (its timing is reported) rather than a virtual one.
+  [[nodiscard]] virtual bool realtime() const = 0;
+  // Everything the run needs, before the loop exists: "" or why not (a one-line message).
+  [[nodiscard]] virtual std::string open(const StreamSpec& spec) = 0;
+  [[nodiscard]] virtual hal::CanBus& link() = 0;
+  // Right before the first tick.
+  virtual void begin() = 0;
+  // The session's clock (runtime::run_session's Clock).
+  virtual std::uint64_t wait() = 0;
+  [[nodiscard]] virtual std::uint64_t now_us() const = 0;
+  // After every tick, within its period.
+  virtual void between_ticks() = 0;
+  // After the session: frames still on their way go to `take`; "" or why the run's records are
+  // incomplete.
+  using FrameTaker = std::function<void(const hal::CanFrame& frame, std::uint64_t now_us)>;
+  [[nodiscard]] virtual std::string finish(const FrameTaker& take) = 0;
+  // Request and answer, unpaced (settle drive's SDO transfers): the next frame that arrives within
+  // wait_us, the clock running meanwhile (loopback: after the drives have taken what was sent and
+  // answered; when nothing comes, virtual time moves on by wait_us). False when none came.
+  [[nodiscard]] virtual bool receive(hal::CanFrame& frame, std::uint32_t wait_us) {
+    return link().receive(frame, wait_us) == hal::ReceiveStatus::received;
+  }
+  // This side's bus counters (the controller's, not a recorder's).
+  [[nodiscard]] virtual hal::BusCounters counters() const = 0;
+  [[nodiscard]] virtual StreamTiming timing() const = 0;
+};
+
 // How long a session's end waits for frames still on their way (the last TPDOs answer the last
 // SYNC within a period; a drive on a loaded host can be seconds behind). Waiting stops after
 // `quiet_us` without a frame that is not a heartbeat (the drives' heartbeats go on for ever:
@@ -43,14 +83,14 @@ struct LateFrameWindow {
 // the time now, a clock that runs on its own (not one that moves by periods, such as
 // PeriodicTimer::now_us, which stands still once the session stops waiting on it).
 std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t()>& now_us,
-                             const StreamBus::FrameTaker& take, LateFrameWindow window = {});
+                             const ClockedBus::FrameTaker& take, LateFrameWindow window = {});
 
 // On loopback every axis of the spec has its drive in this process.
-class LoopbackStreamBus final : public StreamBus {
+class LoopbackClockedBus final : public ClockedBus {
  public:
   // candump_path: where to log every frame on the bus (a listening port sees them all); "" none.
-  explicit LoopbackStreamBus(std::string candump_path = {});
-  ~LoopbackStreamBus() override;
+  explicit LoopbackClockedBus(std::string candump_path = {});
+  ~LoopbackClockedBus() override;
 
   [[nodiscard]] std::string name() const override { return "loopback (in-process, virtual time)"; }
   [[nodiscard]] bool realtime() const override { return false; }
@@ -92,7 +132,7 @@ class LoopbackStreamBus final : public StreamBus {
   void serve_drives(std::uint64_t now);
 };
 
-class SocketCanStreamBus final : public StreamBus {
+class SocketCanClockedBus final : public ClockedBus {
  public:
   // `opened`: the interface, already open (it must outlive this). Without open() (settle drive's
   // transfers: receive() and now_us()) nothing else is set up. rt_priority 1..99 asks for
@@ -100,9 +140,9 @@ class SocketCanStreamBus final : public StreamBus {
   // log of every frame it sends and receives (complete, unlike a sniffer's: its line count equals
   // frames_sent + frames_received); "" none. pm_qos: hold /dev/cpu_dma_latency at 0 µs from open
   // to destruction (CpuLatencyRequest; reported in timing().realtime, not fatal when refused).
-  SocketCanStreamBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path = {},
+  SocketCanClockedBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path = {},
                      int rt_priority = 0, bool pm_qos = true);
-  ~SocketCanStreamBus() override;
+  ~SocketCanClockedBus() override;
 
   [[nodiscard]] std::string name() const override { return interface_; }
   [[nodiscard]] bool realtime() const override { return true; }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "settle/testbed/stream_bus.hpp"
+#include "settle/testbed/clocked_bus.hpp"
 
 #include <algorithm>
 #include <utility>
@@ -9,7 +9,7 @@
 namespace settle::testbed {
 
 std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t()>& now_us,
-                             const StreamBus::FrameTaker& take, LateFrameWindow window) {
+                             const ClockedBus::FrameTaker& take, LateFrameWindow window) {
   const std::uint64_t start = now_us();
   std::uint64_t last = start;  // the last frame that was not a heartbeat (or the start)
   std::size_t taken = 0;
@@ -32,11 +32,11 @@ std::size_t take_late_frames(hal::CanBus& bus, const std::function<std::uint64_t
 
 // ---- the in-process bus, in virtual time ----
 
-LoopbackStreamBus::LoopbackStreamBus(std::string candump_path) : candump_path_{std::move(candump_path)} {}
+LoopbackClockedBus::LoopbackClockedBus(std::string candump_path) : candump_path_{std::move(candump_path)} {}
 
-LoopbackStreamBus::~LoopbackStreamBus() = default;
+LoopbackClockedBus::~LoopbackClockedBus() = default;
 
-std::string LoopbackStreamBus::open(const StreamSpec& spec) {
+std::string LoopbackClockedBus::open(const StreamSpec& spec) {
   std::vector<SimulatedDriveSpec> drives;
   for (const StreamAxis& axis : spec.axes) {
     SimulatedDriveSpec ds{};
@@ -50,7 +50,7 @@ std::string LoopbackStreamBus::open(const StreamSpec& spec) {
   return open(spec.drive.scale.period_us, drives);
 }
 
-std::string LoopbackStreamBus::open(std::uint32_t period_us, const std::vector<SimulatedDriveSpec>& drives) {
+std::string LoopbackClockedBus::open(std::uint32_t period_us, const std::vector<SimulatedDriveSpec>& drives) {
   period_us_ = period_us;
   now_us_ = 0;
   if (!candump_path_.empty() && !dump_.open(candump_path_.c_str(), "loopback")) {
@@ -69,9 +69,9 @@ std::string LoopbackStreamBus::open(std::uint32_t period_us, const std::vector<S
   return {};
 }
 
-void LoopbackStreamBus::begin() { hub_.set_time_us(period_us_); }  // the first tick
+void LoopbackClockedBus::begin() { hub_.set_time_us(period_us_); }  // the first tick
 
-void LoopbackStreamBus::serve_drives(std::uint64_t now) {
+void LoopbackClockedBus::serve_drives(std::uint64_t now) {
   hal::CanFrame f{};
   for (Drive& d : drives_) {
     while (d.port->receive(f, 0) == hal::ReceiveStatus::received) (void)d.drive.node->on_frame(f, now, *d.port);
@@ -83,14 +83,14 @@ void LoopbackStreamBus::serve_drives(std::uint64_t now) {
   }
 }
 
-void LoopbackStreamBus::between_ticks() {
+void LoopbackClockedBus::between_ticks() {
   hub_.set_time_us(now_us_);  // the drive answers within this period
   serve_drives(now_us_);
   hub_.set_time_us(now_us_ + period_us_);  // the loop's next tick sends at that time
 }
 
 // Time moves only when nothing is left to take.
-bool LoopbackStreamBus::receive(hal::CanFrame& frame, std::uint32_t wait_us) {
+bool LoopbackClockedBus::receive(hal::CanFrame& frame, std::uint32_t wait_us) {
   serve_drives(now_us_);
   if (master_.receive(frame, 0) == hal::ReceiveStatus::received) return true;
   now_us_ += std::max<std::uint32_t>(wait_us, 1);
@@ -99,7 +99,7 @@ bool LoopbackStreamBus::receive(hal::CanFrame& frame, std::uint32_t wait_us) {
   return false;
 }
 
-std::string LoopbackStreamBus::finish(const FrameTaker& /*take*/) {
+std::string LoopbackClockedBus::finish(const FrameTaker& /*take*/) {
   // The drive answered within each tick's period: nothing is still on its way.
   if (dump_.is_open() && !dump_.close()) return "the candump log " + candump_path_ + " is incomplete";
   return {};
@@ -107,7 +107,7 @@ std::string LoopbackStreamBus::finish(const FrameTaker& /*take*/) {
 
 // ---- a SocketCAN interface, in real time ----
 
-SocketCanStreamBus::SocketCanStreamBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path,
+SocketCanClockedBus::SocketCanClockedBus(hal::SocketCanBus& opened, std::string interface, std::string candump_path,
                                        int rt_priority, bool pm_qos)
     : bus_{opened},
       interface_{std::move(interface)},
@@ -115,13 +115,13 @@ SocketCanStreamBus::SocketCanStreamBus(hal::SocketCanBus& opened, std::string in
       rt_priority_{rt_priority},
       pm_qos_{pm_qos} {}
 
-SocketCanStreamBus::~SocketCanStreamBus() = default;
+SocketCanClockedBus::~SocketCanClockedBus() = default;
 
-hal::CanBus& SocketCanStreamBus::link() {
+hal::CanBus& SocketCanClockedBus::link() {
   return recorder_ ? static_cast<hal::CanBus&>(*recorder_) : static_cast<hal::CanBus&>(bus_);
 }
 
-std::string SocketCanStreamBus::open(const StreamSpec& spec) {
+std::string SocketCanClockedBus::open(const StreamSpec& spec) {
   if (!candump_path_.empty()) {
     if (!dump_.open(candump_path_.c_str(), interface_.c_str())) return "cannot write " + candump_path_;
     recorder_ = std::make_unique<hal::RecordingBus<4096>>(bus_, hal::realtime_us);
@@ -138,18 +138,18 @@ std::string SocketCanStreamBus::open(const StreamSpec& spec) {
   return {};
 }
 
-void SocketCanStreamBus::begin() { timer_->start(); }
+void SocketCanClockedBus::begin() { timer_->start(); }
 
-std::uint64_t SocketCanStreamBus::now_us() const {
+std::uint64_t SocketCanClockedBus::now_us() const {
   return timer_ ? timer_->now_us() : runtime::linux_rt::monotonic_ns() / 1000;
 }
 
 // Written between ticks: the recorder's ring is bounded.
-void SocketCanStreamBus::between_ticks() {
+void SocketCanClockedBus::between_ticks() {
   if (dump_.is_open()) (void)dump_.write_records(*recorder_);
 }
 
-std::string SocketCanStreamBus::finish(const FrameTaker& take) {
+std::string SocketCanClockedBus::finish(const FrameTaker& take) {
   // The time now, not the timer's period start: that stopped with the session's last wait (and a
   // wait on it here would stretch every frame to a period). On a clock that stood still, three
   // drives' heartbeats kept this waiting for ever, once in a CI run and in five of six runs of
@@ -166,7 +166,7 @@ std::string SocketCanStreamBus::finish(const FrameTaker& take) {
   return {};
 }
 
-StreamTiming SocketCanStreamBus::timing() const {
+StreamTiming SocketCanClockedBus::timing() const {
   StreamTiming t{};
   t.realtime = realtime_;
   if (timer_) {
