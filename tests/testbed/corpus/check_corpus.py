@@ -122,6 +122,18 @@ def main():
                 check("the measured residual agrees with the offline replay within 1e-6 of the distance",
                       j["residual_can"] is not None and j["residual_can"] > 0 and j["agreement"] <= 1e-6 * 0.01, out)
                 check("and the PRV is a number", j["prv_can_percent"] is not None and j["prv_can_percent"] > 0, out)
+            # identify needs the load position: refused (exit 2, naming the option) without it, and
+            # with it the one mode behind the drive is found from that object's samples.
+            ident = ["identify", "--bus", "loopback", "--node", str(node), "--eds", path, "--plant", "modes", "--mode",
+                     "25,0.02,1", "--max-modes", "2", "--json"]
+            rc, out, err = run(settle, ident)
+            check("identify without --load-feedback is refused naming it",
+                  rc == 2 and json.loads(out)["parameter"] == "--load-feedback", out + err)
+            rc, out, err = run(settle, ident + ["--load-feedback", LOAD_FEEDBACK[name]])
+            modes = json.loads(out).get("modes", []) if rc == 0 else []
+            check("identify --load-feedback finds the mode (25 rad/s, zeta 0.02) from the vendor's object",
+                  len(modes) == 1 and abs(modes[0]["omega"] / 25 - 1) < 0.005 and abs(modes[0]["zeta"] - 0.02) < 0.01,
+                  out + err)
         print("%-34s checked" % name)
     for f in failures:
         print("FAIL " + f)
