@@ -272,7 +272,8 @@ const std::vector<OptionSpec> kStreamRows = {
     strict_eds(),
     text("--load-feedback", "", "with --eds: the drive's object that measures the load (or any vibration), "
          "INDEX:SUB (INDEX 0x1000..0xFFFF, SUB 0..255; an INTEGER32 the EDS lets be mapped), mapped into a TPDO; "
-         "default: 0x2000:0 on Settle's own drive, else none (residual, PRV and at-rest are then not measured)",
+         "default: 0x2000:0 on Settle's own drive, else none (residual, PRV and at-rest are then not measured); "
+         "with --bus loopback another vendor's simulated drive serves its load position there",
          "INDEX:SUB"),
     choice("--pm-qos", "on", {"on", "off"},
            "hold /dev/cpu_dma_latency at 0 us while the loop runs on a CAN interface (CPUs stay out of deep "

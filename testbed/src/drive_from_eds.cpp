@@ -129,7 +129,8 @@ std::string unbindable_entry(co::DriveNode& drive, const co::DriveNodeConfig& c)
 
 }  // namespace
 
-DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node) {
+DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node,
+                                      std::optional<eds::MappedObject> load_at) {
   DriveFromEds r;
   co::DriveNodeConfig c{};
   c.node = node;
@@ -141,6 +142,22 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   const bool own = d.settle_drive();
   const auto vendors = [own](std::uint16_t index) { return !own && index >= 0x2000 && index <= 0x5FFF; };
   c.has_load_position = own && d.has(co::obj::load_position_actual);
+  if (!own && load_at) {
+    const eds::Entry* e = d.find(load_at->index, load_at->sub);
+    const bool placeable = load_at->index == co::obj::load_position_actual ||
+                           (load_at->index > co::obj::communication_loss_periods &&
+                            load_at->index <= co::obj::manufacturer_index_last);
+    if (e == nullptr || !placeable || e->data_type != eds::data_type::i32 ||
+        !e->pdo_mappable || e->access == eds::Access::wo) {
+      r.error = object_name(load_at->index, load_at->sub) +
+                ": the simulated drive serves its load position only in a manufacturer object (0x2000 or "
+                "0x2002..0x5FFF) the EDS describes as a readable, mappable INTEGER32";
+      return r;
+    }
+    c.has_load_position = true;
+    c.load_position_index = load_at->index;
+    c.load_position_sub = load_at->sub;
+  }
   c.has_communication_cycle_period = d.has(co::obj::communication_cycle_period);
   // CiA 301 asks 0x1006 only of the SYNC producer: a drive without it measures SYNCs against 0x60C2.
   if (!c.has_communication_cycle_period) c.sync_period_us = 0;

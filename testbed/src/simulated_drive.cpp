@@ -8,7 +8,7 @@ namespace settle::testbed {
 DriveFromEds simulated_drive_config(const SimulatedDriveSpec& spec) {
   DriveFromEds d{};
   if (spec.eds != nullptr) {
-    d = simulated_drive_from_eds(*spec.eds, spec.node);
+    d = simulated_drive_from_eds(*spec.eds, spec.node, spec.load_position);
     if (!d.config) return d;
   } else {
     d.config.emplace();

@@ -189,30 +189,34 @@ def run(cmd, timeout=RUN_TIMEOUT_S):
     return subprocess.CompletedProcess(cmd, p.returncode, out, err)
 
 
-def stream_cmd(d, tag, plant_args, move_args, vmax, extra=()):
+def stream_cmd(d, tag, plant_args, move_args, vmax, extra=(), node=NODE):
     fb = os.path.join(d, f"feedback-{tag}.csv")
     dump = os.path.join(d, f"stream-{tag}.log")
-    return [SETTLE, "stream", "--bus", "vcan0", "--node", str(NODE), *plant_args, *move_args, "--axis-vmax", str(vmax),
+    return [SETTLE, "stream", "--bus", "vcan0", "--node", str(node), *plant_args, *move_args, "--axis-vmax", str(vmax),
             "--feedback-log", fb, "--candump", dump, "--json", *extra], fb, dump
 
 
-def stream(d, tag, plant_args, move_args, vmax, extra=(), timeout=RUN_TIMEOUT_S):
-    cmd, fb, dump = stream_cmd(d, tag, plant_args, move_args, vmax, [*STREAM_TOLERANT, *extra])
+def stream(d, tag, plant_args, move_args, vmax, extra=(), timeout=RUN_TIMEOUT_S, node=NODE, stderr=None):
+    """(exit status, JSON, feedback log, bus log); with stderr (a list), what it printed there is
+    appended to it."""
+    cmd, fb, dump = stream_cmd(d, tag, plant_args, move_args, vmax, [*STREAM_TOLERANT, *extra], node)
     r = run(cmd, timeout=timeout)
+    if stderr is not None:
+        stderr.append(r.stderr)
     try:
         return r.returncode, json.loads(r.stdout), fb, dump
     except json.JSONDecodeError:
         fail(f"stream printed no JSON (exit {r.returncode}): {r.stdout} {r.stderr}")
 
 
-def is_master_frame(cid):
-    """Frames only a master sends to node 1: NMT, SYNC, RPDO1-4, SDO requests."""
-    return cid in (0x000, 0x080) or cid in tuple(base + NODE for base in (0x200, 0x300, 0x400, 0x500, 0x600))
+def is_master_frame(cid, node=NODE):
+    """Frames only a master sends to node 1 (or `node`): NMT, SYNC, RPDO1-4, SDO requests."""
+    return cid in (0x000, 0x080) or cid in tuple(base + node for base in (0x200, 0x300, 0x400, 0x500, 0x600))
 
 
-def is_node_frame(cid):
-    """Frames node 1 sends: EMCY, TPDO1-4, SDO answers, boot-up/heartbeat."""
-    return cid in tuple(base + NODE for base in (0x080, 0x180, 0x280, 0x380, 0x480, 0x580, 0x700))
+def is_node_frame(cid, node=NODE):
+    """Frames node 1 (or `node`) sends: EMCY, TPDO1-4, SDO answers, boot-up/heartbeat."""
+    return cid in tuple(base + node for base in (0x080, 0x180, 0x280, 0x380, 0x480, 0x580, 0x700))
 
 
 def read_log(path):
@@ -269,13 +273,13 @@ def check_decoded(tag, d, r, pjs=()):
         check(d.count("sync") == pj["syncs"], f"{tag}: {d.count('sync')} SYNCs = the {pj['syncs']} a drive counted")
 
 
-def check_log(tag, r, dump, pj=None):
+def check_log(tag, r, dump, pj=None, node=NODE):
     """The stream's own log holds every frame it sent and received: as many lines as its counters
     count, the master's frames as many as it sent, node 1's as many as it received. With the
     plant's JSON: the plant took every frame the stream sent, and the barrier request."""
     log = read_log(dump)
-    sent = sum(1 for _, cid, _ in log if is_master_frame(cid))
-    received = sum(1 for _, cid, _ in log if is_node_frame(cid))
+    sent = sum(1 for _, cid, _ in log if is_master_frame(cid, node))
+    received = sum(1 for _, cid, _ in log if is_node_frame(cid, node))
     check(len(log) == r["frames_sent"] + r["frames_received"] and sent == r["frames_sent"] and
           received == r["frames_received"],
           f"{tag}: the stream's log holds every frame: {len(log)} lines = {sent} sent ({r['frames_sent']} counted) "
@@ -335,14 +339,87 @@ def scenario(d, tag, key=None, eds=()):
     check(r["frames_lost"] == 0 and pj["rx_overflow_drops"] == 0,
           f"{tag}: no frame lost on either side{why_stopped(dump, pj, r)}")
     check_log(tag, r, dump, pj)
-    # Every setpoint sent was applied exactly once, in order: the drive's own log of applied
-    # targets contains the commanded sequence contiguously, exactly once.
+    check_applied_once(tag, fb, plant.log)
+    return r
+
+
+def check_applied_once(tag, fb, plant_log):
+    """Every setpoint sent was applied exactly once, in order: the drive's own log of applied
+    targets contains the commanded sequence (the stream's feedback log) contiguously, exactly once."""
     cmd = [int(row["commanded"]) for row in read_csv(fb) if row["period"] >= 0]
     move = cmd[: cmd.index(cmd[-1]) + 1]
-    applied = [int(row["target"]) for row in read_csv(plant.log) if row["following"] == 1]
+    applied = [int(row["target"]) for row in read_csv(plant_log) if row["following"] == 1]
     hits = [i for i in range(len(applied) - len(move) + 1) if applied[i:i + len(move)] == move]
     check(len(hits) == 1, f"{tag}: the drive applied the {len(move)} setpoints of the move once, in order")
-    return r
+
+
+# The corpus drives streamed between processes (tests/testbed/corpus: check_corpus.py holds each
+# file's node, mapping and warnings, and checks all ten on loopback): one without 0x1006, a DCF
+# with NodeID and ParameterValue, one with two RPDOs mapped dynamically, one whose lists disagree
+# (two warnings).
+CORPUS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "testbed", "corpus")
+sys.path.insert(0, CORPUS_DIR)
+import check_corpus  # noqa: E402
+CORPUS_ON_VCAN = ("04_no_1006.eds", "06_commissioned.dcf", "03_crlf_lowercase.eds", "08_loose_lists.eds")
+
+
+def sdo_downloads(frames, node, index):
+    """The SDO download requests (initiate: command specifier 1) to `node` for `index` in a capture."""
+    return [bytes(data) for cid, data in frames if cid == 0x600 + node and len(data) == 8 and
+            (data[0] >> 5) == 1 and int.from_bytes(bytes(data[1:3]), "little") == index]
+
+
+def corpus_drive(d, name):
+    """One corpus file on vcan0: `settle plant --eds F` simulates the drive it describes in its own
+    process; `settle drive config --eds F` and `settle stream --eds F` in others configure, verify
+    and stream to it. Checked: the warnings each prints (exactly the file's, naming section and
+    key), the mapping and verification drive config reports, 0x1006 written (seen on the bus by the
+    harness's own socket) exactly when the file has it, the stream completed with every setpoint
+    applied once and in order, its residual not measured (null: no load position named), and its
+    bus log read by tshark's CANopen dissector with no frame malformed."""
+    node, mapping, warned = check_corpus.EXPECTED[name]
+    path = os.path.join(CORPUS_DIR, name)
+    tag = name.split("_")[0]
+    has_1006 = any(line.strip().upper() == "[1006]" for line in open(path, encoding="utf-8"))
+    plant_args, move_args, vmax, _ = SCENARIOS["000-scurve-0.8"]
+    eds = ["--node", str(node), "--eds", path]
+
+    def warns(what, stderr):
+        got = check_corpus.warnings_of(stderr)
+        check(len(got) == len(warned) and all(any(w in line for line in got) for w in warned),
+              f"{name}: {what} prints the file's {len(warned)} warnings {warned}: {got}")
+
+    plant = Plant(d, f"{tag}-config", plant_args, [*PLANT_TOLERANT, "--eds", path], node=node)
+    sniffer = canbus.Sniffer()
+    rc, out, err = drive("config", "--bus", "vcan0", *eds, "--timeout-ms", "5000", "--json")
+    frames = guarded(sniffer.stop)
+    pj = plant.stop()
+    check(pj["emcy_sent"] == 0 and pj["rx_overflow_drops"] == 0, f"{name}: the drive configured ran undisturbed: {pj}")
+    check(rc == 0, f"{name}: drive config over vcan0 exits 0 ({rc} {err})")
+    j = json.loads(out)
+    warns("drive config", err)
+    check(j["node"] == node and j["pdo_mapping"] == mapping and j["verified"] == (not warned),
+          f"{name}: node {j['node']} configured, mapping {j['pdo_mapping']}, verified {j['verified']}")
+    check(all(o["found"] and o["use"] for o in j["objects"] if o["needed"]), f"{name}: every needed object found, used")
+    written = sdo_downloads(frames, node, 0x1006)
+    check(sniffer.sock.drops == 0 and bool(written) == has_1006,
+          f"{name}: 0x1006 {'in' if has_1006 else 'not in'} the file, {len(written)} SDO downloads of it on the bus")
+    # A drive process of its own for the stream (the one configured above counted the config's frames).
+    plant = Plant(d, tag, plant_args, [*PLANT_TOLERANT, "--eds", path], node=node)
+    said = []
+    rc, r, fb, dump = stream(d, tag, plant_args, move_args, vmax, ["--eds", path], node=node, stderr=said)
+    pj = plant.stop()
+    warns("stream", said[0])
+    check(rc == 0 and r.get("outcome") == "completed" and r["aligned"],
+          f"{name}: streamed to completion, the CAN feedback aligned with the replay (exit {rc}, {r.get('outcome')} "
+          f"{r.get('message', '')}; "
+          f"drive {r.get('drive_state')} {r.get('drive_failure', '')}{why_stopped(dump, pj, r)})")
+    check(r["residual_can"] is None and r["prv_can_percent"] is None and r["rest_measured"] is False,
+          f"{name}: no load position named, so residual and PRV are not measured ({r['residual_can_note']})")
+    check(r["frames_lost"] == 0 and pj["rx_overflow_drops"] == 0 and pj["emcy_sent"] == 0,
+          f"{name}: no frame lost, no EMCY{why_stopped(dump, pj, r)}")
+    check_log(tag, r, dump, pj, node)
+    check_applied_once(tag, fb, plant.log)
 
 
 def contains_run(haystack, needle):
@@ -852,6 +929,9 @@ def main():
           _Kept(tempfile.mkdtemp(prefix=f"{TEST}-", dir=keep))) as d:
         if TEST in SCENARIOS:
             scenario(d, TEST)
+        elif TEST == "eds-corpus":
+            for name in CORPUS_ON_VCAN:
+                corpus_drive(d, name)
         elif TEST.startswith("eds-"):
             # Issue 14: a bundled drive description, configured, verified and streamed end to end.
             path = os.path.join(EDS_DIR, TEST[len("eds-"):] + ".eds")

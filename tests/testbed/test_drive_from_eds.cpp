@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 #include "settle/testbed/drive_from_eds.hpp"
 #include "settle/testbed/simulated_drive.hpp"
@@ -231,6 +232,55 @@ TEST(DriveFromEds, WhatTheSimulatedDriveCannotBeIsRefusedNamingTheObject) {
   r = load_drive_config("/nonexistent/drive.eds", 1);
   EXPECT_FALSE(r.config);
   EXPECT_NE(r.error.find("/nonexistent/drive.eds"), std::string::npos) << r.error;
+}
+
+// Another vendor's load encoder where its description puts it (tests/testbed/corpus's
+// 12_load_at_2100.eds: 0x2100:1, marked nowhere): without load_at the drive reports no load
+// position; with it the drive serves its load position at 0x2100:1, mappable, its dictionary still
+// in index order (every entry found where it is); an object that cannot be a load position, and
+// Settle's own drive (which keeps its 0x2000), are told apart.
+TEST(DriveFromEds, AnotherVendorsLoadEncoderIsServedOnlyWhereTheUserNamesIt) {
+  const hal::eds::LoadResult file =
+      hal::eds::parse(file_text(std::string{SETTLE_TEST_DATA_DIR} + "/../corpus/12_load_at_2100.eds"));
+  ASSERT_TRUE(file.description) << file.error;
+  const DriveFromEds plain = simulated_drive_from_eds(*file.description, 1);
+  ASSERT_TRUE(plain.config) << plain.error;
+  EXPECT_FALSE(plain.config->has_load_position);
+  EXPECT_EQ(co::DriveNode{*plain.config}.dictionary().find(0x2100, 1), nullptr);
+
+  const DriveFromEds named = simulated_drive_from_eds(*file.description, 1, hal::eds::MappedObject{0x2100, 1, 32});
+  ASSERT_TRUE(named.config) << named.error;
+  EXPECT_TRUE(named.config->has_load_position);
+  co::DriveNode drive{*named.config};
+  const co::OdEntry* load = drive.dictionary().find(0x2100, 1);
+  ASSERT_NE(load, nullptr);
+  EXPECT_EQ(load->var.type(), co::OdType::i32);
+  EXPECT_TRUE(load->pdo_mappable);
+  EXPECT_EQ(drive.dictionary().find(0x2000, 0), nullptr);
+  const auto entries = drive.dictionary().entries();
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (i > 0) {
+      EXPECT_LT((entries[i - 1].index << 8) | entries[i - 1].sub, (entries[i].index << 8) | entries[i].sub) << i;
+    }
+    EXPECT_EQ(drive.dictionary().find(entries[i].index, entries[i].sub), &entries[i]) << i;
+  }
+
+  for (const auto& [index, sub, why] : {std::tuple{0x2100, 2, "an UNSIGNED32"}, std::tuple{0x2100, 7, "not described"},
+                                        std::tuple{0x6064, 0, "not a manufacturer object"}}) {
+    const DriveFromEds bad = simulated_drive_from_eds(
+        *file.description, 1, hal::eds::MappedObject{static_cast<std::uint16_t>(index), static_cast<std::uint8_t>(sub), 32});
+    EXPECT_FALSE(bad.config) << why;
+    EXPECT_NE(bad.error.find("the simulated drive serves its load position only in a manufacturer object"),
+              std::string::npos)
+        << why << ": " << bad.error;
+  }
+
+  const hal::eds::LoadResult own = hal::eds::parse(file_text(SETTLE_DRIVE_EDS_PATH));
+  ASSERT_TRUE(own.description) << own.error;
+  const DriveFromEds settle = simulated_drive_from_eds(*own.description, 1, hal::eds::MappedObject{0x2100, 1, 32});
+  ASSERT_TRUE(settle.config) << settle.error;
+  EXPECT_EQ(settle.config->load_position_index, co::obj::load_position_actual);
+  EXPECT_NE(co::DriveNode{*settle.config}.dictionary().find(0x2000, 0), nullptr);
 }
 
 // The one builder of the simulated drive: the description's configuration at the spec's node, with

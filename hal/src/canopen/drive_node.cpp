@@ -213,10 +213,20 @@ std::span<const OdEntry> DriveNode::make_entries() noexcept {
     add_map(static_cast<std::uint16_t>(obj::tpdo1_mapping + i), c.tpdo_map[i]);
   }
 
-  if (config_.has_load_position) {
-    add(od_entry(obj::load_position_actual, 0, a.load_position, A::ro, map));
+  // The load encoder at its manufacturer index, in index order around 0x2001 (the table is sorted).
+  const bool load_elsewhere = config_.load_position_index > obj::communication_loss_periods &&
+                              config_.load_position_index <= obj::manufacturer_index_last;
+  const std::uint16_t load_index = load_elsewhere || config_.load_position_index == obj::load_position_actual
+                                       ? config_.load_position_index
+                                       : obj::load_position_actual;
+  const std::uint8_t load_sub = load_index == config_.load_position_index ? config_.load_position_sub : 0;
+  if (config_.has_load_position && !load_elsewhere) {
+    add(od_entry(load_index, load_sub, a.load_position, A::ro, map));
   }
   add(od_entry(obj::communication_loss_periods, 0, a.communication_loss_periods, A::rw, false, 1, 255));
+  if (config_.has_load_position && load_elsewhere) {
+    add(od_entry(load_index, load_sub, a.load_position, A::ro, map));
+  }
   add(od_entry(obj::abort_connection_option, 0, a.abort_connection_option, A::rw, false, 0, 3));
   add(od_entry(obj::error_code, 0, a.error_code, A::ro, map));
   add(od_entry(obj::controlword, 0, a.controlword, A::rw, map));

@@ -4,13 +4,23 @@
 (hex booleans as the Python canopen library exports them, CRLF and lower-case keys, a
 manufacturer section of 1200 objects, RECORDs typed by their sub-objects, REAL limits, a DCF with
 ParameterValue and NodeID, no 0x1006, no 0x60C2, no load position, static and dynamic mappings,
-two RPDOs, long descriptions). Each is one of Settle's simulated drives (hal/eds) re-described,
+two RPDOs, long descriptions, velocity in TPDO1, a load encoder at the vendor's own index). Each is one of Settle's simulated drives (hal/eds) re-described,
 so that `settle stream --bus loopback --eds F` can simulate the drive the file describes; none is
-a copy of a public file. Run from anywhere: python3 make_corpus.py (check_corpus.py checks them)."""
+a copy of a public file. Run from anywhere: python3 make_corpus.py (check_corpus.py checks them).
+With --check it writes them into a temporary folder instead and exits 1 unless they equal the
+committed files byte for byte, and the folder holds no other description (ctest
+testbed.eds_corpus_drift): a file edited by hand, or this script edited without re-running it, fails."""
+import filecmp
 import os
 import re
+import sys
+import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+CHECK = sys.argv[1:] == ["--check"]
+if sys.argv[1:] not in ([], ["--check"]):
+    sys.exit("usage: make_corpus.py [--check]")
+OUT = tempfile.mkdtemp(prefix="settle-corpus-") if CHECK else HERE
 EDS = os.path.join(HERE, "..", "..", "..", "hal", "eds")
 
 
@@ -41,7 +51,7 @@ def write(name, secs, header, crlf=False, lower=False, hexbool=False):
             if hexbool and k in ("ObjectType", "SubNumber") and not v.startswith("0x"):
                 v = "0x%X" % int(v, 0)
             lines.append(("%s=%s" % (k.lower() if lower else k, v)))
-    with open(os.path.join(HERE, name), "w", encoding="utf-8", newline="") as f:
+    with open(os.path.join(OUT, name), "w", encoding="utf-8", newline="") as f:
         f.write(nl.join(lines) + nl)
 
 
@@ -162,3 +172,47 @@ write("09_record_and_compact.eds", with_manufacturer(vendor(dynamic, "Records In
 ident = vendor(settle, "Mismatch", "M-1")
 ident = set_key(ident, "DeviceInfo", "ProductNumber", "0x00001234")
 write("10_identity_mismatch.eds", ident, [HDR[0] % "DeviceInfo contradicts 0x1018"])
+
+# 11. Velocity in TPDO1 by default (statusword and velocity actual; position and following error
+# in TPDO2), dynamic mapping: the master maps what it needs itself.
+vel = vendor(dynamic, "Velocity First", "VF-1")
+vel = set_key(vel, "1A00sub2", "DefaultValue", "0x606C0020")
+vel = set_key(vel, "1A01sub1", "DefaultValue", "0x60640020")
+write("11_velocity_in_tpdo1.eds", vel, [HDR[0] % "velocity actual in TPDO1 (dynamic)"])
+# 13 (below 12). The same split in a static mapping: statusword and position in different TPDOs.
+split_static = vendor(static, "Velocity First", "VF-1S")
+split_static = set_key(split_static, "1A00sub2", "DefaultValue", "0x606C0020")
+split_static = set_key(split_static, "1A01sub1", "DefaultValue", "0x60640020")
+# 12. The load encoder at the vendor's own index (0x2100:01 of a RECORD), marked nowhere: the user
+# names it with --load-feedback 0x2100:1 (dynamic mapping: the master maps it into a TPDO).
+load = [("2100", [("ParameterName", "Load encoder"), ("ObjectType", "0x9"), ("SubNumber", "3")]),
+        ("2100sub0", [("ParameterName", "Highest sub-index supported"), ("ObjectType", "0x7"), ("DataType", "0x0005"),
+                      ("AccessType", "const"), ("DefaultValue", "2"), ("PDOMapping", "0")]),
+        ("2100sub1", [("ParameterName", "Load position"), ("ObjectType", "0x7"), ("DataType", "0x0004"),
+                      ("AccessType", "ro"), ("DefaultValue", "0"), ("PDOMapping", "1")]),
+        ("2100sub2", [("ParameterName", "Load encoder resolution"), ("ObjectType", "0x7"), ("DataType", "0x0007"),
+                      ("AccessType", "ro"), ("DefaultValue", "1000000"), ("PDOMapping", "0")])]
+write("12_load_at_2100.eds", with_manufacturer(vendor(dynamic, "Second Encoder", "SE-1"), load, ["0x2100"]),
+      [HDR[0] % "a load encoder at 0x2100:01, named by the user"])
+write("13_static_split_feedback.eds", split_static, [HDR[0] % "velocity in TPDO1, position in TPDO2 (static)"])
+
+
+def descriptions(folder):
+    return sorted(f for f in os.listdir(folder) if f.endswith((".eds", ".dcf")))
+
+
+if CHECK:
+    written, committed = descriptions(OUT), descriptions(HERE)
+    differ = [f for f in written if f not in committed or not filecmp.cmp(os.path.join(OUT, f), os.path.join(HERE, f),
+                                                                           shallow=False)]
+    extra = [f for f in committed if f not in written]
+    for f in written:
+        os.remove(os.path.join(OUT, f))
+    os.rmdir(OUT)
+    for f in differ:
+        print("FAIL %s: not what make_corpus.py writes (run it, or undo the hand edit)" % f)
+    for f in extra:
+        print("FAIL %s: in the corpus folder, but make_corpus.py does not write it" % f)
+    if differ or extra:
+        sys.exit(1)
+    print("the %d corpus files are what make_corpus.py writes" % len(written))

@@ -34,8 +34,14 @@ struct DriveFromEds {
   std::string error;  // why not, one line naming the object at fault
 };
 
-// The configuration for node `node` (values with $NODEID resolved for it).
-[[nodiscard]] DriveFromEds simulated_drive_from_eds(const hal::eds::Description& eds, hal::canopen::NodeId node);
+// The configuration for node `node` (values with $NODEID resolved for it). `load_at`: on another
+// vendor's drive, the manufacturer object (0x2000 or 0x2002..0x5FFF) the drive serves its load
+// position in (the user's --load-feedback on the loopback bus: the simulated drive is then the one
+// the user says they have); it must be described as a readable, mappable INTEGER32, else the
+// result is an error naming it. Settle's own drive keeps its 0x2000 and ignores it; without it
+// another vendor's drive reports no load position.
+[[nodiscard]] DriveFromEds simulated_drive_from_eds(const hal::eds::Description& eds, hal::canopen::NodeId node,
+                                                    std::optional<hal::eds::MappedObject> load_at = std::nullopt);
 // The same from a file: the reader's error (which names the file), or the path and the above.
 [[nodiscard]] DriveFromEds load_drive_config(const std::string& path, hal::canopen::NodeId node);
 

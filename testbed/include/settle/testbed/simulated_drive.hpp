@@ -31,6 +31,9 @@ struct SimulatedDriveSpec {
   std::optional<std::uint32_t> sync_period_us;             // 0x1006
   std::optional<std::uint16_t> heartbeat_period_ms;        // 0x1017
   std::optional<std::uint8_t> communication_loss_periods;  // 0x2001
+  // With another vendor's description: the object it serves its load position in
+  // (simulated_drive_from_eds's load_at); none: it reports no load position.
+  std::optional<hal::eds::MappedObject> load_position;
 };
 
 // The drive node's configuration the spec describes: from the description (with its error, one

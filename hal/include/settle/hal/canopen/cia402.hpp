@@ -35,6 +35,8 @@ inline constexpr std::uint16_t tpdo2_mapping = 0x1A01;
 // Settle manufacturer-specific objects.
 inline constexpr std::uint16_t load_position_actual = 0x2000;  // i32, counts: the simulator's load/tip
 inline constexpr std::uint16_t communication_loss_periods = 0x2001;  // u8: SYNC/RPDO periods tolerated
+// The last index of the manufacturer-specific area (CiA 301: 0x2000..0x5FFF).
+inline constexpr std::uint16_t manufacturer_index_last = 0x5FFF;
 // CiA 402.
 inline constexpr std::uint16_t abort_connection_option = 0x6007;
 inline constexpr std::uint16_t error_code = 0x603F;

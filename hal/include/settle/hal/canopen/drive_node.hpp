@@ -188,6 +188,10 @@ struct DriveNodeConfig {
   bool has_interpolation_period{true};       // 0x60C2 (absent: the step limit uses 0x1006 alone)
   bool has_following_error_actual{true};     // 0x60F4
   bool has_load_position{true};              // 0x2000, the load encoder (absent: the drive reports no load)
+  // Where the load encoder is: 0x2000:0 on Settle's drive; another vendor's manufacturer object
+  // (0x2000 or 0x2002..0x5FFF, any sub), where its description puts it. Any other index keeps 0x2000:0.
+  std::uint16_t load_position_index{obj::load_position_actual};
+  std::uint8_t load_position_sub{0};
   bool has_communication_cycle_period{true};  // 0x1006 (absent: the SYNC checks run as with 0x1006 = 0)
   // Dynamic PDO mapping (CiA 301): the PDOs' COB-IDs, transmission types and mapping objects are
   // writable, in the order CiA 301 prescribes. Otherwise they are read-only (abort 0x06010002)
