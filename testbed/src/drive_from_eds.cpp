@@ -127,6 +127,68 @@ std::string unbindable_entry(co::DriveNode& drive, const co::DriveNodeConfig& c)
   return {};
 }
 
+// Where the simulated drive serves its load position: Settle's own drive at 0x2000; another
+// vendor's only at the object the user names (a readable, mappable INTEGER32 manufacturer object
+// the EDS describes), else none. Empty, or why the named object cannot be it.
+std::string place_load_position(const eds::Description& d, bool own, std::optional<eds::MappedObject> load_at,
+                                co::DriveNodeConfig& c) {
+  c.has_load_position = own && d.has(co::obj::load_position_actual);
+  if (own || !load_at) return {};
+  const eds::Entry* e = d.find(load_at->index, load_at->sub);
+  const bool placeable = load_at->index == co::obj::load_position_actual ||
+                         (load_at->index > co::obj::communication_loss_periods &&
+                          load_at->index <= co::obj::manufacturer_index_last);
+  if (e == nullptr || !placeable || e->data_type != eds::data_type::i32 || !e->pdo_mappable ||
+      e->access == eds::Access::wo) {
+    return object_name(load_at->index, load_at->sub) +
+           ": the simulated drive serves its load position only in a manufacturer object (0x2000 or "
+           "0x2002..0x5FFF) the EDS describes as a readable, mappable INTEGER32";
+  }
+  c.has_load_position = true;
+  c.load_position_index = load_at->index;
+  c.load_position_sub = load_at->sub;
+  return {};
+}
+
+// The drive the configuration built against the EDS, object for object both ways (a vendor's
+// manufacturer objects aside: `vendors`). Empty, or the first difference.
+template <typename Vendors>
+std::string differs_from_eds(const eds::Description& d, co::DriveNode& drive, co::NodeId node,
+                             const Vendors& vendors) {
+  for (const eds::Entry& x : d.entries()) {
+    if (vendors(x.index)) continue;
+    const co::OdEntry* e = drive.dictionary().find(x.index, x.sub);
+    const std::string name = object_name(x.index, x.sub) + " " + x.name;
+    if (e == nullptr) return name + ": an object the simulated drive does not implement";
+    if (x.data_type != static_cast<std::uint16_t>(e->var.type())) {
+      return name + ": data type differs from the simulated drive's";
+    }
+    if (x.access != eds_access(e->access)) {
+      return name + ": AccessType " + eds::to_string(x.access) + ", the simulated drive's is " +
+             eds::to_string(eds_access(e->access));
+    }
+    if (x.pdo_mappable != e->pdo_mappable) return name + ": PDOMapping differs from the simulated drive's";
+    if (const hal::canopen::OdBytes* bytes = e->var.bytes(); bytes != nullptr) {
+      const auto text = bytes->view();
+      if (x.default_value != std::string(text.begin(), text.end())) {
+        return name + ": default \"" + x.default_value + "\", the simulated drive serves \"" +
+               std::string(text.begin(), text.end()) + "\"";
+      }
+    } else if (!(x.index == co::obj::identity && x.sub >= 1 && x.sub <= 3)) {  // the identity: the caller's
+      if (const auto v = x.value(node); v && *v != e->var.value()) {
+        return name + ": default " + std::to_string(*v) + ", the simulated drive starts with " +
+               std::to_string(e->var.value());
+      }
+    }
+  }
+  for (const co::OdEntry& e : drive.dictionary().entries()) {
+    if (d.find(e.index, e.sub) == nullptr && !vendors(e.index)) {
+      return object_name(e.index, e.sub) + ": the simulated drive always has it, the EDS does not";
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node,
@@ -141,23 +203,8 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   // uses them), and the simulated drive's own 0x2000/0x2001 stay out of the comparison.
   const bool own = d.settle_drive();
   const auto vendors = [own](std::uint16_t index) { return !own && index >= 0x2000 && index <= 0x5FFF; };
-  c.has_load_position = own && d.has(co::obj::load_position_actual);
-  if (!own && load_at) {
-    const eds::Entry* e = d.find(load_at->index, load_at->sub);
-    const bool placeable = load_at->index == co::obj::load_position_actual ||
-                           (load_at->index > co::obj::communication_loss_periods &&
-                            load_at->index <= co::obj::manufacturer_index_last);
-    if (e == nullptr || !placeable || e->data_type != eds::data_type::i32 ||
-        !e->pdo_mappable || e->access == eds::Access::wo) {
-      r.error = object_name(load_at->index, load_at->sub) +
-                ": the simulated drive serves its load position only in a manufacturer object (0x2000 or "
-                "0x2002..0x5FFF) the EDS describes as a readable, mappable INTEGER32";
-      return r;
-    }
-    c.has_load_position = true;
-    c.load_position_index = load_at->index;
-    c.load_position_sub = load_at->sub;
-  }
+  r.error = place_load_position(d, own, load_at, c);
+  if (!r.error.empty()) return r;
   c.has_communication_cycle_period = d.has(co::obj::communication_cycle_period);
   // CiA 301 asks 0x1006 only of the SYNC producer: a drive without it measures SYNCs against 0x60C2.
   if (!c.has_communication_cycle_period) c.sync_period_us = 0;
@@ -214,48 +261,8 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
               unbindable_entry(*drive, c);
     return r;
   }
-  for (const eds::Entry& x : d.entries()) {
-    if (vendors(x.index)) continue;
-    const co::OdEntry* e = drive->dictionary().find(x.index, x.sub);
-    const std::string name = object_name(x.index, x.sub) + " " + x.name;
-    if (e == nullptr) {
-      r.error = name + ": an object the simulated drive does not implement";
-      return r;
-    }
-    if (x.data_type != static_cast<std::uint16_t>(e->var.type())) {
-      r.error = name + ": data type differs from the simulated drive's";
-      return r;
-    }
-    if (x.access != eds_access(e->access)) {
-      r.error = name + ": AccessType " + eds::to_string(x.access) + ", the simulated drive's is " +
-                eds::to_string(eds_access(e->access));
-      return r;
-    }
-    if (x.pdo_mappable != e->pdo_mappable) {
-      r.error = name + ": PDOMapping differs from the simulated drive's";
-      return r;
-    }
-    if (const hal::canopen::OdBytes* bytes = e->var.bytes(); bytes != nullptr) {
-      const auto text = bytes->view();
-      if (x.default_value != std::string(text.begin(), text.end())) {
-        r.error = name + ": default \"" + x.default_value + "\", the simulated drive serves \"" +
-                  std::string(text.begin(), text.end()) + "\"";
-        return r;
-      }
-    } else if (!(x.index == co::obj::identity && x.sub >= 1 && x.sub <= 3)) {  // the identity: above
-      if (const auto v = x.value(node); v && *v != e->var.value()) {
-        r.error = name + ": default " + std::to_string(*v) + ", the simulated drive starts with " +
-                  std::to_string(e->var.value());
-        return r;
-      }
-    }
-  }
-  for (const co::OdEntry& e : drive->dictionary().entries()) {
-    if (d.find(e.index, e.sub) == nullptr && !vendors(e.index)) {
-      r.error = object_name(e.index, e.sub) + ": the simulated drive always has it, the EDS does not";
-      return r;
-    }
-  }
+  r.error = differs_from_eds(d, *drive, node, vendors);
+  if (!r.error.empty()) return r;
   r.config = c;
   r.texts = std::move(texts);
   return r;
