@@ -239,9 +239,10 @@ const std::vector<OptionSpec> kPlant = {
     real("--pulley-R", "m", "0.18", {1e-4, 100.0}, "belt: platform pulley radius"),
     real("--ratio", "", "0.1", {1e-4, 1e4}, "belt: gear ratio z"),
     {.name = "--mode", .kind = Kind::list, .unit = "rad/s, -, -", .def = "", .help = "modes: one mode "
-     "OMEGA,ZETA,GAIN (required for --plant modes; repeatable)", .range = {0.0, 0.0}, .min_items = 3,
+     "OMEGA,ZETA[,GAIN] (GAIN 1 when left out, as tune's --mode; required for --plant modes; repeatable)",
+     .range = {0.0, 0.0}, .min_items = 2,
      .max_items = 3, .repeatable = true, .max_repeats = kMaxModes,
-     .item_ranges = {{1e-2, 1e6}, {0.0, 1.0, false, true}, {-1e6, 1e6}}, .value_name = "OMEGA,ZETA,GAIN"},
+     .item_ranges = {{1e-2, 1e6}, {0.0, 1.0, false, true}, {-1e6, 1e6}}, .value_name = "OMEGA,ZETA[,GAIN]"},
 };
 
 const std::vector<OptionSpec> kDrive = {

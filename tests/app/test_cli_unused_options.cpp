@@ -208,3 +208,16 @@ TEST(CliUnusedOptions, SimulateReportsTheZetaOnlyWhenTheMoveUsesIt) {
   const auto damped = json_of("simulate --plant sdof --profile scurve-damped --distance 0.1 --time 0.5");
   EXPECT_GT(damped.value("designed_zeta", 0.0), 0.1) << damped.dump();
 }
+
+// --mode has one arity in every command: OMEGA,ZETA[,GAIN], the gain 1 when left out (tune's and
+// the plant's alike): the plant given two numbers is the one given the gain 1.
+TEST(CliModeArity, ThePlantsModeTakesTheGainAsTunesDoes) {
+  const std::string move = " --profile scurve-damped --distance 0.1 --time 0.5 --omega 22 --zeta 0.1";
+  const auto two = json_of("simulate --plant modes --mode 22,0.1" + move);
+  const auto three = json_of("simulate --plant modes --mode 22,0.1,1" + move);
+  ASSERT_EQ(two.value("status", ""), "ok") << two.dump();
+  EXPECT_EQ(two.at("modes"), three.at("modes"));
+  EXPECT_EQ(two.at("residual_amplitude"), three.at("residual_amplitude"));
+  const auto other = json_of("simulate --plant modes --mode 22,0.1,2" + move);
+  EXPECT_NE(two.at("modes"), other.at("modes"));
+}
