@@ -74,6 +74,12 @@ double sampled_line_deviation(const std::vector<const plant::Command*>& cmds, co
 
 // Every number simulate reports; the settling time is null when it never comes (an undamped
 // mode), and the text output says "never".
+// Whether the move (its profile or shaper), or the change of it, designs for the mode's damping:
+// the zeta reported beside omega is then one the move was designed with (scurve's is not).
+bool designs_for_zeta(const core::MoveRequest& req, const OnlineChange* change) {
+  return change != nullptr || core::used_params(req).contains(core::Param::zeta);
+}
+
 Json result_json(const plant::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
                  const plant::SimMetrics& m, const plant::InsensitivityWidth* width, const OnlineChange* change) {
   Json j;
@@ -85,7 +91,7 @@ Json result_json(const plant::ModalPlant& plant, const core::Move<double>& move,
   j["move_duration"] = move.duration();
   if (needs_mode(req)) {
     j["designed_omega"] = req.omega();
-    j["designed_zeta"] = req.zeta();
+    if (designs_for_zeta(req, change)) j["designed_zeta"] = req.zeta();
   }
   // The residual below is the one after the change: the command is the move to `at`, then the blend.
   if (change != nullptr) j["online"] = online_json(*change);
@@ -124,7 +130,11 @@ void print_text(const plant::ModalPlant& plant, const core::Move<double>& move, 
   }
   std::printf("move               %s, distance %.9g, duration %.9g s", core::to_string(move.profile().kind()),
               move.distance(), move.duration());
-  if (needs_mode(req)) std::printf(" (designed for omega %.7g, zeta %.5g)", req.omega(), req.zeta());
+  if (needs_mode(req)) {
+    std::printf(" (designed for omega %.7g", req.omega());
+    if (designs_for_zeta(req, change)) std::printf(", zeta %.5g", req.zeta());
+    std::printf(")");
+  }
   if (change != nullptr) {
     std::printf("\n%-18s at %.9g s: %s %.9g s, at rest on %.9g %s at %.9g s", change->target ? "retarget" : "halt",
                 change->at, choice_name(change->choice), change->blend.duration(), change->blend.end_position(), u,

@@ -27,30 +27,58 @@ bool parse_profile(const ParsedArgs& a, core::MoveRequest& r, RequestError& err)
 }
 
 // What shapes the move besides its distance, limits and modes (shared by every axis of --axes).
-bool parse_shape(const ParsedArgs& a, core::MoveRequest& r, RequestError& err) {
-  if (r.profile == core::ProfileKind::fastest && r.time) {
-    err = {"bad_option", "--time", "--time: --profile fastest chooses its move time itself (the shortest it finds); give --vmax, --amax, --jmax"};
-    return false;
-  }
+void parse_shape(const ParsedArgs& a, core::MoveRequest& r) {
   r.robust = a.real("--robust");
-  if (r.robust && r.profile != core::ProfileKind::fastest) {
-    err = {"bad_option", "--robust", "--robust: only --profile fastest takes it"};
-    return false;
-  }
   r.vtol = a.real_or_default("--vtol");
   if (a.has("--gammas")) {
     const std::vector<double> v = a.list("--gammas");
     r.gamma_count = v.size();  // at most kMaxGammas: the table's item limit
     for (std::size_t i = 0; i < v.size() && i < r.gammas.size(); ++i) r.gammas[i] = v[i];
-  } else if (r.profile == core::ProfileKind::pseudopoly) {
-    err = {"missing_option", "--gammas", "--gammas: required for the pseudopoly profile"};
-    return false;
   }
   if (a.has("--y")) {
     const std::vector<double> v = a.list("--y");
     r.y_fractions = std::array<double, 3>{v[0], v[1], v[2]};
   }
   (void)plant::parse_shaper(a.text("--shaper", "none"), r.shaper);  // the table lists only these names
+}
+
+// The design parameters given on the command line: the move group's rows that name one.
+core::ParamSet given_params(const ParsedArgs& a) {
+  core::ParamSet s;
+  for (const OptionSpec& o : move_options()) {
+    if (o.param && a.has(o.name)) s = s | core::ParamSet{*o.param};
+  }
+  return s;
+}
+
+// Refuses an option that the move planned from `r` would ignore (core's registry says which
+// profiles and shapers use each; plant::check_params_used), before anything is planned. `also_used`:
+// what the command uses besides the planner (a change mid-way, the coordination of axes);
+// `omega_fallback`: the command designs for the plant's fundamental when --omega is not given.
+bool check_used(const ParsedArgs& a, const core::MoveRequest& r, core::ParamSet also_used, bool omega_fallback,
+                RequestError& err) {
+  core::Param unused{};
+  std::string why;
+  if (plant::check_params_used(r, given_params(a), also_used, omega_fallback, unused, why)) return true;
+  const std::string o = std::string{"--"} + core::to_string(unused);
+  err = {"unused_option", o, o + ": " + why};
+  return false;
+}
+
+// A change mid-way (--halt-at, --retarget-at: simulate and stream) leaves the move's design modes
+// at rest, whether or not its profile designs for them: it uses --omega and --zeta.
+core::ParamSet used_by_command(const ParsedArgs& a) {
+  if (a.has("--halt-at") || a.has("--retarget-at")) return {core::Param::omega, core::Param::zeta};
+  return {};
+}
+
+// Pseudopoly without its exponents: named here, where the option is known.
+bool check_required(const core::MoveRequest& r, RequestError& err) {
+  if (core::profile_params(r.profile).contains(core::Param::gammas) && r.gamma_count == 0) {
+    err = {"missing_option", "--gammas",
+           std::string{"--gammas: required for --profile "} + core::to_string(r.profile)};
+    return false;
+  }
   return true;
 }
 
@@ -119,7 +147,11 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
     err = {"bad_option", option, std::string{option} + ": " + message};
     return false;
   }
-  if (!parse_shape(a, r, err)) return false;
+  parse_shape(a, r);
+  if (!check_used(a, r, used_by_command(a), fallback != nullptr && core::needs_mode(r), err) ||
+      !check_required(r, err)) {
+    return false;
+  }
   if (fallback != nullptr && !a.has("--omega") && core::needs_mode(r)) {
     const std::vector<double> zetas = a.reals("--zeta");
     r.set_mode(fallback->omega, zetas.empty() ? fallback->zeta : zetas[0]);
@@ -158,9 +190,21 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
     if (zeta) x.zeta = (*zeta)[i];
   }
   r.base.time = a.real("--time");
-  if (!parse_shape(a, r.base, err)) return false;
+  parse_shape(a, r.base);
+  // The axes' limits and modes are checked as one axis's would be; besides, when the profile and
+  // shaper design for no mode, the coordination shapes each axis for its own mode (ZV, or the
+  // request's shaper: core::plan_axes), so --omega and --zeta are used then.
   core::MoveRequest probe = r.base;
+  probe.vmax = vmax ? std::optional<double>{vmax->front()} : std::nullopt;
+  probe.amax = amax ? std::optional<double>{amax->front()} : std::nullopt;
+  probe.jmax = jmax ? std::optional<double>{jmax->front()} : std::nullopt;
   probe.mode_count = 0;
+  const core::ParamSet coordination =
+      core::needs_mode(probe) ? core::ParamSet{} : core::ParamSet{core::Param::omega, core::Param::zeta};
+  if (!check_used(a, probe, used_by_command(a) | coordination, fallback != nullptr && core::needs_mode(probe), err) ||
+      !check_required(probe, err)) {
+    return false;
+  }
   if (fallback != nullptr) probe.set_mode(fallback->omega);
   if (fallback != nullptr && !omega && core::needs_mode(probe)) {
     for (std::size_t i = 0; i < r.count && i < r.axes.size(); ++i) {

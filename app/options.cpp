@@ -65,6 +65,23 @@ OptionSpec flag(std::string name, std::string help) {
   return {.name = std::move(name), .kind = Kind::flag, .unit = "", .def = "", .help = std::move(help)};
 }
 
+// " (used only by profile A, B; shaper S)", or " (not used by profile C)" when most profiles use
+// design parameter p; "" when every profile does.
+std::string used_by(core::Param p) {
+  std::string not_using;
+  std::size_t users = 0;
+  core::for_each_profile([&](auto kind) {
+    if (core::profile_params(kind.value).contains(p)) {
+      ++users;
+    } else {
+      not_using += (not_using.empty() ? "" : ", ") + std::string{core::to_string(kind.value)};
+    }
+  });
+  if (users == core::kProfileCount) return "";
+  if (2 * users > core::kProfileCount) return " (not used by " + plant::users_text(not_using, "") + ")";
+  return " (used only by " + plant::users_text(plant::profiles_using(p), plant::shapers_using(p)) + ")";
+}
+
 // An option whose default depends on the --timing preset: `o.def` under sim, `drive` under drive.
 OptionSpec timed(OptionSpec o, std::string drive) {
   o.timing_drive = std::move(drive);
@@ -101,7 +118,8 @@ const std::vector<OptionSpec> kMove = [] {
       choice("--profile", "", profile_names(),
              "the motion profile (required); fastest: the shortest of several searched families under the "
              "limits, not a proven optimum (docs/fastest.md: within 0.1 % of an independent optimiser on "
-             "32 of 53 random problems)"),
+             "32 of 53 random problems); an option below that neither it nor --shaper uses is refused "
+             "(each says which use it)"),
       real("--distance", "m or rad", "", plant::move_range::distance, "signed move distance (required)"),
       real("--time", "s", "", plant::move_range::time, "move time of the unshaped profile (or give limits)"),
       real("--vmax", "unit/s", "", plant::move_range::vmax, "velocity limit"),
@@ -114,17 +132,33 @@ const std::vector<OptionSpec> kMove = [] {
        .help = "damping ratio the move is designed for (one per --omega, in order, when several)",
        .range = plant::move_range::zeta, .repeatable = true, .max_repeats = core::kMaxModes},
       real("--robust", "%", "", plant::move_range::robust,
-           "fastest: keep every mode's residual <= 5 % of a step's over omega (1 +- PCT/100)"),
-      {.name = "--gammas", .kind = Kind::list, .unit = "", .def = "", .help = "pseudopoly exponents G1,G2,... "
-       "(required for pseudopoly)", .range = plant::move_range::gamma, .min_items = 1, .max_items = 8,
+           "keep every mode's residual <= 5 % of a step's over omega (1 +- PCT/100)"),
+      {.name = "--gammas", .kind = Kind::list, .unit = "", .def = "", .help = "pseudo-polynomial exponents G1,G2,... "
+       "(required where used)", .range = plant::move_range::gamma, .min_items = 1, .max_items = 8,
        .value_name = "G1,G2,..."},
-      {.name = "--y", .kind = Kind::list, .unit = "", .def = "computed", .help = "ramp-versine fractions "
-       "Y1/L,Y2/L,Y3/L", .range = plant::move_range::y, .min_items = 3, .max_items = 3, .value_name = "Y1,Y2,Y3"},
+      {.name = "--y", .kind = Kind::list, .unit = "", .def = "computed", .help = "fractions Y1/L,Y2/L,Y3/L of the "
+       "ramp + cycloid + versine command, instead of its design for the mode", .range = plant::move_range::y, .min_items = 3, .max_items = 3, .value_name = "Y1,Y2,Y3"},
       choice("--shaper", "none", shaper_names(), "input shaper convolved with the profile"),
-      real("--vtol", "", "0.05", plant::move_range::vtol, "vibration tolerance of the EI shapers (ei, ei2, ei3)"),
+      real("--vtol", "", "0.05", plant::move_range::vtol, "vibration tolerance of the EI shapers"),
   };
+  // The design parameters: each row names the registry's parameter it gives, and its help which
+  // profiles and shapers use it, both from core's registry.
+  for (OptionSpec& o : v) {
+    for (std::size_t i = 0; i < core::kParamCount; ++i) {
+      const auto p = static_cast<core::Param>(i);
+      if (p == core::Param::modes || o.name != std::string{"--"} + core::to_string(p)) continue;
+      o.param = p;
+      o.help += used_by(p);
+    }
+  }
   return v;
 }();
+
+}  // namespace
+
+OptionGroup move_options() { return kMove; }
+
+namespace {
 
 // plan, sample, simulate: the move group whose distance, limits and mode also take one value per
 // axis (--axes N, docs/multi_axis.md), and the coordination's own options.
@@ -205,9 +239,10 @@ const std::vector<OptionSpec> kPlant = {
     real("--pulley-R", "m", "0.18", {1e-4, 100.0}, "belt: platform pulley radius"),
     real("--ratio", "", "0.1", {1e-4, 1e4}, "belt: gear ratio z"),
     {.name = "--mode", .kind = Kind::list, .unit = "rad/s, -, -", .def = "", .help = "modes: one mode "
-     "OMEGA,ZETA,GAIN (required for --plant modes; repeatable)", .range = {0.0, 0.0}, .min_items = 3,
+     "OMEGA,ZETA[,GAIN] (GAIN 1 when left out, as tune's --mode; required for --plant modes; repeatable)",
+     .range = {0.0, 0.0}, .min_items = 2,
      .max_items = 3, .repeatable = true, .max_repeats = kMaxModes,
-     .item_ranges = {{1e-2, 1e6}, {0.0, 1.0, false, true}, {-1e6, 1e6}}, .value_name = "OMEGA,ZETA,GAIN"},
+     .item_ranges = {{1e-2, 1e6}, {0.0, 1.0, false, true}, {-1e6, 1e6}}, .value_name = "OMEGA,ZETA[,GAIN]"},
 };
 
 const std::vector<OptionSpec> kDrive = {

@@ -56,7 +56,9 @@ struct OptionSpec {
   // sim`, the preset in force unless another is given): a drive on a real-time bus, not the
   // simulated drive on a loaded host. Shown in help next to `def`.
   std::string timing_drive{};
-
+  // The move's design parameter this option gives (--time, --zeta, ...): a move whose profile and
+  // shaper do not use it (core's registry) refuses it (move_options.cpp).
+  std::optional<core::Param> param{};
 
   // One line for help: "<help> [unit; default; range]".
   [[nodiscard]] std::string describe() const;
@@ -72,6 +74,10 @@ struct CommandSpec {
   std::vector<std::string> positional_choices{};  // reproduce's experiment
   std::string notes{};               // bounds and remarks printed after the options
 };
+
+// The move group's rows (plan, sample, simulate, stream): the ones with a `param` are the design
+// parameters checked against the profile's and shaper's use of them.
+[[nodiscard]] OptionGroup move_options();
 
 // Every command, in the order `settle --help` lists them.
 [[nodiscard]] std::span<const CommandSpec> commands();

@@ -104,15 +104,15 @@ bool parse_plant(const ParsedArgs& a, plant::ModalPlant& plant, RequestError& er
     st = plant::ModalPlant::make_belt(p, plant);
   } else {  // modes (the table admits no other name)
     std::vector<plant::Mode> modes;
-    for (const std::vector<double>& v : a.lists("--mode")) {  // OMEGA,ZETA,GAIN, each in range
+    for (const std::vector<double>& v : a.lists("--mode")) {  // OMEGA,ZETA[,GAIN], each in range
       plant::Mode md{};
       md.omega = v[0];
       md.zeta = v[1];
-      md.gain = v[2];
+      md.gain = v.size() > 2 ? v[2] : 1.0;  // as tune's --mode
       modes.push_back(md);
     }
     if (modes.empty()) {
-      err = {"missing_option", "--mode", "--mode: OMEGA,ZETA,GAIN required (repeatable) for --plant modes"};
+      err = {"missing_option", "--mode", "--mode: OMEGA,ZETA[,GAIN] required (repeatable) for --plant modes"};
       return false;
     }
     st = plant::ModalPlant::make_modes(modes, 1.0, plant::PlantKind::modes, plant);

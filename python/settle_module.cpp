@@ -117,7 +117,6 @@ core::MoveRequest move_request(const py::kwargs& kw) {
   for (const Optional& o : optional_numbers) {
     if (kw.contains(o.name) && !kw[o.name].is_none()) *o.field = in_range(number(kw[o.name], o.name), o.range, o.name);
   }
-  if (r.robust && r.profile != core::ProfileKind::fastest) bad("robust", "only profile 'fastest' takes it");
   // omega and zeta: a number, or (profile 'fastest') one per mode, as --omega and --zeta repeat.
   constexpr std::size_t kModes = core::kMaxModes;
   const std::vector<double> omegas =
@@ -144,6 +143,15 @@ core::MoveRequest move_request(const py::kwargs& kw) {
     const std::string s = text(kw["shaper"], "shaper");
     if (!plant::parse_shaper(s, r.shaper)) bad("shaper", "unknown shaper '" + s + "' (" + plant::shaper_list() + ")");
   }
+  // A keyword the move would ignore (its profile and shaper do not use it: core's registry) is
+  // refused, as the CLI refuses the option; so is a zeta without an omega.
+  core::ParamSet given;
+  for (std::size_t i = 0; i < core::kParamCount; ++i) {
+    const auto p = static_cast<core::Param>(i);
+    if (kw.contains(core::to_string(p)) && !kw[core::to_string(p)].is_none()) given = given | core::ParamSet{p};
+  }
+  core::Param unused{};
+  if (!plant::check_params_used(r, given, {}, false, unused, message)) bad(core::to_string(unused), message);
   return r;
 }
 

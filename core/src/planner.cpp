@@ -105,13 +105,33 @@ Status checked(const MoveRequest& r) noexcept {
   return validate(r);
 }
 
+// Whether the request carries parameter p (a value that differs from "not given").
+bool carries(const MoveRequest& r, Param p) noexcept {
+  switch (p) {
+    case Param::time: return r.time.has_value();
+    case Param::vmax: return r.vmax.has_value();
+    case Param::amax: return r.amax.has_value();
+    case Param::jmax: return r.jmax.has_value();
+    case Param::omega: return r.has_mode();
+    case Param::zeta: return r.has_mode() && r.zeta() != 0.0;
+    case Param::modes: return r.mode_count > 1;
+    case Param::gammas: return r.gamma_count > 0;
+    case Param::y: return r.y_fractions.has_value();
+    case Param::robust: return r.robust.has_value();
+    case Param::vtol: return r.vtol != MoveRequest{}.vtol;
+  }
+  return false;
+}
+
 }  // namespace
 
-bool needs_mode(const MoveRequest& r) noexcept {
-  bool hook = false;
-  (void)with_profile(r.profile, [&](auto kind) { hook = profile_t<kind.value>::needs_mode(r); });
-  return r.shaper != ShaperKind::none || hook;
+ParamSet used_params(const MoveRequest& r) noexcept {
+  ParamSet own = profile_params(r.profile);
+  if (const ParamOverride o = profile_overrides(r.profile); carries(r, o.given)) own = own - o.unused;
+  return own | shaper_params(r.shaper);
 }
+
+bool needs_mode(const MoveRequest& r) noexcept { return used_params(r).contains(Param::omega); }
 
 Status plan(const MoveRequest& r, Move<double>& out) noexcept {
   const Status st = checked(r);

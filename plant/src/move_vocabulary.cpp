@@ -76,11 +76,60 @@ std::string profile_family(const core::Profile<double>& prof) {
   return out;
 }
 
+std::string profiles_using(core::Param p) {
+  std::string out;
+  core::for_each_profile([&](auto kind) {
+    if (core::profile_params(kind.value).contains(p)) out += (out.empty() ? "" : ", ") + std::string{core::to_string(kind.value)};
+  });
+  return out;
+}
+
+std::string users_text(const std::string& profiles, const std::string& shapers) {
+  const auto named = [](const char* what, const std::string& list) {
+    if (list.empty()) return std::string{};
+    return std::string{what} + (list.find(',') != std::string::npos ? "s " : " ") + list;
+  };
+  return named("profile", profiles) + (profiles.empty() || shapers.empty() ? "" : "; ") + named("shaper", shapers);
+}
+
+std::string shapers_using(core::Param p) {
+  std::string out;
+  for (const ShaperName& s : kShapers) {
+    if (core::shaper_params(s.kind).contains(p)) out += (out.empty() ? "" : ", ") + std::string{s.name};
+  }
+  return out;
+}
+
+bool check_params_used(const core::MoveRequest& r, core::ParamSet given, core::ParamSet also_used, bool omega_fallback,
+                       core::Param& unused, std::string& message) {
+  const core::ParamSet used = core::used_params(r) | also_used;
+  for (std::size_t i = 0; i < core::kParamCount; ++i) {
+    const auto p = static_cast<core::Param>(i);
+    if (!given.contains(p) || used.contains(p)) continue;
+    unused = p;
+    message = std::string{"not used by profile "} + core::to_string(r.profile);
+    const core::ParamOverride o = core::profile_overrides(r.profile);
+    if (given.contains(o.given) && o.unused.contains(p)) message += std::string{" with "} + core::to_string(o.given) + " given";
+    if (r.shaper != core::ShaperKind::none) message += std::string{" and shaper "} + core::to_string(r.shaper);
+    const std::string profiles = profiles_using(p), shapers = shapers_using(p);
+    message += " (used by " + users_text(profiles, shapers) + ")";
+    return false;
+  }
+  if (given.contains(core::Param::zeta) && !given.contains(core::Param::omega) && !omega_fallback) {
+    unused = core::Param::zeta;
+    message = "given without omega, it would be dropped: it is the damping ratio of the mode omega gives; give omega "
+              "too (rad/s)";
+    return false;
+  }
+  return true;
+}
+
 bool set_design_modes(const std::vector<double>& omegas, const std::vector<double>& zetas, core::MoveRequest& r,
                       const char*& option, std::string& message) {
-  if (omegas.size() > 1 && r.profile != core::ProfileKind::fastest) {
+  if (omegas.size() > 1 && !core::profile_params(r.profile).contains(core::Param::modes)) {
     option = "--omega";
-    message = "only profile fastest designs for several modes";
+    message = "given more than once: only profile " + profiles_using(core::Param::modes) +
+              " designs for several modes (profile " + core::to_string(r.profile) + " for one)";
     return false;
   }
   if (omegas.size() > core::kMaxModes) {

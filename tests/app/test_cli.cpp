@@ -240,8 +240,9 @@ TEST(Cli, FastestPlansSeveralModesAndSaysWhichFamilyWon) {
       {"plan --profile fastest --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 20 --omega 30 --zeta 0.1 "
        "--zeta 0.1 --zeta 0.1",
        "--zeta", "bad_option"},
-      {"plan --profile scurve --distance 0.1 --time 1 --omega 20 --robust 10", "--robust", "bad_option"},
-      {"plan --profile fastest --distance 0.1 --time 1 --vmax 1 --amax 20 --jmax 800 --omega 20", "--time", "bad_option"},
+      {"plan --profile scurve --distance 0.1 --time 1 --omega 20 --robust 10", "--robust", "unused_option"},
+      {"plan --profile fastest --distance 0.1 --time 1 --vmax 1 --amax 20 --jmax 800 --omega 20", "--time",
+       "unused_option"},
       {"plan --profile fastest --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 20 --robust 0", "--robust",
        "out_of_range"},
   };

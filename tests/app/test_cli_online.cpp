@@ -99,11 +99,13 @@ namespace {
 // loop's halt()/retarget() + service(), switched in at T, every setpoint applied once in order
 // (the feedback aligns with the offline replay of the changed setpoints), and the continuous
 // reference of the changed command at rest.
-const std::string kStreamMove = "stream --bus loopback --plant sdof --profile scurve --distance 0.1 --time 0.5 "
-                                "--omega 28.284271247461902 --zeta 0.15909902576697318 ";
+// The zeta is the change's: the plain S-curve does not read it (refused without a change).
+const std::string kStreamPlain = "stream --bus loopback --plant sdof --profile scurve --distance 0.1 --time 0.5 "
+                                 "--omega 28.284271247461902 ";
+const std::string kStreamMove = kStreamPlain + "--zeta 0.15909902576697318 ";
 
 TEST(CliOnline, StreamHaltAndRetargetAreSwitchedInByTheLoop) {
-  const auto plain = run_json(kStreamMove);
+  const auto plain = run_json(kStreamPlain);
   for (const char* change : {"--halt-at 0.2", "--retarget-at 0.2:0.03", "--halt-at 0.0004"}) {
     SCOPED_TRACE(change);
     const auto j = run_json(kStreamMove + change);

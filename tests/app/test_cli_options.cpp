@@ -137,7 +137,7 @@ TEST(CliOptions, DuplicatesListsAndUnknownOptions) {
       {"plan --profile pseudopoly --distance 1 --time 1 --gammas 3,,4", "--gammas", "bad_list"},
       {"plan --profile pseudopoly --distance 1 --time 1 --gammas 3,4,5,6,7,8,9,10,11", "--gammas", "bad_list"},
       {"plan --profile ramp-versine --distance 1 --time 1 --omega 20 --y 1,2", "--y", "bad_list"},
-      {kSimulate + "--plant modes --mode 10,0.1", "--mode", "bad_list"},
+      {kSimulate + "--plant modes --mode 10", "--mode", "bad_list"},
       {kPlan + "--distnce 1", "--distnce", "bad_option"},
       {kPlan + "--time", "--time", ""},  // duplicate, or a missing value: --time is named either way
       {"plan --profile poly345 --distance 0.1 --time", "--time", "missing_value"},

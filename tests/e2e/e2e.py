@@ -573,8 +573,9 @@ def online_halt(d):
     where the uninterrupted move leaves one (the sdof plant's mode, which the S-curve does not
     design for, is the one the halt brings to rest)."""
     plant_args = ["--plant", "sdof"]
-    move_args = ["--profile", "scurve", "--distance", "0.1", "--time", "0.5", "--omega", "28.284271247461902",
-                 "--zeta", "0.15909902576697318"]
+    move_args = ["--profile", "scurve", "--distance", "0.1", "--time", "0.5", "--omega", "28.284271247461902"]
+    # The damping the halt's blend designs for: the plain S-curve reads none (settle refuses it there).
+    halt_zeta = ["--zeta", "0.15909902576697318"]
     at, period = 0.2, 1e-3
     k = round(at / period)
     fb_plain = os.path.join(d, "feedback-plain.csv")
@@ -586,7 +587,8 @@ def online_halt(d):
     for scalar in ("double", "fixed"):
         tag = f"halt-{scalar}"
         plant = Plant(d, tag, plant_args, PLANT_TOLERANT)
-        rc, r, fb, dump = stream(d, tag, plant_args, move_args, 1.0, ["--halt-at", str(at), "--scalar", scalar])
+        rc, r, fb, dump = stream(d, tag, plant_args, move_args, 1.0,
+                                 ["--halt-at", str(at), *halt_zeta, "--scalar", scalar])
         pj = plant.stop()
         check(rc == 0 and r["outcome"] == "completed",
               f"{tag}: session completed ({r['outcome']}; drive {r.get('drive_state')} {r.get('drive_failure', '')}"
@@ -599,7 +601,7 @@ def online_halt(d):
         # switch at T the unit suite checks setpoint by setpoint (tests/runtime/test_online_loop.cpp).
         fb_loop = os.path.join(d, f"feedback-{tag}-loopback.csv")
         rl = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--axis-vmax", "1",
-                 "--halt-at", str(at), "--scalar", scalar, "--feedback-log", fb_loop, "--json"])
+                 "--halt-at", str(at), *halt_zeta, "--scalar", scalar, "--feedback-log", fb_loop, "--json"])
         check(rl.returncode == 0, f"{tag}: the same halt on loopback: exit {rl.returncode} {rl.stderr}")
         loop_cmd = [int(row["commanded"]) for row in read_csv(fb_loop) if row["period"] >= 0]
         cmd = [int(row["commanded"]) for row in read_csv(fb) if row["period"] >= 0]
@@ -812,9 +814,9 @@ def axes_halt(d):
     plant_args = ["--plant", "sdof", "--period-us", "1200"]
     distances = [0.1, 0.05, -0.2]
     move_args = ["--axes", "3", "--profile", "scurve", "--distance", ",".join(map(str, distances)), "--time", "0.5",
-                 "--omega", ",".join([w] * 3), "--zeta", ",".join([z] * 3), "--nodes", ",".join(map(str, nodes)),
-                 "--settle-time", "0.5"]
-    halt = ["--halt-at", "0.2137"]
+                 "--omega", ",".join([w] * 3), "--nodes", ",".join(map(str, nodes)), "--settle-time", "0.5"]
+    # The zeta is the halt's blend's: the plain S-curve reads none (settle refuses it there).
+    halt = ["--halt-at", "0.2137", "--zeta", ",".join([z] * 3)]
     plain_dump = os.path.join(d, "axes-plain-loopback.log")
     r = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--candump", plain_dump,
             "--json"], timeout=RUN_TIMEOUT_S)

@@ -225,6 +225,13 @@ class BadArguments(unittest.TestCase):
         self.assertNames("omega", lambda: settle.plan(**fastest, omega=[22.0, float("nan")]))
         self.assertNames("robust", lambda: settle.plan(**good, robust=10.0))
         self.assertNames("robust", lambda: settle.plan(**fastest, omega=22.0, robust=-1.0))
+        # A keyword the move would ignore is refused as the CLI refuses the option: scurve reads no
+        # zeta (scurve-damped does), poly345 no gammas, vtol only the EI shapers; zeta needs omega.
+        self.assertNames("zeta", lambda: settle.plan(**good, zeta=0.1))
+        settle.plan(**dict(good, profile="scurve-damped"), zeta=0.1)
+        self.assertNames("gammas", lambda: settle.plan(profile="poly345", distance=0.1, time=0.5, gammas=[3, 5, 7]))
+        self.assertNames("vtol", lambda: settle.plan(**good, shaper="zv", vtol=0.1))
+        self.assertNames("zeta", lambda: settle.plan(profile="scurve-damped", distance=0.1, time=0.5, zeta=0.1))
 
     def test_ranges_and_sizes_are_the_clis(self):
         """The CLI's option ranges and size bounds hold for the keywords too (one table,

@@ -9,6 +9,7 @@
 #include <optional>
 #include <span>
 
+#include "settle/core/design_params.hpp"
 #include "settle/core/pseudo_poly.hpp"
 #include "settle/core/shaper.hpp"
 

@@ -15,8 +15,12 @@ namespace settle::core {
 // for further modes (multi_axis.hpp). Peaks and limits are the result's.
 [[nodiscard]] Status plan(const MoveRequest& req, const Shaper<double>& extra, Move<double>& out) noexcept;
 
-// Whether planning `req` uses the mode (omega, zeta): a shaper does, and so does a profile whose
-// hook designs for it. plan() then requires a positive omega.
+// The parameters planning `req` reads beyond its distance (design_params.hpp): its profile's (less
+// what the profile's override drops, e.g. ramp-versine's mode given its fractions) and its shaper's.
+// A parameter the request carries outside this set is ignored by plan(): callers refuse it.
+[[nodiscard]] ParamSet used_params(const MoveRequest& req) noexcept;
+// Whether planning `req` uses the mode (used_params holds omega): a shaper does, and so does a
+// profile whose hook designs for it. plan() then requires a positive omega.
 [[nodiscard]] bool needs_mode(const MoveRequest& req) noexcept;
 
 // Peaks of a shaped move, computed from its evaluation (a dense scan refined around each

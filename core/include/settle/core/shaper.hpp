@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 
+#include "settle/core/design_params.hpp"
 #include "settle/core/status.hpp"
 
 namespace settle::core {
@@ -69,5 +70,21 @@ inline constexpr std::size_t kMaxJointModes = 4;
 [[nodiscard]] double shaper_residual(const Shaper<double>& s, double omega, double zeta) noexcept;
 
 [[nodiscard]] const char* to_string(ShaperKind k) noexcept;
+
+// What designing shaper k from a request uses (design_shaper): the mode (omega, zeta), and the EI
+// shapers their tolerance (vtol). None for `none`, and for `custom` (its impulses are the user's).
+[[nodiscard]] constexpr ParamSet shaper_params(ShaperKind k) noexcept {
+  switch (k) {
+    case ShaperKind::zv:
+    case ShaperKind::zvd:
+    case ShaperKind::zvdd: return {Param::omega, Param::zeta};
+    case ShaperKind::ei:
+    case ShaperKind::ei2:
+    case ShaperKind::ei3: return {Param::omega, Param::zeta, Param::vtol};
+    case ShaperKind::none:
+    case ShaperKind::custom: break;
+  }
+  return {};
+}
 
 }  // namespace settle::core

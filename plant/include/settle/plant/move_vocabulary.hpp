@@ -74,6 +74,22 @@ struct ShaperName {
 [[nodiscard]] bool set_design_modes(const std::vector<double>& omegas, const std::vector<double>& zetas,
                                     core::MoveRequest& r, const char*& option, std::string& message);
 
+// The profiles, and the shapers, that use parameter p (core's registry: each profile's `params`,
+// core::shaper_params): "scurve-damped, ramp-versine, fastest", "" when none.
+[[nodiscard]] std::string profiles_using(core::Param p);
+[[nodiscard]] std::string shapers_using(core::Param p);
+// "profiles A, B; shaper S" from the two lists (either may be empty).
+[[nodiscard]] std::string users_text(const std::string& profiles, const std::string& shapers);
+
+// Refuses a parameter the caller was given (`given`) that the move planned from `r` would ignore:
+// one its profile and shaper do not use (core::used_params) and the caller does not use itself
+// (`also_used`: a change of the move mid-way keeps its mode at rest, say). Also a zeta given without
+// an omega when `omega_fallback` is false (no default mode to pair it with). False, with the
+// parameter and what is wrong (without the parameter's name: "not used by profile scurve (used
+// by ...)"), at the first such parameter in core::Param order.
+[[nodiscard]] bool check_params_used(const core::MoveRequest& r, core::ParamSet given, core::ParamSet also_used,
+                                     bool omega_fallback, core::Param& unused, std::string& message);
+
 // The option a planner status is about ("--time", "--vmax", ...), so that the user is told what
 // to change.
 [[nodiscard]] const char* option_of(core::Status s, const core::MoveRequest& r);

@@ -179,7 +179,9 @@ struct FastestProfile {
       "families; not a proven optimum)";
   template <typename T>
   using Shape = Fastest<T>;
-  [[nodiscard]] static bool needs_mode(const MoveRequest&) noexcept { return true; }
+  // No time: it chooses the shortest itself.
+  static constexpr ParamSet params{Param::vmax,  Param::amax,  Param::jmax,  Param::omega,
+                                   Param::zeta, Param::modes, Param::robust};
   [[nodiscard]] static Status plan(const MoveRequest& r, FastestParams& out, Peaks<double>& pk) noexcept {
     return plan_fastest(r, out, pk);
   }

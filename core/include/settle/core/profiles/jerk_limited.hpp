@@ -16,7 +16,7 @@ struct JerkLimitedProfile {
   static constexpr const char* summary = "classic 7-phase jerk-limited S-curve (needs vmax, amax, jmax)";
   template <typename T>
   using Shape = PiecewiseJerk<T>;
-  [[nodiscard]] static bool needs_mode(const MoveRequest&) noexcept { return false; }
+  static constexpr ParamSet params{Param::time, Param::vmax, Param::amax, Param::jmax};
   [[nodiscard]] static Status plan(const MoveRequest& r, PiecewiseJerkParams& out, Peaks<double>& pk) noexcept {
     if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
     const double d = std::fabs(r.distance);

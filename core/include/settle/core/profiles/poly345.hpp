@@ -10,7 +10,8 @@ struct Poly345Profile {
   static constexpr const char* summary = "3-4-5 polynomial (pseudopoly with gammas 3, 4, 5)";
   template <typename T>
   using Shape = PseudoPoly<T>;
-  [[nodiscard]] static bool needs_mode(const MoveRequest&) noexcept { return false; }
+  // Its exponents are fixed: no gammas.
+  static constexpr ParamSet params{Param::time, Param::vmax, Param::amax, Param::jmax};
   [[nodiscard]] static Status plan(const MoveRequest& r, PseudoPolyParams& out, Peaks<double>& pk) noexcept {
     static constexpr double k345[3] = {3.0, 4.0, 5.0};
     return detail::plan_pseudopoly(r, k345, 3, out, pk);

@@ -47,7 +47,7 @@ struct PseudopolyProfile {
   static constexpr const char* summary = "pseudo-polynomial with the exponents of --gammas (seed 004)";
   template <typename T>
   using Shape = PseudoPoly<T>;
-  [[nodiscard]] static bool needs_mode(const MoveRequest&) noexcept { return false; }
+  static constexpr ParamSet params{Param::time, Param::vmax, Param::amax, Param::jmax, Param::gammas};
   [[nodiscard]] static Status plan(const MoveRequest& r, PseudoPolyParams& out, Peaks<double>& pk) noexcept {
     return detail::plan_pseudopoly(r, r.gammas.data(), r.gamma_count, out, pk);
   }

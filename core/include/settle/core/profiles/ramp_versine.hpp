@@ -15,7 +15,10 @@ struct RampVersineProfile {
   static constexpr const char* summary = "ramp + cycloid + versine position command (seeds 001/002)";
   template <typename T>
   using Shape = RampVersine<T>;
-  [[nodiscard]] static bool needs_mode(const MoveRequest& r) noexcept { return !r.y_fractions; }
+  // Only vmax of the limits: its velocity steps have no finite acceleration or jerk. With its
+  // fractions given (y) it designs for no mode.
+  static constexpr ParamSet params{Param::time, Param::vmax, Param::omega, Param::zeta, Param::y};
+  static constexpr ParamOverride overrides{Param::y, {Param::omega, Param::zeta}};
   [[nodiscard]] static Status plan(const MoveRequest& r, RampVersineParams& out, Peaks<double>& pk) noexcept {
     const double* fractions = r.y_fractions ? r.y_fractions->data() : nullptr;
     if (fractions != nullptr && !(std::fabs(fractions[0] + fractions[1] + fractions[2] - 1.0) <= 1e-9)) {

@@ -117,6 +117,27 @@ inline constexpr const char* kProfileSummaries[] = {
 #undef SETTLE_PROFILE_SUMMARY
 };
 
+namespace detail {
+template <typename P>
+constexpr ParamOverride overrides_of() noexcept {
+  if constexpr (requires { P::overrides; }) {
+    return P::overrides;
+  } else {
+    return {};
+  }
+}
+}  // namespace detail
+inline constexpr ParamSet kProfileParams[] = {
+#define SETTLE_PROFILE_PARAMS(id, Descriptor) Descriptor::params,
+    SETTLE_CORE_PROFILES(SETTLE_PROFILE_PARAMS)
+#undef SETTLE_PROFILE_PARAMS
+};
+inline constexpr ParamOverride kProfileOverrides[] = {
+#define SETTLE_PROFILE_OVERRIDES(id, Descriptor) detail::overrides_of<Descriptor>(),
+    SETTLE_CORE_PROFILES(SETTLE_PROFILE_OVERRIDES)
+#undef SETTLE_PROFILE_OVERRIDES
+};
+
 // Every profile's name, in registry order (what the CLI's --profile and Python's profile= accept).
 [[nodiscard]] constexpr std::span<const char* const> profile_names() noexcept { return kProfileNames; }
 [[nodiscard]] constexpr bool is_registered(ProfileKind k) noexcept {
@@ -129,6 +150,15 @@ inline constexpr const char* kProfileSummaries[] = {
 // One line on what k is, for help texts ("" for an unregistered value).
 [[nodiscard]] constexpr const char* summary(ProfileKind k) noexcept {
   return is_registered(k) ? kProfileSummaries[static_cast<std::size_t>(k)] : "";
+}
+// Every parameter k's hook may read (its descriptor's `params`; empty for an unregistered value).
+[[nodiscard]] constexpr ParamSet profile_params(ProfileKind k) noexcept {
+  return is_registered(k) ? kProfileParams[static_cast<std::size_t>(k)] : ParamSet{};
+}
+// What k's hook does not read when a request carries a parameter (its descriptor's `overrides`:
+// ramp-versine's mode, given its fractions); one that drops nothing for the other profiles.
+[[nodiscard]] constexpr ParamOverride profile_overrides(ProfileKind k) noexcept {
+  return is_registered(k) ? kProfileOverrides[static_cast<std::size_t>(k)] : ParamOverride{};
 }
 // Parses a profile's name. Returns false for an unknown name and leaves `out` untouched.
 [[nodiscard]] inline bool parse_profile_kind(const char* name, ProfileKind& out) noexcept {

@@ -38,8 +38,9 @@ struct ScurveProfile {
   static constexpr const char* summary = "ramp-cycloid S-curve, vibration-free for an undamped mode (seed 000)";
   template <typename T>
   using Shape = RampCycloid<T>;
-  // Whether the hook reads the mode (omega): plan() then requires a positive one.
-  [[nodiscard]] static bool needs_mode(const MoveRequest&) noexcept { return true; }
+  // What the hook reads besides the distance (design_params.hpp): a mode it reads (omega) is
+  // required by plan(); a limit is met, or with a time checked. zeta is not read: the undamped design.
+  static constexpr ParamSet params{Param::time, Param::vmax, Param::amax, Param::jmax, Param::omega};
   [[nodiscard]] static Status plan(const MoveRequest& r, RampCycloidParams& out, Peaks<double>& pk) noexcept {
     return detail::plan_scurve(r, false, out, pk);
   }

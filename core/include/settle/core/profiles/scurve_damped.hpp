@@ -11,7 +11,7 @@ struct ScurveDampedProfile {
   static constexpr const char* summary = "the S-curve made exact for a damped mode (versine term; Settle's)";
   template <typename T>
   using Shape = RampCycloid<T>;
-  [[nodiscard]] static bool needs_mode(const MoveRequest&) noexcept { return true; }
+  static constexpr ParamSet params{Param::time, Param::vmax, Param::amax, Param::jmax, Param::omega, Param::zeta};
   [[nodiscard]] static Status plan(const MoveRequest& r, RampCycloidParams& out, Peaks<double>& pk) noexcept {
     return detail::plan_scurve(r, true, out, pk);
   }

@@ -17,7 +17,8 @@ struct TrapezoidProfile {
   static constexpr const char* summary = "trapezoidal velocity (acceleration steps)";
   template <typename T>
   using Shape = PiecewiseJerk<T>;
-  [[nodiscard]] static bool needs_mode(const MoveRequest&) noexcept { return false; }
+  // No jmax: its acceleration steps have no finite jerk to keep within one.
+  static constexpr ParamSet params{Param::time, Param::vmax, Param::amax};
   [[nodiscard]] static Status plan(const MoveRequest& r, PiecewiseJerkParams& out, Peaks<double>& pk) noexcept {
     const double d = std::fabs(r.distance);
     PiecewiseJerkParams p{};
