@@ -429,28 +429,33 @@ const std::string kDriveNotes =
     "transfer (the CiA 301 abort code and its meaning are printed), or (write) the value reads back different.";
 
 const std::vector<CommandSpec> kCommands = {
-    {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "", .groups = {kMoveAxes, kAxes, kOutput}},
+    {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "", .groups = {kMoveAxes, kAxes, kOutput},
+     .example = "settle plan --profile scurve --distance 0.1 --time 0.5 --omega 22"},
     {.name = "sample",
      .summary = "plan a move and print t,position,velocity,acceleration,jerk every --dt (CSV, or --json)",
      .usage = "",
      .groups = {kMoveAxes, kAxes, kPlanFrom, kSample, kOutput},
-     .notes = "Bounds: at most 2e6 samples (move duration / --dt); the move at most 3600 s."},
+     .notes = "Bounds: at most 2e6 samples (move duration / --dt); the move at most 3600 s.",
+     .example = "settle sample --profile scurve --distance 0.1 --time 0.5 --omega 22 --dt 0.001"},
     {.name = "simulate",
      .summary = "run a move on a plant (sdof, beam, belt, modes): residual, PRV, energy",
      .usage = "",
      .groups = {kMoveAxes, kAxes, kPlant, kSimulate, kOnline, kOutput},
      .notes = "Bounds: move + tail at most 3600 s; grid steps ((move + tail) / --dt) x modes at most 2e6; with --csv "
-              "at most 1e6 rows; at most 64 --mode."},
+              "at most 1e6 rows; at most 64 --mode.",
+     .example = "settle simulate --plant beam --profile scurve --distance 0.07 --time 0.228 --omega 22.05"},
     {.name = "reproduce",
      .summary = "rerun a paper's experiment (000, 001, 004) as tables, CSV and plots",
      .usage = "000|001|004",
      .groups = {kReproduce, kOutput},
-     .positional_choices = {"000", "001", "004"}},
+     .positional_choices = {"000", "001", "004"},
+     .example = "settle reproduce 004 --out figures"},
     {.name = "plant",
      .summary = "run the simulated CiA 402 drive with a plant behind it on a CAN bus",
      .usage = "",
      .groups = {kPlantNode, kPlant, kDrive, kLoadNoise, kOutput},
-     .notes = "Exit 1 when the bus cannot be opened or the drive faulted."},
+     .notes = "Exit 1 when the bus cannot be opened or the drive faulted.",
+     .example = "settle plant --bus vcan0 --plant modes --mode 25,0.02,1 --mode 70,0.05,4"},
     {.name = "stream",
      .summary = "stream a move to a drive over CAN and measure the residual vibration",
      .usage = "",
@@ -459,7 +464,9 @@ const std::vector<CommandSpec> kCommands = {
               "setpoints must fit in 32-bit counts. With --axes N: nodes 1..N (or --nodes), every axis on its own "
               "copy of the plant options' plant, all started on the same SYNC; not with --node or --plan-from; "
               "--halt-at and --retarget-at change every axis in the same period; --log and --feedback-log are axis 1's. Exit 1 when the bus cannot be "
-              "opened or the move did not complete."},
+              "opened or the move did not complete.",
+     .example = "settle stream --bus loopback --plant beam --profile scurve --distance 0.07 --time 0.228 "
+                "--omega 22.05 --axis-vmax 1"},
     {.name = "tune",
      .summary = "the fastest plan whose residual stays within --residual-max over the modes' uncertainty band",
      .usage = "",
@@ -468,7 +475,8 @@ const std::vector<CommandSpec> kCommands = {
               "is tried alone and with ZV, ZVD, EI and the two- and three-hump EI composed over the modes, designed at the nominal modes and "
               "retuned within the band (docs/tuning.md). Bounds: at most 4 modes; a search too fine to bound "
               "(omega_hi x move duration too large) is refused (too_much_work). No plan within the bound: exit 2, "
-              "no_feasible_plan."},
+              "no_feasible_plan.",
+     .example = "settle tune --mode 12.566,0.03 --uncertainty 10 --distance 0.1 --time 0.5"},
     {.name = "export",
      .summary = "print a plan file's move as a C++ header of constant tables that firmware streams without the planner",
      .usage = "",
@@ -477,7 +485,8 @@ const std::vector<CommandSpec> kCommands = {
               "defines, in namespace --name, kPlan and Stream: Stream{kPlan, origin}.next(last) gives one target "
               "in counts per tick; with --json the header is the \"header\" string of one JSON object. Bounds: the "
               "move at most 2^30 periods, its distance within 32-bit counts. Exit 1 when the header cannot be "
-              "written."},
+              "written.",
+     .example = "settle export --plan-from tune.json --scalar float --name pick_move"},
     {.name = "identify",
      .summary = "excite the axis through the loop and the bus, and estimate the machine's modes from the drive's feedback",
      .usage = "",
@@ -487,22 +496,26 @@ const std::vector<CommandSpec> kCommands = {
               "samples (2 min at --period-us 1000), and it must fit 32-bit counts. The plant options describe "
               "the simulated drive's machine (--bus loopback); the estimate uses only the drive's frames. "
               "Exit 1 when the drive never enables, no load-side feedback is mapped, the feedback is incomplete, or "
-              "the response is too small to fit (noise-dominated)."},
+              "the response is too small to fit (noise-dominated).",
+     .example = "settle identify --bus loopback --plant modes --mode 25,0.02,1 --mode 70,0.05,4"},
     {.name = "drive info",
      .summary = "read a drive's identity, strings and PDO configuration over SDO",
      .usage = "",
      .groups = {kDriveBus, kDriveNodeId, kOutput},
-     .notes = kDriveNotes},
+     .notes = kDriveNotes,
+     .example = "settle drive info --bus loopback"},
     {.name = "drive read",
      .summary = "read one object of a drive's dictionary over SDO",
      .usage = "",
      .groups = {kDriveBus, kDriveNodeId, kDriveObject, kOutput},
-     .notes = kDriveNotes},
+     .notes = kDriveNotes,
+     .example = "settle drive read --bus loopback --index 0x6041"},
     {.name = "drive write",
      .summary = "write one object of a drive's dictionary over SDO, then read it back",
      .usage = "",
      .groups = {kDriveBus, kDriveNodeId, kDriveObject, kDriveValue, kOutput},
-     .notes = kDriveNotes},
+     .notes = kDriveNotes,
+     .example = "settle drive write --bus loopback --index 0x6065 --value 10000"},
     {.name = "drive config",
      .summary = "configure and verify what streaming needs, from the drive's EDS (--eds), and print what changed",
      .usage = "",
@@ -510,19 +523,22 @@ const std::vector<CommandSpec> kCommands = {
      .notes = "Runs the master's start-up: device type and identity checked, mode, periods, heartbeat and PDO "
               "mapping written, each write read back; the drive is left pre-operational. Exit 1 when the drive "
               "cannot stream (the object is named), does not answer, aborts, or a written value reads back "
-              "different."},
+              "different.",
+     .example = "settle drive config --bus loopback --eds settle_drive.eds"},
     {.name = "drive scan",
      .summary = "list the node ids 1..127 that answer an SDO read of 0x1000, with their device types",
      .usage = "",
      .groups = {kDriveBus, kOutput},
      .notes = "Asks 16 nodes at a time, each batch waiting at most --timeout-ms; with --bus loopback the simulated "
-              "drive is node 1. Exit 1 when the bus cannot be opened."},
+              "drive is node 1. Exit 1 when the bus cannot be opened.",
+     .example = "settle drive scan --bus loopback"},
     {.name = "demo",
      .summary = "stream every paper scenario to the simulated drive and verify the machine ends at rest",
      .usage = "",
      .groups = {kDemo, kOutput},
      .notes = "Runs settle plant and settle stream as processes (tools/demo brings vcan0 up first). Exit 1 when the "
-              "bus cannot be opened or a scenario did not complete."},
+              "bus cannot be opened or a scenario did not complete.",
+     .example = "settle demo --bus vcan0 --out demo-out"},
 };
 
 const OptionSpec kHelp = flag("--help", "print this help and exit");
@@ -944,22 +960,78 @@ std::string nearest_option(const CommandSpec& c, std::string_view given) {
   return best_d <= std::max<std::size_t>(2, given.size() / 3) ? best : std::string{};
 }
 
+// `text` broken at spaces into lines of at most `width` columns (a word longer than that stands
+// alone), joined by "\n" + `indent`.
+std::string wrap(std::string_view text, std::size_t width, std::string_view indent = "") {
+  std::string out;
+  std::size_t line = 0;
+  while (!text.empty()) {
+    const std::size_t space = text.find(' ');
+    const std::string_view word = text.substr(0, space);
+    text = space == std::string_view::npos ? std::string_view{} : text.substr(space + 1);
+    if (word.empty()) continue;
+    if (line > 0 && line + 1 + word.size() > width) {
+      out += "\n";
+      out += indent;
+      line = indent.size();
+    } else if (line > 0) {
+      out += ' ';
+      ++line;
+    }
+    out += word;
+    line += word.size();
+  }
+  return out;
+}
+
+// The heading of each option group in --help, so that a command's options read by topic.
+std::string group_title(const OptionGroup& g) {
+  const std::pair<const std::vector<OptionSpec>*, const char*> titles[] = {
+      {&kMoveAxes, "Motion"},         {&kTuneMove, "Motion"},       {&kAxes, "Several axes"},
+      {&kPlanFrom, "Plan file"},      {&kSample, "Samples"},        {&kSimulate, "Simulation"},
+      {&kOnline, "Halt and retarget"}, {&kPlant, "Plant (the simulated machine)"},
+      {&kDrive, "Drive (period, scales, model)"},                    {&kLoadNoise, "Load feedback noise"},
+      {&kStream, "Bus and loop"},     {&kIdentifyLoop, "Bus and loop"}, {&kIdentify, "Excitation and estimate"},
+      {&kPlantNode, "Bus and drive node"}, {&kTune, "Tuning"},       {&kExport, "Export"},
+      {&kDriveBus, "Bus"},            {&kDriveNodeId, "Node"},      {&kDriveObject, "Object"},
+      {&kDriveValue, "Value"},        {&kReproduce, "Experiment"},  {&kDemo, "Demo"},
+      {&kOutput, "Output"}};
+  for (const auto& [group, title] : titles) {
+    if (group->data() == g.data()) return title;
+  }
+  return "Options";
+}
+
 std::string command_help(const CommandSpec& c) {
-  CLI::App app{c.summary, "settle " + c.name};
+  // CLI11 lays the options out in a column kColumn wide and indents a description's further lines
+  // to it; the descriptions are wrapped here so that no line passes kHelpColumns.
+  constexpr std::size_t kColumn = 34;
+  CLI::App app{wrap(c.summary, kHelpColumns), "settle " + c.name};
   app.set_help_flag("-h,--help", kHelp.help);
   std::string dummy;
   for (const OptionGroup& g : c.groups) {
+    const std::string title = group_title(g);
     for (const OptionSpec& o : g) {
+      const std::string text = wrap(o.describe(), kHelpColumns - kColumn);
       if (o.kind == Kind::flag) {
-        app.add_flag(o.name)->description(o.describe());
+        app.add_flag(o.name)->description(text)->group(title);
       } else {
-        app.add_option(o.name, dummy, o.describe())->type_name(value_name(o));
+        app.add_option(o.name, dummy, text)->type_name(value_name(o))->group(title);
       }
     }
   }
   if (!c.positional_choices.empty()) app.add_option("experiment", dummy, "the experiment: " + c.usage)->required();
-  app.footer(c.notes);
-  app.get_formatter()->column_width(34);
+  std::string footer = wrap(c.notes, kHelpColumns);
+  if (!c.example.empty()) {
+    // A long example continues with a backslash, so that it still pastes into a shell as one line.
+    std::string example = wrap(c.example, kHelpColumns - 6, "      ");
+    for (std::size_t at = example.find('\n'); at != std::string::npos; at = example.find('\n', at + 3)) {
+      example.replace(at, 1, " \\\n");
+    }
+    footer += "\n\nExample:\n  " + example;
+  }
+  app.footer(footer);
+  app.get_formatter()->column_width(kColumn);
   return app.help();
 }
 

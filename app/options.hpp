@@ -73,7 +73,11 @@ struct CommandSpec {
   std::vector<OptionGroup> groups;   // in help order
   std::vector<std::string> positional_choices{};  // reproduce's experiment
   std::string notes{};               // bounds and remarks printed after the options
+  std::string example{};             // one command line a user can type (help's "Example:")
 };
+
+// --help's layout: no line wider than this many columns.
+inline constexpr std::size_t kHelpColumns = 100;
 
 // The move group's rows (plan, sample, simulate, stream): the ones with a `param` are the design
 // parameters checked against the profile's and shaper's use of them.

@@ -83,4 +83,30 @@ inline CliResult run_cli(const std::string& args) {
   return run_cli_argv(v);
 }
 
+// Help text with every run of white space (line breaks of wrapped descriptions and notes, and the
+// indentation after them) as one space, so that a phrase is found whatever the wrapping.
+inline std::string collapse_whitespace(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    const bool space = c == ' ' || c == '\n' || c == '\t';
+    if (!space) {
+      out += c;
+    } else if (!out.empty() && out.back() != ' ') {
+      out += ' ';
+    }
+  }
+  return out;
+}
+
+// One option's entry in --help: its line and the wrapped lines under it, collapsed to one line.
+inline std::string help_entry(const std::string& help, const std::string& option) {
+  std::size_t at = help.find("\n  " + option + " ");
+  if (at == std::string::npos) at = help.find("\n  -h," + option);
+  if (at == std::string::npos) return {};
+  std::size_t end = at + 1;
+  // Further lines of the entry are indented past the option column (more than two spaces).
+  while ((end = help.find('\n', end)) != std::string::npos && help.compare(end + 1, 3, "   ") == 0) ++end;
+  return collapse_whitespace(help.substr(at + 1, (end == std::string::npos ? help.size() : end) - at - 1));
+}
+
 }  // namespace settle::test

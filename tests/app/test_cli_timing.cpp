@@ -110,11 +110,13 @@ TEST(Timing, HelpShowsBothPresetsAndWhatEachSets) {
        {"default 2000 (--timing drive: 500)", "default 5000 (--timing drive: 1000)",
         "default 250 (--timing drive: 10)", "--heartbeat-ms 2000, --sdo-timeout-ms 5000, --feedback-timeout-periods 250",
         "--heartbeat-ms 500, --sdo-timeout-ms 1000, --feedback-timeout-periods 10", "default sim"}) {
-    EXPECT_NE(h.stdout_text.find(want), std::string::npos) << want << "\n" << h.stdout_text;
+    EXPECT_NE(settle::test::collapse_whitespace(h.stdout_text).find(want), std::string::npos) << want << "\n"
+                                                                                              << h.stdout_text;
   }
   const CliResult p = run_cli_argv({"plant", "--help"});
-  EXPECT_NE(p.stdout_text.find("default 250 (--timing drive: 3)"), std::string::npos) << p.stdout_text;
-  EXPECT_NE(p.stdout_text.find("(--sync-loss-periods 250)"), std::string::npos) << p.stdout_text;
+  const std::string plant_help = settle::test::collapse_whitespace(p.stdout_text);
+  EXPECT_NE(plant_help.find("default 250 (--timing drive: 3)"), std::string::npos) << p.stdout_text;
+  EXPECT_NE(plant_help.find("(--sync-loss-periods 250)"), std::string::npos) << p.stdout_text;
 }
 
 // What settle stream used, from its JSON: the preset's values, or the option given.
