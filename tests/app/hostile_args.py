@@ -137,7 +137,8 @@ IDENTIFY_FAILURES = re.compile(r"^settle identify: .+ \[(" + "|".join(sorted(IDE
 
 SANITIZER = re.compile(r"AddressSanitizer|LeakSanitizer|UndefinedBehaviorSanitizer|runtime error:|MemorySanitizer")
 NON_FINITE = re.compile(r"(?i)(?<![a-z])-?(nan|inf|infinity)(?![a-z])")
-OPTION_LINE = re.compile(r"^\s+(?:-h,)?(--[A-Za-z][A-Za-z0-9-]*)(?:\s+(\S+))?")
+# An option's own line starts two spaces in; its wrapped description lines further in.
+OPTION_LINE = re.compile(r"^  (?:-h,)?(--[A-Za-z][A-Za-z0-9-]*)(?:\s+(\S+))?")
 
 
 def help_options(settle, command):
