@@ -393,7 +393,7 @@ int cmd_simulate(int argc, char** argv) {
   std::optional<OnlineChange> change;
   if (!parse_online_change(args, req, move, &plant, 0.0, change, err)) return report_bad_request(err, json);
   const double cmd_duration = change ? change->switch_at + change->blend.duration() : move.duration();
-  // Sizes, before anything is allocated: the grid over the move, and with --csv the rows of the
+  // Sizes, before anything is allocated: the grid over the move, and with --csv or --png the rows of the
   // history (move + tail, the tail defaulting to 3 periods of the fundamental as sim does).
   const double tail = opt.record ? (opt.tail >= 0.0 ? opt.tail : 3.0 * 2.0 * M_PI / plant.fundamental().omega) : 0.0;
   if (cmd_duration + tail > kMaxSeconds) {
@@ -408,7 +408,7 @@ int cmd_simulate(int argc, char** argv) {
     return report_bad_request({"too_many_samples", "--dt",
                                "--dt: " + format_number(steps) + " grid steps x " +
                                    format_number(static_cast<double>(plant.modes().size())) +
-                                   " modes; at most 2e6 (and 1e6 rows with --csv)"},
+                                   " modes; at most 2e6 (and 1e6 rows with --csv or --png)"},
                               json);
   }
 
