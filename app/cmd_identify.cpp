@@ -203,7 +203,7 @@ std::string identify_document(const commission::IdentifyRunSpec& spec, const com
   j["excitation"] = {{"profile", core::to_string(mv.profile().kind())},
                      {"distance", mv.distance()},
                      {"round_trips", commission::train_round_trips(mv)},
-                     {"move_time", mv.duration()},
+                     {"duration", mv.duration()},
                      {"peak_velocity", mv.peaks().v},
                      {"peak_acceleration", mv.peaks().a},
                      {"peak_jerk", mv.peaks().j},

@@ -156,7 +156,7 @@ int run_001(bool json, const std::string* out) {
            {"zeta", r.zeta},
            {"residual_at", r.residual_at},
            {"normalised_by", "distance"},
-           {"move_time", papers::kTaus001[0]},
+           {"tau", papers::kTaus001[0]},
            {"shaped_base_move", "ramp"}};
     Json cases = Json::array();
     for (const auto& c : r.cases) {
@@ -172,7 +172,7 @@ int run_001(bool json, const std::string* out) {
       grids.push_back(Json{{"method", g.method},
                            {"nominal", g.nominal},
                            {"worst", g.worst},
-                           {"move_time", g.move_time},
+                           {"duration", g.duration},
                            {"residual_at", r.residual_at},
                            {"normalised_by", "distance"}});
     }
@@ -204,7 +204,7 @@ int run_001(bool json, const std::string* out) {
                 papers::kTaus001[0], r.residual_at);
     std::printf("%-16s %-12s %-14s %-12s\n", "method", "ends (s)", "nominal", "worst on grid");
     for (const auto& g : r.grids) {
-      std::printf("%-16s %-12.4f %-14.3e %-12.4f\n", g.method.c_str(), g.move_time, g.nominal, g.worst);
+      std::printf("%-16s %-12.4f %-14.3e %-12.4f\n", g.method.c_str(), g.duration, g.nominal, g.worst);
     }
   }
   std::printf("\nTextbook insensitivity widths: a step shaped by ZV, ZVD, EI on an undamped mode (true/designed\n"

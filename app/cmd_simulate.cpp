@@ -88,7 +88,7 @@ Json result_json(const plant::ModalPlant& plant, const core::Move<double>& move,
   j["units"] = units(plant.kind());
   j["profile"] = core::to_string(move.profile().kind());
   j["distance"] = move.distance();
-  j["move_duration"] = move.duration();
+  j["duration"] = move.duration();
   if (needs_mode(req)) {
     j["designed_omega"] = req.omega();
     if (designs_for_zeta(req, change)) j["designed_zeta"] = req.zeta();
@@ -300,7 +300,7 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
   j["profile"] = core::to_string(run.req.base.profile);
   j["axes"] = run.plan.count();
   j["sync"] = core::to_string(run.plan.sync());
-  j["move_duration"] = run.plan.duration();
+  j["duration"] = run.plan.duration();
   const plant::MoveCommand path{run.plan.path()};
   const std::vector<std::unique_ptr<plant::Command>> cmds = axis_commands(run, path);
   std::vector<const plant::Command*> cmd_of;

@@ -677,7 +677,7 @@ void print_commissioning(const DemoReport& rep, std::FILE* out) {
   }
   if (r.stream) {
     const Json& s = *r.stream;
-    paragraph(out, "streamed: " + text(s, "profile") + ", " + cell(s, "move_time", "%.4f") +
+    paragraph(out, "streamed: " + text(s, "profile") + ", " + cell(s, "duration", "%.4f") +
                        " s; PRV measured from the drive's CAN feedback " + cell(s, "prv_can_percent", "%.4f") +
                        " % (offline replay " + cell(s, "prv_offline_percent", "%.4f") + " %, bound " +
                        num("%.3g", c.prv_max_percent) + " %): " + (r.prv_ok ? "yes" : "NO"));

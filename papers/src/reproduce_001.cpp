@@ -125,7 +125,7 @@ plant::SimStatus reproduce_001(const Options001& o, Result001& out) {
       if (!nominal) return plant::SimStatus::plan_failed;
       st = referred_residual_001(*nominal, o.dt, res.residual_at, g.nominal);
       if (st != plant::SimStatus::ok) return st;
-      g.move_time = nominal->duration();
+      g.duration = nominal->duration();
       res.grids.push_back(std::move(g));
     }
   }

@@ -656,7 +656,7 @@ StreamReport run_stream(const StreamSpec& spec, ClockedBus& bus) {
     a.node = axis.node;
     a.profile = axis.move.profile().kind();
     a.distance = axis.move.distance();
-    a.move_time = axis.move.duration();
+    a.duration = axis.move.duration();
     r.axes.push_back(std::move(a));
   }
   std::vector<runtime::AxisConfig> acs;

@@ -50,7 +50,7 @@ Json axis_json(std::size_t i, const AxisReport& a) {
       {"axis", static_cast<long long>(i + 1)},
       {"node", static_cast<long long>(a.node)},
       {"distance", a.distance},
-      {"move_time", a.move_time},
+      {"duration", a.duration},
       {"drive_state", a.drive_state},
       {"drive_failure", a.drive_failure},
       {"drive_emcy", emcy_json(a.drive_emcy)},
@@ -188,7 +188,7 @@ std::string stream_json(const StreamReport& r) {
       {"setpoints_differing_from_double",
        have_diff ? Json(static_cast<long long>(a1.setpoints_differing_from_double)) : Json(nullptr)},
       {"distance", a1.distance},
-      {"move_time", a1.move_time},
+      {"duration", a1.duration},
       {"period_us", static_cast<long long>(r.scale.period_us)},
       {"ticks", count(r.session.ticks)},
       // Time to operation enabled (null: never), and its tick.

@@ -126,7 +126,7 @@ TEST(CliAxes, SimulateShowsThePathSyncCancelsEveryModeAndTimeSyncOnlyEachAxisOwn
   const auto time = run_json(args + " --sync time");
   EXPECT_LT(time.at("axis")[0].at("prv_percent").get<double>(), 1e-5);
   EXPECT_GT(time.at("axis")[1].at("prv_percent").get<double>(), 1.0);
-  EXPECT_GT(path.at("move_duration").get<double>(), time.at("move_duration").get<double>());
+  EXPECT_GT(path.at("duration").get<double>(), time.at("duration").get<double>());
 }
 
 // Halt and retarget of a coordinated move offline (docs/multi_axis.md, "Halt and retarget"): every

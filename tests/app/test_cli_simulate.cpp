@@ -117,7 +117,7 @@ TEST(SimCli, AFigureShowsTheResidualZoomedAfterTheMove) {
   const settle::test::CliResult r = with(move, {"--json", "--png", (dir / "scurve.png").string()});
   ASSERT_EQ(r.status, 0) << r.out;
   const double residual = json_number(r.stdout_text, "residual_amplitude");
-  const double end = json_number(r.stdout_text, "move_duration");
+  const double end = json_number(r.stdout_text, "duration");
   ASSERT_GT(residual, 1e-4);
   std::ifstream csv{dir / "scurve.csv"};
   std::string line;

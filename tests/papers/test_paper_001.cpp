@@ -240,11 +240,11 @@ TEST_F(Robust001, EveryMethodMovesInTheSameTimeAndIsReferredToIt) {
   EXPECT_DOUBLE_EQ(result_.residual_at, 0.167);
   const double tau = kTaus001[0];
   const double half = M_PI / (kW * std::sqrt(1 - kZ * kZ));  // ZV's second impulse
-  EXPECT_NEAR(grid("proposed").move_time, tau, 1e-12);
-  EXPECT_NEAR(grid("zv").move_time, tau + half, 1e-12);      // a ramp of tau, shaped
-  EXPECT_NEAR(grid("zvd").move_time, tau + 2 * half, 1e-12);
-  EXPECT_NEAR(grid("hybrid").move_time, tau + half, 1e-12);
-  EXPECT_GT(grid("sahinkaya").move_time, tau + 0.3);         // its tail
+  EXPECT_NEAR(grid("proposed").duration, tau, 1e-12);
+  EXPECT_NEAR(grid("zv").duration, tau + half, 1e-12);      // a ramp of tau, shaped
+  EXPECT_NEAR(grid("zvd").duration, tau + 2 * half, 1e-12);
+  EXPECT_NEAR(grid("hybrid").duration, tau + half, 1e-12);
+  EXPECT_GT(grid("sahinkaya").duration, tau + 0.3);         // its tail
 }
 
 // The grid's corners (and every other point) against the Laplace transform of the command: ZV and

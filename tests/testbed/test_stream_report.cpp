@@ -47,7 +47,7 @@ StreamReport completed_run() {
   r.axes[0].profile = core::ProfileKind::scurve;
   r.scalar = StreamScalar::single_precision;
   r.axes[0].distance = 0.05;
-  r.axes[0].move_time = 0.3;
+  r.axes[0].duration = 0.3;
   r.scale = {1e6, 500};
   r.session.outcome = runtime::SessionOutcome::completed;
   r.session.ticks = 42;
@@ -136,7 +136,7 @@ TEST(StreamReportJson, FieldNamesInOrder) {
   const std::vector<std::string> want{
       "status", "outcome", "fault", "rejection", "drive_state", "drive_failure", "drive_emcy", "heartbeat_ms", "sdo_timeout_ms",
       "feedback_timeout_periods", "drive_released", "bus", "profile", "scalar", "evaluation",
-      "setpoints", "setpoints_vs_double_max_counts", "setpoints_differing_from_double", "distance", "move_time",
+      "setpoints", "setpoints_vs_double_max_counts", "setpoints_differing_from_double", "distance", "duration",
       "period_us", "ticks", "start_up_ms", "ready_tick", "frames_sent", "frames_received", "tx_busy", "rx_overflow_drops", "feedback_samples",
       "feedback_late_ticks", "aligned", "frames_lost", "overruns", "skipped_periods", "rpdo_sent",
       "step_guard_trips", "heartbeat_losses", "emcy_received", "drive_restarts", "moves_aborted",

@@ -107,7 +107,7 @@ struct Grid001 {
   std::vector<double> residual;   // row-major [i_omega][i_zeta]
   double nominal{0.0};
   double worst{0.0};
-  double move_time{0.0};          // when the nominal command ends (s)
+  double duration{0.0};           // when the nominal command ends (s)
 };
 
 struct Width001 {

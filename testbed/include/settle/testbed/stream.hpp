@@ -152,7 +152,7 @@ struct AxisReport {
   core::ProfileKind profile{};
   core::Status evaluation{core::Status::ok};  // why the selected evaluation refused the move
   double distance{0.0};
-  double move_time{0.0};
+  double duration{0.0};  // of the move (s)
 
   std::string drive_state;
   std::string drive_failure;  // empty unless the drive's start-up failed
