@@ -97,7 +97,9 @@ int cmd_plan(int argc, char** argv) {
   if (!parse_move_request(args, req, err)) return report_bad_request(err, args.json());
   core::Move<double> move{};
   if (!plan_move(req, move, err)) return report_bad_request(err, args.json());
-  return emit(args, plan_json(move), [&] { print_text(move); });
+  Json j = plan_json(move);
+  j["request"] = request_json(req);  // what --plan-from plans again (stream, sample, export)
+  return emit(args, j, [&] { print_text(move); });
 }
 
 }  // namespace settle::app

@@ -208,7 +208,7 @@ const std::vector<OptionSpec> kTune = {
 };
 
 const std::vector<OptionSpec> kPlanFrom = {
-    text("--plan-from", "", "the plan `settle tune --json` wrote: exactly that move (no move options with it)", "FILE"),
+    text("--plan-from", "", "the plan `settle tune --json` or `settle plan --json` wrote: exactly that move (no move options with it)", "FILE"),
 };
 
 const std::vector<OptionSpec> kExport = {

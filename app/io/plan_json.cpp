@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "io/plan_json.hpp"
 
-#include <cmath>
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -106,6 +108,12 @@ Json request_json(const core::MoveRequest& r) {
     j["extra_modes"] = extra;
   }
   if (r.robust) j["robust"] = *r.robust;
+  if (r.gamma_count > 0) j["gammas"] = std::vector<double>(r.gammas.begin(), r.gammas.begin() + static_cast<std::ptrdiff_t>(r.gamma_count));
+  if (r.y_fractions) j["y"] = *r.y_fractions;
+  if (r.shaper != core::ShaperKind::none) {
+    j["shaper"] = core::to_string(r.shaper);
+    j["vtol"] = r.vtol;
+  }
   return j;
 }
 
@@ -186,6 +194,35 @@ bool designed_shaper(const Json& j, core::Shaper<double>& out, RequestError& err
   return true;
 }
 
+// The request's optional parts beyond distance, time, limits and modes: pseudopoly's exponents
+// ("gammas"), ramp-versine's given Y/L ("y"), and a shaper by name with its EI tolerance.
+template <class Bad>
+bool request_extras(const Json& rq, core::MoveRequest& r, Bad& bad) {
+  auto finite = [](const Json& v) { return v.is_number() && std::isfinite(v.get<double>()); };
+  if (rq.contains("gammas")) {
+    const Json& g = rq["gammas"];
+    if (!g.is_array() || g.empty() || g.size() > core::kMaxGammas || !std::all_of(g.begin(), g.end(), finite)) {
+      return bad("request.gammas must be an array of 1 to " + std::to_string(core::kMaxGammas) + " finite numbers");
+    }
+    for (const Json& v : g) r.gammas[r.gamma_count++] = v.get<double>();
+  }
+  if (rq.contains("y")) {
+    const Json& y = rq["y"];
+    if (!y.is_array() || y.size() != 3 || !std::all_of(y.begin(), y.end(), finite)) {
+      return bad("request.y must be an array of 3 finite numbers (Y1/L, Y2/L, Y3/L)");
+    }
+    r.y_fractions = std::array<double, 3>{y[0].get<double>(), y[1].get<double>(), y[2].get<double>()};
+  }
+  if (rq.contains("shaper") && (!rq["shaper"].is_string() || !plant::parse_shaper(rq["shaper"].get<std::string>(), r.shaper))) {
+    return bad("request.shaper is not a shaper's name (" + plant::shaper_list() + ")");
+  }
+  if (rq.contains("vtol")) {
+    if (!finite(rq["vtol"])) return bad("request.vtol is not a finite number");
+    r.vtol = rq["vtol"].get<double>();
+  }
+  return true;
+}
+
 }  // namespace
 
 bool read_json_object_file(const std::string& path, const std::string& option, const JsonDocumentKind& kind,
@@ -209,7 +246,7 @@ bool read_json_object_file(const std::string& path, const std::string& option, c
 
 bool load_plan_file(const std::string& path, const std::string& option, core::Move<double>& out, RequestError& err) {
   Json j;
-  if (!read_json_object_file(path, option, {"plan file", "settle tune --json", "bad_plan_file", kMaxPlanFileBytes}, j,
+  if (!read_json_object_file(path, option, {"plan file", "settle plan --json or settle tune --json", "bad_plan_file", kMaxPlanFileBytes}, j,
                              err)) {
     return false;
   }
@@ -243,6 +280,7 @@ bool load_plan_file(const std::string& path, const std::string& option, core::Mo
   std::optional<double> robust;
   if (!number("robust", robust, false)) return bad("request.robust is not a finite number");
   r.robust = robust;
+  if (!request_extras(rq, r, bad)) return false;
   if (rq.contains("extra_modes")) {
     const Json& extra = rq["extra_modes"];
     if (!omega) return bad("request.extra_modes needs request.omega, the first mode");
@@ -274,25 +312,31 @@ bool load_plan_file(const std::string& path, const std::string& option, core::Mo
     amp.push_back(i["amplitude"].get<double>());
     time.push_back(i["time"].get<double>());
   }
-  core::Move<double> bare{};
-  if (const core::Status st = core::plan(r, bare); st != core::Status::ok) {
+  // A tuned plan (settle tune) names its shaper in "candidate", designed for the tuned modes over
+  // their intervals; a planned one (settle plan) in its request. Either way the shaper is designed
+  // again from what the file says it is, never taken from the file: an edited impulse could steer
+  // the axis anywhere.
+  const bool tuned = j.contains("candidate");
+  if (tuned && r.shaper != core::ShaperKind::none) return bad("request.shaper and candidate.shaper are both given");
+  core::Move<double> planned{};  // a tuned plan's request is unshaped (checked above)
+  if (const core::Status st = core::plan(r, planned); st != core::Status::ok) {
     return bad(std::string{"its request does not plan: "} + core::describe(st));
   }
   core::Shaper<double> claimed{};
   if (const core::Status st = core::custom_shaper(amp.data(), time.data(), amp.size(), claimed); st != core::Status::ok) {
     return bad(std::string{"its shaper is not valid: "} + core::describe(st));
   }
-  // The shaper is designed again from what the file says it is (its kind, design modes and
-  // residual bound), never taken from the file: an edited impulse could steer the axis anywhere.
-  core::Shaper<double> shaper{};
-  if (!designed_shaper(j, shaper, err, option)) return false;
+  core::Shaper<double> shaper = planned.shaper();
+  if (tuned && !designed_shaper(j, shaper, err, option)) return false;
   if (shaper.count != claimed.count) return mismatch_err(err, option, "shaper.impulses (count)");
   for (std::size_t i = 0; i < shaper.count; ++i) {
     if (!close_to(shaper.amp[i], claimed.amp[i]) || !close_to(shaper.time[i], claimed.time[i])) {
       return mismatch_err(err, option, "shaper.impulses[" + std::to_string(i) + "]");
     }
   }
-  const core::Move<double> m{bare.profile(), shaper, core::shaped_peaks(bare.profile(), shaper, bare.peaks())};
+  const core::Move<double> m =
+      tuned ? core::Move<double>{planned.profile(), shaper, core::shaped_peaks(planned.profile(), shaper, planned.peaks())}
+            : planned;
   // The file's plan and the one planned again must be the same move.
   const Json again = plan_json(m);
   auto mismatch = [&](const std::string& what) { return mismatch_err(err, option, what); };

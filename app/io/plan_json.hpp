@@ -51,9 +51,11 @@ struct JsonDocumentKind {
 [[nodiscard]] bool read_json_object_file(const std::string& path, const std::string& option, const JsonDocumentKind& kind,
                                          Json& out, RequestError& err);
 
-// The move a plan file describes: its "request" is planned again (unshaped), its "shaper.impulses"
-// applied, and the result must reproduce the file's profile, params, distance and duration (else
-// plan_mismatch: the file was edited or made by a different Settle). Errors name `option`.
+// The move a plan file (settle plan --json, settle tune --json) describes: its "request" is planned
+// again; its shaper is designed again — from the request (plan) or from "candidate" (tune) — and
+// must equal the file's "shaper.impulses"; the result must reproduce the file's profile, params,
+// distance and duration (else plan_mismatch: the file was edited or made by a different Settle).
+// Errors name `option`.
 [[nodiscard]] bool load_plan_file(const std::string& path, const std::string& option, core::Move<double>& out,
                                   RequestError& err);
 
