@@ -11,9 +11,18 @@ byte order, and decoded with `tshark -d can.subdissector,canopen`; the frame typ
                                            frame malformed or with an expert error, 2 on bad input
   tools/canopen_decode.py --json LOG...    the same as one JSON object per log, one a line
   tools/canopen_decode.py --pcap OUT LOG   also keep the pcap file (open it in Wireshark)
+  tools/canopen_decode.py --serve          decode for another machine (see below)
+
+A user-mode-linux guest (tools/with-vcan) runs tshark twenty times slower than its host: every page
+fault of Wireshark's 100 MB of libraries is a round trip to the host kernel. There, with-vcan runs
+`--serve` on the host as the guest's console and names the console in SETTLE_DECODE_CHANNEL:
+decode() then asks the host to decode the log (both see the same files) and reads back what tshark
+found, from a file the host wrote. Requests and replies are one line each: "settle-decode LOG OUT"
+-> "ok" (OUT holds the Decoded as JSON) or "bad-log MESSAGE" / "error MESSAGE"; any other line
+(the guest kernel's messages) is written to stderr and not answered.
 
 As a module: decode(path) -> Decoded (counts per type, the frames tshark found wrong)."""
-import argparse, json, os, shutil, struct, subprocess, sys, tempfile
+import argparse, fcntl, json, os, select, shutil, struct, subprocess, sys, tempfile
 
 LINKTYPE_CAN_SOCKETCAN = 227
 CAN_EFF_FLAG, CAN_RTR_FLAG = 0x80000000, 0x40000000
@@ -142,6 +151,9 @@ def decode_pcap(pcap, path, n_frames):
 
 def decode(path, keep_pcap=None):
     """Decodes the candump log at `path` with tshark; keep_pcap: where to leave the pcap file."""
+    channel = os.environ.get("SETTLE_DECODE_CHANNEL")
+    if channel and keep_pcap is None:
+        return decode_remote(channel, path)
     frames = read_candump(path)
     with tempfile.TemporaryDirectory(prefix="settle-decode-") as tmp:
         pcap = keep_pcap or os.path.join(tmp, "bus.pcap")
@@ -149,12 +161,92 @@ def decode(path, keep_pcap=None):
         return decode_pcap(pcap, path, len(frames))
 
 
+MAX_REPLY = 4096
+REQUEST = "settle-decode"
+
+
+def to_json(d):
+    return {"path": d.path, "frames": d.frames, "counts": d.counts, "errors": d.errors, "types": d.types}
+
+
+def from_json(j):
+    d = Decoded(j["path"], j["frames"])
+    d.counts, d.types = j["counts"], j["types"]
+    d.errors = [tuple(e) for e in j["errors"]]
+    return d
+
+
+def decode_remote(channel, path):
+    """decode(path) done by `--serve` at the other end of the console `channel` (one request at a
+    time: the channel is locked while it is in use)."""
+    path = os.path.realpath(path)
+    with tempfile.TemporaryDirectory(prefix="settle-decode-") as tmp:
+        out = os.path.join(tmp, "decoded.json")
+        if any(c.isspace() for c in path + out):
+            raise BadLog(f"{path}: a log decoded through {channel} must have no white space in its path")
+        fd = os.open(channel, os.O_RDWR | os.O_NOCTTY)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+            os.write(fd, f"{REQUEST} {path} {out}\n".encode())
+            reply = b""
+            while not reply.endswith(b"\n"):
+                ready, _, _ = select.select([fd], [], [], TSHARK_TIMEOUT_S)
+                chunk = os.read(fd, MAX_REPLY) if ready else b""
+                if not chunk or len(reply) + len(chunk) > MAX_REPLY:
+                    raise RuntimeError(f"no answer from the decoder at the other end of {channel}")
+                reply += chunk
+        finally:
+            os.close(fd)  # releases the lock
+        kind, _, message = reply.decode("utf-8", "replace").strip().partition(" ")
+        if kind == "bad-log":
+            raise BadLog(message)
+        if kind != "ok":
+            raise RuntimeError(message or f"the decoder at the other end of {channel} answered '{kind}'")
+        with open(out, encoding="utf-8") as f:
+            return from_json(json.load(f))
+
+
+def serve(inp, outp):
+    """Answers decode requests, one line each, until the input ends (see the module's text)."""
+    for line in inp:
+        parts = line.split()
+        if not parts or parts[0] != REQUEST:
+            sys.stderr.write(line)
+            sys.stderr.flush()
+            continue
+        if len(parts) != 3:
+            reply = f"error not a request: {line.strip()[:120]!r}"
+        else:
+            try:
+                d = decode(parts[1])
+                try:
+                    with open(parts[2], "w", encoding="utf-8") as f:
+                        json.dump(to_json(d), f)
+                    reply = "ok"
+                except OSError as e:
+                    reply = f"error cannot write the answer: {e}"
+            except (BadLog, OSError) as e:  # the log: as decode() here reports it (exit 2)
+                reply = f"bad-log {e}"
+            except (RuntimeError, subprocess.TimeoutExpired) as e:
+                reply = f"error {e}"
+        outp.write(" ".join(reply.split())[:MAX_REPLY - 2] + "\n")
+        outp.flush()
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("logs", nargs="+", metavar="LOG")
+    ap.add_argument("logs", nargs="*", metavar="LOG")
+    ap.add_argument("--serve", action="store_true", help="answer decode requests on stdin (tools/with-vcan)")
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--pcap", metavar="OUT", help="keep the pcap file (one LOG only)")
     a = ap.parse_args()
+    if a.serve:
+        os.environ.pop("SETTLE_DECODE_CHANNEL", None)  # decode here
+        return serve(sys.stdin, sys.stdout)
+    if not a.logs:
+        print("canopen_decode: give at least one LOG (or --serve)", file=sys.stderr)
+        return 2
     if a.pcap and len(a.logs) != 1:
         print("canopen_decode: --pcap takes one LOG", file=sys.stderr)
         return 2
