@@ -3,8 +3,10 @@
 """tools/canopen_decode.py, the tests' independent decoder, on a log whose frames are known: tshark's
 CANopen dissector names every type the tests count, finds the one malformed frame (an SDO request
 cut to two bytes) and no other, the CLI exits 1 for it and 0 without it, and a line that is not a
-candump frame is refused with its line number (exit 2)."""
-import os, subprocess, sys, tempfile
+candump frame is refused with its line number (exit 2). And the same through `--serve`, the host's
+decoder a user-mode-linux guest asks over its console (tools/with-vcan): here over a pseudo-terminal
+in raw mode, as the guest's console is."""
+import os, subprocess, sys, tempfile, tty
 
 sys.dont_write_bytecode = True
 TOOLS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools")
@@ -55,3 +57,29 @@ with tempfile.TemporaryDirectory(prefix="settle-decode-test-") as d:
         f.write("(1700000000.000000) vcan0 080#\n(1700000000.000001) vcan0 080#XYZ\n")
     r = cli(bad)
     check(r.returncode == 2 and f"{bad}:2: not a candump -L frame line" in r.stderr, f"a bad line refused: {r.stderr}")
+
+    # --serve at the far end of a raw pseudo-terminal, as with-vcan wires it to the guest's console.
+    master, slave = os.openpty()
+    tty.setraw(slave)
+    server = subprocess.Popen([sys.executable, os.path.join(TOOLS, "canopen_decode.py"), "--serve"], stdin=master,
+                              stdout=master, stderr=subprocess.PIPE, text=True)
+    try:
+        os.write(slave, b"a kernel message on the console\n")
+        os.environ["SETTLE_DECODE_CHANNEL"] = os.ttyname(slave)
+        remote = canopen_decode.decode(log)
+        check(remote.types == dec.types and remote.errors == dec.errors and remote.counts == dec.counts,
+              f"decoded by the server: the same types, counts and malformed frame ({remote.summary()})")
+        try:
+            canopen_decode.decode(bad)
+            check(False, "the server refuses a bad line")
+        except canopen_decode.BadLog as e:
+            check(f"{bad}:2: not a candump -L frame line" in str(e), f"the server refuses a bad line: {e}")
+        os.write(slave, b"settle-decode only-two-words\n")
+        check(os.read(slave, 4096).startswith(b"error not a request"), "a malformed request is answered as such")
+    finally:
+        del os.environ["SETTLE_DECODE_CHANNEL"]
+        os.close(slave)
+        server.terminate()
+        _, err = server.communicate(timeout=60)
+        os.close(master)
+    check(err.startswith("a kernel message on the console"), f"any other line goes to the console's record: {err!r}")
