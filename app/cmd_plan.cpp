@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "figure_option.hpp"
 #include "io/json.hpp"
 #include "io/plan_json.hpp"
 #include "move_options.hpp"
@@ -91,7 +92,12 @@ int plan_axes_command(const ParsedArgs& args) {
 int cmd_plan(int argc, char** argv) {
   ParsedArgs args;
   if (const int rc = parse_or_exit("plan", argc, argv, args); rc >= 0) return rc;
-  if (wants_axes(args)) return plan_axes_command(args);
+  std::optional<FigurePath> png;
+  if (const int rc = parse_png_option(args, png); rc >= 0) return rc;
+  if (wants_axes(args)) {
+    if (png) return refuse_png_with_axes(args);
+    return plan_axes_command(args);
+  }
   core::MoveRequest req{};
   RequestError err;
   if (!parse_move_request(args, req, err)) return report_bad_request(err, args.json());
@@ -99,6 +105,11 @@ int cmd_plan(int argc, char** argv) {
   if (!plan_move(req, move, err)) return report_bad_request(err, args.json());
   Json j = plan_json(move);
   j["request"] = request_json(req);  // what --plan-from plans again (stream, sample, export)
+  if (png && all_finite(j)) {
+    // 2000 samples over the move: every switch of a jerk table stays visible.
+    const double dt = move.duration() > 0.0 ? move.duration() / 2000.0 : 1e-3;
+    if (const int rc = write_move_png(args, move, dt, "plan", *png); rc != kExitOk) return rc;
+  }
   return emit(args, j, [&] { print_text(move); });
 }
 

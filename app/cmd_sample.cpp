@@ -3,15 +3,19 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "figure_option.hpp"
 #include "move_options.hpp"
 
 namespace settle::app {
 
 namespace {
+
+constexpr double kMaxFigureSamples = 1e6;  // the rows a --png figure holds (as simulate's)
 
 // The number of samples of a move of `duration` every `dt`, bounded (false with err when over kMaxRows).
 bool sample_count(double duration, double dt, long& n, RequestError& err) {
@@ -94,7 +98,10 @@ int cmd_sample(int argc, char** argv) {
   if (const int rc = parse_or_exit("sample", argc, argv, args); rc >= 0) return rc;
   RequestError err;
   const auto dt = args.real("--dt");
+  std::optional<FigurePath> png;
+  if (const int rc = parse_png_option(args, png); rc >= 0) return rc;
   if (wants_axes(args)) {
+    if (png) return refuse_png_with_axes(args);
     if (!dt) return report_bad_request({"missing_option", "--dt", "--dt: required (sample period, s)"}, args.json());
     return sample_axes(args, *dt);
   }
@@ -118,6 +125,14 @@ int cmd_sample(int argc, char** argv) {
                                   args.json());
       }
     }
+  }
+  if (png) {
+    if (static_cast<double>(n) + 1.0 > kMaxFigureSamples) {
+      return report_bad_request({"too_many_samples", "--png", "--png: " + format_number(static_cast<double>(n) + 1.0) +
+                                                                  " samples; a figure takes at most 1e6 (--dt larger)"},
+                                args.json());
+    }
+    if (const int rc = write_move_png(args, move, *dt, "sample", *png); rc != kExitOk) return rc;
   }
   if (args.json()) {
     // Streamed, not built as a document; every number is finite.

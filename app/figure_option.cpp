@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "figure_option.hpp"
 
+#include <cstdio>
 #include <filesystem>
+
+#include "commands.hpp"
+#include "settle/papers/figures.hpp"
 
 namespace settle::app {
 
@@ -15,6 +19,28 @@ int parse_png_option(const ParsedArgs& args, std::optional<FigurePath>& out) {
   }
   out = FigurePath{p.parent_path().empty() ? std::string{"."} : p.parent_path().string(), p.stem().string(), *png};
   return -1;
+}
+
+int refuse_png_with_axes(const ParsedArgs& args) {
+  return report_bad_request({"conflicting_options", "--png", "--png: draws one axis; not with --axes"}, args.json());
+}
+
+int write_move_png(const ParsedArgs& args, const core::Move<double>& move, double dt, const char* command,
+                   const FigurePath& png) {
+  char title[160];
+  std::snprintf(title, sizeof title, "settle %s: %s, distance %.6g m in %.6g s", command,
+                core::to_string(move.profile().kind()), move.distance(), move.duration());
+  papers::FigureFiles files;
+  const plant::SimStatus st = papers::write_move_figure(move, png.dir, png.stem, {dt, title, "m"}, files);
+  if (st != plant::SimStatus::ok) {
+    return report_failure(command, "write_failed", "--png: cannot write " + png.png + ": " + plant::describe(st),
+                          args.json());
+  }
+  if (!files.gnuplot) {
+    std::fprintf(stderr, "settle %s: gnuplot not found; wrote %s.gp and %s.csv only\n", command, png.stem.c_str(),
+                 png.stem.c_str());
+  }
+  return kExitOk;
 }
 
 }  // namespace settle::app

@@ -259,6 +259,14 @@ const std::vector<OptionSpec> kSample = {
     real("--dt", "s", "", {0.0, kMaxSeconds, true}, "sample period (required); at most 2e6 samples"),
 };
 
+// plan and sample: the move drawn.
+const std::vector<OptionSpec> kMoveFigure = {
+    text("--png", "", "draw the move to FILE: position, velocity, acceleration and jerk against time, each peak "
+                      "dashed (gnuplot; the samples in <stem>.csv, every --dt for sample, 2000 over the move for "
+                      "plan; one axis; at most 1e6 samples)",
+         "FILE"),
+};
+
 const std::vector<OptionSpec> kSimulate = {
     text("--csv", "", "write the time history to FILE (at most 1e6 rows)", "FILE"),
     text("--png", "", "draw the move and the response to FILE: positions, the deviation from the final position "
@@ -429,12 +437,13 @@ const std::string kDriveNotes =
     "transfer (the CiA 301 abort code and its meaning are printed), or (write) the value reads back different.";
 
 const std::vector<CommandSpec> kCommands = {
-    {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "", .groups = {kMoveAxes, kAxes, kOutput},
+    {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "",
+     .groups = {kMoveAxes, kAxes, kMoveFigure, kOutput},
      .example = "settle plan --profile scurve --distance 0.1 --time 0.5 --omega 22"},
     {.name = "sample",
      .summary = "plan a move and print t,position,velocity,acceleration,jerk every --dt (CSV, or --json)",
      .usage = "",
-     .groups = {kMoveAxes, kAxes, kPlanFrom, kSample, kOutput},
+     .groups = {kMoveAxes, kAxes, kPlanFrom, kSample, kMoveFigure, kOutput},
      .notes = "Bounds: at most 2e6 samples (move duration / --dt); the move at most 3600 s.",
      .example = "settle sample --profile scurve --distance 0.1 --time 0.5 --omega 22 --dt 0.001"},
     {.name = "simulate",
@@ -989,6 +998,7 @@ std::string group_title(const OptionGroup& g) {
   const std::pair<const std::vector<OptionSpec>*, const char*> titles[] = {
       {&kMoveAxes, "Motion"},         {&kTuneMove, "Motion"},       {&kAxes, "Several axes"},
       {&kPlanFrom, "Plan file"},      {&kSample, "Samples"},        {&kSimulate, "Simulation"},
+      {&kMoveFigure, "Figure"},
       {&kOnline, "Halt and retarget"}, {&kPlant, "Plant (the simulated machine)"},
       {&kDrive, "Drive (period, scales, model)"},                    {&kLoadNoise, "Load feedback noise"},
       {&kStream, "Bus and loop"},     {&kIdentifyLoop, "Bus and loop"}, {&kIdentify, "Excitation and estimate"},

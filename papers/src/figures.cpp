@@ -2,6 +2,7 @@
 #include "settle/papers/figures.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -282,6 +283,66 @@ plant::SimStatus write_simulate_figure(const std::string& dir, const std::string
             "     -" + residual + " with lines dashtype 2 lc rgb 'red' notitle\n"
             "unset multiplot\n";
   return plot(dir, name, script, out, "noenhanced size 1000,1100");
+}
+
+namespace {
+
+// The move every `dt` as sample's CSV; false when a sample is not finite or a write fails.
+bool write_move_csv(const core::Move<double>& move, double dt, const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) return false;
+  std::fprintf(f, "t,position,velocity,acceleration,jerk\n");
+  const double n = std::ceil(move.duration() / dt);
+  bool finite = true;
+  for (double i = 0.0; i <= n && finite && std::ferror(f) == 0; i += 1.0) {
+    const double t = std::min(i * dt, move.duration());
+    const auto s = move.at(t);
+    finite = std::isfinite(s.p) && std::isfinite(s.v) && std::isfinite(s.a) && std::isfinite(s.j);
+    if (finite) std::fprintf(f, "%.9g,%.12g,%.12g,%.12g,%.12g\n", t, s.p, s.v, s.a, s.j);
+  }
+  const bool written = std::fflush(f) == 0 && std::ferror(f) == 0;
+  return std::fclose(f) == 0 && written && finite;
+}
+
+}  // namespace
+
+plant::SimStatus write_move_figure(const core::Move<double>& move, const std::string& dir, const std::string& name,
+                                   const MoveFigure& f, FigureFiles& out) {
+  plant::SimStatus st = prepare(dir, out);
+  if (st != plant::SimStatus::ok) return st;
+  const std::string csv = name + ".csv";
+  if (!write_move_csv(move, f.dt, (fs::path{dir} / csv).string())) return plant::SimStatus::io_error;
+  out.csv.push_back((fs::path{dir} / csv).string());
+  std::string script;
+  if (!datablock_of(dir, csv, "m", script)) return plant::SimStatus::io_error;
+  const std::string u = f.unit;
+  const core::Peaks<double>& pk = move.peaks();
+  // One panel: column `col` against t, with +-peak dashed when the peak is finite (a trapezoid's
+  // jerk is a train of impulses: no line).
+  auto panel = [&](const char* what, const std::string& unit, int col, double peak, const std::string& note = "") {
+    std::string p = "set title " + gnuplot_string(what + note) + "\nset ylabel " + gnuplot_string(std::string{what} + " (" + unit + ")") +
+                    "\nplot $m every ::1 using 1:" + std::to_string(col) + " with lines lw 2 title " + gnuplot_string(what);
+    if (std::isfinite(peak) && peak > 0.0) {
+      const std::string v = fmt("%.17g", peak);
+      p += ", \\\n     " + v + " with lines dashtype 2 lc rgb 'red' title " +
+           gnuplot_string("peak " + fmt("%.4g", peak) + " " + unit) + ", \\\n     -" + v +
+           " with lines dashtype 2 lc rgb 'red' notitle";
+    }
+    return p + "\n";
+  };
+  script += "set multiplot layout 4,1 title " + gnuplot_string(f.title) +
+            "\nset key top right opaque box\nset autoscale xfix\nset offsets 0, 0, graph 0.08, graph 0.08\n"
+            "set xlabel 't (s)'\n" +
+            "set title 'position'\nset ylabel " + gnuplot_string("position (" + u + ")") +
+            "\nplot $m every ::1 using 1:2 with lines lw 2 title 'position', \\\n     " +
+            fmt("%.17g", move.distance()) + " with lines dashtype 2 lc rgb 'gray40' title " +
+            gnuplot_string("target " + fmt("%.6g", move.distance()) + " " + u) + "\n" +
+            panel("velocity", u + "/s", 3, pk.v) + panel("acceleration", u + "/s^2", 4, pk.a) +
+            panel("jerk", u + "/s^3", 5, pk.j,
+                  pk.acceleration_step || !std::isfinite(pk.j) ? " (the acceleration's steps are impulses: not drawn)"
+                                                                : "") +
+            "unset multiplot\n";
+  return plot(dir, name, script, out, "noenhanced size 1000,1200");
 }
 
 plant::SimStatus write_figures_000(const Result000& r, const std::string& dir, FigureFiles& out) {

@@ -443,8 +443,8 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
     return s;
   };
   const std::vector<std::pair<std::string, std::set<std::string>>> expected = {
-      {"plan", join({move, {"--axes", "--sync"}})},
-      {"sample", join({move, {"--axes", "--sync", "--dt", "--plan-from"}})},
+      {"plan", join({move, {"--axes", "--sync", "--png"}})},
+      {"sample", join({move, {"--axes", "--sync", "--dt", "--plan-from", "--png"}})},
       {"simulate", join({move, plant, {"--axes", "--sync", "--csv", "--png", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
       {"reproduce", join({{"--out"}})},
       {"plant", join({plant, drive, {"--bus", "--timing", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--strict", "--log", "--duration",

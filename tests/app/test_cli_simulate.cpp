@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -104,6 +106,62 @@ double json_number(const std::string& doc, const std::string& key) {
 // --png draws the move and what it leaves: the figure's data beside it is the run's own history, and
 // what its zoomed tail shows is the residual the text reports (the free response after the move
 // stays within the residual amplitude, the sum of the modes' amplitudes, and comes close to it).
+// plan --png and sample --png draw the move they print: sample's figure data is its own output, the
+// plan's 2001 samples end on the target, and each panel's dashed line is the plan's peak.
+TEST(SimCli, PlanAndSampleDrawTheMoveTheyPrint) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path{::testing::TempDir()} / "settle move 'figure'";
+  fs::create_directories(dir);
+  const std::vector<std::string> move = {"--profile", "fastest", "--distance", "0.1", "--vmax", "1", "--amax", "20",
+                                         "--jmax", "800", "--omega", "22", "--zeta", "0.02"};
+  auto run = [&](std::vector<std::string> head, const std::vector<std::string>& tail) {
+    head.insert(head.end(), move.begin(), move.end());
+    head.insert(head.end(), tail.begin(), tail.end());
+    return settle::test::run_cli_argv(head);
+  };
+  auto read = [](const fs::path& p) {
+    std::ifstream f{p};
+    return std::string{std::istreambuf_iterator<char>{f}, {}};
+  };
+  const settle::test::CliResult s = run({"sample"}, {"--dt", "0.001", "--png", (dir / "sampled.png").string()});
+  ASSERT_EQ(s.status, 0) << s.out;
+  EXPECT_EQ(read(dir / "sampled.csv"), s.stdout_text);
+  EXPECT_GT(fs::file_size(dir / "sampled.png"), 10000u);  // gnuplot: tools/setup installs it
+  const settle::test::CliResult p = run({"plan"}, {"--json", "--png", (dir / "planned.png").string()});
+  ASSERT_EQ(p.status, 0) << p.out;
+  EXPECT_GT(fs::file_size(dir / "planned.png"), 10000u);
+  std::istringstream csv{read(dir / "planned.csv")};
+  std::string line, last;
+  std::size_t rows = 0;
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line, "t,position,velocity,acceleration,jerk");
+  while (std::getline(csv, line)) {
+    ++rows;
+    last = line;
+  }
+  EXPECT_EQ(rows, 2001u);
+  double t = 0, pos = 0;
+  ASSERT_EQ(std::sscanf(last.c_str(), "%lf,%lf", &t, &pos), 2) << last;
+  EXPECT_NEAR(t, json_number(p.stdout_text, "duration"), 1e-9);
+  EXPECT_NEAR(pos, 0.1, 1e-12);
+  const std::string script = read(dir / "planned.gp");
+  for (const char* peak : {"velocity", "acceleration", "jerk"}) {
+    char value[64];
+    std::snprintf(value, sizeof value, "%.17g with lines dashtype 2", json_number(p.stdout_text, peak));
+    EXPECT_NE(script.find(value), std::string::npos) << peak << " " << value;
+  }
+  // One axis is drawn; several are refused before anything is written.
+  const settle::test::CliResult axes = settle::test::run_cli_argv(
+      {"plan", "--axes", "2", "--profile", "scurve", "--distance", "0.1,0.2", "--time", "0.5", "--png",
+       (dir / "axes.png").string()});
+  EXPECT_EQ(axes.status, 2);
+  EXPECT_NE(axes.out.find("--png: draws one axis"), std::string::npos) << axes.out;
+  EXPECT_FALSE(fs::exists(dir / "axes.gp"));
+  const settle::test::CliResult many = run({"sample"}, {"--dt", "2e-7", "--png", (dir / "many.png").string()});
+  EXPECT_EQ(many.status, 2);
+  EXPECT_NE(many.out.find("a figure takes at most 1e6"), std::string::npos) << many.out;
+}
+
 TEST(SimCli, AFigureShowsTheResidualZoomedAfterTheMove) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::path{::testing::TempDir()} / "settle sim 'figure'";

@@ -270,6 +270,10 @@ TEST_F(Figures, UserChosenFigureNamesReachNoShell) {
     draw({"simulate", "--plant", "sdof", "--profile", "scurve", "--distance", "0.1", "--time", "0.5"}, stem,
          {".gp", ".csv"});
   }
+  draw({"plan", "--profile", "scurve", "--distance", "0.1", "--time", "0.5", "--omega", "22"},
+       "|touch PIPED; true plan", {".gp", ".csv"});
+  draw({"sample", "--profile", "scurve", "--distance", "0.1", "--time", "0.5", "--omega", "22", "--dt", "0.01"},
+       "<touch PIPED; true sample", {".gp", ".csv"});
   expect_only(expected);  // no PIPED
 }
 #endif

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "settle/core/move.hpp"
 #include "settle/papers/reproduce.hpp"
 #include "settle/plant/status.hpp"
 #include "settle/commission/tune.hpp"
@@ -64,6 +65,19 @@ struct SimulateFigure {
 };
 [[nodiscard]] plant::SimStatus write_simulate_figure(const std::string& dir, const std::string& name, const std::string& csv,
                                               const SimulateFigure& f, FigureFiles& out);
+
+// `settle plan --png` and `settle sample --png`: the move itself, sampled every `dt` from 0 to its
+// end: four panels, position (the target dashed), velocity, acceleration and jerk against time,
+// each with the move's peak drawn dashed at plus and minus its value. Writes <name>.csv (sample's
+// columns: t,position,velocity,acceleration,jerk), <name>.gp and, with gnuplot, <name>.png in `dir`.
+// io_error also when a sample is not finite (nothing is drawn then).
+struct MoveFigure {
+  double dt{0.0};     // sample period (s), > 0
+  std::string title;  // what was planned, in words
+  std::string unit;   // position unit ("m")
+};
+[[nodiscard]] plant::SimStatus write_move_figure(const core::Move<double>& move, const std::string& dir,
+                                          const std::string& name, const MoveFigure& f, FigureFiles& out);
 
 // `text` as a gnuplot single-quoted string: ' doubled (gnuplot's escape; backslashes are literal
 // there), line breaks as spaces (a gnuplot command is one line).
