@@ -56,7 +56,10 @@ int cmd_plant(int argc, char** argv) {
   EdsOption description;
   const std::uint8_t nodes[] = {static_cast<std::uint8_t>(node)};
   if (const int rc = load_eds_option(args, "plant", nodes, description); rc >= 0) return rc;
+  testbed::LoadFeedback load{};
+  if (const int rc = parse_load_feedback(args, description.description.get(), load); rc >= 0) return rc;
   testbed::SimulatedDriveSpec spec{};
+  spec.load_position = load.served_at();  // the master's --load-feedback, on another vendor's drive
   spec.node = static_cast<hal::canopen::NodeId>(node);
   spec.eds = description.description.get();
   spec.axis = axis_cfg;

@@ -383,6 +383,10 @@ const std::vector<OptionSpec> kPlantNodeRows = {
          "--heartbeat-ms and --sync-loss-periods (or --timing), when given, override its 0x1017 and 0x2001",
          "FILE"),
     strict_eds(),
+    text("--load-feedback", "", "with --eds of another vendor's drive: the object this drive serves its load "
+         "position in, INDEX:SUB (0x2000:0 or 0x2002..0x5FFF, an INTEGER32 the EDS lets be mapped: the master's "
+         "--load-feedback); default none (it reports no load position)",
+         "INDEX:SUB"),
     text("--log", "", "write one CSV row per SYNC to FILE", "FILE"),
     real("--duration", "s", "0 (until SIGINT/SIGTERM)", {0.0, 604800.0}, "run time"),
 };

@@ -46,9 +46,7 @@ std::string LoopbackClockedBus::open(const StreamSpec& spec) {
     ds.plant = spec.plant;
     ds.sync_period_us = spec.drive.scale.period_us;
     // The drive the user says they have: its load position where --load-feedback names it.
-    if (spec.load_feedback.index != 0) {
-      ds.load_position = hal::eds::MappedObject{spec.load_feedback.index, spec.load_feedback.sub, 32};
-    }
+    ds.load_position = spec.load_feedback.served_at();
     drives.push_back(std::move(ds));
   }
   return open(spec.drive.scale.period_us, drives);

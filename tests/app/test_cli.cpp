@@ -194,6 +194,10 @@ TEST(Cli, BadRequestsExitTwoNamingTheParameter) {
       {"plant --bus no-such-can9 --eds /nonexistent/drive.eds", "--eds", "bad_eds"},
       {"plant --bus no-such-can9 --eds " SETTLE_TEST_EDS_DIR "/no_interpolation_period_drive.eds --node 0", "--node",
        "out_of_range"},
+      // Where another vendor's drive serves its load position: only an object its EDS describes.
+      {"plant --bus no-such-can9 --load-feedback 0x2100:1", "--load-feedback", "bad_load_feedback"},
+      {"plant --bus no-such-can9 --eds " SETTLE_TEST_EDS_DIR "/no_interpolation_period_drive.eds --load-feedback "
+       "0x2100:1", "--load-feedback", "bad_load_feedback"},
   };
   for (const Case& c : cases) {
     const CliResult text = run(c.args);

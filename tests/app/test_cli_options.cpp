@@ -447,7 +447,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"sample", join({move, {"--axes", "--sync", "--dt", "--plan-from", "--png"}})},
       {"simulate", join({move, plant, {"--axes", "--sync", "--csv", "--png", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
       {"reproduce", join({{"--out"}})},
-      {"plant", join({plant, drive, {"--bus", "--timing", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--strict", "--log", "--duration",
+      {"plant", join({plant, drive, {"--bus", "--timing", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--strict", "--load-feedback", "--log", "--duration",
                                      "--noise", "--seed"}})},
       {"stream", join({move, plant, drive,
                        {"--axes", "--sync", "--nodes", "--plan-from", "--bus", "--timing", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--eds", "--strict", "--load-feedback", "--pm-qos", "--heartbeat-ms",

@@ -360,7 +360,8 @@ def check_applied_once(tag, fb, plant_log):
 CORPUS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "testbed", "corpus")
 sys.path.insert(0, CORPUS_DIR)
 import check_corpus  # noqa: E402
-CORPUS_ON_VCAN = ("04_no_1006.eds", "06_commissioned.dcf", "03_crlf_lowercase.eds", "08_loose_lists.eds")
+CORPUS_ON_VCAN = ("04_no_1006.eds", "06_commissioned.dcf", "03_crlf_lowercase.eds", "08_loose_lists.eds",
+                  "12_load_at_2100.eds")
 
 
 def sdo_downloads(frames, node, index):
@@ -375,11 +376,15 @@ def corpus_drive(d, name):
     and stream to it. Checked: the warnings each prints (exactly the file's, naming section and
     key), the mapping and verification drive config reports, 0x1006 written (seen on the bus by the
     harness's own socket) exactly when the file has it, the stream completed with every setpoint
-    applied once and in order, its residual not measured (null: no load position named), and its
-    bus log read by tshark's CANopen dissector with no frame malformed."""
+    applied once and in order, its residual not measured (null: no load position named) — or, for
+    another vendor's load encoder named with --load-feedback on both processes, measured over CAN and
+    equal to the offline replay's within 1e-6 of the distance — and its bus log read by tshark's
+    CANopen dissector with no frame malformed."""
     node, mapping, warned = check_corpus.EXPECTED[name]
     path = os.path.join(CORPUS_DIR, name)
     tag = name.split("_")[0]
+    load = check_corpus.LOAD_FEEDBACK.get(name)
+    named = ["--load-feedback", load] if load else []
     has_1006 = any(line.strip().upper() == "[1006]" for line in open(path, encoding="utf-8"))
     plant_args, move_args, vmax, _ = SCENARIOS["000-scurve-0.8"]
     eds = ["--node", str(node), "--eds", path]
@@ -405,17 +410,23 @@ def corpus_drive(d, name):
     check(sniffer.sock.drops == 0 and bool(written) == has_1006,
           f"{name}: 0x1006 {'in' if has_1006 else 'not in'} the file, {len(written)} SDO downloads of it on the bus")
     # A drive process of its own for the stream (the one configured above counted the config's frames).
-    plant = Plant(d, tag, plant_args, [*PLANT_TOLERANT, "--eds", path], node=node)
+    plant = Plant(d, tag, plant_args, [*PLANT_TOLERANT, "--eds", path, *named], node=node)
     said = []
-    rc, r, fb, dump = stream(d, tag, plant_args, move_args, vmax, ["--eds", path], node=node, stderr=said)
+    rc, r, fb, dump = stream(d, tag, plant_args, move_args, vmax, ["--eds", path, *named], node=node, stderr=said)
     pj = plant.stop()
     warns("stream", said[0])
     check(rc == 0 and r.get("outcome") == "completed" and r["aligned"],
           f"{name}: streamed to completion, the CAN feedback aligned with the replay (exit {rc}, {r.get('outcome')} "
           f"{r.get('message', '')}; "
           f"drive {r.get('drive_state')} {r.get('drive_failure', '')}{why_stopped(dump, pj, r)})")
-    check(r["residual_can"] is None and r["prv_can_percent"] is None and r["rest_measured"] is False,
-          f"{name}: no load position named, so residual and PRV are not measured ({r['residual_can_note']})")
+    if load:
+        tol = 1e-6 * SCENARIOS["000-scurve-0.8"][3]
+        check(r["rest_measured"] is True and r["agreement"] <= tol,
+              f"{name}: its load encoder {load} measured over CAN: residual {r['residual_can']:.6e} agrees with "
+              f"offline {r['residual_offline']:.6e} within 1e-6 of the distance ({r['agreement']:.1e} <= {tol:.1e})")
+    else:
+        check(r["residual_can"] is None and r["prv_can_percent"] is None and r["rest_measured"] is False,
+              f"{name}: no load position named, so residual and PRV are not measured ({r['residual_can_note']})")
     check(r["frames_lost"] == 0 and pj["rx_overflow_drops"] == 0 and pj["emcy_sent"] == 0,
           f"{name}: no frame lost, no EMCY{why_stopped(dump, pj, r)}")
     check_log(tag, r, dump, pj, node)

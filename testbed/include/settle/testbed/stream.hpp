@@ -62,6 +62,12 @@ struct StreamAxis {
 struct LoadFeedback {
   std::uint16_t index{0};
   std::uint8_t sub{0};
+  // Where a simulated drive of another vendor serves its load position (SimulatedDriveSpec's
+  // load_position): none when none is named.
+  [[nodiscard]] std::optional<hal::eds::MappedObject> served_at() const {
+    if (index == 0) return std::nullopt;
+    return hal::eds::MappedObject{index, sub, 32};
+  }
 };
 
 struct StreamSpec {
