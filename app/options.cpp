@@ -20,6 +20,7 @@
 #include "settle/core/multi_axis.hpp"
 #include "settle/core/profile.hpp"
 #include "settle/plant/beam.hpp"
+#include "settle/plant/modal_plant.hpp"
 #include "settle/commission/identify.hpp"
 #include "settle/commission/identify_excitation.hpp"
 #include "settle/plant/move_vocabulary.hpp"
@@ -31,6 +32,17 @@ namespace {
 std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// A default as --help shows it: %g when that reads back as the same double, else the fewest
+// significant digits that do.
+std::string shown(double v) {
+  char buf[32];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
   return buf;
 }
 
@@ -219,25 +231,31 @@ const std::vector<OptionSpec> kExport = {
     integer("--period-us", "us", "1000", {100.0, 100000.0}, "the servo period the stream ticks at"),
 };
 
+// The plants' defaults as --help shows them: the plant library's own (parse_plant falls back on
+// the same structs), never restated here.
+const plant::SdofParams kSdof{};
+const plant::BeamOptions kBeam{};
+const plant::BeltParams kBelt{};
+
 const std::vector<OptionSpec> kPlant = {
     choice("--plant", "beam", {"sdof", "beam", "belt", "modes"}, "the plant behind the drive"),
-    real("--mass", "kg", "1", {1e-6, 1e6}, "sdof: mass"),
-    real("--stiffness", "N/m", "800", {1e-6, 1e12}, "sdof: spring stiffness"),
-    real("--damping", "N s/m", "9", {0.0, 1e9}, "sdof: damping coefficient (must leave zeta < 1)"),
-    real("--length", "m", "0.25", {1e-3, 100.0}, "beam: length"),
-    real("--modulus", "Pa", "3e9", {1.0, 1e13}, "beam: Young's modulus"),
-    real("--thickness", "m", "0.002", {1e-6, 10.0}, "beam: thickness (bending direction)"),
-    real("--width", "m", "0.025", {1e-6, 10.0}, "beam: width"),
-    real("--beam-mass", "kg", "0.02", {1e-6, 1e6}, "beam: mass of the beam"),
-    real("--tip-mass", "kg", "0.015", {0.0, 1e6}, "beam: tip mass"),
-    integer("--modes", "", "3", {1.0, static_cast<double>(plant::kMaxBeamModes)}, "beam: number of modes"),
-    real("--modal-damping", "", "0", {0.0, 1.0, false, true}, "beam: damping ratio of every mode"),
-    real("--inertia", "kg m^2", "6", {1e-6, 1e6}, "belt: platform inertia"),
-    real("--belt-stiffness", "N/m", "9e4", {1e-6, 1e12}, "belt: stiffness of each branch"),
-    real("--belt-damping", "N s/m", "150", {0.0, 1e9}, "belt: damping of each branch (must leave zeta < 1)"),
-    real("--pulley-r", "m", "0.06", {1e-4, 100.0}, "belt: motor pulley radius"),
-    real("--pulley-R", "m", "0.18", {1e-4, 100.0}, "belt: platform pulley radius"),
-    real("--ratio", "", "0.1", {1e-4, 1e4}, "belt: gear ratio z"),
+    real("--mass", "kg", shown(kSdof.mass), {1e-6, 1e6}, "sdof: mass"),
+    real("--stiffness", "N/m", shown(kSdof.stiffness), {1e-6, 1e12}, "sdof: spring stiffness"),
+    real("--damping", "N s/m", shown(kSdof.damping), {0.0, 1e9}, "sdof: damping coefficient (must leave zeta < 1)"),
+    real("--length", "m", shown(kBeam.params.length), {1e-3, 100.0}, "beam: length"),
+    real("--modulus", "Pa", shown(kBeam.params.modulus), {1.0, 1e13}, "beam: Young's modulus"),
+    real("--thickness", "m", shown(kBeam.params.thickness), {1e-6, 10.0}, "beam: thickness (bending direction)"),
+    real("--width", "m", shown(kBeam.params.width), {1e-6, 10.0}, "beam: width"),
+    real("--beam-mass", "kg", shown(kBeam.params.beam_mass), {1e-6, 1e6}, "beam: mass of the beam"),
+    real("--tip-mass", "kg", shown(kBeam.params.tip_mass), {0.0, 1e6}, "beam: tip mass"),
+    integer("--modes", "", std::to_string(kBeam.modes), {1.0, static_cast<double>(plant::kMaxBeamModes)}, "beam: number of modes"),
+    real("--modal-damping", "", shown(kBeam.modal_damping), {0.0, 1.0, false, true}, "beam: damping ratio of every mode"),
+    real("--inertia", "kg m^2", shown(kBelt.inertia), {1e-6, 1e6}, "belt: platform inertia"),
+    real("--belt-stiffness", "N/m", shown(kBelt.belt_stiffness), {1e-6, 1e12}, "belt: stiffness of each branch"),
+    real("--belt-damping", "N s/m", shown(kBelt.belt_damping), {0.0, 1e9}, "belt: damping of each branch (must leave zeta < 1)"),
+    real("--pulley-r", "m", shown(kBelt.pulley_r), {1e-4, 100.0}, "belt: motor pulley radius"),
+    real("--pulley-R", "m", shown(kBelt.pulley_R), {1e-4, 100.0}, "belt: platform pulley radius"),
+    real("--ratio", "", shown(kBelt.ratio), {1e-4, 1e4}, "belt: gear ratio z"),
     {.name = "--mode", .kind = Kind::list, .unit = "rad/s, -, -", .def = "", .help = "modes: one mode "
      "OMEGA,ZETA[,GAIN] (GAIN 1 when left out, as tune's --mode; required for --plant modes; repeatable)",
      .range = {0.0, 0.0}, .min_items = 2,
