@@ -1485,13 +1485,17 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // The chain for one mode fewer, a small and a large wiggle in each ramp. Chosen on the tests'
     // sets against one size: 10 % of the rise alone or 80 % alone each found some of the other's
     // shorter moves; both together the shortest of either (docs/fastest.md, "Seeds"). And a
-    // wiggle twice the rise, from limit to limit where it reaches them: the reference's moves
-    // cancel a fast mode with a blip across the whole range inside a hold at amax (on its grid
-    // 5 more cases reach it, among them 4 that were 7 % to 26 % longer).
+    // wiggle twice the rise, from limit to limit where it reaches them, in the ramps into or out
+    // of a hold at amax: the reference's moves cancel a fast mode with a blip across the whole
+    // range inside such a hold (on its grid 5 more cases reach it, among them 4 that were 7 % to
+    // 26 % longer; in the other ramps it found nothing more and cost a third of the grid's time).
     if (sub.have && sub.pulse == pulse) {
       for (const double frac : {0.05, 0.4, 1.0}) {
         for (std::size_t k = 0; k <= sub.c.n; ++k) {
           ArcChain c{};
+          const bool by_limit = (k < sub.c.n && sub.c.node[k].kind == ArcKind::limit) ||
+                                (k > 0 && sub.c.node[k - 1].kind == ArcKind::limit);
+          if (frac == 1.0 && !by_limit) continue;  // the wide wiggle: next to a hold at amax only
           if (insert_wiggle(pb, sub.c, k, frac, c)) walk(c);
         }
       }
