@@ -872,7 +872,7 @@ struct ArcNode {
   ArcKind kind{ArcKind::limit};
   double sign{1.0};  // limit / peak: the side of a; cruise and dwell: +1 (D > 0)
 };
-constexpr std::size_t kMaxArcNodes = 14;  // 2 n + 1 segments <= kFastestSegments
+constexpr std::size_t kMaxArcNodes = 15;  // 2 n + 1 segments <= kFastestSegments (31)
 using ArcVec = std::array<double, kMaxArcNodes>;
 using ArcMat = std::array<ArcVec, kMaxArcNodes>;
 
@@ -1231,6 +1231,76 @@ ArcChain seed_chain(const ArcSeed& sd, std::size_t n0, double unit_hold, double 
   return c;
 }
 
+// The rigid time-optimal move of distance d under the limits as chain nodes, appended to c: a
+// turn + (a peak at a_p, or a limit holding h), a cruise where it reaches vmax, a turn -.
+// Returns the move's duration; 0 when c has no room.
+double push_rigid_move(const ArcProblem& pb, double d, ArcChain& c) noexcept {
+  // Without vmax: jerk only while (d J^2 / 2)^(1/3) <= amax, else holds h at +-amax; where the
+  // peak velocity a_p (a_p / J + h) passes vmax, the phases that reach vmax and a cruise.
+  double a_p = std::fmin(std::cbrt(0.5 * d * pb.J * pb.J), pb.amax);
+  double h = 0.0;
+  if (a_p >= pb.amax) {
+    const double t1 = pb.amax / pb.J;
+    h = 0.5 * (-3.0 * t1 + std::sqrt(t1 * t1 + 4.0 * d / pb.amax));
+  }
+  double v_p = a_p * (a_p / pb.J + h), cruise = 0.0;
+  if (v_p > pb.vmax) {
+    a_p = std::fmin(pb.amax, std::sqrt(pb.vmax * pb.J));
+    h = pb.vmax / a_p - a_p / pb.J;
+    v_p = pb.vmax;
+    cruise = d / pb.vmax - (2.0 * a_p / pb.J + h);
+  }
+  if (c.n + (cruise > 0.0 ? 3 : 2) > kMaxArcNodes) return 0.0;
+  const bool limit = a_p >= pb.amax;
+  c.node[c.n] = {limit ? ArcKind::limit : ArcKind::peak, 1.0};
+  c.x[c.n++] = limit ? h : a_p;
+  if (cruise > 0.0) {
+    c.node[c.n] = {ArcKind::cruise, 1.0};
+    c.x[c.n++] = cruise;
+  }
+  c.node[c.n] = {limit ? ArcKind::limit : ArcKind::peak, -1.0};
+  c.x[c.n++] = limit ? h : -a_p;
+  return 2.0 * (2.0 * a_p / pb.J + h) + cruise;
+}
+
+// A chain that splits the move as a shaper with positive impulses splits a step: one rigid
+// time-optimal sub-move per impulse (its share of D), each centred on its impulse's time, the
+// axis at rest (a dwell) between them. With m modes and m + 1 impulses (ZV, joint ZV) it has
+// 2 + 2m turn nodes and m dwells: square. Short moves on slow modes take this form (the
+// reference's moves dwell at v = 0 for most of a half period between two pulses), which the
+// seeds above, whose holds are short, do not reach.
+bool split_chain(const ArcProblem& pb, const Shaper<double>& s, ArcChain& c) noexcept {
+  if (s.count < 2) return false;
+  c = ArcChain{};
+  double prev_half = 0.0;
+  for (std::size_t i = 0; i < s.count; ++i) {
+    if (!(s.amp[i] > 0.0)) return false;
+    const std::size_t at = c.n;
+    if (i > 0) {
+      if (c.n >= kMaxArcNodes) return false;
+      c.node[c.n] = {ArcKind::dwell, 1.0};
+      c.x[c.n++] = 0.0;
+    }
+    const double half = 0.5 * push_rigid_move(pb, s.amp[i] * pb.D, c);
+    if (!(half > 0.0)) return false;
+    if (i > 0) c.x[at] = std::fmax(0.0, s.time[i] - s.time[i - 1] - prev_half - half);
+    prev_half = half;
+  }
+  return true;
+}
+
+// The shaper whose impulses split_chain follows: ZV for one mode, the joint ZV for more.
+bool split_shaper(const ModeSet& ms, Shaper<double>& s) noexcept {
+  if (ms.n == 1) return design_shaper(ShaperKind::zv, ms.m[0].omega, ms.m[0].zeta, 0.05, s) == Status::ok;
+  if (ms.n > kMaxJointModes) return false;
+  std::array<double, kMaxJointModes> w{}, z{};
+  for (std::size_t i = 0; i < ms.n; ++i) {
+    w[i] = ms.m[i].omega;
+    z[i] = ms.m[i].zeta;
+  }
+  return joint_zv_shaper(w.data(), z.data(), ms.n, s) == Status::ok;
+}
+
 // The solved chains met so far: a seed whose path reaches one of them would only repeat the
 // path taken from there (the active-set loop is deterministic), so it stops.
 class ChainMemo {
@@ -1263,8 +1333,8 @@ class ChainMemo {
 // c with a pair of peaks inserted into its ramp into node k (k == c.n: the closing ramp): the
 // ramp doubles back over 2 frac of its rise about its middle, a turn of the ramp's sign then one
 // of the other, so that the signs still alternate. It seeds a chain for one mode more (the new
-// mode's two conditions, the wiggle's two levels); false when it does not fit or the ramp is
-// flat.
+// mode's two conditions, the wiggle's two levels); a turn at or beyond a limit is a limit node
+// (hold 0). False when it does not fit or the ramp is flat.
 bool insert_wiggle(const ArcProblem& pb, const ArcChain& c, std::size_t k, double frac, ArcChain& out) noexcept {
   if (c.n == 0 || c.n + 2 > kMaxArcNodes || k > c.n) return false;
   const double a_prev = k == 0 ? 0.0 : node_level(pb, c, k - 1);
@@ -1277,10 +1347,13 @@ bool insert_wiggle(const ArcProblem& pb, const ArcChain& c, std::size_t k, doubl
   out.n = c.n + 2;
   for (std::size_t i = 0, o = 0; i <= c.n; ++i) {
     if (i == k) {
-      out.node[o] = {ArcKind::peak, s};
-      out.x[o++] = mid + s * half;
-      out.node[o] = {ArcKind::peak, -s};
-      out.x[o++] = mid - s * half;
+      // A turn at or beyond a limit is a hold there (a wiggle from limit to limit).
+      for (const double side : {s, -s}) {
+        const double lev = mid + side * half;
+        const bool at_limit = std::fabs(lev) >= pb.amax;
+        out.node[o] = {at_limit ? ArcKind::limit : ArcKind::peak, side};
+        out.x[o++] = at_limit ? 0.0 : lev;
+      }
     }
     if (i < c.n) {
       out.node[o] = c.node[i];
@@ -1306,7 +1379,7 @@ struct ArcBest {
 // recursively) seeds more paths: that chain with a wiggle inserted into each of its ramps, for the
 // fastest mode's two conditions (docs/fastest.md, "Seeds"). False when none is feasible.
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk,
-               ArcBest* best_chain = nullptr) noexcept {
+               ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr) noexcept {
   ArcProblem pb{};
   pb.D = std::fabs(r.distance);
   pb.J = *r.jmax;
@@ -1327,7 +1400,8 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     }
     FastestTable t{};
     Peaks<double> pk{};
-    (void)plan_arcs(r, fewer, t, pk, &sub);
+    Shaper<double> fewer_split{};
+    (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr);
   }
   bool have = false, best_cruises = false;
   double best = HUGE_VAL;
@@ -1385,13 +1459,43 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       if (sd.shape == SeedShape::inner_peaks && ms.n < 2) continue;
       walk(seed_chain(sd, n0, unit_hold, pb.amax));
     }
+    if (!pulse) {
+      // Peaks at half the level the rigid time-optimal move reaches, where that is below amax
+      // (otherwise the seed is the all-peaks one above): short moves on fast modes turn far
+      // below amax, and from peaks at amax / 2 Newton's method does not reach them. With one
+      // mode also a notched deceleration: a turn back short of a = 0 and down again, the shape
+      // of the reference's moves on a heavily damped fast mode (levels from two of them, 200 and
+      // 47 rad/s at zeta 0.26 and 0.22: 0.97 / 0.98, -0.83 / -0.90, -0.12 / -0.16, -0.52 / -0.42
+      // of the rigid level), where no other seed leads.
+      const double a_rigid = std::fmin(std::cbrt(0.5 * pb.D * pb.J * pb.J), std::sqrt(pb.vmax * pb.J));
+      if (a_rigid < pb.amax) {
+        ArcChain c = seed_chain({SeedShape::peaks, 0.0}, n0, unit_hold, pb.amax);
+        for (std::size_t i = 0; i < c.n; ++i) c.x[i] = 0.5 * c.node[i].sign * a_rigid;
+        walk(c);
+        if (n0 == 4) {
+          constexpr std::array<double, 4> kNotch{1.0, -0.85, -0.15, -0.5};
+          for (std::size_t i = 0; i < c.n; ++i) c.x[i] = kNotch[i] * a_rigid;
+          walk(c);
+        }
+      }
+      // The move split at a shaper's impulses, at rest between the parts (split_chain).
+      ArcChain c{};
+      if (split != nullptr && split_chain(pb, *split, c)) walk(c);
+    }
     // The chain for one mode fewer, a small and a large wiggle in each ramp. Chosen on the tests'
     // sets against one size: 10 % of the rise alone or 80 % alone each found some of the other's
-    // shorter moves; both together the shortest of either (docs/fastest.md, "Seeds").
+    // shorter moves; both together the shortest of either (docs/fastest.md, "Seeds"). And a
+    // wiggle twice the rise, from limit to limit where it reaches them, in the ramps into or out
+    // of a hold at amax: the reference's moves cancel a fast mode with a blip across the whole
+    // range inside such a hold (on its grid 5 more cases reach it, among them 4 that were 7 % to
+    // 26 % longer; in the other ramps it found nothing more and cost a third of the grid's time).
     if (sub.have && sub.pulse == pulse) {
-      for (const double frac : {0.05, 0.4}) {
+      for (const double frac : {0.05, 0.4, 1.0}) {
         for (std::size_t k = 0; k <= sub.c.n; ++k) {
           ArcChain c{};
+          const bool by_limit = (k < sub.c.n && sub.c.node[k].kind == ArcKind::limit) ||
+                                (k > 0 && sub.c.node[k - 1].kind == ArcKind::limit);
+          if (frac == 1.0 && !by_limit) continue;  // the wide wiggle: next to a hold at amax only
           if (insert_wiggle(pb, sub.c, k, frac, c)) walk(c);
         }
       }
@@ -1633,7 +1737,10 @@ bool bang_bang_family(FastestSearch& fs) noexcept {
   if (fs.band == 0.0) {
     FastestTable t{};
     Peaks<double> pk{};
-    if (plan_arcs(fs.r, ms, t, pk) && table_duration(t) < fs.best.time) {
+    // The split seed follows the joint ZV shaper (designed above for several modes) or ZV.
+    Shaper<double> zv{};
+    const Shaper<double>* split = fs.has_joint ? &fs.joint : ms.n == 1 && split_shaper(ms, zv) ? &zv : nullptr;
+    if (plan_arcs(fs.r, ms, t, pk, nullptr, split) && table_duration(t) < fs.best.time) {
       fs.record_table(FastestFamily::bang_bang, t, pk);
       double w_max = 0.0;
       for (std::size_t i = 0; i < ms.n; ++i) w_max = std::fmax(w_max, ms.m[i].omega);

@@ -424,6 +424,17 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       {0.001, 1, 20, 800, {12, 0.0}, {31, 0.0}, 0.34392, 0.05, {77, 0.0}},
       {0.1, 0.5, 5, 200, {25, 0.02}, {70, 0.05}, 0.35189, 1e-4, {160, 0.03}},
       {0.3, 0.5, 5, 200, {13.92, 0.0}, {66.9, 0.01}, 0.86304, 0.05, {120, 0.02}},
+      // Cases of the seeded reference grid (tests/core/data/fastest_reference_grid.txt, 1000
+      // steps) that the seeds of 6 Dec reach (docs/fastest.md, "Seeds"), one per new seed:
+      // the move split at ZV's impulses, at rest between (grid case 12: time-optimal * ZV,
+      // 1.3 % over, before);
+      {0.03324, 2.822, 40.62, 728.5, {1.8297, 0.1899}, {0, 0}, 1.8380316, 1e-3},
+      // split at the joint ZV's four impulses, each part cruising (15 nodes; case 2: 33 % over);
+      {1.003, 0.3638, 18.68, 9151.0, {2.148, 0.1209}, {5.637, 0.061}, 3.22992957, 1e-3, {13.2852, 0.0787}},
+      // peaks at half the rigid move's level (case 13: 5.4 % over);
+      {0.1495, 0.2469, 196.5, 306.5, {36.8023, 0.2431}, {140.7531, 0.1025}, 0.709686469, 1e-3},
+      // the notched deceleration (case 60: bang-coast, 6.8 % over).
+      {0.003484, 3.834, 44.85, 697.0, {200.7947, 0.262}, {0, 0}, 0.0599049683, 1e-3},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "D " << c.d << " w " << c.m0.omega << " z " << c.m0.zeta << " w2 " << c.m1.omega
@@ -438,7 +449,7 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
     core::Move<double> m{};
     ASSERT_EQ(core::plan(r, m), Status::ok);
     EXPECT_LE(m.duration(), c.lp * (1 + c.over)) << core::to_string(family_of(m));
-    if (c.over <= 1e-4) {  // at the optimum: a bang-bang chain (the others may be bang-coast)
+    if (c.over <= 1e-3) {  // at the optimum: a bang-bang chain (the others may be bang-coast)
       EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
     }
     check_move(r, m);
