@@ -460,7 +460,7 @@ BlendFamily::BlendFamily(const OnlineRequest& req) noexcept : r{&req} {
 constexpr int kBlendKinds = 5;
 // Passes that pin jerks at the limit (solve_for) while the duration is bisected; none while it
 // grows (five blends per duration there: pinning would multiply the cost where it gains nothing).
-constexpr int kPinPasses = 2;
+constexpr int kPinPasses = 6;
 
 bool BlendFamily::feasible(double t, Solved& sol) noexcept {
   const OnlineLimits& l = r->limits;

@@ -38,9 +38,9 @@ namespace {
 // The sweep's measured means (docs/online.md), rounded up in the third digit: rest time over the
 // time-optimal stop, and over that stop plus one ZV shaper's length (pi / omega_d) per design mode.
 #if SETTLE_HALT_CASES == 1000
-constexpr double kMeanOverStop = 4.411, kMeanOverStopAndShapers = 0.617;  // measured 4.410, 0.616
+constexpr double kMeanOverStop = 4.390, kMeanOverStopAndShapers = 0.613;  // measured 4.389, 0.612
 #elif SETTLE_HALT_CASES == 120
-constexpr double kMeanOverStop = 4.688, kMeanOverStopAndShapers = 0.648;  // measured 4.687, 0.647
+constexpr double kMeanOverStop = 4.667, kMeanOverStopAndShapers = 0.644;  // measured 4.666, 0.643
 #else
 constexpr double kMeanOverStop = HUGE_VAL, kMeanOverStopAndShapers = HUGE_VAL;  // not measured
 #endif
