@@ -109,22 +109,17 @@ class BasicBlend {
   [[nodiscard]] T end_position() const noexcept { return p_end_; }
   // Exact peaks of |v|, |a|, |j| over the blend (a is piecewise linear, v piecewise quadratic).
   [[nodiscard]] Peaks<T> peaks() const noexcept {
-    // raise(x, y): x = max(x, |y|), NaN y ignored as fmax does (inline: a plan takes many peaks).
-    const auto raise = [](T& x, T y) noexcept {
-      y = std::fabs(y);
-      if (y > x) x = y;
-    };
     Peaks<T> pk{};
     for (std::size_t k = 0; k <= kBlendSegments; ++k) {
-      raise(pk.v, v_[k]);
-      raise(pk.a, a_[k]);
+      pk.v = std::fmax(pk.v, std::fabs(v_[k]));
+      pk.a = std::fmax(pk.a, std::fabs(a_[k]));
     }
     for (std::size_t k = 0; k < kBlendSegments; ++k) {
       const T j = j_[k];
-      raise(pk.j, j);
+      pk.j = std::fmax(pk.j, std::fabs(j));
       if (j != T(0)) {
         const T w = -a_[k] / j;  // where a crosses zero: a velocity extremum
-        if (w > T(0) && w < h_) raise(pk.v, v_[k] + w * (a_[k] + w * j / T(2)));
+        if (w > T(0) && w < h_) pk.v = std::fmax(pk.v, std::fabs(v_[k] + w * (a_[k] + w * j / T(2))));
       }
     }
     return pk;
