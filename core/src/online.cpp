@@ -144,14 +144,16 @@ constexpr double kPinOvershoot = 2.0;
 using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 
 // g = L L^T for the symmetric positive definite Gram matrix (lower triangle of `l`). False when a
-// pivot falls below 1e-14 of its diagonal entry: singular to working precision.
+// pivot is not positive; a nearly singular one is let through, as partial pivoting let it through
+// before: the caller rejects a solution that misses its equations (a retarget over a huge distance
+// has such a Gram matrix and a valid blend).
 bool cholesky(const Gram& g, std::size_t n, Gram& l) noexcept {
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t c = 0; c <= i; ++c) {
       double s = g[i][c];
       for (std::size_t k = 0; k < c; ++k) s -= l[i][k] * l[c][k];
       if (c == i) {
-        if (!(s > 1e-14 * g[i][i]) || !std::isfinite(s)) return false;
+        if (!(s > 0.0) || !std::isfinite(s)) return false;
         l[i][i] = std::sqrt(s);
       } else {
         l[i][c] = s / l[c][c];
