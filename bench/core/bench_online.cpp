@@ -43,10 +43,10 @@ void BM_PlanOnline(benchmark::State& state, ProfileKind k, std::size_t modes, bo
     OnlineRequest r{};
     const std::optional<double> target = retarget ? std::optional<double>{0.5 * s.move.distance()} : std::nullopt;
     Status st = online_request(s.move, t, s.modes.data(), modes, s.limits, target, r);
-    Blend b{};
-    if (st == Status::ok) st = plan_online(r, b);
+    OnlinePlan p{};  // the whole choice (a halt may finish the move instead of blending)
+    if (st == Status::ok) st = plan_online(r, p);
     if (st != Status::ok) state.SkipWithError(to_string(st));
-    benchmark::DoNotOptimize(b);
+    benchmark::DoNotOptimize(p);
   }
 }
 

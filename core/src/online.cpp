@@ -6,7 +6,6 @@
 #include <type_traits>
 
 #include "settle/core/piece.hpp"
-#include "settle/core/small_solve.hpp"
 #include "mode_integral.hpp"
 #include "numeric/complex.hpp"
 
@@ -139,68 +138,132 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
   sys.rows = rows;
 }
 
+// Pinning stops when the least-norm jerks overshoot the limit more than this many times: the
+// duration is far too short, and more passes would only cost time.
+constexpr double kPinOvershoot = 2.0;
+using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
+
+// g = L L^T for the symmetric positive definite Gram matrix (lower triangle of `l`). False when a
+// pivot is not positive; a nearly singular one is let through, as partial pivoting let it through
+// before: the caller rejects a solution that misses its equations (a retarget over a huge distance
+// has such a Gram matrix and a valid blend).
+bool cholesky(const Gram& g, std::size_t n, Gram& l) noexcept {
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t c = 0; c <= i; ++c) {
+      double s = g[i][c];
+      for (std::size_t k = 0; k < c; ++k) s -= l[i][k] * l[c][k];
+      if (c == i) {
+        if (!(s > 0.0) || !std::isfinite(s)) return false;
+        l[i][i] = std::sqrt(s);
+      } else {
+        l[i][c] = s / l[c][c];
+      }
+    }
+  }
+  return true;
+}
+
+// Solves L L^T y = b in place.
+void cholesky_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& b) noexcept {
+  for (std::size_t i = 0; i < n; ++i) {
+    double s = b[i];
+    for (std::size_t k = 0; k < i; ++k) s -= l[i][k] * b[k];
+    b[i] = s / l[i][i];
+  }
+  for (std::size_t i = n; i-- > 0;) {
+    double s = b[i];
+    for (std::size_t k = i + 1; k < n; ++k) s -= l[k][i] * b[k];
+    b[i] = s / l[i][i];
+  }
+}
+
 // The blend's jerks j = j_ref + dj, dj of least weighted norm sum dj_k^2 / w_k (sw = sqrt(w)),
-// meeting the system. False when it is singular to working precision or the solution misses it.
-bool solve_for(System sys, const std::array<double, kBlendSegments>& ref, const std::array<double, kBlendSegments>& sw,
-               Solved& out) noexcept {
+// meeting the system. Then, up to `pins` times, every jerk beyond +-jmax is pinned to it (taken
+// out of the unknowns, its share moved to the right side) and the rest solved again: a few such
+// passes turn the smooth least-norm correction towards the bang-bang jerk a short blend needs. The
+// Gram matrix is downdated, not rebuilt. False when the system is singular to working precision
+// or the solution misses it.
+bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::array<double, kBlendSegments> sw,
+               double jmax, int pins, Solved& out) noexcept {
   constexpr std::size_t n = kBlendSegments;
-  auto& mat = sys.mat;
-  auto& rhs = sys.rhs;
   const std::size_t rows = sys.rows;
+  // Only the system's rows are copied (each solve scales its own).
+  std::array<std::array<double, n>, kMaxRows> mat;  // NOLINT: rows [0, rows) are set here
+  std::array<double, kMaxRows> rhs{};
   // The reference's share of each condition is known: the unknowns are the deviation from it.
   for (std::size_t i = 0; i < rows; ++i) {
+    mat[i] = sys.mat[i];
     double s = 0.0;
     for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * ref[k];
-    rhs[i] -= s;
+    rhs[i] = sys.rhs[i] - s;
   }
   // Unknowns x_k = dj_k / sqrt(w_k): the weighted problem becomes a minimum-norm one. Then rows to
   // unit length, so that the Gram matrix is as well conditioned as the geometry allows.
   for (std::size_t i = 0; i < rows; ++i) {
-    for (std::size_t k = 0; k < n; ++k) mat[i][k] *= sw[k];
-  }
-  for (std::size_t i = 0; i < rows; ++i) {
     double nn = 0.0;
-    for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k];
+    for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k] * sw[k] * sw[k];
     nn = std::sqrt(nn);
     if (!(nn > 0.0) || !std::isfinite(nn)) return false;
-    for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;
+    for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;  // unweighted column, row-scaled
     rhs[i] /= nn;
   }
-  std::array<std::array<double, kMaxRows>, kMaxRows> gram{};
+  Gram gram{};
   for (std::size_t i = 0; i < rows; ++i) {
     for (std::size_t l = 0; l <= i; ++l) {
       double s = 0.0;
-      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k];
+      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k] * sw[k] * sw[k];
       gram[i][l] = gram[l][i] = s;
     }
   }
   std::array<double, n> jerk{};
-  std::array<double, kMaxRows> res = rhs;
-  double rhs_norm = 0.0;
-  for (std::size_t i = 0; i < rows; ++i) rhs_norm = std::max(rhs_norm, std::fabs(rhs[i]));
-  // Minimum norm: j = M^T (M M^T)^{-1} b, then one step of iterative refinement.
-  for (int pass = 0; pass < 2; ++pass) {
-    auto g = gram;
-    std::array<double, kMaxRows> y = res;
-    if (!solve_in_place(g, y, rows, 1e-14)) return false;
+  for (int pin = 0;; ++pin) {
+    std::array<double, n> x{};
+    std::array<double, kMaxRows> res = rhs;
+    double rhs_norm = 0.0;
+    for (std::size_t i = 0; i < rows; ++i) rhs_norm = std::max(rhs_norm, std::fabs(rhs[i]));
+    // Minimum norm: x = W M^T (M W M^T)^{-1} b, then one step of iterative refinement with the
+    // same factor.
+    Gram chol{};
+    if (!cholesky(gram, rows, chol)) return false;
+    for (int pass = 0; pass < 2; ++pass) {
+      std::array<double, kMaxRows> y = res;
+      cholesky_solve(chol, rows, y);
+      for (std::size_t k = 0; k < n; ++k) {
+        double s = 0.0;
+        for (std::size_t i = 0; i < rows; ++i) s += mat[i][k] * y[i];
+        x[k] += s * sw[k] * sw[k];
+      }
+      double worst = 0.0, xn = 0.0;
+      for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) / (sw[k] > 0.0 ? sw[k] : 1.0));
+      for (std::size_t i = 0; i < rows; ++i) {
+        double s = 0.0;
+        for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * x[k];
+        res[i] = rhs[i] - s;
+        worst = std::max(worst, std::fabs(res[i]));
+      }
+      if (pass == 1 && worst > 1e-12 * std::max(rhs_norm, xn)) return false;
+    }
+    bool pinned = false;
+    double jpk = 0.0;
+    for (std::size_t k = 0; k < n; ++k) jpk = std::fmax(jpk, std::fabs(ref[k] + x[k]));
+    if (jpk > kPinOvershoot * jmax) pins = pin;
     for (std::size_t k = 0; k < n; ++k) {
-      double s = 0.0;
-      for (std::size_t i = 0; i < rows; ++i) s += mat[i][k] * y[i];
-      jerk[k] += s;
+      jerk[k] = ref[k] + x[k];
+      if (!std::isfinite(jerk[k])) return false;
+      if (pin < pins && sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
+        // Pin j_k to the limit: its share of every condition goes to the right side, its column
+        // leaves the Gram matrix.
+        const double to = std::copysign(jmax, jerk[k]);
+        for (std::size_t i = 0; i < rows; ++i) {
+          rhs[i] -= mat[i][k] * (to - ref[k]);
+          for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
+        }
+        ref[k] = to;
+        sw[k] = 0.0;
+        pinned = true;
+      }
     }
-    double worst = 0.0, jn = 0.0;
-    for (std::size_t k = 0; k < n; ++k) jn = std::max(jn, std::fabs(jerk[k]));
-    for (std::size_t i = 0; i < rows; ++i) {
-      double s = 0.0;
-      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * jerk[k];
-      res[i] = rhs[i] - s;
-      worst = std::max(worst, std::fabs(res[i]));
-    }
-    if (pass == 1 && worst > 1e-12 * std::max(rhs_norm, jn)) return false;
-  }
-  for (std::size_t k = 0; k < n; ++k) {
-    jerk[k] = ref[k] + jerk[k] * sw[k];
-    if (!std::isfinite(jerk[k])) return false;
+    if (!pinned) break;
   }
   out.jerk = jerk;
   return true;
@@ -397,6 +460,9 @@ BlendFamily::BlendFamily(const OnlineRequest& req) noexcept : r{&req} {
 }
 
 constexpr int kBlendKinds = 5;
+// Passes that pin jerks at the limit (solve_for) while the duration is bisected; none while it
+// grows (five blends per duration there: pinning would multiply the cost where it gains nothing).
+constexpr int kPinPasses = 6;
 
 bool BlendFamily::feasible(double t, Solved& sol) noexcept {
   const OnlineLimits& l = r->limits;
@@ -417,8 +483,11 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
       sample_brake(soft, h, ref);
     }
     Solved s{};
-    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, s)) continue;
-    const Blend b{r->start, t / static_cast<double>(kBlendSegments), s.jerk};
+    const int pins = tries > 1 ? 0 : kPinPasses;
+    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, l.jmax, pins, s)) {
+      continue;
+    }
+    const Blend b{r->start, h, s.jerk};
     if (!within_limits(b.peaks(), l)) continue;
     sol = s;
     last = c;
@@ -428,7 +497,9 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
 }
 
 // The fastest blend of the family that meets the request within the limits (docs/online.md).
-Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
+// No blend longer than `cap` is of use (a halt that can finish its command at rest sooner): the
+// search stops there (no_solution) instead of growing on.
+Status plan_blend(const OnlineRequest& r, Blend& out, double cap = HUGE_VAL) noexcept {
   bool at_rest = false;
   const Status st = check_request(r, at_rest);
   if (st != Status::ok) return st;
@@ -443,12 +514,12 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
   fam.tries = kBlendKinds;
   const auto feasible = [&](double t) { return fam.feasible(t, sol); };
   // Bracket: grow until feasible, then bisect down towards the first feasible duration.
-  double lo = lower, hi = guess;
+  double lo = lower, hi = std::min(guess, cap);
   int grow = 0;
   while (!feasible(hi)) {
+    if (!(hi < cap) || ++grow > 60) return Status::no_solution;
     lo = hi;
-    hi *= 1.5;
-    if (++grow > 60) return Status::no_solution;
+    hi = std::min(hi * 1.5, cap);
   }
   // Bisection on the blend that made the bracket (`last`) alone: a quarter of the solves, and the
   // duration found is that blend's shortest to within 0.5 %.
@@ -470,8 +541,17 @@ Status plan_blend(const OnlineRequest& r, Blend& out) noexcept {
 }  // namespace
 
 Status plan_online(const OnlineRequest& r, OnlinePlan& out) noexcept {
+  // A halt of a command that ends at rest takes a blend only if it comes to rest sooner than the
+  // command (else finishing it is the halt): the search need not look beyond the command's
+  // remaining time, less 1e-6 of it (a blend that merely retraces the command's own final stop
+  // gains nothing, and at that boundary rounding and the limits' 1e-9 slack alone would decide,
+  // differently on each of several path axes).
+  const bool halt = !r.target && r.running;
+  const double cap = halt && r.running->at_rest && std::isfinite(r.running->remaining)
+                         ? std::fmax(r.running->remaining, 0.0) * (1.0 - 1e-6)
+                         : HUGE_VAL;
   Blend fastest{};
-  const Status st = plan_blend(r, fastest);
+  const Status st = plan_blend(r, fastest, cap);
   if (r.target || !r.running) {
     if (st != Status::ok) return st;
     OnlinePlan p{};
@@ -503,7 +583,9 @@ Status plan_online(const OnlineRequest& r, OnlinePlan& out) noexcept {
       return Status::ok;
     }
   } else {
-    p.fastest_passes_target = p.fastest_ends_later = true;  // there is none
+    // None within the command's remaining time, or none at all.
+    p.fastest_ends_later = true;
+    p.fastest_passes_target = !(cap < HUGE_VAL);
   }
   // A blend that ends on the command's end: it cannot pass it, and may come to rest sooner than
   // the command would.
@@ -511,7 +593,7 @@ Status plan_online(const OnlineRequest& r, OnlinePlan& out) noexcept {
   rt.target = run.end;
   rt.running.reset();
   Blend to{};
-  const bool have_to = plan_blend(rt, to) == Status::ok;
+  const bool have_to = plan_blend(rt, to, cap) == Status::ok;
   if (run.at_rest) {
     // Finishing the command is a zero-residual halt on its end at its end: the better of that and
     // the blend to the end.
