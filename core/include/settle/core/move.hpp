@@ -3,6 +3,7 @@
 // A planned move: a profile, the shaper applied to it, and its true peaks. This is what the
 // servo loop evaluates each tick and what the simulator drives its plants with.
 #include <cstddef>
+#include <type_traits>
 
 #include "settle/core/kinematics.hpp"
 #include "settle/core/profile.hpp"
@@ -18,6 +19,7 @@ class Move {
       : profile_{p}, shaper_{s}, peaks_{peaks} {
     duration_ = profile_.duration() + shaper_.duration();
     distance_ = profile_.distance();
+    note_shaper();
   }
   template <typename U>
   explicit Move(const Move<U>& o) noexcept {
@@ -34,6 +36,7 @@ class Move {
                       o.peaks().velocity_step, o.peaks().acceleration_step};
     duration_ = profile_.duration() + shaper_.duration();
     distance_ = profile_.distance();
+    note_shaper();
   }
 
   // Becomes the move of a Shape (built from `arg`, its Params or a Shape) through `s` (nullptr:
@@ -57,6 +60,7 @@ class Move {
     peaks_ = peaks;
     duration_ = shape.duration() + shaper_.duration();
     distance_ = shape.distance();
+    note_shaper();
   }
 
   [[nodiscard]] const Profile<T>& profile() const noexcept { return profile_; }
@@ -64,12 +68,27 @@ class Move {
   [[nodiscard]] const Peaks<T>& peaks() const noexcept { return peaks_; }
   [[nodiscard]] T duration() const noexcept { return duration_; }
   [[nodiscard]] T distance() const noexcept { return distance_; }
+  // One impulse at time 0 (Shaper::is_identity): the move is its profile.
+  [[nodiscard]] bool unshaped() const noexcept {
+    if constexpr (kSplitEvaluation) {
+      return unshaped_;
+    } else {
+      return shaper_.is_identity();
+    }
+  }
 
   // Exact shaped evaluation: sum_i A_i p(t - t_i). Past the end the move is at rest on its
   // target exactly (not at sum_i A_i D, which rounding could move by an ulp).
-  // The single-impulse path is inline (the profile's dispatch with it, profile.hpp); where
-  // evaluation is split (kSplitEvaluation) the sum over impulses is out of line.
+  // Where evaluation is split (kSplitEvaluation: hosts), an unshaped move (one impulse at 0, the
+  // common move) is its profile: its duration and distance are the move's, and every shape is at
+  // rest on its distance from its duration on, so the profile's own evaluation is returned with
+  // no check of the move's (one flag tested, then the profile's dispatch, inline: profile.hpp),
+  // and the sum over impulses is out of line. On M-profile cores one path serves every move
+  // (flash: the Cortex-M4F's image is budgeted).
   [[nodiscard]] Sample<T> at(T t) const noexcept {
+    if constexpr (kSplitEvaluation) {
+      if (unshaped_) [[likely]] return profile_.at(t);
+    }
     if (t >= duration_) return {distance_, T(0), T(0), T(0)};
     if (shaper_.count == 1) return profile_.at(t - shaper_.time[0]);
     if constexpr (kSplitEvaluation) {
@@ -80,6 +99,20 @@ class Move {
   }
 
  private:
+  // Where evaluation is split, at() tests one flag for the unshaped move; on M-profile cores
+  // neither the flag (RAM per queued move) nor the code that sets it (flash) is there.
+  struct NoFlag {};
+  using UnshapedFlag = std::conditional_t<kSplitEvaluation, bool, NoFlag>;
+  static constexpr UnshapedFlag unshaped_default() noexcept {
+    if constexpr (kSplitEvaluation) {
+      return true;  // the default move: one impulse at 0
+    } else {
+      return NoFlag{};
+    }
+  }
+  void note_shaper() noexcept {
+    if constexpr (kSplitEvaluation) unshaped_ = shaper_.is_identity();
+  }
   [[gnu::noinline]] Sample<T> shaped_at_out_of_line(T t) const noexcept { return shaped_at(t); }
   [[nodiscard]] Sample<T> shaped_at(T t) const noexcept {
     Sample<T> acc{};
@@ -99,6 +132,7 @@ class Move {
   Peaks<T> peaks_{};
   T duration_{};
   T distance_{};
+  [[no_unique_address]] UnshapedFlag unshaped_{unshaped_default()};  // shaper_.is_identity()
 };
 
 }  // namespace settle::core

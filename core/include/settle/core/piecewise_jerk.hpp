@@ -140,6 +140,23 @@ class PiecewiseJerk {
     if (t >= dur_ || n_ == 0) return {dist_, T(0), T(0), T(0)};
     std::size_t k = n_ - 1;
     while (k > 0 && t < start_[k]) --k;
+    return in_segment(k, t);
+  }
+  // at(t) for a caller whose t never decreases from one call to the next (a stepper), keeping the
+  // segment in `k` (0 before the first call): the segment is found forward from the last one, one
+  // comparison a tick, where at() searches from the end. The same segment, so the same result:
+  // the last one starting at or before t.
+  [[nodiscard]] Sample<T> at_forward(T t, std::size_t& k) const noexcept {
+    if (!(t > T(0))) return {};
+    if (t >= dur_ || n_ == 0) return {dist_, T(0), T(0), T(0)};
+    while (k + 1 < n_ && !(t < start_[k + 1])) ++k;
+    return in_segment(k, t);
+  }
+
+ private:
+  template <typename, std::size_t>
+  friend class PiecewiseJerk;
+  [[nodiscard]] Sample<T> in_segment(std::size_t k, T t) const noexcept {
     const T u = t - start_[k];
     const T j = jerk(k), a0 = accel0(k);
     const T a = a0 + j * u;
@@ -147,10 +164,6 @@ class PiecewiseJerk {
     const T p = p0_[k] + u * (v0_[k] + u * (a0 / T(2) + j * u / T(6)));
     return {p, v, a, j};
   }
-
- private:
-  template <typename, std::size_t>
-  friend class PiecewiseJerk;
   // In double the table's own accelerations and jerks are the evaluation's: not stored twice
   // (seven stores fewer per plan).
   static constexpr bool kEvaluatesTable = std::is_same_v<T, double>;

@@ -19,12 +19,30 @@ namespace settle::core {
 // call on a Cortex-M4F).
 inline constexpr std::int64_t kMaxStreamTicks = std::int64_t{1} << 30;
 
-// Ticks from a move's start to its final setpoint: ceil(duration / period).
+// ceil(q) when that is a stream's tick count (0 to kMaxStreamTicks), kMaxStreamTicks + 1 when it
+// is not (NaN among them). Without libm's ceil: a Cortex-M4F image links the double one for
+// nothing else (256 B of its budgeted flash), and a truncation and one comparison are exact here.
+[[nodiscard]] constexpr std::int64_t ticks_ceil(double q) noexcept {
+  // ceil(q) >= 0 exactly when q > -1; ceil(q) <= K exactly when q <= K (K an integer).
+  if (!(q > -1.0 && q <= static_cast<double>(kMaxStreamTicks))) return kMaxStreamTicks + 1;
+  const auto n = static_cast<std::int64_t>(q);  // towards zero: ceil for q <= 0, floor above
+  return static_cast<double>(n) < q ? n + 1 : n;
+}
+
+// x rounded to the nearest integer, halves away from zero: std::llround's result for |x| < 2^52,
+// without libm's llround (the servo loop's submit, on a Cortex-M4F's budgeted flash). x - trunc(x)
+// is exact there, so the comparison with one half is too.
+[[nodiscard]] constexpr std::int64_t round_half_away(double x) noexcept {
+  const auto n = static_cast<std::int64_t>(x);
+  const double r = x - static_cast<double>(n);
+  return r >= 0.5 ? n + 1 : (r <= -0.5 ? n - 1 : n);
+}
+
+// Ticks from a move's start to its final setpoint: ceil(duration / period) (kMaxStreamTicks + 1
+// when that does not fit a stream).
 template <typename Scalar>
 [[nodiscard]] std::int64_t stream_ticks(const Move<Scalar>& m, std::uint32_t period_us) noexcept {
-  const double ticks = std::ceil(static_cast<double>(m.duration()) / (period_us * 1e-6));
-  return ticks >= 0.0 && ticks <= static_cast<double>(kMaxStreamTicks) ? static_cast<std::int64_t>(ticks)
-                                                                          : kMaxStreamTicks + 1;
+  return ticks_ceil(static_cast<double>(m.duration()) / (period_us * 1e-6));
 }
 
 // Status::duration_does_not_fit when the move has more than kMaxStreamTicks ticks at this

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <variant>
 
 #include "settle/core/move.hpp"
@@ -21,6 +22,16 @@ namespace settle::core {
 constexpr void advance_tick(std::int32_t& n) noexcept {
   if (n < INT32_MAX) ++n;
 }
+
+// On hosts (kSplitEvaluation) the ramp-cycloid stepper is forced inline into MoveStepper::step:
+// out of line it costs about half as much again per tick (its state reloaded and spilled around
+// the call; bench/core/settle_tick_instructions). On M-profile cores, whose flash is budgeted, the
+// compiler decides (one out-of-line copy on the Cortex-M4F).
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
+#define SETTLE_STEPPER_INLINE
+#else
+#define SETTLE_STEPPER_INLINE [[gnu::always_inline]]
+#endif
 
 template <typename T>
 class RampCycloidStepper {
@@ -37,7 +48,7 @@ class RampCycloidStepper {
     rot_s_ = rot.sin;
   }
 
-  [[nodiscard]] Sample<T> step() noexcept {
+  SETTLE_STEPPER_INLINE [[nodiscard]] Sample<T> step() noexcept {
     const T t = t0_ + static_cast<T>(n_) * dt_;
     advance_tick(n_);
     if (!(t > T(0))) return {};
@@ -76,7 +87,10 @@ class RampCycloidStepper {
 };
 
 // Steps any Move: per-impulse ramp-cycloid steppers when the profile is a ramp-cycloid and the
-// shaper fits MaxImpulses, random access otherwise. The Move must outlive the stepper.
+// shaper fits MaxImpulses; on hosts (kSplitEvaluation), an unshaped piecewise-jerk move (the
+// trapezoid, the jerk-limited S-curve) by its own evaluator, its segment found forward from the
+// last tick's (PiecewiseJerk::at_forward: Move::at's result, with neither the move's nor the
+// profile's dispatch); random access otherwise. The Move must outlive the stepper.
 template <typename T, std::size_t MaxImpulses = 4>
 class MoveStepper {
  public:
@@ -87,12 +101,22 @@ class MoveStepper {
       count_ = m.shaper().count;
       for (std::size_t i = 0; i < count_; ++i) steppers_[i] = RampCycloidStepper<T>{*rc, dt, -m.shaper().time[i]};
     }
+    if constexpr (kSplitEvaluation) {
+      if (m.unshaped()) piecewise_.table = std::get_if<PiecewiseJerk<T>>(&m.profile().variant());
+    }
   }
 
   [[nodiscard]] Sample<T> step() noexcept {
     const T t = static_cast<T>(n_) * dt_;
     advance_tick(n_);
-    if (count_ == 0) return move_->at(t);
+    if (count_ == 0) {
+      if constexpr (kSplitEvaluation) {
+        if (piecewise_.table != nullptr) return piecewise_.table->at_forward(t, piecewise_.segment);
+        return at_out_of_line(t);
+      } else {
+        return move_->at(t);
+      }
+    }
     if (t >= move_->duration()) {
       for (std::size_t i = 0; i < count_; ++i) (void)steppers_[i].step();  // keep clocks aligned
       return {move_->distance(), T(0), T(0), T(0)};
@@ -112,10 +136,23 @@ class MoveStepper {
   [[nodiscard]] std::int32_t tick() const noexcept { return n_; }
 
  private:
+  // Any other move by random access; out of line on hosts, where every shape but the piecewise
+  // table, and every shaped move, is evaluated out of line by Move::at anyway (profile.hpp): this
+  // keeps step() small enough that the ramp-cycloid stepper stays inline in it.
+  [[gnu::noinline]] Sample<T> at_out_of_line(T t) const noexcept { return move_->at(t); }
+
   const Move<T>* move_{nullptr};
   T dt_{};
   std::int32_t n_{0};
   std::size_t count_{0};
+  // The unshaped piecewise move and its segment at the last tick; hosts only (on M-profile
+  // cores, no RAM per queued move).
+  struct Piecewise {
+    const PiecewiseJerk<T>* table{nullptr};
+    std::size_t segment{0};
+  };
+  struct NoPiecewise {};
+  [[no_unique_address]] std::conditional_t<kSplitEvaluation, Piecewise, NoPiecewise> piecewise_{};
   std::array<RampCycloidStepper<T>, MaxImpulses> steppers_{};
 };
 

@@ -89,8 +89,8 @@ struct FloatEvaluation {
   };
   [[nodiscard]] static core::Status prepare(const core::Blend& b, const core::AxisScale& scale,
                                             BlendStored& out) noexcept {
-    const double ticks = std::ceil(b.duration() / scale.period_s());
-    if (!(ticks >= 0.0 && ticks <= static_cast<double>(core::kMaxStreamTicks))) return core::Status::duration_does_not_fit;
+    const std::int64_t ticks = core::ticks_ceil(b.duration() / scale.period_s());
+    if (ticks > core::kMaxStreamTicks) return core::Status::duration_does_not_fit;
     out.blend = core::BasicBlend<Scalar>{b};
     out.period = static_cast<Scalar>(scale.period_s());
     out.counts_per_unit = static_cast<Scalar>(scale.counts_per_unit);

@@ -32,6 +32,7 @@
 #include "settle/core/axis_scale.hpp"
 #include "settle/core/enum_text.hpp"
 #include "settle/core/planner.hpp"
+#include "settle/core/setpoints.hpp"
 #include "settle/runtime/evaluation.hpp"
 #include "settle/runtime/fixed_queue.hpp"
 #include "settle/runtime/online_change.hpp"
@@ -317,7 +318,7 @@ class ServoLoop {
     }
     if constexpr (kOnlineChanges) a.queue.back_slot().plan = m;
     a.queue.commit_back();
-    a.queued_end = static_cast<std::int32_t>(static_cast<std::int64_t>(origin) + std::llround(m.distance() * cpu));
+    a.queued_end = static_cast<std::int32_t>(static_cast<std::int64_t>(origin) + core::round_half_away(m.distance() * cpu));
     return LoopStatus::ok;
   }
 
