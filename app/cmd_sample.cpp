@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "figure_option.hpp"
 #include "move_options.hpp"
+#include "settle/papers/figures.hpp"
 
 namespace settle::app {
 
@@ -82,9 +83,7 @@ int sample_axes(const ParsedArgs& args, double dt) {
       for (std::size_t c = 0; c < r.size(); ++c) std::printf("%s%.17g", c ? "," : "", r[c]);
       std::printf("]");
     } else {
-      std::printf("%.9g", r[0]);
-      for (std::size_t c = 1; c < r.size(); ++c) std::printf(",%.12g", r[c]);
-      std::printf("\n");
+      papers::write_sample_row(stdout, r);
     }
   }
   if (json) std::printf("]}\n");
@@ -145,12 +144,10 @@ int cmd_sample(int argc, char** argv) {
     std::printf("]}\n");
     return kExitOk;
   }
-  std::printf("t,position,velocity,acceleration,jerk\n");
-  for (long i = 0; i <= n; ++i) {
-    const auto r = sample(i);
-    std::printf("%.9g,%.12g,%.12g,%.12g,%.12g\n", r[0], r[1], r[2], r[3], r[4]);
-  }
-  return kExitOk;
+  // Every sample was found finite above: the table is written whole.
+  return papers::write_move_rows(stdout, move, *dt)
+             ? kExitOk
+             : report_failure("sample", "write_failed", "cannot write the samples to stdout", false);
 }
 
 }  // namespace settle::app

@@ -2,6 +2,7 @@
 #include "settle/papers/figures.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -287,24 +288,34 @@ plant::SimStatus write_simulate_figure(const std::string& dir, const std::string
 
 namespace {
 
-// The move every `dt` as sample's CSV; false when a sample is not finite or a write fails.
+// The move's table (write_move_rows) in the file at `path`.
 bool write_move_csv(const core::Move<double>& move, double dt, const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) return false;
-  std::fprintf(f, "t,position,velocity,acceleration,jerk\n");
-  const double n = std::ceil(move.duration() / dt);
-  bool finite = true;
-  for (double i = 0.0; i <= n && finite && std::ferror(f) == 0; i += 1.0) {
-    const double t = std::min(i * dt, move.duration());
-    const auto s = move.at(t);
-    finite = std::isfinite(s.p) && std::isfinite(s.v) && std::isfinite(s.a) && std::isfinite(s.j);
-    if (finite) std::fprintf(f, "%.9g,%.12g,%.12g,%.12g,%.12g\n", t, s.p, s.v, s.a, s.j);
-  }
+  const bool rows = write_move_rows(f, move, dt);
   const bool written = std::fflush(f) == 0 && std::ferror(f) == 0;
-  return std::fclose(f) == 0 && written && finite;
+  return std::fclose(f) == 0 && written && rows;
 }
 
 }  // namespace
+
+void write_sample_row(std::FILE* f, std::span<const double> row) {
+  for (std::size_t c = 0; c < row.size(); ++c) std::fprintf(f, c == 0 ? "%.9g" : ",%.12g", row[c]);
+  std::fputc('\n', f);
+}
+
+bool write_move_rows(std::FILE* f, const core::Move<double>& move, double dt) {
+  std::fprintf(f, "t,position,velocity,acceleration,jerk\n");
+  const double n = std::ceil(move.duration() / dt);
+  for (double i = 0.0; i <= n && std::ferror(f) == 0; i += 1.0) {
+    const double t = std::min(i * dt, move.duration());
+    const auto s = move.at(t);
+    const std::array<double, 5> row{t, s.p, s.v, s.a, s.j};
+    if (!std::all_of(row.begin(), row.end(), [](double x) { return std::isfinite(x); })) return false;
+    write_sample_row(f, row);
+  }
+  return std::ferror(f) == 0;
+}
 
 plant::SimStatus write_move_figure(const core::Move<double>& move, const std::string& dir, const std::string& name,
                                    const MoveFigure& f, FigureFiles& out) {

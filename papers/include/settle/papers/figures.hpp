@@ -7,6 +7,8 @@
 // standard output (a file this process opens). No name a user chose ever reaches gnuplot's parser
 // (it runs data names starting with '<' and output names starting with '|' through /bin/sh): data
 // named by the user goes into the script as a datablock. Any directory or file name works.
+#include <cstdio>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -78,6 +80,14 @@ struct MoveFigure {
 };
 [[nodiscard]] plant::SimStatus write_move_figure(const core::Move<double>& move, const std::string& dir,
                                           const std::string& name, const MoveFigure& f, FigureFiles& out);
+
+// The move every `dt` from 0 to its end (the last sample at its end) as `settle sample` prints it
+// and the move figure reads it: the header t,position,velocity,acceleration,jerk, then one row a
+// sample. false when a sample is not finite (nothing of it written) or a write fails.
+[[nodiscard]] bool write_move_rows(std::FILE* f, const core::Move<double>& move, double dt);
+// One row of that table: t as %.9g, then each value as %.12g, comma-separated (multi-axis sample
+// prints its rows with it too).
+void write_sample_row(std::FILE* f, std::span<const double> row);
 
 // `text` as a gnuplot single-quoted string: ' doubled (gnuplot's escape; backslashes are literal
 // there), line breaks as spaces (a gnuplot command is one line).
