@@ -48,9 +48,8 @@ LayoutError check_layout(const ProcessDataLayout& layout, bool dynamic) noexcept
     if (p.slot->pdo > layout_pdo_count || p.slot->size != p.size) return LayoutError::bad_slot;
     if (p.slot->offset + p.slot->size > 8) return LayoutError::too_long;
   }
-  if (layout.controlword.pdo != layout.target_position.pdo || layout.statusword.pdo != layout.position_actual.pdo) {
-    return LayoutError::split;
-  }
+  // The master sends one RPDO a period; it may read a period's feedback from several TPDOs.
+  if (layout.controlword.pdo != layout.target_position.pdo) return LayoutError::split;
   for (std::size_t i = 0; i < all.size(); ++i) {
     for (std::size_t j = i + 1; j < all.size(); ++j) {
       const PdoSlot& a = *all[i].slot;
@@ -115,11 +114,16 @@ bool place_mapped_object(ProcessDataLayout& layout, bool receive, std::uint8_t n
   const PdoSlot slot{number, offset_bytes, static_cast<std::uint8_t>(bits / 8U)};
   // The controlword and the statusword go where their partner is: a later PDO takes them over
   // unless the partner already sits with them (RPDO1 = controlword alone, RPDO2 = controlword +
-  // target position: RPDO2).
+  // target position: RPDO2); so does the partner (TPDO1 = position actual alone, TPDO2 = statusword
+  // + position actual: TPDO2), so that a pair is split only when no PDO carries both.
   PdoSlot& first = receive ? layout.controlword : layout.statusword;
-  const PdoSlot& partner = receive ? layout.target_position : layout.position_actual;
+  PdoSlot& partner = receive ? layout.target_position : layout.position_actual;
   if (index == (receive ? obj::controlword : obj::statusword) && sub == 0) {
     if (!first.mapped() || first.pdo != partner.pdo) first = slot;
+    return true;
+  }
+  if (index == (receive ? obj::target_position : obj::position_actual) && sub == 0) {
+    if (!partner.mapped() || (first.pdo == number && partner.pdo != number)) partner = slot;
     return true;
   }
   for (const auto& p : placed(layout)) {
