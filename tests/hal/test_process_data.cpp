@@ -109,22 +109,6 @@ TEST(ProcessDataLayout, AStaticMappingMaySplitTheFeedbackAcrossTpdos) {
   EXPECT_EQ(feedback_tpdos(ProcessDataLayout{}), 0b11U) << "TPDO2: load position and velocity";
 }
 
-// A pair is split only when no PDO carries both: a later PDO with both takes the one mapped alone
-// earlier, whichever of the two that is.
-TEST(ProcessDataLayout, APairIsTakenFromThePdoThatCarriesBoth) {
-  ProcessDataLayout l = empty_layout(ProcessDataLayout{});
-  EXPECT_TRUE(place_pdo(l, false, 1, {0x6064'0020}));               // TPDO1 = position actual alone
-  EXPECT_TRUE(place_pdo(l, false, 2, {0x6041'0010, 0x6064'0020}));  // TPDO2 = statusword + position actual
-  EXPECT_EQ(l.statusword, (PdoSlot{2, 0, 2}));
-  EXPECT_EQ(l.position_actual, (PdoSlot{2, 2, 4}));
-  EXPECT_FALSE(feedback_split(l));
-  EXPECT_TRUE(place_pdo(l, true, 1, {0x607A'0020}));               // RPDO1 = target alone
-  EXPECT_TRUE(place_pdo(l, true, 2, {0x6040'0010, 0x607A'0020}));  // RPDO2 = controlword + target
-  EXPECT_EQ(l.controlword, (PdoSlot{2, 0, 2}));
-  EXPECT_EQ(l.target_position, (PdoSlot{2, 2, 4}));
-  EXPECT_EQ(check_layout(l, false), LayoutError::none);
-}
-
 TEST(ProcessDataLayout, TheGenericCodecsFollowTheLayout) {
   ProcessDataLayout l{};
   l.controlword = PdoSlot{2, 4, 2};

@@ -49,7 +49,10 @@ LayoutError check_layout(const ProcessDataLayout& layout, bool dynamic) noexcept
     if (p.slot->offset + p.slot->size > 8) return LayoutError::too_long;
   }
   // The master sends one RPDO a period; it may read a period's feedback from several TPDOs.
-  if (layout.controlword.pdo != layout.target_position.pdo) return LayoutError::split;
+  if (layout.controlword.pdo != layout.target_position.pdo ||
+      (!split_feedback_supported && layout.statusword.pdo != layout.position_actual.pdo)) {
+    return LayoutError::split;
+  }
   for (std::size_t i = 0; i < all.size(); ++i) {
     for (std::size_t j = i + 1; j < all.size(); ++j) {
       const PdoSlot& a = *all[i].slot;
@@ -85,6 +88,14 @@ std::uint8_t layout_pdo_length(const ProcessDataLayout& layout, bool receive, st
   return static_cast<std::uint8_t>(end);
 }
 
+std::uint8_t feedback_tpdos(const ProcessDataLayout& layout) noexcept {
+  unsigned mask = 0;
+  for (std::uint8_t n = 1; n <= layout_pdo_count; ++n) {
+    if (layout_pdo_length(layout, false, n) != 0) mask |= 1U << (n - 1U);
+  }
+  return static_cast<std::uint8_t>(mask);
+}
+
 PdoMapping layout_mapping(const ProcessDataLayout& layout, bool receive, std::uint8_t number, NodeId node) noexcept {
   PdoMapping m{pdo_cob_id(receive, number, node), pdo_transmission::synchronous, 0, {}};
   // In byte order: the next value is the one starting where the previous ended.
@@ -114,16 +125,11 @@ bool place_mapped_object(ProcessDataLayout& layout, bool receive, std::uint8_t n
   const PdoSlot slot{number, offset_bytes, static_cast<std::uint8_t>(bits / 8U)};
   // The controlword and the statusword go where their partner is: a later PDO takes them over
   // unless the partner already sits with them (RPDO1 = controlword alone, RPDO2 = controlword +
-  // target position: RPDO2); so does the partner (TPDO1 = position actual alone, TPDO2 = statusword
-  // + position actual: TPDO2), so that a pair is split only when no PDO carries both.
+  // target position: RPDO2).
   PdoSlot& first = receive ? layout.controlword : layout.statusword;
-  PdoSlot& partner = receive ? layout.target_position : layout.position_actual;
+  const PdoSlot& partner = receive ? layout.target_position : layout.position_actual;
   if (index == (receive ? obj::controlword : obj::statusword) && sub == 0) {
     if (!first.mapped() || first.pdo != partner.pdo) first = slot;
-    return true;
-  }
-  if (index == (receive ? obj::target_position : obj::position_actual) && sub == 0) {
-    if (!partner.mapped() || (first.pdo == number && partner.pdo != number)) partner = slot;
     return true;
   }
   for (const auto& p : placed(layout)) {

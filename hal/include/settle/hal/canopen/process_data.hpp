@@ -12,7 +12,6 @@
 
 #include <array>
 #include <cstdint>
-#include <initializer_list>
 
 #include "settle/hal/canopen/cia402.hpp"
 #include "settle/hal/canopen/cob_id.hpp"
@@ -71,7 +70,7 @@ struct ProcessDataLayout {
 #define SETTLE_HAL_LAYOUT_ERRORS(X) \
   X(none, "the layout is valid") \
   X(missing, "controlword, target position, statusword or position actual is not mapped") \
-  X(split, "controlword and target position in different RPDOs") \
+  X(split, "controlword and target position in different RPDOs (without split feedback: statusword and position too)") \
   X(bad_slot, "a PDO number over 4, or a size other than the object's") \
   X(too_long, "a value past a PDO's eight bytes") \
   X(overlap, "two values share bytes of a PDO") \
@@ -105,6 +104,14 @@ enum class LayoutError : std::uint8_t { SETTLE_HAL_LAYOUT_ERRORS(SETTLE_ENUM_ENU
 [[nodiscard]] bool place_mapped_object(ProcessDataLayout& layout, bool receive, std::uint8_t number,
                                        std::uint8_t offset_bytes, std::uint32_t raw_entry) noexcept;
 
+// Split feedback (the statusword and the position actual in different TPDOs) is understood by
+// the master unless the build leaves it out (SETTLE_HAL_SPLIT_FEEDBACK=0: the Cortex-M images,
+// for flash); check_layout then refuses such a layout (split), as a static mapping would be.
+#ifndef SETTLE_HAL_SPLIT_FEEDBACK
+#define SETTLE_HAL_SPLIT_FEEDBACK 1
+#endif
+inline constexpr bool split_feedback_supported = SETTLE_HAL_SPLIT_FEEDBACK != 0;
+
 // The statusword and the position actual are in different TPDOs: one period's feedback is the
 // frames of every TPDO in feedback_tpdos, which the drive sends on the same SYNC.
 [[nodiscard]] constexpr bool feedback_split(const ProcessDataLayout& layout) noexcept {
@@ -112,14 +119,7 @@ enum class LayoutError : std::uint8_t { SETTLE_HAL_LAYOUT_ERRORS(SETTLE_ENUM_ENU
          layout.statusword.pdo != layout.position_actual.pdo;
 }
 // The TPDOs (bit n - 1 for TPDO n, 1..4) that carry a value the layout reads.
-[[nodiscard]] constexpr std::uint8_t feedback_tpdos(const ProcessDataLayout& layout) noexcept {
-  unsigned mask = 0;
-  for (const PdoSlot* s : {&layout.statusword, &layout.position_actual, &layout.load_position,
-                           &layout.velocity_actual, &layout.following_error}) {
-    if (s->mapped() && s->pdo <= layout_pdo_count) mask |= 1U << (s->pdo - 1U);
-  }
-  return static_cast<std::uint8_t>(mask);
-}
+[[nodiscard]] std::uint8_t feedback_tpdos(const ProcessDataLayout& layout) noexcept;
 
 // A received TPDO `number` carries the value at `slot` (mapped there, within the frame's bytes).
 [[nodiscard]] constexpr bool slot_carried(const PdoSlot& slot, std::uint8_t number, const CanFrame& frame) noexcept {

@@ -280,7 +280,7 @@ struct RemoteFeedback {
   std::uint64_t tpdo1_time_us{0};  // when the latest TPDO1 was taken (the caller's time)
   // Split feedback: TPDOs of periods that never came complete (held ones, and ones whose period's
   // earlier TPDO was missing), dropped rather than mixed with another period's.
-  std::uint64_t tpdos_dropped{0};
+  std::uint32_t tpdos_dropped{0};
 };
 
 class RemoteDrive {
@@ -377,8 +377,10 @@ class RemoteDrive {
   }
   // A TPDO of a layout other than the default: every value it carries.
   RemoteFrame take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept;
-  // Split feedback: TPDO `number` (one of period_tpdos_) held, dropped, or completing its period.
+  // Split feedback: TPDO `number` held, dropped, or completing its period.
   RemoteFrame take_period_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept;
+  // The load position, velocity actual and following error the TPDO carries.
+  void take_extra_feedback(const CanFrame& frame, std::uint8_t number) noexcept;
   // The identifiers and lengths on_frame matches, from the layout in use.
   void apply_layout() noexcept;
   // read_mapping: one entry (or sub 0) read; false when start-up must stop.
@@ -415,11 +417,13 @@ class RemoteDrive {
   std::array<std::uint8_t, layout_pdo_count> tpdo_len_{};  // bytes each TPDO carries (0 = unused)
   // Split feedback (feedback_split): the TPDOs one period's values come in (bit n - 1 for TPDO n;
   // 0 when the statusword and the position actual share a TPDO), those held of the current
-  // period, and their values (position actual, load position, velocity actual, following error).
+  // period (and how many), and the statusword and position actual last taken, held until their
+  // period is complete.
   std::uint8_t period_tpdos_{0};
   std::uint8_t held_tpdos_{0};
+  std::uint8_t held_count_{0};
   std::uint16_t held_statusword_{0};
-  std::array<std::int32_t, 4> held_{};
+  std::int32_t held_position_{0};
   // read_mapping's progress through a mapping object.
   std::uint8_t map_sub_{0};
   std::uint8_t map_count_{0};
