@@ -174,18 +174,42 @@ ProcessDataLayout wanted_layout(const ProcessDataLayout& objects, const Feedback
   return wanted;
 }
 
+// "" or why the TPDOs a split feedback comes in (the statusword and the position actual in
+// different TPDOs: feedback_tpdos) cannot give one period's values together: each must be sent on
+// the same SYNCs as the others (one synchronous cyclic transmission type, 1..240).
+std::string split_feedback_problem(const ProcessDataLayout& l, const std::vector<Pdo>& tpdos) {
+  const std::uint8_t used = canopen::feedback_tpdos(l);
+  const Pdo* first = nullptr;
+  for (const Pdo& p : tpdos) {
+    if (p.number < 1 || p.number > canopen::layout_pdo_count || (used & (1U << (p.number - 1U))) == 0) continue;
+    const std::string name = "TPDO" + std::to_string(p.number);
+    const std::string type = " (transmission type " + std::to_string(p.transmission_type) + ")";
+    if (p.transmission_type < 1 || p.transmission_type > 240) {
+      return name + type + " is not sent on SYNCs (synchronous cyclic: 1..240)";
+    }
+    if (first != nullptr && first->transmission_type != p.transmission_type) {
+      return name + type + " and TPDO" + std::to_string(first->number) + " (transmission type " +
+             std::to_string(first->transmission_type) + ") are not sent on the same SYNCs";
+    }
+    if (first == nullptr) first = &p;
+  }
+  return {};
+}
+
 // "" or why the description's own (static) mapping `l` cannot carry what is needed; `unfillable`
 // the first object in PDO `unfillable_pdo` the master cannot fill (0: none).
 std::string static_layout_problem(const ProcessDataLayout& l, std::uint16_t unfillable, unsigned unfillable_pdo,
-                                  const FeedbackRequest& feedback) {
+                                  const FeedbackRequest& feedback, const std::vector<Pdo>& tpdos) {
   std::string what;
   if (!l.controlword.mapped() || !l.target_position.mapped() || l.controlword.pdo != l.target_position.pdo) {
     what = "no RPDO carries both 0x6040 (controlword) and 0x607A (target position)";
   } else if (unfillable != 0 && unfillable_pdo == l.controlword.pdo) {
     what = "its RPDO" + std::to_string(unfillable_pdo) + " also maps " + hex4(unfillable) +
            ", which the master cannot fill";
-  } else if (!l.statusword.mapped() || !l.position_actual.mapped() || l.statusword.pdo != l.position_actual.pdo) {
-    what = "no TPDO carries both 0x6041 (statusword) and 0x6064 (position actual value)";
+  } else if (!l.statusword.mapped()) {
+    what = "no TPDO carries 0x6041 (statusword)";
+  } else if (!l.position_actual.mapped()) {
+    what = "no TPDO carries 0x6064 (position actual value)";
   } else if (feedback.velocity_actual && !l.velocity_actual.mapped()) {
     what = "no TPDO carries 0x606C (velocity actual value)";
   } else if (feedback.following_error && !l.following_error.mapped()) {
@@ -194,6 +218,11 @@ std::string static_layout_problem(const ProcessDataLayout& l, std::uint16_t unfi
     what = "no TPDO carries " + hex4(feedback.load_position_index) + " (load-side position)";
   } else if (const canopen::LayoutError e = canopen::check_layout(l, false); e != canopen::LayoutError::none) {
     what = std::string{"its layout is not one the master can stream through ("} + canopen::to_string(e) + ")";
+  } else if (canopen::feedback_split(l)) {
+    if (std::string why = split_feedback_problem(l, tpdos); !why.empty()) {
+      what = "the statusword (TPDO" + std::to_string(l.statusword.pdo) + ") and the position actual (TPDO" +
+             std::to_string(l.position_actual.pdo) + ") come in different TPDOs, but " + why;
+    }
   }
   return what.empty() ? std::string{} : "the drive's PDO mapping is static (not writable) and " + what;
 }
@@ -239,7 +268,7 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
   std::uint16_t unfillable = 0;
   unsigned unfillable_pdo = 0;
   const ProcessDataLayout l = layout_of(rpdos, tpdos, objects, unfillable, unfillable_pdo);
-  result.error = static_layout_problem(l, unfillable, unfillable_pdo, feedback);
+  result.error = static_layout_problem(l, unfillable, unfillable_pdo, feedback, tpdos);
   if (!result.error.empty()) return result;
   result.config.pdo_setup = canopen::PdoSetup::read_static;
   result.config.layout = l;

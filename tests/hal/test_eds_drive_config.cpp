@@ -301,6 +301,60 @@ TEST(EdsDriveConfig, AStaticMappingWithoutWhatIsNeededIsRefusedSaying) {
   }
 }
 
+// A real drive's static mapping that splits the feedback (TPDO1 = statusword + velocity actual,
+// TPDO2 = position actual, both on every SYNC) streams: the master reads one period from both.
+TEST(EdsDriveConfig, AStaticMappingMaySplitTheFeedbackAcrossSyncTpdos) {
+  EdsText e = drive_objects();
+  e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, vel}).pdo(false, 2, false, {pos});
+  const DriveConfigResult r = drive_config_from_eds(parsed(e), base(), FeedbackRequest{true, false, 0, 0});
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.config.pdo_setup, PdoSetup::read_static);
+  EXPECT_EQ(r.config.layout.statusword, (PdoSlot{1, 0, 2}));
+  EXPECT_EQ(r.config.layout.velocity_actual, (PdoSlot{1, 2, 4}));
+  EXPECT_EQ(r.config.layout.position_actual, (PdoSlot{2, 0, 4}));
+  const std::vector<Capability> caps = capabilities(parsed(e), r, FeedbackRequest{true, false, 0, 0});
+  for (const Capability& c : caps) {
+    if (c.index == 0x6041) {
+      EXPECT_EQ(c.use, "TPDO1");
+    }
+    if (c.index == 0x6064) {
+      EXPECT_EQ(c.use, "TPDO2");
+    }
+  }
+}
+
+// What a split cannot do: carry no position (or no statusword) at all, or send the TPDOs of one
+// period on different SYNCs, or not on SYNCs.
+TEST(EdsDriveConfig, ASplitFeedbackIsRefusedWhenAPeriodCannotBeRead) {
+  const std::string prefix = "the drive's PDO mapping is static (not writable) and ";
+  {
+    EdsText e = drive_objects();
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, vel}).pdo(false, 2, false, {fe});
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), {}).error,
+              prefix + "no TPDO carries 0x6064 (position actual value)");
+  }
+  {
+    EdsText e = drive_objects();
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {vel}).pdo(false, 2, false, {pos});
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), {}).error, prefix + "no TPDO carries 0x6041 (statusword)");
+  }
+  const std::string split = prefix + "the statusword (TPDO1) and the position actual (TPDO2) come in different TPDOs, but ";
+  {
+    EdsText e = drive_objects();
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, vel}).pdo(false, 2, false, {pos});
+    e.replace({0x1801, 2, data_type::u8, "rw", false, "2"});
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), {}).error,
+              split + "TPDO2 (transmission type 2) and TPDO1 (transmission type 1) are not sent on the same SYNCs");
+  }
+  {
+    EdsText e = drive_objects();
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, vel}).pdo(false, 2, false, {pos});
+    e.replace({0x1800, 2, data_type::u8, "rw", false, "254"});
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), {}).error,
+              split + "TPDO1 (transmission type 254) is not sent on SYNCs (synchronous cyclic: 1..240)");
+  }
+}
+
 // Start-up of `remote` against `drive`, frame for frame, until it is no longer configuring.
 void start_up(canopen::DriveNode& drive, canopen::RemoteDrive& remote) {
   FrameBuffer<16> to_drive;

@@ -43,7 +43,7 @@ TEST(ProcessDataLayout, WhatCannotStreamIsRefusedWithItsReason) {
   EXPECT_EQ(check_layout(l, false), LayoutError::split) << "controlword and target in one RPDO";
   l = ProcessDataLayout{};
   l.position_actual = PdoSlot{3, 0, 4};
-  EXPECT_EQ(check_layout(l, false), LayoutError::split) << "statusword and position actual in one TPDO";
+  EXPECT_EQ(check_layout(l, false), LayoutError::none) << "a period's feedback may come in several TPDOs";
   l = ProcessDataLayout{};
   l.velocity_actual = PdoSlot{2, 2, 4};
   EXPECT_EQ(check_layout(l, false), LayoutError::overlap);
@@ -79,6 +79,34 @@ TEST(ProcessDataLayout, AStaticMappingIsPlacedWhereItsPartnersAre) {
   EXPECT_EQ(check_layout(l, true), LayoutError::gap);
   EXPECT_FALSE(place_mapped_object(l, true, 3, 0, 0x6060'0008)) << "the master cannot fill a mode in an RPDO";
   EXPECT_FALSE(place_mapped_object(l, true, 3, 1, 0x0005'0008)) << "nor a dummy entry";
+}
+
+// A static mapping that splits the feedback (a real drive's: TPDO1 = statusword + velocity actual,
+// TPDO2 = position actual): placed as the drive maps it, valid, and its period spans both TPDOs.
+// A PDO's mapping entries placed one after the other, as start-up reads them.
+bool place_pdo(ProcessDataLayout& l, bool receive, std::uint8_t number, std::initializer_list<std::uint32_t> entries) {
+  std::uint8_t at = 0;
+  bool all = true;
+  for (const std::uint32_t e : entries) {
+    all = place_mapped_object(l, receive, number, at, e) && all;
+    at = static_cast<std::uint8_t>(at + (e & 0xFFU) / 8U);
+  }
+  return all;
+}
+
+TEST(ProcessDataLayout, AStaticMappingMaySplitTheFeedbackAcrossTpdos) {
+  ProcessDataLayout l = empty_layout(ProcessDataLayout{});
+  EXPECT_TRUE(place_pdo(l, true, 1, {0x6040'0010, 0x607A'0020}));
+  EXPECT_TRUE(place_pdo(l, false, 1, {0x6041'0010, 0x606C'0020}));
+  EXPECT_TRUE(place_pdo(l, false, 2, {0x6064'0020}));
+  EXPECT_EQ(l.statusword, (PdoSlot{1, 0, 2}));
+  EXPECT_EQ(l.velocity_actual, (PdoSlot{1, 2, 4}));
+  EXPECT_EQ(l.position_actual, (PdoSlot{2, 0, 4}));
+  EXPECT_EQ(check_layout(l, false), LayoutError::none);
+  EXPECT_TRUE(feedback_split(l));
+  EXPECT_EQ(feedback_tpdos(l), 0b11U);
+  EXPECT_FALSE(feedback_split(ProcessDataLayout{})) << "Settle's own: statusword and position in TPDO1";
+  EXPECT_EQ(feedback_tpdos(ProcessDataLayout{}), 0b11U) << "TPDO2: load position and velocity";
 }
 
 TEST(ProcessDataLayout, TheGenericCodecsFollowTheLayout) {

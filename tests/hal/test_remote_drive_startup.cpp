@@ -476,6 +476,97 @@ TEST(RemoteDriveStartUp, AStaticMappingIsReadAndStreamedThrough) {
   EXPECT_EQ(hal::test::bytes_of(rpdo), (Bytes{0x0F, 0x00, 0x07, 0x00, 0x00, 0x00}));
 }
 
+// A static mapping that splits the feedback, as real drives do: TPDO1 = statusword + velocity
+// actual, TPDO2 = position actual (tests/testbed/corpus/13_static_split_feedback.eds).
+StartUp& split_feedback_drive(StartUp& s) {
+  s.drive.rpdo[0] = test::ScriptedPdo{0x202, 1, 2, {0x6040'0010, 0x607A'0020}};
+  s.drive.tpdo[0] = test::ScriptedPdo{0x182, 1, 2, {0x6041'0010, 0x606C'0020}};
+  s.drive.tpdo[1] = test::ScriptedPdo{0x282, 1, 1, {0x6064'0020}};
+  s.run();
+  return s;
+}
+
+RemoteDriveConfig static_config() {
+  RemoteDriveConfig c = base_config();
+  c.pdo_setup = PdoSetup::read_static;
+  return c;
+}
+
+// One period = TPDO1 then TPDO2: the first is held (its statusword not taken, the enable sequence
+// not moved), the second completes it and the period's statusword and position are taken
+// together; when the period lies across two ticks of the master (late), the same.
+TEST(RemoteDriveStartUp, ASplitFeedbackIsTakenAWholePeriodAtATime) {
+  StartUp s{static_config()};
+  split_feedback_drive(s);
+  ASSERT_EQ(s.remote.state(), RemoteDriveState::enabling)
+      << to_string(s.remote.failure().error) << " " << std::hex << s.remote.failure().index;
+  const ProcessDataLayout& l = s.remote.config().layout;
+  EXPECT_EQ(l.statusword, (PdoSlot{1, 0, 2}));
+  EXPECT_EQ(l.velocity_actual, (PdoSlot{1, 2, 4}));
+  EXPECT_EQ(l.position_actual, (PdoSlot{2, 0, 4}));
+  const RemoteFeedback& fb = s.remote.feedback();
+  EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x10, 0x00, 0x00, 0x00}), RemoteFrame::held);  // enabled, velocity 16
+  EXPECT_EQ(fb.tpdo1_received, 0U);
+  EXPECT_EQ(fb.statusword, 0U) << "the statusword waits for its period's position";
+  EXPECT_EQ(fb.velocity_actual, 16) << "taken as it comes (the period's sample is logged only once it is whole)";
+  EXPECT_FALSE(s.remote.ready());
+  s.now += 1000;  // the period's second TPDO in the master's next tick
+  EXPECT_EQ(feed(s, 0x282, {0x88, 0x13, 0x00, 0x00}), RemoteFrame::tpdo2);  // position 5000
+  EXPECT_EQ(fb.tpdo1_received, 1U);
+  EXPECT_EQ(fb.tpdo2_received, 1U);
+  EXPECT_EQ(fb.statusword, 0x0227U);
+  EXPECT_EQ(fb.velocity_actual, 16);
+  EXPECT_EQ(fb.position_actual, 5000);
+  EXPECT_EQ(fb.tpdo1_time_us, s.now);
+  EXPECT_TRUE(s.remote.ready());
+  EXPECT_EQ(fb.tpdos_dropped, 0U);
+  EXPECT_EQ(feed(s, 0x282, {0x88, 0x13, 0x00}), RemoteFrame::ignored) << "a TPDO2 of the wrong length";
+  CanFrame rpdo{};
+  ASSERT_TRUE(s.remote.rpdo(7, rpdo));
+  EXPECT_EQ(rpdo.id, 0x202U);
+  EXPECT_EQ(hal::test::bytes_of(rpdo), (Bytes{0x0F, 0x00, 0x07, 0x00, 0x00, 0x00}));
+}
+
+// A period of which one TPDO never arrives is not taken, and never completed with a neighbour's:
+// TPDO2 lost (the next TPDO1 drops the one held), TPDO1 lost (its period's TPDO2 is dropped).
+// The feedback count does not move for it, as for a default drive's missing TPDO1: the loop's
+// watchdog counts the period as unanswered.
+TEST(RemoteDriveStartUp, APeriodWithOneOfItsTpdosMissingIsNotTaken) {
+  StartUp s{static_config()};
+  split_feedback_drive(s);
+  ASSERT_EQ(s.remote.state(), RemoteDriveState::enabling);
+  const RemoteFeedback& fb = s.remote.feedback();
+  EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x01, 0x00, 0x00, 0x00}), RemoteFrame::held);  // period 1
+  EXPECT_EQ(feed(s, 0x282, {0x01, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2);
+  EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x02, 0x00, 0x00, 0x00}), RemoteFrame::held);  // period 2: TPDO2 lost
+  EXPECT_EQ(feed(s, 0x182, {0x08, 0x00, 0x03, 0x00, 0x00, 0x00}), RemoteFrame::held);  // period 3 (fault)
+  EXPECT_EQ(fb.tpdos_dropped, 1U) << "period 2's TPDO1";
+  EXPECT_EQ(fb.tpdo1_received, 1U);
+  EXPECT_EQ(fb.statusword, 0x0227U) << "period 3's statusword waits for period 3's position";
+  EXPECT_EQ(feed(s, 0x282, {0x03, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2);
+  EXPECT_EQ(fb.tpdo1_received, 2U);
+  EXPECT_EQ(fb.statusword, 0x0008U);
+  EXPECT_EQ(fb.velocity_actual, 3);
+  EXPECT_EQ(fb.position_actual, 3);
+  // Period 4's TPDO1 lost: its TPDO2 alone is dropped, not paired with period 3's statusword.
+  EXPECT_EQ(feed(s, 0x282, {0x04, 0x00, 0x00, 0x00}), RemoteFrame::dropped);
+  EXPECT_EQ(fb.tpdos_dropped, 2U);
+  EXPECT_EQ(fb.tpdo1_received, 2U);
+  EXPECT_EQ(fb.position_actual, 3);
+  EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x05, 0x00, 0x00, 0x00}), RemoteFrame::held);  // period 5, whole
+  EXPECT_EQ(feed(s, 0x282, {0x05, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2);
+  EXPECT_EQ(fb.tpdo1_received, 3U);
+  EXPECT_EQ(fb.tpdo2_received, 3U);
+  EXPECT_EQ(fb.position_actual, 5);
+  EXPECT_EQ(fb.velocity_actual, 5);
+  EXPECT_EQ(fb.tpdos_dropped, 2U);
+  // A restart drops a period begun before it.
+  EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x06, 0x00, 0x00, 0x00}), RemoteFrame::held);
+  s.remote.start(s.now, s.to_drive);
+  s.to_drive.clear();
+  EXPECT_EQ(feed(s, 0x282, {0x06, 0x00, 0x00, 0x00}), RemoteFrame::dropped);
+}
+
 TEST(RemoteDriveStartUp, AStaticMappingWithoutWhatStreamingNeedsIsRefusedNamingTheObject) {
   RemoteDriveConfig c = base_config();
   c.pdo_setup = PdoSetup::read_static;

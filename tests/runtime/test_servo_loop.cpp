@@ -260,6 +260,50 @@ TEST(ServoLoop, FeedbackLogKeepsEachPeriodInArrivalOrderAndCountsWhatItHadToDrop
   EXPECT_EQ(first.position_actual, r.drive.applied()[100]) << "the oldest undrained sample comes first";
 }
 
+// A drive whose static mapping splits the feedback (TPDO1 = statusword + velocity actual, TPDO2 =
+// position actual): one sample per period, taken once both of the period's TPDOs arrived. A period
+// whose TPDO2 is lost gives no sample and no answer (as a default drive's lost TPDO1), and the
+// next period is logged whole, its own position with its own statusword.
+TEST(ServoLoop, AFeedbackSplitAcrossTpdosIsLoggedAWholePeriodAtATime) {
+  hal::canopen::DriveNodeConfig dc{};
+  dc.tpdos[0].count = 2;
+  dc.tpdos[0].entries[0] = hal::canopen::PdoMappingEntry{0x6041, 0, 16};
+  dc.tpdos[0].entries[1] = hal::canopen::PdoMappingEntry{0x606C, 0, 32};
+  dc.tpdos[1].count = 1;
+  dc.tpdos[1].entries[0] = hal::canopen::PdoMappingEntry{0x6064, 0, 32};
+  runtime::AxisConfig a = axis(1);
+  a.drive.pdo_setup = hal::canopen::PdoSetup::read_static;
+  Rig r{a, dc};
+  ASSERT_TRUE(r.run_until_ready());
+  const hal::canopen::RemoteDrive& d = r.loop.drive(0);
+  ASSERT_TRUE(hal::canopen::feedback_split(d.config().layout));
+  while (!r.loop.feedback_log(0).empty()) r.loop.feedback_log(0).drop_front();
+  r.drive.clear_applied();
+  ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), runtime::LoopStatus::ok);
+  std::vector<std::int32_t> logged;
+  const auto run = [&](int ticks) {
+    for (int i = 0; i < ticks; ++i) {
+      r.tick();
+      for (runtime::FeedbackSample fs{}; r.loop.feedback_log(0).pop(fs);) logged.push_back(fs.position_actual);
+    }
+  };
+  run(50);
+  ASSERT_EQ(logged.size(), 50U);
+  r.faulty.set_target(hal::CanFilter{0x281, 0x7FF});
+  r.faulty.drop_receives(1);  // the next TPDO2 (the answer to applied[49]) is lost
+  const std::uint64_t answered = d.feedback().tpdo1_received;
+  run(1);
+  EXPECT_EQ(logged.size(), 50U) << "no sample for the period whose TPDO2 was lost";
+  EXPECT_EQ(d.feedback().tpdo1_received, answered) << "nor an answer";
+  run(49);
+  ASSERT_EQ(logged.size(), 99U);
+  EXPECT_EQ(d.feedback().tpdos_dropped, 1U) << "that period's TPDO1";
+  ASSERT_GE(r.drive.applied().size(), 99U);
+  for (std::size_t k = 1; k < 50; ++k) EXPECT_EQ(logged[k], r.drive.applied()[k - 1]) << "sample " << k;
+  for (std::size_t k = 50; k < 99; ++k) EXPECT_EQ(logged[k], r.drive.applied()[k]) << "sample " << k;
+  EXPECT_EQ(r.loop.axis_stats(0).feedback_timeouts, 0U);
+}
+
 TEST(ServoLoop, RefusesWhatItCannotStreamAndChangesNothing) {
   Rig r;
   ASSERT_TRUE(r.run_until_ready());

@@ -10,7 +10,13 @@
 #include <sstream>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
+#include "settle/hal/canopen/remote_drive.hpp"
+#include "settle/hal/canopen/sync.hpp"
+#include "settle/hal/eds_drive_config.hpp"
+#include "settle/hal/frame_sink.hpp"
 #include "settle/testbed/drive_from_eds.hpp"
 #include "settle/testbed/simulated_drive.hpp"
 
@@ -175,6 +181,68 @@ TEST(DriveFromEds, TheTestDrivesWithoutALoadPositionOrA1006HaveNone) {
   EXPECT_EQ(no_cycle->eds.config->sync_period_us, 0U);
   EXPECT_TRUE(no_cycle->eds.config->has_load_position);
   EXPECT_EQ(no_cycle->drive->dictionary().read(0x1006, 0, raw, size), co::SdoAbort::no_object);
+}
+
+// The corpus drive whose static mapping splits the feedback (TPDO1 = statusword + velocity
+// actual, TPDO2 = position actual): simulated from its file, it sends both TPDOs on every SYNC as
+// the file says, and the master configured from the same file reads each period from the two.
+TEST(DriveFromEds, ASplitFeedbackDriveSendsBothTpdosOnEverySync) {
+  const std::string path = std::string{SETTLE_TEST_DATA_DIR} + "/../corpus/13_static_split_feedback.eds";
+  const auto l = loaded(path, 1);
+  co::DriveNode& drive = *l->drive;
+  const hal::eds::LoadResult eds = hal::eds::load(path);
+  ASSERT_TRUE(eds.description) << eds.error;
+  co::RemoteDriveConfig base{};
+  base.node = 1;
+  const hal::eds::DriveConfigResult cfg =
+      hal::eds::drive_config_from_eds(*eds.description, base, hal::eds::FeedbackRequest{true, false, 0, 0});
+  ASSERT_TRUE(cfg.ok()) << cfg.error;
+  co::RemoteDrive master{cfg.config};
+  hal::FrameBuffer<32> to_drive;
+  hal::FrameBuffer<32> to_master;
+  std::uint64_t now = 0;
+  std::int32_t axis = 1234;
+  std::vector<std::pair<std::uint32_t, std::uint8_t>> tpdos;  // (id, length) the drive sent on SYNCs
+  const auto exchange = [&](bool sync) {
+    hal::CanFrame rpdo{};
+    if (master.rpdo(axis, rpdo)) (void)to_drive.put(rpdo);
+    if (sync) (void)to_drive.put(co::encode_sync());
+    const std::vector<hal::CanFrame> requests(to_drive.frames().begin(), to_drive.frames().end());
+    to_drive.clear();
+    for (const hal::CanFrame& f : requests) {
+      if (drive.on_frame(f, now, to_master) == co::DriveEvent::sync) {
+        if (drive.following()) axis = drive.setpoint();
+        const std::size_t before = to_master.size();
+        drive.publish(co::DriveFeedback{axis, 0, 0}, now, to_master);
+        for (std::size_t i = before; i < to_master.size(); ++i) tpdos.emplace_back(to_master[i].id, to_master[i].len);
+      }
+    }
+    drive.poll(now, to_master);
+    const std::vector<hal::CanFrame> answers(to_master.frames().begin(), to_master.frames().end());
+    to_master.clear();
+    for (const hal::CanFrame& f : answers) (void)master.on_frame(f, now, to_drive);
+    now += 1000;
+    master.poll(now, to_drive);
+  };
+  drive.start(now, to_master);
+  to_master.clear();
+  master.start(now, to_drive);
+  for (int i = 0; i < 500 && master.state() == co::RemoteDriveState::configuring; ++i) exchange(false);
+  ASSERT_EQ(master.state(), co::RemoteDriveState::enabling) << co::to_string(master.failure().error);
+  for (int i = 0; i < 50 && !master.ready(); ++i) exchange(true);
+  ASSERT_TRUE(master.ready());
+  const std::size_t syncs_to_ready = master.feedback().tpdo1_received;
+  tpdos.clear();
+  for (int i = 0; i < 10; ++i) exchange(true);
+  ASSERT_EQ(tpdos.size(), 20U) << "two TPDOs per SYNC";
+  for (std::size_t i = 0; i < tpdos.size(); i += 2) {
+    EXPECT_EQ(tpdos[i], (std::pair<std::uint32_t, std::uint8_t>{0x181, 6})) << "statusword + velocity actual";
+    EXPECT_EQ(tpdos[i + 1], (std::pair<std::uint32_t, std::uint8_t>{0x281, 4})) << "position actual";
+  }
+  EXPECT_EQ(master.feedback().tpdo1_received, syncs_to_ready + 10U) << "every period taken";
+  EXPECT_EQ(master.feedback().tpdos_dropped, 0U);
+  EXPECT_EQ(master.feedback().position_actual, 1234);
+  EXPECT_TRUE(co::is_operation_enabled(master.feedback().statusword));
 }
 
 DriveFromEds from_text(const std::string& text) {

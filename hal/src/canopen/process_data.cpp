@@ -48,7 +48,9 @@ LayoutError check_layout(const ProcessDataLayout& layout, bool dynamic) noexcept
     if (p.slot->pdo > layout_pdo_count || p.slot->size != p.size) return LayoutError::bad_slot;
     if (p.slot->offset + p.slot->size > 8) return LayoutError::too_long;
   }
-  if (layout.controlword.pdo != layout.target_position.pdo || layout.statusword.pdo != layout.position_actual.pdo) {
+  // The master sends one RPDO a period; it may read a period's feedback from several TPDOs.
+  if (layout.controlword.pdo != layout.target_position.pdo ||
+      (!split_feedback_supported && layout.statusword.pdo != layout.position_actual.pdo)) {
     return LayoutError::split;
   }
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -84,6 +86,14 @@ std::uint8_t layout_pdo_length(const ProcessDataLayout& layout, bool receive, st
     }
   }
   return static_cast<std::uint8_t>(end);
+}
+
+std::uint8_t feedback_tpdos(const ProcessDataLayout& layout) noexcept {
+  unsigned mask = 0;
+  for (std::uint8_t n = 1; n <= layout_pdo_count; ++n) {
+    if (layout_pdo_length(layout, false, n) != 0) mask |= 1U << (n - 1U);
+  }
+  return static_cast<std::uint8_t>(mask);
 }
 
 PdoMapping layout_mapping(const ProcessDataLayout& layout, bool receive, std::uint8_t number, NodeId node) noexcept {

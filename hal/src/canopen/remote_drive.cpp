@@ -154,6 +154,7 @@ void RemoteDrive::apply_layout() noexcept {
     if (config_.pdo_setup != PdoSetup::read_static) tpdo_len_[n - 1U] = layout_pdo_length(l, false, n);
     if (n != status_pdo_ && tpdo_len_[n - 1U] != 0 && second_pdo_ == 0) second_pdo_ = n;
   }
+  period_tpdos_ = split_feedback_supported && feedback_split(l) ? feedback_tpdos(l) : 0;
   const bool valid = is_valid_node(config_.node);
   const auto id = [&](std::uint8_t n) {
     return valid && n != 0 && n <= layout_pdo_count ? pdo_cob_id(false, n, config_.node) : ~std::uint32_t{0};
@@ -162,17 +163,63 @@ void RemoteDrive::apply_layout() noexcept {
   tpdo2_id_ = id(second_pdo_);
   tpdo1_len_ = status_pdo_ != 0 && status_pdo_ <= layout_pdo_count ? tpdo_len_[status_pdo_ - 1U] : 0;
   tpdo2_len_ = second_pdo_ != 0 ? tpdo_len_[second_pdo_ - 1U] : 0;
+  held_tpdos_ = 0;
+  held_count_ = 0;
 }
 
-RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept {
+inline void RemoteDrive::take_extra_feedback(const CanFrame& frame, std::uint8_t number) noexcept {
   const ProcessDataLayout& l = config_.layout;
   const auto i32 = [&frame](const PdoSlot& s) { return static_cast<std::int32_t>(slot_value(s, frame)); };
   if (slot_carried(l.load_position, number, frame)) feedback_.load_position = i32(l.load_position);
   if (slot_carried(l.velocity_actual, number, frame)) feedback_.velocity_actual = i32(l.velocity_actual);
   if (slot_carried(l.following_error, number, frame)) feedback_.following_error = i32(l.following_error);
+}
+
+#if SETTLE_HAL_SPLIT_FEEDBACK
+RemoteFrame RemoteDrive::take_period_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept {
+  // A period's TPDOs come in PDO order. One out of that order means the period held lacks its
+  // later TPDOs (this one begins the next period), or this one's period lacks its first.
+  const unsigned bit = 1U << (number - 1U);
+  const unsigned pending = period_tpdos_ & ~unsigned{held_tpdos_};
+  if ((period_tpdos_ & bit) == 0) return RemoteFrame::ignored;  // it carries nothing the master reads
+  if (bit != (pending & (0U - pending))) {
+    feedback_.tpdos_dropped += held_count_;
+    held_tpdos_ = 0;
+    held_count_ = 0;
+    if (bit != (period_tpdos_ & (0U - unsigned{period_tpdos_}))) {
+      ++feedback_.tpdos_dropped;
+      return RemoteFrame::dropped;
+    }
+  }
+  held_tpdos_ = static_cast<std::uint8_t>(held_tpdos_ | bit);
+  ++held_count_;
+  // The load position, velocity and following error as they come: the loop logs a period's sample
+  // when its last TPDO is in, by which time each holds that period's value (a period dropped logs
+  // none). The statusword and the position actual wait for their period, and are taken together.
+  take_extra_feedback(frame, number);
+  const ProcessDataLayout& l = config_.layout;
+  if (slot_carried(l.position_actual, number, frame)) held_position_ = static_cast<std::int32_t>(slot_value(l.position_actual, frame));
+  if (slot_carried(l.statusword, number, frame)) held_statusword_ = static_cast<std::uint16_t>(slot_value(l.statusword, frame));
+  if (held_tpdos_ != period_tpdos_) return RemoteFrame::held;
+  held_tpdos_ = 0;
+  held_count_ = 0;
+  ++feedback_.tpdo2_received;
+  take_tpdo1(Tpdo1{held_statusword_, held_position_}, now_us);
+  return RemoteFrame::tpdo2;
+}
+#endif
+
+RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept {
+#if SETTLE_HAL_SPLIT_FEEDBACK
+  if (period_tpdos_ != 0) return take_period_tpdo(frame, number, now_us);
+#endif
+  take_extra_feedback(frame, number);
+  const ProcessDataLayout& l = config_.layout;
   if (slot_carried(l.statusword, number, frame)) {
     // The layout keeps the position actual in the statusword's TPDO.
-    take_tpdo1(Tpdo1{static_cast<std::uint16_t>(slot_value(l.statusword, frame)), i32(l.position_actual)}, now_us);
+    take_tpdo1(Tpdo1{static_cast<std::uint16_t>(slot_value(l.statusword, frame)),
+                     static_cast<std::int32_t>(slot_value(l.position_actual, frame))},
+               now_us);
     return RemoteFrame::tpdo1;
   }
   ++feedback_.tpdo2_received;
@@ -240,6 +287,8 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   operational_seen_ = false;
   limits_ = RemoteDriveLimits{};
   map_sub_ = 0;
+  held_tpdos_ = 0;  // a period begun before start-up is not completed after it
+  held_count_ = 0;
   if (plan_too_long_ || layout_unusable_) {
     failure_.error = plan_too_long_ ? StartupError::plan_too_long : StartupError::bad_layout;
     fail(now_us);

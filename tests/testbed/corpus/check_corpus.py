@@ -31,12 +31,14 @@ EXPECTED = {
     "10_identity_mismatch.eds": (1, "static (read and checked)", ["[DeviceInfo] ProductNumber"]),
     "11_velocity_in_tpdo1.eds": (1, "dynamic", []),
     "12_load_at_2100.eds": (1, "dynamic", []),
-    "13_static_split_feedback.eds": (1, None, []),
+    "13_static_split_feedback.eds": (1, "static (read and checked)", []),
 }
-# Refused by drive config (exit 1) and stream, with this reason: the master reads statusword and
-# position of one period from one TPDO, and cannot remap a static mapping.
-REFUSED = {"13_static_split_feedback.eds": "static (not writable) and no TPDO carries both 0x6041 (statusword) and "
-                                          "0x6064 (position actual value)"}
+# Refused by drive config (exit 1) and stream, with this reason (none in the corpus now).
+REFUSED = {}
+# Where drive config reads the feedback from, when a static mapping splits it: the statusword (and
+# velocity actual) in TPDO1, the position actual in TPDO2; the master takes a period's values
+# only once both TPDOs of that period have arrived.
+PLACED = {"13_static_split_feedback.eds": {"0x6041:0": "TPDO1", "0x606C:0": "TPDO1", "0x6064:0": "TPDO2"}}
 # The default mapping entries the master rewrites (object: (before, after)), and where it puts
 # the feedback: velocity actual leaves TPDO1 for TPDO2, position joins the statusword in TPDO1.
 REMAPPED = {"11_velocity_in_tpdo1.eds": ({"0x1A00:2": (0x606C0020, 0x60640020), "0x1A01:1": (0x60640020, 0x606C0020)},
@@ -104,12 +106,17 @@ def main():
                       all(got.get(o) == ba for o, ba in rewrites.items()), str(got))
                 got = {o["object"]: o["use"] for o in j["objects"] if o["object"] in uses}
                 check("drive config places the feedback as expected", got == uses, str(got))
+            if name in PLACED:
+                got = {o["object"]: o["use"] for o in j["objects"] if o["object"] in PLACED[name]}
+                check("drive config reads the feedback where the static mapping puts it", got == PLACED[name], str(got))
 
         rc, out, err = run(settle, ["stream"] + common + STREAM)
         check("stream exits 0", rc == 0, err)
         if rc == 0:
             j = json.loads(out)
             check("stream completes", j.get("outcome") == "completed", out)
+            check("every setpoint applied once, in order (the CAN feedback aligned with the replay, period by period)",
+                  j.get("aligned") is True, out)
             check("the rest is not measured (no load position marked)", j.get("rest_measured") is False, out)
             check("the residual is null, not a number from zeros", j.get("residual_can") is None, out)
             check("the PRV is null too", j.get("prv_can_percent") is None, out)

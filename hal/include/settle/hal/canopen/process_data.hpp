@@ -38,8 +38,9 @@ struct ProcessDataLayout {
   // Received by the drive, both in ONE RPDO.
   PdoSlot controlword{1, 0, 2};      // 0x6040 u16
   PdoSlot target_position{1, 2, 4};  // 0x607A i32
-  // Sent by the drive; the statusword and the position actual in one TPDO (the one enabling and
-  // the feedback watchdog follow).
+  // Sent by the drive. The statusword and the position actual may be in different TPDOs (a
+  // drive's static mapping may split them): the master then takes a period's feedback only when
+  // every TPDO carrying a value below has arrived for it (feedback_split, RemoteDrive).
   PdoSlot statusword{1, 0, 2};       // 0x6041 u16
   PdoSlot position_actual{1, 2, 4};  // 0x6064 i32
   PdoSlot load_position{2, 0, 4};    // load_position_index:sub, i32
@@ -69,7 +70,7 @@ struct ProcessDataLayout {
 #define SETTLE_HAL_LAYOUT_ERRORS(X) \
   X(none, "the layout is valid") \
   X(missing, "controlword, target position, statusword or position actual is not mapped") \
-  X(split, "controlword and target position in different RPDOs, or statusword and position actual") \
+  X(split, "controlword and target position in different RPDOs (without split feedback: statusword and position too)") \
   X(bad_slot, "a PDO number over 4, or a size other than the object's") \
   X(too_long, "a value past a PDO's eight bytes") \
   X(overlap, "two values share bytes of a PDO") \
@@ -102,6 +103,23 @@ enum class LayoutError : std::uint8_t { SETTLE_HAL_LAYOUT_ERRORS(SETTLE_ENUM_ENU
 // for an object the master cannot fill in an RPDO (it would send zeros into it).
 [[nodiscard]] bool place_mapped_object(ProcessDataLayout& layout, bool receive, std::uint8_t number,
                                        std::uint8_t offset_bytes, std::uint32_t raw_entry) noexcept;
+
+// Split feedback (the statusword and the position actual in different TPDOs) is understood by
+// the master unless the build leaves it out (SETTLE_HAL_SPLIT_FEEDBACK=0: the Cortex-M images,
+// for flash); check_layout then refuses such a layout (split), as a static mapping would be.
+#ifndef SETTLE_HAL_SPLIT_FEEDBACK
+#define SETTLE_HAL_SPLIT_FEEDBACK 1
+#endif
+inline constexpr bool split_feedback_supported = SETTLE_HAL_SPLIT_FEEDBACK != 0;
+
+// The statusword and the position actual are in different TPDOs: one period's feedback is the
+// frames of every TPDO in feedback_tpdos, which the drive sends on the same SYNC.
+[[nodiscard]] constexpr bool feedback_split(const ProcessDataLayout& layout) noexcept {
+  return layout.statusword.mapped() && layout.position_actual.mapped() &&
+         layout.statusword.pdo != layout.position_actual.pdo;
+}
+// The TPDOs (bit n - 1 for TPDO n, 1..4) that carry a value the layout reads.
+[[nodiscard]] std::uint8_t feedback_tpdos(const ProcessDataLayout& layout) noexcept;
 
 // A received TPDO `number` carries the value at `slot` (mapped there, within the frame's bytes).
 [[nodiscard]] constexpr bool slot_carried(const PdoSlot& slot, std::uint8_t number, const CanFrame& frame) noexcept {

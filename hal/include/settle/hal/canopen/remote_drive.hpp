@@ -52,8 +52,8 @@ enum class PdoSetup : std::uint8_t {
   assume,       // the drive's mapping is `layout` already (Settle's drive: the default): nothing written
   dynamic,      // CiA 301 dynamic mapping of `layout`; the PDOs it does not use are disabled
   read_static,  // read the drive's mapping (RPDO/TPDO 1..4) and derive the layout from it; a mapping
-                // without the controlword + target position in one RPDO and the statusword + position
-                // actual in one TPDO, or an RPDO with objects the master cannot fill, is refused
+                // without the controlword + target position in one RPDO, without the statusword or the
+                // position actual in a TPDO, or with an RPDO the master cannot fill, is refused
 };
 
 struct RemoteDriveConfig {
@@ -258,8 +258,15 @@ enum class RemoteFrame : std::uint8_t {
   heartbeat,  // this drive's heartbeat or boot-up
   emcy,
   tpdo1,      // the TPDO with the statusword + position actual: feedback() updated
-  tpdo2,      // another TPDO of the layout (load position, velocity, following error): feedback() updated
+  tpdo2,      // another TPDO of the layout (load position, velocity, following error): feedback() updated;
+              // under split feedback (feedback_split), the period's last TPDO: the whole period taken
   sdo,        // an SDO response (used while configuring)
+  // Split feedback: one period's values come in several TPDOs, which the drive sends on the same
+  // SYNC in PDO order (TPDO1 before TPDO2: also their priority on the bus). Each is held until the
+  // period's last arrives; a TPDO out of that order means one of a period's TPDOs is missing, and
+  // what was held of that period is dropped, never completed with another period's values.
+  held,       // a period's TPDO before its last: held, feedback() unchanged
+  dropped,    // a TPDO of a period whose earlier TPDO is missing: dropped (RemoteFeedback::tpdos_dropped)
 };
 
 struct RemoteFeedback {
@@ -271,6 +278,9 @@ struct RemoteFeedback {
   std::uint64_t tpdo1_received{0};
   std::uint64_t tpdo2_received{0};
   std::uint64_t tpdo1_time_us{0};  // when the latest TPDO1 was taken (the caller's time)
+  // Split feedback: TPDOs of periods that never came complete (held ones, and ones whose period's
+  // earlier TPDO was missing), dropped rather than mixed with another period's.
+  std::uint32_t tpdos_dropped{0};
 };
 
 class RemoteDrive {
@@ -367,6 +377,10 @@ class RemoteDrive {
   }
   // A TPDO of a layout other than the default: every value it carries.
   RemoteFrame take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept;
+  // Split feedback: TPDO `number` held, dropped, or completing its period.
+  RemoteFrame take_period_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept;
+  // The load position, velocity actual and following error the TPDO carries.
+  void take_extra_feedback(const CanFrame& frame, std::uint8_t number) noexcept;
   // The identifiers and lengths on_frame matches, from the layout in use.
   void apply_layout() noexcept;
   // read_mapping: one entry (or sub 0) read; false when start-up must stop.
@@ -401,6 +415,15 @@ class RemoteDrive {
   std::uint8_t second_pdo_{2};
   bool default_layout_{true};                  // the inline codecs of default_mapping.hpp apply
   std::array<std::uint8_t, layout_pdo_count> tpdo_len_{};  // bytes each TPDO carries (0 = unused)
+  // Split feedback (feedback_split): the TPDOs one period's values come in (bit n - 1 for TPDO n;
+  // 0 when the statusword and the position actual share a TPDO), those held of the current
+  // period (and how many), and the statusword and position actual last taken, held until their
+  // period is complete.
+  std::uint8_t period_tpdos_{0};
+  std::uint8_t held_tpdos_{0};
+  std::uint8_t held_count_{0};
+  std::uint16_t held_statusword_{0};
+  std::int32_t held_position_{0};
   // read_mapping's progress through a mapping object.
   std::uint8_t map_sub_{0};
   std::uint8_t map_count_{0};
