@@ -1120,13 +1120,6 @@ void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, Ar
   }
 }
 
-std::size_t arc_residuals(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcMat& jac) noexcept {
-  ArcEval ev;
-  const std::size_t rows = arc_values(pb, c, f, ev);
-  arc_jacobian(pb, c, ev, jac);
-  return rows;
-}
-
 double arc_norm(const ArcVec& f, std::size_t n) noexcept {
   double s = 0.0;
   for (std::size_t i = 0; i < n; ++i) s += f[i] * f[i];
@@ -1145,12 +1138,15 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     for (std::size_t i = 0; i < rows; ++i) f[i] -= mu * f0[i];
     return arc_norm(f, rows);
   };
-  const std::size_t rows = arc_residuals(pb, c, f, jm);
+  const std::size_t rows = arc_values(pb, c, f, at);
   if (rows != c.n) return false;  // not square: a chain the loop should not have made
   double n0 = shifted_norm(rows);
   for (int it = 0; it < max_iter; ++it) {
     if (!std::isfinite(n0)) return false;
     if (n0 < tol) return true;
+    // The Jacobian at c (at holds c's evaluation), only where a step is taken from it: not at
+    // the point that meets the tolerance, nor at the last one.
+    arc_jacobian(pb, c, at, jm);
     ArcVec dx{};
     for (std::size_t i = 0; i < rows; ++i) dx[i] = -f[i];
     if (!solve_in_place(jm, dx, rows)) return false;
@@ -1163,7 +1159,6 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
       if (std::isfinite(n1) && n1 < n0) break;
     }
     if (!(lam > 1e-4)) return n0 < 1e3 * tol;
-    arc_jacobian(pb, trial, at, jm);
     c = trial;
     n0 = n1;
   }
@@ -1184,8 +1179,8 @@ bool arc_solve(const ArcProblem& pb, ArcChain& c, double t_bound = HUGE_VAL) noe
   if (arc_newton(pb, c, none, 0.0, kTol, 40)) return true;
   c = start;
   ArcVec f0{};
-  ArcMat jm{};
-  if (arc_residuals(pb, c, f0, jm) != c.n) return false;
+  ArcEval at;
+  if (arc_values(pb, c, f0, at) != c.n) return false;
   double lam = 0.0, step = 0.25;
   for (int k = 0; k < 40 && lam < 1.0; ++k) {
     const double next = std::fmin(1.0, lam + step);
