@@ -1474,27 +1474,35 @@ struct ArcBest {
 // recursively) seeds more paths: that chain with a wiggle inserted into each of its ramps, for the
 // fastest mode's two conditions (docs/fastest.md, "Seeds"). False when none is feasible.
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk,
-               ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr) noexcept {
+               ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr) noexcept;
+
+// The shortest chain for all modes but the fastest (planned by plan_arcs, recursively, with that
+// set's own split seed): the chain plan_arcs inserts its wiggles into.
+ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms) noexcept {
+  ModeSet fewer{};
+  std::size_t fastest = 0;
+  for (std::size_t i = 1; i < ms.n; ++i) {
+    if (ms.m[i].omega > ms.m[fastest].omega) fastest = i;
+  }
+  for (std::size_t i = 0; i < ms.n; ++i) {
+    if (i != fastest) fewer.m[fewer.n++] = ms.m[i];
+  }
+  ArcBest sub{};
+  FastestTable t{};
+  Peaks<double> pk{};
+  Shaper<double> fewer_split{};
+  (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr);
+  return sub;
+}
+
+bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk, ArcBest* best_chain,
+               const Shaper<double>* split) noexcept {
   ArcProblem pb = arc_problem(r, ms);
   ArcExpMemo exps{};
   pb.exps = &exps;
   double w_min = ms.m[0].omega;
   for (std::size_t i = 1; i < ms.n; ++i) w_min = std::fmin(w_min, ms.m[i].omega);
-  ArcBest sub{};
-  if (ms.n >= 2) {
-    ModeSet fewer{};
-    std::size_t fastest = 0;
-    for (std::size_t i = 1; i < ms.n; ++i) {
-      if (ms.m[i].omega > ms.m[fastest].omega) fastest = i;
-    }
-    for (std::size_t i = 0; i < ms.n; ++i) {
-      if (i != fastest) fewer.m[fewer.n++] = ms.m[i];
-    }
-    FastestTable t{};
-    Peaks<double> pk{};
-    Shaper<double> fewer_split{};
-    (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr);
-  }
+  const ArcBest sub = ms.n >= 2 ? plan_fewer(r, ms) : ArcBest{};
   bool have = false, best_cruises = false;
   double best = HUGE_VAL;
   ChainMemo memo{};
