@@ -4,7 +4,9 @@
 #include "settle/core/profiles/fastest.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "settle/core/golden_section.hpp"
 #include "settle/core/limits.hpp"
@@ -893,11 +895,57 @@ double ramp_out(const ArcNode& k) noexcept {
 // pole leaves every mode at rest; g ends at v = vmax and has no distance condition. With 1 + 2m
 // nodes the system is square again. It holds long moves on damped or several modes, where the
 // whole chain (one cruise between 2 + 2m nodes) has too few nodes on each side.
+// A mode's pole and the scales its rows use (taken once per problem, not per evaluation).
+struct ArcPole {
+  Cx s, inv_s, inv_s2;
+  double scale{0.0};
+};
+// The last argument and value of each ramp's two exponentials, per mode (arc_values). Most
+// arguments repeat from one evaluation to the next: a ramp between limits has the same length
+// whatever the holds, and its computed length (t + d) - t mostly the same bits (three modes: 73 %
+// of the calls). A hit returns the value the call would: bit for bit the same as calling.
+class ArcExpMemo {
+ public:
+  template <class F>
+  Cx get(std::size_t m, std::size_t r, bool ramp, double arg, F&& compute) noexcept {
+    Entry& e = (ramp ? ramp_ : end_)[m][r];
+    const std::uint64_t bits = std::bit_cast<std::uint64_t>(arg);
+    if (!e.used || e.bits != bits) e = {bits, true, compute()};
+    return e.val;
+  }
+
+ private:
+  struct Entry {
+    std::uint64_t bits{0};
+    bool used{false};
+    Cx val{};
+  };
+  std::array<std::array<Entry, kMaxArcNodes + 1>, kMaxModes> ramp_{}, end_{};
+};
+
 struct ArcProblem {
   double D{0.0}, J{0.0}, amax{0.0}, vmax{0.0};
   const ModeSet* ms{nullptr};
   bool pulse{false};
+  std::array<ArcPole, kMaxModes> poles{};
+  ArcExpMemo* exps{nullptr};  // plan_arcs' own
 };
+
+ArcProblem arc_problem(const MoveRequest& r, const ModeSet& ms) noexcept {
+  ArcProblem pb{};
+  pb.D = std::fabs(r.distance);
+  pb.J = *r.jmax;
+  pb.amax = *r.amax;
+  pb.vmax = *r.vmax;
+  pb.ms = &ms;
+  for (std::size_t m = 0; m < ms.n; ++m) {
+    const Cx s = pole(ms.m[m].omega, ms.m[m].zeta);
+    const double s_n2 = s.re * s.re + s.im * s.im;
+    const Cx inv_s{s.re / s_n2, -s.im / s_n2};
+    pb.poles[m] = {s, inv_s, inv_s * inv_s, 1.0 / (pb.D * ms.m[m].omega)};
+  }
+  return pb;
+}
 
 // The chain laid out: ramp r (r < n into node r, r = n the closing ramp) runs from b[r] to e[r]
 // with jerk j[r]; node r holds from e[r] to b[r + 1].
@@ -937,9 +985,76 @@ ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
 // The square system F(x) (dimensionless) and its Jacobian. Each quantity is a sum
 // over the ramps of a function of the times u = T - t before the end; its derivative with
 // respect to each switch time, summed from the back (every switch time is the sum of the
-// lengths before it), gives the derivative with respect to each unknown.
-std::size_t arc_residuals(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcMat& jac) noexcept {
-  const ArcLayout L = lay_out(pb, c);
+// lengths before it), gives the derivative with respect to each unknown. arc_values takes F and
+// keeps what the Jacobian reuses (the layout, the exponentials at each ramp's ends), so a line
+// search's rejected trials pay for F alone and an accepted one's Jacobian costs no exponential.
+// (Its exponentials are plain pairs without initialisers: arc_values writes every entry the
+// Jacobian reads, and zeroing 2 KB per evaluation cost the one-mode case 4 % of its instructions.)
+struct CxSlot {
+  double re, im;
+  operator Cx() const noexcept { return {re, im}; }
+};
+struct ArcEval {
+  ArcLayout L;
+  double v;                                                            // at the end
+  std::array<std::array<CxSlot, kMaxArcNodes + 1>, kMaxModes> eb, ee;  // E(u_b), E(u_e) per mode and ramp
+  std::array<Cx, kMaxModes> val;                                       // the transform per mode
+};
+
+std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEval& ev) noexcept {
+  ev.L = lay_out(pb, c);
+  const ArcLayout& L = ev.L;
+  const std::size_t n = c.n;
+  const double T = L.T;
+  std::size_t row = 0;
+  // v and p at the end.
+  double v = 0.0, p = 0.0;
+  for (std::size_t r = 0; r <= n; ++r) {
+    const double ub = T - L.b[r], ue = T - L.e[r], jr = L.j[r];
+    v += jr * (ub * ub - ue * ue) / 2.0;
+    p += jr * (ub * ub * ub - ue * ue * ue) / 6.0;
+  }
+  ev.v = v;
+  f[row++] = (v - (pb.pulse ? pb.vmax : 0.0)) / pb.vmax;
+  if (!pb.pulse) f[row++] = (p - pb.D) / pb.D;
+  // The transform at each pole, referred to the end and divided by D omega (the step's): sum_r
+  // j_r (E(u_b) - E(u_e)) / s^2 with E(u) = e^{s u}.
+  for (std::size_t m = 0; m < pb.ms->n; ++m) {
+    const ArcPole& q = pb.poles[m];
+    Cx acc{};
+    for (std::size_t r = 0; r <= n; ++r) {
+      const double jr = L.j[r] * q.scale;
+      const double u = -(T - L.e[r]), d = L.e[r] - L.b[r];
+      const Cx Ee = pb.exps->get(m, r, false, u, [&] { return cexp_neg(q.s, u); });
+      // E(u_b) - E(u_e) = E(u_e) (e^{s d} - 1): no cancellation on short ramps.
+      const Cx diff = Ee * pb.exps->get(m, r, true, d, [&] { return cexpm1(d * q.s); });
+      const Cx Eb = Ee + diff;
+      ev.ee[m][r] = {Ee.re, Ee.im};
+      ev.eb[m][r] = {Eb.re, Eb.im};
+      acc = acc + jr * diff;
+    }
+    ev.val[m] = acc * q.inv_s2;
+    f[row++] = ev.val[m].re;
+    f[row++] = ev.val[m].im;
+  }
+  // v = vmax on each cruise, v = 0 on each dwell (at the hold's start e[i]).
+  for (std::size_t i = 0; i < n; ++i) {
+    const ArcKind kd = c.node[i].kind;
+    if (kd != ArcKind::cruise && kd != ArcKind::dwell) continue;
+    const double tc = L.e[i];
+    double vc = 0.0;
+    for (std::size_t r = 0; r <= i; ++r) {
+      const double ub = tc - L.b[r], ue = tc - L.e[r], jr = L.j[r];
+      vc += jr * (ub * ub - ue * ue) / 2.0;
+    }
+    f[row++] = (vc - (kd == ArcKind::cruise ? pb.vmax : 0.0)) / pb.vmax;
+  }
+  return row;
+}
+
+// The Jacobian at the point arc_values evaluated (ev).
+void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, ArcMat& jac) noexcept {
+  const ArcLayout& L = ev.L;
   const std::size_t n = c.n, ns = 2 * n + 2;  // switch times s_k: s_2r = b[r], s_2r+1 = e[r]
   std::array<double, 2 * kMaxArcNodes + 2> g{};
   std::size_t row = 0;
@@ -958,17 +1073,12 @@ std::size_t arc_residuals(const ArcProblem& pb, const ArcChain& c, ArcVec& f, Ar
     g.fill(0.0);
   };
   const double T = L.T;
-  // v and p at the end.
-  double v = 0.0, p = 0.0;
   for (std::size_t r = 0; r <= n; ++r) {
     const double ub = T - L.b[r], ue = T - L.e[r], jr = L.j[r];
-    v += jr * (ub * ub - ue * ue) / 2.0;
-    p += jr * (ub * ub * ub - ue * ue * ue) / 6.0;
     g[2 * r] -= jr * ub;
     g[2 * r + 1] += jr * ue;
     g[ns - 1] += jr * (ub - ue);
   }
-  f[row] = (v - (pb.pulse ? pb.vmax : 0.0)) / pb.vmax;
   for (double& x : g) x /= pb.vmax;
   finish_row(row++);
   if (!pb.pulse) {
@@ -977,56 +1087,37 @@ std::size_t arc_residuals(const ArcProblem& pb, const ArcChain& c, ArcVec& f, Ar
       g[2 * r] -= jr * ub * ub / 2.0 / pb.D;
       g[2 * r + 1] += jr * ue * ue / 2.0 / pb.D;
     }
-    g[ns - 1] += v / pb.D;
-    f[row] = (p - pb.D) / pb.D;
+    g[ns - 1] += ev.v / pb.D;
     finish_row(row++);
   }
-  // The transform at each pole, referred to the end and divided by D omega (the step's): sum_r
-  // j_r (E(u_b) - E(u_e)) / s^2 with E(u) = e^{s u}; d/d b_r = -j_r E(u_b) / s, d/d e_r = j_r E(u_e) / s.
+  // d/d b_r = -j_r E(u_b) / s, d/d e_r = j_r E(u_e) / s; d/dT of sum E(u): s times the sum.
   for (std::size_t m = 0; m < pb.ms->n; ++m) {
-    const Cx s = pole(pb.ms->m[m].omega, pb.ms->m[m].zeta);
-    const double s_n2 = s.re * s.re + s.im * s.im;
-    const Cx inv_s{s.re / s_n2, -s.im / s_n2};
-    const Cx inv_s2 = inv_s * inv_s;
-    const double scale = 1.0 / (pb.D * pb.ms->m[m].omega);
-    Cx acc{}, d_T{};
+    const ArcPole& q = pb.poles[m];
     std::array<Cx, 2 * kMaxArcNodes + 2> dg{};
     for (std::size_t r = 0; r <= n; ++r) {
-      const double jr = L.j[r] * scale;
-      const Cx Ee = cexp_neg(s, -(T - L.e[r]));
-      // E(u_b) - E(u_e) = E(u_e) (e^{s d} - 1): no cancellation on short ramps.
-      const Cx diff = Ee * cexpm1((L.e[r] - L.b[r]) * s);
-      const Cx Eb = Ee + diff;
-      acc = acc + jr * diff;
-      dg[2 * r] = dg[2 * r] + (-jr) * (Eb * inv_s);
-      dg[2 * r + 1] = dg[2 * r + 1] + jr * (Ee * inv_s);
+      const double jr = L.j[r] * q.scale;
+      dg[2 * r] = dg[2 * r] + (-jr) * (Cx(ev.eb[m][r]) * q.inv_s);
+      dg[2 * r + 1] = dg[2 * r + 1] + jr * (Cx(ev.ee[m][r]) * q.inv_s);
     }
-    const Cx val = acc * inv_s2;
-    d_T = s * val;  // d/dT of sum E(u): s times the sum
+    const Cx d_T = q.s * ev.val[m];
     for (int part = 0; part < 2; ++part) {
       for (std::size_t k = 0; k < ns; ++k) g[k] = part == 0 ? dg[k].re : dg[k].im;
       g[ns - 1] += part == 0 ? d_T.re : d_T.im;
-      f[row] = part == 0 ? val.re : val.im;
       finish_row(row++);
     }
   }
-  // v = vmax on each cruise, v = 0 on each dwell (at the hold's start e[i]).
   for (std::size_t i = 0; i < n; ++i) {
     const ArcKind kd = c.node[i].kind;
     if (kd != ArcKind::cruise && kd != ArcKind::dwell) continue;
     const double tc = L.e[i];
-    double vc = 0.0;
     for (std::size_t r = 0; r <= i; ++r) {
       const double ub = tc - L.b[r], ue = tc - L.e[r], jr = L.j[r];
-      vc += jr * (ub * ub - ue * ue) / 2.0;
       g[2 * r] -= jr * ub / pb.vmax;
       g[2 * r + 1] += jr * ue / pb.vmax;
     }
     // d/d tc (= s_{2i+1}): the acceleration there, 0 by construction.
-    f[row] = (vc - (kd == ArcKind::cruise ? pb.vmax : 0.0)) / pb.vmax;
     finish_row(row++);
   }
-  return row;
 }
 
 double arc_norm(const ArcVec& f, std::size_t n) noexcept {
@@ -1042,16 +1133,20 @@ double arc_norm(const ArcVec& f, std::size_t n) noexcept {
 bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, double tol, int max_iter) noexcept {
   ArcVec f{};
   ArcMat jm{};
+  ArcEval at;
   const auto shifted_norm = [&](std::size_t rows) {
     for (std::size_t i = 0; i < rows; ++i) f[i] -= mu * f0[i];
     return arc_norm(f, rows);
   };
-  const std::size_t rows = arc_residuals(pb, c, f, jm);
+  const std::size_t rows = arc_values(pb, c, f, at);
   if (rows != c.n) return false;  // not square: a chain the loop should not have made
   double n0 = shifted_norm(rows);
   for (int it = 0; it < max_iter; ++it) {
     if (!std::isfinite(n0)) return false;
     if (n0 < tol) return true;
+    // The Jacobian at c (at holds c's evaluation), only where a step is taken from it: not at
+    // the point that meets the tolerance, nor at the last one.
+    arc_jacobian(pb, c, at, jm);
     ArcVec dx{};
     for (std::size_t i = 0; i < rows; ++i) dx[i] = -f[i];
     if (!solve_in_place(jm, dx, rows)) return false;
@@ -1059,7 +1154,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     ArcChain trial = c;
     for (; lam > 1e-4; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dx[i];
-      (void)arc_residuals(pb, trial, f, jm);
+      (void)arc_values(pb, trial, f, at);  // F alone: most trials are rejected
       n1 = shifted_norm(rows);
       if (std::isfinite(n1) && n1 < n0) break;
     }
@@ -1084,8 +1179,8 @@ bool arc_solve(const ArcProblem& pb, ArcChain& c, double t_bound = HUGE_VAL) noe
   if (arc_newton(pb, c, none, 0.0, kTol, 40)) return true;
   c = start;
   ArcVec f0{};
-  ArcMat jm{};
-  if (arc_residuals(pb, c, f0, jm) != c.n) return false;
+  ArcEval at;
+  if (arc_values(pb, c, f0, at) != c.n) return false;
   double lam = 0.0, step = 0.25;
   for (int k = 0; k < 40 && lam < 1.0; ++k) {
     const double next = std::fmin(1.0, lam + step);
@@ -1379,30 +1474,35 @@ struct ArcBest {
 // recursively) seeds more paths: that chain with a wiggle inserted into each of its ramps, for the
 // fastest mode's two conditions (docs/fastest.md, "Seeds"). False when none is feasible.
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk,
-               ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr) noexcept {
-  ArcProblem pb{};
-  pb.D = std::fabs(r.distance);
-  pb.J = *r.jmax;
-  pb.amax = *r.amax;
-  pb.vmax = *r.vmax;
-  pb.ms = &ms;
+               ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr) noexcept;
+
+// The shortest chain for all modes but the fastest (planned by plan_arcs, recursively, with that
+// set's own split seed): the chain plan_arcs inserts its wiggles into.
+ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms) noexcept {
+  ModeSet fewer{};
+  std::size_t fastest = 0;
+  for (std::size_t i = 1; i < ms.n; ++i) {
+    if (ms.m[i].omega > ms.m[fastest].omega) fastest = i;
+  }
+  for (std::size_t i = 0; i < ms.n; ++i) {
+    if (i != fastest) fewer.m[fewer.n++] = ms.m[i];
+  }
+  ArcBest sub{};
+  FastestTable t{};
+  Peaks<double> pk{};
+  Shaper<double> fewer_split{};
+  (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr);
+  return sub;
+}
+
+bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk, ArcBest* best_chain,
+               const Shaper<double>* split) noexcept {
+  ArcProblem pb = arc_problem(r, ms);
+  ArcExpMemo exps{};
+  pb.exps = &exps;
   double w_min = ms.m[0].omega;
   for (std::size_t i = 1; i < ms.n; ++i) w_min = std::fmin(w_min, ms.m[i].omega);
-  ArcBest sub{};
-  if (ms.n >= 2) {
-    ModeSet fewer{};
-    std::size_t fastest = 0;
-    for (std::size_t i = 1; i < ms.n; ++i) {
-      if (ms.m[i].omega > ms.m[fastest].omega) fastest = i;
-    }
-    for (std::size_t i = 0; i < ms.n; ++i) {
-      if (i != fastest) fewer.m[fewer.n++] = ms.m[i];
-    }
-    FastestTable t{};
-    Peaks<double> pk{};
-    Shaper<double> fewer_split{};
-    (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr);
-  }
+  const ArcBest sub = ms.n >= 2 ? plan_fewer(r, ms) : ArcBest{};
   bool have = false, best_cruises = false;
   double best = HUGE_VAL;
   ChainMemo memo{};
