@@ -54,14 +54,13 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
 
   commission::IdentifyExcitation ex{};
   ex.distance = args.real_or_default("--distance");
-  ex.vmax = args.real_or_default("--vmax");
-  ex.amax = args.real_or_default("--amax");
-  ex.jmax = args.real_or_default("--jmax");
+  ex.limits = {.vmax = args.real_or_default("--vmax"), .amax = args.real_or_default("--amax"),
+               .jmax = args.real_or_default("--jmax")};
   ex.round_trips = static_cast<std::size_t>(args.integer("--train"));
   // A limit so small that the move cannot fit the excitation's 600 s is that limit's fault (the
   // planner, fed a denormal, fails in ways that would name another option).
   double bound = 0.0;
-  const char* binding = binding_limit(ex.distance, ex.vmax, ex.amax, ex.jmax, "--vmax", &bound);
+  const char* binding = binding_limit(ex.distance, ex.limits.vmax, ex.limits.amax, ex.limits.jmax, "--vmax", &bound);
   if (!(bound <= 600.0)) {
     return report_bad_request({"too_long", binding,
                                std::string{binding} + ": the excitation's move lasts at least " + format_number(bound) +
@@ -96,9 +95,10 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   }
   // The excitation as planned must respect what was asked (the planner guarantees it; checked so
   // that a planner change cannot silently excite harder than the user allowed).
-  const auto over = [](double peak, double limit) { return std::fabs(peak) > limit * (1.0 + 1e-9); };
+  const auto over = [](double peak, double limit) { return std::fabs(peak) > limit * (1.0 + core::kLimitSlack); };
   const core::Peaks<double> pk = s.axes.front().move.peaks();
-  const char* exceeded = over(pk.v, ex.vmax) ? "--vmax" : over(pk.a, ex.amax) ? "--amax" : over(pk.j, ex.jmax) ? "--jmax" : nullptr;
+  const core::Limits& l = ex.limits;
+  const char* exceeded = over(pk.v, l.vmax) ? "--vmax" : over(pk.a, l.amax) ? "--amax" : over(pk.j, l.jmax) ? "--jmax" : nullptr;
   if (exceeded != nullptr) {
     return report_bad_request({"excitation_exceeds_limits", exceeded,
                                std::string{exceeded} + ": the planned excitation would exceed this limit"},

@@ -63,7 +63,7 @@ plant::SimStatus commissioning_scenario(CommissioningScenario& out) {
     return st;
   }
   const commission::IdentifyExcitation ex{
-      .distance = kExDistance, .vmax = kExVmax, .amax = kExAmax, .jmax = kExJmax, .round_trips = kExTrain};
+      .distance = kExDistance, .limits = {.vmax = kExVmax, .amax = kExAmax, .jmax = kExJmax}, .round_trips = kExTrain};
   core::Move<double> move{};
   if (commission::plan_identify_excitation(ex, move) != core::Status::ok) return plant::SimStatus::plan_failed;
   plant::SimOptions so{};

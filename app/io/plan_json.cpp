@@ -98,14 +98,12 @@ Json request_json(const core::MoveRequest& r) {
   if (r.vmax) j["vmax"] = *r.vmax;
   if (r.amax) j["amax"] = *r.amax;
   if (r.jmax) j["jmax"] = *r.jmax;
-  // The document spells the first mode "omega", "zeta" and the further ones (profile fastest)
-  // "extra_modes": the format plan files have always had.
-  if (r.has_mode()) j["omega"] = r.omega();
-  j["zeta"] = r.zeta();
-  if (r.mode_count > 1) {
-    Json extra = Json::array();
-    for (const core::Mode& m : r.mode_list().subspan(1)) extra.push_back(Json{{"omega", m.omega}, {"zeta", m.zeta}});
-    j["extra_modes"] = extra;
+  // One list of the modes the move is designed for, in order, each with its omega and zeta (read
+  // back by request_modes, below); none: no "modes".
+  if (r.has_mode()) {
+    Json modes = Json::array();
+    for (const core::Mode& m : r.mode_list()) modes.push_back(Json{{"omega", m.omega}, {"zeta", m.zeta}});
+    j["modes"] = modes;
   }
   if (r.robust) j["robust"] = *r.robust;
   if (r.gamma_count > 0) j["gammas"] = std::vector<double>(r.gammas.begin(), r.gammas.begin() + static_cast<std::ptrdiff_t>(r.gamma_count));
@@ -159,6 +157,12 @@ bool mismatch_err(RequestError& err, const std::string& option, const std::strin
   return false;
 }
 
+// A mode as plan files write it: {"omega": finite number, "zeta": finite number}.
+bool finite_mode(const Json& m) {
+  const auto finite = [&](const char* k) { return m.contains(k) && m[k].is_number() && std::isfinite(m[k].get<double>()); };
+  return m.is_object() && finite("omega") && finite("zeta");
+}
+
 // The shaper settle tune designed for the plan: "candidate": {"shaper", "design_modes"} and
 // "residual_max", designed again by commission::tuned_shaper.
 bool designed_shaper(const Json& j, core::Shaper<double>& out, RequestError& err, const std::string& option) {
@@ -177,10 +181,7 @@ bool designed_shaper(const Json& j, core::Shaper<double>& out, RequestError& err
   }
   std::vector<double> omega, zeta;
   for (const Json& m : c["design_modes"]) {
-    if (!m.is_object() || !m.contains("omega") || !m.contains("zeta") || !m["omega"].is_number() ||
-        !m["zeta"].is_number() || !std::isfinite(m["omega"].get<double>()) || !std::isfinite(m["zeta"].get<double>())) {
-      return bad("every candidate.design_modes entry needs finite numbers \"omega\" and \"zeta\"");
-    }
+    if (!finite_mode(m)) return bad("every candidate.design_modes entry needs finite numbers \"omega\" and \"zeta\"");
     omega.push_back(m["omega"].get<double>());
     zeta.push_back(m["zeta"].get<double>());
   }
@@ -190,6 +191,36 @@ bool designed_shaper(const Json& j, core::Shaper<double>& out, RequestError& err
   if (const core::Status st = commission::tuned_shaper(kind, omega, zeta, j["residual_max"].get<double>(), out);
       st != core::Status::ok) {
     return bad(std::string{"its shaper cannot be designed again: "} + core::describe(st));
+  }
+  return true;
+}
+
+// The request's "modes" (request_json writes them): the modes the move is designed for, in order,
+// each {"omega", "zeta"}; absent: none. A file written before the request held one list (its first
+// mode as "omega" and "zeta", the further ones as "extra_modes") reads as that same list.
+template <class Bad>
+bool request_modes(const Json& rq, core::MoveRequest& r, Bad& bad) {
+  const bool earlier = rq.contains("omega") || rq.contains("extra_modes");
+  if (earlier && rq.contains("modes")) {
+    return bad("request.modes and request.omega/extra_modes are both given (one list of modes: request.modes)");
+  }
+  Json modes = rq.contains("modes") ? rq["modes"] : Json::array();
+  const char* field = "request.modes";
+  if (earlier) {
+    if (!rq.contains("omega")) return bad("request.extra_modes needs request.omega, the first mode");
+    modes = Json::array({Json{{"omega", rq["omega"]}, {"zeta", rq.contains("zeta") ? rq["zeta"] : Json(0.0)}}});
+    if (rq.contains("extra_modes") && !rq["extra_modes"].is_array()) return bad("request.extra_modes is not an array");
+    if (rq.contains("extra_modes")) modes.insert(modes.end(), rq["extra_modes"].begin(), rq["extra_modes"].end());
+    field = "request.omega, zeta and extra_modes";
+  }
+  if (!modes.is_array() || modes.size() > core::kMaxModes) {
+    return bad(std::string{field} + " must be an array of at most " + std::to_string(core::kMaxModes) + " modes");
+  }
+  for (const Json& m : modes) {
+    if (!finite_mode(m)) {
+      return bad(std::string{"every mode of "} + field + " needs finite numbers \"omega\" and \"zeta\"");
+    }
+    (void)r.add_mode({m["omega"].get<double>(), m["zeta"].get<double>()});
   }
   return true;
 }
@@ -268,33 +299,17 @@ bool load_plan_file(const std::string& path, const std::string& option, core::Mo
     to = rq[key].get<double>();
     return true;
   };
-  std::optional<double> distance, omega, zeta;
+  std::optional<double> distance;
   for (auto [key, to, required] : {std::tuple{"distance", &distance, true}, std::tuple{"time", &r.time, false},
                                    std::tuple{"vmax", &r.vmax, false}, std::tuple{"amax", &r.amax, false},
-                                   std::tuple{"jmax", &r.jmax, false}, std::tuple{"omega", &omega, false},
-                                   std::tuple{"zeta", &zeta, false}}) {
+                                   std::tuple{"jmax", &r.jmax, false}}) {
     if (!number(key, *to, required)) return bad(std::string{"request."} + key + " is missing or not a finite number");
   }
   r.distance = *distance;
-  if (omega) r.set_mode(*omega, zeta.value_or(0.0));
   std::optional<double> robust;
   if (!number("robust", robust, false)) return bad("request.robust is not a finite number");
   r.robust = robust;
-  if (!request_extras(rq, r, bad)) return false;
-  if (rq.contains("extra_modes")) {
-    const Json& extra = rq["extra_modes"];
-    if (!omega) return bad("request.extra_modes needs request.omega, the first mode");
-    if (!extra.is_array() || extra.size() > core::kMaxModes - 1) {
-      return bad("request.extra_modes must be an array of at most " + std::to_string(core::kMaxModes - 1) + " modes");
-    }
-    for (const Json& e : extra) {
-      if (!e.is_object() || !e.contains("omega") || !e.contains("zeta") || !e["omega"].is_number() ||
-          !e["zeta"].is_number() || !std::isfinite(e["omega"].get<double>()) || !std::isfinite(e["zeta"].get<double>())) {
-        return bad("every request.extra_modes entry needs finite numbers \"omega\" and \"zeta\"");
-      }
-      (void)r.add_mode({e["omega"].get<double>(), e["zeta"].get<double>()});
-    }
-  }
+  if (!request_extras(rq, r, bad) || !request_modes(rq, r, bad)) return false;
   if (!j.contains("shaper") || !j["shaper"].is_object() || !j["shaper"].contains("impulses") ||
       !j["shaper"]["impulses"].is_array()) {
     return bad("no \"shaper\": {\"impulses\": [...]}");

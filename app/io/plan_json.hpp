@@ -24,8 +24,8 @@ namespace settle::app {
 // limits, peaks and deviation (time sync: its own plan too).
 [[nodiscard]] Json axes_json(const core::MultiAxisPlan& p, const core::MultiAxisRequest& r);
 
-// The fields of a request that plan an unshaped profile: profile, distance, and whichever of
-// time, vmax, amax, jmax, omega, zeta it has.
+// The fields of a request that plan an unshaped profile: profile, distance, whichever of time,
+// vmax, amax, jmax it has, and its modes as one list ("modes": [{"omega", "zeta"}, ...], in order).
 [[nodiscard]] Json request_json(const core::MoveRequest& r);
 
 // Plan files are read whole, so their size is bounded first (bytes).

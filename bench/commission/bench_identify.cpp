@@ -75,8 +75,9 @@ void BM_IdentifyMergedModes(benchmark::State& state) {
       {.omega = 17.768442874472818, .zeta = 0.20571206796027017, .gain = 0.015028044722983896},
       {.omega = 13.265121239938614, .zeta = 0.2393962395725229, .gain = 0.014811314586307885}};
   settle::testing::Excitation ex{};
-  ex.move = {
-      .distance = 0.05, .vmax = 0.5, .amax = 20.0, .jmax = 20000.0, .round_trips = commission::kDefaultTrainRoundTrips};
+  ex.move = {.distance = 0.05,
+             .limits = {.vmax = 0.5, .amax = 20.0, .jmax = 20000.0},
+             .round_trips = commission::kDefaultTrainRoundTrips};
   identify(state, modes, ex, 7919 * 81);
 }
 BENCHMARK(BM_IdentifyMergedModes)->Unit(benchmark::kMillisecond);

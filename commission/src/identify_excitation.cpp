@@ -24,9 +24,9 @@ core::Status plan_identify_excitation(const IdentifyExcitation& ex, core::Move<d
   core::MoveRequest req{};
   req.profile = core::ProfileKind::jerk_limited;
   req.distance = ex.distance;
-  req.vmax = ex.vmax;
-  req.amax = ex.amax;
-  req.jmax = ex.jmax;
+  req.vmax = ex.limits.vmax;
+  req.amax = ex.limits.amax;
+  req.jmax = ex.limits.jmax;
   core::Move<double> move{};
   if (const core::Status st = core::plan(req, move); st != core::Status::ok) return st;
   if (ex.round_trips == 0) {

@@ -299,18 +299,7 @@ bool valid_band(const UncertainMode& m) {
          m.zeta_lo >= 0.0 && m.zeta_lo <= m.zeta && m.zeta <= m.zeta_hi && m.zeta_hi < 1.0;
 }
 
-constexpr double kLimitSlack = 1e-9;
-constexpr double kBuildCost = 64.0;  // as core's planner compares peaks with limits
-
-core::Status limits_status(const TuneMove& mv, const core::Peaks<double>& pk) {
-  if (mv.vmax && !(pk.v <= *mv.vmax * (1.0 + kLimitSlack))) return core::Status::velocity_limit_exceeded;
-  if (mv.amax && !(pk.a <= *mv.amax * (1.0 + kLimitSlack))) return core::Status::acceleration_limit_exceeded;
-  if (mv.jmax && !(pk.j <= *mv.jmax * (1.0 + kLimitSlack))) return core::Status::jerk_limit_exceeded;
-  return core::Status::ok;
-}
-bool within_limits(const TuneMove& mv, const core::Peaks<double>& pk) {
-  return limits_status(mv, pk) == core::Status::ok;
-}
+constexpr double kBuildCost = 64.0;
 
 // The unshaped profile of `req` within the move's limits: the profile's own planner, or, when it
 // refuses the combination of limits it was given (ramp-versine takes only vmax, say), the shortest
@@ -333,7 +322,7 @@ core::Status plan_profile(core::MoveRequest& req_io, const TuneMove& mv, core::M
   core::Move<double> found{};
   auto ok_at = [&](double t, core::Move<double>& m) {
     req.time = t;
-    return core::plan(req, m) == core::Status::ok && within_limits(mv, m.peaks());
+    return core::plan(req, m) == core::Status::ok && core::check_limits(req_io, m.peaks()) == core::Status::ok;
   };
   double t_hi = std::max(t_lo, 1e-6);
   int doublings = 0;
@@ -493,6 +482,7 @@ void plan_design(core::ProfileKind kind, core::ShaperKind sk, std::size_t v, con
   if (c.retuned && sk == core::ShaperKind::none && !core::needs_mode(r)) return;
   c.name = std::string{core::to_string(kind)} + (sk == core::ShaperKind::none ? "" : "+") +
            (sk == core::ShaperKind::none ? "" : core::to_string(sk)) + (c.retuned ? "@retuned" : "");
+  const core::MoveRequest limited = r;  // the move's limits (a time-searched request drops them)
   core::Move<double> bare{};
   core::Status st = plan_profile(r, mv, bare, c.time_searched);
   c.request = r;
@@ -509,7 +499,7 @@ void plan_design(core::ProfileKind kind, core::ShaperKind sk, std::size_t v, con
   if (st == core::Status::ok) st = tuned_shaper(sk, c.design_omega, c.design_zeta, opt.residual_max, shaper);
   if (st == core::Status::ok) {
     const core::Peaks<double> pk = core::shaped_peaks(bare.profile(), shaper, bare.peaks());
-    st = limits_status(mv, pk);
+    st = core::check_limits(limited, pk);
     c.move = core::Move<double>{bare.profile(), shaper, pk};
   }
   const bool too_long = st == core::Status::ok && !(c.move.duration() <= kMaxTuneDuration);

@@ -8,6 +8,14 @@
 
 namespace settle::core {
 
+Status check_limits(const MoveRequest& r, const Peaks<double>& pk) noexcept {
+  // Written so that a NaN peak is refused, never taken as within.
+  if (r.vmax && !(pk.v <= *r.vmax * (1.0 + kLimitSlack))) return Status::velocity_limit_exceeded;
+  if (r.amax && !(pk.a <= *r.amax * (1.0 + kLimitSlack))) return Status::acceleration_limit_exceeded;
+  if (r.jmax && !(pk.j <= *r.jmax * (1.0 + kLimitSlack))) return Status::jerk_limit_exceeded;
+  return Status::ok;
+}
+
 namespace {
 
 // 0 when x is finite (or absent), NaN otherwise: a non-finite number times zero is NaN. Summed,
@@ -31,13 +39,6 @@ Status validate(const MoveRequest& r) noexcept {
   // A positive omega satisfies every profile; only without one is it asked whether one is needed.
   if (!(r.has_mode() && r.omega() > 0.0) && needs_mode(r)) return Status::non_positive_omega;
   if (!(r.zeta() >= 0.0 && r.zeta() < 1.0)) return Status::zeta_out_of_range;
-  return Status::ok;
-}
-
-Status check_limits(const MoveRequest& r, const Peaks<double>& pk) noexcept {
-  if (r.vmax && pk.v > *r.vmax * (1.0 + kLimitSlack)) return Status::velocity_limit_exceeded;
-  if (r.amax && pk.a > *r.amax * (1.0 + kLimitSlack)) return Status::acceleration_limit_exceeded;
-  if (r.jmax && pk.j > *r.jmax * (1.0 + kLimitSlack)) return Status::jerk_limit_exceeded;
   return Status::ok;
 }
 

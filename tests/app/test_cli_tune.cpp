@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "refusal.hpp"
@@ -117,18 +118,22 @@ TEST(CliTune, AOneModePlanIsExactlyWhatPlanPrintsForItsDesign) {
     // What that move uses (plan refuses the rest): the plain S-curve reads no zeta, a shaper does;
     // only the EI shapers read --vtol.
     const bool zeta_used = rq.at("profile") != "scurve" || shaper != "none";
+    ASSERT_EQ(rq.at("modes").size(), 1u);  // one mode, in the request's one list of modes
+    const Json& mode = rq.at("modes")[0];
     for (const char* k : {"distance", "time", "vmax", "amax", "jmax", "omega", "zeta"}) {
-      if (rq.contains(k) && (std::string{k} != "zeta" || zeta_used)) {
+      const bool of_mode = std::string{k} == "omega" || std::string{k} == "zeta";
+      const Json& from = of_mode ? mode : rq;
+      if (from.contains(k) && (std::string{k} != "zeta" || zeta_used)) {
         std::ostringstream v;
         v.precision(17);
-        v << rq.at(k).get<double>();
+        v << from.at(k).get<double>();
         plan += std::string{" --"} + k + " " + v.str();
       }
     }
     plan += " --shaper " + family.at("shaper").get<std::string>();
     if (shaper != "none") {
       // The shaper was designed at the family's design point, the same as the profile's.
-      EXPECT_EQ(family.at("design_modes")[0].at("omega"), rq.at("omega"));
+      EXPECT_EQ(family.at("design_modes")[0].at("omega"), mode.at("omega"));
     }
     if (shaper.rfind("ei", 0) == 0) {
       std::ostringstream v;
@@ -139,7 +144,9 @@ TEST(CliTune, AOneModePlanIsExactlyWhatPlanPrintsForItsDesign) {
     const Json p = run_json(plan);
     for (auto it = p.begin(); it != p.end(); ++it) {
       // The request is each file's own: a tuned plan's names its shaper in "candidate".
-      if (it.key() != "request") EXPECT_EQ(t.at(it.key()), it.value()) << it.key();
+      if (it.key() != "request") {
+        EXPECT_EQ(t.at(it.key()), it.value()) << it.key();
+      }
     }
   }
 }
@@ -250,8 +257,8 @@ TEST(CliTune, AModesFileWithTheEarlierFrequencyInHzTunesTheSame) {
 }
 
 // A plan file written before the request held one list of modes (`settle tune --json` for three
-// identified modes: the first as "omega"/"zeta", the others as "extra_modes") plans the very same
-// move: it would be refused as plan_mismatch if a mode were lost or reordered.
+// identified modes: the first as "omega"/"zeta", the others as "extra_modes") still reads, as that
+// same list: it plans the very same move (plan_mismatch if a mode were lost or reordered).
 TEST(CliTune, APlanFileOfThreeModesFromAnEarlierSettleStillLoads) {
   const std::string plan = std::string{SETTLE_SOURCE_DIR} + "/tests/app/data/plan_three_modes_first_format.json";
   std::ifstream in{plan};
@@ -442,6 +449,54 @@ TEST(CliPlanFrom, APlannedMoveOfEveryProfileLoadsAsTheMoveItsOptionsPlan) {
     ASSERT_EQ(loaded.status, 0) << move << "\n" << loaded.out;
     EXPECT_EQ(loaded.stdout_text, direct.stdout_text) << move;
   }
+}
+
+// The request holds one list of modes, in the order given, each with its omega and zeta, and no
+// other spelling of them; a request without modes has none. Read back beside the writer: every
+// malformed list is refused naming the field, and so is a file that spells its modes both ways.
+TEST(CliPlanFrom, TheRequestHoldsOneListOfModes) {
+  const CliResult p = run_cli(
+      "plan --profile fastest --distance 0.1 --vmax 1 --amax 20 --jmax 800 --omega 22 --zeta 0.02 --omega 60 "
+      "--zeta 0.01 --omega 95 --zeta 0 --json");
+  ASSERT_EQ(p.status, 0) << p.out;
+  const Json planned = Json::parse(p.stdout_text);
+  const Json& rq = planned.at("request");
+  EXPECT_EQ(rq.at("modes"), Json::parse(R"([{"omega":22.0,"zeta":0.02},{"omega":60.0,"zeta":0.01},{"omega":95.0,"zeta":0.0}])"));
+  for (const char* k : {"omega", "zeta", "extra_modes"}) EXPECT_FALSE(rq.contains(k)) << k;
+  const Json plain = Json::parse(run_cli("plan --profile trapezoid --distance 0.1 --vmax 0.5 --amax 5 --json").stdout_text);
+  EXPECT_FALSE(plain.at("request").contains("modes"));
+  // Every mode of the list is read: with one left out, the file's move is not what it plans.
+  Json dropped = planned;
+  dropped["request"]["modes"].erase(2);
+  Json not_a_list = planned;
+  not_a_list["request"]["modes"] = Json{{"omega", 22.0}, {"zeta", 0.02}};
+  Json too_many = planned;
+  for (int k = 0; k < 2; ++k) too_many["request"]["modes"].push_back(Json{{"omega", 120.0 + k}, {"zeta", 0.0}});
+  Json no_zeta = planned;
+  no_zeta["request"]["modes"][1].erase("zeta");
+  Json both = planned;
+  both["request"]["omega"] = 22.0;
+  Json extra_alone = planned;
+  extra_alone["request"].erase("modes");
+  extra_alone["request"]["extra_modes"] = Json::array({Json{{"omega", 60.0}, {"zeta", 0.01}}});
+  const std::string sample = "sample --dt 0.01 --plan-from ";
+  expect_refused({sample + write("m_dropped.json", dropped.dump()), "--plan-from", "plan_mismatch"});
+  const std::pair<Json, std::string> malformed[] = {
+      {not_a_list, "request.modes must be an array of at most 4 modes"},
+      {too_many, "request.modes must be an array of at most 4 modes"},
+      {no_zeta, "every mode of request.modes needs finite numbers \"omega\" and \"zeta\""},
+      {both, "request.modes and request.omega/extra_modes are both given"},
+      {extra_alone, "request.extra_modes needs request.omega"},
+  };
+  int n = 0;
+  for (const auto& [file, why] : malformed) {
+    const std::string args = sample + write("m_bad_" + std::to_string(n++) + ".json", file.dump());
+    expect_refused({args, "--plan-from", "bad_plan_file"});
+    const CliResult r = run_cli(args);
+    EXPECT_NE(r.stderr_text.find(why), std::string::npos) << r.stderr_text;
+  }
+  const CliResult loaded = run_cli(sample + write("m_ok.json", planned.dump()));
+  EXPECT_EQ(loaded.status, 0) << loaded.out;
 }
 
 // The shaper of a planned file is designed again from its request: impulses that are not what the

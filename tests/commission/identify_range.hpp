@@ -27,9 +27,7 @@ inline constexpr double kTwoPi = 6.283185307179586;
 inline testing::Excitation excitation() {
   testing::Excitation ex{};
   ex.move.distance = 0.05;
-  ex.move.vmax = 0.5;
-  ex.move.amax = 20.0;
-  ex.move.jmax = 20000.0;
+  ex.move.limits = {.vmax = 0.5, .amax = 20.0, .jmax = 20000.0};
   ex.move.round_trips = kDefaultTrainRoundTrips;  // settle identify's default --train
   // Only for DISABLED_ExploreRange's measurements (see there).
   if (const char* e = std::getenv("R_TRAIN")) ex.move.round_trips = std::strtoul(e, nullptr, 10);

@@ -130,7 +130,7 @@ TEST(Identify, TheTrainLowersTheBoundOnHeavilyDampedModes) {
 // so the path stays between 0 and the distance, ends there at rest, and its peaks (and the limits
 // the CLI checks them against) are the move's; n beyond kMaxTrainRoundTrips is refused.
 TEST(IdentifyExcitation, TheTrainIsTheMoveBackAndForthWithinItsLimits) {
-  const IdentifyExcitation base{.distance = 0.01, .vmax = 0.1, .amax = 5.0, .jmax = 5000.0};
+  const IdentifyExcitation base{.distance = 0.01, .limits = {.vmax = 0.1, .amax = 5.0, .jmax = 5000.0}};
   core::Move<double> alone{};
   ASSERT_EQ(plan_identify_excitation(base, alone), core::Status::ok);
   EXPECT_EQ(train_round_trips(alone), 0U);
@@ -161,9 +161,9 @@ TEST(IdentifyExcitation, TheTrainIsTheMoveBackAndForthWithinItsLimits) {
       lo = std::min(lo, s.p);
       hi = std::max(hi, s.p);
     }
-    EXPECT_LE(vmax, base.vmax * (1.0 + 1e-9));
-    EXPECT_LE(amax, base.amax * (1.0 + 1e-9));
-    EXPECT_GE(vmax, 0.99 * base.vmax);  // every copy reaches the move's cruise
+    EXPECT_LE(vmax, base.limits.vmax * (1.0 + 1e-9));
+    EXPECT_LE(amax, base.limits.amax * (1.0 + 1e-9));
+    EXPECT_GE(vmax, 0.99 * base.limits.vmax);  // every copy reaches the move's cruise
     EXPECT_GE(lo, -1e-12);
     EXPECT_LE(hi, base.distance * (1.0 + 1e-12));
     const core::Sample<double> end = m.at(m.duration());

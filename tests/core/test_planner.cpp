@@ -324,3 +324,28 @@ TEST(Planner, InPlaceMoveEqualsTheConstructedOne) {
     }
   });
 }
+
+// The one test of peaks against a request's limits (plan() refuses by it, and so does the tuner for
+// a shaped candidate): each absent limit does not bind, the slack admits a plan that touches a
+// limit, the first exceeded is named (velocity, acceleration, jerk), and a NaN peak is refused.
+TEST(Planner, CheckLimitsNamesTheFirstLimitExceeded) {
+  core::MoveRequest r{};
+  const core::Peaks<double> pk{1.0, 10.0, 100.0};
+  EXPECT_EQ(core::check_limits(r, pk), Status::ok);
+  r.vmax = 1.0;
+  r.amax = 10.0;
+  r.jmax = 100.0;
+  EXPECT_EQ(core::check_limits(r, pk), Status::ok);
+  r.jmax = 99.0;
+  EXPECT_EQ(core::check_limits(r, pk), Status::jerk_limit_exceeded);
+  r.amax = 9.0;
+  EXPECT_EQ(core::check_limits(r, pk), Status::acceleration_limit_exceeded);
+  r.vmax = 0.5;
+  EXPECT_EQ(core::check_limits(r, pk), Status::velocity_limit_exceeded);
+  r.vmax = 1.0 - 1e-12;  // within the slack
+  r.amax.reset();
+  r.jmax.reset();
+  EXPECT_EQ(core::check_limits(r, pk), Status::ok);
+  const core::Peaks<double> nan_v{std::nan(""), 10.0, 100.0};
+  EXPECT_EQ(core::check_limits(r, nan_v), Status::velocity_limit_exceeded);
+}

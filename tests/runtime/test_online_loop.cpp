@@ -356,6 +356,78 @@ void loop_streams_the_exported_sequence(std::uint32_t seed) {
   EXPECT_GE(chained, 2);
 }
 
+// The one step both the loop's tick and stream_setpoints drive (setpoint_sequence.hpp). A change
+// is ahead before its index and passed after it (neither switches), due exactly at it: the next
+// setpoint is the blend's 0, from the move's origin, and the clock restarts on the blend. A null
+// blend (a halt that finishes what runs) is due and changes nothing, not even the clock.
+TEST(SetpointStepper, SwitchesExactlyAtTheIndexOnTheRunningCommandsClock) {
+  using E = runtime::FloatEvaluation<double>;
+  const core::Move<double> m = planned(scurve(0.1, 0.5));
+  const runtime::OnlineConfig c = online_config(m);
+  constexpr std::int32_t k = 100, origin = -7000;
+  core::Blend b{};
+  const std::vector<std::int32_t> e = expected_with_blend(m, c, k, 0.05, b);
+  auto move = std::make_unique<E::Stored>();
+  auto blend = std::make_unique<E::BlendStored>();
+  ASSERT_EQ(E::prepare(m, {kCpu, kPeriod}, *move), core::Status::ok);
+  ASSERT_EQ(E::prepare(b, {kCpu, kPeriod}, *blend), core::Status::ok);
+  runtime::SetpointStepper<E> s{};
+  s.start(*move, origin);
+  bool last = false;
+  for (std::int32_t i = 0; i < k; ++i) {
+    ASSERT_EQ(s.index(), i);
+    ASSERT_EQ(s.offer(k, blend.get()), runtime::SwitchPoint::ahead) << i;
+    ASSERT_EQ(s.next(last), origin + e[static_cast<std::size_t>(i)]) << i;
+    ASSERT_FALSE(last);
+  }
+  EXPECT_EQ(s.offer(k - 1, blend.get()), runtime::SwitchPoint::passed);
+  EXPECT_FALSE(s.on_blend());
+  EXPECT_EQ(s.offer(k, nullptr), runtime::SwitchPoint::due);
+  EXPECT_FALSE(s.on_blend());
+  EXPECT_EQ(s.index(), k);
+  EXPECT_EQ(s.offer(k, blend.get()), runtime::SwitchPoint::due);
+  EXPECT_TRUE(s.on_blend());
+  EXPECT_EQ(s.index(), 0);
+  std::size_t i = static_cast<std::size_t>(k);
+  for (last = false; !last; ++i) {
+    ASSERT_LT(i, e.size());
+    ASSERT_EQ(s.next(last), origin + e[i]) << i;
+  }
+  EXPECT_EQ(i, e.size());  // the blend's last setpoint is the sequence's
+  EXPECT_EQ(s.index(), static_cast<std::int32_t>(e.size()) - k);
+  s.end();
+  EXPECT_FALSE(s.on_blend());
+}
+
+// stream_setpoints takes a finishing halt (null blend) as the loop does: met, nothing changes, and
+// a later change is on the same command's clock (the move's, not a blend's).
+TEST(SetpointStepper, AFinishingHaltLeavesTheClockToTheNextChange) {
+  using E = runtime::FloatEvaluation<double>;
+  const core::Move<double> m = planned(scurve(0.1, 0.5));
+  constexpr std::int32_t k = 300;
+  core::Blend b{};
+  const std::vector<std::int32_t> e = expected_with_blend(m, online_config(m), k, std::nullopt, b);
+  auto move = std::make_unique<E::Stored>();
+  auto blend = std::make_unique<E::BlendStored>();
+  ASSERT_EQ(E::prepare(m, {kCpu, kPeriod}, *move), core::Status::ok);
+  ASSERT_EQ(E::prepare(b, {kCpu, kPeriod}, *blend), core::Status::ok);
+  const runtime::SetpointSwitch<E> changes[] = {{nullptr, 120}, {blend.get(), k}};
+  std::vector<std::int32_t> got;
+  const runtime::SetpointSequence seq =
+      runtime::stream_setpoints<E>(*move, 0, changes, 2, 100000, [&](std::int32_t sp) { got.push_back(sp); });
+  EXPECT_TRUE(seq.ended);
+  EXPECT_EQ(seq.switches, 2u);
+  EXPECT_EQ(seq.setpoints, got.size());
+  EXPECT_EQ(got, e);
+}
+
+// Without online changes the stepper is the evaluation's stream and nothing more: a Cortex-M0's
+// loop (no online changes) pays nothing for the rule, in RAM or per tick.
+static_assert(sizeof(runtime::SetpointStepper<runtime::FixedEvaluation, false>) ==
+              sizeof(runtime::FixedEvaluation::Stream));
+static_assert(sizeof(runtime::SetpointStepper<runtime::FloatEvaluation<float>, false>) ==
+              sizeof(runtime::FloatEvaluation<float>::Stream));
+
 TEST(ServoLoopOnline, TheLoopStreamsTheExportedSetpointSequenceInDouble) {
   loop_streams_the_exported_sequence<DoubleLoop>(0x5e771e01);
 }

@@ -30,7 +30,7 @@ struct Record {
 };
 
 struct Excitation {
-  commission::IdentifyExcitation move{.distance = 0.05, .vmax = 0.5, .amax = 20.0, .jmax = 4000.0};  // m
+  commission::IdentifyExcitation move{.distance = 0.05, .limits = {.vmax = 0.5, .amax = 20.0, .jmax = 4000.0}};  // m
   double rest_before_s{0.1};
   double hold_s{5.0};
 };

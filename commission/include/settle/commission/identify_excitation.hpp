@@ -11,6 +11,7 @@
 // so that no mode is rung in step with the train.
 #include <cstddef>
 
+#include "settle/core/limits.hpp"
 #include "settle/core/move.hpp"
 #include "settle/core/status.hpp"
 
@@ -27,9 +28,7 @@ inline constexpr std::size_t kDefaultTrainRoundTrips = kMaxTrainRoundTrips;
 
 struct IdentifyExcitation {
   double distance{0.01};  // m or rad, of the move and of each copy in the train
-  double vmax{0.1};
-  double amax{5.0};
-  double jmax{5000.0};
+  core::Limits limits{.vmax = 0.1, .amax = 5.0, .jmax = 5000.0};  // of the move, each copy's too
   std::size_t round_trips{0};  // 0: the move alone
 };
 

@@ -100,20 +100,15 @@ struct OnlineSlot {
   bool from_blend{false};      // switch_index counts the running blend's setpoints, not the move's
   std::int32_t switch_index{0};
   std::atomic<std::uint8_t> ready{0};
-  std::atomic<std::int32_t> move_index{0};  // setpoints the active move has produced (the tick's)
-  std::atomic<std::int32_t> blend_index{0};  // setpoints the running blend has produced (the tick's)
   std::atomic<std::uint32_t> move_serial{0};  // moves started (the tick's)
   // The move_serial (from_blend: the switches count) the blend was planned for (service()'s).
   std::uint32_t blend_serial{0};
   std::atomic<std::uint32_t> switches{0};   // blends the tick switched to (for the application)
   std::atomic<std::uint32_t> finishes{0};   // halts that finish the running command instead
   std::atomic<std::uint32_t> missed{0};     // blends discarded: the move ended or passed the index
-  // The tick's own: the blend being streamed.
-  bool running{false};
+  // The tick's own (the blend itself is streamed by ServoLoop's SetpointStepper, setpoint_sequence.hpp).
   bool halting{false};        // the running move or blend is a halt's finish: void the queue at its end
-  std::uint8_t streaming{0};  // its slot
-  typename Evaluation::BlendStream stream{};
-  std::int32_t origin{0};  // counts at the active move's start
+  std::uint8_t streaming{0};  // the running blend's slot
   double period_s{0.0};
 };
 

@@ -36,6 +36,7 @@
 #include "settle/runtime/evaluation.hpp"
 #include "settle/runtime/fixed_queue.hpp"
 #include "settle/runtime/online_change.hpp"
+#include "settle/runtime/setpoint_sequence.hpp"
 #include "settle/hal/can_bus.hpp"
 #include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
@@ -381,14 +382,13 @@ class ServoLoop {
         }
         const std::optional<double> target =
             c.kind == OnlineKind::retarget ? std::optional<double>{c.target} : std::nullopt;
-        // On the running blend (the tick's running and streaming: service() runs between ticks),
+        // On the running blend (the tick's stepper and streaming slot: service() runs between ticks),
         // into the other slot; else on the move.
-        const bool on_blend = o.running;
+        const bool on_blend = a.sequence.on_blend();
         const std::uint8_t slot = on_blend ? static_cast<std::uint8_t>(1U - o.streaming) : std::uint8_t{0};
         const std::uint32_t serial = on_blend ? o.switches.load(std::memory_order_relaxed)
                                               : o.move_serial.load(std::memory_order_acquire);
-        const std::int32_t k =
-            (on_blend ? o.blend_index : o.move_index).load(std::memory_order_acquire) + o.config.lead_ticks;
+        const std::int32_t k = a.sequence.index() + o.config.lead_ticks;
         const double at = static_cast<double>(k) * o.period_s;
         core::Status st =
             on_blend ? core::online_request(o.blend[o.streaming], o.request[o.streaming], at, target, o.request[slot])
@@ -582,7 +582,7 @@ class ServoLoop {
     std::uint32_t guard{0};       // largest setpoint step allowed per tick, counts (2^31: any)
     std::optional<std::int32_t> pending{};  // computed, not yet applied (unit not sent): resent first
     std::uint64_t fb_seen{0};
-    typename Evaluation::Stream setpoints{};
+    SetpointStepper<Evaluation, kOnlineChanges> sequence{};  // the setpoints of the active move and its changes
     TickRecord record{};
     AxisStats stats{};
     FixedQueue<FeedbackSample, FeedbackCapacity> feedback_log{};
@@ -604,42 +604,33 @@ class ServoLoop {
     }
   }
 
-  // The active move's next setpoint, or the blend's once the tick has reached its switch index.
+  // The active move's next setpoint, or its change's (setpoint_sequence.hpp: the one stepper that
+  // stream_setpoints drives too) once the pending change is due.
   [[nodiscard]] std::int32_t next_setpoint(Axis& a, bool& last) noexcept {
     if constexpr (kOnlineChanges) {
       auto& o = a.online;
-      const std::int32_t k = o.move_index.load(std::memory_order_relaxed);
-      const std::int32_t kb = o.blend_index.load(std::memory_order_relaxed);
       if (o.ready.load(std::memory_order_acquire) != 0) {
         // Valid while what it was planned on still runs: the same move, or the same blend.
-        const bool valid = o.from_blend ? o.running && o.blend_serial == o.switches.load(std::memory_order_relaxed)
-                                        : !o.running && o.blend_serial == o.move_serial.load(std::memory_order_relaxed);
-        const std::int32_t at = o.from_blend ? kb : k;
-        if (!valid || at > o.switch_index) {
+        const bool on_blend = a.sequence.on_blend();
+        const bool valid = o.from_blend ? on_blend && o.blend_serial == o.switches.load(std::memory_order_relaxed)
+                                        : !on_blend && o.blend_serial == o.move_serial.load(std::memory_order_relaxed);
+        const SwitchPoint p =
+            valid ? a.sequence.offer(o.switch_index, o.finish ? nullptr : &o.evaluated[o.slot]) : SwitchPoint::passed;
+        if (p == SwitchPoint::passed) {
           o.missed.fetch_add(1, std::memory_order_relaxed);  // planned for what has ended or passed
           o.ready.store(0, std::memory_order_release);
-        } else if (at == o.switch_index && o.finish) {
+        } else if (p == SwitchPoint::due && o.finish) {
           o.halting = true;  // what runs is the halt: it goes on, and nothing queued follows it
           o.finishes.fetch_add(1, std::memory_order_relaxed);
           o.ready.store(0, std::memory_order_release);
-        } else if (at == o.switch_index) {
-          o.running = true;
+        } else if (p == SwitchPoint::due) {
           o.streaming = o.slot;
-          o.stream = Evaluation::start(o.evaluated[o.slot], o.origin);
-          o.blend_index.store(0, std::memory_order_relaxed);
           o.switches.fetch_add(1, std::memory_order_relaxed);
           o.ready.store(0, std::memory_order_release);
         }
       }
-      // On the clock of what it changes the blend starts at the switch index: its setpoint i is at
-      // i periods after it.
-      if (o.running) {
-        o.blend_index.store(o.blend_index.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
-        return o.stream.next(last);
-      }
-      o.move_index.store(k + 1, std::memory_order_relaxed);
     }
-    return a.setpoints.next(last);
+    return a.sequence.next(last);
   }
 
   // The active move's final setpoint (its own, or its blend's) is applied.
@@ -650,9 +641,9 @@ class ServoLoop {
         o.ready.store(0, std::memory_order_release);  // planned for a switch the move never reached
         o.missed.fetch_add(1, std::memory_order_relaxed);
       }
-      if (o.running || o.halting) {
+      if (a.sequence.on_blend() || o.halting) {
         // Moves queued behind a halted or retargeted one were planned from its old end: void.
-        o.running = false;
+        a.sequence.end();
         o.halting = false;
         if (a.queue.size() > 1) note(LoopEventKind::move_voided, index_of(a), AxisFault::none);
         a.queue.clear();
@@ -716,7 +707,7 @@ class ServoLoop {
     a.end_pending = false;
     a.queue.clear();
     if constexpr (kOnlineChanges) {
-      a.online.running = false;
+      a.sequence.end();
       a.online.halting = false;
       a.online.ready.store(0, std::memory_order_release);
     }
@@ -885,12 +876,8 @@ class ServoLoop {
       } else {
         if (!a.active && !a.finishing && !a.queue.empty()) {
           a.active = true;
-          a.setpoints = Evaluation::start(a.queue.front().eval, a.target);
-          if constexpr (kOnlineChanges) {
-            a.online.origin = a.target;
-            a.online.move_index.store(0, std::memory_order_relaxed);
-            a.online.move_serial.fetch_add(1, std::memory_order_release);
-          }
+          a.sequence.start(a.queue.front().eval, a.target);
+          if constexpr (kOnlineChanges) a.online.move_serial.fetch_add(1, std::memory_order_release);
           ++a.stats.moves_started;
           note(LoopEventKind::move_started, index_of(a), AxisFault::none);
         }
