@@ -304,6 +304,35 @@ TEST(ServoLoop, AFeedbackSplitAcrossTpdosIsLoggedAWholePeriodAtATime) {
   EXPECT_EQ(r.loop.axis_stats(0).feedback_timeouts, 0U);
 }
 
+// A drive whose static mapping has one feedback TPDO (statusword + position actual, as a drive
+// without 0x606C and no load position maps it): that TPDO is the whole period, and every period
+// gives one sample, the position the drive applied the period before.
+TEST(ServoLoop, AFeedbackInOneTpdoIsLoggedEveryPeriod) {
+  hal::canopen::DriveNodeConfig dc{};
+  dc.tpdos[0].count = 2;
+  dc.tpdos[0].entries[0] = hal::canopen::PdoMappingEntry{0x6041, 0, 16};
+  dc.tpdos[0].entries[1] = hal::canopen::PdoMappingEntry{0x6064, 0, 32};
+  dc.tpdos[1].count = 0;
+  runtime::AxisConfig a = axis(1);
+  a.drive.pdo_setup = hal::canopen::PdoSetup::read_static;
+  Rig r{a, dc};
+  ASSERT_TRUE(r.run_until_ready());
+  const hal::canopen::RemoteDrive& d = r.loop.drive(0);
+  ASSERT_FALSE(hal::canopen::feedback_split(d.config().layout));
+  while (!r.loop.feedback_log(0).empty()) r.loop.feedback_log(0).drop_front();
+  r.drive.clear_applied();
+  ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), runtime::LoopStatus::ok);
+  std::vector<std::int32_t> logged;
+  for (int i = 0; i < 50; ++i) {
+    r.tick();
+    for (runtime::FeedbackSample fs{}; r.loop.feedback_log(0).pop(fs);) logged.push_back(fs.position_actual);
+  }
+  ASSERT_EQ(logged.size(), 50U);
+  ASSERT_GE(r.drive.applied().size(), 49U);
+  for (std::size_t k = 1; k < 50; ++k) EXPECT_EQ(logged[k], r.drive.applied()[k - 1]) << "sample " << k;
+  EXPECT_EQ(r.loop.axis_stats(0).feedback_timeouts, 0U);
+}
+
 TEST(ServoLoop, RefusesWhatItCannotStreamAndChangesNothing) {
   Rig r;
   ASSERT_TRUE(r.run_until_ready());

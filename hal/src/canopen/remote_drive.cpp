@@ -220,7 +220,9 @@ RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t nu
     take_tpdo1(Tpdo1{static_cast<std::uint16_t>(slot_value(l.statusword, frame)),
                      static_cast<std::int32_t>(slot_value(l.position_actual, frame))},
                now_us);
-    return RemoteFrame::tpdo1;
+    // With no second feedback TPDO (a drive without 0x606C and no load position) this one is the
+    // whole period: say so as the period's last TPDO says it, or the loop would log no sample.
+    return second_pdo_ != 0 ? RemoteFrame::tpdo1 : RemoteFrame::tpdo2;
   }
   ++feedback_.tpdo2_received;
   return RemoteFrame::tpdo2;

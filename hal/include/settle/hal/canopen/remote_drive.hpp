@@ -259,7 +259,8 @@ enum class RemoteFrame : std::uint8_t {
   emcy,
   tpdo1,      // the TPDO with the statusword + position actual: feedback() updated
   tpdo2,      // another TPDO of the layout (load position, velocity, following error): feedback() updated;
-              // under split feedback (feedback_split), the period's last TPDO: the whole period taken
+              // under split feedback (feedback_split), the period's last TPDO: the whole period taken;
+              // and the statusword's TPDO when it is the layout's only feedback TPDO (the whole period)
   sdo,        // an SDO response (used while configuring)
   // Split feedback: one period's values come in several TPDOs, which the drive sends on the same
   // SYNC in PDO order (TPDO1 before TPDO2: also their priority on the bus). Each is held until the
