@@ -260,6 +260,32 @@ TEST(ServoLoop, FeedbackLogKeepsEachPeriodInArrivalOrderAndCountsWhatItHadToDrop
   EXPECT_EQ(first.position_actual, r.drive.applied()[100]) << "the oldest undrained sample comes first";
 }
 
+// A drive whose static mapping is `dc`'s, read by the master (read_static). start(): ready, the
+// feedback log and the drive's applied targets emptied, a 0.2 s move submitted; run(n): n ticks,
+// the position actual of every sample the loop logs appended to `logged`.
+struct StaticMappingRun {
+  static runtime::AxisConfig static_axis() {
+    runtime::AxisConfig a = axis(1);
+    a.drive.pdo_setup = hal::canopen::PdoSetup::read_static;
+    return a;
+  }
+  explicit StaticMappingRun(const hal::canopen::DriveNodeConfig& dc) : r{static_axis(), dc} {}
+  [[nodiscard]] bool start() {
+    if (!r.run_until_ready()) return false;
+    while (!r.loop.feedback_log(0).empty()) r.loop.feedback_log(0).drop_front();
+    r.drive.clear_applied();
+    return r.loop.submit(0, scurve(0.01, 0.2)) == runtime::LoopStatus::ok;
+  }
+  void run(int ticks) {
+    for (int i = 0; i < ticks; ++i) {
+      r.tick();
+      for (runtime::FeedbackSample fs{}; r.loop.feedback_log(0).pop(fs);) logged.push_back(fs.position_actual);
+    }
+  }
+  Rig r;
+  std::vector<std::int32_t> logged;
+};
+
 // A drive whose static mapping splits the feedback (TPDO1 = statusword + velocity actual, TPDO2 =
 // position actual): one sample per period, taken once both of the period's TPDOs arrived. A period
 // whose TPDO2 is lost gives no sample and no answer (as a default drive's lost TPDO1), and the
@@ -271,36 +297,25 @@ TEST(ServoLoop, AFeedbackSplitAcrossTpdosIsLoggedAWholePeriodAtATime) {
   dc.tpdos[0].entries[1] = hal::canopen::PdoMappingEntry{0x606C, 0, 32};
   dc.tpdos[1].count = 1;
   dc.tpdos[1].entries[0] = hal::canopen::PdoMappingEntry{0x6064, 0, 32};
-  runtime::AxisConfig a = axis(1);
-  a.drive.pdo_setup = hal::canopen::PdoSetup::read_static;
-  Rig r{a, dc};
-  ASSERT_TRUE(r.run_until_ready());
+  StaticMappingRun m{dc};
+  ASSERT_TRUE(m.start());
+  Rig& r = m.r;
   const hal::canopen::RemoteDrive& d = r.loop.drive(0);
   ASSERT_TRUE(hal::canopen::feedback_split(d.config().layout));
-  while (!r.loop.feedback_log(0).empty()) r.loop.feedback_log(0).drop_front();
-  r.drive.clear_applied();
-  ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), runtime::LoopStatus::ok);
-  std::vector<std::int32_t> logged;
-  const auto run = [&](int ticks) {
-    for (int i = 0; i < ticks; ++i) {
-      r.tick();
-      for (runtime::FeedbackSample fs{}; r.loop.feedback_log(0).pop(fs);) logged.push_back(fs.position_actual);
-    }
-  };
-  run(50);
-  ASSERT_EQ(logged.size(), 50U);
+  m.run(50);
+  ASSERT_EQ(m.logged.size(), 50U);
   r.faulty.set_target(hal::CanFilter{0x281, 0x7FF});
   r.faulty.drop_receives(1);  // the next TPDO2 (the answer to applied[49]) is lost
   const std::uint64_t answered = d.feedback().tpdo1_received;
-  run(1);
-  EXPECT_EQ(logged.size(), 50U) << "no sample for the period whose TPDO2 was lost";
+  m.run(1);
+  EXPECT_EQ(m.logged.size(), 50U) << "no sample for the period whose TPDO2 was lost";
   EXPECT_EQ(d.feedback().tpdo1_received, answered) << "nor an answer";
-  run(49);
-  ASSERT_EQ(logged.size(), 99U);
+  m.run(49);
+  ASSERT_EQ(m.logged.size(), 99U);
   EXPECT_EQ(d.feedback().tpdos_dropped, 1U) << "that period's TPDO1";
   ASSERT_GE(r.drive.applied().size(), 99U);
-  for (std::size_t k = 1; k < 50; ++k) EXPECT_EQ(logged[k], r.drive.applied()[k - 1]) << "sample " << k;
-  for (std::size_t k = 50; k < 99; ++k) EXPECT_EQ(logged[k], r.drive.applied()[k]) << "sample " << k;
+  for (std::size_t k = 1; k < 50; ++k) EXPECT_EQ(m.logged[k], r.drive.applied()[k - 1]) << "sample " << k;
+  for (std::size_t k = 50; k < 99; ++k) EXPECT_EQ(m.logged[k], r.drive.applied()[k]) << "sample " << k;
   EXPECT_EQ(r.loop.axis_stats(0).feedback_timeouts, 0U);
 }
 
@@ -313,24 +328,14 @@ TEST(ServoLoop, AFeedbackInOneTpdoIsLoggedEveryPeriod) {
   dc.tpdos[0].entries[0] = hal::canopen::PdoMappingEntry{0x6041, 0, 16};
   dc.tpdos[0].entries[1] = hal::canopen::PdoMappingEntry{0x6064, 0, 32};
   dc.tpdos[1].count = 0;
-  runtime::AxisConfig a = axis(1);
-  a.drive.pdo_setup = hal::canopen::PdoSetup::read_static;
-  Rig r{a, dc};
-  ASSERT_TRUE(r.run_until_ready());
-  const hal::canopen::RemoteDrive& d = r.loop.drive(0);
-  ASSERT_FALSE(hal::canopen::feedback_split(d.config().layout));
-  while (!r.loop.feedback_log(0).empty()) r.loop.feedback_log(0).drop_front();
-  r.drive.clear_applied();
-  ASSERT_EQ(r.loop.submit(0, scurve(0.01, 0.2)), runtime::LoopStatus::ok);
-  std::vector<std::int32_t> logged;
-  for (int i = 0; i < 50; ++i) {
-    r.tick();
-    for (runtime::FeedbackSample fs{}; r.loop.feedback_log(0).pop(fs);) logged.push_back(fs.position_actual);
-  }
-  ASSERT_EQ(logged.size(), 50U);
-  ASSERT_GE(r.drive.applied().size(), 49U);
-  for (std::size_t k = 1; k < 50; ++k) EXPECT_EQ(logged[k], r.drive.applied()[k - 1]) << "sample " << k;
-  EXPECT_EQ(r.loop.axis_stats(0).feedback_timeouts, 0U);
+  StaticMappingRun m{dc};
+  ASSERT_TRUE(m.start());
+  ASSERT_FALSE(hal::canopen::feedback_split(m.r.loop.drive(0).config().layout));
+  m.run(50);
+  ASSERT_EQ(m.logged.size(), 50U);
+  ASSERT_GE(m.r.drive.applied().size(), 49U);
+  for (std::size_t k = 1; k < 50; ++k) EXPECT_EQ(m.logged[k], m.r.drive.applied()[k - 1]) << "sample " << k;
+  EXPECT_EQ(m.r.loop.axis_stats(0).feedback_timeouts, 0U);
 }
 
 TEST(ServoLoop, RefusesWhatItCannotStreamAndChangesNothing) {
