@@ -150,11 +150,19 @@ void RemoteDrive::apply_layout() noexcept {
   default_layout_ = is_default_layout(l);
   status_pdo_ = l.statusword.pdo;
   second_pdo_ = 0;
+  last_pdo_ = 0;
+  // A period's TPDOs are those carrying a value the master reads; one a static mapping fills
+  // with other objects only (a manufacturer object in TPDO3) is no part of it.
+  period_tpdos_ = feedback_tpdos(l);
   for (std::uint8_t n = 1; n <= layout_pdo_count; ++n) {
     if (config_.pdo_setup != PdoSetup::read_static) tpdo_len_[n - 1U] = layout_pdo_length(l, false, n);
-    if (n != status_pdo_ && tpdo_len_[n - 1U] != 0 && second_pdo_ == 0) second_pdo_ = n;
+    if (((period_tpdos_ >> (n - 1U)) & 1U) == 0) continue;
+    if (n != status_pdo_ && second_pdo_ == 0) second_pdo_ = n;
+    last_pdo_ = n;  // in PDO order: the period's last
   }
-  period_tpdos_ = split_feedback_supported && feedback_split(l) ? feedback_tpdos(l) : 0;
+#if SETTLE_HAL_SPLIT_FEEDBACK
+  split_ = feedback_split(l);
+#endif
   const bool valid = is_valid_node(config_.node);
   const auto id = [&](std::uint8_t n) {
     return valid && n != 0 && n <= layout_pdo_count ? pdo_cob_id(false, n, config_.node) : ~std::uint32_t{0};
@@ -181,7 +189,6 @@ RemoteFrame RemoteDrive::take_period_tpdo(const CanFrame& frame, std::uint8_t nu
   // later TPDOs (this one begins the next period), or this one's period lacks its first.
   const unsigned bit = 1U << (number - 1U);
   const unsigned pending = period_tpdos_ & ~unsigned{held_tpdos_};
-  if ((period_tpdos_ & bit) == 0) return RemoteFrame::ignored;  // it carries nothing the master reads
   if (bit != (pending & (0U - pending))) {
     feedback_.tpdos_dropped += held_count_;
     held_tpdos_ = 0;
@@ -211,7 +218,7 @@ RemoteFrame RemoteDrive::take_period_tpdo(const CanFrame& frame, std::uint8_t nu
 
 RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept {
 #if SETTLE_HAL_SPLIT_FEEDBACK
-  if (period_tpdos_ != 0) return take_period_tpdo(frame, number, now_us);
+  if (split_) return take_period_tpdo(frame, number, now_us);
 #endif
   take_extra_feedback(frame, number);
   const ProcessDataLayout& l = config_.layout;
@@ -220,10 +227,10 @@ RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t nu
     take_tpdo1(Tpdo1{static_cast<std::uint16_t>(slot_value(l.statusword, frame)),
                      static_cast<std::int32_t>(slot_value(l.position_actual, frame))},
                now_us);
-    // With no second feedback TPDO (a drive without 0x606C and no load position) this one is the
-    // whole period: say so as the period's last TPDO says it, or the loop would log no sample.
-    return second_pdo_ != 0 ? RemoteFrame::tpdo1 : RemoteFrame::tpdo2;
   }
+  // The period's last TPDO (the statusword's itself when it is the only one: a drive without
+  // 0x606C and no load position) completes it: the loop logs its sample then, once a period.
+  if (number != last_pdo_) return RemoteFrame::tpdo1;
   ++feedback_.tpdo2_received;
   return RemoteFrame::tpdo2;
 }
@@ -473,7 +480,7 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
       // The layout's first two TPDOs took on_frame's inline path when valid; a third or fourth
       // comes here.
       const auto n = static_cast<std::uint8_t>(((frame.id & 0x780U) - cob::tpdo1) / 0x100U + 1U);
-      if (!default_layout_ && n != status_pdo_ && n != second_pdo_ && tpdo_len_[n - 1U] != 0 &&
+      if (!default_layout_ && n != status_pdo_ && n != second_pdo_ && ((period_tpdos_ >> (n - 1U)) & 1U) != 0 &&
           frame.len == tpdo_len_[n - 1U]) {
         return take_layout_tpdo(frame, n, now_us);
       }

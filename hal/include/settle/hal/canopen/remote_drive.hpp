@@ -257,10 +257,11 @@ enum class RemoteFrame : std::uint8_t {
   nmt,        // another node's NMT command that took this drive out of operational
   heartbeat,  // this drive's heartbeat or boot-up
   emcy,
-  tpdo1,      // the TPDO with the statusword + position actual: feedback() updated
-  tpdo2,      // another TPDO of the layout (load position, velocity, following error): feedback() updated;
-              // under split feedback (feedback_split), the period's last TPDO: the whole period taken;
-              // and the statusword's TPDO when it is the layout's only feedback TPDO (the whole period)
+  tpdo1,      // a TPDO of the layout before its period's last (Settle's TPDO1: statusword + position
+              // actual): feedback() updated
+  tpdo2,      // the period's last TPDO (Settle's TPDO2; the statusword's when it is the layout's only
+              // feedback TPDO; under split feedback, feedback_split, the whole period taken): feedback()
+              // updated, the period complete. A TPDO carrying nothing the master reads is ignored.
   sdo,        // an SDO response (used while configuring)
   // Split feedback: one period's values come in several TPDOs, which the drive sends on the same
   // SYNC in PDO order (TPDO1 before TPDO2: also their priority on the bus). Each is held until the
@@ -414,13 +415,16 @@ class RemoteDrive {
   std::uint8_t tpdo2_len_{0};
   std::uint8_t status_pdo_{1};
   std::uint8_t second_pdo_{2};
+  std::uint8_t last_pdo_{2};  // the period's last TPDO: it completes the period
   bool default_layout_{true};                  // the inline codecs of default_mapping.hpp apply
   std::array<std::uint8_t, layout_pdo_count> tpdo_len_{};  // bytes each TPDO carries (0 = unused)
-  // Split feedback (feedback_split): the TPDOs one period's values come in (bit n - 1 for TPDO n;
-  // 0 when the statusword and the position actual share a TPDO), those held of the current
-  // period (and how many), and the statusword and position actual last taken, held until their
-  // period is complete.
+  // The TPDOs one period's values come in (bit n - 1 for TPDO n: feedback_tpdos). Split feedback
+  // (feedback_split): those held of the current period (and how many), and the statusword and
+  // position actual last taken, held until their period is complete.
   std::uint8_t period_tpdos_{0};
+#if SETTLE_HAL_SPLIT_FEEDBACK
+  bool split_{false};
+#endif
   std::uint8_t held_tpdos_{0};
   std::uint8_t held_count_{0};
   std::uint16_t held_statusword_{0};
