@@ -599,6 +599,32 @@ TEST(RemoteDriveStartUp, ATpdoCarryingNothingTheMasterReadsIsNoPartOfAPeriod) {
   }
 }
 
+// A static PDO whose COB-ID has bit 31 set does not exist: start-up reads each PDO's COB-ID before
+// its mapping and places nothing of a disabled one. RPDO1 (disabled) maps controlword + target as
+// RPDO2 does: the master streams through RPDO2; TPDO2 (disabled) maps the velocity: TPDO1 alone is
+// the period, and a frame on TPDO2's identifier is no part of it.
+TEST(RemoteDriveStartUp, ADisabledStaticPdoIsNotPlaced) {
+  StartUp s{static_config()};
+  s.drive.rpdo[0] = test::ScriptedPdo{0x8000'0202, 1, 2, {0x6040'0010, 0x607A'0020}};
+  s.drive.rpdo[1] = test::ScriptedPdo{0x302, 1, 2, {0x6040'0010, 0x607A'0020}};
+  s.drive.tpdo[0] = test::ScriptedPdo{0x182, 1, 2, {0x6041'0010, 0x6064'0020}};
+  s.drive.tpdo[1] = test::ScriptedPdo{0x8000'0282, 1, 1, {0x606C'0020}};
+  s.run();
+  ASSERT_EQ(s.remote.state(), RemoteDriveState::enabling)
+      << to_string(s.remote.failure().error) << " " << std::hex << s.remote.failure().index;
+  const ProcessDataLayout& l = s.remote.config().layout;
+  EXPECT_EQ(l.controlword, (PdoSlot{2, 0, 2}));
+  EXPECT_EQ(l.target_position, (PdoSlot{2, 2, 4}));
+  EXPECT_FALSE(l.velocity_actual.mapped());
+  EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x05, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2) << "the whole period";
+  EXPECT_EQ(feed(s, 0x282, {0x10, 0x00, 0x00, 0x00}), RemoteFrame::ignored);
+  EXPECT_EQ(s.remote.feedback().tpdo2_received, 1U);
+  EXPECT_EQ(s.remote.feedback().velocity_actual, 0);
+  CanFrame rpdo{};
+  ASSERT_TRUE(s.remote.rpdo(7, rpdo));
+  EXPECT_EQ(rpdo.id, 0x302U);
+}
+
 TEST(RemoteDriveStartUp, AStaticMappingWithoutWhatStreamingNeedsIsRefusedNamingTheObject) {
   RemoteDriveConfig c = base_config();
   c.pdo_setup = PdoSetup::read_static;

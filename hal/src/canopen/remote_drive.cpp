@@ -150,15 +150,15 @@ void RemoteDrive::apply_layout() noexcept {
   default_layout_ = is_default_layout(l);
   status_pdo_ = l.statusword.pdo;
   second_pdo_ = 0;
-  last_pdo_ = 0;
-  // A period's TPDOs are those carrying a value the master reads; one a static mapping fills
-  // with other objects only (a manufacturer object in TPDO3) is no part of it.
-  period_tpdos_ = feedback_tpdos(l);
+  period_tpdos_ = 0;
+  // A period's TPDOs are those carrying a value the master reads (feedback_tpdos); one a static
+  // mapping fills with other objects only (a manufacturer object in TPDO3) is no part of it.
   for (std::uint8_t n = 1; n <= layout_pdo_count; ++n) {
-    if (config_.pdo_setup != PdoSetup::read_static) tpdo_len_[n - 1U] = layout_pdo_length(l, false, n);
-    if (((period_tpdos_ >> (n - 1U)) & 1U) == 0) continue;
+    const std::uint8_t read = layout_pdo_length(l, false, n);
+    if (config_.pdo_setup != PdoSetup::read_static) tpdo_len_[n - 1U] = read;
+    if (read == 0) continue;
+    period_tpdos_ = static_cast<std::uint8_t>(period_tpdos_ | (1U << (n - 1U)));
     if (n != status_pdo_ && second_pdo_ == 0) second_pdo_ = n;
-    last_pdo_ = n;  // in PDO order: the period's last
   }
 #if SETTLE_HAL_SPLIT_FEEDBACK
   split_ = feedback_split(l);
@@ -228,14 +228,22 @@ RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t nu
                      static_cast<std::int32_t>(slot_value(l.position_actual, frame))},
                now_us);
   }
-  // The period's last TPDO (the statusword's itself when it is the only one: a drive without
-  // 0x606C and no load position) completes it: the loop logs its sample then, once a period.
-  if (number != last_pdo_) return RemoteFrame::tpdo1;
+  // The period's last TPDO in PDO order (none of its TPDOs after it; the statusword's itself when
+  // it is the only one: a drive without 0x606C and no load position) completes it: the loop logs
+  // its sample then, once a period.
+  if ((period_tpdos_ >> number) != 0) return RemoteFrame::tpdo1;
   ++feedback_.tpdo2_received;
   return RemoteFrame::tpdo2;
 }
 
 bool RemoteDrive::take_mapping_entry(const StartupStep& s, std::uint32_t value) noexcept {
+  if (map_sub_ == map_sub_cob_id) {
+    // The PDO's COB-ID first: one that does not exist (bit 31) is neither sent nor received, so
+    // nothing its mapping names is placed.
+    if ((value & pdo_cob_id_invalid) != 0) return true;
+    map_sub_ = 0;
+    return false;  // its mapping next
+  }
   const bool receive = s.index() < 0x1A00U;
   const auto number = static_cast<std::uint8_t>((s.index() & 0xFFU) + 1U);
   if (map_sub_ == 0) {
@@ -253,7 +261,7 @@ bool RemoteDrive::take_mapping_entry(const StartupStep& s, std::uint32_t value) 
     return false;  // the next entry
   }
   if (!receive) tpdo_len_[number - 1U] = map_bytes_;
-  map_sub_ = 0;
+  map_sub_ = map_sub_cob_id;
   return true;
 }
 
@@ -295,7 +303,7 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   retried_ = false;
   operational_seen_ = false;
   limits_ = RemoteDriveLimits{};
-  map_sub_ = 0;
+  map_sub_ = map_sub_cob_id;
   held_tpdos_ = 0;  // a period begun before start-up is not completed after it
   held_count_ = 0;
   if (plan_too_long_ || layout_unusable_) {
@@ -322,7 +330,11 @@ void RemoteDrive::next_step(std::uint64_t now_us, FrameSink& out) noexcept {
     return;
   }
   const StartupStep& s = steps_[step_];
-  step_sent_ = s.action() == StartupAction::read_mapping ? sdo_.upload(s.index(), map_sub_, now_us, out)
+  // read_mapping: the communication object's COB-ID (0x1400/0x1800 + n - 1, sub 1), then the mapping.
+  const bool cob_id = map_sub_ == map_sub_cob_id;
+  step_sent_ = s.action() == StartupAction::read_mapping
+                   ? sdo_.upload(static_cast<std::uint16_t>(s.index() - (cob_id ? 0x200U : 0U)), cob_id ? 1 : map_sub_,
+                                 now_us, out)
                : s.action() != StartupAction::write || verifying_
                    ? sdo_.upload(s.index(), s.sub(), now_us, out)
                    : sdo_.download(s.index(), s.sub(), s.value() & s.mask(), s.size(), now_us, out);
@@ -480,8 +492,9 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
       // The layout's first two TPDOs took on_frame's inline path when valid; a third or fourth
       // comes here.
       const auto n = static_cast<std::uint8_t>(((frame.id & 0x780U) - cob::tpdo1) / 0x100U + 1U);
-      if (!default_layout_ && n != status_pdo_ && n != second_pdo_ && ((period_tpdos_ >> (n - 1U)) & 1U) != 0 &&
-          frame.len == tpdo_len_[n - 1U]) {
+      // (The two taken inline, and every TPDO of the default layout, are here only with another
+      // length than theirs: refused by the length.)
+      if (((period_tpdos_ >> (n - 1U)) & 1U) != 0 && frame.len == tpdo_len_[n - 1U]) {
         return take_layout_tpdo(frame, n, now_us);
       }
       return RemoteFrame::ignored;
@@ -500,6 +513,7 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
   const bool absent = r.abort == SdoAbort::no_object || r.abort == SdoAbort::no_sub_index;
   if (r.status == SdoClientStatus::aborted && s.optional() && absent) {
     ++step_;  // an optional object the drive does not have: the default stays
+    map_sub_ = map_sub_cob_id;
   } else if (r.status != SdoClientStatus::done) {
     fail_step(r, StartupError::sdo_aborted, now_us);
     return RemoteFrame::sdo;

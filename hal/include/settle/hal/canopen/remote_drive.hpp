@@ -103,7 +103,8 @@ struct RemoteDriveLimits {
 //          fails start-up (wrong_value naming the object), so a drive that ignores a write is caught;
 //   check  upload and compare the low `size` bytes with `value`;
 //   read   upload and keep the value in a field of RemoteDriveLimits;
-//   read_mapping  upload a PDO mapping object's sub 0 and its entries, and place what they map
+//   read_mapping  upload a PDO's COB-ID (communication object sub 1) and, unless bit 31 says the
+//          PDO does not exist, its mapping object's sub 0 and entries, and place what they map
 //          into the layout (PdoSetup::read_static).
 // An optional step is skipped when the drive has no such object (abort 0x06020000/0x06090011).
 // A COB-ID write compares its read-back without bit 30 (a drive may set "no RTR" by itself).
@@ -415,7 +416,6 @@ class RemoteDrive {
   std::uint8_t tpdo2_len_{0};
   std::uint8_t status_pdo_{1};
   std::uint8_t second_pdo_{2};
-  std::uint8_t last_pdo_{2};  // the period's last TPDO: it completes the period
   bool default_layout_{true};                  // the inline codecs of default_mapping.hpp apply
   std::array<std::uint8_t, layout_pdo_count> tpdo_len_{};  // bytes each TPDO carries (0 = unused)
   // The TPDOs one period's values come in (bit n - 1 for TPDO n: feedback_tpdos). Split feedback
@@ -429,7 +429,9 @@ class RemoteDrive {
   std::uint8_t held_count_{0};
   std::uint16_t held_statusword_{0};
   std::int32_t held_position_{0};
-  // read_mapping's progress through a mapping object.
+  // read_mapping's progress through a PDO (from start()): its COB-ID (map_sub_cob_id), then its
+  // mapping object's sub 0 and entries.
+  static constexpr std::uint8_t map_sub_cob_id = 0xFF;
   std::uint8_t map_sub_{0};
   std::uint8_t map_count_{0};
   std::uint8_t map_bytes_{0};
