@@ -428,7 +428,7 @@ TEST(RemoteDriveStartUp, AnotherLayoutIsMappedAndStreamedThrough) {
   EXPECT_EQ(fb.following_error, -2);
   EXPECT_EQ(fb.load_position, 1'000'000);
   EXPECT_EQ(fb.tpdo1_received, 2U);
-  EXPECT_EQ(fb.tpdo2_received, 1U) << "one period complete (the enabling TPDO3s: their periods' last TPDO4 lost)";
+  EXPECT_EQ(fb.periods_complete, 1U) << "one period complete (the enabling TPDO3s: their periods' last TPDO4 lost)";
 }
 
 TEST(RemoteDriveStartUp, AnInvalidLayoutIsRefusedBeforeAnythingIsSent) {
@@ -514,7 +514,7 @@ TEST(RemoteDriveStartUp, ASplitFeedbackIsTakenAWholePeriodAtATime) {
   s.now += 1000;  // the period's second TPDO in the master's next tick
   EXPECT_EQ(feed(s, 0x282, {0x88, 0x13, 0x00, 0x00}), RemoteFrame::tpdo2);  // position 5000
   EXPECT_EQ(fb.tpdo1_received, 1U);
-  EXPECT_EQ(fb.tpdo2_received, 1U);
+  EXPECT_EQ(fb.periods_complete, 1U);
   EXPECT_EQ(fb.statusword, 0x0227U);
   EXPECT_EQ(fb.velocity_actual, 16);
   EXPECT_EQ(fb.position_actual, 5000);
@@ -557,7 +557,7 @@ TEST(RemoteDriveStartUp, APeriodWithOneOfItsTpdosMissingIsNotTaken) {
   EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x05, 0x00, 0x00, 0x00}), RemoteFrame::held);  // period 5, whole
   EXPECT_EQ(feed(s, 0x282, {0x05, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2);
   EXPECT_EQ(fb.tpdo1_received, 3U);
-  EXPECT_EQ(fb.tpdo2_received, 3U);
+  EXPECT_EQ(fb.periods_complete, 3U);
   EXPECT_EQ(fb.position_actual, 5);
   EXPECT_EQ(fb.velocity_actual, 5);
   EXPECT_EQ(fb.tpdos_dropped, 2U);
@@ -591,7 +591,7 @@ TEST(RemoteDriveStartUp, ATpdoCarryingNothingTheMasterReadsIsNoPartOfAPeriod) {
         EXPECT_EQ(feed(s, 0x282, {period, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2);
       }
       EXPECT_EQ(feed(s, 0x382, {0x40, 0x42, 0x0F, 0x00}), RemoteFrame::ignored) << "TPDO3";
-      EXPECT_EQ(fb.tpdo2_received, period) << "one period complete per period";
+      EXPECT_EQ(fb.periods_complete, period) << "one period complete per period";
     }
     EXPECT_EQ(fb.tpdo1_received, 3U);
     EXPECT_EQ(fb.position_actual, 3);
@@ -618,7 +618,7 @@ TEST(RemoteDriveStartUp, ADisabledStaticPdoIsNotPlaced) {
   EXPECT_FALSE(l.velocity_actual.mapped());
   EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x05, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2) << "the whole period";
   EXPECT_EQ(feed(s, 0x282, {0x10, 0x00, 0x00, 0x00}), RemoteFrame::ignored);
-  EXPECT_EQ(s.remote.feedback().tpdo2_received, 1U);
+  EXPECT_EQ(s.remote.feedback().periods_complete, 1U);
   EXPECT_EQ(s.remote.feedback().velocity_actual, 0);
   CanFrame rpdo{};
   ASSERT_TRUE(s.remote.rpdo(7, rpdo));

@@ -367,7 +367,7 @@ TEST(DriveFromEds, ADriveWithItsWholeFeedbackInTpdo1SendsItAlone) {
     const Streamed s = stream_against(drive, *eds.description, false, 10);
     EXPECT_EQ(s.tpdos, (std::vector<std::pair<std::uint32_t, std::uint8_t>>(10, {0x181, 6}))) << "TPDO1 alone";
     EXPECT_EQ(s.periods_taken, 10U);
-    EXPECT_EQ(s.feedback.tpdo2_received, s.feedback.tpdo1_received) << "each period complete with TPDO1";
+    EXPECT_EQ(s.feedback.periods_complete, s.feedback.tpdo1_received) << "each period complete with TPDO1";
     EXPECT_EQ(s.feedback.position_actual, 1234);
   }
   const auto refused = [](const std::string& text) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/canopen/remote_drive.hpp"
 
+#include <bit>
+
 #include "settle/hal/canopen/nmt.hpp"
 
 namespace settle::hal::canopen {
@@ -172,7 +174,6 @@ void RemoteDrive::apply_layout() noexcept {
   tpdo1_len_ = status_pdo_ != 0 && status_pdo_ <= layout_pdo_count ? tpdo_len_[status_pdo_ - 1U] : 0;
   tpdo2_len_ = second_pdo_ != 0 ? tpdo_len_[second_pdo_ - 1U] : 0;
   held_tpdos_ = 0;
-  held_count_ = 0;
 }
 
 inline void RemoteDrive::take_extra_feedback(const CanFrame& frame, std::uint8_t number) noexcept {
@@ -190,16 +191,14 @@ RemoteFrame RemoteDrive::take_period_tpdo(const CanFrame& frame, std::uint8_t nu
   const unsigned bit = 1U << (number - 1U);
   const unsigned pending = period_tpdos_ & ~unsigned{held_tpdos_};
   if (bit != (pending & (0U - pending))) {
-    feedback_.tpdos_dropped += held_count_;
+    feedback_.tpdos_dropped += static_cast<std::uint32_t>(std::popcount(held_tpdos_));
     held_tpdos_ = 0;
-    held_count_ = 0;
     if (bit != (period_tpdos_ & (0U - unsigned{period_tpdos_}))) {
       ++feedback_.tpdos_dropped;
       return RemoteFrame::dropped;
     }
   }
   held_tpdos_ = static_cast<std::uint8_t>(held_tpdos_ | bit);
-  ++held_count_;
   // The load position, velocity and following error as they come: the loop logs a period's sample
   // when its last TPDO is in, by which time each holds that period's value (a period dropped logs
   // none). The statusword and the position actual wait for their period, and are taken together.
@@ -209,8 +208,7 @@ RemoteFrame RemoteDrive::take_period_tpdo(const CanFrame& frame, std::uint8_t nu
   if (slot_carried(l.statusword, number, frame)) held_statusword_ = static_cast<std::uint16_t>(slot_value(l.statusword, frame));
   if (held_tpdos_ != period_tpdos_) return RemoteFrame::held;
   held_tpdos_ = 0;
-  held_count_ = 0;
-  ++feedback_.tpdo2_received;
+  ++feedback_.periods_complete;
   take_tpdo1(Tpdo1{held_statusword_, held_position_}, now_us);
   return RemoteFrame::tpdo2;
 }
@@ -232,7 +230,7 @@ RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t nu
   // it is the only one: a drive without 0x606C and no load position) completes it: the loop logs
   // its sample then, once a period.
   if ((period_tpdos_ >> number) != 0) return RemoteFrame::tpdo1;
-  ++feedback_.tpdo2_received;
+  ++feedback_.periods_complete;
   return RemoteFrame::tpdo2;
 }
 
@@ -305,7 +303,6 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   limits_ = RemoteDriveLimits{};
   map_sub_ = map_sub_cob_id;
   held_tpdos_ = 0;  // a period begun before start-up is not completed after it
-  held_count_ = 0;
   if (plan_too_long_ || layout_unusable_) {
     failure_.error = plan_too_long_ ? StartupError::plan_too_long : StartupError::bad_layout;
     fail(now_us);

@@ -279,7 +279,9 @@ struct RemoteFeedback {
   std::int32_t velocity_actual{0};
   std::int32_t following_error{0};  // 0x60F4, when the layout maps it
   std::uint64_t tpdo1_received{0};
-  std::uint64_t tpdo2_received{0};
+  // Periods whose last TPDO came (in every layout: Settle's TPDO2; the statusword's TPDO when it is
+  // the only feedback TPDO; under split feedback, periods taken whole): the loop logs one sample each.
+  std::uint64_t periods_complete{0};
   std::uint64_t tpdo1_time_us{0};  // when the latest TPDO1 was taken (the caller's time)
   // Split feedback: TPDOs of periods that never came complete (held ones, and ones whose period's
   // earlier TPDO was missing), dropped rather than mixed with another period's.
@@ -318,7 +320,7 @@ class RemoteDrive {
         const Tpdo2 p = tpdo2_fields(frame);
         feedback_.load_position = p.load_position;
         feedback_.velocity_actual = p.velocity_actual;
-        ++feedback_.tpdo2_received;
+        ++feedback_.periods_complete;
         return RemoteFrame::tpdo2;
       }
       if (frame.id == heartbeat_id_ && frame.len == 1) return on_heartbeat(frame.data[0], now_us, out);
@@ -419,14 +421,11 @@ class RemoteDrive {
   bool default_layout_{true};                  // the inline codecs of default_mapping.hpp apply
   std::array<std::uint8_t, layout_pdo_count> tpdo_len_{};  // bytes each TPDO carries (0 = unused)
   // The TPDOs one period's values come in (bit n - 1 for TPDO n: feedback_tpdos). Split feedback
-  // (feedback_split): those held of the current period (and how many), and the statusword and
-  // position actual last taken, held until their period is complete.
+  // (feedback_split): those held of the current period, and the statusword and position actual
+  // last taken, held until their period is complete.
   std::uint8_t period_tpdos_{0};
-#if SETTLE_HAL_SPLIT_FEEDBACK
-  bool split_{false};
-#endif
+  bool split_{false};  // feedback_split (never set where split feedback is left out)
   std::uint8_t held_tpdos_{0};
-  std::uint8_t held_count_{0};
   std::uint16_t held_statusword_{0};
   std::int32_t held_position_{0};
   // read_mapping's progress through a PDO (from start()): its COB-ID (map_sub_cob_id), then its
