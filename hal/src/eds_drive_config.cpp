@@ -58,7 +58,8 @@ std::string check(const Description& d, const Required& r) {
   return {};
 }
 
-// The layout a drive's default (or DCF-configured) mapping gives, as start-up will derive it.
+// The layout a drive's default (or DCF-configured) mapping gives, as start-up will derive it: a
+// PDO whose COB-ID says it does not exist (bit 31) is neither sent nor received, and places nothing.
 ProcessDataLayout layout_of(const std::vector<Pdo>& rpdos, const std::vector<Pdo>& tpdos,
                             const ProcessDataLayout& objects, std::uint16_t& unfillable,
                             unsigned& unfillable_pdo) {
@@ -67,7 +68,9 @@ ProcessDataLayout layout_of(const std::vector<Pdo>& rpdos, const std::vector<Pdo
   unfillable_pdo = 0;
   for (const auto* list : {&rpdos, &tpdos}) {
     for (const Pdo& p : *list) {
-      if (p.number < 1 || p.number > canopen::layout_pdo_count) continue;
+      if (p.number < 1 || p.number > canopen::layout_pdo_count || (p.cob_id & canopen::pdo_cob_id_invalid) != 0) {
+        continue;
+      }
       unsigned at = 0;
       for (const MappedObject& m : p.mapping) {
         const std::uint32_t raw = (std::uint32_t{m.index} << 16U) | (std::uint32_t{m.sub} << 8U) | m.bits;

@@ -63,8 +63,10 @@ class Defaults {
 // The PDOs of one direction into the configuration: numbered 1..n without gaps, at most the
 // drive's capacity, at most its entries each.
 template <std::size_t N>
-bool take_pdos(const std::vector<eds::Pdo>& pdos, bool receive, co::NodeId node, std::array<co::PdoMapping, N>& out,
-               std::uint8_t& count, std::optional<bool>& writable, std::string& error) {
+bool take_pdos(const eds::Description& d, bool receive, co::NodeId node, std::array<co::PdoMapping, N>& out,
+               std::array<std::uint8_t, N>& rows, std::uint8_t& count, std::optional<bool>& writable,
+               std::string& error) {
+  const std::vector<eds::Pdo> pdos = receive ? d.rpdos(node) : d.tpdos(node);
   const char* kind = receive ? "RPDO" : "TPDO";
   out = {};
   for (co::PdoMapping& m : out) {
@@ -99,6 +101,21 @@ bool take_pdos(const std::vector<eds::Pdo>& pdos, bool receive, co::NodeId node,
     m.count = static_cast<std::uint8_t>(p.mapping.size());
     for (std::size_t i = 0; i < p.mapping.size(); ++i) {
       m.entries[i] = co::PdoMappingEntry{p.mapping[i].index, p.mapping[i].sub, p.mapping[i].bits};
+    }
+    // A mapping may list entries past its count (a static TPDO2 that maps nothing, its sub 1
+    // still described): unused, served as described (a static one only those it lists).
+    if (d.find(p.mapping_index(), static_cast<std::uint8_t>(co::drive_pdo_entry_capacity + 1U)) != nullptr) {
+      error = name + ": mapping entries past sub-index " + std::to_string(co::drive_pdo_entry_capacity) +
+              " (the simulated drive has " + std::to_string(co::drive_pdo_entry_capacity) + ")";
+      return false;
+    }
+    for (std::size_t i = p.mapping.size(); i < co::drive_pdo_entry_capacity; ++i) {
+      const eds::Entry* e = d.find(p.mapping_index(), static_cast<std::uint8_t>(i + 1));
+      if (e == nullptr) break;
+      const auto raw = static_cast<std::uint32_t>(e->value(node).value_or(0));
+      m.entries[i] = co::PdoMappingEntry{static_cast<std::uint16_t>(raw >> 16U), static_cast<std::uint8_t>(raw >> 8U),
+                                         static_cast<std::uint8_t>(raw)};
+      rows[p.number - 1U] = static_cast<std::uint8_t>(i + 1);
     }
     ++count;
   }
@@ -198,6 +215,7 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   c.node = node;
   c.has_interpolation_period = d.has(co::obj::interpolation_time_period);
   c.has_following_error_actual = d.has(co::obj::following_error_actual);
+  c.has_velocity_actual = d.has(co::obj::velocity_actual);
   // Settle's own dictionary ([SettleDrive]) is simulated object for object; another vendor's
   // manufacturer objects (0x2000..0x5FFF) are theirs: described, not simulated (the master never
   // uses them), and the simulated drive's own 0x2000/0x2001 stay out of the comparison.
@@ -229,12 +247,13 @@ DriveFromEds simulated_drive_from_eds(const eds::Description& d, co::NodeId node
   }
 
   std::optional<bool> writable;
-  if (!take_pdos(d.rpdos(node), true, node, c.rpdos, c.rpdo_count, writable, r.error) ||
-      !take_pdos(d.tpdos(node), false, node, c.tpdos, c.tpdo_count, writable, r.error)) {
+  if (!take_pdos(d, true, node, c.rpdos, c.rpdo_mapping_rows, c.rpdo_count, writable, r.error) ||
+      !take_pdos(d, false, node, c.tpdos, c.tpdo_mapping_rows, c.tpdo_count, writable, r.error)) {
     return r;
   }
-  if (c.rpdo_count == 0 || c.tpdo_count < 2) {
-    r.error = "the simulated drive needs RPDO1 and TPDO1..2 (the EDS describes " + std::to_string(c.rpdo_count) +
+  // TPDO1 alone is a drive: one whose whole feedback (statusword and position actual) it carries.
+  if (c.rpdo_count == 0 || c.tpdo_count == 0) {
+    r.error = "the simulated drive needs RPDO1 and TPDO1 (the EDS describes " + std::to_string(c.rpdo_count) +
               " RPDOs and " + std::to_string(c.tpdo_count) + " TPDOs)";
     return r;
   }

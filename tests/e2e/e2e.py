@@ -356,13 +356,14 @@ def check_applied_once(tag, fb, plant_log):
 # The corpus drives streamed between processes (tests/testbed/corpus: check_corpus.py holds each
 # file's node, mapping and warnings, and checks every one on loopback): one without 0x1006, a DCF
 # with NodeID and ParameterValue, one with two RPDOs mapped dynamically, one whose lists disagree
-# (two warnings), another vendor's load encoder, and a static mapping that splits the feedback
-# (statusword in TPDO1, position actual in TPDO2: each period read from both).
+# (two warnings), another vendor's load encoder, a static mapping that splits the feedback
+# (statusword in TPDO1, position actual in TPDO2: each period read from both), and one whose whole
+# feedback is in TPDO1 (no 0x606C, no load position, TPDO2 mapping nothing: each period TPDO1 alone).
 CORPUS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "testbed", "corpus")
 sys.path.insert(0, CORPUS_DIR)
 import check_corpus  # noqa: E402
 CORPUS_ON_VCAN = ("04_no_1006.eds", "06_commissioned.dcf", "03_crlf_lowercase.eds", "08_loose_lists.eds",
-                  "12_load_at_2100.eds", "13_static_split_feedback.eds")
+                  "12_load_at_2100.eds", "13_static_split_feedback.eds", "14_one_feedback_tpdo.eds")
 
 
 def sdo_downloads(frames, node, index):

@@ -209,7 +209,7 @@ TEST_F(DriveOverLoopback, RemoteDriveSaysWhatEachFrameWasAndIgnoresOtherNodes) {
   EXPECT_EQ(remote->feedback().position_actual, before.position_actual);
   EXPECT_EQ(remote->feedback().load_position, before.load_position);
   EXPECT_EQ(remote->feedback().tpdo1_received, before.tpdo1_received);
-  EXPECT_EQ(remote->feedback().tpdo2_received, before.tpdo2_received);
+  EXPECT_EQ(remote->feedback().periods_complete, before.periods_complete);
   EXPECT_EQ(remote->take_events(), 0);
 }
 

@@ -301,6 +301,24 @@ TEST(EdsDriveConfig, AStaticMappingWithoutWhatIsNeededIsRefusedSaying) {
   }
 }
 
+// A PDO whose COB-ID says it does not exist (bit 31) is neither sent nor received: what it maps is
+// not placed (a disabled RPDO1 of controlword + target leaves them to RPDO2, a disabled TPDO2 does
+// not carry the velocity), as start-up finds on the drive.
+TEST(EdsDriveConfig, ADisabledPdoOfAStaticMappingCarriesNothing) {
+  EdsText e = drive_objects();
+  e.pdo(true, 1, false, {cw, target}).pdo(true, 2, false, {cw, target});
+  e.pdo(false, 1, false, {sw, pos}).pdo(false, 2, false, {vel});
+  e.replace({0x1400, 1, data_type::u32, "rw", false, "$NODEID+0x80000200"});
+  e.replace({0x1801, 1, data_type::u32, "rw", false, "$NODEID+0x80000280"});
+  const DriveConfigResult r = drive_config_from_eds(parsed(e), base(), {});
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.config.layout.controlword, (PdoSlot{2, 0, 2}));
+  EXPECT_EQ(r.config.layout.target_position, (PdoSlot{2, 2, 4}));
+  EXPECT_FALSE(r.config.layout.velocity_actual.mapped());
+  EXPECT_EQ(drive_config_from_eds(parsed(e), base(), FeedbackRequest{true, false, 0, 0}).error,
+            "the drive's PDO mapping is static (not writable) and no TPDO carries 0x606C (velocity actual value)");
+}
+
 // A real drive's static mapping that splits the feedback (TPDO1 = statusword + velocity actual,
 // TPDO2 = position actual, both on every SYNC) streams: the master reads one period from both.
 TEST(EdsDriveConfig, AStaticMappingMaySplitTheFeedbackAcrossSyncTpdos) {

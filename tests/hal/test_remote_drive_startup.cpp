@@ -416,7 +416,8 @@ TEST(RemoteDriveStartUp, AnotherLayoutIsMappedAndStreamedThrough) {
   ASSERT_TRUE(s.remote.ready());
   ASSERT_TRUE(s.remote.rpdo(-5, rpdo));
   EXPECT_EQ(hal::test::bytes_of(rpdo), (Bytes{0xFB, 0xFF, 0xFF, 0xFF, 0x0F, 0x00}));
-  EXPECT_EQ(feed(s, 0x182, {0x64, 0x00, 0x00, 0x00, 0xFE, 0xFF, 0xFF, 0xFF}), RemoteFrame::tpdo2);
+  // One period: TPDO1, TPDO3, TPDO4 in PDO order; TPDO4, its last, completes it (once).
+  EXPECT_EQ(feed(s, 0x182, {0x64, 0x00, 0x00, 0x00, 0xFE, 0xFF, 0xFF, 0xFF}), RemoteFrame::tpdo1);
   EXPECT_EQ(feed(s, 0x482, {0x40, 0x42, 0x0F, 0x00}), RemoteFrame::tpdo2);
   EXPECT_EQ(feed(s, 0x282, {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08}), RemoteFrame::ignored)
       << "TPDO2 is not used by this layout";
@@ -427,7 +428,7 @@ TEST(RemoteDriveStartUp, AnotherLayoutIsMappedAndStreamedThrough) {
   EXPECT_EQ(fb.following_error, -2);
   EXPECT_EQ(fb.load_position, 1'000'000);
   EXPECT_EQ(fb.tpdo1_received, 2U);
-  EXPECT_EQ(fb.tpdo2_received, 2U);
+  EXPECT_EQ(fb.periods_complete, 1U) << "one period complete (the enabling TPDO3s: their periods' last TPDO4 lost)";
 }
 
 TEST(RemoteDriveStartUp, AnInvalidLayoutIsRefusedBeforeAnythingIsSent) {
@@ -513,7 +514,7 @@ TEST(RemoteDriveStartUp, ASplitFeedbackIsTakenAWholePeriodAtATime) {
   s.now += 1000;  // the period's second TPDO in the master's next tick
   EXPECT_EQ(feed(s, 0x282, {0x88, 0x13, 0x00, 0x00}), RemoteFrame::tpdo2);  // position 5000
   EXPECT_EQ(fb.tpdo1_received, 1U);
-  EXPECT_EQ(fb.tpdo2_received, 1U);
+  EXPECT_EQ(fb.periods_complete, 1U);
   EXPECT_EQ(fb.statusword, 0x0227U);
   EXPECT_EQ(fb.velocity_actual, 16);
   EXPECT_EQ(fb.position_actual, 5000);
@@ -556,7 +557,7 @@ TEST(RemoteDriveStartUp, APeriodWithOneOfItsTpdosMissingIsNotTaken) {
   EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x05, 0x00, 0x00, 0x00}), RemoteFrame::held);  // period 5, whole
   EXPECT_EQ(feed(s, 0x282, {0x05, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2);
   EXPECT_EQ(fb.tpdo1_received, 3U);
-  EXPECT_EQ(fb.tpdo2_received, 3U);
+  EXPECT_EQ(fb.periods_complete, 3U);
   EXPECT_EQ(fb.position_actual, 5);
   EXPECT_EQ(fb.velocity_actual, 5);
   EXPECT_EQ(fb.tpdos_dropped, 2U);
@@ -565,6 +566,63 @@ TEST(RemoteDriveStartUp, APeriodWithOneOfItsTpdosMissingIsNotTaken) {
   s.remote.start(s.now, s.to_drive);
   s.to_drive.clear();
   EXPECT_EQ(feed(s, 0x282, {0x06, 0x00, 0x00, 0x00}), RemoteFrame::dropped);
+}
+
+// A static TPDO that carries only objects the master does not read (TPDO3: a manufacturer
+// object, sent on every SYNC too) is no part of a period: with the statusword and the position
+// actual in TPDO1 alone, TPDO1 completes each period; with the velocity in TPDO2 as well, TPDO2
+// does. TPDO3 neither completes a period nor adds one (a sample logged from it would be wrong).
+TEST(RemoteDriveStartUp, ATpdoCarryingNothingTheMasterReadsIsNoPartOfAPeriod) {
+  for (const bool velocity : {false, true}) {
+    SCOPED_TRACE(velocity ? "velocity in TPDO2" : "TPDO1 alone");
+    StartUp s{static_config()};
+    s.drive.rpdo[0] = test::ScriptedPdo{0x202, 1, 2, {0x6040'0010, 0x607A'0020}};
+    s.drive.tpdo[0] = test::ScriptedPdo{0x182, 1, 2, {0x6041'0010, 0x6064'0020}};
+    if (velocity) s.drive.tpdo[1] = test::ScriptedPdo{0x282, 1, 1, {0x606C'0020}};
+    s.drive.tpdo[2] = test::ScriptedPdo{0x382, 1, 1, {0x2100'0120}};
+    s.run();
+    ASSERT_EQ(s.remote.state(), RemoteDriveState::enabling)
+        << to_string(s.remote.failure().error) << " " << std::hex << s.remote.failure().index;
+    const RemoteFeedback& fb = s.remote.feedback();
+    for (std::uint8_t period = 1; period <= 3; ++period) {
+      EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, period, 0x00, 0x00, 0x00}),
+                velocity ? RemoteFrame::tpdo1 : RemoteFrame::tpdo2);
+      if (velocity) {
+        EXPECT_EQ(feed(s, 0x282, {period, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2);
+      }
+      EXPECT_EQ(feed(s, 0x382, {0x40, 0x42, 0x0F, 0x00}), RemoteFrame::ignored) << "TPDO3";
+      EXPECT_EQ(fb.periods_complete, period) << "one period complete per period";
+    }
+    EXPECT_EQ(fb.tpdo1_received, 3U);
+    EXPECT_EQ(fb.position_actual, 3);
+    EXPECT_EQ(fb.velocity_actual, velocity ? 3 : 0);
+  }
+}
+
+// A static PDO whose COB-ID has bit 31 set does not exist: start-up reads each PDO's COB-ID before
+// its mapping and places nothing of a disabled one. RPDO1 (disabled) maps controlword + target as
+// RPDO2 does: the master streams through RPDO2; TPDO2 (disabled) maps the velocity: TPDO1 alone is
+// the period, and a frame on TPDO2's identifier is no part of it.
+TEST(RemoteDriveStartUp, ADisabledStaticPdoIsNotPlaced) {
+  StartUp s{static_config()};
+  s.drive.rpdo[0] = test::ScriptedPdo{0x8000'0202, 1, 2, {0x6040'0010, 0x607A'0020}};
+  s.drive.rpdo[1] = test::ScriptedPdo{0x302, 1, 2, {0x6040'0010, 0x607A'0020}};
+  s.drive.tpdo[0] = test::ScriptedPdo{0x182, 1, 2, {0x6041'0010, 0x6064'0020}};
+  s.drive.tpdo[1] = test::ScriptedPdo{0x8000'0282, 1, 1, {0x606C'0020}};
+  s.run();
+  ASSERT_EQ(s.remote.state(), RemoteDriveState::enabling)
+      << to_string(s.remote.failure().error) << " " << std::hex << s.remote.failure().index;
+  const ProcessDataLayout& l = s.remote.config().layout;
+  EXPECT_EQ(l.controlword, (PdoSlot{2, 0, 2}));
+  EXPECT_EQ(l.target_position, (PdoSlot{2, 2, 4}));
+  EXPECT_FALSE(l.velocity_actual.mapped());
+  EXPECT_EQ(feed(s, 0x182, {0x27, 0x02, 0x05, 0x00, 0x00, 0x00}), RemoteFrame::tpdo2) << "the whole period";
+  EXPECT_EQ(feed(s, 0x282, {0x10, 0x00, 0x00, 0x00}), RemoteFrame::ignored);
+  EXPECT_EQ(s.remote.feedback().periods_complete, 1U);
+  EXPECT_EQ(s.remote.feedback().velocity_actual, 0);
+  CanFrame rpdo{};
+  ASSERT_TRUE(s.remote.rpdo(7, rpdo));
+  EXPECT_EQ(rpdo.id, 0x302U);
 }
 
 TEST(RemoteDriveStartUp, AStaticMappingWithoutWhatStreamingNeedsIsRefusedNamingTheObject) {

@@ -153,7 +153,7 @@ Exchange run_exchange(int ticks, const std::string& candump_log) {
   };
   const auto tick = [&](std::int32_t target) {
     remote.poll(test::monotonic_us(), out);
-    const std::uint64_t tpdo2_before = remote.feedback().tpdo2_received;
+    const std::uint64_t periods_before = remote.feedback().periods_complete;
     const bool process_data = remote.state() == canopen::RemoteDriveState::enabling || remote.ready();
     if (CanFrame rpdo{}; remote.rpdo(target, rpdo) && out.put(rpdo)) {
       ++x.rpdos_sent;
@@ -162,7 +162,7 @@ Exchange run_exchange(int ticks, const std::string& candump_log) {
       ++x.syncs_sent;
     }
     if (process_data) {
-      receive_until([&] { return remote.feedback().tpdo2_received > tpdo2_before; }, 200'000);
+      receive_until([&] { return remote.feedback().periods_complete > periods_before; }, 200'000);
     } else {
       receive_until([] { return false; }, 2'000);  // SDO answers during configuration
     }

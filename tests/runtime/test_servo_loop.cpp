@@ -321,21 +321,29 @@ TEST(ServoLoop, AFeedbackSplitAcrossTpdosIsLoggedAWholePeriodAtATime) {
 
 // A drive whose static mapping has one feedback TPDO (statusword + position actual, as a drive
 // without 0x606C and no load position maps it): that TPDO is the whole period, and every period
-// gives one sample, the position the drive applied the period before.
+// gives one sample, the position the drive applied the period before. A TPDO that carries nothing
+// the master reads (TPDO3: the error register, sent every second SYNC) changes nothing.
 TEST(ServoLoop, AFeedbackInOneTpdoIsLoggedEveryPeriod) {
-  hal::canopen::DriveNodeConfig dc{};
-  dc.tpdos[0].count = 2;
-  dc.tpdos[0].entries[0] = hal::canopen::PdoMappingEntry{0x6041, 0, 16};
-  dc.tpdos[0].entries[1] = hal::canopen::PdoMappingEntry{0x6064, 0, 32};
-  dc.tpdos[1].count = 0;
-  StaticMappingRun m{dc};
-  ASSERT_TRUE(m.start());
-  ASSERT_FALSE(hal::canopen::feedback_split(m.r.loop.drive(0).config().layout));
-  m.run(50);
-  ASSERT_EQ(m.logged.size(), 50U);
-  ASSERT_GE(m.r.drive.applied().size(), 49U);
-  for (std::size_t k = 1; k < 50; ++k) EXPECT_EQ(m.logged[k], m.r.drive.applied()[k - 1]) << "sample " << k;
-  EXPECT_EQ(m.r.loop.axis_stats(0).feedback_timeouts, 0U);
+  for (const bool tpdo3 : {false, true}) {
+    SCOPED_TRACE(tpdo3 ? "and a TPDO3 of the error register" : "TPDO1 alone");
+    hal::canopen::DriveNodeConfig dc{};
+    dc.tpdos[0].count = 2;
+    dc.tpdos[0].entries[0] = hal::canopen::PdoMappingEntry{0x6041, 0, 16};
+    dc.tpdos[0].entries[1] = hal::canopen::PdoMappingEntry{0x6064, 0, 32};
+    dc.tpdos[1].count = 0;
+    if (tpdo3) {
+      dc.tpdo_count = 3;
+      dc.tpdos[2] = hal::canopen::PdoMapping{0, 2, 1, {hal::canopen::PdoMappingEntry{0x1001, 0, 8}}};
+    }
+    StaticMappingRun m{dc};
+    ASSERT_TRUE(m.start());
+    ASSERT_FALSE(hal::canopen::feedback_split(m.r.loop.drive(0).config().layout));
+    m.run(50);
+    ASSERT_EQ(m.logged.size(), 50U);
+    ASSERT_GE(m.r.drive.applied().size(), 49U);
+    for (std::size_t k = 1; k < 50; ++k) EXPECT_EQ(m.logged[k], m.r.drive.applied()[k - 1]) << "sample " << k;
+    EXPECT_EQ(m.r.loop.axis_stats(0).feedback_timeouts, 0U);
+  }
 }
 
 TEST(ServoLoop, RefusesWhatItCannotStreamAndChangesNothing) {

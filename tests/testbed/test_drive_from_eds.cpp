@@ -105,6 +105,7 @@ TEST(DriveFromEds, TheBundledEdsIsTheDefaultDrive) {
     EXPECT_STREQ(c.software_version, d.software_version);
     EXPECT_EQ(c.has_interpolation_period, d.has_interpolation_period);
     EXPECT_EQ(c.has_following_error_actual, d.has_following_error_actual);
+    EXPECT_EQ(c.has_velocity_actual, d.has_velocity_actual);
     EXPECT_EQ(c.pdo_mapping_writable, d.pdo_mapping_writable);
     EXPECT_EQ(c.rpdo_count, d.rpdo_count);
     EXPECT_EQ(c.tpdo_count, d.tpdo_count);
@@ -183,26 +184,28 @@ TEST(DriveFromEds, TheTestDrivesWithoutALoadPositionOrA1006HaveNone) {
   EXPECT_EQ(no_cycle->drive->dictionary().read(0x1006, 0, raw, size), co::SdoAbort::no_object);
 }
 
-// The corpus drive whose static mapping splits the feedback (TPDO1 = statusword + velocity
-// actual, TPDO2 = position actual): simulated from its file, it sends both TPDOs on every SYNC as
-// the file says, and the master configured from the same file reads each period from the two.
-TEST(DriveFromEds, ASplitFeedbackDriveSendsBothTpdosOnEverySync) {
-  const std::string path = std::string{SETTLE_TEST_DATA_DIR} + "/../corpus/13_static_split_feedback.eds";
-  const auto l = loaded(path, 1);
-  co::DriveNode& drive = *l->drive;
-  const hal::eds::LoadResult eds = hal::eds::load(path);
-  ASSERT_TRUE(eds.description) << eds.error;
+// The master configured from `description` (velocity actual asked for when `velocity`) against
+// `drive`, both started, the drive enabled, then `periods` SYNCs: the TPDOs (id, length) the drive
+// sent on those SYNCs, the periods the master took of them, and its feedback after.
+struct Streamed {
+  std::vector<std::pair<std::uint32_t, std::uint8_t>> tpdos;
+  std::uint64_t periods_taken{0};
+  co::RemoteFeedback feedback{};
+};
+Streamed stream_against(co::DriveNode& drive, const hal::eds::Description& description, bool velocity,
+                        int periods) {
+  Streamed s;
   co::RemoteDriveConfig base{};
   base.node = 1;
   const hal::eds::DriveConfigResult cfg =
-      hal::eds::drive_config_from_eds(*eds.description, base, hal::eds::FeedbackRequest{true, false, 0, 0});
-  ASSERT_TRUE(cfg.ok()) << cfg.error;
+      hal::eds::drive_config_from_eds(description, base, hal::eds::FeedbackRequest{velocity, false, 0, 0});
+  EXPECT_TRUE(cfg.ok()) << cfg.error;
+  if (!cfg.ok()) return s;
   co::RemoteDrive master{cfg.config};
   hal::FrameBuffer<32> to_drive;
   hal::FrameBuffer<32> to_master;
   std::uint64_t now = 0;
   std::int32_t axis = 1234;
-  std::vector<std::pair<std::uint32_t, std::uint8_t>> tpdos;  // (id, length) the drive sent on SYNCs
   const auto exchange = [&](bool sync) {
     hal::CanFrame rpdo{};
     if (master.rpdo(axis, rpdo)) (void)to_drive.put(rpdo);
@@ -214,7 +217,7 @@ TEST(DriveFromEds, ASplitFeedbackDriveSendsBothTpdosOnEverySync) {
         if (drive.following()) axis = drive.setpoint();
         const std::size_t before = to_master.size();
         drive.publish(co::DriveFeedback{axis, 0, 0}, now, to_master);
-        for (std::size_t i = before; i < to_master.size(); ++i) tpdos.emplace_back(to_master[i].id, to_master[i].len);
+        for (std::size_t i = before; i < to_master.size(); ++i) s.tpdos.emplace_back(to_master[i].id, to_master[i].len);
       }
     }
     drive.poll(now, to_master);
@@ -228,21 +231,35 @@ TEST(DriveFromEds, ASplitFeedbackDriveSendsBothTpdosOnEverySync) {
   to_master.clear();
   master.start(now, to_drive);
   for (int i = 0; i < 500 && master.state() == co::RemoteDriveState::configuring; ++i) exchange(false);
-  ASSERT_EQ(master.state(), co::RemoteDriveState::enabling) << co::to_string(master.failure().error);
+  EXPECT_EQ(master.state(), co::RemoteDriveState::enabling) << co::to_string(master.failure().error);
   for (int i = 0; i < 50 && !master.ready(); ++i) exchange(true);
-  ASSERT_TRUE(master.ready());
-  const std::size_t syncs_to_ready = master.feedback().tpdo1_received;
-  tpdos.clear();
-  for (int i = 0; i < 10; ++i) exchange(true);
-  ASSERT_EQ(tpdos.size(), 20U) << "two TPDOs per SYNC";
-  for (std::size_t i = 0; i < tpdos.size(); i += 2) {
-    EXPECT_EQ(tpdos[i], (std::pair<std::uint32_t, std::uint8_t>{0x181, 6})) << "statusword + velocity actual";
-    EXPECT_EQ(tpdos[i + 1], (std::pair<std::uint32_t, std::uint8_t>{0x281, 4})) << "position actual";
+  EXPECT_TRUE(master.ready());
+  const std::uint64_t taken_to_ready = master.feedback().tpdo1_received;
+  s.tpdos.clear();
+  for (int i = 0; i < periods; ++i) exchange(true);
+  s.periods_taken = master.feedback().tpdo1_received - taken_to_ready;
+  s.feedback = master.feedback();
+  return s;
+}
+
+// The corpus drive whose static mapping splits the feedback (TPDO1 = statusword + velocity
+// actual, TPDO2 = position actual): simulated from its file, it sends both TPDOs on every SYNC as
+// the file says, and the master configured from the same file reads each period from the two.
+TEST(DriveFromEds, ASplitFeedbackDriveSendsBothTpdosOnEverySync) {
+  const std::string path = std::string{SETTLE_TEST_DATA_DIR} + "/../corpus/13_static_split_feedback.eds";
+  const auto l = loaded(path, 1);
+  const hal::eds::LoadResult eds = hal::eds::load(path);
+  ASSERT_TRUE(eds.description) << eds.error;
+  const Streamed s = stream_against(*l->drive, *eds.description, true, 10);
+  ASSERT_EQ(s.tpdos.size(), 20U) << "two TPDOs per SYNC";
+  for (std::size_t i = 0; i < s.tpdos.size(); i += 2) {
+    EXPECT_EQ(s.tpdos[i], (std::pair<std::uint32_t, std::uint8_t>{0x181, 6})) << "statusword + velocity actual";
+    EXPECT_EQ(s.tpdos[i + 1], (std::pair<std::uint32_t, std::uint8_t>{0x281, 4})) << "position actual";
   }
-  EXPECT_EQ(master.feedback().tpdo1_received, syncs_to_ready + 10U) << "every period taken";
-  EXPECT_EQ(master.feedback().tpdos_dropped, 0U);
-  EXPECT_EQ(master.feedback().position_actual, 1234);
-  EXPECT_TRUE(co::is_operation_enabled(master.feedback().statusword));
+  EXPECT_EQ(s.periods_taken, 10U) << "every period taken";
+  EXPECT_EQ(s.feedback.tpdos_dropped, 0U);
+  EXPECT_EQ(s.feedback.position_actual, 1234);
+  EXPECT_TRUE(co::is_operation_enabled(s.feedback.statusword));
 }
 
 DriveFromEds from_text(const std::string& text) {
@@ -300,6 +317,73 @@ TEST(DriveFromEds, WhatTheSimulatedDriveCannotBeIsRefusedNamingTheObject) {
   r = load_drive_config("/nonexistent/drive.eds", 1);
   EXPECT_FALSE(r.config);
   EXPECT_NE(r.error.find("/nonexistent/drive.eds"), std::string::npos) << r.error;
+}
+
+// `text` without object `index` (hex, upper case): its sections and its line in an object list.
+std::string without_object(std::string text, const std::string& index) {
+  for (auto at = text.find("\n[" + index); at != std::string::npos; at = text.find("\n[" + index)) {
+    text.erase(at + 1, text.find("\n\n", at + 1) + 1 - at);
+  }
+  const auto listed = text.find("=0x" + index + "\n");
+  EXPECT_NE(listed, std::string::npos) << index;
+  if (listed != std::string::npos) {
+    const auto line = text.rfind('\n', listed) + 1;
+    text.erase(line, listed + index.size() + 4 - line);
+  }
+  return text;
+}
+
+// A drive whose whole feedback is in TPDO1 (statusword + position actual; no 0x606C, no load
+// position: corpus 04 without its 0x606C), whatever its TPDO2 is: mapping nothing (sub 0 = 0, the
+// entry it no longer maps still described), absent, or disabled (COB-ID bit 31). The simulated
+// drive is each of them and sends TPDO1 alone on every SYNC (a mapping that maps nothing is
+// disabled: no empty TPDO2), and the master configured from the same text takes every period.
+// What it cannot be is still refused, naming it: no TPDO at all, a disabled TPDO2 mapping an
+// object the drive does not have, mapping entries past its capacity.
+TEST(DriveFromEds, ADriveWithItsWholeFeedbackInTpdo1SendsItAlone) {
+  const std::string no_1006 = file_text(std::string{SETTLE_TEST_DATA_DIR} + "/../corpus/04_no_1006.eds");
+  ASSERT_FALSE(no_1006.empty());
+  const std::string one_tpdo = without_object(no_1006, "606C");
+  const std::string tpdo2_count =
+      "[1A01sub0]\nParameterName=Number of mapped objects\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\n"
+      "DefaultValue=";
+  const std::string tpdo2_cob = "DefaultValue=$NODEID+0x280";
+  const std::string maps_nothing = replaced(one_tpdo, tpdo2_count + "1", tpdo2_count + "0");
+  const std::string absent = without_object(without_object(one_tpdo, "1801"), "1A01");
+  const std::string disabled = replaced(no_1006, tpdo2_cob, "DefaultValue=$NODEID+0x80000280");
+  for (const auto& [what, text, tpdos] : {std::tuple{"maps nothing", maps_nothing, 2U},
+                                          std::tuple{"absent", absent, 1U}, std::tuple{"disabled", disabled, 2U}}) {
+    SCOPED_TRACE(what);
+    const hal::eds::LoadResult eds = hal::eds::parse(text);
+    ASSERT_TRUE(eds.description) << eds.error;
+    const DriveFromEds r = simulated_drive_from_eds(*eds.description, 1);
+    ASSERT_TRUE(r.config) << r.error;
+    EXPECT_EQ(r.config->tpdo_count, tpdos);
+    co::DriveNode drive{*r.config};
+    if (std::string{what} == "maps nothing") {
+      EXPECT_EQ(read(drive, 0x1A01, 0), 0U);
+      EXPECT_EQ(read(drive, 0x1A01, 1), 0x606C0020U) << "the entry it no longer maps, as described";
+    }
+    const Streamed s = stream_against(drive, *eds.description, false, 10);
+    EXPECT_EQ(s.tpdos, (std::vector<std::pair<std::uint32_t, std::uint8_t>>(10, {0x181, 6}))) << "TPDO1 alone";
+    EXPECT_EQ(s.periods_taken, 10U);
+    EXPECT_EQ(s.feedback.periods_complete, s.feedback.tpdo1_received) << "each period complete with TPDO1";
+    EXPECT_EQ(s.feedback.position_actual, 1234);
+  }
+  const auto refused = [](const std::string& text) {
+    const DriveFromEds r = from_text(text);
+    EXPECT_FALSE(r.config);
+    return r.error;
+  };
+  const std::string no_tpdo = without_object(without_object(absent, "1800"), "1A00");
+  EXPECT_EQ(refused(no_tpdo), "the simulated drive needs RPDO1 and TPDO1 (the EDS describes 1 RPDOs and 0 TPDOs)");
+  EXPECT_NE(refused(replaced(one_tpdo, tpdo2_cob, "DefaultValue=$NODEID+0x80000280"))
+                .find("cannot be bound (SDO abort 0x06020000): TPDO2 maps 0x606C:0, which the simulated drive does "
+                      "not have"),
+            std::string::npos);
+  EXPECT_EQ(refused(maps_nothing + "\n[1A01sub9]\nParameterName=Entry 9\nObjectType=0x7\nDataType=0x0007\n"
+                                   "AccessType=ro\nDefaultValue=0\nPDOMapping=0\n"),
+            "TPDO2: mapping entries past sub-index 8 (the simulated drive has 8)");
 }
 
 // Another vendor's load encoder where its description puts it (tests/testbed/corpus's

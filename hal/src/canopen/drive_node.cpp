@@ -193,9 +193,11 @@ std::span<const OdEntry> DriveNode::make_entries() noexcept {
     add(od_entry(index, 1, comm.cob_id, pdo_access));
     add(od_entry(index, 2, comm.transmission_type, pdo_access));
   };
-  const auto add_map = [&](std::uint16_t index, DriveCommObjects::PdoMap& m) noexcept {
+  const auto add_map = [&](std::uint16_t index, DriveCommObjects::PdoMap& m, std::uint8_t listed) noexcept {
     add(od_entry(index, 0, m.count, pdo_access));
-    const std::size_t rows = config_.pdo_mapping_writable ? m.entries.size() : m.count;
+    const std::size_t rows = config_.pdo_mapping_writable ? m.entries.size()
+                             : listed > m.count               ? (listed < m.entries.size() ? listed : m.entries.size())
+                                                              : m.count;
     for (std::size_t i = 0; i < rows; ++i) {
       add(od_entry(index, static_cast<std::uint8_t>(i + 1), m.entries[i], pdo_access));
     }
@@ -204,13 +206,13 @@ std::span<const OdEntry> DriveNode::make_entries() noexcept {
     add_comm(static_cast<std::uint16_t>(obj::rpdo1_communication + i), c.rpdo_comm[i]);
   }
   for (std::size_t i = 0; i < rpdos; ++i) {
-    add_map(static_cast<std::uint16_t>(obj::rpdo1_mapping + i), c.rpdo_map[i]);
+    add_map(static_cast<std::uint16_t>(obj::rpdo1_mapping + i), c.rpdo_map[i], config_.rpdo_mapping_rows[i]);
   }
   for (std::size_t i = 0; i < tpdos; ++i) {
     add_comm(static_cast<std::uint16_t>(obj::tpdo1_communication + i), c.tpdo_comm[i]);
   }
   for (std::size_t i = 0; i < tpdos; ++i) {
-    add_map(static_cast<std::uint16_t>(obj::tpdo1_mapping + i), c.tpdo_map[i]);
+    add_map(static_cast<std::uint16_t>(obj::tpdo1_mapping + i), c.tpdo_map[i], config_.tpdo_mapping_rows[i]);
   }
 
   // The load encoder at its manufacturer index, in index order around 0x2001 (the table is sorted).
@@ -237,7 +239,7 @@ std::span<const OdEntry> DriveNode::make_entries() noexcept {
   add(od_entry(obj::position_actual, 0, a.position_actual, A::ro, map));
   add(od_entry(obj::following_error_window, 0, a.following_error_window, A::rw));
   add(od_entry(obj::following_error_timeout, 0, a.following_error_timeout_ms, A::rw));
-  add(od_entry(obj::velocity_actual, 0, a.velocity_actual, A::ro, map));
+  if (config_.has_velocity_actual) add(od_entry(obj::velocity_actual, 0, a.velocity_actual, A::ro, map));
   add(od_entry(obj::target_position, 0, a.target_position, A::rw, map));
   add(od_entry(obj::software_position_limit, 0, a.position_limit_count, A::constant));
   add(od_entry(obj::software_position_limit, 1, a.position_limit_min, A::rw));
@@ -296,8 +298,10 @@ bool DriveNode::rpdo_active(std::size_t i) const noexcept {
 }
 
 bool DriveNode::tpdo_active(std::size_t i) const noexcept {
+  // CiA 301: a mapping whose sub 0 is 0 is disabled, and its PDO not sent (no empty frames).
   return i < config_.tpdo_count && i < drive_tpdo_capacity &&
-         (objects_.comm.tpdo_comm[i].cob_id & pdo_cob_invalid) == 0 && tpdo_[i].bound();
+         (objects_.comm.tpdo_comm[i].cob_id & pdo_cob_invalid) == 0 && tpdo_[i].bound() &&
+         objects_.comm.tpdo_map[i].count != 0;
 }
 
 void DriveNode::restore(bool application) noexcept {

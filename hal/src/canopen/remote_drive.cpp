@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "settle/hal/canopen/remote_drive.hpp"
 
+#include <bit>
+
 #include "settle/hal/canopen/nmt.hpp"
 
 namespace settle::hal::canopen {
@@ -150,11 +152,19 @@ void RemoteDrive::apply_layout() noexcept {
   default_layout_ = is_default_layout(l);
   status_pdo_ = l.statusword.pdo;
   second_pdo_ = 0;
+  period_tpdos_ = 0;
+  // A period's TPDOs are those carrying a value the master reads (feedback_tpdos); one a static
+  // mapping fills with other objects only (a manufacturer object in TPDO3) is no part of it.
   for (std::uint8_t n = 1; n <= layout_pdo_count; ++n) {
-    if (config_.pdo_setup != PdoSetup::read_static) tpdo_len_[n - 1U] = layout_pdo_length(l, false, n);
-    if (n != status_pdo_ && tpdo_len_[n - 1U] != 0 && second_pdo_ == 0) second_pdo_ = n;
+    const std::uint8_t read = layout_pdo_length(l, false, n);
+    if (config_.pdo_setup != PdoSetup::read_static) tpdo_len_[n - 1U] = read;
+    if (read == 0) continue;
+    period_tpdos_ = static_cast<std::uint8_t>(period_tpdos_ | (1U << (n - 1U)));
+    if (n != status_pdo_ && second_pdo_ == 0) second_pdo_ = n;
   }
-  period_tpdos_ = split_feedback_supported && feedback_split(l) ? feedback_tpdos(l) : 0;
+#if SETTLE_HAL_SPLIT_FEEDBACK
+  split_ = feedback_split(l);
+#endif
   const bool valid = is_valid_node(config_.node);
   const auto id = [&](std::uint8_t n) {
     return valid && n != 0 && n <= layout_pdo_count ? pdo_cob_id(false, n, config_.node) : ~std::uint32_t{0};
@@ -164,7 +174,6 @@ void RemoteDrive::apply_layout() noexcept {
   tpdo1_len_ = status_pdo_ != 0 && status_pdo_ <= layout_pdo_count ? tpdo_len_[status_pdo_ - 1U] : 0;
   tpdo2_len_ = second_pdo_ != 0 ? tpdo_len_[second_pdo_ - 1U] : 0;
   held_tpdos_ = 0;
-  held_count_ = 0;
 }
 
 inline void RemoteDrive::take_extra_feedback(const CanFrame& frame, std::uint8_t number) noexcept {
@@ -181,18 +190,15 @@ RemoteFrame RemoteDrive::take_period_tpdo(const CanFrame& frame, std::uint8_t nu
   // later TPDOs (this one begins the next period), or this one's period lacks its first.
   const unsigned bit = 1U << (number - 1U);
   const unsigned pending = period_tpdos_ & ~unsigned{held_tpdos_};
-  if ((period_tpdos_ & bit) == 0) return RemoteFrame::ignored;  // it carries nothing the master reads
   if (bit != (pending & (0U - pending))) {
-    feedback_.tpdos_dropped += held_count_;
+    feedback_.tpdos_dropped += static_cast<std::uint32_t>(std::popcount(held_tpdos_));
     held_tpdos_ = 0;
-    held_count_ = 0;
     if (bit != (period_tpdos_ & (0U - unsigned{period_tpdos_}))) {
       ++feedback_.tpdos_dropped;
       return RemoteFrame::dropped;
     }
   }
   held_tpdos_ = static_cast<std::uint8_t>(held_tpdos_ | bit);
-  ++held_count_;
   // The load position, velocity and following error as they come: the loop logs a period's sample
   // when its last TPDO is in, by which time each holds that period's value (a period dropped logs
   // none). The statusword and the position actual wait for their period, and are taken together.
@@ -202,8 +208,7 @@ RemoteFrame RemoteDrive::take_period_tpdo(const CanFrame& frame, std::uint8_t nu
   if (slot_carried(l.statusword, number, frame)) held_statusword_ = static_cast<std::uint16_t>(slot_value(l.statusword, frame));
   if (held_tpdos_ != period_tpdos_) return RemoteFrame::held;
   held_tpdos_ = 0;
-  held_count_ = 0;
-  ++feedback_.tpdo2_received;
+  ++feedback_.periods_complete;
   take_tpdo1(Tpdo1{held_statusword_, held_position_}, now_us);
   return RemoteFrame::tpdo2;
 }
@@ -211,7 +216,7 @@ RemoteFrame RemoteDrive::take_period_tpdo(const CanFrame& frame, std::uint8_t nu
 
 RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t number, std::uint64_t now_us) noexcept {
 #if SETTLE_HAL_SPLIT_FEEDBACK
-  if (period_tpdos_ != 0) return take_period_tpdo(frame, number, now_us);
+  if (split_) return take_period_tpdo(frame, number, now_us);
 #endif
   take_extra_feedback(frame, number);
   const ProcessDataLayout& l = config_.layout;
@@ -220,15 +225,23 @@ RemoteFrame RemoteDrive::take_layout_tpdo(const CanFrame& frame, std::uint8_t nu
     take_tpdo1(Tpdo1{static_cast<std::uint16_t>(slot_value(l.statusword, frame)),
                      static_cast<std::int32_t>(slot_value(l.position_actual, frame))},
                now_us);
-    // With no second feedback TPDO (a drive without 0x606C and no load position) this one is the
-    // whole period: say so as the period's last TPDO says it, or the loop would log no sample.
-    return second_pdo_ != 0 ? RemoteFrame::tpdo1 : RemoteFrame::tpdo2;
   }
-  ++feedback_.tpdo2_received;
+  // The period's last TPDO in PDO order (none of its TPDOs after it; the statusword's itself when
+  // it is the only one: a drive without 0x606C and no load position) completes it: the loop logs
+  // its sample then, once a period.
+  if ((period_tpdos_ >> number) != 0) return RemoteFrame::tpdo1;
+  ++feedback_.periods_complete;
   return RemoteFrame::tpdo2;
 }
 
 bool RemoteDrive::take_mapping_entry(const StartupStep& s, std::uint32_t value) noexcept {
+  if (map_sub_ == map_sub_cob_id) {
+    // The PDO's COB-ID first: one that does not exist (bit 31) is neither sent nor received, so
+    // nothing its mapping names is placed.
+    if ((value & pdo_cob_id_invalid) != 0) return true;
+    map_sub_ = 0;
+    return false;  // its mapping next
+  }
   const bool receive = s.index() < 0x1A00U;
   const auto number = static_cast<std::uint8_t>((s.index() & 0xFFU) + 1U);
   if (map_sub_ == 0) {
@@ -246,7 +259,7 @@ bool RemoteDrive::take_mapping_entry(const StartupStep& s, std::uint32_t value) 
     return false;  // the next entry
   }
   if (!receive) tpdo_len_[number - 1U] = map_bytes_;
-  map_sub_ = 0;
+  map_sub_ = map_sub_cob_id;
   return true;
 }
 
@@ -288,9 +301,8 @@ void RemoteDrive::start(std::uint64_t now_us, FrameSink& out) noexcept {
   retried_ = false;
   operational_seen_ = false;
   limits_ = RemoteDriveLimits{};
-  map_sub_ = 0;
+  map_sub_ = map_sub_cob_id;
   held_tpdos_ = 0;  // a period begun before start-up is not completed after it
-  held_count_ = 0;
   if (plan_too_long_ || layout_unusable_) {
     failure_.error = plan_too_long_ ? StartupError::plan_too_long : StartupError::bad_layout;
     fail(now_us);
@@ -315,7 +327,11 @@ void RemoteDrive::next_step(std::uint64_t now_us, FrameSink& out) noexcept {
     return;
   }
   const StartupStep& s = steps_[step_];
-  step_sent_ = s.action() == StartupAction::read_mapping ? sdo_.upload(s.index(), map_sub_, now_us, out)
+  // read_mapping: the communication object's COB-ID (0x1400/0x1800 + n - 1, sub 1), then the mapping.
+  const bool cob_id = map_sub_ == map_sub_cob_id;
+  step_sent_ = s.action() == StartupAction::read_mapping
+                   ? sdo_.upload(static_cast<std::uint16_t>(s.index() - (cob_id ? 0x200U : 0U)), cob_id ? 1 : map_sub_,
+                                 now_us, out)
                : s.action() != StartupAction::write || verifying_
                    ? sdo_.upload(s.index(), s.sub(), now_us, out)
                    : sdo_.download(s.index(), s.sub(), s.value() & s.mask(), s.size(), now_us, out);
@@ -473,8 +489,9 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
       // The layout's first two TPDOs took on_frame's inline path when valid; a third or fourth
       // comes here.
       const auto n = static_cast<std::uint8_t>(((frame.id & 0x780U) - cob::tpdo1) / 0x100U + 1U);
-      if (!default_layout_ && n != status_pdo_ && n != second_pdo_ && tpdo_len_[n - 1U] != 0 &&
-          frame.len == tpdo_len_[n - 1U]) {
+      // (The two taken inline, and every TPDO of the default layout, are here only with another
+      // length than theirs: refused by the length.)
+      if (((period_tpdos_ >> (n - 1U)) & 1U) != 0 && frame.len == tpdo_len_[n - 1U]) {
         return take_layout_tpdo(frame, n, now_us);
       }
       return RemoteFrame::ignored;
@@ -493,6 +510,7 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
   const bool absent = r.abort == SdoAbort::no_object || r.abort == SdoAbort::no_sub_index;
   if (r.status == SdoClientStatus::aborted && s.optional() && absent) {
     ++step_;  // an optional object the drive does not have: the default stays
+    map_sub_ = map_sub_cob_id;
   } else if (r.status != SdoClientStatus::done) {
     fail_step(r, StartupError::sdo_aborted, now_us);
     return RemoteFrame::sdo;

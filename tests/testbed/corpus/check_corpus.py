@@ -32,13 +32,17 @@ EXPECTED = {
     "11_velocity_in_tpdo1.eds": (1, "dynamic", []),
     "12_load_at_2100.eds": (1, "dynamic", []),
     "13_static_split_feedback.eds": (1, "static (read and checked)", []),
+    "14_one_feedback_tpdo.eds": (1, "static (read and checked)", []),
 }
 # Refused by drive config (exit 1) and stream, with this reason (none in the corpus now).
 REFUSED = {}
 # Where drive config reads the feedback from, when a static mapping splits it: the statusword (and
 # velocity actual) in TPDO1, the position actual in TPDO2; the master takes a period's values
 # only once both TPDOs of that period have arrived.
-PLACED = {"13_static_split_feedback.eds": {"0x6041:0": "TPDO1", "0x606C:0": "TPDO1", "0x6064:0": "TPDO2"}}
+# The whole feedback in one TPDO (the statusword and the position actual in TPDO1, TPDO2 mapping
+# nothing): each period is complete with TPDO1 alone.
+PLACED = {"13_static_split_feedback.eds": {"0x6041:0": "TPDO1", "0x606C:0": "TPDO1", "0x6064:0": "TPDO2"},
+          "14_one_feedback_tpdo.eds": {"0x6041:0": "TPDO1", "0x6064:0": "TPDO1"}}
 # The default mapping entries the master rewrites (object: (before, after)), and where it puts
 # the feedback: velocity actual leaves TPDO1 for TPDO2, position joins the statusword in TPDO1.
 REMAPPED = {"11_velocity_in_tpdo1.eds": ({"0x1A00:2": (0x606C0020, 0x60640020), "0x1A01:1": (0x60640020, 0x606C0020)},

@@ -4,7 +4,8 @@
 (hex booleans as the Python canopen library exports them, CRLF and lower-case keys, a
 manufacturer section of 1200 objects, RECORDs typed by their sub-objects, REAL limits, a DCF with
 ParameterValue and NodeID, no 0x1006, no 0x60C2, no load position, static and dynamic mappings,
-two RPDOs, long descriptions, velocity in TPDO1, a load encoder at the vendor's own index). Each is one of Settle's simulated drives (hal/eds) re-described,
+two RPDOs, long descriptions, velocity in TPDO1, a load encoder at the vendor's own index, the whole
+feedback in one TPDO). Each is one of Settle's simulated drives (hal/eds) re-described,
 so that `settle stream --bus loopback --eds F` can simulate the drive the file describes; none is
 a copy of a public file. Run from anywhere: python3 make_corpus.py (check_corpus.py checks them).
 With --check it writes them into a temporary folder instead and exits 1 unless they equal the
@@ -195,6 +196,13 @@ load = [("2100", [("ParameterName", "Load encoder"), ("ObjectType", "0x9"), ("Su
 write("12_load_at_2100.eds", with_manufacturer(vendor(dynamic, "Second Encoder", "SE-1"), load, ["0x2100"]),
       [HDR[0] % "a load encoder at 0x2100:01, named by the user"])
 write("13_static_split_feedback.eds", split_static, [HDR[0] % "velocity in TPDO1, position in TPDO2 (static)"])
+# 14. The whole feedback in one TPDO: statusword + position actual in TPDO1 (static), no 0x606C and
+# no load position, TPDO2 described but mapping nothing (sub 0 = 0, its one entry unused: 0).
+one_tpdo = vendor(settle, "One Feedback", "OF-1", drop=["606C"])
+one_tpdo = set_key(one_tpdo, "1A01sub0", "DefaultValue", "0")
+one_tpdo = set_key(one_tpdo, "1A01sub1", "ParameterName", "Mapping entry 1 (unused)")
+one_tpdo = set_key(one_tpdo, "1A01sub1", "DefaultValue", "0x00000000")
+write("14_one_feedback_tpdo.eds", one_tpdo, [HDR[0] % "statusword and position in TPDO1 alone, TPDO2 maps nothing (static)"])
 
 
 def descriptions(folder):

@@ -187,6 +187,7 @@ struct DriveNodeConfig {
   // Optional objects: absent ones are not in the dictionary (SDO abort 0x06020000).
   bool has_interpolation_period{true};       // 0x60C2 (absent: the step limit uses 0x1006 alone)
   bool has_following_error_actual{true};     // 0x60F4
+  bool has_velocity_actual{true};            // 0x606C (absent: the drive reports no velocity)
   bool has_load_position{true};              // 0x2000, the load encoder (absent: the drive reports no load)
   // Where the load encoder is: 0x2000:0 on Settle's drive; another vendor's manufacturer object
   // (0x2000 or 0x2002..0x5FFF, any sub), where its description puts it. Any other index keeps 0x2000:0.
@@ -203,6 +204,10 @@ struct DriveNodeConfig {
   // Their defaults: COB-ID (see default_drive_rpdos), transmission type and mapping.
   std::array<PdoMapping, drive_rpdo_capacity> rpdos{default_drive_rpdos()};
   std::array<PdoMapping, drive_tpdo_capacity> tpdos{default_drive_tpdos()};
+  // A static mapping object's sub-indices 1..n: its mapped entries, or more where a description
+  // lists entries past its count (unused: served read-only with the values `entries` holds there).
+  std::array<std::uint8_t, drive_rpdo_capacity> rpdo_mapping_rows{};
+  std::array<std::uint8_t, drive_tpdo_capacity> tpdo_mapping_rows{};
   // The clock the step window measures periods in (step_window.hpp): when the axis moves. A
   // drive that moves its axis as it processes a SYNC (firmware) uses the time it processes it.
   // A simulated axis that advances one period per SYNC (sim's PlantNode) lives in SYNC time:

@@ -103,7 +103,8 @@ struct RemoteDriveLimits {
 //          fails start-up (wrong_value naming the object), so a drive that ignores a write is caught;
 //   check  upload and compare the low `size` bytes with `value`;
 //   read   upload and keep the value in a field of RemoteDriveLimits;
-//   read_mapping  upload a PDO mapping object's sub 0 and its entries, and place what they map
+//   read_mapping  upload a PDO's COB-ID (communication object sub 1) and, unless bit 31 says the
+//          PDO does not exist, its mapping object's sub 0 and entries, and place what they map
 //          into the layout (PdoSetup::read_static).
 // An optional step is skipped when the drive has no such object (abort 0x06020000/0x06090011).
 // A COB-ID write compares its read-back without bit 30 (a drive may set "no RTR" by itself).
@@ -257,10 +258,11 @@ enum class RemoteFrame : std::uint8_t {
   nmt,        // another node's NMT command that took this drive out of operational
   heartbeat,  // this drive's heartbeat or boot-up
   emcy,
-  tpdo1,      // the TPDO with the statusword + position actual: feedback() updated
-  tpdo2,      // another TPDO of the layout (load position, velocity, following error): feedback() updated;
-              // under split feedback (feedback_split), the period's last TPDO: the whole period taken;
-              // and the statusword's TPDO when it is the layout's only feedback TPDO (the whole period)
+  tpdo1,      // a TPDO of the layout before its period's last (Settle's TPDO1: statusword + position
+              // actual): feedback() updated
+  tpdo2,      // the period's last TPDO (Settle's TPDO2; the statusword's when it is the layout's only
+              // feedback TPDO; under split feedback, feedback_split, the whole period taken): feedback()
+              // updated, the period complete. A TPDO carrying nothing the master reads is ignored.
   sdo,        // an SDO response (used while configuring)
   // Split feedback: one period's values come in several TPDOs, which the drive sends on the same
   // SYNC in PDO order (TPDO1 before TPDO2: also their priority on the bus). Each is held until the
@@ -277,7 +279,9 @@ struct RemoteFeedback {
   std::int32_t velocity_actual{0};
   std::int32_t following_error{0};  // 0x60F4, when the layout maps it
   std::uint64_t tpdo1_received{0};
-  std::uint64_t tpdo2_received{0};
+  // Periods whose last TPDO came (in every layout: Settle's TPDO2; the statusword's TPDO when it is
+  // the only feedback TPDO; under split feedback, periods taken whole): the loop logs one sample each.
+  std::uint64_t periods_complete{0};
   std::uint64_t tpdo1_time_us{0};  // when the latest TPDO1 was taken (the caller's time)
   // Split feedback: TPDOs of periods that never came complete (held ones, and ones whose period's
   // earlier TPDO was missing), dropped rather than mixed with another period's.
@@ -316,7 +320,7 @@ class RemoteDrive {
         const Tpdo2 p = tpdo2_fields(frame);
         feedback_.load_position = p.load_position;
         feedback_.velocity_actual = p.velocity_actual;
-        ++feedback_.tpdo2_received;
+        ++feedback_.periods_complete;
         return RemoteFrame::tpdo2;
       }
       if (frame.id == heartbeat_id_ && frame.len == 1) return on_heartbeat(frame.data[0], now_us, out);
@@ -416,16 +420,17 @@ class RemoteDrive {
   std::uint8_t second_pdo_{2};
   bool default_layout_{true};                  // the inline codecs of default_mapping.hpp apply
   std::array<std::uint8_t, layout_pdo_count> tpdo_len_{};  // bytes each TPDO carries (0 = unused)
-  // Split feedback (feedback_split): the TPDOs one period's values come in (bit n - 1 for TPDO n;
-  // 0 when the statusword and the position actual share a TPDO), those held of the current
-  // period (and how many), and the statusword and position actual last taken, held until their
-  // period is complete.
+  // The TPDOs one period's values come in (bit n - 1 for TPDO n: feedback_tpdos). Split feedback
+  // (feedback_split): those held of the current period, and the statusword and position actual
+  // last taken, held until their period is complete.
   std::uint8_t period_tpdos_{0};
+  bool split_{false};  // feedback_split (never set where split feedback is left out)
   std::uint8_t held_tpdos_{0};
-  std::uint8_t held_count_{0};
   std::uint16_t held_statusword_{0};
   std::int32_t held_position_{0};
-  // read_mapping's progress through a mapping object.
+  // read_mapping's progress through a PDO (from start()): its COB-ID (map_sub_cob_id), then its
+  // mapping object's sub 0 and entries.
+  static constexpr std::uint8_t map_sub_cob_id = 0xFF;
   std::uint8_t map_sub_{0};
   std::uint8_t map_count_{0};
   std::uint8_t map_bytes_{0};
