@@ -207,16 +207,11 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;  // unweighted column, row-scaled
     rhs[i] /= nn;
   }
-  // The weighted rows (row i times sqrt(w)), from which the Gram matrix is built and downdated.
-  std::array<std::array<double, n>, kMaxRows> wrow;  // NOLINT: rows [0, rows) are set here
-  for (std::size_t i = 0; i < rows; ++i) {
-    for (std::size_t k = 0; k < n; ++k) wrow[i][k] = mat[i][k] * sw[k];
-  }
   Gram gram{};
   for (std::size_t i = 0; i < rows; ++i) {
     for (std::size_t l = 0; l <= i; ++l) {
       double s = 0.0;
-      for (std::size_t k = 0; k < n; ++k) s += wrow[i][k] * wrow[l][k];
+      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k] * sw[k] * sw[k];
       gram[i][l] = gram[l][i] = s;
     }
   }
@@ -238,22 +233,19 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
         for (std::size_t i = 0; i < rows; ++i) s += mat[i][k] * y[i];
         x[k] += s * sw[k] * sw[k];
       }
-      double worst = 0.0;
+      double worst = 0.0, xn = 0.0;
+      for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) / (sw[k] > 0.0 ? sw[k] : 1.0));
       for (std::size_t i = 0; i < rows; ++i) {
         double s = 0.0;
         for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * x[k];
         res[i] = rhs[i] - s;
         worst = std::max(worst, std::fabs(res[i]));
       }
-      if (pass == 1) {
-        double xn = 0.0;  // the solution's size in the unknowns' own scale
-        for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) / (sw[k] > 0.0 ? sw[k] : 1.0));
-        if (worst > 1e-12 * std::max(rhs_norm, xn)) return false;
-      }
+      if (pass == 1 && worst > 1e-12 * std::max(rhs_norm, xn)) return false;
     }
     bool pinned = false;
     double jpk = 0.0;
-    for (std::size_t k = 0; k < n; ++k) jpk = std::max(jpk, std::fabs(ref[k] + x[k]));
+    for (std::size_t k = 0; k < n; ++k) jpk = std::fmax(jpk, std::fabs(ref[k] + x[k]));
     if (jpk > kPinOvershoot * jmax) pins = pin;
     for (std::size_t k = 0; k < n; ++k) {
       jerk[k] = ref[k] + x[k];
@@ -264,9 +256,8 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
         const double to = std::copysign(jmax, jerk[k]);
         for (std::size_t i = 0; i < rows; ++i) {
           rhs[i] -= mat[i][k] * (to - ref[k]);
-          for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= wrow[i][k] * wrow[l][k];
+          for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
         }
-        for (std::size_t i = 0; i < rows; ++i) wrow[i][k] = 0.0;
         ref[k] = to;
         sw[k] = 0.0;
         pinned = true;
