@@ -8,12 +8,16 @@
 
 namespace settle::core {
 
-Status check_limits(const MoveRequest& r, const Peaks<double>& pk) noexcept {
+Status check_limits(const OptionalLimits& l, const Peaks<double>& pk) noexcept {
   // Written so that a NaN peak is refused, never taken as within.
-  if (r.vmax && !(pk.v <= *r.vmax * (1.0 + kLimitSlack))) return Status::velocity_limit_exceeded;
-  if (r.amax && !(pk.a <= *r.amax * (1.0 + kLimitSlack))) return Status::acceleration_limit_exceeded;
-  if (r.jmax && !(pk.j <= *r.jmax * (1.0 + kLimitSlack))) return Status::jerk_limit_exceeded;
+  if (l.vmax && !(pk.v <= *l.vmax * (1.0 + kLimitSlack))) return Status::velocity_limit_exceeded;
+  if (l.amax && !(pk.a <= *l.amax * (1.0 + kLimitSlack))) return Status::acceleration_limit_exceeded;
+  if (l.jmax && !(pk.j <= *l.jmax * (1.0 + kLimitSlack))) return Status::jerk_limit_exceeded;
   return Status::ok;
+}
+
+Status check_limits(const MoveRequest& r, const Peaks<double>& pk) noexcept {
+  return check_limits(OptionalLimits{r.vmax, r.amax, r.jmax}, pk);
 }
 
 namespace {
