@@ -138,9 +138,9 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
   }
   r.distance = *distance;
   r.time = a.real("--time");
-  r.vmax = a.real("--vmax");
-  r.amax = a.real("--amax");
-  r.jmax = a.real("--jmax");
+  r.limits.vmax = a.real("--vmax");
+  r.limits.amax = a.real("--amax");
+  r.limits.jmax = a.real("--jmax");
   const char* option = nullptr;
   std::string message;
   if (!plant::set_design_modes(a.reals("--omega"), a.reals("--zeta"), r, option, message)) {
@@ -195,9 +195,9 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
   // shaper design for no mode, the coordination shapes each axis for its own mode (ZV, or the
   // request's shaper: core::plan_axes), so --omega and --zeta are used then.
   core::MoveRequest probe = r.base;
-  probe.vmax = vmax ? std::optional<double>{vmax->front()} : std::nullopt;
-  probe.amax = amax ? std::optional<double>{amax->front()} : std::nullopt;
-  probe.jmax = jmax ? std::optional<double>{jmax->front()} : std::nullopt;
+  probe.limits.vmax = vmax ? std::optional<double>{vmax->front()} : std::nullopt;
+  probe.limits.amax = amax ? std::optional<double>{amax->front()} : std::nullopt;
+  probe.limits.jmax = jmax ? std::optional<double>{jmax->front()} : std::nullopt;
   probe.mode_count = 0;
   const core::ParamSet coordination =
       core::needs_mode(probe) ? core::ParamSet{} : core::ParamSet{core::Param::omega, core::Param::zeta};
@@ -239,7 +239,7 @@ bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestErr
   // limit, before the planner (which, fed a denormal, fails in ways that name another option).
   if (!req.time) {
     double bound = 0.0;
-    const char* limit = binding_limit(req.distance, req.vmax, req.amax, req.jmax, "--vmax", &bound);
+    const char* limit = binding_limit(req.distance, req.limits.vmax, req.limits.amax, req.limits.jmax, "--vmax", &bound);
     if (!(bound <= kMaxSeconds)) {
       err = {"too_long", limit,
              std::string{limit} + ": a move of " + format_number(req.distance) + " within this limit lasts at least " +
@@ -255,7 +255,7 @@ bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestErr
   }
   // What the options allow can still plan into a move too long or too extreme to report:
   // refuse it here, before anything is printed or sized from it.
-  const char* main = req.time ? "--time" : binding_limit(req.distance, req.vmax, req.amax, req.jmax, "--distance");
+  const char* main = req.time ? "--time" : binding_limit(req.distance, req.limits.vmax, req.limits.amax, req.limits.jmax, "--distance");
   if (!std::isfinite(out.duration()) || !std::isfinite(out.distance())) {
     err = {"non_finite_result", main, std::string{main} + ": the planned move is not finite"};
     return false;

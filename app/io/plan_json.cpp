@@ -95,9 +95,9 @@ Json request_json(const core::MoveRequest& r) {
   j["profile"] = core::to_string(r.profile);
   j["distance"] = r.distance;
   if (r.time) j["time"] = *r.time;
-  if (r.vmax) j["vmax"] = *r.vmax;
-  if (r.amax) j["amax"] = *r.amax;
-  if (r.jmax) j["jmax"] = *r.jmax;
+  if (r.limits.vmax) j["vmax"] = *r.limits.vmax;
+  if (r.limits.amax) j["amax"] = *r.limits.amax;
+  if (r.limits.jmax) j["jmax"] = *r.limits.jmax;
   // One list of the modes the move is designed for, in order, each with its omega and zeta (read
   // back by request_modes, below); none: no "modes".
   if (r.has_mode()) {
@@ -301,8 +301,8 @@ bool load_plan_file(const std::string& path, const std::string& option, core::Mo
   };
   std::optional<double> distance;
   for (auto [key, to, required] : {std::tuple{"distance", &distance, true}, std::tuple{"time", &r.time, false},
-                                   std::tuple{"vmax", &r.vmax, false}, std::tuple{"amax", &r.amax, false},
-                                   std::tuple{"jmax", &r.jmax, false}}) {
+                                   std::tuple{"vmax", &r.limits.vmax, false}, std::tuple{"amax", &r.limits.amax, false},
+                                   std::tuple{"jmax", &r.limits.jmax, false}}) {
     if (!number(key, *to, required)) return bad(std::string{"request."} + key + " is missing or not a finite number");
   }
   r.distance = *distance;

@@ -49,9 +49,9 @@ void BM_PlanThreeSingleAxes(benchmark::State& state, ProfileKind k) {
     q[i] = r.base;
     q[i].shaper = k == ProfileKind::jerk_limited ? ShaperKind::zv : ShaperKind::none;
     q[i].distance = r.axes[i].distance;
-    q[i].vmax = r.axes[i].vmax;
-    q[i].amax = r.axes[i].amax;
-    q[i].jmax = r.axes[i].jmax;
+    q[i].limits.vmax = r.axes[i].vmax;
+    q[i].limits.amax = r.axes[i].amax;
+    q[i].limits.jmax = r.axes[i].jmax;
     q[i].mode_count = 0;
     if (r.axes[i].omega) q[i].set_mode(*r.axes[i].omega, r.axes[i].zeta);
   }

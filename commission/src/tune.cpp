@@ -316,13 +316,11 @@ core::Status plan_profile(core::MoveRequest& req_io, const TuneMove& mv, core::M
   if (mv.vmax) t_lo = std::max(t_lo, d / *mv.vmax);
   if (mv.amax) t_lo = std::max(t_lo, 2.0 * std::sqrt(d / *mv.amax));
   if (mv.jmax) t_lo = std::max(t_lo, std::cbrt(32.0 * d / *mv.jmax));
-  req.vmax.reset();
-  req.amax.reset();
-  req.jmax.reset();
+  req.limits = {};
   core::Move<double> found{};
   auto ok_at = [&](double t, core::Move<double>& m) {
     req.time = t;
-    return core::plan(req, m) == core::Status::ok && core::check_limits(req_io, m.peaks()) == core::Status::ok;
+    return core::plan(req, m) == core::Status::ok && core::check_limits(req_io.limits, m.peaks()) == core::Status::ok;
   };
   double t_hi = std::max(t_lo, 1e-6);
   int doublings = 0;
@@ -466,9 +464,9 @@ void plan_design(core::ProfileKind kind, core::ShaperKind sk, std::size_t v, con
   r.profile = kind;
   r.distance = mv.distance;
   r.time = mv.time;
-  r.vmax = mv.vmax;
-  r.amax = mv.amax;
-  r.jmax = mv.jmax;
+  r.limits.vmax = mv.vmax;
+  r.limits.amax = mv.amax;
+  r.limits.jmax = mv.jmax;
   // A profile that designs for a mode takes the fundamental; `fastest` takes every mode (up
   // to its kMaxModes), as `settle plan --profile fastest` does, by the same rules.
   const bool every_mode = kind == core::ProfileKind::fastest && c.design_omega.size() <= core::kMaxModes;
@@ -482,7 +480,7 @@ void plan_design(core::ProfileKind kind, core::ShaperKind sk, std::size_t v, con
   if (c.retuned && sk == core::ShaperKind::none && !core::needs_mode(r)) return;
   c.name = std::string{core::to_string(kind)} + (sk == core::ShaperKind::none ? "" : "+") +
            (sk == core::ShaperKind::none ? "" : core::to_string(sk)) + (c.retuned ? "@retuned" : "");
-  const core::MoveRequest limited = r;  // the move's limits (a time-searched request drops them)
+  const core::OptionalLimits limited = r.limits;  // the move's limits (a time-searched request drops them)
   core::Move<double> bare{};
   core::Status st = plan_profile(r, mv, bare, c.time_searched);
   c.request = r;

@@ -100,9 +100,9 @@ Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, 
   p.distance = moving ? scale : 0.0;
   std::size_t who_v = kMaxAxes, who_a = kMaxAxes, who_j = kMaxAxes;
   const auto scaled = [&](std::optional<double> l) { return l ? std::optional<double>{*l * std::fabs(scale)} : l; };
-  p.vmax = scaled(path_limit(r, &AxisSpec::vmax, who_v));
-  p.amax = scaled(path_limit(r, &AxisSpec::amax, who_a));
-  p.jmax = scaled(path_limit(r, &AxisSpec::jmax, who_j));
+  p.limits.vmax = scaled(path_limit(r, &AxisSpec::vmax, who_v));
+  p.limits.amax = scaled(path_limit(r, &AxisSpec::amax, who_a));
+  p.limits.jmax = scaled(path_limit(r, &AxisSpec::jmax, who_j));
   // The first mode is the request's own: its shaper's and, when the profile designs for a mode,
   // the profile's; `fastest` takes the further ones too.
   std::size_t covered = 0;
@@ -131,7 +131,7 @@ Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, 
       case Status::jerk_limit_exceeded: culprit = who_j; break;
       case Status::non_positive_limit:
       case Status::non_finite_input:
-        culprit = bad(p.vmax) ? who_v : bad(p.amax) ? who_a : bad(p.jmax) ? who_j : kMaxAxes;
+        culprit = bad(p.limits.vmax) ? who_v : bad(p.limits.amax) ? who_a : bad(p.limits.jmax) ? who_j : kMaxAxes;
         break;
       default: culprit = kMaxAxes;
     }
@@ -147,9 +147,9 @@ MoveRequest axis_request(const MultiAxisRequest& r, std::size_t i) noexcept {
   MoveRequest q = r.base;
   const AxisSpec& a = r.axes[i];
   q.distance = a.distance;
-  q.vmax = a.vmax;
-  q.amax = a.amax;
-  q.jmax = a.jmax;
+  q.limits.vmax = a.vmax;
+  q.limits.amax = a.amax;
+  q.limits.jmax = a.jmax;
   q.mode_count = 0;
   if (a.omega) q.set_mode(*a.omega, a.zeta);
   return q;

@@ -292,7 +292,7 @@ TEST(Tune, AProfileWhosePlannerRefusesTheLimitsGetsTheShortestTimeWithinThem) {
     ++searched;
     EXPECT_LE(c.move.peaks().a, 2.0 * (1 + 1e-9)) << c.name;
     ASSERT_TRUE(c.request.time.has_value());
-    EXPECT_FALSE(c.request.amax.has_value());
+    EXPECT_FALSE(c.request.limits.amax.has_value());
     // The request re-plans the same profile, and 0.1 % less time breaks the limit: the shortest.
     core::Move<double> again, shorter;
     ASSERT_EQ(core::plan(c.request, again), core::Status::ok);

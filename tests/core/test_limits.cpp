@@ -28,18 +28,30 @@ TEST(Limits, CheckLimitsNamesTheFirstLimitExceeded) {
   EXPECT_FALSE(core::within_limits(nan_a, core::Limits{1.0, 10.0, 100.0}));
 }
 
+// What plan() refuses a move for (and the tuner a shaped candidate): each absent limit does not
+// bind, the slack admits a plan that touches a limit, the first exceeded is named (velocity,
+// acceleration, jerk), and a NaN peak is refused where its limit is given.
 TEST(Limits, OptionalLimitsCheckOnlyTheGivenOnes) {
+  core::OptionalLimits l{};
   const core::Peaks<double> pk{1.0, 10.0, 100.0};
-  EXPECT_EQ(core::check_limits(core::OptionalLimits{}, pk), Status::ok);
-  EXPECT_EQ(core::check_limits(core::OptionalLimits{.vmax = {}, .amax = {}, .jmax = 99.0}, pk),
-            Status::jerk_limit_exceeded);
-  EXPECT_EQ(core::check_limits(core::OptionalLimits{.vmax = 0.5, .amax = {}, .jmax = {}}, pk),
-            Status::velocity_limit_exceeded);
-  // A NaN peak under an absent limit is not tested; under a given one it is refused.
+  EXPECT_EQ(core::check_limits(l, pk), Status::ok);
+  l = {.vmax = 1.0, .amax = 10.0, .jmax = 100.0};
+  EXPECT_EQ(core::check_limits(l, pk), Status::ok);
+  l.jmax = 99.0;
+  EXPECT_EQ(core::check_limits(l, pk), Status::jerk_limit_exceeded);
+  l.amax = 9.0;
+  EXPECT_EQ(core::check_limits(l, pk), Status::acceleration_limit_exceeded);
+  l.vmax = 0.5;
+  EXPECT_EQ(core::check_limits(l, pk), Status::velocity_limit_exceeded);
+  l.vmax = 1.0 - 1e-12;  // within the slack
+  l.amax.reset();
+  l.jmax.reset();
+  EXPECT_EQ(core::check_limits(l, pk), Status::ok);
   const core::Peaks<double> nan_v{std::nan(""), 10.0, 100.0};
-  EXPECT_EQ(core::check_limits(core::OptionalLimits{.vmax = {}, .amax = 10.0, .jmax = 100.0}, nan_v), Status::ok);
-  EXPECT_EQ(core::check_limits(core::OptionalLimits{.vmax = 2.0, .amax = {}, .jmax = {}}, nan_v),
-            Status::velocity_limit_exceeded);
+  EXPECT_EQ(core::check_limits(l, nan_v), Status::velocity_limit_exceeded);
+  l.vmax.reset();
+  l.amax = 10.0;
+  EXPECT_EQ(core::check_limits(l, nan_v), Status::ok);
 }
 
 TEST(Limits, OptionalLimitsResolveScaleAndConvert) {

@@ -218,9 +218,9 @@ TEST(MultiAxis, TimeSyncStretchesEveryAxisToTheSlowestWithItsOwnModeAtRest) {
       core::MoveRequest q = r.base;
       if (sh == core::ShaperKind::none) q.shaper = core::ShaperKind::zv;
       q.distance = r.axes[i].distance;
-      q.vmax = r.axes[i].vmax;
-      q.amax = r.axes[i].amax;
-      q.jmax = r.axes[i].jmax;
+      q.limits.vmax = r.axes[i].vmax;
+      q.limits.amax = r.axes[i].amax;
+      q.limits.jmax = r.axes[i].jmax;
       q.mode_count = 0;
       if (r.axes[i].omega) q.set_mode(*r.axes[i].omega, r.axes[i].zeta);
       core::Move<double> m{};
@@ -306,9 +306,9 @@ TEST(MultiAxis, OneAxisIsTheSingleAxisPlan) {
   core::MoveRequest q{};
   q.profile = ProfileKind::scurve;
   q.distance = r.axes[0].distance;
-  q.vmax = r.axes[0].vmax;
-  q.amax = r.axes[0].amax;
-  q.jmax = r.axes[0].jmax;
+  q.limits.vmax = r.axes[0].vmax;
+  q.limits.amax = r.axes[0].amax;
+  q.limits.jmax = r.axes[0].jmax;
   if (r.axes[0].omega) q.set_mode(*r.axes[0].omega);
   core::Move<double> m{};
   ASSERT_EQ(core::plan(q, m), Status::ok);
