@@ -183,9 +183,9 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
   for (std::size_t i = 0; i < r.count; ++i) {
     core::AxisSpec& x = r.axes[i];
     x.distance = (*d)[i];
-    if (vmax) x.vmax = (*vmax)[i];
-    if (amax) x.amax = (*amax)[i];
-    if (jmax) x.jmax = (*jmax)[i];
+    if (vmax) x.limits.vmax = (*vmax)[i];
+    if (amax) x.limits.amax = (*amax)[i];
+    if (jmax) x.limits.jmax = (*jmax)[i];
     if (omega) x.omega = (*omega)[i];
     if (zeta) x.zeta = (*zeta)[i];
   }

@@ -261,9 +261,9 @@ bool three_axes(Gen& g, std::size_t k, std::array<Axis, 3>& ax) {
   for (std::size_t i = 0; i < 3; ++i) {
     core::AxisSpec& a = r.axes[i];
     a.distance = g.logu(0.02, 0.5) * (g.uni(0, 1) < 0.5 ? -1 : 1);
-    a.vmax = g.logu(0.5, 2.0);
-    a.amax = *a.vmax * g.logu(4.0, 40.0);
-    a.jmax = *a.amax * g.logu(10.0, 80.0);
+    a.limits.vmax = g.logu(0.5, 2.0);
+    a.limits.amax = *a.limits.vmax * g.logu(4.0, 40.0);
+    a.limits.jmax = *a.limits.amax * g.logu(10.0, 80.0);
     a.omega = m[i].omega;
     a.zeta = m[i].zeta;
   }
