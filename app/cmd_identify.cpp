@@ -61,7 +61,7 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   // A limit so small that the move cannot fit the excitation's 600 s is that limit's fault (the
   // planner, fed a denormal, fails in ways that would name another option).
   double bound = 0.0;
-  const char* binding = binding_limit(ex.distance, ex.limits.vmax, ex.limits.amax, ex.limits.jmax, "--vmax", &bound);
+  const char* binding = binding_limit(ex.distance, core::as_optional(ex.limits), "--vmax", &bound);
   if (!(bound <= 600.0)) {
     return report_bad_request({"too_long", binding,
                                std::string{binding} + ": the excitation's move lasts at least " + format_number(bound) +

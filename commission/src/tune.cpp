@@ -313,9 +313,9 @@ core::Status plan_profile(core::MoveRequest& req_io, const TuneMove& mv, core::M
   const core::Status own = st;
   const double d = std::fabs(mv.distance);
   double t_lo = 0.0;  // no rest-to-rest move of d is faster than these bounds
-  if (mv.vmax) t_lo = std::max(t_lo, d / *mv.vmax);
-  if (mv.amax) t_lo = std::max(t_lo, 2.0 * std::sqrt(d / *mv.amax));
-  if (mv.jmax) t_lo = std::max(t_lo, std::cbrt(32.0 * d / *mv.jmax));
+  if (mv.limits.vmax) t_lo = std::max(t_lo, d / *mv.limits.vmax);
+  if (mv.limits.amax) t_lo = std::max(t_lo, 2.0 * std::sqrt(d / *mv.limits.amax));
+  if (mv.limits.jmax) t_lo = std::max(t_lo, std::cbrt(32.0 * d / *mv.limits.jmax));
   req.limits = {};
   core::Move<double> found{};
   auto ok_at = [&](double t, core::Move<double>& m) {
@@ -429,8 +429,9 @@ TuneStatus tune_input_status(const std::vector<UncertainMode>& modes_in, const T
     if (!valid_band(m)) return TuneStatus::bad_band;
   }
   const auto positive = [](const std::optional<double>& x) { return !x || (*x > 0.0 && std::isfinite(*x)); };
-  if (!(mv.distance != 0.0) || !std::isfinite(mv.distance) || !positive(mv.time) || !positive(mv.vmax) ||
-      !positive(mv.amax) || !positive(mv.jmax) || (!mv.time && !mv.vmax && !mv.amax && !mv.jmax)) {
+  if (!(mv.distance != 0.0) || !std::isfinite(mv.distance) || !positive(mv.time) ||
+      !positive(mv.limits.vmax) || !positive(mv.limits.amax) || !positive(mv.limits.jmax) ||
+      (!mv.time && !mv.limits.any())) {
     return TuneStatus::bad_move;
   }
   if (!(opt.residual_max > 0.0 && opt.residual_max < 1.0)) return TuneStatus::bad_residual_max;
@@ -464,9 +465,7 @@ void plan_design(core::ProfileKind kind, core::ShaperKind sk, std::size_t v, con
   r.profile = kind;
   r.distance = mv.distance;
   r.time = mv.time;
-  r.limits.vmax = mv.vmax;
-  r.limits.amax = mv.amax;
-  r.limits.jmax = mv.jmax;
+  r.limits = mv.limits;
   // A profile that designs for a mode takes the fundamental; `fastest` takes every mode (up
   // to its kMaxModes), as `settle plan --profile fastest` does, by the same rules.
   const bool every_mode = kind == core::ProfileKind::fastest && c.design_omega.size() <= core::kMaxModes;

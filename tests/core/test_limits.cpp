@@ -60,6 +60,9 @@ TEST(Limits, OptionalLimitsResolveScaleAndConvert) {
   EXPECT_EQ(r.vmax, 2.0);
   EXPECT_EQ(r.amax, 10.0);
   EXPECT_EQ(r.jmax, 300.0);
+  EXPECT_TRUE(some.any());
+  EXPECT_TRUE((core::OptionalLimits{.vmax = {}, .amax = 1.0, .jmax = {}}.any()));
+  EXPECT_FALSE(core::OptionalLimits{}.any());
   const core::OptionalLimits half = some.scaled(0.5);
   EXPECT_EQ(half.vmax, 1.0);
   EXPECT_FALSE(half.amax);

@@ -22,6 +22,7 @@ struct OptionalLimits {
   std::optional<double> amax;  // units/s^2
   std::optional<double> jmax;  // units/s^3
 
+  [[nodiscard]] constexpr bool any() const noexcept { return vmax || amax || jmax; }
   // Each given limit, else `fallback`'s.
   [[nodiscard]] constexpr Limits value_or(const Limits& fallback) const noexcept {
     return {vmax ? *vmax : fallback.vmax, amax ? *amax : fallback.amax, jmax ? *jmax : fallback.jmax};

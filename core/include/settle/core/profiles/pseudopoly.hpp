@@ -25,7 +25,7 @@ namespace detail {
   if (r.time) {
     t = *r.time;
   } else {
-    if (!r.limits.vmax && !r.limits.amax && !r.limits.jmax) return Status::missing_time_or_limits;
+    if (!r.limits.any()) return Status::missing_time_or_limits;
     const Peaks<double> u = pseudo_poly_unit_peaks(p);
     const double d = std::fabs(r.distance);
     if (r.limits.vmax) t = std::max(t, d * u.v / *r.limits.vmax);
