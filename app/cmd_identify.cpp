@@ -23,6 +23,7 @@
 #include "settle/core/planner.hpp"
 #include "settle/hal/eds_reader.hpp"
 #include "settle/papers/figures.hpp"
+#include "settle/plant/move_vocabulary.hpp"
 #include "settle/commission/identify_excitation.hpp"
 #include "settle/commission/identify_run.hpp"
 #include "settle/testbed/clocked_bus.hpp"
@@ -60,7 +61,7 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   // A limit so small that the move cannot fit the excitation's 600 s is that limit's fault (the
   // planner, fed a denormal, fails in ways that would name another option).
   double bound = 0.0;
-  const char* binding = binding_limit(ex.distance, ex.limits.vmax, ex.limits.amax, ex.limits.jmax, "--vmax", &bound);
+  const char* binding = binding_limit(ex.distance, core::as_optional(ex.limits), "--vmax", &bound);
   if (!(bound <= 600.0)) {
     return report_bad_request({"too_long", binding,
                                std::string{binding} + ": the excitation's move lasts at least " + format_number(bound) +
@@ -95,11 +96,9 @@ int parse_spec(const ParsedArgs& args, commission::IdentifyRunSpec& spec) {
   }
   // The excitation as planned must respect what was asked (the planner guarantees it; checked so
   // that a planner change cannot silently excite harder than the user allowed).
-  const auto over = [](double peak, double limit) { return std::fabs(peak) > limit * (1.0 + core::kLimitSlack); };
-  const core::Peaks<double> pk = s.axes.front().move.peaks();
-  const core::Limits& l = ex.limits;
-  const char* exceeded = over(pk.v, l.vmax) ? "--vmax" : over(pk.a, l.amax) ? "--amax" : over(pk.j, l.jmax) ? "--jmax" : nullptr;
-  if (exceeded != nullptr) {
+  const core::Status within = core::check_limits(ex.limits, s.axes.front().move.peaks());
+  if (within != core::Status::ok) {
+    const char* exceeded = plant::option_of(within, core::MoveRequest{});  // --vmax, --amax or --jmax
     return report_bad_request({"excitation_exceeds_limits", exceeded,
                                std::string{exceeded} + ": the planned excitation would exceed this limit"},
                               json);

@@ -224,8 +224,7 @@ int parse_spec(const ParsedArgs& args, testbed::StreamSpec& spec) {
   const std::string change_option = args.has("--halt-at") ? "--halt-at" : "--retarget-at";
   const char* move_option = args.has("--time")        ? "--time"
                             : args.has("--plan-from") ? "--plan-from"
-                                                      : binding_limit(move.distance(), args.real("--vmax"),
-                                                                      args.real("--amax"), args.real("--jmax"), "--time");
+                                                      : binding_limit(move.distance(), limits_of(args), "--time");
   const char* longest = command_s - move_s > std::fmax(move_s, spec.settle_time_s) ? change_option.c_str()
                         : move_s >= spec.settle_time_s                            ? move_option
                                                                                   : "--settle-time";

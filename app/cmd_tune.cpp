@@ -14,6 +14,7 @@
 #include "figure_option.hpp"
 #include "io/json.hpp"
 #include "io/modes_json.hpp"
+#include "move_options.hpp"
 #include "options.hpp"
 #include "io/plan_json.hpp"
 #include "settle/core/profiles/registry.hpp"
@@ -195,14 +196,13 @@ int cmd_tune(int argc, char** argv) {
   // The move.
   const auto distance = args.real("--distance");
   if (!distance) return report_bad_request({"missing_option", "--distance", "--distance: required"}, json);
-  commission::TuneMove mv{.distance = *distance, .time = args.real("--time"), .vmax = args.real("--vmax"),
-                   .amax = args.real("--amax"), .jmax = args.real("--jmax")};
-  if (mv.time && (mv.vmax || mv.amax || mv.jmax)) {
+  commission::TuneMove mv{.distance = *distance, .time = args.real("--time"), .limits = limits_of(args)};
+  if (mv.time && mv.limits.any()) {
     return report_bad_request({"conflicting_options", "--time",
                                "--time: give --time or limits (--vmax, --amax, --jmax), not both"},
                               json);
   }
-  if (!mv.time && !mv.vmax && !mv.amax && !mv.jmax) {
+  if (!mv.time && !mv.limits.any()) {
     return report_bad_request({"missing_option", "--time",
                                "--time: required, or limits (--vmax, --amax, --jmax)"},
                               json);

@@ -138,9 +138,7 @@ bool parse_move_request(const ParsedArgs& a, core::MoveRequest& req, RequestErro
   }
   r.distance = *distance;
   r.time = a.real("--time");
-  r.vmax = a.real("--vmax");
-  r.amax = a.real("--amax");
-  r.jmax = a.real("--jmax");
+  r.limits = limits_of(a);
   const char* option = nullptr;
   std::string message;
   if (!plant::set_design_modes(a.reals("--omega"), a.reals("--zeta"), r, option, message)) {
@@ -183,9 +181,9 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
   for (std::size_t i = 0; i < r.count; ++i) {
     core::AxisSpec& x = r.axes[i];
     x.distance = (*d)[i];
-    if (vmax) x.vmax = (*vmax)[i];
-    if (amax) x.amax = (*amax)[i];
-    if (jmax) x.jmax = (*jmax)[i];
+    if (vmax) x.limits.vmax = (*vmax)[i];
+    if (amax) x.limits.amax = (*amax)[i];
+    if (jmax) x.limits.jmax = (*jmax)[i];
     if (omega) x.omega = (*omega)[i];
     if (zeta) x.zeta = (*zeta)[i];
   }
@@ -195,9 +193,9 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
   // shaper design for no mode, the coordination shapes each axis for its own mode (ZV, or the
   // request's shaper: core::plan_axes), so --omega and --zeta are used then.
   core::MoveRequest probe = r.base;
-  probe.vmax = vmax ? std::optional<double>{vmax->front()} : std::nullopt;
-  probe.amax = amax ? std::optional<double>{amax->front()} : std::nullopt;
-  probe.jmax = jmax ? std::optional<double>{jmax->front()} : std::nullopt;
+  probe.limits.vmax = vmax ? std::optional<double>{vmax->front()} : std::nullopt;
+  probe.limits.amax = amax ? std::optional<double>{amax->front()} : std::nullopt;
+  probe.limits.jmax = jmax ? std::optional<double>{jmax->front()} : std::nullopt;
   probe.mode_count = 0;
   const core::ParamSet coordination =
       core::needs_mode(probe) ? core::ParamSet{} : core::ParamSet{core::Param::omega, core::Param::zeta};
@@ -216,8 +214,11 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
   return true;
 }
 
-const char* binding_limit(double distance, std::optional<double> vmax, std::optional<double> amax,
-                          std::optional<double> jmax, const char* fallback, double* bound) {
+core::OptionalLimits limits_of(const ParsedArgs& args) {
+  return {args.real("--vmax"), args.real("--amax"), args.real("--jmax")};
+}
+
+const char* binding_limit(double distance, const core::OptionalLimits& limits, const char* fallback, double* bound) {
   const double d = std::fabs(distance);
   const char* who = fallback;
   double longest = 0.0;
@@ -227,9 +228,9 @@ const char* binding_limit(double distance, std::optional<double> vmax, std::opti
       who = name;
     }
   };
-  take("--vmax", vmax.has_value(), d / vmax.value_or(1.0));
-  take("--amax", amax.has_value(), 2.0 * std::sqrt(d / amax.value_or(1.0)));
-  take("--jmax", jmax.has_value(), std::cbrt(32.0 * d / jmax.value_or(1.0)));
+  take("--vmax", limits.vmax.has_value(), d / limits.vmax.value_or(1.0));
+  take("--amax", limits.amax.has_value(), 2.0 * std::sqrt(d / limits.amax.value_or(1.0)));
+  take("--jmax", limits.jmax.has_value(), std::cbrt(32.0 * d / limits.jmax.value_or(1.0)));
   if (bound != nullptr) *bound = longest;
   return who;
 }
@@ -239,7 +240,7 @@ bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestErr
   // limit, before the planner (which, fed a denormal, fails in ways that name another option).
   if (!req.time) {
     double bound = 0.0;
-    const char* limit = binding_limit(req.distance, req.vmax, req.amax, req.jmax, "--vmax", &bound);
+    const char* limit = binding_limit(req.distance, req.limits, "--vmax", &bound);
     if (!(bound <= kMaxSeconds)) {
       err = {"too_long", limit,
              std::string{limit} + ": a move of " + format_number(req.distance) + " within this limit lasts at least " +
@@ -255,7 +256,7 @@ bool plan_move(const core::MoveRequest& req, core::Move<double>& out, RequestErr
   }
   // What the options allow can still plan into a move too long or too extreme to report:
   // refuse it here, before anything is printed or sized from it.
-  const char* main = req.time ? "--time" : binding_limit(req.distance, req.vmax, req.amax, req.jmax, "--distance");
+  const char* main = req.time ? "--time" : binding_limit(req.distance, req.limits, "--distance");
   if (!std::isfinite(out.duration()) || !std::isfinite(out.distance())) {
     err = {"non_finite_result", main, std::string{main} + ": the planned move is not finite"};
     return false;

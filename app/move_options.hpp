@@ -18,6 +18,9 @@ struct DesignFallback {
   double zeta;
 };
 
+// The --vmax, --amax and --jmax given.
+[[nodiscard]] core::OptionalLimits limits_of(const ParsedArgs& args);
+
 // Fills `req` from the options (already range-checked); false (with `err`) when a required
 // option is missing or the options contradict each other (a per-axis list, or --sync, without --axes).
 [[nodiscard]] bool parse_move_request(const ParsedArgs& args, core::MoveRequest& req, RequestError& err,
@@ -31,8 +34,8 @@ struct DesignFallback {
 // on any rest-to-rest move's duration is the longest (|D| / vmax, 2 sqrt(|D| / amax),
 // cbrt(32 |D| / jmax)): "--vmax", "--amax" or "--jmax" (`fallback` when none is given). `bound`
 // receives that duration (s).
-[[nodiscard]] const char* binding_limit(double distance, std::optional<double> vmax, std::optional<double> amax,
-                                        std::optional<double> jmax, const char* fallback, double* bound = nullptr);
+[[nodiscard]] const char* binding_limit(double distance, const core::OptionalLimits& limits, const char* fallback,
+                                        double* bound = nullptr);
 
 // Whether the command line asks for a coordinated move of several axes (--axes, docs/multi_axis.md).
 [[nodiscard]] bool wants_axes(const ParsedArgs& args);

@@ -135,7 +135,7 @@ bool parse_online_change(const ParsedArgs& args, const core::MoveRequest& req, c
   const std::size_t n = core::design_modes(req, modes, plant != nullptr ? &fundamental : nullptr);
   c.modes.assign(modes.begin(), modes.begin() + static_cast<std::ptrdiff_t>(n));
   if (const core::Status st =
-          core::online_limits(req.vmax, req.amax, req.jmax, move.peaks(), c.modes.data(), c.modes.size(), c.limits);
+          core::online_limits(req.limits, move.peaks(), c.modes.data(), c.modes.size(), c.limits);
       st != core::Status::ok) {
     limits_error(st, c.option, "", err);
     return false;

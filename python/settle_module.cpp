@@ -110,9 +110,9 @@ core::MoveRequest move_request(const py::kwargs& kw) {
     plant::Range range;
   };
   const Optional optional_numbers[] = {{"time", &r.time, plant::move_range::time},
-                                       {"vmax", &r.vmax, plant::move_range::vmax},
-                                       {"amax", &r.amax, plant::move_range::amax},
-                                       {"jmax", &r.jmax, plant::move_range::jmax},
+                                       {"vmax", &r.limits.vmax, plant::move_range::vmax},
+                                       {"amax", &r.limits.amax, plant::move_range::amax},
+                                       {"jmax", &r.limits.jmax, plant::move_range::jmax},
                                        {"robust", &r.robust, plant::move_range::robust}};
   for (const Optional& o : optional_numbers) {
     if (kw.contains(o.name) && !kw[o.name].is_none()) *o.field = in_range(number(kw[o.name], o.name), o.range, o.name);

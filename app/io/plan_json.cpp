@@ -15,6 +15,15 @@
 
 namespace settle::app {
 
+namespace {
+// The limits given, each under its own key ("vmax", "amax", "jmax"); an absent one is left out.
+void put_limits(Json& j, const core::OptionalLimits& l) {
+  if (l.vmax) j["vmax"] = *l.vmax;
+  if (l.amax) j["amax"] = *l.amax;
+  if (l.jmax) j["jmax"] = *l.jmax;
+}
+}  // namespace
+
 Json peaks_json(const core::Peaks<double>& pk) {
   const bool impulse_a = pk.velocity_step || pk.acceleration_step;
   Json peaks;
@@ -73,9 +82,7 @@ Json axes_json(const core::MultiAxisPlan& p, const core::MultiAxisRequest& r) {
     if (x.omega) a["omega"] = *x.omega;
     a["zeta"] = x.zeta;
     Json limits = Json::object();
-    if (x.vmax) limits["vmax"] = *x.vmax;
-    if (x.amax) limits["amax"] = *x.amax;
-    if (x.jmax) limits["jmax"] = *x.jmax;
+    put_limits(limits, x.limits);
     a["limits"] = limits;
     a["peaks"] = peaks_json(p.peaks(i));
     a["line_deviation"] = per_axis[i];
@@ -95,9 +102,7 @@ Json request_json(const core::MoveRequest& r) {
   j["profile"] = core::to_string(r.profile);
   j["distance"] = r.distance;
   if (r.time) j["time"] = *r.time;
-  if (r.vmax) j["vmax"] = *r.vmax;
-  if (r.amax) j["amax"] = *r.amax;
-  if (r.jmax) j["jmax"] = *r.jmax;
+  put_limits(j, r.limits);
   // One list of the modes the move is designed for, in order, each with its omega and zeta (read
   // back by request_modes, below); none: no "modes".
   if (r.has_mode()) {
@@ -301,8 +306,8 @@ bool load_plan_file(const std::string& path, const std::string& option, core::Mo
   };
   std::optional<double> distance;
   for (auto [key, to, required] : {std::tuple{"distance", &distance, true}, std::tuple{"time", &r.time, false},
-                                   std::tuple{"vmax", &r.vmax, false}, std::tuple{"amax", &r.amax, false},
-                                   std::tuple{"jmax", &r.jmax, false}}) {
+                                   std::tuple{"vmax", &r.limits.vmax, false}, std::tuple{"amax", &r.limits.amax, false},
+                                   std::tuple{"jmax", &r.limits.jmax, false}}) {
     if (!number(key, *to, required)) return bad(std::string{"request."} + key + " is missing or not a finite number");
   }
   r.distance = *distance;

@@ -107,7 +107,7 @@ void BM_Plan(benchmark::State& state, ProfileKind k, ShaperKind s) {
 // plan()'s own (validation, peaks, building the Move).
 void BM_JerkLimitedPhases(benchmark::State& state) {
   const MoveRequest r = benchmark_request(ProfileKind::jerk_limited);
-  for (auto _ : state) benchmark::DoNotOptimize(jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax));
+  for (auto _ : state) benchmark::DoNotOptimize(jerk_limited_time_optimal(r.distance, *r.limits.vmax, *r.limits.amax, *r.limits.jmax));
 }
 
 // The floor of any plan() that hands back the phase solver's table: the solver, then one copy of
@@ -118,7 +118,7 @@ void BM_JerkLimitedPhasesCopied(benchmark::State& state) {
   PiecewiseJerkParams out;
   for (auto _ : state) {
     PiecewiseJerkParams p;
-    jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax, p);
+    jerk_limited_time_optimal(r.distance, *r.limits.vmax, *r.limits.amax, *r.limits.jmax, p);
     out.distance = p.distance;
     out.count = p.count;
     for (std::size_t i = 0; i < kMaxJerkSegments; ++i) {
@@ -213,9 +213,9 @@ MoveRequest fastest_request(int which) {
   MoveRequest r{};
   r.profile = ProfileKind::fastest;
   r.distance = 0.1;
-  r.vmax = 1.0;
-  r.amax = 20.0;
-  r.jmax = 800.0;
+  r.limits.vmax = 1.0;
+  r.limits.amax = 20.0;
+  r.limits.jmax = 800.0;
   r.set_mode(22.0, which == 1 ? 0.05 : 0.0);
   if (which == 2) {
     (void)r.add_mode({60.0, 0.01});
@@ -223,9 +223,9 @@ MoveRequest fastest_request(int which) {
   if (which == 3) r.robust = 10.0;
   if (which == 6) r.robust = 35.0;  // held by the time-optimal move * two-hump EI
   if (which == 4) {  // the commissioning demo's plant and move (docs/fastest.md)
-    r.vmax = 0.5;
-    r.amax = 5.0;
-    r.jmax = 200.0;
+    r.limits.vmax = 0.5;
+    r.limits.amax = 5.0;
+    r.limits.jmax = 200.0;
     r.set_mode(25.0, 0.02);
     (void)r.add_mode({70.0, 0.05});
   }

@@ -34,7 +34,7 @@ const int registered = [] {
     double d, v, a, j, w[3], z[3];
     s >> id >> d >> v >> a >> j >> modes >> w[0] >> z[0] >> w[1] >> z[1] >> w[2] >> z[2];
     if (!s || modes < 1 || modes > 3) continue;
-    r.distance = d, r.vmax = v, r.amax = a, r.jmax = j, r.set_mode(w[0], z[0]);
+    r.distance = d, r.limits.vmax = v, r.limits.amax = a, r.limits.jmax = j, r.set_mode(w[0], z[0]);
     for (std::size_t k = 1; k < static_cast<std::size_t>(modes); ++k) (void)r.add_mode({w[k], z[k]});
     const std::string name = "BM_PlanFastestGrid/" + std::to_string(modes) + "_modes/case_" + std::to_string(id);
     benchmark::RegisterBenchmark(name.c_str(), plan_case, r)->Unit(benchmark::kMicrosecond);

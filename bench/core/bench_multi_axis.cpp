@@ -24,9 +24,9 @@ MultiAxisRequest three_axes(ProfileKind k, SyncMode sync) {
     r.axes[i].distance = d[i];
     r.axes[i].omega = w[i];
     r.axes[i].zeta = z[i];
-    r.axes[i].vmax = 1.0;
-    r.axes[i].amax = a[i];
-    r.axes[i].jmax = 800.0;
+    r.axes[i].limits.vmax = 1.0;
+    r.axes[i].limits.amax = a[i];
+    r.axes[i].limits.jmax = 800.0;
   }
   return r;
 }
@@ -49,9 +49,7 @@ void BM_PlanThreeSingleAxes(benchmark::State& state, ProfileKind k) {
     q[i] = r.base;
     q[i].shaper = k == ProfileKind::jerk_limited ? ShaperKind::zv : ShaperKind::none;
     q[i].distance = r.axes[i].distance;
-    q[i].vmax = r.axes[i].vmax;
-    q[i].amax = r.axes[i].amax;
-    q[i].jmax = r.axes[i].jmax;
+    q[i].limits = r.axes[i].limits;
     q[i].mode_count = 0;
     if (r.axes[i].omega) q[i].set_mode(*r.axes[i].omega, r.axes[i].zeta);
   }

@@ -14,9 +14,9 @@ inline core::MoveRequest benchmark_request(core::ProfileKind k, core::ShaperKind
   r.set_mode(22.04871, k == core::ProfileKind::scurve ? 0.0 : 0.05);
   r.shaper = s;
   if (k == core::ProfileKind::jerk_limited) {
-    r.vmax = 0.5;
-    r.amax = 5.0;
-    r.jmax = 100.0;
+    r.limits.vmax = 0.5;
+    r.limits.amax = 5.0;
+    r.limits.jmax = 100.0;
   } else {
     r.time = 0.5;
   }

@@ -140,7 +140,7 @@ void BM_TuneTwoModesLimits(benchmark::State& state) {
     return commission::UncertainMode{.omega = w, .zeta = z, .gain = 1.0, .omega_lo = 0.9 * w, .omega_hi = 1.1 * w,
                               .zeta_lo = z - 0.01, .zeta_hi = z + 0.01};
   };
-  const commission::TuneMove mv{.distance = 0.1, .time = {}, .vmax = 0.5, .amax = 5.0, .jmax = 200.0};
+  const commission::TuneMove mv{.distance = 0.1, .time = {}, .limits = {.vmax = 0.5, .amax = 5.0, .jmax = 200.0}};
   for (auto _ : state) {
     commission::TuneResult r;
     if (commission::tune({band(12.566, 0.03), band(44.0, 0.02)}, mv, {}, r) != commission::TuneStatus::ok) {

@@ -24,9 +24,7 @@ core::Status plan_identify_excitation(const IdentifyExcitation& ex, core::Move<d
   core::MoveRequest req{};
   req.profile = core::ProfileKind::jerk_limited;
   req.distance = ex.distance;
-  req.vmax = ex.limits.vmax;
-  req.amax = ex.limits.amax;
-  req.jmax = ex.limits.jmax;
+  req.limits = core::as_optional(ex.limits);
   core::Move<double> move{};
   if (const core::Status st = core::plan(req, move); st != core::Status::ok) return st;
   if (ex.round_trips == 0) {

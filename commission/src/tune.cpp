@@ -313,16 +313,14 @@ core::Status plan_profile(core::MoveRequest& req_io, const TuneMove& mv, core::M
   const core::Status own = st;
   const double d = std::fabs(mv.distance);
   double t_lo = 0.0;  // no rest-to-rest move of d is faster than these bounds
-  if (mv.vmax) t_lo = std::max(t_lo, d / *mv.vmax);
-  if (mv.amax) t_lo = std::max(t_lo, 2.0 * std::sqrt(d / *mv.amax));
-  if (mv.jmax) t_lo = std::max(t_lo, std::cbrt(32.0 * d / *mv.jmax));
-  req.vmax.reset();
-  req.amax.reset();
-  req.jmax.reset();
+  if (mv.limits.vmax) t_lo = std::max(t_lo, d / *mv.limits.vmax);
+  if (mv.limits.amax) t_lo = std::max(t_lo, 2.0 * std::sqrt(d / *mv.limits.amax));
+  if (mv.limits.jmax) t_lo = std::max(t_lo, std::cbrt(32.0 * d / *mv.limits.jmax));
+  req.limits = {};
   core::Move<double> found{};
   auto ok_at = [&](double t, core::Move<double>& m) {
     req.time = t;
-    return core::plan(req, m) == core::Status::ok && core::check_limits(req_io, m.peaks()) == core::Status::ok;
+    return core::plan(req, m) == core::Status::ok && core::check_limits(req_io.limits, m.peaks()) == core::Status::ok;
   };
   double t_hi = std::max(t_lo, 1e-6);
   int doublings = 0;
@@ -431,8 +429,9 @@ TuneStatus tune_input_status(const std::vector<UncertainMode>& modes_in, const T
     if (!valid_band(m)) return TuneStatus::bad_band;
   }
   const auto positive = [](const std::optional<double>& x) { return !x || (*x > 0.0 && std::isfinite(*x)); };
-  if (!(mv.distance != 0.0) || !std::isfinite(mv.distance) || !positive(mv.time) || !positive(mv.vmax) ||
-      !positive(mv.amax) || !positive(mv.jmax) || (!mv.time && !mv.vmax && !mv.amax && !mv.jmax)) {
+  if (!(mv.distance != 0.0) || !std::isfinite(mv.distance) || !positive(mv.time) ||
+      !positive(mv.limits.vmax) || !positive(mv.limits.amax) || !positive(mv.limits.jmax) ||
+      (!mv.time && !mv.limits.any())) {
     return TuneStatus::bad_move;
   }
   if (!(opt.residual_max > 0.0 && opt.residual_max < 1.0)) return TuneStatus::bad_residual_max;
@@ -466,9 +465,7 @@ void plan_design(core::ProfileKind kind, core::ShaperKind sk, std::size_t v, con
   r.profile = kind;
   r.distance = mv.distance;
   r.time = mv.time;
-  r.vmax = mv.vmax;
-  r.amax = mv.amax;
-  r.jmax = mv.jmax;
+  r.limits = mv.limits;
   // A profile that designs for a mode takes the fundamental; `fastest` takes every mode (up
   // to its kMaxModes), as `settle plan --profile fastest` does, by the same rules.
   const bool every_mode = kind == core::ProfileKind::fastest && c.design_omega.size() <= core::kMaxModes;
@@ -482,7 +479,7 @@ void plan_design(core::ProfileKind kind, core::ShaperKind sk, std::size_t v, con
   if (c.retuned && sk == core::ShaperKind::none && !core::needs_mode(r)) return;
   c.name = std::string{core::to_string(kind)} + (sk == core::ShaperKind::none ? "" : "+") +
            (sk == core::ShaperKind::none ? "" : core::to_string(sk)) + (c.retuned ? "@retuned" : "");
-  const core::MoveRequest limited = r;  // the move's limits (a time-searched request drops them)
+  const core::OptionalLimits limited = r.limits;  // the move's limits (a time-searched request drops them)
   core::Move<double> bare{};
   core::Status st = plan_profile(r, mv, bare, c.time_searched);
   c.request = r;

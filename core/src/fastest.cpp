@@ -743,9 +743,9 @@ bool plan_pattern(const MoveRequest& r, const ModeSet& ms, bool mirrored, const 
   Problem b{};
   b.mirrored = mirrored;
   b.D = std::fabs(r.distance);
-  b.J = *r.jmax;
-  b.amax = *r.amax;
-  b.vmax = *r.vmax;
+  b.J = *r.limits.jmax;
+  b.amax = *r.limits.amax;
+  b.vmax = *r.limits.vmax;
   b.t0 = t_cap;
   b.cond = cond;
   b.nc = nc;
@@ -934,9 +934,9 @@ struct ArcProblem {
 ArcProblem arc_problem(const MoveRequest& r, const ModeSet& ms) noexcept {
   ArcProblem pb{};
   pb.D = std::fabs(r.distance);
-  pb.J = *r.jmax;
-  pb.amax = *r.amax;
-  pb.vmax = *r.vmax;
+  pb.J = *r.limits.jmax;
+  pb.amax = *r.limits.amax;
+  pb.vmax = *r.limits.vmax;
   pb.ms = &ms;
   for (std::size_t m = 0; m < ms.n; ++m) {
     const Cx s = pole(ms.m[m].omega, ms.m[m].zeta);
@@ -1726,7 +1726,7 @@ struct FastestSearch {
 
 // The request's checks and what the search reads from it (modes, band, limits).
 Status read_fastest_request(const MoveRequest& r, FastestSearch& fs) noexcept {
-  if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
+  if (!r.limits.vmax || !r.limits.amax || !r.limits.jmax) return Status::missing_time_or_limits;
   if (r.time) return Status::unsupported_request;  // the fastest move has no requested time
   const Status st = read_modes(r, fs.ms);
   if (st != Status::ok) return st;
@@ -1735,7 +1735,7 @@ Status read_fastest_request(const MoveRequest& r, FastestSearch& fs) noexcept {
     if (!(*r.robust > 0.0 && *r.robust <= 50.0)) return Status::bad_shape_parameter;
     fs.band = *r.robust / 100.0;
   }
-  fs.lim = {*r.vmax, *r.amax, *r.jmax};
+  fs.lim = {*r.limits.vmax, *r.limits.amax, *r.limits.jmax};
   return Status::ok;
 }
 

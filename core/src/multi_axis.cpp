@@ -14,12 +14,12 @@ namespace {
 
 // The path limit min_i(limit_i / |D_i|) over the moving axes that give that limit (absent when
 // none does). A non-finite or non-positive axis limit passes through, for plan() to refuse.
-std::optional<double> path_limit(const MultiAxisRequest& r, std::optional<double> AxisSpec::*limit,
+std::optional<double> path_limit(const MultiAxisRequest& r, std::optional<double> OptionalLimits::*limit,
                                  std::size_t& culprit) noexcept {
   std::optional<double> out;
   for (std::size_t i = 0; i < r.count; ++i) {
     const AxisSpec& a = r.axes[i];
-    const std::optional<double>& l = a.*limit;
+    const std::optional<double>& l = a.limits.*limit;
     if (!l || a.distance == 0.0) continue;
     const double v = *l / std::fabs(a.distance);
     if (!out || !(v >= *out)) {  // a NaN wins, so that it is reported
@@ -27,6 +27,19 @@ std::optional<double> path_limit(const MultiAxisRequest& r, std::optional<double
       culprit = i;
     }
   }
+  return out;
+}
+
+// Every path limit, and the axis that set each (kMaxAxes: none did).
+struct PathLimits {
+  OptionalLimits limits;
+  std::size_t who_v{kMaxAxes}, who_a{kMaxAxes}, who_j{kMaxAxes};
+};
+PathLimits path_limits(const MultiAxisRequest& r) noexcept {
+  PathLimits out{};
+  out.limits.vmax = path_limit(r, &OptionalLimits::vmax, out.who_v);
+  out.limits.amax = path_limit(r, &OptionalLimits::amax, out.who_a);
+  out.limits.jmax = path_limit(r, &OptionalLimits::jmax, out.who_j);
   return out;
 }
 
@@ -98,11 +111,8 @@ Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, 
     if (!known) modes[nm++] = {*a.omega, a.zeta};
   }
   p.distance = moving ? scale : 0.0;
-  std::size_t who_v = kMaxAxes, who_a = kMaxAxes, who_j = kMaxAxes;
-  const auto scaled = [&](std::optional<double> l) { return l ? std::optional<double>{*l * std::fabs(scale)} : l; };
-  p.vmax = scaled(path_limit(r, &AxisSpec::vmax, who_v));
-  p.amax = scaled(path_limit(r, &AxisSpec::amax, who_a));
-  p.jmax = scaled(path_limit(r, &AxisSpec::jmax, who_j));
+  const PathLimits lim = path_limits(r);
+  p.limits = lim.limits.scaled(std::fabs(scale));
   // The first mode is the request's own: its shaper's and, when the profile designs for a mode,
   // the profile's; `fastest` takes the further ones too.
   std::size_t covered = 0;
@@ -126,12 +136,15 @@ Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, 
     auto bad = [](const std::optional<double>& l) { return l && !(*l > 0.0 && std::isfinite(*l)); };
     switch (st) {
       case Status::velocity_limit_exceeded:
-      case Status::time_too_short_for_vmax: culprit = who_v; break;
-      case Status::acceleration_limit_exceeded: culprit = who_a; break;
-      case Status::jerk_limit_exceeded: culprit = who_j; break;
+      case Status::time_too_short_for_vmax: culprit = lim.who_v; break;
+      case Status::acceleration_limit_exceeded: culprit = lim.who_a; break;
+      case Status::jerk_limit_exceeded: culprit = lim.who_j; break;
       case Status::non_positive_limit:
       case Status::non_finite_input:
-        culprit = bad(p.vmax) ? who_v : bad(p.amax) ? who_a : bad(p.jmax) ? who_j : kMaxAxes;
+        culprit = bad(p.limits.vmax)   ? lim.who_v
+                  : bad(p.limits.amax) ? lim.who_a
+                  : bad(p.limits.jmax) ? lim.who_j
+                                       : kMaxAxes;
         break;
       default: culprit = kMaxAxes;
     }
@@ -147,9 +160,7 @@ MoveRequest axis_request(const MultiAxisRequest& r, std::size_t i) noexcept {
   MoveRequest q = r.base;
   const AxisSpec& a = r.axes[i];
   q.distance = a.distance;
-  q.vmax = a.vmax;
-  q.amax = a.amax;
-  q.jmax = a.jmax;
+  q.limits = a.limits;
   q.mode_count = 0;
   if (a.omega) q.set_mode(*a.omega, a.zeta);
   return q;
@@ -234,26 +245,19 @@ Status axis_online(const MultiAxisRequest& r, const MultiAxisPlan& plan, std::si
                    const Mode* fallback) noexcept {
   if (axis >= plan.count() || axis >= r.count) return Status::bad_shape_parameter;
   AxisOnline o{};
-  std::optional<double> vmax, amax, jmax;
+  OptionalLimits limits;
   if (plan.sync() == SyncMode::path) {
     if (plan.path_mode_count() > kMaxOnlineModes) return Status::unsupported_request;
     for (; o.mode_count < plan.path_mode_count(); ++o.mode_count) o.modes[o.mode_count] = plan.path_mode(o.mode_count);
-    const double d = std::fabs(r.axes[axis].distance);
-    std::size_t who = kMaxAxes;
-    const auto scaled = [&](std::optional<double> l) { return l ? std::optional<double>{*l * d} : l; };
-    vmax = scaled(path_limit(r, &AxisSpec::vmax, who));
-    amax = scaled(path_limit(r, &AxisSpec::amax, who));
-    jmax = scaled(path_limit(r, &AxisSpec::jmax, who));
+    limits = path_limits(r).limits.scaled(std::fabs(r.axes[axis].distance));
   } else {
     const AxisSpec& a = r.axes[axis];
     if (a.omega) o.modes[o.mode_count++] = {*a.omega, a.zeta};
-    vmax = a.vmax;
-    amax = a.amax;
-    jmax = a.jmax;
+    limits = a.limits;
   }
   if (o.mode_count == 0 && fallback != nullptr) o.modes[o.mode_count++] = *fallback;
   if (r.axes[axis].distance == 0.0) return Status::non_positive_limit;
-  const Status st = online_limits(vmax, amax, jmax, plan.peaks(axis), o.modes.data(), o.mode_count, o.limits);
+  const Status st = online_limits(limits, plan.peaks(axis), o.modes.data(), o.mode_count, o.limits);
   if (st != Status::ok) return st;
   out = o;
   return Status::ok;

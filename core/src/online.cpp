@@ -329,9 +329,9 @@ Status online_request(const Blend& b, const OnlineRequest& planned, double u, st
   return Status::ok;
 }
 
-Status online_limits(std::optional<double> vmax, std::optional<double> amax, std::optional<double> jmax,
-                     const Peaks<double>& pk, const Mode* modes, std::size_t mode_count, OnlineLimits& out) noexcept {
-  OnlineLimits l{vmax ? *vmax : pk.v, amax ? *amax : pk.a, jmax ? *jmax : pk.j};
+Status online_limits(const OptionalLimits& limits, const Peaks<double>& pk, const Mode* modes, std::size_t mode_count,
+                     OnlineLimits& out) noexcept {
+  OnlineLimits l = limits.value_or({pk.v, pk.a, pk.j});
   if (!std::isfinite(l.vmax) || !std::isfinite(l.amax)) return Status::unsupported_request;
   if (!std::isfinite(l.jmax)) {
     double w = 0.0;

@@ -8,11 +8,11 @@
 
 namespace settle::core {
 
-Status check_limits(const MoveRequest& r, const Peaks<double>& pk) noexcept {
+Status check_limits(const OptionalLimits& l, const Peaks<double>& pk) noexcept {
   // Written so that a NaN peak is refused, never taken as within.
-  if (r.vmax && !(pk.v <= *r.vmax * (1.0 + kLimitSlack))) return Status::velocity_limit_exceeded;
-  if (r.amax && !(pk.a <= *r.amax * (1.0 + kLimitSlack))) return Status::acceleration_limit_exceeded;
-  if (r.jmax && !(pk.j <= *r.jmax * (1.0 + kLimitSlack))) return Status::jerk_limit_exceeded;
+  if (l.vmax && !(pk.v <= *l.vmax * (1.0 + kLimitSlack))) return Status::velocity_limit_exceeded;
+  if (l.amax && !(pk.a <= *l.amax * (1.0 + kLimitSlack))) return Status::acceleration_limit_exceeded;
+  if (l.jmax && !(pk.j <= *l.jmax * (1.0 + kLimitSlack))) return Status::jerk_limit_exceeded;
   return Status::ok;
 }
 
@@ -24,8 +24,8 @@ double nonfinite_mark(double x) noexcept { return x * 0.0; }
 double nonfinite_mark(const std::optional<double>& x) noexcept { return x ? *x * 0.0 : 0.0; }
 
 Status validate(const MoveRequest& r) noexcept {
-  double mark = nonfinite_mark(r.distance) + nonfinite_mark(r.time) + nonfinite_mark(r.vmax) +
-                nonfinite_mark(r.amax) + nonfinite_mark(r.jmax) + nonfinite_mark(r.omega()) + nonfinite_mark(r.zeta()) +
+  double mark = nonfinite_mark(r.distance) + nonfinite_mark(r.time) + nonfinite_mark(r.limits.vmax) +
+                nonfinite_mark(r.limits.amax) + nonfinite_mark(r.limits.jmax) + nonfinite_mark(r.omega()) + nonfinite_mark(r.zeta()) +
                 nonfinite_mark(r.vtol);
   if (r.y_fractions) {
     for (double y : *r.y_fractions) mark += nonfinite_mark(y);
@@ -33,7 +33,7 @@ Status validate(const MoveRequest& r) noexcept {
   for (std::size_t i = 0; i < std::min(r.gamma_count, kMaxGammas); ++i) mark += nonfinite_mark(r.gammas[i]);
   if (mark != 0.0) return Status::non_finite_input;
   if (r.time && !(*r.time > 0.0)) return Status::non_positive_time;
-  for (const auto* l : {&r.vmax, &r.amax, &r.jmax}) {
+  for (const auto* l : {&r.limits.vmax, &r.limits.amax, &r.limits.jmax}) {
     if (*l && !(**l > 0.0)) return Status::non_positive_limit;
   }
   // A positive omega satisfies every profile; only without one is it asked whether one is needed.
@@ -64,14 +64,14 @@ Status plan_shaped(const MoveRequest& r, const Shaper<double>* shaper, Move<doub
     st = P::plan(r, p, pk);
     if (st != Status::ok) return;
     if (shaper == nullptr || shaper->is_identity()) {
-      st = check_limits(r, pk);
+      st = check_limits(r.limits, pk);
       if (st == Status::ok) out.template assign<Shape>(kind.value, p, shaper, pk);
       return;
     }
     Profile<double> prof{};
     prof.template emplace<Shape>(kind.value, p);
     pk = shaped_peaks(prof, *shaper, pk);
-    st = check_limits(r, pk);
+    st = check_limits(r.limits, pk);
     if (st == Status::ok) out.template assign<Shape>(kind.value, *std::get_if<Shape>(&prof.variant()), shaper, pk);
   });
   return st;
@@ -110,9 +110,9 @@ Status checked(const MoveRequest& r) noexcept {
 bool carries(const MoveRequest& r, Param p) noexcept {
   switch (p) {
     case Param::time: return r.time.has_value();
-    case Param::vmax: return r.vmax.has_value();
-    case Param::amax: return r.amax.has_value();
-    case Param::jmax: return r.jmax.has_value();
+    case Param::vmax: return r.limits.vmax.has_value();
+    case Param::amax: return r.limits.amax.has_value();
+    case Param::jmax: return r.limits.jmax.has_value();
     case Param::omega: return r.has_mode();
     case Param::zeta: return r.has_mode() && r.zeta() != 0.0;
     case Param::modes: return r.mode_count > 1;

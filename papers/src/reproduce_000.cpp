@@ -33,9 +33,9 @@ plant::SimStatus sensitivity_study(double w1, double tn, std::vector<Sensitivity
     }
     if (kind == core::ProfileKind::jerk_limited) {
       // Limits loose enough for the stretch to T to be feasible: cruise at most 2 D/T.
-      r.vmax = 2.0 * d / t;
-      r.amax = 16.0 * d / (t * t);
-      r.jmax = 256.0 * d / (t * t * t);
+      r.limits.vmax = 2.0 * d / t;
+      r.limits.amax = 16.0 * d / (t * t);
+      r.limits.jmax = 256.0 * d / (t * t * t);
     }
     core::Move<double> m;
     if (core::plan(r, m) != core::Status::ok) return plant::SimStatus::plan_failed;
@@ -86,7 +86,7 @@ plant::SimStatus reproduce_000(const Options000& o, Result000& out) {
         rq.time = row.time;
         if (kind == core::ProfileKind::scurve) {
           // Seed 000's planning rule: cruise at the actuator's limit when the time requires it.
-          rq.vmax = kVmax000;
+          rq.limits.vmax = kVmax000;
           rq.set_mode(w1);
         }
         core::Move<double> mv;

@@ -153,13 +153,13 @@ const char* option_of(core::Status s, const core::MoveRequest& r) {
   switch (s) {
     case Status::missing_time_or_limits:
       // A move time was given: the profile needs limits; name the first one missing.
-      if (r.time) return !r.vmax ? "--vmax" : !r.amax ? "--amax" : "--jmax";
+      if (r.time) return !r.limits.vmax ? "--vmax" : !r.limits.amax ? "--amax" : "--jmax";
       return "--time";
     case Status::non_positive_time:
     case Status::time_too_short_for_vmax: return "--time";
     case Status::non_positive_limit:
-      if (r.vmax && !(*r.vmax > 0.0)) return "--vmax";
-      if (r.amax && !(*r.amax > 0.0)) return "--amax";
+      if (r.limits.vmax && !(*r.limits.vmax > 0.0)) return "--vmax";
+      if (r.limits.amax && !(*r.limits.amax > 0.0)) return "--amax";
       return "--jmax";
     case Status::velocity_limit_exceeded: return "--vmax";
     case Status::acceleration_limit_exceeded: return "--amax";
@@ -183,12 +183,12 @@ const char* option_of(core::Status s, const core::MoveRequest& r) {
       if (r.robust) return "--robust";
       if (r.profile == core::ProfileKind::fastest) return "--omega";  // no move for these modes
       if (r.time) return "--time";
-      if (r.vmax) return "--vmax";
+      if (r.limits.vmax) return "--vmax";
       return "--profile";
     case Status::non_finite_input: {
       const std::pair<const char*, std::optional<double>> opts[] = {
-          {"--distance", r.distance}, {"--time", r.time}, {"--vmax", r.vmax}, {"--amax", r.amax},
-          {"--jmax", r.jmax},         {"--omega", r.omega()}, {"--zeta", r.zeta()}, {"--vtol", r.vtol}};
+          {"--distance", r.distance}, {"--time", r.time}, {"--vmax", r.limits.vmax}, {"--amax", r.limits.amax},
+          {"--jmax", r.limits.jmax},         {"--omega", r.omega()}, {"--zeta", r.zeta()}, {"--vtol", r.vtol}};
       for (const auto& [name, v] : opts) {
         if (v && !std::isfinite(*v)) return name;
       }
@@ -233,8 +233,8 @@ std::string reason_of(core::Status s, const core::MoveRequest& r) {
   }
   if (s == core::Status::missing_time_or_limits && r.time) {
     std::string missing;
-    for (const auto& [name, given] : {std::pair{"--vmax", r.vmax.has_value()}, std::pair{"--amax", r.amax.has_value()},
-                                      std::pair{"--jmax", r.jmax.has_value()}}) {
+    for (const auto& [name, given] : {std::pair{"--vmax", r.limits.vmax.has_value()}, std::pair{"--amax", r.limits.amax.has_value()},
+                                      std::pair{"--jmax", r.limits.jmax.has_value()}}) {
       if (!given) missing += (missing.empty() ? "" : ", ") + std::string{name};
     }
     return std::string{"--profile "} + core::to_string(r.profile) + " needs its limits; a move time alone does not " +

@@ -239,7 +239,7 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
   for (const Case& c : cases) expect_refused(c);
   // A plan without a shaper that does not converge is not blamed on --shaper.
   settle::core::MoveRequest limits{};
-  limits.vmax = 1.0;
+  limits.limits.vmax = 1.0;
   EXPECT_STREQ(settle::plant::option_of(settle::core::Status::no_solution, limits), "--vmax");
   settle::core::MoveRequest timed{};
   timed.time = 1.0;
@@ -250,7 +250,7 @@ TEST(CliOptions, ErrorsBlameTheRightOption) {
   // fastest: no move for the modes given.
   settle::core::MoveRequest fastest{};
   fastest.profile = settle::core::ProfileKind::fastest;
-  fastest.vmax = 1.0;
+  fastest.limits.vmax = 1.0;
   EXPECT_STREQ(settle::plant::option_of(settle::core::Status::no_solution, fastest), "--omega");
 }
 

@@ -45,9 +45,9 @@ IdentifyRunSpec spec_for(const std::vector<plant::Mode>& modes) {
   core::MoveRequest req{};
   EXPECT_TRUE(core::parse_profile_kind("jerk-limited", req.profile));
   req.distance = 0.01;
-  req.vmax = 0.1;
-  req.amax = 5.0;
-  req.jmax = 5000.0;
+  req.limits.vmax = 0.1;
+  req.limits.amax = 5.0;
+  req.limits.jmax = 5000.0;
   EXPECT_EQ(core::plan(req, spec.stream.axes[0].move), core::Status::ok);
   spec.stream.settle_time_s = 3.0;
   return spec;

@@ -155,7 +155,7 @@ void check_result(const TuneResult& r, double residual_max) {
 TEST(Tune, OneModeWithLimitsPicksTheFastestRobustPlan) {
   const auto t0 = std::chrono::steady_clock::now();
   TuneResult r;
-  TuneMove mv{.distance = 0.1, .time = {}, .vmax = 0.5, .amax = 5.0, .jmax = 200.0};
+  TuneMove mv{.distance = 0.1, .time = {}, .limits = {.vmax = 0.5, .amax = 5.0, .jmax = 200.0}};
   ASSERT_EQ(tune({pct(2 * M_PI * 8, 0.03, 0.1, 0.01, 0.05)}, mv, {}, r), TuneStatus::ok);
   std::printf("tune (1 mode, limits): %.2f s, chosen %s %.4f s, worst %.4f\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
@@ -194,7 +194,7 @@ TEST(TuneResidual, QuadratureEqualsTheSimulatorOnEveryRegisteredProfile) {
 
 TEST(Tune, EveryRegisteredProfileIsACandidate) {
   TuneResult r;
-  TuneMove mv{.distance = 0.1, .time = 0.5, .vmax = {}, .amax = {}, .jmax = {}};
+  TuneMove mv{.distance = 0.1, .time = 0.5, .limits = {}};
   ASSERT_EQ(tune({pct(30.0, 0.02, 0.1, 0.0, 0.05)}, mv, {}, r), TuneStatus::ok);
   auto find = [&](const std::string& name) {
     return std::find_if(r.candidates.begin(), r.candidates.end(),
@@ -221,7 +221,7 @@ TEST(Tune, EveryRegisteredProfileIsACandidate) {
 
 TEST(Tune, ALowModeNeedsShapingAndTheFasterFamiliesAreShownToFail) {
   TuneResult r;
-  TuneMove mv{.distance = 0.1, .time = {}, .vmax = 0.5, .amax = 5.0, .jmax = 200.0};
+  TuneMove mv{.distance = 0.1, .time = {}, .limits = {.vmax = 0.5, .amax = 5.0, .jmax = 200.0}};
   ASSERT_EQ(tune({pct(2 * M_PI * 2, 0.03, 0.1, 0.01, 0.05)}, mv, {}, r), TuneStatus::ok);
   const TuneCandidate& best = r.candidates[r.chosen];
   EXPECT_NE(best.shaper, core::ShaperKind::none) << best.name;
@@ -231,7 +231,7 @@ TEST(Tune, ALowModeNeedsShapingAndTheFasterFamiliesAreShownToFail) {
 
 TEST(Tune, TwoModesWithAsymmetricIntervals) {
   TuneResult r;
-  TuneMove mv{.distance = -0.05, .time = {}, .vmax = 0.4, .amax = 4.0, .jmax = 150.0};
+  TuneMove mv{.distance = -0.05, .time = {}, .limits = {.vmax = 0.4, .amax = 4.0, .jmax = 150.0}};
   const UncertainMode a{.omega = 14.0, .zeta = 0.02, .gain = 1.0, .omega_lo = 13.2, .omega_hi = 14.3,
                         .zeta_lo = 0.01, .zeta_hi = 0.04};
   const UncertainMode b{.omega = 47.0, .zeta = 0.05, .gain = 0.3, .omega_lo = 46.0, .omega_hi = 49.5,
@@ -248,7 +248,7 @@ TEST(Tune, TwoModesWithAsymmetricIntervals) {
 // residual on the second and failed the 1 % bound; designed for both, it meets it.
 TEST(Tune, FastestIsDesignedForEveryMode) {
   TuneResult r;
-  TuneMove mv{.distance = 0.1, .time = {}, .vmax = 0.5, .amax = 5.0, .jmax = 200.0};
+  TuneMove mv{.distance = 0.1, .time = {}, .limits = {.vmax = 0.5, .amax = 5.0, .jmax = 200.0}};
   const UncertainMode a{.omega = 25.0, .zeta = 0.02, .gain = 1.0, .omega_lo = 24.9992, .omega_hi = 25.0009,
                         .zeta_lo = 0.0199, .zeta_hi = 0.0201};
   const UncertainMode b{.omega = 70.0, .zeta = 0.05, .gain = 4.0, .omega_lo = 69.988, .omega_hi = 70.018,
@@ -271,7 +271,7 @@ TEST(Tune, FastestIsDesignedForEveryMode) {
 
 TEST(Tune, AFixedMoveTimeKeepsTheProfileTimeAndAddsOnlyTheShaper) {
   TuneResult r;
-  TuneMove mv{.distance = 0.2, .time = 0.3, .vmax = {}, .amax = {}, .jmax = {}};
+  TuneMove mv{.distance = 0.2, .time = 0.3, .limits = {}};
   ASSERT_EQ(tune({pct(12.0, 0.0, 0.05, 0.0, 0.02)}, mv, {}, r), TuneStatus::ok);
   for (const TuneCandidate& c : r.candidates) {
     if (!c.planned) continue;
@@ -283,7 +283,7 @@ TEST(Tune, AFixedMoveTimeKeepsTheProfileTimeAndAddsOnlyTheShaper) {
 TEST(Tune, AProfileWhosePlannerRefusesTheLimitsGetsTheShortestTimeWithinThem) {
   // scurve's own planner needs vmax and amax; given only amax, its time is searched.
   TuneResult r;
-  const TuneMove mv{.distance = 0.1, .time = {}, .vmax = {}, .amax = 2.0, .jmax = {}};
+  const TuneMove mv{.distance = 0.1, .time = {}, .limits = {.vmax = {}, .amax = 2.0, .jmax = {}}};
   const TuneStatus st = tune({pct(30.0, 0.02, 0.05, 0.01, 0.03)}, mv, {}, r);
   ASSERT_TRUE(st == TuneStatus::ok || st == TuneStatus::no_feasible_plan);
   std::size_t searched = 0;
@@ -292,7 +292,7 @@ TEST(Tune, AProfileWhosePlannerRefusesTheLimitsGetsTheShortestTimeWithinThem) {
     ++searched;
     EXPECT_LE(c.move.peaks().a, 2.0 * (1 + 1e-9)) << c.name;
     ASSERT_TRUE(c.request.time.has_value());
-    EXPECT_FALSE(c.request.amax.has_value());
+    EXPECT_FALSE(c.request.limits.amax.has_value());
     // The request re-plans the same profile, and 0.1 % less time breaks the limit: the shortest.
     core::Move<double> again, shorter;
     ASSERT_EQ(core::plan(c.request, again), core::Status::ok);
@@ -311,7 +311,7 @@ TEST(Tune, AProfileWhosePlannerRefusesTheLimitsGetsTheShortestTimeWithinThem) {
 // request had no feasible plan (docs/tuning.md).
 TEST(Tune, WideBandsAreHeldByTheMultiHumpEi) {
   TuneResult r;
-  TuneMove mv{.distance = 0.1, .time = {}, .vmax = 1.0, .amax = 20.0, .jmax = 800.0};
+  TuneMove mv{.distance = 0.1, .time = {}, .limits = {.vmax = 1.0, .amax = 20.0, .jmax = 800.0}};
   ASSERT_EQ(tune({pct(22.0, 0.02, 0.4, 0.01, 0.03)}, mv, {}, r), TuneStatus::ok);
   check_result(r, 0.05);
   const TuneCandidate& best = r.candidates[r.chosen];
@@ -321,7 +321,7 @@ TEST(Tune, WideBandsAreHeldByTheMultiHumpEi) {
 
 TEST(Tune, NoFeasiblePlanIsReportedWithWhatWasTried) {
   TuneResult r;
-  TuneMove mv{.distance = 0.1, .time = 0.2, .vmax = {}, .amax = {}, .jmax = {}};
+  TuneMove mv{.distance = 0.1, .time = 0.2, .limits = {}};
   // +-60 % on a lightly damped mode with a 0.1 % bound: no shaper here is that insensitive.
   const TuneStatus st = tune({pct(20.0, 0.01, 0.6, 0.0, 0.02)}, mv, {.residual_max = 0.001, .zeta_points = 5, .max_work = kMaxTuneWork}, r);
   ASSERT_EQ(st,
@@ -338,7 +338,7 @@ TEST(Tune, NoFeasiblePlanIsReportedWithWhatWasTried) {
 
 TEST(Tune, BadInputsAreRefusedWithSpecificCodesAndTheResultUntouched) {
   const UncertainMode ok = pct(20.0, 0.02, 0.1, 0.0, 0.05);
-  const TuneMove mv{.distance = 0.1, .time = 0.5, .vmax = {}, .amax = {}, .jmax = {}};
+  const TuneMove mv{.distance = 0.1, .time = 0.5, .limits = {}};
   TuneResult r;
   r.residual_max = 42.0;  // a marker: nothing may be written on refusal
   EXPECT_EQ(tune({}, mv, {}, r), TuneStatus::no_modes);
@@ -367,14 +367,14 @@ TEST(Tune, BadInputsAreRefusedWithSpecificCodesAndTheResultUntouched) {
   bad = mv;
   bad.time.reset();
   EXPECT_EQ(tune({ok}, bad, {}, r), TuneStatus::bad_move);
-  bad.vmax = -1.0;
+  bad.limits.vmax = -1.0;
   EXPECT_EQ(tune({ok}, bad, {}, r), TuneStatus::bad_move);
   EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.0, .zeta_points = 5, .max_work = kMaxTuneWork}, r), TuneStatus::bad_residual_max);
   EXPECT_EQ(tune({ok}, mv, {.residual_max = 1.0, .zeta_points = 5, .max_work = kMaxTuneWork}, r), TuneStatus::bad_residual_max);
   EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = 0, .max_work = kMaxTuneWork}, r), TuneStatus::bad_grid);
   EXPECT_EQ(tune({ok}, mv, {.residual_max = 0.05, .zeta_points = kMaxTuneZetaPoints + 1, .max_work = kMaxTuneWork}, r), TuneStatus::bad_grid);
   // A search too fine to bound: a fast mode under a long move.
-  EXPECT_EQ(tune({pct(1e4, 0.01, 0.5, 0.0, 0.02)}, {.distance = 1.0, .time = 100.0, .vmax = {}, .amax = {}, .jmax = {}},
+  EXPECT_EQ(tune({pct(1e4, 0.01, 0.5, 0.0, 0.02)}, {.distance = 1.0, .time = 100.0, .limits = {}},
                  {}, r),
             TuneStatus::too_much_work);
   // The search's own budget, counted as it goes.

@@ -86,9 +86,9 @@ TEST(ExportedPlan, EveryTickWithinOneCountOfThePlannedMoveOverASeededGrid) {
     rq.distance = (i % 2 ? -1.0 : 1.0) * uni(0.005, 0.3);
     const double omega = uni(8.0, 80.0);
     if (rq.profile == ProfileKind::trapezoid || rq.profile == ProfileKind::jerk_limited) {
-      rq.vmax = uni(0.1, 1.0);
-      rq.amax = uni(1.0, 20.0);
-      if (rq.profile == ProfileKind::jerk_limited) rq.jmax = uni(50.0, 2000.0);
+      rq.limits.vmax = uni(0.1, 1.0);
+      rq.limits.amax = uni(1.0, 20.0);
+      if (rq.profile == ProfileKind::jerk_limited) rq.limits.jmax = uni(50.0, 2000.0);
     } else {
       rq.time = uni(0.2, 1.5);
     }

@@ -30,9 +30,9 @@ core::MoveRequest request(double d, double v, double a, double j, double w, doub
   core::MoveRequest r{};
   r.profile = core::ProfileKind::fastest;
   r.distance = d;
-  r.vmax = v;
-  r.amax = a;
-  r.jmax = j;
+  r.limits.vmax = v;
+  r.limits.amax = a;
+  r.limits.jmax = j;
   r.set_mode(w, z);
   return r;
 }
@@ -92,9 +92,9 @@ void check_move(const core::MoveRequest& r, const core::Move<double>& m) {
     EXPECT_LE(test::residual_amplitude(m, md.omega, md.zeta), 1e-9 * d) << "omega " << md.omega << " zeta " << md.zeta;
   }
   const core::Sample<double> pk = sampled_peaks(m);
-  EXPECT_LE(pk.v, *r.vmax * (1 + 1e-9));
-  EXPECT_LE(pk.a, *r.amax * (1 + 1e-9));
-  EXPECT_LE(pk.j, *r.jmax * (1 + 1e-9));
+  EXPECT_LE(pk.v, *r.limits.vmax * (1 + 1e-9));
+  EXPECT_LE(pk.a, *r.limits.amax * (1 + 1e-9));
+  EXPECT_LE(pk.j, *r.limits.jmax * (1 + 1e-9));
   EXPECT_NEAR(m.at(m.duration()).p, r.distance, 1e-12 * d);
   expect_never_backwards(m, r.distance, pk.v);
 }

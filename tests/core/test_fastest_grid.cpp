@@ -84,7 +84,7 @@ std::vector<GridCase> read_grid() {
 core::MoveRequest grid_request(const GridCase& c) {
   core::MoveRequest r{};
   r.profile = core::ProfileKind::fastest;
-  r.distance = c.d, r.vmax = c.v, r.amax = c.a, r.jmax = c.j;
+  r.distance = c.d, r.limits.vmax = c.v, r.limits.amax = c.a, r.limits.jmax = c.j;
   r.set_mode(c.modes[0].omega, c.modes[0].zeta);
   for (std::size_t k = 1; k < c.modes.size(); ++k) (void)r.add_mode(c.modes[k]);
   return r;
@@ -108,9 +108,9 @@ void expect_is_a_move(const core::MoveRequest& r, const core::Move<double>& m, c
     back = std::min(back, s.p - last);
     last = s.p;
   }
-  EXPECT_LE(pv, *r.vmax * (1 + 1e-9));
-  EXPECT_LE(pa, *r.amax * (1 + 1e-9));
-  EXPECT_LE(pj, *r.jmax * (1 + 1e-9));
+  EXPECT_LE(pv, *r.limits.vmax * (1 + 1e-9));
+  EXPECT_LE(pa, *r.limits.amax * (1 + 1e-9));
+  EXPECT_LE(pj, *r.limits.jmax * (1 + 1e-9));
   EXPECT_GE(worst_v, -1e-9 * pv);
   // Position samples: never back by more than 1e-8 D. Grid case 50 (a 5.7 s move of 0.8 mm) steps
   // back 3.4e-12 m = 4.2e-9 D between two samples while the velocity is >= 0 at every sample: the

@@ -224,14 +224,14 @@ bool one_axis(Gen& g, std::size_t k, Axis& ax) {
   core::MoveRequest q{};
   q.distance = g.logu(0.02, 0.5) * (g.uni(0, 1) < 0.5 ? -1 : 1);
   const double d = std::fabs(q.distance);
-  q.vmax = d * g.logu(1.0, 8.0);
-  q.amax = *q.vmax * g.logu(4.0, 40.0);
-  q.jmax = *q.amax * g.logu(10.0, 80.0);
+  q.limits.vmax = d * g.logu(1.0, 8.0);
+  q.limits.amax = *q.limits.vmax * g.logu(4.0, 40.0);
+  q.limits.jmax = *q.limits.amax * g.logu(10.0, 80.0);
   ax.modes.clear();
   for (std::size_t i = 0; i < k; ++i) ax.modes.push_back(g.mode());
   q.set_mode(ax.modes[0].omega, ax.modes[0].zeta);
   for (std::size_t i = 1; i < k; ++i) (void)q.add_mode(ax.modes[i]);
-  ax.limits = {*q.vmax, *q.amax, *q.jmax};
+  ax.limits = {*q.limits.vmax, *q.limits.amax, *q.limits.jmax};
   q.profile = g.uni(0, 1) < 0.5 ? ProfileKind::fastest : ProfileKind::jerk_limited;
   if (q.profile == ProfileKind::fastest && core::plan(q, ax.move) == Status::ok) return true;
   q.profile = ProfileKind::jerk_limited;
@@ -261,9 +261,9 @@ bool three_axes(Gen& g, std::size_t k, std::array<Axis, 3>& ax) {
   for (std::size_t i = 0; i < 3; ++i) {
     core::AxisSpec& a = r.axes[i];
     a.distance = g.logu(0.02, 0.5) * (g.uni(0, 1) < 0.5 ? -1 : 1);
-    a.vmax = g.logu(0.5, 2.0);
-    a.amax = *a.vmax * g.logu(4.0, 40.0);
-    a.jmax = *a.amax * g.logu(10.0, 80.0);
+    a.limits.vmax = g.logu(0.5, 2.0);
+    a.limits.amax = *a.limits.vmax * g.logu(4.0, 40.0);
+    a.limits.jmax = *a.limits.amax * g.logu(10.0, 80.0);
     a.omega = m[i].omega;
     a.zeta = m[i].zeta;
   }
@@ -300,9 +300,9 @@ TEST(Halt, OneAxisKeepsEveryDesignModeOfTheMove) {
   core::MoveRequest q{};
   q.profile = ProfileKind::fastest;
   q.distance = 0.1;
-  q.vmax = 1.0;
-  q.amax = 20.0;
-  q.jmax = 800.0;
+  q.limits.vmax = 1.0;
+  q.limits.amax = 20.0;
+  q.limits.jmax = 800.0;
   q.modes = {core::Mode{22.0, 0.0}, core::Mode{30.0, 0.05}, core::Mode{15.0, 0.1}};
   q.mode_count = 3;
   std::array<core::Mode, core::kMaxOnlineModes> modes{};

@@ -37,9 +37,9 @@ MultiAxisRequest three_axes(ProfileKind profile, SyncMode sync) {
     r.axes[i].distance = d[i];
     r.axes[i].omega = w[i];
     r.axes[i].zeta = z[i];
-    r.axes[i].vmax = v[i];
-    r.axes[i].amax = a[i];
-    r.axes[i].jmax = j[i];
+    r.axes[i].limits.vmax = v[i];
+    r.axes[i].limits.amax = a[i];
+    r.axes[i].limits.jmax = j[i];
   }
   return r;
 }
@@ -95,9 +95,9 @@ void expect_coordinated(const MultiAxisRequest& r, const MultiAxisPlan& p, bool 
     EXPECT_NE(p.at(i, p.duration() * (1.0 - 1e-3)).p, d);
     // Each axis within its own limits (a relative 1e-9 of slack for limits met exactly).
     const Sampled s = sampled_peaks(p, i);
-    EXPECT_LE(s.v, *r.axes[i].vmax * (1.0 + 1e-9));
-    EXPECT_LE(s.a, *r.axes[i].amax * (1.0 + 1e-9));
-    EXPECT_LE(s.j, *r.axes[i].jmax * (1.0 + 1e-9));
+    EXPECT_LE(s.v, *r.axes[i].limits.vmax * (1.0 + 1e-9));
+    EXPECT_LE(s.a, *r.axes[i].limits.amax * (1.0 + 1e-9));
+    EXPECT_LE(s.j, *r.axes[i].limits.jmax * (1.0 + 1e-9));
     // Every mode at rest: the axis's own, and with path sync every other axis's too.
     for (std::size_t k = 0; k < r.count; ++k) {
       if (k != i && !every_mode_on_every_axis) continue;
@@ -172,8 +172,8 @@ TEST(MultiAxis, EachAxisCommandIsThePlansCommandOnThatAxis) {
           worst = std::max(worst, std::fabs(m.at(t).p - p.at(i, t).p));
         }
         EXPECT_LE(worst, 1e-12 * d);
-        EXPECT_LE(m.peaks().v, *r.axes[i].vmax * (1.0 + 1e-9));
-        EXPECT_LE(m.peaks().a, *r.axes[i].amax * (1.0 + 1e-9));
+        EXPECT_LE(m.peaks().v, *r.axes[i].limits.vmax * (1.0 + 1e-9));
+        EXPECT_LE(m.peaks().a, *r.axes[i].limits.amax * (1.0 + 1e-9));
       }
       core::Move<double> m{};
       EXPECT_EQ(core::axis_command(r, p, 3, m), Status::bad_shape_parameter);
@@ -218,9 +218,7 @@ TEST(MultiAxis, TimeSyncStretchesEveryAxisToTheSlowestWithItsOwnModeAtRest) {
       core::MoveRequest q = r.base;
       if (sh == core::ShaperKind::none) q.shaper = core::ShaperKind::zv;
       q.distance = r.axes[i].distance;
-      q.vmax = r.axes[i].vmax;
-      q.amax = r.axes[i].amax;
-      q.jmax = r.axes[i].jmax;
+      q.limits = r.axes[i].limits;
       q.mode_count = 0;
       if (r.axes[i].omega) q.set_mode(*r.axes[i].omega, r.axes[i].zeta);
       core::Move<double> m{};
@@ -277,7 +275,7 @@ TEST(MultiAxis, RefusesWithTheAxisToBlame) {
   bad.count = core::kMaxAxes + 1;
   EXPECT_EQ(core::plan_axes(bad, p, culprit), Status::bad_shape_parameter);
   bad = r;
-  bad.axes[1].vmax = -1.0;
+  bad.axes[1].limits.vmax = -1.0;
   EXPECT_EQ(core::plan_axes(bad, p, culprit), Status::non_positive_limit);
   EXPECT_EQ(culprit, 1u);
   bad = r;
@@ -306,9 +304,7 @@ TEST(MultiAxis, OneAxisIsTheSingleAxisPlan) {
   core::MoveRequest q{};
   q.profile = ProfileKind::scurve;
   q.distance = r.axes[0].distance;
-  q.vmax = r.axes[0].vmax;
-  q.amax = r.axes[0].amax;
-  q.jmax = r.axes[0].jmax;
+  q.limits = r.axes[0].limits;
   if (r.axes[0].omega) q.set_mode(*r.axes[0].omega);
   core::Move<double> m{};
   ASSERT_EQ(core::plan(q, m), Status::ok);
@@ -365,11 +361,11 @@ void expect_axis_blend(const MultiAxisRequest& r, const AxisBlends& ab, std::siz
     v = std::max(v, std::fabs(s.v));
     a = std::max(a, std::fabs(s.a));
   }
-  EXPECT_LE(v, *r.axes[i].vmax * (1.0 + 1e-9)) << "case " << n << " axis " << i;
-  EXPECT_LE(a, *r.axes[i].amax * (1.0 + 1e-9)) << "case " << n << " axis " << i;
-  EXPECT_LE(b.peaks().j, *r.axes[i].jmax * (1.0 + 1e-9)) << "case " << n << " axis " << i;
+  EXPECT_LE(v, *r.axes[i].limits.vmax * (1.0 + 1e-9)) << "case " << n << " axis " << i;
+  EXPECT_LE(a, *r.axes[i].limits.amax * (1.0 + 1e-9)) << "case " << n << " axis " << i;
+  EXPECT_LE(b.peaks().j, *r.axes[i].limits.jmax * (1.0 + 1e-9)) << "case " << n << " axis " << i;
   const core::Sample<double> e = b.at(std::nextafter(b.duration(), 0.0));
-  EXPECT_LE(std::fabs(e.v), 1e-9 * *r.axes[i].vmax) << "case " << n << " axis " << i;
+  EXPECT_LE(std::fabs(e.v), 1e-9 * *r.axes[i].limits.vmax) << "case " << n << " axis " << i;
   if (target) {
     EXPECT_NEAR(b.end_position(), *target, 1e-9 * d) << "case " << n << " axis " << i;
   }
@@ -446,7 +442,7 @@ TEST(MultiAxisOnline, TimeSyncHaltsEachAxisOnItsOwnModeAndLimits) {
     for (std::size_t i = 0; i < 3; ++i) {
       ASSERT_EQ(ab.online[i].mode_count, 1u);
       EXPECT_EQ(ab.online[i].modes[0].omega, *r.axes[i].omega);
-      EXPECT_EQ(ab.online[i].limits.vmax, *r.axes[i].vmax);
+      EXPECT_EQ(ab.online[i].limits.vmax, *r.axes[i].limits.vmax);
       expect_axis_blend(r, ab, i, t, std::nullopt, n);
     }
   }
@@ -466,7 +462,7 @@ TEST(MultiAxisOnline, LimitsAreThePathsTimesTheDistanceOrTheMovesOwnPeaks) {
   // move's own peaks.
   r = three_axes(ProfileKind::poly345, SyncMode::path);
   r.base.time = 0.5;
-  for (std::size_t i = 0; i < 3; ++i) r.axes[i].vmax = r.axes[i].amax = r.axes[i].jmax = std::nullopt;
+  for (std::size_t i = 0; i < 3; ++i) r.axes[i].limits = {};
   ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
   ASSERT_EQ(core::axis_online(r, p, 2, o), Status::ok);
   EXPECT_EQ(o.limits.vmax, p.peaks(2).v);

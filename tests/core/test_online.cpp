@@ -49,9 +49,9 @@ struct Gen {
       const double omega = logu(5.0, 80.0);  // drawn before zeta: the seeded sequence
       r.set_mode(omega, r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.2));
       if (r.profile == ProfileKind::jerk_limited) {
-        r.vmax = d * logu(1.0, 5.0);
-        r.amax = *r.vmax * logu(2.0, 20.0);
-        r.jmax = *r.amax * logu(5.0, 50.0);
+        r.limits.vmax = d * logu(1.0, 5.0);
+        r.limits.amax = *r.limits.vmax * logu(2.0, 20.0);
+        r.limits.jmax = *r.limits.amax * logu(5.0, 50.0);
         r.shaper = coin() ? core::ShaperKind::zv : core::ShaperKind::zvd;
       } else {
         r.time = logu(0.1, 1.5);

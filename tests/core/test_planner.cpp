@@ -54,19 +54,19 @@ TEST(Planner, RejectsEachBadRequestWithItsOwnCode) {
   r.modes[0].zeta = -0.01;
   expect_rejected(r, Status::zeta_out_of_range);
   r = good_scurve();
-  r.vmax = 0.25;  // D/vmax = 0.4 = T
+  r.limits.vmax = 0.25;  // D/vmax = 0.4 = T
   expect_rejected(r, Status::time_too_short_for_vmax);
   r = good_scurve();
-  r.vmax = -1;
+  r.limits.vmax = -1;
   expect_rejected(r, Status::non_positive_limit);
   r = good_scurve();
-  r.amax = 1.0;  // needs ~5 m/s^2
+  r.limits.amax = 1.0;  // needs ~5 m/s^2
   expect_rejected(r, Status::acceleration_limit_exceeded);
   r = good_scurve();
-  r.jmax = 10.0;
+  r.limits.jmax = 10.0;
   expect_rejected(r, Status::jerk_limit_exceeded);
   r = good_scurve();
-  r.vmax = 0.3;
+  r.limits.vmax = 0.3;
   r.time.reset();
   expect_rejected(r, Status::missing_time_or_limits);
 
@@ -89,7 +89,7 @@ TEST(Planner, RejectsEachBadRequestWithItsOwnCode) {
   e.vtol = 0.9;
   expect_rejected(e, Status::vtol_out_of_range);
   auto v = test::timed(ProfileKind::ramp_versine, 1.0, 0.5, 28.0, 0.1);
-  v.amax = 100.0;  // its velocity steps are acceleration impulses: no finite limit holds
+  v.limits.amax = 100.0;  // its velocity steps are acceleration impulses: no finite limit holds
   expect_rejected(v, Status::acceleration_limit_exceeded);
 }
 
@@ -101,9 +101,9 @@ TEST(Planner, EveryNonFiniteNumberIsRefusedBeforeAnythingElse) {
   const std::pair<const char*, Edit> fields[] = {
       {"distance", [](core::MoveRequest& r, double x) { r.distance = x; }},
       {"time", [](core::MoveRequest& r, double x) { r.time = x; }},
-      {"vmax", [](core::MoveRequest& r, double x) { r.vmax = x; }},
-      {"amax", [](core::MoveRequest& r, double x) { r.amax = x; }},
-      {"jmax", [](core::MoveRequest& r, double x) { r.jmax = x; }},
+      {"vmax", [](core::MoveRequest& r, double x) { r.limits.vmax = x; }},
+      {"amax", [](core::MoveRequest& r, double x) { r.limits.amax = x; }},
+      {"jmax", [](core::MoveRequest& r, double x) { r.limits.jmax = x; }},
       {"omega", [](core::MoveRequest& r, double x) { r.set_mode(x, r.zeta()); }},
       {"zeta", [](core::MoveRequest& r, double x) { r.set_mode(r.omega(), x); }},
       {"vtol", [](core::MoveRequest& r, double x) { r.vtol = x; }},
@@ -116,9 +116,9 @@ TEST(Planner, EveryNonFiniteNumberIsRefusedBeforeAnythingElse) {
   core::MoveRequest limited{};  // the benchmarks' jerk-limited move (bench_request.hpp)
   limited.profile = ProfileKind::jerk_limited;
   limited.distance = 0.1;
-  limited.vmax = 0.5;
-  limited.amax = 5.0;
-  limited.jmax = 100.0;
+  limited.limits.vmax = 0.5;
+  limited.limits.amax = 5.0;
+  limited.limits.jmax = 100.0;
   for (const core::MoveRequest& base : {limited, good_scurve()}) {
     for (const auto& [name, edit] : fields) {
       for (const double bad : {NAN, INFINITY, -INFINITY}) {
@@ -126,7 +126,7 @@ TEST(Planner, EveryNonFiniteNumberIsRefusedBeforeAnythingElse) {
         edit(r, bad);
         SCOPED_TRACE(std::string(core::to_string(base.profile)) + ", " + name + " = " + std::to_string(bad));
         expect_rejected(r, Status::non_finite_input);
-        r.vmax = -1.0;  // not positive either: non-finite still comes first
+        r.limits.vmax = -1.0;  // not positive either: non-finite still comes first
         if (std::string(name) != "vmax") expect_rejected(r, Status::non_finite_input);
       }
     }
@@ -167,9 +167,9 @@ TEST(Planner, JerkLimitedIsTimeOptimalAndStretchesToAGivenTime) {
   core::MoveRequest r{};
   r.profile = ProfileKind::jerk_limited;
   r.distance = 1.0;
-  r.vmax = 1.0;
-  r.amax = 2.0;
-  r.jmax = 10.0;
+  r.limits.vmax = 1.0;
+  r.limits.amax = 2.0;
+  r.limits.jmax = 10.0;
   const auto m = test::must_plan(r);
   // Textbook: tj = a/j = 0.2, ta = tj + v/a = 0.7, tv = D/v - ta = 0.3, T = 2 ta + tv = 1.7.
   EXPECT_NEAR(m.duration(), 1.7, 1e-12);
@@ -206,9 +206,9 @@ TEST(Planner, JerkLimitedPeaksFromThePhasesAreTheTablesAndTheSampledOnes) {
     core::MoveRequest r{};
     r.profile = ProfileKind::jerk_limited;
     r.distance = c.d;
-    r.vmax = c.v;
-    r.amax = c.a;
-    r.jmax = c.j;
+    r.limits.vmax = c.v;
+    r.limits.amax = c.a;
+    r.limits.jmax = c.j;
     r.time = c.time;
     const auto m = test::must_plan(r);
     const auto& table = std::get<core::PiecewiseJerk<double>>(m.profile().variant()).params();
@@ -257,9 +257,9 @@ TEST(Planner, FastestVibrationFreeMoveAgainstShapedJerkLimited) {
     core::MoveRequest r{};
     r.profile = ProfileKind::scurve;
     r.distance = d;
-    r.vmax = vmax;
-    r.amax = amax;
-    r.jmax = jmax;
+    r.limits.vmax = vmax;
+    r.limits.amax = amax;
+    r.limits.jmax = jmax;
     r.set_mode(omega);
     const auto fast = test::must_plan(r);
     r.profile = ProfileKind::jerk_limited;
@@ -323,29 +323,4 @@ TEST(Planner, InPlaceMoveEqualsTheConstructedOne) {
       }
     }
   });
-}
-
-// The one test of peaks against a request's limits (plan() refuses by it, and so does the tuner for
-// a shaped candidate): each absent limit does not bind, the slack admits a plan that touches a
-// limit, the first exceeded is named (velocity, acceleration, jerk), and a NaN peak is refused.
-TEST(Planner, CheckLimitsNamesTheFirstLimitExceeded) {
-  core::MoveRequest r{};
-  const core::Peaks<double> pk{1.0, 10.0, 100.0};
-  EXPECT_EQ(core::check_limits(r, pk), Status::ok);
-  r.vmax = 1.0;
-  r.amax = 10.0;
-  r.jmax = 100.0;
-  EXPECT_EQ(core::check_limits(r, pk), Status::ok);
-  r.jmax = 99.0;
-  EXPECT_EQ(core::check_limits(r, pk), Status::jerk_limit_exceeded);
-  r.amax = 9.0;
-  EXPECT_EQ(core::check_limits(r, pk), Status::acceleration_limit_exceeded);
-  r.vmax = 0.5;
-  EXPECT_EQ(core::check_limits(r, pk), Status::velocity_limit_exceeded);
-  r.vmax = 1.0 - 1e-12;  // within the slack
-  r.amax.reset();
-  r.jmax.reset();
-  EXPECT_EQ(core::check_limits(r, pk), Status::ok);
-  const core::Peaks<double> nan_v{std::nan(""), 10.0, 100.0};
-  EXPECT_EQ(core::check_limits(r, nan_v), Status::velocity_limit_exceeded);
 }

@@ -26,7 +26,7 @@ std::vector<Case> cases() {
   std::vector<Case> c;
   c.push_back({"scurve_4seg", test::timed(ProfileKind::scurve, 0.1, 0.3, 22.0), 2});
   auto cruise = test::timed(ProfileKind::scurve, 0.1, 0.5, 22.0);
-  cruise.vmax = 0.3;
+  cruise.limits.vmax = 0.3;
   c.push_back({"scurve_cruise", cruise, 2});
   c.push_back({"scurve_overshoot", test::timed(ProfileKind::scurve, 0.1, 0.8 * 2 * M_PI / 22.0, 22.0), 2});
   c.push_back({"scurve_damped", test::timed(ProfileKind::scurve_damped, -0.2, 0.7, 15.0, 0.2), 2});
@@ -40,14 +40,14 @@ std::vector<Case> cases() {
   core::MoveRequest jl{};
   jl.profile = ProfileKind::jerk_limited;
   jl.distance = 0.4;
-  jl.vmax = 0.5;
-  jl.amax = 3.0;
-  jl.jmax = 40.0;
+  jl.limits.vmax = 0.5;
+  jl.limits.amax = 3.0;
+  jl.limits.jmax = 40.0;
   c.push_back({"jerk_limited", jl, 2});
   auto shaped = test::timed(ProfileKind::jerk_limited, 0.4, 1.5, 20.0, 0.05);
-  shaped.vmax = 0.5;
-  shaped.amax = 3.0;
-  shaped.jmax = 40.0;
+  shaped.limits.vmax = 0.5;
+  shaped.limits.amax = 3.0;
+  shaped.limits.jmax = 40.0;
   shaped.shaper = core::ShaperKind::zvd;
   c.push_back({"jerk_limited_zvd", shaped, 2});
   return c;
@@ -167,7 +167,7 @@ TEST(ScurveClosedForms, SegmentEndValuesOfSeed000) {
   // SEEDS.md: v(t1) = A tau/2, v(t2) = A tau, d(t1) = A tau^2/6 - A2 tau^2/(4 pi^2), d(t2) = A tau^2,
   // d(t5) = A tau (T3 + 2 tau), for the undamped profile.
   auto r = test::timed(ProfileKind::scurve, 0.3, 1.0, 9.0);
-  r.vmax = 0.45;
+  r.limits.vmax = 0.45;
   const auto m = test::must_plan(r);
   const auto* rc = std::get_if<core::RampCycloid<double>>(&m.profile().variant());
   ASSERT_NE(rc, nullptr);

@@ -50,12 +50,12 @@ struct Gen {
     const bool use_limits = r.profile == ProfileKind::jerk_limited || coin();
     if (use_limits) {
       const double v = logu(0.05, 5.0) * std::max(d, 1e-3);
-      r.vmax = v;
+      r.limits.vmax = v;
       if (r.profile != ProfileKind::ramp_versine) {
-        r.amax = v * logu(1.0, 100.0);
-        r.jmax = *r.amax * logu(1.0, 200.0);
+        r.limits.amax = v * logu(1.0, 100.0);
+        r.limits.jmax = *r.limits.amax * logu(1.0, 200.0);
         // A trapezoid's acceleration steps are jerk impulses: no finite jerk limit applies.
-        if (r.profile == ProfileKind::trapezoid) r.jmax.reset();
+        if (r.profile == ProfileKind::trapezoid) r.limits.jmax.reset();
       }
     } else {
       r.time = logu(0.01, 10.0);
@@ -63,7 +63,7 @@ struct Gen {
       // vmax, and nothing in the family fixes that), so timed requests with vmax are drawn for
       // the profiles where any vmax above D/T is reachable.
       const bool vmax_always_feasible = r.profile == ProfileKind::trapezoid || r.profile == ProfileKind::poly345;
-      if (coin(0.3) && vmax_always_feasible) r.vmax = d / *r.time * uni(1.9, 3.0);
+      if (coin(0.3) && vmax_always_feasible) r.limits.vmax = d / *r.time * uni(1.9, 3.0);
     }
     if (coin(0.1) && r.profile != ProfileKind::ramp_versine) {
       r.shaper = coin() ? core::ShaperKind::zv : core::ShaperKind::zvd;
@@ -89,14 +89,14 @@ TEST(RandomRequests, ValidOnesReachTheirTargetWithinTheirLimits) {
     ASSERT_NEAR(last.p, r.distance, 1e-9 * d + pk.v * t_end * 1e-13)
         << "case " << n << " " << core::to_string(r.profile) << " shaper " << core::to_string(r.shaper);
     ASSERT_EQ(m.at(t_end).p, r.distance);
-    if (r.vmax) {
-      ASSERT_LE(pk.v, *r.vmax * (1 + 1e-9)) << n;
+    if (r.limits.vmax) {
+      ASSERT_LE(pk.v, *r.limits.vmax * (1 + 1e-9)) << n;
     }
-    if (r.amax) {
-      ASSERT_LE(pk.a, *r.amax * (1 + 1e-9)) << n;
+    if (r.limits.amax) {
+      ASSERT_LE(pk.a, *r.limits.amax * (1 + 1e-9)) << n;
     }
-    if (r.jmax) {
-      ASSERT_LE(pk.j, *r.jmax * (1 + 1e-9)) << n;
+    if (r.limits.jmax) {
+      ASSERT_LE(pk.j, *r.limits.jmax * (1 + 1e-9)) << n;
     }
     for (int i = 0; i <= 16; ++i) {
       const auto s = m.at(t_end * i / 16.0);
@@ -122,7 +122,7 @@ TEST(RandomRequests, InvalidOnesAreRejectedWithTheRightCode) {
         expected = Status::non_positive_time;
         break;
       case 2:
-        r.vmax = -g.logu(1e-6, 10.0);
+        r.limits.vmax = -g.logu(1e-6, 10.0);
         expected = Status::non_positive_limit;
         break;
       case 3:
@@ -143,7 +143,7 @@ TEST(RandomRequests, InvalidOnesAreRejectedWithTheRightCode) {
       default:
         r.profile = g.coin() ? ProfileKind::scurve : ProfileKind::trapezoid;
         r.time = g.logu(0.01, 10.0);
-        r.vmax = std::fabs(r.distance) / *r.time * g.uni(0.01, 1.0);
+        r.limits.vmax = std::fabs(r.distance) / *r.time * g.uni(0.01, 1.0);
         expected = Status::time_too_short_for_vmax;
         break;
     }

@@ -43,9 +43,9 @@ struct Gen {
       r.set_mode(omega, r.profile == ProfileKind::scurve ? 0.0 : uni(0.0, 0.2));
       r.shaper = shapers[rng() % std::size(shapers)];
       if (r.profile == ProfileKind::jerk_limited || r.profile == ProfileKind::trapezoid) {
-        r.vmax = d * logu(1.0, 5.0);
-        r.amax = *r.vmax * logu(2.0, 20.0);
-        if (r.profile == ProfileKind::jerk_limited) r.jmax = *r.amax * logu(5.0, 50.0);
+        r.limits.vmax = d * logu(1.0, 5.0);
+        r.limits.amax = *r.limits.vmax * logu(2.0, 20.0);
+        if (r.profile == ProfileKind::jerk_limited) r.limits.jmax = *r.limits.amax * logu(5.0, 50.0);
       } else {
         r.time = logu(0.1, 1.5);
       }
@@ -116,9 +116,9 @@ TEST(Residual, JerkTablesMatchTheOracleOnTheSameMove) {
     core::MoveRequest r{};
     r.profile = ProfileKind::fastest;
     r.distance = g.logu(0.01, 0.5) * (g.coin() ? 1 : -1);
-    r.vmax = std::fabs(r.distance) * g.logu(1.0, 5.0);
-    r.amax = *r.vmax * g.logu(2.0, 20.0);
-    r.jmax = *r.amax * g.logu(5.0, 50.0);
+    r.limits.vmax = std::fabs(r.distance) * g.logu(1.0, 5.0);
+    r.limits.amax = *r.limits.vmax * g.logu(2.0, 20.0);
+    r.limits.jmax = *r.limits.amax * g.logu(5.0, 50.0);
     const double omega = g.logu(5.0, 60.0);
     r.set_mode(omega, g.uni(0.0, 0.1));
     core::FastestParams p{};

@@ -32,7 +32,7 @@ void expect_stepping_matches(const core::Move<double>& md, double dt, double tol
 
 TEST(Stepper, MatchesRandomAccessForTheScurve) {
   auto r = test::timed(ProfileKind::scurve_damped, 0.1, 0.61, 22.0, 0.05);
-  r.vmax = 0.25;
+  r.limits.vmax = 0.25;
   const auto m = test::must_plan(r);
   expect_stepping_matches<double>(m, 1e-4, 1e-12);
   expect_stepping_matches<float>(m, 1e-3, 2e-5);
@@ -109,9 +109,9 @@ TEST(Stepper, PiecewiseMovesStepAsRandomAccessBitwise) {
     core::MoveRequest r{};
     r.profile = i % 2 == 0 ? ProfileKind::jerk_limited : ProfileKind::trapezoid;
     r.distance = (u01(rng) < 0.5 ? -1.0 : 1.0) * (0.001 + u01(rng));
-    r.vmax = 0.05 + u01(rng);
-    r.amax = 0.5 + 10.0 * u01(rng);
-    if (r.profile == ProfileKind::jerk_limited) r.jmax = 5.0 + 200.0 * u01(rng);  // trapezoid: none
+    r.limits.vmax = 0.05 + u01(rng);
+    r.limits.amax = 0.5 + 10.0 * u01(rng);
+    if (r.profile == ProfileKind::jerk_limited) r.limits.jmax = 5.0 + 200.0 * u01(rng);  // trapezoid: none
     core::Move<double> md{};
     if (core::plan(r, md) != core::Status::ok) continue;
     ++planned;

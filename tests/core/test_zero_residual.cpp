@@ -79,9 +79,9 @@ core::MoveRequest shaped_jerk_limited(double omega, double zeta, core::ShaperKin
   core::MoveRequest r{};
   r.profile = ProfileKind::jerk_limited;
   r.distance = 0.2;
-  r.vmax = 0.4;
-  r.amax = 4.0;
-  r.jmax = 100.0;
+  r.limits.vmax = 0.4;
+  r.limits.amax = 4.0;
+  r.limits.jmax = 100.0;
   r.set_mode(omega, zeta);
   r.shaper = k;
   return r;

@@ -76,10 +76,10 @@ struct FixedCaseGen {
     const bool limits = r.profile == ProfileKind::jerk_limited || coin(0.3);
     if (limits) {
       const double v = logu(0.05, 5.0) * std::max(d, 1e-3);
-      r.vmax = v;
+      r.limits.vmax = v;
       if (r.profile != ProfileKind::ramp_versine) {
-        r.amax = v * logu(1.0, 100.0);
-        if (r.profile != ProfileKind::trapezoid) r.jmax = *r.amax * logu(1.0, 200.0);
+        r.limits.amax = v * logu(1.0, 100.0);
+        if (r.profile != ProfileKind::trapezoid) r.limits.jmax = *r.limits.amax * logu(1.0, 200.0);
       }
       r.set_mode(6.283185307179586 / (d / v) * logu(0.5, 10.0), zeta);  // a mode near the move's time scale
     } else {

@@ -127,7 +127,7 @@ TEST(Paper000, ExperimentTableAgreesWithDuhamelQuadrature) {
       r.distance = run.distance;
       r.time = row.time;
       if (row.profile == core::ProfileKind::scurve) {
-        r.vmax = kVmax000;
+        r.limits.vmax = kVmax000;
         r.set_mode(res.modes[0].omega);
       }
       core::Move<double> m;

@@ -66,8 +66,8 @@ TEST(Commands, TrapezoidAccelerationStepsAreOneSided) {
   core::MoveRequest r;
   r.profile = core::ProfileKind::trapezoid;
   r.distance = 2.0;
-  r.vmax = 1.0;
-  r.amax = 4.0;
+  r.limits.vmax = 1.0;
+  r.limits.amax = 4.0;
   const MoveCommand c{plan(r)};
   std::vector<double> bp;
   c.breakpoints(bp);
@@ -86,7 +86,7 @@ TEST(Commands, ScurveIsContinuousAtItsSegmentBoundaries) {
   r.profile = core::ProfileKind::scurve;
   r.distance = 0.07;
   r.time = 0.4;
-  r.vmax = 0.3;
+  r.limits.vmax = 0.3;
   r.set_mode(22.0);
   const MoveCommand c{plan(r)};
   std::vector<double> bp;

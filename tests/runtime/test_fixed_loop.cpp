@@ -102,9 +102,9 @@ TEST(FixedLoop, RefusesAMoveBeyondItsPlanAndALargerPlanStreamsIt) {
   core::MoveRequest r{};
   r.profile = core::ProfileKind::jerk_limited;
   r.distance = 0.2;
-  r.vmax = 0.5;
-  r.amax = 2.0;
-  r.jmax = 20.0;
+  r.limits.vmax = 0.5;
+  r.limits.amax = 2.0;
+  r.limits.jmax = 20.0;
   r.set_mode(22.04871);
   r.shaper = core::ShaperKind::zvdd;
   core::Move<double> m{};

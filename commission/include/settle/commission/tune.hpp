@@ -22,7 +22,7 @@ namespace settle::commission {
 struct TuneMove {
   double distance{0.0};
   std::optional<double> time;
-  std::optional<double> vmax, amax, jmax;
+  core::OptionalLimits limits;
 };
 
 // Bounds of one tune() call, checked before any work: the modes, and the grid each band is

@@ -10,6 +10,7 @@
 #include <span>
 
 #include "settle/core/design_params.hpp"
+#include "settle/core/limits.hpp"
 #include "settle/core/pseudo_poly.hpp"
 #include "settle/core/shaper.hpp"
 
@@ -30,7 +31,7 @@ struct MoveRequest {
   ProfileKind profile{};  // the registry's first profile (scurve) unless set
   double distance{0.0};
   std::optional<double> time;  // move time of the unshaped profile
-  std::optional<double> vmax, amax, jmax;
+  OptionalLimits limits;  // each absent one does not limit
   std::array<double, kMaxGammas> gammas{};  // pseudopoly exponents
   std::size_t gamma_count{0};
   std::optional<std::array<double, 3>> y_fractions;  // ramp-versine: Y/L given instead of computed

@@ -30,7 +30,7 @@ enum class SyncMode : std::uint8_t { path, time };
 // the mode it is designed for (absent: none declared on that axis).
 struct AxisSpec {
   double distance{0.0};
-  std::optional<double> vmax, amax, jmax;
+  OptionalLimits limits;
   std::optional<double> omega;  // rad/s
   double zeta{0.0};
 };

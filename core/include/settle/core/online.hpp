@@ -190,8 +190,7 @@ struct OnlinePlan {
 // is held to amax times the fastest of `modes` (1 rad/s without one), the jerk of an acceleration
 // change over 1/omega. unsupported_request when the move steps in velocity (no blend can start from
 // it with continuous acceleration); non_positive_limit when a limit is zero (a move that does not move).
-[[nodiscard]] Status online_limits(std::optional<double> vmax, std::optional<double> amax, std::optional<double> jmax,
-                                   const Peaks<double>& pk, const Mode* modes, std::size_t mode_count,
+[[nodiscard]] Status online_limits(const OptionalLimits& limits, const Peaks<double>& pk, const Mode* modes, std::size_t mode_count,
                                    OnlineLimits& out) noexcept;
 
 // Convenience: the request of a halt (target none) or a retarget (target = new distance from the

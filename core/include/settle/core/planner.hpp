@@ -22,9 +22,6 @@ namespace settle::core {
 // Whether planning `req` uses the mode (used_params holds omega): a shaper does, and so does a
 // profile whose hook designs for it. plan() then requires a positive omega.
 [[nodiscard]] bool needs_mode(const MoveRequest& req) noexcept;
-// Peaks against the request's limits (each absent one does not limit; kLimitSlack): ok, or the
-// status naming the first exceeded (velocity, acceleration, jerk). What plan() refuses a move for.
-[[nodiscard]] Status check_limits(const MoveRequest& req, const Peaks<double>& pk) noexcept;
 
 // Peaks of a shaped move, computed from its evaluation (a dense scan refined around each
 // maximum); equal to the profile's own peaks when the shaper is the identity.

@@ -188,9 +188,9 @@ struct FastestProfile {
   [[nodiscard]] static MoveRequest example() noexcept {
     MoveRequest r{};
     r.distance = 0.1;
-    r.vmax = 1.0;
-    r.amax = 20.0;
-    r.jmax = 800.0;
+    r.limits.vmax = 1.0;
+    r.limits.amax = 20.0;
+    r.limits.jmax = 800.0;
     r.set_mode(22.0);
     return r;
   }

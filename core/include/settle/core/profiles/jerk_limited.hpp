@@ -18,39 +18,39 @@ struct JerkLimitedProfile {
   using Shape = PiecewiseJerk<T>;
   static constexpr ParamSet params{Param::time, Param::vmax, Param::amax, Param::jmax};
   [[nodiscard]] static Status plan(const MoveRequest& r, PiecewiseJerkParams& out, Peaks<double>& pk) noexcept {
-    if (!r.vmax || !r.amax || !r.jmax) return Status::missing_time_or_limits;
+    if (!r.limits.vmax || !r.limits.amax || !r.limits.jmax) return Status::missing_time_or_limits;
     const double d = std::fabs(r.distance);
     if (!r.time) {
-      jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax, out, &pk);
+      jerk_limited_time_optimal(r.distance, *r.limits.vmax, *r.limits.amax, *r.limits.jmax, out, &pk);
       return Status::ok;
     }
-    const PiecewiseJerkParams p = jerk_limited_time_optimal(r.distance, *r.vmax, *r.amax, *r.jmax);
+    const PiecewiseJerkParams p = jerk_limited_time_optimal(r.distance, *r.limits.vmax, *r.limits.amax, *r.limits.jmax);
     const double t = *r.time;
-    if (d / *r.vmax >= t) return Status::time_too_short_for_vmax;
+    if (d / *r.limits.vmax >= t) return Status::time_too_short_for_vmax;
     if (t < piecewise_duration(p)) {
-      const double t_acc = piecewise_duration(trapezoid_time_optimal(r.distance, *r.vmax, *r.amax));
+      const double t_acc = piecewise_duration(trapezoid_time_optimal(r.distance, *r.limits.vmax, *r.limits.amax));
       return t < t_acc ? Status::acceleration_limit_exceeded : Status::jerk_limit_exceeded;
     }
     // Stretch to the requested time by lowering the cruise velocity: duration falls
     // monotonically as v rises, so bisection on v finds the profile of exactly duration t.
-    double lo = d / t, hi = *r.vmax;
+    double lo = d / t, hi = *r.limits.vmax;
     for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
       const double mid = 0.5 * (lo + hi);
-      if (piecewise_duration(jerk_limited_time_optimal(r.distance, mid, *r.amax, *r.jmax)) > t) {
+      if (piecewise_duration(jerk_limited_time_optimal(r.distance, mid, *r.limits.amax, *r.limits.jmax)) > t) {
         lo = mid;
       } else {
         hi = mid;
       }
     }
-    jerk_limited_time_optimal(r.distance, hi, *r.amax, *r.jmax, out, &pk);
+    jerk_limited_time_optimal(r.distance, hi, *r.limits.amax, *r.limits.jmax, out, &pk);
     return Status::ok;
   }
   [[nodiscard]] static MoveRequest example() noexcept {
     MoveRequest r{};
     r.distance = 0.4;
-    r.vmax = 0.5;
-    r.amax = 2.0;
-    r.jmax = 20.0;
+    r.limits.vmax = 0.5;
+    r.limits.amax = 2.0;
+    r.limits.jmax = 20.0;
     return r;
   }
 };

@@ -25,14 +25,14 @@ namespace detail {
   if (r.time) {
     t = *r.time;
   } else {
-    if (!r.vmax && !r.amax && !r.jmax) return Status::missing_time_or_limits;
+    if (!r.limits.any()) return Status::missing_time_or_limits;
     const Peaks<double> u = pseudo_poly_unit_peaks(p);
     const double d = std::fabs(r.distance);
-    if (r.vmax) t = std::max(t, d * u.v / *r.vmax);
-    if (r.amax) t = std::max(t, std::sqrt(d * u.a / *r.amax));
-    if (r.jmax) {
+    if (r.limits.vmax) t = std::max(t, d * u.v / *r.limits.vmax);
+    if (r.limits.amax) t = std::max(t, std::sqrt(d * u.a / *r.limits.amax));
+    if (r.limits.jmax) {
       if (!std::isfinite(u.j)) return Status::jerk_limit_exceeded;
-      t = std::max(t, std::cbrt(d * u.j / *r.jmax));
+      t = std::max(t, std::cbrt(d * u.j / *r.limits.jmax));
     }
   }
   p.duration = t;

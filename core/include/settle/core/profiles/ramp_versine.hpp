@@ -29,10 +29,10 @@ struct RampVersineProfile {
     if (r.time) {
       tau = *r.time;
     } else {
-      if (!r.vmax) return Status::missing_time_or_limits;
-      if (r.amax) return Status::acceleration_limit_exceeded;
-      if (r.jmax) return Status::jerk_limit_exceeded;
-      if (!ramp_versine_shortest(r.distance, *r.vmax, fractions, omega, r.zeta(), tau)) {
+      if (!r.limits.vmax) return Status::missing_time_or_limits;
+      if (r.limits.amax) return Status::acceleration_limit_exceeded;
+      if (r.limits.jmax) return Status::jerk_limit_exceeded;
+      if (!ramp_versine_shortest(r.distance, *r.limits.vmax, fractions, omega, r.zeta(), tau)) {
         return Status::velocity_limit_exceeded;
       }
     }

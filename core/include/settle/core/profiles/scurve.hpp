@@ -20,10 +20,10 @@ namespace detail {
   RampCycloidParams p{};
   Status st = Status::ok;
   if (r.time) {
-    st = scurve_timed(r.distance, *r.time, r.vmax.value_or(0.0), r.omega(), zeta, p);
+    st = scurve_timed(r.distance, *r.time, r.limits.vmax.value_or(0.0), r.omega(), zeta, p);
   } else {
-    if (!r.vmax || !r.amax) return Status::missing_time_or_limits;
-    st = plan_fastest_scurve(r.distance, *r.vmax, *r.amax, r.jmax.value_or(std::numeric_limits<double>::infinity()),
+    if (!r.limits.vmax || !r.limits.amax) return Status::missing_time_or_limits;
+    st = plan_fastest_scurve(r.distance, *r.limits.vmax, *r.limits.amax, r.limits.jmax.value_or(std::numeric_limits<double>::infinity()),
                              r.omega(), zeta, damped, p);
   }
   if (st != Status::ok) return st;

@@ -24,13 +24,13 @@ struct TrapezoidProfile {
     PiecewiseJerkParams p{};
     if (r.time) {
       const double t = *r.time;
-      if (r.vmax && d / *r.vmax >= t) return Status::time_too_short_for_vmax;
+      if (r.limits.vmax && d / *r.limits.vmax >= t) return Status::time_too_short_for_vmax;
       // Without a binding vmax, accelerate for a third of the move (cruise at 1.5 D/T).
-      const double v = r.vmax ? std::min(*r.vmax, 1.5 * d / t) : 1.5 * d / t;
+      const double v = r.limits.vmax ? std::min(*r.limits.vmax, 1.5 * d / t) : 1.5 * d / t;
       p = trapezoid_timed(r.distance, t, v);
     } else {
-      if (!r.vmax || !r.amax) return Status::missing_time_or_limits;
-      p = trapezoid_time_optimal(r.distance, *r.vmax, *r.amax);
+      if (!r.limits.vmax || !r.limits.amax) return Status::missing_time_or_limits;
+      p = trapezoid_time_optimal(r.distance, *r.limits.vmax, *r.limits.amax);
     }
     pk = piecewise_peaks(p);
     out = p;
