@@ -3,6 +3,8 @@
 
 #include <array>
 #include <cstdio>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "settle/hal/canopen/process_data.hpp"
@@ -230,6 +232,38 @@ std::string static_layout_problem(const ProcessDataLayout& l, std::uint16_t unfi
   return what.empty() ? std::string{} : "the drive's PDO mapping is static (not writable) and " + what;
 }
 
+// "" or why a PDO the static layout uses would go unheard: the master sends and listens on the
+// predefined connection set's COB-IDs (CiA 301: 0x200/0x180 + 0x100 (n - 1) + node) and does not
+// re-assign a static drive's, so a drive described with another one is refused, not streamed to
+// into silence. Bits 0..29 are compared (29: a 29-bit identifier); bit 30 (no RTR) is free.
+std::string cob_id_problem(const ProcessDataLayout& l, const std::vector<Pdo>& rpdos, const std::vector<Pdo>& tpdos,
+                           std::uint8_t node) {
+  const auto heard = [&](const PdoSlot& slot, bool receive) -> std::string {
+    if (!slot.mapped()) return {};
+    for (const Pdo& p : receive ? rpdos : tpdos) {
+      if (p.number != slot.pdo) continue;
+      const std::uint32_t predefined = canopen::pdo_cob_id(receive, slot.pdo, node);
+      if ((p.cob_id & 0x3FFFFFFFU) == predefined) return {};
+      std::array<char, 160> text{};
+      std::snprintf(text.data(), text.size(), "%s%u's COB-ID (0x%04X:1) is 0x%X, not the predefined 0x%03X",
+                    receive ? "RPDO" : "TPDO", static_cast<unsigned>(slot.pdo),
+                    static_cast<unsigned>(canopen::pdo_communication_index(receive, slot.pdo)),
+                    static_cast<unsigned>(p.cob_id & 0x3FFFFFFFU), static_cast<unsigned>(predefined));
+      return std::string{text.data()} + (receive ? " the master sends on" : " the master listens on") +
+             " (CiA 301's predefined connection set for node " + std::to_string(node) + ")";
+    }
+    return {};
+  };
+  for (const auto& [slot, receive] : {std::pair{l.controlword, true}, std::pair{l.statusword, false},
+                                      std::pair{l.position_actual, false}, std::pair{l.load_position, false},
+                                      std::pair{l.velocity_actual, false}, std::pair{l.following_error, false}}) {
+    if (std::string why = heard(slot, receive); !why.empty()) {
+      return "the drive's PDO mapping is static (not writable) and its " + why;
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 DriveConfigResult drive_config_from_eds(const Description& description, const canopen::RemoteDriveConfig& base,
@@ -272,6 +306,7 @@ DriveConfigResult drive_config_from_eds(const Description& description, const ca
   unsigned unfillable_pdo = 0;
   const ProcessDataLayout l = layout_of(rpdos, tpdos, objects, unfillable, unfillable_pdo);
   result.error = static_layout_problem(l, unfillable, unfillable_pdo, feedback, tpdos);
+  if (result.error.empty()) result.error = cob_id_problem(l, rpdos, tpdos, base.node);
   if (!result.error.empty()) return result;
   result.config.pdo_setup = canopen::PdoSetup::read_static;
   result.config.layout = l;

@@ -319,6 +319,59 @@ TEST(EdsDriveConfig, ADisabledPdoOfAStaticMappingCarriesNothing) {
             "the drive's PDO mapping is static (not writable) and no TPDO carries 0x606C (velocity actual value)");
 }
 
+// A static drive described with a COB-ID other than the predefined one would be streamed to (or
+// listened for) in silence: the master uses the predefined connection set and does not re-assign a
+// static drive's, so it refuses, naming the PDO, the object and both identifiers. Bit 30 (no RTR)
+// is no difference; a dynamic drive gets its COB-IDs written at start-up and is not concerned.
+TEST(EdsDriveConfig, AStaticPdoOnAnotherCobIdThanThePredefinedIsRefusedNamingIt) {
+  const std::string prefix = "the drive's PDO mapping is static (not writable) and its ";
+  {
+    EdsText e = drive_objects();
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, pos});
+    e.replace({0x1800, 1, data_type::u32, "rw", false, "$NODEID+0x1A0"});
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), {}).error,
+              prefix + "TPDO1's COB-ID (0x1800:1) is 0x1A3, not the predefined 0x183 the master listens on "
+                       "(CiA 301's predefined connection set for node 3)");
+  }
+  {
+    EdsText e = drive_objects();
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, pos});
+    e.replace({0x1400, 1, data_type::u32, "rw", false, "0x205"});  // node 5's, not node 3's
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), {}).error,
+              prefix + "RPDO1's COB-ID (0x1400:1) is 0x205, not the predefined 0x203 the master sends on "
+                       "(CiA 301's predefined connection set for node 3)");
+  }
+  {
+    EdsText e = drive_objects();  // the feedback's second TPDO counts as much as the first
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, vel}).pdo(false, 2, false, {pos});
+    e.replace({0x1801, 1, data_type::u32, "rw", false, "$NODEID+0x380"});
+    EXPECT_EQ(drive_config_from_eds(parsed(e), base(), {}).error,
+              prefix + "TPDO2's COB-ID (0x1801:1) is 0x383, not the predefined 0x283 the master listens on "
+                       "(CiA 301's predefined connection set for node 3)");
+  }
+  {
+    EdsText e = drive_objects();  // bit 30 (no RTR allowed) set: the same identifier
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, pos});
+    e.replace({0x1800, 1, data_type::u32, "rw", false, "$NODEID+0x40000180"});
+    const DriveConfigResult r = drive_config_from_eds(parsed(e), base(), {});
+    EXPECT_TRUE(r.ok()) << r.error;
+  }
+  {
+    EdsText e = drive_objects();  // a PDO carrying nothing the master reads may have any COB-ID
+    e.pdo(true, 1, false, {cw, target}).pdo(false, 1, false, {sw, pos}).pdo(false, 3, false, {0x1001'0008});
+    e.replace({0x1802, 1, data_type::u32, "rw", false, "$NODEID+0x4A0"});
+    const DriveConfigResult r = drive_config_from_eds(parsed(e), base(), {});
+    EXPECT_TRUE(r.ok()) << r.error;
+  }
+  {
+    EdsText e = drive_objects();  // dynamic: start-up writes the predefined COB-IDs
+    e.pdo(true, 1, true, {cw, target}).pdo(false, 1, true, {sw, pos}).pdo(false, 2, true, {});
+    e.replace({0x1800, 1, data_type::u32, "rw", false, "$NODEID+0x1A0"});
+    const DriveConfigResult r = drive_config_from_eds(parsed(e), base(), {});
+    EXPECT_TRUE(r.ok()) << r.error;
+  }
+}
+
 // A real drive's static mapping that splits the feedback (TPDO1 = statusword + velocity actual,
 // TPDO2 = position actual, both on every SYNC) streams: the master reads one period from both.
 TEST(EdsDriveConfig, AStaticMappingMaySplitTheFeedbackAcrossSyncTpdos) {
