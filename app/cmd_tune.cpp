@@ -126,7 +126,9 @@ Json alternatives_json(const commission::TuneResult& r) {
   return a;
 }
 
-void print_text(const commission::TuneResult& r, const Band& b) {
+// The alternatives: those whose residual was checked (each faster plan the chosen one beat, and
+// itself); with `verbose` also those not checked or not planned, else one line counting them.
+void print_text(const commission::TuneResult& r, const Band& b, bool verbose) {
   const commission::TuneCandidate& c = r.candidates[r.chosen];
   std::printf("chosen       %s\n", c.name.c_str());
   std::printf("duration     %.9g s (profile %.9g s + shaper %.9g s)\n", c.move.duration(),
@@ -141,15 +143,22 @@ void print_text(const commission::TuneResult& r, const Band& b) {
                 c.mode_worst[j].omega, c.mode_worst[j].zeta);
   }
   std::printf("alternatives\n");
+  std::size_t unchecked = 0, unplanned = 0;
   for (const commission::TuneCandidate& a : r.candidates) {
     if (!a.planned) {
-      std::printf("  %-28s not planned (%s)\n", a.name.c_str(), a.refusal.c_str());
+      ++unplanned;
+      if (verbose) std::printf("  %-28s not planned (%s)\n", a.name.c_str(), a.refusal.c_str());
     } else if (!a.evaluated) {
-      std::printf("  %-28s %.6g s, not checked (slower than the chosen plan)\n", a.name.c_str(), a.duration);
+      ++unchecked;
+      if (verbose) std::printf("  %-28s %.6g s, not checked (slower than the chosen plan)\n", a.name.c_str(), a.duration);
     } else {
       std::printf("  %-28s %.6g s, %s %.4g\n", a.name.c_str(), a.duration, a.meets ? "worst" : "fails: at least",
                   a.worst.residual);
     }
+  }
+  if (!verbose && unchecked + unplanned > 0) {
+    std::printf("  (%zu more not checked: slower than the chosen plan; %zu not planned; --verbose lists them)\n",
+                unchecked, unplanned);
   }
 }
 
@@ -261,7 +270,7 @@ int cmd_tune(int argc, char** argv) {
   if (json) {
     print_json(j);
   } else {
-    print_text(result, band);
+    print_text(result, band, args.flag("--verbose"));
   }
   return kExitOk;
 }

@@ -217,6 +217,8 @@ const std::vector<OptionSpec> kTune = {
     real("--zeta-pm", "", "0.01", {0.0, 0.5}, "with --uncertainty PCT: zeta's band is zeta +- this (clipped to [0, 0.99])"),
     text("--png", "", "draw residual against frequency error for the chosen plan and the faster plans it beat "
                       "(needs gnuplot)", "FILE"),
+    flag("--verbose", "list every alternative in the text report, also those not checked (slower than the chosen "
+                      "plan) and not planned; without it they are counted in one line (--json always lists all)"),
 };
 
 const std::vector<OptionSpec> kPlanFrom = {

@@ -454,7 +454,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
                         "--bitrate", "--sdo-timeout-ms", "--feedback-timeout-periods", "--log", "--candump", "--feedback-log",
                         "--halt-at", "--retarget-at"}})},
       {"tune", join({{"--distance", "--time", "--vmax", "--amax", "--jmax", "--modes-from", "--mode", "--residual-max",
-                      "--uncertainty", "--zeta-pm", "--png"}})},
+                      "--uncertainty", "--zeta-pm", "--png", "--verbose"}})},
       {"export", join({{"--plan-from", "--scalar", "--name", "--counts-per-unit", "--period-us"}})},
       {"identify", join({plant, drive,
                          {"--bus", "--timing", "--node", "--eds", "--strict", "--load-feedback", "--heartbeat-ms", "--sdo-timeout-ms", "--feedback-timeout-periods",

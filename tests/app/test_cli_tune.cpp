@@ -172,6 +172,56 @@ TEST(CliTune, TextOutputNamesTheChoiceAndItsWorstResidual) {
   EXPECT_NE(r.stdout_text.find("alternatives"), std::string::npos);
 }
 
+// The text report lists the alternatives whose residual was checked and counts the others in one
+// line; --verbose lists every one. Both are held against the JSON's list of the same run.
+TEST(CliTune, TextListsTheCheckedAlternativesAndVerboseListsEveryOne) {
+  const std::string cmd = "tune --mode 12.566,0.03 --uncertainty 10 --distance 0.1 --time 0.5";
+  const Json j = run_json(cmd);
+  std::size_t checked = 0, unchecked = 0, unplanned = 0;
+  for (const Json& a : j.at("alternatives")) {
+    if (!a.at("planned").get<bool>()) {
+      ++unplanned;
+    } else if (!a.at("evaluated").get<bool>()) {
+      ++unchecked;
+    } else {
+      ++checked;
+    }
+  }
+  ASSERT_GT(unchecked, 0u);
+  ASSERT_GT(unplanned, 0u);
+  const auto lines_in = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream ss{text};
+    bool in = false;
+    for (std::string l; std::getline(ss, l);) {
+      if (l == "alternatives") {
+        in = true;
+      } else if (in) {
+        out.push_back(l);
+      }
+    }
+    return out;
+  };
+  const CliResult brief = run_cli(cmd);
+  ASSERT_EQ(brief.status, 0) << brief.out;
+  const std::vector<std::string> b = lines_in(brief.stdout_text);
+  ASSERT_EQ(b.size(), checked + 1) << brief.stdout_text;
+  for (std::size_t i = 0; i + 1 < b.size(); ++i) EXPECT_EQ(b[i].find("not "), std::string::npos) << b[i];
+  EXPECT_EQ(b.back(), "  (" + std::to_string(unchecked) + " more not checked: slower than the chosen plan; " +
+                          std::to_string(unplanned) + " not planned; --verbose lists them)");
+  const CliResult all = run_cli(cmd + " --verbose");
+  ASSERT_EQ(all.status, 0) << all.out;
+  const std::vector<std::string> v = lines_in(all.stdout_text);
+  ASSERT_EQ(v.size(), checked + unchecked + unplanned) << all.stdout_text;
+  std::size_t said_unchecked = 0, said_unplanned = 0;
+  for (const std::string& l : v) {
+    said_unchecked += l.find("not checked (slower than the chosen plan)") != std::string::npos ? 1U : 0U;
+    said_unplanned += l.find("not planned (") != std::string::npos ? 1U : 0U;
+  }
+  EXPECT_EQ(said_unchecked, unchecked);
+  EXPECT_EQ(said_unplanned, unplanned);
+}
+
 // The tick log of `settle stream --log`: target counts of the ticks during which the loop was moving.
 std::vector<long long> moving_targets(const std::string& csv) {
   std::ifstream in{csv};
