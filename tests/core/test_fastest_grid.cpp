@@ -35,12 +35,14 @@ namespace {
 // at least this many within 0.1 % of the reference, none more than this ratio over it, at most
 // this many refused.
 #if SETTLE_FASTEST_GRID_EVERY == 1
-constexpr int kWithin = 201;  // of 252 with a reference (257 cases)
+constexpr int kWithin = 222;  // of 277 with a reference (282 cases)
 constexpr double kWorst = 1.3231;
-constexpr int kRefused = 0;
+// Case 113 (three modes, 2.1 / 13.5 / 278.7 rad/s; D 3.48 m): no_solution, where the reference
+// has a 1.945 s move. A refusal where a move exists: docs/fastest.md.
+constexpr int kRefused = 1;
 #else
-constexpr int kWithin = 19;  // of 28 with a reference (30 cases: every eighth)
-constexpr double kWorst = 1.3231;
+constexpr int kWithin = 26;  // of 29 with a reference (30 cases spread evenly over the file)
+constexpr double kWorst = 1.0322;
 constexpr int kRefused = 0;
 #endif
 }  // namespace
