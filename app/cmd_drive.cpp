@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
 // settle drive info|read|write|scan: a CANopen drive's dictionary over SDO (hal's SdoClient,
 // expedited and segmented), on a SocketCAN interface or on the simulated drive in this process
-// (--bus loopback, drive_link.hpp). `settle drive config` (configure and verify what streaming
-// needs) is the master's start-up and is not part of this build. --eds FILE (on a bus) gives read
-// and write their --type and names the mapped objects in info; with --bus loopback the simulated
-// drive is the one it describes (testbed::build_simulated_drive).
+// (--bus loopback, drive_link.hpp). settle drive nmt start|stop|preop|reset|reset-comm: one CiA
+// 301 NMT command to one node (hal's encode_nmt), confirmed by the node's heartbeat or boot-up.
+// `settle drive config` (configure and verify what streaming needs) is the master's start-up and
+// is not part of this build. --eds FILE (on a bus) gives read and write their --type and names
+// the mapped objects in info; with --bus loopback the simulated drive is the one it describes
+// (testbed::build_simulated_drive).
 //
 // Exit status (commands.hpp): 0 done; 2 a bad request, before anything is sent; 1 the bus cannot
 // be opened, the drive does not answer within --timeout-ms, or it aborts a transfer (the CiA 301
-// code and its meaning are printed), or a written value reads back different.
+// code and its meaning are printed), or a written value reads back different, or (nmt) the node's
+// heartbeats carry another state than the command leads to (none at all: exit 0, not confirmed).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -28,6 +31,7 @@
 #include "settle/hal/canopen/sdo_abort.hpp"
 #include "settle/hal/canopen/standard_objects.hpp"
 #include "settle/hal/eds_reader.hpp"
+#include "settle/hal/canopen/heartbeat.hpp"
 #include "settle/hal/canopen/nmt.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
 #include "settle/hal/eds_drive_config.hpp"
@@ -43,7 +47,7 @@ using hal::canopen::SdoClient;
 using hal::canopen::SdoClientStatus;
 using hal::canopen::SdoResult;
 
-constexpr std::string_view kSubcommands[] = {"info", "read", "write", "config", "scan"};
+constexpr std::string_view kSubcommands[] = {"info", "read", "write", "config", "scan", "nmt"};
 // Scan: nodes asked at once, each batch waiting at most --timeout-ms (documented in options.cpp).
 constexpr hal::canopen::NodeId kScanBatch = 16;
 // The longest object read: a string (segmented upload) longer than this is aborted 0x06070012.
@@ -159,9 +163,9 @@ class Session {
         client_{node_, timeout_us_} {}
 
   // Exit status when the bus cannot be opened, or -1.
-  int open() {
+  int open(const hal::CanFilter& accept = kSdoAnswers) {
     std::string error;
-    link_ = open_drive_link(bus_name_, node_, eds_, socketcan_, error);
+    link_ = open_drive_link(bus_name_, node_, eds_, socketcan_, error, accept);
     if (!link_) return failed("bus", error);
     return -1;
   }
@@ -230,7 +234,7 @@ class Session {
 
 // `settle drive --help`: the subcommands, from the option table.
 std::string drive_help() {
-  std::string h = "usage: settle drive info|read|write|scan [options]\n\nsubcommands:\n";
+  std::string h = "usage: settle drive info|read|write|config|scan|nmt [options]\n\nsubcommands:\n";
   for (const CommandSpec& c : commands()) {
     if (c.name.rfind("drive ", 0) != 0) continue;
     char line[256];
@@ -828,6 +832,110 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
   return print_configuration(s, plan.config, report, eds_warnings);
 }
 
+// ---- nmt ------------------------------------------------------------------------------------
+
+// A command word of settle drive nmt, the CiA 301 command it sends, and the state the node's
+// heartbeat carries once it has obeyed (a reset: its boot-up message, state byte 0).
+struct NmtWord {
+  std::string_view word;
+  hal::canopen::NmtCommand command;
+  hal::canopen::NmtState expect;
+};
+constexpr NmtWord kNmtWords[] = {
+    {"start", hal::canopen::NmtCommand::start, hal::canopen::NmtState::operational},
+    {"stop", hal::canopen::NmtCommand::stop, hal::canopen::NmtState::stopped},
+    {"preop", hal::canopen::NmtCommand::enter_pre_operational, hal::canopen::NmtState::pre_operational},
+    {"reset", hal::canopen::NmtCommand::reset_node, hal::canopen::NmtState::initialising},
+    {"reset-comm", hal::canopen::NmtCommand::reset_communication, hal::canopen::NmtState::initialising},
+};
+
+const NmtWord* nmt_word(const std::string& word) {
+  for (const NmtWord& w : kNmtWords) {
+    if (w.word == word) return &w;
+  }
+  return nullptr;
+}
+
+// A state as the output names it (state byte 0 is only ever seen as the boot-up message).
+std::string state_name(hal::canopen::NmtState state) {
+  switch (state) {
+    case hal::canopen::NmtState::initialising: return "boot-up";
+    case hal::canopen::NmtState::stopped: return "stopped";
+    case hal::canopen::NmtState::operational: return "operational";
+    case hal::canopen::NmtState::pre_operational: return "pre-operational";
+  }
+  return "unknown";
+}
+
+// settle drive nmt: sends the command (COB-ID 0, hal's encode_nmt), then watches the node's
+// heartbeat (0x700 + node, hal's HeartbeatConsumer) for at most --timeout-ms until it carries the
+// state the command leads to. Confirmed: exit 0. No heartbeat at all (0x1017 = 0, or a node that
+// is not there): exit 0, reported as not confirmed; nothing is claimed. Heartbeats only of
+// another state: exit 1 (the node did not obey), with the state it reported.
+int drive_nmt(const ParsedArgs& args, const hal::eds::Description* eds, const NmtWord& w) {
+  Session s{args, "nmt", eds};
+  const auto node = s.node();
+  const hal::CanFilter heartbeat{hal::canopen::cob_id(hal::canopen::cob::heartbeat, node), 0x7FF,
+                                 hal::FrameFormat::standard};
+  if (const int rc = s.open(heartbeat); rc >= 0) return rc;
+  testbed::ClockedBus& link = s.link();
+  const std::string who = "node " + std::to_string(node);
+  // What the node sent before the command (loopback: its power-on boot-up) says nothing about it.
+  hal::CanFrame stale{};
+  for (int k = 0; k < 1024 && link.receive(stale, 0); ++k) {
+  }
+  const hal::CanFrame command = hal::canopen::encode_nmt(w.command, node);
+  // Retried while the transmit queue is full, as an SDO request is (drive_link.hpp).
+  if (!start_transfer(link, {}, [&](std::uint64_t, hal::CanBus& bus) {
+        return bus.send(command) == hal::SendStatus::sent;
+      })) {
+    return s.failed("send_failed", who + ": the NMT command could not be sent on " + s.bus_name());
+  }
+  const std::uint64_t sent_us = link.now_us();
+  hal::canopen::HeartbeatConsumer watch{node, static_cast<std::uint16_t>(s.timeout_us() / 1000U)};
+  std::optional<hal::canopen::NmtState> seen;
+  while (link.now_us() - sent_us < s.timeout_us() && seen != w.expect) {
+    hal::CanFrame f{};
+    if (!link.receive(f, 10'000)) continue;
+    (void)watch.on_frame(f, link.now_us());  // other frames change nothing
+    seen = watch.state();
+  }
+  const double waited_ms = static_cast<double>(link.now_us() - sent_us) / 1000.0;
+  const std::string wait_text = std::to_string(s.timeout_us() / 1000U) + " ms";
+  if (seen && *seen != w.expect) {
+    return s.failed("nmt_state", who + ": its heartbeat says " + state_name(*seen) + ", not " +
+                                     state_name(w.expect) + ", " + wait_text + " after NMT " + std::string{w.word},
+                    {{"node", node}, {"command", w.word}, {"state", state_name(*seen)}});
+  }
+  if (s.json()) {
+    print_json({{"status", "ok"},
+                {"bus", s.bus_name()},
+                {"node", node},
+                {"command", w.word},
+                {"command_byte", static_cast<unsigned>(w.command)},
+                {"confirmed", seen.has_value()},
+                {"state", seen ? Json(state_name(*seen)) : Json(nullptr)},
+                {"state_byte", seen ? Json(static_cast<unsigned>(*seen)) : Json(nullptr)},
+                {"waited_ms", waited_ms}});
+    return kExitOk;
+  }
+  if (seen) {
+    if (*seen == hal::canopen::NmtState::initialising) {
+      std::printf("%s: NMT %s sent; its boot-up message came: the reset is done (after %.1f ms)\n", who.c_str(),
+                  std::string{w.word}.c_str(), waited_ms);
+    } else {
+      std::printf("%s: NMT %s sent; its heartbeat says %s (after %.1f ms)\n", who.c_str(),
+                  std::string{w.word}.c_str(), state_name(*seen).c_str(), waited_ms);
+    }
+  } else {
+    std::printf("%s: NMT %s sent; state not confirmed: no heartbeat within %s (producer heartbeat 0x1017 off, "
+                "or slower than that, or no node %u on %s)\n",
+                who.c_str(), std::string{w.word}.c_str(), wait_text.c_str(), static_cast<unsigned>(node),
+                s.bus_name().c_str());
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int cmd_drive(int argc, char** argv) {
@@ -841,7 +949,7 @@ int cmd_drive(int argc, char** argv) {
     return report_bad_request({"bad_command", "drive",
                                "drive: " + (sub.empty() ? std::string{"needs a subcommand"}
                                                         : "unknown subcommand '" + sub + "'") +
-                                   " (info, read, write, config, scan; settle drive --help)"},
+                                   " (info, read, write, config, scan, nmt; settle drive --help)"},
                               json);
   }
   const std::string name = "drive " + sub;
@@ -854,6 +962,7 @@ int cmd_drive(int argc, char** argv) {
   if (sub == "read") return drive_read(args, eds);
   if (sub == "write") return drive_write(args, eds);
   if (sub == "config") return drive_config(args, eds, loaded.warnings);
+  if (sub == "nmt") return drive_nmt(args, eds, *nmt_word(args.positional()));  // one of the choices
   return drive_scan(args, eds);
 }
 

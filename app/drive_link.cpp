@@ -19,7 +19,7 @@ constexpr std::uint32_t kWaitUs = 10'000;
 
 std::unique_ptr<testbed::ClockedBus> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
                                            const hal::eds::Description* eds, hal::SocketCanBus& socketcan,
-                                           std::string& error) {
+                                           std::string& error, const hal::CanFilter& accept) {
   if (bus == "loopback") {
     testbed::SimulatedDriveSpec drive{};
     drive.node = node;
@@ -33,8 +33,7 @@ std::unique_ptr<testbed::ClockedBus> open_drive_link(const std::string& bus, hal
     error = "cannot open " + bus + ": " + hal::to_string(os) + " (try --bus loopback)";
     return nullptr;
   }
-  const hal::CanFilter sdo_answers{0x580, 0x780, hal::FrameFormat::standard};
-  (void)socketcan.set_filters({&sdo_answers, 1});  // without filters every frame comes: still correct
+  (void)socketcan.set_filters({&accept, 1});  // without filters every frame comes: still correct
   return std::make_unique<testbed::SocketCanClockedBus>(socketcan, bus, std::string{}, 0, false);
 }
 

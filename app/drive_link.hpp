@@ -17,13 +17,18 @@
 
 namespace settle::app {
 
+// What a SocketCAN link lets through by default: the SDO answers (0x580..0x5FF).
+inline constexpr hal::CanFilter kSdoAnswers{0x580, 0x780, hal::FrameFormat::standard};
+
 // The interface named by --bus: "loopback" (the in-process drive as `node`, described by `eds`
 // when there is one), else a SocketCAN interface opened on `socketcan` (which must outlive the
-// result) with only the SDO answers let through. nullptr with `error` set when it cannot be opened
-// (or, loopback, when the drive cannot be built from `eds`).
+// result) with only the frames `accept` matches let through (settle drive nmt: the node's
+// heartbeat). nullptr with `error` set when it cannot be opened (or, loopback, when the drive
+// cannot be built from `eds`).
 [[nodiscard]] std::unique_ptr<testbed::ClockedBus> open_drive_link(const std::string& bus, hal::canopen::NodeId node,
                                                          const hal::eds::Description* eds,
-                                                         hal::SocketCanBus& socketcan, std::string& error);
+                                                         hal::SocketCanBus& socketcan, std::string& error,
+                                                         const hal::CanFilter& accept = kSdoAnswers);
 
 // Runs the transfers already started on `clients` until none is busy: each answer goes to the
 // client it belongs to, and each times out on its own (its own abort on the bus).

@@ -415,7 +415,7 @@ const std::vector<OptionSpec> kPlantNode = with_timing(kPlantNodeRows, "the driv
 // settle drive: the bus and node every subcommand talks to, the object read or written.
 const std::vector<OptionSpec> kDriveBus = {
     text("--bus", "vcan0", "SocketCAN interface, or 'loopback' (the simulated drive in this process)", "IFACE"),
-    integer("--timeout-ms", "ms", "1000", {1.0, 60000.0}, "timeout of each SDO request (scan: of each batch)"),
+    integer("--timeout-ms", "ms", "1000", {1.0, 60000.0}, "timeout of each SDO request (scan: of each batch; nmt: the wait for the heartbeat)"),
     text("--eds", "", "the drive's EDS/DCF: read/write take --type from it, info names the mapped objects, config "
                       "applies what streaming needs (required there); with --bus loopback the simulated drive is the "
                       "one it describes", "FILE"),
@@ -558,6 +558,20 @@ const std::vector<CommandSpec> kCommands = {
               "cannot stream (the object is named), does not answer, aborts, or a written value reads back "
               "different.",
      .example = "settle drive config --bus loopback --eds settle_drive.eds"},
+    {.name = "drive nmt",
+     .summary = "send a CiA 301 NMT command to one node and report the state its heartbeat then carries",
+     .usage = "start|stop|preop|reset|reset-comm",
+     .groups = {kDriveBus, kDriveNodeId, kOutput},
+     .positional_choices = {"start", "stop", "preop", "reset", "reset-comm"},
+     .positional_name = "command",
+     .notes = "start (0x01) operational, stop (0x02) stopped, preop (0x80) pre-operational, reset (0x81) reset "
+              "node, reset-comm (0x82) reset communication. One node only: --node 0 (all nodes) is refused, "
+              "since one node's heartbeat cannot confirm what every node did. After sending, waits at most "
+              "--timeout-ms for the node's heartbeat (0x700 + node) to carry the new state (a reset: its "
+              "boot-up message). No heartbeat in that time (producer heartbeat 0x1017 off): exit 0, the state "
+              "reported not confirmed. Exit 1 when the bus cannot be opened, or the node's heartbeats go on "
+              "carrying another state.",
+     .example = "settle drive nmt stop --bus loopback --node 1"},
     {.name = "drive scan",
      .summary = "list the node ids 1..127 that answer an SDO read of 0x1000, with their device types",
      .usage = "",
@@ -908,13 +922,13 @@ struct Parser {
 
   bool take_positional(const Given& given) {
     if (c.positional_choices.empty()) return true;
+    const std::string& what = c.positional_name;
     if (!given.have_positional) {
-      return fail("missing_experiment", "experiment", "experiment: required (settle " + c.name + " " + c.usage + " [options])");
+      return fail("missing_" + what, what, what + ": required (settle " + c.name + " " + c.usage + " [options])");
     }
     if (std::find(c.positional_choices.begin(), c.positional_choices.end(), given.positional) ==
         c.positional_choices.end()) {
-      return fail("unknown_experiment", "experiment",
-                  "experiment: unknown experiment '" + given.positional + "' (" + c.usage + ")");
+      return fail("unknown_" + what, what, what + ": unknown " + what + " '" + given.positional + "' (" + c.usage + ")");
     }
     out.positional_ = given.positional;
     return true;
@@ -1054,7 +1068,9 @@ std::string command_help(const CommandSpec& c) {
       }
     }
   }
-  if (!c.positional_choices.empty()) app.add_option("experiment", dummy, "the experiment: " + c.usage)->required();
+  if (!c.positional_choices.empty()) {
+    app.add_option(c.positional_name, dummy, "the " + c.positional_name + ": " + c.usage)->required();
+  }
   std::string footer = wrap(c.notes, kHelpColumns);
   if (!c.example.empty()) {
     // A long example continues with a backslash, so that it still pastes into a shell as one line.

@@ -71,7 +71,8 @@ struct CommandSpec {
   std::string summary;
   std::string usage;                 // extra positional part, e.g. "000|001|004"
   std::vector<OptionGroup> groups;   // in help order
-  std::vector<std::string> positional_choices{};  // reproduce's experiment
+  std::vector<std::string> positional_choices{};  // reproduce's experiment, drive nmt's command
+  std::string positional_name{"experiment"};      // what the positional is called in help and errors
   std::string notes{};               // bounds and remarks printed after the options
   std::string example{};             // one command line a user can type (help's "Example:")
 };

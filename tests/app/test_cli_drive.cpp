@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// settle drive info|read|write|scan against the simulated drive in the settle process
+// settle drive info|read|write|scan|nmt against the simulated drive in the settle process
 // (--bus loopback): what each prints, in text and JSON, checked against hal's drive (its default
 // configuration, its strings, its default PDO mapping); SDO aborts with their CiA 301 code and
 // meaning and exit 1; values checked against --type before anything is sent (exit 2).
@@ -172,7 +172,7 @@ TEST(CliDrive, ScanFindsTheDriveAndItsDeviceType) {
 TEST(CliDrive, SubcommandsAndHelp) {
   const CliResult h = run_cli("drive --help");
   EXPECT_EQ(h.status, 0);
-  for (const char* s : {"info", "read", "write", "config", "scan"}) EXPECT_TRUE(has(h.stdout_text, std::string{"  "} + s)) << s;
+  for (const char* s : {"info", "read", "write", "config", "scan", "nmt"}) EXPECT_TRUE(has(h.stdout_text, std::string{"  "} + s)) << s;
   EXPECT_EQ(run_cli("help drive").stdout_text, h.stdout_text);
   EXPECT_EQ(run_cli("help drive read").stdout_text, run_cli("drive read --help").stdout_text);
   EXPECT_EQ(run_cli("help drive read").status, 0);
@@ -182,6 +182,84 @@ TEST(CliDrive, SubcommandsAndHelp) {
     EXPECT_TRUE(r.stdout_text.empty()) << args;
     EXPECT_TRUE(has(r.stderr_text, "settle: error: drive: ")) << r.stderr_text;
   }
+}
+
+// settle drive nmt: each CiA 301 command, and the state the simulated drive's heartbeat (0x1017:
+// 100 ms) then carries, in text and JSON; a reset is confirmed by the boot-up message it sends.
+TEST(CliDrive, NmtReportsTheStateTheNodesHeartbeatThenCarries) {
+  struct Case {
+    const char* word;
+    unsigned command;
+    const char* state;
+    unsigned state_byte;
+  };
+  for (const Case c : {Case{"stop", 0x02, "stopped", 0x04}, Case{"start", 0x01, "operational", 0x05},
+                       Case{"preop", 0x80, "pre-operational", 0x7F}, Case{"reset", 0x81, "boot-up", 0x00},
+                       Case{"reset-comm", 0x82, "boot-up", 0x00}}) {
+    const CliResult j = run_cli(std::string{"drive nmt "} + c.word + " --bus loopback --node 5 --json");
+    ASSERT_EQ(j.status, 0) << j.out;
+    const nlohmann::json o = json_of(j);
+    EXPECT_EQ(o.at("status"), "ok");
+    EXPECT_EQ(o.at("bus"), "loopback");
+    EXPECT_EQ(o.at("node"), 5);
+    EXPECT_EQ(o.at("command"), c.word);
+    EXPECT_EQ(o.at("command_byte"), c.command);
+    EXPECT_EQ(o.at("confirmed"), true);
+    EXPECT_EQ(o.at("state"), c.state) << c.word;
+    EXPECT_EQ(o.at("state_byte"), c.state_byte) << c.word;
+    // A heartbeat comes within one producer period; a boot-up at once.
+    EXPECT_LE(o.at("waited_ms").get<double>(), c.state_byte == 0 ? 0.0 : 100.0) << c.word;
+  }
+  const CliResult stop = run_cli("drive nmt stop --bus loopback");
+  ASSERT_EQ(stop.status, 0) << stop.out;
+  EXPECT_EQ(stop.stdout_text, "node 1: NMT stop sent; its heartbeat says stopped (after 100.0 ms)\n");
+  const CliResult reset = run_cli("drive nmt reset --bus loopback");
+  EXPECT_TRUE(has(reset.stdout_text, "node 1: NMT reset sent; its boot-up message came: the reset is done")) << reset.out;
+}
+
+// Within --timeout-ms no heartbeat (the drive's period is 100 ms): the state is not confirmed, and
+// the drive's power-on boot-up message, sent before the command, is not taken for an answer.
+TEST(CliDrive, NmtWithoutAHeartbeatSaysTheStateWasNotConfirmed) {
+  const CliResult j = run_cli("drive nmt stop --bus loopback --timeout-ms 50 --json");
+  ASSERT_EQ(j.status, 0) << j.out;
+  const nlohmann::json o = json_of(j);
+  EXPECT_EQ(o.at("confirmed"), false);
+  EXPECT_TRUE(o.at("state").is_null()) << o;
+  EXPECT_TRUE(o.at("state_byte").is_null()) << o;
+  const CliResult t = run_cli("drive nmt stop --bus loopback --timeout-ms 50");
+  ASSERT_EQ(t.status, 0) << t.out;
+  EXPECT_TRUE(has(t.stdout_text, "node 1: NMT stop sent; state not confirmed: no heartbeat within 50 ms")) << t.out;
+}
+
+// Refused (exit 2, the option or the command named) before the bus is opened: a bus that does
+// not exist would otherwise exit 1.
+TEST(CliDrive, NmtRefusesABadCommandOrNodeBeforeSending) {
+  struct Case {
+    const char* args;
+    const char* parameter;
+    const char* error;
+  };
+  for (const Case c : {Case{"drive nmt halt --bus settle-no-such-can", "command", "unknown_command"},
+                       Case{"drive nmt --bus settle-no-such-can", "command", "missing_command"},
+                       Case{"drive nmt START --bus settle-no-such-can", "command", "unknown_command"},
+                       Case{"drive nmt stop --bus settle-no-such-can --node 0", "--node", "out_of_range"},
+                       Case{"drive nmt stop --bus settle-no-such-can --node 128", "--node", "out_of_range"},
+                       Case{"drive nmt stop start --bus settle-no-such-can", "--drive-nmt", "bad_option"}}) {
+    const CliResult t = run_cli(c.args);
+    EXPECT_EQ(t.status, 2) << c.args << "\n" << t.out;
+    EXPECT_TRUE(t.stdout_text.empty()) << c.args;
+    EXPECT_TRUE(has(t.stderr_text, std::string{"settle: error: "} + c.parameter + ": ")) << t.stderr_text;
+    const CliResult j = run_cli(std::string{c.args} + " --json");
+    EXPECT_EQ(j.status, 2) << c.args;
+    const nlohmann::json o = json_of(j);
+    EXPECT_EQ(o.value("status", ""), "error") << c.args;
+    EXPECT_EQ(o.value("parameter", ""), c.parameter) << c.args;
+    EXPECT_EQ(o.value("error", ""), c.error) << c.args;
+  }
+  const CliResult h = run_cli("drive nmt --help");
+  ASSERT_EQ(h.status, 0) << h.out;
+  EXPECT_TRUE(has(h.stdout_text, "start|stop|preop|reset|reset-comm")) << h.stdout_text;
+  EXPECT_TRUE(has(h.stdout_text, "settle drive nmt stop --bus loopback --node 1")) << h.stdout_text;
 }
 
 // With --eds the loopback drive is the one the description describes: its own identity and

@@ -466,6 +466,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"drive read", join({{"--bus", "--timeout-ms", "--eds", "--strict", "--node", "--index", "--sub", "--type"}})},
       {"drive write", join({{"--bus", "--timeout-ms", "--eds", "--strict", "--node", "--index", "--sub", "--type", "--value"}})},
       {"drive config", join({{"--bus", "--timeout-ms", "--eds", "--strict", "--node"}})},
+      {"drive nmt", join({{"--bus", "--timeout-ms", "--eds", "--strict", "--node"}})},
       {"drive scan", join({{"--bus", "--timeout-ms", "--eds", "--strict"}})},
   };
   ASSERT_EQ(expected.size(), settle::app::commands().size());

@@ -456,9 +456,10 @@ def drive(*args, timeout=120):
 
 
 def drive_commands(d):
-    """settle drive info/read/write/scan in their own processes against a `settle plant` process:
+    """settle drive info/read/write/scan/nmt in their own processes against a `settle plant` process:
     the same answers as from the simulated drive in the settle process (--bus loopback), a write
-    that the plant keeps, a refused value that never reaches the bus, an abort and a silent node."""
+    that the plant keeps, a refused value that never reaches the bus, an abort, a silent node, and
+    NMT stop and start confirmed by the plant's heartbeat."""
     plant = Plant(d, "drive", ["--plant", "sdof"], PLANT_TOLERANT)
     wait = ["--timeout-ms", "5000"]  # a user-mode-linux guest may stall a process for a while
     rc, out, err = drive("info", "--bus", "vcan0", "--node", str(NODE), *wait, "--json")
@@ -510,6 +511,28 @@ def drive_commands(d):
     rc, out, err = drive("read", "--bus", "vcan0", "--node", "9", "--timeout-ms", "300", "--index", "0x1000",
                          "--type", "u32")
     check(rc == 1 and "no answer within 300 ms" in err, f"a node that is not there: {err}")
+    # NMT (issue 37): stop, then start, each confirmed by the plant's heartbeat; the command frame on
+    # the bus is CiA 301's (COB-ID 0, command, node). Stopped, the node answers no SDO.
+    for word, byte, state in (("stop", 0x02, "stopped"), ("start", 0x01, "operational")):
+        sniffer = canbus.Sniffer()
+        rc, out, err = drive("nmt", word, "--bus", "vcan0", "--node", str(NODE), *wait, "--json")
+        frames = guarded(sniffer.stop)
+        j = json.loads(out) if rc == 0 else {}
+        check(rc == 0 and j.get("confirmed") is True and j.get("state") == state,
+              f"drive nmt {word}: the heartbeat says {state}: {out} {err}")
+        sent = [bytes(data) for cid, data in frames if cid == 0]
+        check(sent == [bytes([byte, NODE])], f"and one NMT frame went out: {[f.hex() for f in sent]}")
+        if word == "stop":
+            rc, out, err = drive("read", "--bus", "vcan0", "--timeout-ms", "300", "--index", "0x1000",
+                                 "--type", "u32")
+            check(rc == 1 and "no answer within 300 ms" in err, f"a stopped node answers no SDO: {out} {err}")
+    rc, out, err = drive("nmt", "preop", "--bus", "vcan0", "--node", str(NODE), *wait)
+    check(rc == 0 and "its heartbeat says pre-operational" in out, f"drive nmt preop: {out} {err}")
+    sniffer = canbus.Sniffer()
+    rc, out, err = drive("nmt", "halt", "--bus", "vcan0", "--node", str(NODE))
+    frames = guarded(sniffer.stop)
+    check(rc == 2 and "command: unknown command 'halt'" in err and not any(cid == 0 for cid, _ in frames),
+          f"an unknown NMT command is refused and nothing is sent: {err}")
     rc, out, err = drive("scan", "--bus", "vcan0", "--timeout-ms", "1000", "--json")
     check(rc == 0 and json.loads(out)["nodes"] == [{"node": NODE, "device_type": 0x20192}],
           f"drive scan finds the plant, and only it: {out} {err}")
