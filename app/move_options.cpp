@@ -219,7 +219,7 @@ core::OptionalLimits limits_of(const ParsedArgs& args) {
 }
 
 const char* binding_limit(double distance, const core::OptionalLimits& limits, const char* fallback, double* bound) {
-  const double d = std::fabs(distance);
+  const core::LimitTimes by = core::shortest_times(distance, limits);
   const char* who = fallback;
   double longest = 0.0;
   const auto take = [&](const char* name, bool given, double t) {
@@ -228,9 +228,9 @@ const char* binding_limit(double distance, const core::OptionalLimits& limits, c
       who = name;
     }
   };
-  take("--vmax", limits.vmax.has_value(), d / limits.vmax.value_or(1.0));
-  take("--amax", limits.amax.has_value(), 2.0 * std::sqrt(d / limits.amax.value_or(1.0)));
-  take("--jmax", limits.jmax.has_value(), std::cbrt(32.0 * d / limits.jmax.value_or(1.0)));
+  take("--vmax", limits.vmax.has_value(), by.by_vmax);
+  take("--amax", limits.amax.has_value(), by.by_amax);
+  take("--jmax", limits.jmax.has_value(), by.by_jmax);
   if (bound != nullptr) *bound = longest;
   return who;
 }

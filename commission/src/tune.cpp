@@ -311,11 +311,9 @@ core::Status plan_profile(core::MoveRequest& req_io, const TuneMove& mv, core::M
   core::Status st = core::plan(req, out);
   if (st == core::Status::ok || mv.time) return st;
   const core::Status own = st;
-  const double d = std::fabs(mv.distance);
-  double t_lo = 0.0;  // no rest-to-rest move of d is faster than these bounds
-  if (mv.limits.vmax) t_lo = std::max(t_lo, d / *mv.limits.vmax);
-  if (mv.limits.amax) t_lo = std::max(t_lo, 2.0 * std::sqrt(d / *mv.limits.amax));
-  if (mv.limits.jmax) t_lo = std::max(t_lo, std::cbrt(32.0 * d / *mv.limits.jmax));
+  const core::LimitTimes bound = core::shortest_times(mv.distance, mv.limits);
+  // No rest-to-rest move is faster than these bounds (a NaN bound does not raise it).
+  double t_lo = std::max({0.0, bound.by_vmax, bound.by_amax, bound.by_jmax});
   req.limits = {};
   core::Move<double> found{};
   auto ok_at = [&](double t, core::Move<double>& m) {

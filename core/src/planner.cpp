@@ -9,11 +9,19 @@
 namespace settle::core {
 
 Status check_limits(const OptionalLimits& l, const Peaks<double>& pk) noexcept {
-  // Written so that a NaN peak is refused, never taken as within.
   if (l.vmax && !(pk.v <= *l.vmax * (1.0 + kLimitSlack))) return Status::velocity_limit_exceeded;
   if (l.amax && !(pk.a <= *l.amax * (1.0 + kLimitSlack))) return Status::acceleration_limit_exceeded;
   if (l.jmax && !(pk.j <= *l.jmax * (1.0 + kLimitSlack))) return Status::jerk_limit_exceeded;
   return Status::ok;
+}
+
+LimitTimes shortest_times(double distance, const OptionalLimits& l) noexcept {
+  const double d = std::fabs(distance);
+  LimitTimes t{};
+  if (l.vmax) t.by_vmax = d / *l.vmax;
+  if (l.amax) t.by_amax = 2.0 * std::sqrt(d / *l.amax);
+  if (l.jmax) t.by_jmax = std::cbrt(32.0 * d / *l.jmax);
+  return t;
 }
 
 namespace {

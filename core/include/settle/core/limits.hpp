@@ -40,18 +40,26 @@ struct OptionalLimits {
 // Peaks are compared with limits with this relative slack, so that a plan built to touch a limit
 // exactly is not refused for the last bit of rounding.
 inline constexpr double kLimitSlack = 1e-9;
-// Peaks against limits: ok, or the status naming the first exceeded (velocity, acceleration,
-// jerk). Written so that a NaN peak is refused, never taken as within.
-[[nodiscard]] constexpr Status check_limits(const Limits& l, const Peaks<double>& pk) noexcept {
-  if (!(pk.v <= l.vmax * (1.0 + kLimitSlack))) return Status::velocity_limit_exceeded;
-  if (!(pk.a <= l.amax * (1.0 + kLimitSlack))) return Status::acceleration_limit_exceeded;
-  if (!(pk.j <= l.jmax * (1.0 + kLimitSlack))) return Status::jerk_limit_exceeded;
-  return Status::ok;
-}
-// The same where each absent limit does not limit: what plan() refuses a move for (defined with
-// the planner, planner.cpp).
+// Peaks against limits, each absent limit not limiting: ok, or the status naming the first
+// exceeded (velocity, acceleration, jerk). Written so that a NaN peak is refused, never taken as
+// within. Defined with the planner (planner.cpp): out of line, because inlined at each of the
+// planner's callers it costs the Cortex-M images 1.7 KB of flash.
 [[nodiscard]] Status check_limits(const OptionalLimits& l, const Peaks<double>& pk) noexcept;
-[[nodiscard]] constexpr bool within_limits(const Peaks<double>& pk, const Limits& l) noexcept {
+// The same with every limit given.
+[[nodiscard]] inline Status check_limits(const Limits& l, const Peaks<double>& pk) noexcept {
+  return check_limits(as_optional(l), pk);
+}
+// The shortest rest-to-rest time of a move of |distance| that each limit alone allows (0 for an
+// absent one): |D|/vmax, 2 sqrt(|D|/amax), cbrt(32 |D|/jmax), in s. No move within the limits is
+// shorter than the largest. Defined with the planner (planner.cpp).
+struct LimitTimes {
+  double by_vmax{0.0};  // s
+  double by_amax{0.0};  // s
+  double by_jmax{0.0};  // s
+};
+[[nodiscard]] LimitTimes shortest_times(double distance, const OptionalLimits& l) noexcept;
+
+[[nodiscard]] inline bool within_limits(const Peaks<double>& pk, const Limits& l) noexcept {
   return check_limits(l, pk) == Status::ok;
 }
 
