@@ -195,9 +195,11 @@ std::span<const OdEntry> DriveNode::make_entries() noexcept {
   };
   const auto add_map = [&](std::uint16_t index, DriveCommObjects::PdoMap& m, std::uint8_t listed) noexcept {
     add(od_entry(index, 0, m.count, pdo_access));
-    const std::size_t rows = config_.pdo_mapping_writable ? m.entries.size()
-                             : listed > m.count               ? (listed < m.entries.size() ? listed : m.entries.size())
-                                                              : m.count;
+    // Writable: every sub-index. Static: the mapped entries, or as many as the description lists
+    // past the count (unused ones), never more than the object holds.
+    const std::size_t rows = config_.pdo_mapping_writable
+                                 ? m.entries.size()
+                                 : std::min(std::max<std::size_t>(listed, m.count), m.entries.size());
     for (std::size_t i = 0; i < rows; ++i) {
       add(od_entry(index, static_cast<std::uint8_t>(i + 1), m.entries[i], pdo_access));
     }

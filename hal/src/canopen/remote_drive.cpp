@@ -330,7 +330,7 @@ void RemoteDrive::next_step(std::uint64_t now_us, FrameSink& out) noexcept {
   // read_mapping: the communication object's COB-ID (0x1400/0x1800 + n - 1, sub 1), then the mapping.
   const bool cob_id = map_sub_ == map_sub_cob_id;
   step_sent_ = s.action() == StartupAction::read_mapping
-                   ? sdo_.upload(static_cast<std::uint16_t>(s.index() - (cob_id ? 0x200U : 0U)), cob_id ? 1 : map_sub_,
+                   ? sdo_.upload(cob_id ? pdo_communication_of_mapping(s.index()) : s.index(), cob_id ? 1 : map_sub_,
                                  now_us, out)
                : s.action() != StartupAction::write || verifying_
                    ? sdo_.upload(s.index(), s.sub(), now_us, out)

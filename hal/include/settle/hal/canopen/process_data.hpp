@@ -97,6 +97,10 @@ enum class LayoutError : std::uint8_t { SETTLE_HAL_LAYOUT_ERRORS(SETTLE_ENUM_ENU
 [[nodiscard]] constexpr std::uint16_t pdo_mapping_index(bool receive, std::uint8_t number) noexcept {
   return static_cast<std::uint16_t>((receive ? 0x1600U : 0x1A00U) + number - 1U);
 }
+// The communication object (0x1400.. / 0x1800..) of a PDO's mapping object (0x1600.. / 0x1A00..).
+[[nodiscard]] constexpr std::uint16_t pdo_communication_of_mapping(std::uint16_t mapping_index) noexcept {
+  return static_cast<std::uint16_t>(mapping_index - 0x200U);
+}
 
 // A drive's static mapping, entry by entry: places the object a mapping entry (raw 0x1600/0x1A00
 // value) names at `offset_bytes` of PDO `number` when it is one the layout knows. Returns false
