@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 
+#include "settle/core/limits.hpp"
 #include "settle/core/multi_axis.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
 #include "settle/runtime/evaluation.hpp"
@@ -505,7 +506,7 @@ StreamRefusal check_streamable(const StreamSpec& spec, bool simulated_drive) {
     const double cpu = spec.drive.scale.counts_per_unit;
     StreamRefusal r{};
     const auto over = [&](runtime::LoopStatus status, double limit) {
-      const double tolerated = limit * (1.0 + 1e-9);  // the loop's tolerance
+      const double tolerated = limit * (1.0 + core::kLimitSlack);  // the loop's tolerance
       if (move_v <= tolerated && change_v <= tolerated) return false;
       r.status = status;
       r.in_change = move_v <= tolerated;

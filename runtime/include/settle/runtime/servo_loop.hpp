@@ -31,6 +31,7 @@
 
 #include "settle/core/axis_scale.hpp"
 #include "settle/core/enum_text.hpp"
+#include "settle/core/limits.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/core/setpoints.hpp"
 #include "settle/runtime/evaluation.hpp"
@@ -294,7 +295,7 @@ class ServoLoop {
     Axis& a = axes_[axis];
     // A velocity step (seed 001's command) is streamable: sampled, it is a jump of at most
     // peak |v| * period, which the step guard allows whenever peak |v| is within vmax.
-    if (!(m.peaks().v <= a.cfg.vmax * (1.0 + 1e-9))) return LoopStatus::exceeds_axis_velocity;
+    if (!(m.peaks().v <= a.cfg.vmax * (1.0 + core::kLimitSlack))) return LoopStatus::exceeds_axis_velocity;
     const double cpu = a.cfg.scale.counts_per_unit;
     const double counts = std::fabs(m.distance()) * cpu;
     if (!(counts < static_cast<double>(std::numeric_limits<std::int32_t>::max()) / 2)) {
@@ -309,7 +310,7 @@ class ServoLoop {
     // What the drive said at start-up (nothing before it ran, or when it has neither object).
     const hal::canopen::RemoteDriveLimits& limits = a.drive->limits();
     if (limits.max_profile_velocity != 0 &&
-        !(m.peaks().v * cpu <= static_cast<double>(limits.max_profile_velocity) * (1.0 + 1e-9))) {
+        !(m.peaks().v * cpu <= static_cast<double>(limits.max_profile_velocity) * (1.0 + core::kLimitSlack))) {
       return LoopStatus::exceeds_drive_velocity;
     }
     const std::int32_t origin = move_origin(a);
@@ -342,7 +343,7 @@ class ServoLoop {
       }
       if (!ok) return LoopStatus::bad_axis_config;
       // The same tolerance as submit()'s: a blend at exactly the axis's vmax is streamable.
-      if (!(l.vmax <= axes_[axis].cfg.vmax * (1.0 + 1e-9))) return LoopStatus::exceeds_axis_velocity;
+      if (!(l.vmax <= axes_[axis].cfg.vmax * (1.0 + core::kLimitSlack))) return LoopStatus::exceeds_axis_velocity;
       axes_[axis].online.config = c;
       axes_[axis].online.configured = true;
       return LoopStatus::ok;
@@ -405,7 +406,8 @@ class ServoLoop {
         // a move: a blend over it would fault the drive at its first such step.
         const std::uint32_t drive_vmax = a.drive->limits().max_profile_velocity;
         if (plan.choice != core::OnlineChoice::finish && drive_vmax != 0 &&
-            !(plan.blend.peaks().v * a.cfg.scale.counts_per_unit <= static_cast<double>(drive_vmax) * (1.0 + 1e-9))) {
+            !(plan.blend.peaks().v * a.cfg.scale.counts_per_unit <=
+              static_cast<double>(drive_vmax) * (1.0 + core::kLimitSlack))) {
           result = LoopStatus::exceeds_drive_velocity;
           continue;
         }
