@@ -346,7 +346,7 @@ def scenario(d, tag, key=None, eds=()):
 def check_applied_once(tag, fb, plant_log):
     """Every setpoint sent was applied exactly once, in order: the drive's own log of applied
     targets contains the commanded sequence (the stream's feedback log) contiguously, exactly once."""
-    cmd = [int(row["commanded"]) for row in read_csv(fb) if row["period"] >= 0]
+    cmd = [int(row["commanded_counts"]) for row in read_csv(fb) if row["period_index"] >= 0]
     move = cmd[: cmd.index(cmd[-1]) + 1]
     applied = [int(row["target"]) for row in read_csv(plant_log) if row["following"] == 1]
     hits = [i for i in range(len(applied) - len(move) + 1) if applied[i:i + len(move)] == move]
@@ -619,7 +619,7 @@ def online_halt(d):
             "--feedback-log", fb_plain, "--json"], timeout=RUN_TIMEOUT_S)
     check(r.returncode == 0, f"the uninterrupted move on loopback: exit {r.returncode} {r.stderr}")
     plain = json.loads(r.stdout)
-    plain_cmd = [int(row["commanded"]) for row in read_csv(fb_plain) if row["period"] >= 0]
+    plain_cmd = [int(row["commanded_counts"]) for row in read_csv(fb_plain) if row["period_index"] >= 0]
     for scalar in ("double", "fixed"):
         tag = f"halt-{scalar}"
         plant = Plant(d, tag, plant_args, PLANT_TOLERANT)
@@ -639,8 +639,8 @@ def online_halt(d):
         rl = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--axis-vmax", "1",
                  "--halt-at", str(at), *halt_zeta, "--scalar", scalar, "--feedback-log", fb_loop, "--json"])
         check(rl.returncode == 0, f"{tag}: the same halt on loopback: exit {rl.returncode} {rl.stderr}")
-        loop_cmd = [int(row["commanded"]) for row in read_csv(fb_loop) if row["period"] >= 0]
-        cmd = [int(row["commanded"]) for row in read_csv(fb) if row["period"] >= 0]
+        loop_cmd = [int(row["commanded_counts"]) for row in read_csv(fb_loop) if row["period_index"] >= 0]
+        cmd = [int(row["commanded_counts"]) for row in read_csv(fb) if row["period_index"] >= 0]
         parted = next((i for i in range(min(len(cmd), len(plain_cmd))) if cmd[i] != plain_cmd[i]), None)
         check(cmd == loop_cmd and parted is not None and k < parted <= k + 10,
               f"{tag}: the loop switched at {at} s: the setpoints are the move's to period {k} and part from "
