@@ -27,18 +27,6 @@ namespace settle::app {
 
 namespace {
 
-// The unit of a plant's positions: sdof and beam are in m and belt in rad (their parameters say so);
-// --plant modes in --unit's (m when not given). Another --unit for sdof, beam or belt is refused.
-bool plant_unit(const ParsedArgs& args, plant::PlantKind k, plant::PositionUnit& out, RequestError& err) {
-  const plant::PositionUnit own = k == plant::PlantKind::belt ? plant::PositionUnit::rad : plant::PositionUnit::m;
-  out = position_unit(args, own);
-  if (k == plant::PlantKind::modes || out == own) return true;
-  err = {"conflicting_options", "--unit",
-         std::string{"--unit: the "} + to_string(k) + " plant's positions are in " + plant::to_string(own) +
-             " (its parameters say so); --unit names the unit for --plant modes"};
-  return false;
-}
-
 const char* units(plant::PositionUnit u) { return plant::to_string(u); }
 
 // The energies' unit in words (plant::energy_suffix): J, or per unit modal mass for --plant modes.

@@ -191,12 +191,12 @@ const std::vector<OptionSpec> kAxes = {
            "its own move on its own mode, one common duration; reports the deviation from the line)"),
 };
 
-// plan, sample, simulate, identify: the unit of the positions they write (help's Motion group).
+// plan, sample, simulate, plant, identify: the unit of the positions they write (help's Motion group).
 const std::vector<OptionSpec> kUnit = {
     choice("--unit", "m", {"m", "rad"},
            "the unit --distance and every position are in: it only names the CSV columns (position_m, "
-           "velocity_m_per_s, ...; docs/csv.md) and the JSON's unit, it scales nothing; simulate: for "
-           "--plant modes (sdof and beam are in m, belt in rad, and refuse another)"),
+           "velocity_m_per_s, ...; docs/csv.md) and the JSON's unit, it scales nothing; simulate and plant: "
+           "for --plant modes (sdof and beam are in m, belt in rad, and refuse another)"),
 };
 
 // settle tune: the move's own options, taken from the move group (one row per option).
@@ -494,7 +494,7 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "plant",
      .summary = "run the simulated CiA 402 drive with a plant behind it on a CAN bus",
      .usage = "",
-     .groups = {kPlantNode, kPlant, kDrive, kLoadNoise, kOutput},
+     .groups = {kPlantNode, kUnit, kPlant, kDrive, kLoadNoise, kOutput},
      .notes = "Exit 1 when the bus cannot be opened or the drive faulted.",
      .example = "settle plant --bus vcan0 --plant modes --mode 25,0.02,1 --mode 70,0.05,4"},
     {.name = "stream",

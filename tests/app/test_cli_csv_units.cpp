@@ -17,6 +17,7 @@
 
 #include "run_cli.hpp"
 #include "settle/plant/csv_columns.hpp"
+#include "settle/testbed/sync_log.hpp"
 
 namespace {
 
@@ -218,6 +219,33 @@ TEST(CsvUnits, UnitRadChangesTheLabelsNotTheNumbers) {
   EXPECT_NE(split(files[1][1]).first.find("kinetic_energy_j_per_kg_m2"), std::string::npos) << files[1][1];
 }
 
+// settle plant --log runs only on a CAN bus: its writer (testbed::SyncCsvLog, what the command
+// opens with its --unit) with one record, in m and in rad.
+TEST(CsvUnits, PlantLogNamesAndRelabels) {
+  std::string text[2];
+  const settle::plant::PositionUnit units[2] = {settle::plant::PositionUnit::m, settle::plant::PositionUnit::rad};
+  for (int k = 0; k < 2; ++k) {
+    const fs::path path = scratch() / ("plant_" + std::to_string(k) + ".csv");
+    settle::testbed::SyncCsvLog log;
+    ASSERT_TRUE(log.open(path.string(), units[k]));
+    settle::testbed::SyncRecord r{};
+    r.sync = 3;
+    r.time_us = 4000;
+    r.following = true;
+    r.target = 12;
+    r.feedback.position_actual = 11;
+    r.feedback.velocity_actual = -5;
+    r.feedback.load_position = 10;
+    r.load = 1e-5;
+    r.base = 1.1e-5;
+    log.on_record(r);
+    ASSERT_TRUE(log.close());
+    text[k] = read(path);
+  }
+  expect_units(split(text[0]).first, "plant --log");
+  expect_relabelled(text[0], text[1], "plant --log");
+}
+
 TEST(CsvUnits, JsonSaysTheUnitOnce) {
   for (const std::vector<std::string>& args : {with({"sample", "--unit", "rad", "--json", "--dt", "0.1"}, kMove),
                                                with({"sample", "--axes", "2", "--unit", "rad", "--json", "--dt", "0.1",
@@ -249,6 +277,9 @@ TEST(CsvUnits, BadUnitIsRefusedAndNothingWritten) {
       with({"simulate", "--plant", "beam", "--unit", "rad", "--csv", csv.string()}, kMove),
       with({"simulate", "--plant", "belt", "--unit", "m", "--csv", csv.string()}, kMove),
       {"identify", "--bus", "loopback", "--plant", "modes", "--mode", "25,0.02,1", "--unit", "inch", "--png", png.string()},
+      {"plant", "--bus", "settle-no-such-can", "--plant", "modes", "--mode", "25,0.02,1", "--unit", "yd", "--log",
+       csv.string()},
+      {"plant", "--bus", "settle-no-such-can", "--plant", "sdof", "--unit", "rad", "--log", csv.string()},
   };
   for (const auto& args : cases) {
     const CliResult r = run(args);

@@ -447,7 +447,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
       {"sample", join({move, {"--unit", "--axes", "--sync", "--dt", "--plan-from", "--png"}})},
       {"simulate", join({move, plant, {"--unit", "--axes", "--sync", "--csv", "--png", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
       {"reproduce", join({{"--out"}})},
-      {"plant", join({plant, drive, {"--bus", "--timing", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--strict", "--load-feedback", "--log", "--duration",
+      {"plant", join({plant, drive, {"--unit", "--bus", "--timing", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--strict", "--load-feedback", "--log", "--duration",
                                      "--noise", "--seed"}})},
       {"stream", join({move, plant, drive,
                        {"--axes", "--sync", "--nodes", "--plan-from", "--bus", "--timing", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--eds", "--strict", "--load-feedback", "--pm-qos", "--heartbeat-ms",

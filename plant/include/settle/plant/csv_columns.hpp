@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The names of the columns of every CSV file Settle writes (sample, plan and simulate --png, simulate
-// --csv, stream --log and --feedback-log, identify --png, tune --png, reproduce --out): each is
+// --csv, stream --log and --feedback-log, plant --log, identify --png, tune --png, reproduce's time
+// histories): each is
 // <quantity>_<unit>, the unit one of kUnitSuffixes, the whole name a C/Python identifier, so that
 // numpy's genfromtxt(names=True), pandas and csv.DictReader all keep it as written. column() is
 // the one place a name is made; docs/csv.md lists the suffixes and what each column holds.
@@ -15,11 +16,12 @@
 namespace settle::plant {
 
 // Every unit suffix a column may carry (without the leading underscore).
-inline constexpr std::array<std::string_view, 21> kUnitSuffixes = {
+inline constexpr std::array<std::string_view, 22> kUnitSuffixes = {
     "s",      "us",          // time: seconds, microseconds
     "m",      "m_per_s",     "m_per_s2",  "m_per_s3",     // position unit m and its derivatives
     "rad",    "rad_per_s",   "rad_per_s2", "rad_per_s3",  // position unit rad and its derivatives
     "counts",                // a drive's position counts (0x607A, 0x6064, the load's)
+    "counts_per_s",          // counts per second (the velocity Settle's simulated drive sends)
     "drive_velocity_units",  // a drive's velocity actual value (0x606C), in the drive's own unit
     "hz",                    // frequency
     "j",                     // energy, joule (a plant with physical parameters: sdof, beam, belt)
