@@ -260,6 +260,15 @@ TEST(CsvUnits, JsonSaysTheUnitOnce) {
   ASSERT_EQ(s.status, 0) << s.out;
   EXPECT_NE(s.stdout_text.find("\"units\":\"rad\""), std::string::npos) << s.stdout_text;
   EXPECT_NE(s.stdout_text.find("\"energy_units\":\"J/(kg m^2)\""), std::string::npos) << s.stdout_text;
+  // The text says the same: a mode without mass has no energy in J.
+  const std::regex energy{"\nfinal energy +[0-9.e+-]+ (.+)\n"};
+  std::smatch m;
+  const CliResult modes = run(with({"simulate", "--plant", "modes", "--mode", "22,0.1,1"}, kMove));
+  ASSERT_TRUE(std::regex_search(modes.stdout_text, m, energy)) << modes.out;
+  EXPECT_EQ(m[1], "J/kg");
+  const CliResult beam = run(with({"simulate", "--plant", "beam"}, kMove));
+  ASSERT_TRUE(std::regex_search(beam.stdout_text, m, energy)) << beam.out;
+  EXPECT_EQ(m[1], "J");
 }
 
 // A unit that is not m or rad, or one a physical plant contradicts: exit 2 naming --unit, and no
