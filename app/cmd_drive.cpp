@@ -24,6 +24,7 @@
 
 #include "commands.hpp"
 #include "drive_link.hpp"
+#include "drive_nmt.hpp"
 #include "eds_option.hpp"
 #include "io/json.hpp"
 #include "options.hpp"
@@ -31,7 +32,6 @@
 #include "settle/hal/canopen/sdo_abort.hpp"
 #include "settle/hal/canopen/standard_objects.hpp"
 #include "settle/hal/eds_reader.hpp"
-#include "settle/hal/canopen/heartbeat.hpp"
 #include "settle/hal/canopen/nmt.hpp"
 #include "settle/hal/canopen/remote_drive.hpp"
 #include "settle/hal/eds_drive_config.hpp"
@@ -192,15 +192,8 @@ class Session {
   }
 
   // A runtime failure: one line on stderr, or with --json the error object on stdout. Exit 1.
-  int failed(const std::string& code, const std::string& message, Json detail = Json::object()) const {
-    if (json_) {
-      Json j{{"status", "error"}, {"error", code}, {"message", message}};
-      for (auto it = detail.begin(); it != detail.end(); ++it) j[it.key()] = it.value();
-      print_json(j);
-    } else {
-      std::fprintf(stderr, "settle drive %s: %s\n", command_.c_str(), message.c_str());
-    }
-    return kExitFailure;
+  int failed(const std::string& code, const std::string& message, const Json& detail = Json::object()) const {
+    return drive_failure(command_, code, message, detail, json_, stdout, stderr);
   }
   // A transfer on object index:sub that did not end in done.
   int transfer_failed(const SdoResult& r) const {
@@ -834,106 +827,11 @@ int drive_config(const ParsedArgs& args, const hal::eds::Description* eds,
 
 // ---- nmt ------------------------------------------------------------------------------------
 
-// A command word of settle drive nmt, the CiA 301 command it sends, and the state the node's
-// heartbeat carries once it has obeyed (a reset: its boot-up message, state byte 0).
-struct NmtWord {
-  std::string_view word;
-  hal::canopen::NmtCommand command;
-  hal::canopen::NmtState expect;
-};
-constexpr NmtWord kNmtWords[] = {
-    {"start", hal::canopen::NmtCommand::start, hal::canopen::NmtState::operational},
-    {"stop", hal::canopen::NmtCommand::stop, hal::canopen::NmtState::stopped},
-    {"preop", hal::canopen::NmtCommand::enter_pre_operational, hal::canopen::NmtState::pre_operational},
-    {"reset", hal::canopen::NmtCommand::reset_node, hal::canopen::NmtState::initialising},
-    {"reset-comm", hal::canopen::NmtCommand::reset_communication, hal::canopen::NmtState::initialising},
-};
-
-const NmtWord* nmt_word(const std::string& word) {
-  for (const NmtWord& w : kNmtWords) {
-    if (w.word == word) return &w;
-  }
-  return nullptr;
-}
-
-// A state as the output names it (state byte 0 is only ever seen as the boot-up message).
-std::string state_name(hal::canopen::NmtState state) {
-  switch (state) {
-    case hal::canopen::NmtState::initialising: return "boot-up";
-    case hal::canopen::NmtState::stopped: return "stopped";
-    case hal::canopen::NmtState::operational: return "operational";
-    case hal::canopen::NmtState::pre_operational: return "pre-operational";
-  }
-  return "unknown";
-}
-
-// settle drive nmt: sends the command (COB-ID 0, hal's encode_nmt), then watches the node's
-// heartbeat (0x700 + node, hal's HeartbeatConsumer) for at most --timeout-ms until it carries the
-// state the command leads to. Confirmed: exit 0. No heartbeat at all (0x1017 = 0, or a node that
-// is not there): exit 0, reported as not confirmed; nothing is claimed. Heartbeats only of
-// another state: exit 1 (the node did not obey), with the state it reported.
-int drive_nmt(const ParsedArgs& args, const hal::eds::Description* eds, const NmtWord& w) {
+// settle drive nmt: the link lets the node's heartbeat through; the rest is run_drive_nmt's.
+int drive_nmt(const ParsedArgs& args, const hal::eds::Description* eds) {
   Session s{args, "nmt", eds};
-  const auto node = s.node();
-  const hal::CanFilter heartbeat{hal::canopen::cob_id(hal::canopen::cob::heartbeat, node), 0x7FF,
-                                 hal::FrameFormat::standard};
-  if (const int rc = s.open(heartbeat); rc >= 0) return rc;
-  testbed::ClockedBus& link = s.link();
-  const std::string who = "node " + std::to_string(node);
-  // What the node sent before the command (loopback: its power-on boot-up) says nothing about it.
-  hal::CanFrame stale{};
-  for (int k = 0; k < 1024 && link.receive(stale, 0); ++k) {
-  }
-  const hal::CanFrame command = hal::canopen::encode_nmt(w.command, node);
-  // Retried while the transmit queue is full, as an SDO request is (drive_link.hpp).
-  if (!start_transfer(link, {}, [&](std::uint64_t, hal::CanBus& bus) {
-        return bus.send(command) == hal::SendStatus::sent;
-      })) {
-    return s.failed("send_failed", who + ": the NMT command could not be sent on " + s.bus_name());
-  }
-  const std::uint64_t sent_us = link.now_us();
-  hal::canopen::HeartbeatConsumer watch{node, static_cast<std::uint16_t>(s.timeout_us() / 1000U)};
-  std::optional<hal::canopen::NmtState> seen;
-  while (link.now_us() - sent_us < s.timeout_us() && seen != w.expect) {
-    hal::CanFrame f{};
-    if (!link.receive(f, 10'000)) continue;
-    (void)watch.on_frame(f, link.now_us());  // other frames change nothing
-    seen = watch.state();
-  }
-  const double waited_ms = static_cast<double>(link.now_us() - sent_us) / 1000.0;
-  const std::string wait_text = std::to_string(s.timeout_us() / 1000U) + " ms";
-  if (seen && *seen != w.expect) {
-    return s.failed("nmt_state", who + ": its heartbeat says " + state_name(*seen) + ", not " +
-                                     state_name(w.expect) + ", " + wait_text + " after NMT " + std::string{w.word},
-                    {{"node", node}, {"command", w.word}, {"state", state_name(*seen)}});
-  }
-  if (s.json()) {
-    print_json({{"status", "ok"},
-                {"bus", s.bus_name()},
-                {"node", node},
-                {"command", w.word},
-                {"command_byte", static_cast<unsigned>(w.command)},
-                {"confirmed", seen.has_value()},
-                {"state", seen ? Json(state_name(*seen)) : Json(nullptr)},
-                {"state_byte", seen ? Json(static_cast<unsigned>(*seen)) : Json(nullptr)},
-                {"waited_ms", waited_ms}});
-    return kExitOk;
-  }
-  if (seen) {
-    if (*seen == hal::canopen::NmtState::initialising) {
-      std::printf("%s: NMT %s sent; its boot-up message came: the reset is done (after %.1f ms)\n", who.c_str(),
-                  std::string{w.word}.c_str(), waited_ms);
-    } else {
-      std::printf("%s: NMT %s sent; its heartbeat says %s (after %.1f ms)\n", who.c_str(),
-                  std::string{w.word}.c_str(), state_name(*seen).c_str(), waited_ms);
-    }
-  } else {
-    std::printf("%s: NMT %s sent; state not confirmed: no heartbeat within %s (producer heartbeat 0x1017 off, "
-                "or slower than that, or no node %u on %s)\n",
-                who.c_str(), std::string{w.word}.c_str(), wait_text.c_str(), static_cast<unsigned>(node),
-                s.bus_name().c_str());
-  }
-  return kExitOk;
+  if (const int rc = s.open(nmt_heartbeat_filter(s.node())); rc >= 0) return rc;
+  return run_drive_nmt(s.link(), {s.node(), args.positional(), s.timeout_us(), s.json(), s.bus_name()}, stdout, stderr);
 }
 
 }  // namespace
@@ -962,7 +860,7 @@ int cmd_drive(int argc, char** argv) {
   if (sub == "read") return drive_read(args, eds);
   if (sub == "write") return drive_write(args, eds);
   if (sub == "config") return drive_config(args, eds, loaded.warnings);
-  if (sub == "nmt") return drive_nmt(args, eds, *nmt_word(args.positional()));  // one of the choices
+  if (sub == "nmt") return drive_nmt(args, eds);
   return drive_scan(args, eds);
 }
 

@@ -166,19 +166,21 @@ bool write_file(const std::string& path, Writer&& write) {
 
 // The --png figure: the two CSVs beside it (<stem>_time.csv, <stem>_spectrum.csv) and gnuplot, the
 // identified modes marked on the spectrum.
-std::string write_png(const commission::IdentifyRunSpec& spec, const commission::IdentifyRunReport& r, const FigurePath& png) {
+std::string write_png(const commission::IdentifyRunSpec& spec, const commission::IdentifyRunReport& r, const FigurePath& png,
+                      plant::PositionUnit u) {
   const std::filesystem::path dir{png.dir};
   const std::string time_csv = png.stem + "_time.csv";
   const std::string spectrum_csv = png.stem + "_spectrum.csv";
-  if (!write_file((dir / time_csv).string(), [&](std::FILE* f) { return commission::write_identify_time_csv(spec, r, f); }) ||
+  if (!write_file((dir / time_csv).string(), [&](std::FILE* f) { return commission::write_identify_time_csv(spec, r, u, f); }) ||
       !write_file((dir / spectrum_csv).string(),
-                  [&](std::FILE* f) { return commission::write_identify_spectrum_csv(spec, r, f); })) {
+                  [&](std::FILE* f) { return commission::write_identify_spectrum_csv(spec, r, u, f); })) {
     return "cannot write the figure's data beside " + png.png;
   }
   std::vector<double> mode_hz;
   for (const commission::UncertainMode& m : r.result.modes) mode_hz.push_back(m.omega / (2.0 * M_PI));
   papers::FigureFiles files{};
-  const plant::SimStatus st = papers::write_identify_figure(png.dir, png.stem, time_csv, spectrum_csv, mode_hz, files);
+  const plant::SimStatus st =
+      papers::write_identify_figure(png.dir, png.stem, time_csv, spectrum_csv, mode_hz, u, files);
   if (st != plant::SimStatus::ok) return "cannot write " + png.png + ": " + describe(st);
   if (!files.gnuplot) return "gnuplot was not found: wrote " + (dir / (png.stem + ".gp")).string() + " and the CSVs only";
   return {};
@@ -187,7 +189,8 @@ std::string write_png(const commission::IdentifyRunSpec& spec, const commission:
 // The JSON document, one line: {"status":"ok","modes":[...] (io/modes_json.hpp: what `settle tune
 // --modes-from` reads) sorted by omega,"excitation":{...},"fit":{order, rms_residual, ...}}; on
 // failure {"status":"error","error":code,"message":...}.
-std::string identify_document(const commission::IdentifyRunSpec& spec, const commission::IdentifyRunReport& r) {
+std::string identify_document(const commission::IdentifyRunSpec& spec, const commission::IdentifyRunReport& r,
+                              plant::PositionUnit u) {
   Json j;
   if (!r.ok()) {
     j["status"] = "error";
@@ -197,6 +200,7 @@ std::string identify_document(const commission::IdentifyRunSpec& spec, const com
   }
   const commission::IdentifyResult& f = r.result;
   j["status"] = "ok";
+  j["unit"] = plant::to_string(u);  // of the excitation's distance and the deflections: a label
   j["modes"] = modes_json(f.modes);
   const core::Move<double>& mv = spec.stream.axes.front().move;
   j["excitation"] = {{"profile", core::to_string(mv.profile().kind())},
@@ -245,14 +249,14 @@ int cmd_identify(int argc, char** argv) {
   if (!report.ok()) {
     if (const std::string advice = drive_advice(report.stream); !advice.empty()) report.failure += ": " + advice;
   }
-  if (!report.ok()) return failed(report.failure_code, report.failure, args.json(), identify_document(spec, report));
+  if (!report.ok()) return failed(report.failure_code, report.failure, args.json(), identify_document(spec, report, position_unit(args)));
   if (png) {
-    if (const std::string why = write_png(spec, report, *png); !why.empty()) {
+    if (const std::string why = write_png(spec, report, *png, position_unit(args)); !why.empty()) {
       return failed("figure_failed", why, args.json(), error_doc("figure_failed", why));
     }
   }
   if (args.json()) {
-    std::printf("%s\n", identify_document(spec, report).c_str());
+    std::printf("%s\n", identify_document(spec, report, position_unit(args)).c_str());
   } else {
     commission::write_identify_text(spec, report, stdout);
   }

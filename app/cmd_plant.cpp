@@ -38,6 +38,8 @@ int cmd_plant(int argc, char** argv) {
   RequestError err;
   plant::ModalPlant plant{};
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
+  plant::PositionUnit unit{};  // of the log's load and base columns
+  if (!plant_unit(args, plant.kind(), unit, err)) return report_bad_request(err, json);
   testbed::DriveAxisConfig axis_cfg{};
   if (!parse_drive(args, plant, axis_cfg, err)) return report_bad_request(err, json);
   axis_cfg.load_noise_counts = args.real_or_default("--noise");  // the load encoder's (settle identify's e2e)
@@ -85,7 +87,7 @@ int cmd_plant(int argc, char** argv) {
   // Every SYNC's record streams to the file as it is made (bounded memory for any run length).
   testbed::SyncCsvLog log;
   const auto log_path = args.text("--log");
-  if (log_path && !log.open(*log_path)) {
+  if (log_path && !log.open(*log_path, unit)) {
     std::fprintf(stderr, "settle plant: cannot write %s\n", log_path->c_str());
     return kExitFailure;
   }

@@ -63,18 +63,25 @@ int sample_axes(const ParsedArgs& args, double dt) {
                                 args.json());
     }
   }
-  std::vector<std::string> columns{"t"};
-  for (std::size_t k = 1; k <= axes; ++k) {
-    for (const char* c : {"position_", "velocity_", "acceleration_", "jerk_"}) columns.push_back(c + std::to_string(k));
-  }
+  const plant::PositionUnit unit = position_unit(args);
   const bool json = args.json();
   if (json) {
-    std::printf("{\"status\":\"ok\",\"columns\":[");
+    // The JSON's column names stay as they were (readers index them); the unit is said once.
+    std::vector<std::string> columns{"t"};
+    for (std::size_t k = 1; k <= axes; ++k) {
+      for (const char* c : {"position_", "velocity_", "acceleration_", "jerk_"}) columns.push_back(c + std::to_string(k));
+    }
+    std::printf("{\"status\":\"ok\",\"unit\":\"%s\",\"columns\":[", plant::to_string(unit));
     for (std::size_t c = 0; c < columns.size(); ++c) std::printf("%s\"%s\"", c ? "," : "", columns[c].c_str());
     std::printf("],\"rows\":[");
   } else {
-    for (std::size_t c = 0; c < columns.size(); ++c) std::printf("%s%s", c ? "," : "", columns[c].c_str());
-    std::printf("\n");
+    std::vector<std::string> columns = papers::move_columns(unit);
+    columns.resize(1);  // t_s, then each axis's four
+    for (std::size_t k = 1; k <= axes; ++k) {
+      const std::vector<std::string> c = papers::move_columns(unit, static_cast<int>(k));
+      columns.insert(columns.end(), c.begin(), c.end());
+    }
+    std::fputs(papers::csv_header(columns).c_str(), stdout);
   }
   for (long i = 0; i <= n; ++i) {
     row(i, r);
@@ -135,8 +142,9 @@ int cmd_sample(int argc, char** argv) {
   }
   if (args.json()) {
     // Streamed, not built as a document; every number is finite.
-    std::printf("{\"status\":\"ok\",\"columns\":[\"t\",\"position\",\"velocity\",\"acceleration\",\"jerk\"],"
-                "\"rows\":[");
+    std::printf("{\"status\":\"ok\",\"unit\":\"%s\",\"columns\":[\"t\",\"position\",\"velocity\",\"acceleration\","
+                "\"jerk\"],\"rows\":[",
+                plant::to_string(position_unit(args)));
     for (long i = 0; i <= n; ++i) {
       const auto r = sample(i);
       std::printf("%s[%.17g,%.17g,%.17g,%.17g,%.17g]", i == 0 ? "" : ",", r[0], r[1], r[2], r[3], r[4]);
@@ -145,7 +153,7 @@ int cmd_sample(int argc, char** argv) {
     return kExitOk;
   }
   // Every sample was found finite above: the table is written whole.
-  return papers::write_move_rows(stdout, move, *dt)
+  return papers::write_move_rows(stdout, move, *dt, position_unit(args))
              ? kExitOk
              : report_failure("sample", "write_failed", "cannot write the samples to stdout", false);
 }

@@ -27,7 +27,13 @@ namespace settle::app {
 
 namespace {
 
-const char* units(plant::PlantKind k) { return k == plant::PlantKind::belt ? "rad" : "m"; }
+const char* units(plant::PositionUnit u) { return plant::to_string(u); }
+
+// The energies' unit in words (plant::energy_suffix): J, or per unit modal mass for --plant modes.
+const char* energy_units(plant::PlantKind k, plant::PositionUnit u) {
+  const std::string_view e = plant::energy_suffix(k, u);
+  return e == "j" ? "J" : e == "j_per_kg" ? "J/kg" : "J/(kg m^2)";
+}
 
 // The whole-plant figures of a simulation, in the order both outputs (one axis, --axes) print them.
 void put_metrics(Json& j, const plant::SimMetrics& m) {
@@ -81,11 +87,13 @@ bool designs_for_zeta(const core::MoveRequest& req, const OnlineChange* change) 
 }
 
 Json result_json(const plant::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
-                 const plant::SimMetrics& m, const plant::InsensitivityWidth* width, const OnlineChange* change) {
+                 const plant::SimMetrics& m, const plant::InsensitivityWidth* width, const OnlineChange* change,
+                 plant::PositionUnit u) {
   Json j;
   j["status"] = "ok";
   j["plant"] = to_string(plant.kind());
-  j["units"] = units(plant.kind());
+  j["units"] = units(u);
+  j["energy_units"] = energy_units(plant.kind(), u);
   j["profile"] = core::to_string(move.profile().kind());
   j["distance"] = move.distance();
   j["duration"] = move.duration();
@@ -118,8 +126,9 @@ Json result_json(const plant::ModalPlant& plant, const core::Move<double>& move,
 }
 
 void print_text(const plant::ModalPlant& plant, const core::Move<double>& move, const core::MoveRequest& req,
-                const plant::SimMetrics& m, const plant::InsensitivityWidth* width, const OnlineChange* change) {
-  const char* u = units(plant.kind());
+                const plant::SimMetrics& m, const plant::InsensitivityWidth* width, const OnlineChange* change,
+                plant::PositionUnit unit) {
+  const char* u = units(unit);
   std::printf("plant              %s (%zu mode%s)\n", to_string(plant.kind()), plant.modes().size(),
               plant.modes().size() == 1 ? "" : "s");
   for (std::size_t j = 0; j < plant.modes().size(); ++j) {
@@ -143,7 +152,7 @@ void print_text(const plant::ModalPlant& plant, const core::Move<double>& move, 
   std::printf("\nresidual amplitude %.6e %s\n", m.residual_amplitude, u);
   std::printf("PRV                %.6g %% (of %.6e %s, an unshaped step's)\n", m.prv_percent, m.step_residual, u);
   std::printf("peak deflection    %.6e %s\n", m.peak_deflection, u);
-  std::printf("final energy       %.6e J\n", m.final_energy);
+  std::printf("final energy       %.6e %s\n", m.final_energy, energy_units(plant.kind(), unit));
   if (std::isfinite(m.settling_time)) {
     std::printf("settling time      %.6g s (band %.3e %s)\n", m.settling_time, m.band, u);
   } else if (m.settling == plant::Settling::beyond_horizon) {
@@ -251,8 +260,8 @@ void line_deviation_json(const AxesRun& run, const std::vector<const plant::Comm
 }
 
 void print_simulated_axes(const plant::ModalPlant& plant, const AxesRun& run, const Json& j,
-                          const std::vector<plant::SimMetrics>& metrics) {
-  const char* u = units(plant.kind());
+                          const std::vector<plant::SimMetrics>& metrics, plant::PositionUnit unit) {
+  const char* u = units(unit);
   std::printf("plant              %s (%zu mode%s), one per axis\n", to_string(plant.kind()), plant.modes().size(),
               plant.modes().size() == 1 ? "" : "s");
   std::printf("move               %s, %zu axes (sync %s), duration %.9g s, line deviation %.3e %s%s\n",
@@ -278,7 +287,7 @@ void print_simulated_axes(const plant::ModalPlant& plant, const AxesRun& run, co
 // settle simulate --axes N: every axis of the coordinated move on its own copy of the plant
 // (docs/multi_axis.md). Without --omega, every axis is designed for the plant's fundamental when
 // the profile or shaper designs for a mode, as with one axis.
-int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
+int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant, plant::PositionUnit unit) {
   const bool json = args.json();
   AxesRun run;
   if (const int rc = plan_simulated_axes(args, plant, run); rc >= 0) return rc;
@@ -296,7 +305,8 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
   Json j;
   j["status"] = "ok";
   j["plant"] = to_string(plant.kind());
-  j["units"] = units(plant.kind());
+  j["units"] = units(unit);
+  j["energy_units"] = energy_units(plant.kind(), unit);
   j["profile"] = core::to_string(run.req.base.profile);
   j["axes"] = run.plan.count();
   j["sync"] = core::to_string(run.plan.sync());
@@ -334,16 +344,17 @@ int simulate_axes(const ParsedArgs& args, const plant::ModalPlant& plant) {
   if (json) {
     print_json(j);
   } else {
-    print_simulated_axes(plant, run, j, metrics);
+    print_simulated_axes(plant, run, j, metrics, unit);
   }
   return kExitOk;
 }
 
 // The --png figure: the history beside it (<stem>.csv) and gnuplot. Empty, or why not.
 std::string write_png(const plant::ModalPlant& plant, const core::Move<double>& move, const plant::SimResult& res,
-                      const FigurePath& png) {
+                      const FigurePath& png, plant::PositionUnit unit) {
   const std::string csv = png.stem + ".csv";
-  if (papers::write_history_csv(res.history, (std::filesystem::path{png.dir} / csv).string()) != plant::SimStatus::ok) {
+  if (papers::write_history_csv(res.history, (std::filesystem::path{png.dir} / csv).string(), plant.kind(), unit) !=
+      plant::SimStatus::ok) {
     return "cannot write the figure's data beside " + png.png;
   }
   const plant::SimMetrics& m = res.metrics;
@@ -352,12 +363,13 @@ std::string write_png(const plant::ModalPlant& plant, const core::Move<double>& 
   f.target = m.distance;
   f.residual = m.residual_amplitude;
   f.band = m.band;
-  f.unit = units(plant.kind());
+  f.unit = unit;
+  const std::string u = units(unit);
   const std::size_t n = plant.modes().size();
   f.title = std::string{core::to_string(move.profile().kind())} + " move of " + format_number(move.distance()) + " " +
-            f.unit + " in " + format_number(m.move_end) + " s on a " + to_string(plant.kind()) + " plant (" +
+            u + " in " + format_number(m.move_end) + " s on a " + to_string(plant.kind()) + " plant (" +
             std::to_string(n) + (n == 1 ? " mode" : " modes") + "): residual " +
-            format_number(m.residual_amplitude) + " " + f.unit + " (PRV " + format_number(m.prv_percent) + " %)";
+            format_number(m.residual_amplitude) + " " + u + " (PRV " + format_number(m.prv_percent) + " %)";
   papers::FigureFiles files{};
   const plant::SimStatus st = papers::write_simulate_figure(png.dir, png.stem, csv, f, files);
   if (st != plant::SimStatus::ok) return "cannot write " + png.png + ": " + plant::describe(st);
@@ -376,7 +388,9 @@ int cmd_simulate(int argc, char** argv) {
   plant::ModalPlant plant;
   RequestError err;
   if (!parse_plant(args, plant, err)) return report_bad_request(err, json);
-  if (wants_axes(args)) return simulate_axes(args, plant);
+  plant::PositionUnit unit{};
+  if (!plant_unit(args, plant.kind(), unit, err)) return report_bad_request(err, json);
+  if (wants_axes(args)) return simulate_axes(args, plant, unit);
   std::optional<FigurePath> png;
   if (const int rc = parse_png_option(args, png); rc >= 0) return rc;
   core::MoveRequest req{};
@@ -433,26 +447,26 @@ int cmd_simulate(int argc, char** argv) {
     }
   }
   const OnlineChange* ch = change ? &*change : nullptr;
-  const Json j = result_json(plant, move, req, res.metrics, want_width ? &width : nullptr, ch);
+  const Json j = result_json(plant, move, req, res.metrics, want_width ? &width : nullptr, ch, unit);
   if (!all_finite(j)) {
     return report_bad_request({"non_finite_result", "--distance",
                                "--distance: the simulation's result is not finite for this move and plant"},
                               json);
   }
   if (const auto csv = args.text("--csv")) {
-    if (papers::write_history_csv(res.history, *csv) != plant::SimStatus::ok) {
+    if (papers::write_history_csv(res.history, *csv, plant.kind(), unit) != plant::SimStatus::ok) {
       return report_failure("simulate", "write_failed", "cannot write " + *csv, json);
     }
   }
   if (png) {
-    if (const std::string why = write_png(plant, move, res, *png); !why.empty()) {
+    if (const std::string why = write_png(plant, move, res, *png, unit); !why.empty()) {
       return report_failure("simulate", "figure_failed", why, json);
     }
   }
   if (json) {
     print_json(j);
   } else {
-    print_text(plant, move, req, res.metrics, want_width ? &width : nullptr, ch);
+    print_text(plant, move, req, res.metrics, want_width ? &width : nullptr, ch, unit);
   }
   return kExitOk;
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "commands.hpp"
+#include "move_options.hpp"
 #include "settle/papers/figures.hpp"
 
 namespace settle::app {
@@ -27,11 +28,12 @@ int refuse_png_with_axes(const ParsedArgs& args) {
 
 int write_move_png(const ParsedArgs& args, const core::Move<double>& move, double dt, const char* command,
                    const FigurePath& png) {
+  const plant::PositionUnit unit = position_unit(args);
   char title[160];
-  std::snprintf(title, sizeof title, "settle %s: %s, distance %.6g m in %.6g s", command,
-                core::to_string(move.profile().kind()), move.distance(), move.duration());
+  std::snprintf(title, sizeof title, "settle %s: %s, distance %.6g %s in %.6g s", command,
+                core::to_string(move.profile().kind()), move.distance(), plant::to_string(unit), move.duration());
   papers::FigureFiles files;
-  const plant::SimStatus st = papers::write_move_figure(move, png.dir, png.stem, {dt, title, "m"}, files);
+  const plant::SimStatus st = papers::write_move_figure(move, png.dir, png.stem, {dt, title, unit}, files);
   if (st != plant::SimStatus::ok) {
     return report_failure(command, "write_failed", "--png: cannot write " + png.png + ": " + plant::describe(st),
                           args.json());

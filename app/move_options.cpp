@@ -214,6 +214,12 @@ bool parse_axes_request(const ParsedArgs& a, core::MultiAxisRequest& req, Reques
   return true;
 }
 
+plant::PositionUnit position_unit(const ParsedArgs& args, plant::PositionUnit fallback) {
+  const auto text = args.text("--unit");
+  if (!text) return fallback;
+  return plant::parse_position_unit(*text).value_or(fallback);  // the parser took only m or rad
+}
+
 core::OptionalLimits limits_of(const ParsedArgs& args) {
   return {args.real("--vmax"), args.real("--amax"), args.real("--jmax")};
 }

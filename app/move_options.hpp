@@ -7,6 +7,7 @@
 #include "options.hpp"
 #include "settle/core/multi_axis.hpp"
 #include "settle/core/planner.hpp"
+#include "settle/plant/csv_columns.hpp"
 
 namespace settle::app {
 
@@ -19,6 +20,10 @@ struct DesignFallback {
 };
 
 // The --vmax, --amax and --jmax given.
+// --unit as given, else `fallback` (m; simulate: the plant's): it labels, it scales nothing.
+[[nodiscard]] plant::PositionUnit position_unit(const ParsedArgs& args,
+                                                plant::PositionUnit fallback = plant::PositionUnit::m);
+
 [[nodiscard]] core::OptionalLimits limits_of(const ParsedArgs& args);
 
 // Fills `req` from the options (already range-checked); false (with `err`) when a required

@@ -191,6 +191,14 @@ const std::vector<OptionSpec> kAxes = {
            "its own move on its own mode, one common duration; reports the deviation from the line)"),
 };
 
+// plan, sample, simulate, plant, identify: the unit of the positions they write (help's Motion group).
+const std::vector<OptionSpec> kUnit = {
+    choice("--unit", "m", {"m", "rad"},
+           "the unit --distance and every position are in: it only names the CSV columns (position_m, "
+           "velocity_m_per_s, ...; docs/csv.md) and the JSON's unit, it scales nothing; simulate and plant: "
+           "for --plant modes (sdof and beam are in m, belt in rad, and refuse another)"),
+};
+
 // settle tune: the move's own options, taken from the move group (one row per option).
 const std::vector<OptionSpec> kTuneMove = [] {
   std::vector<OptionSpec> v;
@@ -462,18 +470,18 @@ const std::string kDriveNotes =
 
 const std::vector<CommandSpec> kCommands = {
     {.name = "plan", .summary = "plan a move and print it (text or --json)", .usage = "",
-     .groups = {kMoveAxes, kAxes, kMoveFigure, kOutput},
+     .groups = {kMoveAxes, kUnit, kAxes, kMoveFigure, kOutput},
      .example = "settle plan --profile scurve --distance 0.1 --time 0.5 --omega 22"},
     {.name = "sample",
-     .summary = "plan a move and print t,position,velocity,acceleration,jerk every --dt (CSV, or --json)",
+     .summary = "plan a move and print position, velocity, acceleration, jerk every --dt (CSV, or --json)",
      .usage = "",
-     .groups = {kMoveAxes, kAxes, kPlanFrom, kSample, kMoveFigure, kOutput},
+     .groups = {kMoveAxes, kUnit, kAxes, kPlanFrom, kSample, kMoveFigure, kOutput},
      .notes = "Bounds: at most 2e6 samples (move duration / --dt); the move at most 3600 s.",
      .example = "settle sample --profile scurve --distance 0.1 --time 0.5 --omega 22 --dt 0.001"},
     {.name = "simulate",
      .summary = "run a move on a plant (sdof, beam, belt, modes): residual, PRV, energy",
      .usage = "",
-     .groups = {kMoveAxes, kAxes, kPlant, kSimulate, kOnline, kOutput},
+     .groups = {kMoveAxes, kUnit, kAxes, kPlant, kSimulate, kOnline, kOutput},
      .notes = "Bounds: move + tail at most 3600 s; grid steps ((move + tail) / --dt) x modes at most 2e6; with --csv "
               "at most 1e6 rows; at most 64 --mode.",
      .example = "settle simulate --plant beam --profile scurve --distance 0.07 --time 0.228 --omega 22.05"},
@@ -486,7 +494,7 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "plant",
      .summary = "run the simulated CiA 402 drive with a plant behind it on a CAN bus",
      .usage = "",
-     .groups = {kPlantNode, kPlant, kDrive, kLoadNoise, kOutput},
+     .groups = {kPlantNode, kUnit, kPlant, kDrive, kLoadNoise, kOutput},
      .notes = "Exit 1 when the bus cannot be opened or the drive faulted.",
      .example = "settle plant --bus vcan0 --plant modes --mode 25,0.02,1 --mode 70,0.05,4"},
     {.name = "stream",
@@ -523,7 +531,7 @@ const std::vector<CommandSpec> kCommands = {
     {.name = "identify",
      .summary = "excite the axis through the loop and the bus, and estimate the machine's modes from the drive's feedback",
      .usage = "",
-     .groups = {kIdentifyLoop, kIdentify, kLoadNoise, kPlant, kDrive, kOutput},
+     .groups = {kIdentifyLoop, kUnit, kIdentify, kLoadNoise, kPlant, kDrive, kOutput},
      .notes = "The excitation is one jerk-limited move of --distance within --vmax/--amax/--jmax, then --hold s at "
               "rest; it lasts at most 600 s, the record (excitation + hold) holds at most 120 000 "
               "samples (2 min at --period-us 1000), and it must fit 32-bit counts. The plant options describe "
@@ -1034,7 +1042,7 @@ std::string wrap(std::string_view text, std::size_t width, std::string_view inde
 // The heading of each option group in --help, so that a command's options read by topic.
 std::string group_title(const OptionGroup& g) {
   const std::pair<const std::vector<OptionSpec>*, const char*> titles[] = {
-      {&kMoveAxes, "Motion"},         {&kTuneMove, "Motion"},       {&kAxes, "Several axes"},
+      {&kMoveAxes, "Motion"},         {&kTuneMove, "Motion"},       {&kUnit, "Motion"},       {&kAxes, "Several axes"},
       {&kPlanFrom, "Plan file"},      {&kSample, "Samples"},        {&kSimulate, "Simulation"},
       {&kMoveFigure, "Figure"},
       {&kOnline, "Halt and retarget"}, {&kPlant, "Plant (the simulated machine)"},

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "move_options.hpp"
+
 namespace settle::app {
 
 namespace {
@@ -130,6 +132,16 @@ bool parse_plant(const ParsedArgs& a, plant::ModalPlant& plant, RequestError& er
     }
   }
   return true;
+}
+
+bool plant_unit(const ParsedArgs& args, plant::PlantKind k, plant::PositionUnit& out, RequestError& err) {
+  const plant::PositionUnit own = k == plant::PlantKind::belt ? plant::PositionUnit::rad : plant::PositionUnit::m;
+  out = position_unit(args, own);
+  if (k == plant::PlantKind::modes || out == own) return true;
+  err = {"conflicting_options", "--unit",
+         std::string{"--unit: the "} + to_string(k) + " plant's positions are in " + plant::to_string(own) +
+             " (its parameters say so); --unit names the unit for --plant modes"};
+  return false;
 }
 
 bool parse_drive(const ParsedArgs& a, const plant::ModalPlant& plant, testbed::DriveAxisConfig& cfg, RequestError& err) {

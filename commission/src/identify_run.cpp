@@ -113,12 +113,25 @@ void write_identify_text(const IdentifyRunSpec& spec, const IdentifyRunReport& r
                f.order, f.rms_residual, f.noise_rms, f.peak_deflection, f.rigid_gain);
 }
 
-bool write_identify_time_csv(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out) {
+namespace {
+
+// One header line of three columns: `first`, then measured_<what> and fitted_<what> in `u`.
+bool write_three_columns(std::FILE* out, const std::string& first, const char* what, plant::PositionUnit u) {
+  const std::string unit = plant::motion_suffix(u, 0);
+  const std::string line = first + "," + plant::column(std::string{"measured_"} + what, unit) + "," +
+                           plant::column(std::string{"fitted_"} + what, unit) + "\n";
+  return std::fputs(line.c_str(), out) >= 0;
+}
+
+}  // namespace
+
+bool write_identify_time_csv(const IdentifyRunSpec& spec, const IdentifyRunReport& r, plant::PositionUnit u,
+                             std::FILE* out) {
   if (!r.ok()) return false;
   std::vector<double> measured;
   std::vector<double> fitted;
   deflections(r, spec.stream, measured, fitted);
-  bool ok = std::fprintf(out, "t,measured,fitted\n") > 0;
+  bool ok = write_three_columns(out, plant::column("t", "s"), "deflection", u);
   const double t0 = static_cast<double>(r.result.motion_start) * r.period_s;
   for (std::size_t k = 0; k < measured.size() && ok; ++k) {
     ok = std::fprintf(out, "%.6f,%.9g,%.9g\n", static_cast<double>(k) * r.period_s - t0, measured[k], fitted[k]) > 0;
@@ -126,7 +139,8 @@ bool write_identify_time_csv(const IdentifyRunSpec& spec, const IdentifyRunRepor
   return ok;
 }
 
-bool write_identify_spectrum_csv(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out) {
+bool write_identify_spectrum_csv(const IdentifyRunSpec& spec, const IdentifyRunReport& r, plant::PositionUnit u,
+                                 std::FILE* out) {
   if (!r.ok()) return false;
   std::vector<double> measured;
   std::vector<double> fitted;
@@ -138,7 +152,7 @@ bool write_identify_spectrum_csv(const IdentifyRunSpec& spec, const IdentifyRunR
   const double h = r.period_s;
   const double f_lo = 1.0 / (static_cast<double>(n) * h);
   const double f_hi = 0.5 / h;
-  bool ok = std::fprintf(out, "f_hz,measured,fitted\n") > 0;
+  bool ok = write_three_columns(out, plant::column("frequency", "hz"), "amplitude", u);
   constexpr int kPoints = 400;
   for (int i = 0; i < kPoints && ok; ++i) {
     const double f = f_lo * std::pow(f_hi / f_lo, static_cast<double>(i) / (kPoints - 1));

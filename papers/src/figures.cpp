@@ -124,11 +124,34 @@ std::string gnuplot_string(std::string_view text) {
   return q;
 }
 
-plant::SimStatus write_history_csv(const std::vector<plant::HistorySample>& h, const std::string& path) {
+std::string csv_header(const std::vector<std::string>& columns) {
+  std::string line;
+  for (const std::string& c : columns) line += (line.empty() ? "" : ",") + c;
+  return line + "\n";
+}
+
+std::vector<std::string> history_columns(plant::PlantKind kind, plant::PositionUnit u) {
+  using plant::column;
+  using plant::motion_suffix;
+  const std::string_view e = plant::energy_suffix(kind, u);
+  return {column("t", "s"),
+          column("command_position", motion_suffix(u, 0)),
+          column("command_velocity", motion_suffix(u, 1)),
+          column("command_acceleration", motion_suffix(u, 2)),
+          column("deflection", motion_suffix(u, 0)),
+          column("position", motion_suffix(u, 0)),
+          column("velocity", motion_suffix(u, 1)),
+          column("acceleration", motion_suffix(u, 2)),
+          column("kinetic_energy", e),
+          column("potential_energy", e)};
+}
+
+plant::SimStatus write_history_csv(const std::vector<plant::HistorySample>& h, const std::string& path,
+                                   plant::PlantKind kind, plant::PositionUnit u) {
+  const std::string header = csv_header(history_columns(kind, u));
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) return plant::SimStatus::io_error;
-  std::fprintf(f, "t,command_position,command_velocity,command_acceleration,deflection,position,velocity,"
-                  "acceleration,kinetic_energy,potential_energy\n");
+  std::fputs(header.c_str(), f);
   for (const plant::HistorySample& s : h) {
     if (std::ferror(f) != 0) break;  // every row lost from here: stop writing them
     std::fprintf(f, "%.9g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n", s.t, s.command.p, s.command.v,
@@ -174,7 +197,9 @@ plant::SimStatus write_tune_figure(const commission::TuneResult& r, const std::s
     hi_pct = std::max(hi_pct, 2.0 * 100.0 * (m.omega_hi / m.omega - 1.0));
   }
   lo_pct = std::max(lo_pct, -95.0);
-  std::string csv = "error_pct";
+  // Columns: the frequency error (%), then each plan's residual on each mode as a fraction of the
+  // unshaped residual (plant/csv_columns.hpp).
+  std::string csv = plant::column("frequency_error", "pct");
   std::vector<std::vector<double>> cols;
   std::string plot_cmd = "plot ";
   std::size_t col = 2;
@@ -188,7 +213,7 @@ plant::SimStatus write_tune_figure(const commission::TuneResult& r, const std::s
       cols.push_back(std::move(y));
       const std::string title = c->name + fmt(" (%.4g s)", c->duration) +
                                 (r.modes.size() > 1 ? " mode " + std::to_string(j + 1) : std::string{});
-      csv += "," + c->name + "_mode" + std::to_string(j + 1);
+      csv += "," + plant::column("residual_" + plant::identifier(c->name) + "_mode" + std::to_string(j + 1), "ratio");
       plot_cmd += std::string{col > 2 ? ", " : ""} + "$residual skip 1 using 1:" + std::to_string(col) +
                   " with lines" + (c == shown.front() ? " lw 3" : " lw 1 dt 2") + " title " + gnuplot_string(title);
       ++col;
@@ -219,7 +244,7 @@ plant::SimStatus write_tune_figure(const commission::TuneResult& r, const std::s
 
 plant::SimStatus write_identify_figure(const std::string& dir, const std::string& name, const std::string& time_csv,
                                 const std::string& spectrum_csv, const std::vector<double>& mode_hz,
-                                FigureFiles& out) {
+                                plant::PositionUnit unit, FigureFiles& out) {
   const plant::SimStatus st = prepare(dir, out);
   if (st != plant::SimStatus::ok) return st;
   std::string script;
@@ -229,11 +254,11 @@ plant::SimStatus write_identify_figure(const std::string& dir, const std::string
   script +=
       "set multiplot layout 2,1\n"
       "set title 'load deflection: measured and identified model'\nset xlabel 't from the excitation (s)'\n"
-      "set ylabel 'deflection (m or rad)'\nset key top right\n"
+      "set ylabel " + gnuplot_string(std::string{"deflection ("} + plant::to_string(unit) + ")") + "\nset key top right\n"
       "plot $time every ::1 using 1:2 with lines title 'measured (TPDO2 - rigid motion)', \\\n"
       "     $time every ::1 using 1:3 with lines lw 2 title 'identified model'\n"
       "set title 'spectrum of the free response (dashed: the identified modes)'\nset xlabel 'frequency (Hz)'\n"
-      "set ylabel 'amplitude'\nset logscale xy\n";
+      "set ylabel " + gnuplot_string(std::string{"amplitude ("} + plant::to_string(unit) + ")") + "\nset logscale xy\n";
   // Each identified mode a dashed vertical line labelled with its frequency.
   for (std::size_t k = 0; k < mode_hz.size(); ++k) {
     const std::string f = fmt("%.6g", mode_hz[k]);
@@ -255,7 +280,7 @@ plant::SimStatus write_simulate_figure(const std::string& dir, const std::string
   if (st != plant::SimStatus::ok) return st;
   std::string script;
   if (!datablock_of(dir, csv, "h", script)) return plant::SimStatus::io_error;
-  const std::string u = f.unit;
+  const std::string u = plant::to_string(f.unit);
   const std::string end = fmt("%.17g", f.end);
   const std::string target = fmt("%.17g", f.target);
   const std::string residual = fmt("%.17g", f.residual);
@@ -289,10 +314,10 @@ plant::SimStatus write_simulate_figure(const std::string& dir, const std::string
 namespace {
 
 // The move's table (write_move_rows) in the file at `path`.
-bool write_move_csv(const core::Move<double>& move, double dt, const std::string& path) {
+bool write_move_csv(const core::Move<double>& move, double dt, plant::PositionUnit u, const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) return false;
-  const bool rows = write_move_rows(f, move, dt);
+  const bool rows = write_move_rows(f, move, dt, u);
   const bool written = std::fflush(f) == 0 && std::ferror(f) == 0;
   return std::fclose(f) == 0 && written && rows;
 }
@@ -304,8 +329,17 @@ void write_sample_row(std::FILE* f, std::span<const double> row) {
   std::fputc('\n', f);
 }
 
-bool write_move_rows(std::FILE* f, const core::Move<double>& move, double dt) {
-  std::fprintf(f, "t,position,velocity,acceleration,jerk\n");
+std::vector<std::string> move_columns(plant::PositionUnit u, int axis) {
+  const std::string tag = axis > 0 ? "_" + std::to_string(axis) : std::string{};
+  std::vector<std::string> c;
+  if (axis <= 0) c.push_back(plant::column("t", "s"));
+  const char* quantities[] = {"position", "velocity", "acceleration", "jerk"};
+  for (int d = 0; d < 4; ++d) c.push_back(plant::column(quantities[d] + tag, plant::motion_suffix(u, d)));
+  return c;
+}
+
+bool write_move_rows(std::FILE* f, const core::Move<double>& move, double dt, plant::PositionUnit u) {
+  std::fputs(csv_header(move_columns(u)).c_str(), f);
   const double n = std::ceil(move.duration() / dt);
   for (double i = 0.0; i <= n && std::ferror(f) == 0; i += 1.0) {
     const double t = std::min(i * dt, move.duration());
@@ -322,11 +356,11 @@ plant::SimStatus write_move_figure(const core::Move<double>& move, const std::st
   plant::SimStatus st = prepare(dir, out);
   if (st != plant::SimStatus::ok) return st;
   const std::string csv = name + ".csv";
-  if (!write_move_csv(move, f.dt, (fs::path{dir} / csv).string())) return plant::SimStatus::io_error;
+  if (!write_move_csv(move, f.dt, f.unit, (fs::path{dir} / csv).string())) return plant::SimStatus::io_error;
   out.csv.push_back((fs::path{dir} / csv).string());
   std::string script;
   if (!datablock_of(dir, csv, "m", script)) return plant::SimStatus::io_error;
-  const std::string u = f.unit;
+  const std::string u = plant::to_string(f.unit);
   const core::Peaks<double>& pk = move.peaks();
   // One panel: column `col` against t, with +-peak dashed when the peak is finite (a trapezoid's
   // jerk is a train of impulses: no line).
@@ -375,7 +409,7 @@ plant::SimStatus write_figures_000(const Result000& r, const std::string& dir, F
       if (row.history.empty()) continue;
       const std::string name =
           "000_D" + dtag + "_" + core::to_string(row.profile) + "_T" + fmt("%.2f", row.time_ratio) + ".csv";
-      st = write_history_csv(row.history, (fs::path{dir} / name).string());
+      st = write_history_csv(row.history, (fs::path{dir} / name).string(), plant::PlantKind::beam, plant::PositionUnit::m);
       if (st != plant::SimStatus::ok) return st;
       out.csv.push_back((fs::path{dir} / name).string());
       const int k = row.profile == core::ProfileKind::scurve ? 0 : 2;
@@ -444,7 +478,7 @@ plant::SimStatus write_figures_001(const Result001& r, const std::string& dir, F
       if (h.empty()) continue;
       const std::string name =
           std::string{"001_tau"} + fmt("%.3f", c.tau) + (which == 0 ? "_arbitrary" : "_computed") + ".csv";
-      st = write_history_csv(h, (fs::path{dir} / name).string());
+      st = write_history_csv(h, (fs::path{dir} / name).string(), plant::PlantKind::sdof, plant::PositionUnit::m);
       if (st != plant::SimStatus::ok) return st;
       out.csv.push_back((fs::path{dir} / name).string());
       script += "set title " +
@@ -512,8 +546,10 @@ plant::SimStatus write_figures_004(const Result004& r, const std::string& dir, F
   if (st != plant::SimStatus::ok) return st;
   if (r.history_initial.empty()) return plant::SimStatus::ok;
   const char* names[2] = {"004_history_345.csv", "004_history_optimised.csv"};
-  st = write_history_csv(r.history_initial, (fs::path{dir} / names[0]).string());
-  if (st == plant::SimStatus::ok) st = write_history_csv(r.history_optimised, (fs::path{dir} / names[1]).string());
+  constexpr plant::PlantKind belt = plant::PlantKind::belt;
+  constexpr plant::PositionUnit rad = plant::PositionUnit::rad;
+  st = write_history_csv(r.history_initial, (fs::path{dir} / names[0]).string(), belt, rad);
+  if (st == plant::SimStatus::ok) st = write_history_csv(r.history_optimised, (fs::path{dir} / names[1]).string(), belt, rad);
   if (st != plant::SimStatus::ok) return st;
   for (const char* n : names) out.csv.push_back((fs::path{dir} / n).string());
   // Fig. 3: platform velocity and acceleration (command lambda phi_m dashed), kinetic and potential

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "settle/plant/csv_columns.hpp"
+
 namespace settle::testbed {
 
 namespace {
@@ -263,8 +265,13 @@ std::string stream_json(const StreamReport& r) {
 
 bool write_tick_csv(const StreamReport& r, std::FILE* out) {
   const AxisReport& a1 = first_axis(r);
-  bool ok = std::fprintf(out, "tick,t,target,sent,moving,move_end,position_actual,load_position,velocity_actual,"
-                              "feedback_count\n") > 0;
+  using plant::column;
+  const std::string header = column("tick", "index") + "," + column("t", "s") + "," + column("target", "counts") + "," +
+                             column("sent", "flag") + "," + column("moving", "flag") + "," + column("move_end", "flag") +
+                             "," + column("position_actual", "counts") + "," + column("load_position", "counts") + "," +
+                             column("velocity_actual", "drive_velocity_units") + "," +
+                             column("tpdo1_received", "count") + "\n";
+  bool ok = std::fputs(header.c_str(), out) >= 0;
   for (const runtime::TickRecord& t : a1.log) {
     ok = ok && std::fprintf(out, "%llu,%.6f,%d,%d,%d,%d,%d,%d,%d,%llu\n", static_cast<unsigned long long>(t.tick),
                             static_cast<double>(t.tick) * r.scale.period_s(), t.target, t.sent ? 1 : 0,
@@ -280,7 +287,11 @@ bool write_feedback_csv(const StreamReport& r, std::FILE* out) {
   const std::vector<std::int32_t>& sp = a1.setpoints;
   const std::size_t o = *a1.alignment;
   const std::size_t pre = std::min<std::size_t>(o, 50);
-  bool ok = std::fprintf(out, "period,t,commanded,position_can,load_can,load_offline\n") > 0;
+  using plant::column;
+  const std::string header = column("period", "index") + "," + column("t", "s") + "," + column("commanded", "counts") +
+                             "," + column("position_can", "counts") + "," + column("load_can", "counts") + "," +
+                             column("load_offline", "counts") + "\n";
+  bool ok = std::fputs(header.c_str(), out) >= 0;
   for (std::size_t i = o - pre; i < o + a1.replay.feedback.size(); ++i) {
     const long k = static_cast<long>(i) - static_cast<long>(o);
     const auto ku = static_cast<std::size_t>(k);

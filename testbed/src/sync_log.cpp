@@ -5,7 +5,7 @@ namespace settle::testbed {
 
 SyncCsvLog::~SyncCsvLog() { (void)close(); }
 
-bool SyncCsvLog::open(const std::string& path) {
+bool SyncCsvLog::open(const std::string& path, plant::PositionUnit u) {
   (void)close();
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) return false;
@@ -15,7 +15,13 @@ bool SyncCsvLog::open(const std::string& path) {
     return false;
   }
   file_ = f;
-  failed_ = std::fputs("sync,time_us,following,target,position_actual,velocity_actual,load_counts,load,base\n", f) < 0;
+  using plant::column;
+  const std::string position = plant::motion_suffix(u, 0);
+  const std::string header = column("sync", "index") + "," + column("time", "us") + "," + column("following", "flag") +
+                             "," + column("target", "counts") + "," + column("position_actual", "counts") + "," +
+                             column("velocity_actual", "counts_per_s") + "," + column("load_position", "counts") + "," +
+                             column("load", position) + "," + column("base", position) + "\n";
+  failed_ = std::fputs(header.c_str(), f) < 0;
   records_ = 0;
   return true;
 }

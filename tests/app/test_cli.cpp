@@ -327,7 +327,7 @@ TEST(Cli, SampleWritesCsvOverTheWholeMove) {
   std::size_t b = 0;
   for (std::size_t e; (e = r.out.find('\n', b)) != std::string::npos; b = e + 1) lines.push_back(r.out.substr(b, e - b));
   ASSERT_EQ(lines.size(), 6u);
-  EXPECT_EQ(lines[0], "t,position,velocity,acceleration,jerk");
+  EXPECT_EQ(lines[0], "t_s,position_m,velocity_m_per_s,acceleration_m_per_s2,jerk_m_per_s3");
   EXPECT_EQ(lines[1].substr(0, 4), "0,0,");
   EXPECT_EQ(lines[3].substr(0, 6), "0.5,1,");  // halfway there at half time
   EXPECT_EQ(lines[5].substr(0, 4), "1,2,");

@@ -135,7 +135,7 @@ TEST(CliIdentify, TextReportAndFigure) {
   std::ifstream time_csv{dir / "modes_time.csv"};
   std::string line;
   ASSERT_TRUE(std::getline(time_csv, line));
-  EXPECT_EQ(line, "t,measured,fitted");
+  EXPECT_EQ(line, "t_s,measured_deflection_m,fitted_deflection_m");
   std::size_t rows = 0;
   double worst = 0.0;
   for (; std::getline(time_csv, line); ++rows) {

@@ -443,11 +443,11 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
     return s;
   };
   const std::vector<std::pair<std::string, std::set<std::string>>> expected = {
-      {"plan", join({move, {"--axes", "--sync", "--png"}})},
-      {"sample", join({move, {"--axes", "--sync", "--dt", "--plan-from", "--png"}})},
-      {"simulate", join({move, plant, {"--axes", "--sync", "--csv", "--png", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
+      {"plan", join({move, {"--unit", "--axes", "--sync", "--png"}})},
+      {"sample", join({move, {"--unit", "--axes", "--sync", "--dt", "--plan-from", "--png"}})},
+      {"simulate", join({move, plant, {"--unit", "--axes", "--sync", "--csv", "--png", "--dt", "--band", "--tail", "--sensitivity", "--halt-at", "--retarget-at"}})},
       {"reproduce", join({{"--out"}})},
-      {"plant", join({plant, drive, {"--bus", "--timing", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--strict", "--load-feedback", "--log", "--duration",
+      {"plant", join({plant, drive, {"--unit", "--bus", "--timing", "--node", "--heartbeat-ms", "--sync-loss-periods", "--eds", "--strict", "--load-feedback", "--log", "--duration",
                                      "--noise", "--seed"}})},
       {"stream", join({move, plant, drive,
                        {"--axes", "--sync", "--nodes", "--plan-from", "--bus", "--timing", "--scalar", "--node", "--axis-vmax", "--settle-time", "--rt-priority", "--eds", "--strict", "--load-feedback", "--pm-qos", "--heartbeat-ms",
@@ -460,7 +460,7 @@ TEST(CliHelp, HelpListsExactlyTheAcceptedOptions) {
                          {"--bus", "--timing", "--node", "--eds", "--strict", "--load-feedback", "--heartbeat-ms", "--sdo-timeout-ms", "--feedback-timeout-periods",
                           "--rt-priority", "--pm-qos",
                           "--candump", "--max-modes", "--distance", "--vmax", "--amax", "--jmax", "--train", "--hold", "--noise",
-                          "--seed", "--png"}})},
+                          "--seed", "--png", "--unit"}})},
       {"demo", join({{"--bus", "--out", "--list"}})},
       {"drive info", join({{"--bus", "--timeout-ms", "--eds", "--strict", "--node"}})},
       {"drive read", join({{"--bus", "--timeout-ms", "--eds", "--strict", "--node", "--index", "--sub", "--type"}})},

@@ -94,7 +94,7 @@ TEST(SimCli, CsvHistory) {
   std::ifstream f{path};
   std::string header;
   std::getline(f, header);
-  EXPECT_EQ(header.rfind("t,command_position", 0), 0u) << header;
+  EXPECT_EQ(header.rfind("t_s,command_position_m,", 0), 0u) << header;
 }
 
 // number after "key": in a one-line JSON document.
@@ -134,7 +134,7 @@ TEST(SimCli, PlanAndSampleDrawTheMoveTheyPrint) {
   std::string line, last;
   std::size_t rows = 0;
   ASSERT_TRUE(std::getline(csv, line));
-  EXPECT_EQ(line, "t,position,velocity,acceleration,jerk");
+  EXPECT_EQ(line, "t_s,position_m,velocity_m_per_s,acceleration_m_per_s2,jerk_m_per_s3");
   while (std::getline(csv, line)) {
     ++rows;
     last = line;
@@ -180,7 +180,8 @@ TEST(SimCli, AFigureShowsTheResidualZoomedAfterTheMove) {
   std::ifstream csv{dir / "scurve.csv"};
   std::string line;
   ASSERT_TRUE(std::getline(csv, line));
-  ASSERT_EQ(line.rfind("t,command_position,command_velocity,command_acceleration,deflection,position", 0), 0u);
+  ASSERT_EQ(line.rfind("t_s,command_position_m,command_velocity_m_per_s,command_acceleration_m_per_s2,deflection_m,position_m,", 0),
+            0u);
   double tail_peak = 0.0;
   std::size_t tail_rows = 0;
   while (std::getline(csv, line)) {

@@ -346,9 +346,9 @@ def scenario(d, tag, key=None, eds=()):
 def check_applied_once(tag, fb, plant_log):
     """Every setpoint sent was applied exactly once, in order: the drive's own log of applied
     targets contains the commanded sequence (the stream's feedback log) contiguously, exactly once."""
-    cmd = [int(row["commanded"]) for row in read_csv(fb) if row["period"] >= 0]
+    cmd = [int(row["commanded_counts"]) for row in read_csv(fb) if row["period_index"] >= 0]
     move = cmd[: cmd.index(cmd[-1]) + 1]
-    applied = [int(row["target"]) for row in read_csv(plant_log) if row["following"] == 1]
+    applied = [int(row["target_counts"]) for row in read_csv(plant_log) if row["following_flag"] == 1]
     hits = [i for i in range(len(applied) - len(move) + 1) if applied[i:i + len(move)] == move]
     check(len(hits) == 1, f"{tag}: the drive applied the {len(move)} setpoints of the move once, in order")
 
@@ -619,7 +619,7 @@ def online_halt(d):
             "--feedback-log", fb_plain, "--json"], timeout=RUN_TIMEOUT_S)
     check(r.returncode == 0, f"the uninterrupted move on loopback: exit {r.returncode} {r.stderr}")
     plain = json.loads(r.stdout)
-    plain_cmd = [int(row["commanded"]) for row in read_csv(fb_plain) if row["period"] >= 0]
+    plain_cmd = [int(row["commanded_counts"]) for row in read_csv(fb_plain) if row["period_index"] >= 0]
     for scalar in ("double", "fixed"):
         tag = f"halt-{scalar}"
         plant = Plant(d, tag, plant_args, PLANT_TOLERANT)
@@ -639,13 +639,13 @@ def online_halt(d):
         rl = run([SETTLE, "stream", "--bus", "loopback", *plant_args, *move_args, "--axis-vmax", "1",
                  "--halt-at", str(at), *halt_zeta, "--scalar", scalar, "--feedback-log", fb_loop, "--json"])
         check(rl.returncode == 0, f"{tag}: the same halt on loopback: exit {rl.returncode} {rl.stderr}")
-        loop_cmd = [int(row["commanded"]) for row in read_csv(fb_loop) if row["period"] >= 0]
-        cmd = [int(row["commanded"]) for row in read_csv(fb) if row["period"] >= 0]
+        loop_cmd = [int(row["commanded_counts"]) for row in read_csv(fb_loop) if row["period_index"] >= 0]
+        cmd = [int(row["commanded_counts"]) for row in read_csv(fb) if row["period_index"] >= 0]
         parted = next((i for i in range(min(len(cmd), len(plain_cmd))) if cmd[i] != plain_cmd[i]), None)
         check(cmd == loop_cmd and parted is not None and k < parted <= k + 10,
               f"{tag}: the loop switched at {at} s: the setpoints are the move's to period {k} and part from "
               f"it at period {parted}; they are the loopback halt's ({len(cmd)} against {len(loop_cmd)})")
-        applied = [int(row["target"]) for row in read_csv(plant.log) if row["following"] == 1]
+        applied = [int(row["target_counts"]) for row in read_csv(plant.log) if row["following_flag"] == 1]
         move = cmd[: cmd.index(cmd[-1]) + 1]
         hits = [i for i in range(len(applied) - len(move) + 1) if applied[i:i + len(move)] == move]
         check(len(hits) == 1, f"{tag}: the drive applied the {len(move)} changed setpoints once, in order")
@@ -880,8 +880,8 @@ def axes_halt(d):
         hits = [i for i in range(len(targets) - len(moves[n]) + 1) if targets[i:i + len(moves[n])] == moves[n]]
         check(a["node"] == n and len(hits) == 1,
               f"node {n}: its RPDOs carry the loopback halt's {len(moves[n])} setpoints once, in order")
-        applied = [int(row["target"]) for row in read_csv(os.path.join(d, f"plant-halt-node{n}.csv"))
-                   if row["following"] == 1]
+        applied = [int(row["target_counts"]) for row in read_csv(os.path.join(d, f"plant-halt-node{n}.csv"))
+                   if row["following_flag"] == 1]
         hits = [i for i in range(len(applied) - len(moves[n]) + 1) if applied[i:i + len(moves[n])] == moves[n]]
         check(len(hits) == 1, f"node {n}: the drive applied them once, in order")
         ends[n] = moves[n][-1]
@@ -945,8 +945,8 @@ def axes_stream(d):
         check(a["node"] == n and len(hits) == 1,
               f"node {n}: its RPDOs carry its axis's {len(moves[n])} setpoints once, in order")
         starts[n] = (runs[n][hits[0]][0], runs[n][hits[0] + len(moves[n]) - 1][0])
-        applied = [int(row["target"]) for row in read_csv(os.path.join(d, f"plant-axes-node{n}.csv"))
-                   if row["following"] == 1]
+        applied = [int(row["target_counts"]) for row in read_csv(os.path.join(d, f"plant-axes-node{n}.csv"))
+                   if row["following_flag"] == 1]
         hits = [i for i in range(len(applied) - len(moves[n]) + 1) if applied[i:i + len(moves[n])] == moves[n]]
         check(len(hits) == 1, f"node {n}: the drive applied its move's setpoints once, in order")
         check(a["aligned"] and a["agreement"] <= 1e-6 * abs(a["distance"]),

@@ -51,7 +51,7 @@ TEST(PlantNodeLog, ManySyncsAllocateNothingAndTheFileHoldsEveryRecord) {
   constexpr std::size_t kCapacity = 64;
   PlantNode pn{dc, std::move(axis), kCapacity};
   SyncCsvLog log;
-  ASSERT_TRUE(log.open(path));
+  ASSERT_TRUE(log.open(path, plant::PositionUnit::m));
   pn.set_sink(&log);
   Discard out;
   pn.start(0, out);
@@ -79,7 +79,8 @@ TEST(PlantNodeLog, ManySyncsAllocateNothingAndTheFileHoldsEveryRecord) {
   std::ifstream f{path};
   std::string line;
   ASSERT_TRUE(std::getline(f, line));
-  EXPECT_EQ(line, "sync,time_us,following,target,position_actual,velocity_actual,load_counts,load,base");
+  EXPECT_EQ(line, "sync_index,time_us,following_flag,target_counts,position_actual_counts,velocity_actual_counts_per_s,"
+                  "load_position_counts,load_m,base_m");
   std::uint64_t n = 0;
   while (std::getline(f, line)) {
     const std::string expected_prefix = std::to_string(n) + "," + std::to_string((n + 1) * 1000) + ",";
@@ -131,7 +132,7 @@ TEST(PlantNode, ABurstOfPairsAtOneInstantIsAppliedSetpointBySetpoint) {
 
 TEST(PlantNodeLog, UnwritableLogIsRefusedAtOpen) {
   SyncCsvLog log;
-  EXPECT_FALSE(log.open("/nonexistent-dir/settle/log.csv"));
+  EXPECT_FALSE(log.open("/nonexistent-dir/settle/log.csv", plant::PositionUnit::m));
   EXPECT_FALSE(log.close());
 }
 

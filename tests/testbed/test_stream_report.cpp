@@ -214,7 +214,8 @@ TEST(StreamReportCsv, OneRowPerTick) {
   const Written w = captured([&](std::FILE* f) { return write_tick_csv(r, f); });
   EXPECT_TRUE(w.ok);
   EXPECT_EQ(w.text,
-            "tick,t,target,sent,moving,move_end,position_actual,load_position,velocity_actual,feedback_count\n"
+            "tick_index,t_s,target_counts,sent_flag,moving_flag,move_end_flag,position_actual_counts,"
+            "load_position_counts,velocity_actual_drive_velocity_units,tpdo1_received_count\n"
             "0,0.000000,0,0,0,0,0,0,0,0\n"
             "3,0.001500,-7,1,1,1,5,6,-8,2\n");
 }
@@ -230,7 +231,7 @@ TEST(StreamReportCsv, FeedbackAlignedWithTheReplay) {
   const Written w = captured([&](std::FILE* f) { return write_feedback_csv(r, f); });
   EXPECT_TRUE(w.ok);
   EXPECT_EQ(w.text,
-            "period,t,commanded,position_can,load_can,load_offline\n"
+            "period_index,t_s,commanded_counts,position_can_counts,load_can_counts,load_offline_counts\n"
             "-2,-0.001000,0,100,200,200\n"
             "-1,0.000000,0,101,201,201\n"
             "0,0.001000,0,102,202,300\n"

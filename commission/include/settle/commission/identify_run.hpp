@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "settle/commission/identify.hpp"
+#include "settle/plant/csv_columns.hpp"
 #include "settle/testbed/stream.hpp"
 
 namespace settle::commission {
@@ -37,11 +38,14 @@ struct IdentifyRunReport {
 
 // The text summary: a line per mode with its intervals, the excitation and the fit.
 void write_identify_text(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out);
-// t,load deflection measured,fitted (output units, rigid motion removed) per sample; and
-// f_hz,measured,fitted: the magnitude of their discrete Fourier transforms over the free
-// response. False when writing failed or there is no fit.
-[[nodiscard]] bool write_identify_time_csv(const IdentifyRunSpec& spec, const IdentifyRunReport& r, std::FILE* out);
+// t_s, measured_deflection_<u>, fitted_deflection_<u>: the load's deflection (rigid motion
+// removed) per sample, in the user's position unit `u` (a label: nothing is scaled); and
+// frequency_hz, measured_amplitude_<u>, fitted_amplitude_<u>: the magnitude of their discrete
+// Fourier transforms over the free response (plant/csv_columns.hpp). False when writing failed or
+// there is no fit.
+[[nodiscard]] bool write_identify_time_csv(const IdentifyRunSpec& spec, const IdentifyRunReport& r, plant::PositionUnit u,
+                                           std::FILE* out);
 [[nodiscard]] bool write_identify_spectrum_csv(const IdentifyRunSpec& spec, const IdentifyRunReport& r,
-                                               std::FILE* out);
+                                               plant::PositionUnit u, std::FILE* out);
 
 }  // namespace settle::commission

@@ -18,12 +18,15 @@ void write_stream_text(const StreamReport& r, std::FILE* out);
 // (a hostile interface name) carry U+FFFD.
 [[nodiscard]] std::string stream_json(const StreamReport& r);
 
-// tick,t,target,sent,moving,move_end,position_actual,load_position,velocity_actual,feedback_count
-// one row per tick (axis 1's; and the feedback CSV below too). False when writing failed.
+// Column names: plant/csv_columns.hpp. The tick log, one row per tick (axis 1's; and the feedback
+// CSV below too): tick_index, t_s, target_counts, sent_flag, moving_flag, move_end_flag,
+// position_actual_counts, load_position_counts, velocity_actual_drive_velocity_units (0x606C as the
+// drive sends it: Settle's simulated drive sends counts/s, another drive its own unit),
+// tpdo1_received_count. False when writing failed.
 [[nodiscard]] bool write_tick_csv(const StreamReport& r, std::FILE* out);
-// period,t,commanded,position_can,load_can,load_offline: from up to 50 periods before the first
-// setpoint to the end of the settling window, period 0 being the first setpoint. Only for an
-// aligned run (false otherwise, or when writing failed).
+// period_index, t_s, commanded_counts, position_can_counts, load_can_counts, load_offline_counts: from
+// up to 50 periods before the first setpoint to the end of the settling window, period 0 being the
+// first setpoint. Only for an aligned run (false otherwise, or when writing failed).
 [[nodiscard]] bool write_feedback_csv(const StreamReport& r, std::FILE* out);
 
 }  // namespace settle::testbed

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "settle/plant/csv_columns.hpp"
 #include "settle/testbed/drive_axis.hpp"
 
 namespace settle::testbed {
@@ -36,8 +37,10 @@ class SyncSink {
   virtual void on_record(const SyncRecord& r) noexcept = 0;
 };
 
-// Every record as one CSV line, in order:
-//   sync,time_us,following,target,position_actual,velocity_actual,load_counts,load,base
+// Every record as one CSV line, in order (column names: plant/csv_columns.hpp):
+//   sync_index, time_us, following_flag, target_counts, position_actual_counts,
+//   velocity_actual_counts_per_s (what this simulated drive sends in 0x606C), load_position_counts,
+//   load_<u> (the unquantised output position), base_<u> (the base, the drive's own position)
 // formatted on the stack and written through a stdio buffer of kBufferBytes allocated by open().
 class SyncCsvLog final : public SyncSink {
  public:
@@ -46,8 +49,8 @@ class SyncCsvLog final : public SyncSink {
   SyncCsvLog() = default;
   ~SyncCsvLog() override;
 
-  // Creates (truncates) the file and writes the header. False if it cannot be opened.
-  [[nodiscard]] bool open(const std::string& path);
+  // Creates (truncates) the file and writes the header, positions in `u`. False if it cannot be opened.
+  [[nodiscard]] bool open(const std::string& path, plant::PositionUnit u);
   void on_record(const SyncRecord& r) noexcept override;
   // Flushes and closes. False if any write failed or nothing was open.
   [[nodiscard]] bool close();
