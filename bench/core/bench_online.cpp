@@ -4,47 +4,20 @@
 // <= 20 us on the host, so that a halt asked for in one 1 kHz tick is ready for the next.
 #include <benchmark/benchmark.h>
 
-#include <array>
-#include <optional>
-
-#include "bench_request.hpp"
-#include "settle/core/online.hpp"
-#include "settle/core/planner.hpp"
+#include "online_setup.hpp"
 
 using namespace settle::core;
+using settle::bench::online_setup;
 
 namespace {
 
-struct Setup {
-  Move<double> move{};
-  std::array<Mode, 2> modes{};
-  OnlineLimits limits{};
-};
-
-// The seed-000 beam's move (scurve designed for 22.05 rad/s) or a jerk-limited move with a ZVD
-// shaper, limits a little above the move's own peaks.
-Setup setup(ProfileKind k) {
-  const MoveRequest r =
-      settle::bench::benchmark_request(k, k == ProfileKind::jerk_limited ? ShaperKind::zvd : ShaperKind::none);
-  Setup s{};
-  if (plan(r, s.move) != Status::ok) return s;
-  s.modes = {Mode{r.omega(), r.zeta()}, Mode{3.0 * r.omega(), 0.02}};
-  const Peaks<double>& pk = s.move.peaks();
-  s.limits = {1.2 * pk.v, 1.2 * pk.a, std::isfinite(pk.j) ? 1.2 * pk.j : 100.0};
-  return s;
-}
-
-// Cycles over 16 switch times spread across the move, so that every kind of state is timed.
+// Cycles over 16 switch times spread across the move (online_setup.hpp).
 void BM_PlanOnline(benchmark::State& state, ProfileKind k, std::size_t modes, bool retarget) {
-  const Setup s = setup(k);
+  const settle::bench::OnlineSetup s = online_setup(k);
   std::size_t i = 0;
   for (auto _ : state) {
-    const double t = s.move.duration() * (0.03 + 0.06 * static_cast<double>(i++ % 16));
-    OnlineRequest r{};
-    const std::optional<double> target = retarget ? std::optional<double>{0.5 * s.move.distance()} : std::nullopt;
-    Status st = online_request(s.move, t, s.modes.data(), modes, s.limits, target, r);
     OnlinePlan p{};  // the whole choice (a halt may finish the move instead of blending)
-    if (st == Status::ok) st = plan_online(r, p);
+    const Status st = settle::bench::plan_online_change(s, modes, retarget, i++, p);
     if (st != Status::ok) state.SkipWithError(to_string(st));
     benchmark::DoNotOptimize(p);
   }
@@ -52,11 +25,10 @@ void BM_PlanOnline(benchmark::State& state, ProfileKind k, std::size_t modes, bo
 
 // The mode memory alone (the part that reads the running move).
 void BM_ModeMemory(benchmark::State& state, ProfileKind k) {
-  const Setup s = setup(k);
+  const settle::bench::OnlineSetup s = online_setup(k);
   std::size_t i = 0;
   for (auto _ : state) {
-    const double t = s.move.duration() * (0.03 + 0.06 * static_cast<double>(i++ % 16));
-    benchmark::DoNotOptimize(mode_memory(s.move, t, s.modes[0]));
+    benchmark::DoNotOptimize(mode_memory(s.move, settle::bench::online_switch_time(s, i++), s.modes[0]));
   }
 }
 

@@ -187,32 +187,36 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
                double jmax, int pins, Solved& out) noexcept {
   constexpr std::size_t n = kBlendSegments;
   const std::size_t rows = sys.rows;
-  // Only the system's rows are copied (each solve scales its own).
-  std::array<std::array<double, n>, kMaxRows> mat;  // NOLINT: rows [0, rows) are set here
-  std::array<double, kMaxRows> rhs{};
-  // The reference's share of each condition is known: the unknowns are the deviation from it.
-  for (std::size_t i = 0; i < rows; ++i) {
-    mat[i] = sys.mat[i];
-    double s = 0.0;
-    for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * ref[k];
-    rhs[i] = sys.rhs[i] - s;
+  // The system's rows are not copied: row i scaled to unit length in the weighted metric is inv[i]
+  // times the system's, applied where it is used (the frame holds no second matrix). w = sw^2; sw's
+  // storage then holds 1/sw (0 where the weight is 0), so that the solution's size in the unknowns'
+  // own scale is a product, not a division (soft double on a Cortex-M4F).
+  const auto& mat = sys.mat;
+  std::array<double, kMaxRows> rhs{}, inv{};
+  std::array<double, n> w{};
+  auto& inv_sw = sw;
+  for (std::size_t k = 0; k < n; ++k) {
+    w[k] = sw[k] * sw[k];
+    inv_sw[k] = sw[k] > 0.0 ? 1.0 / sw[k] : 0.0;
   }
-  // Unknowns x_k = dj_k / sqrt(w_k): the weighted problem becomes a minimum-norm one. Then rows to
-  // unit length, so that the Gram matrix is as well conditioned as the geometry allows.
   for (std::size_t i = 0; i < rows; ++i) {
-    double nn = 0.0;
-    for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k] * sw[k] * sw[k];
+    // The reference's share of each condition is known: the unknowns are the deviation from it.
+    double s = 0.0, nn = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+      s += mat[i][k] * ref[k];
+      nn += mat[i][k] * mat[i][k] * w[k];
+    }
     nn = std::sqrt(nn);
     if (!(nn > 0.0) || !std::isfinite(nn)) return false;
-    for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;  // unweighted column, row-scaled
-    rhs[i] /= nn;
+    inv[i] = 1.0 / nn;
+    rhs[i] = (sys.rhs[i] - s) * inv[i];
   }
   Gram gram{};
   for (std::size_t i = 0; i < rows; ++i) {
     for (std::size_t l = 0; l <= i; ++l) {
       double s = 0.0;
-      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k] * sw[k] * sw[k];
-      gram[i][l] = gram[l][i] = s;
+      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k] * w[k];
+      gram[i][l] = gram[l][i] = s * inv[i] * inv[l];
     }
   }
   std::array<double, n> jerk{};
@@ -228,17 +232,18 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     for (int pass = 0; pass < 2; ++pass) {
       std::array<double, kMaxRows> y = res;
       cholesky_solve(chol, rows, y);
+      for (std::size_t i = 0; i < rows; ++i) y[i] *= inv[i];
       for (std::size_t k = 0; k < n; ++k) {
         double s = 0.0;
         for (std::size_t i = 0; i < rows; ++i) s += mat[i][k] * y[i];
-        x[k] += s * sw[k] * sw[k];
+        x[k] += s * w[k];
       }
       double worst = 0.0, xn = 0.0;
-      for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) / (sw[k] > 0.0 ? sw[k] : 1.0));
+      for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) * inv_sw[k]);
       for (std::size_t i = 0; i < rows; ++i) {
         double s = 0.0;
         for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * x[k];
-        res[i] = rhs[i] - s;
+        res[i] = rhs[i] - s * inv[i];
         worst = std::max(worst, std::fabs(res[i]));
       }
       if (pass == 1 && worst > 1e-12 * std::max(rhs_norm, xn)) return false;
@@ -250,16 +255,17 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     for (std::size_t k = 0; k < n; ++k) {
       jerk[k] = ref[k] + x[k];
       if (!std::isfinite(jerk[k])) return false;
-      if (pin < pins && sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
+      if (pin < pins && w[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
         // Pin j_k to the limit: its share of every condition goes to the right side, its column
         // leaves the Gram matrix.
         const double to = std::copysign(jmax, jerk[k]);
         for (std::size_t i = 0; i < rows; ++i) {
-          rhs[i] -= mat[i][k] * (to - ref[k]);
-          for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
+          const double mik = mat[i][k] * inv[i];
+          rhs[i] -= mik * (to - ref[k]);
+          for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mik * mat[l][k] * inv[l] * w[k];
         }
         ref[k] = to;
-        sw[k] = 0.0;
+        w[k] = 0.0;
         pinned = true;
       }
     }
