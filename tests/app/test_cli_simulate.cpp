@@ -100,7 +100,7 @@ TEST(SimCli, CsvHistory) {
 // number after "key": in a one-line JSON document.
 double json_number(const std::string& doc, const std::string& key) {
   const std::size_t at = doc.find("\"" + key + "\":");
-  return at == std::string::npos ? NAN : std::stod(doc.substr(at + key.size() + 3));
+  return at == std::string::npos ? std::nan("") : std::stod(doc.substr(at + key.size() + 3));
 }
 
 // --png draws the move and what it leaves: the figure's data beside it is the run's own history, and
