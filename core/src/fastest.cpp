@@ -1426,18 +1426,20 @@ class ChainMemo {
 };
 
 // c with a pair of peaks inserted into its ramp into node k (k == c.n: the closing ramp): the
-// ramp doubles back over 2 frac of its rise about its middle, a turn of the ramp's sign then one
+// ramp doubles back over 2 frac of its rise about the level `at` of the way along it (its middle
+// unless said), a turn of the ramp's sign then one
 // of the other, so that the signs still alternate. It seeds a chain for one mode more (the new
 // mode's two conditions, the wiggle's two levels); a turn at or beyond a limit is a limit node
 // (hold 0). False when it does not fit or the ramp is flat.
-bool insert_wiggle(const ArcProblem& pb, const ArcChain& c, std::size_t k, double frac, ArcChain& out) noexcept {
+bool insert_wiggle(const ArcProblem& pb, const ArcChain& c, std::size_t k, double frac, ArcChain& out,
+                   double at = 0.5) noexcept {
   if (c.n == 0 || c.n + 2 > kMaxArcNodes || k > c.n) return false;
   const double a_prev = k == 0 ? 0.0 : node_level(pb, c, k - 1);
   const double a_next = k == c.n ? 0.0 : node_level(pb, c, k);
   const double s = k == c.n ? ramp_out(c.node[c.n - 1]) : ramp_in(c.node[k]);
   const double rise = a_next - a_prev;
   if (!(s * rise > 0.0)) return false;
-  const double mid = 0.5 * (a_prev + a_next), half = frac * std::fabs(rise);
+  const double mid = a_prev + at * rise, half = frac * std::fabs(rise);
   out = ArcChain{};
   out.n = c.n + 2;
   for (std::size_t i = 0, o = 0; i <= c.n; ++i) {
@@ -1503,6 +1505,11 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   double w_min = ms.m[0].omega;
   for (std::size_t i = 1; i < ms.n; ++i) w_min = std::fmin(w_min, ms.m[i].omega);
   const ArcBest sub = ms.n >= 2 ? plan_fewer(r, ms) : ArcBest{};
+  double sub_fast_wd = 0.0;  // the damped frequency of the mode plan_fewer left out (the fastest)
+  for (std::size_t i = 0, f = 0; i < ms.n; ++i) {
+    if (ms.m[i].omega > ms.m[f].omega) f = i;
+    if (i + 1 == ms.n) sub_fast_wd = ms.m[f].omega * std::sqrt(1.0 - ms.m[f].zeta * ms.m[f].zeta);
+  }
   bool have = false, best_cruises = false;
   double best = HUGE_VAL;
   ChainMemo memo{};
@@ -1597,6 +1604,24 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
                                 (k > 0 && sub.c.node[k - 1].kind == ArcKind::limit);
           if (frac == 1.0 && !by_limit) continue;  // the wide wiggle: next to a hold at amax only
           if (insert_wiggle(pb, sub.c, k, frac, c)) walk(c);
+        }
+      }
+      // And the small wiggle near either end of each ramp, centred a quarter period of the new
+      // (fastest) mode from it, where the ramp is longer than that mode's half period (otherwise
+      // it is the middle one above). The slower modes' conditions fix the ramps' ends; a fast mode
+      // is cancelled by a short blip next to them, and on a heavily damped one only the blips
+      // near the move's end count (its ringing decays within a few of its periods): the
+      // reference's moves have such blips (grid case 113, 278.7 rad/s at zeta 0.3: a 4 ms notch
+      // at the end of the closing ramp), which a wiggle in a ramp's middle does not reach.
+      const double quarter = 0.25 * two_pi_v<double>() / sub_fast_wd;
+      for (std::size_t k = 0; k <= sub.c.n; ++k) {
+        const double a_prev = k == 0 ? 0.0 : node_level(pb, sub.c, k - 1);
+        const double a_next = k == sub.c.n ? 0.0 : node_level(pb, sub.c, k);
+        const double off = pb.J * quarter / std::fabs(a_next - a_prev);  // of the rise
+        if (!(off < 0.5)) continue;
+        for (const double at : {off, 1.0 - off}) {
+          ArcChain c{};
+          if (insert_wiggle(pb, sub.c, k, 0.05, c, at)) walk(c);
         }
       }
     }
