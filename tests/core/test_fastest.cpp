@@ -467,6 +467,10 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       {0.1495, 0.2469, 196.5, 306.5, {36.8023, 0.2431}, {140.7531, 0.1025}, 0.709686469, 1e-3},
       // the notched deceleration (case 60: bang-coast, 6.8 % over).
       {0.003484, 3.834, 44.85, 697.0, {200.7947, 0.262}, {0, 0}, 0.0599049683, 1e-3},
+      // A dip in a hold at amax (session 22): grid case 167's problem with its slowest mode
+      // alone (tools/fastest-lp, 1000 steps: 0.534229 s); bang-coast's 0.535153 s (+0.17 %)
+      // before, now the chain +amax, a dip to a = 0, +amax, -amax (0.534221 s).
+      {0.2024, 4.455, 2.898, 552.5, {24.7431, 0.0034}, {0, 0}, 0.534229253, 1e-3},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "D " << c.d << " w " << c.m0.omega << " z " << c.m0.zeta << " w2 " << c.m1.omega
