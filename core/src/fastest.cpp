@@ -1484,6 +1484,8 @@ struct ArcBest {
   ArcChain c{};
   bool pulse{false};
   bool have{false};
+  ArcChain dip{};  // the shortest from the dip seeds, where shorter than c (whole form)
+  bool dip_have{false};
 };
 
 // The shortest bang-bang move found from the seeds above. Each seed's chain is solved and
@@ -1493,8 +1495,9 @@ struct ArcBest {
 // With several modes, the shortest chain for all but the fastest mode (planned the same way,
 // recursively) seeds more paths: that chain with a wiggle inserted into each of its ramps, for the
 // fastest mode's two conditions (docs/fastest.md, "Seeds"). False when none is feasible.
-// With dips (the top level only), the dip seeds run last, after every other seed of both forms:
-// out is then the shortest move before them, and dips->t the shortest from them where shorter.
+// With dips, the dip seeds run last, after every other seed of both forms: out (and best_chain's
+// c) is then the shortest move before them, dips->t (best_chain's dip) the shortest from them
+// where shorter. plan_fewer and the top level pass it.
 struct DipBest {
   FastestTable t{};
   Peaks<double> pk{};
@@ -1519,7 +1522,8 @@ ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms) noexcept {
   FastestTable t{};
   Peaks<double> pk{};
   Shaper<double> fewer_split{};
-  (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr);
+  DipBest dips{};
+  (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr, &dips);
   return sub;
 }
 
@@ -1582,19 +1586,58 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
         if (!apply_fix(pb, fx, c)) return;
       }
     };
+    // The chain for one mode fewer, a small and a large wiggle in each ramp. Chosen on the tests'
+    // sets against one size: 10 % of the rise alone or 80 % alone each found some of the other's
+    // shorter moves; both together the shortest of either (docs/fastest.md, "Seeds"). And a
+    // wiggle twice the rise, from limit to limit where it reaches them, in the ramps into or out
+    // of a hold at amax: the reference's moves cancel a fast mode with a blip across the whole
+    // range inside such a hold (on its grid 5 more cases reach it, among them 4 that were 7 % to
+    // 26 % longer; in the other ramps it found nothing more and cost a third of the grid's time).
+    const auto wiggles = [&](const ArcChain& base) {
+      for (const double frac : {0.05, 0.4, 1.0}) {
+        for (std::size_t k = 0; k <= base.n; ++k) {
+          ArcChain c{};
+          const bool by_limit = (k < base.n && base.node[k].kind == ArcKind::limit) ||
+                                (k > 0 && base.node[k - 1].kind == ArcKind::limit);
+          if (frac == 1.0 && !by_limit) continue;  // the wide wiggle: next to a hold at amax only
+          if (insert_wiggle(pb, base, k, frac, c)) walk(c);
+        }
+      }
+      // And the small wiggle near either end of each ramp, centred a quarter period of the new
+      // (fastest) mode from it, where the ramp is longer than that mode's half period (otherwise
+      // it is the middle one above). The slower modes' conditions fix the ramps' ends; a fast mode
+      // is cancelled by a short blip next to them, and on a heavily damped one only the blips
+      // near the move's end count (its ringing decays within a few of its periods): the
+      // reference's moves have such blips (grid case 113, 278.7 rad/s at zeta 0.3: a 4 ms notch
+      // at the end of the closing ramp), which a wiggle in a ramp's middle does not reach.
+      const double quarter = 0.25 * two_pi_v<double>() / sub_fast_wd;
+      for (std::size_t k = 0; k <= base.n; ++k) {
+        const double a_prev = k == 0 ? 0.0 : node_level(pb, base, k - 1);
+        const double a_next = k == base.n ? 0.0 : node_level(pb, base, k);
+        const double off = pb.J * quarter / std::fabs(a_next - a_prev);  // of the rise
+        if (!(off < 0.5)) continue;
+        for (const double at : {off, 1.0 - off}) {
+          ArcChain c{};
+          if (insert_wiggle(pb, base, k, 0.05, c, at)) walk(c);
+        }
+      }
+    };
     if (dips) {
       // A dip in a hold at amax (insert_dip): the acceleration leaves the limit, turns back at
       // a = 0 and returns to it, a peak between two holds. The reference's moves on long
       // accelerations at amax cancel a mode so (grid case 167: dips to a = 0.03 and -0.20 in
       // its two holds at +amax); the seeds above hold amax without a break. Inserted into each
       // hold of the rigid time-optimal move (one mode: 2 + 2 nodes, square) or of the chain for
-      // one mode fewer. Last, so that every path before runs as without them, and at the top
-      // level only: in the recursion a dip chain would become the chain for one mode fewer, and
-      // its wiggles lead elsewhere (a random two-mode case of the tests 2.4 % longer).
+      // one mode fewer. Last, so that every path before runs as without them. The chain for one
+      // mode fewer that the recursion hands up is the one from before its dips; its dip chain
+      // comes beside it (ArcBest::dip), and its wiggles are seeds here, last too (handed up
+      // instead, a dip chain's wiggles replaced the others: a random two-mode case of the tests
+      // 2.4 % longer).
       const FastestTable before = out;
       const Peaks<double> before_pk = out_pk;
       const double before_best = best;
       const bool before_have = have;
+      const ArcBest before_chain = best_chain != nullptr ? *best_chain : ArcBest{};
       // Only where the rigid move lasts a period of the slowest mode or more: a dip cancels a
       // mode that rings through a hold, and a shorter move's chains turn at its ends instead (on
       // the grids every move a dip shortened lasted 1.2 periods or more; the reference request
@@ -1607,11 +1650,19 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
         ArcChain c{};
         if (insert_dip(pb, *from, k, 0.0, c)) walk(c);
       }
+      // and the dip chain for one mode fewer (its own dips, recursively) with the wiggles above.
+      if (sub.dip_have) wiggles(sub.dip);
       if (best < before_best) {
         *dip_out = {out, out_pk, true};
         out = before;
         out_pk = before_pk;
         have = before_have;
+        if (best_chain != nullptr) {
+          const ArcChain dip = best_chain->c;
+          *best_chain = before_chain;
+          best_chain->dip = dip;
+          best_chain->dip_have = true;
+        }
       }
       break;
     }
@@ -1650,42 +1701,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       ArcChain c{};
       if (split != nullptr && split_chain(pb, *split, c)) walk(c);
     }
-    // The chain for one mode fewer, a small and a large wiggle in each ramp. Chosen on the tests'
-    // sets against one size: 10 % of the rise alone or 80 % alone each found some of the other's
-    // shorter moves; both together the shortest of either (docs/fastest.md, "Seeds"). And a
-    // wiggle twice the rise, from limit to limit where it reaches them, in the ramps into or out
-    // of a hold at amax: the reference's moves cancel a fast mode with a blip across the whole
-    // range inside such a hold (on its grid 5 more cases reach it, among them 4 that were 7 % to
-    // 26 % longer; in the other ramps it found nothing more and cost a third of the grid's time).
-    if (sub.have && sub.pulse == pulse) {
-      for (const double frac : {0.05, 0.4, 1.0}) {
-        for (std::size_t k = 0; k <= sub.c.n; ++k) {
-          ArcChain c{};
-          const bool by_limit = (k < sub.c.n && sub.c.node[k].kind == ArcKind::limit) ||
-                                (k > 0 && sub.c.node[k - 1].kind == ArcKind::limit);
-          if (frac == 1.0 && !by_limit) continue;  // the wide wiggle: next to a hold at amax only
-          if (insert_wiggle(pb, sub.c, k, frac, c)) walk(c);
-        }
-      }
-      // And the small wiggle near either end of each ramp, centred a quarter period of the new
-      // (fastest) mode from it, where the ramp is longer than that mode's half period (otherwise
-      // it is the middle one above). The slower modes' conditions fix the ramps' ends; a fast mode
-      // is cancelled by a short blip next to them, and on a heavily damped one only the blips
-      // near the move's end count (its ringing decays within a few of its periods): the
-      // reference's moves have such blips (grid case 113, 278.7 rad/s at zeta 0.3: a 4 ms notch
-      // at the end of the closing ramp), which a wiggle in a ramp's middle does not reach.
-      const double quarter = 0.25 * two_pi_v<double>() / sub_fast_wd;
-      for (std::size_t k = 0; k <= sub.c.n; ++k) {
-        const double a_prev = k == 0 ? 0.0 : node_level(pb, sub.c, k - 1);
-        const double a_next = k == sub.c.n ? 0.0 : node_level(pb, sub.c, k);
-        const double off = pb.J * quarter / std::fabs(a_next - a_prev);  // of the rise
-        if (!(off < 0.5)) continue;
-        for (const double at : {off, 1.0 - off}) {
-          ArcChain c{};
-          if (insert_wiggle(pb, sub.c, k, 0.05, c, at)) walk(c);
-        }
-      }
-    }
+    if (sub.have && sub.pulse == pulse) wiggles(sub.c);
   }
   return have;
 }

@@ -471,6 +471,10 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       // alone (tools/fastest-lp, 1000 steps: 0.534229 s); bang-coast's 0.535153 s (+0.17 %)
       // before, now the chain +amax, a dip to a = 0, +amax, -amax (0.534221 s).
       {0.2024, 4.455, 2.898, 552.5, {24.7431, 0.0034}, {0, 0}, 0.534229253, 1e-3},
+      // Case 167 itself, three modes: time-optimal * joint ZV (1.323 of the reference) before
+      // the dips, 1.274 with dips at the top level only, 1.010 with the recursion's dip chains
+      // (each mode fewer's own dip chain with its wiggles).
+      {0.2024, 4.455, 2.898, 552.5, {24.7431, 0.0034}, {41.0431, 0.0614}, 0.560707223, 0.011, {78.8219, 0.1796}},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "D " << c.d << " w " << c.m0.omega << " z " << c.m0.zeta << " w2 " << c.m1.omega
