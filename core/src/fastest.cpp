@@ -1486,6 +1486,8 @@ struct ArcBest {
   bool have{false};
   ArcChain dip{};  // the shortest from the dip seeds, where shorter than c (whole form)
   bool dip_have{false};
+  ArcChain rw{};  // the shortest from the rigid move's wiggles after them, where shorter still
+  bool rw_have{false};
 };
 
 // The shortest bang-bang move found from the seeds above. Each seed's chain is solved and
@@ -1652,16 +1654,30 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       }
       // and the dip chain for one mode fewer (its own dips, recursively) with the wiggles above.
       if (sub.dip_have) wiggles(sub.dip);
+      const double after_dips = best;
+      const ArcChain dip = best_chain != nullptr ? best_chain->c : ArcChain{};
+      // Then the rigid move itself as the chain for one mode fewer (for one mode: the chain of
+      // no mode), with the wiggles above, and the like chain for one mode fewer (ArcBest::rw)
+      // with them: after the dips, so that the dip chains (and what the recursion hands up of
+      // them) are as without these.
+      if (ms.n == 1 && from != nullptr) wiggles(rigid);
+      if (sub.rw_have) wiggles(sub.rw);
       if (best < before_best) {
         *dip_out = {out, out_pk, true};
         out = before;
         out_pk = before_pk;
         have = before_have;
         if (best_chain != nullptr) {
-          const ArcChain dip = best_chain->c;
+          const ArcChain rw = best_chain->c;
           *best_chain = before_chain;
-          best_chain->dip = dip;
-          best_chain->dip_have = true;
+          if (after_dips < before_best) {
+            best_chain->dip = dip;
+            best_chain->dip_have = true;
+          }
+          if (best < after_dips) {
+            best_chain->rw = rw;
+            best_chain->rw_have = true;
+          }
         }
       }
       break;

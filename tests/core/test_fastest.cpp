@@ -475,6 +475,10 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       // the dips, 1.274 with dips at the top level only, 1.010 with the recursion's dip chains
       // (each mode fewer's own dip chain with its wiggles).
       {0.2024, 4.455, 2.898, 552.5, {24.7431, 0.0034}, {41.0431, 0.0614}, 0.560707223, 0.011, {78.8219, 0.1796}},
+      // The rigid move as the chain for one mode fewer, with wiggles (session 22): grid case 153
+      // (one mode, 197 rad/s: time-optimal * ZV, 1.06 % over, before) and 242 (three modes: 1.5 %).
+      {0.6453, 5.439, 3.277, 870.4, {197.0577, 0.1469}, {0, 0}, 0.897910324, 1e-3},
+      {1.642, 0.5042, 7.402, 104.6, {21.3573, 0.1131}, {50.2344, 0.0861}, 3.47535314, 1e-3, {81.9684, 0.1747}},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "D " << c.d << " w " << c.m0.omega << " z " << c.m0.zeta << " w2 " << c.m1.omega
