@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <cstdint>
 
 #include "settle/core/golden_section.hpp"
@@ -1460,34 +1461,57 @@ bool insert_wiggle(const ArcProblem& pb, const ArcChain& c, std::size_t k, doubl
   return true;
 }
 
-// c with its hold at limit node k split in two by a dip: the acceleration turns from the limit
-// to `level` and back, a peak between two holds of half the length each.
-bool insert_dip(const ArcProblem& pb, const ArcChain& c, std::size_t k, double level, ArcChain& out) noexcept {
-  if (k >= c.n || c.node[k].kind != ArcKind::limit || c.n + 2 > kMaxArcNodes) return false;
+// c with its node k replaced by the m nodes `with` (values `x`); false when it does not fit.
+bool splice(const ArcChain& c, std::size_t k, const ArcNode* with, const double* x, std::size_t m,
+            ArcChain& out) noexcept {
+  if (k >= c.n || c.n - 1 + m > kMaxArcNodes) return false;
   out = ArcChain{};
-  out.n = c.n + 2;
+  out.n = c.n - 1 + m;
   for (std::size_t i = 0, o = 0; i < c.n; ++i) {
-    out.node[o] = c.node[i];
-    out.x[o++] = i == k ? 0.5 * c.x[i] : c.x[i];
-    if (i != k) continue;
-    out.node[o] = {ArcKind::peak, -c.node[k].sign};
-    out.x[o++] = c.node[k].sign * level * pb.amax;
-    out.node[o] = c.node[k];
-    out.x[o++] = 0.5 * c.x[i];
+    for (std::size_t j = 0; j < (i == k ? m : 1); ++j, ++o) {
+      out.node[o] = i == k ? with[j] : c.node[i];
+      out.x[o] = i == k ? x[j] : c.x[i];
+    }
   }
   return true;
 }
 
+// c with its hold at limit node k split in two by a dip: the acceleration turns from the limit
+// to `level` and back, a peak between two holds of half the length each.
+bool insert_dip(const ArcProblem& pb, const ArcChain& c, std::size_t k, double level, ArcChain& out) noexcept {
+  if (k >= c.n || c.node[k].kind != ArcKind::limit) return false;
+  const ArcNode lim = c.node[k];
+  const std::array<ArcNode, 3> with{lim, ArcNode{ArcKind::peak, -lim.sign}, lim};
+  const std::array<double, 3> x{0.5 * c.x[k], lim.sign * level * pb.amax, 0.5 * c.x[k]};
+  return splice(c, k, with.data(), x.data(), with.size(), out);
+}
+
+// c with a stop inserted in the middle of its cruise at node k: the cruise halved, the rigid
+// stop from vmax (a turn to -amax or a limit hold there), a dwell of `dwell`, the rigid start back
+// to vmax, the other half of the cruise. Four nodes more: two turns, a dwell, a cruise.
+bool insert_stop(const ArcProblem& pb, const ArcChain& c, std::size_t k, double dwell, ArcChain& out) noexcept {
+  if (k >= c.n || c.node[k].kind != ArcKind::cruise) return false;
+  const double a_p = std::fmin(pb.amax, std::sqrt(pb.vmax * pb.J));
+  const bool limit = a_p >= pb.amax;
+  const ArcKind turn = limit ? ArcKind::limit : ArcKind::peak;
+  const double h = limit ? pb.vmax / pb.amax - pb.amax / pb.J : 0.0;
+  const std::array<ArcNode, 5> with{c.node[k], ArcNode{turn, -1.0}, ArcNode{ArcKind::dwell, 1.0}, ArcNode{turn, 1.0},
+                                    c.node[k]};
+  const std::array<double, 5> x{0.5 * c.x[k], limit ? h : -a_p, dwell, limit ? h : a_p, 0.5 * c.x[k]};
+  return splice(c, k, with.data(), x.data(), with.size(), out);
+}
+
 // The shortest bang-bang chain found, with its form: what plan_arcs hands to the problem with one
 // mode more.
+constexpr std::size_t kLateStages = 3;
 struct ArcBest {
   ArcChain c{};
   bool pulse{false};
   bool have{false};
-  ArcChain dip{};  // the shortest from the dip seeds, where shorter than c (whole form)
-  bool dip_have{false};
-  ArcChain rw{};  // the shortest from the rigid move's wiggles after them, where shorter still
-  bool rw_have{false};
+  // The shortest from each later stage of seeds (plan_arcs' last stage: the dips, the rigid
+  // move's wiggles, the stops), where shorter than everything before it (whole form).
+  std::array<ArcChain, kLateStages> late{};
+  std::array<bool, kLateStages> late_have{};
 };
 
 // The shortest bang-bang move found from the seeds above. Each seed's chain is solved and
@@ -1632,7 +1656,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       // hold of the rigid time-optimal move (one mode: 2 + 2 nodes, square) or of the chain for
       // one mode fewer. Last, so that every path before runs as without them. The chain for one
       // mode fewer that the recursion hands up is the one from before its dips; its dip chain
-      // comes beside it (ArcBest::dip), and its wiggles are seeds here, last too (handed up
+      // comes beside it (ArcBest::late), and its wiggles are seeds here, last too (handed up
       // instead, a dip chain's wiggles replaced the others: a random two-mode case of the tests
       // 2.4 % longer).
       const FastestTable before = out;
@@ -1648,36 +1672,56 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       const double t_rigid = push_rigid_move(pb, pb.D, rigid);
       const ArcChain* from = ms.n == 1 ? &rigid : sub.have && !sub.pulse ? &sub.c : nullptr;
       if (t_rigid * w_min < two_pi_v<double>()) from = nullptr;
-      for (std::size_t k = 0; from != nullptr && k < from->n; ++k) {
-        ArcChain c{};
-        if (insert_dip(pb, *from, k, 0.0, c)) walk(c);
+      // Each stage sees what the stages before it found (as a bound), never the other way round,
+      // and hands its own shortest up apart (ArcBest::late): what an earlier stage found, and what
+      // the recursion hands up of it, is as without the later ones.
+      std::array<ArcChain, kLateStages> got{};
+      std::array<bool, kLateStages> got_have{};
+      for (std::size_t st = 0; st < kLateStages; ++st) {
+        const double start = best;
+        if (st == 0) {
+          for (std::size_t k = 0; from != nullptr && k < from->n; ++k) {
+            ArcChain c{};
+            if (insert_dip(pb, *from, k, 0.0, c)) walk(c);
+          }
+        } else if (st == 1) {
+          // The rigid move itself as the chain for one mode fewer (for one mode: the chain of
+          // no mode), with the wiggles above.
+          if (ms.n == 1 && from != nullptr) wiggles(rigid);
+        } else {
+          // A stop inside a cruise (insert_stop), the dwell a quarter period of the newest mode:
+          // into the rigid move's cruise (one mode) and each cruise of the chains for one mode
+          // fewer, where the rigid move lasts a period of the slowest mode (the dips' rule).
+          const double dwell = 0.25 * two_pi_v<double>() / sub_fast_wd;
+          const bool long_move = from != nullptr;
+          const std::array<const ArcChain*, 2 + kLateStages> bases{
+              long_move && ms.n == 1 ? &rigid : nullptr, long_move && ms.n > 1 ? from : nullptr,
+              long_move && sub.late_have[0] ? &sub.late[0] : nullptr,
+              long_move && sub.late_have[1] ? &sub.late[1] : nullptr,
+              long_move && sub.late_have[2] ? &sub.late[2] : nullptr};
+          for (const ArcChain* b : bases) {
+            for (std::size_t k = 0; b != nullptr && k < b->n; ++k) {
+              ArcChain c{};
+              if (insert_stop(pb, *b, k, dwell, c)) walk(c);
+            }
+          }
+        }
+        // and the like chain for one mode fewer (its own stage, recursively) with the wiggles.
+        if (sub.late_have[st]) wiggles(sub.late[st]);
+        if (best < start && best_chain != nullptr) {
+          got[st] = best_chain->c;
+          got_have[st] = true;
+        }
       }
-      // and the dip chain for one mode fewer (its own dips, recursively) with the wiggles above.
-      if (sub.dip_have) wiggles(sub.dip);
-      const double after_dips = best;
-      const ArcChain dip = best_chain != nullptr ? best_chain->c : ArcChain{};
-      // Then the rigid move itself as the chain for one mode fewer (for one mode: the chain of
-      // no mode), with the wiggles above, and the like chain for one mode fewer (ArcBest::rw)
-      // with them: after the dips, so that the dip chains (and what the recursion hands up of
-      // them) are as without these.
-      if (ms.n == 1 && from != nullptr) wiggles(rigid);
-      if (sub.rw_have) wiggles(sub.rw);
       if (best < before_best) {
         *dip_out = {out, out_pk, true};
         out = before;
         out_pk = before_pk;
         have = before_have;
         if (best_chain != nullptr) {
-          const ArcChain rw = best_chain->c;
           *best_chain = before_chain;
-          if (after_dips < before_best) {
-            best_chain->dip = dip;
-            best_chain->dip_have = true;
-          }
-          if (best < after_dips) {
-            best_chain->rw = rw;
-            best_chain->rw_have = true;
-          }
+          best_chain->late = got;
+          best_chain->late_have = got_have;
         }
       }
       break;

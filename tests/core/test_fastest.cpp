@@ -479,6 +479,9 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       // (one mode, 197 rad/s: time-optimal * ZV, 1.06 % over, before) and 242 (three modes: 1.5 %).
       {0.6453, 5.439, 3.277, 870.4, {197.0577, 0.1469}, {0, 0}, 0.897910324, 1e-3},
       {1.642, 0.5042, 7.402, 104.6, {21.3573, 0.1131}, {50.2344, 0.0861}, 3.47535314, 1e-3, {81.9684, 0.1747}},
+      // A stop inside a cruise (session 22): grid case 86, three modes on a 7 s move (bang-coast,
+      // 22 % over, before; the two slower modes alone had no chain).
+      {2.977, 0.465, 8.68, 3861.0, {1.6123, 0.0106}, {6.0362, 0.0108}, 7.15005653, 0.003, {60.6017, 0.0135}},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "D " << c.d << " w " << c.m0.omega << " z " << c.m0.zeta << " w2 " << c.m1.omega
