@@ -1501,9 +1501,23 @@ bool insert_stop(const ArcProblem& pb, const ArcChain& c, std::size_t k, double 
   return splice(c, k, with.data(), x.data(), with.size(), out);
 }
 
+// c with a slow-down inserted in the middle of its cruise at node k: the cruise halved, a turn
+// down and one up (holds at -amax and +amax of `hold`, or peaks), the other half. Three nodes more:
+// two turns and a cruise.
+bool insert_slowdown(const ArcProblem& pb, const ArcChain& c, std::size_t k, double frac, ArcChain& out) noexcept {
+  if (k >= c.n || c.node[k].kind != ArcKind::cruise) return false;
+  const double a_p = std::fmin(pb.amax, std::sqrt(frac * pb.vmax * pb.J));
+  const bool limit = a_p >= pb.amax;
+  const ArcKind turn = limit ? ArcKind::limit : ArcKind::peak;
+  const double h = limit ? frac * pb.vmax / pb.amax - pb.amax / pb.J : 0.0;
+  const std::array<ArcNode, 4> with{c.node[k], ArcNode{turn, -1.0}, ArcNode{turn, 1.0}, c.node[k]};
+  const std::array<double, 4> x{0.5 * c.x[k], limit ? h : -a_p, limit ? h : a_p, 0.5 * c.x[k]};
+  return splice(c, k, with.data(), x.data(), with.size(), out);
+}
+
 // The shortest bang-bang chain found, with its form: what plan_arcs hands to the problem with one
 // mode more.
-constexpr std::size_t kLateStages = 3;
+constexpr std::size_t kLateStages = 4;
 struct ArcBest {
   ArcChain c{};
   bool pulse{false};
@@ -1689,20 +1703,23 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
           // no mode), with the wiggles above.
           if (ms.n == 1 && from != nullptr) wiggles(rigid);
         } else {
-          // A stop inside a cruise (insert_stop), the dwell a quarter period of the newest mode:
-          // into the rigid move's cruise (one mode) and each cruise of the chains for one mode
-          // fewer, where the rigid move lasts a period of the slowest mode (the dips' rule).
+          // Stage 2: a stop inside a cruise (insert_stop), the dwell a quarter period of the
+          // newest mode; stage 3: a slow-down to half of vmax (insert_slowdown). Into the rigid
+          // move's cruise (one mode) and each cruise of the chains for one mode fewer (of the
+          // stages up to this one), where the rigid move lasts a period of the slowest mode (the
+          // dips' rule).
           const double dwell = 0.25 * two_pi_v<double>() / sub_fast_wd;
           const bool long_move = from != nullptr;
           const std::array<const ArcChain*, 2 + kLateStages> bases{
               long_move && ms.n == 1 ? &rigid : nullptr, long_move && ms.n > 1 ? from : nullptr,
               long_move && sub.late_have[0] ? &sub.late[0] : nullptr,
               long_move && sub.late_have[1] ? &sub.late[1] : nullptr,
-              long_move && sub.late_have[2] ? &sub.late[2] : nullptr};
+              long_move && sub.late_have[2] ? &sub.late[2] : nullptr,
+              long_move && st == 3 && sub.late_have[3] ? &sub.late[3] : nullptr};
           for (const ArcChain* b : bases) {
             for (std::size_t k = 0; b != nullptr && k < b->n; ++k) {
               ArcChain c{};
-              if (insert_stop(pb, *b, k, dwell, c)) walk(c);
+              if (st == 2 ? insert_stop(pb, *b, k, dwell, c) : insert_slowdown(pb, *b, k, 0.5, c)) walk(c);
             }
           }
         }

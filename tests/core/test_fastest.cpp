@@ -482,6 +482,9 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       // A stop inside a cruise (session 22): grid case 86, three modes on a 7 s move (bang-coast,
       // 22 % over, before; the two slower modes alone had no chain).
       {2.977, 0.465, 8.68, 3861.0, {1.6123, 0.0106}, {6.0362, 0.0108}, 7.15005653, 0.003, {60.6017, 0.0135}},
+      // A slow-down inside a cruise: grid case 22, two modes on a 30 s move (time-optimal * joint
+      // ZV, 1.7 % over, before).
+      {9.911, 0.3344, 99.8, 1627.0, {3.2992, 0.005}, {174.5023, 0.0911}, 30.1201301, 1e-3},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "D " << c.d << " w " << c.m0.omega << " z " << c.m0.zeta << " w2 " << c.m1.omega
