@@ -436,9 +436,10 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       // 1.5361 s (bang-coast, 11 % over) before; 1.1 % over now.
       {1, 1, 20, 800, {7, 0.05}, {19, 0.02}, 1.38160, 0.012},
       // Two random two-mode cases: 0.4007 s and 0.8193 s (time-optimal * ZV) while a chain's
-      // turns had to lie on their own side of a = 0; now 0.3230 s (the LP's) and 3.5 % over.
+      // turns had to lie on their own side of a = 0; now 0.3230 s (the LP's) and, 3.5 % over
+      // until the slow-downs inside a cruise (session 22), 0.05 % over.
       {0.1, 1, 20, 800, {16.48, 0.02}, {90.08, 0.1}, 0.32300, 1e-4},
-      {0.3, 0.5, 5, 200, {62.71, 0.0}, {71.1, 0.02}, 0.72717, 0.04},
+      {0.3, 0.5, 5, 200, {62.71, 0.0}, {71.1, 0.02}, 0.72717, 1e-3},
       // The other seven of the nine random cases the LP was run on.
       // These two: 3.8 % and 5.4 % over before the seeds from the chain for one mode fewer.
       {1, 1, 20, 800, {29.23, 0.05}, {85.51, 0.0}, 1.11483, 4e-4},
@@ -446,7 +447,7 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       {0.03, 3, 100, 1e4, {61.16, 0.0}, {90.64, 0.0}, 0.11292, 1e-4},
       {0.01, 1, 20, 800, {66.71, 0.0}, {94.22, 0.05}, 0.12773, 1e-4},
       {0.03, 3, 100, 1e4, {55.12, 0.05}, {97.06, 0.0}, 0.11355, 1e-4},
-      {1, 0.5, 5, 200, {27.14, 0.01}, {69.3, 0.05}, 2.15859, 0.02},
+      {1, 0.5, 5, 200, {27.14, 0.01}, {69.3, 0.05}, 2.15859, 0.002},  // 1.8 % before session 22
       {0.01, 0.5, 5, 200, {44.54, 0.1}, {92.61, 0.0}, 0.17287, 1e-4},
       // Three modes (docs/fastest.md, "Several modes"): at the LP on the first, second and
       // fourth (the commissioning plant with a mode at 160 rad/s); before the seeds from the
