@@ -1539,9 +1539,10 @@ struct ArcBest {
 // With several modes, the shortest chain for all but the fastest mode (planned the same way,
 // recursively) seeds more paths: that chain with a wiggle inserted into each of its ramps, for the
 // fastest mode's two conditions (docs/fastest.md, "Seeds"). False when none is feasible.
-// With dips, the dip seeds run last, after every other seed of both forms: out (and best_chain's
-// c) is then the shortest move before them, dips->t (best_chain's dip) the shortest from them
-// where shorter. plan_fewer and the top level pass it.
+// With dips, the late stages (dips, the rigid move's wiggles, stops, slow-downs) run last, after
+// every other seed of both forms: out (and best_chain's c) is then the shortest move before them,
+// dips->t the shortest from them where shorter (best_chain's late, each stage's own). plan_fewer
+// and the top level pass it.
 struct DipBest {
   FastestTable t{};
   Peaks<double> pk{};
