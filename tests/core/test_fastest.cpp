@@ -228,6 +228,20 @@ TEST(Fastest, RandomTwoModeCasesNeverSlowerThanTimeOptimalZv) {
   std::printf("\n");
 }
 
+namespace {
+
+// Core's own time-optimal jerk-limited move for r's limits and distance, convolved with s.
+core::Move<double> time_optimal_shaped(const core::MoveRequest& r, const core::Shaper<double>& s) {
+  core::MoveRequest b = r;
+  b.profile = core::ProfileKind::jerk_limited;
+  b.mode_count = 1;
+  core::Move<double> base{};
+  EXPECT_EQ(core::plan(b, base), Status::ok);
+  return core::Move<double>{base.profile(), s, base.peaks()};
+}
+
+}  // namespace
+
 // 40 random three-mode cases. One ZV per mode convolved (8 copies of the move) does not fit a
 // fastest move's 31 segments; the joint ZV shaper's 4 copies do where the move has few
 // breakpoints. Wherever that design exists and fits (computed here from core's jerk-limited plan
@@ -256,12 +270,7 @@ TEST(Fastest, ThreeModeCasesPlanWhereTheJointShaperFits) {
     double bound = INFINITY;
     core::Shaper<double> joint{};
     if (core::joint_zv_shaper(w, z, 3, joint) == Status::ok) {
-      core::MoveRequest b = r;
-      b.profile = core::ProfileKind::jerk_limited;
-      b.mode_count = 1;
-      core::Move<double> base{};
-      ASSERT_EQ(core::plan(b, base), Status::ok);
-      const core::Move<double> shaped{base.profile(), joint, base.peaks()};
+      const core::Move<double> shaped = time_optimal_shaped(r, joint);
       if (test::move_breakpoints(shaped).size() - 1 <= core::kFastestSegments) bound = shaped.duration();
     }
     core::Move<double> m{};
@@ -290,6 +299,29 @@ TEST(Fastest, ThreeModeCasesPlanWhereTheJointShaperFits) {
   }
   std::printf("\n");
   EXPECT_GE(bounded, 10);
+}
+
+// The reference grid's case 113: refused (no_solution) while the joint ZV shaper's fixed starts all
+// missed its design, though the reference moves in 1.945 s. It plans now, no longer than the
+// time-optimal move convolved with that design (2.152 s), and is a move (docs/fastest.md, "Several
+// modes"); and since the wiggles near a ramp's ends ("Seeds") it is the reference's bang-bang move,
+// the two slower modes' split chain with a notch at the end of its closing ramp for 278.7 rad/s.
+TEST(Fastest, ThreeModesWhoseJointDesignOnlyTheSlowerModesDesignReaches) {
+  double w[3] = {2.1007, 13.5366, 278.7101}, z[3] = {0.1785, 0.173, 0.297};
+  core::MoveRequest r = request(3.48, 9.963, 161.5, 2163.0, w[0], z[0]);
+  (void)r.add_mode({w[1], z[1]});
+  (void)r.add_mode({w[2], z[2]});
+  core::Shaper<double> joint{};
+  ASSERT_EQ(core::joint_zv_shaper(w, z, 3, joint), Status::ok);
+  const core::Move<double> shaped = time_optimal_shaped(r, joint);
+  core::Move<double> m{};
+  ASSERT_EQ(core::plan(r, m), Status::ok);
+  EXPECT_LE(m.duration(), shaped.duration() * (1 + 1e-12));
+  EXPECT_LE(m.duration(), 1.94472523 * 1.001);
+  EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
+  check_move(r, m);
+  std::printf("grid case 113: fastest %.4f s (%s), time-optimal * joint ZV %.4f s, reference 1.9447 s\n",
+              m.duration(), core::to_string(family_of(m)), shaped.duration());
 }
 
 namespace {
@@ -404,9 +436,10 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       // 1.5361 s (bang-coast, 11 % over) before; 1.1 % over now.
       {1, 1, 20, 800, {7, 0.05}, {19, 0.02}, 1.38160, 0.012},
       // Two random two-mode cases: 0.4007 s and 0.8193 s (time-optimal * ZV) while a chain's
-      // turns had to lie on their own side of a = 0; now 0.3230 s (the LP's) and 3.5 % over.
+      // turns had to lie on their own side of a = 0; now 0.3230 s (the LP's) and, 3.5 % over
+      // until the slow-downs inside a cruise (session 22), 0.05 % over.
       {0.1, 1, 20, 800, {16.48, 0.02}, {90.08, 0.1}, 0.32300, 1e-4},
-      {0.3, 0.5, 5, 200, {62.71, 0.0}, {71.1, 0.02}, 0.72717, 0.04},
+      {0.3, 0.5, 5, 200, {62.71, 0.0}, {71.1, 0.02}, 0.72717, 1e-3},
       // The other seven of the nine random cases the LP was run on.
       // These two: 3.8 % and 5.4 % over before the seeds from the chain for one mode fewer.
       {1, 1, 20, 800, {29.23, 0.05}, {85.51, 0.0}, 1.11483, 4e-4},
@@ -414,7 +447,7 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       {0.03, 3, 100, 1e4, {61.16, 0.0}, {90.64, 0.0}, 0.11292, 1e-4},
       {0.01, 1, 20, 800, {66.71, 0.0}, {94.22, 0.05}, 0.12773, 1e-4},
       {0.03, 3, 100, 1e4, {55.12, 0.05}, {97.06, 0.0}, 0.11355, 1e-4},
-      {1, 0.5, 5, 200, {27.14, 0.01}, {69.3, 0.05}, 2.15859, 0.02},
+      {1, 0.5, 5, 200, {27.14, 0.01}, {69.3, 0.05}, 2.15859, 0.002},  // 1.8 % before session 22
       {0.01, 0.5, 5, 200, {44.54, 0.1}, {92.61, 0.0}, 0.17287, 1e-4},
       // Three modes (docs/fastest.md, "Several modes"): at the LP on the first, second and
       // fourth (the commissioning plant with a mode at 160 rad/s); before the seeds from the
@@ -435,6 +468,24 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       {0.1495, 0.2469, 196.5, 306.5, {36.8023, 0.2431}, {140.7531, 0.1025}, 0.709686469, 1e-3},
       // the notched deceleration (case 60: bang-coast, 6.8 % over).
       {0.003484, 3.834, 44.85, 697.0, {200.7947, 0.262}, {0, 0}, 0.0599049683, 1e-3},
+      // A dip in a hold at amax (session 22): grid case 167's problem with its slowest mode
+      // alone (tools/fastest-lp, 1000 steps: 0.534229 s); bang-coast's 0.535153 s (+0.17 %)
+      // before, now the chain +amax, a dip to a = 0, +amax, -amax (0.534221 s).
+      {0.2024, 4.455, 2.898, 552.5, {24.7431, 0.0034}, {0, 0}, 0.534229253, 1e-3},
+      // Case 167 itself, three modes: time-optimal * joint ZV (1.323 of the reference) before
+      // the dips, 1.274 with dips at the top level only, 1.010 with the recursion's dip chains
+      // (each mode fewer's own dip chain with its wiggles).
+      {0.2024, 4.455, 2.898, 552.5, {24.7431, 0.0034}, {41.0431, 0.0614}, 0.560707223, 0.011, {78.8219, 0.1796}},
+      // The rigid move as the chain for one mode fewer, with wiggles (session 22): grid case 153
+      // (one mode, 197 rad/s: time-optimal * ZV, 1.06 % over, before) and 242 (three modes: 1.5 %).
+      {0.6453, 5.439, 3.277, 870.4, {197.0577, 0.1469}, {0, 0}, 0.897910324, 1e-3},
+      {1.642, 0.5042, 7.402, 104.6, {21.3573, 0.1131}, {50.2344, 0.0861}, 3.47535314, 1e-3, {81.9684, 0.1747}},
+      // A stop inside a cruise (session 22): grid case 86, three modes on a 7 s move (bang-coast,
+      // 22 % over, before; the two slower modes alone had no chain).
+      {2.977, 0.465, 8.68, 3861.0, {1.6123, 0.0106}, {6.0362, 0.0108}, 7.15005653, 0.003, {60.6017, 0.0135}},
+      // A slow-down inside a cruise: grid case 22, two modes on a 30 s move (time-optimal * joint
+      // ZV, 1.7 % over, before).
+      {9.911, 0.3344, 99.8, 1627.0, {3.2992, 0.005}, {174.5023, 0.0911}, 30.1201301, 1e-3},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "D " << c.d << " w " << c.m0.omega << " z " << c.m0.zeta << " w2 " << c.m1.omega

@@ -268,8 +268,8 @@ std::vector<std::pair<double, double>> random_modes(std::mt19937& gen, std::size
 // The joint ZV shaper (one design for all modes): n + 1 positive impulses of unit gain that leave
 // every mode at rest, by v_of and by the time-domain superposition; shorter on average than one ZV
 // per mode convolved. Where no positive design exists it says so (no_solution) rather than return
-// one with a negative impulse; on these sets it finds one for all 200 two-mode and 185 of the 200
-// three-mode requests (docs/fastest.md).
+// one with a negative impulse; on these sets it finds one for all 200 two-mode and 199 of the 200
+// three-mode requests (185 before the start from the slower modes' design; docs/fastest.md).
 TEST(Shapers, JointZvCancelsEveryModeWithOneImpulseMoreThanModes) {
   std::mt19937 gen(7);
   for (std::size_t n : {2U, 3U}) {
@@ -306,9 +306,32 @@ TEST(Shapers, JointZvCancelsEveryModeWithOneImpulseMoreThanModes) {
     }
     std::printf("%zu modes: joint ZV for %d of 200, mean length %.4f of the convolved ZVs'\n", n, found,
                 joint_sum / conv_sum);
-    EXPECT_GE(found, n == 2 ? 190 : 160);
+    EXPECT_GE(found, n == 2 ? 200 : 199);
     EXPECT_LT(joint_sum, conv_sum);
   }
+}
+
+// A set whose joint design the fixed starts (equal steps, subsets of the convolved ZVs' impulses)
+// all miss: the reference grid's case 113 (tests/core/data/fastest_reference_grid.txt), where
+// `fastest` was refused for want of any bound. The design for the two slower modes with one
+// impulse split by the fastest mode's ZV leads to one (docs/fastest.md, "Several modes"): four
+// positive impulses, every mode at rest, 1.667 s, a little longer than the slower pair's 1.659 s.
+TEST(Shapers, JointZvFromTheSlowerModesDesignWhereTheFixedStartsMissIt) {
+  const double w[3] = {2.1007, 13.5366, 278.7101}, z[3] = {0.1785, 0.173, 0.297};
+  core::Shaper<double> s{};
+  ASSERT_EQ(core::joint_zv_shaper(w, z, 3, s), core::Status::ok);
+  ASSERT_EQ(s.count, 4u);
+  expect_positive_increasing_unit_gain(s, 1e-14);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_LT(v_of(s, w[k], z[k]), 1e-12) << "omega " << w[k];
+    EXPECT_NEAR(shaped_step_response(s, w[k], z[k], s.duration() + 1.3 * 2.0 * M_PI / w[k]), 1.0, 1e-12);
+  }
+  core::Shaper<double> pair{};
+  ASSERT_EQ(core::joint_zv_shaper(w, z, 2, pair), core::Status::ok);
+  EXPECT_GT(s.duration(), pair.duration());
+  EXPECT_LT(s.duration(), pair.duration() + M_PI / (w[2] * std::sqrt(1 - z[2] * z[2])) + 1e-9);
+  std::printf("2.10 / 13.54 / 278.7 rad/s: joint ZV %.4f s, the slower pair's %.4f s\n", s.duration(),
+              pair.duration());
 }
 
 // One mode: the joint design is ZV itself. Two undamped modes 1.2 to 2.9 apart: shorter than
