@@ -51,26 +51,6 @@ HeartbeatEvent HeartbeatConsumer::on_frame(const CanFrame& frame, std::uint64_t 
   return on_state(hb->state, now_us);
 }
 
-HeartbeatEvent HeartbeatConsumer::on_state(NmtState state, std::uint64_t now_us) noexcept {
-  const bool was_lost = watchdog_.expired();
-  const bool first = !seen_;
-  const NmtState previous = state_;
-  seen_ = true;
-  state_ = state;
-  if (first) {
-    watchdog_.arm(std::uint64_t{timeout_ms_} * 1000U, now_us);
-  } else {
-    watchdog_.feed(now_us);
-  }
-  if (state == NmtState::initialising) {
-    return HeartbeatEvent::boot_up;
-  }
-  if (first || was_lost) {
-    return HeartbeatEvent::alive;
-  }
-  return previous != state ? HeartbeatEvent::state_changed : HeartbeatEvent::none;
-}
-
 HeartbeatEvent HeartbeatConsumer::poll(std::uint64_t now_us) noexcept {
   return watchdog_.check(now_us) ? HeartbeatEvent::lost : HeartbeatEvent::none;
 }

@@ -57,7 +57,26 @@ class HeartbeatConsumer {
   [[nodiscard]] HeartbeatEvent on_frame(const CanFrame& frame, std::uint64_t now_us) noexcept;
   // The same for the state a frame carried that the caller has already matched to the watched
   // node's heartbeat (its identifier, one byte, a classic data frame, a known state).
-  [[nodiscard]] HeartbeatEvent on_state(NmtState state, std::uint64_t now_us) noexcept;
+  // Inline: RemoteDrive runs it for every heartbeat of its drive, in a servo tick.
+  [[nodiscard]] HeartbeatEvent on_state(NmtState state, std::uint64_t now_us) noexcept {
+    const bool was_lost = watchdog_.expired();
+    const bool first = !seen_;
+    const NmtState previous = state_;
+    seen_ = true;
+    state_ = state;
+    if (first) {
+      watchdog_.arm(std::uint64_t{timeout_ms_} * 1000U, now_us);
+    } else {
+      watchdog_.feed(now_us);
+    }
+    if (state == NmtState::initialising) {
+      return HeartbeatEvent::boot_up;
+    }
+    if (first || was_lost) {
+      return HeartbeatEvent::alive;
+    }
+    return previous != state ? HeartbeatEvent::state_changed : HeartbeatEvent::none;
+  }
   [[nodiscard]] HeartbeatEvent poll(std::uint64_t now_us) noexcept;
   void configure(NodeId watched, std::uint16_t timeout_ms) noexcept;
 
