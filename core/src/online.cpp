@@ -187,41 +187,42 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
                double jmax, int pins, Solved& out) noexcept {
   constexpr std::size_t n = kBlendSegments;
   const std::size_t rows = sys.rows;
-  // The unknowns z_k = dj_k / w_k (dj = W M^T y, w = sw^2) and the rows scaled to unit length in the
-  // weighted metric: wrow[i][k] = m_ik sw_k / |m_i sw|. The Gram matrix is wrow wrow^T, dj_k =
-  // sw_k (wrow^T y)_k, and the scaled system at dj is wrow z with z_k = dj_k / sw_k: one copy of the
-  // rows, weighted once (only the system's rows: each solve scales its own).
-  std::array<std::array<double, n>, kMaxRows> wrow;  // NOLINT: rows [0, rows) are set here
+  // Only the system's rows are copied (each solve scales its own).
+  std::array<std::array<double, n>, kMaxRows> mat;  // NOLINT: rows [0, rows) are set here
   std::array<double, kMaxRows> rhs{};
+  // The reference's share of each condition is known: the unknowns are the deviation from it.
   for (std::size_t i = 0; i < rows; ++i) {
-    // The reference's share of each condition is known: the unknowns are the deviation from it.
-    double s = 0.0, nn = 0.0;
-    for (std::size_t k = 0; k < n; ++k) {
-      s += sys.mat[i][k] * ref[k];
-      wrow[i][k] = sys.mat[i][k] * sw[k];
-      nn += wrow[i][k] * wrow[i][k];
-    }
+    mat[i] = sys.mat[i];
+    double s = 0.0;
+    for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * ref[k];
+    rhs[i] = sys.rhs[i] - s;
+  }
+  // Unknowns x_k = dj_k / sqrt(w_k): the weighted problem becomes a minimum-norm one. Then rows to
+  // unit length, so that the Gram matrix is as well conditioned as the geometry allows.
+  for (std::size_t i = 0; i < rows; ++i) {
+    double nn = 0.0;
+    for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k] * sw[k] * sw[k];
     nn = std::sqrt(nn);
     if (!(nn > 0.0) || !std::isfinite(nn)) return false;
-    for (std::size_t k = 0; k < n; ++k) wrow[i][k] /= nn;
-    rhs[i] = (sys.rhs[i] - s) / nn;
+    for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;  // unweighted column, row-scaled
+    rhs[i] /= nn;
   }
   Gram gram{};
   for (std::size_t i = 0; i < rows; ++i) {
     for (std::size_t l = 0; l <= i; ++l) {
       double s = 0.0;
-      for (std::size_t k = 0; k < n; ++k) s += wrow[i][k] * wrow[l][k];
+      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k] * sw[k] * sw[k];
       gram[i][l] = gram[l][i] = s;
     }
   }
   std::array<double, n> jerk{};
   for (int pin = 0;; ++pin) {
-    std::array<double, n> z{};
+    std::array<double, n> x{};
     std::array<double, kMaxRows> res = rhs;
     double rhs_norm = 0.0;
     for (std::size_t i = 0; i < rows; ++i) rhs_norm = std::max(rhs_norm, std::fabs(rhs[i]));
-    // Minimum norm: z = W^(1/2) M^T (M W M^T)^{-1} b, then one step of iterative refinement with
-    // the same factor.
+    // Minimum norm: x = W M^T (M W M^T)^{-1} b, then one step of iterative refinement with the
+    // same factor.
     Gram chol{};
     if (!cholesky(gram, rows, chol)) return false;
     for (int pass = 0; pass < 2; ++pass) {
@@ -229,35 +230,34 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       cholesky_solve(chol, rows, y);
       for (std::size_t k = 0; k < n; ++k) {
         double s = 0.0;
-        for (std::size_t i = 0; i < rows; ++i) s += wrow[i][k] * y[i];
-        z[k] += s;
+        for (std::size_t i = 0; i < rows; ++i) s += mat[i][k] * y[i];
+        x[k] += s * sw[k] * sw[k];
       }
-      double worst = 0.0, zn = 0.0;
-      for (std::size_t k = 0; k < n; ++k) zn = std::max(zn, std::fabs(z[k]));
+      double worst = 0.0, xn = 0.0;
+      for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) / (sw[k] > 0.0 ? sw[k] : 1.0));
       for (std::size_t i = 0; i < rows; ++i) {
         double s = 0.0;
-        for (std::size_t k = 0; k < n; ++k) s += wrow[i][k] * z[k];
+        for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * x[k];
         res[i] = rhs[i] - s;
         worst = std::max(worst, std::fabs(res[i]));
       }
-      if (pass == 1 && worst > 1e-12 * std::max(rhs_norm, zn)) return false;
+      if (pass == 1 && worst > 1e-12 * std::max(rhs_norm, xn)) return false;
     }
     bool pinned = false;
     double jpk = 0.0;
-    for (std::size_t k = 0; k < n; ++k) jpk = std::fmax(jpk, std::fabs(ref[k] + sw[k] * z[k]));
+    for (std::size_t k = 0; k < n; ++k) jpk = std::fmax(jpk, std::fabs(ref[k] + x[k]));
     if (jpk > kPinOvershoot * jmax) pins = pin;
     for (std::size_t k = 0; k < n; ++k) {
-      jerk[k] = ref[k] + sw[k] * z[k];
+      jerk[k] = ref[k] + x[k];
       if (!std::isfinite(jerk[k])) return false;
       if (pin < pins && sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
         // Pin j_k to the limit: its share of every condition goes to the right side, its column
         // leaves the Gram matrix.
         const double to = std::copysign(jmax, jerk[k]);
         for (std::size_t i = 0; i < rows; ++i) {
-          rhs[i] -= wrow[i][k] / sw[k] * (to - ref[k]);
-          for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= wrow[i][k] * wrow[l][k];
+          rhs[i] -= mat[i][k] * (to - ref[k]);
+          for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
         }
-        for (std::size_t i = 0; i < rows; ++i) wrow[i][k] = 0.0;
         ref[k] = to;
         sw[k] = 0.0;
         pinned = true;
