@@ -39,7 +39,7 @@ namespace {
 // time-optimal stop, and over that stop plus one ZV shaper's length (pi / omega_d) per design mode.
 #if SETTLE_HALT_CASES == 1000
 constexpr double kMeanOverStop = 4.402, kMeanOverStopAndShapers = 0.615;  // measured 4.401, 0.614
-constexpr int kPathsApart = 3;  // measured 3 of 500 path halts, up to 1.55 ms
+constexpr int kPathsApart = 4;  // measured 4 of 500 path halts, up to 1.24 ms
 #elif SETTLE_HALT_CASES == 120
 constexpr double kMeanOverStop = 4.692, kMeanOverStopAndShapers = 0.643;  // measured 4.691, 0.642
 constexpr int kPathsApart = 0;  // measured 0 of 60
