@@ -5,7 +5,6 @@
 // error gives one exit status (2, bad_eds) in drive info, drive config, stream, plant and
 // identify, before anything is sent. The files are hal's settle_drive.eds with one change each.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -15,6 +14,7 @@
 #include <vector>
 
 #include "run_cli.hpp"
+#include "scratch.hpp"
 
 namespace {
 
@@ -32,9 +32,7 @@ std::string variant(const std::string& name, const std::string& from, const std:
   const std::size_t at = eds.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) eds.replace(at, from.size(), to);
-  const auto path = std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".eds");
-  std::ofstream{path} << eds;
-  return path.string();
+  return settle::test::write_scratch(name + ".eds", eds);
 }
 
 std::vector<std::string> cmd(std::initializer_list<std::string> words, const std::string& eds,
@@ -181,14 +179,13 @@ TEST(CliEds, ReadJsonGivesBytesThatAreNotUtf8AsHex) {
   const std::size_t value = eds.find("DefaultValue=", name) + 13;
   const std::size_t end = eds.find('\n', value);
   eds.replace(value, end - value, "ab\xFF\xC3\x28" "cd");
-  const auto path = std::filesystem::temp_directory_path() / ("bytes_" + std::to_string(::getpid()) + ".eds");
-  std::ofstream{path, std::ios::binary} << eds;
+  const std::string path = settle::test::write_scratch("bytes.eds", eds);
   const CliResult r = run_cli_argv(
-      cmd({"drive", "read", "--bus", "loopback", "--index", "0x1008", "--json"}, path.string()));
+      cmd({"drive", "read", "--bus", "loopback", "--index", "0x1008", "--json"}, path));
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(nlohmann::json::parse(r.stdout_text).at("value"), nlohmann::json({{"hex", "6162FFC3286364"}}))
       << r.stdout_text;
-  const CliResult info = run_cli_argv(cmd({"drive", "info", "--bus", "loopback", "--json"}, path.string()));
+  const CliResult info = run_cli_argv(cmd({"drive", "info", "--bus", "loopback", "--json"}, path));
   ASSERT_EQ(info.status, 0) << info.out;
   EXPECT_EQ(nlohmann::json::parse(info.stdout_text).at("device_name"), nlohmann::json({{"hex", "6162FFC3286364"}}));
   const CliResult utf8 = run_cli_argv(

@@ -10,7 +10,7 @@
 
 #include "refusal.hpp"
 #include "run_cli.hpp"
-#include "scratch_file.hpp"
+#include "scratch.hpp"
 
 namespace {
 
@@ -20,7 +20,7 @@ using settle::test::expect_refused;
 using settle::test::run_cli;
 
 std::string write(const std::string& name, const std::string& text) {
-  return settle::test::write_scratch("cli_export", name, text);
+  return settle::test::write_scratch("export_" + name, text);
 }
 
 // Plan files as `settle tune --json` writes them (tune prints what plan prints, plus the request):
@@ -70,7 +70,7 @@ TEST(CliExport, BadNamesAndFilesAreRefusedNamingTheOption) {
   const std::string too_big = write("too_big.json", big);
   for (const Case& c : std::initializer_list<Case>{
            {"export", "--plan-from", "missing_option"},
-           {"export --plan-from " + (settle::test::scratch_dir("cli_export") / "nosuch.json").string(), "--plan-from", ""},
+           {"export --plan-from " + settle::test::scratch_path("nosuch.json"), "--plan-from", ""},
            {"export --plan-from " + not_plan, "--plan-from", ""},
            {"export --plan-from " + garbage, "--plan-from", ""},
            {"export --plan-from " + too_big, "--plan-from", ""},

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "run_cli.hpp"
+#include "scratch.hpp"
 #include "settle/commission/identify_excitation.hpp"
 
 namespace {
@@ -120,7 +121,7 @@ TEST(CliIdentify, JsonHasTheDocumentedShape) {
 }
 
 TEST(CliIdentify, TextReportAndFigure) {
-  const auto dir = std::filesystem::temp_directory_path() / ("settle identify 'fig' " + std::to_string(::getpid()));
+  const auto dir = settle::test::scratch_dir() / "settle identify 'fig'";
   std::filesystem::create_directories(dir);
   const std::string png = (dir / "modes.png").string();
   const CliResult r = run_cli_argv(two_modes({"--png", png}));
@@ -237,9 +238,8 @@ TEST(CliIdentify, NoLoadSideFeedbackIsRefused) {
   const std::string mark = "LoadPosition=0x2000:0\n";  // the description marks no load position
   ASSERT_NE(eds.find(mark), std::string::npos);
   eds.erase(eds.find(mark), mark.size());
-  const auto path = std::filesystem::temp_directory_path() / ("no_load_" + std::to_string(::getpid()) + ".eds");
-  std::ofstream{path} << eds;
-  const CliResult r = run_cli_argv(two_modes({"--eds", path.string()}));
+  const std::string path = settle::test::write_scratch("no_load.eds", eds);
+  const CliResult r = run_cli_argv(two_modes({"--eds", path}));
   // Refused before anything is sent, naming the option that fixes it.
   EXPECT_EQ(r.status, 2) << r.out;
   EXPECT_TRUE(has(r.stderr_text, "--load-feedback: the drive's EDS marks no load position")) << r.stderr_text;
@@ -247,7 +247,6 @@ TEST(CliIdentify, NoLoadSideFeedbackIsRefused) {
   // The same drive with its 0x2000 present: the master maps it and identifies.
   const CliResult ok = run_cli_argv(two_modes({"--eds", std::string{SETTLE_EDS_DIR} + "/velocity_feedback_drive.eds"}));
   EXPECT_EQ(ok.status, 0) << ok.out;
-  std::filesystem::remove(path);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "run_cli.hpp"
+#include "scratch.hpp"
 
 namespace {
 
@@ -88,7 +89,7 @@ TEST(SimCli, ErrorsNameTheOptionToChange) {
 }
 
 TEST(SimCli, CsvHistory) {
-  const std::string path = ::testing::TempDir() + "settle_sim_cli.csv";
+  const std::string path = settle::test::scratch_path("sim_cli.csv");
   const Out o = run("simulate --plant sdof --profile ramp-versine --distance 1 --time 0.167 --csv " + path);
   ASSERT_EQ(o.status, 0) << o.text;
   std::ifstream f{path};

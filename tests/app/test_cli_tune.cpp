@@ -17,6 +17,7 @@
 
 #include "refusal.hpp"
 #include "run_cli.hpp"
+#include "scratch.hpp"
 
 namespace {
 
@@ -27,21 +28,10 @@ using settle::test::run_cli;
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
 
-// A directory of its own for the files these tests write.
-fs::path scratch() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("settle_cli_tune_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
-}
+// The files these tests write, in the process's scratch directory (removed at exit).
+const fs::path& scratch() { return settle::test::scratch_dir(); }
 
-std::string write(const std::string& name, const std::string& text) {
-  const fs::path p = scratch() / name;
-  std::ofstream{p} << text;
-  return p.string();
-}
+std::string write(const std::string& name, const std::string& text) { return settle::test::write_scratch(name, text); }
 
 // What `settle identify --json` prints (issue 15): two modes with their intervals.
 const std::string kIdentified = R"({"status":"ok","modes":[

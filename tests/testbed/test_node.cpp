@@ -11,10 +11,10 @@
 #include <fstream>
 #include <new>
 #include <string>
-#include <unistd.h>
 
 #include "heap_counter.hpp"
 #include "planned_moves.hpp"
+#include "scratch.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/hal/canopen/default_mapping.hpp"
 #include "settle/hal/canopen/nmt.hpp"
@@ -41,8 +41,7 @@ plant::ModalPlant beam() {
 using testing::poly345;
 
 TEST(PlantNodeLog, ManySyncsAllocateNothingAndTheFileHoldsEveryRecord) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("settle_plant_log_" + std::to_string(::getpid()) + ".csv")).string();
+  const std::string path = settle::test::scratch_path("plant_log.csv");
   DriveAxis axis;
   ASSERT_EQ(DriveAxis::make(DriveAxisConfig{}, beam(), 0, axis), plant::SimStatus::ok);
   hal::canopen::DriveNodeConfig dc{};

@@ -20,12 +20,12 @@
 #include <random>
 #include <span>
 #include <string>
-#include <unistd.h>
 #include <utility>
 #include <vector>
 
 #include "heap_counter.hpp"
 #include "planned_moves.hpp"
+#include "scratch.hpp"
 #include "settle/core/multi_axis.hpp"
 #include "settle/core/online.hpp"
 #include "settle/hal/canopen/heartbeat.hpp"
@@ -53,10 +53,7 @@ std::string captured_text(Write write) {
   return text;
 }
 
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("settle_stream_" + std::to_string(::getpid()) + "_" + name))
-      .string();
-}
+std::string temp_path(const std::string& name) { return settle::test::scratch_path(name); }
 
 plant::ModalPlant beam() {
   plant::ModalPlant p;
