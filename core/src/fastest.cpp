@@ -1793,6 +1793,450 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   return have;
 }
 
+// ---- The chain as a time minimisation (docs/fastest.md, "More turns than equations") ----
+// A chain with more unknowns than equations (turns inserted into a solved chain) has its extra
+// freedom fixed by minimising the move's length T, which is linear in the unknowns (each hold
+// counts once, a peak's level sets the lengths of the ramps on either side of it), subject to the
+// chain's equations F = 0 and the linear inequalities of a chain (holds >= 0, peaks within
+// +-amax, ramps of length >= 0). arc_minimise is a gradient projection with an active set: the
+// step is -dT/dz projected onto the null space of the equations' Jacobian and the active
+// inequalities (z: holds in s, peaks' levels over J, so that every unknown is a time), then the
+// equations are restored by minimum-norm Gauss-Newton steps in the same null space of the active
+// rows; a step is kept when the restored chain is shorter and breaks no condition of the chain
+// (arc_violation: v within [0, vmax] too). An active inequality whose multiplier says T falls
+// when it is left is released.
+//
+// Where to insert turns: at a solved chain with multipliers lambda (dT/dz = lambda J + mu A), a
+// pair of turns of zero width inserted anywhere changes nothing, and the derivative of T with
+// respect to opening it is the reduced gradient of its new unknowns, c_new - lambda J_new: the
+// needle variation of Pontryagin's principle. Where it is negative the chain is not a stationary
+// move of any chain with more turns, and opening the pair shortens it; where it is nowhere
+// negative (at the points tried) the chain passes the first-order test and is left as it is.
+
+constexpr std::size_t kMaxIneq = 3 * kMaxArcNodes + 1;
+constexpr std::size_t kMaxBasisRows = kMaxArcNodes + kMaxIneq;
+
+// The rows' span by modified Gram-Schmidt (twice): the minimum-norm solution of A z = b, the
+// projection onto A's null space, and the multipliers w of A^T w = the row-space part of a
+// vector. Dependent rows (within 1e-10 of the span of those before) are left out (w = 0).
+class RowBasis {
+ public:
+  explicit RowBasis(std::size_t n) noexcept : n_(n) {}
+  void add(const ArcVec& a) noexcept {
+    const std::size_t i = rows_++;
+    if (nq_ >= n_) return;
+    ArcVec r = a;
+    double a_norm = 0.0;
+    for (std::size_t c = 0; c < n_; ++c) a_norm += a[c] * a[c];
+    a_norm = std::sqrt(a_norm);
+    if (!(a_norm > 0.0) || !std::isfinite(a_norm)) return;
+    std::array<double, kMaxArcNodes> coef{};
+    for (int pass = 0; pass < 2; ++pass) {
+      for (std::size_t p = 0; p < nq_; ++p) {
+        double d = 0.0;
+        for (std::size_t c = 0; c < n_; ++c) d += q_[p][c] * r[c];
+        for (std::size_t c = 0; c < n_; ++c) r[c] -= d * q_[p][c];
+        coef[p] += d;
+      }
+    }
+    double rn = 0.0;
+    for (std::size_t c = 0; c < n_; ++c) rn += r[c] * r[c];
+    rn = std::sqrt(rn);
+    if (!(rn > 1e-10 * a_norm)) return;
+    for (std::size_t c = 0; c < n_; ++c) q_[nq_][c] = r[c] / rn;
+    coef[nq_] = rn;
+    l_[i] = coef;
+    row_of_[nq_] = i;
+    ++nq_;
+  }
+  // z of least norm with A z = b (the kept rows).
+  ArcVec solve(const std::array<double, kMaxBasisRows>& b) const noexcept {
+    std::array<double, kMaxArcNodes> y{};
+    for (std::size_t p = 0; p < nq_; ++p) {
+      const std::size_t i = row_of_[p];
+      double acc = b[i];
+      for (std::size_t j = 0; j < p; ++j) acc -= l_[i][j] * y[j];
+      y[p] = acc / l_[i][p];
+    }
+    ArcVec z{};
+    for (std::size_t p = 0; p < nq_; ++p) {
+      for (std::size_t c = 0; c < n_; ++c) z[c] += y[p] * q_[p][c];
+    }
+    return z;
+  }
+  // g's part in A's null space (returned), and w with A^T w = g's part in A's row space.
+  ArcVec project(const ArcVec& g, std::array<double, kMaxBasisRows>& w) const noexcept {
+    std::array<double, kMaxArcNodes> y{};
+    ArcVec d = g;
+    for (std::size_t p = 0; p < nq_; ++p) {
+      for (std::size_t c = 0; c < n_; ++c) y[p] += q_[p][c] * g[c];
+      for (std::size_t c = 0; c < n_; ++c) d[c] -= y[p] * q_[p][c];
+    }
+    w.fill(0.0);
+    for (std::size_t p = nq_; p-- > 0;) {
+      double acc = y[p];
+      for (std::size_t s = p + 1; s < nq_; ++s) acc -= w[row_of_[s]] * l_[row_of_[s]][p];
+      w[row_of_[p]] = acc / l_[row_of_[p]][p];
+    }
+    return d;
+  }
+
+ private:
+  std::size_t n_{0}, rows_{0}, nq_{0};
+  std::array<ArcVec, kMaxArcNodes> q_{};
+  std::array<std::array<double, kMaxArcNodes>, kMaxBasisRows> l_{};
+  std::array<std::size_t, kMaxArcNodes> row_of_{};  // the row each basis vector came from
+};
+
+// The chain's linear inequalities g(x) = a x + b >= 0 (value and a in z) and dT/dz.
+struct ArcIneq {
+  std::array<ArcVec, kMaxIneq> a{};
+  std::array<double, kMaxIneq> val{}, tol{};
+  std::size_t count{0};
+  ArcVec dt{};   // dT / dz
+  ArcVec unit{}; // dx / dz: 1 for a hold, J for a peak's level
+};
+
+ArcIneq arc_ineq(const ArcProblem& pb, const ArcChain& c, const ArcLayout& L) noexcept {
+  ArcIneq q{};
+  for (std::size_t i = 0; i < c.n; ++i) q.unit[i] = c.node[i].kind == ArcKind::peak ? pb.J : 1.0;
+  const auto add = [&](const ArcVec& ax, double v, double tol) {
+    ArcVec& a = q.a[q.count];
+    for (std::size_t i = 0; i < c.n; ++i) a[i] = ax[i] * q.unit[i];
+    q.val[q.count] = v;
+    q.tol[q.count++] = tol;
+  };
+  const double t_tol = 1e-12 * L.T, a_tol = 1e-12 * pb.amax;
+  for (std::size_t i = 0; i < c.n; ++i) {
+    ArcVec ax{};
+    const ArcNode& k = c.node[i];
+    if (k.kind == ArcKind::peak) {
+      ax[i] = -k.sign;
+      add(ax, pb.amax - k.sign * c.x[i], a_tol);  // not beyond its own limit
+      ax[i] = k.sign;
+      add(ax, pb.amax + k.sign * c.x[i], a_tol);  // nor beyond the other
+    } else {
+      ax[i] = 1.0;
+      add(ax, c.x[i], t_tol);
+    }
+  }
+  // Ramp r (into node r; r = n the closing one) lasts (level_r - level_{r-1}) / j_r.
+  for (std::size_t r = 0; r <= c.n; ++r) {
+    ArcVec ax{};
+    const bool in_peak = r < c.n && c.node[r].kind == ArcKind::peak;
+    const bool from_peak = r > 0 && c.node[r - 1].kind == ArcKind::peak;
+    if (in_peak) {
+      ax[r] = 1.0 / L.j[r];
+      q.dt[r] += ax[r] * q.unit[r];
+    }
+    if (from_peak) {
+      ax[r - 1] = -1.0 / L.j[r];
+      q.dt[r - 1] += ax[r - 1] * q.unit[r - 1];
+    }
+    if (in_peak || from_peak) add(ax, L.e[r] - L.b[r], t_tol);
+  }
+  for (std::size_t i = 0; i < c.n; ++i) {
+    if (c.node[i].kind != ArcKind::peak) q.dt[i] = 1.0;
+  }
+  return q;
+}
+
+// Restores F(c) = 0 by minimum-norm Gauss-Newton steps that keep the active rows (linear) as
+// they are. True when |F| < 1e-13 (or stalls within 1e-10 of it).
+bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std::array<bool, kMaxIneq>& active,
+                 ArcVec& f, ArcEval& ev) noexcept {
+  ArcMat jm{};
+  std::size_t rows = arc_values(pb, c, f, ev);
+  // The equations' norm plus how far an inequality is broken (relative to its scale); the active
+  // rows and the broken ones are set to 0 exactly (they are linear: one step does it).
+  const auto merit = [&](const ArcChain& x, const ArcEval& e, ArcIneq& qx) {
+    qx = arc_ineq(pb, x, e.L);
+    double m = arc_norm(f, rows);
+    for (std::size_t r = 0; r < qx.count; ++r) {
+      if (qx.val[r] < 0.0) m += -qx.val[r] / (qx.tol[r] * 1e12);
+    }
+    return m;
+  };
+  ArcIneq qc{};
+  double n0 = merit(c, ev, qc);
+  for (int it = 0; it < 30; ++it) {
+    if (!std::isfinite(n0)) return false;
+    if (n0 < 1e-13) return true;
+    arc_jacobian(pb, c, ev, jm);
+    RowBasis basis(c.n);
+    std::array<double, kMaxBasisRows> b{};
+    std::size_t k = 0;
+    for (std::size_t r = 0; r < rows; ++r) {
+      ArcVec a{};
+      for (std::size_t i = 0; i < c.n; ++i) a[i] = jm[r][i] * q.unit[i];
+      basis.add(a);
+      b[k++] = -f[r];
+    }
+    for (std::size_t r = 0; r < qc.count; ++r) {
+      if (!active[r] && !(qc.val[r] < 0.0)) continue;
+      basis.add(qc.a[r]);
+      b[k++] = -qc.val[r];
+    }
+    const ArcVec dz = basis.solve(b);
+    ArcChain trial = c;
+    ArcIneq qt{};
+    double n1 = HUGE_VAL;
+    for (double lam = 1.0; lam > 1e-3; lam *= 0.5) {
+      for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dz[i] * q.unit[i];
+      rows = arc_values(pb, trial, f, ev);
+      n1 = merit(trial, ev, qt);
+      if (std::isfinite(n1) && n1 < n0) break;
+    }
+    if (!(n1 < n0)) {
+      rows = arc_values(pb, c, f, ev);
+      return n0 < 1e-10 && arc_norm(f, rows) == n0;  // stalled near a solution, nothing broken
+    }
+    c = trial;
+    qc = qt;
+    n0 = n1;
+  }
+  return n0 < 1e-10 && arc_norm(f, rows) == n0;
+}
+
+// The multipliers of a solved chain's equations at its minimum (arc_minimise), in z.
+struct ArcKkt {
+  std::array<double, kMaxArcNodes> lambda{};
+  std::size_t rows{0};
+};
+
+// Minimises T over c (solved: F(c) = 0) as above. Returns the chain's multipliers in kkt; c
+// changes only to a shorter chain that breaks no condition.
+void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) noexcept {
+  ArcVec f{};
+  ArcEval ev;
+  ArcMat jm{};
+  std::size_t rows = arc_values(pb, c, f, ev);
+  double T = ev.L.T, trust = 0.05 * T;
+  for (int it = 0; it < max_iter; ++it) {
+    arc_jacobian(pb, c, ev, jm);
+    const ArcIneq q = arc_ineq(pb, c, ev.L);
+    std::array<bool, kMaxIneq> active{};
+    for (std::size_t r = 0; r < q.count; ++r) active[r] = q.val[r] <= q.tol[r];
+    ArcVec d{};
+    bool moved = false;
+    for (std::size_t release = 0; release <= q.count; ++release) {
+      RowBasis basis(c.n);
+      for (std::size_t r = 0; r < rows; ++r) {
+        ArcVec a{};
+        for (std::size_t i = 0; i < c.n; ++i) a[i] = jm[r][i] * q.unit[i];
+        basis.add(a);
+      }
+      std::array<std::size_t, kMaxIneq> which{};
+      std::size_t na = 0;
+      for (std::size_t r = 0; r < q.count; ++r) {
+        if (!active[r]) continue;
+        basis.add(q.a[r]);
+        which[na++] = r;
+      }
+      std::array<double, kMaxBasisRows> w{};
+      d = basis.project(q.dt, w);
+      kkt.rows = rows;
+      for (std::size_t r = 0; r < rows; ++r) kkt.lambda[r] = w[r];
+      // dT/dz = lambda J + mu A with mu >= 0 at a minimum: release the most negative mu.
+      std::size_t worst = q.count;
+      double most = -1e-9;
+      for (std::size_t s = 0; s < na; ++s) {
+        if (w[rows + s] < most) {
+          most = w[rows + s];
+          worst = which[s];
+        }
+      }
+      if (worst == q.count) break;
+      active[worst] = false;
+    }
+    double dn = 0.0;
+    for (std::size_t i = 0; i < c.n; ++i) dn = std::fmax(dn, std::fabs(d[i]));
+    if (!(dn > 1e-9)) return;  // stationary: dT/dz is the equations' and active rows' combination
+    // The step -d, to the first inactive inequality it meets, within the trust length.
+    double a_max = trust / dn;
+    for (std::size_t r = 0; r < q.count; ++r) {
+      if (active[r]) continue;
+      double ad = 0.0;
+      for (std::size_t i = 0; i < c.n; ++i) ad -= q.a[r][i] * d[i];
+      if (ad < 0.0) a_max = std::fmin(a_max, q.val[r] / -ad);
+    }
+    ArcFix bound{};  // the velocity's bound the smallest step tried broke
+    for (double alpha = a_max; alpha * dn > 1e-12 * T; alpha *= 0.25) {
+      ArcChain trial = c;
+      for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] - alpha * d[i] * q.unit[i];
+      ArcVec ft{};
+      ArcEval et;
+      if (!arc_restore(pb, trial, q, active, ft, et)) continue;
+      const ArcFix fx = arc_violation(pb, trial);
+      if (fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell) bound = fx;
+      if (!(et.L.T < T - 1e-14 * T) || fx.kind != ArcFix::none) continue;
+      // A peak that reached its limit holds there from now on (a limit node of hold 0).
+      for (std::size_t i = 0; i < trial.n; ++i) {
+        if (trial.node[i].kind == ArcKind::peak && trial.node[i].sign * trial.x[i] >= pb.amax * (1.0 - 1e-12)) {
+          trial.node[i].kind = ArcKind::limit;
+          trial.x[i] = 0.0;
+        }
+      }
+      c = trial;
+      rows = arc_values(pb, c, f, ev);
+      T = ev.L.T;
+      if (alpha * dn >= 0.99 * trust) trust *= 2.0;
+      moved = true;
+      break;
+    }
+    if (!moved && bound.kind != ArcFix::none) {
+      // The move touches v = 0 (or vmax) where a crosses zero and would pass it: hold there (a
+      // dwell or a cruise of length 0, one unknown and one equation more), and go on.
+      ArcChain e = c;
+      if (!apply_fix(pb, bound, e)) return;
+      const ArcIneq qe = arc_ineq(pb, e, lay_out(pb, e));
+      const std::array<bool, kMaxIneq> none{};
+      ArcVec fe{};
+      ArcEval ee;
+      if (arc_restore(pb, e, qe, none, fe, ee) && ee.L.T < T * (1.0 + 1e-9) &&
+          arc_violation(pb, e).kind == ArcFix::none) {
+        c = e;
+        rows = arc_values(pb, c, f, ev);
+        T = ev.L.T;
+        continue;
+      }
+    }
+    if (!moved) {
+      trust *= 0.1;
+      if (trust < 1e-9 * T) return;
+    }
+  }
+}
+
+// A pair of turns of zero width inserted into c: into ramp k (k == c.n the closing one) at
+// `frac` of its rise (a turn of the ramp's sign, one of the other, both at the same level), or
+// into the hold of limit node k at `frac` of it (a dip: the hold split, a turn back of zero depth
+// between). Writes the chain and the index of the first new unknown; the pair opens as the
+// new unknowns move by `open` (in z). False where it does not fit.
+bool zero_pair(const ArcProblem& pb, const ArcChain& c, std::size_t k, bool dip, double frac, ArcChain& out,
+               std::size_t& first, ArcVec& open) noexcept {
+  open = ArcVec{};
+  if (!dip) {
+    if (!insert_wiggle(pb, c, k, 0.0, out, frac)) return false;
+    if (out.node[k].kind != ArcKind::peak || out.node[k + 1].kind != ArcKind::peak) return false;
+    first = k;
+    open[k] = out.node[k].sign;
+    open[k + 1] = -out.node[k].sign;
+    return true;
+  }
+  if (k >= c.n || c.node[k].kind != ArcKind::limit || !(c.x[k] > 0.0)) return false;
+  const ArcNode lim = c.node[k];
+  const std::array<ArcNode, 3> with{lim, ArcNode{ArcKind::peak, -lim.sign}, lim};
+  const std::array<double, 3> x{frac * c.x[k], lim.sign * pb.amax, (1.0 - frac) * c.x[k]};
+  if (!splice(c, k, with.data(), x.data(), with.size(), out)) return false;
+  first = k + 1;
+  open[k + 1] = -lim.sign;
+  return true;
+}
+
+// The derivative of T with respect to opening the pair (per unit of z), at the multipliers of c.
+double pair_gain(const ArcProblem& pb, const ArcChain& e, std::size_t first, const ArcVec& open,
+                 const ArcKkt& kkt) noexcept {
+  ArcVec f{};
+  ArcEval ev;
+  ArcMat jm{};
+  const std::size_t rows = arc_values(pb, e, f, ev);
+  if (rows != kkt.rows) return 0.0;
+  arc_jacobian(pb, e, ev, jm);
+  const ArcIneq q = arc_ineq(pb, e, ev.L);
+  double g = 0.0;
+  for (std::size_t i = first; i < first + 2 && i < e.n; ++i) {
+    if (open[i] == 0.0) continue;
+    double r = q.dt[i];
+    for (std::size_t k = 0; k < rows; ++k) r -= kkt.lambda[k] * jm[k][i] * q.unit[i];
+    g += r * open[i];
+  }
+  return std::isfinite(g) ? g : 0.0;
+}
+
+// c shortened by turns inserted where the first-order test says they shorten it (up to `rounds`
+// pairs, each the best of the points tried), each chain minimised over its unknowns. True when
+// c got shorter.
+bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
+  constexpr std::array<double, 7> kAt{0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875};
+  ArcKkt kkt{};
+  const double T0 = lay_out(pb, c).T;
+  double w_fast = 0.0;  // the fastest mode's damped frequency: a stop dwells a quarter period of it
+  for (std::size_t m = 0; m < pb.ms->n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
+  const double quarter = 0.25 * two_pi_v<double>() / w_fast;
+  arc_minimise(pb, c, kkt, 40);
+  for (int round = 0; round < rounds && c.n + 2 <= kMaxArcNodes; ++round) {
+    // The three most negative derivatives over the points tried.
+    struct Cand {
+      double g{0.0};
+      std::size_t k{0};
+      bool dip{false};
+      double frac{0.0};
+    };
+    std::array<Cand, 3> top{};
+    for (std::size_t k = 0; k <= c.n; ++k) {
+      for (const bool dip : {false, true}) {
+        for (const double frac : kAt) {
+          ArcChain e{};
+          std::size_t first = 0;
+          ArcVec open{};
+          if (!zero_pair(pb, c, k, dip, frac, e, first, open)) continue;
+          const double g = pair_gain(pb, e, first, open, kkt);
+          for (std::size_t s = 0; s < top.size(); ++s) {
+            if (g < top[s].g) {
+              for (std::size_t u = top.size() - 1; u > s; --u) top[u] = top[u - 1];
+              top[s] = {g, k, dip, frac};
+              break;
+            }
+          }
+        }
+      }
+    }
+    const double T = lay_out(pb, c).T;
+    ArcChain best = c;
+    ArcKkt best_kkt = kkt;
+    double t_best = T;
+    // Each chain tried is minimised; the shortest is kept.
+    const auto minimise_from = [&](ArcChain e) {
+      ArcKkt ek{};
+      arc_minimise(pb, e, ek, 60);
+      const double te = lay_out(pb, e).T;
+      if (te < t_best) {
+        t_best = te;
+        best = e;
+        best_kkt = ek;
+      }
+    };
+    for (const Cand& cd : top) {
+      if (!(cd.g < -1e-9)) break;
+      ArcChain e{};
+      std::size_t first = 0;
+      ArcVec open{};
+      if (zero_pair(pb, c, cd.k, cd.dip, cd.frac, e, first, open)) minimise_from(e);
+    }
+    // and pairs of finite size where the test cannot see them: a stop or a slow-down inside a
+    // cruise (the velocity's bound makes their first-order effect vanish at zero size).
+    for (std::size_t k = 0; k < c.n && c.n + 4 <= kMaxArcNodes; ++k) {
+      if (c.node[k].kind != ArcKind::cruise) continue;
+      for (int kind = 0; kind < 1 + static_cast<int>(kSlowTo.size()); ++kind) {
+        ArcChain e{};
+        const bool ok = kind == 0 ? insert_stop(pb, c, k, quarter, e)
+                                  : insert_slowdown(pb, c, k, kSlowTo[static_cast<std::size_t>(kind - 1)], e);
+        if (!ok) continue;
+        const ArcIneq q0 = arc_ineq(pb, e, lay_out(pb, e));
+        const std::array<bool, kMaxIneq> none{};
+        ArcVec f{};
+        ArcEval ev;
+        if (arc_restore(pb, e, q0, none, f, ev) && arc_violation(pb, e).kind == ArcFix::none) minimise_from(e);
+      }
+    }
+    if (!(t_best < T * (1.0 - 1e-12))) break;
+    c = best;
+    kkt = best_kkt;
+  }
+  return lay_out(pb, c).T < T0;
+}
+
 }  // namespace
 
 namespace {
@@ -1893,6 +2337,7 @@ struct FastestSearch {
   std::array<ZeroSet, 11> sets{};  // the zero sets bang-coast solves for
   std::size_t nsets{0};
   DipBest dips{};  // bang-bang's chains from the dip seeds, considered last
+  ArcBest chains{};  // bang-bang's shortest chains (before the dips, and each late stage's)
 
   void record(FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) noexcept {
     double& slot = times[static_cast<std::size_t>(f)];
@@ -2033,7 +2478,7 @@ bool bang_bang_family(FastestSearch& fs) noexcept {
     // The chains from the dip seeds are candidates after bang-coast (fs.dips): whether
     // bang-coast runs, and what it starts from, are as without them (where bang-coast ran, it
     // started from the dip chain and ended 0.016 % longer on a grid case).
-    const bool found = plan_arcs(fs.r, ms, t, pk, nullptr, split, &fs.dips);
+    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips);
     if (found && table_duration(t) < fs.best.time) {
       fs.record_table(FastestFamily::bang_bang, t, pk);
       double w_max = 0.0;
@@ -2101,6 +2546,59 @@ void bang_coast_family(FastestSearch& fs) noexcept {
   }
 }
 
+// How far a table's move runs backwards in all (the sum over its segments of the lowest
+// velocity against sign(D) times the segment's length, where negative): an upper bound.
+double backwards_travel(const FastestTable& p) noexcept {
+  const double sg = p.distance < 0.0 ? -1.0 : 1.0;
+  double v = 0.0, a = 0.0, back = 0.0;
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const double d = p.durations[i], j = p.jerk[i];
+    double lo = sg * v;
+    if (j != 0.0) {
+      const double u = -a / j;
+      if (u > 0.0 && u < d) lo = std::fmin(lo, sg * (v + a * u + j * u * u / 2.0));
+    }
+    v += d * (a + j * d / 2.0);
+    a += j * d;
+    lo = std::fmin(lo, sg * v);
+    if (lo < 0.0) back -= lo * d;
+  }
+  return back;
+}
+
+// (a'') bang-bang's shortest chains with turns inserted and their length minimised (arc_refine),
+// last: every family before is as without it, and a refined chain is a candidate only where it is
+// shorter than everything they found.
+void refined_chains(FastestSearch& fs) noexcept {
+  const ArcBest& got = fs.chains;
+  ArcProblem pb = arc_problem(fs.r, fs.ms);
+  ArcExpMemo exps{};
+  pb.exps = &exps;
+  double w_fast = 0.0;  // the fastest mode's damped frequency
+  for (std::size_t m = 0; m < fs.ms.n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
+  for (std::size_t k = 0; k <= kLateStages; ++k) {
+    const bool have = k == 0 ? got.have : got.late_have[k - 1];
+    if (!have) continue;
+    ArcChain c = k == 0 ? got.c : got.late[k - 1];
+    pb.pulse = k == 0 && got.pulse;
+    // Only where the fastest mode rings a period or more over the move: every request of the
+    // tests and the grid that the refinement shortened (186 of 932) lasts 1.35 of its (damped)
+    // periods or more, and the one-mode reference request (0.6 periods) paid 2.6 times its
+    // instructions for a test that found nothing to insert.
+    const double t_move = lay_out(pb, c).T + (pb.pulse ? pb.D / pb.vmax : 0.0);
+    if (w_fast * t_move < two_pi_v<double>()) continue;
+    if (!arc_refine(pb, c, 3)) continue;
+    const FastestTable t = arc_table(pb, c, fs.r.distance);
+    Peaks<double> pk{};
+    // The chain's rows hold to rounding (a dwell's v = 0 to about 1e-13 vmax): a move whose
+    // velocity dips below zero by rounding for longer than that allows (over its segments, at most
+    // 5e-13 D backwards; the tests allow 1e-12 D) is not kept.
+    if (t.count != 0 && table_ok(t, fs.lim, fs.ms, 0.0, pk) && !(backwards_travel(t) > 5e-13 * pb.D)) {
+      fs.record_table(FastestFamily::bang_bang, t, pk);
+    }
+  }
+}
+
 }  // namespace
 
 Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
@@ -2115,6 +2613,7 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
   const bool arcs_won = bang_bang_family(fs);
   if (!arcs_won) bang_coast_family(fs);
   if (fs.dips.have) fs.record_table(FastestFamily::bang_bang, fs.dips.t, fs.dips.pk);
+  refined_chains(fs);
   if (!std::isfinite(fs.best.time)) return Status::no_solution;
   fs.best.p.family_time = fs.times;
   out = fs.best.p;

@@ -38,10 +38,10 @@ namespace {
 // The sweep's measured means (docs/online.md), rounded up in the third digit: rest time over the
 // time-optimal stop, and over that stop plus one ZV shaper's length (pi / omega_d) per design mode.
 #if SETTLE_HALT_CASES == 1000
-constexpr double kMeanOverStop = 4.402, kMeanOverStopAndShapers = 0.615;  // measured 4.401, 0.614
-constexpr int kPathsApart = 4;  // measured 4 of 500 path halts, up to 1.24 ms
+constexpr double kMeanOverStop = 4.380, kMeanOverStopAndShapers = 0.615;  // measured 4.379, 0.614
+constexpr int kPathsApart = 6;  // measured 6 of 500 path halts, up to 10.7 ms (docs/multi_axis.md)
 #elif SETTLE_HALT_CASES == 120
-constexpr double kMeanOverStop = 4.692, kMeanOverStopAndShapers = 0.643;  // measured 4.691, 0.642
+constexpr double kMeanOverStop = 4.695, kMeanOverStopAndShapers = 0.643;  // measured 4.694, 0.642
 constexpr int kPathsApart = 0;  // measured 0 of 60
 #else
 constexpr double kMeanOverStop = HUGE_VAL, kMeanOverStopAndShapers = HUGE_VAL;  // not measured
