@@ -25,6 +25,7 @@
 #include <random>
 #include <vector>
 
+#include "../support/path_halt_draw.hpp"
 #include "residual.hpp"
 #include "settle/core/multi_axis.hpp"
 #include "settle/core/online.hpp"
@@ -428,24 +429,14 @@ TEST(Halt, EarlyHaltOfThreePathAxesNeitherOvershootsNorEndsLater) {
 // one) came to rest 1.24 ms after the others: off the line at the end of the blend. Planned once
 // on the reference axis (axis 0) and scaled, every axis has its segment length bit for bit.
 TEST(Halt, PathHaltIsPlannedOnceAndEveryAxisRestsAtTheSameInstant) {
-  core::MultiAxisRequest r{};
-  r.count = 3;
-  r.base.profile = ProfileKind::fastest;
-  const double ax3[3][6] = {
-      {0.046877826959013817, 1.3343700773070253, 5.6939743601786175, 72.423963929550368, 19.953536890205648,
-       0.060106925516701104},
-      {0.39871877719440468, 1.7552669291800269, 51.683884171226943, 1568.9084901034028, 9.9194784734744719,
-       0.053491991819204734},
-      {0.20916622835025947, 1.8629532581535093, 32.43688385243307, 1161.5765503498844, 23.023030517820793,
-       0.070231598534253967}};
-  for (std::size_t i = 0; i < 3; ++i) r.axes[i] = {ax3[i][0], ax3[i][1], ax3[i][2], ax3[i][3], ax3[i][4], ax3[i][5]};
+  const core::MultiAxisRequest r = settle::testing::draw_263();
   core::MultiAxisPlan p{};
   std::size_t culprit = 0;
   ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
   ASSERT_EQ(p.path_mode_count(), 3u);
   std::array<Axis, 3> ax{};
   ASSERT_TRUE(path_axes(r, p, ax));
-  const double t = 0.0024212589513964229;
+  const double t = settle::testing::kDraw263HaltAt;
   Stats st{};
   const PathHalt h = check_path_halt(ax, t, "draw 263", st);
   EXPECT_TRUE(h.together);

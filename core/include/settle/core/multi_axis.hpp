@@ -105,8 +105,9 @@ class MultiAxisPlan {
 //   path  the path's modes on every axis, and the path limits times |D_i| (a limit no axis gives:
 //         the path's own peak times |D_i|). The blend planner is linear in the state, the mode
 //         memory and the limits, so every axis's blend is D_i times the path parameter's own (to
-//         rounding): a halt keeps the straight line and every axis stops on the same tick, and so
-//         does a retarget to targets on the line (lambda D).
+//         rounding); planned once and scaled (plan_path_online, below), a halt keeps the straight
+//         line and every axis comes to rest at the same instant, and so does a retarget to targets
+//         on the line (lambda D).
 //   time  the axis's own mode and limits (absent: its move's own peaks); each axis blends on its own.
 // `fallback` (the plant's fundamental, say): the mode kept at rest when the axis would have none.
 // The limits follow online_limits (a trapezoid's jerk: amax x the fastest mode's omega).
