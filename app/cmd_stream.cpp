@@ -118,6 +118,8 @@ int parse_axes(const ParsedArgs& args, const DesignFallback& fundamental, testbe
     }
     std::optional<testbed::StreamChange> change;
     if (changes[i]) change = stream_change(*changes[i]);
+    // Path sync: the loop plans the path's halt, or retarget on its line, once for every axis.
+    if (change) change->path = plan.sync() == core::SyncMode::path;
     spec.axes.push_back({m, nodes[i], change});
   }
   return -1;

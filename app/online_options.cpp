@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "online_options.hpp"
 
+#include <array>
 #include <cmath>
 
 #include "settle/plant/online_command.hpp"
@@ -97,24 +98,33 @@ void limits_error(core::Status st, const std::string& opt, const std::string& wh
                   : "no limits for a blend: " + std::string{core::describe(st)})};
 }
 
-bool plan_blend(const core::Move<double>& move, OnlineChange& c, const std::string& who, RequestError& err) {
-  core::OnlinePlan plan{};
-  const core::Status st = plant::OnlineChangeCommand::plan(move, c.at, c.modes, c.limits, c.target, plan);
-  if (st == core::Status::ok) {
-    c.choice = plan.choice;
-    c.switch_at = c.at;
-    c.blend = plan.blend;
-    if (plan.choice == core::OnlineChoice::finish) {
-      c.switch_at = move.duration();
-      c.blend = core::Blend{{move.distance(), 0.0, 0.0, 0.0}, 0.0, {}};
-    }
-    return true;
+// The change `plan` made of `move` into `c`.
+void take_plan(const core::Move<double>& move, const core::OnlinePlan& plan, OnlineChange& c) {
+  c.choice = plan.choice;
+  c.switch_at = c.at;
+  c.blend = plan.blend;
+  if (plan.choice == core::OnlineChoice::finish) {
+    c.switch_at = move.duration();
+    c.blend = core::Blend{{move.distance(), 0.0, 0.0, 0.0}, 0.0, {}};
   }
+}
+
+void blend_error(core::Status st, const OnlineChange& c, const std::string& who, RequestError& err) {
   const std::string opt = c.option;
   err = {core::to_string(st), opt,
          opt + ": " + who + "no blend within the limits from the move's state at " + format_number(c.at) + " s (" +
              core::describe(st) + ")"};
-  return false;
+}
+
+bool plan_blend(const core::Move<double>& move, OnlineChange& c, const std::string& who, RequestError& err) {
+  core::OnlinePlan plan{};
+  const core::Status st = plant::OnlineChangeCommand::plan(move, c.at, c.modes, c.limits, c.target, plan);
+  if (st != core::Status::ok) {
+    blend_error(st, c, who, err);
+    return false;
+  }
+  take_plan(move, plan, c);
+  return true;
 }
 
 }  // namespace
@@ -157,18 +167,22 @@ bool parse_axes_online_change(const ParsedArgs& args, const core::MultiAxisReque
   const core::Mode fundamental =
       plant != nullptr ? core::Mode{plant->fundamental().omega, plant->fundamental().zeta} : core::Mode{};
   std::vector<std::optional<OnlineChange>> changes(plan.count());
+  std::vector<core::Move<double>> moves(plan.count());
+  std::vector<core::OnlineRequest> requests(plan.count());
+  std::array<const core::OnlineRequest*, core::kMaxAxes> rp{};
+  std::array<double, core::kMaxAxes> distance{};
+  const auto who = [](std::size_t i) { return "axis " + std::to_string(i + 1) + ": "; };
   for (std::size_t i = 0; i < plan.count(); ++i) {
-    const std::string who = "axis " + std::to_string(i + 1) + ": ";
     if (plan.distance(i) == 0.0) {
       // It holds still the whole move: a halt leaves it so, a retarget may only keep it there.
       if (!targets.empty() && targets[i] != 0.0) {
         err = {"unsupported_request", opt,
-               opt + ": " + who + "it does not move, so there is no running move to retarget (give 0)"};
+               opt + ": " + who(i) + "it does not move, so there is no running move to retarget (give 0)"};
         return false;
       }
       continue;
     }
-    core::Move<double> move{};
+    core::Move<double>& move = moves[i];
     core::AxisOnline o{};
     core::Status st = core::axis_command(req, plan, i, move);
     if (st == core::Status::ok) st = core::axis_online(req, plan, i, o, plant != nullptr ? &fundamental : nullptr);
@@ -178,7 +192,7 @@ bool parse_axes_online_change(const ParsedArgs& args, const core::MultiAxisReque
                opt + ": the path is shaped for " + std::to_string(plan.path_mode_count()) +
                    " modes; a blend keeps at most " + std::to_string(core::kMaxOnlineModes) + " at rest"};
       } else {
-        limits_error(st, opt, who, err);
+        limits_error(st, opt, who(i), err);
       }
       return false;
     }
@@ -186,8 +200,32 @@ bool parse_axes_online_change(const ParsedArgs& args, const core::MultiAxisReque
     if (!targets.empty()) c.target = targets[i];
     c.modes.assign(o.modes.begin(), o.modes.begin() + static_cast<std::ptrdiff_t>(o.mode_count));
     c.limits = o.limits;
-    if (!plan_blend(move, c, who, err)) return false;
+    st = core::online_request(move, c.at, c.modes.data(), c.modes.size(), c.limits, c.target, requests[i]);
+    if (st != core::Status::ok) {
+      blend_error(st, c, who(i), err);
+      return false;
+    }
+    rp[i] = &requests[i];
+    distance[i] = plan.distance(i);
     changes[i] = c;
+  }
+  // Path sync: a halt, or a retarget on the line, planned once and scaled per axis (every axis at
+  // rest at the same instant); anything else each axis on its own.
+  if (plan.sync() == core::SyncMode::path && core::path_change(rp.data(), distance.data(), plan.count())) {
+    std::array<core::OnlinePlan, core::kMaxAxes> plans{};
+    std::size_t ref = core::kMaxAxes;
+    const core::Status st = core::plan_path_online(rp.data(), distance.data(), plan.count(), plans.data(), ref);
+    if (st != core::Status::ok) {
+      blend_error(st, *changes[ref], who(ref), err);
+      return false;
+    }
+    for (std::size_t i = 0; i < plan.count(); ++i) {
+      if (changes[i]) take_plan(moves[i], plans[i], *changes[i]);
+    }
+  } else {
+    for (std::size_t i = 0; i < plan.count(); ++i) {
+      if (changes[i] && !plan_blend(moves[i], *changes[i], who(i), err)) return false;
+    }
   }
   out = changes;
   return true;

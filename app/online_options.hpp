@@ -38,9 +38,10 @@ struct OnlineChange {
 
 // The same for a coordinated move (--axes N, docs/multi_axis.md "Halt and retarget"): one T for
 // every axis, --retarget-at T:D1,...,DN one new distance per axis. Each moving axis's change is
-// planned from its own command (core::axis_command) with the modes and limits core::axis_online
-// gives it (the plant's fundamental when it has no mode); an axis that does not move has none (a
-// retarget must give it 0). `out` gets one entry per axis, all empty when neither option is given.
+// asked from its own command (core::axis_command) with the modes and limits core::axis_online
+// gives it (the plant's fundamental when it has no mode); with path sync a halt, or a retarget on
+// the line, is planned once for every axis (core::plan_path_online), else each axis plans its own.
+// An axis that does not move has none (a retarget must give it 0). `out` gets one entry per axis, all empty when neither option is given.
 [[nodiscard]] bool parse_axes_online_change(const ParsedArgs& args, const core::MultiAxisRequest& req,
                                             const core::MultiAxisPlan& plan, const plant::ModalPlant* plant,
                                             double period, std::vector<std::optional<OnlineChange>>& out,

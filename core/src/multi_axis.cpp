@@ -263,6 +263,75 @@ Status axis_online(const MultiAxisRequest& r, const MultiAxisPlan& plan, std::si
   return Status::ok;
 }
 
+std::size_t path_reference(const double* distance, std::size_t n) noexcept {
+  for (std::size_t i = 0; i < n; ++i) {
+    if (distance[i] != 0.0) return i;
+  }
+  return n;
+}
+
+namespace {
+
+// |x - ratio x_ref| within 1e-9 of `scale` (axis i's own: its distance, its limit).
+bool scaled_copy(double x, double x_ref, double ratio, double scale) noexcept {
+  return std::fabs(x - ratio * x_ref) <= 1e-9 * scale;
+}
+
+}  // namespace
+
+bool path_change(const OnlineRequest* const* requests, const double* distance, std::size_t n) noexcept {
+  const std::size_t ref = path_reference(distance, n);
+  if (ref == n || requests[ref] == nullptr) return false;
+  const OnlineRequest& r = *requests[ref];
+  for (std::size_t i = 0; i < n; ++i) {
+    if (distance[i] == 0.0 || i == ref) continue;
+    if (requests[i] == nullptr) return false;
+    const OnlineRequest& q = *requests[i];
+    const double k = distance[i] / distance[ref], d = std::fabs(distance[i]), ak = std::fabs(k);
+    bool same = q.mode_count == r.mode_count && q.target.has_value() == r.target.has_value() &&
+                q.running.has_value() == r.running.has_value();
+    for (std::size_t m = 0; same && m < q.mode_count; ++m) {
+      same = q.modes[m].omega == r.modes[m].omega && q.modes[m].zeta == r.modes[m].zeta;
+    }
+    same = same && ak * r.limits.vmax <= q.limits.vmax * (1.0 + 1e-9) &&
+           ak * r.limits.amax <= q.limits.amax * (1.0 + 1e-9) && ak * r.limits.jmax <= q.limits.jmax * (1.0 + 1e-9);
+    same = same && scaled_copy(q.start.p, r.start.p, k, d) && scaled_copy(q.start.v, r.start.v, k, q.limits.vmax) &&
+           scaled_copy(q.start.a, r.start.a, k, q.limits.amax);
+    // On the line: target_i = lambda D_i, to rounding.
+    if (same && q.target) same = std::fabs(*q.target - k * *r.target) <= 1e-12 * d;
+    if (same && q.running) {
+      const OnlineRunning &a = *q.running, &b = *r.running;
+      same = a.at_rest == b.at_rest && scaled_copy(a.origin, b.origin, k, d) && scaled_copy(a.end, b.end, k, d) &&
+             scaled_copy(a.remaining, b.remaining, 1.0, std::fmax(b.remaining, 1.0));
+    }
+    if (!same) return false;
+  }
+  return true;
+}
+
+OnlinePlan scaled_online(const OnlinePlan& ref, double ratio, const Sample<double>& start) noexcept {
+  OnlinePlan out = ref;
+  if (ref.choice == OnlineChoice::finish) return out;
+  std::array<double, kBlendSegments> jerk{};
+  for (std::size_t k = 0; k < kBlendSegments; ++k) jerk[k] = ratio * ref.blend.jerk(k);
+  out.blend = Blend{start, ref.blend.segment_length(), jerk};
+  return out;
+}
+
+Status plan_path_online(const OnlineRequest* const* requests, const double* distance, std::size_t n,
+                        OnlinePlan* out, std::size_t& culprit) noexcept {
+  const std::size_t ref = path_reference(distance, n);
+  culprit = ref;
+  if (!path_change(requests, distance, n)) return Status::bad_shape_parameter;
+  OnlinePlan plan{};
+  if (const Status st = plan_online(*requests[ref], plan); st != Status::ok) return st;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (distance[i] == 0.0) continue;
+    out[i] = i == ref ? plan : scaled_online(plan, distance[i] / distance[ref], requests[i]->start);
+  }
+  return Status::ok;
+}
+
 double offset_from_line(const double* p, const double* dir, std::size_t n, double* off) noexcept {
   double dd = 0.0, pd = 0.0;
   for (std::size_t i = 0; i < n; ++i) {

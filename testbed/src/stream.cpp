@@ -214,6 +214,7 @@ std::string configure_changes(Loop& loop, const StreamSpec& spec, ChangeAsk& ask
     oc.mode_count = std::min(ch->modes.size(), oc.modes.size());
     for (std::size_t k = 0; k < oc.mode_count; ++k) oc.modes[k] = ch->modes[k];
     oc.limits = ch->limits;
+    oc.path = ch->path;
     if (const runtime::LoopStatus st = loop.configure_online(i, oc); st != runtime::LoopStatus::ok) {
       return "the loop refused axis " + std::to_string(i + 1) + "'s online configuration: " + runtime::to_string(st);
     }

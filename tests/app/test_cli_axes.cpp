@@ -155,10 +155,23 @@ TEST(CliAxes, SimulateHaltsAndRetargetsEveryAxisAtRest) {
       EXPECT_LT(end / kD[i], 0.95);
     }
     if (sync == "path") {
+      // Planned once and scaled: every axis's blend lasts the same, bit for bit.
       EXPECT_LE(h.at("line_deviation").get<double>(), 1e-12);
-      EXPECT_LE(h.at("online_end_spread").get<double>(), 1e-12);
+      EXPECT_EQ(h.at("online_end_spread").get<double>(), 0.0);
+      for (std::size_t i = 1; i < 3; ++i) {
+        EXPECT_EQ(h.at("axis")[i].at("online").at("blend_duration"), h.at("axis")[0].at("online").at("blend_duration"));
+      }
     }
   }
+  // A retarget on the line (lambda = 0.5) is planned once too.
+  const auto on = run_json(args + " --retarget-at 0.2:0.05,0.025,-0.1");
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto& a = on.at("axis")[i];
+    EXPECT_NEAR(a.at("online").at("end_position").get<double>(), 0.5 * kD[i], 1e-12);
+    EXPECT_EQ(a.at("online").at("blend_duration"), on.at("axis")[0].at("online").at("blend_duration"));
+  }
+  EXPECT_LE(on.at("line_deviation").get<double>(), 1e-12);
+  EXPECT_EQ(on.at("online_end_spread").get<double>(), 0.0);
   const auto off = run_json(args + " --retarget-at 0.2:0.05,0.05,0.05");
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& a = off.at("axis")[i];
@@ -167,6 +180,34 @@ TEST(CliAxes, SimulateHaltsAndRetargetsEveryAxisAtRest) {
   }
   EXPECT_GT(off.at("line_deviation").get<double>(), 0.01);
   EXPECT_GT(off.at("online_end_spread").get<double>(), 0.1);
+}
+
+// Soak draw 263 of tests/core/test_halt.cpp (settle_core_halt_soak): three path axes on three
+// modes, `fastest`. Each axis planning its own halt, simulate's axes came to rest 1.24 ms apart
+// (halted at 2.4 ms) and stream's (1.2 ms period, halted at 3.6 ms) 1.55 ms apart, on different
+// ticks. Planned once, on the first axis, and scaled: the same instant, the same tick.
+const std::string kDraw263 =
+    "--axes 3 --plant sdof --profile fastest --distance 0.046877826959013817,0.39871877719440468,0.20916622835025947 "
+    "--vmax 1.3343700773070253,1.7552669291800269,1.8629532581535093 "
+    "--amax 5.6939743601786175,51.683884171226943,32.43688385243307 "
+    "--jmax 72.423963929550368,1568.9084901034028,1161.5765503498844 "
+    "--omega 19.953536890205648,9.9194784734744719,23.023030517820793 "
+    "--zeta 0.060106925516701104,0.053491991819204734,0.070231598534253967";
+
+TEST(CliAxes, APathHaltIsPlannedOnceInSimulateAndInTheStreamingLoop) {
+  const auto h = run_json("simulate " + kDraw263 + " --halt-at 0.0024212589513964229");
+  EXPECT_EQ(h.at("online_end_spread").get<double>(), 0.0);
+  EXPECT_LE(h.at("line_deviation").get<double>(), 1e-12);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto& a = h.at("axis")[i];
+    EXPECT_EQ(a.at("online").at("choice"), "blend");
+    EXPECT_EQ(a.at("online").at("blend_duration"), h.at("axis")[0].at("online").at("blend_duration"));
+  }
+  const auto s = run_json("stream --bus loopback " + kDraw263 + " --period-us 1200 --settle-time 0.1 --halt-at 0.0036");
+  EXPECT_EQ(s.at("outcome"), "completed");
+  EXPECT_EQ(s.at("start_tick_spread"), 0);
+  EXPECT_EQ(s.at("end_tick_spread"), 0);
+  EXPECT_LE(s.at("line_deviation_setpoints_counts").get<double>(), 1.0);
 }
 
 TEST(CliAxes, BadPerAxisRequestsExitTwoNamingTheOption) {

@@ -316,13 +316,16 @@ TEST(MultiAxis, OneAxisIsTheSingleAxisPlan) {
 }
 
 // Halt and retarget of a coordinated move (docs/multi_axis.md, "Halt and retarget"): each axis's
-// blend is planned from its own command (axis_command) with what axis_online gives it, as the loop
-// does on every axis it streams to. Checked against the axes' own limits (sampled) and an RK4
-// integration of each mode driven by each axis's whole command, not against the planner.
+// request is made from its own command (axis_command) with what axis_online gives it, as the loop
+// does on every axis it streams to; a path's halt, or its retarget to targets on the line, is
+// planned once (plan_path_online), anything else on each axis alone. Checked against the axes' own
+// limits (sampled) and an RK4 integration of each mode driven by each axis's whole command, not
+// against the planner.
 struct AxisBlends {
   std::array<core::Move<double>, 3> move{};
   std::array<core::Blend, 3> blend{};
   std::array<core::AxisOnline, 3> online{};
+  bool once{false};  // planned once for the path
 };
 
 MultiAxisPlan planned(const MultiAxisRequest& r) {
@@ -335,16 +338,30 @@ MultiAxisPlan planned(const MultiAxisRequest& r) {
 AxisBlends change_axes(const MultiAxisRequest& r, const MultiAxisPlan& p, double t,
                        const std::array<std::optional<double>, 3>& targets) {
   AxisBlends out{};
+  std::array<core::OnlineRequest, 3> q{};
+  std::array<const core::OnlineRequest*, 3> qp{};
+  std::array<double, 3> d{};
   for (std::size_t i = 0; i < 3; ++i) {
     EXPECT_EQ(core::axis_command(r, p, i, out.move[i]), Status::ok);
     EXPECT_EQ(core::axis_online(r, p, i, out.online[i]), Status::ok);
     const core::AxisOnline& o = out.online[i];
-    core::OnlineRequest q{};
-    EXPECT_EQ(core::online_request(out.move[i], t, o.modes.data(), o.mode_count, o.limits, targets[i], q), Status::ok);
+    EXPECT_EQ(core::online_request(out.move[i], t, o.modes.data(), o.mode_count, o.limits, targets[i], q[i]), Status::ok);
     // The blends themselves (a halt's choice among them and finishing the move, on 1 and 3 path
     // axes: test_halt.cpp).
-    q.running.reset();
-    EXPECT_EQ(core::plan_online(q, out.blend[i]), Status::ok) << "axis " << i << " t " << t;
+    q[i].running.reset();
+    qp[i] = &q[i];
+    d[i] = r.axes[i].distance;
+  }
+  out.once = r.sync == SyncMode::path && core::path_change(qp.data(), d.data(), 3);
+  if (out.once) {
+    std::array<core::OnlinePlan, 3> plans{};
+    std::size_t culprit = 3;
+    EXPECT_EQ(core::plan_path_online(qp.data(), d.data(), 3, plans.data(), culprit), Status::ok) << " t " << t;
+    for (std::size_t i = 0; i < 3; ++i) out.blend[i] = plans[i].blend;
+    return out;
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(core::plan_online(q[i], out.blend[i]), Status::ok) << "axis " << i << " t " << t;
   }
   return out;
 }
@@ -376,9 +393,10 @@ void expect_axis_blend(const MultiAxisRequest& r, const AxisBlends& ab, std::siz
   }
 }
 
-// Path sync: every axis's blend is D_i times the path parameter's (to rounding), so a halt from
-// any of a hundred random times keeps the straight line, stops every axis on the same tick, and
-// leaves every axis's modes at rest within its own limits.
+// Path sync: a halt is planned once and every axis's blend is the reference's scaled by D_i / D_0
+// (its segment length bit for bit), so a halt from any of a hundred random times keeps the
+// straight line, stops every axis at the same instant, and leaves every axis's modes at rest
+// within its own limits.
 TEST(MultiAxisOnline, PathSyncHaltsKeepTheLineAndEndTogetherAtRest) {
   std::mt19937_64 rng{20261203};
   for (const ProfileKind k : {ProfileKind::jerk_limited, ProfileKind::scurve}) {
@@ -388,12 +406,13 @@ TEST(MultiAxisOnline, PathSyncHaltsKeepTheLineAndEndTogetherAtRest) {
     for (int n = 0; n < 50; ++n) {
       const double t = std::uniform_real_distribution<double>{0.0, 1.0}(rng) * p.duration();
       const AxisBlends ab = change_axes(r, p, t, {});
+      EXPECT_TRUE(ab.once) << "case " << n;
       const core::Blend& b0 = ab.blend[0];
       for (std::size_t i = 0; i < 3; ++i) {
         EXPECT_EQ(ab.online[i].mode_count, 3u);
         expect_axis_blend(r, ab, i, t, std::nullopt, n);
         const core::Blend& b = ab.blend[i];
-        EXPECT_NEAR(b.duration(), b0.duration(), 1e-12 * b0.duration()) << "case " << n << " axis " << i;
+        EXPECT_EQ(b.segment_length(), b0.segment_length()) << "case " << n << " axis " << i;
         const double ratio = r.axes[i].distance / r.axes[0].distance;
         double off = 0.0;
         for (int m = 0; m <= 400; ++m) {
@@ -406,8 +425,8 @@ TEST(MultiAxisOnline, PathSyncHaltsKeepTheLineAndEndTogetherAtRest) {
   }
 }
 
-// A retarget to a point on the line (lambda D) keeps it too; one off the line blends each axis on
-// its own, still at rest on its modes and within its limits.
+// A retarget to a point on the line (lambda D) is planned once too and keeps the line; one off
+// the line blends each axis on its own, still at rest on its modes and within its limits.
 TEST(MultiAxisOnline, PathSyncRetargetsReachTheNewTargetsAtRest) {
   std::mt19937_64 rng{17};
   const MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::path);
@@ -422,13 +441,73 @@ TEST(MultiAxisOnline, PathSyncRetargetsReachTheNewTargetsAtRest) {
       off[i] = (0.3 + 1.2 * uni(rng)) * r.axes[i].distance;
     }
     const AxisBlends a = change_axes(r, p, t, on);
+    EXPECT_TRUE(a.once) << "case " << n;
     for (std::size_t i = 0; i < 3; ++i) {
       expect_axis_blend(r, a, i, t, on[i], n);
-      EXPECT_NEAR(a.blend[i].duration(), a.blend[0].duration(), 1e-12 * a.blend[0].duration()) << "case " << n;
+      EXPECT_EQ(a.blend[i].segment_length(), a.blend[0].segment_length()) << "case " << n;
     }
     const AxisBlends b = change_axes(r, p, t, off);
+    EXPECT_FALSE(b.once) << "case " << n;
     for (std::size_t i = 0; i < 3; ++i) expect_axis_blend(r, b, i, t, off[i], n);
   }
+}
+
+// What is one path's change and what is not: plan_path_online refuses the rest, `out` untouched.
+TEST(MultiAxisOnline, OnlyAPathsOwnChangeIsPlannedOnce) {
+  const MultiAxisRequest r = three_axes(ProfileKind::jerk_limited, SyncMode::path);
+  const MultiAxisPlan p = planned(r);
+  const double t = 0.4 * p.duration();
+  std::array<core::Move<double>, 3> m{};
+  std::array<core::OnlineRequest, 3> q{};
+  std::array<const core::OnlineRequest*, 3> qp{};
+  std::array<double, 3> d{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    core::AxisOnline o{};
+    ASSERT_EQ(core::axis_command(r, p, i, m[i]), Status::ok);
+    ASSERT_EQ(core::axis_online(r, p, i, o), Status::ok);
+    ASSERT_EQ(core::online_request(m[i], t, o.modes.data(), o.mode_count, o.limits, std::nullopt, q[i]), Status::ok);
+    qp[i] = &q[i];
+    d[i] = r.axes[i].distance;
+  }
+  EXPECT_EQ(core::path_reference(d.data(), 3), 0u);
+  EXPECT_TRUE(core::path_change(qp.data(), d.data(), 3));
+  const auto refused = [&](const char* what) {
+    EXPECT_FALSE(core::path_change(qp.data(), d.data(), 3)) << what;
+    std::array<core::OnlinePlan, 3> out{};
+    out[1].rest_after = -1.0;
+    std::size_t culprit = 9;
+    EXPECT_EQ(core::plan_path_online(qp.data(), d.data(), 3, out.data(), culprit), Status::bad_shape_parameter) << what;
+    EXPECT_EQ(out[1].rest_after, -1.0) << what;
+  };
+  core::OnlineRequest keep = q[1];
+  q[1].target = 0.5 * d[1];  // a retarget of one axis, a halt of the others
+  refused("retarget and halt");
+  q[1] = keep;
+  q[1].modes[0].omega *= 1.001;
+  refused("another mode");
+  q[1] = keep;
+  q[1].limits.vmax *= 0.9;  // the reference's blend scaled could exceed it
+  refused("a tighter limit");
+  q[1] = keep;
+  q[1].start.v *= 1.001;  // not where the path puts it
+  refused("another state");
+  q[1] = keep;
+  qp[2] = nullptr;  // a moving axis without a request
+  refused("no request");
+  qp[2] = &q[2];
+  // Retargets: on the line (lambda D_i) once; off it, each alone.
+  for (std::size_t i = 0; i < 3; ++i) q[i].target = 0.7 * d[i];
+  EXPECT_TRUE(core::path_change(qp.data(), d.data(), 3));
+  q[2].target = 0.7 * d[2] * (1.0 + 1e-9);
+  refused("off the line");
+  // An axis that does not move has no request and does not count; none moving is no path.
+  for (std::size_t i = 0; i < 3; ++i) q[i].target.reset();
+  d[1] = 0.0;
+  qp[1] = nullptr;
+  EXPECT_TRUE(core::path_change(qp.data(), d.data(), 3));
+  d = {0.0, 0.0, 0.0};
+  EXPECT_EQ(core::path_reference(d.data(), 3), 3u);
+  refused("nothing moves");
 }
 
 // Time sync: each axis halts on its own mode and limits.

@@ -8,6 +8,7 @@
 // That the blend itself leaves the modes at rest is proven in tests/core/test_online.cpp.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -17,9 +18,12 @@
 #include <type_traits>
 #include <vector>
 
+#include "settle/core/multi_axis.hpp"
 #include "settle/runtime/servo_loop.hpp"
 #include "settle/runtime/setpoint_sequence.hpp"
 #include "settle/hal/testing/ideal_drive.hpp"
+#include "../support/path_halt_draw.hpp"
+#include "ideal_axes.hpp"
 
 using namespace settle;
 
@@ -489,6 +493,129 @@ TEST(ServoLoopOnline, RefusedWithoutConfigurationOrWhereTheLoopLeavesThemOut) {
   static_assert(!runtime::ServoLoop<double, 1, 4, runtime::FixedEvaluation>::kOnlineChanges);
   static_assert(!runtime::ServoLoop<float, 1, 4, runtime::FloatEvaluation<float>>::kOnlineChanges);
   static_assert(FloatLoop::kOnlineChanges && FixedLoop::kOnlineChanges);
+}
+
+// Three path axes on one bus (nodes 1..3), each streaming its own command of one path
+// (core::axis_command) with the path's modes and limits times |D_i| (core::axis_online): soak
+// draw 263 (tests/support/path_halt_draw.hpp).
+struct PathRig {
+  static constexpr std::size_t kAxes = 3;
+  using Loop = runtime::ServoLoop<double, kAxes, 4>;
+  hal::LoopbackHub hub;
+  hal::LoopbackBus<256> master{hub};
+  std::array<std::unique_ptr<hal::testing::IdealDrive<>>, kAxes> drives;
+  Loop loop{master, kPeriod};
+  std::uint64_t now = 0;
+  core::MultiAxisRequest req{};
+  core::MultiAxisPlan plan{};
+  std::array<core::Move<double>, kAxes> move{};
+  std::array<runtime::OnlineConfig, kAxes> config{};
+  std::array<std::vector<std::int32_t>, kAxes> moving;
+
+  explicit PathRig(bool path) : req{settle::testing::draw_263()} {
+    // Halted at 3 ms, each axis planning its own halt comes to rest up to 9.9 ms after another.
+    std::size_t culprit = 0;
+    EXPECT_EQ(core::plan_axes(req, plan, culprit), core::Status::ok);
+    runtime::AxisConfig a{};
+    a.drive.heartbeat_timeout_ms = 500;
+    a.scale = {kCpu, kPeriod};
+    a.vmax = 2.0;
+    settle::testing::add_ideal_axes(loop, hub, drives, a);
+    for (std::size_t i = 0; i < kAxes; ++i) {
+      core::AxisOnline o{};
+      EXPECT_EQ(core::axis_command(req, plan, i, move[i]), core::Status::ok);
+      EXPECT_EQ(core::axis_online(req, plan, i, o), core::Status::ok);
+      config[i].mode_count = o.mode_count;
+      config[i].modes = o.modes;
+      config[i].limits = o.limits;
+      config[i].path = path;
+      EXPECT_EQ(loop.configure_online(i, config[i]), runtime::LoopStatus::ok);
+      drives[i]->start(now);
+    }
+    loop.start(now);
+    for (int i = 0; i < 2000 && !loop.all_ready(); ++i) tick();
+    EXPECT_TRUE(loop.all_ready());
+    for (std::size_t i = 0; i < kAxes; ++i) EXPECT_EQ(loop.submit(i, move[i]), runtime::LoopStatus::ok);
+  }
+  void tick() {
+    now += kPeriod;
+    hub.set_time_us(now);
+    loop.tick(now);
+    for (std::size_t i = 0; i < kAxes; ++i) {
+      if (loop.record(i).sent && loop.record(i).moving) moving[i].push_back(loop.record(i).target);
+    }
+    for (auto& d : drives) d->process(now);
+    for (runtime::LoopEvent e{}; loop.events().pop(e);) {
+    }
+  }
+  // Every axis's halt (target none) or retarget asked for in one period, serviced once; to idle.
+  void change(const std::array<std::optional<double>, kAxes>& target) {
+    for (std::size_t i = 0; i < kAxes; ++i) ASSERT_TRUE(target[i] ? loop.retarget(i, *target[i]) : loop.halt(i));
+    ASSERT_EQ(loop.service(), runtime::LoopStatus::ok);
+    for (int i = 0; i < 3000 && !loop.idle(); ++i) tick();
+    ASSERT_TRUE(loop.idle());
+    for (std::size_t i = 0; i < kAxes; ++i) EXPECT_EQ(loop.online_switches(i), 1u) << i;
+  }
+};
+
+// Path axes (OnlineConfig::path): service() plans their halt once (core::plan_path_online), every
+// axis switches at the same setpoint and streams the same blend scaled: each axis's setpoints are
+// its move's to the switch and then exactly core's scaled blend, and every axis ends on the same
+// tick. The same axes without `path` halt one by one, 9.9 ms apart.
+TEST(ServoLoopOnline, PathAxesHaltOncePlannedAndEndOnTheSameTick) {
+  for (const bool path : {true, false}) {
+    SCOPED_TRACE(path ? "path" : "each axis alone");
+    PathRig r{path};
+    r.tick();
+    const auto k = static_cast<std::int32_t>(r.moving[0].size()) + runtime::kOnlineLeadTicks;
+    ASSERT_EQ(k, 3);
+    r.change({});
+    std::array<core::OnlineRequest, 3> q{};
+    std::array<const core::OnlineRequest*, 3> qp{};
+    std::array<double, 3> d{};
+    for (std::size_t i = 0; i < 3; ++i) {
+      const runtime::OnlineConfig& c = r.config[i];
+      ASSERT_EQ(core::online_request(r.move[i], k * 1e-3, c.modes.data(), c.mode_count, c.limits, std::nullopt, q[i]),
+                core::Status::ok);
+      qp[i] = &q[i];
+      d[i] = r.move[i].distance();
+    }
+    std::array<core::OnlinePlan, 3> once{}, alone{};
+    std::size_t ref = 3;
+    ASSERT_EQ(core::plan_path_online(qp.data(), d.data(), 3, once.data(), ref), core::Status::ok);
+    for (std::size_t i = 0; i < 3; ++i) {
+      ASSERT_EQ(core::plan_online(q[i], alone[i]), core::Status::ok);
+      const core::Blend& b = path ? once[i].blend : alone[i].blend;
+      ASSERT_EQ(once[i].choice, core::OnlineChoice::blend);
+      std::vector<std::int32_t> e;
+      for (std::int32_t n = 0; n < k; ++n) e.push_back(counts(r.move[i].at(n * 1e-3).p));
+      for (std::int32_t n = 0;; ++n) {
+        e.push_back(counts(b.at(n * 1e-3).p));
+        if (!(n * 1e-3 < b.duration())) break;
+      }
+      ASSERT_EQ(r.moving[i].size(), e.size()) << "axis " << i;
+      for (std::size_t n = 0; n < e.size(); ++n) ASSERT_EQ(r.moving[i][n], e[n]) << "axis " << i << " setpoint " << n;
+    }
+    const bool together = r.moving[1].size() == r.moving[0].size() && r.moving[2].size() == r.moving[0].size();
+    EXPECT_EQ(together, path);
+  }
+}
+
+// A retarget of path axes to the line (lambda D_i) is planned once too; one off the line is each
+// axis's own (and they end apart).
+TEST(ServoLoopOnline, PathAxesRetargetOnTheLineOnceOffItEachAlone) {
+  for (const double off : {1.0, 1.2}) {
+    SCOPED_TRACE(off);
+    PathRig r{true};
+    r.tick();
+    std::array<std::optional<double>, 3> target{};
+    for (std::size_t i = 0; i < 3; ++i) target[i] = 0.5 * r.move[i].distance();
+    *target[2] *= off;
+    r.change(target);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(r.drives[i]->position(), counts(*target[i])) << i;
+    const bool together = r.moving[1].size() == r.moving[0].size() && r.moving[2].size() == r.moving[0].size();
+    EXPECT_EQ(together, off == 1.0);
+  }
 }
 
 TEST(OnlineMailbox, OneProducerThreadOneConsumerEveryCommandOnceInOrder) {

@@ -14,6 +14,7 @@
 
 #include "settle/runtime/session.hpp"
 #include "settle/hal/testing/ideal_drive.hpp"
+#include "ideal_axes.hpp"
 
 using namespace settle;
 
@@ -248,15 +249,9 @@ struct ThreeAxisRig {
   runtime::ServoLoop<double, kAxes, 4> loop{master, 1000};
   runtime::VirtualClock clock{1000};
   ThreeAxisRig() {
-    for (std::size_t i = 0; i < kAxes; ++i) {
-      hal::canopen::DriveNodeConfig dc{};
-      dc.node = static_cast<std::uint8_t>(i + 1);
-      drives[i] = std::make_unique<hal::testing::IdealDrive<>>(hub, dc);
-      runtime::AxisConfig a{};
-      a.drive.node = dc.node;
-      a.drive.heartbeat_timeout_ms = 300;
-      EXPECT_EQ(loop.add_axis(a), runtime::LoopStatus::ok);
-    }
+    runtime::AxisConfig a{};
+    a.drive.heartbeat_timeout_ms = 300;
+    settle::testing::add_ideal_axes(loop, hub, drives, a);
     for (auto& d : drives) d->start(0);
   }
   // Every drive but `dead` answers (dead: none).

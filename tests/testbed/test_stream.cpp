@@ -477,8 +477,8 @@ TEST(RunStream, ThreeAxesStartOnTheSameSyncEachWithItsOwnSetpoints) {
 }
 
 // Issue 17: a coordinated three-axis move (path sync) halted at 100 random times, every axis's halt
-// asked for in the same period with what core::axis_online gives it, as `settle stream --axes 3
-// --halt-at T` does. Every time, on the sdof plant (whose damping the S-curve's design ignores, so
+// asked for in the same period with what core::axis_online gives it, as a path's axes
+// (OnlineConfig::path: the loop plans the halt once), as `settle stream --axes 3 --halt-at T` does. Every time, on the sdof plant (whose damping the S-curve's design ignores, so
 // the uninterrupted move leaves a residual): every axis aligned with the replay of its halted
 // setpoints, at rest on its mode (the continuous residual of its changed command within 1e-9 of its
 // distance, what its drive reports within a count of the load encoder), all ending on the same
@@ -508,19 +508,25 @@ TEST(RunStream, ThreeAxesHaltedAtRandomTimesEndTogetherOnTheLineAtRest) {
     SCOPED_TRACE(n);
     const double at = std::round(std::uniform_real_distribution<double>{0.01, 0.49}(rng) / period) * period;
     std::array<StreamChange, 3> changes{};
+    std::array<core::OnlineRequest, 3> q{};
+    std::array<const core::OnlineRequest*, 3> qp{};
+    std::array<core::OnlinePlan, 3> halt{};
     for (std::size_t i = 0; i < 3; ++i) {
       const core::AxisOnline& o = online[i];
       StreamChange& c = changes[i];
       c.at = at;
       c.modes.assign(o.modes.begin(), o.modes.begin() + static_cast<std::ptrdiff_t>(o.mode_count));
       c.limits = o.limits;
-      core::OnlineRequest q{};
-      ASSERT_EQ(core::online_request(moves[i], at, o.modes.data(), o.mode_count, o.limits, std::nullopt, q),
+      c.path = true;  // the loop plans the path's halt once, as core does here
+      ASSERT_EQ(core::online_request(moves[i], at, o.modes.data(), o.mode_count, o.limits, std::nullopt, q[i]),
                 core::Status::ok);
-      core::OnlinePlan halt{};
-      ASSERT_EQ(core::plan_online(q, halt), core::Status::ok) << "axis " << i << " halted at " << at;
-      c.blend = halt.blend;
-      c.finish = halt.choice == core::OnlineChoice::finish;  // the halt finishes the move
+      qp[i] = &q[i];
+    }
+    std::size_t ref = 3;
+    ASSERT_EQ(core::plan_path_online(qp.data(), d, 3, halt.data(), ref), core::Status::ok) << "halted at " << at;
+    for (std::size_t i = 0; i < 3; ++i) {
+      changes[i].blend = halt[i].blend;
+      changes[i].finish = halt[i].choice == core::OnlineChoice::finish;  // the halt finishes the move
     }
     StreamSpec spec{};
     spec.plant = plant;
@@ -538,8 +544,10 @@ TEST(RunStream, ThreeAxesHaltedAtRandomTimesEndTogetherOnTheLineAtRest) {
       EXPECT_TRUE(a.aligned()) << "axis " << i;
       EXPECT_LE(a.residual_continuous, 1e-9 * std::fabs(d[i])) << "axis " << i << " halted at " << at;
       EXPECT_LE(a.residual_can.amplitude, 1.0 / spec.drive.load_counts_per_unit) << "axis " << i;
-      // Every axis's blend is D_i / D_1 times axis 1's: it stops on the line.
+      // Every axis's blend is D_i / D_1 times axis 1's, of its segment length bit for bit: it
+      // stops on the line, at the same instant.
       EXPECT_NEAR(changes[i].blend.end_position(), d[i] / d[0] * changes[0].blend.end_position(), 1e-12);
+      EXPECT_EQ(changes[i].blend.segment_length(), changes[0].blend.segment_length());
     }
     ASSERT_TRUE(r.end_tick_spread.has_value());
     EXPECT_EQ(*r.start_tick_spread, 0U);

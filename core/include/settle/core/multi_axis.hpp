@@ -105,8 +105,9 @@ class MultiAxisPlan {
 //   path  the path's modes on every axis, and the path limits times |D_i| (a limit no axis gives:
 //         the path's own peak times |D_i|). The blend planner is linear in the state, the mode
 //         memory and the limits, so every axis's blend is D_i times the path parameter's own (to
-//         rounding): a halt keeps the straight line and every axis stops on the same tick, and so
-//         does a retarget to targets on the line (lambda D).
+//         rounding); planned once and scaled (plan_path_online, below), a halt keeps the straight
+//         line and every axis comes to rest at the same instant, and so does a retarget to targets
+//         on the line (lambda D).
 //   time  the axis's own mode and limits (absent: its move's own peaks); each axis blends on its own.
 // `fallback` (the plant's fundamental, say): the mode kept at rest when the axis would have none.
 // The limits follow online_limits (a trapezoid's jerk: amax x the fastest mode's omega).
@@ -119,6 +120,36 @@ struct AxisOnline {
 };
 [[nodiscard]] Status axis_online(const MultiAxisRequest& req, const MultiAxisPlan& plan, std::size_t axis,
                                  AxisOnline& out, const Mode* fallback = nullptr) noexcept;
+
+// Path sync: a halt, or a retarget to targets on the line (lambda D_i), of every moving axis at
+// once, planned once and scaled per axis (docs/multi_axis.md, "Halt and retarget"). Each axis
+// planning its own blend agrees with the others only to rounding, and the durations at which a
+// blend fits do not form an interval (docs/online.md): axes rounded to either side of one blend
+// for different times and leave the line. So one axis, the reference, plans; every other moving
+// axis gets exactly its choice and its segment length (bit for bit) with every jerk times
+// D_i / D_ref, started from its own state, and comes to rest at the same instant.
+// The reference is the first moving axis: its blend, and a refusal's message about it, are
+// what planning that axis alone gives; the planner is invariant under scaling (durations stay,
+// jerks scale), so which axis plans does not matter beyond rounding. Its request is what
+// online_request gives, the one the loop and `simulate` plan from.
+//
+// requests[i]: axis i's change as it would plan it alone (null: it does not move, nothing to
+// change); distance[i] its D_i. path_change says whether they are one path's change: every
+// moving axis's request a scaled copy of the reference's (start state, remainder, targets
+// lambda D_i, to 1e-9 of each axis's own scale), of the same modes, with limits at least the
+// reference's scaled (so that the scaled blend keeps them). A retarget off the line is not: each
+// axis then plans alone.
+[[nodiscard]] std::size_t path_reference(const double* distance, std::size_t n) noexcept;
+[[nodiscard]] bool path_change(const OnlineRequest* const* requests, const double* distance, std::size_t n) noexcept;
+// Axis i's plan from the reference's: the same choice, flags and rest_after, a blend of the same
+// segment length with jerks times `ratio` (D_i / D_ref) from `start` (axis i's p, v, a at the
+// switch); a finish stays empty.
+[[nodiscard]] OnlinePlan scaled_online(const OnlinePlan& ref, double ratio, const Sample<double>& start) noexcept;
+// The whole change: plans the reference's request (plan_online) and writes every moving axis's
+// plan to out[i] (the others untouched). bad_shape_parameter when !path_change; any plan_online
+// status of the reference's, with `culprit` the reference and `out` untouched.
+[[nodiscard]] Status plan_path_online(const OnlineRequest* const* requests, const double* distance, std::size_t n,
+                                      OnlinePlan* out, std::size_t& culprit) noexcept;
 
 // A point p's offset from the straight line through the origin along dir (n axes, any one unit):
 // each axis's component p_i - dir_i sigma, sigma = p.dir / dir.dir, written to `off` unless it is

@@ -51,6 +51,13 @@ class OnlineMailbox {
     head_.store(h + 1, std::memory_order_release);
     return true;
   }
+  // Consumer: the command take() would return, left in place. False when empty.
+  [[nodiscard]] bool peek(OnlineCommand& out) const noexcept {
+    const std::uint32_t t = tail_.load(std::memory_order_relaxed);
+    if (t == head_.load(std::memory_order_acquire)) return false;
+    out = slots_[t % Capacity];
+    return true;
+  }
   // Consumer. False when empty.
   [[nodiscard]] bool take(OnlineCommand& out) noexcept {
     const std::uint32_t t = tail_.load(std::memory_order_relaxed);
@@ -78,6 +85,11 @@ struct OnlineConfig {
   std::size_t mode_count{0};
   core::OnlineLimits limits{};
   std::int32_t lead_ticks{kOnlineLeadTicks};
+  // The axis is one of a path's (multi-axis path sync: its move D_i s(t), its modes the path's, its
+  // limits the path's times |D_i|): when every such axis's halt, or retarget on the line, waits
+  // for the same setpoint, service() plans it once for all and scales it to each
+  // (core::plan_path_online), so that they come to rest at the same instant on the line.
+  bool path{false};
 };
 
 // Per-axis state of online changes. `ready` hands the blend from service() (which writes its slot,

@@ -32,6 +32,7 @@
 #include "settle/core/axis_scale.hpp"
 #include "settle/core/enum_text.hpp"
 #include "settle/core/limits.hpp"
+#include "settle/core/multi_axis.hpp"  // plan_path_online: a path's change, planned once
 #include "settle/core/planner.hpp"
 #include "settle/core/setpoints.hpp"
 #include "settle/runtime/evaluation.hpp"
@@ -372,6 +373,7 @@ class ServoLoop {
   [[nodiscard]] LoopStatus service(core::Status* why = nullptr) noexcept {
     LoopStatus result = LoopStatus::ok;
     if constexpr (kOnlineChanges) {
+      if constexpr (MaxAxes > 1) service_path(why, result);
       for (std::size_t i = 0; i < count_; ++i) {
         Axis& a = axes_[i];
         auto& o = a.online;
@@ -381,50 +383,16 @@ class ServoLoop {
           o.missed.fetch_add(1, std::memory_order_relaxed);
           continue;
         }
-        const std::optional<double> target =
-            c.kind == OnlineKind::retarget ? std::optional<double>{c.target} : std::nullopt;
-        // On the running blend (the tick's stepper and streaming slot: service() runs between ticks),
-        // into the other slot; else on the move.
-        const bool on_blend = a.sequence.on_blend();
-        const std::uint8_t slot = on_blend ? static_cast<std::uint8_t>(1U - o.streaming) : std::uint8_t{0};
-        const std::uint32_t serial = on_blend ? o.switches.load(std::memory_order_relaxed)
-                                              : o.move_serial.load(std::memory_order_acquire);
-        const std::int32_t k = a.sequence.index() + o.config.lead_ticks;
-        const double at = static_cast<double>(k) * o.period_s;
-        core::Status st =
-            on_blend ? core::online_request(o.blend[o.streaming], o.request[o.streaming], at, target, o.request[slot])
-                     : core::online_request(a.queue.front().plan, at, o.config.modes.data(), o.config.mode_count,
-                                            o.config.limits, target, o.request[slot]);
+        const ChangeAt at = change_at(a);
+        core::Status st = change_request(a, c, at);
         core::OnlinePlan plan{};
-        if (st == core::Status::ok) st = core::plan_online(o.request[slot], plan);
+        if (st == core::Status::ok) st = core::plan_online(o.request[at.slot], plan);
         if (st != core::Status::ok) {
           if (why != nullptr) *why = st;
           result = LoopStatus::plan_failed;
           continue;
         }
-        // The drive's own velocity limit (0x607F, as it said at start-up) holds for a blend as for
-        // a move: a blend over it would fault the drive at its first such step.
-        const std::uint32_t drive_vmax = a.drive->limits().max_profile_velocity;
-        if (plan.choice != core::OnlineChoice::finish && drive_vmax != 0 &&
-            !(plan.blend.peaks().v * a.cfg.scale.counts_per_unit <=
-              static_cast<double>(drive_vmax) * (1.0 + core::kLimitSlack))) {
-          result = LoopStatus::exceeds_drive_velocity;
-          continue;
-        }
-        // A halt whose best is to finish what runs (docs/online.md): nothing to prepare.
-        o.finish = plan.choice == core::OnlineChoice::finish;
-        if (!o.finish) o.blend[slot] = plan.blend;
-        if (!o.finish) st = Evaluation::prepare(o.blend[slot], a.cfg.scale, o.evaluated[slot]);
-        if (st != core::Status::ok) {
-          if (why != nullptr) *why = st;
-          result = LoopStatus::evaluation_refused;
-          continue;
-        }
-        o.slot = slot;
-        o.from_blend = on_blend;
-        o.switch_index = k;
-        o.blend_serial = serial;
-        o.ready.store(1, std::memory_order_release);
+        hand_over(a, at, plan, why, result);
       }
     }
     return result;
@@ -594,6 +562,103 @@ class ServoLoop {
     FixedQueue<Queued, QueueDepth> queue{};
     [[no_unique_address]] std::conditional_t<kOnlineChanges, OnlineSlot<Evaluation>, NoOnline> online{};
   };
+
+  // Where service() plans a change of axis `a` (online changes only): on the running blend (the
+  // tick's stepper and streaming slot: service() runs between ticks) into the other slot, else on
+  // the move; for the switch lead_ticks setpoints ahead.
+  struct ChangeAt {
+    bool on_blend{false};
+    std::uint8_t slot{0};
+    std::uint32_t serial{0};
+    std::int32_t index{0};
+  };
+  ChangeAt change_at(const Axis& a) const noexcept {
+    const auto& o = a.online;
+    ChangeAt at{};
+    at.on_blend = a.sequence.on_blend();
+    at.slot = at.on_blend ? static_cast<std::uint8_t>(1U - o.streaming) : std::uint8_t{0};
+    at.serial = at.on_blend ? o.switches.load(std::memory_order_relaxed) : o.move_serial.load(std::memory_order_acquire);
+    at.index = a.sequence.index() + o.config.lead_ticks;
+    return at;
+  }
+  // The change's request, into o.request[at.slot].
+  core::Status change_request(Axis& a, const OnlineCommand& c, const ChangeAt& at) noexcept {
+    auto& o = a.online;
+    const std::optional<double> target =
+        c.kind == OnlineKind::retarget ? std::optional<double>{c.target} : std::nullopt;
+    const double t = static_cast<double>(at.index) * o.period_s;
+    return at.on_blend ? core::online_request(o.blend[o.streaming], o.request[o.streaming], t, target, o.request[at.slot])
+                       : core::online_request(a.queue.front().plan, t, o.config.modes.data(), o.config.mode_count,
+                                              o.config.limits, target, o.request[at.slot]);
+  }
+  // Checks, prepares and hands a planned change to the tick (one `ready` store), or says in
+  // `result` (and `why`) why the move runs on unchanged.
+  void hand_over(Axis& a, const ChangeAt& at, const core::OnlinePlan& plan, core::Status* why,
+                 LoopStatus& result) noexcept {
+    auto& o = a.online;
+    // The drive's own velocity limit (0x607F, as it said at start-up) holds for a blend as for
+    // a move: a blend over it would fault the drive at its first such step.
+    const std::uint32_t drive_vmax = a.drive->limits().max_profile_velocity;
+    if (plan.choice != core::OnlineChoice::finish && drive_vmax != 0 &&
+        !(plan.blend.peaks().v * a.cfg.scale.counts_per_unit <= static_cast<double>(drive_vmax) * (1.0 + core::kLimitSlack))) {
+      result = LoopStatus::exceeds_drive_velocity;
+      return;
+    }
+    // A halt whose best is to finish what runs (docs/online.md): nothing to prepare.
+    o.finish = plan.choice == core::OnlineChoice::finish;
+    core::Status st = core::Status::ok;
+    if (!o.finish) o.blend[at.slot] = plan.blend;
+    if (!o.finish) st = Evaluation::prepare(o.blend[at.slot], a.cfg.scale, o.evaluated[at.slot]);
+    if (st != core::Status::ok) {
+      if (why != nullptr) *why = st;
+      result = LoopStatus::evaluation_refused;
+      return;
+    }
+    o.slot = at.slot;
+    o.from_blend = at.on_blend;
+    o.switch_index = at.index;
+    o.blend_serial = at.serial;
+    o.ready.store(1, std::memory_order_release);
+  }
+  // Path axes (OnlineConfig::path, a moving command each) whose commands all wait, each for the
+  // same setpoint index: a halt, or a retarget on the line, is planned once for all of them
+  // (core::plan_path_online: the first one's blend, scaled to each axis's distance, the same
+  // segment length on every axis) and every axis switches at that index. Anything else (a path
+  // axis without a command yet, a retarget off the line, different indices) is left to each axis's
+  // own planning in service(). Host loops only (MaxAxes > 1): MaxAxes plans on the stack.
+  void service_path(core::Status* why, LoopStatus& result) noexcept {
+    std::array<const core::OnlineRequest*, MaxAxes> req{};
+    std::array<double, MaxAxes> distance{};
+    std::array<ChangeAt, MaxAxes> at{};
+    std::size_t members = 0;
+    std::int32_t index = 0;
+    for (std::size_t i = 0; i < count_; ++i) {
+      Axis& a = axes_[i];
+      auto& o = a.online;
+      if (!o.configured || !o.config.path || (a.active && a.queue.front().plan.distance() == 0.0)) continue;
+      OnlineCommand c{};
+      if (o.ready.load(std::memory_order_acquire) != 0 || !a.active || !o.mailbox.peek(c)) return;
+      at[i] = change_at(a);
+      if (members == 0) index = at[i].index;
+      if (at[i].index != index || change_request(a, c, at[i]) != core::Status::ok) return;
+      req[i] = &o.request[at[i].slot];
+      distance[i] = a.queue.front().plan.distance();
+      ++members;
+    }
+    if (members < 2 || !core::path_change(req.data(), distance.data(), count_)) return;
+    std::array<core::OnlinePlan, MaxAxes> plans{};
+    std::size_t ref = MaxAxes;
+    const core::Status st = core::plan_path_online(req.data(), distance.data(), count_, plans.data(), ref);
+    for (std::size_t i = 0; i < count_; ++i) {
+      OnlineCommand c{};
+      if (req[i] == nullptr || !axes_[i].online.mailbox.take(c)) continue;
+      if (st == core::Status::ok) hand_over(axes_[i], at[i], plans[i], why, result);
+    }
+    if (st != core::Status::ok) {
+      if (why != nullptr) *why = st;
+      result = LoopStatus::plan_failed;
+    }
+  }
 
   [[nodiscard]] bool post_online(std::size_t axis, const OnlineCommand& c) noexcept {
     if constexpr (!kOnlineChanges) {

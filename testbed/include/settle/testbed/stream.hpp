@@ -46,6 +46,9 @@ struct StreamChange {
   // The halt finishes the move (core::OnlineChoice::finish): the loop keeps streaming it, and the
   // replay is the move's.
   bool finish{false};
+  // The axis is one of a path's (--axes N --sync path): the loop plans the path's halt, or its
+  // retarget on the line, once for every such axis (runtime::OnlineConfig::path).
+  bool path{false};
 };
 
 // One axis of the run: its move, its drive's node and, with a halt or retarget, its change (every
