@@ -50,6 +50,44 @@ TEST(MailboxBus, ReceiveFifoKeepsOrderTimestampsAndCountsOverrun) {
   EXPECT_EQ(bus.counters().received, 2U);
 }
 
+TEST(MailboxBus, ReceivedRecordsAreReadInPlaceThenConsumedAndCounted) {
+  MailboxBus<1, 3> bus;
+  CanFrame f{};
+  // Move the FIFO's head so that the records read below wrap around its storage.
+  ASSERT_TRUE(bus.put_received(test::frame(0x701, {5})));
+  ASSERT_TRUE(bus.put_received(test::frame(0x702, {5})));
+  ASSERT_EQ(bus.receive(f), ReceiveStatus::received);
+  ASSERT_EQ(bus.receive(f), ReceiveStatus::received);
+  CanFrame a = test::frame(0x181, {1, 2, 3, 4, 5, 6});
+  a.timestamp_us = 7;
+  CanFrame b = test::frame(0x281, {8, 7, 6, 5, 4, 3, 2, 1});
+  b.timestamp_us = 8;
+  CanFrame c = test::frame(0x1ABCDEF0, {9});
+  c.flags = can_flag::extended;
+  ASSERT_TRUE(bus.put_received(a));
+  ASSERT_TRUE(bus.put_received(b));
+  ASSERT_TRUE(bus.put_received(c));
+  ASSERT_EQ(bus.pending_rx(), 3U);
+  EXPECT_EQ(bus.received(0).id, 0x181U);
+  EXPECT_EQ(bus.received(0).len, 6U);
+  EXPECT_EQ(bus.received(0).data[5], 6U);
+  EXPECT_EQ(bus.received(1).id, 0x281U) << "the record after the end of the storage";
+  EXPECT_EQ(bus.received(1).data[7], 1U);
+  EXPECT_FALSE(bus.received(1).is_extended());
+  EXPECT_TRUE(bus.received(2).is_extended());
+  bus.received_frame(1, f);
+  EXPECT_EQ(f, b) << "copied out as receive() would";
+  EXPECT_EQ(f.timestamp_us, 8U);
+  EXPECT_EQ(bus.pending_rx(), 3U) << "reading takes nothing";
+  EXPECT_EQ(bus.counters().received, 2U);
+  bus.consume_received(2);
+  EXPECT_EQ(bus.counters().received, 4U) << "as two calls of receive()";
+  ASSERT_EQ(bus.pending_rx(), 1U);
+  ASSERT_EQ(bus.receive(f), ReceiveStatus::received);
+  EXPECT_EQ(f, c);
+  EXPECT_EQ(bus.receive(f), ReceiveStatus::empty);
+}
+
 TEST(MailboxBus, ClassicControllerRefusesFdAndFiltersOnReceive) {
   MailboxBus<> bus;
   std::array<std::uint8_t, 12> twelve{};

@@ -90,6 +90,21 @@ TEST(HeartbeatConsumer, TimesOutExactlyOnceAtTheDeadline) {
   EXPECT_EQ(c.on_frame(encode_heartbeat(3, NmtState::initialising), 960'000), HeartbeatEvent::boot_up);
 }
 
+TEST(HeartbeatConsumer, TheLongestTimeoutIsKeptWholeInMicroseconds) {
+  // 0x1016's largest timeout, 65 535 ms, is 65 535 000 us: held in 32 bits (as the consumer keeps
+  // it, converted when configured), it neither wraps nor loses its top bits. Also after configure().
+  HeartbeatConsumer c{3, 1};
+  c.configure(3, 65'535);
+  constexpr std::uint64_t t0 = 5'000'000'000ULL;  // far past 2^32 us: the deadline is 64-bit
+  EXPECT_EQ(c.on_state(NmtState::operational, t0), HeartbeatEvent::alive);
+  EXPECT_EQ(c.poll(t0 + 65'534'999), HeartbeatEvent::none);
+  EXPECT_EQ(c.poll(t0 + 65'535'000), HeartbeatEvent::lost);
+  HeartbeatConsumer d{3, 65'535};
+  EXPECT_EQ(d.on_state(NmtState::operational, t0), HeartbeatEvent::alive);
+  EXPECT_EQ(d.poll(t0 + 65'534'999), HeartbeatEvent::none);
+  EXPECT_EQ(d.poll(t0 + 65'535'000), HeartbeatEvent::lost);
+}
+
 TEST(HeartbeatConsumer, AStateFromAMatchedFrameCountsAsTheFrameWould) {
   // Two consumers fed the same heartbeats, one through on_frame and one through on_state (what a
   // master that matched the identifier itself calls): the same events, the same liveness.

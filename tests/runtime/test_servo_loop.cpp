@@ -489,9 +489,16 @@ TEST(ServoLoop, StreamsSeed001sVelocityStepWithinTheGuard) {
 }
 
 // The loop on a CAN controller's buffers, held by the controller's own type (direct driver calls,
-// as drive firmware builds it) or as a hal::CanBus: the same frames, tick for tick.
+// and received records read in place, as drive firmware builds it) or as a hal::CanBus: the same
+// frames, tick for tick, and the same counts.
+struct ControllerRun {
+  std::vector<hal::CanFrame> sent;
+  std::uint64_t frames_received{0};  // the loop's
+  std::uint64_t received{0};         // the controller's
+  std::uint64_t feedback_count{0};
+};
 template <typename LoopBus>
-std::vector<hal::CanFrame> run_on_controller() {
+ControllerRun run_on_controller() {
   hal::LoopbackHub hub;
   hal::LoopbackBus<64> wire{hub};  // the controller's wire side
   hal::MailboxBus<3, 8> controller;
@@ -525,15 +532,27 @@ std::vector<hal::CanFrame> run_on_controller() {
   EXPECT_EQ(loop.axis_stats(0).moves_completed, 1u);
   EXPECT_EQ(drive.position(), 50'000);
   EXPECT_EQ(controller.counters().rx_overflow_drops, 0u);
-  return sent;
+  EXPECT_EQ(controller.pending_rx(), 0u) << "every received frame taken";
+  return {sent, loop.stats().frames_received, controller.counters().received, loop.record(0).feedback_count};
 }
 
 TEST(ServoLoop, OnTheControllersOwnTypeItSendsWhatItSendsThroughCanBus) {
+  static_assert(runtime::ServoLoop<double, 1, 4, runtime::FloatEvaluation<double>, hal::MailboxBus<3, 8>>::kReceivesInPlace);
+  static_assert(!runtime::ServoLoop<double, 1, 4, runtime::FloatEvaluation<double>, hal::CanBus>::kReceivesInPlace);
   const auto direct = run_on_controller<hal::MailboxBus<3, 8>>();
   const auto virtual_calls = run_on_controller<hal::CanBus>();
-  ASSERT_EQ(direct.size(), virtual_calls.size());
-  ASSERT_GT(direct.size(), 2000u);
-  for (std::size_t i = 0; i < direct.size(); ++i) ASSERT_EQ(direct[i], virtual_calls[i]) << "frame " << i;
+  ASSERT_EQ(direct.sent.size(), virtual_calls.sent.size());
+  ASSERT_GT(direct.sent.size(), 2000u);
+  for (std::size_t i = 0; i < direct.sent.size(); ++i) {
+    ASSERT_EQ(direct.sent[i], virtual_calls.sent[i]) << "frame " << i;
+  }
+  // Read in place, frames are dropped and counted once per tick: the same totals.
+  EXPECT_GT(direct.frames_received, 2000u);
+  EXPECT_EQ(direct.frames_received, virtual_calls.frames_received);
+  EXPECT_EQ(direct.received, virtual_calls.received);
+  EXPECT_EQ(direct.received, direct.frames_received);
+  EXPECT_GT(direct.feedback_count, 1000u);
+  EXPECT_EQ(direct.feedback_count, virtual_calls.feedback_count);
 }
 
 TEST(ServoLoop, AMoveAcrossTheCountWrapStreamsItsTrueStepsAndEndsOnTarget) {

@@ -34,11 +34,11 @@ bool HeartbeatProducer::poll(std::uint64_t now_us, NmtState state, FrameSink& ou
 }
 
 HeartbeatConsumer::HeartbeatConsumer(NodeId watched, std::uint16_t timeout_ms) noexcept
-    : node_{watched}, timeout_ms_{timeout_ms} {}
+    : node_{watched}, timeout_us_{std::uint32_t{timeout_ms} * 1000U} {}
 
 void HeartbeatConsumer::configure(NodeId watched, std::uint16_t timeout_ms) noexcept {
   node_ = watched;
-  timeout_ms_ = timeout_ms;
+  timeout_us_ = std::uint32_t{timeout_ms} * 1000U;
   watchdog_.disarm();
   seen_ = false;
 }

@@ -466,7 +466,13 @@ RemoteFrame RemoteDrive::on_nmt_command(const CanFrame& frame) noexcept {
   return RemoteFrame::nmt;
 }
 
-RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
+RemoteFrame RemoteDrive::on_other_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
+  // A layout other than the default: its two TPDOs by exact identifier and length, as
+  // on_process_frame takes the default layout's.
+  if (frame.flags == 0 && !default_layout_) {
+    if (frame.id == tpdo1_id_ && frame.len == tpdo1_len_) return take_layout_tpdo(frame, status_pdo_, now_us);
+    if (frame.id == tpdo2_id_ && frame.len == tpdo2_len_) return take_layout_tpdo(frame, second_pdo_, now_us);
+  }
   if (frame.id == cob::nmt) return on_nmt_command(frame);
   // Every service the master consumes is node-specific: function code + this drive's node id.
   if (!is_canopen_data_frame(frame) || (frame.id & 0x7FU) != config_.node) {
@@ -480,13 +486,13 @@ RemoteFrame RemoteDrive::on_service_frame(const CanFrame& frame, std::uint64_t n
       events_ |= remote_event::emcy;
       return RemoteFrame::emcy;
     case cob::heartbeat:
-      // A valid one took on_frame's inline path: this one has the wrong length.
+      // A valid one took on_process_frame's path: this one has the wrong length.
       return RemoteFrame::ignored;
     case cob::tpdo1:
     case cob::tpdo2:
     case cob::tpdo3:
     case cob::tpdo4: {
-      // The layout's first two TPDOs took on_frame's inline path when valid; a third or fourth
+      // The layout's first two TPDOs were taken above or by on_process_frame when valid; a third or fourth
       // comes here.
       const auto n = static_cast<std::uint8_t>(((frame.id & 0x780U) - cob::tpdo1) / 0x100U + 1U);
       // (The two taken inline, and every TPDO of the default layout, are here only with another

@@ -163,6 +163,8 @@ class CanBus : public FrameSink {
   ~CanBus() override = default;
 
   void count_rx_overflow(std::uint64_t dropped) noexcept { counters_.rx_overflow_drops += dropped; }
+  // Frames a backend's caller took other than through receive() (MailboxBus::consume_received).
+  void count_received(std::uint64_t frames) noexcept { counters_.received += frames; }
   // A backend reports what its controller said (an error frame, the driver's state).
   void count_error_frame() noexcept { ++counters_.error_frames; }
   void set_bus_state(BusState state) noexcept {

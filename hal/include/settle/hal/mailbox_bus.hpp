@@ -29,6 +29,17 @@ class MailboxBus final : public CanBus {
   static_assert(TxMailboxes > 0 && RxFifoDepth > 0);
 
  public:
+  // One mailbox or FIFO entry: a classic frame's identifier, flags, length and eight data bytes
+  // (word-aligned), read where it is by received().
+  struct Record {
+    std::uint32_t id{0};
+    std::uint8_t flags{0};
+    std::uint8_t len{0};
+    alignas(4) std::array<std::uint8_t, can_classic_max_len> data{};
+
+    [[nodiscard]] constexpr bool is_extended() const noexcept { return (flags & can_flag::extended) != 0; }
+  };
+
   MailboxBus() noexcept = default;
   MailboxBus(const MailboxBus&) = delete;
   MailboxBus& operator=(const MailboxBus&) = delete;
@@ -72,16 +83,26 @@ class MailboxBus final : public CanBus {
     return true;
   }
 
+  // Received frames read in place, where the controller holds them, for a caller that decides on a
+  // record's identifier, length and data before anything is copied (the servo loop takes its
+  // drives' process data and heartbeats so: firmware/README.md). received(i) is the i-th oldest
+  // (i < pending_rx()); received_frame(i, f) copies it out as receive() would; consume_received(n)
+  // drops the n oldest (n <= pending_rx()) and counts them as n calls of receive() would.
+  [[nodiscard]] const Record& received(std::size_t i) const noexcept { return rx_.at(i).record; }
+  void received_frame(std::size_t i, CanFrame& frame) const noexcept {
+    const Received& r = rx_.at(i);
+    unpack(r.record, frame);
+    frame.timestamp_us = r.timestamp_us;
+  }
+  void consume_received(std::size_t n) noexcept {
+    rx_.drop_front(n);
+    count_received(n);
+  }
+
   [[nodiscard]] std::size_t pending_tx() const noexcept { return tx_.size(); }
   [[nodiscard]] std::size_t pending_rx() const noexcept { return rx_.size(); }
 
  private:
-  struct Record {
-    std::uint32_t id{0};
-    std::uint8_t flags{0};
-    std::uint8_t len{0};
-    alignas(4) std::array<std::uint8_t, can_classic_max_len> data{};
-  };
   struct Received {
     Record record{};
     std::uint64_t timestamp_us{0};
@@ -121,9 +142,7 @@ class MailboxBus final : public CanBus {
     if (rx_.empty()) {
       return ReceiveStatus::empty;
     }
-    const Received& r = rx_.front();
-    unpack(r.record, frame);
-    frame.timestamp_us = r.timestamp_us;
+    received_frame(0, frame);
     rx_.drop_front();
     return ReceiveStatus::received;
   }

@@ -52,6 +52,14 @@ class Ring {
 
   // The oldest element; only valid when !empty().
   [[nodiscard]] const T& front() const noexcept { return storage_[head_]; }
+  // The i-th oldest element (at(0) is front()); only valid when i < size().
+  [[nodiscard]] const T& at(std::size_t i) const noexcept {
+    std::size_t index = head_ + i;
+    if (index >= storage_.size()) {
+      index -= storage_.size();
+    }
+    return storage_[index];
+  }
   [[nodiscard]] T& front() noexcept { return storage_[head_]; }
 
   void drop_front() noexcept {
@@ -63,6 +71,17 @@ class Ring {
       head_ = 0;
     }
     --size_;
+  }
+  // Drops the n oldest elements (all of them when n > size()).
+  void drop_front(std::size_t n) noexcept {
+    if (n > size_) {
+      n = size_;
+    }
+    head_ += n;
+    if (head_ >= storage_.size()) {
+      head_ -= storage_.size();
+    }
+    size_ -= n;
   }
 
   void clear() noexcept {

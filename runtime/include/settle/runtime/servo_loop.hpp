@@ -453,27 +453,7 @@ class ServoLoop {
   // frame it drains; a caller that reads the bus itself (after the session, say) calls it too.
   void receive(const hal::CanFrame& f, std::uint64_t now_us) noexcept {
     ++stats_.frames_received;
-    // CANopen puts the sending node in the low 7 bits of every node-specific COB-ID (TPDO,
-    // SDO, EMCY, heartbeat): route there, so a tick costs O(axes), not O(axes^2). Node 0
-    // (NMT, SYNC, time) and extended ids go to every axis.
-    const std::uint32_t node = f.id & 0x7F;
-    const std::uint8_t target = f.is_extended() || node == 0 ? kNoAxis : axis_of_node_[node];
-    if (target != kNoAxis) {
-      Axis& a = axes_[target];
-      if (a.drive->on_frame(f, now_us, bus_) == hal::canopen::RemoteFrame::tpdo2) {
-        const auto& fb = a.drive->feedback();
-        if (!a.feedback_log.push({fb.position_actual, fb.load_position, fb.velocity_actual})) {
-          ++a.stats.feedback_overflows;
-        }
-      }
-    } else if (f.is_extended() || node == 0) {
-      if (f.id == hal::canopen::cob::sync && !f.is_extended()) {
-        // The loop never hears its own SYNC: this one is another producer's.
-        ++stats_.foreign_syncs;
-        foreign_sync_seen_ = true;
-      }
-      for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->on_frame(f, now_us, bus_);
-    }
+    if (!route_process(f, now_us)) route_other(f, now_us);
   }
 
   // Stops streaming on an axis: the active move and the queue are dropped, the axis holds.
@@ -526,6 +506,12 @@ class ServoLoop {
   [[nodiscard]] std::uint32_t period_us() const noexcept { return period_us_; }
 
   static constexpr std::size_t kMaxFramesPerTick = 16 * MaxAxes + 16;
+  // The bus lets the loop read its received records in place (receive_all).
+  static constexpr bool kReceivesInPlace = requires(Bus& b, std::size_t i, hal::CanFrame& f) {
+    b.received(i);
+    b.received_frame(i, f);
+    b.consume_received(i);
+  };
 
  private:
   // A queued move: prepared for the evaluation, and as planned where online changes need it.
@@ -804,9 +790,64 @@ class ServoLoop {
   }
 
   void receive_all(std::uint64_t now_us) noexcept {
-    for (std::size_t n = 0; n < kMaxFramesPerTick; ++n) {
-      if (bus_.receive(rx_, 0) != hal::ReceiveStatus::received) break;
-      receive(rx_, now_us);
+    if constexpr (kReceivesInPlace) {
+      // A controller whose received records can be read where they are (hal::MailboxBus): the
+      // drives' process data and heartbeats are taken from the record, and only other frames are
+      // copied out; the frames are dropped and counted once for the tick, not one by one.
+      std::size_t n = bus_.pending_rx();
+      if (n > kMaxFramesPerTick) n = kMaxFramesPerTick;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (route_process(bus_.received(i), now_us)) continue;
+        bus_.received_frame(i, rx_);
+        route_other(rx_, now_us);
+      }
+      bus_.consume_received(n);
+      stats_.frames_received += n;
+    } else {
+      for (std::size_t n = 0; n < kMaxFramesPerTick; ++n) {
+        if (bus_.receive(rx_, 0) != hal::ReceiveStatus::received) break;
+        receive(rx_, now_us);
+      }
+    }
+  }
+
+  // CANopen puts the sending node in the low 7 bits of every node-specific COB-ID (TPDO, SDO,
+  // EMCY, heartbeat): route there, so a tick costs O(axes), not O(axes^2). Node 0 (NMT, SYNC,
+  // time) and extended ids go to every axis (route_other).
+  // route_process takes a node-specific frame inline, where it lies (a CanFrame or a controller's
+  // record): another node's is dropped, an axis's process data or heartbeat decoded; false for
+  // every other frame, which route_other then takes.
+  template <typename Frame>
+  [[nodiscard]] bool route_process(const Frame& f, std::uint64_t now_us) noexcept {
+    const std::uint32_t node = f.id & 0x7F;
+    if (f.is_extended() || node == 0) return false;
+    const std::uint8_t target = axis_of_node_[node];
+    if (target == kNoAxis) return true;
+    Axis& a = axes_[target];
+    auto what = hal::canopen::RemoteFrame::ignored;
+    if (!a.drive->on_process_frame(f, now_us, bus_, what)) return false;
+    if (what == hal::canopen::RemoteFrame::tpdo2) log_feedback(a);
+    return true;
+  }
+  // An axis's service frames and other TPDO layouts, and the frames for every axis.
+  void route_other(const hal::CanFrame& f, std::uint64_t now_us) noexcept {
+    const std::uint32_t node = f.id & 0x7F;
+    if (!f.is_extended() && node != 0) {
+      Axis& a = axes_[axis_of_node_[node]];
+      if (a.drive->on_other_frame(f, now_us, bus_) == hal::canopen::RemoteFrame::tpdo2) log_feedback(a);
+      return;
+    }
+    if (f.id == hal::canopen::cob::sync && !f.is_extended()) {
+      // The loop never hears its own SYNC: this one is another producer's.
+      ++stats_.foreign_syncs;
+      foreign_sync_seen_ = true;
+    }
+    for (std::size_t i = 0; i < count_; ++i) axes_[i].drive->on_other_frame(f, now_us, bus_);
+  }
+  void log_feedback(Axis& a) noexcept {
+    const auto& fb = a.drive->feedback();
+    if (!a.feedback_log.push({fb.position_actual, fb.load_position, fb.velocity_actual})) {
+      ++a.stats.feedback_overflows;
     }
   }
 

@@ -56,11 +56,13 @@ constexpr void encode_rpdo1(NodeId node, const Rpdo1& pdo, CanFrame& out) noexce
 // the decoders below after their checks, and a master that has made those checks itself.
 // The payload is word-aligned: the statusword is read as a half-word, the position at byte 2 as
 // two, TPDO2's values as words.
-[[nodiscard]] constexpr Tpdo1 tpdo1_fields(const CanFrame& frame) noexcept {
+template <typename Frame>  // CanFrame, or a receive record with the same word-aligned data
+[[nodiscard]] constexpr Tpdo1 tpdo1_fields(const Frame& frame) noexcept {
   return Tpdo1{load_le<std::uint16_t, 4>(&frame.data[0]),
                static_cast<std::int32_t>(load_le<std::uint32_t, 2>(&frame.data[2]))};
 }
-[[nodiscard]] constexpr Tpdo2 tpdo2_fields(const CanFrame& frame) noexcept {
+template <typename Frame>
+[[nodiscard]] constexpr Tpdo2 tpdo2_fields(const Frame& frame) noexcept {
   return Tpdo2{static_cast<std::int32_t>(load_le<std::uint32_t, 4>(&frame.data[0])),
                static_cast<std::int32_t>(load_le<std::uint32_t, 4>(&frame.data[4]))};
 }

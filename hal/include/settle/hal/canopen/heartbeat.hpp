@@ -65,7 +65,7 @@ class HeartbeatConsumer {
     seen_ = true;
     state_ = state;
     if (first) {
-      watchdog_.arm(std::uint64_t{timeout_ms_} * 1000U, now_us);
+      watchdog_.arm(timeout_us_, now_us);
     } else {
       watchdog_.feed(now_us);
     }
@@ -88,7 +88,9 @@ class HeartbeatConsumer {
 
  private:
   NodeId node_;
-  std::uint16_t timeout_ms_;
+  // 0x1016's timeout in microseconds, converted when configured (at most 65 535 000: 32 bits), not
+  // multiplied out in the tick that takes the first heartbeat (a 64-bit multiply on a Cortex-M0).
+  std::uint32_t timeout_us_;
   Watchdog watchdog_{};
   NmtState state_{NmtState::initialising};
   bool seen_{false};

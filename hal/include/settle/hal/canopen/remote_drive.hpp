@@ -306,27 +306,45 @@ class RemoteDrive {
 
   // Every received frame goes here; frames of other nodes are ignored. The drive's process data
   // (two frames every period) and its heartbeat are recognised inline by exact identifier and
-  // length and decoded in place; everything else is routed by its function code, out of line, so
-  // a frame costs one decoder, not a try of each.
+  // length and decoded in place (on_process_frame); everything else (on_other_frame) is routed by
+  // its function code, out of line, so a frame costs one decoder, not a try of each.
   RemoteFrame on_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept {
-    if (frame.flags == 0) {  // a classic data frame with a standard identifier
+    RemoteFrame what{RemoteFrame::ignored};
+    if (on_process_frame(frame, now_us, out, what)) return what;
+    return on_other_frame(frame, now_us, out);
+  }
+  // on_frame's inline part, on any frame type with CanFrame's id, flags, len and word-aligned data
+  // (a CanFrame; a controller's receive record read in place, hal::MailboxBus::Record): the default
+  // layout's two TPDOs and the heartbeat. True with what on_frame would return in `what`; false,
+  // nothing changed, for every other frame, which on_other_frame then takes.
+  template <typename Frame>
+  [[nodiscard]] bool on_process_frame(const Frame& frame, std::uint64_t now_us, FrameSink& out,
+                                      RemoteFrame& what) noexcept {
+    if (frame.flags != 0) return false;  // a classic data frame with a standard identifier
+    if (default_layout_) {
       if (frame.id == tpdo1_id_ && frame.len == tpdo1_len_) {
-        if (!default_layout_) return take_layout_tpdo(frame, status_pdo_, now_us);
         take_tpdo1(tpdo1_fields(frame), now_us);
-        return RemoteFrame::tpdo1;
+        what = RemoteFrame::tpdo1;
+        return true;
       }
       if (frame.id == tpdo2_id_ && frame.len == tpdo2_len_) {
-        if (!default_layout_) return take_layout_tpdo(frame, second_pdo_, now_us);
         const Tpdo2 p = tpdo2_fields(frame);
         feedback_.load_position = p.load_position;
         feedback_.velocity_actual = p.velocity_actual;
         ++feedback_.periods_complete;
-        return RemoteFrame::tpdo2;
+        what = RemoteFrame::tpdo2;
+        return true;
       }
-      if (frame.id == heartbeat_id_ && frame.len == 1) return on_heartbeat(frame.data[0], now_us, out);
     }
-    return on_service_frame(frame, now_us, out);
+    if (frame.id == heartbeat_id_ && frame.len == 1) {
+      what = on_heartbeat(frame.data[0], now_us, out);
+      return true;
+    }
+    return false;
   }
+  // Every frame on_process_frame leaves: another layout's TPDOs (by exact identifier and length,
+  // as on_process_frame takes the default layout's), SDO, EMCY, NMT.
+  RemoteFrame on_other_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept;
   // Timeouts (SDO, heartbeat, enabling) and the next configuration step (sent from here, in a
   // later tick than the response to the step before).
   void poll(std::uint64_t now_us, FrameSink& out) noexcept;
@@ -395,7 +413,6 @@ class RemoteDrive {
   // rpdo() in every state but ready.
   [[nodiscard]] bool enabling_rpdo(std::int32_t target_counts, CanFrame& out) noexcept;
   RemoteFrame on_heartbeat(std::uint8_t state_byte, std::uint64_t now_us, FrameSink& out) noexcept;
-  RemoteFrame on_service_frame(const CanFrame& frame, std::uint64_t now_us, FrameSink& out) noexcept;
   // Someone else's NMT command that takes this drive out of operational (the master sends none
   // while streaming): acted on when seen, not a heartbeat period or a feedback timeout later.
   RemoteFrame on_nmt_command(const CanFrame& frame) noexcept;
