@@ -14,6 +14,7 @@
 #include "settle/core/residual.hpp"
 #include "settle/core/shaper.hpp"
 #include "settle/core/small_solve.hpp"
+#include "fastest_scale.hpp"
 #include "numeric/complex.hpp"
 #include "numeric/levenberg_marquardt.hpp"
 
@@ -532,6 +533,19 @@ TableWalk walk_table(const FastestTable& p) noexcept {
 }  // namespace
 
 Peaks<double> jerk_table_peaks(const FastestTable& p) noexcept { return walk_table(p).pk; }
+
+FastestParams detail::scaled_fastest(const FastestParams& p, double k) noexcept {
+  FastestParams out = p;
+  out.curve.distance = k * p.curve.distance;
+  out.curve.amplitude = k * p.curve.amplitude;
+  out.table.distance = k * p.table.distance;
+  const std::size_t n = std::min(p.table.count, kFastestSegments);
+  for (std::size_t i = 0; i < n; ++i) {
+    out.table.accel0[i] = k * p.table.accel0[i];
+    out.table.jerk[i] = k * p.table.jerk[i];
+  }
+  return out;
+}
 
 namespace {
 

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <variant>
 
 #include "extrema.hpp"
+#include "fastest_scale.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/core/profiles/registry.hpp"
 
@@ -236,6 +238,19 @@ Status axis_command(const MultiAxisRequest& r, const MultiAxisPlan& plan, std::s
     out = Move<double>{};
     return Status::ok;
   }
+#if SETTLE_CORE_FASTEST
+  // `fastest`: the plan's unit path scaled by D_i, the same move on every axis to rounding. Planned
+  // at each axis's own scale, the bang-bang chain's refinement decides on ulp-level differences and
+  // the axes' commands agree only to about 1e-8 (a path halt could then not be planned once:
+  // path_change). The peaks are the plan's for the axis (the path's times |D_i|).
+  const Move<double>& path = plan.path();
+  if (const auto* f = std::get_if<Fastest<double>>(&path.profile().variant());
+      f != nullptr && path.profile().kind() == ProfileKind::fastest) {
+    out.assign<Fastest<double>>(ProfileKind::fastest, detail::scaled_fastest(f->params(), d), &path.shaper(),
+                                plan.peaks(axis));
+    return Status::ok;
+  }
+#endif
   std::array<Mode, kMaxAxes> modes{};
   std::size_t nm = 0, culprit = kMaxAxes;
   return plan_path(r, out, modes, nm, culprit, d);

@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <variant>
 #include <vector>
 
 #include "../support/path_halt_draw.hpp"
@@ -41,10 +42,11 @@ namespace {
 // The sweep's measured means (docs/online.md), rounded up in the third digit: rest time over the
 // time-optimal stop, and over that stop plus one ZV shaper's length (pi / omega_d) per design mode.
 #if SETTLE_HALT_CASES == 1000
-constexpr double kMeanOverStop = 4.380, kMeanOverStopAndShapers = 0.615;  // measured 4.379, 0.614
+constexpr double kMeanOverStop = 4.382, kMeanOverStopAndShapers = 0.615;  // measured 4.3815, 0.614
 // Path halts planned on each axis because their commands are not scaled copies to 1e-9, and of
-// those, how many came to rest apart (docs/multi_axis.md, "Halt and retarget").
-constexpr int kPathsAlone = 19, kPathsApart = 2;  // measured 19; 2 apart (draws 923, 957: 10.7, 8.61 ms)
+// those, how many came to rest apart (docs/multi_axis.md, "Halt and retarget"). 19 and 2 (draws
+// 923, 957: 10.7, 8.61 ms) while axis_command planned `fastest` again at each axis's scale.
+constexpr int kPathsAlone = 0, kPathsApart = 0;
 #elif SETTLE_HALT_CASES == 120
 constexpr double kMeanOverStop = 4.695, kMeanOverStopAndShapers = 0.643;  // measured 4.694, 0.642
 constexpr int kPathsAlone = 0, kPathsApart = 0;
@@ -312,6 +314,14 @@ bool three_axes(Gen& g, std::size_t k, std::array<Axis, 3>& ax, core::MultiAxisR
   return path_axes(r, p, ax);
 }
 
+// A soak draw's path of three modes: its plan and every axis's command, modes and limits.
+void plan_three_modes(const core::MultiAxisRequest& r, core::MultiAxisPlan& p, std::array<Axis, 3>& ax) {
+  std::size_t culprit = 0;
+  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
+  ASSERT_EQ(p.path_mode_count(), 3u);
+  ASSERT_TRUE(path_axes(r, p, ax));
+}
+
 double quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
   return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5)];
@@ -343,8 +353,9 @@ PathHalt check_path_halt(const std::array<Axis, 3>& ax, double t, const std::str
     EXPECT_EQ(s, Status::ok) << what;
     if (s != Status::ok) return out;
   } else {
-    // Not scaled copies to 1e-9 (a `fastest` move whose chain arc_refine minimised: its axes'
-    // commands, each planned at its own scale, agree only to about 1e-8): every axis alone.
+    // Not scaled copies to 1e-9: every axis alone, as the loop does (none in the soak since
+    // axis_command scales `fastest`'s path rather than planning it at each axis's scale, where
+    // the refined chains agreed only to about 1e-8).
     for (std::size_t i = 0; i < 3; ++i) {
       const Status s = core::plan_online(r[i], out.plan[i]);
       EXPECT_EQ(s, Status::ok) << what << " axis " << i;
@@ -453,11 +464,8 @@ TEST(Halt, EarlyHaltOfThreePathAxesNeitherOvershootsNorEndsLater) {
 TEST(Halt, PathHaltIsPlannedOnceAndEveryAxisRestsAtTheSameInstant) {
   const core::MultiAxisRequest r = settle::testing::draw_263();
   core::MultiAxisPlan p{};
-  std::size_t culprit = 0;
-  ASSERT_EQ(core::plan_axes(r, p, culprit), Status::ok);
-  ASSERT_EQ(p.path_mode_count(), 3u);
   std::array<Axis, 3> ax{};
-  ASSERT_TRUE(path_axes(r, p, ax));
+  ASSERT_NO_FATAL_FAILURE(plan_three_modes(r, p, ax));
   const double t = settle::testing::kDraw263HaltAt;
   Stats st{};
   const PathHalt h = check_path_halt(ax, t, "draw 263", st);
@@ -473,6 +481,52 @@ TEST(Halt, PathHaltIsPlannedOnceAndEveryAxisRestsAtTheSameInstant) {
       EXPECT_EQ(h.plan[i].blend.jerk(k), r.axes[i].distance / r.axes[0].distance * alone.blend.jerk(k)) << k;
     }
   }
+}
+
+// Soak draw 923: `fastest` on three path axes, a bang-bang chain the refinement minimises. Each
+// axis's command planned at its own scale, axis 0's was another chain, 10.7 ms shorter than the
+// path's, so a halt could not be planned once. Every axis's command is now the path scaled: axis
+// 0's times D_i / D_0, its switch times bit for bit.
+TEST(Halt, FastestPathAxesAreOneMoveScaledAndTheirHaltIsPlannedOnce) {
+  const core::MultiAxisRequest r = settle::testing::draw_923();
+  core::MultiAxisPlan p{};
+  std::array<Axis, 3> ax{};
+  ASSERT_NO_FATAL_FAILURE(plan_three_modes(r, p, ax));
+  const auto* f0 = std::get_if<core::Fastest<double>>(&ax[0].move.profile().variant());
+  ASSERT_NE(f0, nullptr);
+  EXPECT_EQ(f0->family(), core::FastestFamily::bang_bang);
+  for (std::size_t i = 1; i < 3; ++i) {
+    const double k = r.axes[i].distance / r.axes[0].distance, d = std::fabs(r.axes[i].distance);
+    const core::Move<double>& m = ax[i].move;
+    const auto* f = std::get_if<core::Fastest<double>>(&m.profile().variant());
+    ASSERT_NE(f, nullptr) << "axis " << i;
+    EXPECT_EQ(m.duration(), ax[0].move.duration()) << "axis " << i;
+    EXPECT_EQ(m.duration(), p.duration()) << "axis " << i;
+    ASSERT_EQ(m.shaper().count, ax[0].move.shaper().count) << "axis " << i;
+    for (std::size_t s = 0; s < m.shaper().count; ++s) {
+      EXPECT_EQ(m.shaper().time[s], ax[0].move.shaper().time[s]) << "axis " << i << " impulse " << s;
+      EXPECT_EQ(m.shaper().amp[s], ax[0].move.shaper().amp[s]) << "axis " << i << " impulse " << s;
+    }
+    ASSERT_EQ(f->piece_count(), f0->piece_count()) << "axis " << i;
+    for (int s = 0; s < f->piece_count(); ++s) {
+      const core::Piece a = f->piece(s), b = f0->piece(s);
+      EXPECT_EQ(a.start, b.start) << "axis " << i << " segment " << s;
+      EXPECT_EQ(a.length, b.length) << "axis " << i << " segment " << s;
+    }
+    double worst = 0.0;
+    for (int n = 0; n <= 2000; ++n) {
+      const double t = m.duration() * n / 2000.0;
+      worst = std::max(worst, std::fabs(m.at(t).p - k * ax[0].move.at(t).p));
+    }
+    EXPECT_LE(worst, 1e-15 * d) << "axis " << i;
+    EXPECT_EQ(m.peaks().v, p.peaks(i).v) << "axis " << i;
+  }
+  // A halt at the draw's time: one path's change (core::path_change), planned once.
+  Stats st{};
+  const PathHalt h = check_path_halt(ax, settle::testing::kDraw923HaltAt, "draw 923", st);
+  EXPECT_TRUE(h.once);
+  EXPECT_TRUE(h.together);
+  EXPECT_EQ(h.apart, 0.0);
 }
 
 // A halt of a move that leaves a mode ringing (no finish to fall back on) whose every blend passes

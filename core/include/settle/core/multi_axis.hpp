@@ -92,11 +92,11 @@ class MultiAxisPlan {
 // the shared path or request.
 [[nodiscard]] Status plan_axes(const MultiAxisRequest& req, MultiAxisPlan& out, std::size_t& culprit) noexcept;
 
-// Axis `axis`'s command as a move of its own, for a loop that streams each axis to its drive
-// (`settle stream --axes`). Time sync: plan.axis_move(axis). Path sync: D_i s(t) planned as the path
-// is, at distance D_i under the path limits times |D_i| with the same modes and shapers: equal to
-// plan.at(axis, t) to rounding, of the path's duration (every axis ends on the same tick). An axis
-// that does not move gets the empty move. `req` is the request `plan` was planned from.
+// Axis `axis`'s command as a move of its own, for a loop that streams each axis (`settle stream --axes`).
+// Time sync: plan.axis_move(axis). Path sync: D_i s(t), planned as the path is at distance D_i under the
+// path limits times |D_i| with the same modes and shapers; `fastest`: the plan's path scaled by D_i (planned
+// at each scale, its refined chains agree only to ~1e-8). Equal to plan.at(axis, t) to rounding, of the path's
+// duration (every axis ends on the same tick); an axis at rest gets the empty move. `req`: `plan`'s request.
 [[nodiscard]] Status axis_command(const MultiAxisRequest& req, const MultiAxisPlan& plan, std::size_t axis,
                                   Move<double>& out) noexcept;
 
