@@ -7,6 +7,7 @@
 
 #include "extrema.hpp"
 #include "fastest_scale.hpp"
+#include "settle/core/limits.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/core/profiles/registry.hpp"
 
@@ -308,8 +309,9 @@ bool path_change(const OnlineRequest* const* requests, const double* distance, s
     for (std::size_t m = 0; same && m < q.mode_count; ++m) {
       same = q.modes[m].omega == r.modes[m].omega && q.modes[m].zeta == r.modes[m].zeta;
     }
-    same = same && ak * r.limits.vmax <= q.limits.vmax * (1.0 + 1e-9) &&
-           ak * r.limits.amax <= q.limits.amax * (1.0 + 1e-9) && ak * r.limits.jmax <= q.limits.jmax * (1.0 + 1e-9);
+    same = same && ak * r.limits.vmax <= q.limits.vmax * (1.0 + kLimitSlack) &&
+           ak * r.limits.amax <= q.limits.amax * (1.0 + kLimitSlack) &&
+           ak * r.limits.jmax <= q.limits.jmax * (1.0 + kLimitSlack);
     same = same && scaled_copy(q.start.p, r.start.p, k, d) && scaled_copy(q.start.v, r.start.v, k, q.limits.vmax) &&
            scaled_copy(q.start.a, r.start.a, k, q.limits.amax);
     // On the line: target_i = lambda D_i, to rounding.
