@@ -91,6 +91,14 @@ std::vector<GridCase> read_grid() {
   return out;
 }
 
+// The cases this build runs: 30 spread evenly over the file, or (soak) all of them.
+std::vector<GridCase> cases_run(const std::vector<GridCase>& grid) {
+  const std::size_t runs = SETTLE_FASTEST_GRID_EVERY == 1 ? grid.size() : std::min<std::size_t>(30, grid.size());
+  std::vector<GridCase> out;
+  for (std::size_t n = 0; n < runs; ++n) out.push_back(grid[n * grid.size() / runs]);
+  return out;
+}
+
 core::MoveRequest grid_request(const GridCase& c) {
   core::MoveRequest r{};
   r.profile = core::ProfileKind::fastest;
@@ -139,9 +147,7 @@ TEST(FastestGrid, PlannedMovesAreMovesAndTheirDurationsAgainstTheReferenceAreAsD
   int by_modes[4][2] = {};  // [modes][0]: with a reference; [1]: within 0.1 % of it
   double worst = 0.0, worst_plan_ms = 0.0;
   std::vector<double> ratios;
-  const std::size_t runs = SETTLE_FASTEST_GRID_EVERY == 1 ? grid.size() : std::min<std::size_t>(30, grid.size());
-  for (std::size_t n = 0; n < runs; ++n) {  // 30 cases spread evenly over the file, or all of them
-    const GridCase& c = grid[n * grid.size() / runs];
+  for (const GridCase& c : cases_run(grid)) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
     const core::MoveRequest r = grid_request(c);
     core::Move<double> m{};
@@ -192,11 +198,9 @@ TEST(FastestGrid, PlannedMovesAreMovesAndTheirDurationsAgainstTheReferenceAreAsD
 TEST(FastestGrid, ScaledProblemsPlanAsLongAsTheOriginalsUpToTheMeasuredCount) {
   const std::vector<GridCase> grid = read_grid();
   ASSERT_FALSE(grid.empty());
-  const std::size_t runs = SETTLE_FASTEST_GRID_EVERY == 1 ? grid.size() : std::min<std::size_t>(30, grid.size());
   int compared = 0, off_1e9 = 0, off_1e3 = 0;
   double worst = 0.0;
-  for (std::size_t n = 0; n < runs; ++n) {
-    const GridCase& c = grid[n * grid.size() / runs];
+  for (const GridCase& c : cases_run(grid)) {
     const core::MoveRequest r = grid_request(c);
     core::Move<double> m{};
     if (core::plan(r, m) != core::Status::ok) continue;
