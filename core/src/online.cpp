@@ -68,24 +68,33 @@ Brake velocity_stop(double v0, double a0, double amax, double jmax) noexcept {
 
 // A brake's jerk averaged over each blend segment of length h (zero past its end): its
 // acceleration at every segment boundary is the brake's own.
+// Only the segments that can overlap a phase are visited: those before it end at or before its
+// start (s1 <= t0: no overlap), and once a segment starts at or after its end (s0 >= t1) so do the
+// later ones. The next phase starts two segments before where this one stopped (a segment's
+// s0 + h and the next one's s0 may differ by a rounding); a NaN end visits every segment, as before.
 void sample_brake(const Brake& b, double h, std::array<double, kBlendSegments>& out) noexcept {
   out = {};
   double t0 = 0.0;
+  std::size_t first = 0;
   for (std::size_t i = 0; i < 3; ++i) {
     const double t1 = t0 + b.dur[i];
-    for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    std::size_t k = first;
+    for (; k < kBlendSegments; ++k) {
       const double s0 = static_cast<double>(k) * h, s1 = s0 + h;
+      if (s0 >= t1) break;
       const double overlap = std::min(s1, t1) - std::max(s0, t0);
       if (overlap > 0.0) out[k] += b.jerk[i] * overlap / h;
     }
+    if (k < kBlendSegments && k > first + 2) first = k - 2;
     t0 = t1;
   }
 }
 
 // The end conditions of a blend of duration T, linear in its jerks: mat j = rhs.
+// build_system sets rows [0, rows) of mat and rhs, all a solve reads: they are not zeroed first.
 struct System {
-  std::array<std::array<double, kBlendSegments>, kMaxRows> mat{};
-  std::array<double, kMaxRows> rhs{};
+  std::array<std::array<double, kBlendSegments>, kMaxRows> mat;  // NOLINT
+  std::array<double, kMaxRows> rhs;                              // NOLINT
   std::size_t rows{0};
 };
 
@@ -177,41 +186,77 @@ void cholesky_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& 
   }
 }
 
+using Rows = std::array<std::array<double, kBlendSegments>, kMaxRows>;
+
+// out_i = sum_k m_ik v_k for rows [0, rows), each sum over k in order; two rows at a time (two
+// independent sums share the loads of v and overlap their additions).
+void row_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSegments>& v,
+              std::array<double, kMaxRows>& out) noexcept {
+  std::size_t i = 0;
+  for (; i + 1 < rows; i += 2) {
+    double s0 = 0.0, s1 = 0.0;
+    for (std::size_t k = 0; k < kBlendSegments; ++k) {
+      s0 += m[i][k] * v[k];
+      s1 += m[i + 1][k] * v[k];
+    }
+    out[i] = s0;
+    out[i + 1] = s1;
+  }
+  if (i < rows) {
+    double s0 = 0.0;
+    for (std::size_t k = 0; k < kBlendSegments; ++k) s0 += m[i][k] * v[k];
+    out[i] = s0;
+  }
+}
+
 // The blend's jerks j = j_ref + dj, dj of least weighted norm sum dj_k^2 / w_k (sw = sqrt(w)),
 // meeting the system. Then, up to `pins` times, every jerk beyond +-jmax is pinned to it (taken
 // out of the unknowns, its share moved to the right side) and the rest solved again: a few such
 // passes turn the smooth least-norm correction towards the bang-bang jerk a short blend needs. The
 // Gram matrix is downdated, not rebuilt. False when the system is singular to working precision
 // or the solution misses it.
+//
+// Every sum is taken in the order it always was (over k for a row's products, over i for a
+// column's), so that the result is the same to the bit: loops run over the other index inside
+// only where that keeps each sum's own order (several sums advance together), and the velocity
+// peaks are checked as Blend::peaks finds them (blend_within). With unit weights
+// (`unit`: every sw_k is 1, then 1 or 0 once pinned) the products by sw_k are exact and skipped:
+// x sw sw = x sw = x for sw = 1, and x sw sw = x sw for sw = 0.
 bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::array<double, kBlendSegments> sw,
-               double jmax, int pins, Solved& out) noexcept {
+               bool has_ref, bool unit, double jmax, int pins, Solved& out) noexcept {
   constexpr std::size_t n = kBlendSegments;
   const std::size_t rows = sys.rows;
   // Only the system's rows are copied (each solve scales its own).
-  std::array<std::array<double, n>, kMaxRows> mat;  // NOLINT: rows [0, rows) are set here
-  std::array<double, kMaxRows> rhs{};
+  Rows mat;  // NOLINT: rows [0, rows) are set here
+  for (std::size_t i = 0; i < rows; ++i) mat[i] = sys.mat[i];
   // The reference's share of each condition is known: the unknowns are the deviation from it.
-  for (std::size_t i = 0; i < rows; ++i) {
-    mat[i] = sys.mat[i];
-    double s = 0.0;
-    for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * ref[k];
-    rhs[i] = sys.rhs[i] - s;
-  }
+  // (Without a reference, the share is +0 and the right side the system's own, to the bit.)
+  std::array<double, kMaxRows> rhs{};
+  if (has_ref) row_dots(mat, rows, ref, rhs);
+  for (std::size_t i = 0; i < rows; ++i) rhs[i] = sys.rhs[i] - rhs[i];
   // Unknowns x_k = dj_k / sqrt(w_k): the weighted problem becomes a minimum-norm one. Then rows to
   // unit length, so that the Gram matrix is as well conditioned as the geometry allows.
   for (std::size_t i = 0; i < rows; ++i) {
     double nn = 0.0;
-    for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k] * sw[k] * sw[k];
+    if (unit) {
+      for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k];
+    } else {
+      for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k] * sw[k] * sw[k];
+    }
     nn = std::sqrt(nn);
     if (!(nn > 0.0) || !std::isfinite(nn)) return false;
     for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;  // unweighted column, row-scaled
     rhs[i] /= nn;
   }
-  Gram gram{};
+  Gram gram;  // NOLINT: [0, rows)^2 is set here
   for (std::size_t i = 0; i < rows; ++i) {
     for (std::size_t l = 0; l <= i; ++l) {
       double s = 0.0;
-      for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k] * sw[k] * sw[k];
+      if (unit) {
+        for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k];
+      } else {
+        for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k] * sw[k] * sw[k];
+      }
       gram[i][l] = gram[l][i] = s;
     }
   }
@@ -223,32 +268,47 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     for (std::size_t i = 0; i < rows; ++i) rhs_norm = std::max(rhs_norm, std::fabs(rhs[i]));
     // Minimum norm: x = W M^T (M W M^T)^{-1} b, then one step of iterative refinement with the
     // same factor.
-    Gram chol{};
+    Gram chol;  // NOLINT: cholesky sets the lower triangle it reads
     if (!cholesky(gram, rows, chol)) return false;
     for (int pass = 0; pass < 2; ++pass) {
       std::array<double, kMaxRows> y = res;
       cholesky_solve(chol, rows, y);
-      for (std::size_t k = 0; k < n; ++k) {
-        double s = 0.0;
-        for (std::size_t i = 0; i < rows; ++i) s += mat[i][k] * y[i];
-        x[k] += s * sw[k] * sw[k];
-      }
-      double worst = 0.0, xn = 0.0;
-      for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) / (sw[k] > 0.0 ? sw[k] : 1.0));
+      // Column k's sum over i, for every k at once.
+      std::array<double, n> s{};
       for (std::size_t i = 0; i < rows; ++i) {
-        double s = 0.0;
-        for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * x[k];
-        res[i] = rhs[i] - s;
+        const double yi = y[i];
+        for (std::size_t k = 0; k < n; ++k) s[k] += mat[i][k] * yi;
+      }
+      if (unit) {
+        for (std::size_t k = 0; k < n; ++k) x[k] += s[k] * sw[k];
+      } else {
+        for (std::size_t k = 0; k < n; ++k) x[k] += s[k] * sw[k] * sw[k];
+      }
+      double worst = 0.0;
+      row_dots(mat, rows, x, res);
+      for (std::size_t i = 0; i < rows; ++i) {
+        res[i] = rhs[i] - res[i];
         worst = std::max(worst, std::fabs(res[i]));
       }
-      if (pass == 1 && worst > 1e-12 * std::max(rhs_norm, xn)) return false;
+      if (pass == 1) {
+        double xn = 0.0;
+        if (unit) {
+          for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]));
+        } else {
+          for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) / (sw[k] > 0.0 ? sw[k] : 1.0));
+        }
+        if (worst > 1e-12 * std::max(rhs_norm, xn)) return false;
+      }
     }
     bool pinned = false;
     double jpk = 0.0;
-    for (std::size_t k = 0; k < n; ++k) jpk = std::fmax(jpk, std::fabs(ref[k] + x[k]));
-    if (jpk > kPinOvershoot * jmax) pins = pin;
+    // std::max, not fmax: the same for these (never -0, a NaN second argument ignored), and inline.
     for (std::size_t k = 0; k < n; ++k) {
       jerk[k] = ref[k] + x[k];
+      jpk = std::max(jpk, std::fabs(jerk[k]));
+    }
+    if (jpk > kPinOvershoot * jmax) pins = pin;
+    for (std::size_t k = 0; k < n; ++k) {
       if (!std::isfinite(jerk[k])) return false;
       if (pin < pins && sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
         // Pin j_k to the limit: its share of every condition goes to the right side, its column
@@ -256,7 +316,11 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
         const double to = std::copysign(jmax, jerk[k]);
         for (std::size_t i = 0; i < rows; ++i) {
           rhs[i] -= mat[i][k] * (to - ref[k]);
-          for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
+          if (unit) {
+            for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k];
+          } else {
+            for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
+          }
         }
         ref[k] = to;
         sw[k] = 0.0;
@@ -426,6 +490,30 @@ void duration_bounds(const OnlineRequest& r, double& lower, double& guess) noexc
   if (!(guess > lower)) guess = lower > 0.0 ? 1.25 * lower : 1e-3;
 }
 
+// Whether the blend from `start` with these jerks on segments of length h stays within the limits:
+// within_limits(Blend{start, h, jerk}.peaks(), l), the same to the bit (the same recurrences for v
+// and a, the same velocity extremum inside a segment, the same bounds; a NaN is passed over as
+// peaks' max passes it over), without the positions and stopping at the first excess.
+bool blend_within(const Sample<double>& start, double h, const std::array<double, kBlendSegments>& jerk,
+                  const OnlineLimits& l) noexcept {
+  const double vb = l.vmax * (1.0 + kLimitSlack), ab = l.amax * (1.0 + kLimitSlack),
+               jb = l.jmax * (1.0 + kLimitSlack);
+  double v = start.v, a = start.a;
+  if (std::fabs(v) > vb || std::fabs(a) > ab) return false;
+  for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    const double j = jerk[k];
+    if (std::fabs(j) > jb) return false;
+    if (j != 0.0) {
+      const double w = -a / j;
+      if (w > 0.0 && w < h && std::fabs(v + w * (a + w * j / 2.0)) > vb) return false;
+    }
+    v = v + h * (a + h * j / 2.0);
+    a = a + h * j;
+    if (std::fabs(v) > vb || std::fabs(a) > ab) return false;
+  }
+  return true;
+}
+
 // The five blends tried at each duration (listed in the constructor), and the one that worked last.
 struct BlendFamily {
   const OnlineRequest* r{nullptr};
@@ -466,16 +554,15 @@ constexpr int kPinPasses = 6;
 
 bool BlendFamily::feasible(double t, Solved& sol) noexcept {
   const OnlineLimits& l = r->limits;
-  const std::array<double, kBlendSegments> none{};
+  static constexpr std::array<double, kBlendSegments> none{};
   const double h = t / static_cast<double>(kBlendSegments);
-  System sys{};
+  System sys;
   build_system(*r, t, sys);
   std::array<double, kBlendSegments> ref{}, w{};
   // The blend that worked last is tried first: neighbouring durations usually agree.
   for (int i = 0; i < tries; ++i) {
     const int c = (i + last) % kBlendKinds;
-    const bool braking = c == 0 || c == 1 || c == 4;
-    if (braking) ref = {};
+    const bool braking = c == 0 || c == 1 || c == 4;  // (sample_brake sets all of ref)
     if (c == 0 || c == 4) {
       sample_brake(c == 0 ? full : sharp, h, ref);
       for (std::size_t k = 0; k < kBlendSegments; ++k) w[k] = 1.0 - std::fabs(ref[k]) / l.jmax;
@@ -484,11 +571,12 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
     }
     Solved s{};
     const int pins = tries > 1 ? 0 : kPinPasses;
-    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, l.jmax, pins, s)) {
+    const bool unit = c == 1 || c == 2;
+    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, braking, unit, l.jmax,
+                   pins, s)) {
       continue;
     }
-    const Blend b{r->start, h, s.jerk};
-    if (!within_limits(b.peaks(), l)) continue;
+    if (!blend_within(r->start, h, s.jerk, l)) continue;
     sol = s;
     last = c;
     return true;
