@@ -25,9 +25,7 @@ constexpr std::uint8_t bit_last = 0x01;
 
 [[nodiscard]] CanFrame sdo_frame(std::uint32_t id, std::uint8_t command, std::uint16_t index, std::uint8_t sub,
                                  std::uint32_t payload) noexcept {
-  CanFrame f{};
-  f.id = id;
-  f.len = 8;  // SDO frames are always eight bytes; unused bytes stay zero
+  CanFrame f = classic_frame(id, 8);  // SDO frames are always eight bytes; unused bytes stay zero
   f.data[0] = command;
   put_u16(&f.data[1], index);
   f.data[3] = sub;
@@ -39,9 +37,7 @@ constexpr std::uint8_t bit_last = 0x01;
 [[nodiscard]] CanFrame segment_frame(std::uint32_t id, std::uint8_t cs, bool toggle,
                                      std::span<const std::uint8_t> data, bool last) noexcept {
   const std::size_t count = data.size() < sdo_segment_bytes ? data.size() : sdo_segment_bytes;
-  CanFrame f{};
-  f.id = id;
-  f.len = 8;
+  CanFrame f = classic_frame(id, 8);
   const auto unused = static_cast<std::uint8_t>(sdo_segment_bytes - count);
   f.data[0] = static_cast<std::uint8_t>((static_cast<unsigned>(cs) << 5U) | (toggle ? bit_toggle : 0U) |
                                         (static_cast<unsigned>(unused) << 1U) | (last ? bit_last : 0U));
