@@ -518,9 +518,12 @@ void SdoClient::take_upload_initiate(const SdoMessage& m, std::uint64_t now_us, 
     for (std::size_t i = 0; i < count; ++i) {
       target[i] = bytes[i];
     }
+    // upload_done() without reading the bytes back: they are m.value's low `count` bytes.
     offset_ = count;
-    upload_done();
+    result_.length = count;
+    result_.value = m.value & size_mask(count);
     result_.size = m.size;
+    finish(SdoClientStatus::done, SdoAbort::none, 0);
     return;
   }
   if (m.size_indicated && m.total > target.size()) {
