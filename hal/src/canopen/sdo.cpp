@@ -513,10 +513,12 @@ void SdoClient::take_upload_initiate(const SdoMessage& m, std::uint64_t now_us, 
       abort_transfer(SdoAbort::length_too_high, out);
       return;
     }
-    std::uint8_t bytes[4]{};
-    put_u32(bytes, m.value);
-    for (std::size_t i = 0; i < count; ++i) {
-      target[i] = bytes[i];
+    if (!into_word_) {  // upload_bytes(): the caller's bytes; upload(): the value is all it gives
+      std::uint8_t bytes[4]{};
+      put_u32(bytes, m.value);
+      for (std::size_t i = 0; i < count; ++i) {
+        target[i] = bytes[i];
+      }
     }
     // upload_done() without reading the bytes back: they are m.value's low `count` bytes.
     offset_ = count;
