@@ -203,7 +203,9 @@ TEST(SdoAbortMeaning, EveryStandardCodeHasOne) {
   EXPECT_STREQ(abort_meaning(0x0602'0000), "object does not exist in the object dictionary");
   for (const std::uint32_t code : {0u, 0x12345678u, 0x05040006u, 0x0609'0037u, 0xFFFF'FFFFu}) {
     EXPECT_STREQ(abort_meaning(code), "unknown abort code") << std::hex << code;
+    EXPECT_FALSE(is_known_abort(code)) << std::hex << code;
   }
+  static_assert(is_known_abort(0x0504'0000) && !is_known_abort(0x0504'0006), "usable in constant expressions");
 }
 
 }  // namespace
