@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <gtest/gtest.h>
 
+#include <array>
+#include <new>
+
 #include "frame_helpers.hpp"
 #include "settle/hal/can_frame.hpp"
 
@@ -63,6 +66,34 @@ TEST(CanFrame, RemoteFrameCarriesNoPayload) {
   f.data[0] = 9;
   EXPECT_TRUE(f.payload().empty());
   EXPECT_TRUE(is_valid(f));
+}
+
+// `CanFrame f{}` (every aggregate initialization) still clears all 64 payload bytes; only
+// `CanFrame f;` leaves them to the writer (classic_frame).
+TEST(CanFrame, ValueInitializationClearsTheWholePayload) {
+  alignas(CanFrame) std::array<unsigned char, sizeof(CanFrame)> storage{};
+  storage.fill(0xA5);
+  const CanFrame* f = new (storage.data()) CanFrame{};
+  EXPECT_EQ(f->id, 0U);
+  EXPECT_EQ(f->flags, 0);
+  EXPECT_EQ(f->len, 0);
+  EXPECT_EQ(f->timestamp_us, 0U);
+  for (const auto b : f->data) EXPECT_EQ(b, 0);
+}
+
+// classic_frame() does not clear the 56 bytes only an FD frame carries, but it writes the whole
+// classic frame, whatever the storage held before: id, no flags, len, no timestamp, eight zeros.
+TEST(CanFrame, ClassicFrameWritesTheWholeClassicFrameOverAnyStorage) {
+  alignas(CanFrame) std::array<unsigned char, sizeof(CanFrame)> storage{};
+  storage.fill(0xA5);
+  const CanFrame* f = new (storage.data()) CanFrame(classic_frame(0x601, 8));
+  EXPECT_EQ(f->id, 0x601U);
+  EXPECT_EQ(f->flags, 0);
+  EXPECT_EQ(f->len, 8);
+  EXPECT_EQ(f->timestamp_us, 0U);
+  for (std::size_t i = 0; i < can_classic_max_len; ++i) EXPECT_EQ(f->data[i], 0) << "byte " << i;
+  EXPECT_TRUE(is_valid(*f));
+  EXPECT_EQ(*f, test::frame(0x601, {0, 0, 0, 0, 0, 0, 0, 0}));
 }
 
 TEST(CanFrame, MakeFrameSwitchesToFdAboveEightBytes) {

@@ -45,6 +45,42 @@ TEST_F(SdoClientTest, UploadReturnsTheValueAndSize) {
   EXPECT_EQ(client.result().size, 4);
 }
 
+// An expedited answer's value is its low `size` bytes (the rest of the frame may hold anything),
+// into an integer (upload) as into the caller's bytes (upload_bytes).
+TEST(SdoClientExpedited, TheValueIsTheIndicatedBytesOnly) {
+  struct Case {
+    std::uint8_t command;  // scs 2, n, e = 1, s
+    std::uint32_t value;
+    std::uint8_t size;
+    std::uint32_t length;
+  };
+  const Case cases[] = {{0x4F, 0x08, 1, 1}, {0x4B, 0x3412, 2, 2}, {0x47, 0x563412, 3, 3},
+                        {0x43, 0xCC563412, 4, 4}, {0x42, 0xCC563412, 0, 4}};
+  for (const Case& c : cases) {
+    FrameBuffer<4> out;
+    const CanFrame answer = test::frame(0x583, {c.command, 0x60, 0x60, 0x00, c.value == 8 ? std::uint8_t{8} : std::uint8_t{0x12},
+                                                0x34, 0x56, 0xCC});
+    SdoClient client{3, 50'000};
+    ASSERT_TRUE(client.upload(0x6060, 0, 0, out));
+    ASSERT_TRUE(client.on_frame(answer, 0, out));
+    ASSERT_EQ(client.status(), SdoClientStatus::done) << int{c.command};
+    EXPECT_EQ(client.result().value, c.value) << int{c.command};
+    EXPECT_EQ(client.result().size, c.size) << int{c.command};
+    EXPECT_EQ(client.result().length, c.length) << int{c.command};
+
+    std::array<std::uint8_t, 8> buffer{};
+    SdoClient bytes_client{3, 50'000};
+    ASSERT_TRUE(bytes_client.upload_bytes(0x6060, 0, buffer, 0, out));
+    ASSERT_TRUE(bytes_client.on_frame(answer, 0, out));
+    ASSERT_EQ(bytes_client.status(), SdoClientStatus::done) << int{c.command};
+    EXPECT_EQ(bytes_client.result().value, c.value) << int{c.command};
+    EXPECT_EQ(bytes_client.result().length, c.length) << int{c.command};
+    for (std::size_t i = 0; i < buffer.size(); ++i) {
+      EXPECT_EQ(buffer[i], i < c.length ? answer.data[4 + i] : 0) << int{c.command} << " byte " << i;
+    }
+  }
+}
+
 TEST_F(SdoClientTest, DownloadChangesTheDrivesObject) {
   ASSERT_TRUE(client.download(0x1017, 0, 250, 2, 0, master_bus));
   exchange(0);
@@ -167,7 +203,9 @@ TEST(SdoAbortMeaning, EveryStandardCodeHasOne) {
   EXPECT_STREQ(abort_meaning(0x0602'0000), "object does not exist in the object dictionary");
   for (const std::uint32_t code : {0u, 0x12345678u, 0x05040006u, 0x0609'0037u, 0xFFFF'FFFFu}) {
     EXPECT_STREQ(abort_meaning(code), "unknown abort code") << std::hex << code;
+    EXPECT_FALSE(is_known_abort(code)) << std::hex << code;
   }
+  static_assert(is_known_abort(0x0504'0000) && !is_known_abort(0x0504'0006), "usable in constant expressions");
 }
 
 }  // namespace

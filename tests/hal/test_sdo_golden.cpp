@@ -3,10 +3,13 @@
 // answers, including the standard abort codes.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <new>
 #include <vector>
 
 #include "frame_helpers.hpp"
 #include "settle/hal/canopen/drive_node.hpp"
+#include "settle/hal/canopen/nmt.hpp"
 #include "settle/hal/canopen/sdo.hpp"
 
 namespace settle::hal::canopen {
@@ -30,6 +33,29 @@ TEST(SdoGoldenFrames, ClientRequestsHaveTheStandardCommandBytes) {
       << "expedited without size indication";
   EXPECT_EQ(test::bytes_of(encode_sdo_abort(5, true, 0x1000, 0, SdoAbort::timeout)),
             (Bytes{0x80, 0x00, 0x10, 0x00, 0x00, 0x00, 0x04, 0x05}));
+}
+
+// The encoders build their frames without clearing the bytes only FD frames carry
+// (classic_frame): the unused bytes of an SDO frame still go out as zeros, and an NMT command
+// is two bytes, whatever the memory the frame is built in held before.
+TEST(SdoGoldenFrames, UnusedBytesAreZeroWhateverTheStorageHeld) {
+  alignas(CanFrame) std::array<unsigned char, sizeof(CanFrame)> storage{};
+  storage.fill(0xA5);
+  const CanFrame* f = new (storage.data()) CanFrame(encode_sdo_upload_request(5, 0x1000, 0));
+  EXPECT_EQ(test::bytes_of(*f), (Bytes{0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0}));
+  EXPECT_EQ(f->flags, 0);
+  EXPECT_EQ(f->timestamp_us, 0U);
+  storage.fill(0xA5);
+  f = new (storage.data()) CanFrame(encode_sdo_download_request(5, 0x6060, 0, 8, 1));
+  EXPECT_EQ(test::bytes_of(*f), (Bytes{0x2F, 0x60, 0x60, 0x00, 0x08, 0, 0, 0}));
+  storage.fill(0xA5);
+  f = new (storage.data()) CanFrame(encode_sdo_upload_segment_request(5, true));
+  EXPECT_EQ(test::bytes_of(*f), (Bytes{0x70, 0, 0, 0, 0, 0, 0, 0}));
+  storage.fill(0xA5);
+  f = new (storage.data()) CanFrame(encode_nmt(NmtCommand::enter_pre_operational, 5));
+  EXPECT_EQ(f->id, 0U);
+  EXPECT_EQ(f->flags, 0);
+  EXPECT_EQ(test::bytes_of(*f), (Bytes{0x80, 0x05}));
 }
 
 class SdoServerGolden : public ::testing::Test {

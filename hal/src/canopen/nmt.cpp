@@ -6,9 +6,7 @@
 namespace settle::hal::canopen {
 
 CanFrame encode_nmt(NmtCommand command, NodeId node) noexcept {
-  CanFrame f{};
-  f.id = cob::nmt;
-  f.len = 2;
+  CanFrame f = classic_frame(cob::nmt, 2);
   f.data[0] = static_cast<std::uint8_t>(command);
   f.data[1] = node;
   return f;

@@ -25,9 +25,7 @@ constexpr std::uint8_t bit_last = 0x01;
 
 [[nodiscard]] CanFrame sdo_frame(std::uint32_t id, std::uint8_t command, std::uint16_t index, std::uint8_t sub,
                                  std::uint32_t payload) noexcept {
-  CanFrame f{};
-  f.id = id;
-  f.len = 8;  // SDO frames are always eight bytes; unused bytes stay zero
+  CanFrame f = classic_frame(id, 8);  // SDO frames are always eight bytes; unused bytes stay zero
   f.data[0] = command;
   put_u16(&f.data[1], index);
   f.data[3] = sub;
@@ -39,9 +37,7 @@ constexpr std::uint8_t bit_last = 0x01;
 [[nodiscard]] CanFrame segment_frame(std::uint32_t id, std::uint8_t cs, bool toggle,
                                      std::span<const std::uint8_t> data, bool last) noexcept {
   const std::size_t count = data.size() < sdo_segment_bytes ? data.size() : sdo_segment_bytes;
-  CanFrame f{};
-  f.id = id;
-  f.len = 8;
+  CanFrame f = classic_frame(id, 8);
   const auto unused = static_cast<std::uint8_t>(sdo_segment_bytes - count);
   f.data[0] = static_cast<std::uint8_t>((static_cast<unsigned>(cs) << 5U) | (toggle ? bit_toggle : 0U) |
                                         (static_cast<unsigned>(unused) << 1U) | (last ? bit_last : 0U));
@@ -517,14 +513,19 @@ void SdoClient::take_upload_initiate(const SdoMessage& m, std::uint64_t now_us, 
       abort_transfer(SdoAbort::length_too_high, out);
       return;
     }
-    std::uint8_t bytes[4]{};
-    put_u32(bytes, m.value);
-    for (std::size_t i = 0; i < count; ++i) {
-      target[i] = bytes[i];
+    if (!into_word_) {  // upload_bytes(): the caller's bytes; upload(): the value is all it gives
+      std::uint8_t bytes[4]{};
+      put_u32(bytes, m.value);
+      for (std::size_t i = 0; i < count; ++i) {
+        target[i] = bytes[i];
+      }
     }
+    // upload_done() without reading the bytes back: they are m.value's low `count` bytes.
     offset_ = count;
-    upload_done();
+    result_.length = count;
+    result_.value = m.value & size_mask(count);
     result_.size = m.size;
+    finish(SdoClientStatus::done, SdoAbort::none, 0);
     return;
   }
   if (m.size_indicated && m.total > target.size()) {

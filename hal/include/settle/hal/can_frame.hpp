@@ -34,7 +34,10 @@ struct CanFrame {
   std::uint8_t len{0};
   // Word-aligned (the frame's size is the same, 80 bytes): a driver moves a classic payload as two
   // 32-bit words, which a Cortex-M0 can only do on aligned addresses.
-  alignas(4) std::array<std::uint8_t, can_fd_max_len> data{};
+  // No default member initializer: `CanFrame f{}` (and every aggregate initialization) zeroes it,
+  // `CanFrame f;` leaves it indeterminate, for classic_frame(), which writes only the eight bytes a
+  // classic frame carries (zeroing all 64 was ~70 instructions per frame built on a Cortex-M0).
+  alignas(4) std::array<std::uint8_t, can_fd_max_len> data;
   // Receive time in microseconds on the backend's clock; 0 when the backend has none.
   // Not part of the frame's identity: operator== ignores it.
   std::uint64_t timestamp_us{0};
@@ -61,6 +64,19 @@ struct CanFrame {
     }
   }
   return true;
+}
+
+// A classic data frame with a standard id and `len` bytes (at most 8), all eight classic payload
+// bytes zero for the encoder to fill; the bytes only an FD frame carries are left unwritten (they
+// are beyond len: not part of the frame, operator==). Not for FD frames: make_frame.
+[[nodiscard]] inline CanFrame classic_frame(std::uint32_t id, std::uint8_t len) noexcept {
+  CanFrame f;  // id, flags, len and timestamp_us from their initializers; data as below
+  f.id = id;
+  f.len = len;
+  for (std::size_t i = 0; i < can_classic_max_len; ++i) {
+    f.data[i] = 0;
+  }
+  return f;
 }
 
 // Payload lengths an FD frame can carry (DLC 9..15 map to 12..64 bytes).

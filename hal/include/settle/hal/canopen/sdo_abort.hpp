@@ -3,6 +3,7 @@
 // these directly, so the SDO server can put the reason on the wire without translating.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 namespace settle::hal::canopen {
@@ -42,42 +43,24 @@ enum class SdoAbort : std::uint32_t {
   no_data = 0x0800'0024,
 };
 
+// Every standard code (CiA 301 table 22). is_known_abort searches it: a 31-case switch took
+// 176 B of the Cortex-M4F's one-axis image (servo_size), the table and its loop 36 B less.
+inline constexpr std::array<SdoAbort, 31> standard_aborts{
+    SdoAbort::toggle_bit, SdoAbort::timeout, SdoAbort::unknown_command, SdoAbort::invalid_block_size,
+    SdoAbort::invalid_sequence, SdoAbort::crc_error, SdoAbort::out_of_memory, SdoAbort::unsupported_access,
+    SdoAbort::write_only, SdoAbort::read_only, SdoAbort::no_object, SdoAbort::not_mappable,
+    SdoAbort::pdo_too_long, SdoAbort::parameter_incompatible, SdoAbort::internal_incompatible,
+    SdoAbort::hardware_error, SdoAbort::length_mismatch, SdoAbort::length_too_high, SdoAbort::length_too_low,
+    SdoAbort::no_sub_index, SdoAbort::invalid_value, SdoAbort::value_too_high, SdoAbort::value_too_low,
+    SdoAbort::max_below_min, SdoAbort::no_resource, SdoAbort::general_error, SdoAbort::cannot_store,
+    SdoAbort::cannot_store_local_control, SdoAbort::cannot_store_device_state, SdoAbort::no_dictionary,
+    SdoAbort::no_data};
+
 [[nodiscard]] constexpr bool is_known_abort(std::uint32_t code) noexcept {
-  switch (static_cast<SdoAbort>(code)) {
-    case SdoAbort::toggle_bit:
-    case SdoAbort::timeout:
-    case SdoAbort::unknown_command:
-    case SdoAbort::invalid_block_size:
-    case SdoAbort::invalid_sequence:
-    case SdoAbort::crc_error:
-    case SdoAbort::out_of_memory:
-    case SdoAbort::unsupported_access:
-    case SdoAbort::write_only:
-    case SdoAbort::read_only:
-    case SdoAbort::no_object:
-    case SdoAbort::not_mappable:
-    case SdoAbort::pdo_too_long:
-    case SdoAbort::parameter_incompatible:
-    case SdoAbort::internal_incompatible:
-    case SdoAbort::hardware_error:
-    case SdoAbort::length_mismatch:
-    case SdoAbort::length_too_high:
-    case SdoAbort::length_too_low:
-    case SdoAbort::no_sub_index:
-    case SdoAbort::invalid_value:
-    case SdoAbort::value_too_high:
-    case SdoAbort::value_too_low:
-    case SdoAbort::max_below_min:
-    case SdoAbort::no_resource:
-    case SdoAbort::general_error:
-    case SdoAbort::cannot_store:
-    case SdoAbort::cannot_store_local_control:
-    case SdoAbort::cannot_store_device_state:
-    case SdoAbort::no_dictionary:
-    case SdoAbort::no_data:
+  for (const SdoAbort a : standard_aborts) {
+    if (static_cast<std::uint32_t>(a) == code) {
       return true;
-    case SdoAbort::none:
-      return false;
+    }
   }
   return false;
 }
