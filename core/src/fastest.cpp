@@ -2580,6 +2580,53 @@ double backwards_travel(const FastestTable& p) noexcept {
   return back;
 }
 
+// A refined chain where it is a move (its table checked like every other) and kept by rounding
+// (refined_chains below).
+void keep_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noexcept {
+  const FastestTable t = arc_table(pb, c, fs.r.distance);
+  Peaks<double> pk{};
+  // The chain's rows hold to rounding (a dwell's v = 0 to about 1e-13 vmax), and the table's
+  // accelerations return to 0 to the rounding of their sums (about 1e-14 amax): a move whose
+  // velocity dips below zero by rounding for longer than that allows (over its segments, at most
+  // 1e-12 D backwards, the bound the tests check between two samples) is not kept. (5e-13 D until
+  // the split chains: grid case 160's, 0.48 % shorter, runs back 5.1e-13 D over its dwells at
+  // v = -3.6e-13 m/s, the rounding of its table's sums where vmax is 8.4 m/s.)
+  if (t.count != 0 && table_ok(t, fs.lim, fs.ms, 0.0, pk) && !(backwards_travel(t) > 1e-12 * pb.D)) {
+    fs.record_table(FastestFamily::bang_bang, t, pk);
+  }
+}
+
+// Split chains with more parts than a square chain holds, minimised (arc_refine). With m modes
+// split_chain's m + 1 parts (ZV, joint ZV) make a square chain, which plan_arcs solves; the
+// reference's shortest moves on short moves over slow modes sometimes have more (grid case 256,
+// two modes: four pulses with dwells between them, where the square chain has three). Seeded with
+// the move split at the impulses of ZV for one mode convolved with ZV for another (four parts, 11
+// nodes: 2 unknowns more than equations for two modes, square for three, whose third mode's
+// conditions the restoration meets), for each pair of modes; restored to the chain's equations,
+// then minimised with turns inserted where the first-order test says.
+void split_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
+  pb.pulse = false;
+  for (std::size_t m0 = 0; m0 < fs.ms.n; ++m0) {
+    for (std::size_t m1 = m0 + 1; m1 < fs.ms.n; ++m1) {
+      Shaper<double> z0{}, z1{}, s{};
+      if (design_shaper(ShaperKind::zv, fs.ms.m[m0].omega, fs.ms.m[m0].zeta, 0.05, z0) != Status::ok ||
+          design_shaper(ShaperKind::zv, fs.ms.m[m1].omega, fs.ms.m[m1].zeta, 0.05, z1) != Status::ok ||
+          compose(z0, z1, s) != Status::ok) {
+        continue;
+      }
+      ArcChain c{};
+      if (!split_chain(pb, s, c)) continue;
+      const ArcIneq q0 = arc_ineq(pb, c, lay_out(pb, c));
+      const std::array<bool, kMaxIneq> none{};
+      ArcVec f{};
+      ArcEval ev;
+      if (!arc_restore(pb, c, q0, none, f, ev) || arc_violation(pb, c).kind != ArcFix::none) continue;
+      arc_refine(pb, c, 3);
+      keep_refined(fs, pb, c);
+    }
+  }
+}
+
 // (a'') bang-bang's shortest chains with turns inserted and their length minimised (arc_refine),
 // last: every family before is as without it, and a refined chain is a candidate only where it is
 // shorter than everything they found.
@@ -2590,6 +2637,9 @@ void refined_chains(FastestSearch& fs) noexcept {
   pb.exps = &exps;
   double w_fast = 0.0;  // the fastest mode's damped frequency
   for (std::size_t m = 0; m < fs.ms.n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
+  // The split chains under the rule below (the fastest mode rings a period or more over the
+  // shortest move so far).
+  if (fs.ms.n >= 2 && w_fast * fs.best.time >= two_pi_v<double>()) split_refined(fs, pb);
   for (std::size_t k = 0; k <= kLateStages; ++k) {
     const bool have = k == 0 ? got.have : got.late_have[k - 1];
     if (!have) continue;
@@ -2602,14 +2652,7 @@ void refined_chains(FastestSearch& fs) noexcept {
     const double t_move = lay_out(pb, c).T + (pb.pulse ? pb.D / pb.vmax : 0.0);
     if (w_fast * t_move < two_pi_v<double>()) continue;
     if (!arc_refine(pb, c, 3)) continue;
-    const FastestTable t = arc_table(pb, c, fs.r.distance);
-    Peaks<double> pk{};
-    // The chain's rows hold to rounding (a dwell's v = 0 to about 1e-13 vmax): a move whose
-    // velocity dips below zero by rounding for longer than that allows (over its segments, at most
-    // 5e-13 D backwards; the tests allow 1e-12 D) is not kept.
-    if (t.count != 0 && table_ok(t, fs.lim, fs.ms, 0.0, pk) && !(backwards_travel(t) > 5e-13 * pb.D)) {
-      fs.record_table(FastestFamily::bang_bang, t, pk);
-    }
+    keep_refined(fs, pb, c);
   }
 }
 
