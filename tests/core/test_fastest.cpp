@@ -335,6 +335,10 @@ TEST(Fastest, ThreeModesWhoseJointDesignOnlyTheSlowerModesDesignReaches) {
 // chain has three (1.5 % over; 160 0.48 %, 161 0.12 %); from the move split at ZV of one mode
 // convolved with ZV of another, minimised (split_refined in core/src/fastest.cpp), all three reach
 // the reference (160 once a backwards travel of 1e-12 D by rounding is allowed, keep_refined).
+// 231 (one mode) has the reference's nodes, +amax, -amax, +amax, -amax, but its equations' other
+// solution: the short +amax hold mid-way through the -amax hold where the reference has it right
+// after the long +amax hold (0.29 % over); with the blip moved to either end of its hold and the
+// chain restored (blip_moved), it reaches the reference.
 TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
   struct Case {
     int id;
@@ -348,6 +352,7 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       {256, 0.001069, 0.3153, 8.5, 236.8, {{13.7792, 0.2257}, {49.3276, 0.0478}}, 0.326282242},
       {160, 0.8748, 8.363, 47.4, 6529.0, {{1.7934, 0.0644}, {7.671, 0.0206}}, 2.15235435},
       {161, 0.004878, 0.9787, 42.01, 1481.0, {{19.705, 0.1074}, {39.8433, 0.1485}, {143.2203, 0.0964}}, 0.254016623},
+      {231, 4.76, 5.119, 3.788, 1915.0, {{54.7836, 0.0164}}, 2.24537155},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);

@@ -35,15 +35,17 @@ namespace {
 // at least this many within 0.1 % of the reference, none more than this ratio over it, at most
 // this many refused.
 #if SETTLE_FASTEST_GRID_EVERY == 1
-// 272 of 295 with a reference (300 cases); 269 before the split chains with more parts than modes
+// 273 of 295 with a reference (300 cases); 272 before the blip moved in its hold (231); 269
+// before the split chains with more parts than modes
 // (160, 161, 256; 252 of the 277 before cases 135-139 and 287-299 had a reference); 235 of 277
 // before the chains with more turns than equations (arc_refine), 222 before session 22.
-constexpr int kWithin = 272;
+constexpr int kWithin = 273;
 constexpr double kWorst = 1.0157;  // case 184 (two modes): 1.01568; was 1.03214 (case 112), 1.3231 (case 167)
 // None: case 113 (three modes, 2.1 / 13.5 / 278.7 rad/s; D 3.48 m) was refused until the joint
 // ZV shaper started from the slower modes' design (docs/fastest.md, "Several modes").
 constexpr int kRefused = 0;
-// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 29 and 7 (worst 3.2 %, case 112 at 7.3);
+// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 29 and 7 (worst 3.2 %, case 112 at 7.3;
+// the same after the blip moved in its hold);
 // 35 and 9 before the split chains with more parts than modes (67 and 233 now plan alike at every
 // scale, 46 at 1e-3).
 constexpr int kScaledOff1e9 = 29, kScaledOff1e3 = 7;
