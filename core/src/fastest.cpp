@@ -1528,6 +1528,24 @@ bool insert_slowdown(const ArcProblem& pb, const ArcChain& c, std::size_t k, dou
   return splice(c, k, with.data(), x.data(), with.size(), out);
 }
 
+// c (a move to rest) followed by a dwell of `dwell` and a short restart: a turn to a peak at
+// amax / 2 and one back to -amax / 2, a fourth pulse that cancels the ringing c leaves. The
+// reference's move on grid case 222 (one mode, a 12 s cruise) has this shape: the cruise, a stop,
+// a 25 ms dwell and a short accelerate-decelerate to the target; insert_stop's stop in the middle
+// of the cruise does not solve there (its Newton steps run the cruise halves to -172 s and
+// +185 s). Three nodes more: a dwell and two peaks.
+bool append_restart(const ArcProblem& pb, const ArcChain& c, double dwell, ArcChain& out) noexcept {
+  if (c.n + 3 > kMaxArcNodes) return false;
+  out = c;
+  out.node[out.n] = ArcNode{ArcKind::dwell, 1.0};
+  out.x[out.n++] = dwell;
+  out.node[out.n] = ArcNode{ArcKind::peak, 1.0};
+  out.x[out.n++] = 0.5 * pb.amax;
+  out.node[out.n] = ArcNode{ArcKind::peak, -1.0};
+  out.x[out.n++] = -0.5 * pb.amax;
+  return true;
+}
+
 // The shortest bang-bang chain found, with its form: what plan_arcs hands to the problem with one
 // mode more.
 constexpr std::size_t kLateStages = 4;
@@ -1739,6 +1757,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
               ArcChain c{};
               if (st == 2) {
                 if (insert_stop(pb, *b, k, dwell, c)) walk(c);
+                if (b == &rigid && k + 1 == b->n && append_restart(pb, *b, dwell, c)) walk(c);
                 continue;
               }
               for (const double to : kSlowTo) {

@@ -339,6 +339,10 @@ TEST(Fastest, ThreeModesWhoseJointDesignOnlyTheSlowerModesDesignReaches) {
 // solution: the short +amax hold mid-way through the -amax hold where the reference has it right
 // after the long +amax hold (0.29 % over); with the blip moved to either end of its hold and the
 // chain restored (blip_moved), it reaches the reference.
+// 222 (one mode, a 12 s cruise) had no chain at all (every seed's Newton solve failed or led to
+// none; the scurve-damped move, 0.74 % over): the reference's move stops after its cruise, dwells
+// 25 ms and ends with a short accelerate-decelerate, the rigid move with a restart appended
+// (append_restart), which solves directly (0.09 % under the reference, an LP on 1000 steps).
 TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
   struct Case {
     int id;
@@ -353,6 +357,7 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       {160, 0.8748, 8.363, 47.4, 6529.0, {{1.7934, 0.0644}, {7.671, 0.0206}}, 2.15235435},
       {161, 0.004878, 0.9787, 42.01, 1481.0, {{19.705, 0.1074}, {39.8433, 0.1485}, {143.2203, 0.0964}}, 0.254016623},
       {231, 4.76, 5.119, 3.788, 1915.0, {{54.7836, 0.0164}}, 2.24537155},
+      {222, 5.386, 0.4394, 26.48, 8830.0, {{15.1396, 0.0753}}, 12.3670185},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
