@@ -2031,6 +2031,17 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
   return n0 < 1e-10 && arc_norm(f, rows) == n0;
 }
 
+// A seed (a chain with turns or parts inserted) restored to its chain's equations from where it
+// lies, no inequality held, and still a move (no velocity bound broken): what every seed passes
+// before it is minimised or kept.
+bool restore_seed(const ArcProblem& pb, ArcChain& c) noexcept {
+  const ArcIneq q0 = arc_ineq(pb, c, lay_out(pb, c));
+  const std::array<bool, kMaxIneq> none{};
+  ArcVec f{};
+  ArcEval ev;
+  return arc_restore(pb, c, q0, none, f, ev) && arc_violation(pb, c).kind == ArcFix::none;
+}
+
 // The multipliers of a solved chain's equations at its minimum (arc_minimise), in z.
 struct ArcKkt {
   std::array<double, kMaxArcNodes> lambda{};
@@ -2255,12 +2266,7 @@ bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
         ArcChain e{};
         const bool ok = kind == 0 ? insert_stop(pb, c, k, quarter, e)
                                   : insert_slowdown(pb, c, k, kSlowTo[static_cast<std::size_t>(kind - 1)], e);
-        if (!ok) continue;
-        const ArcIneq q0 = arc_ineq(pb, e, lay_out(pb, e));
-        const std::array<bool, kMaxIneq> none{};
-        ArcVec f{};
-        ArcEval ev;
-        if (arc_restore(pb, e, q0, none, f, ev) && arc_violation(pb, e).kind == ArcFix::none) minimise_from(e);
+        if (ok && restore_seed(pb, e)) minimise_from(e);
       }
     }
     if (!(t_best < T * (1.0 - 1e-12))) break;
@@ -2638,12 +2644,7 @@ void blip_moved(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noex
       ArcChain e = c;
       e.x[i] = f * hold;
       e.x[i + 2] = (1.0 - f) * hold;
-      const ArcIneq q0 = arc_ineq(pb, e, lay_out(pb, e));
-      const std::array<bool, kMaxIneq> none{};
-      ArcVec fv{};
-      ArcEval ev;
-      if (!arc_restore(pb, e, q0, none, fv, ev) || arc_violation(pb, e).kind != ArcFix::none) continue;
-      keep_refined(fs, pb, e);
+      if (restore_seed(pb, e)) keep_refined(fs, pb, e);
     }
   }
 }
@@ -2668,11 +2669,7 @@ void split_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
       }
       ArcChain c{};
       if (!split_chain(pb, s, c)) continue;
-      const ArcIneq q0 = arc_ineq(pb, c, lay_out(pb, c));
-      const std::array<bool, kMaxIneq> none{};
-      ArcVec f{};
-      ArcEval ev;
-      if (!arc_restore(pb, c, q0, none, f, ev) || arc_violation(pb, c).kind != ArcFix::none) continue;
+      if (!restore_seed(pb, c)) continue;
       arc_refine(pb, c, 3);
       keep_refined(fs, pb, c);
     }
