@@ -372,3 +372,45 @@ TEST(OnlineHalt, RefusesBadRequestsAndLeavesTheOutputAlone) {
 }
 
 }  // namespace
+
+// blend_within (the halt search's limit test, written for speed) must say what
+// within_limits(Blend{...}.peaks(), l) says, to the bit. Random blends, and limits placed at each
+// peak and a few ulps either side of it (the bound that binds then is v, a or j, or the starting
+// state, or a velocity extremum inside a segment), so a check done in another order or missing a
+// case flips an answer here. Both answers must occur, or the comparison proves nothing.
+TEST(OnlineBlend, WithinIsWithinLimitsOfPeaksToTheBit) {
+  Gen g{std::mt19937_64{20261206}};
+  int within = 0, outside = 0, interior = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const double h = g.logu(1e-3, 0.1);
+    const double jscale = g.logu(1.0, 1e4);
+    std::array<double, core::kBlendSegments> jerk{};
+    for (double& j : jerk) j = g.coin(0.15) ? 0.0 : g.uni(-jscale, jscale);
+    const core::Sample<double> start{g.uni(-1.0, 1.0), g.uni(-2.0, 2.0) * jscale * h * h * 4.0,
+                                     g.uni(-1.0, 1.0) * jscale * h * 4.0, 0.0};
+    const core::Blend b{start, h, jerk};
+    const core::Peaks<double> pk = b.peaks();
+    // Whether the velocity peak lies inside a segment (not at a knot): the extremum branch binds.
+    double knot_v = 0.0;
+    for (std::size_t k = 0; k <= core::kBlendSegments; ++k) knot_v = std::max(knot_v, std::fabs(b.knot(k).v));
+    if (pk.v > knot_v) ++interior;
+    const double peak[3] = {pk.v, pk.a, pk.j};
+    for (int which = 0; which < 3; ++which) {
+      // The other two limits far above their peaks; this one from 3 ulps under to 3 ulps over.
+      double lim = peak[which] / (1.0 + core::kLimitSlack);
+      for (int u = 0; u < 3; ++u) lim = std::nextafter(lim, 0.0);
+      for (int u = 0; u <= 6; ++u, lim = std::nextafter(lim, INFINITY)) {
+        core::OnlineLimits l{2.0 * pk.v + 1.0, 2.0 * pk.a + 1.0, 2.0 * pk.j + 1.0};
+        (which == 0 ? l.vmax : which == 1 ? l.amax : l.jmax) = lim;
+        if (!(lim > 0.0)) continue;
+        const bool expected = core::within_limits(pk, l);
+        ASSERT_EQ(core::blend_within(start, h, jerk, l), expected)
+            << "trial " << trial << " limit " << which << " ulp step " << u;
+        (expected ? within : outside) += 1;
+      }
+    }
+  }
+  EXPECT_GT(within, 1000);
+  EXPECT_GT(outside, 1000);
+  EXPECT_GT(interior, 100);
+}

@@ -149,6 +149,32 @@ class BasicBlend {
 
 using Blend = BasicBlend<double>;
 
+// Whether the blend from `start` with these jerks on segments of length h stays within the limits:
+// within_limits(Blend{start, h, jerk}.peaks(), l), the same to the bit (the same recurrences for v
+// and a, the same velocity extremum inside a segment, the same bounds; a NaN is passed over as
+// peaks' max passes it over), without the positions and stopping at the first excess. The halt's
+// duration search tests every candidate blend with it (online.cpp); kept beside peaks() so the two
+// change together, and OnlineBlend.WithinIsWithinLimitsOfPeaksToTheBit checks that they agree.
+[[nodiscard]] inline bool blend_within(const Sample<double>& start, double h,
+                                       const std::array<double, kBlendSegments>& jerk, const OnlineLimits& l) noexcept {
+  const double vb = l.vmax * (1.0 + kLimitSlack), ab = l.amax * (1.0 + kLimitSlack),
+               jb = l.jmax * (1.0 + kLimitSlack);
+  double v = start.v, a = start.a;
+  if (std::fabs(v) > vb || std::fabs(a) > ab) return false;
+  for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    const double j = jerk[k];
+    if (std::fabs(j) > jb) return false;
+    if (j != 0.0) {
+      const double w = -a / j;
+      if (w > 0.0 && w < h && std::fabs(v + w * (a + w * j / 2.0)) > vb) return false;
+    }
+    v = v + h * (a + h * j / 2.0);
+    a = a + h * j;
+    if (std::fabs(v) > vb || std::fabs(a) > ab) return false;
+  }
+  return true;
+}
+
 // What a change does. A retarget, or a halt without `running`: always `blend`. A halt of a running
 // command is the first of these that stops no further than the command's end (seen from
 // its origin) and comes to rest no later than the command would:
