@@ -362,6 +362,9 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       // than the slowest mode's period (1.4 s): its optimum dips in a 0.15 s hold at -amax of the
       // chain for one mode fewer, five periods of the 203 rad/s mode.
       {137, 2.057, 2.093, 13.1, 3779.0, {{4.5006, 0.0466}, {155.0105, 0.1324}, {202.7646, 0.126}}, 1.36633685},
+      // 0.10 % over until a pulse was seeded near the end of a refined chain's long dwell: its
+      // optimum has a small pulse (peaks at +-6.3 m/s^2) 16 ms before the end of its 2 s dwell.
+      {98, 5.421, 8.007, 18.77, 127.9, {{1.0574, 0.2664}, {14.8559, 0.1508}, {28.8041, 0.0232}}, 4.03913659},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
