@@ -1725,7 +1725,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       // From three modes on, the dips also go where the rigid move is shorter than that but lasts
       // a period of the fastest mode: into the holds of the chain for one mode fewer that last a
       // period of that mode or more (a dip there cancels the fastest mode, which rings through
-      // the hold). Grid case 137 (4.5 / 155 / 203 rad/s, the rigid move 1.0 s, the slowest mode's
+      // the hold). Grid case 137 (4.5 / 155 / 203 rad/s, the rigid move 1.15 s, the slowest mode's
       // period 1.4 s): its optimum dips in the last hold at -amax, 0.15 s long. Holds shorter
       // than a period are left alone: the BM_PlanFastest/three_modes request's (25 ms, the
       // fastest mode's period 88 ms) cost 11 % more instructions for dips that led nowhere.
