@@ -365,6 +365,8 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       // 0.10 % over until a pulse was seeded near the end of a refined chain's long dwell: its
       // optimum has a small pulse (peaks at +-6.3 m/s^2) 16 ms before the end of its 2 s dwell.
       {98, 5.421, 8.007, 18.77, 127.9, {{1.0574, 0.2664}, {14.8559, 0.1508}, {28.8041, 0.0232}}, 4.03913659},
+      // Two modes: 0.17 % over until the same pulse ran for two modes.
+      {250, 0.128, 0.3189, 57.58, 281.3, {{3.3582, 0.0751}, {34.2092, 0.0946}}, 1.2221711},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
