@@ -1722,6 +1722,23 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       const double t_rigid = push_rigid_move(pb, pb.D, rigid);
       const ArcChain* from = ms.n == 1 ? &rigid : sub.have && !sub.pulse ? &sub.c : nullptr;
       if (t_rigid * w_min < two_pi_v<double>()) from = nullptr;
+      // From three modes on, the dips also go where the rigid move is shorter than that but lasts
+      // a period of the fastest mode: into the holds of the chain for one mode fewer that last a
+      // period of that mode or more (a dip there cancels the fastest mode, which rings through
+      // the hold). Grid case 137 (4.5 / 155 / 203 rad/s, the rigid move 1.15 s, the slowest mode's
+      // period 1.4 s): its optimum dips in the last hold at -amax, 0.15 s long. Holds shorter
+      // than a period are left alone: the BM_PlanFastest/three_modes request's (25 ms, the
+      // fastest mode's period 88 ms) cost 11 % more instructions for dips that led nowhere.
+      const ArcChain* dip_from = from;
+      bool short_holds_too = true;  // dip_from == from: every hold, as before
+      if (from == nullptr && ms.n >= 3 && sub.have && !sub.pulse) {
+        double w_max = 0.0;
+        for (std::size_t i = 0; i < ms.n; ++i) w_max = std::fmax(w_max, ms.m[i].omega);
+        if (t_rigid * w_max >= two_pi_v<double>()) {
+          dip_from = &sub.c;
+          short_holds_too = false;
+        }
+      }
       // Each stage sees what the stages before it found (as a bound), never the other way round,
       // and hands its own shortest up apart (ArcBest::late): what an earlier stage found, and what
       // the recursion hands up of it, is as without the later ones.
@@ -1730,9 +1747,10 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       for (std::size_t st = 0; st < kLateStages; ++st) {
         const double start = best;
         if (st == 0) {
-          for (std::size_t k = 0; from != nullptr && k < from->n; ++k) {
+          for (std::size_t k = 0; dip_from != nullptr && k < dip_from->n; ++k) {
+            if (!short_holds_too && dip_from->x[k] * sub_fast_wd < two_pi_v<double>()) continue;
             ArcChain c{};
-            if (insert_dip(pb, *from, k, 0.0, c)) walk(c);
+            if (insert_dip(pb, *dip_from, k, 0.0, c)) walk(c);
           }
         } else if (st == 1) {
           // The rigid move itself as the chain for one mode fewer (for one mode: the chain of
@@ -2676,6 +2694,33 @@ void split_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
   }
 }
 
+// A small pulse inserted near the end of each long dwell of a refined chain (at 90 %
+// of a dwell that lasts a period of the fastest mode or more: the dwell split in two, a peak up
+// and one down between, at half the lower of the levels on either side), restored to the chain's
+// equations and refined one round (arc_refine). The reference's move on grid case 98 (1.06 /
+// 14.9 / 28.8 rad/s; a 4.04 s move) has such a pulse 16 ms before the end of its 2 s dwell, which
+// no chain had: the pairs the first-order test inserts sit in a ramp or a hold at amax, not at
+// v = 0, and a pulse in the dwell's middle or at a quarter of it closes again as it is minimised.
+// A candidate like the refined chains (keep_refined), so no move gets longer. Two modes too: on
+// grid case 250 (3.36 / 34.2 rad/s) the pulse makes the move 0.17 % shorter, nothing else changes.
+void pulse_in_dwell(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noexcept {
+  constexpr double kAt = 0.9;
+  double w_fast = 0.0;  // the fastest mode's damped frequency
+  for (std::size_t m = 0; m < pb.ms->n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
+  const std::array<ArcNode, 4> with{ArcNode{ArcKind::dwell, 1.0}, ArcNode{ArcKind::peak, 1.0},
+                                    ArcNode{ArcKind::peak, -1.0}, ArcNode{ArcKind::dwell, 1.0}};
+  for (std::size_t k = 1; k + 1 < c.n && c.n + 3 <= kMaxArcNodes; ++k) {
+    if (c.node[k].kind != ArcKind::dwell || c.x[k] * w_fast < two_pi_v<double>()) continue;
+    const double lev = 0.5 * std::fmin(std::fabs(node_level(pb, c, k - 1)), std::fabs(node_level(pb, c, k + 1)));
+    if (!(lev > 0.0)) continue;
+    const std::array<double, 4> x{kAt * c.x[k], lev, -lev, (1.0 - kAt) * c.x[k]};
+    ArcChain e{};
+    if (!splice(c, k, with.data(), x.data(), with.size(), e) || !restore_seed(pb, e)) continue;
+    arc_refine(pb, e, 1);
+    keep_refined(fs, pb, e);
+  }
+}
+
 // (a'') bang-bang's shortest chains with turns inserted and their length minimised (arc_refine),
 // last: every family before is as without it, and a refined chain is a candidate only where it is
 // shorter than everything they found.
@@ -2701,7 +2746,9 @@ void refined_chains(FastestSearch& fs) noexcept {
     const double t_move = lay_out(pb, c).T + (pb.pulse ? pb.D / pb.vmax : 0.0);
     if (w_fast * t_move < two_pi_v<double>()) continue;
     if (fs.ms.n == 1) blip_moved(fs, pb, c);
-    if (!arc_refine(pb, c, 3)) continue;
+    const bool shorter = arc_refine(pb, c, 3);
+    if (fs.ms.n >= 2) pulse_in_dwell(fs, pb, c);
+    if (!shorter) continue;
     keep_refined(fs, pb, c);
   }
 }

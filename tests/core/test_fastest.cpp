@@ -358,6 +358,15 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       {161, 0.004878, 0.9787, 42.01, 1481.0, {{19.705, 0.1074}, {39.8433, 0.1485}, {143.2203, 0.0964}}, 0.254016623},
       {231, 4.76, 5.119, 3.788, 1915.0, {{54.7836, 0.0164}}, 2.24537155},
       {222, 5.386, 0.4394, 26.48, 8830.0, {{15.1396, 0.0753}}, 12.3670185},
+      // 0.21 % over until the dips ran for three modes where the rigid move (1.15 s) is shorter
+      // than the slowest mode's period (1.4 s): its optimum dips in a 0.15 s hold at -amax of the
+      // chain for one mode fewer, five periods of the 203 rad/s mode.
+      {137, 2.057, 2.093, 13.1, 3779.0, {{4.5006, 0.0466}, {155.0105, 0.1324}, {202.7646, 0.126}}, 1.36633685},
+      // 0.10 % over until a pulse was seeded near the end of a refined chain's long dwell: its
+      // optimum has a small pulse (peaks at +-6.3 m/s^2) 16 ms before the end of its 2 s dwell.
+      {98, 5.421, 8.007, 18.77, 127.9, {{1.0574, 0.2664}, {14.8559, 0.1508}, {28.8041, 0.0232}}, 4.03913659},
+      // Two modes: 0.17 % over until the same pulse ran for two modes.
+      {250, 0.128, 0.3189, 57.58, 281.3, {{3.3582, 0.0751}, {34.2092, 0.0946}}, 1.2221711},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);

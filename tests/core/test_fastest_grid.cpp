@@ -35,31 +35,38 @@ namespace {
 // at least this many within 0.1 % of the reference, none more than this ratio over it, at most
 // this many refused.
 #if SETTLE_FASTEST_GRID_EVERY == 1
-// 275 of 295 with a reference (300 cases); 273 before the restart after the move (222, 237); 272
+// 278 of 295 with a reference (300 cases); 277 before the pulse in a dwell ran for two modes
+// (250); 275 before the three-mode dips and the pulse in a dwell (137, 98); 273 before the restart after the move (222, 237); 272
 // before the blip moved in its hold (231); 269
 // before the split chains with more parts than modes
 // (160, 161, 256; 252 of the 277 before cases 135-139 and 287-299 had a reference); 235 of 277
 // before the chains with more turns than equations (arc_refine), 222 before session 22.
-constexpr int kWithin = 275;
+constexpr int kWithin = 278;
 constexpr double kWorst = 1.0157;  // case 184 (two modes): 1.01568; was 1.03214 (case 112), 1.3231 (case 167)
 // None: case 113 (three modes, 2.1 / 13.5 / 278.7 rad/s; D 3.48 m) was refused until the joint
 // ZV shaper started from the slower modes' design (docs/fastest.md, "Several modes").
 constexpr int kRefused = 0;
-// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 28 and 6 (worst 3.2 %, case 112 at 7.3;
+// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 32 and 6 (worst 3.2 %, case 112 at 7.3;
+// 30 and 6 before the pulse in a dwell ran for two modes: 250 at 0.37 and 7.3 by 2e-9 and 8e-9;
+// 28 and 6 before the pulse in a dwell: 200 at scale 1 is 1.4e-4 shorter than at the three others,
+// where the seed's restoration fails;
 // 29 and 7 before the restart after the move: 22 now plans alike at every scale, 40 at 7.3 is
 // 0.3 % shorter than at scale 1, 237 at 0.37 differs by 2e-9; the same after the blip moved in its hold);
 // 35 and 9 before the split chains with more parts than modes (67 and 233 now plan alike at every
 // scale, 46 at 1e-3).
-constexpr int kScaledOff1e9 = 28, kScaledOff1e3 = 6;
+constexpr int kScaledOff1e9 = 32, kScaledOff1e3 = 6;
 #else
 // of 30 with a reference (30 cases spread evenly over the 300 of the file; over the 282 before
 // cases 135-139 and 287-299 were added, 29 of 29 and 1.00062); 26 and 1.00478 (case 160) before
-// the split chains with more parts than modes
-constexpr int kWithin = 27;
-constexpr double kWorst = 1.0029;  // 1.00288
-// of 90: measured 3 and 1 (worst 0.30 %: case 40 at 7.3 shorter than at scale 1 since the restart
-// after the move; 2 and 0 before, worst 0.079 %)
-constexpr int kScaledOff1e9 = 3, kScaledOff1e3 = 1;
+// the split chains with more parts than modes; 27 before the pulse in a dwell ran for two modes
+// (250)
+constexpr int kWithin = 28;
+constexpr double kWorst = 1.0028;  // 1.00274 (case 200); 1.00288 before the pulse in a dwell
+// of 90: measured 8 and 1 (6 and 1 before the pulse in a dwell ran for two modes: 250 at 0.37
+// and 7.3 by 2e-9 and 8e-9; worst 0.30 %: case 40 at 7.3 shorter than at scale 1 since the restart
+// after the move; 3 and 1 before the pulse in a dwell, which shortens case 200 at scale 1 by
+// 1.4e-4 and not at the other three; 2 and 0 before, worst 0.079 %)
+constexpr int kScaledOff1e9 = 8, kScaledOff1e3 = 1;
 constexpr int kRefused = 0;
 #endif
 }  // namespace
