@@ -2959,6 +2959,27 @@ void hold_blips_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain&
   }
 }
 
+// A pulse inside a dwell: bang-bang's shortest chain with each dwell broken, at 95 % of it, by a
+// turn up to 0.07 amax and one down to -0.07 amax (the axis moves a little forward and stops
+// again), restored to the chain's equations and refined (arc_refine). The reference's move on
+// grid case 250 (two modes, 3.36 / 34.2 rad/s; D 0.128 m, a 0.6 s dwell between two cruising
+// parts) has one: the dwell, a pulse at +-4 m/s^2 (0.07 amax) 0.56 s into it, 0.06 s more; the
+// planner's chain had the two parts and the dwell and was 0.17 % over. Neither the first-order
+// test (a dwell's v = 0 makes a pair of zero size there invisible to it) nor the stops and
+// slow-downs (inside cruises) insert it.
+void dwell_pulse_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base) noexcept {
+  for (std::size_t k = 0; k < base.n; ++k) {
+    if (base.node[k].kind != ArcKind::dwell || !(base.x[k] > 0.0)) continue;
+    const std::array<ArcNode, 4> with{base.node[k], ArcNode{ArcKind::peak, 1.0}, ArcNode{ArcKind::peak, -1.0},
+                                      base.node[k]};
+    const std::array<double, 4> x{0.95 * base.x[k], 0.07 * pb.amax, -0.07 * pb.amax, 0.05 * base.x[k]};
+    ArcChain c{};
+    if (!splice(base, k, with.data(), x.data(), with.size(), c) || !restore_seed(pb, c)) continue;
+    arc_refine(pb, c, 1);
+    keep_or_polish(fs, pb, c);
+  }
+}
+
 // (a'') bang-bang's shortest chains with turns inserted and their length minimised (arc_refine),
 // last: every family before is as without it, and a refined chain is a candidate only where it is
 // shorter than everything they found.
@@ -2986,6 +3007,7 @@ void refined_chains(FastestSearch& fs) noexcept {
     const double t_move = lay_out(pb, c).T + (pb.pulse ? pb.D / pb.vmax : 0.0);
     if (w_fast * t_move < two_pi_v<double>()) continue;
     if (fs.ms.n == 1) blip_moved(fs, pb, c);
+    if (k == 0) dwell_pulse_refined(fs, pb, got.c);
     if (!arc_refine(pb, c, 3)) continue;
     keep_or_polish(fs, pb, c);
     // Two modes, the shortest chain before the late stages, where refining it shortened it.

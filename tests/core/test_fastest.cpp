@@ -360,7 +360,10 @@ TEST(Fastest, ThreeModesWhoseJointDesignOnlyTheSlowerModesDesignReaches) {
 // 40 (two modes, 26.8 and 98.9 rad/s): the reference's move has a blip of finite size late in a
 // hold (-amax 0.041 s inside +amax 0.75 s) that a pair of zero size opened by the first-order
 // test does not reach (0.26 % over); with such a blip seeded in each hold of the chain
-// (hold_blips_refined) and refined, it is within 0.1 %.
+// (hold_blips_refined) and refined, it is within 0.1 %. 250 (two modes, 3.36 and 34.2 rad/s): the
+// reference's move breaks its 0.6 s dwell with a small pulse (+-4 m/s^2, the axis barely moving)
+// that no seed and no first-order test inserts (0.17 % over); seeded (dwell_pulse_refined) and
+// refined, it reaches it.
 TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
   struct Case {
     int id;
@@ -381,6 +384,7 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       {31, 0.007342, 0.675, 16.89, 5875.0, {{2.4394, 0.006}, {9.0224, 0.0246}}, 1.62267921},
       {184, 1.531, 6.627, 2.79, 2080.0, {{1.0524, 0.0379}, {19.3232, 0.0015}}, 4.05257062},
       {40, 1.986, 3.104, 3.586, 4099.0, {{26.7737, 0.0802}, {98.8995, 0.085}}, 1.51867769},
+      {250, 0.128, 0.3189, 57.58, 281.3, {{3.3582, 0.0751}, {34.2092, 0.0946}}, 1.2221711},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
