@@ -943,6 +943,9 @@ struct ArcProblem {
   bool pulse{false};
   std::array<ArcPole, kMaxModes> poles{};
   ArcExpMemo* exps{nullptr};  // plan_arcs' own
+  // arc_newton: a stall within the rounding of the rows (arc_rounding_floor) solves the chain
+  // (split_to_rounding's solves only).
+  bool to_rounding{false};
 };
 
 ArcProblem arc_problem(const MoveRequest& r, const ModeSet& ms) noexcept {
@@ -1140,6 +1143,50 @@ double arc_norm(const ArcVec& f, std::size_t n) noexcept {
   return std::sqrt(s);
 }
 
+// How far rounding keeps |F| from 0 at c. The rows of v and p at the end (and v on each cruise
+// or dwell) are sums of terms j (u_b^k - u_e^k) / k! that cancel to a small D: each is rounded to
+// eps of the sum of the terms' sizes. And each switch time is a sum rounded to about eps T, which
+// moves each row by its derivative with respect to it (a row's largest, per unit of time).
+double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
+  ArcVec f{};
+  ArcEval ev;
+  ArcMat jm{};
+  const std::size_t rows = arc_values(pb, c, f, ev);
+  arc_jacobian(pb, c, ev, jm);
+  const ArcLayout& L = ev.L;
+  const double eps = std::numeric_limits<double>::epsilon();
+  // v and p at the end, then v at each cruise or dwell (in arc_values' order of rows).
+  const auto sizes = [&](double at, double& sv, double& sp) {
+    sv = sp = 0.0;
+    for (std::size_t r = 0; r <= c.n && L.b[r] < at; ++r) {
+      const double ub = at - L.b[r], ue = std::fmax(0.0, at - L.e[r]), j = std::fabs(L.j[r]);
+      sv += j * (ub * ub + ue * ue) / 2.0;
+      sp += j * (ub * ub * ub + ue * ue * ue) / 6.0;
+    }
+  };
+  double sv = 0.0, sp = 0.0, s = 0.0;
+  sizes(L.T, sv, sp);
+  std::array<double, kMaxArcNodes> ev_row{};
+  std::size_t k = 0;
+  ev_row[k++] = sv / pb.vmax;
+  if (!pb.pulse) ev_row[k++] = sp / pb.D;
+  k += 2 * pb.ms->n;
+  for (std::size_t i = 0; i < c.n && k < rows; ++i) {
+    if (c.node[i].kind != ArcKind::cruise && c.node[i].kind != ArcKind::dwell) continue;
+    sizes(L.e[i], sv, sp);
+    ev_row[k++] = sv / pb.vmax;
+  }
+  for (std::size_t r = 0; r < rows; ++r) {
+    double m = 0.0;
+    for (std::size_t i = 0; i < c.n; ++i) {
+      m = std::fmax(m, std::fabs(jm[r][i]) * (c.node[i].kind == ArcKind::peak ? pb.J : 1.0));
+    }
+    const double e = eps * (L.T * m + ev_row[r]);
+    s += e * e;
+  }
+  return std::sqrt(s);
+}
+
 // Newton's method with a backtracking line search on |F - mu F0| (each point's F and Jacobian
 // taken together: the full step is nearly always taken): solves F(x) = mu F0, the chain's own
 // equations when mu = 0. True when the norm falls below tol, or stalls within 1000 tol of it
@@ -1172,7 +1219,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
       n1 = shifted_norm(rows);
       if (std::isfinite(n1) && n1 < n0) break;
     }
-    if (!(lam > 1e-4)) return n0 < 1e3 * tol;
+    if (!(lam > 1e-4)) return n0 < 1e3 * tol || (pb.to_rounding && n0 < arc_rounding_floor(pb, c));
     c = trial;
     n0 = n1;
   }
@@ -2026,6 +2073,29 @@ ArcIneq arc_ineq(const ArcProblem& pb, const ArcChain& c, const ArcLayout& L) no
   return q;
 }
 
+// The minimum-norm step dz (in z: x moves by dz unit) with J dz = -f on the rows and a dz = -val on
+// each inequality that `held` names (it is linear: the step sets it to 0): its row from qi, its
+// value from qv (qi's own, or the values at another chain of the same node kinds).
+template <class Vals, class Held>
+ArcVec min_norm_step(const ArcChain& c, const ArcMat& jm, const ArcVec& f, std::size_t rows, const ArcVec& unit,
+                     const ArcIneq& qi, const Vals& qv, Held held) noexcept {
+  RowBasis basis(c.n);
+  std::array<double, kMaxBasisRows> b{};
+  std::size_t k = 0;
+  for (std::size_t r = 0; r < rows; ++r) {
+    ArcVec a{};
+    for (std::size_t i = 0; i < c.n; ++i) a[i] = jm[r][i] * unit[i];
+    basis.add(a);
+    b[k++] = -f[r];
+  }
+  for (std::size_t r = 0; r < qv.count; ++r) {
+    if (!held(r)) continue;
+    basis.add(qi.a[r]);
+    b[k++] = -qv.val[r];
+  }
+  return basis.solve(b);
+}
+
 // Restores F(c) = 0 by minimum-norm Gauss-Newton steps that keep the active rows (linear) as
 // they are. True when |F| < 1e-13 (or stalls within 1e-10 of it).
 bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std::array<bool, kMaxIneq>& active,
@@ -2048,21 +2118,8 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     if (!std::isfinite(n0)) return false;
     if (n0 < 1e-13) return true;
     arc_jacobian(pb, c, ev, jm);
-    RowBasis basis(c.n);
-    std::array<double, kMaxBasisRows> b{};
-    std::size_t k = 0;
-    for (std::size_t r = 0; r < rows; ++r) {
-      ArcVec a{};
-      for (std::size_t i = 0; i < c.n; ++i) a[i] = jm[r][i] * q.unit[i];
-      basis.add(a);
-      b[k++] = -f[r];
-    }
-    for (std::size_t r = 0; r < qc.count; ++r) {
-      if (!active[r] && !(qc.val[r] < 0.0)) continue;
-      basis.add(q.a[r]);
-      b[k++] = -qc.val[r];
-    }
-    const ArcVec dz = basis.solve(b);
+    const ArcVec dz =
+        min_norm_step(c, jm, f, rows, q.unit, q, qc, [&](std::size_t r) { return active[r] || qc.val[r] < 0.0; });
     ArcChain trial = c;
     ArcIneqVals qt;
     double n1 = HUGE_VAL;
@@ -2092,6 +2149,77 @@ bool restore_seed(const ArcProblem& pb, ArcChain& c) noexcept {
   ArcVec f{};
   ArcEval ev;
   return arc_restore(pb, c, q0, none, f, ev) && arc_violation(pb, c).kind == ArcFix::none;
+}
+
+// arc_values' rows with v and p (at the end, and v at each cruise or dwell) integrated forward
+// over the chain's own lengths (each ramp (level - level before) / j, each hold its x) with the
+// acceleration exactly 0 on each cruise or dwell: the table's own v and p as arc_table_direct and
+// rests_exact lay it out, each sum rounded to eps of the move's v and p, where arc_values' sums of
+// j (u_b^k - u_e^k) / k! round to eps of jmax T^k / k!. On grid case 265 (two modes, D 1.6 mm,
+// jmax 1210, T 3.8 s) the chain arc_values solves has v = -1.2e-13 m/s at its second dwell, which
+// over its 2.2 s runs back 1.6e-10 D.
+std::size_t arc_values_forward(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEval& ev) noexcept {
+  const std::size_t rows = arc_values(pb, c, f, ev);
+  double a = 0.0, v = 0.0, p = 0.0, lev0 = 0.0;
+  std::size_t k = (pb.pulse ? 1 : 2) + 2 * pb.ms->n;
+  const auto run = [&](double d, double j) {
+    if (!(d > 0.0)) return;
+    p += d * (v + d * (a / 2.0 + j * d / 6.0));
+    v += d * (a + j * d / 2.0);
+    a += j * d;
+  };
+  for (std::size_t r = 0; r <= c.n; ++r) {
+    const bool closing = r == c.n;
+    const double s = closing ? ramp_out(c.node[c.n - 1]) : ramp_in(c.node[r]);
+    const double lev = closing ? 0.0 : node_level(pb, c, r);
+    run((lev - lev0) / (s * pb.J), s * pb.J);
+    lev0 = lev;
+    if (closing) break;
+    const ArcKind kd = c.node[r].kind;
+    if (kd == ArcKind::cruise || kd == ArcKind::dwell) {
+      a = 0.0;  // exactly, as rests_exact makes the table's
+      if (k < rows) f[k++] = (v - (kd == ArcKind::cruise ? pb.vmax : 0.0)) / pb.vmax;
+    }
+    if (kd != ArcKind::peak) run(c.x[r], 0.0);
+  }
+  f[0] = (v - (pb.pulse ? pb.vmax : 0.0)) / pb.vmax;
+  if (!pb.pulse) f[1] = (p - pb.D) / pb.D;
+  return rows;
+}
+
+// c's rows of v and p (arc_values_forward) brought nearer 0 by minimum-norm Gauss-Newton steps
+// that leave the modes' rows as they are (to first order: they are solved to the rounding of
+// their own sums) and the active inequalities (a hold of 0, a ramp of 0) exactly, while those
+// rows' norm falls. True when it fell.
+bool arc_polish(const ArcProblem& pb, ArcChain& c) noexcept {
+  ArcVec f{};
+  ArcEval ev;
+  ArcMat jm{};
+  const std::size_t first_mode = pb.pulse ? 1 : 2, end_mode = first_mode + 2 * pb.ms->n;
+  const auto kinematic = [&](ArcVec& g, std::size_t n) {
+    for (std::size_t r = first_mode; r < end_mode && r < n; ++r) g[r] = 0.0;
+    return arc_norm(g, n);
+  };
+  std::size_t rows = arc_values_forward(pb, c, f, ev);
+  const double start = kinematic(f, rows);
+  double n0 = start;
+  for (int it = 0; it < 8 && n0 > 0.0; ++it) {
+    arc_jacobian(pb, c, ev, jm);
+    const ArcIneq q = arc_ineq(pb, c, ev.L);
+    const ArcVec dz = min_norm_step(c, jm, f, rows, q.unit, q, q, [&](std::size_t r) { return q.val[r] <= q.tol[r]; });
+    ArcChain trial = c;
+    for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + dz[i] * q.unit[i];
+    ArcVec ft{};
+    ArcEval et;
+    const std::size_t rt = arc_values_forward(pb, trial, ft, et);
+    const double n1 = kinematic(ft, rt);
+    if (rt != rows || !(n1 < n0)) break;
+    c = trial;
+    f = ft;
+    ev = et;
+    n0 = n1;
+  }
+  return n0 < start;
 }
 
 // The multipliers of a solved chain's equations at its minimum (arc_minimise), in z.
@@ -2696,6 +2824,76 @@ void keep_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) no
   }
 }
 
+// A table's holds at a = 0 (a dwell, a cruise: a zero-jerk segment after a ramp that ends within
+// 1e-9 amax of 0) made to hold at exactly 0: the ramp into each is lengthened or shortened by the
+// ulps that make its sum a + j d exactly 0. The table's acceleration is a sum over its segments,
+// rounded to about 1e-13 of amax, and on a long dwell that runs the axis back: on grid case 265
+// (two modes, D 1.6 mm, amax 150, a 2.2 s dwell) a = 2.7e-13 runs back 6.7e-12 D. False when a
+// ramp cannot be made to end exactly at 0 (a few ulps each way tried).
+bool rests_exact(FastestTable& t, double amax) noexcept {
+  double a = 0.0;
+  for (std::size_t i = 0; i < t.count; ++i) {
+    t.accel0[i] = a;
+    const double next = a + t.jerk[i] * t.durations[i];
+    if (i + 1 < t.count && t.jerk[i] != 0.0 && t.jerk[i + 1] == 0.0 && next != 0.0 &&
+        std::fabs(next) <= 1e-9 * amax) {
+      double d = -a / t.jerk[i];
+      for (int k = 0; k < 8 && a + t.jerk[i] * d != 0.0; ++k) {
+        d = std::nextafter(d, (a + t.jerk[i] * d > 0.0) == (t.jerk[i] > 0.0) ? 0.0 : HUGE_VAL);
+      }
+      if (a + t.jerk[i] * d != 0.0 || !(d > 0.0)) return false;
+      t.durations[i] = d;
+    }
+    a += t.jerk[i] * t.durations[i];
+  }
+  return true;
+}
+
+// The chain (whole form) as a table whose segments are its own lengths, each ramp
+// (level - level before) / j, each hold its x: the segments arc_values_forward integrates
+// (arc_table's are differences of the switch times, each rounded to about eps T).
+FastestTable arc_table_direct(const ArcProblem& pb, const ArcChain& c, double distance) noexcept {
+  if (pb.pulse) return FastestTable{};
+  const double sg = distance < 0.0 ? -1.0 : 1.0;
+  FastestTable t{};
+  t.distance = distance;
+  double a = 0.0;
+  for (std::size_t r = 0; r <= c.n; ++r) {
+    const bool closing = r == c.n;
+    const double s = closing ? ramp_out(c.node[c.n - 1]) : ramp_in(c.node[r]);
+    const double lev = closing ? 0.0 : node_level(pb, c, r);
+    const double hold = closing || c.node[r].kind == ArcKind::peak ? 0.0 : c.x[r];
+    if (!push_segment(t, (lev - a) / (s * pb.J), sg * s * pb.J) || !push_segment(t, hold, 0.0)) return FastestTable{};
+    a = lev;
+  }
+  return t;
+}
+
+// keep_refined, and where the chain's table runs back over its bound, the chain's v and p
+// polished to the table's own sums (arc_polish), laid out of its own lengths (arc_table_direct)
+// with its holds at a = 0 exact (rests_exact), and kept where that table passes. A chain solved
+// to arc_values' rounding holds each dwell at v = 0 and a = 0 only to about 1e-13 of vmax and
+// amax, and over a long dwell that runs back more than the bound allows: grid case 184 (two
+// modes, 1.05 rad/s and 19.3 rad/s; dwells of 1.5 s and 0.2 s): split_refined's chain, 1.0 %
+// shorter than its move, ran back 1.44e-12 D in all and was refused; 265 (below,
+// split_to_rounding) 6.7e-12 D.
+void keep_or_polish(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noexcept {
+  FastestTable t = arc_table(pb, c, fs.r.distance);
+  if (t.count == 0 || !(backwards_travel(t) > 1e-12 * pb.D)) {
+    keep_refined(fs, pb, c);
+    return;
+  }
+  ArcChain e = c;
+  (void)arc_polish(pb, e);
+  if (arc_violation(pb, e).kind != ArcFix::none) return;
+  t = arc_table_direct(pb, e, fs.r.distance);
+  Peaks<double> pk{};
+  if (t.count != 0 && rests_exact(t, pb.amax) && table_ok(t, fs.lim, fs.ms, 0.0, pk) &&
+      !(backwards_travel(t) > 1e-12 * pb.D)) {
+    fs.record_table(FastestFamily::bang_bang, t, pk);
+  }
+}
+
 // A one-mode chain with a blip in a hold (a limit node, a short turn of the other sign, the limit
 // again) with the blip moved to either end of the hold and restored to the chain's equations (a
 // square chain: nothing left to minimise; the grid's durations are the same with arc_minimise
@@ -2719,7 +2917,7 @@ void blip_moved(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noex
       ArcChain e = c;
       e.x[i] = f * hold;
       e.x[i + 2] = (1.0 - f) * hold;
-      if (restore_seed(pb, e)) keep_refined(fs, pb, e);
+      if (restore_seed(pb, e)) keep_or_polish(fs, pb, e);
     }
   }
 }
@@ -2746,35 +2944,115 @@ void split_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
       if (!split_chain(pb, s, c)) continue;
       if (!restore_seed(pb, c)) continue;
       arc_refine(pb, c, 3);
-      keep_refined(fs, pb, c);
+      keep_or_polish(fs, pb, c);
     }
   }
 }
 
-// A small pulse inserted near the end of each long dwell of a refined chain (at 90 %
-// of a dwell that lasts a period of the fastest mode or more: the dwell split in two, a peak up
-// and one down between, at half the lower of the levels on either side), restored to the chain's
-// equations and refined one round (arc_refine). The reference's move on grid case 98 (1.06 /
-// 14.9 / 28.8 rad/s; a 4.04 s move) has such a pulse 16 ms before the end of its 2 s dwell, which
-// no chain had: the pairs the first-order test inserts sit in a ramp or a hold at amax, not at
-// v = 0, and a pulse in the dwell's middle or at a quarter of it closes again as it is minimised.
-// A candidate like the refined chains (keep_refined), so no move gets longer. Two modes too: on
-// grid case 250 (3.36 / 34.2 rad/s) the pulse makes the move 0.17 % shorter, nothing else changes.
-void pulse_in_dwell(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noexcept {
-  constexpr double kAt = 0.9;
-  double w_fast = 0.0;  // the fastest mode's damped frequency
-  for (std::size_t m = 0; m < pb.ms->n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
-  const std::array<ArcNode, 4> with{ArcNode{ArcKind::dwell, 1.0}, ArcNode{ArcKind::peak, 1.0},
-                                    ArcNode{ArcKind::peak, -1.0}, ArcNode{ArcKind::dwell, 1.0}};
-  for (std::size_t k = 1; k + 1 < c.n && c.n + 3 <= kMaxArcNodes; ++k) {
-    if (c.node[k].kind != ArcKind::dwell || c.x[k] * w_fast < two_pi_v<double>()) continue;
-    const double lev = 0.5 * std::fmin(std::fabs(node_level(pb, c, k - 1)), std::fabs(node_level(pb, c, k + 1)));
-    if (!(lev > 0.0)) continue;
-    const std::array<double, 4> x{kAt * c.x[k], lev, -lev, (1.0 - kAt) * c.x[k]};
+// The move split at the joint ZV shaper's impulses (split_chain, as plan_arcs seeds it), solved
+// to the rounding of its rows rather than to 1e-10, changed where it breaks a condition as
+// plan_arcs' paths are, then refined (arc_refine). Short moves over slow modes sum ramps of size
+// jmax T^3 to a distance many orders smaller: on grid cases 34 and 265 (two modes, D 1.3 and
+// 1.6 mm, moves of 2 s and 3.8 s) the rows of p and v at the end round to about 4e-10 of D, so
+// Newton's method stalls there, the chain counted as not solved, and no bang-bang chain was
+// left: the move was time-optimal * joint ZV, 0.28 % and 0.28 % over the reference, where the
+// split chain solved to its rounding is 0.013 % and 0.019 % under it. Only where bang-bang found
+// no chain for all the modes (accepting such stalls in every path of plan_arcs changed other
+// paths: a three-mode grid case 1.3e-7 longer).
+void split_to_rounding(FastestSearch& fs, ArcProblem& pb) noexcept {
+  ArcChain c{};
+  if (!fs.has_joint || !split_chain(pb, fs.joint, c)) return;
+  pb.pulse = false;
+  pb.to_rounding = true;
+  bool solved = false;
+  for (int round = 0; round < 16 && !solved; ++round) {
+    if (!arc_solve(pb, c)) break;
+    const ArcFix fx = arc_violation(pb, c);
+    solved = fx.kind == ArcFix::none;
+    if (!solved && !apply_fix(pb, fx, c)) break;
+  }
+  pb.to_rounding = false;
+  if (!solved) return;
+  keep_or_polish(fs, pb, c);
+  if (arc_refine(pb, c, 3)) keep_or_polish(fs, pb, c);
+}
+
+// Two modes (exact designs): the move split at ZV of the slower mode (split_chain: two rigid parts
+// and a dwell, the slower mode's own chain) with two blips across to the other limit in each hold
+// next to the dwell (at a sixth and five sixths of it), restored to the chain's equations and
+// refined (arc_refine). The reference's move on grid case 184 (1.05 rad/s and 19.3 rad/s, D 1.53
+// m; a 1.8 s dwell) is that: +amax, then -amax broken by two blips, the dwell, +amax broken by two
+// blips, -amax (12 turns and a dwell: six unknowns more than equations). The wiggles of plan_arcs
+// insert one pair into the slower mode's chain (a square chain), and split_refined's chain keeps
+// three parts: 1.57 % and 0.53 % over; this chain reaches it (0.07 % under).
+void blips_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
+  if (fs.ms.n != 2 || fs.band != 0.0) return;
+  const std::size_t slow = fs.ms.m[0].omega < fs.ms.m[1].omega ? 0 : 1;
+  Shaper<double> zv{};
+  if (design_shaper(ShaperKind::zv, fs.ms.m[slow].omega, fs.ms.m[slow].zeta, 0.05, zv) != Status::ok) return;
+  pb.pulse = false;
+  ArcChain c{};
+  if (!split_chain(pb, zv, c)) return;
+  for (std::size_t k = c.n; k-- > 0;) {
+    const ArcNode lim = c.node[k];
+    const bool by_dwell = (k + 1 < c.n && c.node[k + 1].kind == ArcKind::dwell) ||
+                          (k > 0 && c.node[k - 1].kind == ArcKind::dwell);
+    if (lim.kind != ArcKind::limit || !by_dwell || !(c.x[k] > 0.0)) continue;
+    const ArcNode other{ArcKind::limit, -lim.sign};
+    const std::array<ArcNode, 5> with{lim, other, lim, other, lim};
+    const double h = c.x[k];
+    const std::array<double, 5> x{h / 6.0, 0.0, 2.0 * h / 3.0, 0.0, h / 6.0};
     ArcChain e{};
-    if (!splice(c, k, with.data(), x.data(), with.size(), e) || !restore_seed(pb, e)) continue;
-    arc_refine(pb, e, 1);
-    keep_refined(fs, pb, e);
+    if (!splice(c, k, with.data(), x.data(), with.size(), e)) return;
+    c = e;
+  }
+  // Refined only where the restored seed is already shorter than the shortest move so far
+  // (184: 4.0510 s against 4.0741 s): on 81 of the grid's 100 two-mode cases the seed lies within
+  // 5 % of it, and refining each cost the two-mode grid 10 % to 28 % more planning time.
+  if (lay_out(pb, c).T > 1.05 * fs.best.time || !restore_seed(pb, c) || !(lay_out(pb, c).T < fs.best.time)) return;
+  arc_refine(pb, c, 3);
+  keep_or_polish(fs, pb, c);
+}
+
+// Two modes: bang-bang's shortest chain with a blip of finite size to the other limit (5 % of the
+// hold) at 85 % of one of its holds at a limit, for each such hold, restored to the chain's
+// equations and refined one round (arc_refine). The first-order test of arc_refine opens pairs of
+// zero size, and a blip of zero hold restored to the equations closes again; the reference's move
+// on grid case 40 (26.8 / 98.9 rad/s; D 1.99 m, amax 3.586) has such a blip of finite size late
+// in a hold: +amax 0.633 s, -amax 0.041, +amax 0.115, -amax 0.644, +amax 0.003, -amax 0.053, ...,
+// where the refined chain had +amax 0.618, -amax 0.045, +amax 0.129, -amax 0.402, +amax 0.003,
+// -amax 0.296, ... (0.26 % over).
+void hold_blips_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base) noexcept {
+  for (std::size_t k = 0; k < base.n; ++k) {
+    const ArcNode lim = base.node[k];
+    if (lim.kind != ArcKind::limit || !(base.x[k] > 0.0)) continue;
+    const std::array<ArcNode, 3> with{lim, ArcNode{ArcKind::limit, -lim.sign}, lim};
+    const std::array<double, 3> x{0.85 * base.x[k], 0.05 * base.x[k], 0.15 * base.x[k]};
+    ArcChain c{};
+    if (!splice(base, k, with.data(), x.data(), with.size(), c) || !restore_seed(pb, c)) continue;
+    arc_refine(pb, c, 1);
+    keep_or_polish(fs, pb, c);
+  }
+}
+
+// A pulse inside a dwell: bang-bang's shortest chain with each dwell broken, at 95 % of it, by a
+// turn up to 0.07 amax and one down to -0.07 amax (the axis moves a little forward and stops
+// again), restored to the chain's equations and refined (arc_refine). The reference's move on
+// grid case 250 (two modes, 3.36 / 34.2 rad/s; D 0.128 m, a 0.6 s dwell between two cruising
+// parts) has one: the dwell, a pulse at +-4 m/s^2 (0.07 amax) 0.56 s into it, 0.06 s more; the
+// planner's chain had the two parts and the dwell and was 0.17 % over. Neither the first-order
+// test (a dwell's v = 0 makes a pair of zero size there invisible to it) nor the stops and
+// slow-downs (inside cruises) insert it.
+void dwell_pulse_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base) noexcept {
+  for (std::size_t k = 0; k < base.n; ++k) {
+    if (base.node[k].kind != ArcKind::dwell || !(base.x[k] > 0.0)) continue;
+    const std::array<ArcNode, 4> with{base.node[k], ArcNode{ArcKind::peak, 1.0}, ArcNode{ArcKind::peak, -1.0},
+                                      base.node[k]};
+    const std::array<double, 4> x{0.95 * base.x[k], 0.07 * pb.amax, -0.07 * pb.amax, 0.05 * base.x[k]};
+    ArcChain c{};
+    if (!splice(base, k, with.data(), x.data(), with.size(), c) || !restore_seed(pb, c)) continue;
+    arc_refine(pb, c, 1);
+    keep_or_polish(fs, pb, c);
   }
 }
 
@@ -2791,6 +3069,8 @@ void refined_chains(FastestSearch& fs) noexcept {
   // The split chains under the rule below (the fastest mode rings a period or more over the
   // shortest move so far).
   if (fs.ms.n >= 2 && w_fast * fs.best.time >= two_pi_v<double>()) split_refined(fs, pb);
+  if (!got.have) split_to_rounding(fs, pb);
+  if (w_fast * fs.best.time >= two_pi_v<double>()) blips_refined(fs, pb);
   for (std::size_t k = 0; k <= kLateStages; ++k) {
     const bool have = k == 0 ? got.have : got.late_have[k - 1];
     if (!have) continue;
@@ -2803,10 +3083,12 @@ void refined_chains(FastestSearch& fs) noexcept {
     const double t_move = lay_out(pb, c).T + (pb.pulse ? pb.D / pb.vmax : 0.0);
     if (w_fast * t_move < two_pi_v<double>()) continue;
     if (fs.ms.n == 1) blip_moved(fs, pb, c);
+    if (k == 0) dwell_pulse_refined(fs, pb, got.c);
     const bool shorter = arc_refine(pb, c, 3);
-    if (fs.ms.n >= 2) pulse_in_dwell(fs, pb, c);
     if (!shorter) continue;
-    keep_refined(fs, pb, c);
+    keep_or_polish(fs, pb, c);
+    // Two modes, the shortest chain before the late stages, where refining it shortened it.
+    if (fs.ms.n == 2 && k == 0) hold_blips_refined(fs, pb, got.c);
   }
 }
 
