@@ -3056,6 +3056,26 @@ void dwell_pulse_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain
   }
 }
 
+// A refined chain's limit nodes held for no time (a turn that touches amax and leaves it at once)
+// made into peaks at amax and refined again (arc_refine). The same move, but a limit's hold cannot
+// go below 0 where a peak's level can go below amax: as a limit node the minimisation cannot take
+// the turn away from amax, as a peak it can (the bound's multiplier releases it). On grid case
+// 229 (two modes, 65.3 / 247.2 rad/s; D 0.152 m, a 0.51 s move) the refined chain's last turn
+// holds +amax for 1e-16 s, 0.26 % over the reference; the reference's move turns at +1.34 m/s^2
+// there and holds its other turns a little differently, and the chain with a peak refines to it.
+void zero_holds_to_peaks(FastestSearch& fs, const ArcProblem& pb, const ArcChain& refined) noexcept {
+  ArcChain c = refined;
+  bool any = false;
+  const double T = lay_out(pb, c).T;
+  for (std::size_t k = 0; k < c.n; ++k) {
+    if (c.node[k].kind != ArcKind::limit || !(c.x[k] <= 1e-12 * T)) continue;
+    c.node[k].kind = ArcKind::peak;
+    c.x[k] = c.node[k].sign * pb.amax;
+    any = true;
+  }
+  if (any && restore_seed(pb, c) && arc_refine(pb, c, 1)) keep_or_polish(fs, pb, c);
+}
+
 // (a'') bang-bang's shortest chains with turns inserted and their length minimised (arc_refine),
 // last: every family before is as without it, and a refined chain is a candidate only where it is
 // shorter than everything they found.
@@ -3087,6 +3107,7 @@ void refined_chains(FastestSearch& fs) noexcept {
     const bool shorter = arc_refine(pb, c, 3);
     if (!shorter) continue;
     keep_or_polish(fs, pb, c);
+    zero_holds_to_peaks(fs, pb, c);
     // Two modes, the shortest chain before the late stages, where refining it shortened it.
     if (fs.ms.n == 2 && k == 0) hold_blips_refined(fs, pb, got.c);
   }

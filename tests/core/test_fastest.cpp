@@ -414,6 +414,12 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       // its optimum has a small pulse (peaks at +-6.3 m/s^2) 16 ms before the end of its 2 s dwell.
       {98, 5.421, 8.007, 18.77, 127.9, {{1.0574, 0.2664}, {14.8559, 0.1508}, {28.8041, 0.0232}}, 4.03913659},
       {250, 0.128, 0.3189, 57.58, 281.3, {{3.3582, 0.0751}, {34.2092, 0.0946}}, 1.2221711},
+      // 0.26 %, 0.25 % and 0.27 % over until a refined chain's limit nodes held for no time were
+      // made into peaks and refined again (zero_holds_to_peaks): 229's optimum turns at +1.34 m/s^2
+      // where its chain touched +amax.
+      {229, 0.1518, 0.5277, 2.616, 1371.0, {{65.3258, 0.1466}, {247.1623, 0.1366}}, 0.509433651},
+      {8, 1.66, 8.459, 4.0, 921.4, {{39.7676, 0.0846}, {60.716, 0.0646}, {117.4374, 0.1918}}, 1.33260442},
+      {200, 3.202, 9.116, 34.0, 265.3, {{3.2847, 0.0656}, {6.1541, 0.2751}, {24.5265, 0.0133}}, 1.89261413},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
