@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// A `fastest` move scaled (core/src/fastest.cpp; used by axis_command, multi_axis.cpp).
+// A `fastest` move scaled (core/src/fastest.cpp; used by axis_command, multi_axis.cpp, and by
+// plan_fastest, which plans -D as the move of D mirrored: k = -1).
 #include "settle/core/profiles/fastest.hpp"
 
 namespace settle::core::detail {

@@ -20,6 +20,7 @@
 #include "settle/core/fixed/motion.hpp"
 #include "settle/core/planner.hpp"
 #include "settle/core/stepper.hpp"
+#include "test_helpers.hpp"
 
 using namespace settle;
 using core::Status;
@@ -68,6 +69,16 @@ core::Sample<double> sampled_peaks(const core::Move<double>& m, int n = 20000) {
     pk.j = std::max(pk.j, std::fabs(s.j));
   }
   return pk;
+}
+
+// r planned at -D is m (r's plan) mirrored: the same duration to the bit, every sample negated
+// (docs/fastest.md, "The sign of D").
+void expect_minus_d_mirrors(const core::MoveRequest& r, const core::Move<double>& m) {
+  core::MoveRequest q = r;
+  q.distance = -r.distance;
+  core::Move<double> mq{};
+  ASSERT_EQ(core::plan(q, mq), Status::ok);
+  test::expect_mirrored(m, mq);
 }
 
 // Never backwards: sampled, the position never moves against the move's direction (so it stays
@@ -204,7 +215,8 @@ TEST(Fastest, TwoModeGridNeverSlowerThanTimeOptimalZv) {
 // of the move shorter than the chain and its refinement. Since session 25 only that search runs
 // there (not the pulse form nor the shaped seeds: bang_coast_family); dropping bang-coast after
 // the chain altogether gives the chain's 0.4950745 s. (With D = -1 bang-coast finds no move and
-// the chain wins, before and after: the search is not symmetric in the sign of D.)
+// the chain won: the search is not symmetric in the sign of D. It now plans |D| and mirrors the
+// move: docs/fastest.md, "The sign of D".)
 TEST(Fastest, BangCoastStillRefinesALongRingingChain) {
   core::MoveRequest r = request(1.0, 3.0, 100.0, 1e4, 22.0, 0.0);
   (void)r.add_mode({59.4, 0.01});
@@ -217,6 +229,7 @@ TEST(Fastest, BangCoastStillRefinesALongRingingChain) {
   EXPECT_LT(m.duration(), chain);
   EXPECT_LT(m.duration(), 0.4950730);
   check_move(r, m);
+  expect_minus_d_mirrors(r, m);  // D = -1 planned 0.4950745 s (the chain) before
   std::printf("bang-coast after the chain: %.9f s, the chain %.9f s\n", m.duration(), chain);
 }
 
@@ -240,6 +253,7 @@ TEST(Fastest, RandomTwoModeCasesNeverSlowerThanTimeOptimalZv) {
     ASSERT_EQ(core::plan(r, m), Status::ok);
     EXPECT_LE(m.duration(), shaped_baseline(r, core::ShaperKind::zv) * (1 + 1e-12));
     check_move(r, m);
+    expect_minus_d_mirrors(r, m);
     ++wins[static_cast<int>(family_of(m))];
     sum += m.duration();
   }
@@ -312,6 +326,7 @@ TEST(Fastest, ThreeModeCasesPlanWhereTheJointShaperFits) {
     sum += m.duration();
     ++wins[static_cast<int>(family_of(m))];
     check_move(r, m);
+    expect_minus_d_mirrors(r, m);
   }
   std::printf("three modes, 40 cases: %d planned (%d with the joint ZV move as a bound), sum of their durations %.4f s; "
               "winners:",

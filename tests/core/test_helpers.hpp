@@ -2,6 +2,8 @@
 #pragma once
 // Small builders shared by the core suites.
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <optional>
 
@@ -36,6 +38,20 @@ inline core::Peaks<double> sampled_peaks(const core::Move<double>& m, int n) {
     pk.j = std::max(pk.j, std::fabs(s.j));
   }
   return pk;
+}
+
+// m_neg is m mirrored: the same duration to the bit, and at n + 1 evenly spread instants its
+// position, velocity, acceleration and jerk are m's negated exactly (a plan of -D against D).
+inline void expect_mirrored(const core::Move<double>& m, const core::Move<double>& m_neg, int n = 2000) {
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(m_neg.duration()), std::bit_cast<std::uint64_t>(m.duration()))
+      << m_neg.duration() << " s against " << m.duration() << " s";
+  int off = 0;
+  for (int i = 0; i <= n; ++i) {
+    const double t = m.duration() * i / n;
+    const auto s = m.at(t), sn = m_neg.at(t);
+    off += !(sn.p == -s.p && sn.v == -s.v && sn.a == -s.a && sn.j == -s.j);
+  }
+  EXPECT_EQ(off, 0) << "of " << n + 1 << " samples not mirrored";
 }
 
 }  // namespace settle::test

@@ -163,7 +163,7 @@ class Fastest {
 };
 
 // The planner (core/src/fastest.cpp): every family, the shortest feasible one that never runs
-// backwards (v keeps the sign of the distance).
+// backwards (v keeps the sign of the distance). -D plans as the move of D mirrored, to the bit.
 [[nodiscard]] Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& pk) noexcept;
 
 // Exact peaks of a piecewise-constant-jerk table (jerk and acceleration at breakpoints, velocity
