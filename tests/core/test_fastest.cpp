@@ -414,6 +414,10 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       // its optimum has a small pulse (peaks at +-6.3 m/s^2) 16 ms before the end of its 2 s dwell.
       {98, 5.421, 8.007, 18.77, 127.9, {{1.0574, 0.2664}, {14.8559, 0.1508}, {28.8041, 0.0232}}, 4.03913659},
       {250, 0.128, 0.3189, 57.58, 281.3, {{3.3582, 0.0751}, {34.2092, 0.0946}}, 1.2221711},
+      // 0.20 % over until a pulse was seeded a quarter into each dwell (dwell_pulse_quarter) and
+      // a ramp into a rest whose end cannot be made exactly 0 ended an ulp from it (ramp_to_rest):
+      // its optimum has five pulses with dwells between, the chain four.
+      {263, 0.008922, 4.035, 21.38, 1481.0, {{1.7, 0.1707}, {3.0459, 0.2334}, {10.4101, 0.1748}}, 2.93265227},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
