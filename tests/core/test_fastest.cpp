@@ -418,6 +418,9 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       // a ramp into a rest whose end cannot be made exactly 0 ended an ulp from it (ramp_to_rest):
       // its optimum has five pulses with dwells between, the chain four.
       {263, 0.008922, 4.035, 21.38, 1481.0, {{1.7, 0.1707}, {3.0459, 0.2334}, {10.4101, 0.1748}}, 2.93265227},
+      // 0.31 % over until a slow-down was seeded four fifths into each cruise (cruise_slowdown_late):
+      // its optimum slows down 0.354 s into its 0.40 s cruise, the refined chain's 0.233 s in.
+      {44, 0.3383, 0.5785, 44.91, 255.7, {{44.2387, 0.0482}, {103.1049, 0.1326}, {194.4546, 0.1318}}, 0.710895119},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
