@@ -2824,12 +2824,26 @@ void keep_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) no
   }
 }
 
+// The length d of a ramp of jerk j from a that ends at a + j d = 0 exactly, or, where no double d
+// does, nearest 0 (of the few ulps tried each way). A step of d by one ulp can move j d by more
+// than one ulp of a, so that j d skips -a: on grid case 263 (three modes, jmax 1481) a ramp from
+// -14.45 m/s^2 of 9.8 ms ends at -1.8e-15 or +1.8e-15 (an ulp of a either side), never at 0.
+double ramp_to_rest(double a, double j) noexcept {
+  double d = -a / j, best = d;
+  for (int k = 0; k < 8 && a + j * d != 0.0; ++k) {
+    d = std::nextafter(d, (a + j * d > 0.0) == (j > 0.0) ? 0.0 : HUGE_VAL);
+    if (std::fabs(a + j * d) < std::fabs(a + j * best)) best = d;
+  }
+  return best;
+}
+
 // A table's holds at a = 0 (a dwell, a cruise: a zero-jerk segment after a ramp that ends within
 // 1e-9 amax of 0) made to hold at exactly 0: the ramp into each is lengthened or shortened by the
-// ulps that make its sum a + j d exactly 0. The table's acceleration is a sum over its segments,
-// rounded to about 1e-13 of amax, and on a long dwell that runs the axis back: on grid case 265
-// (two modes, D 1.6 mm, amax 150, a 2.2 s dwell) a = 2.7e-13 runs back 6.7e-12 D. False when a
-// ramp cannot be made to end exactly at 0 (a few ulps each way tried).
+// ulps that make its sum a + j d exactly 0 (or an ulp of a from it, ramp_to_rest: over 0.39 s of
+// dwell 1.8e-15 m/s^2 runs back 1.3e-16 m, 1.5e-14 D on 263). The table's acceleration is a sum
+// over its segments, rounded to about 1e-13 of amax, and on a long dwell that runs the axis back:
+// on grid case 265 (two modes, D 1.6 mm, amax 150, a 2.2 s dwell) a = 2.7e-13 runs back 6.7e-12 D.
+// False when a ramp's length comes out 0 or less.
 bool rests_exact(FastestTable& t, double amax) noexcept {
   double a = 0.0;
   for (std::size_t i = 0; i < t.count; ++i) {
@@ -2837,11 +2851,8 @@ bool rests_exact(FastestTable& t, double amax) noexcept {
     const double next = a + t.jerk[i] * t.durations[i];
     if (i + 1 < t.count && t.jerk[i] != 0.0 && t.jerk[i + 1] == 0.0 && next != 0.0 &&
         std::fabs(next) <= 1e-9 * amax) {
-      double d = -a / t.jerk[i];
-      for (int k = 0; k < 8 && a + t.jerk[i] * d != 0.0; ++k) {
-        d = std::nextafter(d, (a + t.jerk[i] * d > 0.0) == (t.jerk[i] > 0.0) ? 0.0 : HUGE_VAL);
-      }
-      if (a + t.jerk[i] * d != 0.0 || !(d > 0.0)) return false;
+      const double d = ramp_to_rest(a, t.jerk[i]);
+      if (!(d > 0.0)) return false;
       t.durations[i] = d;
     }
     a += t.jerk[i] * t.durations[i];
@@ -3035,6 +3046,22 @@ void hold_blips_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain&
   }
 }
 
+// bang-bang's shortest chain with each dwell broken at `before` of it (and `after` of it left) by
+// a turn up to 0.07 amax and one down to -0.07 amax, restored and refined one round.
+void dwell_pulse_at(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base, double before,
+                    double after) noexcept {
+  for (std::size_t k = 0; k < base.n; ++k) {
+    if (base.node[k].kind != ArcKind::dwell || !(base.x[k] > 0.0)) continue;
+    const std::array<ArcNode, 4> with{base.node[k], ArcNode{ArcKind::peak, 1.0}, ArcNode{ArcKind::peak, -1.0},
+                                      base.node[k]};
+    const std::array<double, 4> x{before * base.x[k], 0.07 * pb.amax, -0.07 * pb.amax, after * base.x[k]};
+    ArcChain c{};
+    if (!splice(base, k, with.data(), x.data(), with.size(), c) || !restore_seed(pb, c)) continue;
+    arc_refine(pb, c, 1);
+    keep_or_polish(fs, pb, c);
+  }
+}
+
 // A pulse inside a dwell: bang-bang's shortest chain with each dwell broken, at 95 % of it, by a
 // turn up to 0.07 amax and one down to -0.07 amax (the axis moves a little forward and stops
 // again), restored to the chain's equations and refined (arc_refine). The reference's move on
@@ -3044,11 +3071,30 @@ void hold_blips_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain&
 // test (a dwell's v = 0 makes a pair of zero size there invisible to it) nor the stops and
 // slow-downs (inside cruises) insert it.
 void dwell_pulse_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base) noexcept {
+  dwell_pulse_at(fs, pb, base, 0.95, 0.05);
+}
+
+// The pulse a quarter into each dwell (dwell_pulse_refined's seed at 0.25 / 0.75), three modes or
+// more. The reference's move on grid case 263 (1.7 / 3.05 / 10.4 rad/s; D 8.9 mm, three dwells
+// between four pulses) has five pulses; bang-bang's chain, four, was 0.20 % over. With a pulse a
+// quarter into its second dwell it refines to 2.932548 s, 0.004 % under the reference.
+void dwell_pulse_quarter(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base) noexcept {
+  dwell_pulse_at(fs, pb, base, 0.25, 0.75);
+}
+
+// A slow-down late in each cruise (three modes or more): the chain with a turn down to a peak
+// sqrt(0.05 vmax jmax) (at most 0.9 amax) and back, four fifths into the cruise, restored to the
+// chain's equations and refined one round (arc_refine). The reference's move on grid case 44
+// (44.2 / 103.1 / 194.5 rad/s; D 0.338 m, vmax 0.5785) slows down 0.354 s into its 0.40 s cruise;
+// the refined chain had its slow-down 0.233 s in (0.31 % over), and moving it there and restoring
+// closed it. Seeded late with a finite size it refines to the reference's (0.355 s in).
+void cruise_slowdown_late(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base) noexcept {
   for (std::size_t k = 0; k < base.n; ++k) {
-    if (base.node[k].kind != ArcKind::dwell || !(base.x[k] > 0.0)) continue;
-    const std::array<ArcNode, 4> with{base.node[k], ArcNode{ArcKind::peak, 1.0}, ArcNode{ArcKind::peak, -1.0},
+    if (base.node[k].kind != ArcKind::cruise || !(base.x[k] > 0.0)) continue;
+    const double a_p = std::fmin(0.9 * pb.amax, std::sqrt(0.05 * pb.vmax * pb.J));
+    const std::array<ArcNode, 4> with{base.node[k], ArcNode{ArcKind::peak, -1.0}, ArcNode{ArcKind::peak, 1.0},
                                       base.node[k]};
-    const std::array<double, 4> x{0.95 * base.x[k], 0.07 * pb.amax, -0.07 * pb.amax, 0.05 * base.x[k]};
+    const std::array<double, 4> x{0.8 * base.x[k], -a_p, a_p, 0.2 * base.x[k]};
     ArcChain c{};
     if (!splice(base, k, with.data(), x.data(), with.size(), c) || !restore_seed(pb, c)) continue;
     arc_refine(pb, c, 1);
@@ -3104,6 +3150,8 @@ void refined_chains(FastestSearch& fs) noexcept {
     if (w_fast * t_move < two_pi_v<double>()) continue;
     if (fs.ms.n == 1) blip_moved(fs, pb, c);
     if (k == 0) dwell_pulse_refined(fs, pb, got.c);
+    if (k == 0 && fs.ms.n >= 3) dwell_pulse_quarter(fs, pb, got.c);
+    if (fs.ms.n >= 3) cruise_slowdown_late(fs, pb, c);
     const bool shorter = arc_refine(pb, c, 3);
     if (!shorter) continue;
     keep_or_polish(fs, pb, c);

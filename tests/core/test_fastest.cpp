@@ -435,6 +435,13 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       {229, 0.1518, 0.5277, 2.616, 1371.0, {{65.3258, 0.1466}, {247.1623, 0.1366}}, 0.509433651},
       {8, 1.66, 8.459, 4.0, 921.4, {{39.7676, 0.0846}, {60.716, 0.0646}, {117.4374, 0.1918}}, 1.33260442},
       {200, 3.202, 9.116, 34.0, 265.3, {{3.2847, 0.0656}, {6.1541, 0.2751}, {24.5265, 0.0133}}, 1.89261413},
+      // 0.20 % over until a pulse was seeded a quarter into each dwell (dwell_pulse_quarter) and
+      // a ramp into a rest whose end cannot be made exactly 0 ended an ulp from it (ramp_to_rest):
+      // its optimum has five pulses with dwells between, the chain four.
+      {263, 0.008922, 4.035, 21.38, 1481.0, {{1.7, 0.1707}, {3.0459, 0.2334}, {10.4101, 0.1748}}, 2.93265227},
+      // 0.31 % over until a slow-down was seeded four fifths into each cruise (cruise_slowdown_late):
+      // its optimum slows down 0.354 s into its 0.40 s cruise, the refined chain's 0.233 s in.
+      {44, 0.3383, 0.5785, 44.91, 255.7, {{44.2387, 0.0482}, {103.1049, 0.1326}, {194.4546, 0.1318}}, 0.710895119},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
