@@ -3025,6 +3025,18 @@ void blips_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
   keep_or_polish(fs, pb, c);
 }
 
+// `base` with node k replaced by `with` (lengths and levels x), restored to the chain's equations,
+// refined one round (arc_refine) and kept where shorter (keep_or_polish): the tail every seed
+// that inserts turns into one node of a chain shares.
+template <std::size_t N>
+void spliced_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base, std::size_t k,
+                     const std::array<ArcNode, N>& with, const std::array<double, N>& x) noexcept {
+  ArcChain c{};
+  if (!splice(base, k, with.data(), x.data(), N, c) || !restore_seed(pb, c)) return;
+  arc_refine(pb, c, 1);
+  keep_or_polish(fs, pb, c);
+}
+
 // Two modes: bang-bang's shortest chain with a blip of finite size to the other limit (5 % of the
 // hold) at 85 % of one of its holds at a limit, for each such hold, restored to the chain's
 // equations and refined one round (arc_refine). The first-order test of arc_refine opens pairs of
@@ -3039,10 +3051,7 @@ void hold_blips_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain&
     if (lim.kind != ArcKind::limit || !(base.x[k] > 0.0)) continue;
     const std::array<ArcNode, 3> with{lim, ArcNode{ArcKind::limit, -lim.sign}, lim};
     const std::array<double, 3> x{0.85 * base.x[k], 0.05 * base.x[k], 0.15 * base.x[k]};
-    ArcChain c{};
-    if (!splice(base, k, with.data(), x.data(), with.size(), c) || !restore_seed(pb, c)) continue;
-    arc_refine(pb, c, 1);
-    keep_or_polish(fs, pb, c);
+    spliced_refined(fs, pb, base, k, with, x);
   }
 }
 
@@ -3055,10 +3064,7 @@ void dwell_pulse_at(FastestSearch& fs, const ArcProblem& pb, const ArcChain& bas
     const std::array<ArcNode, 4> with{base.node[k], ArcNode{ArcKind::peak, 1.0}, ArcNode{ArcKind::peak, -1.0},
                                       base.node[k]};
     const std::array<double, 4> x{before * base.x[k], 0.07 * pb.amax, -0.07 * pb.amax, after * base.x[k]};
-    ArcChain c{};
-    if (!splice(base, k, with.data(), x.data(), with.size(), c) || !restore_seed(pb, c)) continue;
-    arc_refine(pb, c, 1);
-    keep_or_polish(fs, pb, c);
+    spliced_refined(fs, pb, base, k, with, x);
   }
 }
 
@@ -3095,10 +3101,7 @@ void cruise_slowdown_late(FastestSearch& fs, const ArcProblem& pb, const ArcChai
     const std::array<ArcNode, 4> with{base.node[k], ArcNode{ArcKind::peak, -1.0}, ArcNode{ArcKind::peak, 1.0},
                                       base.node[k]};
     const std::array<double, 4> x{0.8 * base.x[k], -a_p, a_p, 0.2 * base.x[k]};
-    ArcChain c{};
-    if (!splice(base, k, with.data(), x.data(), with.size(), c) || !restore_seed(pb, c)) continue;
-    arc_refine(pb, c, 1);
-    keep_or_polish(fs, pb, c);
+    spliced_refined(fs, pb, base, k, with, x);
   }
 }
 
