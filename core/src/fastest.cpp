@@ -2901,8 +2901,8 @@ FastestTable arc_table_direct(const ArcProblem& pb, const ArcChain& c, double di
 // split_to_rounding) 6.7e-12 D. Where that table still fails, the chain is polished again with
 // the modes' rows too (arc_polish's `modes`): grid case 121's chain, minimised to its rows'
 // rounding (2e-8, cruise_stops_refined), left the modes 1.5e-8 D from rest polished in v and p
-// alone (design_ok: 1e-10 D) at scales 0.37 and 7.3 (at 1 it passed); polished in every row,
-// 1.6e-16 D. Only where the first polish's table fails: every table kept before is kept alike.
+// alone (design_ok: 1e-10 D) at scale 0.37 (at 1 and 7.3 it passed; at 7.3 not while the
+// restorations stalled at the floor each time); polished in every row, 1.6e-16 D. Only where the first polish's table fails: every table kept before is kept alike.
 void keep_or_polish(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noexcept {
   FastestTable t = arc_table(pb, c, fs.r.distance);
   if (t.count == 0 || !(backwards_travel(t) > 1e-12 * pb.D)) {

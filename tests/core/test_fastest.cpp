@@ -461,9 +461,10 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
 }
 
 // Grid case 121's chain (a 52 s move whose rows round to 2e-8) in other units of length: at 0.37
-// and 7.3 the chain restores and refines as at 1, but polished in its rows of v and p alone its
-// table left the modes ringing 1.5e-8 D and was refused (time-optimal * joint ZV, 52.694 s); its
-// modes' rows polished too, it is kept at every scale (keep_or_polish).
+// the chain restores and refines as at 1, but polished in its rows of v and p alone its table
+// left the modes ringing (design_ok) and was refused (time-optimal * joint ZV, 52.694 s); its
+// modes' rows polished too, it is kept at every scale (keep_or_polish). 7.3 passes either way
+// (it failed the same way while the restorations stalled at the rows' floor each time).
 TEST(Fastest, ALongCruisesStopsAreKeptInOtherUnits) {
   for (const double k : {0.37, 7.3}) {
     SCOPED_TRACE(::testing::Message() << "scale " << k);
