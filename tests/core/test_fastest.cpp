@@ -442,6 +442,10 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       // 0.31 % over until a slow-down was seeded four fifths into each cruise (cruise_slowdown_late):
       // its optimum slows down 0.354 s into its 0.40 s cruise, the refined chain's 0.233 s in.
       {44, 0.3383, 0.5785, 44.91, 255.7, {{44.2387, 0.0482}, {103.1049, 0.1326}, {194.4546, 0.1318}}, 0.710895119},
+      // 1.1 % over (time-optimal * joint ZV, 52.694 s) until a long cruise's end was seeded with
+      // three stops and restarts (cruise_stops_refined): its optimum stops twice in its last 2.4 s;
+      // the chain's rows round to 2e-8 (a 52 s move at jmax 8413), restored and minimised to that.
+      {121, 5.62, 0.109, 107.7, 8413.0, {{3.5804, 0.0343}, {7.9436, 0.1696}}, 52.122065},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
@@ -453,6 +457,24 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
     EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
     check_move(r, m);
     std::printf("grid case %d: fastest %.6f s, reference %.6f s\n", c.id, m.duration(), c.reference);
+  }
+}
+
+// Grid case 121's chain (a 52 s move whose rows round to 2e-8) in other units of length: at 0.37
+// the chain restores and refines as at 1, but polished in its rows of v and p alone its table
+// left the modes ringing (design_ok) and was refused (time-optimal * joint ZV, 52.694 s); its
+// modes' rows polished too, it is kept at every scale (keep_or_polish). 7.3 passes either way
+// (it failed the same way while the restorations stalled at the rows' floor each time).
+TEST(Fastest, ALongCruisesStopsAreKeptInOtherUnits) {
+  for (const double k : {0.37, 7.3}) {
+    SCOPED_TRACE(::testing::Message() << "scale " << k);
+    core::MoveRequest r = request(5.62 * k, 0.109 * k, 107.7 * k, 8413.0 * k, 3.5804, 0.0343);
+    (void)r.add_mode({7.9436, 0.1696});
+    core::Move<double> m{};
+    ASSERT_EQ(core::plan(r, m), Status::ok);
+    EXPECT_LE(m.duration(), 52.122065 * 1.001);
+    EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
+    check_move(r, m);
   }
 }
 
