@@ -266,11 +266,11 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     std::array<double, kMaxRows> res = rhs;
     double rhs_norm = 0.0;
     for (std::size_t i = 0; i < rows; ++i) rhs_norm = std::max(rhs_norm, std::fabs(rhs[i]));
-    // Minimum norm: x = W M^T (M W M^T)^{-1} b, then one step of iterative refinement with the
-    // same factor.
+    // Minimum norm: x = W M^T (M W M^T)^{-1} b, then, only if it misses its equations, one step of
+    // iterative refinement with the same factor (docs/online.md, "Refinement only where needed").
     Gram chol;  // NOLINT: cholesky sets the lower triangle it reads
     if (!cholesky(gram, rows, chol)) return false;
-    for (int pass = 0; pass < 2; ++pass) {
+    for (int pass = 0;; ++pass) {
       std::array<double, kMaxRows> y = res;
       cholesky_solve(chol, rows, y);
       // Column k's sum over i, for every k at once.
@@ -290,15 +290,14 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
         res[i] = rhs[i] - res[i];
         worst = std::max(worst, std::fabs(res[i]));
       }
-      if (pass == 1) {
-        double xn = 0.0;
-        if (unit) {
-          for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]));
-        } else {
-          for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) / (sw[k] > 0.0 ? sw[k] : 1.0));
-        }
-        if (worst > 1e-12 * std::max(rhs_norm, xn)) return false;
+      double xn = 0.0;
+      if (unit) {
+        for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]));
+      } else {
+        for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]) / (sw[k] > 0.0 ? sw[k] : 1.0));
       }
+      if (worst <= 1e-12 * std::max(rhs_norm, xn)) break;
+      if (pass == 1) return false;
     }
     bool pinned = false;
     double jpk = 0.0;
