@@ -42,7 +42,7 @@ namespace {
 // The sweep's measured means (docs/online.md), rounded up in the third digit: rest time over the
 // time-optimal stop, and over that stop plus one ZV shaper's length (pi / omega_d) per design mode.
 #if SETTLE_HALT_CASES == 1000
-constexpr double kMeanOverStop = 4.382, kMeanOverStopAndShapers = 0.615;  // measured 4.3815, 0.614
+constexpr double kMeanOverStop = 4.376, kMeanOverStopAndShapers = 0.615;  // measured 4.375, 0.614 (6867a25, 7382d78)
 // Path halts planned on each axis because their commands are not scaled copies to 1e-9, and of
 // those, how many came to rest apart (docs/multi_axis.md, "Halt and retarget"). 19 and 2 (draws
 // 923, 957: 10.7, 8.61 ms) while axis_command planned `fastest` again at each axis's scale.
