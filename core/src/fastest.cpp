@@ -2206,9 +2206,10 @@ bool arc_polish(const ArcProblem& pb, ArcChain& c, bool modes = false) noexcept 
   ArcVec f{};
   ArcEval ev;
   ArcMat jm{};
-  const std::size_t first_mode = pb.pulse ? 1 : 2, end_mode = modes ? first_mode : first_mode + 2 * pb.ms->n;
+  // Rows [first_mode, held_end) are held: left out of the norm and of the step's target (none with `modes`).
+  const std::size_t first_mode = pb.pulse ? 1 : 2, held_end = modes ? first_mode : first_mode + 2 * pb.ms->n;
   const auto kinematic = [&](ArcVec& g, std::size_t n) {
-    for (std::size_t r = first_mode; r < end_mode && r < n; ++r) g[r] = 0.0;
+    for (std::size_t r = first_mode; r < held_end && r < n; ++r) g[r] = 0.0;
     return arc_norm(g, n);
   };
   std::size_t rows = arc_values_forward(pb, c, f, ev);
@@ -2902,7 +2903,8 @@ FastestTable arc_table_direct(const ArcProblem& pb, const ArcChain& c, double di
 // the modes' rows too (arc_polish's `modes`): grid case 121's chain, minimised to its rows'
 // rounding (2e-8, cruise_stops_refined), left the modes 1.5e-8 D from rest polished in v and p
 // alone (design_ok: 1e-10 D) at scale 0.37 (at 1 and 7.3 it passed; at 7.3 not while the
-// restorations stalled at the floor each time); polished in every row, 1.6e-16 D. Only where the first polish's table fails: every table kept before is kept alike.
+// restorations stalled at the floor each time); polished in every row, 1.6e-16 D. Only where the
+// first polish's table fails: every table kept before is kept alike.
 void keep_or_polish(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noexcept {
   FastestTable t = arc_table(pb, c, fs.r.distance);
   if (t.count == 0 || !(backwards_travel(t) > 1e-12 * pb.D)) {
@@ -3057,9 +3059,9 @@ void blips_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
 // 1.436, 0.387, 0.107 s; dwells 0.158, 0.082, 0.201 s). Seeded at half the slower mode's period
 // instead, the seed sits on the edge of that minimum: it refined to it or, its first dwell closed,
 // to 52.047 s, as its last bits fell; at three quarters, 16 seeds with each value moved by up to
-// 15 % all refined to 52.0286 s (restorations then stalling at the floor each time). Its rows of v and p sum ramps of size jmax T^3 / 6 to D and round to
-// 2e-8: restored and minimised to the rows' rounding (pb.to_rounding), then polished to the table's
-// own sums (keep_or_polish).
+// 15 % all refined to 52.0286 s (restorations then stalling at the floor each time). Its rows of
+// v and p sum ramps of size jmax T^3 / 6 to D and round to 2e-8: restored and minimised to the
+// rows' rounding (pb.to_rounding), then polished to the table's own sums (keep_or_polish).
 void cruise_stops_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
   if (fs.ms.n != 2 || fs.band != 0.0) return;
   const double w0 = std::fabs(pb.poles[0].s.im), w1 = std::fabs(pb.poles[1].s.im);
