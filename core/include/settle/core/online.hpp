@@ -194,6 +194,9 @@ struct OnlinePlan {
   // leave every mode at rest (no finish to fall back on) and no blend ends in time.
   bool ends_later{false};
   double rest_after{0.0};  // s from the switch to rest: the blend's duration, or running.remaining
+  // The blend durations the plan tried (every search's), its cost: each is a least-squares solve
+  // per blend kind tried, with pinning passes (docs/online.md, "Cost").
+  int durations_tried{0};
 };
 
 // Plans the fastest blend (within its family, docs/online.md) that meets the request within the
