@@ -561,8 +561,12 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
 
 // The fastest blend of the family that meets the request within the limits (docs/online.md).
 // No blend longer than `cap` is of use (a halt that can finish its command at rest sooner): the
-// search stops there (no_solution) instead of growing on.
-Status plan_blend(const OnlineRequest& r, Blend& out, double cap = HUGE_VAL) noexcept {
+// search stops there (no_solution) instead of growing on. No blend of `lose` or longer is of use
+// either (a blend to the end that a shorter fastest blend beats): the search gives up
+// (no_solution) as soon as a duration it rejects reaches it, since what it would find is longer.
+// `tried` counts the durations tried.
+Status plan_blend(const OnlineRequest& r, Blend& out, int& tried, double cap = HUGE_VAL,
+                  double lose = HUGE_VAL) noexcept {
   bool at_rest = false;
   const Status st = check_request(r, at_rest);
   if (st != Status::ok) return st;
@@ -575,13 +579,17 @@ Status plan_blend(const OnlineRequest& r, Blend& out, double cap = HUGE_VAL) noe
   Solved sol{};
   BlendFamily fam{r};
   fam.tries = kBlendKinds;
-  const auto feasible = [&](double t) { return fam.feasible(t, sol); };
+  const auto feasible = [&](double t) {
+    ++tried;
+    return fam.feasible(t, sol);
+  };
   // Bracket: grow until feasible, then bisect down towards the first feasible duration.
   double lo = lower, hi = std::min(guess, cap);
   int grow = 0;
   while (!feasible(hi)) {
     if (!(hi < cap) || ++grow > 60) return Status::no_solution;
     lo = hi;
+    if (lo >= lose) return Status::no_solution;
     hi = std::min(hi * 1.5, cap);
   }
   // Bisection on the blend that made the bracket (`last`) alone: a quarter of the solves, and the
@@ -595,6 +603,7 @@ Status plan_blend(const OnlineRequest& r, Blend& out, double cap = HUGE_VAL) noe
       best = sol;
     } else {
       lo = mid;
+      if (lo >= lose) return Status::no_solution;  // hi > lo: no shorter than `lose` either
     }
   }
   out = Blend{r.start, hi / static_cast<double>(kBlendSegments), best.jerk};
@@ -614,12 +623,14 @@ Status plan_online(const OnlineRequest& r, OnlinePlan& out) noexcept {
                          ? std::fmax(r.running->remaining, 0.0) * (1.0 - 1e-6)
                          : HUGE_VAL;
   Blend fastest{};
-  const Status st = plan_blend(r, fastest, cap);
+  int tried = 0;
+  const Status st = plan_blend(r, fastest, tried, cap);
   if (r.target || !r.running) {
     if (st != Status::ok) return st;
     OnlinePlan p{};
     p.blend = fastest;
     p.rest_after = fastest.duration();
+    p.durations_tried = tried;
     out = p;
     return Status::ok;
   }
@@ -636,6 +647,7 @@ Status plan_online(const OnlineRequest& r, OnlinePlan& out) noexcept {
   const auto beyond = [&](const Blend& b) { return dir * (b.end_position() - run.end) > tol_p; };
   const auto later = [&](double rest) { return rest > remaining * (1.0 + 1e-12) + 1e-15; };
   OnlinePlan p{};
+  p.durations_tried = tried;
   if (st == Status::ok) {
     p.fastest_passes_target = beyond(fastest);
     p.fastest_ends_later = later(fastest.duration());
@@ -656,7 +668,11 @@ Status plan_online(const OnlineRequest& r, OnlinePlan& out) noexcept {
   rt.target = run.end;
   rt.running.reset();
   Blend to{};
-  const bool have_to = plan_blend(rt, to, cap) == Status::ok;
+  // The command leaves a mode ringing (no finish) and the fastest blend stops short: it wins a tie
+  // with the blend to the end (below), so that blend's search gives up once it is sure to find
+  // nothing shorter (the same choice and blend as a whole search, fewer durations).
+  const double lose = !run.at_rest && st == Status::ok && !p.fastest_passes_target ? fastest.duration() : HUGE_VAL;
+  const bool have_to = plan_blend(rt, to, p.durations_tried, cap, lose) == Status::ok;
   if (run.at_rest) {
     // Finishing the command is a zero-residual halt on its end at its end: the better of that and
     // the blend to the end.

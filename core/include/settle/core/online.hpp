@@ -193,6 +193,9 @@ struct OnlinePlan {
   // The choice comes to rest later than the running command would: only when that command does not
   // leave every mode at rest (no finish to fall back on) and no blend ends in time.
   bool ends_later{false};
+  // The blend durations the plan tried (every search's), its cost: each is a least-squares solve
+  // per blend kind tried, with pinning passes (docs/online.md, "Cost"). (In the flags' padding.)
+  int durations_tried{0};
   double rest_after{0.0};  // s from the switch to rest: the blend's duration, or running.remaining
 };
 
