@@ -446,6 +446,11 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       // three stops and restarts (cruise_stops_refined): its optimum stops twice in its last 2.4 s;
       // the chain's rows round to 2e-8 (a 52 s move at jmax 8413), restored and minimised to that.
       {121, 5.62, 0.109, 107.7, 8413.0, {{3.5804, 0.0343}, {7.9436, 0.1696}}, 52.122065},
+      // 0.46 % and 0.61 % over until a refined chain's dwells were changed in a chain of up to 23
+      // nodes (dwell_changes, kFastestSegments 47): 35's optimum cruises four times with dwells
+      // between (17 nodes), 254's splits its two dwells otherwise than the refined chain.
+      {35, 1.049, 0.1351, 4.3, 358.3, {{1.146, 0.1937}, {1.4535, 0.2841}, {244.9558, 0.1048}}, 10.8141345},
+      {254, 0.1318, 0.1018, 3.651, 361.6, {{3.5829, 0.219}, {22.4854, 0.1664}, {247.6915, 0.1093}}, 1.69035942},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
@@ -456,7 +461,12 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
     EXPECT_LE(m.duration(), c.reference * 1.001);
     EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
     check_move(r, m);
-    std::printf("grid case %d: fastest %.6f s, reference %.6f s\n", c.id, m.duration(), c.reference);
+    // Such a move's table (35 and 38 segments for 35 and 254) has a fixed-point form: PolyMotion holds as many
+    // segments as a fastest table (settle export and settle stream --scalar fixed).
+    core::fixed::PolyMotion fm{};
+    EXPECT_EQ(fm.build(m, core::fixed::Scale{{1e5 / std::fabs(m.distance()), 1000}, 16, 16}), Status::ok);
+    std::printf("grid case %d: fastest %.6f s, reference %.6f s, %d segments\n", c.id, m.duration(), c.reference,
+                std::get<core::Fastest<double>>(m.profile().variant()).piece_count());
   }
 }
 
