@@ -953,6 +953,9 @@ struct ArcProblem {
   bool to_rounding{false};
   // The most nodes a chain may grow to (kChainNodes; dwell_changes: kMaxArcNodes).
   std::size_t max_nodes{kChainNodes};
+  // arc_refine: a cruise slowed down to 0.1 vmax alone, not to each level of kSlowTo
+  // (dwell_changes' round).
+  bool one_slowdown{false};
 };
 
 ArcProblem arc_problem(const MoveRequest& r, const ModeSet& ms) noexcept {
@@ -2490,6 +2493,7 @@ bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
     for (std::size_t k = 0; k < c.n && c.n + 4 <= pb.max_nodes; ++k) {
       if (c.node[k].kind != ArcKind::cruise) continue;
       for (int kind = 0; kind < 1 + static_cast<int>(kSlowTo.size()); ++kind) {
+        if (pb.one_slowdown && kind != 0 && kSlowTo[static_cast<std::size_t>(kind - 1)] != 0.1) continue;
         ArcChain e{};
         const bool ok = kind == 0 ? insert_stop(pb, c, k, quarter, e)
                                   : insert_slowdown(pb, c, k, kSlowTo[static_cast<std::size_t>(kind - 1)], e);
@@ -3193,7 +3197,11 @@ void cruise_slowdown_late(FastestSearch& fs, const ArcProblem& pb, const ArcChai
   }
 }
 
-constexpr int kDwellPasses = 4;  // dwell_changes: passes, each from the shortest chain of the one before
+// dwell_changes: passes at most, each from the chain the pass before refined; the minimisation
+// steps that rank a pass's changes; and the least a pass's round must shorten its chain by for
+// another pass.
+constexpr int kDwellPasses = 3, kDwellScreenSteps = 5;
+constexpr double kDwellPassGain = 1e-4;
 
 // The velocity where the ramp into node k + 1 crosses a = 0 (node k a turn down, k + 1 a turn up:
 // the slowest point of a slow-down between them), from the chain's own lengths.
@@ -3215,33 +3223,40 @@ double slowdown_floor(const ArcProblem& pb, const ArcChain& c, std::size_t k) no
 }
 
 // Three modes or more: a refined chain with its dwells changed one at a time, each restored to
-// the chain's equations, refined one round (arc_refine) and kept where a shorter move; the shortest
-// chain of a pass is the next pass's start (kDwellPasses). The reference's moves on such problems
-// stop and start again three to six times, more than a chain of kChainNodes holds (grid cases 35
-// and 74: four and five parts with dwells between, 17 nodes each; 227: 21), and where they stop differs from
-// the refined chain. The changes: a dwell of a quarter period of the fastest mode inserted where
-// a slow-down between two turns falls below a quarter of vmax; each dwell left out; a pulse (turns
-// to +-0.07 amax) a quarter and three quarters into each dwell; each pair of neighbouring dwells
-// made equal; each slow-down between two cruises left out (room for the others). They grow the
-// chain up to kMaxArcNodes (23). On the grid: 35 0.46 % and 254 0.61 % over before, now within
-// 0.1 %; 5 1.27 % → 0.53 % over; 86 and 134 shorter by 0.11 % and 0.10 %.
+// the chain's equations and minimised a few steps (kDwellScreenSteps); of the changes that did not
+// return to the chain's duration, the shortest is refined one round (arc_refine, with room up to
+// kMaxArcNodes, one level of slow-down) and kept where a shorter move; where that round shortened
+// the chain by kDwellPassGain or more it starts the next pass (kDwellPasses). The reference's moves
+// on such problems stop and start again three to six times, more than a chain of kChainNodes holds
+// (grid cases 35 and 74: four and five parts with dwells between, 17 nodes each; 227: 21), and
+// where they stop differs from the refined chain. The changes: a dwell of a quarter period of the
+// fastest mode inserted where a slow-down between two turns falls below a quarter of vmax; each
+// dwell left out; a pulse (turns to +-0.07 amax) a quarter and three quarters into each dwell. Only
+// where the refined chain is within 1 % of the shortest move so far (of the chains the changes
+// shortened none started further off; grid case 290's, 2.4 % over, cost 2.4 s for nothing). One
+// round per pass, not one per change: a round (every cruise stopped and slowed down, pairs
+// inserted, each minimised) costs tens of a change's screening, and refining every change, as
+// first written (session 26), cost grid cases 197 and 290 2.5 s each for nothing.
 void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& refined, double quarter) noexcept {
+  if (lay_out(narrow, refined).T > 1.01 * fs.best.time) return;
   ArcProblem pb = narrow;
   pb.max_nodes = kMaxArcNodes;
-  ArcChain c = refined, next = refined;
-  double t_next = lay_out(pb, refined).T;
-  // Restored, refined one round, kept where a move; the shortest chain is the next pass's.
-  const auto try_chain = [&](ArcChain e) {
-    if (!restore_seed(pb, e)) return;
-    arc_refine(pb, e, 1);
-    keep_or_polish(fs, pb, e);
-    const double te = lay_out(pb, e).T;
-    if (arc_violation(pb, e).kind == ArcFix::none && te < t_next) {
-      t_next = te;
-      next = e;
-    }
-  };
+  ArcChain c = refined;
   for (int pass = 0; pass < kDwellPasses; ++pass) {
+    const double t_c = lay_out(pb, c).T;
+    ArcChain pick{};
+    double t_pick = HUGE_VAL;
+    // Restored and minimised a few steps; the shortest that did not return to t_c is picked.
+    const auto screen = [&](ArcChain e) {
+      if (!restore_seed(pb, e)) return;
+      ArcKkt kkt{};
+      arc_minimise(pb, e, kkt, kDwellScreenSteps);
+      const double te = lay_out(pb, e).T;
+      if (std::fabs(te - t_c) > 1e-7 * t_c && te < t_pick && arc_violation(pb, e).kind == ArcFix::none) {
+        t_pick = te;
+        pick = e;
+      }
+    };
     ArcChain e{};
     for (std::size_t k = 0; k + 1 < c.n; ++k) {
       const ArcNode& dn = c.node[k];
@@ -3251,39 +3266,25 @@ void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& 
       if (!turns || dn.sign > 0.0 || up.sign < 0.0 || !(slowdown_floor(pb, c, k) < 0.25 * pb.vmax)) continue;
       const std::array<ArcNode, 2> with{dn, ArcNode{ArcKind::dwell, 1.0}};
       const std::array<double, 2> x{c.x[k], quarter};
-      if (splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) try_chain(e);
+      if (splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) screen(e);
     }
-    // A slow-down between two cruises left out (the cruises merged): room for the turns above.
-    for (std::size_t k = 0; k + 3 < c.n; ++k) {
-      if (c.node[k].kind != ArcKind::cruise || c.node[k + 3].kind != ArcKind::cruise) continue;
-      e = c;
-      e.x[k] += c.x[k + 3];
-      for (std::size_t i = k + 1; i + 3 < c.n; ++i) {
-        e.node[i] = c.node[i + 3];
-        e.x[i] = c.x[i + 3];
-      }
-      e.n = c.n - 3;
-      try_chain(e);
-    }
-    std::size_t prev = c.n;  // the dwell before, if any
     for (std::size_t k = 0; k < c.n; ++k) {
       if (c.node[k].kind != ArcKind::dwell) continue;
-      if (splice(c, k, nullptr, nullptr, 0, pb.max_nodes, e)) try_chain(e);
+      if (splice(c, k, nullptr, nullptr, 0, pb.max_nodes, e)) screen(e);
       for (const double before : {0.25, 0.75}) {
         const std::array<ArcNode, 4> with{c.node[k], ArcNode{ArcKind::peak, 1.0}, ArcNode{ArcKind::peak, -1.0},
                                           c.node[k]};
         const std::array<double, 4> x{before * c.x[k], 0.07 * pb.amax, -0.07 * pb.amax, (1.0 - before) * c.x[k]};
-        if (splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) try_chain(e);
+        if (splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) screen(e);
       }
-      if (prev < c.n) {
-        e = c;
-        e.x[prev] = e.x[k] = 0.5 * (c.x[prev] + c.x[k]);
-        try_chain(e);
-      }
-      prev = k;
     }
-    if (!(t_next < lay_out(pb, c).T)) break;
-    c = next;
+    if (!(t_pick < HUGE_VAL)) return;
+    pb.one_slowdown = true;
+    (void)arc_refine(pb, pick, 1);
+    pb.one_slowdown = false;
+    keep_or_polish(fs, pb, pick);
+    if (!(lay_out(pb, pick).T < t_c * (1.0 - kDwellPassGain)) || arc_violation(pb, pick).kind != ArcFix::none) return;
+    c = pick;
   }
 }
 
