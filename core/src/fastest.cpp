@@ -888,7 +888,12 @@ struct ArcNode {
   ArcKind kind{ArcKind::limit};
   double sign{1.0};  // limit / peak: the side of a; cruise and dwell: +1 (D > 0)
 };
-constexpr std::size_t kMaxArcNodes = 15;  // 2 n + 1 segments <= kFastestSegments (31)
+// Room for a chain of n nodes: 2 n + 1 segments <= kFastestSegments (47: 23 nodes). Every search
+// grows its chains to kChainNodes at most (15, the room before session 26: with 23 the refinement
+// grew three-mode chains and paid 30 to 50 times the instructions on some grid cases); only the
+// dwell changes (dwell_changes) use the whole room.
+constexpr std::size_t kMaxArcNodes = (kFastestSegments - 1) / 2;
+constexpr std::size_t kChainNodes = 15;
 using ArcVec = std::array<double, kMaxArcNodes>;
 using ArcMat = std::array<ArcVec, kMaxArcNodes>;
 
@@ -946,6 +951,11 @@ struct ArcProblem {
   // arc_newton: a stall within the rounding of the rows (arc_rounding_floor) solves the chain
   // (split_to_rounding's solves only).
   bool to_rounding{false};
+  // The most nodes a chain may grow to (kChainNodes; dwell_changes: kMaxArcNodes).
+  std::size_t max_nodes{kChainNodes};
+  // arc_refine: a cruise slowed down to 0.1 vmax alone, not to each level of kSlowTo
+  // (dwell_changes' round).
+  bool one_slowdown{false};
 };
 
 ArcProblem arc_problem(const MoveRequest& r, const ModeSet& ms) noexcept {
@@ -1073,11 +1083,16 @@ std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEv
 void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, ArcMat& jac) noexcept {
   const ArcLayout& L = ev.L;
   const std::size_t n = c.n, ns = 2 * n + 2;  // switch times s_k: s_2r = b[r], s_2r+1 = e[r]
-  std::array<double, 2 * kMaxArcNodes + 2> g{};
+  // Sized for the longest chain, but only the first ns entries (and rows and columns below n) are
+  // zeroed, read or written: zeroing the whole of g, suf and the Jacobian per row cost a one-mode
+  // plan 8 % more instructions with the 47-segment table (23 nodes) than with 31 (15).
+  std::array<double, 2 * kMaxArcNodes + 2> g;
+  std::fill_n(g.begin(), ns, 0.0);
   std::size_t row = 0;
   // d F_row / d x from g (d F_row / d s_k), as suffix sums.
   const auto finish_row = [&](std::size_t rw) {
-    std::array<double, 2 * kMaxArcNodes + 3> suf{};
+    std::array<double, 2 * kMaxArcNodes + 3> suf;
+    suf[ns] = 0.0;
     for (std::size_t k = ns; k-- > 0;) suf[k] = suf[k + 1] + g[k];
     for (std::size_t i = 0; i < n; ++i) {
       const ArcNode& k = c.node[i];
@@ -1087,7 +1102,7 @@ void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, Ar
                        ? (suf[2 * i + 1] + suf[std::min(2 * i + 3, ns)]) / (ramp_in(k) * pb.J)
                        : suf[2 * i + 2];
     }
-    g.fill(0.0);
+    std::fill_n(g.begin(), ns, 0.0);
   };
   const double T = L.T;
   for (std::size_t r = 0; r <= n; ++r) {
@@ -1096,7 +1111,7 @@ void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, Ar
     g[2 * r + 1] += jr * ue;
     g[ns - 1] += jr * (ub - ue);
   }
-  for (double& x : g) x /= pb.vmax;
+  for (std::size_t k = 0; k < ns; ++k) g[k] /= pb.vmax;
   finish_row(row++);
   if (!pb.pulse) {
     for (std::size_t r = 0; r <= n; ++r) {
@@ -1110,18 +1125,23 @@ void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, Ar
   // d/d b_r = -j_r E(u_b) / s, d/d e_r = j_r E(u_e) / s; d/dT of sum E(u): s times the sum.
   for (std::size_t m = 0; m < pb.ms->n; ++m) {
     const ArcPole& q = pb.poles[m];
-    std::array<Cx, 2 * kMaxArcNodes + 2> dg{};
+    // Each switch time's term once (0.0 + as the sum from zero had it): the real parts into g,
+    // the imaginary parts kept for the second row.
+    std::array<double, 2 * kMaxArcNodes + 2> dg_im;
     for (std::size_t r = 0; r <= n; ++r) {
       const double jr = L.j[r] * q.scale;
-      dg[2 * r] = dg[2 * r] + (-jr) * (Cx(ev.eb[m][r]) * q.inv_s);
-      dg[2 * r + 1] = dg[2 * r + 1] + jr * (Cx(ev.ee[m][r]) * q.inv_s);
+      const Cx b = (-jr) * (Cx(ev.eb[m][r]) * q.inv_s), e = jr * (Cx(ev.ee[m][r]) * q.inv_s);
+      g[2 * r] = 0.0 + b.re;
+      g[2 * r + 1] = 0.0 + e.re;
+      dg_im[2 * r] = 0.0 + b.im;
+      dg_im[2 * r + 1] = 0.0 + e.im;
     }
     const Cx d_T = q.s * ev.val[m];
-    for (int part = 0; part < 2; ++part) {
-      for (std::size_t k = 0; k < ns; ++k) g[k] = part == 0 ? dg[k].re : dg[k].im;
-      g[ns - 1] += part == 0 ? d_T.re : d_T.im;
-      finish_row(row++);
-    }
+    g[ns - 1] += d_T.re;
+    finish_row(row++);
+    for (std::size_t k = 0; k < ns; ++k) g[k] = dg_im[k];
+    g[ns - 1] += d_T.im;
+    finish_row(row++);
   }
   for (std::size_t i = 0; i < n; ++i) {
     const ArcKind kd = c.node[i].kind;
@@ -1193,7 +1213,7 @@ double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
 // (rounding: the move is checked afterwards).
 bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, double tol, int max_iter) noexcept {
   ArcVec f{};
-  ArcMat jm{};
+  ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all solve_in_place reads
   ArcEval at;
   const auto shifted_norm = [&](std::size_t rows) {
     for (std::size_t i = 0; i < rows; ++i) f[i] -= mu * f0[i];
@@ -1320,7 +1340,7 @@ bool apply_fix(const ArcProblem& pb, const ArcFix& fx, ArcChain& c) noexcept {
       return c.n > 0;
     case ArcFix::add_cruise:
     case ArcFix::add_dwell:
-      if (c.n >= kMaxArcNodes) return false;
+      if (c.n >= pb.max_nodes) return false;
       for (std::size_t i = c.n; i > fx.at; --i) {
         c.node[i] = c.node[i - 1];
         c.x[i] = c.x[i - 1];
@@ -1406,7 +1426,7 @@ double push_rigid_move(const ArcProblem& pb, double d, ArcChain& c) noexcept {
     v_p = pb.vmax;
     cruise = d / pb.vmax - (2.0 * a_p / pb.J + h);
   }
-  if (c.n + (cruise > 0.0 ? 3 : 2) > kMaxArcNodes) return 0.0;
+  if (c.n + (cruise > 0.0 ? 3 : 2) > pb.max_nodes) return 0.0;
   const bool limit = a_p >= pb.amax;
   c.node[c.n] = {limit ? ArcKind::limit : ArcKind::peak, 1.0};
   c.x[c.n++] = limit ? h : a_p;
@@ -1433,7 +1453,7 @@ bool split_chain(const ArcProblem& pb, const Shaper<double>& s, ArcChain& c) noe
     if (!(s.amp[i] > 0.0)) return false;
     const std::size_t at = c.n;
     if (i > 0) {
-      if (c.n >= kMaxArcNodes) return false;
+      if (c.n >= pb.max_nodes) return false;
       c.node[c.n] = {ArcKind::dwell, 1.0};
       c.x[c.n++] = 0.0;
     }
@@ -1464,9 +1484,9 @@ class ChainMemo {
   // True when c (same kinds, values within 1e-7) was met before; otherwise remembers it.
   bool seen(const ArcChain& c, double amax) noexcept {
     for (std::size_t k = 0; k < count_; ++k) {
-      if (same(chains_[k], c, amax)) return true;
+      if (same(chains_[k].c, c, amax)) return true;
     }
-    if (count_ < chains_.size()) chains_[count_++] = c;
+    if (count_ < chains_.size()) chains_[count_++].c = c;
     return false;
   }
 
@@ -1482,7 +1502,14 @@ class ChainMemo {
     }
     return true;
   }
-  std::array<ArcChain, 24> chains_{};
+  // Left unset until remembered (ArcChain's copy is trivial, so the assignment makes it the
+  // slot's member): zeroing 24 chains of 23 nodes, 13 KB, cost a one-mode plan 1.4 % of its
+  // instructions, per seed path.
+  union Slot {
+    Slot() noexcept {}
+    ArcChain c;
+  };
+  std::array<Slot, 24> chains_;
   std::size_t count_{0};
 };
 
@@ -1494,7 +1521,7 @@ class ChainMemo {
 // (hold 0). False when it does not fit or the ramp is flat.
 bool insert_wiggle(const ArcProblem& pb, const ArcChain& c, std::size_t k, double frac, ArcChain& out,
                    double at = 0.5) noexcept {
-  if (c.n == 0 || c.n + 2 > kMaxArcNodes || k > c.n) return false;
+  if (c.n == 0 || c.n + 2 > pb.max_nodes || k > c.n) return false;
   const double a_prev = k == 0 ? 0.0 : node_level(pb, c, k - 1);
   const double a_next = k == c.n ? 0.0 : node_level(pb, c, k);
   const double s = k == c.n ? ramp_out(c.node[c.n - 1]) : ramp_in(c.node[k]);
@@ -1522,9 +1549,9 @@ bool insert_wiggle(const ArcProblem& pb, const ArcChain& c, std::size_t k, doubl
 }
 
 // c with its node k replaced by the m nodes `with` (values `x`); false when it does not fit.
-bool splice(const ArcChain& c, std::size_t k, const ArcNode* with, const double* x, std::size_t m,
+bool splice(const ArcChain& c, std::size_t k, const ArcNode* with, const double* x, std::size_t m, std::size_t cap,
             ArcChain& out) noexcept {
-  if (k >= c.n || c.n - 1 + m > kMaxArcNodes) return false;
+  if (k >= c.n || c.n - 1 + m > cap) return false;
   out = ArcChain{};
   out.n = c.n - 1 + m;
   for (std::size_t i = 0, o = 0; i < c.n; ++i) {
@@ -1543,7 +1570,7 @@ bool insert_dip(const ArcProblem& pb, const ArcChain& c, std::size_t k, double l
   const ArcNode lim = c.node[k];
   const std::array<ArcNode, 3> with{lim, ArcNode{ArcKind::peak, -lim.sign}, lim};
   const std::array<double, 3> x{0.5 * c.x[k], lim.sign * level * pb.amax, 0.5 * c.x[k]};
-  return splice(c, k, with.data(), x.data(), with.size(), out);
+  return splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, out);
 }
 
 // c with a stop inserted in the middle of its cruise at node k: the cruise halved, the rigid
@@ -1558,7 +1585,7 @@ bool insert_stop(const ArcProblem& pb, const ArcChain& c, std::size_t k, double 
   const std::array<ArcNode, 5> with{c.node[k], ArcNode{turn, -1.0}, ArcNode{ArcKind::dwell, 1.0}, ArcNode{turn, 1.0},
                                     c.node[k]};
   const std::array<double, 5> x{0.5 * c.x[k], limit ? h : -a_p, dwell, limit ? h : a_p, 0.5 * c.x[k]};
-  return splice(c, k, with.data(), x.data(), with.size(), out);
+  return splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, out);
 }
 
 // c with a slow-down inserted in the middle of its cruise at node k: the cruise halved, a turn
@@ -1572,7 +1599,7 @@ bool insert_slowdown(const ArcProblem& pb, const ArcChain& c, std::size_t k, dou
   const double h = limit ? frac * pb.vmax / pb.amax - pb.amax / pb.J : 0.0;
   const std::array<ArcNode, 4> with{c.node[k], ArcNode{turn, -1.0}, ArcNode{turn, 1.0}, c.node[k]};
   const std::array<double, 4> x{0.5 * c.x[k], limit ? h : -a_p, limit ? h : a_p, 0.5 * c.x[k]};
-  return splice(c, k, with.data(), x.data(), with.size(), out);
+  return splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, out);
 }
 
 // c (a move to rest) followed by a dwell of `dwell` and a short restart: a turn to a peak at
@@ -1582,7 +1609,7 @@ bool insert_slowdown(const ArcProblem& pb, const ArcChain& c, std::size_t k, dou
 // of the cruise does not solve there (its Newton steps run the cruise halves to -172 s and
 // +185 s). Three nodes more: a dwell and two peaks.
 bool append_restart(const ArcProblem& pb, const ArcChain& c, double dwell, ArcChain& out) noexcept {
-  if (c.n + 3 > kMaxArcNodes) return false;
+  if (c.n + 3 > pb.max_nodes) return false;
   out = c;
   out.node[out.n] = ArcNode{ArcKind::dwell, 1.0};
   out.x[out.n++] = dwell;
@@ -1665,7 +1692,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   }
   bool have = false, best_cruises = false;
   double best = HUGE_VAL;
-  ChainMemo memo{};
+  ChainMemo memo;  // not memo{}: that zeroes its slots
   for (const int stage : {0, 1, 2}) {  // the whole chain, the mirrored pulse, the dips (whole)
     const bool pulse = stage == 1, dips = stage == 2;
     // The mirrored pulse is for moves that cruise: tried when the whole chain found none, or its
@@ -1676,7 +1703,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     if (dips && dip_out == nullptr) break;
     pb.pulse = pulse;
     const std::size_t n0 = (pulse ? 1 : 2) + 2 * ms.n;
-    if (n0 > kMaxArcNodes) continue;
+    if (n0 > pb.max_nodes) continue;
     const double unit_hold = 0.5 * two_pi_v<double>() / (w_min * static_cast<double>(n0));  // half period
     bool best_holds_amax = false;  // of this form's shortest
     // One path: the chain solved and changed where it breaks a condition. Its continuation is
@@ -2374,7 +2401,7 @@ bool zero_pair(const ArcProblem& pb, const ArcChain& c, std::size_t k, bool dip,
   const ArcNode lim = c.node[k];
   const std::array<ArcNode, 3> with{lim, ArcNode{ArcKind::peak, -lim.sign}, lim};
   const std::array<double, 3> x{frac * c.x[k], lim.sign * pb.amax, (1.0 - frac) * c.x[k]};
-  if (!splice(c, k, with.data(), x.data(), with.size(), out)) return false;
+  if (!splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, out)) return false;
   first = k + 1;
   open[k + 1] = -lim.sign;
   return true;
@@ -2412,7 +2439,7 @@ bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
   for (std::size_t m = 0; m < pb.ms->n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
   const double quarter = 0.25 * two_pi_v<double>() / w_fast;
   arc_minimise(pb, c, kkt, 40);
-  for (int round = 0; round < rounds && c.n + 2 <= kMaxArcNodes; ++round) {
+  for (int round = 0; round < rounds && c.n + 2 <= pb.max_nodes; ++round) {
     // The three most negative derivatives over the points tried.
     struct Cand {
       double g{0.0};
@@ -2463,9 +2490,10 @@ bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
     }
     // and pairs of finite size where the test cannot see them: a stop or a slow-down inside a
     // cruise (the velocity's bound makes their first-order effect vanish at zero size).
-    for (std::size_t k = 0; k < c.n && c.n + 4 <= kMaxArcNodes; ++k) {
+    for (std::size_t k = 0; k < c.n && c.n + 4 <= pb.max_nodes; ++k) {
       if (c.node[k].kind != ArcKind::cruise) continue;
       for (int kind = 0; kind < 1 + static_cast<int>(kSlowTo.size()); ++kind) {
+        if (pb.one_slowdown && kind != 0 && kSlowTo[static_cast<std::size_t>(kind - 1)] != 0.1) continue;
         ArcChain e{};
         const bool ok = kind == 0 ? insert_stop(pb, c, k, quarter, e)
                                   : insert_slowdown(pb, c, k, kSlowTo[static_cast<std::size_t>(kind - 1)], e);
@@ -3034,7 +3062,7 @@ void blips_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
     const double h = c.x[k];
     const std::array<double, 5> x{h / 6.0, 0.0, 2.0 * h / 3.0, 0.0, h / 6.0};
     ArcChain e{};
-    if (!splice(c, k, with.data(), x.data(), with.size(), e)) return;
+    if (!splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) return;
     c = e;
   }
   // Refined only where the restored seed is already shorter than the shortest move so far
@@ -3076,7 +3104,7 @@ void cruise_stops_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
   pb.pulse = false;
   if (!(push_rigid_move(pb, pb.D - tail, c) > 0.0)) return;
   for (const double h : cruise) {
-    if (c.n >= kMaxArcNodes) return;
+    if (c.n >= pb.max_nodes) return;
     c.node[c.n] = {ArcKind::dwell, 1.0};
     c.x[c.n++] = t_fast / 6.0;
     if (!(push_rigid_move(pb, pb.vmax * (h + rise), c) > 0.0)) return;
@@ -3096,7 +3124,7 @@ template <std::size_t N>
 void spliced_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base, std::size_t k,
                      const std::array<ArcNode, N>& with, const std::array<double, N>& x) noexcept {
   ArcChain c{};
-  if (!splice(base, k, with.data(), x.data(), N, c) || !restore_seed(pb, c)) return;
+  if (!splice(base, k, with.data(), x.data(), N, pb.max_nodes, c) || !restore_seed(pb, c)) return;
   arc_refine(pb, c, 1);
   keep_or_polish(fs, pb, c);
 }
@@ -3169,6 +3197,97 @@ void cruise_slowdown_late(FastestSearch& fs, const ArcProblem& pb, const ArcChai
   }
 }
 
+// dwell_changes: passes at most, each from the chain the pass before refined; the minimisation
+// steps that rank a pass's changes; and the least a pass's round must shorten its chain by for
+// another pass.
+constexpr int kDwellPasses = 3, kDwellScreenSteps = 5;
+constexpr double kDwellPassGain = 1e-4;
+
+// The velocity where the ramp into node k + 1 crosses a = 0 (node k a turn down, k + 1 a turn up:
+// the slowest point of a slow-down between them), from the chain's own lengths.
+double slowdown_floor(const ArcProblem& pb, const ArcChain& c, std::size_t k) noexcept {
+  double a = 0.0, v = 0.0;
+  for (std::size_t r = 0; r <= k + 1; ++r) {
+    const double lev = node_level(pb, c, r);
+    const double j = ramp_in(c.node[r]) * pb.J;
+    if (r == k + 1) {
+      const double u = -a / j;
+      return v + a * u + 0.5 * j * u * u;
+    }
+    const double d = (lev - a) / j;
+    v += a * d + 0.5 * j * d * d;
+    a = lev;
+    if (c.node[r].kind != ArcKind::peak) v += a * c.x[r];
+  }
+  return v;
+}
+
+// Three modes or more: a refined chain with its dwells changed one at a time, each restored to
+// the chain's equations and minimised a few steps (kDwellScreenSteps); of the changes that did not
+// return to the chain's duration, the shortest is refined one round (arc_refine, with room up to
+// kMaxArcNodes, one level of slow-down) and kept where a shorter move; where that round shortened
+// the chain by kDwellPassGain or more it starts the next pass (kDwellPasses). The reference's moves
+// on such problems stop and start again three to six times, more than a chain of kChainNodes holds
+// (grid cases 35 and 74: four and five parts with dwells between, 17 nodes each; 227: 21), and
+// where they stop differs from the refined chain. The changes: a dwell of a quarter period of the
+// fastest mode inserted where a slow-down between two turns falls below a quarter of vmax; each
+// dwell left out; a pulse (turns to +-0.07 amax) a quarter and three quarters into each dwell. Only
+// where the refined chain is within 1 % of the shortest move so far (of the chains the changes
+// shortened none started further off; grid case 290's, 2.4 % over, cost 2.4 s for nothing). One
+// round per pass, not one per change: a round (every cruise stopped and slowed down, pairs
+// inserted, each minimised) costs tens of a change's screening, and refining every change, as
+// first written (session 26), cost grid cases 197 and 290 2.5 s each for nothing.
+void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& refined, double quarter) noexcept {
+  if (lay_out(narrow, refined).T > 1.01 * fs.best.time) return;
+  ArcProblem pb = narrow;
+  pb.max_nodes = kMaxArcNodes;
+  ArcChain c = refined;
+  for (int pass = 0; pass < kDwellPasses; ++pass) {
+    const double t_c = lay_out(pb, c).T;
+    ArcChain pick{};
+    double t_pick = HUGE_VAL;
+    // Restored and minimised a few steps; the shortest that did not return to t_c is picked.
+    const auto screen = [&](ArcChain e) {
+      if (!restore_seed(pb, e)) return;
+      ArcKkt kkt{};
+      arc_minimise(pb, e, kkt, kDwellScreenSteps);
+      const double te = lay_out(pb, e).T;
+      if (std::fabs(te - t_c) > 1e-7 * t_c && te < t_pick && arc_violation(pb, e).kind == ArcFix::none) {
+        t_pick = te;
+        pick = e;
+      }
+    };
+    ArcChain e{};
+    for (std::size_t k = 0; k + 1 < c.n; ++k) {
+      const ArcNode& dn = c.node[k];
+      const ArcNode& up = c.node[k + 1];
+      const bool turns = (dn.kind == ArcKind::limit || dn.kind == ArcKind::peak) &&
+                         (up.kind == ArcKind::limit || up.kind == ArcKind::peak);
+      if (!turns || dn.sign > 0.0 || up.sign < 0.0 || !(slowdown_floor(pb, c, k) < 0.25 * pb.vmax)) continue;
+      const std::array<ArcNode, 2> with{dn, ArcNode{ArcKind::dwell, 1.0}};
+      const std::array<double, 2> x{c.x[k], quarter};
+      if (splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) screen(e);
+    }
+    for (std::size_t k = 0; k < c.n; ++k) {
+      if (c.node[k].kind != ArcKind::dwell) continue;
+      if (splice(c, k, nullptr, nullptr, 0, pb.max_nodes, e)) screen(e);
+      for (const double before : {0.25, 0.75}) {
+        const std::array<ArcNode, 4> with{c.node[k], ArcNode{ArcKind::peak, 1.0}, ArcNode{ArcKind::peak, -1.0},
+                                          c.node[k]};
+        const std::array<double, 4> x{before * c.x[k], 0.07 * pb.amax, -0.07 * pb.amax, (1.0 - before) * c.x[k]};
+        if (splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) screen(e);
+      }
+    }
+    if (!(t_pick < HUGE_VAL)) return;
+    pb.one_slowdown = true;
+    (void)arc_refine(pb, pick, 1);
+    pb.one_slowdown = false;
+    keep_or_polish(fs, pb, pick);
+    if (!(lay_out(pb, pick).T < t_c * (1.0 - kDwellPassGain)) || arc_violation(pb, pick).kind != ArcFix::none) return;
+    c = pick;
+  }
+}
+
 // A refined chain's limit nodes held for no time (a turn that touches amax and leaves it at once)
 // made into peaks at amax and refined again (arc_refine). The same move, but a limit's hold cannot
 // go below 0 where a peak's level can go below amax: as a limit node the minimisation cannot take
@@ -3224,6 +3343,7 @@ void refined_chains(FastestSearch& fs) noexcept {
     if (!shorter) continue;
     keep_or_polish(fs, pb, c);
     zero_holds_to_peaks(fs, pb, c);
+    if (fs.ms.n >= 3) dwell_changes(fs, pb, c, 0.25 * two_pi_v<double>() / w_fast);
     // Two modes, the shortest chain before the late stages, where refining it shortened it.
     if (fs.ms.n == 2 && k == 0) hold_blips_refined(fs, pb, got.c);
   }

@@ -446,6 +446,11 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
       // three stops and restarts (cruise_stops_refined): its optimum stops twice in its last 2.4 s;
       // the chain's rows round to 2e-8 (a 52 s move at jmax 8413), restored and minimised to that.
       {121, 5.62, 0.109, 107.7, 8413.0, {{3.5804, 0.0343}, {7.9436, 0.1696}}, 52.122065},
+      // 0.46 % and 0.61 % over until a refined chain's dwells were changed in a chain of up to 23
+      // nodes (dwell_changes, kFastestSegments 47): 35's optimum cruises four times with dwells
+      // between (17 nodes), 254's splits its two dwells otherwise than the refined chain.
+      {35, 1.049, 0.1351, 4.3, 358.3, {{1.146, 0.1937}, {1.4535, 0.2841}, {244.9558, 0.1048}}, 10.8141345},
+      {254, 0.1318, 0.1018, 3.651, 361.6, {{3.5829, 0.219}, {22.4854, 0.1664}, {247.6915, 0.1093}}, 1.69035942},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(::testing::Message() << "grid case " << c.id);
@@ -456,8 +461,35 @@ TEST(Fastest, ChainsWithMoreTurnsThanEquationsReachTheReference) {
     EXPECT_LE(m.duration(), c.reference * 1.001);
     EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
     check_move(r, m);
-    std::printf("grid case %d: fastest %.6f s, reference %.6f s\n", c.id, m.duration(), c.reference);
+    // Such a move's table (37 and 36 segments for 35 and 254) has a fixed-point form: PolyMotion holds as many
+    // segments as a fastest table (settle export and settle stream --scalar fixed).
+    core::fixed::PolyMotion fm{};
+    EXPECT_EQ(fm.build(m, core::fixed::Scale{{1e5 / std::fabs(m.distance()), 1000}, 16, 16}), Status::ok);
+    std::printf("grid case %d: fastest %.6f s, reference %.6f s, %d segments\n", c.id, m.duration(), c.reference,
+                std::get<core::Fastest<double>>(m.profile().variant()).piece_count());
   }
+}
+
+namespace {
+// Plans r, and checks that it is a bang-bang move no longer than `bound` (and a move: check_move).
+void expect_bang_bang_within(const core::MoveRequest& r, double bound) {
+  core::Move<double> m{};
+  ASSERT_EQ(core::plan(r, m), Status::ok);
+  EXPECT_LE(m.duration(), bound);
+  EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
+  check_move(r, m);
+}
+}  // namespace
+
+// Grid case 5 (three modes; 1.43 / 13.7 / 38.8 rad/s): 1.27 % over the reference (3.6373 s) until
+// its refined chain's dwells were changed (dwell_changes): a pulse a quarter into its first dwell,
+// then two more passes, 3.6049 s, 0.37 % over (0.53 % as first written in session 26; main's
+// 3.6373 s and that 3.6107 s both fail the bound).
+TEST(Fastest, DwellChangesShortenGridCase5) {
+  core::MoveRequest r = request(2.288, 1.045, 21.03, 3207.0, 1.4271, 0.2558);
+  (void)r.add_mode({13.7351, 0.1779});
+  (void)r.add_mode({38.7836, 0.078});
+  expect_bang_bang_within(r, 3.59175962 * 1.004);
 }
 
 // Grid case 121's chain (a 52 s move whose rows round to 2e-8) in other units of length: at 0.37
@@ -470,11 +502,7 @@ TEST(Fastest, ALongCruisesStopsAreKeptInOtherUnits) {
     SCOPED_TRACE(::testing::Message() << "scale " << k);
     core::MoveRequest r = request(5.62 * k, 0.109 * k, 107.7 * k, 8413.0 * k, 3.5804, 0.0343);
     (void)r.add_mode({7.9436, 0.1696});
-    core::Move<double> m{};
-    ASSERT_EQ(core::plan(r, m), Status::ok);
-    EXPECT_LE(m.duration(), 52.122065 * 1.001);
-    EXPECT_EQ(family_of(m), core::FastestFamily::bang_bang);
-    check_move(r, m);
+    expect_bang_bang_within(r, 52.122065 * 1.001);
   }
 }
 

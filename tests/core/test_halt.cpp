@@ -495,6 +495,7 @@ TEST(Halt, FastestPathAxesAreOneMoveScaledAndTheirHaltIsPlannedOnce) {
   const auto* f0 = std::get_if<core::Fastest<double>>(&ax[0].move.profile().variant());
   ASSERT_NE(f0, nullptr);
   EXPECT_EQ(f0->family(), core::FastestFamily::bang_bang);
+  EXPECT_LT(p.duration(), 0.68452);  // 0.684510 s since fastest's dwell changes, 0.697055 s before
   for (std::size_t i = 1; i < 3; ++i) {
     const double k = r.axes[i].distance / r.axes[0].distance, d = std::fabs(r.axes[i].distance);
     const core::Move<double>& m = ax[i].move;
@@ -518,7 +519,10 @@ TEST(Halt, FastestPathAxesAreOneMoveScaledAndTheirHaltIsPlannedOnce) {
       const double t = m.duration() * n / 2000.0;
       worst = std::max(worst, std::fabs(m.at(t).p - k * ax[0].move.at(t).p));
     }
-    EXPECT_LE(worst, 1e-15 * d) << "axis " << i;
+    // Rounding of the positions each sums piece by piece: measured 5.6e-16 (1.2e-15 of d) since
+    // fastest's dwell changes (session 27) made the draw's move a chain of 22 nodes, 0.6845 s
+    // (0.6971 s before, within 1e-15 of d).
+    EXPECT_LE(worst, 2e-15 * d) << "axis " << i;
     EXPECT_EQ(m.peaks().v, p.peaks(i).v) << "axis " << i;
   }
   // A halt at the draw's time: one path's change (core::path_change), planned once.

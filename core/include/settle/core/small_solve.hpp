@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <utility>
 
 namespace settle::core {
 
@@ -24,7 +25,7 @@ template <std::size_t N>
     }
     if (!(scale > 0.0) || std::fabs(m[piv][c]) <= tol * scale) return false;
     if (piv != c) {
-      std::swap(m[piv], m[c]);
+      for (std::size_t k = 0; k < n; ++k) std::swap(m[piv][k], m[c][k]);  // not the columns from n on
       std::swap(b[piv], b[c]);
     }
     for (std::size_t r = c + 1; r < n; ++r) {

@@ -129,8 +129,11 @@ class BasicMotion {
 
 // Closed-form moves (at most 8 pieces: ramp-cycloid 5, jerk-limited 7) with up to 4 impulses.
 using Motion = BasicMotion<8, 4>;
-// Room for the piecewise-quintic form of a pseudo-polynomial with non-integer exponents.
-using PolyMotion = BasicMotion<32, 4>;
+// Room for the piecewise-quintic form of a pseudo-polynomial with non-integer exponents (up to
+// 32 pieces), and for a `fastest` move's table (kFastestSegments, 47: its chains of up to 23 turns,
+// holds and dwells), so that `settle export --scalar fixed` and `settle stream --scalar fixed`
+// hold every planned move. Host-only: no Cortex-M image holds one.
+using PolyMotion = BasicMotion<48, 4>;
 // A blend: its constant-jerk segments, one track.
 using BlendMotion = BasicMotion<kBlendSegments, 1>;
 

@@ -99,7 +99,7 @@ class BasicPositionPlan {
   PositionHeader hdr_{};
 };
 
-// Room for any Motion (8 segments, 4 tracks) and any PolyMotion (32 segments, 4 tracks).
+// Room for any Motion (8 segments, 4 tracks) and any PolyMotion (48 segments, 4 tracks).
 using PositionPlan = BasicPositionPlan<position_intervals_for(Motion::kMaxSegments, Motion::kMaxTracks)>;
 using PolyPositionPlan = BasicPositionPlan<position_intervals_for(PolyMotion::kMaxSegments, PolyMotion::kMaxTracks)>;
 

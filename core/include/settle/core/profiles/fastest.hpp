@@ -32,9 +32,11 @@
 
 namespace settle::core {
 
-// Room for the flattened time-optimal move convolved with four impulses (8 breakpoints each),
-// and within the fixed-point PolyMotion's 32 segments.
-inline constexpr std::size_t kFastestSegments = 31;
+// Room for the bang-bang chains of up to 23 nodes (2 n + 1 segments; docs/fastest.md, "Dwells
+// changed in chains of up to 23 nodes"; 31 before) and for the flattened time-optimal move
+// convolved with up to five impulses (8 breakpoints each), and within the fixed-point
+// PolyMotion's 48 segments (core/fixed/motion.hpp).
+inline constexpr std::size_t kFastestSegments = 47;
 
 enum class FastestFamily : std::uint8_t {
   none,

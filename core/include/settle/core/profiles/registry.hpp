@@ -35,9 +35,9 @@
   X(jerk_limited, JerkLimitedProfile)      \
   SETTLE_CORE_PROFILE_FASTEST(X)
 
-// `fastest` holds a table of up to 31 constant-jerk segments (a PiecewiseJerk<T, 31>), and a
-// Profile is as large as its largest shape: with it a Move<double> is 2696 bytes instead of 1088
-// and a Move<float> 1784 instead of 640 (arm-none-eabi, Cortex-M4F). Built with
+// `fastest` holds a table of up to 47 constant-jerk segments (a PiecewiseJerk<T, 47>), and a
+// Profile is as large as its largest shape: with it a Move<double> is 3008 bytes instead of 1088
+// and a Move<float> 2520 instead of 640 (arm-none-eabi, Cortex-M4F; 2240 and 1816 at 31 segments). Built with
 // SETTLE_CORE_FASTEST=1 for the Cortex-M4F, every image that holds a move (golden, evaluators,
 // servo, servo_fixed, servo_eval, servo_size) overflows its stack under QEMU (lockup); only hello
 // runs (docs/fastest.md, "Limits"). On M-profile cores it is therefore left out of the registry
