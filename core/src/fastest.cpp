@@ -2,6 +2,13 @@
 // Profile `fastest` (profiles/fastest.hpp): plans every family and keeps the shortest feasible
 // move. docs/fastest.md describes the method.
 #include "settle/core/profiles/fastest.hpp"
+// SETTLE_CORE_FASTEST: whether the registry holds `fastest` (0 on M-profile cores unless defined).
+#include "settle/core/profiles/registry.hpp"
+
+// Where the registry leaves `fastest` out (Cortex-M by default: its moves do not fit the images'
+// stacks), nothing can call the planner, and it is not built: it was a quarter of the library on
+// the Cortex-M0 (the link check that forces every symbol into a 256 KiB image stood at 99 %).
+#if SETTLE_CORE_FASTEST
 
 #include <algorithm>
 #include <bit>
@@ -3395,3 +3402,5 @@ Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& out
 }
 
 }  // namespace settle::core
+
+#endif  // SETTLE_CORE_FASTEST
