@@ -19,6 +19,10 @@ using numeric::Cx;
 // closed forms cancel.
 [[nodiscard]] Cx phi1(Cx x) noexcept;
 [[nodiscard]] Cx phi2(Cx x) noexcept;
+// The same, given ex = cexp(x) (read only where the closed form is taken): a caller that has the
+// exponential already saves computing it again, with the same result to the bit.
+[[nodiscard]] Cx phi1(Cx x, Cx ex) noexcept;
+[[nodiscard]] Cx phi2(Cx x, Cx ex) noexcept;
 
 // int over one piece, from its start to u_c = min(end, te), of e^{lambda (te - u)} P(u) du, exactly.
 // With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long

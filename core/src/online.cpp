@@ -125,8 +125,8 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
     const Cx lam = pole(r.modes[i].omega, r.modes[i].zeta);
     const Cx x = h * lam;
     const Cx e1 = cexp(x);
-    const Cx f1 = h * phi1(x);       // int_0^h e^{lambda w} dw
-    const Cx f2 = (h * h) * phi2(x);  // int_0^h e^{lambda w} (h - w) dw
+    const Cx f1 = h * phi1(x, e1);       // int_0^h e^{lambda w} dw
+    const Cx f2 = (h * h) * phi2(x, e1);  // int_0^h e^{lambda w} (h - w) dw
     // Column k (m = N - 1 - k segments after it): E^m f2 + h S_m, S_m = int_0^{m h} e^{lambda w} dw.
     Cx em{1.0, 0.0}, sm{};
     for (std::size_t m = 0; m < n; ++m) {

@@ -16,23 +16,48 @@ namespace detail {
 
 using namespace numeric;
 
-Cx phi1(Cx x) noexcept {
-  if (cabs_max(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
+namespace {
+// 1 / n for n = 0..25 (entry 0 unused), each the double the division 1.0 / n rounds to: the series
+// read them instead of converting and dividing per term (the same terms to the bit).
+constexpr std::array<double, 26> kInverse = [] {
+  std::array<double, 26> inv{};
+  for (std::size_t n = 1; n < inv.size(); ++n) inv[n] = 1.0 / static_cast<double>(n);
+  return inv;
+}();
+
+Cx phi1_series(Cx x) noexcept {
   Cx term{1.0, 0.0}, sum{1.0, 0.0};
-  for (int n = 1; n < 20; ++n) {
-    term = (1.0 / (n + 1)) * (term * x);
+  for (std::size_t n = 1; n < 20; ++n) {
+    term = kInverse[n + 1] * (term * x);
     sum = sum + term;
   }
   return sum;
 }
-Cx phi2(Cx x) noexcept {
-  if (cabs_max(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
+Cx phi2_series(Cx x) noexcept {
   Cx term{0.5, 0.0}, sum{0.5, 0.0};
-  for (int n = 1; n < 24; ++n) {
-    term = (1.0 / (n + 2)) * (term * x);
+  for (std::size_t n = 1; n < 24; ++n) {
+    term = kInverse[n + 2] * (term * x);
     sum = sum + term;
   }
   return sum;
+}
+}  // namespace
+
+Cx phi1(Cx x) noexcept {
+  if (cabs_max(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
+  return phi1_series(x);
+}
+Cx phi1(Cx x, Cx ex) noexcept {
+  if (cabs_max(x) >= 0.5) return (ex - Cx{1.0, 0.0}) / x;
+  return phi1_series(x);
+}
+Cx phi2(Cx x) noexcept {
+  if (cabs_max(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
+  return phi2_series(x);
+}
+Cx phi2(Cx x, Cx ex) noexcept {
+  if (cabs_max(x) >= 1.0) return (ex - Cx{1.0, 0.0} - x) / (x * x);
+  return phi2_series(x);
 }
 
 namespace {
