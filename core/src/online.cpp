@@ -290,6 +290,9 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
         res[i] = rhs[i] - res[i];
         worst = std::max(worst, std::fabs(res[i]));
       }
+      // The test is worst <= 1e-12 max(rhs_norm, xn): the largest x (relative to its weight) is
+      // needed only when the right side alone does not pass it (a NaN xn is ignored either way).
+      if (worst <= 1e-12 * rhs_norm) break;
       double xn = 0.0;
       if (unit) {
         for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]));
