@@ -98,6 +98,13 @@ struct System {
   std::size_t rows{0};
 };
 
+// N - k - 1/2 for each segment k (exact), read instead of converted per duration.
+constexpr std::array<double, kBlendSegments> kSegmentsAfter = [] {
+  std::array<double, kBlendSegments> c{};
+  for (std::size_t k = 0; k < kBlendSegments; ++k) c[k] = static_cast<double>(kBlendSegments - k) - 0.5;
+  return c;
+}();
+
 // a = v = 0 at the end, p = target for a retarget, and per mode the blend's own contribution
 // cancelling the memory it starts with (docs/online.md, "conditions").
 void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept {
@@ -111,7 +118,7 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
   for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h;
   rhs[rows++] = -a0;
   // v(T) = v0 + a0 T + sum j_k h^2 (N - k - 1/2) = 0
-  for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h * h * (static_cast<double>(n - k) - 0.5);
+  for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h * h * kSegmentsAfter[k];
   rhs[rows++] = -v0 - a0 * t_total;
   if (r.target) {
     // p(T) = p0 + v0 T + a0 T^2 / 2 + sum j_k h^3 (1/6 + m/2 + m^2/2), m = N - 1 - k
