@@ -17,13 +17,15 @@ namespace detail {
 using namespace numeric;
 
 namespace {
-// 1 / n for n = 0..25 (entry 0 unused), each the double the division 1.0 / n rounds to: the series
-// read them instead of converting and dividing per term (the same terms to the bit).
-constexpr std::array<double, 26> kInverse = [] {
-  std::array<double, 26> inv{};
+// 1 / n for n = 0..39 (entry 0 unused), each the double the division 1.0 / n rounds to: the series
+// (phi1, phi2, the moments) read them instead of converting and dividing per term (the same terms
+// to the bit).
+constexpr std::array<double, 40> kInverse = [] {
+  std::array<double, 40> inv{};
   for (std::size_t n = 1; n < inv.size(); ++n) inv[n] = 1.0 / static_cast<double>(n);
   return inv;
 }();
+static_assert(kInverse.size() > 32 + kMaxPieceDegree, "the moments' series reach 1 / (31 + m + 1)");
 
 Cx phi1_series(Cx x) noexcept {
   Cx term{1.0, 0.0}, sum{1.0, 0.0};
@@ -73,13 +75,13 @@ void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept 
     c[0] = {1.0, 0.0};
     std::size_t nt = 1;
     while (nt < c.size() && cabs_max(c[nt - 1]) > 1e-18) {
-      c[nt] = (1.0 / static_cast<double>(nt)) * (c[nt - 1] * mzs);
+      c[nt] = kInverse[nt] * (c[nt - 1] * mzs);
       ++nt;
     }
     double sp = s;  // S^{m+1}
     for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
       Cx sum{};
-      for (std::size_t k = 0; k < nt; ++k) sum = sum + (1.0 / static_cast<double>(k + m + 1)) * c[k];
+      for (std::size_t k = 0; k < nt; ++k) sum = sum + kInverse[k + m + 1] * c[k];
       out[m] = sp * sum;
       sp *= s;
     }
