@@ -220,8 +220,9 @@ void row_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSe
 // meeting the system. Then, up to `pins` times, every jerk beyond +-jmax is pinned to it (taken
 // out of the unknowns, its share moved to the right side) and the rest solved again: a few such
 // passes turn the smooth least-norm correction towards the bang-bang jerk a short blend needs. The
-// Gram matrix is downdated, not rebuilt. False when the system is singular to working precision
-// or the solution misses it.
+// Gram matrix is downdated, not rebuilt. False when the system is singular to working precision,
+// the solution misses it, or a jerk is left beyond jmax (1 + kLimitSlack), which the limit check
+// (blend_within) would refuse.
 //
 // Every sum is taken in the order it always was (over k for a row's products, over i for a
 // column's), so that the result is the same to the bit: loops run over the other index inside
@@ -317,6 +318,10 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       jpk = std::max(jpk, std::fabs(jerk[k]));
     }
     if (jpk > kPinOvershoot * jmax) pins = pin;
+    // No pass left to pin it: a jerk beyond the limit's slack fails blend_within whatever follows
+    // (it fails on that jerk or sooner, and a non-finite jerk fails here below), so the solve
+    // fails now, with the same outcome.
+    if (pin >= pins && jpk > jmax * (1.0 + kLimitSlack)) return false;
     for (std::size_t k = 0; k < n; ++k) {
       if (!std::isfinite(jerk[k])) return false;
       if (pin < pins && sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
