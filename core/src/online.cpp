@@ -159,7 +159,8 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
 constexpr double kPinOvershoot = 2.0;
 using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 
-// g = L L^T for the symmetric positive definite Gram matrix (lower triangle of `l`). False when a
+// g = L L^T for the symmetric positive definite Gram matrix (lower triangle of `l`), read from
+// g's lower triangle alone (the solve keeps no other). False when a
 // pivot is not positive; a nearly singular one is let through, as partial pivoting let it through
 // before: the caller rejects a solution that misses its equations (a retarget over a huge distance
 // has such a Gram matrix and a valid blend).
@@ -256,7 +257,7 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;  // unweighted column, row-scaled
     rhs[i] /= nn;
   }
-  Gram gram;  // NOLINT: [0, rows)^2 is set here
+  Gram gram;  // NOLINT: its lower triangle in [0, rows)^2 is set here
   for (std::size_t i = 0; i < rows; ++i) {
     for (std::size_t l = 0; l <= i; ++l) {
       double s = 0.0;
@@ -265,7 +266,7 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       } else {
         for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k] * sw[k] * sw[k];
       }
-      gram[i][l] = gram[l][i] = s;
+      gram[i][l] = s;  // the lower triangle: all that cholesky reads
     }
   }
   std::array<double, n> jerk{};
@@ -331,9 +332,9 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
         for (std::size_t i = 0; i < rows; ++i) {
           rhs[i] -= mat[i][k] * (to - ref[k]);
           if (unit) {
-            for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k];
+            for (std::size_t l = 0; l <= i; ++l) gram[i][l] -= mat[i][k] * mat[l][k];
           } else {
-            for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
+            for (std::size_t l = 0; l <= i; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
           }
         }
         ref[k] = to;
