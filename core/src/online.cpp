@@ -313,19 +313,24 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     }
     bool pinned = false;
     double jpk = 0.0;
+    bool finite = true;
     // std::max, not fmax: the same for these (never -0, a NaN second argument ignored), and inline.
     for (std::size_t k = 0; k < n; ++k) {
       jerk[k] = ref[k] + x[k];
       jpk = std::max(jpk, std::fabs(jerk[k]));
+      finite &= std::isfinite(jerk[k]);
     }
+    // A jerk that is not finite fails the solve, whether found before or after any pinning.
+    if (!finite) return false;
     if (jpk > kPinOvershoot * jmax) pins = pin;
     // No pass left to pin it: a jerk beyond the limit's slack fails blend_within whatever follows
-    // (it fails on that jerk or sooner, and a non-finite jerk fails here below), so the solve
-    // fails now, with the same outcome.
-    if (pin >= pins && jpk > jmax * (1.0 + kLimitSlack)) return false;
+    // (it fails on that jerk or sooner), so the solve fails now, with the same outcome.
+    if (pin >= pins) {
+      if (jpk > jmax * (1.0 + kLimitSlack)) return false;
+      break;
+    }
     for (std::size_t k = 0; k < n; ++k) {
-      if (!std::isfinite(jerk[k])) return false;
-      if (pin < pins && sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
+      if (sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
         // Pin j_k to the limit: its share of every condition goes to the right side, its column
         // leaves the Gram matrix.
         const double to = std::copysign(jmax, jerk[k]);
