@@ -27,7 +27,11 @@ constexpr std::array<double, 40> kInverse = [] {
 }();
 static_assert(kInverse.size() > 32 + kMaxPieceDegree, "the moments' series reach 1 / (31 + m + 1)");
 
-Cx phi1_series(Cx x) noexcept {
+}  // namespace
+
+Cx phi1(Cx x) noexcept { return phi1(x, cabs_max(x) >= 0.5 ? cexp(x) : Cx{}); }
+Cx phi1(Cx x, Cx ex) noexcept {
+  if (cabs_max(x) >= 0.5) return (ex - Cx{1.0, 0.0}) / x;
   Cx term{1.0, 0.0}, sum{1.0, 0.0};
   for (std::size_t n = 1; n < 20; ++n) {
     term = kInverse[n + 1] * (term * x);
@@ -35,31 +39,14 @@ Cx phi1_series(Cx x) noexcept {
   }
   return sum;
 }
-Cx phi2_series(Cx x) noexcept {
+Cx phi2(Cx x, Cx ex) noexcept {
+  if (cabs_max(x) >= 1.0) return (ex - Cx{1.0, 0.0} - x) / (x * x);
   Cx term{0.5, 0.0}, sum{0.5, 0.0};
   for (std::size_t n = 1; n < 24; ++n) {
     term = kInverse[n + 2] * (term * x);
     sum = sum + term;
   }
   return sum;
-}
-}  // namespace
-
-Cx phi1(Cx x) noexcept {
-  if (cabs_max(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
-  return phi1_series(x);
-}
-Cx phi1(Cx x, Cx ex) noexcept {
-  if (cabs_max(x) >= 0.5) return (ex - Cx{1.0, 0.0}) / x;
-  return phi1_series(x);
-}
-Cx phi2(Cx x) noexcept {
-  if (cabs_max(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
-  return phi2_series(x);
-}
-Cx phi2(Cx x, Cx ex) noexcept {
-  if (cabs_max(x) >= 1.0) return (ex - Cx{1.0, 0.0} - x) / (x * x);
-  return phi2_series(x);
 }
 
 namespace {
