@@ -105,6 +105,17 @@ constexpr std::array<double, kBlendSegments> kSegmentsAfter = [] {
   return c;
 }();
 
+// 1/6 + m/2 + m^2/2 for m = N - 1 - k, as the position row always summed it (no contraction:
+// -ffp-contract=off), read instead of computed per duration.
+constexpr std::array<double, kBlendSegments> kPositionWeights = [] {
+  std::array<double, kBlendSegments> c{};
+  for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    const double m = static_cast<double>(kBlendSegments - 1 - k);
+    c[k] = 1.0 / 6.0 + 0.5 * m + 0.5 * m * m;
+  }
+  return c;
+}();
+
 // a = v = 0 at the end, p = target for a retarget, and per mode the blend's own contribution
 // cancelling the memory it starts with (docs/online.md, "conditions").
 void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept {
@@ -122,10 +133,7 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
   rhs[rows++] = -v0 - a0 * t_total;
   if (r.target) {
     // p(T) = p0 + v0 T + a0 T^2 / 2 + sum j_k h^3 (1/6 + m/2 + m^2/2), m = N - 1 - k
-    for (std::size_t k = 0; k < n; ++k) {
-      const double m = static_cast<double>(n - 1 - k);
-      mat[rows][k] = h * h * h * (1.0 / 6.0 + 0.5 * m + 0.5 * m * m);
-    }
+    for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h * h * h * kPositionWeights[k];
     rhs[rows++] = *r.target - p0 - v0 * t_total - 0.5 * a0 * t_total * t_total;
   }
   for (std::size_t i = 0; i < r.mode_count; ++i) {
