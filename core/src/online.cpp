@@ -174,16 +174,15 @@ using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 // has such a Gram matrix and a valid blend).
 bool cholesky(const Gram& g, std::size_t n, Gram& l) noexcept {
   for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t c = 0; c <= i; ++c) {
+    for (std::size_t c = 0; c < i; ++c) {
       double s = g[i][c];
       for (std::size_t k = 0; k < c; ++k) s -= l[i][k] * l[c][k];
-      if (c == i) {
-        if (!(s > 0.0) || !std::isfinite(s)) return false;
-        l[i][i] = std::sqrt(s);
-      } else {
-        l[i][c] = s / l[c][c];
-      }
+      l[i][c] = s / l[c][c];
     }
+    double s = g[i][i];
+    for (std::size_t k = 0; k < i; ++k) s -= l[i][k] * l[i][k];
+    if (!(s > 0.0) || !std::isfinite(s)) return false;
+    l[i][i] = std::sqrt(s);
   }
   return true;
 }
