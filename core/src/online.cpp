@@ -561,7 +561,7 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
   const double h = t / static_cast<double>(kBlendSegments);
   System sys;
   build_system(*r, t, sys);
-  std::array<double, kBlendSegments> ref{}, w{};
+  std::array<double, kBlendSegments> ref, w;  // NOLINT: set before they are read (sample_brake sets all of ref)
   // The blend that worked last is tried first: neighbouring durations usually agree.
   for (int i = 0; i < tries; ++i) {
     const int c = (i + last) % kBlendKinds;
