@@ -16,9 +16,12 @@ namespace settle::core::detail {
 using numeric::Cx;
 
 // phi1(x) = (e^x - 1) / x and phi2(x) = (e^x - 1 - x) / x^2, by their series near 0 where the
-// closed forms cancel.
+// closed forms cancel. Given ex = cexp(x), read only where the closed form is taken (|x| >= 0.5,
+// resp. 1; pass anything otherwise): the blend's system has the exponential already.
+[[nodiscard]] Cx phi1(Cx x, Cx ex) noexcept;
+[[nodiscard]] Cx phi2(Cx x, Cx ex) noexcept;
+// phi1 computing its own exponential where it needs one.
 [[nodiscard]] Cx phi1(Cx x) noexcept;
-[[nodiscard]] Cx phi2(Cx x) noexcept;
 
 // int over one piece, from its start to u_c = min(end, te), of e^{lambda (te - u)} P(u) du, exactly.
 // With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long

@@ -98,6 +98,24 @@ struct System {
   std::size_t rows{0};
 };
 
+// N - k - 1/2 for each segment k (exact), read instead of converted per duration.
+constexpr std::array<double, kBlendSegments> kSegmentsAfter = [] {
+  std::array<double, kBlendSegments> c{};
+  for (std::size_t k = 0; k < kBlendSegments; ++k) c[k] = static_cast<double>(kBlendSegments - k) - 0.5;
+  return c;
+}();
+
+// 1/6 + m/2 + m^2/2 for m = N - 1 - k, as the position row always summed it (no contraction:
+// -ffp-contract=off), read instead of computed per duration.
+constexpr std::array<double, kBlendSegments> kPositionWeights = [] {
+  std::array<double, kBlendSegments> c{};
+  for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    const double m = static_cast<double>(kBlendSegments - 1 - k);
+    c[k] = 1.0 / 6.0 + 0.5 * m + 0.5 * m * m;
+  }
+  return c;
+}();
+
 // a = v = 0 at the end, p = target for a retarget, and per mode the blend's own contribution
 // cancelling the memory it starts with (docs/online.md, "conditions").
 void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept {
@@ -111,22 +129,19 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
   for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h;
   rhs[rows++] = -a0;
   // v(T) = v0 + a0 T + sum j_k h^2 (N - k - 1/2) = 0
-  for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h * h * (static_cast<double>(n - k) - 0.5);
+  for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h * h * kSegmentsAfter[k];
   rhs[rows++] = -v0 - a0 * t_total;
   if (r.target) {
     // p(T) = p0 + v0 T + a0 T^2 / 2 + sum j_k h^3 (1/6 + m/2 + m^2/2), m = N - 1 - k
-    for (std::size_t k = 0; k < n; ++k) {
-      const double m = static_cast<double>(n - 1 - k);
-      mat[rows][k] = h * h * h * (1.0 / 6.0 + 0.5 * m + 0.5 * m * m);
-    }
+    for (std::size_t k = 0; k < n; ++k) mat[rows][k] = h * h * h * kPositionWeights[k];
     rhs[rows++] = *r.target - p0 - v0 * t_total - 0.5 * a0 * t_total * t_total;
   }
   for (std::size_t i = 0; i < r.mode_count; ++i) {
     const Cx lam = pole(r.modes[i].omega, r.modes[i].zeta);
     const Cx x = h * lam;
     const Cx e1 = cexp(x);
-    const Cx f1 = h * phi1(x);       // int_0^h e^{lambda w} dw
-    const Cx f2 = (h * h) * phi2(x);  // int_0^h e^{lambda w} (h - w) dw
+    const Cx f1 = h * phi1(x, e1);       // int_0^h e^{lambda w} dw
+    const Cx f2 = (h * h) * phi2(x, e1);  // int_0^h e^{lambda w} (h - w) dw
     // Column k (m = N - 1 - k segments after it): E^m f2 + h S_m, S_m = int_0^{m h} e^{lambda w} dw.
     Cx em{1.0, 0.0}, sm{};
     for (std::size_t m = 0; m < n; ++m) {
@@ -152,22 +167,22 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
 constexpr double kPinOvershoot = 2.0;
 using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 
-// g = L L^T for the symmetric positive definite Gram matrix (lower triangle of `l`). False when a
+// g = L L^T for the symmetric positive definite Gram matrix (lower triangle of `l`), read from
+// g's lower triangle alone (the solve keeps no other). False when a
 // pivot is not positive; a nearly singular one is let through, as partial pivoting let it through
 // before: the caller rejects a solution that misses its equations (a retarget over a huge distance
 // has such a Gram matrix and a valid blend).
 bool cholesky(const Gram& g, std::size_t n, Gram& l) noexcept {
   for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t c = 0; c <= i; ++c) {
+    for (std::size_t c = 0; c < i; ++c) {
       double s = g[i][c];
       for (std::size_t k = 0; k < c; ++k) s -= l[i][k] * l[c][k];
-      if (c == i) {
-        if (!(s > 0.0) || !std::isfinite(s)) return false;
-        l[i][i] = std::sqrt(s);
-      } else {
-        l[i][c] = s / l[c][c];
-      }
+      l[i][c] = s / l[c][c];
     }
+    double s = g[i][i];
+    for (std::size_t k = 0; k < i; ++k) s -= l[i][k] * l[i][k];
+    if (!(s > 0.0) || !std::isfinite(s)) return false;
+    l[i][i] = std::sqrt(s);
   }
   return true;
 }
@@ -213,8 +228,9 @@ void row_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSe
 // meeting the system. Then, up to `pins` times, every jerk beyond +-jmax is pinned to it (taken
 // out of the unknowns, its share moved to the right side) and the rest solved again: a few such
 // passes turn the smooth least-norm correction towards the bang-bang jerk a short blend needs. The
-// Gram matrix is downdated, not rebuilt. False when the system is singular to working precision
-// or the solution misses it.
+// Gram matrix is downdated, not rebuilt. False when the system is singular to working precision,
+// the solution misses it, or a jerk is left beyond jmax (1 + kLimitSlack), which the limit check
+// (blend_within) would refuse.
 //
 // Every sum is taken in the order it always was (over k for a row's products, over i for a
 // column's), so that the result is the same to the bit: loops run over the other index inside
@@ -248,7 +264,7 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;  // unweighted column, row-scaled
     rhs[i] /= nn;
   }
-  Gram gram;  // NOLINT: [0, rows)^2 is set here
+  Gram gram;  // NOLINT: its lower triangle in [0, rows)^2 is set here
   for (std::size_t i = 0; i < rows; ++i) {
     for (std::size_t l = 0; l <= i; ++l) {
       double s = 0.0;
@@ -257,7 +273,7 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       } else {
         for (std::size_t k = 0; k < n; ++k) s += mat[i][k] * mat[l][k] * sw[k] * sw[k];
       }
-      gram[i][l] = gram[l][i] = s;
+      gram[i][l] = s;  // the lower triangle: all that cholesky reads
     }
   }
   std::array<double, n> jerk{};
@@ -290,6 +306,9 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
         res[i] = rhs[i] - res[i];
         worst = std::max(worst, std::fabs(res[i]));
       }
+      // The test is worst <= 1e-12 max(rhs_norm, xn): the largest x (relative to its weight) is
+      // needed only when the right side alone does not pass it (a NaN xn is ignored either way).
+      if (worst <= 1e-12 * rhs_norm) break;
       double xn = 0.0;
       if (unit) {
         for (std::size_t k = 0; k < n; ++k) xn = std::max(xn, std::fabs(x[k]));
@@ -301,24 +320,33 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     }
     bool pinned = false;
     double jpk = 0.0;
+    bool finite = true;
     // std::max, not fmax: the same for these (never -0, a NaN second argument ignored), and inline.
     for (std::size_t k = 0; k < n; ++k) {
       jerk[k] = ref[k] + x[k];
       jpk = std::max(jpk, std::fabs(jerk[k]));
+      finite &= std::isfinite(jerk[k]);
     }
+    // A jerk that is not finite fails the solve, whether found before or after any pinning.
+    if (!finite) return false;
     if (jpk > kPinOvershoot * jmax) pins = pin;
+    // No pass left to pin it: a jerk beyond the limit's slack fails blend_within whatever follows
+    // (it fails on that jerk or sooner), so the solve fails now, with the same outcome.
+    if (pin >= pins) {
+      if (jpk > jmax * (1.0 + kLimitSlack)) return false;
+      break;
+    }
     for (std::size_t k = 0; k < n; ++k) {
-      if (!std::isfinite(jerk[k])) return false;
-      if (pin < pins && sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
+      if (sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
         // Pin j_k to the limit: its share of every condition goes to the right side, its column
         // leaves the Gram matrix.
         const double to = std::copysign(jmax, jerk[k]);
         for (std::size_t i = 0; i < rows; ++i) {
           rhs[i] -= mat[i][k] * (to - ref[k]);
           if (unit) {
-            for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k];
+            for (std::size_t l = 0; l <= i; ++l) gram[i][l] -= mat[i][k] * mat[l][k];
           } else {
-            for (std::size_t l = 0; l < rows; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
+            for (std::size_t l = 0; l <= i; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
           }
         }
         ref[k] = to;
@@ -533,7 +561,7 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
   const double h = t / static_cast<double>(kBlendSegments);
   System sys;
   build_system(*r, t, sys);
-  std::array<double, kBlendSegments> ref{}, w{};
+  std::array<double, kBlendSegments> ref, w;  // NOLINT: set before they are read (sample_brake sets all of ref)
   // The blend that worked last is tried first: neighbouring durations usually agree.
   for (int i = 0; i < tries; ++i) {
     const int c = (i + last) % kBlendKinds;

@@ -16,20 +16,34 @@ namespace detail {
 
 using namespace numeric;
 
-Cx phi1(Cx x) noexcept {
-  if (cabs_max(x) >= 0.5) return (cexp(x) - Cx{1.0, 0.0}) / x;
+namespace {
+// 1 / n for n = 0..39 (entry 0 unused), each the double the division 1.0 / n rounds to: the series
+// (phi1, phi2, the moments) read them instead of converting and dividing per term (the same terms
+// to the bit).
+constexpr std::array<double, 40> kInverse = [] {
+  std::array<double, 40> inv{};
+  for (std::size_t n = 1; n < inv.size(); ++n) inv[n] = 1.0 / static_cast<double>(n);
+  return inv;
+}();
+static_assert(kInverse.size() > 32 + kMaxPieceDegree, "the moments' series reach 1 / (31 + m + 1)");
+
+}  // namespace
+
+Cx phi1(Cx x) noexcept { return phi1(x, cabs_max(x) >= 0.5 ? cexp(x) : Cx{}); }
+Cx phi1(Cx x, Cx ex) noexcept {
+  if (cabs_max(x) >= 0.5) return (ex - Cx{1.0, 0.0}) / x;
   Cx term{1.0, 0.0}, sum{1.0, 0.0};
-  for (int n = 1; n < 20; ++n) {
-    term = (1.0 / (n + 1)) * (term * x);
+  for (std::size_t n = 1; n < 20; ++n) {
+    term = kInverse[n + 1] * (term * x);
     sum = sum + term;
   }
   return sum;
 }
-Cx phi2(Cx x) noexcept {
-  if (cabs_max(x) >= 1.0) return (cexp(x) - Cx{1.0, 0.0} - x) / (x * x);
+Cx phi2(Cx x, Cx ex) noexcept {
+  if (cabs_max(x) >= 1.0) return (ex - Cx{1.0, 0.0} - x) / (x * x);
   Cx term{0.5, 0.0}, sum{0.5, 0.0};
-  for (int n = 1; n < 24; ++n) {
-    term = (1.0 / (n + 2)) * (term * x);
+  for (std::size_t n = 1; n < 24; ++n) {
+    term = kInverse[n + 2] * (term * x);
     sum = sum + term;
   }
   return sum;
@@ -48,13 +62,13 @@ void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept 
     c[0] = {1.0, 0.0};
     std::size_t nt = 1;
     while (nt < c.size() && cabs_max(c[nt - 1]) > 1e-18) {
-      c[nt] = (1.0 / static_cast<double>(nt)) * (c[nt - 1] * mzs);
+      c[nt] = kInverse[nt] * (c[nt - 1] * mzs);
       ++nt;
     }
     double sp = s;  // S^{m+1}
     for (std::size_t m = 0; m <= kMaxPieceDegree; ++m) {
       Cx sum{};
-      for (std::size_t k = 0; k < nt; ++k) sum = sum + (1.0 / static_cast<double>(k + m + 1)) * c[k];
+      for (std::size_t k = 0; k < nt; ++k) sum = sum + kInverse[k + m + 1] * c[k];
       out[m] = sp * sum;
       sp *= s;
     }
