@@ -1063,7 +1063,13 @@ struct ArcEval {
   std::array<Cx, kMaxModes> val;                                       // the transform per mode
 };
 
-std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEval& ev) noexcept {
+// With `stop` (a line search's norm to beat, of F - mu f0 when f0 is given): returns 0, and
+// leaves f and ev unfinished, where the rows of v and p alone already reach it. Their squares
+// are the first terms of the norm's sum, which adding the other rows' squares cannot lower, so
+// the trial would be rejected all the same (arc_newton and arc_restore reject a norm that is
+// not below; the merit of arc_restore adds nonnegative terms to the norm).
+std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEval& ev, double stop = HUGE_VAL,
+                       const ArcVec* f0 = nullptr, double mu = 0.0) noexcept {
   lay_out(pb, c, ev.L);
   const ArcLayout& L = ev.L;
   const std::size_t n = c.n;
@@ -1079,6 +1085,19 @@ std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEv
   ev.v = v;
   f[row++] = (v - (pb.pulse ? pb.vmax : 0.0)) / pb.vmax;
   if (!pb.pulse) f[row++] = (p - pb.D) / pb.D;
+  // The norm's sum over the rows so far (as arc_norm adds them, in their order): true where it
+  // reaches `stop` already.
+  double sq = 0.0;
+  std::size_t summed = 0;
+  const auto rejected = [&] {
+    if (!(stop < HUGE_VAL)) return false;
+    for (; summed < row; ++summed) {
+      const double g = f0 ? f[summed] - mu * (*f0)[summed] : f[summed];
+      sq += g * g;
+    }
+    return std::sqrt(sq) >= stop;
+  };
+  if (rejected()) return 0;
   // The transform at each pole, referred to the end and divided by D omega (the step's): sum_r
   // j_r (E(u_b) - E(u_e)) / s^2 with E(u) = e^{s u}.
   for (std::size_t m = 0; m < pb.ms->n; ++m) {
@@ -1106,6 +1125,7 @@ std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEv
     ev.val[m] = acc * q.inv_s2;
     f[row++] = ev.val[m].re;
     f[row++] = ev.val[m].im;
+    if (m + 1 < pb.ms->n && rejected()) return 0;  // the other modes' rows not taken
   }
   // v = vmax on each cruise, v = 0 on each dwell (at the hold's start e[i]).
   for (std::size_t i = 0; i < n; ++i) {
@@ -1278,7 +1298,11 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     ArcChain trial = c;
     for (; lam > 1e-4; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dx[i];
-      (void)arc_values(pb, trial, f, at);  // F alone: most trials are rejected
+      // F alone (most trials are rejected), and not even that where v and p reject it.
+      if (arc_values(pb, trial, f, at, n0, &f0, mu) == 0) {
+        n1 = HUGE_VAL;
+        continue;
+      }
       n1 = shifted_norm(rows);
       if (std::isfinite(n1) && n1 < n0) break;
     }
@@ -2218,7 +2242,12 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     double n1 = HUGE_VAL;
     for (double lam = 1.0; lam > 1e-3; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dz[i] * q.unit[i];
-      rows = arc_values(pb, trial, f, ev);
+      const std::size_t got = arc_values(pb, trial, f, ev, n0);  // 0: v and p reject it
+      if (got == 0) {
+        n1 = HUGE_VAL;
+        continue;
+      }
+      rows = got;
       n1 = merit(trial, ev, qt);
       if (std::isfinite(n1) && n1 < n0) break;
     }
