@@ -932,21 +932,44 @@ struct ArcPole {
 // of the calls). A hit returns the value the call would: bit for bit the same as calling.
 class ArcExpMemo {
  public:
+  // Forgets every value of the first `modes` modes (the others are never asked for).
+  void reset(std::size_t modes) noexcept {
+    for (std::size_t m = 0; m < modes; ++m) {
+      ramp_[m].key.fill(kNone);
+      end_[m].key.fill(kNone);
+      seen_[m].key.fill(kNone);
+    }
+  }
   template <class F>
   Cx get(std::size_t m, std::size_t r, bool ramp, double arg, F&& compute) noexcept {
-    Entry& e = (ramp ? ramp_ : end_)[m][r];
+    Slots<kMaxArcNodes + 1>& s = (ramp ? ramp_ : end_)[m];
     const std::uint64_t bits = std::bit_cast<std::uint64_t>(arg);
-    if (!e.used || e.bits != bits) e = {bits, true, compute()};
-    return e.val;
+    if (s.key[r] == bits) return s.val[r];
+    s.key[r] = bits;
+    if (ramp) {
+      Slots<kSeen>& h = seen_[m];
+      const std::size_t i = (bits * 0x9E3779B97F4A7C15ull) >> (64 - kSeenBits);
+      if (h.key[i] != bits) {
+        h.key[i] = bits;
+        h.val[i] = compute();
+      }
+      return s.val[r] = h.val[i];
+    }
+    return s.val[r] = compute();
   }
 
  private:
-  struct Entry {
-    std::uint64_t bits{0};
-    bool used{false};
-    Cx val{};
+  static constexpr int kSeenBits = 6;
+  static constexpr std::size_t kSeen = std::size_t{1} << kSeenBits;
+  // No argument is this signalling NaN (arithmetic returns quiet ones): a key never asked for.
+  static constexpr std::uint64_t kNone = 0x7FF0000000000001ull;
+  template <std::size_t N>
+  struct Slots {
+    std::array<std::uint64_t, N> key;
+    std::array<Cx, N> val;
   };
-  std::array<std::array<Entry, kMaxArcNodes + 1>, kMaxModes> ramp_{}, end_{};
+  std::array<Slots<kMaxArcNodes + 1>, kMaxModes> ramp_, end_;
+  std::array<Slots<kSeen>, kMaxModes> seen_;
 };
 
 struct ArcProblem {
@@ -982,10 +1005,12 @@ ArcProblem arc_problem(const MoveRequest& r, const ModeSet& ms) noexcept {
 }
 
 // The chain laid out: ramp r (r < n into node r, r = n the closing ramp) runs from b[r] to e[r]
-// with jerk j[r]; node r holds from e[r] to b[r + 1].
+// with jerk j[r]; node r holds from e[r] to b[r + 1]. Only the entries r <= n are written (and
+// read): zeroing the rest, and copying the whole into each evaluation, was 2 % of a two-mode
+// plan's instructions.
 struct ArcLayout {
-  std::array<double, kMaxArcNodes + 1> b{}, e{}, j{};
-  double T{0.0};
+  std::array<double, kMaxArcNodes + 1> b, e, j;
+  double T;
 };
 
 // The level of a node: +-amax on a limit, its own on a peak, 0 on a cruise or a dwell.
@@ -994,8 +1019,7 @@ double node_level(const ArcProblem& pb, const ArcChain& c, std::size_t i) noexce
   return k.kind == ArcKind::limit ? k.sign * pb.amax : k.kind == ArcKind::peak ? c.x[i] : 0.0;
 }
 
-ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
-  ArcLayout L{};
+void lay_out(const ArcProblem& pb, const ArcChain& c, ArcLayout& L) noexcept {
   double t = 0.0, a = 0.0;
   for (std::size_t r = 0; r <= c.n; ++r) {
     const bool closing = r == c.n;
@@ -1013,6 +1037,10 @@ ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
     a = lev;
   }
   L.T = L.e[c.n];
+}
+ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
+  ArcLayout L;
+  lay_out(pb, c, L);
   return L;
 }
 
@@ -1035,8 +1063,14 @@ struct ArcEval {
   std::array<Cx, kMaxModes> val;                                       // the transform per mode
 };
 
-std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEval& ev) noexcept {
-  ev.L = lay_out(pb, c);
+// With `stop` (a line search's norm to beat, of F - mu f0 when f0 is given): returns 0, and
+// leaves f and ev unfinished, where the rows of v and p alone already reach it. Their squares
+// are the first terms of the norm's sum, which adding the other rows' squares cannot lower, so
+// the trial would be rejected all the same (arc_newton and arc_restore reject a norm that is
+// not below; the merit of arc_restore adds nonnegative terms to the norm).
+std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEval& ev, double stop = HUGE_VAL,
+                       const ArcVec* f0 = nullptr, double mu = 0.0) noexcept {
+  lay_out(pb, c, ev.L);
   const ArcLayout& L = ev.L;
   const std::size_t n = c.n;
   const double T = L.T;
@@ -1051,25 +1085,47 @@ std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEv
   ev.v = v;
   f[row++] = (v - (pb.pulse ? pb.vmax : 0.0)) / pb.vmax;
   if (!pb.pulse) f[row++] = (p - pb.D) / pb.D;
+  // The norm's sum over the rows so far (as arc_norm adds them, in their order): true where it
+  // reaches `stop` already.
+  double sq = 0.0;
+  std::size_t summed = 0;
+  const auto rejected = [&] {
+    if (!(stop < HUGE_VAL)) return false;
+    for (; summed < row; ++summed) {
+      const double g = f0 ? f[summed] - mu * (*f0)[summed] : f[summed];
+      sq += g * g;
+    }
+    return std::sqrt(sq) >= stop;
+  };
+  if (rejected()) return 0;
   // The transform at each pole, referred to the end and divided by D omega (the step's): sum_r
   // j_r (E(u_b) - E(u_e)) / s^2 with E(u) = e^{s u}.
   for (std::size_t m = 0; m < pb.ms->n; ++m) {
     const ArcPole& q = pb.poles[m];
+    // The exponentials first, then the sums (the same operations: a loop without the calls
+    // keeps its values in registers).
+    std::array<CxSlot, kMaxArcNodes + 1> em1;  // not zeroed: the first n + 1 are written
+    for (std::size_t r = 0; r <= n; ++r) {
+      const double u = -(T - L.e[r]), d = L.e[r] - L.b[r];
+      const Cx Ee = pb.exps->get(m, r, false, u, [&] { return cexp_neg(q.s, u); });
+      ev.ee[m][r] = {Ee.re, Ee.im};
+      const Cx x = pb.exps->get(m, r, true, d, [&] { return cexpm1(d * q.s); });
+      em1[r] = {x.re, x.im};
+    }
     Cx acc{};
     for (std::size_t r = 0; r <= n; ++r) {
       const double jr = L.j[r] * q.scale;
-      const double u = -(T - L.e[r]), d = L.e[r] - L.b[r];
-      const Cx Ee = pb.exps->get(m, r, false, u, [&] { return cexp_neg(q.s, u); });
+      const Cx Ee = ev.ee[m][r];
       // E(u_b) - E(u_e) = E(u_e) (e^{s d} - 1): no cancellation on short ramps.
-      const Cx diff = Ee * pb.exps->get(m, r, true, d, [&] { return cexpm1(d * q.s); });
+      const Cx diff = Ee * Cx(em1[r]);
       const Cx Eb = Ee + diff;
-      ev.ee[m][r] = {Ee.re, Ee.im};
       ev.eb[m][r] = {Eb.re, Eb.im};
       acc = acc + jr * diff;
     }
     ev.val[m] = acc * q.inv_s2;
     f[row++] = ev.val[m].re;
     f[row++] = ev.val[m].im;
+    if (m + 1 < pb.ms->n && rejected()) return 0;  // the other modes' rows not taken
   }
   // v = vmax on each cruise, v = 0 on each dwell (at the hold's start e[i]).
   for (std::size_t i = 0; i < n; ++i) {
@@ -1177,7 +1233,7 @@ double arc_norm(const ArcVec& f, std::size_t n) noexcept {
 double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
   ArcVec f{};
   ArcEval ev;
-  ArcMat jm{};
+  ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
   const std::size_t rows = arc_values(pb, c, f, ev);
   arc_jacobian(pb, c, ev, jm);
   const ArcLayout& L = ev.L;
@@ -1242,7 +1298,11 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     ArcChain trial = c;
     for (; lam > 1e-4; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dx[i];
-      (void)arc_values(pb, trial, f, at);  // F alone: most trials are rejected
+      // F alone (most trials are rejected), and not even that where v and p reject it.
+      if (arc_values(pb, trial, f, at, n0, &f0, mu) == 0) {
+        n1 = HUGE_VAL;
+        continue;
+      }
       n1 = shifted_norm(rows);
       if (std::isfinite(n1) && n1 < n0) break;
     }
@@ -1694,7 +1754,8 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   // docs/fastest.md "Cost"); they were 2.8 % of those plans' evaluations.
   const bool lean = request && ms.n == 2;
   ArcProblem pb = arc_problem(r, ms);
-  ArcExpMemo exps{};
+  ArcExpMemo exps;
+  exps.reset(ms.n);
   pb.exps = &exps;
   double w_min = ms.m[0].omega;
   for (std::size_t i = 1; i < ms.n; ++i) w_min = std::fmin(w_min, ms.m[i].omega);
@@ -2032,9 +2093,12 @@ class RowBasis {
 };
 
 // The chain's linear inequalities g(x) = a x + b >= 0 (value and a in z) and dT/dz.
+// Only the first count rows of a, val and tol are written (a's only in the chain's n columns,
+// all that is read): zeroing the 46 rows of a (8 KB) at each of arc_minimise's iterations was
+// 2 % of a long two-mode plan's instructions.
 struct ArcIneq {
-  std::array<ArcVec, kMaxIneq> a{};
-  std::array<double, kMaxIneq> val{}, tol{};
+  std::array<ArcVec, kMaxIneq> a;
+  std::array<double, kMaxIneq> val, tol;
   std::size_t count{0};
   ArcVec dt{};   // dT / dz
   ArcVec unit{}; // dx / dz: 1 for a hold, J for a peak's level
@@ -2088,13 +2152,14 @@ void arc_ineq_dt(const ArcProblem& pb, const ArcChain& c, const ArcLayout& L, Ar
 }
 
 ArcIneq arc_ineq(const ArcProblem& pb, const ArcChain& c, const ArcLayout& L) noexcept {
-  ArcIneq q{};
+  ArcIneq q;
   arc_ineq_dt(pb, c, L, q.dt, q.unit);
   ArcIneqVals v;
   arc_ineq_vals(pb, c, L, v);
   q.count = v.count;
   std::copy_n(v.val.begin(), v.count, q.val.begin());
   std::copy_n(v.tol.begin(), v.count, q.tol.begin());
+  for (std::size_t r = 0; r < q.count; ++r) std::fill_n(q.a[r].begin(), c.n, 0.0);
   // The rows, in the order of arc_ineq_vals.
   std::size_t row = 0;
   for (std::size_t i = 0; i < c.n; ++i) {
@@ -2148,7 +2213,7 @@ ArcVec min_norm_step(const ArcChain& c, const ArcMat& jm, const ArcVec& f, std::
 // to 115 M against stalling each time, the same chain to 3e-9 of its duration).
 bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std::array<bool, kMaxIneq>& active,
                  ArcVec& f, ArcEval& ev) noexcept {
-  ArcMat jm{};
+  ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
   std::size_t rows = arc_values(pb, c, f, ev);
   // The equations' norm plus how far an inequality is broken (relative to its scale); the active
   // rows and the broken ones are set to 0 exactly (they are linear: one step does it).
@@ -2177,7 +2242,12 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     double n1 = HUGE_VAL;
     for (double lam = 1.0; lam > 1e-3; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dz[i] * q.unit[i];
-      rows = arc_values(pb, trial, f, ev);
+      const std::size_t got = arc_values(pb, trial, f, ev, n0);  // 0: v and p reject it
+      if (got == 0) {
+        n1 = HUGE_VAL;
+        continue;
+      }
+      rows = got;
       n1 = merit(trial, ev, qt);
       if (std::isfinite(n1) && n1 < n0) break;
     }
@@ -2248,7 +2318,7 @@ std::size_t arc_values_forward(const ArcProblem& pb, const ArcChain& c, ArcVec& 
 bool arc_polish(const ArcProblem& pb, ArcChain& c, bool modes = false) noexcept {
   ArcVec f{};
   ArcEval ev;
-  ArcMat jm{};
+  ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
   // Rows [first_mode, held_end) are held: left out of the norm and of the step's target (none with `modes`).
   const std::size_t first_mode = pb.pulse ? 1 : 2, held_end = modes ? first_mode : first_mode + 2 * pb.ms->n;
   const auto kinematic = [&](ArcVec& g, std::size_t n) {
@@ -2288,7 +2358,7 @@ struct ArcKkt {
 void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) noexcept {
   ArcVec f{};
   ArcEval ev;
-  ArcMat jm{};
+  ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
   std::size_t rows = arc_values(pb, c, f, ev);
   double T = ev.L.T, trust = 0.05 * T;
   for (int it = 0; it < max_iter; ++it) {
@@ -2428,7 +2498,7 @@ double pair_gain(const ArcProblem& pb, const ArcChain& e, std::size_t first, con
                  const ArcKkt& kkt) noexcept {
   ArcVec f{};
   ArcEval ev;
-  ArcMat jm{};
+  ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
   const std::size_t rows = arc_values(pb, e, f, ev);
   if (rows != kkt.rows) return 0.0;
   arc_jacobian(pb, e, ev, jm);
@@ -3330,7 +3400,8 @@ void zero_holds_to_peaks(FastestSearch& fs, const ArcProblem& pb, const ArcChain
 void refined_chains(FastestSearch& fs) noexcept {
   const ArcBest& got = fs.chains;
   ArcProblem pb = arc_problem(fs.r, fs.ms);
-  ArcExpMemo exps{};
+  ArcExpMemo exps;
+  exps.reset(fs.ms.n);
   pb.exps = &exps;
   double w_fast = 0.0;  // the fastest mode's damped frequency
   for (std::size_t m = 0; m < fs.ms.n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));

@@ -30,15 +30,19 @@ inline Cx cexp(Cx a) noexcept {
   const double e = std::exp(a.re);
   return {e * std::cos(a.im), e * std::sin(a.im)};
 }
-// e^{-p t}.
+// e^{-p t}. (An undamped mode's real part is 0: exp(+-0) is 1 exactly, so it is not called.)
 inline Cx cexp_neg(Cx p, double t) noexcept {
-  const double m = std::exp(-p.re * t);
+  const double x = -p.re * t;
+  const double m = x == 0.0 ? 1.0 : std::exp(x);
   return {m * std::cos(p.im * t), -m * std::sin(p.im * t)};
 }
-// e^{z} - 1, accurate for small |z| (a short segment's two exponentials nearly cancel).
+// e^{z} - 1, accurate for small |z| (a short segment's two exponentials nearly cancel). With
+// z.re = +-0 (an undamped mode) expm1 is z.re and exp 1, exactly: neither is called.
 inline Cx cexpm1(Cx z) noexcept {
   const double sh = std::sin(0.5 * z.im);
-  return {std::expm1(z.re) * std::cos(z.im) - 2.0 * sh * sh, std::exp(z.re) * std::sin(z.im)};
+  const bool undamped = z.re == 0.0;
+  const double em1 = undamped ? z.re : std::expm1(z.re), e = undamped ? 1.0 : std::exp(z.re);
+  return {em1 * std::cos(z.im) - 2.0 * sh * sh, e * std::sin(z.im)};
 }
 
 // The upper pole of the mode (omega, zeta), 0 <= zeta < 1: -zeta omega + i omega sqrt(1 - zeta^2).

@@ -12,25 +12,33 @@
 namespace settle::core {
 
 // Solves m[0..n)[0..n) x = b in place (b becomes x). Returns false when a pivot is below
-// tol * (largest entry of its column), i.e. the system is numerically singular.
+// tol * (largest entry of its column), i.e. the system is numerically singular. m is left
+// holding the eliminated upper triangle and, below it, whatever the elimination did not need
+// to touch (no caller reads it after the solve).
 template <std::size_t N>
 [[nodiscard]] bool solve_in_place(std::array<std::array<double, N>, N>& m, std::array<double, N>& b,
                                   std::size_t n, double tol = 1e-13) noexcept {
   for (std::size_t c = 0; c < n; ++c) {
     std::size_t piv = c;
-    double scale = 0.0;
+    double scale = 0.0, best = std::fabs(m[c][c]);
     for (std::size_t r = c; r < n; ++r) {
-      scale = std::fmax(scale, std::fabs(m[r][c]));
-      if (std::fabs(m[r][c]) > std::fabs(m[piv][c])) piv = r;
+      const double a = std::fabs(m[r][c]);
+      if (a > scale) scale = a;  // std::fmax (a NaN entry left out), without its call
+      if (a > best) {
+        piv = r;
+        best = a;
+      }
     }
-    if (!(scale > 0.0) || std::fabs(m[piv][c]) <= tol * scale) return false;
+    if (!(scale > 0.0) || best <= tol * scale) return false;
     if (piv != c) {
-      for (std::size_t k = 0; k < n; ++k) std::swap(m[piv][k], m[c][k]);  // not the columns from n on
+      // Not the columns from n on, nor those before c (the lower triangle: never read again).
+      for (std::size_t k = c; k < n; ++k) std::swap(m[piv][k], m[c][k]);
       std::swap(b[piv], b[c]);
     }
     for (std::size_t r = c + 1; r < n; ++r) {
       const double f = m[r][c] / m[c][c];
-      for (std::size_t k = c; k < n; ++k) m[r][k] -= f * m[c][k];
+      // Column c below the pivot is never read again: not updated.
+      for (std::size_t k = c + 1; k < n; ++k) m[r][k] -= f * m[c][k];
       b[r] -= f * b[c];
     }
   }
