@@ -2224,7 +2224,8 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
 // inequality within its tolerance that a step would break (arc_restore's hold_breaks): on the
 // grid, grid case 254 at scale 7.3 then screens the dwell changes as at scale 1 (1.69041 s against
 // 1.69034 s, was 1.69772 s), 112 at 7.3 and 134 at 1e-3 and 7.3 plan as at scale 1, and 134 at
-// scale 1 0.077 % shorter (1.48437 s; every other grid plan at scale 1 the same). Only as a retry:
+// scale 1 0.077 % shorter (1.48437 s; every other grid plan at scale 1 the same); D 1 on 7 and 19
+// rad/s 1.38151 s, the linear program's, where it was 1.1 % over (1.39701 s). Only as a retry:
 // held in every restoration, the search at scale 1 lands elsewhere (5, 86 and 254 longer).
 bool restore_seed(const ArcProblem& pb, ArcChain& c) noexcept {
   const ArcIneq q0 = arc_ineq(pb, c, lay_out(pb, c));

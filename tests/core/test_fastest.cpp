@@ -638,8 +638,8 @@ TEST(Fastest, BangBangIsNoLongerThanTheLinearProgram) {
       // inner peaks and the continuation; the chain limit, four peaks, limit.
       {0.1, 0.5, 5, 200, {25, 0.02}, {70, 0.05}, 0.35181, 1e-4},
       // 1.5361 s (bang-coast, 11 % over) before the seeds; 1.39701 s (1.1 % over) until a
-      // seed's restoration was retried and the polish held the inequalities a step would break
-      // (session 28); now 1.38151 s.
+      // seed's restoration was retried holding the inequalities a step would break (session 28,
+      // restore_seed); now 1.38151 s.
       {1, 1, 20, 800, {7, 0.05}, {19, 0.02}, 1.38160, 1e-4},
       // Two random two-mode cases: 0.4007 s and 0.8193 s (time-optimal * ZV) while a chain's
       // turns had to lie on their own side of a = 0; now 0.3230 s (the LP's) and, 3.5 % over
