@@ -2204,15 +2204,36 @@ ArcVec min_norm_step(const ArcChain& c, const ArcMat& jm, const ArcVec& f, std::
   return basis.solve(b);
 }
 
+// Of the inequalities a step leaves free (not `held`) and `near` names, those the step dz takes
+// below 0 (to first order: val + a dz < 0; the rows are linear), marked in `broken`: true when
+// any is. Whether an inequality at its bound is held turns on the sign of its rounding
+// (+1.8e-12 against a tolerance of 1.1e-11 at one scale, below 0 at another), and a free one the
+// step crosses folds the chain (a hold or a ramp of negative length), where the rows are no longer
+// the step's linearisation: the step fails, or is accepted only at its half.
+template <class Vals, class Held, class Near>
+bool step_breaks(const ArcChain& c, const ArcIneq& qi, const Vals& qv, const ArcVec& dz, Held held, Near near,
+                 std::array<bool, kMaxIneq>& broken) noexcept {
+  bool any = false;
+  for (std::size_t r = 0; r < qv.count; ++r) {
+    if (held(r) || !near(r)) continue;
+    double ad = 0.0;
+    for (std::size_t i = 0; i < c.n; ++i) ad += qi.a[r][i] * dz[i];
+    if (qv.val[r] + ad < 0.0) broken[r] = any = true;
+  }
+  return any;
+}
+
 // Restores F(c) = 0 by minimum-norm Gauss-Newton steps that keep the active rows (linear) as
 // they are. True when |F| < 1e-13 (or stalls within 1e-10 of it). With pb.to_rounding (a seed on
 // a move whose rows round above that: cruise_stops_refined) also when |F| falls below a tenth of
 // the rows' rounding (arc_rounding_floor at the start), or stalls below that rounding: grid case
 // 121's rows, sums of terms jmax T^3 / 6 = 2e8 m cancelling to D = 5.6 m, round to 2e-8 and its
 // restorations stalled there (returning at a tenth of it cut the seed's instructions from 162 M
-// to 115 M against stalling each time, the same chain to 3e-9 of its duration).
+// to 115 M against stalling each time, the same chain to 3e-9 of its duration). With
+// `hold_breaks`, an inequality within its tolerance that a step would break is held at 0 in that
+// step too (step_breaks; restore_seed's retry).
 bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std::array<bool, kMaxIneq>& active,
-                 ArcVec& f, ArcEval& ev) noexcept {
+                 ArcVec& f, ArcEval& ev, bool hold_breaks = false) noexcept {
   ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
   std::size_t rows = arc_values(pb, c, f, ev);
   // The equations' norm plus how far an inequality is broken (relative to its scale); the active
@@ -2235,8 +2256,13 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     if (!std::isfinite(n0)) return false;
     if (n0 < done) return true;
     arc_jacobian(pb, c, ev, jm);
-    const ArcVec dz =
-        min_norm_step(c, jm, f, rows, q.unit, q, qc, [&](std::size_t r) { return active[r] || qc.val[r] < 0.0; });
+    const auto held = [&](std::size_t r) { return active[r] || qc.val[r] < 0.0; };
+    ArcVec dz = min_norm_step(c, jm, f, rows, q.unit, q, qc, held);
+    std::array<bool, kMaxIneq> broken{};
+    if (hold_breaks &&
+        step_breaks(c, q, qc, dz, held, [&](std::size_t r) { return qc.val[r] < qc.tol[r]; }, broken)) {
+      dz = min_norm_step(c, jm, f, rows, q.unit, q, qc, [&](std::size_t r) { return held(r) || broken[r]; });
+    }
     ArcChain trial = c;
     ArcIneqVals qt;
     double n1 = HUGE_VAL;
@@ -2264,13 +2290,22 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
 
 // A seed (a chain with turns or parts inserted) restored to its chain's equations from where it
 // lies, no inequality held, and still a move (no velocity bound broken): what every seed passes
-// before it is minimised or kept.
+// before it is minimised or kept. Where that fails, restored again from the seed holding each
+// inequality within its tolerance that a step would break (arc_restore's hold_breaks): on the
+// grid, grid case 254 at scale 7.3 then screens the dwell changes as at scale 1 (1.69041 s against
+// 1.69034 s, was 1.69772 s), 112 at 7.3 and 134 at 1e-3 and 7.3 plan as at scale 1, and 134 at
+// scale 1 0.077 % shorter (1.48437 s; every other grid plan at scale 1 the same); D 1 on 7 and 19
+// rad/s 1.38151 s, the linear program's, where it was 1.1 % over (1.39701 s). Only as a retry:
+// held in every restoration, the search at scale 1 lands elsewhere (5, 86 and 254 longer).
 bool restore_seed(const ArcProblem& pb, ArcChain& c) noexcept {
   const ArcIneq q0 = arc_ineq(pb, c, lay_out(pb, c));
   const std::array<bool, kMaxIneq> none{};
   ArcVec f{};
   ArcEval ev;
-  return arc_restore(pb, c, q0, none, f, ev) && arc_violation(pb, c).kind == ArcFix::none;
+  const ArcChain seed = c;
+  if (arc_restore(pb, c, q0, none, f, ev) && arc_violation(pb, c).kind == ArcFix::none) return true;
+  c = seed;
+  return arc_restore(pb, c, q0, none, f, ev, true) && arc_violation(pb, c).kind == ArcFix::none;
 }
 
 // arc_values' rows with v and p (at the end, and v at each cruise or dwell) integrated forward
@@ -2314,7 +2349,11 @@ std::size_t arc_values_forward(const ArcProblem& pb, const ArcChain& c, ArcVec& 
 // their own sums) and the active inequalities (a hold of 0, a ramp of 0) exactly, while those
 // rows' norm falls. True when it fell. With `modes`, the modes' rows are brought nearer 0 with
 // them: where the chain was solved to a rounding above the modes' own (a stall at 2e-8 spreads it
-// over every row), the modes are left ringing that much (keep_or_polish).
+// over every row), the modes are left ringing that much (keep_or_polish). An inequality a step
+// would break is held at 0 in that step (step_breaks): grid case 86 at scale 0.37 has a hold
+// above its tolerance that the first step takes below 0; that step left the rows at twice their
+// norm and the polish stopped at once, its chain refused for 1.29e-12 D run back (7.1494 s, at
+// scale 1 polished to 1e-18 D); holding it, the first step brings the rows to 5e-16.
 bool arc_polish(const ArcProblem& pb, ArcChain& c, bool modes = false) noexcept {
   ArcVec f{};
   ArcEval ev;
@@ -2331,7 +2370,12 @@ bool arc_polish(const ArcProblem& pb, ArcChain& c, bool modes = false) noexcept 
   for (int it = 0; it < 8 && n0 > 0.0; ++it) {
     arc_jacobian(pb, c, ev, jm);
     const ArcIneq q = arc_ineq(pb, c, ev.L);
-    const ArcVec dz = min_norm_step(c, jm, f, rows, q.unit, q, q, [&](std::size_t r) { return q.val[r] <= q.tol[r]; });
+    const auto held = [&](std::size_t r) { return q.val[r] <= q.tol[r]; };
+    ArcVec dz = min_norm_step(c, jm, f, rows, q.unit, q, q, held);
+    std::array<bool, kMaxIneq> broken{};
+    if (step_breaks(c, q, q, dz, held, [](std::size_t) { return true; }, broken)) {
+      dz = min_norm_step(c, jm, f, rows, q.unit, q, q, [&](std::size_t r) { return held(r) || broken[r]; });
+    }
     ArcChain trial = c;
     for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + dz[i] * q.unit[i];
     ArcVec ft{};
