@@ -498,11 +498,10 @@ std::span<std::uint8_t> SdoClient::upload_target() noexcept {
   return into_word_ ? std::span<std::uint8_t>{word_} : buffer_;
 }
 
-void SdoClient::upload_done(std::uint8_t size) noexcept {
+void SdoClient::upload_done() noexcept {
   const std::span<const std::uint8_t> received = upload_target().first(offset_);
   result_.length = offset_;
   result_.value = le_value(received);
-  result_.size = size;
   finish(SdoClientStatus::done, SdoAbort::none, 0);
 }
 
@@ -514,13 +513,19 @@ void SdoClient::take_upload_initiate(const SdoMessage& m, std::uint64_t now_us, 
       abort_transfer(SdoAbort::length_too_high, out);
       return;
     }
-    std::uint8_t bytes[4]{};
-    put_u32(bytes, m.value);
-    for (std::size_t i = 0; i < count; ++i) {
-      target[i] = bytes[i];
+    if (!into_word_) {  // upload_bytes(): the caller's bytes; upload(): the value is all it gives
+      std::uint8_t bytes[4]{};
+      put_u32(bytes, m.value);
+      for (std::size_t i = 0; i < count; ++i) {
+        target[i] = bytes[i];
+      }
     }
+    // upload_done() without reading the bytes back: they are m.value's low `count` bytes.
     offset_ = count;
-    upload_done(m.size);
+    result_.length = count;
+    result_.value = m.value & size_mask(count);
+    result_.size = m.size;
+    finish(SdoClientStatus::done, SdoAbort::none, 0);
     return;
   }
   if (m.size_indicated && m.total > target.size()) {
@@ -560,7 +565,8 @@ void SdoClient::take_upload_segment(const SdoMessage& m, std::uint64_t now_us, F
       abort_transfer(SdoAbort::length_mismatch, out);
       return;
     }
-    upload_done(offset_ <= 4 ? static_cast<std::uint8_t>(offset_) : 0);
+    upload_done();
+    result_.size = offset_ <= 4 ? static_cast<std::uint8_t>(offset_) : 0;
     return;
   }
   toggle_ = !toggle_;

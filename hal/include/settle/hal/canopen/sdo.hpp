@@ -215,9 +215,7 @@ class SdoClient {
   void finish(SdoClientStatus status, SdoAbort abort, std::uint32_t abort_raw) noexcept;
   // Ends the transfer with an abort of our own, sent to the server.
   void abort_transfer(SdoAbort code, FrameSink& out) noexcept;
-  // Ends an upload: the value from the first offset_ bytes received; size as the server indicated it
-  // (an expedited response's size, or a segmented transfer's length when it fits in 4 bytes, else 0).
-  void upload_done(std::uint8_t size) noexcept;
+  void upload_done() noexcept;
   [[nodiscard]] std::span<std::uint8_t> upload_target() noexcept;
   void take_upload_initiate(const SdoMessage& m, std::uint64_t now_us, FrameSink& out) noexcept;
   void take_upload_segment(const SdoMessage& m, std::uint64_t now_us, FrameSink& out) noexcept;
