@@ -932,8 +932,9 @@ struct ArcPole {
 // of the calls). A hit returns the value the call would: bit for bit the same as calling.
 class ArcExpMemo {
  public:
-  // Forgets every value of the first `modes` modes (the others are never asked for).
-  void reset(std::size_t modes) noexcept {
+  // Holds no value of the first `modes` modes (the others are never asked for, and their
+  // tables are left unset).
+  explicit ArcExpMemo(std::size_t modes) noexcept {
     for (std::size_t m = 0; m < modes; ++m) {
       ramp_[m].key.fill(kNone);
       end_[m].key.fill(kNone);
@@ -1754,8 +1755,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   // docs/fastest.md "Cost"); they were 2.8 % of those plans' evaluations.
   const bool lean = request && ms.n == 2;
   ArcProblem pb = arc_problem(r, ms);
-  ArcExpMemo exps;
-  exps.reset(ms.n);
+  ArcExpMemo exps(ms.n);
   pb.exps = &exps;
   double w_min = ms.m[0].omega;
   for (std::size_t i = 1; i < ms.n; ++i) w_min = std::fmin(w_min, ms.m[i].omega);
@@ -2223,6 +2223,17 @@ bool step_breaks(const ArcChain& c, const ArcIneq& qi, const Vals& qv, const Arc
   return any;
 }
 
+// min_norm_step holding `held`, and where that step breaks an inequality `near` names
+// (step_breaks), the step again holding those too.
+template <class Vals, class Held, class Near>
+ArcVec step_holding_breaks(const ArcChain& c, const ArcMat& jm, const ArcVec& f, std::size_t rows, const ArcIneq& qi,
+                           const Vals& qv, Held held, Near near) noexcept {
+  const ArcVec dz = min_norm_step(c, jm, f, rows, qi.unit, qi, qv, held);
+  std::array<bool, kMaxIneq> broken{};
+  if (!step_breaks(c, qi, qv, dz, held, near, broken)) return dz;
+  return min_norm_step(c, jm, f, rows, qi.unit, qi, qv, [&](std::size_t r) { return held(r) || broken[r]; });
+}
+
 // Restores F(c) = 0 by minimum-norm Gauss-Newton steps that keep the active rows (linear) as
 // they are. True when |F| < 1e-13 (or stalls within 1e-10 of it). With pb.to_rounding (a seed on
 // a move whose rows round above that: cruise_stops_refined) also when |F| falls below a tenth of
@@ -2257,12 +2268,10 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     if (n0 < done) return true;
     arc_jacobian(pb, c, ev, jm);
     const auto held = [&](std::size_t r) { return active[r] || qc.val[r] < 0.0; };
-    ArcVec dz = min_norm_step(c, jm, f, rows, q.unit, q, qc, held);
-    std::array<bool, kMaxIneq> broken{};
-    if (hold_breaks &&
-        step_breaks(c, q, qc, dz, held, [&](std::size_t r) { return qc.val[r] < qc.tol[r]; }, broken)) {
-      dz = min_norm_step(c, jm, f, rows, q.unit, q, qc, [&](std::size_t r) { return held(r) || broken[r]; });
-    }
+    const ArcVec dz =
+        hold_breaks
+            ? step_holding_breaks(c, jm, f, rows, q, qc, held, [&](std::size_t r) { return qc.val[r] < qc.tol[r]; })
+            : min_norm_step(c, jm, f, rows, q.unit, q, qc, held);
     ArcChain trial = c;
     ArcIneqVals qt;
     double n1 = HUGE_VAL;
@@ -2370,12 +2379,8 @@ bool arc_polish(const ArcProblem& pb, ArcChain& c, bool modes = false) noexcept 
   for (int it = 0; it < 8 && n0 > 0.0; ++it) {
     arc_jacobian(pb, c, ev, jm);
     const ArcIneq q = arc_ineq(pb, c, ev.L);
-    const auto held = [&](std::size_t r) { return q.val[r] <= q.tol[r]; };
-    ArcVec dz = min_norm_step(c, jm, f, rows, q.unit, q, q, held);
-    std::array<bool, kMaxIneq> broken{};
-    if (step_breaks(c, q, q, dz, held, [](std::size_t) { return true; }, broken)) {
-      dz = min_norm_step(c, jm, f, rows, q.unit, q, q, [&](std::size_t r) { return held(r) || broken[r]; });
-    }
+    const ArcVec dz = step_holding_breaks(
+        c, jm, f, rows, q, q, [&](std::size_t r) { return q.val[r] <= q.tol[r]; }, [](std::size_t) { return true; });
     ArcChain trial = c;
     for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + dz[i] * q.unit[i];
     ArcVec ft{};
@@ -3444,8 +3449,7 @@ void zero_holds_to_peaks(FastestSearch& fs, const ArcProblem& pb, const ArcChain
 void refined_chains(FastestSearch& fs) noexcept {
   const ArcBest& got = fs.chains;
   ArcProblem pb = arc_problem(fs.r, fs.ms);
-  ArcExpMemo exps;
-  exps.reset(fs.ms.n);
+  ArcExpMemo exps(fs.ms.n);
   pb.exps = &exps;
   double w_fast = 0.0;  // the fastest mode's damped frequency
   for (std::size_t m = 0; m < fs.ms.n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
