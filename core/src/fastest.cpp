@@ -616,12 +616,12 @@ struct Best {
   double time{HUGE_VAL};
 };
 
-// Exact: every mode's residual amplitude within exact_tol |D|, or within what the table's
+// Exact: every mode's residual amplitude within kDesignResidual |D| (residual.hpp), or within what the table's
 // double-precision switch times allow: each is off by about eps T, which moves the velocity by
 // about |j| eps T per switch and leaves about that over omega. Only tiny moves on slow modes
 // (1 um on 2 rad/s) reach that floor; without it nothing, not even the time-optimal move * ZV,
 // passes for them.
-bool design_ok(const FastestTable& p, const ModeSet& ms, double band, double exact_tol) noexcept {
+bool design_ok(const FastestTable& p, const ModeSet& ms, double band) noexcept {
   if (band > 0.0) return worst_over_band(p, ms, band) <= kRobustLimit;
   double T = 0.0, jpk = 0.0;
   for (std::size_t i = 0; i < p.count; ++i) {
@@ -632,7 +632,7 @@ bool design_ok(const FastestTable& p, const ModeSet& ms, double band, double exa
   const double time_floor = 16.0 * static_cast<double>(p.count) * jpk * kEps * T;
   for (std::size_t i = 0; i < ms.n; ++i) {
     const double amp = residual_amplitude(p, ms.m[i]);
-    if (!(amp <= exact_tol * std::fabs(p.distance) + time_floor / ms.m[i].omega)) return false;
+    if (!(amp <= kDesignResidual * std::fabs(p.distance) + time_floor / ms.m[i].omega)) return false;
   }
   return true;
 }
@@ -643,7 +643,7 @@ bool table_ok(const FastestTable& t, const Limits& lim, const ModeSet& ms, doubl
   const TableWalk w = walk_table(t);
   pk = w.pk;
   return within_limits(pk, lim) && !(w.lowest < -kBackwardsTol * w.end_peak) &&
-         design_ok(t, ms, band, 1e-10);
+         design_ok(t, ms, band);
 }
 
 // A candidate replaces the best only when shorter by more than rounding (1e-9 of it): a later

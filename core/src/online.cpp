@@ -25,12 +25,10 @@ bool finite(const Sample<double>& s) noexcept {
 constexpr std::size_t kMaxRows = 3 + 2 * kMaxOnlineModes;
 
 // A command's memory this small (relative to its positions) is its rounding: it ends at rest. The
-// residual amplitude of a mode at rest with memory Q is |Q| / sqrt(1 - zeta^2). 1e-9: what every
-// planned move is guaranteed at rest to (docs/fastest.md, "What is guaranteed"); `fastest` accepts
-// a move whose residual is within 1e-10 D plus its rounding floor, so at 1e-10 here a move it
-// planned could count as ringing: soak draw 726 (one mode, D 0.073 m) planned to 1.03e-10 D left
-// the halt no finish and a blend at rest 0.26 s after the move (tests/core/test_halt.cpp).
-constexpr double kRestMemory = 1e-9;
+// residual amplitude of a mode at rest with memory Q is |Q| / sqrt(1 - zeta^2). The level every
+// planned move is guaranteed at rest to (residual.hpp): at `fastest`'s own acceptance level a move
+// it planned could count as ringing and leave a halt no finish (soak draw 726).
+constexpr double kRestMemory = kAtRestResidual;
 
 double position_scale(double origin, double end) noexcept {
   return std::fmax(std::fabs(end - origin), std::fmax(std::fabs(origin), std::fabs(end)));

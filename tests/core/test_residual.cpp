@@ -136,6 +136,12 @@ TEST(Residual, JerkTablesMatchTheOracleOnTheSameMove) {
   EXPECT_GT(tables, 20);
 }
 
+// The at-rest levels are the documented guarantee and the planners' margin under it
+// (docs/fastest.md "What is guaranteed"; residual.hpp). The tests state 1e-9 D as a literal, not
+// through the constant, so that loosening it cannot loosen them: this pins the two together.
+static_assert(core::kAtRestResidual == 1e-9, "the documented guarantee is 1e-9 D");
+static_assert(core::kDesignResidual < core::kAtRestResidual, "a planner accepts its designs under the guarantee");
+
 TEST(Residual, ModesOutsideTheRangeGiveNaN) {
   const core::PiecewiseJerkParams t = core::jerk_limited_time_optimal(0.1, 1.0, 10.0, 200.0);
   for (const core::Mode md : {core::Mode{0.0, 0.0}, core::Mode{-1.0, 0.0}, core::Mode{10.0, 1.0}, core::Mode{10.0, -0.1},

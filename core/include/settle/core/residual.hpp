@@ -18,6 +18,16 @@
 
 namespace settle::core {
 
+// At rest, relative to a move's distance |D|: every planned move leaves every design mode with a
+// residual amplitude of at most kAtRestResidual |D| (docs/fastest.md, "What is guaranteed"; the
+// tests check it by an integration of their own). A planner accepts its own designs tighter,
+// kDesignResidual |D| (plus the rounding floor of its switch times), so that a move it returns
+// clears the guarantee by a decade; whoever asks "does this command end at rest?" (the halt
+// planner, the tests) asks it at kAtRestResidual, or a move the planner accepted could count as
+// ringing (soak draw 726: planned to 1.03e-10 D, tests/core/test_halt.cpp).
+inline constexpr double kAtRestResidual = 1e-9;
+inline constexpr double kDesignResidual = 1e-10;
+
 // The mode memory of a command x(t) that started at rest at t = 0, for the mode with poles
 // lambda = -zeta omega +- i omega_d:  Q(t) = -int_0^t e^{lambda (t - s)} x'(s) ds  (complex).
 // The command leaves the mode at rest at T (x'(T) = x''(T) = 0) exactly when Q(T) = 0, whatever
