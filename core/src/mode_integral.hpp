@@ -10,6 +10,7 @@
 #include "numeric/complex.hpp"
 #include "numeric/quadrature.hpp"
 #include "settle/core/piece.hpp"
+#include "settle/core/residual.hpp"
 
 namespace settle::core::detail {
 
@@ -27,6 +28,15 @@ using numeric::Cx;
 // With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
 // pieces or heavy damping.
 [[nodiscard]] Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept;
+// That integral without its last factor, len e^{lambda (te - u_c)}: the piece's own sum, given its
+// clipped end u_c. It depends on te only through u_c, so a piece that ends before two te (clipped
+// alike) has one sum for both (profile_integrals).
+[[nodiscard]] Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept;
+
+// A move's memory Q (residual.hpp) at two times at once (a switch and the move's end: online_request),
+// each the same to the bit as mode_memory(m, t, mode): the pieces that end before both are summed once.
+void mode_memory_pair(const Move<double>& m, double t1, double t2, const Mode& mode, ModeMemory& q1,
+                      ModeMemory& q2) noexcept;
 
 // F(te) = int_0^te e^{lambda (te - u)} p(u) du for an unshaped profile (p = D past its end).
 template <typename Shape>
@@ -51,6 +61,40 @@ template <typename Shape>
   }
   if (te > tp) acc = acc + (prof.distance() * (te - tp)) * phi1((te - tp) * lam);
   return acc;
+}
+
+// F(te1) and F(te2) of one profile at once, each the same to the bit as profile_integral's: a piece
+// clipped alike at both (it ends before either) is summed once, and only the factor that refers
+// its sum to each te is taken twice (a move's memory at the switch and at its end, online_request).
+template <typename Shape>
+void profile_integrals(const Shape& prof, Cx lam, double te1, double te2, Cx& f1, Cx& f2) noexcept {
+  if constexpr (requires { prof.piece_count(); }) {
+    const double tp = prof.duration();
+    Cx acc1{}, acc2{};
+    const double body1 = std::min(te1, tp), body2 = std::min(te2, tp);
+    for (int i = 0; i < prof.piece_count(); ++i) {
+      const Piece pc = prof.piece(i);
+      if (!(pc.length > 0.0)) continue;
+      const bool in1 = pc.start < body1, in2 = pc.start < body2;
+      const double uc1 = std::min(pc.start + pc.length, te1), uc2 = std::min(pc.start + pc.length, te2);
+      if (in1 && in2 && uc1 == uc2) {
+        // piece_integral's len (e^{lambda (te - u_c)} sum), the sum shared.
+        const Cx sum = piece_sum(pc, lam, uc1);
+        acc1 = acc1 + pc.length * (numeric::cexp((te1 - uc1) * lam) * sum);
+        acc2 = acc2 + pc.length * (numeric::cexp((te2 - uc2) * lam) * sum);
+        continue;
+      }
+      if (in1) acc1 = acc1 + piece_integral(pc, lam, te1);
+      if (in2) acc2 = acc2 + piece_integral(pc, lam, te2);
+    }
+    if (te1 > tp) acc1 = acc1 + (prof.distance() * (te1 - tp)) * phi1((te1 - tp) * lam);
+    if (te2 > tp) acc2 = acc2 + (prof.distance() * (te2 - tp)) * phi1((te2 - tp) * lam);
+    f1 = acc1;
+    f2 = acc2;
+  } else {
+    f1 = profile_integral(prof, lam, te1);
+    f2 = profile_integral(prof, lam, te2);
+  }
 }
 
 }  // namespace settle::core::detail

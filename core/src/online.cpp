@@ -448,16 +448,17 @@ Status online_request(const Move<double>& m, double t, const Mode* modes, std::s
   r.limits = limits;
   r.target = target;
   r.mode_count = mode_count;
+  // Each mode's memory at the switch and at the move's end (whether it ends at rest), in one pass.
+  std::array<ModeMemory, kMaxOnlineModes> at_end{};
   for (std::size_t i = 0; i < mode_count; ++i) {
     if (!std::isfinite(modes[i].omega) || !std::isfinite(modes[i].zeta)) return Status::non_finite_input;
     if (!(modes[i].omega > 0.0)) return Status::non_positive_omega;
     if (!(modes[i].zeta >= 0.0 && modes[i].zeta < 1.0)) return Status::zeta_out_of_range;
     r.modes[i] = modes[i];
-    r.memory[i] = mode_memory(m, t, modes[i]);
+    detail::mode_memory_pair(m, t, m.duration(), modes[i], r.memory[i], at_end[i]);
   }
-  r.running = running_of(m.distance(), 0.0, m.duration() - std::max(t, 0.0), mode_count, [&](std::size_t i) {
-    return mode_memory(m, m.duration(), modes[i]);
-  });
+  r.running = running_of(m.distance(), 0.0, m.duration() - std::max(t, 0.0), mode_count,
+                         [&](std::size_t i) { return at_end[i]; });
   out = r;
   return Status::ok;
 }

@@ -89,10 +89,14 @@ void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept 
 // With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
 // pieces or heavy damping.
 Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
+  const double uc = std::min(pc.start + pc.length, te);
+  return pc.length * (cexp((te - uc) * lam) * piece_sum(pc, lam, uc));
+}
+
+Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept {
   constexpr double w = 6.283185307179586476925286766559;
   constexpr double binom[6][6] = {{1, 0, 0, 0, 0, 0},   {1, 1, 0, 0, 0, 0},    {1, 2, 1, 0, 0, 0},
                                   {1, 3, 3, 1, 0, 0},   {1, 4, 6, 4, 1, 0},    {1, 5, 10, 10, 5, 1}};
-  const double uc = std::min(pc.start + pc.length, te);
   const double len = pc.length;
   const double s = (uc - pc.start) / len;
   const Cx nu = -len * lam;
@@ -116,7 +120,7 @@ Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
     const Cx j_minus = s * phi1(-s * (nu - Cx{0.0, w}));
     acc = acc + (wz * j_plus - conj(wz) * j_minus) / Cx{0.0, 2.0};
   }
-  return len * (cexp((te - uc) * lam) * acc);
+  return acc;
 }
 
 }  // namespace detail
@@ -138,6 +142,41 @@ ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexce
   }
   const Cx q = Cx{-m.at(t).p, 0.0} - lam * acc;
   return {q.re, q.im};
+}
+
+void detail::mode_memory_pair(const Move<double>& m, double t1, double t2, const Mode& mode, ModeMemory& q1,
+                              ModeMemory& q2) noexcept {
+  q1 = {};
+  q2 = {};
+  if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return;
+  const Cx lam = pole(mode.omega, mode.zeta);
+  // As mode_memory(m, t, mode) at each, every sum in its order: an impulse whose profile is
+  // integrated to both times shares the work of the pieces that end before both.
+  const bool on1 = t1 > 0.0, on2 = t2 > 0.0;
+  Cx acc1{}, acc2{};
+  const Shaper<double>& sh = m.shaper();
+  for (std::size_t i = 0; i < sh.count; ++i) {
+    const double te1 = t1 - sh.time[i], te2 = t2 - sh.time[i];
+    const bool in1 = on1 && te1 > 0.0, in2 = on2 && te2 > 0.0;
+    if (in1 && in2) {
+      Cx f1{}, f2{};
+      m.profile().visit([&](const auto& p) { detail::profile_integrals(p, lam, te1, te2, f1, f2); });
+      acc1 = acc1 + sh.amp[i] * f1;
+      acc2 = acc2 + sh.amp[i] * f2;
+    } else if (in1) {
+      acc1 = acc1 + sh.amp[i] * m.profile().visit([&](const auto& p) { return detail::profile_integral(p, lam, te1); });
+    } else if (in2) {
+      acc2 = acc2 + sh.amp[i] * m.profile().visit([&](const auto& p) { return detail::profile_integral(p, lam, te2); });
+    }
+  }
+  if (on1) {
+    const Cx q = Cx{-m.at(t1).p, 0.0} - lam * acc1;
+    q1 = {q.re, q.im};
+  }
+  if (on2) {
+    const Cx q = Cx{-m.at(t2).p, 0.0} - lam * acc2;
+    q2 = {q.re, q.im};
+  }
 }
 
 
