@@ -147,18 +147,21 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
     const Cx f1 = h * phi1(x, e1);       // int_0^h e^{lambda w} dw
     const Cx f2 = (h * h) * phi2(x, e1);  // int_0^h e^{lambda w} (h - w) dw
     // Column k (m = N - 1 - k segments after it): E^m f2 + h S_m, S_m = int_0^{m h} e^{lambda w} dw.
-    Cx em{1.0, 0.0}, sm{};
+    // (Packed: two-double vectors where the host has them, the same products and sums, complex.hpp.)
+    const PackedFactor pe{e1}, pf2{f2};
+    const Packed pf1 = pack(f1), ph = splat(h);
+    Packed em = pack(Cx{1.0, 0.0}), sm = pack(Cx{});
     for (std::size_t m = 0; m < n; ++m) {
-      const Cx c = em * f2 + h * sm;
+      const Cx c = unpack(em * pf2 + ph * sm);
       const std::size_t k = n - 1 - m;
       mat[rows][k] = c.re;
       mat[rows + 1][k] = c.im;
-      sm = e1 * sm + f1;
-      em = em * e1;
+      sm = sm * pe + pf1;
+      em = em * pe;
     }
     // int_0^T e^{lambda (T - u)} a(u) du = e^{lambda T} (lambda Q - v0)
     const Cx q{r.memory[i].re, r.memory[i].im};
-    const Cx b = em * (lam * q - Cx{v0, 0.0}) - a0 * sm;
+    const Cx b = unpack(em) * (lam * q - Cx{v0, 0.0}) - a0 * unpack(sm);
     rhs[rows] = b.re;
     rhs[rows + 1] = b.im;
     rows += 2;

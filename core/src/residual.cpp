@@ -32,21 +32,23 @@ static_assert(kInverse.size() > 32 + kMaxPieceDegree, "the moments' series reach
 Cx phi1(Cx x) noexcept { return phi1(x, cabs_max(x) >= 0.5 ? cexp(x) : Cx{}); }
 Cx phi1(Cx x, Cx ex) noexcept {
   if (cabs_max(x) >= 0.5) return (ex - Cx{1.0, 0.0}) / x;
-  Cx term{1.0, 0.0}, sum{1.0, 0.0};
+  const PackedFactor px{x};
+  Packed term = pack(Cx{1.0, 0.0}), sum = term;
   for (std::size_t n = 1; n < 20; ++n) {
-    term = kInverse[n + 1] * (term * x);
+    term = splat(kInverse[n + 1]) * (term * px);
     sum = sum + term;
   }
-  return sum;
+  return unpack(sum);
 }
 Cx phi2(Cx x, Cx ex) noexcept {
   if (cabs_max(x) >= 1.0) return (ex - Cx{1.0, 0.0} - x) / (x * x);
-  Cx term{0.5, 0.0}, sum{0.5, 0.0};
+  const PackedFactor px{x};
+  Packed term = pack(Cx{0.5, 0.0}), sum = term;
   for (std::size_t n = 1; n < 24; ++n) {
-    term = kInverse[n + 2] * (term * x);
+    term = splat(kInverse[n + 2]) * (term * px);
     sum = sum + term;
   }
-  return sum;
+  return unpack(sum);
 }
 
 namespace {

@@ -45,6 +45,33 @@ inline Cx cexpm1(Cx z) noexcept {
   return {em1 * std::cos(z.im) - 2.0 * sh * sh, e * std::sin(z.im)};
 }
 
+// Repeated products by one complex factor b (a series' x, a recurrence's e^{lambda h}), where the
+// host has two-double vectors (x86-64: SSE2): a = (re, im) in one register, a b computed as
+// (re, im) br + (im, re) (-bi, bi), i.e. re br + (-(im bi)) and im br + re bi: the products and
+// sums of operator*, lane by lane (x - y is x + (-y), and a sum does not depend on its order of
+// operands), so every result is the same to the bit. Elsewhere (the Cortex-M cores) Cx itself.
+#if defined(__SSE2__)
+using Packed = double __attribute__((vector_size(16)));
+inline Packed pack(Cx a) noexcept { return Packed{a.re, a.im}; }
+inline Cx unpack(Packed a) noexcept { return {a[0], a[1]}; }
+inline Packed splat(double s) noexcept { return Packed{s, s}; }
+struct PackedFactor {
+  Packed re, im;  // (br, br), (-bi, bi)
+  explicit PackedFactor(Cx b) noexcept : re{b.re, b.re}, im{-b.im, b.im} {}
+};
+inline Packed operator*(Packed a, const PackedFactor& b) noexcept { return a * b.re + Packed{a[1], a[0]} * b.im; }
+#else
+using Packed = Cx;
+inline Cx pack(Cx a) noexcept { return a; }
+inline Cx unpack(Cx a) noexcept { return a; }
+inline double splat(double s) noexcept { return s; }
+struct PackedFactor {
+  Cx b;
+  explicit PackedFactor(Cx f) noexcept : b{f} {}
+};
+inline Cx operator*(Cx a, const PackedFactor& f) noexcept { return a * f.b; }
+#endif
+
 // The upper pole of the mode (omega, zeta), 0 <= zeta < 1: -zeta omega + i omega sqrt(1 - zeta^2).
 inline Cx pole(double omega, double zeta) noexcept { return {-zeta * omega, omega * std::sqrt(1.0 - zeta * zeta)}; }
 
