@@ -5,6 +5,9 @@
 // exponentials along it, and the moduli the residual checks read.
 
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace settle::core::numeric {
 
@@ -51,15 +54,17 @@ inline Cx cexpm1(Cx z) noexcept {
 // sums of operator*, lane by lane (x - y is x + (-y), and a sum does not depend on its order of
 // operands), so every result is the same to the bit. Elsewhere (the Cortex-M cores) Cx itself.
 #if defined(__SSE2__)
-using Packed = double __attribute__((vector_size(16)));
-inline Packed pack(Cx a) noexcept { return Packed{a.re, a.im}; }
-inline Cx unpack(Packed a) noexcept { return {a[0], a[1]}; }
-inline Packed splat(double s) noexcept { return Packed{s, s}; }
+using Packed = __m128d;  // + and * lane by lane (GCC's and Clang's vector operators)
+inline Packed pack(Cx a) noexcept { return _mm_set_pd(a.im, a.re); }
+inline Cx unpack(Packed a) noexcept { return {_mm_cvtsd_f64(a), _mm_cvtsd_f64(_mm_unpackhi_pd(a, a))}; }
+inline Packed splat(double s) noexcept { return _mm_set1_pd(s); }
 struct PackedFactor {
   Packed re, im;  // (br, br), (-bi, bi)
-  explicit PackedFactor(Cx b) noexcept : re{b.re, b.re}, im{-b.im, b.im} {}
+  explicit PackedFactor(Cx b) noexcept : re{_mm_set1_pd(b.re)}, im{_mm_set_pd(b.im, -b.im)} {}
 };
-inline Packed operator*(Packed a, const PackedFactor& b) noexcept { return a * b.re + Packed{a[1], a[0]} * b.im; }
+inline Packed operator*(Packed a, const PackedFactor& b) noexcept {
+  return _mm_add_pd(_mm_mul_pd(a, b.re), _mm_mul_pd(_mm_shuffle_pd(a, a, 1), b.im));
+}
 #else
 using Packed = Cx;
 inline Cx pack(Cx a) noexcept { return a; }
