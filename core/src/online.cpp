@@ -179,7 +179,10 @@ using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 // pivot is not positive; a nearly singular one is let through, as partial pivoting let it through
 // before: the caller rejects a solution that misses its equations (a retarget over a huge distance
 // has such a Gram matrix and a valid blend).
-bool cholesky(const Gram& g, std::size_t n, Gram& l) noexcept {
+// (Fixed > 0: n is Fixed, a constant; see factor below.)
+template <std::size_t Fixed = 0>
+bool cholesky(const Gram& g, std::size_t rows, Gram& l) noexcept {
+  const std::size_t n = Fixed > 0 ? Fixed : rows;
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t c = 0; c < i; ++c) {
       double s = g[i][c];
@@ -195,7 +198,9 @@ bool cholesky(const Gram& g, std::size_t n, Gram& l) noexcept {
 }
 
 // Solves L L^T y = b in place.
-void cholesky_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& b) noexcept {
+template <std::size_t Fixed = 0>
+void cholesky_solve(const Gram& l, std::size_t rows, std::array<double, kMaxRows>& b) noexcept {
+  const std::size_t n = Fixed > 0 ? Fixed : rows;
   for (std::size_t i = 0; i < n; ++i) {
     double s = b[i];
     for (std::size_t k = 0; k < i; ++k) s -= l[i][k] * b[k];
@@ -207,6 +212,34 @@ void cholesky_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& 
     b[i] = s / l[i][i];
   }
 }
+
+// cholesky and cholesky_solve for the sizes the searches meet most (a halt or a retarget with one
+// or two modes: 4 to 7 rows) with the size a constant, so that the compiler unrolls their short
+// loops: the same operations in the same order, the same bits. Not on the Cortex-M cores, whose
+// flash the copies would cost and whose soft double gains little from them.
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
+bool factor(const Gram& g, std::size_t n, Gram& l) noexcept { return cholesky(g, n, l); }
+void factor_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& b) noexcept { cholesky_solve(l, n, b); }
+#else
+bool factor(const Gram& g, std::size_t n, Gram& l) noexcept {
+  switch (n) {
+    case 4: return cholesky<4>(g, n, l);
+    case 5: return cholesky<5>(g, n, l);
+    case 6: return cholesky<6>(g, n, l);
+    case 7: return cholesky<7>(g, n, l);
+    default: return cholesky(g, n, l);
+  }
+}
+void factor_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& b) noexcept {
+  switch (n) {
+    case 4: cholesky_solve<4>(l, n, b); return;
+    case 5: cholesky_solve<5>(l, n, b); return;
+    case 6: cholesky_solve<6>(l, n, b); return;
+    case 7: cholesky_solve<7>(l, n, b); return;
+    default: cholesky_solve(l, n, b); return;
+  }
+}
+#endif
 
 using Rows = std::array<std::array<double, kBlendSegments>, kMaxRows>;
 
@@ -292,10 +325,10 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     // Minimum norm: x = W M^T (M W M^T)^{-1} b, then, only if it misses its equations, one step of
     // iterative refinement with the same factor (docs/online.md, "Refinement only where needed").
     Gram chol;  // NOLINT: cholesky sets the lower triangle it reads
-    if (!cholesky(gram, rows, chol)) return false;
+    if (!factor(gram, rows, chol)) return false;
     for (int pass = 0;; ++pass) {
       std::array<double, kMaxRows> y = res;
-      cholesky_solve(chol, rows, y);
+      factor_solve(chol, rows, y);
       // Column k's sum over i, for every k at once.
       std::array<double, n> s{};
       for (std::size_t i = 0; i < rows; ++i) {
