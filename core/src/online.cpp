@@ -376,6 +376,8 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       if (jpk > jmax * (1.0 + kLimitSlack)) return false;
       break;
     }
+    // Nothing beyond jmax (the jerks are finite): nothing to pin.
+    if (!(jpk > jmax)) break;
     for (std::size_t k = 0; k < n; ++k) {
       if (sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
         // Pin j_k to the limit: its share of every condition goes to the right side, its column
