@@ -32,69 +32,65 @@ using numeric::Cx;
 // clipped end u_c. It depends on te only through u_c, so a piece that ends before two te (clipped
 // alike) has one sum for both (profile_integrals).
 [[nodiscard]] Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept;
+// piece_integral at te1 and te2 for a piece clipped alike at both (u_c its clipped end at either),
+// each the same to the bit as alone: the sum is taken once.
+void piece_integrals(const Piece& pc, Cx lam, double te1, double te2, double uc, Cx& f1, Cx& f2) noexcept;
 
 // A move's memory Q (residual.hpp) at two times at once (a switch and the move's end: online_request),
 // each the same to the bit as mode_memory(m, t, mode): the pieces that end before both are summed once.
 void mode_memory_pair(const Move<double>& m, double t1, double t2, const Mode& mode, ModeMemory& q1,
                       ModeMemory& q2) noexcept;
 
-// F(te) = int_0^te e^{lambda (te - u)} p(u) du for an unshaped profile (p = D past its end).
+// F(te1) = int_0^te1 e^{lambda (te1 - u)} p(u) du for an unshaped profile (p = D past its end), and
+// when `both` F(te2) too, each the same to the bit as alone: a piece clipped alike at both (it ends
+// before either) is summed once, and only the factor that refers its sum to each te is taken twice
+// (a move's memory at the switch and at its end, online_request). One loop for one integral or two,
+// so that a profile's pieces are expanded once in the code (the Cortex-M cores' flash).
 template <typename Shape>
-[[nodiscard]] Cx profile_integral(const Shape& prof, Cx lam, double te) noexcept {
+void profile_integrals(const Shape& prof, Cx lam, double te1, double te2, bool both, Cx& f1, Cx& f2) noexcept {
   const double tp = prof.duration();
-  Cx acc{};
-  const double body = std::min(te, tp);
+  Cx acc1{}, acc2{};
+  const double body1 = std::min(te1, tp), body2 = std::min(te2, tp);
   if constexpr (requires { prof.piece_count(); }) {
-    for (int i = 0; i < prof.piece_count(); ++i) {
-      const Piece pc = prof.piece(i);
-      if (!(pc.length > 0.0) || pc.start >= body) continue;
-      acc = acc + piece_integral(pc, lam, te);
-    }
-  } else {
-    // No exact pieces (the pseudo-polynomial): composite Gauss-Legendre on panels short against
-    // the mode's time scale, so that the exponential is resolved to rounding.
-    if (body > 0.0) {
-      const int panels = std::clamp(static_cast<int>(std::ceil(cabs_max(lam) * body)) * 2, 32, 512);
-      numeric::gauss_legendre_8(0.0, body, panels,
-                                [&](double u, double w) { acc = acc + (w * prof.at(u).p) * cexp((te - u) * lam); });
-    }
-  }
-  if (te > tp) acc = acc + (prof.distance() * (te - tp)) * phi1((te - tp) * lam);
-  return acc;
-}
-
-// F(te1) and F(te2) of one profile at once, each the same to the bit as profile_integral's: a piece
-// clipped alike at both (it ends before either) is summed once, and only the factor that refers
-// its sum to each te is taken twice (a move's memory at the switch and at its end, online_request).
-template <typename Shape>
-void profile_integrals(const Shape& prof, Cx lam, double te1, double te2, Cx& f1, Cx& f2) noexcept {
-  if constexpr (requires { prof.piece_count(); }) {
-    const double tp = prof.duration();
-    Cx acc1{}, acc2{};
-    const double body1 = std::min(te1, tp), body2 = std::min(te2, tp);
     for (int i = 0; i < prof.piece_count(); ++i) {
       const Piece pc = prof.piece(i);
       if (!(pc.length > 0.0)) continue;
-      const bool in1 = pc.start < body1, in2 = pc.start < body2;
+      const bool in1 = !(pc.start >= body1), in2 = both && !(pc.start >= body2);
       const double uc1 = std::min(pc.start + pc.length, te1), uc2 = std::min(pc.start + pc.length, te2);
       if (in1 && in2 && uc1 == uc2) {
-        // piece_integral's len (e^{lambda (te - u_c)} sum), the sum shared.
-        const Cx sum = piece_sum(pc, lam, uc1);
-        acc1 = acc1 + pc.length * (numeric::cexp((te1 - uc1) * lam) * sum);
-        acc2 = acc2 + pc.length * (numeric::cexp((te2 - uc2) * lam) * sum);
+        Cx p1{}, p2{};
+        piece_integrals(pc, lam, te1, te2, uc1, p1, p2);
+        acc1 = acc1 + p1;
+        acc2 = acc2 + p2;
         continue;
       }
       if (in1) acc1 = acc1 + piece_integral(pc, lam, te1);
       if (in2) acc2 = acc2 + piece_integral(pc, lam, te2);
     }
-    if (te1 > tp) acc1 = acc1 + (prof.distance() * (te1 - tp)) * phi1((te1 - tp) * lam);
-    if (te2 > tp) acc2 = acc2 + (prof.distance() * (te2 - tp)) * phi1((te2 - tp) * lam);
-    f1 = acc1;
-    f2 = acc2;
   } else {
-    f1 = profile_integral(prof, lam, te1);
-    f2 = profile_integral(prof, lam, te2);
+    // No exact pieces (the pseudo-polynomial): composite Gauss-Legendre on panels short against
+    // the mode's time scale, so that the exponential is resolved to rounding.
+    const auto quadrature = [&](double te, double body, Cx& acc) {
+      if (!(body > 0.0)) return;
+      const int panels = std::clamp(static_cast<int>(std::ceil(cabs_max(lam) * body)) * 2, 32, 512);
+      numeric::gauss_legendre_8(0.0, body, panels,
+                                [&](double u, double w) { acc = acc + (w * prof.at(u).p) * cexp((te - u) * lam); });
+    };
+    quadrature(te1, body1, acc1);
+    if (both) quadrature(te2, body2, acc2);
   }
+  if (te1 > tp) acc1 = acc1 + (prof.distance() * (te1 - tp)) * phi1((te1 - tp) * lam);
+  if (both && te2 > tp) acc2 = acc2 + (prof.distance() * (te2 - tp)) * phi1((te2 - tp) * lam);
+  f1 = acc1;
+  f2 = acc2;
+}
+
+// F(te) alone.
+template <typename Shape>
+[[nodiscard]] Cx profile_integral(const Shape& prof, Cx lam, double te) noexcept {
+  Cx f{}, unused{};
+  profile_integrals(prof, lam, te, te, false, f, unused);
+  return f;
 }
 
 }  // namespace settle::core::detail

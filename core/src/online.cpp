@@ -149,7 +149,8 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
     // Column k (m = N - 1 - k segments after it): E^m f2 + h S_m, S_m = int_0^{m h} e^{lambda w} dw.
     // (Packed: two-double vectors where the host has them, the same products and sums, complex.hpp.)
     const PackedFactor pe{e1}, pf2{f2};
-    const Packed pf1 = pack(f1), ph = splat(h);
+    const Packed pf1 = pack(f1);
+    const auto ph = splat(h);  // a Packed, or the double itself
     Packed em = pack(Cx{1.0, 0.0}), sm = pack(Cx{});
     for (std::size_t m = 0; m < n; ++m) {
       const Cx c = unpack(em * pf2 + ph * sm);

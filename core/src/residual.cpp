@@ -101,6 +101,12 @@ Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
   return pc.length * (cexp((te - uc) * lam) * piece_sum(pc, lam, uc));
 }
 
+void piece_integrals(const Piece& pc, Cx lam, double te1, double te2, double uc, Cx& f1, Cx& f2) noexcept {
+  const Cx sum = piece_sum(pc, lam, uc);
+  f1 = pc.length * (cexp((te1 - uc) * lam) * sum);
+  f2 = pc.length * (cexp((te2 - uc) * lam) * sum);
+}
+
 Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept {
   constexpr double w = 6.283185307179586476925286766559;
   constexpr double binom[6][6] = {{1, 0, 0, 0, 0, 0},   {1, 1, 0, 0, 0, 0},    {1, 2, 1, 0, 0, 0},
@@ -135,47 +141,28 @@ Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept {
 
 using namespace numeric;
 
-ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
-  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
-  const Cx lam = pole(mode.omega, mode.zeta);
-  // Q(t) = -int_0^t e^{lambda (t-s)} x'(s) ds = -x(t) - lambda int_0^t e^{lambda (t-s)} x(s) ds, and the
-  // shaped x is sum_i A_i p(s - t_i): each impulse contributes its profile's integral.
-  Cx acc{};
-  const Shaper<double>& sh = m.shaper();
-  for (std::size_t i = 0; i < sh.count; ++i) {
-    const double te = t - sh.time[i];
-    if (!(te > 0.0)) continue;
-    const Cx f = m.profile().visit([&](const auto& p) { return detail::profile_integral(p, lam, te); });
-    acc = acc + sh.amp[i] * f;
-  }
-  const Cx q = Cx{-m.at(t).p, 0.0} - lam * acc;
-  return {q.re, q.im};
-}
+namespace {
 
-void detail::mode_memory_pair(const Move<double>& m, double t1, double t2, const Mode& mode, ModeMemory& q1,
-                              ModeMemory& q2) noexcept {
-  q1 = {};
-  q2 = {};
-  if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return;
-  const Cx lam = pole(mode.omega, mode.zeta);
-  // As mode_memory(m, t, mode) at each, every sum in its order: an impulse whose profile is
-  // integrated to both times shares the work of the pieces that end before both.
-  const bool on1 = t1 > 0.0, on2 = t2 > 0.0;
+// Q at t1 and, when `two`, at t2 (mode_memory, mode_memory_pair). Q(t) = -int_0^t e^{lambda (t-s)}
+// x'(s) ds = -x(t) - lambda int_0^t e^{lambda (t-s)} x(s) ds, and the shaped x is sum_i A_i p(s - t_i):
+// each impulse contributes its profile's integral, each sum in the order of the impulses; an
+// impulse whose profile is integrated to both times shares the pieces that end before both
+// (profile_integrals). One call of the profile per impulse, so that each profile's integral is
+// expanded once in the code (the Cortex-M cores' flash).
+void memories(const Move<double>& m, double t1, double t2, bool two, Cx lam, ModeMemory& q1, ModeMemory& q2) noexcept {
+  const bool on1 = t1 > 0.0, on2 = two && t2 > 0.0;
   Cx acc1{}, acc2{};
   const Shaper<double>& sh = m.shaper();
   for (std::size_t i = 0; i < sh.count; ++i) {
     const double te1 = t1 - sh.time[i], te2 = t2 - sh.time[i];
     const bool in1 = on1 && te1 > 0.0, in2 = on2 && te2 > 0.0;
-    if (in1 && in2) {
-      Cx f1{}, f2{};
-      m.profile().visit([&](const auto& p) { detail::profile_integrals(p, lam, te1, te2, f1, f2); });
-      acc1 = acc1 + sh.amp[i] * f1;
-      acc2 = acc2 + sh.amp[i] * f2;
-    } else if (in1) {
-      acc1 = acc1 + sh.amp[i] * m.profile().visit([&](const auto& p) { return detail::profile_integral(p, lam, te1); });
-    } else if (in2) {
-      acc2 = acc2 + sh.amp[i] * m.profile().visit([&](const auto& p) { return detail::profile_integral(p, lam, te2); });
-    }
+    if (!in1 && !in2) continue;
+    // The first integral at te1 (or te2 alone), the second at te2 when both are wanted.
+    Cx fa{}, fb{};
+    m.profile().visit([&](const auto& p) { detail::profile_integrals(p, lam, in1 ? te1 : te2, te2, in1 && in2, fa, fb); });
+    if (in1) acc1 = acc1 + sh.amp[i] * fa;
+    if (in1 && in2) acc2 = acc2 + sh.amp[i] * fb;
+    if (!in1) acc2 = acc2 + sh.amp[i] * fa;
   }
   if (on1) {
     const Cx q = Cx{-m.at(t1).p, 0.0} - lam * acc1;
@@ -187,6 +174,22 @@ void detail::mode_memory_pair(const Move<double>& m, double t1, double t2, const
   }
 }
 
+}  // namespace
+
+ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
+  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
+  ModeMemory q{}, unused{};
+  memories(m, t, t, false, pole(mode.omega, mode.zeta), q, unused);
+  return q;
+}
+
+void detail::mode_memory_pair(const Move<double>& m, double t1, double t2, const Mode& mode, ModeMemory& q1,
+                              ModeMemory& q2) noexcept {
+  q1 = {};
+  q2 = {};
+  if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return;
+  memories(m, t1, t2, true, pole(mode.omega, mode.zeta), q1, q2);
+}
 
 double residual_amplitude(const Move<double>& m, const Mode& mode) noexcept {
   if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return std::numeric_limits<double>::quiet_NaN();
