@@ -35,6 +35,12 @@ using numeric::Cx;
 // piece_integral at te1 and te2 for a piece clipped alike at both (u_c its clipped end at either),
 // each the same to the bit as alone: the sum is taken once.
 void piece_integrals(const Piece& pc, Cx lam, double te1, double te2, double uc, Cx& f1, Cx& f2) noexcept;
+// One piece's share of F(te1) and, when `both`, of F(te2) (profile_integrals; body: min(te, the
+// profile's duration)), added to acc1 and acc2. Out of line: each profile's loop only calls it.
+void add_piece(const Piece& pc, Cx lam, double te1, double te2, double body1, double body2, bool both, Cx& acc1,
+               Cx& acc2) noexcept;
+// The share of F(te) past the profile's end tp (p = distance there), added to acc when te > tp.
+void add_rest(double distance, double tp, double te, Cx lam, Cx& acc) noexcept;
 
 // A move's memory Q (residual.hpp) at two times at once (a switch and the move's end: online_request),
 // each the same to the bit as mode_memory(m, t, mode): the pieces that end before both are summed once.
@@ -52,21 +58,7 @@ void profile_integrals(const Shape& prof, Cx lam, double te1, double te2, bool b
   Cx acc1{}, acc2{};
   const double body1 = std::min(te1, tp), body2 = std::min(te2, tp);
   if constexpr (requires { prof.piece_count(); }) {
-    for (int i = 0; i < prof.piece_count(); ++i) {
-      const Piece pc = prof.piece(i);
-      if (!(pc.length > 0.0)) continue;
-      const bool in1 = !(pc.start >= body1), in2 = both && !(pc.start >= body2);
-      const double uc1 = std::min(pc.start + pc.length, te1), uc2 = std::min(pc.start + pc.length, te2);
-      if (in1 && in2 && uc1 == uc2) {
-        Cx p1{}, p2{};
-        piece_integrals(pc, lam, te1, te2, uc1, p1, p2);
-        acc1 = acc1 + p1;
-        acc2 = acc2 + p2;
-        continue;
-      }
-      if (in1) acc1 = acc1 + piece_integral(pc, lam, te1);
-      if (in2) acc2 = acc2 + piece_integral(pc, lam, te2);
-    }
+    for (int i = 0; i < prof.piece_count(); ++i) add_piece(prof.piece(i), lam, te1, te2, body1, body2, both, acc1, acc2);
   } else {
     // No exact pieces (the pseudo-polynomial): composite Gauss-Legendre on panels short against
     // the mode's time scale, so that the exponential is resolved to rounding.
@@ -79,8 +71,8 @@ void profile_integrals(const Shape& prof, Cx lam, double te1, double te2, bool b
     quadrature(te1, body1, acc1);
     if (both) quadrature(te2, body2, acc2);
   }
-  if (te1 > tp) acc1 = acc1 + (prof.distance() * (te1 - tp)) * phi1((te1 - tp) * lam);
-  if (both && te2 > tp) acc2 = acc2 + (prof.distance() * (te2 - tp)) * phi1((te2 - tp) * lam);
+  add_rest(prof.distance(), tp, te1, lam, acc1);
+  if (both) add_rest(prof.distance(), tp, te2, lam, acc2);
   f1 = acc1;
   f2 = acc2;
 }

@@ -107,6 +107,26 @@ void piece_integrals(const Piece& pc, Cx lam, double te1, double te2, double uc,
   f2 = pc.length * (cexp((te2 - uc) * lam) * sum);
 }
 
+void add_piece(const Piece& pc, Cx lam, double te1, double te2, double body1, double body2, bool both, Cx& acc1,
+               Cx& acc2) noexcept {
+  if (!(pc.length > 0.0)) return;
+  const bool in1 = !(pc.start >= body1), in2 = both && !(pc.start >= body2);
+  const double uc1 = std::min(pc.start + pc.length, te1), uc2 = std::min(pc.start + pc.length, te2);
+  if (in1 && in2 && uc1 == uc2) {
+    Cx p1{}, p2{};
+    piece_integrals(pc, lam, te1, te2, uc1, p1, p2);
+    acc1 = acc1 + p1;
+    acc2 = acc2 + p2;
+    return;
+  }
+  if (in1) acc1 = acc1 + piece_integral(pc, lam, te1);
+  if (in2) acc2 = acc2 + piece_integral(pc, lam, te2);
+}
+
+void add_rest(double distance, double tp, double te, Cx lam, Cx& acc) noexcept {
+  if (te > tp) acc = acc + (distance * (te - tp)) * phi1((te - tp) * lam);
+}
+
 Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept {
   constexpr double w = 6.283185307179586476925286766559;
   constexpr double binom[6][6] = {{1, 0, 0, 0, 0, 0},   {1, 1, 0, 0, 0, 0},    {1, 2, 1, 0, 0, 0},
