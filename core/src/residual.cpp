@@ -34,7 +34,7 @@ Cx phi1(Cx x, Cx ex) noexcept {
   if (cabs_max(x) >= 0.5) return (ex - Cx{1.0, 0.0}) / x;
   const PackedFactor px{x};
   Packed term = pack(Cx{1.0, 0.0}), sum = term;
-#if defined(__SSE2__)  // unrolled where Packed is a vector (not on the Cortex-M cores: their flash)
+#if SETTLE_PACKED_VECTOR  // unrolled where Packed is a vector (not on the Cortex-M cores: their flash)
 #pragma GCC unroll 20
 #endif
   for (std::size_t n = 1; n < 20; ++n) {
@@ -47,7 +47,7 @@ Cx phi2(Cx x, Cx ex) noexcept {
   if (cabs_max(x) >= 1.0) return (ex - Cx{1.0, 0.0} - x) / (x * x);
   const PackedFactor px{x};
   Packed term = pack(Cx{0.5, 0.0}), sum = term;
-#if defined(__SSE2__)  // unrolled where Packed is a vector (not on the Cortex-M cores: their flash)
+#if SETTLE_PACKED_VECTOR  // unrolled where Packed is a vector (not on the Cortex-M cores: their flash)
 #pragma GCC unroll 24
 #endif
   for (std::size_t n = 1; n < 24; ++n) {

@@ -5,8 +5,13 @@
 // exponentials along it, and the moduli the residual checks read.
 
 #include <cmath>
-#if defined(__SSE2__)
+// Packed (below) is a two-double vector where doubles are computed in SSE2 registers anyway (x86-64:
+// __SSE2_MATH__; not where the x87 unit would round the scalar code differently).
+#if defined(__SSE2__) && defined(__SSE2_MATH__)
+#define SETTLE_PACKED_VECTOR 1
 #include <emmintrin.h>
+#else
+#define SETTLE_PACKED_VECTOR 0
 #endif
 
 namespace settle::core::numeric {
@@ -53,7 +58,7 @@ inline Cx cexpm1(Cx z) noexcept {
 // (re, im) br + (im, re) (-bi, bi), i.e. re br + (-(im bi)) and im br + re bi: the products and
 // sums of operator*, lane by lane (x - y is x + (-y), and a sum does not depend on its order of
 // operands), so every result is the same to the bit. Elsewhere (the Cortex-M cores) Cx itself.
-#if defined(__SSE2__)
+#if SETTLE_PACKED_VECTOR
 using Packed = __m128d;  // + and * lane by lane (GCC's and Clang's vector operators)
 inline Packed pack(Cx a) noexcept { return _mm_set_pd(a.im, a.re); }
 inline Cx unpack(Packed a) noexcept { return {_mm_cvtsd_f64(a), _mm_cvtsd_f64(_mm_unpackhi_pd(a, a))}; }
