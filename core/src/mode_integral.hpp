@@ -10,6 +10,7 @@
 #include "numeric/complex.hpp"
 #include "numeric/quadrature.hpp"
 #include "settle/core/piece.hpp"
+#include "settle/core/residual.hpp"
 
 namespace settle::core::detail {
 
@@ -27,30 +28,61 @@ using numeric::Cx;
 // With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
 // pieces or heavy damping.
 [[nodiscard]] Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept;
+// That integral without its last factor, len e^{lambda (te - u_c)}: the piece's own sum, given its
+// clipped end u_c. It depends on te only through u_c, so a piece that ends before two te (clipped
+// alike) has one sum for both (profile_integrals).
+[[nodiscard]] Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept;
+// piece_integral at te1 and te2 for a piece clipped alike at both (u_c its clipped end at either),
+// each the same to the bit as alone: the sum is taken once.
+void piece_integrals(const Piece& pc, Cx lam, double te1, double te2, double uc, Cx& f1, Cx& f2) noexcept;
+// One piece's share of F(te1) and, when `both`, of F(te2) (profile_integrals; body: min(te, the
+// profile's duration)), added to acc1 and acc2. Out of line: each profile's loop only calls it.
+void add_piece(const Piece& pc, Cx lam, double te1, double te2, double body1, double body2, bool both, Cx& acc1,
+               Cx& acc2) noexcept;
+// The share of F(te) past the profile's end tp (p = distance there), added to acc when te > tp.
+void add_rest(double distance, double tp, double te, Cx lam, Cx& acc) noexcept;
 
-// F(te) = int_0^te e^{lambda (te - u)} p(u) du for an unshaped profile (p = D past its end).
+// A move's memory Q (residual.hpp) at two times at once (a switch and the move's end: online_request),
+// each the same to the bit as mode_memory(m, t, mode): the pieces that end before both are summed once.
+void mode_memory_pair(const Move<double>& m, double t1, double t2, const Mode& mode, ModeMemory& q1,
+                      ModeMemory& q2) noexcept;
+
+// F(te1) = int_0^te1 e^{lambda (te1 - u)} p(u) du for an unshaped profile (p = D past its end), and
+// when `both` F(te2) too, each the same to the bit as alone: a piece clipped alike at both (it ends
+// before either) is summed once, and only the factor that refers its sum to each te is taken twice
+// (a move's memory at the switch and at its end, online_request). One loop for one integral or two,
+// so that a profile's pieces are expanded once in the code (the Cortex-M cores' flash).
 template <typename Shape>
-[[nodiscard]] Cx profile_integral(const Shape& prof, Cx lam, double te) noexcept {
+void profile_integrals(const Shape& prof, Cx lam, double te1, double te2, bool both, Cx& f1, Cx& f2) noexcept {
   const double tp = prof.duration();
-  Cx acc{};
-  const double body = std::min(te, tp);
+  Cx acc1{}, acc2{};
+  const double body1 = std::min(te1, tp), body2 = std::min(te2, tp);
   if constexpr (requires { prof.piece_count(); }) {
-    for (int i = 0; i < prof.piece_count(); ++i) {
-      const Piece pc = prof.piece(i);
-      if (!(pc.length > 0.0) || pc.start >= body) continue;
-      acc = acc + piece_integral(pc, lam, te);
-    }
+    for (int i = 0; i < prof.piece_count(); ++i) add_piece(prof.piece(i), lam, te1, te2, body1, body2, both, acc1, acc2);
   } else {
     // No exact pieces (the pseudo-polynomial): composite Gauss-Legendre on panels short against
     // the mode's time scale, so that the exponential is resolved to rounding.
-    if (body > 0.0) {
+    const auto quadrature = [&](double te, double body, Cx& acc) {
+      if (!(body > 0.0)) return;
       const int panels = std::clamp(static_cast<int>(std::ceil(cabs_max(lam) * body)) * 2, 32, 512);
       numeric::gauss_legendre_8(0.0, body, panels,
                                 [&](double u, double w) { acc = acc + (w * prof.at(u).p) * cexp((te - u) * lam); });
-    }
+    };
+    quadrature(te1, body1, acc1);
+    if (both) quadrature(te2, body2, acc2);
   }
-  if (te > tp) acc = acc + (prof.distance() * (te - tp)) * phi1((te - tp) * lam);
-  return acc;
+  add_rest(prof.distance(), tp, te1, lam, acc1);
+  if (both) add_rest(prof.distance(), tp, te2, lam, acc2);
+  f1 = acc1;
+  f2 = acc2;
+}
+
+// F(te) alone.
+template <typename Shape>
+[[nodiscard]] Cx profile_integral(const Shape& prof, Cx lam, double te) noexcept {
+  Cx f{}, unused{};
+  profile_integrals(prof, lam, te, te, false, f, unused);
+  return f;
 }
 
 }  // namespace settle::core::detail

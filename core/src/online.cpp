@@ -145,18 +145,22 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
     const Cx f1 = h * phi1(x, e1);       // int_0^h e^{lambda w} dw
     const Cx f2 = (h * h) * phi2(x, e1);  // int_0^h e^{lambda w} (h - w) dw
     // Column k (m = N - 1 - k segments after it): E^m f2 + h S_m, S_m = int_0^{m h} e^{lambda w} dw.
-    Cx em{1.0, 0.0}, sm{};
+    // (Packed: two-double vectors where the host has them, the same products and sums, complex.hpp.)
+    const PackedFactor pe{e1}, pf2{f2};
+    const Packed pf1 = pack(f1);
+    const auto ph = splat(h);  // a Packed, or the double itself
+    Packed em = pack(Cx{1.0, 0.0}), sm = pack(Cx{});
     for (std::size_t m = 0; m < n; ++m) {
-      const Cx c = em * f2 + h * sm;
+      const Cx c = unpack(em * pf2 + ph * sm);
       const std::size_t k = n - 1 - m;
       mat[rows][k] = c.re;
       mat[rows + 1][k] = c.im;
-      sm = e1 * sm + f1;
-      em = em * e1;
+      sm = sm * pe + pf1;
+      em = em * pe;
     }
     // int_0^T e^{lambda (T - u)} a(u) du = e^{lambda T} (lambda Q - v0)
     const Cx q{r.memory[i].re, r.memory[i].im};
-    const Cx b = em * (lam * q - Cx{v0, 0.0}) - a0 * sm;
+    const Cx b = unpack(em) * (lam * q - Cx{v0, 0.0}) - a0 * unpack(sm);
     rhs[rows] = b.re;
     rhs[rows + 1] = b.im;
     rows += 2;
@@ -174,7 +178,10 @@ using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 // pivot is not positive; a nearly singular one is let through, as partial pivoting let it through
 // before: the caller rejects a solution that misses its equations (a retarget over a huge distance
 // has such a Gram matrix and a valid blend).
-bool cholesky(const Gram& g, std::size_t n, Gram& l) noexcept {
+// (Fixed > 0: n is Fixed, a constant; see factor below.)
+template <std::size_t Fixed = 0>
+bool cholesky(const Gram& g, std::size_t rows, Gram& l) noexcept {
+  const std::size_t n = Fixed > 0 ? Fixed : rows;
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t c = 0; c < i; ++c) {
       double s = g[i][c];
@@ -190,7 +197,9 @@ bool cholesky(const Gram& g, std::size_t n, Gram& l) noexcept {
 }
 
 // Solves L L^T y = b in place.
-void cholesky_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& b) noexcept {
+template <std::size_t Fixed = 0>
+void cholesky_solve(const Gram& l, std::size_t rows, std::array<double, kMaxRows>& b) noexcept {
+  const std::size_t n = Fixed > 0 ? Fixed : rows;
   for (std::size_t i = 0; i < n; ++i) {
     double s = b[i];
     for (std::size_t k = 0; k < i; ++k) s -= l[i][k] * b[k];
@@ -202,6 +211,34 @@ void cholesky_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& 
     b[i] = s / l[i][i];
   }
 }
+
+// cholesky and cholesky_solve for the sizes the searches meet most (a halt or a retarget with one
+// or two modes: 4 to 7 rows) with the size a constant, so that the compiler unrolls their short
+// loops: the same operations in the same order, the same bits. Not on the Cortex-M cores, whose
+// flash the copies would cost and whose soft double gains little from them.
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
+bool factor(const Gram& g, std::size_t n, Gram& l) noexcept { return cholesky(g, n, l); }
+void factor_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& b) noexcept { cholesky_solve(l, n, b); }
+#else
+bool factor(const Gram& g, std::size_t n, Gram& l) noexcept {
+  switch (n) {
+    case 4: return cholesky<4>(g, n, l);
+    case 5: return cholesky<5>(g, n, l);
+    case 6: return cholesky<6>(g, n, l);
+    case 7: return cholesky<7>(g, n, l);
+    default: return cholesky(g, n, l);
+  }
+}
+void factor_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& b) noexcept {
+  switch (n) {
+    case 4: cholesky_solve<4>(l, n, b); return;
+    case 5: cholesky_solve<5>(l, n, b); return;
+    case 6: cholesky_solve<6>(l, n, b); return;
+    case 7: cholesky_solve<7>(l, n, b); return;
+    default: cholesky_solve(l, n, b); return;
+  }
+}
+#endif
 
 using Rows = std::array<std::array<double, kBlendSegments>, kMaxRows>;
 
@@ -287,10 +324,10 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     // Minimum norm: x = W M^T (M W M^T)^{-1} b, then, only if it misses its equations, one step of
     // iterative refinement with the same factor (docs/online.md, "Refinement only where needed").
     Gram chol;  // NOLINT: cholesky sets the lower triangle it reads
-    if (!cholesky(gram, rows, chol)) return false;
+    if (!factor(gram, rows, chol)) return false;
     for (int pass = 0;; ++pass) {
       std::array<double, kMaxRows> y = res;
-      cholesky_solve(chol, rows, y);
+      factor_solve(chol, rows, y);
       // Column k's sum over i, for every k at once.
       std::array<double, n> s{};
       for (std::size_t i = 0; i < rows; ++i) {
@@ -338,6 +375,8 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       if (jpk > jmax * (1.0 + kLimitSlack)) return false;
       break;
     }
+    // Nothing beyond jmax (the jerks are finite): nothing to pin.
+    if (!(jpk > jmax)) break;
     for (std::size_t k = 0; k < n; ++k) {
       if (sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
         // Pin j_k to the limit: its share of every condition goes to the right side, its column
@@ -446,16 +485,17 @@ Status online_request(const Move<double>& m, double t, const Mode* modes, std::s
   r.limits = limits;
   r.target = target;
   r.mode_count = mode_count;
+  // Each mode's memory at the switch and at the move's end (whether it ends at rest), in one pass.
+  std::array<ModeMemory, kMaxOnlineModes> at_end{};
   for (std::size_t i = 0; i < mode_count; ++i) {
     if (!std::isfinite(modes[i].omega) || !std::isfinite(modes[i].zeta)) return Status::non_finite_input;
     if (!(modes[i].omega > 0.0)) return Status::non_positive_omega;
     if (!(modes[i].zeta >= 0.0 && modes[i].zeta < 1.0)) return Status::zeta_out_of_range;
     r.modes[i] = modes[i];
-    r.memory[i] = mode_memory(m, t, modes[i]);
+    detail::mode_memory_pair(m, t, m.duration(), modes[i], r.memory[i], at_end[i]);
   }
-  r.running = running_of(m.distance(), 0.0, m.duration() - std::max(t, 0.0), mode_count, [&](std::size_t i) {
-    return mode_memory(m, m.duration(), modes[i]);
-  });
+  r.running = running_of(m.distance(), 0.0, m.duration() - std::max(t, 0.0), mode_count,
+                         [&](std::size_t i) { return at_end[i]; });
   out = r;
   return Status::ok;
 }

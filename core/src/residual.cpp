@@ -32,21 +32,29 @@ static_assert(kInverse.size() > 32 + kMaxPieceDegree, "the moments' series reach
 Cx phi1(Cx x) noexcept { return phi1(x, cabs_max(x) >= 0.5 ? cexp(x) : Cx{}); }
 Cx phi1(Cx x, Cx ex) noexcept {
   if (cabs_max(x) >= 0.5) return (ex - Cx{1.0, 0.0}) / x;
-  Cx term{1.0, 0.0}, sum{1.0, 0.0};
+  const PackedFactor px{x};
+  Packed term = pack(Cx{1.0, 0.0}), sum = term;
+#if SETTLE_PACKED_VECTOR  // unrolled where Packed is a vector (not on the Cortex-M cores: their flash)
+#pragma GCC unroll 20
+#endif
   for (std::size_t n = 1; n < 20; ++n) {
-    term = kInverse[n + 1] * (term * x);
+    term = splat(kInverse[n + 1]) * (term * px);
     sum = sum + term;
   }
-  return sum;
+  return unpack(sum);
 }
 Cx phi2(Cx x, Cx ex) noexcept {
   if (cabs_max(x) >= 1.0) return (ex - Cx{1.0, 0.0} - x) / (x * x);
-  Cx term{0.5, 0.0}, sum{0.5, 0.0};
+  const PackedFactor px{x};
+  Packed term = pack(Cx{0.5, 0.0}), sum = term;
+#if SETTLE_PACKED_VECTOR  // unrolled where Packed is a vector (not on the Cortex-M cores: their flash)
+#pragma GCC unroll 24
+#endif
   for (std::size_t n = 1; n < 24; ++n) {
-    term = kInverse[n + 2] * (term * x);
+    term = splat(kInverse[n + 2]) * (term * px);
     sum = sum + term;
   }
-  return sum;
+  return unpack(sum);
 }
 
 namespace {
@@ -89,10 +97,40 @@ void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept 
 // With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
 // pieces or heavy damping.
 Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
+  const double uc = std::min(pc.start + pc.length, te);
+  return pc.length * (cexp((te - uc) * lam) * piece_sum(pc, lam, uc));
+}
+
+void piece_integrals(const Piece& pc, Cx lam, double te1, double te2, double uc, Cx& f1, Cx& f2) noexcept {
+  const Cx sum = piece_sum(pc, lam, uc);
+  f1 = pc.length * (cexp((te1 - uc) * lam) * sum);
+  f2 = pc.length * (cexp((te2 - uc) * lam) * sum);
+}
+
+void add_piece(const Piece& pc, Cx lam, double te1, double te2, double body1, double body2, bool both, Cx& acc1,
+               Cx& acc2) noexcept {
+  if (!(pc.length > 0.0)) return;
+  const bool in1 = !(pc.start >= body1), in2 = both && !(pc.start >= body2);
+  const double uc1 = std::min(pc.start + pc.length, te1), uc2 = std::min(pc.start + pc.length, te2);
+  if (in1 && in2 && uc1 == uc2) {
+    Cx p1{}, p2{};
+    piece_integrals(pc, lam, te1, te2, uc1, p1, p2);
+    acc1 = acc1 + p1;
+    acc2 = acc2 + p2;
+    return;
+  }
+  if (in1) acc1 = acc1 + piece_integral(pc, lam, te1);
+  if (in2) acc2 = acc2 + piece_integral(pc, lam, te2);
+}
+
+void add_rest(double distance, double tp, double te, Cx lam, Cx& acc) noexcept {
+  if (te > tp) acc = acc + (distance * (te - tp)) * phi1((te - tp) * lam);
+}
+
+Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept {
   constexpr double w = 6.283185307179586476925286766559;
   constexpr double binom[6][6] = {{1, 0, 0, 0, 0, 0},   {1, 1, 0, 0, 0, 0},    {1, 2, 1, 0, 0, 0},
                                   {1, 3, 3, 1, 0, 0},   {1, 4, 6, 4, 1, 0},    {1, 5, 10, 10, 5, 1}};
-  const double uc = std::min(pc.start + pc.length, te);
   const double len = pc.length;
   const double s = (uc - pc.start) / len;
   const Cx nu = -len * lam;
@@ -116,30 +154,62 @@ Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
     const Cx j_minus = s * phi1(-s * (nu - Cx{0.0, w}));
     acc = acc + (wz * j_plus - conj(wz) * j_minus) / Cx{0.0, 2.0};
   }
-  return len * (cexp((te - uc) * lam) * acc);
+  return acc;
 }
 
 }  // namespace detail
 
 using namespace numeric;
 
-ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
-  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
-  const Cx lam = pole(mode.omega, mode.zeta);
-  // Q(t) = -int_0^t e^{lambda (t-s)} x'(s) ds = -x(t) - lambda int_0^t e^{lambda (t-s)} x(s) ds, and the
-  // shaped x is sum_i A_i p(s - t_i): each impulse contributes its profile's integral.
-  Cx acc{};
+namespace {
+
+// Q at t1 and, when `two`, at t2 (mode_memory, mode_memory_pair). Q(t) = -int_0^t e^{lambda (t-s)}
+// x'(s) ds = -x(t) - lambda int_0^t e^{lambda (t-s)} x(s) ds, and the shaped x is sum_i A_i p(s - t_i):
+// each impulse contributes its profile's integral, each sum in the order of the impulses; an
+// impulse whose profile is integrated to both times shares the pieces that end before both
+// (profile_integrals). One call of the profile per impulse, so that each profile's integral is
+// expanded once in the code (the Cortex-M cores' flash).
+void memories(const Move<double>& m, double t1, double t2, bool two, Cx lam, ModeMemory& q1, ModeMemory& q2) noexcept {
+  const bool on1 = t1 > 0.0, on2 = two && t2 > 0.0;
+  Cx acc1{}, acc2{};
   const Shaper<double>& sh = m.shaper();
   for (std::size_t i = 0; i < sh.count; ++i) {
-    const double te = t - sh.time[i];
-    if (!(te > 0.0)) continue;
-    const Cx f = m.profile().visit([&](const auto& p) { return detail::profile_integral(p, lam, te); });
-    acc = acc + sh.amp[i] * f;
+    const double te1 = t1 - sh.time[i], te2 = t2 - sh.time[i];
+    const bool in1 = on1 && te1 > 0.0, in2 = on2 && te2 > 0.0;
+    if (!in1 && !in2) continue;
+    // The first integral at te1 (or te2 alone), the second at te2 when both are wanted.
+    Cx fa{}, fb{};
+    m.profile().visit([&](const auto& p) { detail::profile_integrals(p, lam, in1 ? te1 : te2, te2, in1 && in2, fa, fb); });
+    if (in1) acc1 = acc1 + sh.amp[i] * fa;
+    if (in1 && in2) acc2 = acc2 + sh.amp[i] * fb;
+    if (!in1) acc2 = acc2 + sh.amp[i] * fa;
   }
-  const Cx q = Cx{-m.at(t).p, 0.0} - lam * acc;
-  return {q.re, q.im};
+  if (on1) {
+    const Cx q = Cx{-m.at(t1).p, 0.0} - lam * acc1;
+    q1 = {q.re, q.im};
+  }
+  if (on2) {
+    const Cx q = Cx{-m.at(t2).p, 0.0} - lam * acc2;
+    q2 = {q.re, q.im};
+  }
 }
 
+}  // namespace
+
+ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
+  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
+  ModeMemory q{}, unused{};
+  memories(m, t, t, false, pole(mode.omega, mode.zeta), q, unused);
+  return q;
+}
+
+void detail::mode_memory_pair(const Move<double>& m, double t1, double t2, const Mode& mode, ModeMemory& q1,
+                              ModeMemory& q2) noexcept {
+  q1 = {};
+  q2 = {};
+  if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return;
+  memories(m, t1, t2, true, pole(mode.omega, mode.zeta), q1, q2);
+}
 
 double residual_amplitude(const Move<double>& m, const Mode& mode) noexcept {
   if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return std::numeric_limits<double>::quiet_NaN();
