@@ -492,6 +492,18 @@ TEST(Fastest, DwellChangesShortenGridCase5) {
   expect_bang_bang_within(r, 3.59175962 * 1.004);
 }
 
+// Grid case 74 (three modes; 1.60 / 2.53 / 7.26 rad/s): bang-bang's chain stops three times (14
+// nodes), refining it inserts nothing (a pair does not fit in kChainNodes) and its dwells were
+// never changed: 3.6489 s, 1.16 % over the reference (3.6071 s), which stops four times. Its dwells
+// changed all the same (dwell_changes: a pulse in its second dwell, refined to a fourth stop),
+// 3.60695 s, 0.004 % under it.
+TEST(Fastest, DwellChangesReachAFullChainsFourthStopOnGridCase74) {
+  core::MoveRequest r = request(4.201, 5.286, 139.4, 7415.0, 1.6033, 0.1949);
+  (void)r.add_mode({2.5288, 0.1106});
+  (void)r.add_mode({7.262, 0.1687});
+  expect_bang_bang_within(r, 3.6070872 * 1.001);
+}
+
 // Grid case 121's chain (a 52 s move whose rows round to 2e-8) in other units of length: at 0.37
 // the chain restores and refines as at 1, but polished in its rows of v and p alone its table
 // left the modes ringing (design_ok) and was refused (time-optimal * joint ZV, 52.694 s); its
