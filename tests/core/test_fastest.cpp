@@ -484,13 +484,14 @@ void expect_bang_bang_within(const core::MoveRequest& r, double bound) {
 // Grid case 5 (three modes; 1.43 / 13.7 / 38.8 rad/s): 1.27 % over the reference (3.6373 s) until
 // its refined chain's dwells were changed (dwell_changes): a pulse a quarter into its first dwell,
 // then two more passes, 3.6049 s, 0.37 % over (0.53 % as first written in session 26; main's
-// 3.6373 s and that 3.6107 s both fail the bound); 3.6031 s, 0.32 % over, since a pulse that
-// closed in a dwell is taken out (drop_closed_pulses; 3.6049 s fails the bound).
+// 3.6373 s and that 3.6107 s fail a bound of 0.4 %); 3.59144 s, 0.009 % under, since a pulse in
+// a dwell and a slow-down in a cruise that closed are taken out (drop_closed_pulses; 3.6049 s and
+// 3.6031 s, with closed pulses alone taken out, fail the bound).
 TEST(Fastest, DwellChangesShortenGridCase5) {
   core::MoveRequest r = request(2.288, 1.045, 21.03, 3207.0, 1.4271, 0.2558);
   (void)r.add_mode({13.7351, 0.1779});
   (void)r.add_mode({38.7836, 0.078});
-  expect_bang_bang_within(r, 3.59175962 * 1.0035);
+  expect_bang_bang_within(r, 3.59175962 * 1.001);
 }
 
 // Grid case 74 (three modes; 1.60 / 2.53 / 7.26 rad/s): bang-bang's chain stops three times (14
