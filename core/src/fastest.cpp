@@ -3337,9 +3337,9 @@ void cruise_slowdown_late(FastestSearch& fs, const ArcProblem& pb, const ArcChai
 // another pass.
 constexpr int kDwellPasses = 3, kDwellScreenSteps = 5;
 constexpr double kDwellPassGain = 1e-4;
-// dwell_changes: how close to amax a picked change's turn is made a limit; how close to a = 0 a
-// pulse's turns are when drop_closed_pulses takes it out.
-constexpr double kAtLimit = 1e-4, kClosedPulse = 0.01;
+// How close to a = 0 (of amax) a pulse's or a slow-down's turns are when drop_closed_pulses takes
+// it out.
+constexpr double kClosedPulse = 0.01;
 
 // The velocity where the ramp into node k + 1 crosses a = 0 (node k a turn down, k + 1 a turn up:
 // the slowest point of a slow-down between them), from the chain's own lengths.
@@ -3461,15 +3461,6 @@ void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& 
       }
     }
     if (!(t_pick < HUGE_VAL)) return;
-    // A turn the screen took to amax (within kAtLimit of it) holds there: as a peak the round's
-    // minimisation keeps it just below amax, as a limit its hold can grow (grid case 227: a pulse
-    // in its second dwell, turns at 0.99998 amax).
-    for (std::size_t i = 0; i < pick.n; ++i) {
-      if (pick.node[i].kind == ArcKind::peak && pick.node[i].sign * pick.x[i] >= pb.amax * (1.0 - kAtLimit)) {
-        pick.node[i].kind = ArcKind::limit;
-        pick.x[i] = 0.0;
-      }
-    }
     pb.one_slowdown = true;
     (void)arc_refine(pb, pick, 1);
     pb.one_slowdown = false;
