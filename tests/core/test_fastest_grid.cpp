@@ -36,7 +36,9 @@ namespace {
 // at least this many within 0.1 % of the reference, none more than this ratio over it, at most
 // this many refused.
 #if SETTLE_FASTEST_GRID_EVERY == 1
-// 292 of 295 with a reference (300 cases): 290 before a refined chain's dwells were changed in
+// 294 of 295 with a reference (300 cases): 292 before a chain full at 15 nodes had its dwells
+// changed too (74; dwell_changes from refined_chains, session 29) and closed pulses and slow-downs
+// were taken out of the changed chains (5; drop_closed_pulses); 290 before a refined chain's dwells were changed in
 // chains of up to 23 nodes (35, 254; dwell_changes, session 27); 289 before a long cruise's end was
 // seeded with three stops (121; cruise_stops_refined, session 26); 287 on the branch of the limit nodes held for no time
 // made into peaks (229, 8, 200; zero_holds_to_peaks), 286 on the branch of the pulse a quarter into a
@@ -50,14 +52,21 @@ namespace {
 // before the split chains with more parts than modes
 // (160, 161, 256; 252 of the 277 before cases 135-139 and 287-299 had a reference); 235 of 277
 // before the chains with more turns than equations (arc_refine), 222 before session 22.
-constexpr int kWithin = 292;
-// case 74 (three modes): 1.01158; 1.01269 (case 5, now 1.00365) before the dwell changes; was
+constexpr int kWithin = 294;
+// case 227 (three modes): 1.00271 (1.00296 before a full chain's dwells were changed); 1.01158
+// (case 74, now 0.99996) before that; 1.01269 (case 5, now 0.99991) before the dwell changes; was
 // 1.01568 (case 184, now 0.99933), 1.03214 (case 112), 1.3231 (case 167)
-constexpr double kWorst = 1.0116;
+constexpr double kWorst = 1.0028;
 // None: case 113 (three modes, 2.1 / 13.5 / 278.7 rad/s; D 3.48 m) was refused until the joint
 // ZV shaper started from the slower modes' design (docs/fastest.md, "Several modes").
 constexpr int kRefused = 0;
-// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 31 and 5 (worst 0.90 %: case 5 at 0.37,
+// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 32 and 3 (worst 0.49 %: case 35 at 7.3,
+// 10.8638 s against 10.8113 s) with a full chain's dwells changed and closed pulses and slow-downs
+// taken out (session 29): 74 plans alike at every scale, 254 at 1e-3 and 0.37 is 1.69100 s (was
+// 1.70212 and 1.69537 s against 1.69034 s), 5 is 3.60041, 3.60488 and 3.59144 s at 1e-3, 0.37
+// and 7.3 against 3.59144 s (its chain at scale 1 reaches the reference's form; 0.24 % and
+// 0.37 % over it at 1e-3 and 0.37), but 227 ends 4.37983 s at 1 and 4.37842 s at 1e-3 (before,
+// 4.38094 s at each: its dwells were not changed); 31 and 5 (worst 0.90 %: case 5 at 0.37,
 // 3.63729 s against 3.60488 s) with a seed's restoration retried and the polish holding the
 // inequalities a step would break (step_breaks): 86 at 0.37 and 7.3 keeps its shorter chain
 // (7.14936 and 7.14965 s against 7.14542 s, were 7.15315 and 7.16500 s), 254 at 7.3 screens as at
@@ -88,7 +97,7 @@ constexpr int kRefused = 0;
 // 0.3 % shorter than at scale 1, 237 at 0.37 differs by 2e-9; the same after the blip moved in its hold);
 // 35 and 9 before the split chains with more parts than modes (67 and 233 now plan alike at every
 // scale, 46 at 1e-3).
-constexpr int kScaledOff1e9 = 31, kScaledOff1e3 = 5;
+constexpr int kScaledOff1e9 = 32, kScaledOff1e3 = 3;
 #else
 // of 30 with a reference (30 cases spread evenly over the 300 of the file; over the 282 before
 // cases 135-139 and 287-299 were added, 29 of 29 and 1.00062); 26 and 1.00478 (case 160) before
