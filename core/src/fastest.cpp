@@ -1275,7 +1275,7 @@ double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
 // taken together: the full step is nearly always taken): solves F(x) = mu F0, the chain's own
 // equations when mu = 0. True when the norm falls below tol, or stalls within 1000 tol of it
 // (rounding: the move is checked afterwards). A run whose norm fell by less than 1 % over its
-// last 8 steps while above that is given up: such runs mostly creep on steps of 1e-3 of
+// last 8 steps while above that is given up: such runs mostly creep on steps of about 2^-9 of
 // Newton's until their iterations run out or the line search fails. Giving them up cut the
 // reference grid's evaluations by 8 % and lengthened none of its plans (docs/fastest.md, "Cost",
 // session 29; 7 steps at 2 % lengthened one). With `first_test` (a continuation's step on the
