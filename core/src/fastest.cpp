@@ -1631,17 +1631,25 @@ bool insert_wiggle(const ArcProblem& pb, const ArcChain& c, std::size_t k, doubl
   return true;
 }
 
-// c with its node k replaced by the m nodes `with` (values `x`); false when it does not fit.
+// c with its nodes k .. k + span - 1 (node k alone unless said) replaced by the m nodes `with`
+// (values `x`); false when they are not all in c or the result does not fit.
 bool splice(const ArcChain& c, std::size_t k, const ArcNode* with, const double* x, std::size_t m, std::size_t cap,
-            ArcChain& out) noexcept {
-  if (k >= c.n || c.n - 1 + m > cap) return false;
+            ArcChain& out, std::size_t span = 1) noexcept {
+  if (span == 0 || k + span > c.n || c.n - span + m > cap) return false;
   out = ArcChain{};
-  out.n = c.n - 1 + m;
-  for (std::size_t i = 0, o = 0; i < c.n; ++i) {
-    for (std::size_t j = 0; j < (i == k ? m : 1); ++j, ++o) {
-      out.node[o] = i == k ? with[j] : c.node[i];
-      out.x[o] = i == k ? x[j] : c.x[i];
-    }
+  out.n = c.n - span + m;
+  std::size_t o = 0;
+  for (std::size_t i = 0; i < k; ++i, ++o) {
+    out.node[o] = c.node[i];
+    out.x[o] = c.x[i];
+  }
+  for (std::size_t j = 0; j < m; ++j, ++o) {
+    out.node[o] = with[j];
+    out.x[o] = x[j];
+  }
+  for (std::size_t i = k + span; i < c.n; ++i, ++o) {
+    out.node[o] = c.node[i];
+    out.x[o] = c.x[i];
   }
   return true;
 }
@@ -3401,13 +3409,11 @@ void drop_closed_pulses(const ArcProblem& pb, ArcChain& c) noexcept {
       ++k;
       continue;
     }
+    // The four nodes become one hold as long as they are.
+    const ArcNode merged = e.node[k];
+    const double x = e.x[k] + e.x[k + 3] + 2.0 * std::fabs(e.x[k + 1] - e.x[k + 2]) / pb.J;
     ArcChain f{};
-    for (std::size_t i = 0; i < e.n; ++i) {
-      if (i > k && i <= k + 3) continue;
-      f.node[f.n] = e.node[i];
-      f.x[f.n++] = e.x[i];
-    }
-    f.x[k] = e.x[k] + e.x[k + 3] + 2.0 * std::fabs(e.x[k + 1] - e.x[k + 2]) / pb.J;
+    if (!splice(e, k, &merged, &x, 1, e.n, f, 4)) return;
     e = f;
     any = true;
   }
@@ -3516,6 +3522,7 @@ void refined_chains(FastestSearch& fs) noexcept {
   pb.exps = &exps;
   double w_fast = 0.0;  // the fastest mode's damped frequency
   for (std::size_t m = 0; m < fs.ms.n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
+  const double quarter = 0.25 * two_pi_v<double>() / w_fast;  // a stop dwells a quarter period of it (dwell_changes)
   // The split chains under the rule below (the fastest mode rings a period or more over the
   // shortest move so far).
   if (fs.ms.n >= 2 && w_fast * fs.best.time >= two_pi_v<double>()) split_refined(fs, pb);
@@ -3541,12 +3548,11 @@ void refined_chains(FastestSearch& fs) noexcept {
     // A three-mode chain full at kChainNodes (no pair fits: arc_refine only minimised it) gets its
     // dwells changed all the same, with dwell_changes' room: grid case 74's chain (14 nodes, three
     // stops) was left 1.16 % over the reference, which stops four times (18 nodes).
-    const double quarter = 0.25 * two_pi_v<double>() / w_fast;
     if (!shorter && fs.ms.n >= 3 && c.n + 2 > pb.max_nodes) dwell_changes(fs, pb, c, quarter);
     if (!shorter) continue;
     keep_or_polish(fs, pb, c);
     zero_holds_to_peaks(fs, pb, c);
-    if (fs.ms.n >= 3) dwell_changes(fs, pb, c, 0.25 * two_pi_v<double>() / w_fast);
+    if (fs.ms.n >= 3) dwell_changes(fs, pb, c, quarter);
     // Two modes, the shortest chain before the late stages, where refining it shortened it.
     if (fs.ms.n == 2 && k == 0) hold_blips_refined(fs, pb, got.c);
   }
