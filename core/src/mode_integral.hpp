@@ -24,17 +24,6 @@ using numeric::Cx;
 // phi1 computing its own exponential where it needs one.
 [[nodiscard]] Cx phi1(Cx x) noexcept;
 
-// int over one piece, from its start to u_c = min(end, te), of e^{lambda (te - u)} P(u) du, exactly.
-// With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
-// pieces or heavy damping.
-[[nodiscard]] Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept;
-// That integral without its last factor, len e^{lambda (te - u_c)}: the piece's own sum, given its
-// clipped end u_c. It depends on te only through u_c, so a piece that ends before two te (clipped
-// alike) has one sum for both (profile_integrals).
-[[nodiscard]] Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept;
-// piece_integral at te1 and te2 for a piece clipped alike at both (u_c its clipped end at either),
-// each the same to the bit as alone: the sum is taken once.
-void piece_integrals(const Piece& pc, Cx lam, double te1, double te2, double uc, Cx& f1, Cx& f2) noexcept;
 // One piece's share of F(te1) and, when `both`, of F(te2) (profile_integrals; body: min(te, the
 // profile's duration)), added to acc1 and acc2. Out of line: each profile's loop only calls it.
 void add_piece(const Piece& pc, Cx lam, double te1, double te2, double body1, double body2, bool both, Cx& acc1,

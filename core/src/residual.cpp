@@ -93,6 +93,11 @@ void moments(Cx z, double s, std::array<Cx, kMaxPieceDegree + 1>& out) noexcept 
 
 }  // namespace
 
+// A piece's integral without its last factor, len e^{lambda (te - u_c)}: the piece's own sum, given
+// its clipped end u_c. It depends on te only through u_c, so a piece that ends before two te (clipped
+// alike) has one sum for both (add_piece).
+Cx piece_sum(const Piece& pc, Cx lam, double uc) noexcept;
+
 // int over one piece, from its start to u_c = min(end, te), of e^{lambda (te - u)} P(u) du, exactly.
 // With u = u_c - L sigma the kernel decays along sigma (Re lambda <= 0): no overflow for long
 // pieces or heavy damping.
@@ -101,6 +106,8 @@ Cx piece_integral(const Piece& pc, Cx lam, double te) noexcept {
   return pc.length * (cexp((te - uc) * lam) * piece_sum(pc, lam, uc));
 }
 
+// piece_integral at te1 and te2 for a piece clipped alike at both (u_c its clipped end at either),
+// each the same to the bit as alone: the sum is taken once.
 void piece_integrals(const Piece& pc, Cx lam, double te1, double te2, double uc, Cx& f1, Cx& f2) noexcept {
   const Cx sum = piece_sum(pc, lam, uc);
   f1 = pc.length * (cexp((te1 - uc) * lam) * sum);
