@@ -168,6 +168,34 @@ class Fastest {
 // backwards (v keeps the sign of the distance). -D plans as the move of D mirrored, to the bit.
 [[nodiscard]] Status plan_fastest(const MoveRequest& r, FastestParams& out, Peaks<double>& pk) noexcept;
 
+// Whether a move of piecewise-constant jerk is the shortest of its problem (distance, limits and
+// modes of `r`; D > 0), proven by linear-programming duality (docs/fastest.md, "A certificate of the
+// shortest move"): a dual whose switching function has the jerk's sign on every ramp and vanishes on
+// every hold, with nonnegative measures where a limit binds. `at` is where the first condition
+// fails (s), `gap` the dual's value over D minus 1 (a check of the derivation: near 0 where the
+// conditions hold). No heap; the dual's system is at most kFastestSegments rows.
+enum class FastestProof : std::uint8_t {
+  proven,
+  not_the_problems,  // not at rest at D, beyond a limit, or a mode rings at the end
+  not_a_chain,       // a jerk other than +-jmax, or a hold neither at a limit nor at rest
+  no_dual,           // no dual fits the turns and holds (to 1e-7)
+  against_the_jerk,  // the switching function against the jerk on a ramp
+  negative_measure,  // a limit's measure negative somewhere it binds
+  robust,            // a --robust request: its band is another problem (the proof is for exact rest)
+};
+struct FastestCertificate {
+  FastestProof proof{FastestProof::not_a_chain};
+  double at{0.0};
+  double gap{0.0};
+};
+[[nodiscard]] FastestCertificate certify_fastest(const FastestTable& t, const MoveRequest& r) noexcept;
+[[nodiscard]] const char* to_string(FastestProof p) noexcept;
+// Whether a proof that fails says where (`at`): the sign tests. `gap` is reported with those and
+// with a proof.
+[[nodiscard]] constexpr bool located(FastestProof p) noexcept {
+  return p == FastestProof::against_the_jerk || p == FastestProof::negative_measure;
+}
+
 // Exact peaks of a piecewise-constant-jerk table (jerk and acceleration at breakpoints, velocity
 // also where the acceleration crosses zero inside a segment).
 [[nodiscard]] Peaks<double> jerk_table_peaks(const FastestTable& p) noexcept;
@@ -178,7 +206,7 @@ struct FastestProfile {
   static constexpr const char* name = "fastest";
   static constexpr const char* summary =
       "short move under vmax/amax/jmax leaving every given mode at rest (the shortest of several searched "
-      "families; not a proven optimum)";
+      "families; each plan says whether it is proven the shortest)";
   template <typename T>
   using Shape = Fastest<T>;
   // No time: it chooses the shortest itself.

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: Apache-2.0
+// core::certify_fastest, the proof by LP duality that a move is the shortest of its problem
+// (docs/fastest.md, "A certificate of the shortest move"), on moves whose answer is known without it:
+// the rigid time-optimal move (the textbook answer) is proven, mirrored too; a move that is not the
+// problem's (a switch moved), a longer move of the problem (two moves in a row) and one whose ramps
+// are not at jmax are not. test_fastest_grid.cpp checks proven plans against the LP reference, and
+// tools/fastest-certificate (Python, from the printed plan) is the same check written apart.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "settle/core/planner.hpp"
+#include "settle/core/profiles/fastest.hpp"
+
+namespace {
+
+using namespace settle;
+
+core::FastestTable table(const std::vector<std::pair<double, double>>& segs, double sign = 1.0) {
+  core::FastestTable t{};
+  double a = 0.0, v = 0.0, p = 0.0;
+  for (const auto& [d, j] : segs) {
+    t.durations[t.count] = d;
+    t.accel0[t.count] = a;
+    t.jerk[t.count] = sign * j;
+    ++t.count;
+    p += v * d + a * d * d / 2.0 + sign * j * d * d * d / 6.0;
+    v += a * d + sign * j * d * d / 2.0;
+    a += sign * j * d;
+  }
+  t.distance = p;
+  return t;
+}
+
+// D = 1 m, vmax 1 m/s, amax 2 m/s^2, jmax 10 m/s^3: ramps of 0.2 s, holds at amax of 0.3 s, a cruise
+// of `cruise` s (0.3: at D).
+std::vector<std::pair<double, double>> rigid(double cruise = 0.3, double j = 10.0) {
+  const double tj = 2.0 / j, hold = (1.0 - 2.0 * tj) / 2.0;  // to vmax at amax
+  return {{tj, j}, {hold, 0.0}, {tj, -j}, {cruise, 0.0}, {tj, -j}, {hold, 0.0}, {tj, j}};
+}
+
+core::MoveRequest request(double distance, double jmax = 10.0) {
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::fastest;
+  r.distance = distance;
+  r.limits.vmax = 1.0, r.limits.amax = 2.0, r.limits.jmax = jmax;
+  return r;
+}
+
+TEST(FastestCertificate, TheRigidTimeOptimalMoveIsProvenAndMirroredToo) {
+  const core::FastestCertificate c = core::certify_fastest(table(rigid()), request(1.0));
+  EXPECT_EQ(c.proof, core::FastestProof::proven) << core::to_string(c.proof) << " at " << c.at;
+  EXPECT_LT(std::fabs(c.gap), 1e-9);
+  const core::FastestCertificate m = core::certify_fastest(table(rigid(), -1.0), request(-1.0));
+  EXPECT_EQ(m.proof, core::FastestProof::proven) << core::to_string(m.proof);
+}
+
+TEST(FastestCertificate, AMoveThatIsNotTheProblemsIsRefused) {
+  EXPECT_EQ(core::certify_fastest(table(rigid(0.33)), request(1.0)).proof, core::FastestProof::not_the_problems);
+  EXPECT_EQ(core::certify_fastest(table(rigid()), request(1.0, 9.0)).proof, core::FastestProof::not_the_problems);
+  core::MoveRequest robust = request(1.0);
+  robust.robust = 10.0;
+  EXPECT_EQ(core::certify_fastest(table(rigid()), robust).proof, core::FastestProof::robust);
+}
+
+TEST(FastestCertificate, LongerMovesOfTheProblemAreNotProven) {
+  // Two of the moves in a row, with and without a dwell between: 2 m in 3.4 / 3.5 s, where one move
+  // takes 2.7 s (a cruise of 1.3 s).
+  for (const double dwell : {0.0, 0.1}) {
+    std::vector<std::pair<double, double>> two = rigid();
+    if (dwell > 0.0) two.emplace_back(dwell, 0.0);
+    for (const auto& s : rigid()) two.push_back(s);
+    const core::FastestCertificate c = core::certify_fastest(table(two), request(2.0));
+    EXPECT_NE(c.proof, core::FastestProof::proven) << "dwell " << dwell;
+    EXPECT_NE(c.proof, core::FastestProof::not_the_problems) << "dwell " << dwell;
+  }
+  EXPECT_EQ(core::certify_fastest(table(rigid(1.3)), request(2.0)).proof, core::FastestProof::proven);
+  // Ramps at half the jerk allowed: a move of the problem, not a chain the proof reads.
+  EXPECT_EQ(core::certify_fastest(table(rigid(0.3, 5.0)), request(0.0 + table(rigid(0.3, 5.0)).distance)).proof,
+            core::FastestProof::not_a_chain);
+}
+
+core::FastestCertificate planned(const core::MoveRequest& r, double& duration) {
+  core::Move<double> m{};
+  EXPECT_EQ(core::plan(r, m), core::Status::ok);
+  duration = m.duration();
+  core::FastestCertificate c{};
+  m.profile().visit([&](const auto& shape) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, core::Fastest<double>>) {
+      if (const auto* t = shape.table()) c = core::certify_fastest(t->params(), r);
+    }
+  });
+  return c;
+}
+
+TEST(FastestCertificate, PlansAreProvenOrSayWhereAShorterMoveIs) {
+  // The one-mode reference request (docs/fastest.md): proven.
+  core::MoveRequest r = request(0.1);
+  r.limits.vmax = 1.0, r.limits.amax = 20.0, r.limits.jmax = 800.0;
+  r.set_mode(22.0, 0.0);
+  double t = 0.0;
+  EXPECT_EQ(planned(r, t).proof, core::FastestProof::proven);
+  // Grid case 10: the plan, 4.571279 s, is not proven: the measure on its cruise is negative near
+  // its end (4.4701 s), and the reference at 3000 steps reaches 4.569393 s.
+  core::MoveRequest g{};
+  g.profile = core::ProfileKind::fastest;
+  g.distance = 1.186, g.limits.vmax = 0.2651, g.limits.amax = 91.96, g.limits.jmax = 133.5;
+  g.set_mode(111.724, 0.1981);
+  (void)g.add_mode({156.1497, 0.0737});
+  const core::FastestCertificate c = planned(g, t);
+  EXPECT_EQ(c.proof, core::FastestProof::negative_measure);
+  EXPECT_NEAR(c.at, 4.4701, 1e-3);
+  EXPECT_GT(t, 4.569393);
+}
+
+}  // namespace
