@@ -16,7 +16,7 @@ namespace settle::app {
 
 namespace {
 
-void print_text(const core::Move<double>& m) {
+void print_text(const core::Move<double>& m, const Json& shortest) {
   std::printf("profile      %s\n", core::to_string(m.profile().kind()));
   if (const std::string f = plant::profile_family(m.profile()); !f.empty()) std::printf("family       %s\n", f.c_str());
   std::printf("distance     %.9g\n", m.distance());
@@ -29,6 +29,16 @@ void print_text(const core::Move<double>& m) {
               show(pk.j).c_str());
   if (pk.velocity_step) std::printf("note         the command steps in velocity at start and end\n");
   if (pk.acceleration_step) std::printf("note         the command steps in acceleration\n");
+  if (!shortest.is_null()) {
+    if (shortest["proven"].get<bool>()) {
+      std::printf("shortest     proven (LP duality; docs/fastest.md)\n");
+    } else if (!shortest["at"].is_null()) {
+      std::printf("shortest     not proven: %s at %.9g s\n", shortest["reason"].get<std::string>().c_str(),
+                  shortest["at"].get<double>());
+    } else {
+      std::printf("shortest     not proven: %s\n", shortest["reason"].get<std::string>().c_str());
+    }
+  }
   if (!m.shaper().is_identity()) {
     std::printf("shaper       %zu impulses\n", m.shaper().count);
     for (std::size_t i = 0; i < m.shaper().count; ++i) {
@@ -49,7 +59,7 @@ void print_axes_text(const core::MultiAxisPlan& p, const Json& j) {
       std::printf(" (omega %.7g, zeta %.5g)", p.path_mode(k).omega, p.path_mode(k).zeta);
     }
     std::printf("\n");
-    print_text(p.path());
+    print_text(p.path(), Json(nullptr));
   }
   for (std::size_t i = 0; i < p.count(); ++i) {
     const auto& pk = p.peaks(i);
@@ -57,7 +67,7 @@ void print_axes_text(const core::MultiAxisPlan& p, const Json& j) {
     std::printf("axis %zu       distance %.9g  peak |v| %s  |a| %s  |j| %s  line dev. %.3e\n", i + 1, p.distance(i),
                 show(pk.v).c_str(), show(pk.a).c_str(), show(pk.j).c_str(),
                 j["axis"][i]["line_deviation"].get<double>());
-    if (p.sync() == core::SyncMode::time) print_text(p.axis_move(i));
+    if (p.sync() == core::SyncMode::time) print_text(p.axis_move(i), Json(nullptr));
   }
 }
 
@@ -105,12 +115,13 @@ int cmd_plan(int argc, char** argv) {
   if (!plan_move(req, move, err)) return report_bad_request(err, args.json());
   Json j = plan_json(move);
   j["request"] = request_json(req);  // what --plan-from plans again (stream, sample, export)
+  if (Json s = shortest_json(move, req); !s.is_null()) j["shortest"] = s;
   if (png && all_finite(j)) {
     // 2000 samples over the move: every switch of a jerk table stays visible.
     const double dt = move.duration() > 0.0 ? move.duration() / 2000.0 : 1e-3;
     if (const int rc = write_move_png(args, move, dt, "plan", *png); rc != kExitOk) return rc;
   }
-  return emit(args, j, [&] { print_text(move); });
+  return emit(args, j, [&] { print_text(move, j.contains("shortest") ? j["shortest"] : Json(nullptr)); });
 }
 
 }  // namespace settle::app

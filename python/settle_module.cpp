@@ -158,8 +158,9 @@ core::MoveRequest move_request(const py::kwargs& kw) {
 // The keyword a planner status is about: the CLI's option without its dashes.
 const char* keyword_of(core::Status s, const core::MoveRequest& r) { return plant::option_of(s, r) + 2; }
 
-core::Move<double> planned(const py::kwargs& kw) {
+core::Move<double> planned(const py::kwargs& kw, core::MoveRequest* request = nullptr) {
   const core::MoveRequest req = move_request(kw);
+  if (request) *request = req;
   core::Move<double> move{};
   if (const core::Status st = core::plan(req, move); st != core::Status::ok) {
     bad(keyword_of(st, req), plant::reason_of(st, req) + " [" + core::to_string(st) + "]");
@@ -180,7 +181,8 @@ py::dict profile_params(const core::Profile<double>& prof) {
 
 py::dict plan(const py::kwargs& kw) {
   check_keywords(kw, {});
-  const core::Move<double> m = planned(kw);
+  core::MoveRequest req{};
+  const core::Move<double> m = planned(kw, &req);
   const auto& pk = m.peaks();
   py::list impulses;
   for (std::size_t i = 0; i < m.shaper().count; ++i) {
@@ -194,6 +196,14 @@ py::dict plan(const py::kwargs& kw) {
                "shaper"_a = py::dict("impulses"_a = impulses));
   // The family that won, for a profile that plans several (fastest), as `settle plan` reports it.
   if (const std::string family = plant::profile_family(m.profile()); !family.empty()) out["family"] = family;
+  // Whether a `fastest` move is proven the shortest, as `settle plan` reports it ("shortest").
+  if (const auto c = plant::shortest_proof(m, req)) {
+    const bool located = core::located(c->proof);
+    out["shortest"] = py::dict("proven"_a = c->proof == core::FastestProof::proven, "reason"_a = core::to_string(c->proof),
+                               "at"_a = located ? py::object(py::float_(c->at)) : py::object(py::none()),
+                               "gap"_a = c->proof == core::FastestProof::proven || located ? py::object(py::float_(c->gap))
+                                                                                          : py::object(py::none()));
+  }
   return out;
 }
 

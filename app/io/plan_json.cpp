@@ -55,6 +55,18 @@ Json plan_json(const core::Move<double>& m) {
   return j;
 }
 
+Json shortest_json(const core::Move<double>& m, const core::MoveRequest& r) {
+  const std::optional<core::FastestCertificate> c = plant::shortest_proof(m, r);
+  if (!c) return Json(nullptr);
+  Json j;
+  j["proven"] = c->proof == core::FastestProof::proven;
+  j["reason"] = core::to_string(c->proof);
+  const bool located = core::located(c->proof);
+  j["at"] = located ? Json(c->at) : Json(nullptr);
+  j["gap"] = c->proof == core::FastestProof::proven || located ? Json(c->gap) : Json(nullptr);
+  return j;
+}
+
 Json axes_json(const core::MultiAxisPlan& p, const core::MultiAxisRequest& r) {
   Json j;
   j["status"] = "ok";

@@ -16,6 +16,11 @@ namespace settle::app {
 // null, and flagged; any other non-finite number makes the plan unreportable (all_finite).
 [[nodiscard]] Json plan_json(const core::Move<double>& m);
 
+// A `fastest` move's proof of being the shortest of its problem (core::certify_fastest,
+// docs/fastest.md "A certificate of the shortest move"): {"proven", "reason", "at" (s, null when
+// proven), "gap"}; null for any other profile or a shaped move.
+[[nodiscard]] Json shortest_json(const core::Move<double>& m, const core::MoveRequest& r);
+
 // Peaks as plan_json reports them (an impulse null, and flagged).
 [[nodiscard]] Json peaks_json(const core::Peaks<double>& pk);
 

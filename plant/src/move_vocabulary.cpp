@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <type_traits>
 
 namespace settle::plant {
 
@@ -74,6 +75,17 @@ std::string profile_family(const core::Profile<double>& prof) {
     if constexpr (requires { to_string(shape.family()); }) out = to_string(shape.family());
   });
   return out;
+}
+
+std::optional<core::FastestCertificate> shortest_proof(const core::Move<double>& m, const core::MoveRequest& r) {
+  if (r.profile != core::ProfileKind::fastest || !m.shaper().is_identity()) return std::nullopt;
+  core::FastestCertificate c{};  // a ramp-cycloid move: not a chain of ramps and holds
+  m.profile().visit([&](const auto& shape) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, core::Fastest<double>>) {
+      if (const auto* t = shape.table()) c = core::certify_fastest(t->params(), r);
+    }
+  });
+  return c;
 }
 
 std::string profiles_using(core::Param p) {

@@ -4,6 +4,7 @@
 // Python module (as keywords, the options without their dashes): the profiles' names (core's
 // registry), the shapers a request may name, each profile's parameters as named numbers, and the
 // option a planner refusal is about.
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -66,6 +67,10 @@ struct ShaperName {
 [[nodiscard]] std::vector<std::pair<std::string, double>> profile_params(const core::Profile<double>& prof);
 // The family that won, for a profile that plans several (`fastest`); "" for the others.
 [[nodiscard]] std::string profile_family(const core::Profile<double>& prof);
+// Whether a `fastest` move is proven the shortest of its request's problem (core::certify_fastest;
+// a ramp-cycloid move is not a chain the proof reads); nullopt for another profile or a shaped move.
+[[nodiscard]] std::optional<core::FastestCertificate> shortest_proof(const core::Move<double>& m,
+                                                                     const core::MoveRequest& r);
 
 // The modes a move is designed for, as --omega and --zeta give them (repeated, in order): they
 // replace the request's modes (none when no omega is given). Several only for profile `fastest`
