@@ -475,8 +475,21 @@ Status online_limits(const OptionalLimits& limits, const Peaks<double>& pk, cons
   return Status::ok;
 }
 
-Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
-                      const OnlineLimits& limits, std::optional<double> target, OnlineRequest& out) noexcept {
+namespace {
+// A mode a change keeps: finite, omega > 0, 0 <= zeta < 1.
+Status check_mode(const Mode& md) noexcept {
+  if (!std::isfinite(md.omega) || !std::isfinite(md.zeta)) return Status::non_finite_input;
+  if (!(md.omega > 0.0)) return Status::non_positive_omega;
+  if (!(md.zeta >= 0.0 && md.zeta < 1.0)) return Status::zeta_out_of_range;
+  return Status::ok;
+}
+
+// The request of a change of move m at t (both online_request overloads): memories(i, at_switch,
+// at_end) gives mode i's memory at the switch and at the move's end.
+template <typename Memories>
+Status move_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
+                    const OnlineLimits& limits, std::optional<double> target, Memories&& memories,
+                    OnlineRequest& out) noexcept {
   if (!std::isfinite(t) || (target && !std::isfinite(*target))) return Status::non_finite_input;
   if (mode_count > kMaxOnlineModes) return Status::unsupported_request;
   OnlineRequest r{};
@@ -485,19 +498,49 @@ Status online_request(const Move<double>& m, double t, const Mode* modes, std::s
   r.limits = limits;
   r.target = target;
   r.mode_count = mode_count;
-  // Each mode's memory at the switch and at the move's end (whether it ends at rest), in one pass.
-  std::array<ModeMemory, kMaxOnlineModes> at_end{};
+  EndMemory at_end{};
   for (std::size_t i = 0; i < mode_count; ++i) {
-    if (!std::isfinite(modes[i].omega) || !std::isfinite(modes[i].zeta)) return Status::non_finite_input;
-    if (!(modes[i].omega > 0.0)) return Status::non_positive_omega;
-    if (!(modes[i].zeta >= 0.0 && modes[i].zeta < 1.0)) return Status::zeta_out_of_range;
+    if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
     r.modes[i] = modes[i];
-    detail::mode_memory_pair(m, t, m.duration(), modes[i], r.memory[i], at_end[i]);
+    memories(i, r.memory[i], at_end[i]);
   }
   r.running = running_of(m.distance(), 0.0, m.duration() - std::max(t, 0.0), mode_count,
                          [&](std::size_t i) { return at_end[i]; });
   out = r;
   return Status::ok;
+}
+}  // namespace
+
+Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
+                      const OnlineLimits& limits, std::optional<double> target, OnlineRequest& out) noexcept {
+  // Each mode's memory at the switch and at the move's end, in one pass.
+  return move_request(m, t, modes, mode_count, limits, target,
+                      [&](std::size_t i, ModeMemory& q, ModeMemory& e) {
+                        detail::mode_memory_pair(m, t, m.duration(), modes[i], q, e);
+                      },
+                      out);
+}
+
+Status end_memory(const Move<double>& m, const Mode* modes, std::size_t mode_count, EndMemory& out) noexcept {
+  if (mode_count > kMaxOnlineModes) return Status::unsupported_request;
+  EndMemory e{};
+  for (std::size_t i = 0; i < mode_count; ++i) {
+    if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
+    e[i] = mode_memory(m, m.duration(), modes[i]);
+  }
+  out = e;
+  return Status::ok;
+}
+
+Status online_request(const Move<double>& m, const EndMemory& at_end, double t, const Mode* modes,
+                      std::size_t mode_count, const OnlineLimits& limits, std::optional<double> target,
+                      OnlineRequest& out) noexcept {
+  return move_request(m, t, modes, mode_count, limits, target,
+                      [&](std::size_t i, ModeMemory& q, ModeMemory& e) {
+                        q = mode_memory(m, t, modes[i]);
+                        e = at_end[i];
+                      },
+                      out);
 }
 
 namespace {
@@ -514,13 +557,8 @@ Status check_request(const OnlineRequest& r, bool& at_rest) noexcept {
   if (r.mode_count > kMaxOnlineModes) return Status::unsupported_request;
   at_rest = r.start.v == 0.0 && r.start.a == 0.0 && (!r.target || *r.target == r.start.p);
   for (std::size_t i = 0; i < r.mode_count; ++i) {
-    const Mode& m = r.modes[i];
-    if (!std::isfinite(m.omega) || !std::isfinite(m.zeta) || !std::isfinite(r.memory[i].re) ||
-        !std::isfinite(r.memory[i].im)) {
-      return Status::non_finite_input;
-    }
-    if (!(m.omega > 0.0)) return Status::non_positive_omega;
-    if (!(m.zeta >= 0.0 && m.zeta < 1.0)) return Status::zeta_out_of_range;
+    if (!std::isfinite(r.memory[i].re) || !std::isfinite(r.memory[i].im)) return Status::non_finite_input;
+    if (const Status st = check_mode(r.modes[i]); st != Status::ok) return st;
     // A memory this small is rounding of an exactly cancelled one (a finished zero-residual move).
     at_rest = at_rest && std::hypot(r.memory[i].re, r.memory[i].im) <= 1e-13 * std::fabs(r.start.p);
   }
