@@ -315,9 +315,9 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       gram[i][l] = s;  // the lower triangle: all that cholesky reads
     }
   }
-  std::array<double, n> jerk{};
+  std::array<double, n> jerk;  // NOLINT: every pass sets all of it
   for (int pin = 0;; ++pin) {
-    std::array<double, n> x{};
+    std::array<double, n> x;  // NOLINT: the first pass sets it
     std::array<double, kMaxRows> res = rhs;
     double rhs_norm = 0.0;
     for (std::size_t i = 0; i < rows; ++i) rhs_norm = std::max(rhs_norm, std::fabs(rhs[i]));
@@ -329,12 +329,17 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       std::array<double, kMaxRows> y = res;
       factor_solve(chol, rows, y);
       // Column k's sum over i, for every k at once.
-      std::array<double, n> s{};
-      for (std::size_t i = 0; i < rows; ++i) {
+      std::array<double, n> s;  // NOLINT: set by the first row
+      for (std::size_t k = 0; k < n; ++k) s[k] = mat[0][k] * y[0];
+      for (std::size_t i = 1; i < rows; ++i) {
         const double yi = y[i];
         for (std::size_t k = 0; k < n; ++k) s[k] += mat[i][k] * yi;
       }
-      if (unit) {
+      if (pass == 0 && unit) {
+        for (std::size_t k = 0; k < n; ++k) x[k] = s[k] * sw[k];
+      } else if (pass == 0) {
+        for (std::size_t k = 0; k < n; ++k) x[k] = s[k] * sw[k] * sw[k];
+      } else if (unit) {
         for (std::size_t k = 0; k < n; ++k) x[k] += s[k] * sw[k];
       } else {
         for (std::size_t k = 0; k < n; ++k) x[k] += s[k] * sw[k] * sw[k];
@@ -605,7 +610,8 @@ struct BlendFamily {
   int last{0};
   int tries{0};
   explicit BlendFamily(const OnlineRequest& req) noexcept;
-  // Whether a blend of duration t meets the request within the limits; its jerks go to sol.
+  // Whether a blend of duration t meets the request within the limits; its jerks go to sol (which
+  // holds anything when it does not).
   bool feasible(double t, Solved& sol) noexcept;
 };
 
@@ -652,15 +658,13 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
     } else if (c == 1) {
       sample_brake(soft, h, ref);
     }
-    Solved s{};
     const int pins = tries > 1 ? 0 : kPinPasses;
     const bool unit = c == 1 || c == 2;
     if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, braking, unit, l.jmax,
-                   pins, s)) {
+                   pins, sol)) {
       continue;
     }
-    if (!blend_within(r->start, h, s.jerk, l)) continue;
-    sol = s;
+    if (!blend_within(r->start, h, sol.jerk, l)) continue;
     last = c;
     return true;
   }
