@@ -489,11 +489,11 @@ Status check_mode(const Mode& md) noexcept {
   return Status::ok;
 }
 
-// The request of a change of move m at t (both online_request overloads): memories(i, at_switch,
-// at_end) gives mode i's memory at the switch and at the move's end.
-template <typename Memories>
+// The request of a change of move m at t (both online_request overloads): each mode's memory at
+// the switch, and at the move's end from `at_end` (end_memory's) or, without it, integrated
+// together with the one at the switch (one pass).
 Status move_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
-                    const OnlineLimits& limits, std::optional<double> target, Memories&& memories,
+                    const OnlineLimits& limits, std::optional<double> target, const EndMemory* at_end,
                     OnlineRequest& out) noexcept {
   if (!std::isfinite(t) || (target && !std::isfinite(*target))) return Status::non_finite_input;
   if (mode_count > kMaxOnlineModes) return Status::unsupported_request;
@@ -503,14 +503,19 @@ Status move_request(const Move<double>& m, double t, const Mode* modes, std::siz
   r.limits = limits;
   r.target = target;
   r.mode_count = mode_count;
-  EndMemory at_end{};
+  EndMemory end{};
   for (std::size_t i = 0; i < mode_count; ++i) {
     if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
     r.modes[i] = modes[i];
-    memories(i, r.memory[i], at_end[i]);
+    if (at_end != nullptr) {
+      r.memory[i] = mode_memory(m, t, modes[i]);
+      end[i] = (*at_end)[i];
+    } else {
+      detail::mode_memory_pair(m, t, m.duration(), modes[i], r.memory[i], end[i]);
+    }
   }
   r.running = running_of(m.distance(), 0.0, m.duration() - std::max(t, 0.0), mode_count,
-                         [&](std::size_t i) { return at_end[i]; });
+                         [&](std::size_t i) { return end[i]; });
   out = r;
   return Status::ok;
 }
@@ -518,12 +523,7 @@ Status move_request(const Move<double>& m, double t, const Mode* modes, std::siz
 
 Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
                       const OnlineLimits& limits, std::optional<double> target, OnlineRequest& out) noexcept {
-  // Each mode's memory at the switch and at the move's end, in one pass.
-  return move_request(m, t, modes, mode_count, limits, target,
-                      [&](std::size_t i, ModeMemory& q, ModeMemory& e) {
-                        detail::mode_memory_pair(m, t, m.duration(), modes[i], q, e);
-                      },
-                      out);
+  return move_request(m, t, modes, mode_count, limits, target, nullptr, out);
 }
 
 Status end_memory(const Move<double>& m, const Mode* modes, std::size_t mode_count, EndMemory& out) noexcept {
@@ -540,12 +540,7 @@ Status end_memory(const Move<double>& m, const Mode* modes, std::size_t mode_cou
 Status online_request(const Move<double>& m, const EndMemory& at_end, double t, const Mode* modes,
                       std::size_t mode_count, const OnlineLimits& limits, std::optional<double> target,
                       OnlineRequest& out) noexcept {
-  return move_request(m, t, modes, mode_count, limits, target,
-                      [&](std::size_t i, ModeMemory& q, ModeMemory& e) {
-                        q = mode_memory(m, t, modes[i]);
-                        e = at_end[i];
-                      },
-                      out);
+  return move_request(m, t, modes, mode_count, limits, target, &at_end, out);
 }
 
 namespace {
