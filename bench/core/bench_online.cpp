@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The cost of planning an online change (issue 17): a halt or a retarget of a running move, from
-// its state at a tick: the mode memory of the running move plus the blend's search. The target is
+// its state at a tick: the mode memory of the running move plus the blend's search (its memory at
+// its end taken once per move, as the servo loop takes it at submit: online_setup.hpp). The target is
 // <= 20 us on the host, so that a halt asked for in one 1 kHz tick is ready for the next.
 #include <benchmark/benchmark.h>
 

@@ -315,9 +315,9 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       gram[i][l] = s;  // the lower triangle: all that cholesky reads
     }
   }
-  std::array<double, n> jerk{};
+  std::array<double, n> jerk;  // NOLINT: every pass sets all of it
   for (int pin = 0;; ++pin) {
-    std::array<double, n> x{};
+    std::array<double, n> x;  // NOLINT: the first pass sets it
     std::array<double, kMaxRows> res = rhs;
     double rhs_norm = 0.0;
     for (std::size_t i = 0; i < rows; ++i) rhs_norm = std::max(rhs_norm, std::fabs(rhs[i]));
@@ -329,12 +329,17 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       std::array<double, kMaxRows> y = res;
       factor_solve(chol, rows, y);
       // Column k's sum over i, for every k at once.
-      std::array<double, n> s{};
-      for (std::size_t i = 0; i < rows; ++i) {
+      std::array<double, n> s;  // NOLINT: set by the first row
+      for (std::size_t k = 0; k < n; ++k) s[k] = mat[0][k] * y[0];
+      for (std::size_t i = 1; i < rows; ++i) {
         const double yi = y[i];
         for (std::size_t k = 0; k < n; ++k) s[k] += mat[i][k] * yi;
       }
-      if (unit) {
+      if (pass == 0 && unit) {
+        for (std::size_t k = 0; k < n; ++k) x[k] = s[k] * sw[k];
+      } else if (pass == 0) {
+        for (std::size_t k = 0; k < n; ++k) x[k] = s[k] * sw[k] * sw[k];
+      } else if (unit) {
         for (std::size_t k = 0; k < n; ++k) x[k] += s[k] * sw[k];
       } else {
         for (std::size_t k = 0; k < n; ++k) x[k] += s[k] * sw[k] * sw[k];
@@ -475,8 +480,21 @@ Status online_limits(const OptionalLimits& limits, const Peaks<double>& pk, cons
   return Status::ok;
 }
 
-Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
-                      const OnlineLimits& limits, std::optional<double> target, OnlineRequest& out) noexcept {
+namespace {
+// A mode a change keeps: finite, omega > 0, 0 <= zeta < 1.
+Status check_mode(const Mode& md) noexcept {
+  if (!std::isfinite(md.omega) || !std::isfinite(md.zeta)) return Status::non_finite_input;
+  if (!(md.omega > 0.0)) return Status::non_positive_omega;
+  if (!(md.zeta >= 0.0 && md.zeta < 1.0)) return Status::zeta_out_of_range;
+  return Status::ok;
+}
+
+// The request of a change of move m at t (both online_request overloads): each mode's memory at
+// the switch, and at the move's end from `at_end` (end_memory's) or, without it, integrated
+// together with the one at the switch (one pass).
+Status move_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
+                    const OnlineLimits& limits, std::optional<double> target, const EndMemory* at_end,
+                    OnlineRequest& out) noexcept {
   if (!std::isfinite(t) || (target && !std::isfinite(*target))) return Status::non_finite_input;
   if (mode_count > kMaxOnlineModes) return Status::unsupported_request;
   OnlineRequest r{};
@@ -485,19 +503,44 @@ Status online_request(const Move<double>& m, double t, const Mode* modes, std::s
   r.limits = limits;
   r.target = target;
   r.mode_count = mode_count;
-  // Each mode's memory at the switch and at the move's end (whether it ends at rest), in one pass.
-  std::array<ModeMemory, kMaxOnlineModes> at_end{};
+  EndMemory end{};
   for (std::size_t i = 0; i < mode_count; ++i) {
-    if (!std::isfinite(modes[i].omega) || !std::isfinite(modes[i].zeta)) return Status::non_finite_input;
-    if (!(modes[i].omega > 0.0)) return Status::non_positive_omega;
-    if (!(modes[i].zeta >= 0.0 && modes[i].zeta < 1.0)) return Status::zeta_out_of_range;
+    if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
     r.modes[i] = modes[i];
-    detail::mode_memory_pair(m, t, m.duration(), modes[i], r.memory[i], at_end[i]);
+    if (at_end != nullptr) {
+      r.memory[i] = mode_memory(m, t, modes[i]);
+      end[i] = (*at_end)[i];
+    } else {
+      detail::mode_memory_pair(m, t, m.duration(), modes[i], r.memory[i], end[i]);
+    }
   }
   r.running = running_of(m.distance(), 0.0, m.duration() - std::max(t, 0.0), mode_count,
-                         [&](std::size_t i) { return at_end[i]; });
+                         [&](std::size_t i) { return end[i]; });
   out = r;
   return Status::ok;
+}
+}  // namespace
+
+Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
+                      const OnlineLimits& limits, std::optional<double> target, OnlineRequest& out) noexcept {
+  return move_request(m, t, modes, mode_count, limits, target, nullptr, out);
+}
+
+Status end_memory(const Move<double>& m, const Mode* modes, std::size_t mode_count, EndMemory& out) noexcept {
+  if (mode_count > kMaxOnlineModes) return Status::unsupported_request;
+  EndMemory e{};
+  for (std::size_t i = 0; i < mode_count; ++i) {
+    if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
+    e[i] = mode_memory(m, m.duration(), modes[i]);
+  }
+  out = e;
+  return Status::ok;
+}
+
+Status online_request(const Move<double>& m, const EndMemory& at_end, double t, const Mode* modes,
+                      std::size_t mode_count, const OnlineLimits& limits, std::optional<double> target,
+                      OnlineRequest& out) noexcept {
+  return move_request(m, t, modes, mode_count, limits, target, &at_end, out);
 }
 
 namespace {
@@ -514,13 +557,8 @@ Status check_request(const OnlineRequest& r, bool& at_rest) noexcept {
   if (r.mode_count > kMaxOnlineModes) return Status::unsupported_request;
   at_rest = r.start.v == 0.0 && r.start.a == 0.0 && (!r.target || *r.target == r.start.p);
   for (std::size_t i = 0; i < r.mode_count; ++i) {
-    const Mode& m = r.modes[i];
-    if (!std::isfinite(m.omega) || !std::isfinite(m.zeta) || !std::isfinite(r.memory[i].re) ||
-        !std::isfinite(r.memory[i].im)) {
-      return Status::non_finite_input;
-    }
-    if (!(m.omega > 0.0)) return Status::non_positive_omega;
-    if (!(m.zeta >= 0.0 && m.zeta < 1.0)) return Status::zeta_out_of_range;
+    if (!std::isfinite(r.memory[i].re) || !std::isfinite(r.memory[i].im)) return Status::non_finite_input;
+    if (const Status st = check_mode(r.modes[i]); st != Status::ok) return st;
     // A memory this small is rounding of an exactly cancelled one (a finished zero-residual move).
     at_rest = at_rest && std::hypot(r.memory[i].re, r.memory[i].im) <= 1e-13 * std::fabs(r.start.p);
   }
@@ -567,7 +605,8 @@ struct BlendFamily {
   int last{0};
   int tries{0};
   explicit BlendFamily(const OnlineRequest& req) noexcept;
-  // Whether a blend of duration t meets the request within the limits; its jerks go to sol.
+  // Whether a blend of duration t meets the request within the limits; its jerks go to sol (which
+  // holds anything when it does not).
   bool feasible(double t, Solved& sol) noexcept;
 };
 
@@ -614,15 +653,13 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
     } else if (c == 1) {
       sample_brake(soft, h, ref);
     }
-    Solved s{};
     const int pins = tries > 1 ? 0 : kPinPasses;
     const bool unit = c == 1 || c == 2;
     if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, braking, unit, l.jmax,
-                   pins, s)) {
+                   pins, sol)) {
       continue;
     }
-    if (!blend_within(r->start, h, s.jerk, l)) continue;
-    sol = s;
+    if (!blend_within(r->start, h, sol.jerk, l)) continue;
     last = c;
     return true;
   }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <cstring>
 #include <random>
 
 #include "mode_sim.hpp"
@@ -158,7 +159,8 @@ TEST(ModeMemory, MatchesTheModeStateIntegratedAlongTheMove) {
 
 TEST(ModeMemory, TheRequestTakesItAtTheSwitchAndAtTheEndInOnePass) {
   // online_request integrates each mode's memory at the switch and at the move's end together
-  // (the pieces that end before both summed once): each the same to the bit as mode_memory's.
+  // (the pieces that end before both summed once): each the same to the bit as mode_memory's; and
+  // given the end memory taken beforehand (end_memory), the same request.
   Gen g{std::mt19937_64{3636}};
   int ringing = 0;
   for (int n = 0; n < 60; ++n) {
@@ -177,6 +179,18 @@ TEST(ModeMemory, TheRequestTakesItAtTheSwitchAndAtTheEndInOnePass) {
       ASSERT_TRUE(r.running.has_value());
       EXPECT_EQ(r.running->at_rest, at_rest) << "case " << n;
       ringing += at_rest ? 0 : 1;
+      // With the end memory taken once per move (end_memory, as the servo loop takes it at submit):
+      // the same request to the bit.
+      core::EndMemory e{};
+      ASSERT_EQ(core::end_memory(c.move, c.modes.data(), c.mode_count, e), Status::ok);
+      core::OnlineRequest once{};
+      ASSERT_EQ(core::online_request(c.move, e, t, c.modes.data(), c.mode_count, c.limits, std::nullopt, once), Status::ok);
+      EXPECT_EQ(std::memcmp(&once.start, &r.start, sizeof once.start), 0) << "case " << n;
+      EXPECT_EQ(std::memcmp(once.memory.data(), r.memory.data(), sizeof once.memory), 0) << "case " << n;
+      ASSERT_TRUE(once.running.has_value());
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(once.running->remaining), std::bit_cast<std::uint64_t>(r.running->remaining));
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(once.running->end), std::bit_cast<std::uint64_t>(r.running->end));
+      EXPECT_EQ(once.running->at_rest, r.running->at_rest) << "case " << n;
     }
   }
   EXPECT_GT(ringing, 0);  // some moves are not designed for every mode drawn

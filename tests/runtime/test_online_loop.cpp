@@ -199,20 +199,27 @@ TEST(ServoLoopOnline, HaltSwitchesAtItsSetpointAndStopsWhereTheBlendEnds) { run_
 // A halt whose best is to finish the move (core::OnlineChoice::finish, issue 36: no blend stops
 // short of the target before the move's end) is no switch: the loop streams the move unchanged to
 // its end, counts the finish, and voids the move queued behind it, as after a blend.
+namespace {
+// The first setpoint index at which core chooses to finish a halt of m (the loop plans the same
+// request); 0 if none does.
+std::int32_t first_finish(const core::Move<double>& m, const runtime::OnlineConfig& c) {
+  for (std::int32_t i = 10; i < 500; ++i) {
+    core::OnlineRequest q{};
+    EXPECT_EQ(core::online_request(m, i * 1e-3, c.modes.data(), c.mode_count, c.limits, std::nullopt, q),
+              core::Status::ok);
+    core::OnlinePlan p{};
+    EXPECT_EQ(core::plan_online(q, p), core::Status::ok);
+    if (p.choice == core::OnlineChoice::finish) return i;
+  }
+  return 0;
+}
+}  // namespace
+
 TEST(ServoLoopOnline, AHaltThatFinishesTheMoveStreamsItUnchangedAndVoidsTheQueue) {
   const core::MoveRequest req = scurve(0.1, 0.5);
   const core::Move<double> m = planned(req);
   const runtime::OnlineConfig c = online_config(m);
-  // The first setpoint index at which core chooses to finish (the loop plans the same request).
-  std::int32_t k = 0;
-  for (std::int32_t i = 10; i < 500 && k == 0; ++i) {
-    core::OnlineRequest q{};
-    ASSERT_EQ(core::online_request(m, i * 1e-3, c.modes.data(), c.mode_count, c.limits, std::nullopt, q),
-              core::Status::ok);
-    core::OnlinePlan p{};
-    ASSERT_EQ(core::plan_online(q, p), core::Status::ok);
-    if (p.choice == core::OnlineChoice::finish) k = i;
-  }
+  const std::int32_t k = first_finish(m, c);
   ASSERT_GT(k, 0) << "no halt index of the S-curve chooses to finish";
   Rig<> r;
   ASSERT_EQ(r.loop.configure_online(0, c), runtime::LoopStatus::ok);
@@ -238,6 +245,39 @@ TEST(ServoLoopOnline, AHaltThatFinishesTheMoveStreamsItUnchangedAndVoidsTheQueue
 }
 
 TEST(ServoLoopOnline, RetargetSwitchesAtItsSetpointAndEndsOnTheNewTarget) { run_change(0.04); }
+
+// A queued move's memory at its end (whether finishing it leaves the modes at rest) is taken at
+// submit for the axis's online configuration; a move queued before the axis was configured, or
+// configured for other modes, is halted for the modes configured since: the S-curve designed for
+// kOmega rings on 3 kOmega (no finish there), and its halt at the first index where core finishes
+// it for kOmega finishes it.
+TEST(ServoLoopOnline, AMoveQueuedBeforeItsAxisWasConfiguredIsHaltedForTheModesConfiguredSince) {
+  const core::MoveRequest req = scurve(0.1, 0.5);
+  const core::Move<double> m = planned(req);
+  const runtime::OnlineConfig c = online_config(m);
+  runtime::OnlineConfig other = c;
+  other.modes[0] = {3.0 * kOmega, 0.0};
+  const std::int32_t k = first_finish(m, c);
+  ASSERT_GT(k, 0) << "no halt index of the S-curve chooses to finish";
+  core::EndMemory e{};
+  ASSERT_EQ(core::end_memory(m, other.modes.data(), 1, e), core::Status::ok);
+  ASSERT_GT(std::hypot(e[0].re, e[0].im), 1e-6 * 0.1) << "the move must ring on the other mode";
+  for (const bool configured_before : {false, true}) {
+    Rig<> r;
+    if (configured_before) {
+      ASSERT_EQ(r.loop.configure_online(0, other), runtime::LoopStatus::ok);
+    }
+    ASSERT_EQ(r.loop.submit(0, req), runtime::LoopStatus::ok);
+    ASSERT_EQ(r.loop.configure_online(0, c), runtime::LoopStatus::ok);
+    for (std::int32_t i = 0; i < k - runtime::kOnlineLeadTicks; ++i) r.tick();
+    ASSERT_TRUE(r.loop.halt(0));
+    ASSERT_EQ(r.loop.service(), runtime::LoopStatus::ok);
+    for (int i = 0; i < 3000 && !r.loop.idle(); ++i) r.tick();
+    EXPECT_EQ(r.loop.online_finishes(0), 1u) << configured_before;
+    EXPECT_EQ(r.loop.online_switches(0), 0u) << configured_before;
+  }
+}
+
 
 TEST(ServoLoopOnline, FloatHaltStreamsTheBlendInFloat) { run_change<FloatLoop>(std::nullopt); }
 TEST(ServoLoopOnline, FloatRetargetStreamsTheBlendInFloat) { run_change<FloatLoop>(0.04); }

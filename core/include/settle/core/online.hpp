@@ -224,9 +224,24 @@ struct OnlinePlan {
 
 // Convenience: the request of a halt (target none) or a retarget (target = new distance from the
 // move's start) of the running move `m` at time t on its clock, for the given modes; `running` is
-// the move's remainder (from its start 0 to its distance, at its duration).
+// the move's remainder (from its start 0 to its distance, at its duration). Each mode's memory at
+// the switch and at the move's end (whether it ends at rest) is integrated, in one pass.
 [[nodiscard]] Status online_request(const Move<double>& m, double t, const Mode* modes, std::size_t mode_count,
                                     const OnlineLimits& limits, std::optional<double> target,
+                                    OnlineRequest& out) noexcept;
+
+// Each mode's memory at the end of a move: at_end[i] is mode_memory(m, m.duration(), modes[i]) for
+// i < mode_count (whether finishing the move leaves the mode at rest). It does not depend on the
+// switch time: a caller that keeps moves to change later (the servo loop's queue) or changes one
+// move at many times takes it once per move (end_memory) and passes it to online_request.
+using EndMemory = std::array<ModeMemory, kMaxOnlineModes>;
+// The modes are refused as online_request refuses them (out untouched).
+[[nodiscard]] Status end_memory(const Move<double>& m, const Mode* modes, std::size_t mode_count,
+                                EndMemory& out) noexcept;
+// The same request as above, to the bit, given at_end = end_memory(m, modes, mode_count) (or of
+// more modes with these first): only the memory at the switch is integrated.
+[[nodiscard]] Status online_request(const Move<double>& m, const EndMemory& at_end, double t, const Mode* modes,
+                                    std::size_t mode_count, const OnlineLimits& limits, std::optional<double> target,
                                     OnlineRequest& out) noexcept;
 
 // A blend's own mode memory: Q at u on the clock of blend `b`, of the command that reached the

@@ -92,6 +92,17 @@ struct OnlineConfig {
   bool path{false};
 };
 
+// A queued move as its changes need it: the move as planned (its state and mode memory at a
+// switch) and each configured mode's memory at its end (core::end_memory: whether finishing it
+// leaves the mode at rest), which no switch time changes: taken once, at submit, for the axis's
+// online configuration `config` (OnlineSlot::config_serial; 0: none), and again by a change only
+// if the axis was configured since.
+struct OnlineQueued {
+  core::Move<double> move{};
+  core::EndMemory end{};
+  std::uint32_t config{0};
+};
+
 // Per-axis state of online changes. `ready` hands the blend from service() (which writes its slot,
 // switch_index, from_blend and blend_serial first) to the tick (which reads them only after seeing
 // ready = 1, and sets it back to 0 when it has switched or discarded it). Two slots: a second
@@ -101,6 +112,7 @@ struct OnlineSlot {
   OnlineMailbox<4> mailbox{};
   OnlineConfig config{};
   bool configured{false};
+  std::uint32_t config_serial{0};  // configure_online's calls: which configuration an end memory is for
   std::array<core::OnlineRequest, 2> request{};  // what each slot's blend was planned from (its start's memory)
   std::array<core::Blend, 2> blend{};            // as planned, in double (service()'s)
   std::array<typename Evaluation::BlendStored, 2> evaluated{};  // the same in the loop's scalar

@@ -209,8 +209,9 @@ struct LoopStats {
 // firmware that knows its controller does (firmware/README.md: what the Cortex-M0 tick costs).
 //
 // Online: whether the loop offers halt()/retarget() (docs/online.md). They need the
-// planned Move<double> of every queued move (its state and mode memory at the switch) and two blend
-// slots (the plan in double and in the evaluation's scalar): about 1.1 KiB per queued move and
+// planned Move<double> of every queued move (its state and mode memory at the switch; its modes'
+// memory at its end is taken at submit, OnlineQueued) and two blend slots (the plan in double and
+// in the evaluation's scalar): about 3.1 KiB per queued move on x86-64 and
 // 2.9 KiB (float) or 5.3 KiB (fixed) per axis, and service() builds a fixed-point blend's 4.2 KiB
 // Motion on its stack. On by default for the double evaluation (a master on Linux), asked for by the
 // others; never where SETTLE_ONLINE_CHANGES is 0 (the Cortex-M0).
@@ -319,7 +320,12 @@ class ServoLoop {
         !path_within(Evaluation::sampled_move(a.queue.back_slot().eval, m), origin, cpu, limits)) {
       return LoopStatus::position_limit;
     }
-    if constexpr (kOnlineChanges) a.queue.back_slot().plan = m;
+    if constexpr (kOnlineChanges) {
+      OnlineQueued& q = a.queue.back_slot().online;
+      q.move = m;
+      q.config = 0;  // the slot's previous move's
+      if (a.online.configured) (void)take_end_memory(a, q);  // cannot fail: configure_online checked the modes
+    }
     a.queue.commit_back();
     a.queued_end = static_cast<std::int32_t>(static_cast<std::int64_t>(origin) + core::round_half_away(m.distance() * cpu));
     return LoopStatus::ok;
@@ -347,6 +353,7 @@ class ServoLoop {
       if (!(l.vmax <= axes_[axis].cfg.vmax * (1.0 + core::kLimitSlack))) return LoopStatus::exceeds_axis_velocity;
       axes_[axis].online.config = c;
       axes_[axis].online.configured = true;
+      ++axes_[axis].online.config_serial;  // the queued moves' end memories are for the configuration before
       return LoopStatus::ok;
     }
   }
@@ -517,7 +524,7 @@ class ServoLoop {
   // A queued move: prepared for the evaluation, and as planned where online changes need it.
   struct Queued {
     typename Evaluation::Stored eval{};
-    [[no_unique_address]] std::conditional_t<kOnlineChanges, core::Move<double>, NoOnline> plan{};
+    [[no_unique_address]] std::conditional_t<kOnlineChanges, OnlineQueued, NoOnline> online{};
   };
 
   // What every tick touches comes first: a Cortex-M0 reaches only the first 32 bytes of a struct
@@ -567,15 +574,26 @@ class ServoLoop {
     at.index = a.sequence.index() + o.config.lead_ticks;
     return at;
   }
+  // A queued move's end memory for the axis's online configuration, unless it has it already.
+  static core::Status take_end_memory(const Axis& a, OnlineQueued& q) noexcept {
+    const auto& o = a.online;
+    if (q.config != 0 && q.config == o.config_serial) return core::Status::ok;
+    const core::Status st = core::end_memory(q.move, o.config.modes.data(), o.config.mode_count, q.end);
+    if (st == core::Status::ok) q.config = o.config_serial;
+    return st;
+  }
   // The change's request, into o.request[at.slot].
   core::Status change_request(Axis& a, const OnlineCommand& c, const ChangeAt& at) noexcept {
     auto& o = a.online;
     const std::optional<double> target =
         c.kind == OnlineKind::retarget ? std::optional<double>{c.target} : std::nullopt;
     const double t = static_cast<double>(at.index) * o.period_s;
-    return at.on_blend ? core::online_request(o.blend[o.streaming], o.request[o.streaming], t, target, o.request[at.slot])
-                       : core::online_request(a.queue.front().plan, t, o.config.modes.data(), o.config.mode_count,
-                                              o.config.limits, target, o.request[at.slot]);
+    if (at.on_blend) return core::online_request(o.blend[o.streaming], o.request[o.streaming], t, target, o.request[at.slot]);
+    OnlineQueued& q = a.queue.front().online;
+    const core::Status st = take_end_memory(a, q);
+    if (st != core::Status::ok) return st;
+    return core::online_request(q.move, q.end, t, o.config.modes.data(), o.config.mode_count, o.config.limits, target,
+                                o.request[at.slot]);
   }
   // Checks, prepares and hands a planned change to the tick (one `ready` store), or says in
   // `result` (and `why`) why the move runs on unchanged.
@@ -621,14 +639,14 @@ class ServoLoop {
     for (std::size_t i = 0; i < count_; ++i) {
       Axis& a = axes_[i];
       auto& o = a.online;
-      if (!o.configured || !o.config.path || (a.active && a.queue.front().plan.distance() == 0.0)) continue;
+      if (!o.configured || !o.config.path || (a.active && a.queue.front().online.move.distance() == 0.0)) continue;
       OnlineCommand c{};
       if (o.ready.load(std::memory_order_acquire) != 0 || !a.active || !o.mailbox.peek(c)) return;
       at[i] = change_at(a);
       if (members == 0) index = at[i].index;
       if (at[i].index != index || change_request(a, c, at[i]) != core::Status::ok) return;
       req[i] = &o.request[at[i].slot];
-      distance[i] = a.queue.front().plan.distance();
+      distance[i] = a.queue.front().online.move.distance();
       ++members;
     }
     if (members < 2 || !core::path_change(req.data(), distance.data(), count_)) return;
