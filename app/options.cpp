@@ -130,7 +130,7 @@ const std::vector<OptionSpec> kMove = [] {
       choice("--profile", "", profile_names(),
              "the motion profile (required); fastest: the shortest of several searched families under the "
              "limits, not a proven optimum (docs/fastest.md: within 0.1 % of an independent optimiser on "
-             "294 of 295 random problems); an option below that neither it nor --shaper uses is refused "
+             "295 of 295 random problems); an option below that neither it nor --shaper uses is refused "
              "(each says which use it)"),
       real("--distance", "m or rad", "", plant::move_range::distance, "signed move distance (required)"),
       real("--time", "s", "", plant::move_range::time, "move time of the unshaped profile (or give limits)"),
