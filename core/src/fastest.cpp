@@ -3539,8 +3539,11 @@ void dwell_passes(FastestSearch& fs, ArcProblem& pb, const ArcChain& refined, do
 // 23), and where they stop differs from the refined chain. The changes: a dwell of a quarter period
 // of the fastest mode inserted where a slow-down between two turns falls below a quarter of vmax;
 // each dwell left out; a pulse (turns to +-0.07 amax) a quarter and three quarters into each dwell.
-// Then the passes again from the refined chain, the first with a stop late in each cruise
-// (dwell_passes' stops), where one screens shorter than the chain: grid case 227's reference stops
+// Then, on a chain full at kChainNodes (`stops`: refined_chains' call for a chain arc_refine could
+// not grow), the passes again from it, the first with a stop late in each cruise (dwell_passes'
+// stops): a stop adds a part, which arc_refine had no room to add there; screened on every chain the
+// changes run on, the stops cost the grid's costliest plans instructions for nothing (5 +0.4 %,
+// 254 +0.7 %). Grid case 227's reference stops
 // 0.92 s into its 0.99 s second cruise; among the changes above the stop was picked over the pulses
 // on 227, but on other chains it took the place of the pulse that shortened them (86 at 7.3 times
 // its units: 7.15689 s against 7.14965 s), so it starts passes of its own. Only
@@ -3549,12 +3552,13 @@ void dwell_passes(FastestSearch& fs, ArcProblem& pb, const ArcChain& refined, do
 // round per pass, not one per change: a round (every cruise stopped and slowed down, pairs
 // inserted, each minimised) costs tens of a change's screening, and refining every change, as
 // first written (session 26), cost grid cases 197 and 290 2.5 s each for nothing.
-void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& refined, double quarter) noexcept {
+void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& refined, double quarter,
+                   bool stops) noexcept {
   if (lay_out(narrow, refined).T > 1.01 * fs.best.time) return;
   ArcProblem pb = narrow;
   pb.max_nodes = kMaxArcNodes;
   dwell_passes(fs, pb, refined, quarter, false);
-  dwell_passes(fs, pb, refined, quarter, true);
+  if (stops) dwell_passes(fs, pb, refined, quarter, true);
 }
 
 // A refined chain's limit nodes held for no time (a turn that touches amax and leaves it at once)
@@ -3612,12 +3616,13 @@ void refined_chains(FastestSearch& fs) noexcept {
     const bool shorter = arc_refine(pb, c, 3);
     // A three-mode chain full at kChainNodes (no pair fits: arc_refine only minimised it) gets its
     // dwells changed all the same, with dwell_changes' room: grid case 74's chain (14 nodes, three
-    // stops) was left 1.16 % over the reference, which stops four times (18 nodes).
-    if (!shorter && fs.ms.n >= 3 && c.n + 2 > pb.max_nodes) dwell_changes(fs, pb, c, quarter);
+    // stops) was left 1.16 % over the reference, which stops four times (18 nodes); and stops late
+    // in its cruises: 227's (15 nodes, four parts), whose reference has six.
+    if (!shorter && fs.ms.n >= 3 && c.n + 2 > pb.max_nodes) dwell_changes(fs, pb, c, quarter, true);
     if (!shorter) continue;
     keep_or_polish(fs, pb, c);
     zero_holds_to_peaks(fs, pb, c);
-    if (fs.ms.n >= 3) dwell_changes(fs, pb, c, quarter);
+    if (fs.ms.n >= 3) dwell_changes(fs, pb, c, quarter, false);
     // Two modes, the shortest chain before the late stages, where refining it shortened it.
     if (fs.ms.n == 2 && k == 0) hold_blips_refined(fs, pb, got.c);
   }
