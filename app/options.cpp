@@ -129,7 +129,7 @@ const std::vector<OptionSpec> kMove = [] {
   std::vector<OptionSpec> v = {
       choice("--profile", "", profile_names(),
              "the motion profile (required); fastest: the shortest of several searched families under the "
-             "limits, a local search (docs/fastest.md: within 0.1 % of an independent optimiser on 294 of "
+             "limits, a local search (docs/fastest.md: within 0.1 % of an independent optimiser on 295 of "
              "295 random problems); the plan says whether its move is proven the shortest there is (LP "
              "duality: 254 of those 300 plans are); an option below that neither it nor --shaper uses is refused "
              "(each says which use it)"),

@@ -987,6 +987,8 @@ struct ArcProblem {
   // arc_refine: a cruise slowed down to 0.1 vmax alone, not to each level of kSlowTo
   // (dwell_changes' round).
   bool one_slowdown{false};
+  // arc_refine: no cruise slowed down, only stopped (the rounds of dwell_passes' stops).
+  bool no_slowdown{false};
 };
 
 ArcProblem arc_problem(const MoveRequest& r, const ModeSet& ms) noexcept {
@@ -1664,10 +1666,12 @@ bool insert_dip(const ArcProblem& pb, const ArcChain& c, std::size_t k, double l
   return splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, out);
 }
 
-// c with a stop inserted in the middle of its cruise at node k: the cruise halved, the rigid
-// stop from vmax (a turn to -amax or a limit hold there), a dwell of `dwell`, the rigid start back
-// to vmax, the other half of the cruise. Four nodes more: two turns, a dwell, a cruise.
-bool insert_stop(const ArcProblem& pb, const ArcChain& c, std::size_t k, double dwell, ArcChain& out) noexcept {
+// c with a stop inserted into its cruise at node k, `at` of the way along it (its middle unless
+// said): the cruise up to there, the rigid stop from vmax (a turn to -amax or a limit hold there),
+// a dwell of `dwell`, the rigid start back to vmax, the rest of the cruise. Four nodes more: two
+// turns, a dwell, a cruise.
+bool insert_stop(const ArcProblem& pb, const ArcChain& c, std::size_t k, double dwell, ArcChain& out,
+                 double at = 0.5) noexcept {
   if (k >= c.n || c.node[k].kind != ArcKind::cruise) return false;
   const double a_p = std::fmin(pb.amax, std::sqrt(pb.vmax * pb.J));
   const bool limit = a_p >= pb.amax;
@@ -1675,7 +1679,7 @@ bool insert_stop(const ArcProblem& pb, const ArcChain& c, std::size_t k, double 
   const double h = limit ? pb.vmax / pb.amax - pb.amax / pb.J : 0.0;
   const std::array<ArcNode, 5> with{c.node[k], ArcNode{turn, -1.0}, ArcNode{ArcKind::dwell, 1.0}, ArcNode{turn, 1.0},
                                     c.node[k]};
-  const std::array<double, 5> x{0.5 * c.x[k], limit ? h : -a_p, dwell, limit ? h : a_p, 0.5 * c.x[k]};
+  const std::array<double, 5> x{at * c.x[k], limit ? h : -a_p, dwell, limit ? h : a_p, (1.0 - at) * c.x[k]};
   return splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, out);
 }
 
@@ -2651,7 +2655,9 @@ bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
     for (std::size_t k = 0; k < c.n && c.n + 4 <= pb.max_nodes; ++k) {
       if (c.node[k].kind != ArcKind::cruise) continue;
       for (int kind = 0; kind < 1 + static_cast<int>(kSlowTo.size()); ++kind) {
-        if (pb.one_slowdown && kind != 0 && kSlowTo[static_cast<std::size_t>(kind - 1)] != 0.1) continue;
+        if (kind != 0 && (pb.no_slowdown || (pb.one_slowdown && kSlowTo[static_cast<std::size_t>(kind - 1)] != 0.1))) {
+          continue;
+        }
         ArcChain e{};
         const bool ok = kind == 0 ? insert_stop(pb, c, k, quarter, e)
                                   : insert_slowdown(pb, c, k, kSlowTo[static_cast<std::size_t>(kind - 1)], e);
@@ -3363,6 +3369,9 @@ constexpr double kDwellPassGain = 1e-4;
 // How close to a = 0 (of amax) a pulse's or a slow-down's turns are when drop_closed_pulses takes
 // it out.
 constexpr double kClosedPulse = 0.01;
+// Where in a cruise dwell_changes stops it (of its length), and how short a stop's dwell is (of
+// the chain's duration) when merge_closed_stops takes the stop out.
+constexpr double kLateStop = 0.9, kClosedStop = 1e-9;
 
 // The velocity where the ramp into node k + 1 crosses a = 0 (node k a turn down, k + 1 a turn up:
 // the slowest point of a slow-down between them), from the chain's own lengths.
@@ -3425,25 +3434,43 @@ void drop_closed_pulses(const ArcProblem& pb, ArcChain& c) noexcept {
   }
 }
 
-// Three modes or more: a refined chain with its dwells changed one at a time, each restored to
-// the chain's equations and minimised a few steps (kDwellScreenSteps); of the changes that did not
-// return to the chain's duration, the shortest is refined one round (arc_refine, with room up to
-// kMaxArcNodes, one level of slow-down) and kept where a shorter move; where that round shortened
-// the chain by kDwellPassGain or more it starts the next pass (kDwellPasses). The reference's moves
-// on such problems stop and start again three to six times, more than a chain of kChainNodes holds
-// (grid cases 35 and 74: four and five parts with dwells between, 17 nodes each; 227: 21), and
-// where they stop differs from the refined chain. The changes: a dwell of a quarter period of the
-// fastest mode inserted where a slow-down between two turns falls below a quarter of vmax; each
-// dwell left out; a pulse (turns to +-0.07 amax) a quarter and three quarters into each dwell. Only
-// where the refined chain is within 1 % of the shortest move so far (of the chains the changes
-// shortened none started further off; grid case 290's, 2.4 % over, cost 2.4 s for nothing). One
-// round per pass, not one per change: a round (every cruise stopped and slowed down, pairs
-// inserted, each minimised) costs tens of a change's screening, and refining every change, as
-// first written (session 26), cost grid cases 197 and 290 2.5 s each for nothing.
-void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& refined, double quarter) noexcept {
-  if (lay_out(narrow, refined).T > 1.01 * fs.best.time) return;
-  ArcProblem pb = narrow;
-  pb.max_nodes = kMaxArcNodes;
+// A stop inside a cruise (a cruise, a turn down, a dwell, a turn up, a cruise) whose dwell closed
+// to kClosedStop of the chain's duration or less taken out of c: the five nodes become one cruise
+// over the same span. Not restored: dwell_changes splices its changes into the chain that is left
+// and restores each. Such a stop touches v = 0 for no time and holds four nodes a change needs:
+// on grid case 227 the first pass's round (a stop late in the second cruise) left one at the end
+// of the last (a 4.7e-16 T dwell, 23 nodes, full); taken out, the next pass's pulse in the third
+// dwell has room to grow into a restart to vmax, the reference's form (six parts, five dwells).
+void merge_closed_stops(const ArcProblem& pb, ArcChain& c) noexcept {
+  const double T = lay_out(pb, c).T;
+  const auto turn = [&](std::size_t i, double sign) {
+    return (c.node[i].kind == ArcKind::limit || c.node[i].kind == ArcKind::peak) && c.node[i].sign == sign;
+  };
+  for (std::size_t k = 0; k + 4 < c.n;) {
+    if (c.node[k].kind != ArcKind::cruise || !turn(k + 1, -1.0) || c.node[k + 2].kind != ArcKind::dwell ||
+        !turn(k + 3, 1.0) || c.node[k + 4].kind != ArcKind::cruise || !(c.x[k + 2] <= kClosedStop * T)) {
+      ++k;
+      continue;
+    }
+    const ArcLayout L = lay_out(pb, c);
+    const ArcNode cruise = c.node[k];
+    const double x = L.b[k + 5] - L.e[k];  // from the first cruise's start to the second's end
+    ArcChain e{};
+    if (!splice(c, k, &cruise, &x, 1, c.n, e, 5)) return;
+    c = e;
+  }
+}
+
+// The passes of dwell_changes from `refined`. stops: a stop kLateStop into each cruise
+// (insert_stop: the rigid stop and start, a dwell of a quarter period of the fastest mode) is a
+// change too; the first pass's changes are those stops alone, and it goes on only where one
+// screens shorter than the shortest move so far (the passes without stops included: on grid case
+// 74 a stop screened shorter than its chain, 3.6489 s, but not than those passes' 3.6069 s, and its
+// rounds cost 4.8 times the plan's instructions for nothing); each later pass first takes the
+// stops whose dwell closed out of the chain it changes (merge_closed_stops). Their rounds stop
+// cruises but do not slow them down (ArcProblem::no_slowdown: on 227 the slow-downs cost 2 033 ->
+// 1 474 M instructions, and none was kept).
+void dwell_passes(FastestSearch& fs, ArcProblem& pb, const ArcChain& refined, double quarter, bool stops) noexcept {
   ArcChain c = refined;
   for (int pass = 0; pass < kDwellPasses; ++pass) {
     const double t_c = lay_out(pb, c).T;
@@ -3461,35 +3488,77 @@ void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& 
       }
     };
     ArcChain e{};
-    for (std::size_t k = 0; k + 1 < c.n; ++k) {
-      const ArcNode& dn = c.node[k];
-      const ArcNode& up = c.node[k + 1];
-      const bool turns = (dn.kind == ArcKind::limit || dn.kind == ArcKind::peak) &&
-                         (up.kind == ArcKind::limit || up.kind == ArcKind::peak);
-      if (!turns || dn.sign > 0.0 || up.sign < 0.0 || !(slowdown_floor(pb, c, k) < 0.25 * pb.vmax)) continue;
-      const std::array<ArcNode, 2> with{dn, ArcNode{ArcKind::dwell, 1.0}};
-      const std::array<double, 2> x{c.x[k], quarter};
-      if (splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) screen(e);
+    if (stops) {
+      if (pass > 0) merge_closed_stops(pb, c);
+      for (std::size_t k = 0; k < c.n; ++k) {
+        if (c.node[k].kind == ArcKind::cruise && c.x[k] > 0.0 && insert_stop(pb, c, k, quarter, e, kLateStop)) screen(e);
+      }
+      if (pass == 0 && !(t_pick < fs.best.time)) return;
     }
-    for (std::size_t k = 0; k < c.n; ++k) {
-      if (c.node[k].kind != ArcKind::dwell) continue;
-      if (splice(c, k, nullptr, nullptr, 0, pb.max_nodes, e)) screen(e);
-      for (const double before : {0.25, 0.75}) {
-        const std::array<ArcNode, 4> with{c.node[k], ArcNode{ArcKind::peak, 1.0}, ArcNode{ArcKind::peak, -1.0},
-                                          c.node[k]};
-        const std::array<double, 4> x{before * c.x[k], 0.07 * pb.amax, -0.07 * pb.amax, (1.0 - before) * c.x[k]};
+    if (!stops || pass > 0) {
+      for (std::size_t k = 0; k + 1 < c.n; ++k) {
+        const ArcNode& dn = c.node[k];
+        const ArcNode& up = c.node[k + 1];
+        const bool turns = (dn.kind == ArcKind::limit || dn.kind == ArcKind::peak) &&
+                           (up.kind == ArcKind::limit || up.kind == ArcKind::peak);
+        if (!turns || dn.sign > 0.0 || up.sign < 0.0 || !(slowdown_floor(pb, c, k) < 0.25 * pb.vmax)) continue;
+        const std::array<ArcNode, 2> with{dn, ArcNode{ArcKind::dwell, 1.0}};
+        const std::array<double, 2> x{c.x[k], quarter};
         if (splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) screen(e);
+      }
+      for (std::size_t k = 0; k < c.n; ++k) {
+        if (c.node[k].kind != ArcKind::dwell) continue;
+        if (splice(c, k, nullptr, nullptr, 0, pb.max_nodes, e)) screen(e);
+        for (const double before : {0.25, 0.75}) {
+          const std::array<ArcNode, 4> with{c.node[k], ArcNode{ArcKind::peak, 1.0}, ArcNode{ArcKind::peak, -1.0},
+                                            c.node[k]};
+          const std::array<double, 4> x{before * c.x[k], 0.07 * pb.amax, -0.07 * pb.amax, (1.0 - before) * c.x[k]};
+          if (splice(c, k, with.data(), x.data(), with.size(), pb.max_nodes, e)) screen(e);
+        }
       }
     }
     if (!(t_pick < HUGE_VAL)) return;
     pb.one_slowdown = true;
+    pb.no_slowdown = stops;
     (void)arc_refine(pb, pick, 1);
-    pb.one_slowdown = false;
+    pb.one_slowdown = pb.no_slowdown = false;
     drop_closed_pulses(pb, pick);
     keep_or_polish(fs, pb, pick);
     if (!(lay_out(pb, pick).T < t_c * (1.0 - kDwellPassGain)) || arc_violation(pb, pick).kind != ArcFix::none) return;
     c = pick;
   }
+}
+
+// Three modes or more: a refined chain with its dwells changed one at a time, each restored to
+// the chain's equations and minimised a few steps (kDwellScreenSteps); of the changes that did not
+// return to the chain's duration, the shortest is refined one round (arc_refine, with room up to
+// kMaxArcNodes, one level of slow-down) and kept where a shorter move; where that round shortened
+// the chain by kDwellPassGain or more it starts the next pass (kDwellPasses). The reference's moves
+// on such problems stop and start again three to six times, more than a chain of kChainNodes holds
+// (grid cases 35 and 74: four and five parts with dwells between, 17 nodes each; 227: six parts,
+// 23), and where they stop differs from the refined chain. The changes: a dwell of a quarter period
+// of the fastest mode inserted where a slow-down between two turns falls below a quarter of vmax;
+// each dwell left out; a pulse (turns to +-0.07 amax) a quarter and three quarters into each dwell.
+// Then, on a chain full at kChainNodes (`stops`: refined_chains' call for a chain arc_refine could
+// not grow), the passes again from it, the first with a stop late in each cruise (dwell_passes'
+// stops): a stop adds a part, which arc_refine had no room to add there; screened on every chain the
+// changes run on, the stops cost the grid's costliest plans instructions for nothing (5 +0.4 %,
+// 254 +0.7 %). Grid case 227's reference stops
+// 0.92 s into its 0.99 s second cruise; among the changes above the stop was picked over the pulses
+// on 227, but on other chains it took the place of the pulse that shortened them (86 at 7.3 times
+// its units: 7.15689 s against 7.14965 s), so it starts passes of its own. Only
+// where the refined chain is within 1 % of the shortest move so far (of the chains the changes
+// shortened none started further off; grid case 290's, 2.4 % over, cost 2.4 s for nothing). One
+// round per pass, not one per change: a round (every cruise stopped and slowed down, pairs
+// inserted, each minimised) costs tens of a change's screening, and refining every change, as
+// first written (session 26), cost grid cases 197 and 290 2.5 s each for nothing.
+void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& refined, double quarter,
+                   bool stops) noexcept {
+  if (lay_out(narrow, refined).T > 1.01 * fs.best.time) return;
+  ArcProblem pb = narrow;
+  pb.max_nodes = kMaxArcNodes;
+  dwell_passes(fs, pb, refined, quarter, false);
+  if (stops) dwell_passes(fs, pb, refined, quarter, true);
 }
 
 // A refined chain's limit nodes held for no time (a turn that touches amax and leaves it at once)
@@ -3547,12 +3616,13 @@ void refined_chains(FastestSearch& fs) noexcept {
     const bool shorter = arc_refine(pb, c, 3);
     // A three-mode chain full at kChainNodes (no pair fits: arc_refine only minimised it) gets its
     // dwells changed all the same, with dwell_changes' room: grid case 74's chain (14 nodes, three
-    // stops) was left 1.16 % over the reference, which stops four times (18 nodes).
-    if (!shorter && fs.ms.n >= 3 && c.n + 2 > pb.max_nodes) dwell_changes(fs, pb, c, quarter);
+    // stops) was left 1.16 % over the reference, which stops four times (18 nodes); and stops late
+    // in its cruises: 227's (15 nodes, four parts), whose reference has six.
+    if (!shorter && fs.ms.n >= 3 && c.n + 2 > pb.max_nodes) dwell_changes(fs, pb, c, quarter, true);
     if (!shorter) continue;
     keep_or_polish(fs, pb, c);
     zero_holds_to_peaks(fs, pb, c);
-    if (fs.ms.n >= 3) dwell_changes(fs, pb, c, quarter);
+    if (fs.ms.n >= 3) dwell_changes(fs, pb, c, quarter, false);
     // Two modes, the shortest chain before the late stages, where refining it shortened it.
     if (fs.ms.n == 2 && k == 0) hold_blips_refined(fs, pb, got.c);
   }

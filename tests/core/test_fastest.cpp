@@ -506,6 +506,27 @@ TEST(Fastest, DwellChangesReachAFullChainsFourthStopOnGridCase74) {
   expect_bang_bang_within(r, 3.6070872 * 1.001);
 }
 
+// Grid case 227 (three modes; 1.32 / 2.83 / 35.7 rad/s): the reference's move (4.36801 s) has six
+// cruising parts and five dwells (23 nodes); dwell_changes' pulse in the third dwell (18 nodes)
+// left it 4.37983 s, 0.27 % over, and 4.37842 s at 1e-3 times its units. The passes that start
+// from a stop late in each cruise (dwell_passes' stops): one in the second cruise, refined, then,
+// with the stop whose dwell closed at the end of the last cruise taken out (merge_closed_stops),
+// one in the third, reach the reference's form: 4.36729 s, 0.017 % under it (4.37475 s, 0.15 %
+// over, without the merge: the first round's chain is full at 23 nodes). At 1e-3 the dwells around
+// the short fourth part come out 0.108 and 0.264 s, not 0.301 and 0.096 s: 4.36949 s, 0.034 % over.
+TEST(Fastest, DwellChangesStopLateInACruiseAndReachGridCase227sSixParts) {
+  core::MoveRequest r = request(0.5773, 0.1785, 21.13, 3492.0, 1.3194, 0.093);
+  (void)r.add_mode({2.826, 0.1651});
+  (void)r.add_mode({35.7384, 0.0767});
+  for (const double k : {1.0, 1e-3, 0.37, 7.3}) {
+    SCOPED_TRACE(::testing::Message() << "scale " << k);
+    core::MoveRequest q = r;
+    q.distance = k * r.distance;
+    q.limits = r.limits.scaled(k);
+    expect_bang_bang_within(q, 4.36800662 * 1.001);
+  }
+}
+
 // Grid case 74 at 7.3 times its units (D and the limits): the pulse the round left in its third
 // dwell closed there (turns at 1e-11 and 1.7e-7 m/s^2) and the minimisation stopped at 3.60777 s,
 // 2.3e-4 over the move at scale 1; taken out (drop_closed_pulses), the chain minimises to it.

@@ -37,7 +37,8 @@ namespace {
 // at least this many within 0.1 % of the reference, none more than this ratio over it, at most
 // this many refused.
 #if SETTLE_FASTEST_GRID_EVERY == 1
-// 294 of 295 with a reference (300 cases): 292 before a chain full at 15 nodes had its dwells
+// 295 of 295 with a reference (300 cases): 294 before the dwell changes' passes from a stop late in
+// a cruise (227; dwell_passes' stops and merge_closed_stops, session 30); 292 before a chain full at 15 nodes had its dwells
 // changed too (74; dwell_changes from refined_chains, session 29) and closed pulses and slow-downs
 // were taken out of the changed chains (5; drop_closed_pulses); 290 before a refined chain's dwells were changed in
 // chains of up to 23 nodes (35, 254; dwell_changes, session 27); 289 before a long cruise's end was
@@ -53,15 +54,18 @@ namespace {
 // before the split chains with more parts than modes
 // (160, 161, 256; 252 of the 277 before cases 135-139 and 287-299 had a reference); 235 of 277
 // before the chains with more turns than equations (arc_refine), 222 before session 22.
-constexpr int kWithin = 294;
-// case 227 (three modes): 1.00271 (1.00296 before a full chain's dwells were changed); 1.01158
+constexpr int kWithin = 295;
+// case 137 (three modes): 1.00095; 1.00271 (case 227, now 0.99983) before the passes from a stop
+// late in a cruise, 1.00296 before a full chain's dwells were changed; 1.01158
 // (case 74, now 0.99996) before that; 1.01269 (case 5, now 0.99991) before the dwell changes; was
 // 1.01568 (case 184, now 0.99933), 1.03214 (case 112), 1.3231 (case 167)
-constexpr double kWorst = 1.0028;
+constexpr double kWorst = 1.001;
 // None: case 113 (three modes, 2.1 / 13.5 / 278.7 rad/s; D 3.48 m) was refused until the joint
 // ZV shaper started from the slower modes' design (docs/fastest.md, "Several modes").
 constexpr int kRefused = 0;
-// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 29 and 3 (worst 0.49 %) with both of
+// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 29 and 3 (worst 0.49 %) with the passes
+// from a stop late in a cruise too (session 30: 227 at 1e-3 4.36949 s against 4.36729 s at 1, was
+// 4.37842 against 4.37983 s; every other scaled plan the same); 29 and 3 with both of
 // session 29's changes merged (the stall tests, below, left 28 and 5 alone); 32 and 3 (worst 0.49 %: case 35 at 7.3,
 // 10.8638 s against 10.8113 s) with a full chain's dwells changed and closed pulses and slow-downs
 // taken out (session 29): 74 plans alike at every scale, 254 at 1e-3 and 0.37 is 1.69100 s (was
