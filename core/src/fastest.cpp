@@ -2429,6 +2429,13 @@ struct ArcKkt {
   std::size_t rows{0};
 };
 
+// arc_minimise stops where its last 8 accepted steps gained less than 1e-12 T together: steps
+// that gain only the rounding (docs/fastest.md, "Cost", session 30). At 5 steps grid case 254 at
+// scale 7.3 plans 1.691 s (the test's bound 1.6905 s) and the CLI tests' three-mode plan file no
+// longer matches (a segment 3.4e-8 s off at the same duration).
+constexpr std::size_t kMinimiseStallSteps = 8;
+constexpr double kMinimiseStallGain = 1e-12;
+
 // Minimises T over c (solved: F(c) = 0) as above. Returns the chain's multipliers in kkt; c
 // changes only to a shorter chain that breaks no condition.
 void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) noexcept {
@@ -2437,7 +2444,18 @@ void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) 
   ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
   std::size_t rows = arc_values(pb, c, f, ev);
   double T = ev.L.T, trust = 0.05 * T;
+  // What the last kMinimiseStallSteps accepted steps gained (a ring, `accepted` in all).
+  std::array<double, kMinimiseStallSteps> gains{};
+  std::size_t accepted = 0;
   for (int it = 0; it < max_iter; ++it) {
+    if (accepted >= kMinimiseStallSteps) {
+      double gained = 0.0;
+      for (std::size_t u = 0; u < kMinimiseStallSteps; ++u) {
+        gained += gains[(accepted - 1 - u) % kMinimiseStallSteps];
+      }
+      if (gained < kMinimiseStallGain * T) return;  // stalled: steps that gain only rounding
+    }
+    const double t_before = T;
     arc_jacobian(pb, c, ev, jm);
     const ArcIneq q = arc_ineq(pb, c, ev.L);
     std::array<bool, kMaxIneq> active{};
@@ -2506,6 +2524,7 @@ void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) 
       rows = arc_values(pb, c, f, ev);
       T = ev.L.T;
       if (alpha * dn >= 0.99 * trust) trust *= 2.0;
+      gains[accepted++ % kMinimiseStallSteps] = t_before - T;
       moved = true;
       break;
     }
