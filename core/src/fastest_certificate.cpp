@@ -173,7 +173,9 @@ Row q_row(const Problem& pb, const Dual& du, std::size_t i, double s, int der, d
 }
 
 // Least squares by Householder reflections (columns scaled to unit norm first): x, and false where
-// the rows are not met to kTol (relative to T^2, psi's scale).
+// the rows are not met to kTol (relative to T^2, psi's scale). With fewer rows than unknowns the
+// dual is not unique and this takes one of them (the unknowns past the rows 0): any dual that
+// passes the sign tests proves the move, so another choice can only miss a proof, never make one.
 bool solve(std::array<Row, kMaxRows>& a, std::array<double, kMaxRows>& b, std::size_t rows, std::size_t cols,
            double scale, Row& x) noexcept {
   const std::array<Row, kMaxRows> a0 = a;
