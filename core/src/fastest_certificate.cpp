@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "settle/core/residual.hpp"
 #include "numeric/complex.hpp"
 
 namespace settle::core {
@@ -63,7 +64,7 @@ struct Dual {
 };
 
 // The move is one of the problem's: at rest at D, within the limits, never backwards, every mode
-// at rest (its transform at the pole, referred to the end, within 1e-8 D omega).
+// at rest (the amplitude it leaves, residual.hpp, within 1e-8 D).
 bool one_of_the_problems(const FastestTable& t, double sgn, const Problem& pb, const MoveRequest& r) noexcept {
   constexpr double kLimit = 1e-9, kEnd = 1e-8;  // the table's sums round (a 24 s move ends 1.5e-9 D short)
   double a = 0.0, v = 0.0, p = 0.0;
@@ -84,16 +85,7 @@ bool one_of_the_problems(const FastestTable& t, double sgn, const Problem& pb, c
   }
   if (!(std::fabs(a) <= kEnd * pb.A && std::fabs(v) <= kEnd * pb.V && std::fabs(p - pb.D) <= kEnd * pb.D)) return false;
   for (std::size_t m = 0; m < pb.modes; ++m) {
-    const Cx q = pb.q[m];
-    Cx g{};
-    double tt = 0.0;
-    for (std::size_t k = 0; k < t.count; ++k) {
-      const double d = t.durations[k];
-      g = g + (sgn * t.jerk[k]) * (cexp((pb.T - tt) * q) - cexp((pb.T - tt - d) * q));
-      tt += d;
-    }
-    g = g / (q * q);
-    if (!(cabs(g) <= kEnd * pb.D * r.modes[m].omega)) return false;
+    if (!(residual_amplitude(t, r.modes[m]) <= kEnd * pb.D)) return false;  // the planner's own: 1e-9 D
   }
   return true;
 }

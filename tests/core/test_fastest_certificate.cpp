@@ -83,14 +83,15 @@ TEST(FastestCertificate, LongerMovesOfTheProblemAreNotProven) {
             core::FastestProof::not_a_chain);
 }
 
-core::FastestCertificate planned(const core::MoveRequest& r, double& duration) {
+// r's plan, its table certified for `judged` (r itself unless given).
+core::FastestCertificate planned(const core::MoveRequest& r, double& duration, const core::MoveRequest* judged = nullptr) {
   core::Move<double> m{};
   EXPECT_EQ(core::plan(r, m), core::Status::ok);
   duration = m.duration();
   core::FastestCertificate c{};
   m.profile().visit([&](const auto& shape) {
     if constexpr (std::is_same_v<std::decay_t<decltype(shape)>, core::Fastest<double>>) {
-      if (const auto* t = shape.table()) c = core::certify_fastest(t->params(), r);
+      if (const auto* t = shape.table()) c = core::certify_fastest(t->params(), judged ? *judged : r);
     }
   });
   return c;
@@ -103,6 +104,10 @@ TEST(FastestCertificate, PlansAreProvenOrSayWhereAShorterMoveIs) {
   r.set_mode(22.0, 0.0);
   double t = 0.0;
   EXPECT_EQ(planned(r, t).proof, core::FastestProof::proven);
+  // The same move judged for a mode at 23 rad/s, which it leaves ringing: not that problem's.
+  core::MoveRequest other = r;
+  other.set_mode(23.0, 0.0);
+  EXPECT_EQ(planned(r, t, &other).proof, core::FastestProof::not_the_problems);
   // Grid case 10: the plan, 4.571279 s, is not proven: the measure on its cruise is negative near
   // its end (4.4701 s), and the reference at 3000 steps reaches 4.569393 s.
   core::MoveRequest g{};
