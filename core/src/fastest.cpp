@@ -2821,11 +2821,18 @@ struct FastestSearch {
   DipBest dips{};  // bang-bang's chains from the dip seeds, considered last
   ArcBest chains{};  // bang-bang's shortest chains (before the dips, and each late stage's)
   bool arcs_best{false};  // bang-bang's chain is the shortest move so far (bang_coast_family)
+  // With stop_proven (the refined chains), each new shortest jerk-table move is checked by
+  // certify_fastest; proven: it is the shortest of the problem, and the search stops.
+  bool stop_proven{false}, proven{false};
 
   void record(FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) noexcept {
     double& slot = times[static_cast<std::size_t>(f)];
     if (slot == 0.0 || t < slot) slot = t;
+    const double before = best.time;
     consider(best, p, pk, t);
+    if (stop_proven && best.time < before && !is_ramp_cycloid(best.p.family)) {
+      proven = certify_fastest(best.p.table, r).proof == FastestProof::proven;
+    }
   }
   void record_table(FastestFamily f, const FastestTable& t, const Peaks<double>& pk) noexcept {
     FastestParams p{};
@@ -3572,6 +3579,7 @@ void dwell_passes(FastestSearch& fs, ArcProblem& pb, const ArcChain& refined, do
     pb.one_slowdown = pb.no_slowdown = false;
     drop_closed_pulses(pb, pick);
     keep_or_polish(fs, pb, pick);
+    if (fs.proven) return;
     if (!(lay_out(pb, pick).T < t_c * (1.0 - kDwellPassGain)) || arc_violation(pb, pick).kind != ArcFix::none) return;
     c = pick;
   }
@@ -3640,13 +3648,16 @@ void refined_chains(FastestSearch& fs) noexcept {
   double w_fast = 0.0;  // the fastest mode's damped frequency
   for (std::size_t m = 0; m < fs.ms.n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
   const double quarter = 0.25 * two_pi_v<double>() / w_fast;  // a stop dwells a quarter period of it (dwell_changes)
+  // Each step below stops the search where the shortest move so far is proven the shortest
+  // (FastestSearch::proven): the steps after it could only find one shorter by the proof's rounding.
+  fs.stop_proven = true;
   // The split chains under the rule below (the fastest mode rings a period or more over the
   // shortest move so far).
   if (fs.ms.n >= 2 && w_fast * fs.best.time >= two_pi_v<double>()) split_refined(fs, pb);
-  if (!got.have) split_to_rounding(fs, pb);
-  if (w_fast * fs.best.time >= two_pi_v<double>()) blips_refined(fs, pb);
-  cruise_stops_refined(fs, pb);
-  for (std::size_t k = 0; k <= kLateStages; ++k) {
+  if (!got.have && !fs.proven) split_to_rounding(fs, pb);
+  if (w_fast * fs.best.time >= two_pi_v<double>() && !fs.proven) blips_refined(fs, pb);
+  if (!fs.proven) cruise_stops_refined(fs, pb);
+  for (std::size_t k = 0; k <= kLateStages && !fs.proven; ++k) {
     const bool have = k == 0 ? got.have : got.late_have[k - 1];
     if (!have) continue;
     ArcChain c = k == 0 ? got.c : got.late[k - 1];
@@ -3658,9 +3669,10 @@ void refined_chains(FastestSearch& fs) noexcept {
     const double t_move = lay_out(pb, c).T + (pb.pulse ? pb.D / pb.vmax : 0.0);
     if (w_fast * t_move < two_pi_v<double>()) continue;
     if (fs.ms.n == 1) blip_moved(fs, pb, c);
-    if (k == 0) dwell_pulse_refined(fs, pb, got.c);
-    if (k == 0 && fs.ms.n >= 3) dwell_pulse_quarter(fs, pb, got.c);
-    if (fs.ms.n >= 3) cruise_slowdown_late(fs, pb, c);
+    if (k == 0 && !fs.proven) dwell_pulse_refined(fs, pb, got.c);
+    if (k == 0 && fs.ms.n >= 3 && !fs.proven) dwell_pulse_quarter(fs, pb, got.c);
+    if (fs.ms.n >= 3 && !fs.proven) cruise_slowdown_late(fs, pb, c);
+    if (fs.proven) return;
     const bool shorter = arc_refine(pb, c, 3);
     // A three-mode chain full at kChainNodes (no pair fits: arc_refine only minimised it) gets its
     // dwells changed all the same, with dwell_changes' room: grid case 74's chain (14 nodes, three
@@ -3669,10 +3681,10 @@ void refined_chains(FastestSearch& fs) noexcept {
     if (!shorter && fs.ms.n >= 3 && c.n + 2 > pb.max_nodes) dwell_changes(fs, pb, c, quarter, true);
     if (!shorter) continue;
     keep_or_polish(fs, pb, c);
-    zero_holds_to_peaks(fs, pb, c);
-    if (fs.ms.n >= 3) dwell_changes(fs, pb, c, quarter, false);
+    if (!fs.proven) zero_holds_to_peaks(fs, pb, c);
+    if (fs.ms.n >= 3 && !fs.proven) dwell_changes(fs, pb, c, quarter, false);
     // Two modes, the shortest chain before the late stages, where refining it shortened it.
-    if (fs.ms.n == 2 && k == 0) hold_blips_refined(fs, pb, got.c);
+    if (fs.ms.n == 2 && k == 0 && !fs.proven) hold_blips_refined(fs, pb, got.c);
   }
 }
 
