@@ -3195,7 +3195,7 @@ void blip_moved(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noex
       ArcChain e = c;
       e.x[i] = f * hold;
       e.x[i + 2] = (1.0 - f) * hold;
-      if (restore_seed(pb, e)) keep_or_polish(fs, pb, e);
+      if (!fs.proven && restore_seed(pb, e)) keep_or_polish(fs, pb, e);
     }
   }
 }
@@ -3211,7 +3211,7 @@ void blip_moved(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noex
 void split_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
   pb.pulse = false;
   for (std::size_t m0 = 0; m0 < fs.ms.n; ++m0) {
-    for (std::size_t m1 = m0 + 1; m1 < fs.ms.n; ++m1) {
+    for (std::size_t m1 = m0 + 1; m1 < fs.ms.n && !fs.proven; ++m1) {
       Shaper<double> z0{}, z1{}, s{};
       if (design_shaper(ShaperKind::zv, fs.ms.m[m0].omega, fs.ms.m[m0].zeta, 0.05, z0) != Status::ok ||
           design_shaper(ShaperKind::zv, fs.ms.m[m1].omega, fs.ms.m[m1].zeta, 0.05, z1) != Status::ok ||
@@ -3252,7 +3252,7 @@ void split_to_rounding(FastestSearch& fs, ArcProblem& pb) noexcept {
   pb.to_rounding = false;
   if (!solved) return;
   keep_or_polish(fs, pb, c);
-  if (arc_refine(pb, c, 3)) keep_or_polish(fs, pb, c);
+  if (!fs.proven && arc_refine(pb, c, 3)) keep_or_polish(fs, pb, c);
 }
 
 // Two modes (exact designs): the move split at ZV of the slower mode (split_chain: two rigid parts
@@ -3343,7 +3343,7 @@ template <std::size_t N>
 void spliced_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base, std::size_t k,
                      const std::array<ArcNode, N>& with, const std::array<double, N>& x) noexcept {
   ArcChain c{};
-  if (!splice(base, k, with.data(), x.data(), N, pb.max_nodes, c) || !restore_seed(pb, c)) return;
+  if (fs.proven || !splice(base, k, with.data(), x.data(), N, pb.max_nodes, c) || !restore_seed(pb, c)) return;
   arc_refine(pb, c, 1);
   keep_or_polish(fs, pb, c);
 }
@@ -3527,7 +3527,7 @@ void merge_closed_stops(const ArcProblem& pb, ArcChain& c) noexcept {
 // 1 474 M instructions, and none was kept).
 void dwell_passes(FastestSearch& fs, ArcProblem& pb, const ArcChain& refined, double quarter, bool stops) noexcept {
   ArcChain c = refined;
-  for (int pass = 0; pass < kDwellPasses; ++pass) {
+  for (int pass = 0; pass < kDwellPasses && !fs.proven; ++pass) {
     const double t_c = lay_out(pb, c).T;
     ArcChain pick{};
     double t_pick = HUGE_VAL;
@@ -3614,7 +3614,7 @@ void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& 
   ArcProblem pb = narrow;
   pb.max_nodes = kMaxArcNodes;
   dwell_passes(fs, pb, refined, quarter, false);
-  if (stops) dwell_passes(fs, pb, refined, quarter, true);
+  if (stops && !fs.proven) dwell_passes(fs, pb, refined, quarter, true);
 }
 
 // A refined chain's limit nodes held for no time (a turn that touches amax and leaves it at once)
