@@ -1730,6 +1730,9 @@ struct ArcBest {
   // move's wiggles, the stops), where shorter than everything before it (whole form).
   std::array<ArcChain, kLateStages> late{};
   std::array<bool, kLateStages> late_have{};
+  // c is proven the shortest move of its problem (certify_fastest) and the search stopped there:
+  // late is then not searched (plan_arcs plans again in full where it needs it).
+  bool proven{false};
 };
 
 // The shortest bang-bang move found from the seeds above. Each seed's chain is solved and
@@ -1743,6 +1746,12 @@ struct ArcBest {
 // every other seed of both forms: out (and best_chain's c) is then the shortest move before them,
 // dips->t the shortest from them where shorter (best_chain's late, each stage's own). plan_fewer
 // and the top level pass it.
+// With stop_proven, each new shortest move is checked by certify_fastest (the proof by LP duality
+// that no move of the problem is shorter, docs/fastest.md "A certificate of the shortest move"),
+// and the search stops at the first proven one: every later path could only find a move shorter by
+// the proof's rounding (on the reference grid's 300 plans none differs by more than 1e-9 of its
+// duration). The chain for one mode fewer is planned only when a path needs it, with the same stop;
+// where the late stages need its own late chains and it stopped early, it is planned again in full.
 struct DipBest {
   FastestTable t{};
   Peaks<double> pk{};
@@ -1750,11 +1759,11 @@ struct DipBest {
 };
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk,
                ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr,
-               DipBest* dips = nullptr, bool request = false) noexcept;
+               DipBest* dips = nullptr, bool request = false, bool stop_proven = false) noexcept;
 
 // The shortest chain for all modes but the fastest (planned by plan_arcs, recursively, with that
 // set's own split seed): the chain plan_arcs inserts its wiggles into.
-ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms) noexcept {
+ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms, bool stop_proven) noexcept {
   ModeSet fewer{};
   std::size_t fastest = 0;
   for (std::size_t i = 1; i < ms.n; ++i) {
@@ -1768,12 +1777,13 @@ ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms) noexcept {
   Peaks<double> pk{};
   Shaper<double> fewer_split{};
   DipBest dips{};
-  (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr, &dips);
+  (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr, &dips, false,
+                  stop_proven);
   return sub;
 }
 
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk, ArcBest* best_chain,
-               const Shaper<double>* split, DipBest* dip_out, bool request) noexcept {
+               const Shaper<double>* split, DipBest* dip_out, bool request, bool stop_proven) noexcept {
   // A two-mode request's own chains (`request`: not the recursion's for one mode fewer, whose
   // chains three modes build on) skip three seed paths that never paid there: the dips, the
   // stops in a cruise and the wide wiggles in the mirrored pulse. Over the 100 two-mode cases of
@@ -1786,7 +1796,20 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   pb.exps = &exps;
   double w_min = ms.m[0].omega;
   for (std::size_t i = 1; i < ms.n; ++i) w_min = std::fmin(w_min, ms.m[i].omega);
-  const ArcBest sub = ms.n >= 2 ? plan_fewer(r, ms) : ArcBest{};
+  // The chain for one mode fewer, planned where a path first needs it (late: the late stages
+  // need that chain's own late chains, searched in full).
+  ArcBest sub_store{};
+  const ArcBest& sub = sub_store;
+  bool sub_done = ms.n < 2;
+  const auto need_sub = [&](bool late) {
+    if (!sub_done || (late && sub_store.proven)) sub_store = plan_fewer(r, ms, stop_proven && !late);
+    sub_done = true;
+  };
+  // This set's problem, for the proof.
+  MoveRequest problem = r;
+  problem.mode_count = 0;
+  for (std::size_t i = 0; i < ms.n; ++i) problem.modes[problem.mode_count++] = ms.m[i];
+  bool proven = false;
   double sub_fast_wd = 0.0;  // the damped frequency of the mode plan_fewer left out (the fastest)
   for (std::size_t i = 0, f = 0; i < ms.n; ++i) {
     if (ms.m[i].omega > ms.m[f].omega) f = i;
@@ -1797,6 +1820,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   ChainMemo memo;  // not memo{}: that zeroes its slots
   for (const int stage : {0, 1, 2}) {  // the whole chain, the mirrored pulse, the dips (whole)
     const bool pulse = stage == 1, dips = stage == 2;
+    if (proven) break;
     // The mirrored pulse is for moves that cruise: tried when the whole chain found none, or its
     // shortest cruises at vmax (on the tests' grids it found nothing shorter otherwise). A pulse
     // reaching vmax lasts at least the time-optimal one, vmax/amax + amax/jmax: when the move
@@ -1813,6 +1837,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // then found no move shorter than the one it stopped at, and two modes plan in about 4 ms
     // instead of 6).
     const auto walk = [&](ArcChain c) {
+      if (proven) return;
       for (int round = 0; round < 16; ++round) {
         if (!arc_solve(pb, c, 1.05 * best) || memo.seen(c, pb.amax) || lay_out(pb, c).T > best) return;
         const ArcFix fx = arc_violation(pb, c);
@@ -1827,6 +1852,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
             out_pk = pk;
             have = true;
             if (best_chain != nullptr) *best_chain = {c, pulse, true};
+            proven = stop_proven && certify_fastest(t, problem).proof == FastestProof::proven;
             best_holds_amax = best_cruises = false;
             for (std::size_t i = 0; i < c.n; ++i) {
               best_holds_amax |= c.node[i].kind == ArcKind::limit;
@@ -1876,6 +1902,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       }
     };
     if (dips) {
+      need_sub(true);
       // A dip in a hold at amax (insert_dip): the acceleration leaves the limit, turns back at
       // a = 0 and returns to it, a peak between two holds. The reference's moves on long
       // accelerations at amax cancel a mode so (grid case 167: dips to a = 0.03 and -0.20 in
@@ -2017,8 +2044,10 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       ArcChain c{};
       if (split != nullptr && split_chain(pb, *split, c)) walk(c);
     }
+    if (!proven) need_sub(false);
     if (sub.have && sub.pulse == pulse) wiggles(sub.c);
   }
+  if (best_chain != nullptr) best_chain->proven = proven;
   return have;
 }
 
@@ -2792,11 +2821,18 @@ struct FastestSearch {
   DipBest dips{};  // bang-bang's chains from the dip seeds, considered last
   ArcBest chains{};  // bang-bang's shortest chains (before the dips, and each late stage's)
   bool arcs_best{false};  // bang-bang's chain is the shortest move so far (bang_coast_family)
+  // With stop_proven (the refined chains), each new shortest jerk-table move is checked by
+  // certify_fastest; proven: it is the shortest of the problem, and the search stops.
+  bool stop_proven{false}, proven{false};
 
   void record(FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) noexcept {
     double& slot = times[static_cast<std::size_t>(f)];
     if (slot == 0.0 || t < slot) slot = t;
+    const double before = best.time;
     consider(best, p, pk, t);
+    if (stop_proven && best.time < before && !is_ramp_cycloid(best.p.family)) {
+      proven = certify_fastest(best.p.table, r).proof == FastestProof::proven;
+    }
   }
   void record_table(FastestFamily f, const FastestTable& t, const Peaks<double>& pk) noexcept {
     FastestParams p{};
@@ -2932,7 +2968,7 @@ bool bang_bang_family(FastestSearch& fs) noexcept {
     // The chains from the dip seeds are candidates after bang-coast (fs.dips): whether
     // bang-coast runs, and what it starts from, are as without them (where bang-coast ran, it
     // started from the dip chain and ended 0.016 % longer on a grid case).
-    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips, true);
+    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips, true, true);
     if (found && table_duration(t) < fs.best.time) {
       fs.record_table(FastestFamily::bang_bang, t, pk);
       double w_max = 0.0;
@@ -3159,7 +3195,7 @@ void blip_moved(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noex
       ArcChain e = c;
       e.x[i] = f * hold;
       e.x[i + 2] = (1.0 - f) * hold;
-      if (restore_seed(pb, e)) keep_or_polish(fs, pb, e);
+      if (!fs.proven && restore_seed(pb, e)) keep_or_polish(fs, pb, e);
     }
   }
 }
@@ -3175,7 +3211,7 @@ void blip_moved(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) noex
 void split_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
   pb.pulse = false;
   for (std::size_t m0 = 0; m0 < fs.ms.n; ++m0) {
-    for (std::size_t m1 = m0 + 1; m1 < fs.ms.n; ++m1) {
+    for (std::size_t m1 = m0 + 1; m1 < fs.ms.n && !fs.proven; ++m1) {
       Shaper<double> z0{}, z1{}, s{};
       if (design_shaper(ShaperKind::zv, fs.ms.m[m0].omega, fs.ms.m[m0].zeta, 0.05, z0) != Status::ok ||
           design_shaper(ShaperKind::zv, fs.ms.m[m1].omega, fs.ms.m[m1].zeta, 0.05, z1) != Status::ok ||
@@ -3216,7 +3252,7 @@ void split_to_rounding(FastestSearch& fs, ArcProblem& pb) noexcept {
   pb.to_rounding = false;
   if (!solved) return;
   keep_or_polish(fs, pb, c);
-  if (arc_refine(pb, c, 3)) keep_or_polish(fs, pb, c);
+  if (!fs.proven && arc_refine(pb, c, 3)) keep_or_polish(fs, pb, c);
 }
 
 // Two modes (exact designs): the move split at ZV of the slower mode (split_chain: two rigid parts
@@ -3307,7 +3343,7 @@ template <std::size_t N>
 void spliced_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& base, std::size_t k,
                      const std::array<ArcNode, N>& with, const std::array<double, N>& x) noexcept {
   ArcChain c{};
-  if (!splice(base, k, with.data(), x.data(), N, pb.max_nodes, c) || !restore_seed(pb, c)) return;
+  if (fs.proven || !splice(base, k, with.data(), x.data(), N, pb.max_nodes, c) || !restore_seed(pb, c)) return;
   arc_refine(pb, c, 1);
   keep_or_polish(fs, pb, c);
 }
@@ -3491,7 +3527,7 @@ void merge_closed_stops(const ArcProblem& pb, ArcChain& c) noexcept {
 // 1 474 M instructions, and none was kept).
 void dwell_passes(FastestSearch& fs, ArcProblem& pb, const ArcChain& refined, double quarter, bool stops) noexcept {
   ArcChain c = refined;
-  for (int pass = 0; pass < kDwellPasses; ++pass) {
+  for (int pass = 0; pass < kDwellPasses && !fs.proven; ++pass) {
     const double t_c = lay_out(pb, c).T;
     ArcChain pick{};
     double t_pick = HUGE_VAL;
@@ -3543,6 +3579,7 @@ void dwell_passes(FastestSearch& fs, ArcProblem& pb, const ArcChain& refined, do
     pb.one_slowdown = pb.no_slowdown = false;
     drop_closed_pulses(pb, pick);
     keep_or_polish(fs, pb, pick);
+    if (fs.proven) return;
     if (!(lay_out(pb, pick).T < t_c * (1.0 - kDwellPassGain)) || arc_violation(pb, pick).kind != ArcFix::none) return;
     c = pick;
   }
@@ -3577,7 +3614,7 @@ void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& 
   ArcProblem pb = narrow;
   pb.max_nodes = kMaxArcNodes;
   dwell_passes(fs, pb, refined, quarter, false);
-  if (stops) dwell_passes(fs, pb, refined, quarter, true);
+  if (stops && !fs.proven) dwell_passes(fs, pb, refined, quarter, true);
 }
 
 // A refined chain's limit nodes held for no time (a turn that touches amax and leaves it at once)
@@ -3611,13 +3648,16 @@ void refined_chains(FastestSearch& fs) noexcept {
   double w_fast = 0.0;  // the fastest mode's damped frequency
   for (std::size_t m = 0; m < fs.ms.n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
   const double quarter = 0.25 * two_pi_v<double>() / w_fast;  // a stop dwells a quarter period of it (dwell_changes)
+  // Each step below stops the search where the shortest move so far is proven the shortest
+  // (FastestSearch::proven): the steps after it could only find one shorter by the proof's rounding.
+  fs.stop_proven = true;
   // The split chains under the rule below (the fastest mode rings a period or more over the
   // shortest move so far).
   if (fs.ms.n >= 2 && w_fast * fs.best.time >= two_pi_v<double>()) split_refined(fs, pb);
-  if (!got.have) split_to_rounding(fs, pb);
-  if (w_fast * fs.best.time >= two_pi_v<double>()) blips_refined(fs, pb);
-  cruise_stops_refined(fs, pb);
-  for (std::size_t k = 0; k <= kLateStages; ++k) {
+  if (!got.have && !fs.proven) split_to_rounding(fs, pb);
+  if (w_fast * fs.best.time >= two_pi_v<double>() && !fs.proven) blips_refined(fs, pb);
+  if (!fs.proven) cruise_stops_refined(fs, pb);
+  for (std::size_t k = 0; k <= kLateStages && !fs.proven; ++k) {
     const bool have = k == 0 ? got.have : got.late_have[k - 1];
     if (!have) continue;
     ArcChain c = k == 0 ? got.c : got.late[k - 1];
@@ -3629,9 +3669,10 @@ void refined_chains(FastestSearch& fs) noexcept {
     const double t_move = lay_out(pb, c).T + (pb.pulse ? pb.D / pb.vmax : 0.0);
     if (w_fast * t_move < two_pi_v<double>()) continue;
     if (fs.ms.n == 1) blip_moved(fs, pb, c);
-    if (k == 0) dwell_pulse_refined(fs, pb, got.c);
-    if (k == 0 && fs.ms.n >= 3) dwell_pulse_quarter(fs, pb, got.c);
-    if (fs.ms.n >= 3) cruise_slowdown_late(fs, pb, c);
+    if (k == 0 && !fs.proven) dwell_pulse_refined(fs, pb, got.c);
+    if (k == 0 && fs.ms.n >= 3 && !fs.proven) dwell_pulse_quarter(fs, pb, got.c);
+    if (fs.ms.n >= 3 && !fs.proven) cruise_slowdown_late(fs, pb, c);
+    if (fs.proven) return;
     const bool shorter = arc_refine(pb, c, 3);
     // A three-mode chain full at kChainNodes (no pair fits: arc_refine only minimised it) gets its
     // dwells changed all the same, with dwell_changes' room: grid case 74's chain (14 nodes, three
@@ -3640,10 +3681,10 @@ void refined_chains(FastestSearch& fs) noexcept {
     if (!shorter && fs.ms.n >= 3 && c.n + 2 > pb.max_nodes) dwell_changes(fs, pb, c, quarter, true);
     if (!shorter) continue;
     keep_or_polish(fs, pb, c);
-    zero_holds_to_peaks(fs, pb, c);
-    if (fs.ms.n >= 3) dwell_changes(fs, pb, c, quarter, false);
+    if (!fs.proven) zero_holds_to_peaks(fs, pb, c);
+    if (fs.ms.n >= 3 && !fs.proven) dwell_changes(fs, pb, c, quarter, false);
     // Two modes, the shortest chain before the late stages, where refining it shortened it.
-    if (fs.ms.n == 2 && k == 0) hold_blips_refined(fs, pb, got.c);
+    if (fs.ms.n == 2 && k == 0 && !fs.proven) hold_blips_refined(fs, pb, got.c);
   }
 }
 
@@ -3657,10 +3698,14 @@ Status plan_unsigned(const MoveRequest& r, FastestParams& out, Peaks<double>& ou
   shaped_families(fs);
   scurve_families(fs);
   zero_sets(fs);
+  // A proven bang-bang move (plan_arcs stopped at it) is the shortest of the problem: the searches
+  // after it (bang-coast, the refined chains) are not made. The dips' shortest is recorded all the
+  // same: plan_arcs' proof may be of it.
   const bool arcs_won = bang_bang_family(fs);
-  if (!arcs_won) bang_coast_family(fs);
+  const bool proven = fs.chains.proven;
+  if (!arcs_won && !proven) bang_coast_family(fs);
   if (fs.dips.have) fs.record_table(FastestFamily::bang_bang, fs.dips.t, fs.dips.pk);
-  refined_chains(fs);
+  if (!proven) refined_chains(fs);
   if (!std::isfinite(fs.best.time)) return Status::no_solution;
   fs.best.p.family_time = fs.times;
   out = fs.best.p;

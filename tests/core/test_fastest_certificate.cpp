@@ -121,4 +121,22 @@ TEST(FastestCertificate, PlansAreProvenOrSayWhereAShorterMoveIs) {
   EXPECT_GT(t, 4.569393);
 }
 
+TEST(FastestCertificate, TheSearchStopsAtTheFirstProvenMove) {
+  // The commissioning request (BM_PlanFastest/commissioning): its 70 rad/s mode rings 3.9 periods
+  // over the bang-bang move, so bang-coast runs after it (bang_bang_family's rule) and found the same
+  // 0.35181 s until the search stopped at a proven move; now the proof ends the search there and
+  // bang-coast is not tried (its family time 0).
+  core::MoveRequest r = request(0.1);
+  r.limits.vmax = 0.5, r.limits.amax = 5.0, r.limits.jmax = 200.0;
+  r.set_mode(25.0, 0.02);
+  (void)r.add_mode({70.0, 0.05});
+  core::FastestParams p{};
+  core::Peaks<double> pk{};
+  ASSERT_EQ(core::plan_fastest(r, p, pk), core::Status::ok);
+  EXPECT_EQ(p.family, core::FastestFamily::bang_bang);
+  EXPECT_NEAR(p.family_time[static_cast<std::size_t>(core::FastestFamily::bang_bang)], 0.35180684, 1e-8);
+  EXPECT_EQ(p.family_time[static_cast<std::size_t>(core::FastestFamily::bang_coast)], 0.0);
+  EXPECT_EQ(core::certify_fastest(p.table, r).proof, core::FastestProof::proven);
+}
+
 }  // namespace
