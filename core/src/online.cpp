@@ -365,12 +365,32 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     bool pinned = false;
     double jpk = 0.0;
     bool finite = true;
+#if SETTLE_PACKED_VECTOR
+    // Two segments per vector (x86-64): each jerk the same sum, their largest |j| the same maximum
+    // (the order of a maximum of finite values does not matter, and jpk is read only when every
+    // jerk is finite); j - j is +0 for a finite jerk and NaN otherwise, and a sum of them stays +0
+    // only when every jerk is finite.
+    static_assert(n % 2 == 0);
+    {
+      const __m128d sign = _mm_set1_pd(-0.0);
+      __m128d peak = _mm_setzero_pd(), bad = _mm_setzero_pd();
+      for (std::size_t k = 0; k < n; k += 2) {
+        const __m128d j = _mm_add_pd(_mm_loadu_pd(&ref[k]), _mm_loadu_pd(&x[k]));
+        _mm_storeu_pd(&jerk[k], j);
+        peak = _mm_max_pd(_mm_andnot_pd(sign, j), peak);
+        bad = _mm_add_pd(bad, _mm_sub_pd(j, j));
+      }
+      jpk = std::max(_mm_cvtsd_f64(peak), _mm_cvtsd_f64(_mm_unpackhi_pd(peak, peak)));
+      finite = _mm_movemask_pd(_mm_cmpeq_pd(bad, _mm_setzero_pd())) == 3;
+    }
+#else
     // std::max, not fmax: the same for these (never -0, a NaN second argument ignored), and inline.
     for (std::size_t k = 0; k < n; ++k) {
       jerk[k] = ref[k] + x[k];
       jpk = std::max(jpk, std::fabs(jerk[k]));
       finite &= std::isfinite(jerk[k]);
     }
+#endif
     // A jerk that is not finite fails the solve, whether found before or after any pinning.
     if (!finite) return false;
     if (jpk > kPinOvershoot * jmax) pins = pin;
