@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 #include "settle/core/piece.hpp"
@@ -173,6 +174,14 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
 constexpr double kPinOvershoot = 2.0;
 using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 
+// The factor's short loops unrolled (with the size a constant: fully), except on the Cortex-M
+// cores (their flash).
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
+#define SETTLE_UNROLL_SMALL 0
+#else
+#define SETTLE_UNROLL_SMALL 1
+#endif
+
 // g = L L^T for the symmetric positive definite Gram matrix (lower triangle of `l`), read from
 // g's lower triangle alone (the solve keeps no other). False when a
 // pivot is not positive; a nearly singular one is let through, as partial pivoting let it through
@@ -182,6 +191,9 @@ using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 template <std::size_t Fixed = 0>
 bool cholesky(const Gram& g, std::size_t rows, Gram& l) noexcept {
   const std::size_t n = Fixed > 0 ? Fixed : rows;
+#if SETTLE_UNROLL_SMALL
+#pragma GCC unroll 8
+#endif
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t c = 0; c < i; ++c) {
       double s = g[i][c];
@@ -190,7 +202,7 @@ bool cholesky(const Gram& g, std::size_t rows, Gram& l) noexcept {
     }
     double s = g[i][i];
     for (std::size_t k = 0; k < i; ++k) s -= l[i][k] * l[i][k];
-    if (!(s > 0.0) || !std::isfinite(s)) return false;
+    if (!(s > 0.0 && s <= std::numeric_limits<double>::max())) return false;
     l[i][i] = std::sqrt(s);
   }
   return true;
