@@ -176,8 +176,8 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
 constexpr double kPinOvershoot = 2.0;
 using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 
-// The factor's short loops unrolled (with the size a constant: fully), except on the Cortex-M
-// cores (their flash).
+// Code that spends size for speed (short loops unrolled, copies for constant lengths): not on the
+// Cortex-M cores (their flash).
 #if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
 #define SETTLE_UNROLL_SMALL 0
 #else
@@ -257,13 +257,15 @@ void factor_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& b)
 using Rows = std::array<std::array<double, kBlendSegments>, kMaxRows>;
 
 // out_i = sum_k m_ik v_k for rows [0, rows), each sum over k in order; two rows at a time (two
-// independent sums share the loads of v and overlap their additions).
+// independent sums share the loads of v and overlap their additions). Only the first Len terms are
+// summed: the caller's v is zero past them.
+template <std::size_t Len = kBlendSegments>
 void row_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSegments>& v,
               std::array<double, kMaxRows>& out) noexcept {
   std::size_t i = 0;
   for (; i + 1 < rows; i += 2) {
     double s0 = 0.0, s1 = 0.0;
-    for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    for (std::size_t k = 0; k < Len; ++k) {
       s0 += m[i][k] * v[k];
       s1 += m[i + 1][k] * v[k];
     }
@@ -272,9 +274,33 @@ void row_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSe
   }
   if (i < rows) {
     double s0 = 0.0;
-    for (std::size_t k = 0; k < kBlendSegments; ++k) s0 += m[i][k] * v[k];
+    for (std::size_t k = 0; k < Len; ++k) s0 += m[i][k] * v[k];
     out[i] = s0;
   }
+}
+
+// row_dots of a reference, which is zero past its brake (sample_brake): the terms of its trailing
+// zeros are left out, to a multiple of 4 segments. Each left out would add m_ik * 0 = +-0 to a sum
+// that started at +0 and so is never -0: no change (an m_ik not finite, whose product would be NaN,
+// makes its row's norm not finite, and the solve fails on that before it reads the sum). Not on the
+// Cortex-M cores (the copies' flash).
+void reference_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSegments>& ref,
+                    std::array<double, kMaxRows>& out) noexcept {
+#if SETTLE_UNROLL_SMALL
+  static_assert(kBlendSegments == 24);
+  std::size_t len = kBlendSegments;
+  while (len > 0 && ref[len - 1] == 0.0) --len;
+  switch ((len + 3) / 4) {
+    case 6: row_dots<24>(m, rows, ref, out); return;
+    case 5: row_dots<20>(m, rows, ref, out); return;
+    case 4: row_dots<16>(m, rows, ref, out); return;
+    case 3: row_dots<12>(m, rows, ref, out); return;
+    case 2: row_dots<8>(m, rows, ref, out); return;
+    default: row_dots<4>(m, rows, ref, out); return;
+  }
+#else
+  row_dots(m, rows, ref, out);
+#endif
 }
 
 // The blend's jerks j = j_ref + dj, dj of least weighted norm sum dj_k^2 / w_k (sw = sqrt(w)),
@@ -301,7 +327,7 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
   // The reference's share of each condition is known: the unknowns are the deviation from it.
   // (Without a reference, the share is +0 and the right side the system's own, to the bit.)
   std::array<double, kMaxRows> rhs{};
-  if (has_ref) row_dots(mat, rows, ref, rhs);
+  if (has_ref) reference_dots(mat, rows, ref, rhs);
   for (std::size_t i = 0; i < rows; ++i) rhs[i] = sys.rhs[i] - rhs[i];
   // Unknowns x_k = dj_k / sqrt(w_k): the weighted problem becomes a minimum-norm one. Then rows to
   // unit length, so that the Gram matrix is as well conditioned as the geometry allows.
