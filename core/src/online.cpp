@@ -77,10 +77,11 @@ Brake velocity_stop(double v0, double a0, double amax, double jmax) noexcept {
 // start (s1 <= t0: no overlap), and once a segment starts at or after its end (s0 >= t1) so do the
 // later ones. The next phase starts two segments before where this one stopped (a segment's
 // s0 + h and the next one's s0 may differ by a rounding); a NaN end visits every segment, as before.
-void sample_brake(const Brake& b, double h, std::array<double, kBlendSegments>& out) noexcept {
+// Returns how many segments were visited: those after them are +0.
+std::size_t sample_brake(const Brake& b, double h, std::array<double, kBlendSegments>& out) noexcept {
   out = {};
   double t0 = 0.0;
-  std::size_t first = 0;
+  std::size_t first = 0, visited = 0;
   for (std::size_t i = 0; i < 3; ++i) {
     const double t1 = t0 + b.dur[i];
     std::size_t k = first;
@@ -90,9 +91,11 @@ void sample_brake(const Brake& b, double h, std::array<double, kBlendSegments>& 
       const double overlap = std::min(s1, t1) - std::max(s0, t0);
       if (overlap > 0.0) out[k] += b.jerk[i] * overlap / h;
     }
+    visited = std::max(visited, k);
     if (k < kBlendSegments && k > first + 2) first = k - 2;
     t0 = t1;
   }
+  return visited;
 }
 
 // The end conditions of a blend of duration T, linear in its jerks: mat j = rhs.
@@ -279,17 +282,15 @@ void row_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSe
   }
 }
 
-// row_dots of a reference, which is zero past its brake (sample_brake): the terms of its trailing
-// zeros are left out, to a multiple of 4 segments. Each left out would add m_ik * 0 = +-0 to a sum
-// that started at +0 and so is never -0: no change (an m_ik not finite, whose product would be NaN,
-// makes its row's norm not finite, and the solve fails on that before it reads the sum). Not on the
-// Cortex-M cores (the copies' flash).
-void reference_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSegments>& ref,
+// row_dots of a reference that is +0 from segment `len` on (sample_brake's count): the terms of
+// those segments are left out, to a multiple of 4 segments. Each left out would add m_ik * 0 = +-0
+// to a sum that started at +0 and so is never -0: no change (an m_ik not finite, whose product
+// would be NaN, makes its row's norm not finite, and the solve fails on that before it reads the
+// sum). Not on the Cortex-M cores (the copies' flash).
+void reference_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSegments>& ref, std::size_t len,
                     std::array<double, kMaxRows>& out) noexcept {
 #if SETTLE_UNROLL_SMALL
   static_assert(kBlendSegments == 24);
-  std::size_t len = kBlendSegments;
-  while (len > 0 && ref[len - 1] == 0.0) --len;
   switch ((len + 3) / 4) {
     case 6: row_dots<24>(m, rows, ref, out); return;
     case 5: row_dots<20>(m, rows, ref, out); return;
@@ -299,6 +300,7 @@ void reference_dots(const Rows& m, std::size_t rows, const std::array<double, kB
     default: row_dots<4>(m, rows, ref, out); return;
   }
 #else
+  static_cast<void>(len);
   row_dots(m, rows, ref, out);
 #endif
 }
@@ -318,7 +320,7 @@ void reference_dots(const Rows& m, std::size_t rows, const std::array<double, kB
 // (`unit`: every sw_k is 1, then 1 or 0 once pinned) the products by sw_k are exact and skipped:
 // x sw sw = x sw = x for sw = 1, and x sw sw = x sw for sw = 0.
 bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::array<double, kBlendSegments> sw,
-               bool has_ref, bool unit, double jmax, int pins, Solved& out) noexcept {
+               std::size_t ref_len, bool unit, double jmax, int pins, Solved& out) noexcept {
   constexpr std::size_t n = kBlendSegments;
   const std::size_t rows = sys.rows;
   // Only the system's rows are copied (each solve scales its own).
@@ -327,7 +329,7 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
   // The reference's share of each condition is known: the unknowns are the deviation from it.
   // (Without a reference, the share is +0 and the right side the system's own, to the bit.)
   std::array<double, kMaxRows> rhs{};
-  if (has_ref) reference_dots(mat, rows, ref, rhs);
+  if (ref_len > 0) reference_dots(mat, rows, ref, ref_len, rhs);
   for (std::size_t i = 0; i < rows; ++i) rhs[i] = sys.rhs[i] - rhs[i];
   // Unknowns x_k = dj_k / sqrt(w_k): the weighted problem becomes a minimum-norm one. Then rows to
   // unit length, so that the Gram matrix is as well conditioned as the geometry allows.
@@ -725,15 +727,16 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
   for (int i = 0; i < tries; ++i) {
     const int c = (i + last) % kBlendKinds;
     const bool braking = c == 0 || c == 1 || c == 4;  // (sample_brake sets all of ref)
+    std::size_t ref_len = 0;  // segments of the reference up to its trailing +0s (none: no reference)
     if (c == 0 || c == 4) {
-      sample_brake(c == 0 ? full : sharp, h, ref);
+      ref_len = sample_brake(c == 0 ? full : sharp, h, ref);
       for (std::size_t k = 0; k < kBlendSegments; ++k) w[k] = 1.0 - std::fabs(ref[k]) / l.jmax;
     } else if (c == 1) {
-      sample_brake(soft, h, ref);
+      ref_len = sample_brake(soft, h, ref);
     }
     const int pins = tries > 1 ? 0 : kPinPasses;
     const bool unit = c == 1 || c == 2;
-    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, braking, unit, l.jmax,
+    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, ref_len, unit, l.jmax,
                    pins, sol)) {
       continue;
     }
