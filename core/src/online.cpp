@@ -323,26 +323,26 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
                std::size_t ref_len, bool unit, double jmax, int pins, Solved& out) noexcept {
   constexpr std::size_t n = kBlendSegments;
   const std::size_t rows = sys.rows;
-  // Only the system's rows are copied (each solve scales its own).
-  Rows mat;  // NOLINT: rows [0, rows) are set here
-  for (std::size_t i = 0; i < rows; ++i) mat[i] = sys.mat[i];
   // The reference's share of each condition is known: the unknowns are the deviation from it.
   // (Without a reference, the share is +0 and the right side the system's own, to the bit.)
   std::array<double, kMaxRows> rhs{};
-  if (ref_len > 0) reference_dots(mat, rows, ref, ref_len, rhs);
+  if (ref_len > 0) reference_dots(sys.mat, rows, ref, ref_len, rhs);
   for (std::size_t i = 0; i < rows; ++i) rhs[i] = sys.rhs[i] - rhs[i];
   // Unknowns x_k = dj_k / sqrt(w_k): the weighted problem becomes a minimum-norm one. Then rows to
-  // unit length, so that the Gram matrix is as well conditioned as the geometry allows.
+  // unit length, so that the Gram matrix is as well conditioned as the geometry allows: each solve
+  // scales its own copy of the system's rows.
+  Rows mat;  // NOLINT: rows [0, rows) are set here
   for (std::size_t i = 0; i < rows; ++i) {
+    const auto& row = sys.mat[i];
     double nn = 0.0;
     if (unit) {
-      for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k];
+      for (std::size_t k = 0; k < n; ++k) nn += row[k] * row[k];
     } else {
-      for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k] * sw[k] * sw[k];
+      for (std::size_t k = 0; k < n; ++k) nn += row[k] * row[k] * sw[k] * sw[k];
     }
     nn = std::sqrt(nn);
     if (!(nn > 0.0) || !std::isfinite(nn)) return false;
-    for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;  // unweighted column, row-scaled
+    for (std::size_t k = 0; k < n; ++k) mat[i][k] = row[k] / nn;  // unweighted column, row-scaled
     rhs[i] /= nn;
   }
   Gram gram;  // NOLINT: its lower triangle in [0, rows)^2 is set here
