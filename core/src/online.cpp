@@ -583,12 +583,15 @@ Status move_request(const Move<double>& m, double t, const Mode* modes, std::siz
   r.limits = limits;
   r.target = target;
   r.mode_count = mode_count;
-  EndMemory end{};
+  std::array<ModeMemory, kMaxOnlineModes> end{};
   for (std::size_t i = 0; i < mode_count; ++i) {
     if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
     r.modes[i] = modes[i];
     if (at_end != nullptr) {
-      r.memory[i] = mode_memory(m, t, modes[i]);
+      // The pieces that have ended by t read their sums from at_end (taken for this very mode).
+      const EndMemory::Pieces& pc = at_end->pieces[i];
+      const bool same = pc.mode.omega == modes[i].omega && pc.mode.zeta == modes[i].zeta;
+      r.memory[i] = detail::mode_memory_ended(m, t, modes[i], pc.sum.data(), same ? pc.count : 0);
       end[i] = (*at_end)[i];
     } else {
       detail::mode_memory_pair(m, t, m.duration(), modes[i], r.memory[i], end[i]);
@@ -612,6 +615,8 @@ Status end_memory(const Move<double>& m, const Mode* modes, std::size_t mode_cou
   for (std::size_t i = 0; i < mode_count; ++i) {
     if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
     e[i] = mode_memory(m, m.duration(), modes[i]);
+    e.pieces[i].mode = modes[i];
+    e.pieces[i].count = detail::ended_piece_sums(m, modes[i], e.pieces[i].sum.data(), static_cast<int>(kEndMemoryPieces));
   }
   out = e;
   return Status::ok;
