@@ -2,7 +2,10 @@
 #include "settle/core/online.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include "settle/core/piece.hpp"
@@ -74,10 +77,11 @@ Brake velocity_stop(double v0, double a0, double amax, double jmax) noexcept {
 // start (s1 <= t0: no overlap), and once a segment starts at or after its end (s0 >= t1) so do the
 // later ones. The next phase starts two segments before where this one stopped (a segment's
 // s0 + h and the next one's s0 may differ by a rounding); a NaN end visits every segment, as before.
-void sample_brake(const Brake& b, double h, std::array<double, kBlendSegments>& out) noexcept {
+// Returns how many segments were visited: those after them are +0.
+std::size_t sample_brake(const Brake& b, double h, std::array<double, kBlendSegments>& out) noexcept {
   out = {};
   double t0 = 0.0;
-  std::size_t first = 0;
+  std::size_t first = 0, visited = 0;
   for (std::size_t i = 0; i < 3; ++i) {
     const double t1 = t0 + b.dur[i];
     std::size_t k = first;
@@ -87,9 +91,11 @@ void sample_brake(const Brake& b, double h, std::array<double, kBlendSegments>& 
       const double overlap = std::min(s1, t1) - std::max(s0, t0);
       if (overlap > 0.0) out[k] += b.jerk[i] * overlap / h;
     }
+    visited = std::max(visited, k);
     if (k < kBlendSegments && k > first + 2) first = k - 2;
     t0 = t1;
   }
+  return visited;
 }
 
 // The end conditions of a blend of duration T, linear in its jerks: mat j = rhs.
@@ -173,6 +179,14 @@ void build_system(const OnlineRequest& r, double t_total, System& sys) noexcept 
 constexpr double kPinOvershoot = 2.0;
 using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 
+// Code that spends size for speed (short loops unrolled, copies for constant lengths): not on the
+// Cortex-M cores (their flash).
+#if defined(__ARM_ARCH_PROFILE) && __ARM_ARCH_PROFILE == 'M'
+#define SETTLE_UNROLL_SMALL 0
+#else
+#define SETTLE_UNROLL_SMALL 1
+#endif
+
 // g = L L^T for the symmetric positive definite Gram matrix (lower triangle of `l`), read from
 // g's lower triangle alone (the solve keeps no other). False when a
 // pivot is not positive; a nearly singular one is let through, as partial pivoting let it through
@@ -182,6 +196,9 @@ using Gram = std::array<std::array<double, kMaxRows>, kMaxRows>;
 template <std::size_t Fixed = 0>
 bool cholesky(const Gram& g, std::size_t rows, Gram& l) noexcept {
   const std::size_t n = Fixed > 0 ? Fixed : rows;
+#if SETTLE_UNROLL_SMALL
+#pragma GCC unroll 8
+#endif
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t c = 0; c < i; ++c) {
       double s = g[i][c];
@@ -190,7 +207,7 @@ bool cholesky(const Gram& g, std::size_t rows, Gram& l) noexcept {
     }
     double s = g[i][i];
     for (std::size_t k = 0; k < i; ++k) s -= l[i][k] * l[i][k];
-    if (!(s > 0.0) || !std::isfinite(s)) return false;
+    if (!(s > 0.0 && s <= std::numeric_limits<double>::max())) return false;
     l[i][i] = std::sqrt(s);
   }
   return true;
@@ -243,13 +260,15 @@ void factor_solve(const Gram& l, std::size_t n, std::array<double, kMaxRows>& b)
 using Rows = std::array<std::array<double, kBlendSegments>, kMaxRows>;
 
 // out_i = sum_k m_ik v_k for rows [0, rows), each sum over k in order; two rows at a time (two
-// independent sums share the loads of v and overlap their additions).
+// independent sums share the loads of v and overlap their additions). Only the first Len terms are
+// summed: the caller's v is zero past them.
+template <std::size_t Len = kBlendSegments>
 void row_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSegments>& v,
               std::array<double, kMaxRows>& out) noexcept {
   std::size_t i = 0;
   for (; i + 1 < rows; i += 2) {
     double s0 = 0.0, s1 = 0.0;
-    for (std::size_t k = 0; k < kBlendSegments; ++k) {
+    for (std::size_t k = 0; k < Len; ++k) {
       s0 += m[i][k] * v[k];
       s1 += m[i + 1][k] * v[k];
     }
@@ -258,9 +277,32 @@ void row_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSe
   }
   if (i < rows) {
     double s0 = 0.0;
-    for (std::size_t k = 0; k < kBlendSegments; ++k) s0 += m[i][k] * v[k];
+    for (std::size_t k = 0; k < Len; ++k) s0 += m[i][k] * v[k];
     out[i] = s0;
   }
+}
+
+// row_dots of a reference that is +0 from segment `len` on (sample_brake's count): the terms of
+// those segments are left out, to a multiple of 4 segments. Each left out would add m_ik * 0 = +-0
+// to a sum that started at +0 and so is never -0: no change (an m_ik not finite, whose product
+// would be NaN, makes its row's norm not finite, and the solve fails on that before it reads the
+// sum). Not on the Cortex-M cores (the copies' flash).
+void reference_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSegments>& ref, std::size_t len,
+                    std::array<double, kMaxRows>& out) noexcept {
+#if SETTLE_UNROLL_SMALL
+  static_assert(kBlendSegments == 24);
+  switch ((len + 3) / 4) {
+    case 6: row_dots<24>(m, rows, ref, out); return;
+    case 5: row_dots<20>(m, rows, ref, out); return;
+    case 4: row_dots<16>(m, rows, ref, out); return;
+    case 3: row_dots<12>(m, rows, ref, out); return;
+    case 2: row_dots<8>(m, rows, ref, out); return;
+    default: row_dots<4>(m, rows, ref, out); return;
+  }
+#else
+  static_cast<void>(len);
+  row_dots(m, rows, ref, out);
+#endif
 }
 
 // The blend's jerks j = j_ref + dj, dj of least weighted norm sum dj_k^2 / w_k (sw = sqrt(w)),
@@ -278,29 +320,29 @@ void row_dots(const Rows& m, std::size_t rows, const std::array<double, kBlendSe
 // (`unit`: every sw_k is 1, then 1 or 0 once pinned) the products by sw_k are exact and skipped:
 // x sw sw = x sw = x for sw = 1, and x sw sw = x sw for sw = 0.
 bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::array<double, kBlendSegments> sw,
-               bool has_ref, bool unit, double jmax, int pins, Solved& out) noexcept {
+               std::size_t ref_len, bool unit, double jmax, int pins, Solved& out) noexcept {
   constexpr std::size_t n = kBlendSegments;
   const std::size_t rows = sys.rows;
-  // Only the system's rows are copied (each solve scales its own).
-  Rows mat;  // NOLINT: rows [0, rows) are set here
-  for (std::size_t i = 0; i < rows; ++i) mat[i] = sys.mat[i];
   // The reference's share of each condition is known: the unknowns are the deviation from it.
   // (Without a reference, the share is +0 and the right side the system's own, to the bit.)
   std::array<double, kMaxRows> rhs{};
-  if (has_ref) row_dots(mat, rows, ref, rhs);
+  if (ref_len > 0) reference_dots(sys.mat, rows, ref, ref_len, rhs);
   for (std::size_t i = 0; i < rows; ++i) rhs[i] = sys.rhs[i] - rhs[i];
   // Unknowns x_k = dj_k / sqrt(w_k): the weighted problem becomes a minimum-norm one. Then rows to
-  // unit length, so that the Gram matrix is as well conditioned as the geometry allows.
+  // unit length, so that the Gram matrix is as well conditioned as the geometry allows: each solve
+  // scales its own copy of the system's rows.
+  Rows mat;  // NOLINT: rows [0, rows) are set here
   for (std::size_t i = 0; i < rows; ++i) {
+    const auto& row = sys.mat[i];
     double nn = 0.0;
     if (unit) {
-      for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k];
+      for (std::size_t k = 0; k < n; ++k) nn += row[k] * row[k];
     } else {
-      for (std::size_t k = 0; k < n; ++k) nn += mat[i][k] * mat[i][k] * sw[k] * sw[k];
+      for (std::size_t k = 0; k < n; ++k) nn += row[k] * row[k] * sw[k] * sw[k];
     }
     nn = std::sqrt(nn);
     if (!(nn > 0.0) || !std::isfinite(nn)) return false;
-    for (std::size_t k = 0; k < n; ++k) mat[i][k] /= nn;  // unweighted column, row-scaled
+    for (std::size_t k = 0; k < n; ++k) mat[i][k] = row[k] / nn;  // unweighted column, row-scaled
     rhs[i] /= nn;
   }
   Gram gram;  // NOLINT: its lower triangle in [0, rows)^2 is set here
@@ -362,15 +404,34 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
       if (worst <= 1e-12 * std::max(rhs_norm, xn)) break;
       if (pass == 1) return false;
     }
-    bool pinned = false;
     double jpk = 0.0;
     bool finite = true;
+#if SETTLE_PACKED_VECTOR
+    // Two segments per vector (x86-64): each jerk the same sum, their largest |j| the same maximum
+    // (the order of a maximum of finite values does not matter, and jpk is read only when every
+    // jerk is finite); j - j is +0 for a finite jerk and NaN otherwise, and a sum of them stays +0
+    // only when every jerk is finite.
+    static_assert(n % 2 == 0);
+    {
+      const __m128d sign = _mm_set1_pd(-0.0);
+      __m128d peak = _mm_setzero_pd(), bad = _mm_setzero_pd();
+      for (std::size_t k = 0; k < n; k += 2) {
+        const __m128d j = _mm_add_pd(_mm_loadu_pd(&ref[k]), _mm_loadu_pd(&x[k]));
+        _mm_storeu_pd(&jerk[k], j);
+        peak = _mm_max_pd(_mm_andnot_pd(sign, j), peak);
+        bad = _mm_add_pd(bad, _mm_sub_pd(j, j));
+      }
+      jpk = std::max(_mm_cvtsd_f64(peak), _mm_cvtsd_f64(_mm_unpackhi_pd(peak, peak)));
+      finite = _mm_movemask_pd(_mm_cmpeq_pd(bad, _mm_setzero_pd())) == 3;
+    }
+#else
     // std::max, not fmax: the same for these (never -0, a NaN second argument ignored), and inline.
     for (std::size_t k = 0; k < n; ++k) {
       jerk[k] = ref[k] + x[k];
       jpk = std::max(jpk, std::fabs(jerk[k]));
       finite &= std::isfinite(jerk[k]);
     }
+#endif
     // A jerk that is not finite fails the solve, whether found before or after any pinning.
     if (!finite) return false;
     if (jpk > kPinOvershoot * jmax) pins = pin;
@@ -382,25 +443,44 @@ bool solve_for(const System& sys, std::array<double, kBlendSegments> ref, std::a
     }
     // Nothing beyond jmax (the jerks are finite): nothing to pin.
     if (!(jpk > jmax)) break;
-    for (std::size_t k = 0; k < n; ++k) {
-      if (sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) {
-        // Pin j_k to the limit: its share of every condition goes to the right side, its column
-        // leaves the Gram matrix.
-        const double to = std::copysign(jmax, jerk[k]);
-        for (std::size_t i = 0; i < rows; ++i) {
-          rhs[i] -= mat[i][k] * (to - ref[k]);
-          if (unit) {
-            for (std::size_t l = 0; l <= i; ++l) gram[i][l] -= mat[i][k] * mat[l][k];
-          } else {
-            for (std::size_t l = 0; l <= i; ++l) gram[i][l] -= mat[i][k] * mat[l][k] * sw[k] * sw[k];
-          }
-        }
-        ref[k] = to;
-        sw[k] = 0.0;
-        pinned = true;
+    // The jerks to pin (a weight left, beyond jmax), one bit per segment: on x86-64 two segments
+    // per SSE2 comparison (the same comparisons).
+    std::uint32_t over = 0;
+#if SETTLE_PACKED_VECTOR
+    {
+      const __m128d sign = _mm_set1_pd(-0.0), lim = _mm_set1_pd(jmax), zero = _mm_setzero_pd();
+      for (std::size_t k = 0; k < n; k += 2) {
+        const __m128d o = _mm_and_pd(_mm_cmpgt_pd(_mm_loadu_pd(&sw[k]), zero),
+                                     _mm_cmpgt_pd(_mm_andnot_pd(sign, _mm_loadu_pd(&jerk[k])), lim));
+        over |= static_cast<std::uint32_t>(_mm_movemask_pd(o)) << k;
       }
     }
-    if (!pinned) break;
+#else
+    for (std::size_t k = 0; k < n; ++k) {
+      if (sw[k] > 0.0 && std::fabs(jerk[k]) > jmax) over |= std::uint32_t{1} << k;
+    }
+#endif
+    if (over == 0) break;
+    for (; over != 0; over &= over - 1) {
+      const auto k = static_cast<std::size_t>(std::countr_zero(over));
+      // Pin j_k to the limit: its share of every condition goes to the right side, its column
+      // leaves the Gram matrix.
+      const double to = std::copysign(jmax, jerk[k]), d = to - ref[k], w = sw[k];
+      std::array<double, kMaxRows> col;  // NOLINT: rows [0, rows) are set here
+      for (std::size_t i = 0; i < rows; ++i) col[i] = mat[i][k];
+      for (std::size_t i = 0; i < rows; ++i) rhs[i] -= col[i] * d;
+      if (unit) {
+        for (std::size_t i = 0; i < rows; ++i) {
+          for (std::size_t l = 0; l <= i; ++l) gram[i][l] -= col[i] * col[l];
+        }
+      } else {
+        for (std::size_t i = 0; i < rows; ++i) {
+          for (std::size_t l = 0; l <= i; ++l) gram[i][l] -= col[i] * col[l] * w * w;
+        }
+      }
+      ref[k] = to;
+      sw[k] = 0.0;
+    }
   }
   out.jerk = jerk;
   return true;
@@ -503,12 +583,15 @@ Status move_request(const Move<double>& m, double t, const Mode* modes, std::siz
   r.limits = limits;
   r.target = target;
   r.mode_count = mode_count;
-  EndMemory end{};
+  std::array<ModeMemory, kMaxOnlineModes> end{};
   for (std::size_t i = 0; i < mode_count; ++i) {
     if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
     r.modes[i] = modes[i];
     if (at_end != nullptr) {
-      r.memory[i] = mode_memory(m, t, modes[i]);
+      // The pieces that have ended by t read their sums from at_end (taken for this very mode).
+      const EndMemory::Pieces& pc = at_end->pieces[i];
+      const bool same = pc.mode.omega == modes[i].omega && pc.mode.zeta == modes[i].zeta;
+      r.memory[i] = detail::mode_memory_ended(m, t, modes[i], pc.sum.data(), same ? pc.count : 0);
       end[i] = (*at_end)[i];
     } else {
       detail::mode_memory_pair(m, t, m.duration(), modes[i], r.memory[i], end[i]);
@@ -532,6 +615,8 @@ Status end_memory(const Move<double>& m, const Mode* modes, std::size_t mode_cou
   for (std::size_t i = 0; i < mode_count; ++i) {
     if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
     e[i] = mode_memory(m, m.duration(), modes[i]);
+    e.pieces[i].mode = modes[i];
+    e.pieces[i].count = detail::ended_piece_sums(m, modes[i], e.pieces[i].sum.data(), static_cast<int>(kEndMemoryPieces));
   }
   out = e;
   return Status::ok;
@@ -647,15 +732,16 @@ bool BlendFamily::feasible(double t, Solved& sol) noexcept {
   for (int i = 0; i < tries; ++i) {
     const int c = (i + last) % kBlendKinds;
     const bool braking = c == 0 || c == 1 || c == 4;  // (sample_brake sets all of ref)
+    std::size_t ref_len = 0;  // segments of the reference up to its trailing +0s (none: no reference)
     if (c == 0 || c == 4) {
-      sample_brake(c == 0 ? full : sharp, h, ref);
+      ref_len = sample_brake(c == 0 ? full : sharp, h, ref);
       for (std::size_t k = 0; k < kBlendSegments; ++k) w[k] = 1.0 - std::fabs(ref[k]) / l.jmax;
     } else if (c == 1) {
-      sample_brake(soft, h, ref);
+      ref_len = sample_brake(soft, h, ref);
     }
     const int pins = tries > 1 ? 0 : kPinPasses;
     const bool unit = c == 1 || c == 2;
-    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, braking, unit, l.jmax,
+    if (!solve_for(sys, braking ? ref : none, c == 0 || c == 4 ? w : c == 3 ? front : uniform, ref_len, unit, l.jmax,
                    pins, sol)) {
       continue;
     }

@@ -115,10 +115,11 @@ void piece_integrals(const Piece& pc, Cx lam, double te1, double te2, double uc,
 }
 
 void add_piece(const Piece& pc, Cx lam, double te1, double te2, double body1, double body2, bool both, Cx& acc1,
-               Cx& acc2) noexcept {
+               Cx& acc2, const ModeMemory* ended) noexcept {
   if (!(pc.length > 0.0)) return;
   const bool in1 = !(pc.start >= body1), in2 = both && !(pc.start >= body2);
-  const double uc1 = std::min(pc.start + pc.length, te1), uc2 = std::min(pc.start + pc.length, te2);
+  const double end = pc.start + pc.length;
+  const double uc1 = std::min(end, te1), uc2 = std::min(end, te2);
   if (in1 && in2 && uc1 == uc2) {
     Cx p1{}, p2{};
     piece_integrals(pc, lam, te1, te2, uc1, p1, p2);
@@ -126,7 +127,12 @@ void add_piece(const Piece& pc, Cx lam, double te1, double te2, double body1, do
     acc2 = acc2 + p2;
     return;
   }
-  if (in1) acc1 = acc1 + piece_integral(pc, lam, te1);
+  if (in1 && ended != nullptr && end <= te1) {
+    // Ended by te1: u_c is its end, and its sum the one taken there (piece_integral's own terms).
+    acc1 = acc1 + pc.length * (cexp((te1 - uc1) * lam) * Cx{ended->re, ended->im});
+  } else if (in1) {
+    acc1 = acc1 + piece_integral(pc, lam, te1);
+  }
   if (in2) acc2 = acc2 + piece_integral(pc, lam, te2);
 }
 
@@ -176,7 +182,8 @@ namespace {
 // impulse whose profile is integrated to both times shares the pieces that end before both
 // (profile_integrals). One call of the profile per impulse, so that each profile's integral is
 // expanded once in the code (the Cortex-M cores' flash).
-void memories(const Move<double>& m, double t1, double t2, bool two, Cx lam, ModeMemory& q1, ModeMemory& q2) noexcept {
+void memories(const Move<double>& m, double t1, double t2, bool two, Cx lam, ModeMemory& q1, ModeMemory& q2,
+              const ModeMemory* ended = nullptr, int n_ended = 0) noexcept {
   const bool on1 = t1 > 0.0, on2 = two && t2 > 0.0;
   Cx acc1{}, acc2{};
   const Shaper<double>& sh = m.shaper();
@@ -186,7 +193,9 @@ void memories(const Move<double>& m, double t1, double t2, bool two, Cx lam, Mod
     if (!in1 && !in2) continue;
     // The first integral at te1 (or te2 alone), the second at te2 when both are wanted.
     Cx fa{}, fb{};
-    m.profile().visit([&](const auto& p) { detail::profile_integrals(p, lam, in1 ? te1 : te2, te2, in1 && in2, fa, fb); });
+    m.profile().visit([&](const auto& p) {
+      detail::profile_integrals(p, lam, in1 ? te1 : te2, te2, in1 && in2, fa, fb, ended, n_ended);
+    });
     if (in1) acc1 = acc1 + sh.amp[i] * fa;
     if (in1 && in2) acc2 = acc2 + sh.amp[i] * fb;
     if (!in1) acc2 = acc2 + sh.amp[i] * fa;
@@ -208,6 +217,33 @@ ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexce
   ModeMemory q{}, unused{};
   memories(m, t, t, false, pole(mode.omega, mode.zeta), q, unused);
   return q;
+}
+
+ModeMemory detail::mode_memory_ended(const Move<double>& m, double t, const Mode& mode, const ModeMemory* ended,
+                                     int n) noexcept {
+  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
+  ModeMemory q{}, unused{};
+  memories(m, t, t, false, pole(mode.omega, mode.zeta), q, unused, ended, n);
+  return q;
+}
+
+int detail::ended_piece_sums(const Move<double>& m, const Mode& mode, ModeMemory* out, int n) noexcept {
+  if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return 0;
+  const Cx lam = pole(mode.omega, mode.zeta);
+  return m.profile().visit([&](const auto& p) {
+    int count = 0;
+    if constexpr (requires { p.piece_count(); }) {
+      count = std::min(p.piece_count(), n);
+      for (int i = 0; i < count; ++i) {
+        const Piece pc = p.piece(i);
+        // The sum add_piece takes for a piece ended by te (u_c = min(end, te) is its end); a piece
+        // of no length is passed over there, and its entry never read.
+        const Cx sum = pc.length > 0.0 ? piece_sum(pc, lam, pc.start + pc.length) : Cx{};
+        out[i] = {sum.re, sum.im};
+      }
+    }
+    return count;
+  });
 }
 
 void detail::mode_memory_pair(const Move<double>& m, double t1, double t2, const Mode& mode, ModeMemory& q1,

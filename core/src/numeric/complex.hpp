@@ -34,8 +34,9 @@ inline double cabs(Cx a) noexcept { return std::hypot(a.re, a.im); }
 // The larger of |re| and |im|: within a factor sqrt(2) of the modulus, and without hypot's cost.
 inline double cabs_max(Cx a) noexcept { return std::fmax(std::fabs(a.re), std::fabs(a.im)); }
 
+// (An undamped mode's real part is +-0: exp(+-0) is 1 exactly, so it is not called.)
 inline Cx cexp(Cx a) noexcept {
-  const double e = std::exp(a.re);
+  const double e = a.re == 0.0 ? 1.0 : std::exp(a.re);
   return {e * std::cos(a.im), e * std::sin(a.im)};
 }
 // e^{-p t}. (An undamped mode's real part is 0: exp(+-0) is 1 exactly, so it is not called.)

@@ -234,7 +234,21 @@ struct OnlinePlan {
 // i < mode_count (whether finishing the move leaves the mode at rest). It does not depend on the
 // switch time: a caller that keeps moves to change later (the servo loop's queue) or changes one
 // move at many times takes it once per move (end_memory) and passes it to online_request.
-using EndMemory = std::array<ModeMemory, kMaxOnlineModes>;
+// Beside it, per mode, the sums of the move's first kEndMemoryPieces pieces (piece.hpp) that the
+// mode's memory at a switch reads of every piece that has ended by then (each taken at its piece's
+// end, the same sums to the bit), so that online_request integrates only the pieces not yet ended.
+inline constexpr std::size_t kEndMemoryPieces = 8;
+struct EndMemory {
+  std::array<ModeMemory, kMaxOnlineModes> at_end{};
+  struct Pieces {
+    Mode mode{};  // the mode they were taken for (read only for that mode)
+    int count{0};
+    std::array<ModeMemory, kEndMemoryPieces> sum{};
+  };
+  std::array<Pieces, kMaxOnlineModes> pieces{};
+  [[nodiscard]] ModeMemory& operator[](std::size_t i) noexcept { return at_end[i]; }
+  [[nodiscard]] const ModeMemory& operator[](std::size_t i) const noexcept { return at_end[i]; }
+};
 // The modes are refused as online_request refuses them (out untouched).
 [[nodiscard]] Status end_memory(const Move<double>& m, const Mode* modes, std::size_t mode_count,
                                 EndMemory& out) noexcept;

@@ -211,7 +211,8 @@ struct LoopStats {
 // Online: whether the loop offers halt()/retarget() (docs/online.md). They need the
 // planned Move<double> of every queued move (its state and mode memory at the switch; its modes'
 // memory at its end is taken at submit, OnlineQueued) and two blend slots (the plan in double and
-// in the evaluation's scalar): about 3.1 KiB per queued move on x86-64 and
+// in the evaluation's scalar): about 3.7 KB per queued move on x86-64 (OnlineQueued: 3 696 bytes,
+// 608 of them its end memory's piece sums) and
 // 2.9 KiB (float) or 5.3 KiB (fixed) per axis, and service() builds a fixed-point blend's 4.2 KiB
 // Motion on its stack. On by default for the double evaluation (a master on Linux), asked for by the
 // others; never where SETTLE_ONLINE_CHANGES is 0 (the Cortex-M0).
