@@ -29,10 +29,10 @@ namespace {
 using namespace numeric;
 
 enum class Kind : std::uint8_t { ramp, limit, cruise, dwell };
-struct Part {
-  Kind kind{Kind::ramp};
-  double t0{0.0}, t1{0.0};
-  double side{1.0};  // ramp: the jerk's sign; limit: a's; cruise +1 (v <= vmax binds), dwell -1 (v >= 0)
+struct Part {  // no initialisers: lay_out writes pieces [0, pieces) whole, the rest are not read
+  Kind kind;
+  double t0, t1;
+  double side;  // ramp: the jerk's sign; limit: a's; cruise +1 (v <= vmax binds), dwell -1 (v >= 0)
 };
 
 // Holds and ramps alternate or ramps meet at a turn, so a table of kFastestSegments segments gives
@@ -52,15 +52,17 @@ struct Problem {
   std::array<Cx, kMaxModes> q{};
   std::size_t modes{0};
   double w_fast{0.0};
-  std::array<Part, kMaxParts> piece{};
+  std::array<Part, kMaxParts> piece;  // [0, pieces) only
   std::size_t pieces{0};
 };
 
+// Only what is written is read (a hold's entries, the first `cols` of a row): nothing is zeroed, the
+// rows being 47 of 34 doubles each.
 struct Dual {
   std::size_t cols{0};
-  std::array<std::size_t, kMaxParts> slope{};  // cruise/dwell: its mass's column
-  std::array<Row, kMaxParts> c0{};             // a hold's share at its start: a row over the unknowns
-  std::array<double, kMaxParts> c0c{};         // plus this constant
+  std::array<std::size_t, kMaxParts> slope;  // cruise/dwell: its mass's column
+  std::array<Row, kMaxParts> c0;             // a hold's share at its start: a row over the unknowns
+  std::array<double, kMaxParts> c0c;         // plus this constant
 };
 
 // The move is one of the problem's: at rest at D, within the limits, never backwards, every mode
@@ -170,8 +172,12 @@ Row q_row(const Problem& pb, const Dual& du, std::size_t i, double s, int der, d
 // passes the sign tests proves the move, so another choice can only miss a proof, never make one.
 bool solve(std::array<Row, kMaxRows>& a, std::array<double, kMaxRows>& b, std::size_t rows, std::size_t cols,
            double scale, Row& x) noexcept {
-  const std::array<Row, kMaxRows> a0 = a;
-  const std::array<double, kMaxRows> b0 = b;
+  std::array<Row, kMaxRows> a0;  // the system as given, for the fit's check: its rows x cols only
+  std::array<double, kMaxRows> b0;
+  for (std::size_t r = 0; r < rows; ++r) {
+    std::copy_n(a[r].begin(), cols, a0[r].begin());
+    b0[r] = b[r];
+  }
   Row cs{};
   for (std::size_t k = 0; k < cols; ++k) {
     double n = 0.0;
@@ -188,7 +194,7 @@ bool solve(std::array<Row, kMaxRows>& a, std::array<double, kMaxRows>& b, std::s
     if (!(n > 1e-12)) continue;  // a column dependent on those before: its unknown stays 0
     used[k] = true;
     const double alpha = a[k][k] > 0.0 ? -n : n;
-    std::array<double, kMaxRows> w{};
+    std::array<double, kMaxRows> w;  // [k, rows) only
     for (std::size_t r = k; r < rows; ++r) w[r] = a[r][k];
     w[k] -= alpha;
     double wn = 0.0;
@@ -288,7 +294,7 @@ FastestCertificate certify_fastest(const FastestTable& t, const MoveRequest& r) 
     out.proof = FastestProof::robust;
     return out;
   }
-  Problem pb{};
+  Problem pb;
   const double sgn = r.distance < 0.0 ? -1.0 : 1.0;  // the move of -D is that of D mirrored
   pb.D = std::fabs(r.distance);
   pb.V = *r.limits.vmax;
@@ -309,7 +315,7 @@ FastestCertificate certify_fastest(const FastestTable& t, const MoveRequest& r) 
     return out;
   }
   // The unknowns, and each hold's share at its start from the holds after it (last first).
-  Dual du{};
+  Dual du;
   du.cols = 2 + 2 * pb.modes;
   for (std::size_t i = 0; i < pb.pieces; ++i) {
     if (pb.piece[i].kind == Kind::cruise || pb.piece[i].kind == Kind::dwell) du.slope[i] = du.cols++;
@@ -319,8 +325,8 @@ FastestCertificate certify_fastest(const FastestTable& t, const MoveRequest& r) 
     du.c0[i] = q_row(pb, du, i, pb.piece[i].t0, 0, du.c0c[i]);
   }
   // The rows: psi = 0 at each turn and at each hold's end.
-  std::array<Row, kMaxRows> a{};
-  std::array<double, kMaxRows> b{};
+  std::array<Row, kMaxRows> a;  // [0, rows) only, each row whole (q_row)
+  std::array<double, kMaxRows> b;
   std::size_t rows = 0;
   for (std::size_t i = 0; i < pb.pieces; ++i) {
     const Part& pc = pb.piece[i];
