@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "settle/core/residual.hpp"
@@ -159,21 +160,6 @@ Row p_row(const Problem& pb, std::size_t cols, double s, const std::array<Cx, kM
   for (std::size_t m = 0; m < pb.modes; ++m) {
     r[2 + 2 * m] = -e[m].re;
     r[3 + 2 * m] = -e[m].im;
-  }
-  return r;
-}
-
-// psi at the start (end false) or the end of piece i as seen from it: every hold after i subtracts
-// its share.
-Row q_row(const Problem& pb, const Dual& du, std::size_t i, bool end, double& c) noexcept {
-  const double s = end ? pb.piece[i].t1 : pb.piece[i].t0;
-  Row r = p_row(pb, du.cols, s, end ? pb.e1[i] : pb.e0[i], c);
-  for (std::size_t h = i + 1; h < pb.pieces; ++h) {
-    const Part& pc = pb.piece[h];
-    if (pc.kind == Kind::ramp) continue;
-    for (std::size_t k = 0; k < du.cols; ++k) r[k] -= du.c0[h][k];
-    c -= du.c0c[h];
-    if (pc.kind != Kind::limit) r[du.slope[h]] -= s - pc.t0;
   }
   return r;
 }
@@ -377,11 +363,11 @@ struct Bound {
     double m3 = 0.0;
     const auto d3 = static_cast<std::size_t>(der) + 3;
     for (std::size_t m = 0; m < pb.modes; ++m) m3 += wsize[d3][m] * greater(modulus(a.e[m]), modulus(b.e[m]));
-    m3 *= 1.0 + 1e-12;
+    m3 *= 1.0 + 1e-9;
     if (!std::isfinite(m3 + a.f[0] + a.f[1] + a.f[2] + b.f[0] + b.f[1] + b.f[2])) return false;
     double low = std::numeric_limits<double>::infinity();
     if (l <= mid) low = cubic_min(a.f[0], a.f[1], a.f[2], m3, l - a.s, lesser(r, mid) - a.s);
-    if (r >= mid && (low >= floor || depth > 0)) low = lesser(low, cubic_min(b.f[0], -b.f[1], b.f[2], m3, b.s - r, b.s - greater(l, mid)));
+    if (r >= mid && low >= floor) low = lesser(low, cubic_min(b.f[0], -b.f[1], b.f[2], m3, b.s - r, b.s - greater(l, mid)));
     if (low >= floor) return true;
     if (depth == 0) return false;
     std::array<Cx, kMaxModes> ec;
@@ -550,27 +536,49 @@ FastestCertificate certify_fastest(const FastestTable& t, const MoveRequest& r) 
     return out;
   }
   exps_at_ends(pb);
-  // The unknowns, and each hold's share at its start from the holds after it (last first).
+  // The unknowns.
   Dual du;
   du.cols = 2 + 2 * pb.modes;
   for (std::size_t i = 0; i < pb.pieces; ++i) {
     if (pb.piece[i].kind == Kind::cruise || pb.piece[i].kind == Kind::dwell) du.slope[i] = du.cols++;
   }
-  for (std::size_t i = pb.pieces; i-- > 0;) {
-    if (pb.piece[i].kind == Kind::ramp) continue;
-    du.c0[i] = q_row(pb, du, i, false, du.c0c[i]);
-  }
-  // The rows: psi = 0 at each turn and at each hold's end.
-  std::array<Row, kMaxRows> a;  // [0, rows) only, each row whole (q_row)
+  // The rows: psi = 0 at each turn and at each hold's end, psi seen from the piece (every hold
+  // after it subtracts its share). Built last first, the later holds' shares summed as they come
+  // (sum, sumc; a cruise's or dwell's line in its own column, lines).
+  std::array<Row, kMaxRows> a;  // [0, rows) only, [0, cols) of each
   std::array<double, kMaxRows> b;
+  const auto turn = [&](std::size_t i) {
+    return pb.piece[i].kind == Kind::ramp && i + 1 < pb.pieces && pb.piece[i + 1].kind == Kind::ramp;
+  };
   std::size_t rows = 0;
-  for (std::size_t i = 0; i < pb.pieces; ++i) {
-    const Part& pc = pb.piece[i];
-    const bool turn = pc.kind == Kind::ramp && i + 1 < pb.pieces && pb.piece[i + 1].kind == Kind::ramp;
-    if (pc.kind == Kind::ramp && !turn) continue;
-    double c = 0.0;
-    a[rows] = q_row(pb, du, i, true, c);
-    b[rows++] = -c;
+  for (std::size_t i = 0; i < pb.pieces; ++i) rows += pb.piece[i].kind != Kind::ramp || turn(i) ? 1u : 0u;
+  {
+    Row sum;
+    std::fill_n(sum.begin(), du.cols, 0.0);
+    double sumc = 0.0;
+    std::array<std::size_t, kMaxHolds> lines;
+    std::size_t nlines = 0;
+    const auto seen = [&](double at, const std::array<Cx, kMaxModes>& e, double& c) {
+      Row row = p_row(pb, du.cols, at, e, c);
+      for (std::size_t k = 0; k < du.cols; ++k) row[k] -= sum[k];
+      c -= sumc;
+      for (std::size_t l = 0; l < nlines; ++l) row[du.slope[lines[l]]] -= at - pb.piece[lines[l]].t0;
+      return row;
+    };
+    std::size_t row = rows;
+    for (std::size_t i = pb.pieces; i-- > 0;) {
+      const Part& pc = pb.piece[i];
+      if (pc.kind != Kind::ramp || turn(i)) {
+        double c = 0.0;
+        a[--row] = seen(pc.t1, pb.e1[i], c);
+        b[row] = -c;
+      }
+      if (pc.kind == Kind::ramp) continue;
+      du.c0[i] = seen(pc.t0, pb.e0[i], du.c0c[i]);  // its share at its start
+      for (std::size_t k = 0; k < du.cols; ++k) sum[k] += du.c0[i][k];
+      sumc += du.c0c[i];
+      if (pc.kind != Kind::limit) lines[nlines++] = i;
+    }
   }
   Row x{};
   if (rows == 0 || !solve(a, b, rows, du.cols, pb.T * pb.T, x)) {
@@ -600,19 +608,26 @@ FastestCertificate certify_fastest(const FastestTable& t, const MoveRequest& r) 
   for (std::size_t j = 0; j < 6; ++j) {
     for (std::size_t m = 0; m < pb.modes; ++m) wsize[j][m] = modulus(wq[j][m]);
   }
+  // Along piece i the shares of the holds after it are one line, lin_a + lin_b s: summed from the end.
+  std::array<double, kMaxParts> lin_a, lin_b;
+  {
+    double la = 0.0, lb = 0.0;
+    for (std::size_t h = pb.pieces; h-- > 0;) {
+      lin_a[h] = la;
+      lin_b[h] = lb;
+      const Part& ph = pb.piece[h];
+      if (ph.kind == Kind::ramp) continue;
+      la += share[h];
+      if (ph.kind != Kind::limit) {
+        la -= x[du.slope[h]] * ph.t0;
+        lb += x[du.slope[h]];
+      }
+    }
+  }
   Notes notes;
   for (std::size_t i = 0; i < pb.pieces; ++i) {
     const Part& pc = pb.piece[i];
-    Along al{pb, x};
-    for (std::size_t h = i + 1; h < pb.pieces; ++h) {
-      const Part& ph = pb.piece[h];
-      if (ph.kind == Kind::ramp) continue;
-      al.lin_a += share[h];
-      if (ph.kind != Kind::limit) {
-        al.lin_a -= x[du.slope[h]] * ph.t0;
-        al.lin_b += x[du.slope[h]];
-      }
-    }
+    const Along al{pb, x, lin_a[i], lin_b[i]};
     const double len = pc.t1 - pc.t0;
     // An even number of intervals (Simpson's rule for the value), 64 at least and per period.
     const double per = pb.w_fast > 0.0 ? len * pb.w_fast / two_pi_v<double>() : 0.0;
