@@ -434,7 +434,7 @@ struct Sweep {
     return 1e-12 * (sc[0] + sc[1] * len + sc[2] * len * len);
   }
   double floor(double margin) const noexcept {
-    return ramp ? -margin : lesser(notes.worst, -kTol) * norm + 2.0 * margin;
+    return ramp ? margin : lesser(notes.worst, -kTol) * norm + 2.0 * margin;
   }
   void walk(std::size_t k0, std::size_t k1) noexcept {
     if (ramp) {
