@@ -397,11 +397,12 @@ struct Notes {
 // exponentials afresh at a block's start): a run of blocks where Bound shows every sample inside
 // above `floor` is not walked, the others are, as before. What is walked notes what it did
 // before, in the same order and to the bit; what is not cannot change the outcome:
-//   - on a ramp floor is -margin, margin 1e-12 of the terms' size (psi's rounding is a few 1e-16 of
-//     it) and at most kTol / 4 of the notes' scale: a sample there can be the worst only where
-//     every sign holds (then where is not reported), and |psi| = sigma psi at each, to 2 margin,
-//     so Simpson's sum over the run is taken in closed form (below);
-//   - on a hold, where no integral is taken, floor is margin above the worst so far or -kTol,
+//   - on a ramp floor is +margin, margin 1e-12 of the terms' size (psi's rounding is a few 1e-16 of
+//     it, the exponentials' a few 1e-16 of 1 + |q| u) and at most kTol / 4 of the notes' scale:
+//     every sample there is above 0, so none notes anything and |psi| = sigma psi at each: Simpson's
+//     sum over the run is taken in closed form (below). (At -margin a ramp with psi within the
+//     margin on the wrong side would be summed as sigma psi where the walk sums |psi|.)
+//   - on a hold, where no integral is taken, floor is 2 margins above the worst so far or -kTol,
 //     whichever is lower: a sample above it is never the worst where that fails the proof.
 struct Sweep {
   const Problem& pb;
