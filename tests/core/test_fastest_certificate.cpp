@@ -139,4 +139,34 @@ TEST(FastestCertificate, TheSearchStopsAtTheFirstProvenMove) {
   EXPECT_EQ(core::certify_fastest(p.table, r).proof, core::FastestProof::proven);
 }
 
+// Grid case 22 as planned by main 0dbc9fb (its segments as `settle plan --json` prints them): a
+// 30 s move whose 29.15 s cruise carries a negative measure (down to -0.188, at 27.48 s) and whose
+// last hold at vmax a worse one (-0.277, at 29.987 s). Most of the cruise is not walked sample by
+// sample (a bound shows no sample there can be the worst: "A certificate of the shortest move",
+// docs/fastest.md); the worst is still found, at the sample it was found at when every sample was.
+TEST(FastestCertificate, TheWorstConditionIsFoundWhereMostOfALongCruiseIsBoundedNotWalked) {
+  const core::FastestTable t = table({{0.014336375181674181, 1627.0},
+                                      {0.014336375181674181, -1627.0},
+                                      {29.15116504465621, 0.0},
+                                      {0.014336375182182337, -1627.0},
+                                      {0.014336375182182337, 1627.0},
+                                      {0.34468443963143613, 0.0},
+                                      {0.014336375181553507, 1627.0},
+                                      {0.014336375181553507, -1627.0},
+                                      {0.4255846411055977, 0.0},
+                                      {0.011100127701389795, -1627.0},
+                                      {0.01003944065231721, 1627.0},
+                                      {0.008074074870233261, -1627.0},
+                                      {0.009134761919309398, 1627.0}});
+  core::MoveRequest r{};
+  r.profile = core::ProfileKind::fastest;
+  r.distance = 9.911, r.limits.vmax = 0.3344, r.limits.amax = 99.8, r.limits.jmax = 1627.0;
+  r.set_mode(3.2992, 0.005);
+  (void)r.add_mode({174.5023, 0.0911});
+  const core::FastestCertificate c = core::certify_fastest(t, r);
+  EXPECT_EQ(c.proof, core::FastestProof::negative_measure) << core::to_string(c.proof);
+  EXPECT_NEAR(c.at, 29.9872399133181, 1e-9);
+  EXPECT_LT(std::fabs(c.gap), 1e-9);
+}
+
 }  // namespace
