@@ -1322,6 +1322,12 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
       }
       n1 = shifted_norm(rows);
       if (std::isfinite(n1) && n1 < n0) break;
+      // A continuation's first step that halved below 2^-9 of Newton's fails unless that trial
+      // gains 1 % (the rule below): a shorter step gains about its fraction of the norm at most,
+      // so the halvings down to 1e-4 (five more evaluations) are not made. Over the reference
+      // grid's 300 plans every plan is the same (to 1e-9) and the evaluations fall by 2.5 % on
+      // three modes, 2.1 % on two, 0.8 % on one (session 31, an instrumented build).
+      if (first_test && it == 0 && lam < 0.002) return false;
     }
     if (!(lam > 1e-4)) return n0 < 1e3 * tol || (pb.to_rounding && n0 < arc_rounding_floor(pb, c));
     if (first_test && it == 0 && lam < 0.002 && n1 >= 0.99 * n0) return false;
