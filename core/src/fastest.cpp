@@ -1813,8 +1813,9 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   // wiggles stay: each gave a shorter move on a grid case). Over the 100 three-mode cases of the
   // reference grid none of these paths gave a shorter move at its level, and without them every
   // one of those plans is the same to 1e-9; they were 5.6 % of those plans' evaluations
-  // (session 31, an instrumented build).
-  const bool three_top = request && ms.n >= 3, three_pulse = r.mode_count >= 3 && ms.n >= 2;
+  // (session 31, an instrumented build). Three modes only: the grid holds no request of four, so
+  // one of four keeps every seed path.
+  const bool three_top = request && ms.n == 3, three_pulse = r.mode_count == 3 && ms.n >= 2;
   ArcProblem pb = arc_problem(r, ms);
   ArcExpMemo exps(ms.n);
   pb.exps = &exps;
