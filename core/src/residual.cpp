@@ -213,10 +213,7 @@ void memories(const Move<double>& m, double t1, double t2, bool two, Cx lam, Mod
 }  // namespace
 
 ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept {
-  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
-  ModeMemory q{}, unused{};
-  memories(m, t, t, false, pole(mode.omega, mode.zeta), q, unused);
-  return q;
+  return detail::mode_memory_ended(m, t, mode, nullptr, 0);
 }
 
 ModeMemory detail::mode_memory_ended(const Move<double>& m, double t, const Mode& mode, const ModeMemory* ended,
