@@ -2850,8 +2850,9 @@ struct FastestSearch {
   DipBest dips{};  // bang-bang's chains from the dip seeds, considered last
   ArcBest chains{};  // bang-bang's shortest chains (before the dips, and each late stage's)
   bool arcs_best{false};  // bang-bang's chain is the shortest move so far (bang_coast_family)
-  // With stop_proven (the refined chains), each new shortest jerk-table move is checked by
-  // certify_fastest; proven: it is the shortest of the problem, and the search stops.
+  // proven: the shortest move so far is proven the shortest of the problem (by plan_arcs, or with
+  // stop_proven, the refined chains, by record's check of each new shortest jerk-table move), and
+  // the search stops.
   bool stop_proven{false}, proven{false};
 
   void record(FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) noexcept {
@@ -3731,10 +3732,10 @@ Status plan_unsigned(const MoveRequest& r, FastestParams& out, Peaks<double>& ou
   // after it (bang-coast, the refined chains) are not made. The dips' shortest is recorded all the
   // same: plan_arcs' proof may be of it.
   const bool arcs_won = bang_bang_family(fs);
-  const bool proven = fs.chains.proven;
-  if (!arcs_won && !proven) bang_coast_family(fs);
+  fs.proven = fs.chains.proven;
+  if (!arcs_won && !fs.proven) bang_coast_family(fs);
   if (fs.dips.have) fs.record_table(FastestFamily::bang_bang, fs.dips.t, fs.dips.pk);
-  if (!proven) refined_chains(fs);
+  if (!fs.proven) refined_chains(fs);
   if (!std::isfinite(fs.best.time)) return Status::no_solution;
   fs.best.p.family_time = fs.times;
   out = fs.best.p;
