@@ -900,6 +900,8 @@ struct ArcNode {
 // grew three-mode chains and paid 30 to 50 times the instructions on some grid cases); only the
 // dwell changes (dwell_changes) use the whole room.
 constexpr std::size_t kMaxArcNodes = (kFastestSegments - 1) / 2;
+// Ids of plan_arcs' paths within a group (its wiggles: 3 sizes and 2 ends per ramp).
+constexpr std::size_t kMaxPathIds = 5 * (kMaxArcNodes + 1);
 constexpr std::size_t kChainNodes = 15;
 using ArcVec = std::array<double, kMaxArcNodes>;
 using ArcMat = std::array<ArcVec, kMaxArcNodes>;
@@ -1347,19 +1349,27 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
   return false;
 }
 
-// Solves the chain's equations from c. Newton's method first; when it fails (the start is too
-// far from a solution), continuation from the start x0: F(x) = (1 - lam) F(x0) holds at x0 for
+// Solves the chain's equations from c. Newton's method first (arc_newton_only); when it fails (the
+// start is too far from a solution), continuation from the start x0 (arc_continue): F(x) = (1 - lam) F(x0) holds at x0 for
 // lam = 0, and lam is raised to 1 in steps that grow after each solve and shrink after a
 // failure (to 1e-3 at least), solving loosely on the way and exactly at the end. The
 // continuation gives up once a point on its way is a move longer than t_bound. From every
 // limit/peak pattern and four starts on the commissioning case (docs/fastest.md, "Seeds"), 70 of
 // 256 paths end in a feasible chain with it, 24 with Newton's method alone.
-bool arc_solve(const ArcProblem& pb, ArcChain& c, double t_bound = HUGE_VAL) noexcept {
-  constexpr double kTol = 1e-13, kLooseTol = 1e-6;
-  const ArcChain start = c;
+constexpr double kArcTol = 1e-13;
+bool arc_newton_only(const ArcProblem& pb, ArcChain& c) noexcept {
   const ArcVec none{};
-  if (arc_newton(pb, c, none, 0.0, kTol, 40)) return true;
+  return arc_newton(pb, c, none, 0.0, kArcTol, 40);
+}
+bool arc_continue(const ArcProblem& pb, ArcChain& c, double t_bound) noexcept;
+bool arc_solve(const ArcProblem& pb, ArcChain& c, double t_bound = HUGE_VAL) noexcept {
+  const ArcChain start = c;
+  if (arc_newton_only(pb, c)) return true;
   c = start;
+  return arc_continue(pb, c, t_bound);
+}
+bool arc_continue(const ArcProblem& pb, ArcChain& c, double t_bound) noexcept {
+  constexpr double kTol = kArcTol, kLooseTol = 1e-6;
   ArcVec f0{};
   ArcEval at;
   if (arc_values(pb, c, f0, at) != c.n) return false;
@@ -1859,14 +1869,33 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     if (n0 > pb.max_nodes) continue;
     const double unit_hold = 0.5 * two_pi_v<double>() / (w_min * static_cast<double>(n0));  // half period
     bool best_holds_amax = false;  // of this form's shortest
+    // A group of paths in two passes (two_pass, with stop_proven): the first (a probe) walks each
+    // path while Newton's method alone solves its chain, and keeps a move only where it is proven
+    // the shortest; it changes nothing else (no bound, no memo), so that where it proves nothing the
+    // second pass walks the group as one pass would, less the Newton runs the probe saw fail (the
+    // same runs: arc_solve tries Newton's method first). A proven move found late in a group, by a
+    // path Newton's method solves, is so reached before the group's failing continuations: the
+    // three-mode request's own wiggles cost 3 766 evaluations before its proof, 859 with the probe.
+    int pass = 0;  // 0: one pass; 1 (the probe), 2: two_pass's
+    std::array<bool, kMaxPathIds> newton_fails{};  // by the path's id in its group
     // One path: the chain solved and changed where it breaks a condition. Its continuation is
     // given up once it passes a move 5 % longer than the shortest so far (on the tests' sets it
     // then found no move shorter than the one it stopped at, and two modes plan in about 4 ms
-    // instead of 6).
-    const auto walk = [&](ArcChain c) {
+    // instead of 6). `id`: the path's within its group (two_pass).
+    const auto walk = [&](ArcChain c, std::size_t id) {
       if (proven) return;
+      const bool probe = pass == 1;
       for (int round = 0; round < 16; ++round) {
-        if (!arc_solve(pb, c, 1.05 * best) || memo.seen(c, pb.amax) || lay_out(pb, c).T > best) return;
+        bool solved = false;
+        if (probe) {
+          solved = arc_newton_only(pb, c);
+          if (!solved && round == 0) newton_fails[id] = true;
+        } else if (round == 0 && pass == 2 && newton_fails[id]) {
+          solved = arc_continue(pb, c, 1.05 * best);
+        } else {
+          solved = arc_solve(pb, c, 1.05 * best);
+        }
+        if (!solved || (!probe && memo.seen(c, pb.amax)) || lay_out(pb, c).T > best) return;
         const ArcFix fx = arc_violation(pb, c);
         if (fx.kind == ArcFix::none) {
           const FastestTable t = arc_table(pb, c, r.distance);
@@ -1874,12 +1903,14 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
           const double T = table_duration(t);
           Peaks<double> pk{};
           if (T < best && table_ok(t, Limits{pb.vmax, pb.amax, pb.J}, ms, 0.0, pk)) {
+            const bool proof = stop_proven && certify_fastest(t, problem).proof == FastestProof::proven;
+            if (probe && !proof) return;
             best = T;
             out = t;
             out_pk = pk;
             have = true;
             if (best_chain != nullptr) *best_chain = {c, pulse, true};
-            proven = stop_proven && certify_fastest(t, problem).proof == FastestProof::proven;
+            proven = proof;
             best_holds_amax = best_cruises = false;
             for (std::size_t i = 0; i < c.n; ++i) {
               best_holds_amax |= c.node[i].kind == ArcKind::limit;
@@ -1891,6 +1922,16 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
         if (!apply_fix(pb, fx, c)) return;
       }
     };
+    const auto two_pass = [&](auto&& group) {
+      if (stop_proven) {
+        newton_fails.fill(false);
+        pass = 1;
+        group();
+        pass = 2;
+      }
+      group();
+      pass = 0;
+    };
     // The chain for one mode fewer, a small and a large wiggle in each ramp. Chosen on the tests'
     // sets against one size: 10 % of the rise alone or 80 % alone each found some of the other's
     // shorter moves; both together the shortest of either (docs/fastest.md, "Seeds"). And a
@@ -1899,14 +1940,15 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // range inside such a hold (on its grid 5 more cases reach it, among them 4 that were 7 % to
     // 26 % longer; in the other ramps it found nothing more and cost a third of the grid's time).
     const auto wiggles = [&](const ArcChain& base) {
+      std::size_t id = 0;
       for (const double frac : {0.05, 0.4, 1.0}) {
-        for (std::size_t k = 0; k <= base.n; ++k) {
+        for (std::size_t k = 0; k <= base.n; ++k, ++id) {
           ArcChain c{};
           const bool by_limit = (k < base.n && base.node[k].kind == ArcKind::limit) ||
                                 (k > 0 && base.node[k - 1].kind == ArcKind::limit);
           if (frac == 1.0 && !by_limit) continue;  // the wide wiggle: next to a hold at amax only
           if (frac == 1.0 && lean && pulse) continue;
-          if (insert_wiggle(pb, base, k, frac, c)) walk(c);
+          if (insert_wiggle(pb, base, k, frac, c)) walk(c, id);
         }
       }
       // And the small wiggle near either end of each ramp, centred a quarter period of the new
@@ -1924,7 +1966,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
         if (!(off < 0.5)) continue;
         for (const double at : {off, 1.0 - off}) {
           ArcChain c{};
-          if (insert_wiggle(pb, base, k, 0.05, c, at)) walk(c);
+          if (insert_wiggle(pb, base, k, 0.05, c, at)) walk(c, 3 * (kMaxArcNodes + 1) + 2 * k + (at == off ? 0 : 1));
         }
       }
     };
@@ -1981,7 +2023,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
           for (std::size_t k = 0; dip_from != nullptr && !lean && k < dip_from->n; ++k) {
             if (!short_holds_too && dip_from->x[k] * sub_fast_wd < two_pi_v<double>()) continue;
             ArcChain c{};
-            if (insert_dip(pb, *dip_from, k, 0.0, c)) walk(c);
+            if (insert_dip(pb, *dip_from, k, 0.0, c)) walk(c, 0);
           }
         } else if (st == 1) {
           // The rigid move itself as the chain for one mode fewer (for one mode: the chain of
@@ -2006,12 +2048,12 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
             for (std::size_t k = 0; b != nullptr && k < b->n; ++k) {
               ArcChain c{};
               if (st == 2) {
-                if (insert_stop(pb, *b, k, dwell, c)) walk(c);
-                if (b == &rigid && k + 1 == b->n && append_restart(pb, *b, dwell, c)) walk(c);
+                if (insert_stop(pb, *b, k, dwell, c)) walk(c, 0);
+                if (b == &rigid && k + 1 == b->n && append_restart(pb, *b, dwell, c)) walk(c, 0);
                 continue;
               }
               for (const double to : kSlowTo) {
-                if (insert_slowdown(pb, *b, k, to, c)) walk(c);
+                if (insert_slowdown(pb, *b, k, to, c)) walk(c, 0);
               }
             }
           }
@@ -2038,6 +2080,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     }
     const ArcSeed* seeds = pulse ? kPulseSeeds.data() : kWholeSeeds.data();
     const std::size_t n_seeds = pulse ? kPulseSeeds.size() : kWholeSeeds.size();
+    two_pass([&] {
     for (std::size_t k = 0; k < n_seeds; ++k) {
       const ArcSeed& sd = seeds[k];
       // The peak chain is for moves whose acceleration stays below amax: in the whole form not
@@ -2050,7 +2093,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
                 : three_top && (sd.shape == SeedShape::last_peak || sd.shape == SeedShape::inner_peaks)) {
         continue;
       }
-      walk(seed_chain(sd, n0, unit_hold, pb.amax));
+      walk(seed_chain(sd, n0, unit_hold, pb.amax), k);
     }
     if (!pulse) {
       // Peaks at half the level the rigid time-optimal move reaches, where that is below amax
@@ -2064,19 +2107,20 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       if (a_rigid < pb.amax && !three_top) {
         ArcChain c = seed_chain({SeedShape::peaks, 0.0}, n0, unit_hold, pb.amax);
         for (std::size_t i = 0; i < c.n; ++i) c.x[i] = 0.5 * c.node[i].sign * a_rigid;
-        walk(c);
+        walk(c, n_seeds);
         if (n0 == 4) {
           constexpr std::array<double, 4> kNotch{1.0, -0.85, -0.15, -0.5};
           for (std::size_t i = 0; i < c.n; ++i) c.x[i] = kNotch[i] * a_rigid;
-          walk(c);
+          walk(c, n_seeds + 1);
         }
       }
       // The move split at a shaper's impulses, at rest between the parts (split_chain).
       ArcChain c{};
-      if (split != nullptr && split_chain(pb, *split, c)) walk(c);
+      if (split != nullptr && split_chain(pb, *split, c)) walk(c, n_seeds + 2);
     }
+    });
     if (!proven) need_sub();
-    if (sub.have && sub.pulse == pulse) wiggles(sub.c);
+    if (sub.have && sub.pulse == pulse) two_pass([&] { wiggles(sub.c); });
   }
   if (best_chain != nullptr) best_chain->proven = proven;
   return have;
