@@ -2155,30 +2155,54 @@ constexpr std::size_t kMaxBasisRows = kMaxArcNodes + kMaxIneq;
 class RowBasis {
  public:
   explicit RowBasis(std::size_t n) noexcept : n_(n) {}
+  // Each product with a basis vector is fused with the subtraction of the one before (and the
+  // last with the residual's norm), in the order the two passes take them: the same operations
+  // in the same order as a dot product and an update per vector, so every bit is the same, with
+  // r read once where it was read twice.
   void add(const ArcVec& a) noexcept {
     const std::size_t i = rows_++;
     if (nq_ >= n_) return;
-    ArcVec r = a;
-    double a_norm = 0.0;
-    for (std::size_t c = 0; c < n_; ++c) a_norm += a[c] * a[c];
+    const std::size_t n = n_, m = nq_;
+    std::array<double, kMaxArcNodes> r;
+    double a_norm = 0.0, d = 0.0;  // d: r's product with the next basis vector to take out
+    for (std::size_t c = 0; c < n; ++c) {
+      r[c] = a[c];
+      a_norm += a[c] * a[c];
+    }
+    if (m > 0) {
+      for (std::size_t c = 0; c < n; ++c) d += q_[0][c] * r[c];
+    }
     a_norm = std::sqrt(a_norm);
     if (!(a_norm > 0.0) || !std::isfinite(a_norm)) return;
-    std::array<double, kMaxArcNodes> coef{};
-    for (int pass = 0; pass < 2; ++pass) {
-      for (std::size_t p = 0; p < nq_; ++p) {
-        double d = 0.0;
-        for (std::size_t c = 0; c < n_; ++c) d += q_[p][c] * r[c];
-        for (std::size_t c = 0; c < n_; ++c) r[c] -= d * q_[p][c];
+    std::array<double, kMaxArcNodes>& coef = l_[i];  // entries [0, nq_] are read, no more
+    double rn = a_norm;
+    if (m > 0) {
+      for (std::size_t p = 0; p < m; ++p) coef[p] = 0.0;
+      rn = 0.0;
+      for (std::size_t t = 0;; ++t) {  // t: the passes' vector steps, p = t mod m
+        const std::size_t p = t < m ? t : t - m;
         coef[p] += d;
+        const ArcVec& qp = q_[p];
+        if (t + 1 == 2 * m) {
+          for (std::size_t c = 0; c < n; ++c) {
+            r[c] -= d * qp[c];
+            rn += r[c] * r[c];
+          }
+          break;
+        }
+        const ArcVec& qn = q_[p + 1 == m ? 0 : p + 1];
+        double dn = 0.0;
+        for (std::size_t c = 0; c < n; ++c) {
+          r[c] -= d * qp[c];
+          dn += qn[c] * r[c];
+        }
+        d = dn;
       }
+      rn = std::sqrt(rn);
     }
-    double rn = 0.0;
-    for (std::size_t c = 0; c < n_; ++c) rn += r[c] * r[c];
-    rn = std::sqrt(rn);
     if (!(rn > 1e-10 * a_norm)) return;
-    for (std::size_t c = 0; c < n_; ++c) q_[nq_][c] = r[c] / rn;
+    for (std::size_t c = 0; c < n; ++c) q_[nq_][c] = r[c] / rn;
     coef[nq_] = rn;
-    l_[i] = coef;
     row_of_[nq_] = i;
     ++nq_;
   }
@@ -2216,7 +2240,8 @@ class RowBasis {
 
  private:
   // Not zeroed (8 KB per basis, built once per restoration step): add writes the first n_
-  // entries of q_[p], the whole l_[i] and row_of_[p] of every kept row before anything reads them.
+  // entries of q_[p], l_[i][0..p] and row_of_[p] of every kept row (p its vector) before anything
+  // reads them; solve and project read no more.
   std::size_t n_{0}, rows_{0}, nq_{0};
   std::array<ArcVec, kMaxArcNodes> q_;
   std::array<std::array<double, kMaxArcNodes>, kMaxBasisRows> l_;
