@@ -2377,7 +2377,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     double n1 = HUGE_VAL;
     for (double lam = 1.0; lam > 1e-3; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dz[i] * q.unit[i];
-      const std::size_t got = arc_values(pb, trial, f, ev, n0);  // 0: v and p reject it
+      const std::size_t got = arc_values(pb, trial, f, ev, n0);  // 0: its first rows reject it
       if (got == 0) {
         n1 = HUGE_VAL;
         continue;
