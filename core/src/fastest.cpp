@@ -1170,16 +1170,16 @@ void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, Ar
   std::size_t row = 0;
   // d F_row / d x from g (d F_row / d s_k), as suffix sums.
   const auto finish_row = [&](std::size_t rw) {
-    std::array<double, 2 * kMaxArcNodes + 3> suf;
-    suf[ns] = 0.0;
-    for (std::size_t k = ns; k-- > 0;) suf[k] = suf[k + 1] + g[k];
-    for (std::size_t i = 0; i < n; ++i) {
+    // The suffix sums suf_k = suf_{k+1} + g_k from suf_ns = 0, kept as they run down and read
+    // at 2i + 3, 2i + 2 and 2i + 1 for node i (suf_0 is not read).
+    double suf3 = 0.0 + g[ns - 1];  // suf_{2n+1}
+    for (std::size_t i = n; i-- > 0;) {
+      const double suf2 = suf3 + g[2 * i + 2], suf1 = suf2 + g[2 * i + 1];
       const ArcNode& k = c.node[i];
       // hold i is the length between s_{2i+1} and s_{2i+2}; a peak's level sets ramp i (before
       // s_{2i+1}) and ramp i+1 (before s_{2i+3}).
-      jac[rw][i] = k.kind == ArcKind::peak
-                       ? (suf[2 * i + 1] + suf[std::min(2 * i + 3, ns)]) / (ramp_in(k) * pb.J)
-                       : suf[2 * i + 2];
+      jac[rw][i] = k.kind == ArcKind::peak ? (suf1 + suf3) / (ramp_in(k) * pb.J) : suf2;
+      suf3 = suf1;
     }
     std::fill_n(g.begin(), ns, 0.0);
   };
