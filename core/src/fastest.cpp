@@ -1072,9 +1072,15 @@ struct ArcEval {
 // leaves f and ev unfinished, where the rows of v and p alone already reach it. Their squares
 // are the first terms of the norm's sum, which adding the other rows' squares cannot lower, so
 // the trial would be rejected all the same (arc_newton and arc_restore reject a norm that is
-// not below; the merit of arc_restore adds nonnegative terms to the norm).
+// not below; the merit of arc_restore adds nonnegative terms to the norm). The rows of v on
+// each cruise or dwell (no exponential) are tested next, before the modes' (an exponential per
+// mode and ramp): their squares are not the next terms of arc_norm's sum, and a sum of k
+// nonnegative terms is rounded to within k eps of its value in any order (23 rows at most:
+// 5e-15), so from them on a test rejects at stop (1 + 1e-12) only, and the trials rejected are
+// the same. Not with `!speed_first`: where the caller fails on a trial the modes' rows do not
+// reject (arc_newton's first step at 2^-9), a trial rejected before them would not fail it.
 std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEval& ev, double stop = HUGE_VAL,
-                       const ArcVec* f0 = nullptr, double mu = 0.0) noexcept {
+                       const ArcVec* f0 = nullptr, double mu = 0.0, bool speed_first = true) noexcept {
   lay_out(pb, c, ev.L);
   const ArcLayout& L = ev.L;
   const std::size_t n = c.n;
@@ -1090,19 +1096,38 @@ std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEv
   ev.v = v;
   f[row++] = (v - (pb.pulse ? pb.vmax : 0.0)) / pb.vmax;
   if (!pb.pulse) f[row++] = (p - pb.D) / pb.D;
-  // The norm's sum over the rows so far (as arc_norm adds them, in their order): true where it
-  // reaches `stop` already.
+  // The norm's sum over the rows so far: true where it reaches `stop` already (in_order: the
+  // rows added are the first ones of arc_norm's sum, in its order).
   double sq = 0.0;
-  std::size_t summed = 0;
-  const auto rejected = [&] {
+  bool in_order = true;
+  const auto rejected = [&](std::size_t from, std::size_t to) {
     if (!(stop < HUGE_VAL)) return false;
-    for (; summed < row; ++summed) {
-      const double g = f0 ? f[summed] - mu * (*f0)[summed] : f[summed];
+    for (std::size_t k = from; k < to; ++k) {
+      const double g = f0 ? f[k] - mu * (*f0)[k] : f[k];
       sq += g * g;
     }
-    return std::sqrt(sq) >= stop;
+    return std::sqrt(sq) >= (in_order ? stop : stop * (1.0 + 1e-12));
   };
-  if (rejected()) return 0;
+  if (rejected(0, row)) return 0;
+  // v = vmax on each cruise, v = 0 on each dwell (at the hold's start e[i]), in their rows after
+  // the modes'.
+  const std::size_t speed_row = row + 2 * pb.ms->n;
+  std::size_t rows_end = speed_row;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ArcKind kd = c.node[i].kind;
+    if (kd != ArcKind::cruise && kd != ArcKind::dwell) continue;
+    const double tc = L.e[i];
+    double vc = 0.0;
+    for (std::size_t r = 0; r <= i; ++r) {
+      const double ub = tc - L.b[r], ue = tc - L.e[r], jr = L.j[r];
+      vc += jr * (ub * ub - ue * ue) / 2.0;
+    }
+    f[rows_end++] = (vc - (kd == ArcKind::cruise ? pb.vmax : 0.0)) / pb.vmax;
+  }
+  if (speed_first && rows_end > speed_row) {
+    in_order = false;
+    if (rejected(speed_row, rows_end)) return 0;
+  }
   // The transform at each pole, referred to the end and divided by D omega (the step's): sum_r
   // j_r (E(u_b) - E(u_e)) / s^2 with E(u) = e^{s u}.
   for (std::size_t m = 0; m < pb.ms->n; ++m) {
@@ -1130,21 +1155,9 @@ std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEv
     ev.val[m] = acc * q.inv_s2;
     f[row++] = ev.val[m].re;
     f[row++] = ev.val[m].im;
-    if (m + 1 < pb.ms->n && rejected()) return 0;  // the other modes' rows not taken
+    if (m + 1 < pb.ms->n && rejected(row - 2, row)) return 0;  // the other modes' rows not taken
   }
-  // v = vmax on each cruise, v = 0 on each dwell (at the hold's start e[i]).
-  for (std::size_t i = 0; i < n; ++i) {
-    const ArcKind kd = c.node[i].kind;
-    if (kd != ArcKind::cruise && kd != ArcKind::dwell) continue;
-    const double tc = L.e[i];
-    double vc = 0.0;
-    for (std::size_t r = 0; r <= i; ++r) {
-      const double ub = tc - L.b[r], ue = tc - L.e[r], jr = L.j[r];
-      vc += jr * (ub * ub - ue * ue) / 2.0;
-    }
-    f[row++] = (vc - (kd == ArcKind::cruise ? pb.vmax : 0.0)) / pb.vmax;
-  }
-  return row;
+  return rows_end;
 }
 
 // The Jacobian at the point arc_values evaluated (ev).
@@ -1159,16 +1172,16 @@ void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, Ar
   std::size_t row = 0;
   // d F_row / d x from g (d F_row / d s_k), as suffix sums.
   const auto finish_row = [&](std::size_t rw) {
-    std::array<double, 2 * kMaxArcNodes + 3> suf;
-    suf[ns] = 0.0;
-    for (std::size_t k = ns; k-- > 0;) suf[k] = suf[k + 1] + g[k];
-    for (std::size_t i = 0; i < n; ++i) {
+    // The suffix sums suf_k = suf_{k+1} + g_k from suf_ns = 0, kept as they run down and read
+    // at 2i + 3, 2i + 2 and 2i + 1 for node i (suf_0 is not read).
+    double suf3 = 0.0 + g[ns - 1];  // suf_{2n+1}
+    for (std::size_t i = n; i-- > 0;) {
+      const double suf2 = suf3 + g[2 * i + 2], suf1 = suf2 + g[2 * i + 1];
       const ArcNode& k = c.node[i];
       // hold i is the length between s_{2i+1} and s_{2i+2}; a peak's level sets ramp i (before
       // s_{2i+1}) and ramp i+1 (before s_{2i+3}).
-      jac[rw][i] = k.kind == ArcKind::peak
-                       ? (suf[2 * i + 1] + suf[std::min(2 * i + 3, ns)]) / (ramp_in(k) * pb.J)
-                       : suf[2 * i + 2];
+      jac[rw][i] = k.kind == ArcKind::peak ? (suf1 + suf3) / (ramp_in(k) * pb.J) : suf2;
+      suf3 = suf1;
     }
     std::fill_n(g.begin(), ns, 0.0);
   };
@@ -1326,9 +1339,11 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     ArcChain trial = c;
     for (; lam > 1e-4; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dx[i];
-      // F alone (most trials are rejected), and not even that where v and p reject it.
+      // F alone (most trials are rejected), and not even that where v and p (or the speeds at
+      // cruises and dwells) reject it; the speeds not first where the rule below fails the run
+      // on this trial (a trial arc_values rejects does not reach that rule).
       ++evals;
-      if (arc_values(pb, trial, f, at, n0, &f0, mu) == 0) {
+      if (arc_values(pb, trial, f, at, n0, &f0, mu, !(first_test && it == 0 && lam < 0.002)) == 0) {
         n1 = HUGE_VAL;
         continue;
       }
@@ -2433,7 +2448,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     double n1 = HUGE_VAL;
     for (double lam = 1.0; lam > 1e-3; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dz[i] * q.unit[i];
-      const std::size_t got = arc_values(pb, trial, f, ev, n0);  // 0: v and p reject it
+      const std::size_t got = arc_values(pb, trial, f, ev, n0);  // 0: its first rows reject it
       if (got == 0) {
         n1 = HUGE_VAL;
         continue;
