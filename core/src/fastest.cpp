@@ -1884,13 +1884,16 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     if (n0 > pb.max_nodes) continue;
     const double unit_hold = 0.5 * two_pi_v<double>() / (w_min * static_cast<double>(n0));  // half period
     bool best_holds_amax = false;  // of this form's shortest
-    // A group of paths in two passes (two_pass, with stop_proven): the first (a probe) walks each
-    // path while Newton's method alone solves its chain, and keeps a move only where it is proven
-    // the shortest; it changes nothing else (no bound, no memo), so that where it proves nothing the
-    // second pass walks the group as one pass would, less the Newton runs the probe saw fail (the
-    // same runs: arc_solve tries Newton's method first). A proven move found late in a group, by a
-    // path Newton's method solves, is so reached before the group's failing continuations: the
-    // three-mode request's own wiggles cost 3 766 evaluations before its proof, 859 with the probe.
+    // A group of paths in two passes (two_pass, the request's own chains with stop_proven): the
+    // first (a probe) walks each path while Newton's method alone solves its chain, and keeps a move
+    // only where it is proven the shortest; it changes nothing else (no bound, no memo), so that
+    // where it proves nothing the second pass walks the group as one pass would, less the Newton runs
+    // the probe saw fail (the same runs: arc_solve tries Newton's method first). A proven move found
+    // late in a group, by a path Newton's method solves, is so reached before the group's failing
+    // continuations: the three-mode request's own wiggles cost 3 766 evaluations before its proof,
+    // 859 with the probe. Not in the recursion for one mode fewer: there a proof reached by another
+    // path is the same move but not the same bits, and the search built on it lands elsewhere (with
+    // the probe there too, grid case 5 at 1e-3 and 7.3 of its scale planned 0.5 % and 0.4 % longer).
     int pass = 0;  // 0: one pass; 1 (the probe), 2: two_pass's
     std::array<bool, kMaxPathIds> newton_fails{};  // by the path's id in its group
     // One path: the chain solved and changed where it breaks a condition. Its continuation is
@@ -1938,7 +1941,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       }
     };
     const auto two_pass = [&](auto&& group) {
-      if (stop_proven) {
+      if (stop_proven && request) {
         newton_fails.fill(false);
         pass = 1;
         group();

@@ -139,22 +139,6 @@ TEST(FastestCertificate, TheSearchStopsAtTheFirstProvenMove) {
   EXPECT_EQ(core::certify_fastest(p.table, r).proof, core::FastestProof::proven);
 }
 
-// Grid case 49 (two modes): the one-pass search found 0.8265232 s and no proof (its bounds cut the
-// path to a shorter move). The probe of each group of paths (plan_arcs' two_pass: the paths Newton's
-// method solves, walked first, a move kept only where proven) reaches a proven 0.8265029 s; the
-// reference (the linear program, 1 000 steps) is 0.8266432 s.
-TEST(FastestCertificate, TheProbeReachesAProvenMoveTheOnePassSearchDidNot) {
-  core::MoveRequest r = request(0.1469);
-  r.limits.vmax = 0.6343, r.limits.amax = 10.07, r.limits.jmax = 8877.0;
-  r.set_mode(4.9039, 0.065);
-  (void)r.add_mode({57.8292, 0.0966});
-  core::FastestParams p{};
-  core::Peaks<double> pk{};
-  ASSERT_EQ(core::plan_fastest(r, p, pk), core::Status::ok);
-  EXPECT_EQ(core::certify_fastest(p.table, r).proof, core::FastestProof::proven);
-  EXPECT_LT(p.family_time[static_cast<std::size_t>(p.family)], 0.826510);
-}
-
 // Grid case 22 as planned by main 0dbc9fb (its segments as `settle plan --json` prints them): a
 // 30 s move whose 29.15 s cruise carries a negative measure (down to -0.188, at 27.48 s) and whose
 // last hold at vmax a worse one (-0.277, at 29.987 s). Most of the cruise is not walked sample by
