@@ -1895,7 +1895,8 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // path is the same move but not the same bits, and the search built on it lands elsewhere (with
     // the probe there too, grid case 5 at 1e-3 and 7.3 of its scale planned 0.5 % and 0.4 % longer).
     int pass = 0;  // 0: one pass; 1 (the probe), 2: two_pass's
-    std::array<bool, kMaxPathIds> newton_fails{};  // by the path's id in its group
+    // The round whose Newton run failed in the probe, by the path's id in its group (-1: none).
+    std::array<int, kMaxPathIds> newton_fails_at{};
     // One path: the chain solved and changed where it breaks a condition. Its continuation is
     // given up once it passes a move 5 % longer than the shortest so far (on the tests' sets it
     // then found no move shorter than the one it stopped at, and two modes plan in about 4 ms
@@ -1907,8 +1908,8 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
         bool solved = false;
         if (probe) {
           solved = arc_newton_only(pb, c);
-          if (!solved && round == 0) newton_fails[id] = true;
-        } else if (round == 0 && pass == 2 && newton_fails[id]) {
+          if (!solved) newton_fails_at[id] = round;
+        } else if (pass == 2 && newton_fails_at[id] == round) {
           solved = arc_continue(pb, c, 1.05 * best);
         } else {
           solved = arc_solve(pb, c, 1.05 * best);
@@ -1942,7 +1943,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     };
     const auto two_pass = [&](auto&& group) {
       if (stop_proven && request) {
-        newton_fails.fill(false);
+        newton_fails_at.fill(-1);
         pass = 1;
         group();
         pass = 2;
