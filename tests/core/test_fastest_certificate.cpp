@@ -140,10 +140,10 @@ TEST(FastestCertificate, TheSearchStopsAtTheFirstProvenMove) {
 }
 
 TEST(FastestCertificate, ARefinedChainsTurnsHeldForNoTimeAreMadePeaksWhereThatProvesIt) {
-  // Grid case 19 (two modes): its refined chain touches amax for no time, which the proof cannot
-  // model (no dual fits it), and zero_holds_to_peaks' round did not prove it: 1.0821626742 s, not
-  // proven. The first such chain of a refinement made peaks and minimised (kept_until_proven) is
-  // proven, 5.7e-9 s shorter.
+  // Grid case 19 (two modes): zero_holds_to_peaks' chain, the plan before session 32 (1.0821626742
+  // s), touches amax for no time again where its minimisation ended, which the proof cannot model
+  // (no dual fits it). Those turns made peaks once more and minimised (kept_until_proven), the move
+  // is proven, 5.7e-9 s shorter.
   core::MoveRequest g{};
   g.profile = core::ProfileKind::fastest;
   g.distance = 0.317, g.limits.vmax = 2.439, g.limits.amax = 22.08, g.limits.jmax = 414.9;
