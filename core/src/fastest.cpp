@@ -3234,21 +3234,22 @@ void keep_or_polish(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) 
   }
 }
 
-// arc_refine's keep for the searches below: each chain it minimises is a candidate
-// (keep_or_polish), and the refinement stops where the shortest move so far is proven. Where a
-// refinement's proof came only with its last chain, the minimisations after the proving one went
-// for nothing: over the grid's 300 plans (a throw-away counting build), evaluations of a chain's
-// system 3.31 M -> 3.11 M (grid case 233 50.2 k -> 27.0 k, 31 23.5 k -> 8.9 k, 28 37.2 k -> 21.5 k),
-// every plan the same.
-// The first chain of a refinement that is the shortest move so far, not proven, and holds a limit
-// node for no time (which the proof cannot model) is tried once with those nodes made peaks and
-// minimised (zero_holds_to_peaks' change, without its round), and kept only where that proves it:
-// grid case 237's proof came only from zero_holds_to_peaks after arc_refine's three rounds; its
-// second round's first chain (a slow-down in the cruise the proof located) with its two turns held
-// for no time made peaks proves 1.5625169715 s, 4e-11 s from the plan before. Evaluations 3.11 M ->
-// 3.01 M over the grid (237 121 k -> 44 k, 1 56 k -> 29 k, 38 38 k -> 23 k; 86 64 k -> 70 k, 8, 200
-// and 229 up to 6 % more: tries that prove nothing); 19 proven now, 5.7e-9 s shorter; every other
-// plan the same within 1e-9. Tried at every such chain: 184 20 k -> 31 k for nothing; kept where
+// arc_refine's keep for the refinement of bang-bang's chains (refined_chains) and for
+// zero_holds_to_peaks': each chain it minimises is a candidate (keep_or_polish), and the
+// refinement stops where the shortest move so far is proven. The first chain of a refinement that
+// is the shortest move so far, not proven, and holds a limit node for no time (which the proof
+// cannot model) is tried once with those nodes made peaks and minimised (zero_holds_to_peaks'
+// change, without its round), and kept only where that proves it. Grid case 237's proof came only
+// from zero_holds_to_peaks after arc_refine's three rounds; its second round's first chain (a
+// slow-down in the cruise the proof located) with its two turns held for no time made peaks proves
+// 1.5625169715 s, 4e-11 s from the plan before. Over the grid's 300 plans (a throw-away counting
+// build), evaluations of a chain's system 3.31 M -> 3.12 M (237 121 k -> 44 k, 1 67 k -> 29 k, 28
+// 37 k -> 19 k, 170 48 k -> 35 k; 8 and 200 up to 6 % more: a try that proves nothing); 19 proven
+// now, 5.7e-9 s shorter; every other plan the same within 1e-9. Handed to every search that refines
+// (the split chains, the spliced seeds, dwell_passes' rounds: 3.01 M), grid case 224 stopped in
+// dwell_pulse_refined's refinement at a chain the planner proves and tools/fastest-certificate does
+// not (a jump at a dwell's end of -3.2e-7 against its -1e-7), where it went on to one 4e-12 shorter
+// that both prove. Tried at every such chain, not once: 184 20 k -> 31 k for nothing; kept where
 // not proven: 8, 86, 137 and 200 shorter, but the scaled plans off by more than 1e-9 31 (29).
 struct KeptUntilProven {
   FastestSearch& fs;
@@ -3342,7 +3343,7 @@ void split_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
       ArcChain c{};
       if (!split_chain(pb, s, c)) continue;
       if (!restore_seed(pb, c)) continue;
-      arc_refine(pb, c, 3, kept_until_proven(fs, pb));
+      arc_refine(pb, c, 3);
       keep_or_polish(fs, pb, c);
     }
   }
@@ -3373,7 +3374,7 @@ void split_to_rounding(FastestSearch& fs, ArcProblem& pb) noexcept {
   pb.to_rounding = false;
   if (!solved) return;
   keep_or_polish(fs, pb, c);
-  if (!fs.proven && arc_refine(pb, c, 3, kept_until_proven(fs, pb))) keep_or_polish(fs, pb, c);
+  if (!fs.proven && arc_refine(pb, c, 3)) keep_or_polish(fs, pb, c);
 }
 
 // Two modes (exact designs): the move split at ZV of the slower mode (split_chain: two rigid parts
@@ -3409,7 +3410,7 @@ void blips_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
   // (184: 4.0510 s against 4.0741 s): on 81 of the grid's 100 two-mode cases the seed lies within
   // 5 % of it, and refining each cost the two-mode grid 10 % to 28 % more planning time.
   if (lay_out(pb, c).T > 1.05 * fs.best.time || !restore_seed(pb, c) || !(lay_out(pb, c).T < fs.best.time)) return;
-  arc_refine(pb, c, 3, kept_until_proven(fs, pb));
+  arc_refine(pb, c, 3);
   keep_or_polish(fs, pb, c);
 }
 
@@ -3451,7 +3452,7 @@ void cruise_stops_refined(FastestSearch& fs, ArcProblem& pb) noexcept {
   }
   pb.to_rounding = true;
   if (restore_seed(pb, c)) {
-    arc_refine(pb, c, 3, kept_until_proven(fs, pb));
+    arc_refine(pb, c, 3);
     keep_or_polish(fs, pb, c);
   }
   pb.to_rounding = false;
@@ -3465,7 +3466,7 @@ void spliced_refined(FastestSearch& fs, const ArcProblem& pb, const ArcChain& ba
                      const std::array<ArcNode, N>& with, const std::array<double, N>& x) noexcept {
   ArcChain c{};
   if (fs.proven || !splice(base, k, with.data(), x.data(), N, pb.max_nodes, c) || !restore_seed(pb, c)) return;
-  arc_refine(pb, c, 1, kept_until_proven(fs, pb));
+  arc_refine(pb, c, 1);
   keep_or_polish(fs, pb, c);
 }
 
@@ -3696,9 +3697,8 @@ void dwell_passes(FastestSearch& fs, ArcProblem& pb, const ArcChain& refined, do
     if (!(t_pick < HUGE_VAL)) return;
     pb.one_slowdown = true;
     pb.no_slowdown = stops;
-    (void)arc_refine(pb, pick, 1, kept_until_proven(fs, pb));
+    (void)arc_refine(pb, pick, 1);
     pb.one_slowdown = pb.no_slowdown = false;
-    if (fs.proven) return;
     drop_closed_pulses(pb, pick);
     keep_or_polish(fs, pb, pick);
     if (fs.proven) return;
