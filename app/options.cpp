@@ -131,7 +131,7 @@ const std::vector<OptionSpec> kMove = [] {
              "the motion profile (required); fastest: the shortest of several searched families under the "
              "limits, a local search (docs/fastest.md: within 0.1 % of an independent optimiser on 295 of "
              "295 random problems); the plan says whether its move is proven the shortest there is (LP "
-             "duality: 255 of those 300 plans are); an option below that neither it nor --shaper uses is refused "
+             "duality: 256 of those 300 plans are); an option below that neither it nor --shaper uses is refused "
              "(each says which use it)"),
       real("--distance", "m or rad", "", plant::move_range::distance, "signed move distance (required)"),
       real("--time", "s", "", plant::move_range::time, "move time of the unshaped profile (or give limits)"),

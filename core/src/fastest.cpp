@@ -2757,10 +2757,23 @@ double pair_gain(const ArcProblem& pb, const ArcChain& e, std::size_t first, con
   return std::isfinite(g) ? g : 0.0;
 }
 
+// arc_refine's keep where no search stands behind it: nothing kept, never proven.
+struct KeepNone {
+  bool operator()(const ArcChain&) const noexcept { return false; }
+  double violation(const ArcChain&) const noexcept { return -1.0; }
+};
+
 // c shortened by turns inserted where the first-order test says they shorten it (up to `rounds`
 // pairs, each the best of the points tried), each chain minimised over its unknowns. True when
-// c got shorter.
-bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
+// c got shorter. Each chain minimised shorter than the chain it started from (and the first
+// minimisation's) goes to `keep`, a candidate move (kept_until_proven): where keep says the
+// shortest move so far is proven the shortest of the problem, the refinement stops there, c the
+// shortest chain of the round so far (FastestSearch::proven: what follows could only be shorter
+// by the proof's rounding). Each round first stops and slows down the cruise where keep's failed
+// proof of c locates a negative measure (keep.violation: a slow-down or a stop there is shorter),
+// so that a proof comes sooner.
+template <class Keep = KeepNone>
+bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds, Keep keep = {}) noexcept {
   constexpr std::array<double, 7> kAt{0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875};
   ArcKkt kkt{};
   const double T0 = lay_out(pb, c).T;
@@ -2768,6 +2781,8 @@ bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
   for (std::size_t m = 0; m < pb.ms->n; ++m) w_fast = std::fmax(w_fast, std::fabs(pb.poles[m].s.im));
   const double quarter = 0.25 * two_pi_v<double>() / w_fast;
   arc_minimise(pb, c, kkt, 40);
+  if (keep(c)) return lay_out(pb, c).T < T0;
+  bool stop = false;
   for (int round = 0; round < rounds && c.n + 2 <= pb.max_nodes; ++round) {
     // The three most negative derivatives over the points tried.
     struct Cand {
@@ -2801,6 +2816,7 @@ bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
     double t_best = T;
     // Each chain tried is minimised; the shortest is kept.
     const auto minimise_from = [&](ArcChain e) {
+      if (stop) return;
       ArcKkt ek{};
       arc_minimise(pb, e, ek, 60);
       const double te = lay_out(pb, e).T;
@@ -2809,7 +2825,28 @@ bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
         best = e;
         best_kkt = ek;
       }
+      if (te < T && keep(e)) stop = true;
     };
+    const auto cruise_changes = [&](std::size_t k) {
+      for (int kind = 0; kind < 1 + static_cast<int>(kSlowTo.size()); ++kind) {
+        if (kind != 0 && (pb.no_slowdown || (pb.one_slowdown && kSlowTo[static_cast<std::size_t>(kind - 1)] != 0.1))) {
+          continue;
+        }
+        ArcChain e{};
+        const bool ok = kind == 0 ? insert_stop(pb, c, k, quarter, e)
+                                  : insert_slowdown(pb, c, k, kSlowTo[static_cast<std::size_t>(kind - 1)], e);
+        if (ok && restore_seed(pb, e)) minimise_from(e);
+      }
+    };
+    std::size_t located = c.n;  // the cruise the proof's violation lies in
+    if (c.n + 4 <= pb.max_nodes && !pb.pulse) {
+      const double at = keep.violation(c);
+      const ArcLayout L = lay_out(pb, c);
+      for (std::size_t k = 0; k < c.n && at >= 0.0; ++k) {
+        if (c.node[k].kind == ArcKind::cruise && L.e[k] <= at && at <= L.b[k + 1]) located = k;
+      }
+    }
+    if (located < c.n) cruise_changes(located);
     for (const Cand& cd : top) {
       if (!(cd.g < -1e-9)) break;
       ArcChain e{};
@@ -2820,16 +2857,11 @@ bool arc_refine(const ArcProblem& pb, ArcChain& c, int rounds) noexcept {
     // and pairs of finite size where the test cannot see them: a stop or a slow-down inside a
     // cruise (the velocity's bound makes their first-order effect vanish at zero size).
     for (std::size_t k = 0; k < c.n && c.n + 4 <= pb.max_nodes; ++k) {
-      if (c.node[k].kind != ArcKind::cruise) continue;
-      for (int kind = 0; kind < 1 + static_cast<int>(kSlowTo.size()); ++kind) {
-        if (kind != 0 && (pb.no_slowdown || (pb.one_slowdown && kSlowTo[static_cast<std::size_t>(kind - 1)] != 0.1))) {
-          continue;
-        }
-        ArcChain e{};
-        const bool ok = kind == 0 ? insert_stop(pb, c, k, quarter, e)
-                                  : insert_slowdown(pb, c, k, kSlowTo[static_cast<std::size_t>(kind - 1)], e);
-        if (ok && restore_seed(pb, e)) minimise_from(e);
-      }
+      if (c.node[k].kind == ArcKind::cruise && k != located) cruise_changes(k);
+    }
+    if (stop) {
+      if (t_best < T) c = best;
+      break;
     }
     if (!(t_best < T * (1.0 - 1e-12))) break;
     c = best;
@@ -3291,6 +3323,66 @@ void keep_or_polish(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) 
     }
   }
 }
+
+// arc_refine's keep for the refinement of bang-bang's chains (refined_chains) and for
+// zero_holds_to_peaks': each chain it minimises is a candidate (keep_or_polish), and the
+// refinement stops where the shortest move so far is proven. The first chain of a refinement that
+// is the shortest move so far, not proven, and holds a limit node for no time (which the proof
+// cannot model) is tried once with those nodes made peaks and minimised (zero_holds_to_peaks'
+// change, without its round), and kept only where that proves it. Grid case 237's proof came only
+// from zero_holds_to_peaks after arc_refine's three rounds; its second round's first chain (a
+// slow-down in the cruise the proof located) with its two turns held for no time made peaks proves
+// 1.5625169715 s, 4e-11 s from the plan before. Over the grid's 300 plans (a throw-away counting
+// build), evaluations of a chain's system 3.31 M -> 3.12 M (237 121 k -> 44 k, 1 67 k -> 29 k, 28
+// 37 k -> 19 k, 170 48 k -> 35 k; 8 and 200 up to 6 % more: a try that proves nothing); 19 proven
+// now, 5.7e-9 s shorter; every other plan the same within 1e-9. Handed to every search that refines
+// (the split chains, the spliced seeds, dwell_passes' rounds: 3.01 M), grid case 224 stopped in
+// dwell_pulse_refined's refinement at a chain the planner proves and tools/fastest-certificate does
+// not (a jump at a dwell's end of -3.2e-7 against its -1e-7), where it went on to one 4e-12 shorter
+// that both prove. Tried at every such chain, not once: 184 20 k -> 31 k for nothing; kept where
+// not proven: 8, 86, 137 and 200 shorter, but the scaled plans off by more than 1e-9 31 (29).
+struct KeptUntilProven {
+  FastestSearch& fs;
+  const ArcProblem& pb;
+  bool peaks_tried{false};
+  bool operator()(const ArcChain& e) noexcept {
+    const double before = fs.best.time;
+    keep_or_polish(fs, pb, e);
+    if (fs.proven || !(fs.best.time < before) || peaks_tried) return fs.proven;
+    ArcChain z = e;
+    const double T = lay_out(pb, z).T;
+    bool any = false;
+    for (std::size_t k = 0; k < z.n; ++k) {
+      if (z.node[k].kind != ArcKind::limit || !(z.x[k] <= 1e-12 * T)) continue;
+      z.node[k].kind = ArcKind::peak;
+      z.x[k] = z.node[k].sign * pb.amax;
+      any = true;
+    }
+    if (!any) return false;
+    peaks_tried = true;
+    if (!restore_seed(pb, z)) return false;
+    ArcKkt kkt{};
+    arc_minimise(pb, z, kkt, 40);
+    const Best best = fs.best;
+    const auto times = fs.times;
+    keep_or_polish(fs, pb, z);
+    if (!fs.proven) {
+      fs.best = best;
+      fs.times = times;
+    }
+    return fs.proven;
+  }
+  // Where the proof of c fails on a negative measure (a slow-down or a stop there is shorter):
+  // its time in the move; -1 otherwise. Ordered so on 237 the located cruise's slow-down proves the
+  // move before the other cruise's are minimised (64.9 k evaluations without the order, 44.0 k).
+  double violation(const ArcChain& c) const noexcept {
+    const FastestTable t = arc_table(pb, c, fs.r.distance);
+    if (t.count == 0) return -1.0;
+    const FastestCertificate ce = certify_fastest(t, fs.r);
+    return ce.proof == FastestProof::negative_measure ? ce.at : -1.0;
+  }
+};
+KeptUntilProven kept_until_proven(FastestSearch& fs, const ArcProblem& pb) noexcept { return {fs, pb, false}; }
 
 // A one-mode chain with a blip in a hold (a limit node, a short turn of the other sign, the limit
 // again) with the blip moved to either end of the hold and restored to the chain's equations (a
@@ -3754,7 +3846,7 @@ void zero_holds_to_peaks(FastestSearch& fs, const ArcProblem& pb, const ArcChain
     c.x[k] = c.node[k].sign * pb.amax;
     any = true;
   }
-  if (any && restore_seed(pb, c) && arc_refine(pb, c, 1)) keep_or_polish(fs, pb, c);
+  if (any && restore_seed(pb, c) && arc_refine(pb, c, 1, kept_until_proven(fs, pb))) keep_or_polish(fs, pb, c);
 }
 
 // (a'') bang-bang's shortest chains with turns inserted and their length minimised (arc_refine),
@@ -3777,7 +3869,14 @@ void refined_chains(FastestSearch& fs) noexcept {
   if (!got.have && !fs.proven) split_to_rounding(fs, pb);
   if (w_fast * fs.best.time >= two_pi_v<double>() && !fs.proven) blips_refined(fs, pb);
   if (!fs.proven) cruise_stops_refined(fs, pb);
-  for (std::size_t k = 0; k <= kLateStages && !fs.proven; ++k) {
+  // The late stages' chains last first: each is shorter than every chain before it (ArcBest::late),
+  // so the shortest is refined first, and where its refinement is proven the shortest move the
+  // longer chains' are skipped. Grid case 237 (one mode) refined bang-bang's chain (1.6078 s) to
+  // 1.5793 s, longer than the third late stage's chain it then refined and proved (1.5625 s): the
+  // evaluations of a chain's system in its plan 264 k -> 121 k (a throw-away counting build); 40,
+  // 167 and 170 also proven sooner, every grid plan the same.
+  for (std::size_t i = 0; i <= kLateStages && !fs.proven; ++i) {
+    const std::size_t k = kLateStages - i;
     const bool have = k == 0 ? got.have : got.late_have[k - 1];
     if (!have) continue;
     ArcChain c = k == 0 ? got.c : got.late[k - 1];
@@ -3793,7 +3892,7 @@ void refined_chains(FastestSearch& fs) noexcept {
     if (k == 0 && fs.ms.n >= 3 && !fs.proven) dwell_pulse_quarter(fs, pb, got.c);
     if (fs.ms.n >= 3 && !fs.proven) cruise_slowdown_late(fs, pb, c);
     if (fs.proven) return;
-    const bool shorter = arc_refine(pb, c, 3);
+    const bool shorter = arc_refine(pb, c, 3, kept_until_proven(fs, pb));
     // A three-mode chain full at kChainNodes (no pair fits: arc_refine only minimised it) gets its
     // dwells changed all the same, with dwell_changes' room: grid case 74's chain (14 nodes, three
     // stops) was left 1.16 % over the reference, which stops four times (18 nodes); and stops late

@@ -139,6 +139,21 @@ TEST(FastestCertificate, TheSearchStopsAtTheFirstProvenMove) {
   EXPECT_EQ(core::certify_fastest(p.table, r).proof, core::FastestProof::proven);
 }
 
+TEST(FastestCertificate, ARefinedChainsTurnsHeldForNoTimeAreMadePeaksWhereThatProvesIt) {
+  // Grid case 19 (two modes): zero_holds_to_peaks' chain, the plan before session 32 (1.0821626742
+  // s), touches amax for no time again where its minimisation ended, which the proof cannot model
+  // (no dual fits it). Those turns made peaks once more and minimised (kept_until_proven), the move
+  // is proven, 5.7e-9 s shorter.
+  core::MoveRequest g{};
+  g.profile = core::ProfileKind::fastest;
+  g.distance = 0.317, g.limits.vmax = 2.439, g.limits.amax = 22.08, g.limits.jmax = 414.9;
+  g.set_mode(3.7536, 0.117);
+  (void)g.add_mode({121.2896, 0.2924});
+  double t = 0.0;
+  EXPECT_EQ(planned(g, t).proof, core::FastestProof::proven);
+  EXPECT_LT(t, 1.082162670);
+}
+
 // Grid case 22 as planned by main 0dbc9fb (its segments as `settle plan --json` prints them): a
 // 30 s move whose 29.15 s cruise carries a negative measure (down to -0.188, at 27.48 s) and whose
 // last hold at vmax a worse one (-0.277, at 29.987 s). Most of the cruise is not walked sample by
