@@ -3341,6 +3341,20 @@ void keep_or_polish(FastestSearch& fs, const ArcProblem& pb, const ArcChain& c) 
 // not (a jump at a dwell's end of -3.2e-7 against its -1e-7), where it went on to one 4e-12 shorter
 // that both prove. Tried at every such chain, not once: 184 20 k -> 31 k for nothing; kept where
 // not proven: 8, 86, 137 and 200 shorter, but the scaled plans off by more than 1e-9 31 (29).
+// c's limit nodes held for no time (1e-12 of the move) made peaks at the same level: true when
+// there was one (zero_holds_to_peaks, KeptUntilProven).
+bool held_for_no_time_to_peaks(const ArcProblem& pb, ArcChain& c) noexcept {
+  const double T = lay_out(pb, c).T;
+  bool any = false;
+  for (std::size_t k = 0; k < c.n; ++k) {
+    if (c.node[k].kind != ArcKind::limit || !(c.x[k] <= 1e-12 * T)) continue;
+    c.node[k].kind = ArcKind::peak;
+    c.x[k] = c.node[k].sign * pb.amax;
+    any = true;
+  }
+  return any;
+}
+
 struct KeptUntilProven {
   FastestSearch& fs;
   const ArcProblem& pb;
@@ -3350,15 +3364,7 @@ struct KeptUntilProven {
     keep_or_polish(fs, pb, e);
     if (fs.proven || !(fs.best.time < before) || peaks_tried) return fs.proven;
     ArcChain z = e;
-    const double T = lay_out(pb, z).T;
-    bool any = false;
-    for (std::size_t k = 0; k < z.n; ++k) {
-      if (z.node[k].kind != ArcKind::limit || !(z.x[k] <= 1e-12 * T)) continue;
-      z.node[k].kind = ArcKind::peak;
-      z.x[k] = z.node[k].sign * pb.amax;
-      any = true;
-    }
-    if (!any) return false;
+    if (!held_for_no_time_to_peaks(pb, z)) return false;
     peaks_tried = true;
     if (!restore_seed(pb, z)) return false;
     ArcKkt kkt{};
@@ -3838,15 +3844,7 @@ void dwell_changes(FastestSearch& fs, const ArcProblem& narrow, const ArcChain& 
 // there and holds its other turns a little differently, and the chain with a peak refines to it.
 void zero_holds_to_peaks(FastestSearch& fs, const ArcProblem& pb, const ArcChain& refined) noexcept {
   ArcChain c = refined;
-  bool any = false;
-  const double T = lay_out(pb, c).T;
-  for (std::size_t k = 0; k < c.n; ++k) {
-    if (c.node[k].kind != ArcKind::limit || !(c.x[k] <= 1e-12 * T)) continue;
-    c.node[k].kind = ArcKind::peak;
-    c.x[k] = c.node[k].sign * pb.amax;
-    any = true;
-  }
-  if (any && restore_seed(pb, c) && arc_refine(pb, c, 1, kept_until_proven(fs, pb))) keep_or_polish(fs, pb, c);
+  if (held_for_no_time_to_peaks(pb, c) && restore_seed(pb, c) && arc_refine(pb, c, 1, kept_until_proven(fs, pb))) keep_or_polish(fs, pb, c);
 }
 
 // (a'') bang-bang's shortest chains with turns inserted and their length minimised (arc_refine),
