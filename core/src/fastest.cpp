@@ -1884,23 +1884,35 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     if (n0 > pb.max_nodes) continue;
     const double unit_hold = 0.5 * two_pi_v<double>() / (w_min * static_cast<double>(n0));  // half period
     bool best_holds_amax = false;  // of this form's shortest
-    // A group of paths in two passes (two_pass, the request's own chains with stop_proven): the
-    // first (a probe) walks each path while Newton's method alone solves its chain, and keeps a move
-    // only where it is proven the shortest; it changes nothing else (no bound, no memo), so that
-    // where it proves nothing the second pass walks the group as one pass would, less the Newton runs
-    // the probe saw fail (the same runs: arc_solve tries Newton's method first). A proven move found
-    // late in a group, by a path Newton's method solves, is so reached before the group's failing
-    // continuations: the three-mode request's own wiggles cost 3 766 evaluations before its proof,
-    // 859 with the probe. Not in the recursion for one mode fewer: there a proof reached by another
-    // path is the same move but not the same bits, and the search built on it lands elsewhere (with
-    // the probe there too, grid case 5 at 1e-3 and 7.3 of its scale planned 0.5 % and 0.4 % longer).
-    int pass = 0;  // 0: one pass; 1 (the probe), 2: two_pass's
-    // The round whose Newton run failed in the probe, by the path's id in its group (-1: none).
-    std::array<int, kMaxPathIds> newton_fails_at{};
+    // The seeds' group and the wiggles' group of paths, each in two passes where the search stops at
+    // a proof for the request's own chains (`probing`). The first pass (a probe) walks each path
+    // while Newton's method alone solves its chain, and keeps a move only where it is proven the
+    // shortest; it changes nothing else (no bound, no memo), so that where it proves nothing the
+    // second pass walks the group as one pass would, less the Newton runs the probe saw fail (the
+    // same runs: arc_solve tries Newton's method first). A proven move found late in a group, by a
+    // path Newton's method solves, is so reached before the group's failing continuations: the
+    // three-mode request's own wiggles cost 3 766 evaluations before its proof, 859 with the probe.
+    // Both groups are probed before either's second pass (the wiggles need only the chain for one
+    // mode fewer, not the seeds' moves), and the probe walks the split seed first: over the
+    // reference grid the probes so prove 182 of the 300 plans (174 in the groups' order, seeds
+    // then wiggles, split last), 130 of them from the split seed (78), and plan_arcs' median of
+    // evaluations per plan fell from 464, 2 296 and 4 493 to 36, 1 080 and 4 074 for one, two and
+    // three modes (session 33, an instrumented build; every plan the same to 1e-9). Not in the
+    // recursion for one mode
+    // fewer: there a proof reached by another path is the same move but not the same bits, and the
+    // search built on it lands elsewhere (with the probe there too, grid case 5 at 1e-3 and 7.3 of
+    // its scale planned 0.5 % and 0.4 % longer; with it in session 33's order grid case 134 0.9 %
+    // and 227 0.17 % longer).
+    const bool probing = stop_proven && request;
+    int pass = 0;  // 0: one pass; 1 (the probe), 2: after it
+    // The round whose Newton run failed in the probe, by group (0: seeds, 1: wiggles) and by the
+    // path's id in its group (-1: none).
+    std::array<std::array<int, kMaxPathIds>, 2> newton_fails_at{};
+    std::size_t group = 0;
     // One path: the chain solved and changed where it breaks a condition. Its continuation is
     // given up once it passes a move 5 % longer than the shortest so far (on the tests' sets it
     // then found no move shorter than the one it stopped at, and two modes plan in about 4 ms
-    // instead of 6). `id`: the path's within its group (two_pass).
+    // instead of 6). `id`: the path's within its group.
     const auto walk = [&](ArcChain c, std::size_t id) {
       if (proven) return;
       const bool probe = pass == 1;
@@ -1908,8 +1920,8 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
         bool solved = false;
         if (probe) {
           solved = arc_newton_only(pb, c);
-          if (!solved) newton_fails_at[id] = round;
-        } else if (pass == 2 && newton_fails_at[id] == round) {
+          if (!solved) newton_fails_at[group][id] = round;
+        } else if (pass == 2 && newton_fails_at[group][id] == round) {
           solved = arc_continue(pb, c, 1.05 * best);
         } else {
           solved = arc_solve(pb, c, 1.05 * best);
@@ -1940,16 +1952,6 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
         }
         if (!apply_fix(pb, fx, c)) return;
       }
-    };
-    const auto two_pass = [&](auto&& group) {
-      if (stop_proven && request) {
-        newton_fails_at.fill(-1);
-        pass = 1;
-        group();
-        pass = 2;
-      }
-      group();
-      pass = 0;
     };
     // The chain for one mode fewer, a small and a large wiggle in each ramp. Chosen on the tests'
     // sets against one size: 10 % of the rise alone or 80 % alone each found some of the other's
@@ -2099,7 +2101,14 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     }
     const ArcSeed* seeds = pulse ? kPulseSeeds.data() : kWholeSeeds.data();
     const std::size_t n_seeds = pulse ? kPulseSeeds.size() : kWholeSeeds.size();
-    two_pass([&] {
+    // The split seed: the move split at a shaper's impulses, at rest between the parts
+    // (split_chain). Last in one pass, first in the probe.
+    const auto walk_split = [&] {
+      ArcChain c{};
+      if (!pulse && split != nullptr && split_chain(pb, *split, c)) walk(c, n_seeds + 2);
+    };
+    const auto seeds_group = [&] {
+    if (pass == 1) walk_split();
     for (std::size_t k = 0; k < n_seeds; ++k) {
       const ArcSeed& sd = seeds[k];
       // The peak chain is for moves whose acceleration stays below amax: in the whole form not
@@ -2133,13 +2142,24 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
           walk(c, n_seeds + 1);
         }
       }
-      // The move split at a shaper's impulses, at rest between the parts (split_chain).
-      ArcChain c{};
-      if (split != nullptr && split_chain(pb, *split, c)) walk(c, n_seeds + 2);
     }
-    });
-    if (!proven) need_sub();
-    if (sub.have && sub.pulse == pulse) two_pass([&] { wiggles(sub.c); });
+    if (pass != 1) walk_split();
+    };
+    const auto both_groups = [&] {
+      group = 0;
+      seeds_group();
+      if (!proven) need_sub();
+      group = 1;
+      if (sub.have && sub.pulse == pulse) wiggles(sub.c);
+    };
+    if (probing) {
+      for (auto& fails : newton_fails_at) fails.fill(-1);
+      pass = 1;
+      both_groups();
+      pass = 2;
+    }
+    both_groups();
+    pass = 0;
   }
   if (best_chain != nullptr) best_chain->proven = proven;
   return have;
