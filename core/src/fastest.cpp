@@ -2214,8 +2214,8 @@ class RowBasis {
   // last with the residual's norm), in the order the two passes take them: the same operations
   // in the same order as a dot product and an update per vector, so every bit is the same, with
   // r read once where it was read twice. Where Packed is a vector (x86-64; not the Cortex-M
-  // cores: their flash), the chain's lengths up to kChainNodes each have their own copy with the
-  // length fixed (add_packed), its loops unrolled and r kept in registers, two entries a vector
+  // cores: their flash), each chain length has its own copy with the length fixed (add_packed),
+  // its loops unrolled and r kept in registers, two entries a vector
   // (the same operations: on grid case 112, add took 316 M instructions where it took 408 M).
   void add(const ArcVec& a) noexcept {
 #if SETTLE_PACKED_VECTOR
@@ -2234,9 +2234,17 @@ class RowBasis {
       case 13: return add_n<13>(a);
       case 14: return add_n<14>(a);
       case 15: return add_n<15>(a);
+      case 16: return add_n<16>(a);
+      case 17: return add_n<17>(a);
+      case 18: return add_n<18>(a);
+      case 19: return add_n<19>(a);
+      case 20: return add_n<20>(a);
+      case 21: return add_n<21>(a);
+      case 22: return add_n<22>(a);
+      case 23: return add_n<23>(a);
       default: break;
     }
-    static_assert(kChainNodes == 15, "a copy of add per chain length up to kChainNodes");
+    static_assert(kMaxArcNodes == 23, "a copy of add per chain length up to kMaxArcNodes");
 #endif
     add_n<0>(a);
   }
@@ -2248,7 +2256,7 @@ class RowBasis {
     const std::size_t i = rows_++;
     if (nq_ >= n_) return;
 #if SETTLE_PACKED_VECTOR
-    if constexpr (NC > 0) {
+    if constexpr (NC > 1) {
       add_packed<NC>(a, i);
       return;
     }
