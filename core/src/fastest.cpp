@@ -1059,6 +1059,46 @@ ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
   return L;
 }
 
+// What lay_out reads of a chain's nodes, taken once where many points of the same nodes are laid
+// out (the line searches of arc_newton and arc_restore): each ramp's jerk, each node's level
+// but a peak's (its unknown), and which nodes are peaks. lay_out(shape, c, L) then does the same
+// operations as lay_out(pb, c, L), without their tests of the kinds (on the three-mode request
+// of issue 36, 2.8 M of its 51 M instructions).
+struct ArcShape {
+  std::array<double, kMaxArcNodes + 1> js;  // ramp r's jerk s J
+  std::array<double, kMaxArcNodes> lev;     // a limit's sign amax, 0 on a cruise or dwell
+  std::array<bool, kMaxArcNodes> peak;
+};
+ArcShape arc_shape(const ArcProblem& pb, const ArcChain& c) noexcept {
+  ArcShape sh;
+  for (std::size_t r = 0; r < c.n; ++r) {
+    const ArcNode& k = c.node[r];
+    sh.js[r] = ramp_in(k) * pb.J;
+    sh.lev[r] = k.kind == ArcKind::limit ? k.sign * pb.amax : 0.0;
+    sh.peak[r] = k.kind == ArcKind::peak;
+  }
+  sh.js[c.n] = ramp_out(c.node[c.n - 1]) * pb.J;
+  return sh;
+}
+void lay_out(const ArcShape& sh, const ArcChain& c, ArcLayout& L) noexcept {
+  const std::size_t n = c.n;
+  double t = 0.0, a = 0.0;
+  for (std::size_t r = 0; r < n; ++r) {
+    const bool pk = sh.peak[r];
+    const double lev = pk ? c.x[r] : sh.lev[r], hold = pk ? 0.0 : c.x[r];
+    const double e = t + (lev - a) / sh.js[r];
+    L.b[r] = t;
+    L.e[r] = e;
+    L.j[r] = sh.js[r];
+    t = e + hold;
+    a = lev;
+  }
+  L.b[n] = t;
+  L.e[n] = t + (0.0 - a) / sh.js[n];
+  L.j[n] = sh.js[n];
+  L.T = L.e[n];
+}
+
 // The square system F(x) (dimensionless) and its Jacobian. Each quantity is a sum
 // over the ramps of a function of the times u = T - t before the end; its derivative with
 // respect to each switch time, summed from the back (every switch time is the sum of the
@@ -1089,9 +1129,15 @@ struct ArcEval {
 // 5e-15), so from them on a test rejects at stop (1 + 1e-12) only, and the trials rejected are
 // the same. Not with `!speed_first`: where the caller fails on a trial the modes' rows do not
 // reject (arc_newton's first step at 2^-9), a trial rejected before them would not fail it.
+// With `shape` (arc_shape of c's nodes), c is laid out from it.
 std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEval& ev, double stop = HUGE_VAL,
-                       const ArcVec* f0 = nullptr, double mu = 0.0, bool speed_first = true) noexcept {
-  lay_out(pb, c, ev.L);
+                       const ArcVec* f0 = nullptr, double mu = 0.0, bool speed_first = true,
+                       const ArcShape* shape = nullptr) noexcept {
+  if (shape != nullptr) {
+    lay_out(*shape, c, ev.L);
+  } else {
+    lay_out(pb, c, ev.L);
+  }
   const ArcLayout& L = ev.L;
   const std::size_t n = c.n;
   const double T = L.T;
@@ -1352,6 +1398,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
   // it is copied once, and an accepted step copies back the c.n unknowns alone (copying the whole
   // chain both ways per step was 0.5 % of a three-mode plan's instructions).
   ArcChain trial = c;
+  const ArcShape shape = arc_shape(pb, c);
   for (int it = 0; it < max_iter; ++it) {
     if (!std::isfinite(n0)) return false;
     // A continuation's step on the way that has taken over 130 evaluations fails (its step is
@@ -1379,7 +1426,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
       // cruises and dwells) reject it; the speeds not first where the rule below fails the run
       // on this trial (a trial arc_values rejects does not reach that rule).
       ++evals;
-      if (arc_values(pb, trial, f, at, n0, &f0, mu, !(first_test && it == 0 && lam < 0.002)) == 0) {
+      if (arc_values(pb, trial, f, at, n0, &f0, mu, !(first_test && it == 0 && lam < 0.002), &shape) == 0) {
         n1 = HUGE_VAL;
         continue;
       }
@@ -2587,6 +2634,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     return n < 1e-10 || (pb.to_rounding && n < arc_rounding_floor(pb, c));
   };
   const double done = pb.to_rounding ? std::fmax(1e-13, 0.1 * arc_rounding_floor(pb, c)) : 1e-13;
+  const ArcShape shape = arc_shape(pb, c);  // the trials' nodes are c's
   for (int it = 0; it < 30; ++it) {
     if (!std::isfinite(n0)) return false;
     if (n0 < done) return true;
@@ -2601,7 +2649,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     double n1 = HUGE_VAL;
     for (double lam = 1.0; lam > 1e-3; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dz[i] * q.unit[i];
-      const std::size_t got = arc_values(pb, trial, f, ev, n0);  // 0: its first rows reject it
+      const std::size_t got = arc_values(pb, trial, f, ev, n0, nullptr, 0.0, true, &shape);  // 0: rejected early
       if (got == 0) {
         n1 = HUGE_VAL;
         continue;
