@@ -2628,24 +2628,28 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     }
     return m;
   };
-  ArcIneqVals qc;  // at c (its rows are q's: the same kinds)
-  double n0 = merit(c, ev, qc);
+  // The values at c (its rows are q's: the same kinds) and at the trial, swapped on an accepted
+  // step (not copied: 1.1 KB), as the trial's nodes are c's (only its unknowns are copied back).
+  std::array<ArcIneqVals, 2> q_at;
+  ArcIneqVals* qc = &q_at[0];
+  ArcIneqVals* qt = &q_at[1];
+  double n0 = merit(c, ev, *qc);
   const auto stalled_solved = [&](double n) {
     return n < 1e-10 || (pb.to_rounding && n < arc_rounding_floor(pb, c));
   };
   const double done = pb.to_rounding ? std::fmax(1e-13, 0.1 * arc_rounding_floor(pb, c)) : 1e-13;
   const ArcShape shape = arc_shape(pb, c);  // the trials' nodes are c's
+  ArcChain trial = c;
   for (int it = 0; it < 30; ++it) {
     if (!std::isfinite(n0)) return false;
     if (n0 < done) return true;
     arc_jacobian(pb, c, ev, jm);
-    const auto held = [&](std::size_t r) { return active[r] || qc.val[r] < 0.0; };
+    const auto held = [&](std::size_t r) { return active[r] || qc->val[r] < 0.0; };
     const ArcVec dz =
         hold_breaks
-            ? step_holding_breaks(c, jm, f, rows, q, qc, held, [&](std::size_t r) { return qc.val[r] < qc.tol[r]; })
-            : min_norm_step(c, jm, f, rows, q.unit, q, qc, held);
-    ArcChain trial = c;
-    ArcIneqVals qt;
+            ? step_holding_breaks(c, jm, f, rows, q, *qc, held,
+                                  [&](std::size_t r) { return qc->val[r] < qc->tol[r]; })
+            : min_norm_step(c, jm, f, rows, q.unit, q, *qc, held);
     double n1 = HUGE_VAL;
     for (double lam = 1.0; lam > 1e-3; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dz[i] * q.unit[i];
@@ -2655,15 +2659,15 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
         continue;
       }
       rows = got;
-      n1 = merit(trial, ev, qt);
+      n1 = merit(trial, ev, *qt);
       if (std::isfinite(n1) && n1 < n0) break;
     }
     if (!(n1 < n0)) {
       rows = arc_values(pb, c, f, ev);
       return stalled_solved(n0) && arc_norm(f, rows) == n0;  // stalled near a solution, nothing broken
     }
-    c = trial;
-    qc = qt;
+    std::copy_n(trial.x.begin(), c.n, c.x.begin());
+    std::swap(qc, qt);
     n0 = n1;
   }
   return stalled_solved(n0) && arc_norm(f, rows) == n0;
