@@ -1024,29 +1024,79 @@ double node_level(const ArcProblem& pb, const ArcChain& c, std::size_t i) noexce
   return k.kind == ArcKind::limit ? k.sign * pb.amax : k.kind == ArcKind::peak ? c.x[i] : 0.0;
 }
 
+// (Each node's ramp sign, level and hold from one switch on its kind, and the closing ramp after
+// the loop, rather than ramp_in, node_level, the hold's test and the closing test per ramp: the
+// same arithmetic, operation for operation, in 6 % fewer of lay_out's instructions.)
 void lay_out(const ArcProblem& pb, const ArcChain& c, ArcLayout& L) noexcept {
+  const std::size_t n = c.n;
   double t = 0.0, a = 0.0;
-  for (std::size_t r = 0; r <= c.n; ++r) {
-    const bool closing = r == c.n;
-    const double s = closing ? ramp_out(c.node[c.n - 1]) : ramp_in(c.node[r]);
-    double lev = 0.0, hold = 0.0;
-    if (!closing) {
-      lev = node_level(pb, c, r);
-      hold = c.node[r].kind == ArcKind::peak ? 0.0 : c.x[r];
+  for (std::size_t r = 0; r < n; ++r) {
+    const ArcNode& k = c.node[r];
+    double s = k.sign, lev = 0.0, hold = c.x[r];
+    switch (k.kind) {
+      case ArcKind::limit: lev = k.sign * pb.amax; break;
+      case ArcKind::peak: lev = c.x[r]; hold = 0.0; break;
+      case ArcKind::cruise: s = -1.0; break;
+      case ArcKind::dwell: break;
     }
-    const double d = (lev - a) / (s * pb.J);
+    const double js = s * pb.J, e = t + (lev - a) / js;
     L.b[r] = t;
-    L.e[r] = t + d;
-    L.j[r] = s * pb.J;
-    t = L.e[r] + hold;
+    L.e[r] = e;
+    L.j[r] = js;
+    t = e + hold;
     a = lev;
   }
-  L.T = L.e[c.n];
+  // The closing ramp, to a = 0.
+  const double js = ramp_out(c.node[n - 1]) * pb.J;
+  L.b[n] = t;
+  L.e[n] = t + (0.0 - a) / js;
+  L.j[n] = js;
+  L.T = L.e[n];
 }
 ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
   ArcLayout L;
   lay_out(pb, c, L);
   return L;
+}
+
+// What lay_out reads of a chain's nodes, taken once where many points of the same nodes are laid
+// out (the line searches of arc_newton and arc_restore): each ramp's jerk, each node's level
+// but a peak's (its unknown), and which nodes are peaks. lay_out(shape, c, L) then does the same
+// operations as lay_out(pb, c, L), without their tests of the kinds (on the three-mode request
+// of issue 36, 2.8 M of its 51 M instructions).
+struct ArcShape {
+  std::array<double, kMaxArcNodes + 1> js;  // ramp r's jerk s J
+  std::array<double, kMaxArcNodes> lev;     // a limit's sign amax, 0 on a cruise or dwell
+  std::array<bool, kMaxArcNodes> peak;
+};
+ArcShape arc_shape(const ArcProblem& pb, const ArcChain& c) noexcept {
+  ArcShape sh;
+  for (std::size_t r = 0; r < c.n; ++r) {
+    const ArcNode& k = c.node[r];
+    sh.js[r] = ramp_in(k) * pb.J;
+    sh.lev[r] = k.kind == ArcKind::limit ? k.sign * pb.amax : 0.0;
+    sh.peak[r] = k.kind == ArcKind::peak;
+  }
+  sh.js[c.n] = ramp_out(c.node[c.n - 1]) * pb.J;
+  return sh;
+}
+void lay_out(const ArcShape& sh, const ArcChain& c, ArcLayout& L) noexcept {
+  const std::size_t n = c.n;
+  double t = 0.0, a = 0.0;
+  for (std::size_t r = 0; r < n; ++r) {
+    const bool pk = sh.peak[r];
+    const double lev = pk ? c.x[r] : sh.lev[r], hold = pk ? 0.0 : c.x[r];
+    const double e = t + (lev - a) / sh.js[r];
+    L.b[r] = t;
+    L.e[r] = e;
+    L.j[r] = sh.js[r];
+    t = e + hold;
+    a = lev;
+  }
+  L.b[n] = t;
+  L.e[n] = t + (0.0 - a) / sh.js[n];
+  L.j[n] = sh.js[n];
+  L.T = L.e[n];
 }
 
 // The square system F(x) (dimensionless) and its Jacobian. Each quantity is a sum
@@ -1079,9 +1129,15 @@ struct ArcEval {
 // 5e-15), so from them on a test rejects at stop (1 + 1e-12) only, and the trials rejected are
 // the same. Not with `!speed_first`: where the caller fails on a trial the modes' rows do not
 // reject (arc_newton's first step at 2^-9), a trial rejected before them would not fail it.
+// With `shape` (arc_shape of c's nodes), c is laid out from it.
 std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEval& ev, double stop = HUGE_VAL,
-                       const ArcVec* f0 = nullptr, double mu = 0.0, bool speed_first = true) noexcept {
-  lay_out(pb, c, ev.L);
+                       const ArcVec* f0 = nullptr, double mu = 0.0, bool speed_first = true,
+                       const ArcShape* shape = nullptr) noexcept {
+  if (shape != nullptr) {
+    lay_out(*shape, c, ev.L);
+  } else {
+    lay_out(pb, c, ev.L);
+  }
   const ArcLayout& L = ev.L;
   const std::size_t n = c.n;
   const double T = L.T;
@@ -1164,65 +1220,62 @@ std::size_t arc_values(const ArcProblem& pb, const ArcChain& c, ArcVec& f, ArcEv
 void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, ArcMat& jac) noexcept {
   const ArcLayout& L = ev.L;
   const std::size_t n = c.n, ns = 2 * n + 2;  // switch times s_k: s_2r = b[r], s_2r+1 = e[r]
-  // Sized for the longest chain, but only the first ns entries (and rows and columns below n) are
-  // zeroed, read or written: zeroing the whole of g, suf and the Jacobian per row cost a one-mode
-  // plan 8 % more instructions with the 47-segment table (23 nodes) than with 31 (15).
-  std::array<double, 2 * kMaxArcNodes + 2> g;
-  std::fill_n(g.begin(), ns, 0.0);
+  // g[k][row] = d F_row / d s_k, every row's kept side by side, so that the suffix sums below run
+  // over all rows at once (node by node: one test of the node's kind, and a loop over the rows
+  // the compiler takes two at a time) rather than row by row, testing each node's kind per row
+  // (the same sums, operation for operation; row by row they were 40 % of arc_jacobian's
+  // instructions on a three-mode plan). Sized for the longest chain, but only the first ns switch
+  // times and the rows made are written or read: zeroing the whole per row cost a one-mode plan
+  // 8 % more instructions with the 47-segment table (23 nodes) than with 31 (15).
+  std::array<std::array<double, kMaxArcNodes>, 2 * kMaxArcNodes + 2> g;
   std::size_t row = 0;
-  // d F_row / d x from g (d F_row / d s_k), as suffix sums.
-  const auto finish_row = [&](std::size_t rw) {
-    // The suffix sums suf_k = suf_{k+1} + g_k from suf_ns = 0, kept as they run down and read
-    // at 2i + 3, 2i + 2 and 2i + 1 for node i (suf_0 is not read).
-    double suf3 = 0.0 + g[ns - 1];  // suf_{2n+1}
-    for (std::size_t i = n; i-- > 0;) {
-      const double suf2 = suf3 + g[2 * i + 2], suf1 = suf2 + g[2 * i + 1];
-      const ArcNode& k = c.node[i];
-      // hold i is the length between s_{2i+1} and s_{2i+2}; a peak's level sets ramp i (before
-      // s_{2i+1}) and ramp i+1 (before s_{2i+3}).
-      jac[rw][i] = k.kind == ArcKind::peak ? (suf1 + suf3) / (ramp_in(k) * pb.J) : suf2;
-      suf3 = suf1;
-    }
-    std::fill_n(g.begin(), ns, 0.0);
-  };
   const double T = L.T;
+  // Each row writes every entry it sets from 0.0 (0.0 - x, 0.0 + x: the -= and += on a zeroed
+  // row), and zeroes only those it does not set (a cruise's or dwell's row: the ramps after it).
+  double gT = 0.0;  // d v / d T, summed over the ramps; ramp n's end is s_{ns-1} too
   for (std::size_t r = 0; r <= n; ++r) {
     const double ub = T - L.b[r], ue = T - L.e[r], jr = L.j[r];
-    g[2 * r] -= jr * ub;
-    g[2 * r + 1] += jr * ue;
-    g[ns - 1] += jr * (ub - ue);
+    g[2 * r][row] = 0.0 - jr * ub;
+    if (r < n) {
+      g[2 * r + 1][row] = 0.0 + jr * ue;
+    } else {
+      gT += jr * ue;
+    }
+    gT += jr * (ub - ue);
   }
-  for (std::size_t k = 0; k < ns; ++k) g[k] /= pb.vmax;
-  finish_row(row++);
+  g[ns - 1][row] = gT;
+  for (std::size_t k = 0; k < ns; ++k) g[k][row] /= pb.vmax;
+  ++row;
   if (!pb.pulse) {
     for (std::size_t r = 0; r <= n; ++r) {
       const double ub = T - L.b[r], ue = T - L.e[r], jr = L.j[r];
-      g[2 * r] -= jr * ub * ub / 2.0 / pb.D;
-      g[2 * r + 1] += jr * ue * ue / 2.0 / pb.D;
+      g[2 * r][row] = 0.0 - jr * ub * ub / 2.0 / pb.D;
+      g[2 * r + 1][row] = 0.0 + jr * ue * ue / 2.0 / pb.D;
     }
-    g[ns - 1] += ev.v / pb.D;
-    finish_row(row++);
+    g[ns - 1][row] += ev.v / pb.D;
+    ++row;
   }
   // d/d b_r = -j_r E(u_b) / s, d/d e_r = j_r E(u_e) / s; d/dT of sum E(u): s times the sum.
   for (std::size_t m = 0; m < pb.ms->n; ++m) {
     const ArcPole& q = pb.poles[m];
-    // Each switch time's term once (0.0 + as the sum from zero had it): the real parts into g,
-    // the imaginary parts kept for the second row.
-    std::array<double, 2 * kMaxArcNodes + 2> dg_im;
+    // Each switch time's term once (0.0 + as the sum from zero had it): the real parts in the
+    // first row, the imaginary parts in the second. The products as Packed (numeric/complex.hpp:
+    // the same products and sums as Cx's, lane by lane).
+    const PackedFactor inv_s{q.inv_s};
+    const Packed zero = pack(Cx{});
     for (std::size_t r = 0; r <= n; ++r) {
       const double jr = L.j[r] * q.scale;
-      const Cx b = (-jr) * (Cx(ev.eb[m][r]) * q.inv_s), e = jr * (Cx(ev.ee[m][r]) * q.inv_s);
-      g[2 * r] = 0.0 + b.re;
-      g[2 * r + 1] = 0.0 + e.re;
-      dg_im[2 * r] = 0.0 + b.im;
-      dg_im[2 * r + 1] = 0.0 + e.im;
+      const Cx b = unpack(zero + splat(-jr) * (pack(ev.eb[m][r]) * inv_s));
+      const Cx e = unpack(zero + splat(jr) * (pack(ev.ee[m][r]) * inv_s));
+      g[2 * r][row] = b.re;
+      g[2 * r + 1][row] = e.re;
+      g[2 * r][row + 1] = b.im;
+      g[2 * r + 1][row + 1] = e.im;
     }
     const Cx d_T = q.s * ev.val[m];
-    g[ns - 1] += d_T.re;
-    finish_row(row++);
-    for (std::size_t k = 0; k < ns; ++k) g[k] = dg_im[k];
-    g[ns - 1] += d_T.im;
-    finish_row(row++);
+    g[ns - 1][row] += d_T.re;
+    g[ns - 1][row + 1] += d_T.im;
+    row += 2;
   }
   for (std::size_t i = 0; i < n; ++i) {
     const ArcKind kd = c.node[i].kind;
@@ -1230,11 +1283,37 @@ void arc_jacobian(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, Ar
     const double tc = L.e[i];
     for (std::size_t r = 0; r <= i; ++r) {
       const double ub = tc - L.b[r], ue = tc - L.e[r], jr = L.j[r];
-      g[2 * r] -= jr * ub / pb.vmax;
-      g[2 * r + 1] += jr * ue / pb.vmax;
+      g[2 * r][row] = 0.0 - jr * ub / pb.vmax;
+      g[2 * r + 1][row] = 0.0 + jr * ue / pb.vmax;
     }
+    for (std::size_t k = 2 * i + 2; k < ns; ++k) g[k][row] = 0.0;
     // d/d tc (= s_{2i+1}): the acceleration there, 0 by construction.
-    finish_row(row++);
+    ++row;
+  }
+  // d F / d x from g, as suffix sums suf_k = suf_{k+1} + g_k from suf_ns = 0, kept as they run
+  // down and read at 2i + 3, 2i + 2 and 2i + 1 for node i (suf_0 is not read): hold i is the
+  // length between s_{2i+1} and s_{2i+2}; a peak's level sets ramp i (before s_{2i+1}) and ramp
+  // i+1 (before s_{2i+3}).
+  const std::size_t rows = row;
+  std::array<double, kMaxArcNodes> suf3;  // suf_{2i+3} per row
+  for (std::size_t rw = 0; rw < rows; ++rw) suf3[rw] = 0.0 + g[ns - 1][rw];  // suf_{2n+1}
+  for (std::size_t i = n; i-- > 0;) {
+    const ArcNode& k = c.node[i];
+    const std::array<double, kMaxArcNodes>&g2 = g[2 * i + 2], &g1 = g[2 * i + 1];
+    if (k.kind == ArcKind::peak) {
+      const double jk = ramp_in(k) * pb.J;
+      for (std::size_t rw = 0; rw < rows; ++rw) {
+        const double suf2 = suf3[rw] + g2[rw], suf1 = suf2 + g1[rw];
+        jac[rw][i] = (suf1 + suf3[rw]) / jk;
+        suf3[rw] = suf1;
+      }
+    } else {
+      for (std::size_t rw = 0; rw < rows; ++rw) {
+        const double suf2 = suf3[rw] + g2[rw];
+        jac[rw][i] = suf2;
+        suf3[rw] = suf2 + g1[rw];
+      }
+    }
   }
 }
 
@@ -1315,6 +1394,11 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
   if (rows != c.n) return false;  // not square: a chain the loop should not have made
   double n0 = shifted_norm(rows);
   int evals = 1;  // of arc_values
+  // The line search's point: its nodes and count are c's throughout (only the unknowns move), so
+  // it is copied once, and an accepted step copies back the c.n unknowns alone (copying the whole
+  // chain both ways per step was 0.5 % of a three-mode plan's instructions).
+  ArcChain trial = c;
+  const ArcShape shape = arc_shape(pb, c);
   for (int it = 0; it < max_iter; ++it) {
     if (!std::isfinite(n0)) return false;
     // A continuation's step on the way that has taken over 130 evaluations fails (its step is
@@ -1336,14 +1420,13 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     for (std::size_t i = 0; i < rows; ++i) dx[i] = -f[i];
     if (!solve_in_place(jm, dx, rows)) return false;
     double lam = 1.0, n1 = HUGE_VAL;
-    ArcChain trial = c;
     for (; lam > 1e-4; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dx[i];
       // F alone (most trials are rejected), and not even that where v and p (or the speeds at
       // cruises and dwells) reject it; the speeds not first where the rule below fails the run
       // on this trial (a trial arc_values rejects does not reach that rule).
       ++evals;
-      if (arc_values(pb, trial, f, at, n0, &f0, mu, !(first_test && it == 0 && lam < 0.002)) == 0) {
+      if (arc_values(pb, trial, f, at, n0, &f0, mu, !(first_test && it == 0 && lam < 0.002), &shape) == 0) {
         n1 = HUGE_VAL;
         continue;
       }
@@ -1358,7 +1441,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     }
     if (!(lam > 1e-4)) return n0 < 1e3 * tol || (pb.to_rounding && n0 < arc_rounding_floor(pb, c));
     if (first_test && it == 0 && lam < 0.002 && n1 >= 0.99 * n0) return false;
-    c = trial;
+    std::copy_n(trial.x.begin(), c.n, c.x.begin());
     n0 = n1;
   }
   return false;
@@ -2197,11 +2280,55 @@ class RowBasis {
   // Each product with a basis vector is fused with the subtraction of the one before (and the
   // last with the residual's norm), in the order the two passes take them: the same operations
   // in the same order as a dot product and an update per vector, so every bit is the same, with
-  // r read once where it was read twice.
+  // r read once where it was read twice. Where Packed is a vector (x86-64; not the Cortex-M
+  // cores: their flash), each chain length has its own copy with the length fixed (add_packed),
+  // its loops unrolled and r kept in registers, two entries a vector
+  // (the same operations: on grid case 112, add took 316 M instructions where it took 408 M).
   void add(const ArcVec& a) noexcept {
+#if SETTLE_PACKED_VECTOR
+    switch (n_) {
+      case 2: return add_n<2>(a);
+      case 3: return add_n<3>(a);
+      case 4: return add_n<4>(a);
+      case 5: return add_n<5>(a);
+      case 6: return add_n<6>(a);
+      case 7: return add_n<7>(a);
+      case 8: return add_n<8>(a);
+      case 9: return add_n<9>(a);
+      case 10: return add_n<10>(a);
+      case 11: return add_n<11>(a);
+      case 12: return add_n<12>(a);
+      case 13: return add_n<13>(a);
+      case 14: return add_n<14>(a);
+      case 15: return add_n<15>(a);
+      case 16: return add_n<16>(a);
+      case 17: return add_n<17>(a);
+      case 18: return add_n<18>(a);
+      case 19: return add_n<19>(a);
+      case 20: return add_n<20>(a);
+      case 21: return add_n<21>(a);
+      case 22: return add_n<22>(a);
+      case 23: return add_n<23>(a);
+      default: break;
+    }
+    static_assert(kMaxArcNodes == 23, "a copy of add per chain length up to kMaxArcNodes");
+#endif
+    add_n<0>(a);
+  }
+
+ private:
+  // add, for chains of NC nodes (0: n_, any).
+  template <std::size_t NC>
+  void add_n(const ArcVec& a) noexcept {
     const std::size_t i = rows_++;
     if (nq_ >= n_) return;
-    const std::size_t n = n_, m = nq_;
+#if SETTLE_PACKED_VECTOR
+    if constexpr (NC > 1) {
+      add_packed<NC>(a, i);
+      return;
+    }
+#endif
+    const std::size_t n = NC > 0 ? NC : n_, m = nq_;
     std::array<double, kMaxArcNodes> r;
     double a_norm = 0.0, d = 0.0;  // d: r's product with the next basis vector to take out
     for (std::size_t c = 0; c < n; ++c) {
@@ -2245,6 +2372,75 @@ class RowBasis {
     row_of_[nq_] = i;
     ++nq_;
   }
+#if SETTLE_PACKED_VECTOR
+  // add_n's steps for a chain of NC nodes with r held as NC / 2 pairs (and the last entry alone
+  // where NC is odd), which the compiler keeps in registers: each update r -= d q lane by lane,
+  // each sum from 0.0 over the entries in their order (both lanes of a pair added low, then
+  // high), the same operations in the same order as add_n's loops.
+  template <std::size_t NC>
+  void add_packed(const ArcVec& a, std::size_t i) noexcept {
+    constexpr std::size_t H = NC / 2;
+    constexpr bool odd = NC % 2 != 0;
+    const std::size_t m = nq_;
+    Packed rv[H];  // (not std::array: it would drop __m128d's attributes)
+    double rt = 0.0;  // entry NC - 1 where NC is odd
+    const auto add_lanes = [](double& s, Packed x) {
+      const Cx l = unpack(x);
+      s += l.re;
+      s += l.im;
+    };
+    // Sum from 0.0 of w[c] r[c].
+    const auto dot = [&](const double* w) {
+      double s = 0.0;
+#pragma GCC unroll 16
+      for (std::size_t h = 0; h < H; ++h) add_lanes(s, _mm_loadu_pd(w + 2 * h) * rv[h]);
+      if constexpr (odd) s += w[NC - 1] * rt;
+      return s;
+    };
+    // r -= d q.
+    const auto take = [&](double d, const double* q) {
+      const Packed dd = splat(d);
+#pragma GCC unroll 16
+      for (std::size_t h = 0; h < H; ++h) rv[h] = rv[h] - dd * _mm_loadu_pd(q + 2 * h);
+      if constexpr (odd) rt -= d * q[NC - 1];
+    };
+#pragma GCC unroll 16
+    for (std::size_t h = 0; h < H; ++h) rv[h] = _mm_loadu_pd(a.data() + 2 * h);
+    if constexpr (odd) rt = a[NC - 1];
+    double a_norm = dot(a.data()), d = 0.0;
+    if (m > 0) d = dot(q_[0].data());
+    a_norm = std::sqrt(a_norm);
+    if (!(a_norm > 0.0) || !std::isfinite(a_norm)) return;
+    std::array<double, kMaxArcNodes>& coef = l_[i];
+    double rn = a_norm;
+    if (m > 0) {
+      for (std::size_t p = 0; p < m; ++p) coef[p] = 0.0;
+      for (std::size_t t = 0;; ++t) {
+        const std::size_t p = t < m ? t : t - m;
+        coef[p] += d;
+        take(d, q_[p].data());
+        if (t + 1 == 2 * m) break;
+        d = dot(q_[p + 1 == m ? 0 : p + 1].data());
+      }
+      // r's squares: a sum from 0.0, as rn's.
+      double sq = 0.0;
+#pragma GCC unroll 16
+      for (std::size_t h = 0; h < H; ++h) add_lanes(sq, rv[h] * rv[h]);
+      if constexpr (odd) sq += rt * rt;
+      rn = std::sqrt(sq);
+    }
+    if (!(rn > 1e-10 * a_norm)) return;
+    const Packed rnv = splat(rn);
+#pragma GCC unroll 16
+    for (std::size_t h = 0; h < H; ++h) _mm_storeu_pd(q_[nq_].data() + 2 * h, rv[h] / rnv);
+    if constexpr (odd) q_[nq_][NC - 1] = rt / rn;
+    coef[nq_] = rn;
+    row_of_[nq_] = i;
+    ++nq_;
+  }
+#endif
+
+ public:
   // z of least norm with A z = b (the kept rows).
   ArcVec solve(const std::array<double, kMaxBasisRows>& b) const noexcept {
     std::array<double, kMaxArcNodes> y{};
@@ -2452,41 +2648,46 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     }
     return m;
   };
-  ArcIneqVals qc;  // at c (its rows are q's: the same kinds)
-  double n0 = merit(c, ev, qc);
+  // The values at c (its rows are q's: the same kinds) and at the trial, swapped on an accepted
+  // step (not copied: 1.1 KB), as the trial's nodes are c's (only its unknowns are copied back).
+  std::array<ArcIneqVals, 2> q_at;
+  ArcIneqVals* qc = &q_at[0];
+  ArcIneqVals* qt = &q_at[1];
+  double n0 = merit(c, ev, *qc);
   const auto stalled_solved = [&](double n) {
     return n < 1e-10 || (pb.to_rounding && n < arc_rounding_floor(pb, c));
   };
   const double done = pb.to_rounding ? std::fmax(1e-13, 0.1 * arc_rounding_floor(pb, c)) : 1e-13;
+  const ArcShape shape = arc_shape(pb, c);  // the trials' nodes are c's
+  ArcChain trial = c;
   for (int it = 0; it < 30; ++it) {
     if (!std::isfinite(n0)) return false;
     if (n0 < done) return true;
     arc_jacobian(pb, c, ev, jm);
-    const auto held = [&](std::size_t r) { return active[r] || qc.val[r] < 0.0; };
+    const auto held = [&](std::size_t r) { return active[r] || qc->val[r] < 0.0; };
     const ArcVec dz =
         hold_breaks
-            ? step_holding_breaks(c, jm, f, rows, q, qc, held, [&](std::size_t r) { return qc.val[r] < qc.tol[r]; })
-            : min_norm_step(c, jm, f, rows, q.unit, q, qc, held);
-    ArcChain trial = c;
-    ArcIneqVals qt;
+            ? step_holding_breaks(c, jm, f, rows, q, *qc, held,
+                                  [&](std::size_t r) { return qc->val[r] < qc->tol[r]; })
+            : min_norm_step(c, jm, f, rows, q.unit, q, *qc, held);
     double n1 = HUGE_VAL;
     for (double lam = 1.0; lam > 1e-3; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dz[i] * q.unit[i];
-      const std::size_t got = arc_values(pb, trial, f, ev, n0);  // 0: its first rows reject it
+      const std::size_t got = arc_values(pb, trial, f, ev, n0, nullptr, 0.0, true, &shape);  // 0: rejected early
       if (got == 0) {
         n1 = HUGE_VAL;
         continue;
       }
       rows = got;
-      n1 = merit(trial, ev, qt);
+      n1 = merit(trial, ev, *qt);
       if (std::isfinite(n1) && n1 < n0) break;
     }
     if (!(n1 < n0)) {
       rows = arc_values(pb, c, f, ev);
       return stalled_solved(n0) && arc_norm(f, rows) == n0;  // stalled near a solution, nothing broken
     }
-    c = trial;
-    qc = qt;
+    std::copy_n(trial.x.begin(), c.n, c.x.begin());
+    std::swap(qc, qt);
     n0 = n1;
   }
   return stalled_solved(n0) && arc_norm(f, rows) == n0;
