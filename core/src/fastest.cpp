@@ -1376,7 +1376,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
 // Solves the chain's equations from c. Newton's method first (arc_newton_only); when it fails (the
 // start is too far from a solution), continuation from the start x0 (arc_continue): F(x) = (1 - lam) F(x0) holds at x0 for
 // lam = 0, and lam is raised to 1 in steps that grow after each solve and shrink after a
-// failure (to 2e-3 at least), solving loosely on the way and exactly at the end. The
+// failure (to 1e-3 at least), solving loosely on the way and exactly at the end. The
 // continuation gives up once a point on its way is a move longer than t_bound. From every
 // limit/peak pattern and four starts on the commissioning case (docs/fastest.md, "Seeds"), 70 of
 // 256 paths end in a feasible chain with it, 24 with Newton's method alone.
@@ -1407,13 +1407,7 @@ bool arc_continue(const ArcProblem& pb, ArcChain& c, double t_bound) noexcept {
       c = trial;
       lam = next;
       step *= 1.5;
-    } else if ((step *= 0.25) < 2e-3) {
-      // At 2e-3 rather than 1e-3: from lam = 0 the steps are 0.25 / 4^k (0.0039 is still tried),
-      // so this gives up only runs cut again and again after a success. On the three-mode
-      // benchmark request 26 continuations took 4 343 evaluations instead of 28 taking 5 062
-      // (7 of them succeed instead of 9) and no grid plan changed by 1e-9; at 3.9e-3 grid case
-      // 194 planned 64 % longer (a step of 0.0033 it needs is not tried), as at 1e-2 (session
-      // 33, an instrumented build).
+    } else if ((step *= 0.25) < 1e-3) {
       return false;
     }
   }
