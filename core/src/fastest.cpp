@@ -1337,15 +1337,6 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     if (n0 < tol) return true;
     const std::size_t slot = static_cast<std::size_t>(it % kStallSteps);
     if (it >= kStallSteps && n0 > 0.99 * before[slot] && n0 >= 1e3 * tol && !pb.to_rounding) return false;
-    // A continuation's step on the way is given up where it stalls over 4 steps (its step is
-    // cut): the three-mode benchmark request's continuations took 4 572 evaluations instead of
-    // 5 062 and no grid plan changed by 1e-9. Over 3 steps grid case 254 planned 1.1e-4 longer
-    // (and 8 6.2e-4 shorter), over 2 case 86 7e-5 longer too (session 33, an instrumented build).
-    constexpr int kStepStall = 4;
-    const std::size_t back = static_cast<std::size_t>((it + kStallSteps - kStepStall) % kStallSteps);
-    if (first_test && it >= kStepStall && n0 > 0.99 * before[back] && n0 >= 1e3 * tol && !pb.to_rounding) {
-      return false;
-    }
     before[slot] = n0;
     // The Jacobian at c (at holds c's evaluation), only where a step is taken from it: not at
     // the point that meets the tolerance, nor at the last one.
