@@ -1801,9 +1801,60 @@ struct DipBest {
   Peaks<double> pk{};
   bool have{false};
 };
+
+// The last kSlots certificates (certify_fastest) made for one problem, each with its table's
+// segments to the bit (all the proof reads of the table): a table certified again reads its
+// certificate here. Over the grid's 300 plans 115 of 945 certificates were of a table certified
+// before (a throw-away counting build): plan_arcs' second pass reaching a chain whose proof its
+// probe had failed (57), KeptUntilProven::violation at a refinement's starting chain that
+// plan_arcs (51) or FastestSearch::record (6) had certified, record itself (1); each was within
+// the last 10 certificates made, most within the last 2. A certificate costs about 150 k
+// instructions.
+class CertMemo {
+ public:
+  CertMemo() noexcept {}  // the slots are not zeroed: those below used_ alone are read, each written first
+  FastestCertificate operator()(const FastestTable& t, const MoveRequest& r) noexcept {
+    for (std::size_t i = 0; i < used_; ++i) {
+      if (same(slot_[i], t)) return slot_[i].ce;
+    }
+    Slot& s = slot_[next_];
+    next_ = (next_ + 1) % kSlots;
+    used_ = std::max(used_, next_ == 0 ? kSlots : next_);
+    s.ce = certify_fastest(t, r);
+    s.count = t.count;
+    std::copy_n(t.durations.begin(), t.count, s.durations.begin());
+    std::copy_n(t.jerk.begin(), t.count, s.jerk.begin());
+    return s.ce;
+  }
+
+ private:
+  static constexpr std::size_t kSlots = 8;
+  struct Slot {  // [0, count) written and read
+    FastestCertificate ce;
+    std::size_t count;
+    std::array<double, kFastestSegments> durations, jerk;
+  };
+  static bool same(const Slot& s, const FastestTable& t) noexcept {
+    if (s.count != t.count) return false;
+    for (std::size_t k = 0; k < t.count; ++k) {
+      if (std::bit_cast<std::uint64_t>(s.durations[k]) != std::bit_cast<std::uint64_t>(t.durations[k]) ||
+          std::bit_cast<std::uint64_t>(s.jerk[k]) != std::bit_cast<std::uint64_t>(t.jerk[k])) {
+        return false;
+      }
+    }
+    return true;
+  }
+  std::array<Slot, kSlots> slot_;
+  std::size_t used_{0}, next_{0};
+};
+
+// certs: the memo of the request's own problem (plan_unsigned's), used where ms holds r's modes
+// (the proof's problem is then r's). Without it each proof is made (the recursion for one mode
+// fewer has no probe: its certificates are of ever shorter tables, none certified twice).
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk,
                ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr,
-               DipBest* dips = nullptr, bool request = false, bool stop_proven = false) noexcept;
+               DipBest* dips = nullptr, bool request = false, bool stop_proven = false,
+               CertMemo* certs = nullptr) noexcept;
 
 // The shortest chain for all modes but the fastest (planned by plan_arcs, recursively, with that
 // set's own split seed): the chain plan_arcs inserts its wiggles into.
@@ -1827,7 +1878,8 @@ ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms, bool stop_proven) no
 }
 
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk, ArcBest* best_chain,
-               const Shaper<double>* split, DipBest* dip_out, bool request, bool stop_proven) noexcept {
+               const Shaper<double>* split, DipBest* dip_out, bool request, bool stop_proven,
+               CertMemo* certs) noexcept {
   // A two-mode request's own chains (`request`: not the recursion's for one mode fewer, whose
   // chains three modes build on) skip three seed paths that never paid there: the dips, the
   // stops in a cruise and the wide wiggles in the mirrored pulse. Over the 100 two-mode cases of
@@ -1861,6 +1913,14 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   MoveRequest problem = r;
   problem.mode_count = 0;
   for (std::size_t i = 0; i < ms.n; ++i) problem.modes[problem.mode_count++] = ms.m[i];
+  bool r_modes = r.mode_count == ms.n;
+  for (std::size_t i = 0; i < ms.n && r_modes; ++i) {
+    r_modes = std::bit_cast<std::uint64_t>(r.modes[i].omega) == std::bit_cast<std::uint64_t>(ms.m[i].omega) &&
+              std::bit_cast<std::uint64_t>(r.modes[i].zeta) == std::bit_cast<std::uint64_t>(ms.m[i].zeta);
+  }
+  const auto certify = [&](const FastestTable& t) {
+    return certs != nullptr && r_modes ? (*certs)(t, problem) : certify_fastest(t, problem);
+  };
   bool proven = false;
   double sub_fast_wd = 0.0;  // the damped frequency of the mode plan_fewer left out (the fastest)
   for (std::size_t i = 0, f = 0; i < ms.n; ++i) {
@@ -1922,7 +1982,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
           const double T = table_duration(t);
           Peaks<double> pk{};
           if (T < best && table_ok(t, Limits{pb.vmax, pb.amax, pb.J}, ms, 0.0, pk)) {
-            const bool proof = stop_proven && certify_fastest(t, problem).proof == FastestProof::proven;
+            const bool proof = stop_proven && certify(t).proof == FastestProof::proven;
             if (probe && !proof) return;
             best = T;
             out = t;
@@ -2976,6 +3036,7 @@ struct FastestSearch {
   // stop_proven, the refined chains, by record's check of each new shortest jerk-table move), and
   // the search stops.
   bool stop_proven{false}, proven{false};
+  CertMemo certs{};  // of r's problem: record's, KeptUntilProven::violation's and plan_arcs'
 
   void record(FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) noexcept {
     double& slot = times[static_cast<std::size_t>(f)];
@@ -2983,7 +3044,7 @@ struct FastestSearch {
     const double before = best.time;
     consider(best, p, pk, t);
     if (stop_proven && best.time < before && !is_ramp_cycloid(best.p.family)) {
-      proven = certify_fastest(best.p.table, r).proof == FastestProof::proven;
+      proven = certs(best.p.table, r).proof == FastestProof::proven;
     }
   }
   void record_table(FastestFamily f, const FastestTable& t, const Peaks<double>& pk) noexcept {
@@ -3120,7 +3181,7 @@ bool bang_bang_family(FastestSearch& fs) noexcept {
     // The chains from the dip seeds are candidates after bang-coast (fs.dips): whether
     // bang-coast runs, and what it starts from, are as without them (where bang-coast ran, it
     // started from the dip chain and ended 0.016 % longer on a grid case).
-    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips, true, true);
+    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips, true, true, &fs.certs);
     if (found && table_duration(t) < fs.best.time) {
       fs.record_table(FastestFamily::bang_bang, t, pk);
       double w_max = 0.0;
@@ -3384,7 +3445,7 @@ struct KeptUntilProven {
   double violation(const ArcChain& c) const noexcept {
     const FastestTable t = arc_table(pb, c, fs.r.distance);
     if (t.count == 0) return -1.0;
-    const FastestCertificate ce = certify_fastest(t, fs.r);
+    const FastestCertificate ce = fs.certs(t, fs.r);
     return ce.proof == FastestProof::negative_measure ? ce.at : -1.0;
   }
 };
