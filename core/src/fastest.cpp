@@ -2479,7 +2479,7 @@ ArcVec step_holding_breaks(const ArcChain& c, const ArcMat& jm, const ArcVec& f,
 // `hold_breaks`, an inequality within its tolerance that a step would break is held at 0 in that
 // step too (step_breaks; restore_seed's retry).
 bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std::array<bool, kMaxIneq>& active,
-                 ArcVec& f, ArcEval& ev, bool hold_breaks = false) noexcept {
+                 ArcVec& f, ArcEval& ev, bool hold_breaks = false, std::size_t* rows_out = nullptr) noexcept {
   ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
   // c's rows and evaluation in one pair (fc, ec: first the caller's f and ev), each trial's in the
   // other, the two swapped where a trial is accepted: where the line search fails, c's are still
@@ -2514,6 +2514,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
       f = *fc;
       ev = *ec;
     }
+    if (rows_out != nullptr) *rows_out = rows;
     return ok;
   };
   const double done = pb.to_rounding ? std::fmax(1e-13, 0.1 * arc_rounding_floor(pb, c)) : 1e-13;
@@ -2740,19 +2741,29 @@ void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) 
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] - alpha * d[i] * q.unit[i];
       ArcVec ft{};
       ArcEval et;
-      if (!arc_restore(pb, trial, q, active, ft, et)) continue;
+      std::size_t rows_t = 0;
+      if (!arc_restore(pb, trial, q, active, ft, et, false, &rows_t)) continue;
       const ArcFix fx = arc_violation(pb, trial);
       if (fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell) bound = fx;
       if (!(et.L.T < T - 1e-14 * T) || fx.kind != ArcFix::none) continue;
       // A peak that reached its limit holds there from now on (a limit node of hold 0).
+      bool held = false;
       for (std::size_t i = 0; i < trial.n; ++i) {
         if (trial.node[i].kind == ArcKind::peak && trial.node[i].sign * trial.x[i] >= pb.amax * (1.0 - 1e-12)) {
           trial.node[i].kind = ArcKind::limit;
           trial.x[i] = 0.0;
+          held = true;
         }
       }
       c = trial;
-      rows = arc_values(pb, c, f, ev);
+      // The restoration's rows are c's where no peak became a hold (the same values as evaluated again).
+      if (held) {
+        rows = arc_values(pb, c, f, ev);
+      } else {
+        rows = rows_t;
+        f = ft;
+        ev = et;
+      }
       T = ev.L.T;
       if (alpha * dn >= 0.99 * trust) trust *= 2.0;
       gains[accepted++ % kMinimiseStallSteps] = t_before - T;
