@@ -3052,6 +3052,9 @@ bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexc
 // candidate so far (with every family's own shortest time). plan_fastest runs its stages in order.
 struct FastestSearch {
   const MoveRequest& r;
+  // The certificates of r's problem: record's, KeptUntilProven::violation's and plan_arcs'. Held
+  // apart (plan_unsigned's): a member, it was zeroed with the search (6.3 KB; 14 k instructions).
+  CertMemo& certs;
   ModeSet ms{};
   double band{0.0};
   Limits lim{};
@@ -3070,7 +3073,6 @@ struct FastestSearch {
   // stop_proven, the refined chains, by record's check of each new shortest jerk-table move), and
   // the search stops.
   bool stop_proven{false}, proven{false};
-  CertMemo certs{};  // of r's problem: record's, KeptUntilProven::violation's and plan_arcs'
 
   void record(FastestFamily f, const FastestParams& p, const Peaks<double>& pk, double t) noexcept {
     double& slot = times[static_cast<std::size_t>(f)];
@@ -4002,7 +4004,8 @@ void refined_chains(FastestSearch& fs) noexcept {
 
 // Every family for a request with D >= 0 (plan_fastest mirrors D < 0 onto it).
 Status plan_unsigned(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
-  FastestSearch fs{r};
+  CertMemo certs;
+  FastestSearch fs{r, certs};
   const Status st = read_fastest_request(r, fs);
   if (st != Status::ok) return st;
   fs.to = jerk_limited_time_optimal(r.distance, fs.lim.vmax, fs.lim.amax, fs.lim.jmax);
