@@ -2423,10 +2423,10 @@ template <class Vals, class Held>
 ArcVec min_norm_step(const ArcChain& c, const ArcMat& jm, const ArcVec& f, std::size_t rows, const ArcVec& unit,
                      const ArcIneq& qi, const Vals& qv, Held held) noexcept {
   RowBasis basis(c.n);
-  std::array<double, kMaxBasisRows> b{};
+  std::array<double, kMaxBasisRows> b;  // the first k written, all that solve reads
   std::size_t k = 0;
   for (std::size_t r = 0; r < rows; ++r) {
-    ArcVec a{};
+    ArcVec a;  // the first c.n written, all that add reads
     for (std::size_t i = 0; i < c.n; ++i) a[i] = jm[r][i] * unit[i];
     basis.add(a);
     b[k++] = -f[r];
