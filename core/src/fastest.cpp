@@ -1893,9 +1893,60 @@ struct DipBest {
   Peaks<double> pk{};
   bool have{false};
 };
+
+// The last kSlots certificates (certify_fastest) made for one problem, each with its table's
+// segments to the bit (all the proof reads of the table): a table certified again reads its
+// certificate here. Over the grid's 300 plans 115 of 945 certificates were of a table certified
+// before (a throw-away counting build): plan_arcs' second pass reaching a chain whose proof its
+// probe had failed (57), KeptUntilProven::violation at a refinement's starting chain that
+// plan_arcs (51) or FastestSearch::record (6) had certified, record itself (1); each was within
+// the last 10 certificates made, most within the last 2. A certificate costs about 150 k
+// instructions.
+class CertMemo {
+ public:
+  CertMemo() noexcept {}  // the slots are not zeroed: those below used_ alone are read, each written first
+  FastestCertificate operator()(const FastestTable& t, const MoveRequest& r) noexcept {
+    for (std::size_t i = 0; i < used_; ++i) {
+      if (same(slot_[i], t)) return slot_[i].ce;
+    }
+    Slot& s = slot_[next_];
+    next_ = (next_ + 1) % kSlots;
+    used_ = std::max(used_, next_ == 0 ? kSlots : next_);
+    s.ce = certify_fastest(t, r);
+    s.count = t.count;
+    std::copy_n(t.durations.begin(), t.count, s.durations.begin());
+    std::copy_n(t.jerk.begin(), t.count, s.jerk.begin());
+    return s.ce;
+  }
+
+ private:
+  static constexpr std::size_t kSlots = 8;
+  struct Slot {  // [0, count) written and read
+    FastestCertificate ce;
+    std::size_t count;
+    std::array<double, kFastestSegments> durations, jerk;
+  };
+  static bool same(const Slot& s, const FastestTable& t) noexcept {
+    if (s.count != t.count) return false;
+    for (std::size_t k = 0; k < t.count; ++k) {
+      if (std::bit_cast<std::uint64_t>(s.durations[k]) != std::bit_cast<std::uint64_t>(t.durations[k]) ||
+          std::bit_cast<std::uint64_t>(s.jerk[k]) != std::bit_cast<std::uint64_t>(t.jerk[k])) {
+        return false;
+      }
+    }
+    return true;
+  }
+  std::array<Slot, kSlots> slot_;
+  std::size_t used_{0}, next_{0};
+};
+
+// certs: the memo of the request's own problem (plan_unsigned's), used where ms holds r's modes
+// (the proof's problem is then r's). Without it each proof is made (the recursion for one mode
+// fewer has no probe: its certificates are of ever shorter tables, none certified twice).
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk,
                ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr,
-               DipBest* dips = nullptr, bool request = false, bool stop_proven = false) noexcept;
+               DipBest* dips = nullptr, bool request = false, bool stop_proven = false,
+               CertMemo* certs = nullptr) noexcept;
 
 // The shortest chain for all modes but the fastest (planned by plan_arcs, recursively, with that
 // set's own split seed): the chain plan_arcs inserts its wiggles into.
@@ -1919,7 +1970,8 @@ ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms, bool stop_proven) no
 }
 
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk, ArcBest* best_chain,
-               const Shaper<double>* split, DipBest* dip_out, bool request, bool stop_proven) noexcept {
+               const Shaper<double>* split, DipBest* dip_out, bool request, bool stop_proven,
+               CertMemo* certs) noexcept {
   // A two-mode request's own chains (`request`: not the recursion's for one mode fewer, whose
   // chains three modes build on) skip three seed paths that never paid there: the dips, the
   // stops in a cruise and the wide wiggles in the mirrored pulse. Over the 100 two-mode cases of
@@ -1953,6 +2005,14 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   MoveRequest problem = r;
   problem.mode_count = 0;
   for (std::size_t i = 0; i < ms.n; ++i) problem.modes[problem.mode_count++] = ms.m[i];
+  bool r_modes = r.mode_count == ms.n;
+  for (std::size_t i = 0; i < ms.n && r_modes; ++i) {
+    r_modes = std::bit_cast<std::uint64_t>(r.modes[i].omega) == std::bit_cast<std::uint64_t>(ms.m[i].omega) &&
+              std::bit_cast<std::uint64_t>(r.modes[i].zeta) == std::bit_cast<std::uint64_t>(ms.m[i].zeta);
+  }
+  const auto certify = [&](const FastestTable& t) {
+    return certs != nullptr && r_modes ? (*certs)(t, problem) : certify_fastest(t, problem);
+  };
   bool proven = false;
   double sub_fast_wd = 0.0;  // the damped frequency of the mode plan_fewer left out (the fastest)
   for (std::size_t i = 0, f = 0; i < ms.n; ++i) {
@@ -2026,7 +2086,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
           const double T = table_duration(t);
           Peaks<double> pk{};
           if (T < best && table_ok(t, Limits{pb.vmax, pb.amax, pb.J}, ms, 0.0, pk)) {
-            const bool proof = stop_proven && certify_fastest(t, problem).proof == FastestProof::proven;
+            const bool proof = stop_proven && certify(t).proof == FastestProof::proven;
             if (probe && !proof) return;
             best = T;
             out = t;
@@ -2588,10 +2648,10 @@ template <class Vals, class Held>
 ArcVec min_norm_step(const ArcChain& c, const ArcMat& jm, const ArcVec& f, std::size_t rows, const ArcVec& unit,
                      const ArcIneq& qi, const Vals& qv, Held held) noexcept {
   RowBasis basis(c.n);
-  std::array<double, kMaxBasisRows> b{};
+  std::array<double, kMaxBasisRows> b;  // the first k written, all that solve reads
   std::size_t k = 0;
   for (std::size_t r = 0; r < rows; ++r) {
-    ArcVec a{};
+    ArcVec a;  // the first c.n written, all that add reads
     for (std::size_t i = 0; i < c.n; ++i) a[i] = jm[r][i] * unit[i];
     basis.add(a);
     b[k++] = -f[r];
@@ -2644,14 +2704,25 @@ ArcVec step_holding_breaks(const ArcChain& c, const ArcMat& jm, const ArcVec& f,
 // `hold_breaks`, an inequality within its tolerance that a step would break is held at 0 in that
 // step too (step_breaks; restore_seed's retry).
 bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std::array<bool, kMaxIneq>& active,
-                 ArcVec& f, ArcEval& ev, bool hold_breaks = false) noexcept {
+                 ArcVec& f, ArcEval& ev, bool hold_breaks = false, std::size_t* rows_out = nullptr) noexcept {
   ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
-  std::size_t rows = arc_values(pb, c, f, ev);
+  // c's rows and evaluation in one pair (fc, ec: first the caller's f and ev), each trial's in the
+  // other, the two swapped where a trial is accepted: where the line search fails, c's are still
+  // there, not evaluated again (over the grid's 300 plans, evaluations of a chain's system 2.681 M
+  // -> 2.633 M; every value the same: arc_values with a `stop` it does not reach computes what it
+  // computes without).
+  ArcVec f_other;
+  ArcEval ev_other;
+  ArcVec* fc = &f;
+  ArcEval* ec = &ev;
+  ArcVec* ft = &f_other;
+  ArcEval* et = &ev_other;
+  std::size_t rows = arc_values(pb, c, *fc, *ec);
   // The equations' norm plus how far an inequality is broken (relative to its scale); the active
   // rows and the broken ones are set to 0 exactly (they are linear: one step does it).
-  const auto merit = [&](const ArcChain& x, const ArcEval& e, ArcIneqVals& qx) {
+  const auto merit = [&](const ArcChain& x, const ArcVec& fx, std::size_t nx, const ArcEval& e, ArcIneqVals& qx) {
     arc_ineq_vals(pb, x, e.L, qx);
-    double m = arc_norm(f, rows);
+    double m = arc_norm(fx, nx);
     for (std::size_t r = 0; r < qx.count; ++r) {
       if (qx.val[r] < 0.0) m += -qx.val[r] / (qx.tol[r] * 1e12);
     }
@@ -2662,44 +2733,57 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
   std::array<ArcIneqVals, 2> q_at;
   ArcIneqVals* qc = &q_at[0];
   ArcIneqVals* qt = &q_at[1];
-  double n0 = merit(c, ev, *qc);
+  double n0 = merit(c, *fc, rows, *ec, *qc);
   const auto stalled_solved = [&](double n) {
     return n < 1e-10 || (pb.to_rounding && n < arc_rounding_floor(pb, c));
+  };
+  // c's rows and evaluation left in the caller's f and ev.
+  const auto done_with = [&](bool ok) {
+    if (fc != &f) {
+      f = *fc;
+      ev = *ec;
+    }
+    if (rows_out != nullptr) *rows_out = rows;
+    return ok;
   };
   const double done = pb.to_rounding ? std::fmax(1e-13, 0.1 * arc_rounding_floor(pb, c)) : 1e-13;
   const ArcShape shape = arc_shape(pb, c);  // the trials' nodes are c's
   ArcChain trial = c;
   for (int it = 0; it < 30; ++it) {
-    if (!std::isfinite(n0)) return false;
-    if (n0 < done) return true;
-    arc_jacobian(pb, c, ev, jm);
+    if (!std::isfinite(n0)) return done_with(false);
+    if (n0 < done) return done_with(true);
+    arc_jacobian(pb, c, *ec, jm);
     const auto held = [&](std::size_t r) { return active[r] || qc->val[r] < 0.0; };
     const ArcVec dz =
         hold_breaks
-            ? step_holding_breaks(c, jm, f, rows, q, *qc, held,
+            ? step_holding_breaks(c, jm, *fc, rows, q, *qc, held,
                                   [&](std::size_t r) { return qc->val[r] < qc->tol[r]; })
-            : min_norm_step(c, jm, f, rows, q.unit, q, *qc, held);
+            : min_norm_step(c, jm, *fc, rows, q.unit, q, *qc, held);
     double n1 = HUGE_VAL;
+    std::size_t trial_rows = rows;
     for (double lam = 1.0; lam > 1e-3; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dz[i] * q.unit[i];
-      const std::size_t got = arc_values(pb, trial, f, ev, n0, nullptr, 0.0, true, &shape);  // 0: rejected early
+      const std::size_t got = arc_values(pb, trial, *ft, *et, n0, nullptr, 0.0, true, &shape);  // 0: rejected early
       if (got == 0) {
         n1 = HUGE_VAL;
         continue;
       }
-      rows = got;
-      n1 = merit(trial, ev, *qt);
+      trial_rows = got;
+      n1 = merit(trial, *ft, trial_rows, *et, *qt);
       if (std::isfinite(n1) && n1 < n0) break;
     }
     if (!(n1 < n0)) {
-      rows = arc_values(pb, c, f, ev);
-      return stalled_solved(n0) && arc_norm(f, rows) == n0;  // stalled near a solution, nothing broken
+      // stalled near a solution, nothing broken
+      return done_with(stalled_solved(n0) && arc_norm(*fc, rows) == n0);
     }
     std::copy_n(trial.x.begin(), c.n, c.x.begin());
     std::swap(qc, qt);
     n0 = n1;
+    rows = trial_rows;
+    std::swap(fc, ft);
+    std::swap(ec, et);
   }
-  return stalled_solved(n0) && arc_norm(f, rows) == n0;
+  return done_with(stalled_solved(n0) && arc_norm(*fc, rows) == n0);
 }
 
 // A seed (a chain with turns or parts inserted) restored to its chain's equations from where it
@@ -2887,19 +2971,29 @@ void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) 
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] - alpha * d[i] * q.unit[i];
       ArcVec ft{};
       ArcEval et;
-      if (!arc_restore(pb, trial, q, active, ft, et)) continue;
+      std::size_t rows_t = 0;
+      if (!arc_restore(pb, trial, q, active, ft, et, false, &rows_t)) continue;
       const ArcFix fx = arc_violation(pb, trial);
       if (fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell) bound = fx;
       if (!(et.L.T < T - 1e-14 * T) || fx.kind != ArcFix::none) continue;
       // A peak that reached its limit holds there from now on (a limit node of hold 0).
+      bool held = false;
       for (std::size_t i = 0; i < trial.n; ++i) {
         if (trial.node[i].kind == ArcKind::peak && trial.node[i].sign * trial.x[i] >= pb.amax * (1.0 - 1e-12)) {
           trial.node[i].kind = ArcKind::limit;
           trial.x[i] = 0.0;
+          held = true;
         }
       }
       c = trial;
-      rows = arc_values(pb, c, f, ev);
+      // The restoration's rows are c's where no peak became a hold (the same values as evaluated again).
+      if (held) {
+        rows = arc_values(pb, c, f, ev);
+      } else {
+        rows = rows_t;
+        f = ft;
+        ev = et;
+      }
       T = ev.L.T;
       if (alpha * dn >= 0.99 * trust) trust *= 2.0;
       gains[accepted++ % kMinimiseStallSteps] = t_before - T;
@@ -3188,6 +3282,9 @@ bool zero_shaper(const ZeroSet& z, const ModeSet& ms, Shaper<double>& out) noexc
 // candidate so far (with every family's own shortest time). plan_fastest runs its stages in order.
 struct FastestSearch {
   const MoveRequest& r;
+  // The certificates of r's problem: record's, KeptUntilProven::violation's and plan_arcs'. Held
+  // apart (plan_unsigned's): a member, it was zeroed with the search (6.3 KB; 14 k instructions).
+  CertMemo& certs;
   ModeSet ms{};
   double band{0.0};
   Limits lim{};
@@ -3213,7 +3310,7 @@ struct FastestSearch {
     const double before = best.time;
     consider(best, p, pk, t);
     if (stop_proven && best.time < before && !is_ramp_cycloid(best.p.family)) {
-      proven = certify_fastest(best.p.table, r).proof == FastestProof::proven;
+      proven = certs(best.p.table, r).proof == FastestProof::proven;
     }
   }
   void record_table(FastestFamily f, const FastestTable& t, const Peaks<double>& pk) noexcept {
@@ -3350,7 +3447,7 @@ bool bang_bang_family(FastestSearch& fs) noexcept {
     // The chains from the dip seeds are candidates after bang-coast (fs.dips): whether
     // bang-coast runs, and what it starts from, are as without them (where bang-coast ran, it
     // started from the dip chain and ended 0.016 % longer on a grid case).
-    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips, true, true);
+    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips, true, true, &fs.certs);
     if (found && table_duration(t) < fs.best.time) {
       fs.record_table(FastestFamily::bang_bang, t, pk);
       double w_max = 0.0;
@@ -3614,7 +3711,7 @@ struct KeptUntilProven {
   double violation(const ArcChain& c) const noexcept {
     const FastestTable t = arc_table(pb, c, fs.r.distance);
     if (t.count == 0) return -1.0;
-    const FastestCertificate ce = certify_fastest(t, fs.r);
+    const FastestCertificate ce = fs.certs(t, fs.r);
     return ce.proof == FastestProof::negative_measure ? ce.at : -1.0;
   }
 };
@@ -4137,7 +4234,8 @@ void refined_chains(FastestSearch& fs) noexcept {
 
 // Every family for a request with D >= 0 (plan_fastest mirrors D < 0 onto it).
 Status plan_unsigned(const MoveRequest& r, FastestParams& out, Peaks<double>& out_pk) noexcept {
-  FastestSearch fs{r};
+  CertMemo certs;
+  FastestSearch fs{r, certs};
   const Status st = read_fastest_request(r, fs);
   if (st != Status::ok) return st;
   fs.to = jerk_limited_time_optimal(r.distance, fs.lim.vmax, fs.lim.amax, fs.lim.jmax);
