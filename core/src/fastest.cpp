@@ -1024,46 +1024,11 @@ double node_level(const ArcProblem& pb, const ArcChain& c, std::size_t i) noexce
   return k.kind == ArcKind::limit ? k.sign * pb.amax : k.kind == ArcKind::peak ? c.x[i] : 0.0;
 }
 
-// (Each node's ramp sign, level and hold from one switch on its kind, and the closing ramp after
-// the loop, rather than ramp_in, node_level, the hold's test and the closing test per ramp: the
-// same arithmetic, operation for operation, in 6 % fewer of lay_out's instructions.)
-void lay_out(const ArcProblem& pb, const ArcChain& c, ArcLayout& L) noexcept {
-  const std::size_t n = c.n;
-  double t = 0.0, a = 0.0;
-  for (std::size_t r = 0; r < n; ++r) {
-    const ArcNode& k = c.node[r];
-    double s = k.sign, lev = 0.0, hold = c.x[r];
-    switch (k.kind) {
-      case ArcKind::limit: lev = k.sign * pb.amax; break;
-      case ArcKind::peak: lev = c.x[r]; hold = 0.0; break;
-      case ArcKind::cruise: s = -1.0; break;
-      case ArcKind::dwell: break;
-    }
-    const double js = s * pb.J, e = t + (lev - a) / js;
-    L.b[r] = t;
-    L.e[r] = e;
-    L.j[r] = js;
-    t = e + hold;
-    a = lev;
-  }
-  // The closing ramp, to a = 0.
-  const double js = ramp_out(c.node[n - 1]) * pb.J;
-  L.b[n] = t;
-  L.e[n] = t + (0.0 - a) / js;
-  L.j[n] = js;
-  L.T = L.e[n];
-}
-ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
-  ArcLayout L;
-  lay_out(pb, c, L);
-  return L;
-}
-
-// What lay_out reads of a chain's nodes, taken once where many points of the same nodes are laid
-// out (the line searches of arc_newton and arc_restore): each ramp's jerk, each node's level
-// but a peak's (its unknown), and which nodes are peaks. lay_out(shape, c, L) then does the same
-// operations as lay_out(pb, c, L), without their tests of the kinds (on the three-mode request
-// of issue 36, 2.8 M of its 51 M instructions).
+// What lay_out reads of a chain's nodes: each ramp's jerk, each node's level but a peak's (its
+// unknown), and which nodes are peaks. lay_out(pb, c, L) takes it and walks the chain with
+// lay_out(shape, c, L); where many points of the same nodes are laid out (the line searches of
+// arc_newton and arc_restore) it is taken once, and their walks test no kinds (on the three-mode
+// request of issue 36, 2.8 M of its 51 M instructions).
 struct ArcShape {
   std::array<double, kMaxArcNodes + 1> js;  // ramp r's jerk s J
   std::array<double, kMaxArcNodes> lev;     // a limit's sign amax, 0 on a cruise or dwell
@@ -1097,6 +1062,12 @@ void lay_out(const ArcShape& sh, const ArcChain& c, ArcLayout& L) noexcept {
   L.e[n] = t + (0.0 - a) / sh.js[n];
   L.j[n] = sh.js[n];
   L.T = L.e[n];
+}
+void lay_out(const ArcProblem& pb, const ArcChain& c, ArcLayout& L) noexcept { lay_out(arc_shape(pb, c), c, L); }
+ArcLayout lay_out(const ArcProblem& pb, const ArcChain& c) noexcept {
+  ArcLayout L;
+  lay_out(pb, c, L);
+  return L;
 }
 
 // The square system F(x) (dimensionless) and its Jacobian. Each quantity is a sum
@@ -2050,11 +2021,10 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // then wiggles, split last), 130 of them from the split seed (78), and plan_arcs' median of
     // evaluations per plan fell from 464, 2 296 and 4 493 to 36, 1 080 and 4 074 for one, two and
     // three modes (session 33, an instrumented build; every plan the same to 1e-9). Not in the
-    // recursion for one mode
-    // fewer: there a proof reached by another path is the same move but not the same bits, and the
-    // search built on it lands elsewhere (with the probe there too, grid case 5 at 1e-3 and 7.3 of
-    // its scale planned 0.5 % and 0.4 % longer; with it in session 33's order grid case 134 0.9 %
-    // and 227 0.17 % longer).
+    // recursion for one mode fewer: there a proof reached by another path is the same move but not
+    // the same bits, and the search built on it lands elsewhere (with the probe there too, grid
+    // case 5 at 1e-3 and 7.3 of its scale planned 0.5 % and 0.4 % longer; with it in session 33's
+    // order grid case 134 0.9 % and 227 0.17 % longer).
     const bool probing = stop_proven && request;
     int pass = 0;  // 0: one pass; 1 (the probe), 2: after it
     // The round whose Newton run failed in the probe, by group (0: seeds, 1: wiggles) and by the
