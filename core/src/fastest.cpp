@@ -981,7 +981,8 @@ struct ArcProblem {
   bool pulse{false};
   std::array<ArcPole, kMaxModes> poles{};
   ArcExpMemo* exps{nullptr};  // plan_arcs' own
-  // arc_newton: a stall within the rounding of the rows (arc_rounding_floor) solves the chain
+  // arc_newton and arc_restore: a stall below the rows' rounding (arc_rounding_floor) solves the
+  // chain, not only below a tenth of it, and arc_newton's stall rule does not give up
   // (split_to_rounding's solves only).
   bool to_rounding{false};
   // The most nodes a chain may grow to (kChainNodes; dwell_changes: kMaxArcNodes).
@@ -1340,12 +1341,19 @@ double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
 
 // Newton's method with a backtracking line search on |F - mu F0| (each point's F and Jacobian
 // taken together: the full step is nearly always taken): solves F(x) = mu F0, the chain's own
-// equations when mu = 0. True when the norm falls below tol, or stalls within 1000 tol of it
-// (rounding: the move is checked afterwards). A run whose norm fell by less than 1 % over its
-// last 8 steps while above that is given up: such runs mostly creep on steps of about 2^-9 of
-// Newton's until their iterations run out or the line search fails. Giving them up cut the
-// reference grid's evaluations by 8 % and lengthened none of its plans (docs/fastest.md, "Cost",
-// session 29; 7 steps at 2 % lengthened one). With `first_test` (a continuation's step on the
+// equations when mu = 0. True when the norm falls below tol, or stalls within 1000 tol of it or
+// below a tenth of the rows' rounding (arc_rounding_floor; the move is checked afterwards). The
+// rounding's share: on grid case 110 a continuation's last step stalled at 5.2e-11 with glibc's
+// exponentials and at 2.4e-10 with exponentials within 1 ulp of them (its rows round to 5.8e-9),
+// so whether that path solved, and the plan (4.063 s or 4.739 s), hung on the exponentials'
+// last bits; at a tenth of the rows' rounding it solves with both (session 34). The same rule in
+// arc_restore: over the reference grid 4 plans shorter (47 by 5.5e-7, 59 by 3.4e-5, 99 by 1.3e-4,
+// 110 by 6.0e-4), 59 and 99 now proven, none longer by 2e-9; at the whole rounding (not a tenth)
+// grid case 86 at 7.3 times its units planned 1.5e-4 longer. A run whose norm fell by less than
+// 1 % over its last 8 steps while above that is given up: such runs mostly creep on steps of
+// about 2^-9 of Newton's until their iterations run out or the line search fails. Giving them up
+// cut the reference grid's evaluations by 8 % and lengthened none of its plans (docs/fastest.md,
+// "Cost", session 29; 7 steps at 2 % lengthened one). With `first_test` (a continuation's step on the
 // way), a first step whose line search took 2^-9 of Newton's or less and gained under 1 % fails
 // the run at once: the continuation's step is too long, and is cut. Over the reference grid
 // 4 384 runs started so (5 % of its evaluations), 741 of them got through; failing them all cut
@@ -1419,7 +1427,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
       // three modes, 2.1 % on two, 0.8 % on one (session 31, an instrumented build).
       if (cut_test && lam < 0.002) return false;
     }
-    if (!(lam > 1e-4)) return n0 < 1e3 * tol || (pb.to_rounding && n0 < arc_rounding_floor(pb, c));
+    if (!(lam > 1e-4)) return n0 < 1e3 * tol || n0 < (pb.to_rounding ? 1.0 : 0.1) * arc_rounding_floor(pb, c);
     if (cut_test && lam < 0.002 && n1 >= 0.99 * n0) return false;
     std::copy_n(trial.x.begin(), c.n, c.x.begin());
     n0 = n1;
@@ -2665,9 +2673,10 @@ ArcVec step_holding_breaks(const ArcChain& c, const ArcMat& jm, const ArcVec& f,
 }
 
 // Restores F(c) = 0 by minimum-norm Gauss-Newton steps that keep the active rows (linear) as
-// they are. True when |F| < 1e-13 (or stalls within 1e-10 of it). With pb.to_rounding (a seed on
-// a move whose rows round above that: cruise_stops_refined) also when |F| falls below a tenth of
-// the rows' rounding (arc_rounding_floor at the start), or stalls below that rounding: grid case
+// they are. True when |F| < 1e-13 (or stalls within 1e-10 of it, or below a tenth of the rows'
+// rounding: arc_newton's rule). With pb.to_rounding (a seed on a move whose rows round above
+// that: cruise_stops_refined) also when |F| falls below a tenth of the rows' rounding
+// (arc_rounding_floor at the start), or stalls below that rounding: grid case
 // 121's rows, sums of terms jmax T^3 / 6 = 2e8 m cancelling to D = 5.6 m, round to 2e-8 and its
 // restorations stalled there (returning at a tenth of it cut the seed's instructions from 162 M
 // to 115 M against stalling each time, the same chain to 3e-9 of its duration). With
@@ -2705,7 +2714,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
   ArcIneqVals* qt = &q_at[1];
   double n0 = merit(c, *fc, rows, *ec, *qc);
   const auto stalled_solved = [&](double n) {
-    return n < 1e-10 || (pb.to_rounding && n < arc_rounding_floor(pb, c));
+    return n < 1e-10 || n < (pb.to_rounding ? 1.0 : 0.1) * arc_rounding_floor(pb, c);
   };
   // c's rows and evaluation left in the caller's f and ev.
   const auto done_with = [&](bool ok) {

@@ -63,7 +63,9 @@ constexpr double kWorst = 1.001;
 // None: case 113 (three modes, 2.1 / 13.5 / 278.7 rad/s; D 3.48 m) was refused until the joint
 // ZV shaper started from the slower modes' design (docs/fastest.md, "Several modes").
 constexpr int kRefused = 0;
-// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 29 and 3 (worst 0.49 %) with the
+// Of the 900 plans at scales 1e-3, 0.37 and 7.3: measured 31 and 3 (worst 0.49 %) since a stall
+// below a tenth of the rows' rounding solves a chain (session 34: 46 at scale 1 is now 1.8e-9
+// longer than at the other three, 59 at 7.3 now agrees); 29 and 3 with the
 // refinement stopping at a proof (session 32: 19 is 5.7e-9 shorter at every scale); 29 and 3 with the passes
 // from a stop late in a cruise too (session 30: 227 at 1e-3 4.36949 s against 4.36729 s at 1, was
 // 4.37842 against 4.37983 s; every other scaled plan the same); 29 and 3 with both of
@@ -104,7 +106,7 @@ constexpr int kRefused = 0;
 // 0.3 % shorter than at scale 1, 237 at 0.37 differs by 2e-9; the same after the blip moved in its hold);
 // 35 and 9 before the split chains with more parts than modes (67 and 233 now plan alike at every
 // scale, 46 at 1e-3).
-constexpr int kScaledOff1e9 = 29, kScaledOff1e3 = 3;
+constexpr int kScaledOff1e9 = 31, kScaledOff1e3 = 3;
 #else
 // of 30 with a reference (30 cases spread evenly over the 300 of the file; over the 282 before
 // cases 135-139 and 287-299 were added, 29 of 29 and 1.00062); 26 and 1.00478 (case 160) before
@@ -265,12 +267,12 @@ TEST(FastestGrid, PlannedMovesAreMovesAndTheirDurationsAgainstTheReferenceAreAsD
 // docs/fastest.md, "A certificate of the shortest move") against the reference, a different method
 // whose move is a true move and so at least as long as the optimum: a proven move is never longer
 // than its reference (beyond the reference's own 1e-5), and at least the measured count are proven:
-// 256 of the 300 (soak; 255 before grid case 19's chain with its turns held for no time made peaks
-// was proven, 254 before grid case 227 was planned shorter), 25 of the default suite's 30
-// (7 Dec 2026). Where a proof fails, a shorter
+// 258 of the 300 (soak; 256 before a stall below a tenth of the rows' rounding solved a chain,
+// 255 before grid case 19's chain with its turns held for no time made peaks was proven, 254
+// before grid case 227 was planned shorter), 25 of the default suite's 30 (7 Dec 2026). Where a proof fails, a shorter
 // move exists: every plan longer than its reference by more than 5e-6 is unproven.
 #if SETTLE_FASTEST_GRID_EVERY == 1
-constexpr int kProven = 256;
+constexpr int kProven = 258;
 #else
 constexpr int kProven = 25;
 #endif
