@@ -14,6 +14,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include "settle/core/golden_section.hpp"
 #include "settle/core/limits.hpp"
@@ -1339,6 +1340,20 @@ double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
   return std::sqrt(s);
 }
 
+// Newton's step J dx = -F by solve_in_place, its size a constant up to kChainNodes (every search
+// but dwell_changes'): the same operations, every result the same bits, for a third fewer
+// instructions (grid case 274, 7 unknowns: 289 k -> 187 k, 10 % -> 6 % of its plan; every --json of
+// the 300 grid plans the same, session 34).
+template <std::size_t... K>
+bool arc_solve_sized(ArcMat& jm, ArcVec& dx, std::size_t rows, std::index_sequence<K...>) noexcept {
+  bool ok = false;
+  const bool fixed = ((rows == K + 1 ? (ok = solve_in_place_fixed<kMaxArcNodes, K + 1>(jm, dx), true) : false) || ...);
+  return fixed ? ok : solve_in_place(jm, dx, rows);
+}
+bool arc_solve_step(ArcMat& jm, ArcVec& dx, std::size_t rows) noexcept {
+  return arc_solve_sized(jm, dx, rows, std::make_index_sequence<kChainNodes>{});
+}
+
 // Newton's method with a backtracking line search on |F - mu F0| (each point's F and Jacobian
 // taken together: the full step is nearly always taken): solves F(x) = mu F0, the chain's own
 // equations when mu = 0. True when the norm falls below tol, or stalls within 1000 tol of it or
@@ -1358,10 +1373,34 @@ double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
 // the run at once: the continuation's step is too long, and is cut. Over the reference grid
 // 4 384 runs started so (5 % of its evaluations), 741 of them got through; failing them all cut
 // the grid's evaluations by 5 % more and lengthened none of its plans.
+//
+// With `pause` (plan_arcs' probe, pause->allow), a run is set aside once pause->creeps of its steps
+// have crept (a line search down to 2^-7 of Newton's step or less that gained under 5 %): it
+// returns false with pause->paused and what its loop needs to go on (the iteration, the stall
+// rule's norms, its evaluations), and a call with pause->resume takes the run up again from c
+// where it stopped. The run so taken up is step for step the run it would have been, to the bit:
+// its first evaluation is that of the point the set-aside step accepted (ArcExpMemo's values are
+// the calls').
+constexpr int kStallSteps = 8;
+struct ArcPause {
+  bool allow{false};   // the run may be set aside
+  int creeps{1};       // after this many steps that crept
+  bool paused{false};  // it was (c is where it stopped)
+  bool resume{false};  // take it up again from it, before and evals
+  int it{0}, evals{0};
+  std::array<double, kStallSteps> before{};
+};
 bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, double tol, int max_iter,
-                bool first_test = false) noexcept {
-  constexpr int kStallSteps = 8;
+                bool first_test = false, ArcPause* pause = nullptr) noexcept {
   std::array<double, kStallSteps> before{};  // the norm kStallSteps steps back, by it % kStallSteps
+  int it0 = 0;
+  if (pause != nullptr) {
+    if (pause->resume) {
+      before = pause->before;
+      it0 = pause->it;
+    }
+    pause->paused = pause->resume = false;
+  }
   ArcVec f{};
   ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all solve_in_place reads
   ArcEval at;
@@ -1372,13 +1411,14 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
   const std::size_t rows = arc_values(pb, c, f, at);
   if (rows != c.n) return false;  // not square: a chain the loop should not have made
   double n0 = shifted_norm(rows);
-  int evals = 1;  // of arc_values
+  int evals = it0 > 0 ? pause->evals : 1;  // of arc_values
+  int creeps = 0;
   // The line search's point: its nodes and count are c's throughout (only the unknowns move), so
   // it is copied once, and an accepted step copies back the c.n unknowns alone (copying the whole
   // chain both ways per step was 0.5 % of a three-mode plan's instructions).
   ArcChain trial = c;
   const ArcShape shape = arc_shape(pb, c);
-  for (int it = 0; it < max_iter; ++it) {
+  for (int it = it0; it < max_iter; ++it) {
     if (!std::isfinite(n0)) return false;
     // A continuation's step on the way that has taken over 130 evaluations fails (its step is
     // cut). Over the reference grid's three-mode plans, 1 272 of the 26 365 steps of the solves
@@ -1406,7 +1446,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     arc_jacobian(pb, c, at, jm);
     ArcVec dx{};
     for (std::size_t i = 0; i < rows; ++i) dx[i] = -f[i];
-    if (!solve_in_place(jm, dx, rows)) return false;
+    if (!arc_solve_step(jm, dx, rows)) return false;
     double lam = 1.0, n1 = HUGE_VAL;
     for (; lam > 1e-4; lam *= 0.5) {
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] + lam * dx[i];
@@ -1430,7 +1470,15 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     if (!(lam > 1e-4)) return n0 < 1e3 * tol || n0 < (pb.to_rounding ? 1.0 : 0.1) * arc_rounding_floor(pb, c);
     if (cut_test && lam < 0.002 && n1 >= 0.99 * n0) return false;
     std::copy_n(trial.x.begin(), c.n, c.x.begin());
+    creeps += lam < 0.01 && n1 >= 0.95 * n0 ? 1 : 0;
     n0 = n1;
+    if (pause != nullptr && pause->allow && creeps >= pause->creeps && it + 1 < max_iter) {
+      pause->paused = true;
+      pause->it = it + 1;
+      pause->evals = evals;
+      pause->before = before;
+      return false;
+    }
   }
   return false;
 }
@@ -1919,13 +1967,29 @@ class CertMemo {
   std::size_t used_{0}, next_{0};
 };
 
+// The probe's Newton runs set aside where they creep (arc_newton's pause), each with its path's
+// place (plan_arcs, `probing`), in the order they were set aside. Held by the request's
+// bang_bang_family (the recursion for one mode fewer has no probe, and its frames stay as they
+// were).
+struct ArcSetAside {
+  ArcChain c;
+  ArcPause pause;
+  int round;
+  std::size_t group, id;
+};
+struct ArcProbeRoom {
+  std::array<ArcSetAside, 24> path;  // not zeroed: the first count are written, then read
+  std::size_t count{0};
+  ArcProbeRoom() noexcept {}
+};
+
 // certs: the memo of the request's own problem (plan_unsigned's), used where ms holds r's modes
 // (the proof's problem is then r's). Without it each proof is made (the recursion for one mode
 // fewer has no probe: its certificates are of ever shorter tables, none certified twice).
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk,
                ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr,
                DipBest* dips = nullptr, bool request = false, bool stop_proven = false,
-               CertMemo* certs = nullptr) noexcept;
+               CertMemo* certs = nullptr, ArcProbeRoom* aside = nullptr) noexcept;
 
 // The shortest chain for all modes but the fastest (planned by plan_arcs, recursively, with that
 // set's own split seed): the chain plan_arcs inserts its wiggles into.
@@ -1950,7 +2014,7 @@ ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms, bool stop_proven) no
 
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk, ArcBest* best_chain,
                const Shaper<double>* split, DipBest* dip_out, bool request, bool stop_proven,
-               CertMemo* certs) noexcept {
+               CertMemo* certs, ArcProbeRoom* aside) noexcept {
   // A two-mode request's own chains (`request`: not the recursion's for one mode fewer, whose
   // chains three modes build on) skip three seed paths that never paid there: the dips, the
   // stops in a cruise and the wide wiggles in the mirrored pulse. Over the 100 two-mode cases of
@@ -2033,8 +2097,24 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // the same bits, and the search built on it lands elsewhere (with the probe there too, grid
     // case 5 at 1e-3 and 7.3 of its scale planned 0.5 % and 0.4 % longer; with it in session 33's
     // order grid case 134 0.9 % and 227 0.17 % longer).
+    // The probe sets aside each Newton run that creeps (arc_newton's pause: in the seeds' group
+    // after three steps whose line search went down to 2^-7 of Newton's and gained under 5 %, in
+    // the wiggles' group after one) and walks on; the split seed's is taken up again before the
+    // chain for one mode fewer is planned, the others after the wiggles, in their order, each run
+    // to its end as it would have been. Most runs that creep fail, and a proof by a path that
+    // converges comes before them: on the reference grid's two-mode cases the median of
+    // plan_fastest's instructions fell from 2.92 M to 2.13 M (cases 274 2.95 -> 1.80 M, 145 2.77
+    // -> 1.56 M; session 34, cggrid.py, with arc_solve_step). A run set aside is one the probe had
+    // not finished, so where a later path proves, a run set aside before it that would have proven
+    // is not reached: that plan is another proven move, the same to the proof's rounding (7 of the
+    // 300 grid plans differ, by 2.6e-14 to 1.3e-10 s, 173 the one longer, by 7e-13; all 256 proofs
+    // kept). Every plan the probe does not prove is as before (every run taken up: newton_fails_at
+    // as it was). After one creeping step in the seeds' group too, grid case 7 (its proof is a
+    // seed's run that creeps) cost 1.45 -> 3.16 M; with the seeds' runs taken up before the chain
+    // for one mode fewer, 181 2.88 -> 2.56 M (1.97 M so).
     const bool probing = stop_proven && request;
     int pass = 0;  // 0: one pass; 1 (the probe), 2: after it
+    bool may_set_aside = false;  // the probe's first walk of its paths
     // The round whose Newton run failed in the probe, by group (0: seeds, 1: wiggles) and by the
     // path's id in its group (-1: none).
     std::array<std::array<int, kMaxPathIds>, 2> newton_fails_at{};
@@ -2043,13 +2123,26 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // given up once it passes a move 5 % longer than the shortest so far (on the tests' sets it
     // then found no move shorter than the one it stopped at, and two modes plan in about 4 ms
     // instead of 6). `id`: the path's within its group.
-    const auto walk = [&](ArcChain c, std::size_t id) {
+    // `from`: a probe's path set aside, taken up again at its round (the probe's sweeps, below).
+    const std::size_t n_split = (pulse ? kPulseSeeds.size() : kWholeSeeds.size()) + 2;  // the split seed's id
+    const auto walk = [&](ArcChain c, std::size_t id, const ArcSetAside* from = nullptr) {
       if (proven) return;
       const bool probe = pass == 1;
-      for (int round = 0; round < 16; ++round) {
+      for (int round = from != nullptr ? from->round : 0; round < 16; ++round) {
         bool solved = false;
         if (probe) {
-          solved = arc_newton_only(pb, c);
+          ArcPause ps{};
+          if (from != nullptr && round == from->round) {
+            ps = from->pause;
+            ps.resume = true;
+          }
+          ps.allow = may_set_aside && aside->count < aside->path.size();
+          ps.creeps = group == 0 ? 3 : 1;
+          solved = arc_newton(pb, c, ArcVec{}, 0.0, kArcTol, 40, false, &ps);
+          if (ps.paused) {
+            aside->path[aside->count++] = {c, ps, round, group, id};
+            return;
+          }
           if (!solved) newton_fails_at[group][id] = round;
         } else if (pass == 2 && newton_fails_at[group][id] == round) {
           solved = arc_continue(pb, c, 1.05 * best);
@@ -2235,7 +2328,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // (split_chain). Last in one pass, first in the probe.
     const auto walk_split = [&] {
       ArcChain c{};
-      if (!pulse && split != nullptr && split_chain(pb, *split, c)) walk(c, n_seeds + 2);
+      if (!pulse && split != nullptr && split_chain(pb, *split, c)) walk(c, n_split);
     };
     const auto seeds_group = [&] {
     if (pass == 1) walk_split();
@@ -2282,10 +2375,44 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       group = 1;
       if (sub.have && sub.pulse == pulse) wiggles(sub.c);
     };
+    // The probe's runs set aside, taken up again in the order they were set aside (the paths'
+    // order) and run to their end. split_only: the split seed's alone (the probe's first path),
+    // the others kept aside.
+    const auto take_up = [&](bool split_only) {
+      if (aside == nullptr || aside->count == 0) return;
+      const bool split_first = aside->path[0].group == 0 && aside->path[0].id == n_split;
+      if (split_only && !split_first) return;
+      may_set_aside = false;
+      if (split_only) {
+        const ArcSetAside from = aside->path[0];
+        std::copy(aside->path.begin() + 1, aside->path.begin() + static_cast<std::ptrdiff_t>(aside->count),
+                  aside->path.begin());
+        --aside->count;
+        group = from.group;
+        walk(from.c, from.id, &from);
+      } else {
+        for (std::size_t k = 0; k < aside->count && !proven; ++k) {
+          const ArcSetAside& from = aside->path[k];
+          group = from.group;
+          walk(from.c, from.id, &from);
+        }
+        aside->count = 0;
+      }
+      may_set_aside = true;
+    };
     if (probing) {
       for (auto& fails : newton_fails_at) fails.fill(-1);
       pass = 1;
-      both_groups();
+      may_set_aside = aside != nullptr;
+      if (aside != nullptr) aside->count = 0;
+      group = 0;
+      seeds_group();
+      take_up(true);
+      if (!proven) need_sub();
+      group = 1;
+      if (sub.have && sub.pulse == pulse) wiggles(sub.c);
+      take_up(false);
+      may_set_aside = false;
       pass = 2;
     }
     both_groups();
@@ -3426,7 +3553,8 @@ bool bang_bang_family(FastestSearch& fs) noexcept {
     // The chains from the dip seeds are candidates after bang-coast (fs.dips): whether
     // bang-coast runs, and what it starts from, are as without them (where bang-coast ran, it
     // started from the dip chain and ended 0.016 % longer on a grid case).
-    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips, true, true, &fs.certs);
+    ArcProbeRoom aside;
+    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips, true, true, &fs.certs, &aside);
     if (found && table_duration(t) < fs.best.time) {
       fs.record_table(FastestFamily::bang_bang, t, pk);
       double w_max = 0.0;
