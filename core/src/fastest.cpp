@@ -862,11 +862,8 @@ Status read_modes(const MoveRequest& r, ModeSet& ms) noexcept {
   ms.n = 1;
   if (r.mode_count > kMaxModes) return Status::unsupported_request;
   for (std::size_t i = 1; i < r.mode_count; ++i) {
-    const Mode md = r.modes[i];
-    if (!std::isfinite(md.omega) || !std::isfinite(md.zeta)) return Status::non_finite_input;
-    if (!(md.omega > 0.0)) return Status::non_positive_omega;
-    if (!(md.zeta >= 0.0 && md.zeta < 1.0)) return Status::zeta_out_of_range;
-    ms.m[ms.n++] = md;
+    if (const Status st = mode_status(r.modes[i]); st != Status::ok) return st;
+    ms.m[ms.n++] = r.modes[i];
   }
   return Status::ok;
 }

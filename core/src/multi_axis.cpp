@@ -97,17 +97,9 @@ Status plan_path(const MultiAxisRequest& r, Move<double>& out, std::array<Mode, 
     if (a.distance == 0.0) continue;
     moving = true;
     if (!a.omega) continue;
-    if (!std::isfinite(*a.omega) || !std::isfinite(a.zeta)) {
+    if (const Status st = mode_status(*a.omega, a.zeta); st != Status::ok) {
       culprit = i;
-      return Status::non_finite_input;
-    }
-    if (!(*a.omega > 0.0)) {
-      culprit = i;
-      return Status::non_positive_omega;
-    }
-    if (!(a.zeta >= 0.0 && a.zeta < 1.0)) {
-      culprit = i;
-      return Status::zeta_out_of_range;
+      return st;
     }
     bool known = false;
     for (std::size_t k = 0; k < nm; ++k) known = known || (modes[k].omega == *a.omega && modes[k].zeta == a.zeta);

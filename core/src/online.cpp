@@ -506,7 +506,7 @@ struct BlendShape {
 }  // namespace
 
 ModeMemory mode_memory(const Blend& b, const ModeMemory& at_start, double u, const Mode& mode) noexcept {
-  if (!(u > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return at_start;
+  if (!(u > 0.0) || mode_status(mode) != Status::ok) return at_start;
   // Q(u) = e^{lambda u} Q(0) - int_0^u e^{lambda (u - w)} b'(w) dw, and with c(w) = b(w) - b(0) the
   // integral is c(u) + lambda int_0^u e^{lambda (u - w)} c(w) dw (by parts; c(0) = 0).
   const Cx lam = pole(mode.omega, mode.zeta);
@@ -561,14 +561,6 @@ Status online_limits(const OptionalLimits& limits, const Peaks<double>& pk, cons
 }
 
 namespace {
-// A mode a change keeps: finite, omega > 0, 0 <= zeta < 1.
-Status check_mode(const Mode& md) noexcept {
-  if (!std::isfinite(md.omega) || !std::isfinite(md.zeta)) return Status::non_finite_input;
-  if (!(md.omega > 0.0)) return Status::non_positive_omega;
-  if (!(md.zeta >= 0.0 && md.zeta < 1.0)) return Status::zeta_out_of_range;
-  return Status::ok;
-}
-
 // The request of a change of move m at t (both online_request overloads): each mode's memory at
 // the switch, and at the move's end from `at_end` (end_memory's) or, without it, integrated
 // together with the one at the switch (one pass).
@@ -585,7 +577,7 @@ Status move_request(const Move<double>& m, double t, const Mode* modes, std::siz
   r.mode_count = mode_count;
   std::array<ModeMemory, kMaxOnlineModes> end{};
   for (std::size_t i = 0; i < mode_count; ++i) {
-    if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
+    if (const Status st = mode_status(modes[i]); st != Status::ok) return st;
     r.modes[i] = modes[i];
     if (at_end != nullptr) {
       // The pieces that have ended by t read their sums from at_end (taken for this very mode).
@@ -613,7 +605,7 @@ Status end_memory(const Move<double>& m, const Mode* modes, std::size_t mode_cou
   if (mode_count > kMaxOnlineModes) return Status::unsupported_request;
   EndMemory e{};
   for (std::size_t i = 0; i < mode_count; ++i) {
-    if (const Status st = check_mode(modes[i]); st != Status::ok) return st;
+    if (const Status st = mode_status(modes[i]); st != Status::ok) return st;
     e[i] = mode_memory(m, m.duration(), modes[i]);
     e.pieces[i].mode = modes[i];
     e.pieces[i].count = detail::ended_piece_sums(m, modes[i], e.pieces[i].sum.data(), static_cast<int>(kEndMemoryPieces));
@@ -643,7 +635,7 @@ Status check_request(const OnlineRequest& r, bool& at_rest) noexcept {
   at_rest = r.start.v == 0.0 && r.start.a == 0.0 && (!r.target || *r.target == r.start.p);
   for (std::size_t i = 0; i < r.mode_count; ++i) {
     if (!std::isfinite(r.memory[i].re) || !std::isfinite(r.memory[i].im)) return Status::non_finite_input;
-    if (const Status st = check_mode(r.modes[i]); st != Status::ok) return st;
+    if (const Status st = mode_status(r.modes[i]); st != Status::ok) return st;
     // A memory this small is rounding of an exactly cancelled one (a finished zero-residual move).
     at_rest = at_rest && std::hypot(r.memory[i].re, r.memory[i].im) <= 1e-13 * std::fabs(r.start.p);
   }

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "settle/core/golden_section.hpp"
+#include "settle/core/mode.hpp"
 
 namespace settle::core {
 
@@ -197,8 +198,7 @@ Status plan_fastest_scurve(double distance, double vmax, double amax, double jma
     return Status::non_finite_input;
   }
   if (!(vmax > 0.0 && amax > 0.0 && jmax > 0.0)) return Status::non_positive_limit;
-  if (!(omega > 0.0)) return Status::non_positive_omega;
-  if (!(zeta >= 0.0 && zeta < 1.0)) return Status::zeta_out_of_range;
+  if (const Status st = mode_status(omega, zeta); st != Status::ok) return st;
   const double z = damped ? zeta : 0.0;
   const double d = std::fabs(distance);
   if (d == 0.0) {

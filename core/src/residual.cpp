@@ -218,14 +218,14 @@ ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexce
 
 ModeMemory detail::mode_memory_ended(const Move<double>& m, double t, const Mode& mode, const ModeMemory* ended,
                                      int n) noexcept {
-  if (!(t > 0.0) || !(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return {};
+  if (!(t > 0.0) || mode_status(mode) != Status::ok) return {};
   ModeMemory q{}, unused{};
   memories(m, t, t, false, pole(mode.omega, mode.zeta), q, unused, ended, n);
   return q;
 }
 
 int detail::ended_piece_sums(const Move<double>& m, const Mode& mode, ModeMemory* out, int n) noexcept {
-  if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return 0;
+  if (mode_status(mode) != Status::ok) return 0;
   const Cx lam = pole(mode.omega, mode.zeta);
   return m.profile().visit([&](const auto& p) {
     int count = 0;
@@ -247,12 +247,12 @@ void detail::mode_memory_pair(const Move<double>& m, double t1, double t2, const
                               ModeMemory& q2) noexcept {
   q1 = {};
   q2 = {};
-  if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return;
+  if (mode_status(mode) != Status::ok) return;
   memories(m, t1, t2, true, pole(mode.omega, mode.zeta), q1, q2);
 }
 
 double residual_amplitude(const Move<double>& m, const Mode& mode) noexcept {
-  if (!(mode.omega > 0.0) || !(mode.zeta >= 0.0 && mode.zeta < 1.0)) return std::numeric_limits<double>::quiet_NaN();
+  if (mode_status(mode) != Status::ok) return std::numeric_limits<double>::quiet_NaN();
   const ModeMemory q = mode_memory(m, m.duration(), mode);
   return std::hypot(q.re, q.im) / std::sqrt(1.0 - mode.zeta * mode.zeta);
 }
@@ -290,7 +290,7 @@ Cx accel_transform_at_end(const double* durations, const double* jerk, std::size
 double jerk_table_residual_amplitude(const double* durations, const double* jerk, std::size_t count,
                                      const Mode& mode) noexcept {
   const double omega = mode.omega, zeta = mode.zeta;
-  if (!(omega > 0.0) || !(zeta >= 0.0 && zeta < 1.0)) return std::numeric_limits<double>::quiet_NaN();
+  if (mode_status(omega, zeta) != Status::ok) return std::numeric_limits<double>::quiet_NaN();
   return cabs(accel_transform_at_end(durations, jerk, count, pole(omega, zeta))) / (omega * std::sqrt(1.0 - zeta * zeta));
 }
 

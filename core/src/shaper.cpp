@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "settle/core/mode.hpp"
 #include "settle/core/small_solve.hpp"
 
 namespace settle::core {
@@ -13,21 +14,6 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846264338327950;
 
-bool valid_mode(double omega, double zeta, Status& st) noexcept {
-  if (!std::isfinite(omega) || !std::isfinite(zeta)) {
-    st = Status::non_finite_input;
-    return false;
-  }
-  if (!(omega > 0.0)) {
-    st = Status::non_positive_omega;
-    return false;
-  }
-  if (!(zeta >= 0.0 && zeta < 1.0)) {
-    st = Status::zeta_out_of_range;
-    return false;
-  }
-  return true;
-}
 
 // Impulses at multiples of half the damped period with binomial weights in K: ZV (order 1),
 // ZVD (2), ZVDD (3). Each extra order adds a zero derivative of V with respect to omega.
@@ -271,8 +257,7 @@ bool hump_start(const HumpLayout& L, double vtol, HumpVec& x) noexcept {
 [[gnu::noinline]] Status multi_hump_ei_shaper(std::size_t humps, double omega, double zeta, double vtol,
                                               Shaper<double>& out, double* zeros) noexcept {
   if (humps != 2 && humps != 3) return Status::unsupported_request;
-  Status st = Status::ok;
-  if (!valid_mode(omega, zeta, st)) return st;
+  if (const Status st = mode_status(omega, zeta); st != Status::ok) return st;
   if (!std::isfinite(vtol)) return Status::non_finite_input;
   if (!(vtol > 0.0 && vtol < 0.5)) return Status::vtol_out_of_range;
   const std::size_t n = humps + 2;
@@ -406,9 +391,8 @@ bool joint_newton(const JointModes& m, JointVec& x, double u_max) noexcept {
 
 Status joint_zv_shaper(const double* omega, const double* zeta, std::size_t n, Shaper<double>& out) noexcept {
   if (n == 0 || n > kMaxJointModes) return Status::unsupported_request;
-  Status st = Status::ok;
   for (std::size_t k = 0; k < n; ++k) {
-    if (!valid_mode(omega[k], zeta[k], st)) return st;
+    if (const Status st = mode_status(omega[k], zeta[k]); st != Status::ok) return st;
   }
   if (n == 1) {
     out = binomial_shaper(1, omega[0], zeta[0]);
@@ -543,8 +527,7 @@ Status design_shaper(ShaperKind kind, double omega, double zeta, double vtol, Sh
     return Status::ok;
   }
   if (kind == ShaperKind::custom) return Status::unsupported_request;  // use custom_shaper()
-  Status st = Status::ok;
-  if (!valid_mode(omega, zeta, st)) return st;
+  if (const Status st = mode_status(omega, zeta); st != Status::ok) return st;
   switch (kind) {
     case ShaperKind::zv: out = binomial_shaper(1, omega, zeta); return Status::ok;
     case ShaperKind::zvd: out = binomial_shaper(2, omega, zeta); return Status::ok;

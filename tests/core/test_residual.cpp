@@ -144,9 +144,28 @@ static_assert(core::kDesignResidual < core::kAtRestResidual, "a planner accepts 
 
 TEST(Residual, ModesOutsideTheRangeGiveNaN) {
   const core::PiecewiseJerkParams t = core::jerk_limited_time_optimal(0.1, 1.0, 10.0, 200.0);
+  const double inf = std::numeric_limits<double>::infinity();
   for (const core::Mode md : {core::Mode{0.0, 0.0}, core::Mode{-1.0, 0.0}, core::Mode{10.0, 1.0}, core::Mode{10.0, -0.1},
-                              core::Mode{std::numeric_limits<double>::quiet_NaN(), 0.0}}) {
+                              core::Mode{std::numeric_limits<double>::quiet_NaN(), 0.0}, core::Mode{inf, 0.0},
+                              core::Mode{10.0, -inf}}) {
     EXPECT_TRUE(std::isnan(core::residual_amplitude(t, md)));
   }
   EXPECT_TRUE(std::isfinite(core::residual_amplitude(t, {10.0, 0.0})));
+}
+
+// The one check of a mode (mode.hpp) that planners, shapers and residuals read: the first
+// condition broken, in the order the user is told.
+TEST(Residual, ModeStatusNamesTheFirstConditionBroken) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(core::mode_status(10.0, 0.0), core::Status::ok);
+  EXPECT_EQ(core::mode_status(1e-9, 0.999), core::Status::ok);
+  EXPECT_EQ(core::mode_status(inf, 0.0), core::Status::non_finite_input);
+  EXPECT_EQ(core::mode_status(10.0, nan), core::Status::non_finite_input);
+  EXPECT_EQ(core::mode_status(nan, 2.0), core::Status::non_finite_input);
+  EXPECT_EQ(core::mode_status(0.0, 0.0), core::Status::non_positive_omega);
+  EXPECT_EQ(core::mode_status(-1.0, 2.0), core::Status::non_positive_omega);
+  EXPECT_EQ(core::mode_status(10.0, 1.0), core::Status::zeta_out_of_range);
+  EXPECT_EQ(core::mode_status(10.0, -0.1), core::Status::zeta_out_of_range);
+  EXPECT_EQ(core::mode_status(core::Mode{10.0, 0.5}), core::Status::ok);
 }

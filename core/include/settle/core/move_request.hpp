@@ -11,6 +11,7 @@
 
 #include "settle/core/design_params.hpp"
 #include "settle/core/limits.hpp"
+#include "settle/core/mode.hpp"
 #include "settle/core/pseudo_poly.hpp"
 #include "settle/core/shaper.hpp"
 
@@ -20,11 +21,6 @@ namespace settle::core {
 // defines it; declared here so that the profiles' own headers can read a request.
 enum class ProfileKind : std::uint8_t;
 
-// A mode a request is designed for.
-struct Mode {
-  double omega{0.0};  // rad/s
-  double zeta{0.0};
-};
 inline constexpr std::size_t kMaxModes = 4;  // the most a request designs for (profile `fastest`)
 
 struct MoveRequest {

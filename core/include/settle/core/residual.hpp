@@ -40,11 +40,11 @@ struct ModeMemory {
 
 // Q(t) of a planned move, from its exact piecewise closed form (piece.hpp) where the profile has
 // one, by Gauss-Legendre quadrature otherwise (the pseudo-polynomial). t is on the move's clock.
-// Zero for t <= 0 and for a mode outside omega > 0, 0 <= zeta < 1.
+// Zero for t <= 0 and for a mode Settle does not plan for (mode_status: finite, omega > 0, 0 <= zeta < 1).
 [[nodiscard]] ModeMemory mode_memory(const Move<double>& m, double t, const Mode& mode) noexcept;
 
-// The amplitude the move leaves on the mode at its end (move units). NaN for a mode outside
-// omega > 0, 0 <= zeta < 1.
+// The amplitude the move leaves on the mode at its end (move units). NaN for a mode Settle does
+// not plan for (mode_status).
 [[nodiscard]] double residual_amplitude(const Move<double>& m, const Mode& mode) noexcept;
 // That amplitude relative to the one a step of the same distance leaves right after it,
 // |D| omega / omega_d (a step has 1; undamped, the V(omega) of the input-shaping literature).
