@@ -2679,7 +2679,7 @@ ArcVec step_holding_breaks(const ArcChain& c, const ArcMat& jm, const ArcVec& f,
 // step too (step_breaks; restore_seed's retry).
 //
 // With `t_abandon` (arc_minimise's trials), a restoration whose chain, once its rows are below
-// 1e-10, is longer than t_abandon or breaks a condition of the chain (arc_violation), both by a
+// 1e-8, is longer than t_abandon or breaks a condition of the chain (arc_violation), both by a
 // margin (abandon_margin), is given up (false, *abandoned set): the trial would be refused as it
 // is. Its last steps take rows of 1e-11 to 1e-13 (of grid case 5's restorations in arc_refine's
 // candidates, 5 148 of 7 941 steps started below 1e-10), but along the chain's ill-conditioned
@@ -2688,7 +2688,8 @@ ArcVec step_holding_breaks(const ArcChain& c, const ArcMat& jm, const ArcVec& f,
 // 1e-8 gave up trials that would have been kept (5, 35, 112; 5 then planned 3.59167 s, not
 // proven, against 3.59144 s proven), 1e-7 none, and 1e-6 (1e6 times the rows where larger), ten
 // times that, none on the grid: every plan the same to the bit (the steps taken are those taken
-// without it). Grid case 5 1 493 M -> 1 281 M instructions, 112 1 037 M -> 779 M.
+// without it). Grid case 5 1 493 M -> 1 261 M instructions, 112 1 037 M -> 756 M (from rows
+// below 1e-10: 1 281 M and 779 M; below 1e-6 no fewer than 1e-8).
 double abandon_margin(double n) noexcept { return std::fmax(1e-6, 1e6 * n); }
 bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std::array<bool, kMaxIneq>& active,
                  ArcVec& f, ArcEval& ev, bool hold_breaks = false, std::size_t* rows_out = nullptr,
@@ -2740,7 +2741,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
   for (int it = 0; it < 30; ++it) {
     if (!std::isfinite(n0)) return done_with(false);
     if (n0 < done) return done_with(true);
-    if (abandoned != nullptr && n0 < 1e-10 &&
+    if (abandoned != nullptr && n0 < 1e-8 &&
         (ec->L.T > t_abandon * (1.0 + abandon_margin(n0)) ||
          arc_violation(pb, c, abandon_margin(n0)).kind != ArcFix::none)) {
       *abandoned = true;
