@@ -1527,17 +1527,21 @@ struct ArcFix {
   std::size_t at{0};
 };
 
-ArcFix arc_violation(const ArcProblem& pb, const ArcChain& c) noexcept {
+// `margin` (relative) widens every tolerance: a chain broken with a margin is broken by more than
+// a restoration's last steps at the rows' rounding move it (arc_restore's `t_abandon`).
+ArcFix arc_violation(const ArcProblem& pb, const ArcChain& c, double margin = 0.0) noexcept {
   constexpr double kEps = 1e-12;
+  const double a_lim = margin > 0.0 ? pb.amax * (1.0 + margin) : pb.amax;
+  const double t_eps = margin > 0.0 ? kEps + margin * lay_out(pb, c).T : kEps;
   for (std::size_t i = 0; i < c.n; ++i) {
     const ArcNode& k = c.node[i];
     if (k.kind == ArcKind::peak) {
       // A turn may lie on either side of a = 0 (a maximum of a below zero is a bang-bang move
       // too: refusing it lost moves up to 19 % shorter, docs/fastest.md); beyond the other
       // limit it cannot.
-      if (k.sign * c.x[i] > pb.amax) return {ArcFix::to_limit, i};
-      if (k.sign * c.x[i] < -pb.amax) return {ArcFix::give_up, i};
-    } else if (c.x[i] < -kEps) {
+      if (k.sign * c.x[i] > a_lim) return {ArcFix::to_limit, i};
+      if (k.sign * c.x[i] < -a_lim) return {ArcFix::give_up, i};
+    } else if (c.x[i] < -t_eps) {
       return {k.kind == ArcKind::limit ? ArcFix::to_peak : ArcFix::drop, i};
     }
   }
@@ -1545,13 +1549,13 @@ ArcFix arc_violation(const ArcProblem& pb, const ArcChain& c) noexcept {
   double a = 0.0, v = 0.0;
   for (std::size_t r = 0; r <= c.n; ++r) {
     const double d = L.e[r] - L.b[r], j = L.j[r];
-    if (d < -kEps) return {ArcFix::give_up, r};
+    if (d < -t_eps) return {ArcFix::give_up, r};
     const double a1 = a + j * d;
     if (a * a1 < 0.0) {  // a crosses zero inside the ramp: v has its extreme there
       const double tc = -a / j;
       const double vc = v + a * tc + 0.5 * j * tc * tc;
-      if (vc > pb.vmax * (1.0 + 1e-9)) return {ArcFix::add_cruise, r};
-      if (vc < -1e-9 * pb.vmax) return {ArcFix::add_dwell, r};
+      if (vc > pb.vmax * (1.0 + 1e-9 + margin)) return {ArcFix::add_cruise, r};
+      if (vc < -(1e-9 + margin) * pb.vmax) return {ArcFix::add_dwell, r};
     }
     v += a * d + 0.5 * j * d * d;
     a = a1;
@@ -2806,8 +2810,23 @@ ArcVec step_holding_breaks(const ArcChain& c, const ArcMat& jm, const ArcVec& f,
 // to 115 M against stalling each time, the same chain to 3e-9 of its duration). With
 // `hold_breaks`, an inequality within its tolerance that a step would break is held at 0 in that
 // step too (step_breaks; restore_seed's retry).
+//
+// With `t_abandon` (arc_minimise's trials), a restoration whose chain, once its rows are below
+// 1e-8, is longer than t_abandon or breaks a condition of the chain (arc_violation), both by a
+// margin (abandon_margin), is given up (false, *abandoned set): the trial would be refused as it
+// is. Its last steps take rows of 1e-11 to 1e-13 (of grid case 5's restorations in arc_refine's
+// candidates, 5 148 of 7 941 steps started below 1e-10), but along the chain's ill-conditioned
+// directions: they moved T by 1.3e-8 of itself (grid case 35, rows at 1e-10) and v at a turn by
+// more than 1e-8 vmax (112, rows at 1.7e-13) and 1e-7 vmax (5, rows at 3.8e-11). A margin of
+// 1e-8 gave up trials that would have been kept (5, 35, 112; 5 then planned 3.59167 s, not
+// proven, against 3.59144 s proven), 1e-7 none, and 1e-6 (1e6 times the rows where larger), ten
+// times that, none on the grid: every plan the same to the bit (the steps taken are those taken
+// without it). Grid case 5 1 493 M -> 1 261 M instructions, 112 1 037 M -> 756 M (from rows
+// below 1e-10: 1 281 M and 779 M; below 1e-6 no fewer than 1e-8).
+double abandon_margin(double n) noexcept { return std::fmax(1e-6, 1e6 * n); }
 bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std::array<bool, kMaxIneq>& active,
-                 ArcVec& f, ArcEval& ev, bool hold_breaks = false, std::size_t* rows_out = nullptr) noexcept {
+                 ArcVec& f, ArcEval& ev, bool hold_breaks = false, std::size_t* rows_out = nullptr,
+                 double t_abandon = HUGE_VAL, bool* abandoned = nullptr) noexcept {
   ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
   // c's rows and evaluation in one pair (fc, ec: first the caller's f and ev), each trial's in the
   // other, the two swapped where a trial is accepted: where the line search fails, c's are still
@@ -2855,6 +2874,12 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
   for (int it = 0; it < 30; ++it) {
     if (!std::isfinite(n0)) return done_with(false);
     if (n0 < done) return done_with(true);
+    if (abandoned != nullptr && n0 < 1e-8 &&
+        (ec->L.T > t_abandon * (1.0 + abandon_margin(n0)) ||
+         arc_violation(pb, c, abandon_margin(n0)).kind != ArcFix::none)) {
+      *abandoned = true;
+      return done_with(false);
+    }
     arc_jacobian(pb, c, *ec, jm);
     const auto held = [&](std::size_t r) { return active[r] || qc->val[r] < 0.0; };
     const ArcVec dz =
@@ -3069,15 +3094,29 @@ void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) 
       if (ad < 0.0) a_max = std::fmin(a_max, q.val[r] / -ad);
     }
     ArcFix bound{};  // the velocity's bound the smallest step tried broke
+    // The steps of the trials whose restoration was given up (arc_restore's t_abandon) since the
+    // last that set `bound`, in the order tried: where no trial is kept, `bound` is the last
+    // trial's that restored and broke a velocity's bound, so those are restored in full again,
+    // last first, until one sets it (the bound set without giving up).
+    std::array<double, 32> given_up{};
+    std::size_t n_given_up = 0;
     for (double alpha = a_max; alpha * dn > 1e-12 * T; alpha *= 0.25) {
       ArcChain trial = c;
       for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] - alpha * d[i] * q.unit[i];
       ArcVec ft{};
       ArcEval et;
       std::size_t rows_t = 0;
-      if (!arc_restore(pb, trial, q, active, ft, et, false, &rows_t)) continue;
+      bool abandoned = false;
+      const bool may_abandon = n_given_up < given_up.size();
+      if (!arc_restore(pb, trial, q, active, ft, et, false, &rows_t, T, may_abandon ? &abandoned : nullptr)) {
+        if (abandoned) given_up[n_given_up++] = alpha;
+        continue;
+      }
       const ArcFix fx = arc_violation(pb, trial);
-      if (fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell) bound = fx;
+      if (fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell) {
+        bound = fx;
+        n_given_up = 0;
+      }
       if (!(et.L.T < T - 1e-14 * T) || fx.kind != ArcFix::none) continue;
       // A peak that reached its limit holds there from now on (a limit node of hold 0).
       bool held = false;
@@ -3102,6 +3141,18 @@ void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) 
       gains[accepted++ % kMinimiseStallSteps] = t_before - T;
       moved = true;
       break;
+    }
+    for (std::size_t u = n_given_up; !moved && u-- > 0;) {
+      ArcChain trial = c;
+      for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] - given_up[u] * d[i] * q.unit[i];
+      ArcVec ft{};
+      ArcEval et;
+      if (!arc_restore(pb, trial, q, active, ft, et)) continue;
+      const ArcFix fx = arc_violation(pb, trial);
+      if (fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell) {
+        bound = fx;
+        break;
+      }
     }
     if (!moved && bound.kind != ArcFix::none) {
       // The move touches v = 0 (or vmax) where a crosses zero and would pass it: hold there (a
