@@ -1528,11 +1528,13 @@ struct ArcFix {
 };
 
 // `margin` (relative) widens every tolerance: a chain broken with a margin is broken by more than
-// a restoration's last steps at the rows' rounding move it (arc_restore's `t_abandon`).
-ArcFix arc_violation(const ArcProblem& pb, const ArcChain& c, double margin = 0.0) noexcept {
+// a restoration's last steps at the rows' rounding move it (arc_restore's `t_abandon`). `laid`:
+// c's layout where the caller has it (arc_restore's evaluation), not laid out again.
+ArcFix arc_violation(const ArcProblem& pb, const ArcChain& c, double margin = 0.0,
+                     const ArcLayout* laid = nullptr) noexcept {
   constexpr double kEps = 1e-12;
   const double a_lim = margin > 0.0 ? pb.amax * (1.0 + margin) : pb.amax;
-  const double t_eps = margin > 0.0 ? kEps + margin * lay_out(pb, c).T : kEps;
+  const double t_eps = margin > 0.0 ? kEps + margin * (laid != nullptr ? laid->T : lay_out(pb, c).T) : kEps;
   for (std::size_t i = 0; i < c.n; ++i) {
     const ArcNode& k = c.node[i];
     if (k.kind == ArcKind::peak) {
@@ -1545,7 +1547,8 @@ ArcFix arc_violation(const ArcProblem& pb, const ArcChain& c, double margin = 0.
       return {k.kind == ArcKind::limit ? ArcFix::to_peak : ArcFix::drop, i};
     }
   }
-  const ArcLayout L = lay_out(pb, c);
+  ArcLayout own;
+  const ArcLayout& L = laid != nullptr ? *laid : (own = lay_out(pb, c));
   double a = 0.0, v = 0.0;
   for (std::size_t r = 0; r <= c.n; ++r) {
     const double d = L.e[r] - L.b[r], j = L.j[r];
@@ -2860,7 +2863,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     if (n0 < done) return done_with(true);
     if (abandoned != nullptr && n0 < 1e-8 &&
         (ec->L.T > t_abandon * (1.0 + abandon_margin(n0)) ||
-         arc_violation(pb, c, abandon_margin(n0)).kind != ArcFix::none)) {
+         arc_violation(pb, c, abandon_margin(n0), &ec->L).kind != ArcFix::none)) {
       *abandoned = true;
       return done_with(false);
     }
