@@ -980,8 +980,8 @@ struct ArcProblem {
   std::array<ArcPole, kMaxModes> poles{};
   ArcExpMemo* exps{nullptr};  // plan_arcs' own
   // arc_newton and arc_restore: a stall below the rows' rounding (arc_rounding_floor) solves the
-  // chain, not only below a tenth of it, and arc_newton's stall rule does not give up
-  // (split_to_rounding's solves only).
+  // chain, not only below a tenth of it (stall_floor), and arc_newton's stall rule does not give
+  // up (split_to_rounding's solves only).
   bool to_rounding{false};
   // The most nodes a chain may grow to (kChainNodes; dwell_changes: kMaxArcNodes).
   std::size_t max_nodes{kChainNodes};
@@ -1337,6 +1337,13 @@ double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
   return std::sqrt(s);
 }
 
+// Below this norm a solve that stalls (a line search that cannot lower it) has solved its chain:
+// a tenth of the rows' rounding, the whole of it for split_to_rounding's solves (pb.to_rounding).
+// arc_newton's and arc_restore's rule (arc_newton, session 34).
+double stall_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
+  return (pb.to_rounding ? 1.0 : 0.1) * arc_rounding_floor(pb, c);
+}
+
 // Newton's step J dx = -F by solve_in_place, its size a constant up to kChainNodes (every search
 // but dwell_changes'): the same operations, every result the same bits, for a third fewer
 // instructions (grid case 274, 7 unknowns: 289 k -> 187 k, 10 % -> 6 % of its plan; every --json of
@@ -1464,7 +1471,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
       // three modes, 2.1 % on two, 0.8 % on one (session 31, an instrumented build).
       if (cut_test && lam < 0.002) return false;
     }
-    if (!(lam > 1e-4)) return n0 < 1e3 * tol || n0 < (pb.to_rounding ? 1.0 : 0.1) * arc_rounding_floor(pb, c);
+    if (!(lam > 1e-4)) return n0 < 1e3 * tol || n0 < stall_floor(pb, c);
     if (cut_test && lam < 0.002 && n1 >= 0.99 * n0) return false;
     std::copy_n(trial.x.begin(), c.n, c.x.begin());
     creeps += lam < 0.01 && n1 >= 0.95 * n0 ? 1 : 0;
@@ -2844,7 +2851,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
   ArcIneqVals* qt = &q_at[1];
   double n0 = merit(c, *fc, rows, *ec, *qc);
   const auto stalled_solved = [&](double n) {
-    return n < 1e-10 || n < (pb.to_rounding ? 1.0 : 0.1) * arc_rounding_floor(pb, c);
+    return n < 1e-10 || n < stall_floor(pb, c);
   };
   // c's rows and evaluation left in the caller's f and ev.
   const auto done_with = [&](bool ok) {
