@@ -2379,13 +2379,6 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     }
     if (pass != 1) walk_split();
     };
-    const auto both_groups = [&] {
-      group = 0;
-      seeds_group();
-      if (!proven) need_sub();
-      group = 1;
-      if (sub.have && sub.pulse == pulse) wiggles(sub.c);
-    };
     // The probe's runs set aside, taken up again in the order they were set aside (the paths'
     // order) and run to their end. split_only: the split seed's alone (the probe's first path),
     // the others kept aside.
@@ -2393,6 +2386,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       if (aside == nullptr || aside->count == 0) return;
       const bool split_first = aside->path[0].group == 0 && aside->path[0].id == n_split;
       if (split_only && !split_first) return;
+      const bool was = may_set_aside;  // the runs taken up are not set aside again
       may_set_aside = false;
       if (split_only) {
         const ArcSetAside from = aside->path[0];
@@ -2409,13 +2403,11 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
         }
         aside->count = 0;
       }
-      may_set_aside = true;
+      may_set_aside = was;
     };
-    if (probing) {
-      for (auto& fails : newton_fails_at) fails.fill(-1);
-      pass = 1;
-      may_set_aside = aside != nullptr;
-      if (aside != nullptr) aside->count = 0;
+    // Both groups in their order; the probe's runs set aside are taken up after each (none are
+    // set aside outside the probe, and take_up does nothing without them).
+    const auto both_groups = [&] {
       group = 0;
       seeds_group();
       take_up(true);
@@ -2423,6 +2415,13 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       group = 1;
       if (sub.have && sub.pulse == pulse) wiggles(sub.c);
       take_up(false);
+    };
+    if (probing) {
+      for (auto& fails : newton_fails_at) fails.fill(-1);
+      pass = 1;
+      may_set_aside = aside != nullptr;
+      if (aside != nullptr) aside->count = 0;
+      both_groups();
       may_set_aside = false;
       pass = 2;
     }
