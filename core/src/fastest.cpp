@@ -3093,9 +3093,18 @@ void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) 
     // last first, until one sets it (the bound set without giving up).
     std::array<double, 32> given_up{};
     std::size_t n_given_up = 0;
+    // The trial at step alpha (the same point where a given-up trial is restored again), and
+    // whether a restored trial breaks a velocity's bound.
+    const auto trial_at = [&](double alpha) {
+      ArcChain t = c;
+      for (std::size_t i = 0; i < c.n; ++i) t.x[i] = c.x[i] - alpha * d[i] * q.unit[i];
+      return t;
+    };
+    const auto breaks_speed = [](const ArcFix& fx) {
+      return fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell;
+    };
     for (double alpha = a_max; alpha * dn > 1e-12 * T; alpha *= 0.25) {
-      ArcChain trial = c;
-      for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] - alpha * d[i] * q.unit[i];
+      ArcChain trial = trial_at(alpha);
       ArcVec ft{};
       ArcEval et;
       std::size_t rows_t = 0;
@@ -3106,7 +3115,7 @@ void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) 
         continue;
       }
       const ArcFix fx = arc_violation(pb, trial);
-      if (fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell) {
+      if (breaks_speed(fx)) {
         bound = fx;
         n_given_up = 0;
       }
@@ -3136,13 +3145,12 @@ void arc_minimise(const ArcProblem& pb, ArcChain& c, ArcKkt& kkt, int max_iter) 
       break;
     }
     for (std::size_t u = n_given_up; !moved && u-- > 0;) {
-      ArcChain trial = c;
-      for (std::size_t i = 0; i < c.n; ++i) trial.x[i] = c.x[i] - given_up[u] * d[i] * q.unit[i];
+      ArcChain trial = trial_at(given_up[u]);
       ArcVec ft{};
       ArcEval et;
       if (!arc_restore(pb, trial, q, active, ft, et)) continue;
       const ArcFix fx = arc_violation(pb, trial);
-      if (fx.kind == ArcFix::add_cruise || fx.kind == ArcFix::add_dwell) {
+      if (breaks_speed(fx)) {
         bound = fx;
         break;
       }
