@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "settle/core/golden_section.hpp"
+#include "settle/core/mode.hpp"
 #include "settle/core/profiles/registry.hpp"
 #include "settle/plant/command.hpp"
 #include "settle/plant/move_vocabulary.hpp"
@@ -421,7 +422,7 @@ TuneStatus tune_input_status(const std::vector<UncertainMode>& modes_in, const T
   if (modes_in.empty()) return TuneStatus::no_modes;
   if (modes_in.size() > kMaxTuneModes) return TuneStatus::too_many_modes;
   for (const UncertainMode& m : modes_in) {
-    if (!(m.omega > 0.0) || !std::isfinite(m.omega) || !(m.zeta >= 0.0 && m.zeta < 1.0) || !std::isfinite(m.gain)) {
+    if (core::mode_status(m.omega, m.zeta) != core::Status::ok || !std::isfinite(m.gain)) {
       return TuneStatus::bad_mode;
     }
     if (!valid_band(m)) return TuneStatus::bad_band;

@@ -32,6 +32,7 @@
 #include "settle/core/axis_scale.hpp"
 #include "settle/core/enum_text.hpp"
 #include "settle/core/limits.hpp"
+#include "settle/core/mode.hpp"
 #include "settle/core/multi_axis.hpp"  // plan_path_online: a path's change, planned once
 #include "settle/core/planner.hpp"
 #include "settle/core/setpoints.hpp"
@@ -347,7 +348,7 @@ class ServoLoop {
       bool ok = c.mode_count <= core::kMaxOnlineModes && c.lead_ticks >= 1 && std::isfinite(l.vmax) && std::isfinite(l.amax) &&
                 std::isfinite(l.jmax) && l.vmax > 0.0 && l.amax > 0.0 && l.jmax > 0.0;
       for (std::size_t i = 0; ok && i < c.mode_count; ++i) {
-        ok = std::isfinite(c.modes[i].omega) && c.modes[i].omega > 0.0 && c.modes[i].zeta >= 0.0 && c.modes[i].zeta < 1.0;
+        ok = core::mode_status(c.modes[i]) == core::Status::ok;
       }
       if (!ok) return LoopStatus::bad_axis_config;
       // The same tolerance as submit()'s: a blend at exactly the axis's vmax is streamable.
