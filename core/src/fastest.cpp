@@ -1905,6 +1905,10 @@ struct ArcBest {
   // late is then not searched (a later stage could only find a move as short, to the proof's
   // rounding).
   bool proven{false};
+  // proven by a probe (plan_arcs' first pass): the move one pass would find, to the proof's
+  // rounding, but not its bits. Where not set, c and late are one pass's to the bit (a probe
+  // that proves nothing changes nothing).
+  bool probed{false};
 };
 
 // The shortest bang-bang move found from the seeds above. Each seed's chain is solved and
@@ -1994,17 +1998,32 @@ struct ArcProbeRoom {
   ArcProbeRoom() noexcept {}
 };
 
+// How plan_arcs searches.
+struct ArcSearch {
+  // The request's own chains (plan_unsigned's), not the recursion's for one mode fewer: the seed
+  // paths that never paid there are left out (plan_arcs' lean and three_top).
+  bool request{false};
+  // Each new shortest move is checked by certify_fastest, and the search stops at a proven one.
+  bool stop_proven{false};
+  // With stop_proven, each group of paths is probed before its second pass (plan_arcs,
+  // `probing`): the request's search, and the quick chain for one mode fewer it plans first.
+  bool probe{false};
+};
+
 // certs: the memo of the request's own problem (plan_unsigned's), used where ms holds r's modes
 // (the proof's problem is then r's). Without it each proof is made (the recursion for one mode
-// fewer has no probe: its certificates are of ever shorter tables, none certified twice).
+// fewer: its certificates are of ever shorter tables, none certified twice).
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk,
                ArcBest* best_chain = nullptr, const Shaper<double>* split = nullptr,
-               DipBest* dips = nullptr, bool request = false, bool stop_proven = false,
-               CertMemo* certs = nullptr, ArcProbeRoom* aside = nullptr) noexcept;
+               DipBest* dips = nullptr, ArcSearch how = {}, CertMemo* certs = nullptr,
+               ArcProbeRoom* aside = nullptr) noexcept;
 
 // The shortest chain for all modes but the fastest (planned by plan_arcs, recursively, with that
-// set's own split seed): the chain plan_arcs inserts its wiggles into.
-ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms, bool stop_proven) noexcept {
+// set's own split seed): the chain plan_arcs inserts its wiggles into. With probe, its search is
+// probed first (its own room for the runs set aside: 24 chains on the stack, host and AArch64
+// only, as all of `fastest`), and where the probe proves nothing the chain is the one pass's to
+// the bit (ArcBest::probed).
+ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms, bool stop_proven, bool probe = false) noexcept {
   ModeSet fewer{};
   std::size_t fastest = 0;
   for (std::size_t i = 1; i < ms.n; ++i) {
@@ -2018,14 +2037,16 @@ ArcBest plan_fewer(const MoveRequest& r, const ModeSet& ms, bool stop_proven) no
   Peaks<double> pk{};
   Shaper<double> fewer_split{};
   DipBest dips{};
-  (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr, &dips, false,
-                  stop_proven);
+  ArcProbeRoom aside;
+  (void)plan_arcs(r, fewer, t, pk, &sub, split_shaper(fewer, fewer_split) ? &fewer_split : nullptr, &dips,
+                  {.request = false, .stop_proven = stop_proven, .probe = probe}, nullptr, probe ? &aside : nullptr);
   return sub;
 }
 
 bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks<double>& out_pk, ArcBest* best_chain,
-               const Shaper<double>* split, DipBest* dip_out, bool request, bool stop_proven,
-               CertMemo* certs, ArcProbeRoom* aside) noexcept {
+               const Shaper<double>* split, DipBest* dip_out, ArcSearch how, CertMemo* certs,
+               ArcProbeRoom* aside) noexcept {
+  const bool request = how.request, stop_proven = how.stop_proven;
   // A two-mode request's own chains (`request`: not the recursion's for one mode fewer, whose
   // chains three modes build on) skip three seed paths that never paid there: the dips, the
   // stops in a cruise and the wide wiggles in the mirrored pulse. Over the 100 two-mode cases of
@@ -2067,7 +2088,9 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
   const auto certify = [&](const FastestTable& t) {
     return certs != nullptr && r_modes ? (*certs)(t, problem) : certify_fastest(t, problem);
   };
-  bool proven = false;
+  bool proven = false, probed = false;
+  // The quick chain for one mode fewer (a probed recursion, below), where its probe proved it.
+  ArcBest quick{};
   double sub_fast_wd = 0.0;  // the damped frequency of the mode plan_fewer left out (the fastest)
   for (std::size_t i = 0, f = 0; i < ms.n; ++i) {
     if (ms.m[i].omega > ms.m[f].omega) f = i;
@@ -2104,10 +2127,11 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // then wiggles, split last), 130 of them from the split seed (78), and plan_arcs' median of
     // evaluations per plan fell from 464, 2 296 and 4 493 to 36, 1 080 and 4 074 for one, two and
     // three modes (session 33, an instrumented build; every plan the same to 1e-9). Not in the
-    // recursion for one mode fewer: there a proof reached by another path is the same move but not
-    // the same bits, and the search built on it lands elsewhere (with the probe there too, grid
-    // case 5 at 1e-3 and 7.3 of its scale planned 0.5 % and 0.4 % longer; with it in session 33's
-    // order grid case 134 0.9 % and 227 0.17 % longer).
+    // recursion for one mode fewer in its place: there a proof reached by another path is the same
+    // move but not the same bits, and the search built on it lands elsewhere (with the probe there
+    // too, grid case 5 at 1e-3 and 7.3 of its scale planned 0.5 % and 0.4 % longer; with it in
+    // session 33's order grid case 134 0.9 % and 227 0.17 % longer). It is probed beside the one
+    // pass's instead (quick_wiggles, below).
     // The probe sets aside each Newton run that creeps (arc_newton's pause: in the seeds' group
     // after three steps whose line search went down to 2^-7 of Newton's and gained under 5 %, in
     // the wiggles' group after one) and walks on; the split seed's is taken up again before the
@@ -2123,12 +2147,13 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // as it was). After one creeping step in the seeds' group too, grid case 7 (its proof is a
     // seed's run that creeps) cost 1.45 -> 3.16 M; with the seeds' runs taken up before the chain
     // for one mode fewer, 181 2.88 -> 2.56 M (1.97 M so).
-    const bool probing = stop_proven && request;
+    const bool probing = stop_proven && how.probe;
     int pass = 0;  // 0: one pass; 1 (the probe), 2: after it
     bool may_set_aside = false;  // the probe's first walk of its paths
-    // The round whose Newton run failed in the probe, by group (0: seeds, 1: wiggles) and by the
-    // path's id in its group (-1: none).
-    std::array<std::array<int, kMaxPathIds>, 2> newton_fails_at{};
+    // The round whose Newton run failed in the probe, by group (0: seeds, 1: wiggles, 2: the quick
+    // chain's wiggles, which the second pass does not walk) and by the path's id in its group (-1:
+    // none).
+    std::array<std::array<int, kMaxPathIds>, 3> newton_fails_at{};
     std::size_t group = 0;
     // One path: the chain solved and changed where it breaks a condition. Its continuation is
     // given up once it passes a move 5 % longer than the shortest so far (on the tests' sets it
@@ -2176,6 +2201,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
             have = true;
             if (best_chain != nullptr) *best_chain = {c, pulse, true};
             proven = proof;
+            probed = proof && probe;
             best_holds_amax = best_cruises = false;
             for (std::size_t i = 0; i < c.n; ++i) {
               best_holds_amax |= c.node[i].kind == ArcKind::limit;
@@ -2405,12 +2431,44 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       }
       may_set_aside = was;
     };
+    // The quick chain for one mode fewer (three modes or more, the request's probe): the recursion
+    // planned with its own probe. Where that probe proves it, its wiggles are probed (group 2, no
+    // run set aside), and where they prove nothing the chain one pass plans is planned after all
+    // (need_sub): the proof is the same move in other bits, and the search built on it lands
+    // elsewhere (the recursion probed in its place lengthened grid cases 134 by 0.9 % and 227 by
+    // 0.17 %, session 33). Where its probe proves nothing, its second pass made one pass's chain
+    // to the bit, and need_sub takes it. So every plan the request's probe does not prove is as
+    // before, and the three-mode request's chain for one mode fewer (5 / 23 rad/s), which its
+    // probe proves, carries the request's proof: BM_PlanFastest/three_modes 33.0 -> 15.7 M
+    // instructions, the grid's three-mode median 14.5 -> 11.2 M; 31 of those 100 plans cost more
+    // (the probe's runs that solve are run again, and a quick chain whose wiggles prove nothing is
+    // planned twice: 83 39.7 -> 54.3 M), the sum 13.8 -> 14.1 G (session 35, cggrid.py). The
+    // grid's plans that differ are 13 proven ones, by at most 1.3e-10 s; no unproven plan changed
+    // a bit (jsongrid.py). Not for two modes: their median 2.06 -> 1.95 M, but 35 of the 100 cost
+    // more and the sum rose 4.75 -> 4.85 G (their chain for one mode fewer is one mode's, cheap).
+    const auto quick_wiggles = [&] {
+      if (!(pass == 1 && request && ms.n >= 3) || proven) return;
+      if (!sub_done) {
+        quick = plan_fewer(r, ms, stop_proven, true);
+        if (!quick.probed) {
+          sub_store = quick;
+          sub_done = true;
+        }
+      }
+      if (!quick.probed || quick.pulse != pulse) return;
+      const bool was = may_set_aside;
+      may_set_aside = false;
+      group = 2;
+      wiggles(quick.c);
+      may_set_aside = was;
+    };
     // Both groups in their order; the probe's runs set aside are taken up after each (none are
     // set aside outside the probe, and take_up does nothing without them).
     const auto both_groups = [&] {
       group = 0;
       seeds_group();
       take_up(true);
+      quick_wiggles();
       if (!proven) need_sub();
       group = 1;
       if (sub.have && sub.pulse == pulse) wiggles(sub.c);
@@ -2428,7 +2486,10 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     both_groups();
     pass = 0;
   }
-  if (best_chain != nullptr) best_chain->proven = proven;
+  if (best_chain != nullptr) {
+    best_chain->proven = proven;
+    best_chain->probed = probed;
+  }
   return have;
 }
 
@@ -3603,7 +3664,8 @@ bool bang_bang_family(FastestSearch& fs) noexcept {
     // bang-coast runs, and what it starts from, are as without them (where bang-coast ran, it
     // started from the dip chain and ended 0.016 % longer on a grid case).
     ArcProbeRoom aside;
-    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips, true, true, &fs.certs, &aside);
+    const bool found = plan_arcs(fs.r, ms, t, pk, &fs.chains, split, &fs.dips,
+                                 {.request = true, .stop_proven = true, .probe = true}, &fs.certs, &aside);
     if (found && table_duration(t) < fs.best.time) {
       fs.record_table(FastestFamily::bang_bang, t, pk);
       double w_max = 0.0;
