@@ -2154,6 +2154,7 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // chain's wiggles, which the second pass does not walk) and by the path's id in its group (-1:
     // none).
     std::array<std::array<int, kMaxPathIds>, 3> newton_fails_at{};
+    bool quick_walked = false;  // this stage's probe walked the quick chain's wiggles
     std::size_t group = 0;
     // One path: the chain solved and changed where it breaks a condition. Its continuation is
     // given up once it passes a move 5 % longer than the shortest so far (on the tests' sets it
@@ -2461,6 +2462,22 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       group = 2;
       wiggles(quick.c);
       may_set_aside = was;
+      quick_walked = true;
+    };
+    // The one pass's chain the same to the bit as the quick chain whose wiggles were probed: its
+    // wiggles' probe would walk the same runs to the same ends (a run set aside ends as it would
+    // have, and none proved), so it is not walked again, and the second pass reads where those
+    // runs failed.
+    const auto sub_is_quick = [&] {
+      if (!quick_walked || !sub.have || sub.pulse != pulse || sub.c.n != quick.c.n) return false;
+      for (std::size_t i = 0; i < sub.c.n; ++i) {
+        if (sub.c.node[i].kind != quick.c.node[i].kind ||
+            std::bit_cast<std::uint64_t>(sub.c.node[i].sign) != std::bit_cast<std::uint64_t>(quick.c.node[i].sign) ||
+            std::bit_cast<std::uint64_t>(sub.c.x[i]) != std::bit_cast<std::uint64_t>(quick.c.x[i])) {
+          return false;
+        }
+      }
+      return true;
     };
     // Both groups in their order; the probe's runs set aside are taken up after each (none are
     // set aside outside the probe, and take_up does nothing without them).
@@ -2468,10 +2485,15 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       group = 0;
       seeds_group();
       take_up(true);
+      quick_walked = false;
       quick_wiggles();
       if (!proven) need_sub();
       group = 1;
-      if (sub.have && sub.pulse == pulse) wiggles(sub.c);
+      if (pass == 1 && !proven && sub_is_quick()) {
+        newton_fails_at[1] = newton_fails_at[2];
+      } else if (sub.have && sub.pulse == pulse) {
+        wiggles(sub.c);
+      }
       take_up(false);
     };
     if (probing) {
