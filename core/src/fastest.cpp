@@ -2369,7 +2369,6 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
       if (!pulse && split != nullptr && split_chain(pb, *split, c)) walk(c, n_split);
     };
     const auto seeds_group = [&] {
-    if (pass == 1) walk_split();
     for (std::size_t k = 0; k < n_seeds; ++k) {
       const ArcSeed& sd = seeds[k];
       // The peak chain is for moves whose acceleration stays below amax: in the whole form not
@@ -2483,10 +2482,14 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // set aside outside the probe, and take_up does nothing without them).
     const auto both_groups = [&] {
       group = 0;
+      quick_walked = false;
+      if (pass == 1) {
+        walk_split();
+        quick_wiggles();
+        group = 0;
+      }
       seeds_group();
       take_up(true);
-      quick_walked = false;
-      quick_wiggles();
       if (!proven) need_sub();
       group = 1;
       if (pass == 1 && !proven && sub_is_quick()) {
