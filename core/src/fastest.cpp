@@ -2439,10 +2439,11 @@ bool plan_arcs(const MoveRequest& r, const ModeSet& ms, FastestTable& out, Peaks
     // 0.17 %, session 33). Where its probe proves nothing, its second pass made one pass's chain
     // to the bit, and need_sub takes it. So every plan the request's probe does not prove is as
     // before, and the three-mode request's chain for one mode fewer (5 / 23 rad/s), which its
-    // probe proves, carries the request's proof: BM_PlanFastest/three_modes 33.0 -> 15.7 M
-    // instructions, the grid's three-mode median 14.5 -> 11.2 M; 31 of those 100 plans cost more
-    // (the probe's runs that solve are run again, and a quick chain whose wiggles prove nothing is
-    // planned twice: 83 39.7 -> 54.3 M), the sum 13.8 -> 14.1 G (session 35, cggrid.py). The
+    // probe proves, carries the request's proof. Walked right after the split seed (both_groups):
+    // BM_PlanFastest/three_modes 33.0 -> 14.9 M instructions, the grid's three-mode median 14.5 ->
+    // 10.4 M; 23 of those 100 plans cost more (the probe's runs that solve are run again, and a
+    // quick chain whose wiggles prove nothing is planned twice: 83 39.7 -> 54.3 M), the sum 13.8 ->
+    // 14.05 G (session 35, cggrid.py; docs/fastest.md "Session 35: the quick chain"). The
     // grid's plans that differ are 13 proven ones, by at most 1.3e-10 s; no unproven plan changed
     // a bit (jsongrid.py). Not for two modes: their median 2.06 -> 1.95 M, but 35 of the 100 cost
     // more and the sum rose 4.75 -> 4.85 G (their chain for one mode fewer is one mode's, cheap).
