@@ -10,6 +10,7 @@
 #include <complex>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "mode_sim.hpp"
@@ -348,6 +349,32 @@ TEST(ModeMemory, OfABlendMatchesTheModeStateIntegratedAlongIt) {
       EXPECT_NEAR(got.re, expect.real(), tol) << "case " << n;
       EXPECT_NEAR(got.im, expect.imag(), tol) << "case " << n;
     }
+  }
+}
+
+// A mode outside mode_status' range (infinite or NaN omega or zeta, omega <= 0, zeta outside
+// [0, 1)) has no memory along a blend: mode_memory hands back the memory at its start, to the bit,
+// as for u <= 0. The same blend with a mode in range moves it (the check can fail).
+TEST(ModeMemory, OfABlendForAModeOutOfRangeIsTheMemoryAtItsStart) {
+  Gen g{std::mt19937_64{36}};
+  const Case c = g.draw();
+  core::OnlineRequest r{};
+  ASSERT_EQ(core::online_request(c.move, c.t_switch, c.modes.data(), c.mode_count, c.limits, std::nullopt, r),
+            Status::ok);
+  r.running.reset();
+  core::Blend b{};
+  ASSERT_EQ(core::plan_online(r, b), Status::ok);
+  const double u = 0.5 * b.duration();
+  const core::ModeMemory start{0.25 * scale_of(c.move), -0.5 * scale_of(c.move)};
+  const core::ModeMemory moved = core::mode_memory(b, start, u, c.modes[0]);
+  EXPECT_FALSE(moved.re == start.re && moved.im == start.im);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (const core::Mode& md : {core::Mode{inf, 0.0}, core::Mode{nan, 0.0}, core::Mode{-inf, 0.0}, core::Mode{0.0, 0.0},
+                               core::Mode{-3.0, 0.0}, core::Mode{20.0, inf}, core::Mode{20.0, nan}, core::Mode{20.0, 1.0},
+                               core::Mode{20.0, -0.1}}) {
+    const core::ModeMemory q = core::mode_memory(b, start, u, md);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(q.re), std::bit_cast<std::uint64_t>(start.re)) << md.omega << " " << md.zeta;
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(q.im), std::bit_cast<std::uint64_t>(start.im)) << md.omega << " " << md.zeta;
   }
 }
 
