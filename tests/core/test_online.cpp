@@ -93,6 +93,18 @@ struct Gen {
 
 double scale_of(const core::Move<double>& m) { return std::fabs(m.distance()); }
 
+// The blend family's halt of case c, its request in r (r.running reset: a halt's choice of the
+// blend, of a blend to the target or of finishing the move, issue 36, is test_halt.cpp's).
+::testing::AssertionResult halt_blend(const Case& c, core::OnlineRequest& r, core::Blend& b) {
+  if (core::online_request(c.move, c.t_switch, c.modes.data(), c.mode_count, c.limits, std::nullopt, r) !=
+      Status::ok) {
+    return ::testing::AssertionFailure() << "online_request refused";
+  }
+  r.running.reset();
+  if (core::plan_online(r, b) != Status::ok) return ::testing::AssertionFailure() << "plan_online refused";
+  return ::testing::AssertionSuccess();
+}
+
 // Sampled peaks of the blend, with the jerk from differences of the acceleration.
 core::Peaks<double> sampled_peaks(const core::Blend& b) {
   core::Peaks<double> pk{};
@@ -211,13 +223,8 @@ TEST(OnlineHalt, HundredRandomStatesEndAtRestWithZeroResidualWithinLimits) {
   for (int n = 0; n < 100; ++n) {
     const Case c = g.draw();
     core::OnlineRequest r{};
-    ASSERT_EQ(core::online_request(c.move, c.t_switch, c.modes.data(), c.mode_count, c.limits, std::nullopt, r),
-              Status::ok);
-    // The blend family itself: a halt's choice of it, of a blend to the target or of finishing the
-    // move (issue 36) is test_halt.cpp's.
-    r.running.reset();
     core::Blend b{};
-    ASSERT_EQ(core::plan_online(r, b), Status::ok) << "case " << n;
+    ASSERT_TRUE(halt_blend(c, r, b)) << "case " << n;
     expect_blend(c, b, std::nullopt, n);
   }
 }
@@ -331,13 +338,8 @@ TEST(ModeMemory, OfABlendMatchesTheModeStateIntegratedAlongIt) {
   for (int n = 0; n < 40; ++n) {
     const Case c = g.draw();
     core::OnlineRequest r{};
-    ASSERT_EQ(core::online_request(c.move, c.t_switch, c.modes.data(), c.mode_count, c.limits, std::nullopt, r),
-              Status::ok);
-    // The blend family itself: a halt's choice of it, of a blend to the target or of finishing the
-    // move (issue 36) is test_halt.cpp's.
-    r.running.reset();
     core::Blend b{};
-    ASSERT_EQ(core::plan_online(r, b), Status::ok);
+    ASSERT_TRUE(halt_blend(c, r, b)) << "case " << n;
     const double u = g.uni(0.0, 1.0) * b.duration();
     for (std::size_t i = 0; i < c.mode_count; ++i) {
       const core::Mode& md = c.modes[i];
@@ -359,11 +361,8 @@ TEST(ModeMemory, OfABlendForAModeOutOfRangeIsTheMemoryAtItsStart) {
   Gen g{std::mt19937_64{36}};
   const Case c = g.draw();
   core::OnlineRequest r{};
-  ASSERT_EQ(core::online_request(c.move, c.t_switch, c.modes.data(), c.mode_count, c.limits, std::nullopt, r),
-            Status::ok);
-  r.running.reset();
   core::Blend b{};
-  ASSERT_EQ(core::plan_online(r, b), Status::ok);
+  ASSERT_TRUE(halt_blend(c, r, b));
   const double u = 0.5 * b.duration();
   const core::ModeMemory start{0.25 * scale_of(c.move), -0.5 * scale_of(c.move)};
   const core::ModeMemory moved = core::mode_memory(b, start, u, c.modes[0]);
