@@ -83,7 +83,10 @@ class ProfileResidual {
   // every node's exponential advances by a fixed factor per point (one complex multiply, not an
   // exp); |factor| <= 1 since s <= T, so the recurrence cannot grow.
   [[nodiscard]] plant::SimStatus row(double zeta, double omega0, double domega, std::size_t n, double* out) const {
-    if (!(omega0 > 0.0) || !(zeta >= 0.0 && zeta < 1.0)) return plant::SimStatus::bad_range;
+    if (core::mode_status(omega0, zeta) != core::Status::ok || !(domega >= 0.0) ||
+        !std::isfinite(omega0 + domega * static_cast<double>(n))) {
+      return plant::SimStatus::bad_range;
+    }
     const std::complex<double> mu{zeta, -std::sqrt(1.0 - zeta * zeta)};
     std::vector<std::complex<double>> acc(n, {0.0, 0.0});
     for (std::size_t q = 0; q < s_.size(); ++q) {
@@ -127,7 +130,7 @@ class ProfileResidual {
   }
 
   [[nodiscard]] plant::SimStatus relative(double omega, double zeta, double& out) const {
-    if (!(omega > 0.0) || !(zeta >= 0.0 && zeta < 1.0)) return plant::SimStatus::bad_range;
+    if (core::mode_status(omega, zeta) != core::Status::ok) return plant::SimStatus::bad_range;
     if (!(distance_ > 0.0)) {
       out = 0.0;
       return plant::SimStatus::ok;
@@ -368,6 +371,9 @@ core::Status tuned_shaper(core::ShaperKind kind, const std::vector<double>& omeg
 }
 
 plant::SimStatus relative_residual(const core::Move<double>& move, double omega, double zeta, double& out) {
+  // Before the quadrature is laid out: its nodes grow with omega (an infinite one would ask for a
+  // million panels per piece).
+  if (core::mode_status(omega, zeta) != core::Status::ok) return plant::SimStatus::bad_range;
   double pf = 0.0;
   const plant::SimStatus st = ProfileResidual{move.profile(), move.peaks().velocity_step, omega}.relative(omega, zeta, pf);
   if (st != plant::SimStatus::ok) return st;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "rk4.hpp"
@@ -114,6 +115,23 @@ TEST(TuneResidual, ShapedResidualIsProfileTimesShaperAsIntegrated) {
       }
     }
   }
+}
+
+// A mode outside mode_status' range is refused as bad_range before the quadrature is laid out
+// (its nodes grow with omega: an infinite omega asked for a million panels per piece, and a NaN
+// one cast NaN to a count), and the output is left as it was.
+TEST(TuneResidual, ModesOutOfRangeAreRefusedAndChangeNothing) {
+  const core::Move<double> m = planned(core::ProfileKind::poly345, 0.2, 0.37, 25.0, 0.04, core::ShaperKind::zv);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& [w, z] : {std::pair{inf, 0.02}, std::pair{nan, 0.02}, std::pair{-25.0, 0.02}, std::pair{0.0, 0.02},
+                             std::pair{25.0, inf}, std::pair{25.0, nan}, std::pair{25.0, 1.0}, std::pair{25.0, -0.01}}) {
+    double r = 12.5;
+    EXPECT_EQ(relative_residual(m, w, z, r), plant::SimStatus::bad_range) << "w=" << w << " z=" << z;
+    EXPECT_EQ(r, 12.5);
+  }
+  double r = 12.5;
+  ASSERT_EQ(relative_residual(m, 25.0, 0.02, r), plant::SimStatus::ok);
+  EXPECT_TRUE(std::isfinite(r) && r >= 0.0 && r != 12.5);
 }
 
 TEST(TuneResidual, WorstInBandIsNotExceededByADenserIndependentSearch) {
