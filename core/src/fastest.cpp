@@ -1297,12 +1297,11 @@ double arc_norm(const ArcVec& f, std::size_t n) noexcept {
 // or dwell) are sums of terms j (u_b^k - u_e^k) / k! that cancel to a small D: each is rounded to
 // eps of the sum of the terms' sizes. And each switch time is a sum rounded to about eps T, which
 // moves each row by its derivative with respect to it (a row's largest, per unit of time).
-double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
-  ArcVec f{};
-  ArcEval ev;
-  ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
-  const std::size_t rows = arc_values(pb, c, f, ev);
-  arc_jacobian(pb, c, ev, jm);
+// From c's evaluation (ev, its `rows` rows) and the Jacobian there (jm): arc_newton holds them
+// where its line search fails, so it pays for the Jacobian alone (grid case 2: 575 k instructions
+// in the floor with the evaluation made again, session 35).
+double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, const ArcMat& jm,
+                          std::size_t rows) noexcept {
   const ArcLayout& L = ev.L;
   const double eps = std::numeric_limits<double>::epsilon();
   // v and p at the end, then v at each cruise or dwell (in arc_values' order of rows).
@@ -1329,19 +1328,30 @@ double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
   for (std::size_t r = 0; r < rows; ++r) {
     double m = 0.0;
     for (std::size_t i = 0; i < c.n; ++i) {
-      m = std::fmax(m, std::fabs(jm[r][i]) * (c.node[i].kind == ArcKind::peak ? pb.J : 1.0));
+      // fmax's value (a NaN term is passed over) without its call: 8.8 k calls on grid case 2.
+      const double a = std::fabs(jm[r][i]) * (c.node[i].kind == ArcKind::peak ? pb.J : 1.0);
+      if (a > m) m = a;
     }
     const double e = eps * (L.T * m + ev_row[r]);
     s += e * e;
   }
   return std::sqrt(s);
 }
+double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
+  ArcVec f{};
+  ArcEval ev;
+  ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
+  const std::size_t rows = arc_values(pb, c, f, ev);
+  arc_jacobian(pb, c, ev, jm);
+  return arc_rounding_floor(pb, c, ev, jm, rows);
+}
 
 // Below this norm a solve that stalls (a line search that cannot lower it) has solved its chain:
 // a tenth of the rows' rounding, the whole of it for split_to_rounding's solves (pb.to_rounding).
 // arc_newton's and arc_restore's rule (arc_newton, session 34).
-double stall_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
-  return (pb.to_rounding ? 1.0 : 0.1) * arc_rounding_floor(pb, c);
+double stall_floor(const ArcProblem& pb, const ArcChain& c, const ArcEval& ev, const ArcMat& jm,
+                   std::size_t rows) noexcept {
+  return (pb.to_rounding ? 1.0 : 0.1) * arc_rounding_floor(pb, c, ev, jm, rows);
 }
 
 // Newton's step J dx = -F by solve_in_place, its size a constant up to kChainNodes (every search
@@ -1407,12 +1417,16 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
   }
   ArcVec f{};
   ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all solve_in_place reads
-  ArcEval at;
+  // c's evaluation (at) and the line search's trials' (tried), swapped where a trial is accepted:
+  // where the line search fails, c's is at hand for the stall's floor.
+  std::array<ArcEval, 2> evals_at;
+  ArcEval* at = &evals_at[0];
+  ArcEval* tried = &evals_at[1];
   const auto shifted_norm = [&](std::size_t rows) {
     for (std::size_t i = 0; i < rows; ++i) f[i] -= mu * f0[i];
     return arc_norm(f, rows);
   };
-  const std::size_t rows = arc_values(pb, c, f, at);
+  const std::size_t rows = arc_values(pb, c, f, *at);
   if (rows != c.n) return false;  // not square: a chain the loop should not have made
   double n0 = shifted_norm(rows);
   int evals = it0 > 0 ? pause->evals : 1;  // of arc_values
@@ -1447,7 +1461,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
     before[slot] = n0;
     // The Jacobian at c (at holds c's evaluation), only where a step is taken from it: not at
     // the point that meets the tolerance, nor at the last one.
-    arc_jacobian(pb, c, at, jm);
+    arc_jacobian(pb, c, *at, jm);
     ArcVec dx{};
     for (std::size_t i = 0; i < rows; ++i) dx[i] = -f[i];
     if (!arc_solve_step(jm, dx, rows)) return false;
@@ -1458,7 +1472,7 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
       // cruises and dwells) reject it; the speeds not first where the rule below fails the run
       // on this trial (a trial arc_values rejects does not reach that rule).
       ++evals;
-      if (arc_values(pb, trial, f, at, n0, &f0, mu, !(cut_test && lam < 0.002), &shape) == 0) {
+      if (arc_values(pb, trial, f, *tried, n0, &f0, mu, !(cut_test && lam < 0.002), &shape) == 0) {
         n1 = HUGE_VAL;
         continue;
       }
@@ -1471,9 +1485,14 @@ bool arc_newton(const ArcProblem& pb, ArcChain& c, const ArcVec& f0, double mu, 
       // three modes, 2.1 % on two, 0.8 % on one (session 31, an instrumented build).
       if (cut_test && lam < 0.002) return false;
     }
-    if (!(lam > 1e-4)) return n0 < 1e3 * tol || n0 < stall_floor(pb, c);
+    if (!(lam > 1e-4)) {
+      if (n0 < 1e3 * tol) return true;
+      arc_jacobian(pb, c, *at, jm);  // the solve overwrote it
+      return n0 < stall_floor(pb, c, *at, jm, rows);
+    }
     if (cut_test && lam < 0.002 && n1 >= 0.99 * n0) return false;
     std::copy_n(trial.x.begin(), c.n, c.x.begin());
+    std::swap(at, tried);
     creeps += lam < 0.01 && n1 >= 0.95 * n0 ? 1 : 0;
     n0 = n1;
     if (pause != nullptr && pause->allow && creeps >= pause->creeps && it + 1 < max_iter) {
@@ -2936,8 +2955,12 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
   ArcIneqVals* qc = &q_at[0];
   ArcIneqVals* qt = &q_at[1];
   double n0 = merit(c, *fc, rows, *ec, *qc);
-  const auto stalled_solved = [&](double n) {
-    return n < 1e-10 || n < stall_floor(pb, c);
+  // In the loop, where a line search stalls, jm is still c's Jacobian (the steps only read it);
+  // after the last step it is the point's before.
+  const auto stalled_solved = [&](double n, bool jm_at_c) {
+    if (n < 1e-10) return true;
+    if (!jm_at_c) arc_jacobian(pb, c, *ec, jm);
+    return n < stall_floor(pb, c, *ec, jm, rows);
   };
   // c's rows and evaluation left in the caller's f and ev.
   const auto done_with = [&](bool ok) {
@@ -2982,7 +3005,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     }
     if (!(n1 < n0)) {
       // stalled near a solution, nothing broken
-      return done_with(stalled_solved(n0) && arc_norm(*fc, rows) == n0);
+      return done_with(stalled_solved(n0, true) && arc_norm(*fc, rows) == n0);
     }
     std::copy_n(trial.x.begin(), c.n, c.x.begin());
     std::swap(qc, qt);
@@ -2991,7 +3014,7 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     std::swap(fc, ft);
     std::swap(ec, et);
   }
-  return done_with(stalled_solved(n0) && arc_norm(*fc, rows) == n0);
+  return done_with(stalled_solved(n0, false) && arc_norm(*fc, rows) == n0);
 }
 
 // A seed (a chain with turns or parts inserted) restored to its chain's equations from where it
