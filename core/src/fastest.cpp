@@ -1337,14 +1337,6 @@ double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c, const ArcEval
   }
   return std::sqrt(s);
 }
-double arc_rounding_floor(const ArcProblem& pb, const ArcChain& c) noexcept {
-  ArcVec f{};
-  ArcEval ev;
-  ArcMat jm;  // arc_jacobian writes its rows x columns below c.n, all that is read
-  const std::size_t rows = arc_values(pb, c, f, ev);
-  arc_jacobian(pb, c, ev, jm);
-  return arc_rounding_floor(pb, c, ev, jm, rows);
-}
 
 // Below this norm a solve that stalls (a line search that cannot lower it) has solved its chain:
 // a tenth of the rows' rounding, the whole of it for split_to_rounding's solves (pb.to_rounding).
@@ -2971,7 +2963,12 @@ bool arc_restore(const ArcProblem& pb, ArcChain& c, const ArcIneq& q, const std:
     if (rows_out != nullptr) *rows_out = rows;
     return ok;
   };
-  const double done = pb.to_rounding ? std::fmax(1e-13, 0.1 * arc_rounding_floor(pb, c)) : 1e-13;
+  // From c's evaluation in hand (*ec), not a new one; jm is made again at the loop's first step.
+  const auto at_c_rounding = [&] {
+    arc_jacobian(pb, c, *ec, jm);
+    return arc_rounding_floor(pb, c, *ec, jm, rows);
+  };
+  const double done = pb.to_rounding ? std::fmax(1e-13, 0.1 * at_c_rounding()) : 1e-13;
   const ArcShape shape = arc_shape(pb, c);  // the trials' nodes are c's
   ArcChain trial = c;
   for (int it = 0; it < 30; ++it) {
